@@ -1,0 +1,4 @@
+//! AYDP protocol (work in progress).
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs what the project needs on a fresh Debian machine. Idempotent: each
+# step checks first and does nothing when the tool is already there.
+#   scripts/setup.sh            toolchain + thumb targets (from rust-toolchain.toml)
+#   scripts/setup.sh qemu       + qemu-system-arm (Debian package)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# rustup reads rust-toolchain.toml: this installs the pinned toolchain, its
+# components and the thumb targets listed there.
+rustup show active-toolchain >/dev/null 2>&1 || rustup toolchain install
+rustup target list --installed | grep -q thumbv7m-none-eabi || rustup toolchain install
+
+need_apt=()
+for want in "$@"; do
+  case "$want" in
+    qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
+    *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
+  esac
+done
+if [ ${#need_apt[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
+fi

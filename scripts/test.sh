@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Runs every test and check of the project. This is the command the README
+# gives and the one .ci/run calls.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+
+LIBS=(aeolus-proto aydp-proto aok-proto)
+step() { printf '\n==> %s\n' "$*"; }
+
+step "format"
+cargo fmt --all -- --check
+
+step "clippy (all targets, warnings denied)"
+cargo clippy --workspace --all-targets --all-features -- -D warnings
+
+step "cross-compile the libraries for both thumb targets (default and defmt features)"
+for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
+  for l in "${LIBS[@]}"; do
+    cargo build -q -p "$l" --target "$t" --release
+    cargo build -q -p "$l" --target "$t" --release --features defmt
+  done
+done
+
+step "rustdoc (warnings denied)"
+RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
+
+step "host tests"
+cargo test --workspace --all-features
