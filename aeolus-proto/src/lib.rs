@@ -1,4 +1,79 @@
-//! AEOLUS protocol (work in progress).
+//! # aeolus-proto
+//!
+//! A zero-allocation, `no_std` encoder and decoder for the AEOLUS sensor-box telemetry
+//! protocol: GDL90-style framing (`0x7E` flags, `0x7D` escapes, a CRC-16) carrying the 16
+//! message types of the AEOLUS communications document.
+//!
+//! - [`Deframer`]: byte-at-a-time decoding of a UART stream, bounded by a const-generic
+//!   capacity, resynchronising after any error, with [`Stats`] counters.
+//! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
+//! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
+//!   [`max_encoded_len`] sizes buffers at compile time.
+//! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`.
+//! - [`crc`]: the frame check exactly as section 4.3 prints it.
+//!
+//! Byte order is little-endian (DECISIONS.md A1). Decoders never panic, whatever the input.
+//!
+//! ## Decoding a UART byte stream
+//!
+//! ```
+//! use aeolus_proto::{Deframer, message::Message};
+//!
+//! // Two frames from the vectors: TOAST "AEOLUS on", then a TOAST sent without CRC.
+//! let stream: &[u8] = &[
+//!     0x7e, 0x52, 0x41, 0x45, 0x4f, 0x4c, 0x55, 0x53, 0x20, 0x6f, 0x6e, 0x00, 0x17, 0xd1, 0x7e,
+//!     0x7e, 0x52, 0x6e, 0x6f, 0x20, 0x63, 0x72, 0x63, 0x00, 0x00, 0x00, 0x7e,
+//! ];
+//! let mut deframer = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+//! let mut seen = Vec::new();
+//! for &byte in stream {
+//!     if let Some(Ok(frame)) = deframer.push(byte) {
+//!         if let Ok(Message::Toast(text)) = frame.message() {
+//!             seen.push((text.as_str().unwrap_or("?").to_owned(), frame.has_crc()));
+//!         }
+//!     }
+//! }
+//! assert_eq!(seen, [("AEOLUS on".to_owned(), true), ("no crc".to_owned(), false)]);
+//! assert_eq!(deframer.stats().frames_ok, 1);
+//! assert_eq!(deframer.stats().frames_no_crc, 1);
+//! ```
+//!
+//! ## Encoding a GYRO message into a buffer
+//!
+//! ```
+//! use aeolus_proto::{encode_frame, max_encoded_len, CrcMode, message::Gyro};
+//!
+//! let gyro = Gyro { valid: true, timestamp_ms: 7.0, x: 0.01, y: 0.0, z: -0.02 };
+//! let mut data = [0u8; Gyro::LEN];
+//! gyro.emit(&mut data).unwrap();
+//! let mut frame = [0u8; max_encoded_len(Gyro::LEN)];
+//! let n = encode_frame(Gyro::ID, &data, &[], CrcMode::Compute, &mut frame).unwrap();
+//! assert_eq!((frame[0], frame[1], frame[n - 1]), (0x7E, 62, 0x7E));
+//! ```
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+
+pub mod crc;
+mod datagram;
+mod deframe;
+mod encode;
+mod error;
+mod frame;
+pub mod message;
+
+pub use datagram::{DatagramFrames, decode_datagram};
+pub use deframe::{Deframer, Stats};
+pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
+pub use error::Error;
+pub use frame::Frame;
+
+/// The flag byte that opens and closes every frame.
+pub const FLAG: u8 = 0x7E;
+/// The control-escape byte.
+pub const ESCAPE: u8 = 0x7D;
+/// The longest TOAST or COMMAND text (without its NUL) this crate holds.
+pub const TEXT_CAPACITY: usize = 120;
+/// The unescaped length (ID + data + CRC) of the longest fixed-size message, DEBUGINFO:
+/// a [`Deframer`] of this capacity receives every message but long LOG or text messages.
+pub const MAX_FIXED_FRAME: usize = 1 + message::DEBUGINFO_LEN + 2;

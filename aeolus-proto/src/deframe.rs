@@ -1,0 +1,303 @@
+//! The byte-at-a-time deframer (spec section 4.2).
+
+use crate::{ESCAPE, Error, FLAG, Frame};
+
+/// Counters kept by a [`Deframer`], MAVLink style. They wrap on overflow.
+///
+/// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
+/// or is still pending in the deframer ([`Deframer::pending_bytes`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Stats {
+    /// Frames delivered with a good CRC.
+    pub frames_ok: u32,
+    /// Frames delivered without a CRC (`00 00`, not in strict mode).
+    pub frames_no_crc: u32,
+    /// Frames dropped for a CRC mismatch.
+    pub crc_errors: u32,
+    /// Frames dropped in strict mode because they carried no CRC.
+    pub missing_crc: u32,
+    /// Frames dropped because they outgrew the capacity.
+    pub overflows: u32,
+    /// Frames dropped because they were too short for an ID and a CRC.
+    pub too_short: u32,
+    /// Frames dropped for a bad escape sequence (invalid byte after 0x7D, or 0x7D before a flag).
+    pub bad_escapes: u32,
+    /// Bytes dropped: noise before a flag, and the wire bytes of every dropped frame.
+    pub bytes_discarded: u32,
+    /// Wire bytes (escapes included, flags excluded) of the frames delivered.
+    pub frame_bytes: u32,
+    /// Flag bytes seen.
+    pub flags: u32,
+}
+
+impl Stats {
+    /// Frames delivered, with or without CRC.
+    pub const fn frames_delivered(&self) -> u32 {
+        self.frames_ok.wrapping_add(self.frames_no_crc)
+    }
+
+    /// Frames dropped for any reason.
+    pub const fn frames_dropped(&self) -> u32 {
+        self.crc_errors
+            .wrapping_add(self.missing_crc)
+            .wrapping_add(self.overflows)
+            .wrapping_add(self.too_short)
+            .wrapping_add(self.bad_escapes)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum State {
+    /// Dropping bytes until a flag (before the first flag, and after an error).
+    Hunt,
+    /// Inside a frame.
+    Frame,
+    /// Inside a frame, right after an escape byte.
+    Escape,
+}
+
+/// A byte-at-a-time AEOLUS deframer holding at most `N` unescaped bytes (ID + data + CRC).
+///
+/// Feed it bytes one at a time, from an ISR queue or a slice. Each byte gives at most one
+/// event: `None` (nothing yet), `Some(Ok(frame))` or `Some(Err(error))`. After any error it
+/// resynchronises on the next flag, so an intact frame following garbage is always delivered.
+///
+/// Decisions (see `docs/protocol-notes.md`):
+/// - garbage before the first flag is dropped and counted;
+/// - `7E 7E` between frames is an empty frame and is skipped silently;
+/// - `7D 7E` aborts the frame ([`Error::EscapedFlag`]) and the flag opens the next one;
+/// - `7D` followed by anything but `5D`/`5E` drops the frame at once ([`Error::InvalidEscape`]);
+/// - a frame longer than `N` gives [`Error::Overflow`] at the byte that does not fit, then the
+///   deframer hunts for the next flag.
+///
+/// A capacity of [`crate::MAX_FIXED_FRAME`] holds every fixed-size message; use more for long
+/// LOG messages.
+///
+/// Decoding a UART byte stream:
+///
+/// ```
+/// use aeolus_proto::{Deframer, message::Message};
+///
+/// // Noise, then a TOAST "hi" frame, as it might arrive from a UART RX queue.
+/// let rx = [0x00, 0x13, 0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
+/// let mut deframer = Deframer::<64>::new();
+/// let mut texts = 0;
+/// for &byte in &rx {
+///     match deframer.push(byte) {
+///         Some(Ok(frame)) => {
+///             if let Ok(Message::Toast(text)) = frame.message() {
+///                 assert_eq!(text.as_str(), Some("hi"));
+///                 texts += 1;
+///             }
+///         }
+///         Some(Err(e)) => panic!("unexpected {e}"),
+///         None => {}
+///     }
+/// }
+/// assert_eq!(texts, 1);
+/// assert_eq!(deframer.stats().bytes_discarded, 2);
+/// ```
+#[derive(Debug, Clone)]
+pub struct Deframer<const N: usize> {
+    buf: [u8; N],
+    len: usize,
+    escapes: usize,
+    state: State,
+    strict: bool,
+    stats: Stats,
+}
+
+impl<const N: usize> Default for Deframer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Deframer<N> {
+    /// A deframer that accepts frames without CRC (`00 00`), as the spec allows.
+    pub const fn new() -> Self {
+        Deframer {
+            buf: [0; N],
+            len: 0,
+            escapes: 0,
+            state: State::Hunt,
+            strict: false,
+            stats: STATS0,
+        }
+    }
+
+    /// A deframer in strict mode: frames without CRC are rejected with [`Error::MissingCrc`].
+    ///
+    /// ```
+    /// use aeolus_proto::{Deframer, Error};
+    /// let mut d = Deframer::<16>::strict();
+    /// let mut last = None;
+    /// for &b in &[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E] {
+    ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|f| f.id())); }
+    /// }
+    /// assert_eq!(last, Some(Err(Error::MissingCrc { id: 82 })));
+    /// ```
+    pub const fn strict() -> Self {
+        let mut d = Self::new();
+        d.strict = true;
+        d
+    }
+
+    /// Whether frames without CRC are rejected.
+    pub const fn is_strict(&self) -> bool {
+        self.strict
+    }
+
+    /// The counters so far.
+    pub const fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// Zeroes the counters.
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    /// Wire bytes of the frame in progress (received, not yet delivered nor dropped).
+    pub const fn pending_bytes(&self) -> usize {
+        match self.state {
+            State::Hunt => 0,
+            State::Frame | State::Escape => self.len + self.escapes,
+        }
+    }
+
+    /// Drops the frame in progress (counting its bytes as discarded) and hunts for a flag.
+    pub fn reset(&mut self) {
+        self.drop_frame(0);
+        self.state = State::Hunt;
+    }
+
+    /// Feeds one byte. Returns at most one event.
+    #[inline]
+    pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
+        match self.state {
+            State::Frame => {
+                if byte.wrapping_sub(ESCAPE) >= 2 {
+                    self.store(byte)
+                } else if byte == ESCAPE {
+                    self.state = State::Escape;
+                    self.escapes += 1;
+                    None
+                } else {
+                    self.end_frame()
+                }
+            }
+            State::Escape => match byte {
+                0x5D | 0x5E => {
+                    self.state = State::Frame;
+                    self.store(byte ^ 0x20)
+                }
+                FLAG => {
+                    self.stats.flags = self.stats.flags.wrapping_add(1);
+                    self.drop_frame(0);
+                    self.state = State::Frame;
+                    self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
+                    Some(Err(Error::EscapedFlag))
+                }
+                _ => {
+                    self.drop_frame(1);
+                    self.state = State::Hunt;
+                    self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
+                    Some(Err(Error::InvalidEscape))
+                }
+            },
+            State::Hunt => {
+                if byte == FLAG {
+                    self.stats.flags = self.stats.flags.wrapping_add(1);
+                    self.state = State::Frame;
+                } else {
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                }
+                None
+            }
+        }
+    }
+
+    /// Feeds a slice and calls `on_event` for every event, in order.
+    ///
+    /// ```
+    /// use aeolus_proto::Deframer;
+    /// let mut d = Deframer::<64>::new();
+    /// let mut ids = Vec::new();
+    /// d.push_slice(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |ev| {
+    ///     ids.push(ev.map(|f| f.id()))
+    /// });
+    /// assert_eq!(ids, [Ok(82)]);
+    /// ```
+    pub fn push_slice(&mut self, bytes: &[u8], mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
+        for &b in bytes {
+            if let Some(ev) = self.push(b) {
+                on_event(ev);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn store(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = byte;
+            self.len += 1;
+            None
+        } else {
+            self.drop_frame(1);
+            self.state = State::Hunt;
+            self.stats.overflows = self.stats.overflows.wrapping_add(1);
+            Some(Err(Error::Overflow))
+        }
+    }
+
+    /// Counts the frame in progress (plus `extra` bytes) as discarded and empties the buffer.
+    fn drop_frame(&mut self, extra: usize) {
+        let wire = self.pending_bytes() + extra;
+        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(wire as u32);
+        self.len = 0;
+        self.escapes = 0;
+    }
+
+    fn end_frame(&mut self) -> Option<Result<Frame<'_>, Error>> {
+        let stats = &mut self.stats;
+        stats.flags = stats.flags.wrapping_add(1);
+        let len = core::mem::take(&mut self.len);
+        let wire = (len + core::mem::take(&mut self.escapes)) as u32;
+        if len == 0 {
+            return None;
+        }
+        let raw = self.buf.get(..len).unwrap_or(&[]);
+        let result = Frame::check(raw, self.strict);
+        let counter = match result {
+            Ok(frame) if frame.has_crc() => &mut stats.frames_ok,
+            Ok(_) => &mut stats.frames_no_crc,
+            Err(Error::CrcMismatch { .. }) => &mut stats.crc_errors,
+            Err(Error::MissingCrc { .. }) => &mut stats.missing_crc,
+            Err(_) => &mut stats.too_short,
+        };
+        *counter = counter.wrapping_add(1);
+        if result.is_ok() {
+            stats.frame_bytes = stats.frame_bytes.wrapping_add(wire);
+        } else {
+            stats.bytes_discarded = stats.bytes_discarded.wrapping_add(wire);
+        }
+        Some(result)
+    }
+}
+
+const STATS0: Stats = Stats {
+    frames_ok: 0,
+    frames_no_crc: 0,
+    crc_errors: 0,
+    missing_crc: 0,
+    overflows: 0,
+    too_short: 0,
+    bad_escapes: 0,
+    bytes_discarded: 0,
+    frame_bytes: 0,
+    flags: 0,
+};

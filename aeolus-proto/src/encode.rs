@@ -1,0 +1,184 @@
+//! Building frames: flag, ID, data and CRC, escaped, flag (spec section 4.1).
+
+use crate::{ESCAPE, Error, FLAG, crc};
+
+/// Whether an encoded frame carries a real CRC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum CrcMode {
+    /// Compute the CRC and send it, least significant byte first (the default).
+    #[default]
+    Compute,
+    /// Send `00 00`, which the spec defines as "no CRC" (section 4.1).
+    Omit,
+}
+
+/// The worst-case length on the wire of a frame carrying `data_len` data bytes: two flags plus
+/// the ID, the data and the CRC, every one of them escaped.
+///
+/// Use it to size buffers at compile time:
+///
+/// ```
+/// use aeolus_proto::{max_encoded_len, message::Gyro};
+/// let mut buf = [0u8; max_encoded_len(Gyro::LEN)];
+/// assert_eq!(buf.len(), 72);
+/// ```
+pub const fn max_encoded_len(data_len: usize) -> usize {
+    2 + 2 * (1 + data_len + 2)
+}
+
+#[inline(always)]
+const fn needs_escape(byte: u8) -> bool {
+    byte.wrapping_sub(ESCAPE) < 2
+}
+
+/// Writes escaped bytes into a slice, failing cleanly when it is full.
+struct SliceWriter<'o> {
+    out: &'o mut [u8],
+    len: usize,
+}
+
+impl SliceWriter<'_> {
+    #[inline(always)]
+    fn raw(&mut self, byte: u8) -> Result<(), Error> {
+        let slot = self.out.get_mut(self.len).ok_or(Error::BufferTooSmall)?;
+        *slot = byte;
+        self.len += 1;
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn escaped(&mut self, byte: u8) -> Result<(), Error> {
+        if needs_escape(byte) {
+            self.raw(ESCAPE)?;
+            self.raw(byte ^ 0x20)
+        } else {
+            self.raw(byte)
+        }
+    }
+}
+
+/// Encodes one frame into `out` and returns the number of bytes written.
+///
+/// The data is `head` followed by `tail` (pass `&[]` as `tail` for a single slice; the text
+/// messages use it for their NUL terminator, so no copy is needed).
+///
+/// ```
+/// use aeolus_proto::{encode_frame, CrcMode};
+/// let mut out = [0u8; 16];
+/// let n = encode_frame(82, b"hi\0", &[], CrcMode::Compute, &mut out).unwrap();
+/// assert_eq!(&out[..n], &[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E]);
+/// ```
+///
+/// # Errors
+/// [`Error::BufferTooSmall`] if `out` cannot hold the escaped frame; `out` then holds a
+/// partial frame that must not be sent.
+pub fn encode_frame(
+    id: u8,
+    head: &[u8],
+    tail: &[u8],
+    crc_mode: CrcMode,
+    out: &mut [u8],
+) -> Result<usize, Error> {
+    let mut w = SliceWriter { out, len: 0 };
+    w.raw(FLAG)?;
+    w.escaped(id)?;
+    let mut crc = crc::update(0, id);
+    for &b in head.iter().chain(tail) {
+        crc = crc::update(crc, b);
+        w.escaped(b)?;
+    }
+    if crc_mode == CrcMode::Omit {
+        crc = 0;
+    }
+    let [lo, hi] = crc.to_le_bytes();
+    w.escaped(lo)?;
+    w.escaped(hi)?;
+    w.raw(FLAG)?;
+    Ok(w.len)
+}
+
+/// An iterator over the bytes of one escaped frame, for a UART TX path with no buffer.
+///
+/// The CRC is computed on the fly as the data goes out.
+///
+/// ```
+/// use aeolus_proto::{FrameBytes, CrcMode};
+/// let wire: Vec<u8> = FrameBytes::new(82, b"hi\0", CrcMode::Compute).collect();
+/// assert_eq!(wire, [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E]);
+/// ```
+#[derive(Debug, Clone)]
+pub struct FrameBytes<'a> {
+    id: u8,
+    data: &'a [u8],
+    crc: u16,
+    mode: CrcMode,
+    /// 0: start flag; 1: ID; 2..2+n: data; then CRC low, CRC high, end flag.
+    pos: usize,
+    /// The second byte of an escape pair, waiting to go out.
+    pending: Option<u8>,
+}
+
+impl<'a> FrameBytes<'a> {
+    /// Prepares the frame `id` + `data` (+ CRC).
+    pub const fn new(id: u8, data: &'a [u8], mode: CrcMode) -> Self {
+        FrameBytes {
+            id,
+            data,
+            crc: 0,
+            mode,
+            pos: 0,
+            pending: None,
+        }
+    }
+
+    fn logical(&mut self, pos: usize) -> Option<u8> {
+        let n = self.data.len();
+        let byte = match pos {
+            1 => self.id,
+            p if p >= 2 && p - 2 < n => *self.data.get(p - 2)?,
+            p if p == n + 2 || p == n + 3 => {
+                let crc = if self.mode == CrcMode::Omit {
+                    0
+                } else {
+                    self.crc
+                };
+                return Some(if p == n + 2 {
+                    crc as u8
+                } else {
+                    (crc >> 8) as u8
+                });
+            }
+            _ => return None,
+        };
+        self.crc = crc::update(self.crc, byte);
+        Some(byte)
+    }
+}
+
+impl Iterator for FrameBytes<'_> {
+    type Item = u8;
+
+    fn next(&mut self) -> Option<u8> {
+        if let Some(b) = self.pending.take() {
+            return Some(b);
+        }
+        let pos = self.pos;
+        let end = self.data.len().saturating_add(4);
+        if pos > end {
+            return None;
+        }
+        self.pos = pos.saturating_add(1);
+        if pos == 0 || pos == end {
+            return Some(FLAG);
+        }
+        let byte = self.logical(pos)?;
+        if needs_escape(byte) {
+            self.pending = Some(byte ^ 0x20);
+            Some(ESCAPE)
+        } else {
+            Some(byte)
+        }
+    }
+}

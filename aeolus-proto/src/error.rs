@@ -1,0 +1,92 @@
+//! The crate's single error type.
+
+use core::fmt;
+
+/// Everything that can go wrong while framing, deframing, parsing or emitting AEOLUS data.
+///
+/// Decoders report these and carry on: no input makes them panic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Error {
+    /// The output buffer cannot hold what was asked for.
+    BufferTooSmall,
+    /// A frame grew past the deframer's capacity. Its bytes were dropped and the deframer
+    /// waits for the next flag.
+    Overflow,
+    /// The received CRC does not match the CRC of the ID and data.
+    CrcMismatch {
+        /// The message ID as received (it may itself be corrupted).
+        id: u8,
+        /// The CRC computed over the received ID and data.
+        computed: u16,
+        /// The CRC carried by the frame.
+        received: u16,
+    },
+    /// Strict mode: the frame carries `00 00` instead of a CRC.
+    MissingCrc {
+        /// The message ID as received.
+        id: u8,
+    },
+    /// A frame too short to hold an ID and a CRC (1 or 2 bytes between the flags).
+    TooShort,
+    /// An escape byte (0x7D) followed by something other than 0x5D or 0x5E.
+    InvalidEscape,
+    /// An escape byte (0x7D) right before a flag: the frame was aborted.
+    EscapedFlag,
+    /// A datagram ended inside a frame (no closing flag).
+    Truncated,
+    /// A known fixed-size message ID arrived with the wrong number of data bytes.
+    WrongLength {
+        /// The message ID.
+        id: u8,
+        /// The data length the spec prescribes for this ID.
+        expected: u16,
+        /// The data length received.
+        actual: u16,
+    },
+    /// A TOAST or COMMAND text is longer than [`crate::TEXT_CAPACITY`].
+    TextTooLong {
+        /// The message ID.
+        id: u8,
+        /// The length of the received text.
+        len: u16,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::BufferTooSmall => f.write_str("output buffer too small"),
+            Error::Overflow => f.write_str("frame longer than the deframer capacity"),
+            Error::CrcMismatch {
+                id,
+                computed,
+                received,
+            } => write!(
+                f,
+                "CRC mismatch on message {id}: computed {computed:#06x}, received {received:#06x}"
+            ),
+            Error::MissingCrc { id } => write!(f, "message {id} carries no CRC (strict mode)"),
+            Error::TooShort => f.write_str("frame too short to hold an ID and a CRC"),
+            Error::InvalidEscape => f.write_str("escape byte followed by an invalid byte"),
+            Error::EscapedFlag => f.write_str("escape byte right before a flag (frame aborted)"),
+            Error::Truncated => f.write_str("datagram ends inside a frame"),
+            Error::WrongLength {
+                id,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "message {id} has {actual} data bytes, expected {expected}"
+            ),
+            Error::TextTooLong { id, len } => write!(
+                f,
+                "message {id} carries a {len}-byte text, more than {} allowed",
+                crate::TEXT_CAPACITY
+            ),
+        }
+    }
+}
+
+impl core::error::Error for Error {}

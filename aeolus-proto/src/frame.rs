@@ -1,0 +1,112 @@
+//! A checked, zero-copy view of one unescaped frame.
+
+use crate::{Error, crc, message::Message};
+
+/// One received frame: the message ID, the data and the CRC, unescaped, flags removed.
+///
+/// A `Frame` only exists once its CRC checked out (or, outside strict mode, once it was found
+/// to carry no CRC, section 4.1). It borrows the deframer's buffer.
+///
+/// ```
+/// use aeolus_proto::Frame;
+/// // ID 82 (TOAST), "hi\0", CRC 0xEC73 sent LSB first.
+/// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+/// assert_eq!(frame.id(), 82);
+/// assert_eq!(frame.data(), b"hi\0");
+/// assert!(frame.has_crc());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Frame<'a> {
+    raw: &'a [u8],
+    has_crc: bool,
+}
+
+impl<'a> Frame<'a> {
+    /// Checks the unescaped bytes between two flags (ID, data, CRC) and wraps them.
+    ///
+    /// A received CRC of `00 00` means "no CRC" (DECISIONS.md A3): the frame is accepted
+    /// unchecked, unless `strict` is set. A frame whose real CRC happens to be `0x0000` is
+    /// recognised as checked in both modes.
+    ///
+    /// # Errors
+    /// [`Error::TooShort`], [`Error::CrcMismatch`], or [`Error::MissingCrc`] in strict mode.
+    pub const fn check(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
+        let [body @ .., lo, hi] = raw else {
+            return Err(Error::TooShort);
+        };
+        let [id, ..] = body else {
+            return Err(Error::TooShort);
+        };
+        let received = u16::from_le_bytes([*lo, *hi]);
+        let computed = crc::checksum(body);
+        if received == computed {
+            Ok(Frame { raw, has_crc: true })
+        } else if received != 0 {
+            Err(Error::CrcMismatch {
+                id: *id,
+                computed,
+                received,
+            })
+        } else if strict {
+            Err(Error::MissingCrc { id: *id })
+        } else {
+            Ok(Frame {
+                raw,
+                has_crc: false,
+            })
+        }
+    }
+
+    /// The message ID.
+    pub const fn id(&self) -> u8 {
+        match self.raw {
+            [id, ..] => *id,
+            [] => 0,
+        }
+    }
+
+    /// The message data (between the ID and the CRC).
+    pub const fn data(&self) -> &'a [u8] {
+        match self.raw {
+            [_, data @ .., _, _] => data,
+            _ => &[],
+        }
+    }
+
+    /// The CRC as received (`0` for a frame sent without CRC).
+    pub const fn crc(&self) -> u16 {
+        match self.raw {
+            [.., lo, hi] => u16::from_le_bytes([*lo, *hi]),
+            _ => 0,
+        }
+    }
+
+    /// Whether the frame carried a CRC that was checked (`false`: sent as `00 00`, unchecked).
+    pub const fn has_crc(&self) -> bool {
+        self.has_crc
+    }
+
+    /// The whole unescaped frame: ID, data and CRC. Kept for callers that want the bytes even
+    /// when the typed parse fails.
+    pub const fn raw(&self) -> &'a [u8] {
+        self.raw
+    }
+
+    /// Parses the data into a typed [`Message`].
+    ///
+    /// ```
+    /// use aeolus_proto::{Frame, message::Message};
+    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let Message::Toast(text) = frame.message().unwrap() else { panic!() };
+    /// assert_eq!(text.as_str(), Some("hi"));
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] for a known fixed-size ID with the wrong data length, and
+    /// [`Error::TextTooLong`]; the frame itself stays available.
+    pub fn message(&self) -> Result<Message<'a>, Error> {
+        Message::parse(self.id(), self.data())
+    }
+}

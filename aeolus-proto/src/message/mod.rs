@@ -1,0 +1,355 @@
+//! Typed AEOLUS messages (sections 6 and 7): one plain struct per message with `parse`,
+//! `emit` and `buffer_len`, and the [`Message`] enum that covers every ID.
+
+mod field;
+mod layout;
+mod text;
+
+pub use layout::{
+    Accel, AeolusInfo, Attitude, CALIBINFO_LEN, Compass, DEBUGINFO_LEN, Gps, Gyro, Magnet,
+    Pressure, SetTime, Temp, Wind,
+};
+pub use text::Text;
+
+use crate::{CrcMode, Error, encode_frame};
+
+/// Message IDs of the table in section 6.
+pub mod id {
+    /// AEOLUSINFO.
+    pub const AEOLUSINFO: u8 = 51;
+    /// PRESSURE.
+    pub const PRESSURE: u8 = 61;
+    /// GYRO.
+    pub const GYRO: u8 = 62;
+    /// ACCEL.
+    pub const ACCEL: u8 = 63;
+    /// MAGNET.
+    pub const MAGNET: u8 = 64;
+    /// TEMP.
+    pub const TEMP: u8 = 65;
+    /// GPS.
+    pub const GPS: u8 = 66;
+    /// ATTITUDE.
+    pub const ATTITUDE: u8 = 71;
+    /// COMPASS.
+    pub const COMPASS: u8 = 72;
+    /// WIND.
+    pub const WIND: u8 = 73;
+    /// CALIBINFO.
+    pub const CALIBINFO: u8 = 75;
+    /// DEBUGINFO.
+    pub const DEBUGINFO: u8 = 76;
+    /// LOG.
+    pub const LOG: u8 = 81;
+    /// TOAST.
+    pub const TOAST: u8 = 82;
+    /// COMMAND (DECISIONS.md A5: 11, not the 82 repeated in section 7.15).
+    pub const COMMAND: u8 = 11;
+    /// SETTIME.
+    pub const SETTIME: u8 = 12;
+}
+
+/// COMPASS calibration status (section 7.9): a signed byte (DECISIONS.md A7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum CalibrationStatus {
+    /// 1: no calibration.
+    #[default]
+    NoCalibration,
+    /// 2: calibration just finished.
+    JustFinished,
+    /// 3: calibration ok.
+    Ok,
+    /// 4: calibrating.
+    Calibrating,
+    /// -1: too few data.
+    TooFewData,
+    /// -2: field weak.
+    FieldWeak,
+    /// -3: field distorted.
+    FieldDistorted,
+    /// -4: error very high.
+    ErrorVeryHigh,
+    /// Any other value, kept as received.
+    Other(i8),
+}
+
+impl CalibrationStatus {
+    /// Decodes the status byte.
+    ///
+    /// ```
+    /// use aeolus_proto::message::CalibrationStatus;
+    /// assert_eq!(CalibrationStatus::from_i8(-2), CalibrationStatus::FieldWeak);
+    /// assert_eq!(CalibrationStatus::from_i8(9).to_i8(), 9);
+    /// ```
+    pub const fn from_i8(v: i8) -> Self {
+        match v {
+            1 => Self::NoCalibration,
+            2 => Self::JustFinished,
+            3 => Self::Ok,
+            4 => Self::Calibrating,
+            -1 => Self::TooFewData,
+            -2 => Self::FieldWeak,
+            -3 => Self::FieldDistorted,
+            -4 => Self::ErrorVeryHigh,
+            other => Self::Other(other),
+        }
+    }
+
+    /// The status byte.
+    pub const fn to_i8(self) -> i8 {
+        match self {
+            Self::NoCalibration => 1,
+            Self::JustFinished => 2,
+            Self::Ok => 3,
+            Self::Calibrating => 4,
+            Self::TooFewData => -1,
+            Self::FieldWeak => -2,
+            Self::FieldDistorted => -3,
+            Self::ErrorVeryHigh => -4,
+            Self::Other(v) => v,
+        }
+    }
+}
+
+/// Any AEOLUS message, typed where the spec defines the layout and raw otherwise.
+///
+/// Parse one from a frame with [`crate::Frame::message`] or [`Message::parse`]; build one and
+/// put it on the wire with [`Message::encode`].
+///
+/// Encoding a GYRO message into a buffer:
+///
+/// ```
+/// use aeolus_proto::{max_encoded_len, CrcMode, message::{Gyro, Message}};
+///
+/// let gyro = Message::Gyro(Gyro {
+///     valid: true,
+///     timestamp_ms: 123456.5,
+///     x: 0.5,
+///     y: -1.25,
+///     z: 0.0078125,
+/// });
+/// let mut buf = [0u8; max_encoded_len(Gyro::LEN)];
+/// let n = gyro.encode(&mut buf, CrcMode::Compute).unwrap();
+/// // The "gyro" vector of testdata/aeolus-frames.json.
+/// assert_eq!(n, 37);
+/// assert_eq!(&buf[..4], &[0x7E, 0x3E, 0x01, 0x00]);
+/// assert_eq!(&buf[n - 3..n], &[0xBF, 0x26, 0x7E]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Message<'a> {
+    /// AEOLUSINFO (51).
+    AeolusInfo(AeolusInfo),
+    /// PRESSURE (61).
+    Pressure(Pressure),
+    /// GYRO (62).
+    Gyro(Gyro),
+    /// ACCEL (63).
+    Accel(Accel),
+    /// MAGNET (64).
+    Magnet(Magnet),
+    /// TEMP (65).
+    Temp(Temp),
+    /// GPS (66).
+    Gps(Gps),
+    /// ATTITUDE (71).
+    Attitude(Attitude),
+    /// COMPASS (72).
+    Compass(Compass),
+    /// WIND (73).
+    Wind(Wind),
+    /// CALIBINFO (75), internal use: 32 raw bytes.
+    CalibInfo(&'a [u8]),
+    /// DEBUGINFO (76), internal use: 208 raw bytes.
+    DebugInfo(&'a [u8]),
+    /// LOG (81), internal use: raw bytes of any length.
+    Log(&'a [u8]),
+    /// TOAST (82): a message for the user.
+    Toast(Text),
+    /// COMMAND (11): a service command such as `"a reboot"`.
+    Command(Text),
+    /// SETTIME (12).
+    SetTime(SetTime),
+    /// An ID the spec does not define, kept raw.
+    Unknown {
+        /// The message ID.
+        id: u8,
+        /// The data.
+        data: &'a [u8],
+    },
+}
+
+fn raw_fixed(id: u8, len: usize, data: &[u8]) -> Result<&[u8], Error> {
+    if data.len() == len {
+        Ok(data)
+    } else {
+        Err(Error::WrongLength {
+            id,
+            expected: len as u16,
+            actual: data.len().min(u16::MAX as usize) as u16,
+        })
+    }
+}
+
+impl<'a> Message<'a> {
+    /// Parses the data of a message with ID `id`.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, SetTime};
+    /// let mut data = [0u8; 32];
+    /// data[..6].copy_from_slice(&[126, 10, 21, 9, 30, 0]);
+    /// let msg = Message::parse(12, &data).unwrap();
+    /// assert_eq!(msg, Message::SetTime(SetTime {
+    ///     year_since_1900: 126, month0: 10, day: 21, hour: 9, minute: 30, second: 0,
+    /// }));
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] for a known fixed-size ID with the wrong data length, and
+    /// [`Error::TextTooLong`].
+    pub fn parse(id: u8, data: &'a [u8]) -> Result<Self, Error> {
+        Ok(match id {
+            AeolusInfo::ID => Self::AeolusInfo(AeolusInfo::parse(data)?),
+            Pressure::ID => Self::Pressure(Pressure::parse(data)?),
+            Gyro::ID => Self::Gyro(Gyro::parse(data)?),
+            Accel::ID => Self::Accel(Accel::parse(data)?),
+            Magnet::ID => Self::Magnet(Magnet::parse(data)?),
+            Temp::ID => Self::Temp(Temp::parse(data)?),
+            Gps::ID => Self::Gps(Gps::parse(data)?),
+            Attitude::ID => Self::Attitude(Attitude::parse(data)?),
+            Compass::ID => Self::Compass(Compass::parse(data)?),
+            Wind::ID => Self::Wind(Wind::parse(data)?),
+            SetTime::ID => Self::SetTime(SetTime::parse(data)?),
+            id::CALIBINFO => Self::CalibInfo(raw_fixed(id, CALIBINFO_LEN, data)?),
+            id::DEBUGINFO => Self::DebugInfo(raw_fixed(id, DEBUGINFO_LEN, data)?),
+            id::LOG => Self::Log(data),
+            id::TOAST => Self::Toast(Text::parse(id, data)?),
+            id::COMMAND => Self::Command(Text::parse(id, data)?),
+            _ => Self::Unknown { id, data },
+        })
+    }
+
+    /// The message ID.
+    pub const fn id(&self) -> u8 {
+        match self {
+            Self::AeolusInfo(_) => id::AEOLUSINFO,
+            Self::Pressure(_) => id::PRESSURE,
+            Self::Gyro(_) => id::GYRO,
+            Self::Accel(_) => id::ACCEL,
+            Self::Magnet(_) => id::MAGNET,
+            Self::Temp(_) => id::TEMP,
+            Self::Gps(_) => id::GPS,
+            Self::Attitude(_) => id::ATTITUDE,
+            Self::Compass(_) => id::COMPASS,
+            Self::Wind(_) => id::WIND,
+            Self::CalibInfo(_) => id::CALIBINFO,
+            Self::DebugInfo(_) => id::DEBUGINFO,
+            Self::Log(_) => id::LOG,
+            Self::Toast(_) => id::TOAST,
+            Self::Command(_) => id::COMMAND,
+            Self::SetTime(_) => id::SETTIME,
+            Self::Unknown { id, .. } => *id,
+        }
+    }
+
+    /// The spec's name of the message (`"UNKNOWN"` for an undefined ID).
+    pub const fn name(&self) -> &'static str {
+        match self {
+            Self::AeolusInfo(_) => "AEOLUSINFO",
+            Self::Pressure(_) => "PRESSURE",
+            Self::Gyro(_) => "GYRO",
+            Self::Accel(_) => "ACCEL",
+            Self::Magnet(_) => "MAGNET",
+            Self::Temp(_) => "TEMP",
+            Self::Gps(_) => "GPS",
+            Self::Attitude(_) => "ATTITUDE",
+            Self::Compass(_) => "COMPASS",
+            Self::Wind(_) => "WIND",
+            Self::CalibInfo(_) => "CALIBINFO",
+            Self::DebugInfo(_) => "DEBUGINFO",
+            Self::Log(_) => "LOG",
+            Self::Toast(_) => "TOAST",
+            Self::Command(_) => "COMMAND",
+            Self::SetTime(_) => "SETTIME",
+            Self::Unknown { .. } => "UNKNOWN",
+        }
+    }
+
+    /// The data length [`Message::emit`] writes.
+    pub fn buffer_len(&self) -> usize {
+        match self {
+            Self::Toast(t) | Self::Command(t) => t.buffer_len(),
+            Self::CalibInfo(d)
+            | Self::DebugInfo(d)
+            | Self::Log(d)
+            | Self::Unknown { data: d, .. } => d.len(),
+            Self::AeolusInfo(_) => AeolusInfo::LEN,
+            Self::Pressure(_) => Pressure::LEN,
+            Self::Gyro(_) => Gyro::LEN,
+            Self::Accel(_) => Accel::LEN,
+            Self::Magnet(_) => Magnet::LEN,
+            Self::Temp(_) => Temp::LEN,
+            Self::Gps(_) => Gps::LEN,
+            Self::Attitude(_) => Attitude::LEN,
+            Self::Compass(_) => Compass::LEN,
+            Self::Wind(_) => Wind::LEN,
+            Self::SetTime(_) => SetTime::LEN,
+        }
+    }
+
+    /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+        match self {
+            Self::AeolusInfo(m) => m.emit(out),
+            Self::Pressure(m) => m.emit(out),
+            Self::Gyro(m) => m.emit(out),
+            Self::Accel(m) => m.emit(out),
+            Self::Magnet(m) => m.emit(out),
+            Self::Temp(m) => m.emit(out),
+            Self::Gps(m) => m.emit(out),
+            Self::Attitude(m) => m.emit(out),
+            Self::Compass(m) => m.emit(out),
+            Self::Wind(m) => m.emit(out),
+            Self::SetTime(m) => m.emit(out),
+            Self::Toast(t) | Self::Command(t) => t.emit(out),
+            Self::CalibInfo(d)
+            | Self::DebugInfo(d)
+            | Self::Log(d)
+            | Self::Unknown { data: d, .. } => {
+                let dst = out.get_mut(..d.len()).ok_or(Error::BufferTooSmall)?;
+                dst.copy_from_slice(d);
+                Ok(d.len())
+            }
+        }
+    }
+
+    /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns its length.
+    /// [`crate::max_encoded_len`] of [`Message::buffer_len`] is always enough.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`].
+    pub fn encode(&self, out: &mut [u8], crc: CrcMode) -> Result<usize, Error> {
+        let id = self.id();
+        match self {
+            Self::Toast(t) | Self::Command(t) => encode_frame(id, t.as_bytes(), &[0], crc, out),
+            Self::CalibInfo(d)
+            | Self::DebugInfo(d)
+            | Self::Log(d)
+            | Self::Unknown { data: d, .. } => encode_frame(id, d, &[], crc, out),
+            _ => {
+                let mut data = [0u8; MAX_FIXED_DATA];
+                let n = self.emit(&mut data)?;
+                encode_frame(id, data.get(..n).unwrap_or(&[]), &[], crc, out)
+            }
+        }
+    }
+}
+
+/// The longest fixed layout among the typed messages (COMPASS, 80 bytes).
+const MAX_FIXED_DATA: usize = Compass::LEN;

@@ -1,0 +1,97 @@
+//! TOAST and COMMAND texts (sections 7.14, 7.15, DECISIONS.md A6).
+
+use crate::{Error, TEXT_CAPACITY};
+
+/// A bounded text: TOAST (82) and COMMAND (11) carry a NUL-terminated string.
+///
+/// The bytes are kept as received (text that is not UTF-8 keeps its raw bytes, A6);
+/// [`Text::as_str`] gives the string when it is UTF-8. The NUL terminator is not stored.
+///
+/// ```
+/// use aeolus_proto::message::Text;
+/// let t = Text::new("a pause").unwrap();
+/// assert_eq!(t.as_bytes(), b"a pause");
+/// assert_eq!(t.buffer_len(), 8); // the text and its NUL
+/// ```
+#[derive(Clone, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Text(heapless::Vec<u8, TEXT_CAPACITY>);
+
+impl Text {
+    /// A text from a string.
+    ///
+    /// # Errors
+    /// [`Error::TextTooLong`] (with ID 0) if it is longer than [`TEXT_CAPACITY`].
+    pub fn new(text: &str) -> Result<Self, Error> {
+        Self::from_bytes(text.as_bytes()).map_err(|_| Error::TextTooLong {
+            id: 0,
+            len: text.len().min(u16::MAX as usize) as u16,
+        })
+    }
+
+    /// A text from raw bytes (not necessarily UTF-8), up to a NUL if one is present.
+    ///
+    /// # Errors
+    /// [`Error::TextTooLong`] (with ID 0) if the bytes before the NUL exceed [`TEXT_CAPACITY`].
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
+        let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+        let text = bytes.get(..end).unwrap_or(&[]);
+        heapless::Vec::from_slice(text)
+            .map(Text)
+            .map_err(|_| Error::TextTooLong {
+                id: 0,
+                len: end.min(u16::MAX as usize) as u16,
+            })
+    }
+
+    /// Parses message data: the string runs to the first NUL, or over all the data if there is
+    /// none (A6). Bytes after the NUL are ignored (they stay in the raw frame).
+    ///
+    /// # Errors
+    /// [`Error::TextTooLong`] carrying `id`.
+    pub fn parse(id: u8, data: &[u8]) -> Result<Self, Error> {
+        Self::from_bytes(data).map_err(|e| match e {
+            Error::TextTooLong { len, .. } => Error::TextTooLong { id, len },
+            other => other,
+        })
+    }
+
+    /// The text bytes, without the NUL.
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.0
+    }
+
+    /// The text, if it is UTF-8.
+    pub fn as_str(&self) -> Option<&str> {
+        core::str::from_utf8(&self.0).ok()
+    }
+
+    /// The data length on the wire: the text and its NUL terminator.
+    pub fn buffer_len(&self) -> usize {
+        self.0.len() + 1
+    }
+
+    /// Writes the text and its NUL into `out`; returns [`Text::buffer_len`].
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+        let n = self.0.len();
+        let out = out.get_mut(..=n).ok_or(Error::BufferTooSmall)?;
+        let (text, nul) = out.split_at_mut(n);
+        text.copy_from_slice(&self.0);
+        nul.fill(0);
+        Ok(n + 1)
+    }
+}
+
+/// Shows the text as a string when it is UTF-8, as bytes otherwise.
+impl core::fmt::Debug for Text {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self.as_str() {
+            Some(s) => f.debug_tuple("Text").field(&s).finish(),
+            None => f.debug_tuple("Text").field(&self.as_bytes()).finish(),
+        }
+    }
+}
