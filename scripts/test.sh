@@ -22,6 +22,14 @@ for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
   done
 done
 
+step "panic-never: link-time proof that no panic path survives (checks/panic-never)"
+if ! (cd checks/panic-never && cargo build -q --release); then
+  echo "FAILED panic-never check: a panic path is reachable from a decoder, typed parse or encoder."
+  echo "The link error names the undefined symbol PANIC_PATH_REACHABLE_see_checks_panic_never;"
+  echo "see checks/panic-never/src/main.rs for what it exercises."
+  exit 1
+fi
+
 step "rustdoc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 

@@ -1,0 +1,114 @@
+//! # panic-never
+//!
+//! Feeds bytes the optimiser cannot see (read with `read_volatile`) through every decoder,
+//! typed parse and encoder of the protocol crates. The panic handler calls a function that is
+//! defined nowhere, so this binary only links if the optimiser removed every panic path: if a
+//! change makes a panic reachable from any of these entry points, the link fails with
+//! `undefined symbol: PANIC_PATH_REACHABLE_see_checks_panic_never`.
+#![no_std]
+#![no_main]
+
+use core::ptr::{addr_of, read_volatile};
+
+unsafe extern "C" {
+    /// Deliberately never defined.
+    fn PANIC_PATH_REACHABLE_see_checks_panic_never() -> !;
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    unsafe { PANIC_PATH_REACHABLE_see_checks_panic_never() }
+}
+
+/// Opaque input: the optimiser must assume any contents.
+static mut INPUT: [u8; 512] = [0; 512];
+/// Opaque sink for results, so nothing is optimised away.
+static mut SINK: u32 = 0;
+
+fn input_byte(i: usize) -> u8 {
+    unsafe { read_volatile(addr_of!(INPUT).cast::<u8>().add(i % 512)) }
+}
+
+fn input<const N: usize>() -> [u8; N] {
+    let mut buf = [0u8; N];
+    for (i, b) in buf.iter_mut().enumerate() {
+        *b = input_byte(i);
+    }
+    buf
+}
+
+fn len() -> usize {
+    input_byte(0) as usize | (input_byte(1) as usize) << 8
+}
+
+fn sink(v: u32) {
+    unsafe { core::ptr::write_volatile(core::ptr::addr_of_mut!(SINK), v) }
+}
+
+mod aeolus {
+    use super::*;
+    use aeolus_proto::{message::*, *};
+
+    pub fn run() {
+        // Deframer, byte by byte, both modes.
+        let mut d = Deframer::<{ MAX_FIXED_FRAME }>::new();
+        let mut s = Deframer::<16>::strict();
+        for i in 0..len() {
+            let b = input_byte(i);
+            if let Some(Ok(frame)) = d.push(b) {
+                sink(frame.id() as u32 ^ frame.data().len() as u32 ^ frame.crc() as u32);
+                if let Ok(msg) = frame.message() {
+                    sink(msg.buffer_len() as u32);
+                }
+            }
+            if let Some(ev) = s.push(b) {
+                sink(ev.is_ok() as u32);
+            }
+        }
+        sink(d.stats().bytes_discarded ^ s.stats().frames_ok);
+
+        // Datagram decoding in place.
+        let mut dg: [u8; 300] = input();
+        let n = len() % 301;
+        for f in decode_datagram(&mut dg[..n], input_byte(2) & 1 == 1).flatten() {
+            sink(f.raw().len() as u32);
+        }
+
+        // Every typed parse, then emit and encode what parsed.
+        let data: [u8; 256] = input();
+        let id = input_byte(3);
+        let dl = len() % 257;
+        if let Ok(msg) = Message::parse(id, &data[..dl]) {
+            let mut out = [0u8; max_encoded_len(256)];
+            let k = (input_byte(4) as usize) % out.len();
+            if let Ok(n) = msg.encode(&mut out[..k], CrcMode::Compute) {
+                sink(n as u32);
+            }
+            let mut raw = [0u8; 256];
+            if let Ok(n) = msg.emit(&mut raw[..k.min(256)]) {
+                sink(n as u32);
+            }
+        }
+        // Encoders with arbitrary data and output sizes.
+        let mut out = [0u8; 128];
+        let k = (input_byte(5) as usize) % 129;
+        if let Ok(n) = encode_frame(id, &data[..dl], &data[..dl % 7], CrcMode::Omit, &mut out[..k]) {
+            sink(n as u32);
+        }
+        for b in FrameBytes::new(id, &data[..dl], CrcMode::Compute) {
+            sink(b as u32);
+        }
+        if let Ok(t) = Text::from_bytes(&data[..dl]) {
+            sink(t.buffer_len() as u32);
+        }
+        sink(crc::checksum(&data[..dl]) as u32);
+    }
+}
+
+#[unsafe(no_mangle)]
+pub extern "C" fn entry() -> ! {
+    aeolus::run();
+    loop {
+        core::hint::spin_loop();
+    }
+}
