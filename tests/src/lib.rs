@@ -1,0 +1,9 @@
+//! Shared pieces of the cross-crate tests and of the corruption-figures program:
+//! a seeded RNG, the noisy channels, naive decoders, and the scoring of what a decoder
+//! delivered against what was sent.
+
+pub mod channel;
+pub mod naive;
+pub mod protocols;
+pub mod rng;
+pub mod score;

@@ -1,0 +1,196 @@
+//! Each protocol's part in the corruption figures: random valid frames, garbage, and its real
+//! and naive decoders reduced to the keys of the frames they deliver.
+
+use crate::{
+    channel::Channel,
+    naive,
+    rng::Rng,
+    score::{Figures, score},
+};
+use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::*};
+
+/// A protocol under test.
+pub trait Protocol {
+    /// Name in the tables.
+    fn name(&self) -> String;
+    /// A random valid frame: its wire bytes and the key its decoded form is compared by.
+    fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>);
+    /// `n` bytes of garbage that look like this protocol's bytes.
+    fn garbage(&self, rng: &mut Rng, n: usize) -> Vec<u8>;
+    /// The crate's decoder: keys of the frames it delivers.
+    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>>;
+    /// The naive decoder: keys of the frames it delivers.
+    fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>>;
+}
+
+/// Sends `n` random frames through `channel` and scores the crate's decoder and the naive one
+/// on the same received stream.
+pub fn run(p: &dyn Protocol, channel: Channel, n: usize, seed: u64) -> (Figures, Figures) {
+    let mut rng = Rng::new(seed);
+    let mut stream = Vec::new();
+    let mut sent = Vec::with_capacity(n);
+    let mut garbage = |r: &mut Rng, k: usize| p.garbage(r, k);
+    for _ in 0..n {
+        let (wire, key) = p.frame(&mut rng);
+        let intact = channel.pass(&mut rng, &wire, &mut stream, &mut garbage);
+        sent.push((key, intact));
+    }
+    // A last flush of garbage so a trailing frame is not left pending in either decoder.
+    stream.extend(p.garbage(&mut rng, 8));
+    let real = score(&sent, &p.decode(&stream), 256);
+    let naive = score(&sent, &p.decode_naive(&stream), 256);
+    (real, naive)
+}
+
+/// AEOLUS, in normal or strict mode.
+pub struct Aeolus {
+    /// Reject frames without CRC.
+    pub strict: bool,
+}
+
+impl Aeolus {
+    fn random_message(rng: &mut Rng) -> Message<'static> {
+        let t = rng.f64();
+        match rng.below(9) {
+            0 => Message::Gyro(Gyro {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
+            1 => Message::Accel(Accel {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
+            2 => Message::Magnet(Magnet {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
+            3 => Message::Pressure(Pressure {
+                valid: true,
+                timestamp_ms: t,
+                static_mbar: rng.f32(),
+                pitot_mbar: rng.f32(),
+                airspeed_mps: rng.f32(),
+            }),
+            4 => Message::Attitude(Attitude {
+                valid: true,
+                timestamp_ms: t,
+                roll_rad: rng.f32(),
+                pitch_rad: rng.f32(),
+                yaw_rad: rng.f32(),
+                slip_ball: rng.f32(),
+                turn_coordinator: rng.f32(),
+                qx: rng.f32(),
+                qy: rng.f32(),
+                qz: rng.f32(),
+                qw: rng.f32(),
+            }),
+            5 => Message::Compass(Compass {
+                valid: true,
+                calibration: CalibrationStatus::Ok,
+                has_value: true,
+                calibration_percent: 100,
+                calibration_remaining: 0,
+                timestamp_ms: t,
+                heading_deg: rng.f32(),
+                soft_iron: [rng.f32(), rng.f32(), rng.f32()],
+                hard_iron: [rng.f32(); 9],
+            }),
+            6 => Message::Gps(Gps {
+                valid: true,
+                has_fix: true,
+                satellites: rng.byte(),
+                timestamp_ms: t,
+                latitude_deg: rng.f32(),
+                longitude_deg: rng.f32(),
+                altitude_m: rng.f32(),
+                ground_speed_mps: rng.f32(),
+            }),
+            7 => {
+                let n = rng.below(40) as usize;
+                let text: Vec<u8> = (0..n).map(|_| 1 + rng.byte() % 255).collect();
+                Message::Toast(Text::from_bytes(&text).unwrap_or_default())
+            }
+            _ => Message::Wind(Wind {
+                valid: true,
+                timestamp_ms: t,
+                speed_mps: rng.f32(),
+                direction_deg: rng.f32(),
+            }),
+        }
+    }
+}
+
+impl Protocol for Aeolus {
+    fn name(&self) -> String {
+        if self.strict {
+            "AEOLUS (strict)".into()
+        } else {
+            "AEOLUS".into()
+        }
+    }
+
+    fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>) {
+        let msg = Self::random_message(rng);
+        let mut data = [0u8; 128];
+        let n = msg.emit(&mut data).unwrap_or(0);
+        let mut wire = [0u8; max_encoded_len(128)];
+        let w = msg.encode(&mut wire, CrcMode::Compute).unwrap_or(0);
+        let mut key = vec![msg.id()];
+        key.extend_from_slice(&data[..n]);
+        key.extend_from_slice(&aeolus_proto::crc::checksum(&key).to_le_bytes());
+        (wire[..w].to_vec(), key)
+    }
+
+    fn garbage(&self, rng: &mut Rng, n: usize) -> Vec<u8> {
+        (0..n)
+            .map(|_| match rng.below(8) {
+                0 => 0x7E,
+                1 => 0x7D,
+                _ => rng.byte(),
+            })
+            .collect()
+    }
+
+    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut d = if self.strict {
+            Deframer::<256>::strict()
+        } else {
+            Deframer::<256>::new()
+        };
+        let mut out = Vec::new();
+        d.push_slice(stream, |ev| {
+            if let Ok(f) = ev {
+                out.push(f.raw().to_vec());
+            }
+        });
+        out
+    }
+
+    fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut v = naive::aeolus(stream);
+        if self.strict {
+            v.retain(|k| k.len() >= 2 && k[k.len() - 2..] != [0, 0]);
+        }
+        v
+    }
+}
+
+/// Every channel of the figures: (a), (b) at three BERs, (c).
+pub fn channels() -> [Channel; 5] {
+    [
+        Channel::Garbage { max: 64 },
+        Channel::BitFlips { ber: 1e-5 },
+        Channel::BitFlips { ber: 1e-4 },
+        Channel::BitFlips { ber: 1e-3 },
+        Channel::Drops { rate: 1e-3 },
+    ]
+}
