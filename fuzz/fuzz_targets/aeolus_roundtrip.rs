@@ -8,18 +8,19 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     let Some((&id, rest)) = data.split_first() else { return };
     let Ok(msg) = Message::parse(id, rest) else { return };
-    let mut canon = [0u8; 512];
+    let mut canon = vec![0u8; msg.buffer_len()];
     let n = msg.emit(&mut canon).unwrap();
     let canon = &canon[..n];
     // emit(parse(canon)) == canon.
     let again = Message::parse(id, canon).unwrap();
-    let mut out = [0u8; 512];
+    let mut out = vec![0u8; n];
     let m = again.emit(&mut out).unwrap();
     assert_eq!(&out[..m], canon);
     // The whole frame round-trips through the deframer.
-    let mut wire = [0u8; max_encoded_len(512)];
+    let mut wire = vec![0u8; max_encoded_len(n)];
     let w = msg.encode(&mut wire, CrcMode::Compute).unwrap();
-    let mut d = Deframer::<600>::strict();
+    // Capacity for the longest input the fuzzer makes (-max_len=4096).
+    let mut d = Deframer::<4100>::strict();
     let mut seen = 0;
     for &b in &wire[..w] {
         if let Some(ev) = d.push(b) {
