@@ -1,4 +1,83 @@
-//! AOK protocol (work in progress).
+//! Both ends of the AOK serial protocol (38400 8N1) for `no_std` firmware and host tools.
+//!
+//! * [`device`]: the flight controller's side. [`DeviceDecoder`] reads every command the PC sends,
+//!   byte at a time; encoders write debug values, acks, parameter replies (both firmware forms),
+//!   bulk replies and waypoint replies.
+//! * [`pc`]: the ground tool's side. Command encoders and [`pc::PcDecoder`], which reads the device's
+//!   stream of debug frames, acks and replies, knowing which request is pending.
+//! * [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits: debug off,
+//!   drain, request, wait (with timeout), debug back on.
+//! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
+//!
+//! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
+//!
+//! ```
+//! use aok_proto::{pc::{Expect, PcDecoder}, Command, DeviceDecoder, FirmwareVersion, Message,
+//!                 ParameterValue};
+//! // PC: read parameter 12.
+//! let mut wire = [0u8; 19];
+//! let n = Command::ReadParameter(12).emit(&mut wire)?;
+//! // Device: decode it and answer.
+//! let mut device = DeviceDecoder::new();
+//! let mut reply = [0u8; 7];
+//! let mut reply_len = 0;
+//! for &b in &wire[..n] {
+//!     for cmd in device.push(b) {
+//!         if let Ok(Command::ReadParameter(num)) = cmd {
+//!             let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
+//!             reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
+//!         }
+//!     }
+//! }
+//! // PC: decode the reply.
+//! let mut pc = PcDecoder::new(FirmwareVersion::LATEST);
+//! pc.expect(Expect::Parameter(12));
+//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b).next());
+//! assert_eq!(got, Some(Message::Parameter(ParameterValue { number: 12, value: 1500 })));
+//! # Ok::<(), aok_proto::Error>(())
+//! ```
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+
+pub mod client;
+pub mod command;
+pub mod device;
+mod error;
+pub mod message;
+pub mod pc;
+pub mod stats;
+pub mod values;
+
+pub use client::{Client, Config, Outcome};
+pub use command::{Command, ExternalControl, MotorTest, ParameterValue, Waypoint};
+pub use device::DeviceDecoder;
+pub use error::{Error, SerialError};
+pub use message::{DebugValue, Message};
+pub use pc::PcDecoder;
+pub use stats::DecoderStats;
+pub use values::{
+    Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
+};
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
+
+/// XOR of all bytes: the checksum of every AOK frame that has one.
+#[inline]
+pub(crate) fn xor(bytes: &[u8]) -> u8 {
+    bytes.iter().fold(0, |a, &b| a ^ b)
+}
+
+/// Drop the first `n` of the `len` buffered bytes; returns the new length.
+#[inline]
+pub(crate) fn shift_left<const N: usize>(buf: &mut [u8; N], len: usize, n: usize) -> usize {
+    let len = if len < N { len } else { N };
+    if n >= len {
+        return 0;
+    }
+    buf.copy_within(n..len, 0);
+    len - n
+}

@@ -1,0 +1,614 @@
+//! A PC-side client: a non-blocking state machine over `embedded-hal-nb` serial traits.
+//!
+//! For a request with a reply (`73`, `77`, `67`, `47`, `78`) while debug output is on, the client
+//! sends debug-off, drains until the line has been quiet for [`Config::quiet_ms`] (the spec warns
+//! that values keep coming for a while), sends the request, waits for its reply or ack for at most
+//! [`Config::timeout_ms`], and sends debug-on again, also after a timeout or a refusal. Requests
+//! without a reply (motor test, external control, `63` commands) are just sent.
+//!
+//! Drive it with [`Client::poll`], passing the time in milliseconds (any wrapping `u32` clock), or use
+//! the blocking helpers ([`Client::run`] and friends) with a clock closure.
+
+use embedded_hal_nb::serial::{Read, Write};
+
+use crate::command::{Command, MAX_COMMAND_LEN, MotorTest, ParameterValue, Waypoint};
+use crate::message::{DebugValue, Message};
+use crate::pc::{DEBUG_OFF, DEBUG_ON, Expect, PcDecoder};
+use crate::stats::DecoderStats;
+use crate::values::{Ack, FirmwareVersion, WaypointSlot};
+use crate::{Error, SerialError};
+
+/// How many debug values the client keeps for [`Client::next_debug`]; older ones are dropped.
+pub const DEBUG_QUEUE: usize = 16;
+/// The most bytes one [`Client::poll`] reads, to bound its run time.
+pub const MAX_READS_PER_POLL: usize = 64;
+
+/// Client settings.
+///
+/// ```
+/// let c = aok_proto::Config::new(aok_proto::FirmwareVersion::LATEST);
+/// assert_eq!((c.timeout_ms, c.quiet_ms, c.debug_on), (1000, 50, true));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Config {
+    /// The device's firmware: picks the parameter-reply form and whether bulk read exists.
+    pub firmware: FirmwareVersion,
+    /// How long to wait for a reply (and the longest drain) in ms.
+    pub timeout_ms: u32,
+    /// How long the line must be silent before the drain after debug-off ends, in ms. Also the gap
+    /// after which a partial frame is abandoned while waiting for a reply.
+    pub quiet_ms: u32,
+    /// Whether the device is sending debug values when the client starts (the AOK does by default).
+    pub debug_on: bool,
+}
+
+impl Config {
+    /// Defaults: 1000 ms timeout, 50 ms quiet time, debug output assumed on.
+    ///
+    /// ```
+    /// let c = aok_proto::Config::new(aok_proto::FirmwareVersion::new(0, 30));
+    /// assert_eq!(c.firmware.minor, 30);
+    /// ```
+    pub const fn new(firmware: FirmwareVersion) -> Self {
+        Self {
+            firmware,
+            timeout_ms: 1000,
+            quiet_ms: 50,
+            debug_on: true,
+        }
+    }
+}
+
+/// The 16 values of a bulk read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct BulkValues {
+    /// The first parameter number.
+    pub first: u8,
+    /// Parameters `first..first+16` (numbers wrap at 255).
+    pub values: [i32; 16],
+}
+
+/// How a finished operation went.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Outcome {
+    /// The command was sent; it has no reply.
+    Sent,
+    /// The device acked with 'O'.
+    Acked,
+    /// A parameter value.
+    Parameter(ParameterValue),
+    /// The 16 values of a bulk read.
+    Bulk(BulkValues),
+    /// A waypoint.
+    Waypoint(Waypoint),
+}
+
+/// Client counters (wrapping).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ClientStats {
+    /// Debug values received.
+    pub debug_values: u32,
+    /// Debug values pushed out of the full queue.
+    pub debug_dropped: u32,
+    /// Replies and acks that matched no pending request.
+    pub stray: u32,
+    /// Errors reported by the serial port's `read`.
+    pub read_errors: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum Phase {
+    Idle,
+    DebugOff,
+    Drain,
+    Send,
+    Await,
+    Restore,
+}
+
+/// The PC-side client. `S` is the serial port (both halves; see the crate README for split ports).
+///
+/// ```
+/// use aok_proto::{Client, Command, Config, FirmwareVersion, Outcome};
+/// # struct Loop(Option<u8>);
+/// # impl embedded_hal_nb::serial::ErrorType for Loop { type Error = core::convert::Infallible; }
+/// # impl embedded_hal_nb::serial::Read for Loop {
+/// #     fn read(&mut self) -> nb::Result<u8, Self::Error> { self.0.take().ok_or(nb::Error::WouldBlock) }
+/// # }
+/// # impl embedded_hal_nb::serial::Write for Loop {
+/// #     fn write(&mut self, _: u8) -> nb::Result<(), Self::Error> { Ok(()) }
+/// #     fn flush(&mut self) -> nb::Result<(), Self::Error> { Ok(()) }
+/// # }
+/// let mut config = Config::new(FirmwareVersion::LATEST);
+/// config.debug_on = false;
+/// let mut client = Client::new(Loop(None), config);
+/// let mut t = 0u32;
+/// // No reply defined for a save-set: it completes when written.
+/// assert_eq!(client.run(Command::SaveSet(1), || { t += 1; t }), Ok(Outcome::Sent));
+/// // Nobody answers the read: a clean timeout after 1000 ms.
+/// assert_eq!(client.read_parameter(12, || { t += 1; t }), Err(aok_proto::Error::Timeout));
+/// ```
+#[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Client<S> {
+    serial: S,
+    decoder: PcDecoder,
+    config: Config,
+    debug_on: bool,
+    phase: Phase,
+    command: Command,
+    expect: Expect,
+    restore: bool,
+    tx: [u8; MAX_COMMAND_LEN],
+    tx_len: usize,
+    tx_pos: usize,
+    flushed: bool,
+    phase_since: u32,
+    last_rx: u32,
+    result: Option<Result<Outcome, Error>>,
+    bulk: [i32; 16],
+    bulk_seen: u16,
+    debug: [DebugValue; DEBUG_QUEUE],
+    debug_head: usize,
+    debug_count: usize,
+    stats: ClientStats,
+}
+
+impl<S: Read<u8> + Write<u8>> Client<S> {
+    /// A client on this serial port.
+    ///
+    /// ```no_run
+    /// # fn port() -> embedded_hal_nb::serial::ErrorKind { unimplemented!() }
+    /// # struct P;
+    /// # impl embedded_hal_nb::serial::ErrorType for P { type Error = core::convert::Infallible; }
+    /// # impl embedded_hal_nb::serial::Read for P { fn read(&mut self) -> nb::Result<u8, Self::Error> { Err(nb::Error::WouldBlock) } }
+    /// # impl embedded_hal_nb::serial::Write for P {
+    /// #   fn write(&mut self, _: u8) -> nb::Result<(), Self::Error> { Ok(()) }
+    /// #   fn flush(&mut self) -> nb::Result<(), Self::Error> { Ok(()) } }
+    /// let client = aok_proto::Client::new(P, aok_proto::Config::new(aok_proto::FirmwareVersion::LATEST));
+    /// assert!(client.is_idle());
+    /// ```
+    pub fn new(serial: S, config: Config) -> Self {
+        Self {
+            serial,
+            decoder: PcDecoder::new(config.firmware),
+            config,
+            debug_on: config.debug_on,
+            phase: Phase::Idle,
+            command: Command::DebugOff,
+            expect: Expect::Nothing,
+            restore: false,
+            tx: [0; MAX_COMMAND_LEN],
+            tx_len: 0,
+            tx_pos: 0,
+            flushed: false,
+            phase_since: 0,
+            last_rx: 0,
+            result: None,
+            bulk: [0; 16],
+            bulk_seen: 0,
+            debug: [DebugValue {
+                number: 0,
+                value: 0,
+            }; DEBUG_QUEUE],
+            debug_head: 0,
+            debug_count: 0,
+            stats: ClientStats {
+                debug_values: 0,
+                debug_dropped: 0,
+                stray: 0,
+                read_errors: 0,
+            },
+        }
+    }
+
+    /// Start a command, waiting for the reply the spec defines for it ([`Command::expected_reply`]).
+    ///
+    /// Fails with [`Error::Busy`] while another operation runs, and with [`Error::Unsupported`] for a
+    /// bulk read on firmware older than 0.35.
+    pub fn start(&mut self, command: Command) -> Result<(), Error> {
+        self.start_expecting(command, command.expected_reply())
+    }
+
+    /// Start a command and wait for the given reply instead of the default one (for example an ack
+    /// after a save-set, if a firmware sends one).
+    pub fn start_expecting(&mut self, command: Command, expect: Expect) -> Result<(), Error> {
+        if self.phase != Phase::Idle {
+            return Err(Error::Busy);
+        }
+        if matches!(command, Command::BulkRead(_)) && !self.config.firmware.has_bulk_read() {
+            return Err(Error::Unsupported);
+        }
+        self.command = command;
+        self.expect = expect;
+        self.result = None;
+        self.bulk_seen = 0;
+        let quiet_first = expect != Expect::Nothing || matches!(command, Command::Reset);
+        if quiet_first && self.debug_on {
+            self.restore = !matches!(command, Command::Reset);
+            self.load(&DEBUG_OFF);
+            self.phase = Phase::DebugOff;
+        } else {
+            self.restore = false;
+            self.load_command();
+            self.phase = Phase::Send;
+        }
+        Ok(())
+    }
+
+    /// Advance the running operation. Reads what the port has (at most [`MAX_READS_PER_POLL`] bytes),
+    /// writes what it can, and checks the timeouts against `now_ms`.
+    ///
+    /// Returns the outcome once, when the operation is over; `WouldBlock` while it runs and while the
+    /// client is idle (it still collects debug values then).
+    pub fn poll(&mut self, now_ms: u32) -> nb::Result<Outcome, Error> {
+        self.receive(now_ms);
+        loop {
+            match self.phase {
+                Phase::Idle => return Err(nb::Error::WouldBlock),
+                Phase::DebugOff => match self.transmit() {
+                    Ok(true) => {
+                        self.debug_on = false;
+                        self.phase = Phase::Drain;
+                        self.phase_since = now_ms;
+                        self.last_rx = now_ms;
+                    }
+                    Ok(false) => return Err(nb::Error::WouldBlock),
+                    Err(e) => self.conclude(Err(e)),
+                },
+                Phase::Drain => {
+                    let quiet = now_ms.wrapping_sub(self.last_rx) >= self.config.quiet_ms;
+                    let too_long = now_ms.wrapping_sub(self.phase_since) >= self.config.timeout_ms;
+                    if !quiet && !too_long {
+                        return Err(nb::Error::WouldBlock);
+                    }
+                    // Anything still buffered is stale: let it go before the request.
+                    self.flush_decoder(now_ms);
+                    self.load_command();
+                    self.phase = Phase::Send;
+                }
+                Phase::Send => {
+                    self.decoder.expect(self.expect);
+                    match self.transmit() {
+                        Ok(true) => {
+                            match self.command {
+                                Command::DebugOff => self.debug_on = false,
+                                Command::DebugOn | Command::Reset => self.debug_on = true,
+                                _ => {}
+                            }
+                            if self.expect == Expect::Nothing {
+                                self.conclude(Ok(Outcome::Sent));
+                            } else {
+                                self.phase = Phase::Await;
+                                self.phase_since = now_ms;
+                                self.last_rx = now_ms;
+                            }
+                        }
+                        Ok(false) => return Err(nb::Error::WouldBlock),
+                        Err(e) => self.conclude(Err(e)),
+                    }
+                }
+                Phase::Await => {
+                    if self.result.is_some() {
+                        self.conclude_pending();
+                    } else if now_ms.wrapping_sub(self.phase_since) >= self.config.timeout_ms {
+                        self.conclude(Err(Error::Timeout));
+                    } else if self.decoder.buffered() > 0
+                        && now_ms.wrapping_sub(self.last_rx) >= self.config.quiet_ms
+                    {
+                        // A partial frame with nothing after it: rescan what it hides.
+                        self.flush_decoder(now_ms);
+                        if self.result.is_none() {
+                            return Err(nb::Error::WouldBlock);
+                        }
+                    } else {
+                        return Err(nb::Error::WouldBlock);
+                    }
+                }
+                Phase::Restore => match self.transmit() {
+                    Ok(true) => {
+                        self.debug_on = true;
+                        return self.finish(None);
+                    }
+                    Ok(false) => return Err(nb::Error::WouldBlock),
+                    Err(e) => return self.finish(Some(e)),
+                },
+            }
+            if self.phase == Phase::Idle {
+                return self.finish(None);
+            }
+        }
+    }
+
+    /// Start `command` and poll until it is over, reading the time from `now_ms`.
+    ///
+    /// See the type-level example.
+    pub fn run(&mut self, command: Command, now_ms: impl FnMut() -> u32) -> Result<Outcome, Error> {
+        self.start(command)?;
+        self.wait(now_ms)
+    }
+
+    /// Poll the running operation until it is over.
+    pub fn wait(&mut self, mut now_ms: impl FnMut() -> u32) -> Result<Outcome, Error> {
+        if self.phase == Phase::Idle {
+            return Err(Error::Timeout);
+        }
+        loop {
+            match self.poll(now_ms()) {
+                Ok(o) => return Ok(o),
+                Err(nb::Error::Other(e)) => return Err(e),
+                Err(nb::Error::WouldBlock) => {}
+            }
+        }
+    }
+
+    /// Read one parameter (blocking helper).
+    pub fn read_parameter(
+        &mut self,
+        number: u8,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<i32, Error> {
+        match self.run(Command::ReadParameter(number), now_ms)? {
+            Outcome::Parameter(p) => Ok(p.value),
+            _ => Err(Error::Timeout),
+        }
+    }
+
+    /// Read parameters `first..first+16` with one bulk read (firmware >= 0.35; blocking helper).
+    pub fn bulk_read(
+        &mut self,
+        first: u8,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<[i32; 16], Error> {
+        match self.run(Command::BulkRead(first), now_ms)? {
+            Outcome::Bulk(b) => Ok(b.values),
+            _ => Err(Error::Timeout),
+        }
+    }
+
+    /// Read a waypoint (blocking helper).
+    pub fn read_waypoint(
+        &mut self,
+        slot: WaypointSlot,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<Waypoint, Error> {
+        match self.run(Command::ReadWaypoint(slot), now_ms)? {
+            Outcome::Waypoint(w) => Ok(w),
+            _ => Err(Error::Timeout),
+        }
+    }
+
+    /// Set a parameter and wait for the ack (blocking helper). 'E' and 'I' come back as
+    /// [`Error::Rejected`] and [`Error::RefusedInFlight`].
+    pub fn set_parameter(
+        &mut self,
+        number: u8,
+        value: i32,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<(), Error> {
+        let cmd = Command::SetParameter(ParameterValue { number, value });
+        self.run(cmd, now_ms).map(|_| ())
+    }
+
+    /// Set a waypoint and wait for the ack (blocking helper).
+    pub fn set_waypoint(
+        &mut self,
+        waypoint: Waypoint,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<(), Error> {
+        self.run(Command::SetWaypoint(waypoint), now_ms).map(|_| ())
+    }
+
+    /// Send one motor-test value (no reply; repeat within 500 ms to keep the motor running).
+    pub fn motor_test(
+        &mut self,
+        test: MotorTest,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<(), Error> {
+        self.run(Command::MotorTest(test), now_ms).map(|_| ())
+    }
+
+    /// Whether no operation is running.
+    pub fn is_idle(&self) -> bool {
+        self.phase == Phase::Idle
+    }
+
+    /// Whether the client believes the device is sending debug values.
+    pub const fn debug_enabled(&self) -> bool {
+        self.debug_on
+    }
+
+    /// Tell the client whether the device is sending debug values (for example after a reconnect).
+    pub fn assume_debug(&mut self, on: bool) {
+        self.debug_on = on;
+    }
+
+    /// The oldest debug value received and not yet taken.
+    pub fn next_debug(&mut self) -> Option<DebugValue> {
+        if self.debug_count == 0 {
+            return None;
+        }
+        let v = self.debug.get(self.debug_head).copied();
+        self.debug_head = (self.debug_head.wrapping_add(1)) % DEBUG_QUEUE;
+        self.debug_count = self.debug_count.saturating_sub(1);
+        v
+    }
+
+    /// The client's counters.
+    pub const fn stats(&self) -> &ClientStats {
+        &self.stats
+    }
+
+    /// The stream decoder's counters.
+    pub const fn decoder_stats(&self) -> &DecoderStats {
+        self.decoder.stats()
+    }
+
+    /// The serial port.
+    pub fn serial_mut(&mut self) -> &mut S {
+        &mut self.serial
+    }
+
+    /// Give the serial port back.
+    pub fn release(self) -> S {
+        self.serial
+    }
+
+    fn load(&mut self, bytes: &[u8]) {
+        let n = bytes.len().min(MAX_COMMAND_LEN);
+        if let (Some(dst), Some(src)) = (self.tx.get_mut(..n), bytes.get(..n)) {
+            dst.copy_from_slice(src);
+        }
+        self.tx_len = n;
+        self.tx_pos = 0;
+        self.flushed = false;
+    }
+
+    fn load_command(&mut self) {
+        let (frame, n) = self.command.to_bytes();
+        self.load(frame.get(..n).unwrap_or(&[]));
+    }
+
+    /// Write what is left of `tx`; `Ok(true)` once it is all out and flushed.
+    fn transmit(&mut self) -> Result<bool, Error> {
+        while let Some(&b) = self
+            .tx
+            .get(self.tx_pos)
+            .filter(|_| self.tx_pos < self.tx_len)
+        {
+            match self.serial.write(b) {
+                Ok(()) => self.tx_pos = self.tx_pos.wrapping_add(1),
+                Err(nb::Error::WouldBlock) => return Ok(false),
+                Err(nb::Error::Other(e)) => return Err(Error::Serial(SerialError::from_hal(&e))),
+            }
+        }
+        if !self.flushed {
+            match self.serial.flush() {
+                Ok(()) => self.flushed = true,
+                Err(nb::Error::WouldBlock) => return Ok(false),
+                Err(nb::Error::Other(e)) => return Err(Error::Serial(SerialError::from_hal(&e))),
+            }
+        }
+        Ok(true)
+    }
+
+    fn receive(&mut self, now_ms: u32) {
+        for _ in 0..MAX_READS_PER_POLL {
+            match self.serial.read() {
+                Ok(b) => {
+                    self.last_rx = now_ms;
+                    let first = self.decoder.push(b).next();
+                    if let Some(m) = first {
+                        self.handle(m);
+                        while let Some(m) = self.decoder.drain().next() {
+                            self.handle(m);
+                        }
+                    }
+                }
+                Err(nb::Error::WouldBlock) => break,
+                Err(nb::Error::Other(_)) => {
+                    self.stats.read_errors = self.stats.read_errors.wrapping_add(1);
+                }
+            }
+        }
+    }
+
+    fn flush_decoder(&mut self, now_ms: u32) {
+        while let Some(m) = self.decoder.idle().next() {
+            self.handle(m);
+        }
+        self.last_rx = now_ms;
+    }
+
+    fn handle(&mut self, message: Message) {
+        let waiting = matches!(self.phase, Phase::Send | Phase::Await) && self.result.is_none();
+        let result = match (message, waiting, self.expect) {
+            (Message::Debug(d), _, _) => {
+                self.queue_debug(d);
+                return;
+            }
+            (Message::Ack(a), true, Expect::Ack) => Some(match a {
+                Ack::Ok => Ok(Outcome::Acked),
+                Ack::Error => Err(Error::Rejected),
+                Ack::InFlight => Err(Error::RefusedInFlight),
+            }),
+            (Message::Parameter(p), true, Expect::Parameter(n)) if p.number == n => {
+                Some(Ok(Outcome::Parameter(p)))
+            }
+            (Message::Parameter(p), true, Expect::Bulk(first)) => {
+                let index = p.number.wrapping_sub(first);
+                if let Some(slot) = self.bulk.get_mut(usize::from(index)) {
+                    *slot = p.value;
+                    self.bulk_seen |= 1u16.wrapping_shl(u32::from(index));
+                    if self.bulk_seen == u16::MAX {
+                        Some(Ok(Outcome::Bulk(BulkValues {
+                            first,
+                            values: self.bulk,
+                        })))
+                    } else {
+                        return;
+                    }
+                } else {
+                    None
+                }
+            }
+            (Message::Waypoint(w), true, Expect::Waypoint(s)) if w.slot == s => {
+                Some(Ok(Outcome::Waypoint(w)))
+            }
+            _ => None,
+        };
+        match result {
+            Some(r) => self.result = Some(r),
+            None => self.stats.stray = self.stats.stray.wrapping_add(1),
+        }
+    }
+
+    fn queue_debug(&mut self, value: DebugValue) {
+        self.stats.debug_values = self.stats.debug_values.wrapping_add(1);
+        if self.debug_count >= DEBUG_QUEUE {
+            self.debug_head = (self.debug_head.wrapping_add(1)) % DEBUG_QUEUE;
+            self.debug_count = DEBUG_QUEUE - 1;
+            self.stats.debug_dropped = self.stats.debug_dropped.wrapping_add(1);
+        }
+        let tail = (self.debug_head.wrapping_add(self.debug_count)) % DEBUG_QUEUE;
+        if let Some(slot) = self.debug.get_mut(tail) {
+            *slot = value;
+            self.debug_count = self.debug_count.wrapping_add(1);
+        }
+    }
+
+    /// Record the result and move on: restore debug output if the client turned it off, else stop.
+    fn conclude(&mut self, result: Result<Outcome, Error>) {
+        self.result = Some(result);
+        self.conclude_pending();
+    }
+
+    fn conclude_pending(&mut self) {
+        self.decoder.expect(Expect::Nothing);
+        if self.restore {
+            self.restore = false;
+            self.load(&DEBUG_ON);
+            self.phase = Phase::Restore;
+        } else {
+            self.phase = Phase::Idle;
+        }
+    }
+
+    fn finish(&mut self, restore_error: Option<Error>) -> nb::Result<Outcome, Error> {
+        self.phase = Phase::Idle;
+        match (self.result.take(), restore_error) {
+            (Some(Ok(o)), None) => Ok(o),
+            (Some(Err(e)), _) | (_, Some(e)) => Err(nb::Error::Other(e)),
+            (None, None) => Err(nb::Error::Other(Error::Timeout)),
+        }
+    }
+}

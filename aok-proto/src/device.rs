@@ -1,0 +1,331 @@
+//! The device (flight controller) side: a byte-at-a-time decoder for every command the PC sends, and
+//! encoders for everything the device sends.
+
+use crate::command::{Command, Len, MAX_COMMAND_LEN, ParameterValue, Waypoint, command_len};
+use crate::message::{DebugValue, HEADED_REPLY_LEN, Message};
+use crate::stats::DecoderStats;
+use crate::values::{Ack, ReplyForm};
+use crate::{Error, shift_left};
+
+/// Byte-at-a-time decoder of the PC's commands.
+///
+/// Feed it one byte at a time with [`DeviceDecoder::push`] and drain the returned iterator. Checksums
+/// are verified. An unknown byte is counted and skipped; a checksum failure is counted, reported as
+/// `Err(Error::Checksum)` (the device may answer 'E') and the bytes after the false start are
+/// rescanned, so a command hidden behind garbage is still found. A frame with a good checksum but an
+/// out-of-range field (waypoint slot, stick value) is consumed whole and reported as that error.
+///
+/// The buffer is fixed at the longest command (19 bytes, the waypoint frame), so no capacity parameter
+/// is needed: every command fits.
+///
+/// ```
+/// use aok_proto::{DeviceDecoder, Command, Error};
+/// let mut dec = DeviceDecoder::new();
+/// let mut got = [None, None];
+/// // A stray motor-test start whose "checksum" fails, then a real read of parameter 12.
+/// let mut i = 0;
+/// for b in [0x31, 0x67, 0x0c] {
+///     for item in dec.push(b) {
+///         got[i] = Some(item);
+///         i += 1;
+///     }
+/// }
+/// assert_eq!(got, [Some(Err(Error::Checksum)), Some(Ok(Command::ReadParameter(12)))]);
+/// ```
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DeviceDecoder {
+    buf: [u8; MAX_COMMAND_LEN],
+    len: usize,
+    /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
+    need: usize,
+    stats: DecoderStats,
+}
+
+impl Default for DeviceDecoder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl DeviceDecoder {
+    /// An empty decoder.
+    ///
+    /// ```
+    /// assert_eq!(aok_proto::DeviceDecoder::new().buffered(), 0);
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            buf: [0; MAX_COMMAND_LEN],
+            len: 0,
+            need: 0,
+            stats: DecoderStats {
+                ok: 0,
+                checksum_errors: 0,
+                unknown_bytes: 0,
+                invalid: 0,
+                abandoned: 0,
+                discarded: 0,
+            },
+        }
+    }
+
+    /// Feed one byte. The returned iterator yields every item the byte completes (usually none or
+    /// one; more after a rescan). Drain it: bytes it has not looked at stay buffered.
+    ///
+    /// ```
+    /// use aok_proto::{DeviceDecoder, Command};
+    /// let mut dec = DeviceDecoder::new();
+    /// assert_eq!(dec.push(0x63).next(), None);
+    /// assert_eq!(dec.push(0x01).next(), Some(Ok(Command::DebugOff)));
+    /// ```
+    pub fn push(&mut self, byte: u8) -> Commands<'_> {
+        if self.len >= MAX_COMMAND_LEN {
+            // Only reachable when an earlier iterator was not drained.
+            self.len = shift_left(&mut self.buf, self.len, 1);
+            self.stats.discarded = self.stats.discarded.wrapping_add(1);
+        }
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = byte;
+            self.len = self.len.wrapping_add(1);
+        }
+        Commands {
+            dec: self,
+            flush: false,
+        }
+    }
+
+    /// Continue on bytes already buffered, without new input: what an undrained iterator left.
+    ///
+    /// ```
+    /// let mut dec = aok_proto::DeviceDecoder::new();
+    /// let _ = dec.push(0x00); // iterator dropped unread
+    /// assert_eq!(dec.drain().count(), 0);
+    /// assert_eq!(dec.buffered(), 0);
+    /// ```
+    pub fn drain(&mut self) -> Commands<'_> {
+        Commands {
+            dec: self,
+            flush: false,
+        }
+    }
+
+    /// The line went quiet: give up on the partial frame (its first byte is dropped and counted as
+    /// abandoned) and rescan what followed it. Yields every command found.
+    ///
+    /// ```
+    /// use aok_proto::{DeviceDecoder, Command};
+    /// let mut dec = DeviceDecoder::new();
+    /// for b in [0x73, 0x63, 0x02] { for _ in dec.push(b) {} } // 73 waits for 4 more bytes
+    /// assert_eq!(dec.idle().next(), Some(Ok(Command::DebugOn)));
+    /// assert_eq!(dec.stats().abandoned, 1);
+    /// ```
+    pub fn idle(&mut self) -> Commands<'_> {
+        Commands {
+            dec: self,
+            flush: true,
+        }
+    }
+
+    /// Forget any buffered bytes (counters stay).
+    ///
+    /// ```
+    /// let mut dec = aok_proto::DeviceDecoder::new();
+    /// for _ in dec.push(0x73) {}
+    /// dec.reset();
+    /// assert_eq!(dec.buffered(), 0);
+    /// ```
+    pub fn reset(&mut self) {
+        self.len = 0;
+        self.need = 0;
+    }
+
+    /// Bytes waiting for the rest of their frame.
+    ///
+    /// ```
+    /// let mut dec = aok_proto::DeviceDecoder::new();
+    /// for _ in dec.push(0x53) {}
+    /// assert_eq!(dec.buffered(), 1);
+    /// ```
+    pub const fn buffered(&self) -> usize {
+        self.len
+    }
+
+    /// The counters.
+    ///
+    /// ```
+    /// assert_eq!(aok_proto::DeviceDecoder::new().stats().ok, 0);
+    /// ```
+    pub const fn stats(&self) -> &DecoderStats {
+        &self.stats
+    }
+
+    #[inline]
+    fn step(&mut self, flush: bool) -> Option<Result<Command, Error>> {
+        if self.len < self.need && !flush {
+            return None;
+        }
+        self.step_slow(flush)
+    }
+
+    fn step_slow(&mut self, flush: bool) -> Option<Result<Command, Error>> {
+        loop {
+            let len = if self.len < MAX_COMMAND_LEN {
+                self.len
+            } else {
+                MAX_COMMAND_LEN
+            };
+            let bytes = self.buf.get(..len)?;
+            let (&first, rest) = bytes.split_first()?;
+            let need = match command_len(first, rest.first().copied()) {
+                Len::Is(n) => n,
+                Len::More => 2,
+                Len::Unknown => {
+                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                    self.drop_front();
+                    continue;
+                }
+            };
+            if len < need {
+                if flush {
+                    self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
+                    self.drop_front();
+                    continue;
+                }
+                self.need = need;
+                return None;
+            }
+            let parsed = Command::parse_known(first, bytes);
+            return Some(match parsed {
+                Ok(cmd) => {
+                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.need = 0;
+                    self.len = shift_left(&mut self.buf, self.len, need);
+                    Ok(cmd)
+                }
+                Err(Error::Checksum) => {
+                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                    self.drop_front();
+                    Err(Error::Checksum)
+                }
+                Err(e) => {
+                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
+                    self.need = 0;
+                    self.len = shift_left(&mut self.buf, self.len, need);
+                    Err(e)
+                }
+            });
+        }
+    }
+
+    fn drop_front(&mut self) {
+        self.need = 0;
+        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+        self.len = shift_left(&mut self.buf, self.len, 1);
+    }
+}
+
+/// The items one [`DeviceDecoder::push`] (or [`DeviceDecoder::idle`]) completes.
+///
+/// ```
+/// let mut dec = aok_proto::DeviceDecoder::new();
+/// assert_eq!(dec.push(0x67).count(), 0);
+/// assert_eq!(dec.push(0x01).count(), 1);
+/// ```
+#[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Commands<'a> {
+    dec: &'a mut DeviceDecoder,
+    flush: bool,
+}
+
+impl Iterator for Commands<'_> {
+    type Item = Result<Command, Error>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        self.dec.step(self.flush)
+    }
+}
+
+/// Encode a debug value frame `1C NUM B1..B4 CRC`.
+///
+/// ```
+/// use aok_proto::{device, DebugValue};
+/// let mut buf = [0u8; 7];
+/// device::encode_debug(DebugValue { number: 3, value: 305419896 }, &mut buf)?;
+/// assert_eq!(buf, [0x1c, 0x03, 0x12, 0x34, 0x56, 0x78, 0x0b]);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+pub fn encode_debug(value: DebugValue, buf: &mut [u8]) -> Result<usize, Error> {
+    Message::Debug(value).emit(ReplyForm::Headed, buf)
+}
+
+/// Encode a single-byte ack.
+///
+/// ```
+/// let mut buf = [0u8; 1];
+/// aok_proto::device::encode_ack(aok_proto::Ack::Ok, &mut buf)?;
+/// assert_eq!(buf, [b'O']);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+pub fn encode_ack(ack: Ack, buf: &mut [u8]) -> Result<usize, Error> {
+    Message::Ack(ack).emit(ReplyForm::Headed, buf)
+}
+
+/// Encode a parameter reply in the given firmware form (K4).
+///
+/// ```
+/// use aok_proto::{device, ParameterValue, ReplyForm};
+/// let mut buf = [0u8; 7];
+/// let p = ParameterValue { number: 12, value: 1500 };
+/// assert_eq!(device::encode_parameter(p, ReplyForm::Headed, &mut buf)?, 7);
+/// assert_eq!(buf, [0xff, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd9]);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+pub fn encode_parameter(
+    value: ParameterValue,
+    form: ReplyForm,
+    buf: &mut [u8],
+) -> Result<usize, Error> {
+    Message::Parameter(value).emit(form, buf)
+}
+
+/// Encode the 16 replies to a bulk read `47 NUM`: parameters NUM..NUM+15 (numbers wrap at 255), in the
+/// headed form (bulk read exists only from 0.35). Needs 112 bytes.
+///
+/// ```
+/// let mut buf = [0u8; 112];
+/// let n = aok_proto::device::encode_bulk(10, &[7; 16], &mut buf)?;
+/// assert_eq!(n, 112);
+/// assert_eq!(&buf[..7], &[0xff, 10, 0, 0, 0, 7, 7]);
+/// assert_eq!(buf[105], 0xff);
+/// assert_eq!(buf[106], 25);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usize, Error> {
+    let out = buf
+        .get_mut(..HEADED_REPLY_LEN * 16)
+        .ok_or(Error::BufferTooSmall)?;
+    let mut number = first;
+    for (chunk, &value) in out.chunks_exact_mut(HEADED_REPLY_LEN).zip(values) {
+        Message::Parameter(ParameterValue { number, value }).emit(ReplyForm::Headed, chunk)?;
+        number = number.wrapping_add(1);
+    }
+    Ok(HEADED_REPLY_LEN * 16)
+}
+
+/// Encode the waypoint reply (the same `77` frame the PC sends to set one).
+///
+/// ```
+/// use aok_proto::{device, ActionWord, Waypoint, WaypointSlot};
+/// let w = Waypoint { slot: WaypointSlot::FbcTarget, longitude: 1, latitude: 2,
+///                    action1: ActionWord::NONE, action2: ActionWord::NONE };
+/// let mut buf = [0u8; 19];
+/// assert_eq!(device::encode_waypoint(&w, &mut buf)?, 19);
+/// assert_eq!(&buf[..2], &[0x77, 0xff]);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+pub fn encode_waypoint(waypoint: &Waypoint, buf: &mut [u8]) -> Result<usize, Error> {
+    Message::Waypoint(*waypoint).emit(ReplyForm::Headed, buf)
+}

@@ -1,0 +1,101 @@
+//! The crate's single error type.
+
+use core::fmt;
+
+/// Everything that can go wrong in this crate: parsing, emitting, typed values and the client.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Error {
+    /// The input ends before the frame does.
+    Truncated,
+    /// The output buffer is too small for the frame.
+    BufferTooSmall,
+    /// The first byte is not the start of any frame this side understands.
+    UnknownCommand(u8),
+    /// The frame's XOR checksum does not match.
+    Checksum,
+    /// A waypoint slot byte outside 0..=31, 254 and 255.
+    InvalidSlot(u8),
+    /// A waypoint number outside 1..=31.
+    InvalidWaypoint(u8),
+    /// A motor number outside 1..=12.
+    InvalidMotor(u8),
+    /// A stick value outside -200..=200.
+    StickOutOfRange(i16),
+    /// A waypoint action code outside 0..=6.
+    InvalidAction(u16),
+    /// The configured firmware does not support the request (bulk read needs >= 0.35).
+    Unsupported,
+    /// The client is already running an operation.
+    Busy,
+    /// The device did not answer in time.
+    Timeout,
+    /// The device answered 'E'.
+    Rejected,
+    /// The device answered 'I': the parameter may not be changed in flight.
+    RefusedInFlight,
+    /// The serial port reported an error.
+    Serial(SerialError),
+}
+
+/// A serial port error, reduced to its kind (mirrors `embedded_hal_nb::serial::ErrorKind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum SerialError {
+    /// The receive buffer was overrun.
+    Overrun,
+    /// A framing error.
+    FrameFormat,
+    /// A parity error.
+    Parity,
+    /// Line noise.
+    Noise,
+    /// Any other error.
+    Other,
+}
+
+impl SerialError {
+    /// Reduce any `embedded-hal-nb` serial error to its kind.
+    ///
+    /// ```
+    /// use aok_proto::SerialError;
+    /// use embedded_hal_nb::serial::ErrorKind;
+    /// assert_eq!(SerialError::from_hal(&ErrorKind::Parity), SerialError::Parity);
+    /// ```
+    pub fn from_hal<E: embedded_hal_nb::serial::Error>(e: &E) -> Self {
+        use embedded_hal_nb::serial::ErrorKind as K;
+        match e.kind() {
+            K::Overrun => Self::Overrun,
+            K::FrameFormat => Self::FrameFormat,
+            K::Parity => Self::Parity,
+            K::Noise => Self::Noise,
+            _ => Self::Other,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Truncated => f.write_str("frame truncated"),
+            Self::BufferTooSmall => f.write_str("output buffer too small"),
+            Self::UnknownCommand(b) => write!(f, "unknown command byte 0x{b:02x}"),
+            Self::Checksum => f.write_str("checksum mismatch"),
+            Self::InvalidSlot(s) => write!(f, "invalid waypoint slot {s}"),
+            Self::InvalidWaypoint(n) => write!(f, "waypoint number {n} outside 1..=31"),
+            Self::InvalidMotor(m) => write!(f, "motor number {m} outside 1..=12"),
+            Self::StickOutOfRange(v) => write!(f, "stick value {v} outside -200..=200"),
+            Self::InvalidAction(a) => write!(f, "waypoint action {a} outside 0..=6"),
+            Self::Unsupported => f.write_str("not supported by the configured firmware"),
+            Self::Busy => f.write_str("an operation is already running"),
+            Self::Timeout => f.write_str("the device did not answer in time"),
+            Self::Rejected => f.write_str("the device answered 'E'"),
+            Self::RefusedInFlight => f.write_str("the device refused in flight ('I')"),
+            Self::Serial(k) => write!(f, "serial error: {k:?}"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}

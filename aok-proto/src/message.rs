@@ -1,0 +1,199 @@
+//! What the device sends: debug values, acks, parameter replies and waypoint replies.
+
+use crate::command::{ParameterValue, WAYPOINT, Waypoint, copy_out};
+use crate::values::{Ack, ReplyForm};
+use crate::{Error, xor};
+
+/// `1C`: the start of a debug-value frame.
+pub const DEBUG: u8 = 0x1c;
+/// `FF`: the start of a parameter reply (firmware >= 0.31).
+pub const PARAMETER_REPLY: u8 = 0xff;
+/// Length of a debug frame.
+pub const DEBUG_LEN: usize = 7;
+/// Length of a headed parameter reply.
+pub const HEADED_REPLY_LEN: usize = 7;
+/// Length of a headerless parameter reply.
+pub const HEADERLESS_REPLY_LEN: usize = 5;
+/// Length of a waypoint reply.
+pub const WAYPOINT_LEN: usize = 19;
+
+/// A debug value (K2): `1C NUM B1 B2 B3 B4 CRC`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct DebugValue {
+    /// The debug value's number (86 is the flight status).
+    pub number: u8,
+    /// The value.
+    pub value: i32,
+}
+
+impl DebugValue {
+    /// The flight status's number; always sent.
+    pub const FLIGHT_STATUS: u8 = 86;
+}
+
+/// Everything the device sends to the PC.
+///
+/// ```
+/// use aok_proto::{Message, DebugValue, ReplyForm};
+/// let mut buf = [0u8; 19];
+/// let m = Message::Debug(DebugValue { number: 86, value: -2 });
+/// let n = m.emit(ReplyForm::Headed, &mut buf)?;
+/// assert_eq!(&buf[..n], &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57]);
+/// assert_eq!(Message::parse(&buf[..n])?, (m, 7));
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Message {
+    /// A debug value.
+    Debug(DebugValue),
+    /// An ack.
+    Ack(Ack),
+    /// A parameter reply. In the headerless form the number is not on the wire; the PC decoder
+    /// fills it in from the pending request.
+    Parameter(ParameterValue),
+    /// A waypoint reply.
+    Waypoint(Waypoint),
+}
+
+/// `HEAD NUM B1..B4 CRC`; the debug CRC covers NUM..B4, the parameter reply's only B1..B4 (K2, K4).
+fn value_frame(head: u8, number: u8, value: i32) -> [u8; 7] {
+    let [a, b, c, d] = value.to_be_bytes();
+    let crc = a ^ b ^ c ^ d;
+    let crc = if head == DEBUG { crc ^ number } else { crc };
+    [head, number, a, b, c, d, crc]
+}
+
+impl Message {
+    /// The number of bytes [`Message::emit`] writes in the given reply form.
+    ///
+    /// ```
+    /// use aok_proto::{Message, ParameterValue, ReplyForm};
+    /// let m = Message::Parameter(ParameterValue { number: 12, value: 1500 });
+    /// assert_eq!(m.buffer_len(ReplyForm::Headerless), 5);
+    /// assert_eq!(m.buffer_len(ReplyForm::Headed), 7);
+    /// ```
+    pub const fn buffer_len(&self, form: ReplyForm) -> usize {
+        match (self, form) {
+            (Self::Debug(_), _) => DEBUG_LEN,
+            (Self::Ack(_), _) => 1,
+            (Self::Parameter(_), ReplyForm::Headed) => HEADED_REPLY_LEN,
+            (Self::Parameter(_), ReplyForm::Headerless) => HEADERLESS_REPLY_LEN,
+            (Self::Waypoint(_), _) => WAYPOINT_LEN,
+        }
+    }
+
+    /// Write the message into `buf`; parameter replies take the given form (K4).
+    ///
+    /// ```
+    /// use aok_proto::{Message, ParameterValue, ReplyForm};
+    /// let m = Message::Parameter(ParameterValue { number: 12, value: 1500 });
+    /// let mut buf = [0u8; 7];
+    /// assert_eq!(m.emit(ReplyForm::Headerless, &mut buf)?, 5);
+    /// assert_eq!(&buf[..5], &[0x00, 0x00, 0x05, 0xdc, 0xd9]);
+    /// # Ok::<(), aok_proto::Error>(())
+    /// ```
+    pub fn emit(&self, form: ReplyForm, buf: &mut [u8]) -> Result<usize, Error> {
+        match *self {
+            Self::Debug(d) => copy_out(&value_frame(DEBUG, d.number, d.value), DEBUG_LEN, buf),
+            Self::Ack(a) => copy_out(&[a.byte()], 1, buf),
+            Self::Parameter(p) => {
+                let f = value_frame(PARAMETER_REPLY, p.number, p.value);
+                match form {
+                    ReplyForm::Headed => copy_out(&f, HEADED_REPLY_LEN, buf),
+                    ReplyForm::Headerless => copy_out(&f[2..], HEADERLESS_REPLY_LEN, buf),
+                }
+            }
+            Self::Waypoint(w) => copy_out(&w.frame(), WAYPOINT_LEN, buf),
+        }
+    }
+
+    /// Parse the self-describing message at the start of `bytes`: a debug frame, an ack byte, a
+    /// headed parameter reply or a waypoint reply. Returns it and the bytes it took.
+    ///
+    /// The headerless (<= 0.30) reply has no header; read it with [`ParameterValue::parse_headerless`].
+    ///
+    /// ```
+    /// use aok_proto::{Message, ParameterValue};
+    /// let bytes = [0xff, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd9];
+    /// assert_eq!(Message::parse(&bytes)?,
+    ///            (Message::Parameter(ParameterValue { number: 12, value: 1500 }), 7));
+    /// # Ok::<(), aok_proto::Error>(())
+    /// ```
+    pub fn parse(bytes: &[u8]) -> Result<(Self, usize), Error> {
+        let first = *bytes.first().ok_or(Error::Truncated)?;
+        match first {
+            DEBUG => {
+                let f = fixed7(bytes)?;
+                if xor(&f[1..6]) != f[6] {
+                    return Err(Error::Checksum);
+                }
+                Ok((
+                    Self::Debug(DebugValue {
+                        number: f[1],
+                        value: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
+                    }),
+                    DEBUG_LEN,
+                ))
+            }
+            PARAMETER_REPLY => {
+                let f = fixed7(bytes)?;
+                if xor(&f[2..6]) != f[6] {
+                    return Err(Error::Checksum);
+                }
+                Ok((
+                    Self::Parameter(ParameterValue {
+                        number: f[1],
+                        value: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
+                    }),
+                    HEADED_REPLY_LEN,
+                ))
+            }
+            WAYPOINT => {
+                let f = bytes
+                    .get(..WAYPOINT_LEN)
+                    .and_then(|s| <&[u8; WAYPOINT_LEN]>::try_from(s).ok())
+                    .ok_or(Error::Truncated)?;
+                Ok((Self::Waypoint(Waypoint::from_frame(f)?), WAYPOINT_LEN))
+            }
+            _ => match Ack::from_byte(first) {
+                Some(a) => Ok((Self::Ack(a), 1)),
+                None => Err(Error::UnknownCommand(first)),
+            },
+        }
+    }
+}
+
+fn fixed7(bytes: &[u8]) -> Result<&[u8; 7], Error> {
+    bytes
+        .get(..7)
+        .and_then(|s| <&[u8; 7]>::try_from(s).ok())
+        .ok_or(Error::Truncated)
+}
+
+impl ParameterValue {
+    /// Parse a headerless (firmware <= 0.30) reply `B1 B2 B3 B4 CRC`; the number comes from the request.
+    ///
+    /// ```
+    /// use aok_proto::ParameterValue;
+    /// let p = ParameterValue::parse_headerless(&[0x00, 0x00, 0x05, 0xdc, 0xd9], 12)?;
+    /// assert_eq!(p, ParameterValue { number: 12, value: 1500 });
+    /// # Ok::<(), aok_proto::Error>(())
+    /// ```
+    pub fn parse_headerless(bytes: &[u8], number: u8) -> Result<Self, Error> {
+        let f = bytes
+            .get(..HEADERLESS_REPLY_LEN)
+            .and_then(|s| <&[u8; HEADERLESS_REPLY_LEN]>::try_from(s).ok())
+            .ok_or(Error::Truncated)?;
+        if f[0] ^ f[1] ^ f[2] ^ f[3] != f[4] {
+            return Err(Error::Checksum);
+        }
+        Ok(Self {
+            number,
+            value: i32::from_be_bytes([f[0], f[1], f[2], f[3]]),
+        })
+    }
+}
