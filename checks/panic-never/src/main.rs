@@ -105,9 +105,81 @@ mod aeolus {
     }
 }
 
+mod aok {
+    use super::*;
+    use aok_proto::{device, pc::{self, Expect, PcDecoder}, *};
+
+    pub fn run() {
+        // Device side: every command the PC sends, byte by byte, then idle.
+        let mut dev = DeviceDecoder::new();
+        let fw = FirmwareVersion::new(input_byte(6), input_byte(7));
+        let mut host = PcDecoder::new(fw);
+        let slot = WaypointSlot::from_wire(input_byte(8)).unwrap_or(WaypointSlot::FbcTarget);
+        for i in 0..len() {
+            let b = input_byte(i);
+            for cmd in dev.push(b).flatten() {
+                let mut out = [0u8; 32];
+                let k = input_byte(9) as usize % 33;
+                if let Ok(n) = cmd.emit(&mut out[..k]) {
+                    sink(n as u32);
+                }
+                if let Ok(n) = pc::encode(&cmd, &mut out[..k]) {
+                    sink(n as u32);
+                }
+                sink(cmd.buffer_len() as u32);
+            }
+            if b == 0x55 {
+                host.expect(match input_byte(i + 1) & 3 {
+                    0 => Expect::Ack,
+                    1 => Expect::Parameter(input_byte(i + 2)),
+                    2 => Expect::Bulk(input_byte(i + 2)),
+                    _ => Expect::Waypoint(slot),
+                });
+            }
+            let form = host.reply_form();
+            for msg in host.push(b) {
+                let mut out = [0u8; 32];
+                let k = input_byte(10) as usize % 33;
+                if let Ok(n) = msg.emit(form, &mut out[..k]) {
+                    sink(n as u32);
+                }
+            }
+        }
+        for cmd in dev.idle().flatten() {
+            sink(cmd.buffer_len() as u32);
+        }
+        for msg in host.idle() {
+            sink(msg.buffer_len(ReplyForm::Headed) as u32);
+        }
+        sink(dev.stats().discarded ^ host.stats().ok);
+
+        // Typed parses on opaque bytes.
+        let bytes: [u8; 32] = input();
+        let n = len() % 33;
+        if let Ok((c, used)) = Command::parse(&bytes[..n]) {
+            sink(c.to_bytes().1 as u32 ^ used as u32);
+        }
+        if let Ok((m, used)) = Message::parse(&bytes[..n]) {
+            sink(m.buffer_len(ReplyForm::Headerless) as u32 ^ used as u32);
+        }
+        if let Ok(m) = ParameterValue::parse_headerless(&bytes[..n], input_byte(11)) {
+            sink(m.value as u32);
+        }
+        // Encoders with opaque values and buffer sizes.
+        let mut out = [0u8; 400];
+        let k = len() % 401;
+        let v = i32::from_le_bytes([input_byte(12), input_byte(13), input_byte(14), input_byte(15)]);
+        let _ = device::encode_debug(DebugValue { number: input_byte(16), value: v }, &mut out[..k]);
+        let _ = device::encode_ack(Ack::Ok, &mut out[..k]);
+        let _ = device::encode_bulk(input_byte(17), &[v; 16], &mut out[..k]);
+        sink(out[0] as u32);
+    }
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn entry() -> ! {
     aeolus::run();
+    aok::run();
     loop {
         core::hint::spin_loop();
     }
