@@ -1,0 +1,416 @@
+//! The byte-at-a-time stream decoder with lossless resynchronisation.
+//!
+//! # How it works
+//!
+//! Bytes before a 0xFF start are discarded. From a start the decoder collects the type and the
+//! u32 length; when a start is followed by another 0xFF the first is dropped (Y5). The moment
+//! the length field is complete it is checked against the profile's minimum and the capacity
+//! `N` (Y5). The message then completes when the announced number of bytes is held, and the
+//! XOR checksum (Y4) decides.
+//!
+//! After a length or checksum failure the decoder does not throw the held bytes away: it drops
+//! only the false start byte and **rescans** the bytes it already holds, from the byte after
+//! the false start. A message hidden behind a false 0xFF start is therefore still found.
+//!
+//! # Events, and why there may be more than one per byte
+//!
+//! A rescan can uncover several complete messages (and further failures) among bytes already
+//! held. [`Decoder::push`] stores the byte and returns the *first* event; the caller must then
+//! call [`Decoder::poll`] until it returns `None` to take the rest. Bytes that are queued for a
+//! rescan are kept in order ahead of any new input, so nothing is lost if the caller pushes
+//! again before polling, but events are only handed out one at a time.
+//!
+//! ```
+//! use aydp_proto::{Decoder, Profile};
+//! // A false start (FF 00 with length 40) swallows a heartbeat; the rescan finds it.
+//! let stream = [0xFF, 0x00, 0x28, 0, 0, 0, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78];
+//! let mut dec = Decoder::<64>::new(Profile::Spec);
+//! let mut frames = 0;
+//! for &byte in &stream {
+//!     let mut event = dec.push(byte);
+//!     while let Some(ev) = event {
+//!         if let Ok(frame) = ev {
+//!             assert_eq!(frame.type_byte(), 0x80);
+//!             frames += 1;
+//!         }
+//!         event = dec.poll();
+//!     }
+//! }
+//! // The false start is still waiting for 40 bytes; the heartbeat arrives when the false
+//! // candidate fails. Here the stream simply ends: flush reports what is still pending.
+//! assert_eq!(frames, 0);
+//! dec.flush(|ev| if ev.is_ok() { frames += 1 });
+//! assert_eq!(frames, 1);
+//! assert_eq!(dec.stats().messages_ok, 1);
+//! ```
+
+use crate::error::{Error, Result};
+use crate::frame::Frame;
+use crate::header::array_at;
+use crate::profile::{EXPEDITED, EXPEDITED_HEADER_LEN, Profile, START};
+
+/// Decoder counters (MAVLink style). Every counter wraps.
+///
+/// ```
+/// let s = aydp_proto::Stats::default();
+/// assert_eq!(s.messages_ok, 0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Stats {
+    /// Messages delivered with a good checksum.
+    pub messages_ok: u32,
+    /// Candidates that reached their announced length with a bad checksum.
+    pub checksum_errors: u32,
+    /// Candidates whose length field was below the profile minimum or beyond the capacity.
+    pub length_errors: u32,
+    /// Bytes dropped: noise before a start, dropped 0xFF starts (Y5), false start bytes.
+    pub bytes_discarded: u32,
+}
+
+/// What one step produced.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Outcome {
+    More,
+    Frame,
+    Fail(Error),
+}
+
+/// Byte-at-a-time AYDP decoder holding at most `N` bytes (the longest message it accepts).
+///
+/// See the [module documentation](self) for the event protocol.
+///
+/// ```
+/// use aydp_proto::{Decoder, Message, Profile};
+/// let mut dec = Decoder::<64>::new(Profile::Spec);
+/// let mut heartbeats = 0;
+/// for &b in &[0xFF, 0x80, 0x07, 0, 0, 0, 0x78] {
+///     if let Some(Ok(frame)) = dec.push(b) {
+///         // The frame borrows the decoder: use it (or copy it out) before the next push.
+///         if frame.message() == Ok(Message::Heartbeat) {
+///             heartbeats += 1;
+///         }
+///     }
+/// }
+/// assert_eq!(heartbeats, 1);
+/// ```
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Decoder<const N: usize> {
+    buf: [u8; N],
+    /// Bytes of the current candidate, at `buf[..len]`.
+    len: usize,
+    /// Announced frame length once the length field is complete, else 0.
+    need: usize,
+    /// Bytes waiting to be (re)scanned, at `buf[head..head + pending]` (`head >= len`).
+    pending: usize,
+    /// Start of the bytes waiting to be rescanned.
+    head: usize,
+    /// `buf[..len]` is a frame handed out last call; drop it before doing anything else.
+    delivered: bool,
+    xor: u8,
+    profile: Profile,
+    stats: Stats,
+}
+
+impl<const N: usize> Default for Decoder<N> {
+    fn default() -> Self {
+        Self::new(Profile::default())
+    }
+}
+
+impl<const N: usize> Decoder<N> {
+    /// An empty decoder for `profile`.
+    pub const fn new(profile: Profile) -> Self {
+        Self {
+            buf: [0; N],
+            len: 0,
+            need: 0,
+            pending: 0,
+            head: 0,
+            delivered: false,
+            xor: 0,
+            profile,
+            stats: Stats {
+                messages_ok: 0,
+                checksum_errors: 0,
+                length_errors: 0,
+                bytes_discarded: 0,
+            },
+        }
+    }
+
+    /// The profile this decoder follows.
+    pub const fn profile(&self) -> Profile {
+        self.profile
+    }
+
+    /// The capacity `N`: the longest message accepted.
+    pub const fn capacity(&self) -> usize {
+        N
+    }
+
+    /// The counters.
+    pub const fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Zero the counters.
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    /// Whether bytes are queued for a rescan, i.e. [`Decoder::poll`] may still produce events.
+    pub const fn has_pending(&self) -> bool {
+        self.pending != 0
+    }
+
+    /// Forget everything held (counters are kept).
+    pub fn reset(&mut self) {
+        self.len = 0;
+        self.need = 0;
+        self.pending = 0;
+        self.head = 0;
+        self.delivered = false;
+        self.xor = 0;
+    }
+
+    /// Feed one byte. Returns the first event it causes; call [`Decoder::poll`] until `None`
+    /// to take any further events a rescan uncovered.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// let ev: Vec<_> = [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]
+    ///     .iter()
+    ///     .filter_map(|&b| dec.push(b).map(|e| e.map(|f| f.data().to_vec())))
+    ///     .collect();
+    /// assert_eq!(ev, vec![Ok(vec![0x02])]);
+    /// ```
+    #[inline]
+    pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>>> {
+        self.release();
+        if self.pending != 0 {
+            self.enqueue(byte);
+            return self.poll();
+        }
+        let outcome = self.step(byte);
+        self.event(outcome)
+    }
+
+    /// Take the next event from bytes already held (after a rescan), or `None`.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// assert!(dec.poll().is_none());
+    /// ```
+    pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
+        self.release();
+        let outcome = loop {
+            if self.pending == 0 {
+                return None;
+            }
+            let byte = self.buf.get(self.head).copied().unwrap_or(0);
+            self.head = self.head.wrapping_add(1);
+            self.pending -= 1;
+            match self.step(byte) {
+                Outcome::More => {}
+                other => break other,
+            }
+        };
+        self.event(outcome)
+    }
+
+    /// Feed a slice, handing every event (frames and failures) to `on_event` in order.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// let mut n = 0;
+    /// dec.feed(&[0x00, 0xFF, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78], |ev| n += ev.is_ok() as u32);
+    /// assert_eq!(n, 1);
+    /// assert_eq!(dec.stats().bytes_discarded, 2);
+    /// ```
+    pub fn feed<F: FnMut(Result<Frame<'_>>)>(&mut self, bytes: &[u8], mut on_event: F) {
+        for &b in bytes {
+            let mut ev = self.push(b);
+            while let Some(e) = ev {
+                on_event(e);
+                ev = self.poll();
+            }
+        }
+    }
+
+    /// End of stream: fail the incomplete candidate (if any), rescan what it held, and hand
+    /// every resulting event to `on_event`. Afterwards the decoder is empty. An incomplete
+    /// candidate is reported as [`Error::Truncated`] and is not counted as a checksum or
+    /// length error.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Error, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// let mut evs = Vec::new();
+    /// dec.feed(&[0xFF, 0x80, 0x07], |e| evs.push(e.map(|_| ())));
+    /// dec.flush(|e| evs.push(e.map(|_| ())));
+    /// assert_eq!(evs, vec![Err(Error::Truncated)]);
+    /// ```
+    pub fn flush<F: FnMut(Result<Frame<'_>>)>(&mut self, mut on_event: F) {
+        loop {
+            while let Some(e) = self.poll() {
+                on_event(e);
+            }
+            if self.len == 0 {
+                break;
+            }
+            self.rescan();
+            on_event(Err(Error::Truncated));
+        }
+        self.reset();
+    }
+
+    /// Drop a frame handed out on the previous call. Queued bytes stay where they are.
+    #[inline]
+    fn release(&mut self) {
+        if self.delivered {
+            self.delivered = false;
+            self.len = 0;
+            self.need = 0;
+            self.xor = 0;
+        }
+    }
+
+    /// Copy `count` bytes from `buf[from..]` to `buf[to..]` (`to <= from`).
+    fn move_down(&mut self, from: usize, to: usize, count: usize) {
+        let mut i = 0;
+        while i < count {
+            let v = self.buf.get(from.wrapping_add(i)).copied().unwrap_or(0);
+            if let Some(d) = self.buf.get_mut(to.wrapping_add(i)) {
+                *d = v;
+            }
+            i += 1;
+        }
+    }
+
+    /// Close the gap of consumed bytes between the candidate and the queued bytes.
+    fn compact(&mut self) {
+        if self.head != self.len {
+            self.move_down(self.head, self.len, self.pending);
+            self.head = self.len;
+        }
+    }
+
+    /// The current candidate failed: drop its start byte and queue the rest for a rescan,
+    /// ahead of the bytes already queued.
+    fn rescan(&mut self) {
+        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+        self.compact();
+        let count = self.len.saturating_sub(1).saturating_add(self.pending);
+        self.move_down(1, 0, count);
+        self.pending = count;
+        self.head = 0;
+        self.len = 0;
+        self.need = 0;
+        self.xor = 0;
+    }
+
+    /// Queue a byte behind bytes waiting for a rescan.
+    fn enqueue(&mut self, byte: u8) {
+        if self.pending == 0 {
+            self.head = self.len;
+        }
+        if self.head.saturating_add(self.pending) >= N {
+            self.compact();
+        }
+        let at = self.head.saturating_add(self.pending);
+        if let Some(slot) = self.buf.get_mut(at) {
+            *slot = byte;
+            self.pending += 1;
+        } else {
+            // Unreachable by construction (a failure or a delivery always frees a byte);
+            // count it rather than panic.
+            self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+        }
+    }
+
+    #[inline]
+    fn event(&self, outcome: Outcome) -> Option<Result<Frame<'_>>> {
+        match outcome {
+            Outcome::More => None,
+            Outcome::Frame => Some(Ok(Frame::new_unchecked(
+                self.buf.get(..self.len).unwrap_or(&[]),
+                self.profile,
+            ))),
+            Outcome::Fail(e) => Some(Err(e)),
+        }
+    }
+
+    /// Process the byte that belongs at `buf[len]`.
+    #[inline]
+    fn step(&mut self, byte: u8) -> Outcome {
+        let len = self.len;
+        if self.need != 0 {
+            if let Some(slot) = self.buf.get_mut(len) {
+                *slot = byte;
+            }
+            let len = len.wrapping_add(1);
+            self.len = len;
+            self.xor ^= byte;
+            if len < self.need {
+                return Outcome::More;
+            }
+            if self.xor == 0 {
+                self.stats.messages_ok = self.stats.messages_ok.wrapping_add(1);
+                self.delivered = true;
+                return Outcome::Frame;
+            }
+            self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+            self.rescan();
+            return Outcome::Fail(Error::BadChecksum);
+        }
+        match len {
+            0 => {
+                if byte == START {
+                    if let Some(slot) = self.buf.get_mut(0) {
+                        *slot = START;
+                        self.len = 1;
+                        self.xor = START;
+                    }
+                } else {
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                }
+                Outcome::More
+            }
+            1 if byte == START => {
+                // Y5: FF FF - the first start is dropped, the second becomes the start.
+                self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                Outcome::More
+            }
+            _ => {
+                if let Some(slot) = self.buf.get_mut(len) {
+                    *slot = byte;
+                }
+                let len = len.wrapping_add(1);
+                self.len = len;
+                self.xor ^= byte;
+                if len < EXPEDITED_HEADER_LEN {
+                    return Outcome::More;
+                }
+                let field = u32::from_le_bytes(array_at(&self.buf, 2));
+                let expedited = self.buf.get(1).copied().unwrap_or(0) & EXPEDITED != 0;
+                match self.profile.frame_len(field, expedited) {
+                    Some(total) if total <= N => {
+                        self.need = total;
+                        Outcome::More
+                    }
+                    _ => {
+                        self.stats.length_errors = self.stats.length_errors.wrapping_add(1);
+                        self.rescan();
+                        Outcome::Fail(Error::BadLength(field))
+                    }
+                }
+            }
+        }
+    }
+}

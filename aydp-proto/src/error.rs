@@ -1,0 +1,135 @@
+//! The crate's single error type.
+
+use core::fmt;
+
+/// Everything that can go wrong in this crate: framing, typed parsing, encoding and the
+/// system-value registry all report through this one enum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Error {
+    /// The output buffer is too small; `needed` bytes are required.
+    BufferTooSmall {
+        /// Bytes the message needs.
+        needed: usize,
+    },
+    /// The input ends before the header or the message it announces is complete.
+    Truncated,
+    /// The first byte is not the 0xFF start byte.
+    BadStart,
+    /// The type byte is 0xFF, which is never a type (Y3, Y5).
+    ReservedType,
+    /// A base type above 126 was given to an encoder (base types are 0..=126).
+    BadType(u8),
+    /// The length field is below the profile minimum, beyond the decoder capacity, or does not
+    /// match the bytes present.
+    BadLength(u32),
+    /// The XOR checksum does not match (Y4).
+    BadChecksum,
+    /// The message data is too long to be described by the 32-bit length field.
+    TooLong,
+    /// The data is shorter than the message type needs.
+    PayloadTooShort {
+        /// Base message type.
+        msg_type: u8,
+        /// Minimum data length the type needs.
+        expected: usize,
+        /// Data length received.
+        actual: usize,
+    },
+    /// The data is longer than the message type allows.
+    PayloadTooLong {
+        /// Base message type.
+        msg_type: u8,
+        /// Data length the type allows.
+        expected: usize,
+        /// Data length received.
+        actual: usize,
+    },
+    /// A count field does not agree with the data length (fix detail, direct output).
+    CountMismatch {
+        /// Base message type.
+        msg_type: u8,
+        /// Count announced in the message.
+        count: usize,
+    },
+    /// A `uflt16` field has its sign bit set (Y7).
+    NegativeUflt16,
+    /// A system value update has an update type other than 1, 2 or 3.
+    UnknownUpdateMode(u8),
+    /// A single-value update carries a non-zero "array size or element" field.
+    NonZeroSingleIndex(u32),
+    /// A system control message carries an unknown command byte.
+    UnknownCommand(u8),
+    /// More satellites than the caller's list can hold.
+    TooManySatellites(usize),
+    /// Registry: no slot at this address.
+    UnknownAddress(u16),
+    /// Registry: the slot at this address is read-only.
+    ReadOnly(u16),
+    /// Registry: the update mode does not fit the slot (e.g. element update of a scalar).
+    WrongMode(u16),
+    /// Registry: the data length does not fit the slot's type and element count.
+    WrongSize(u16),
+    /// Registry: element index or array count beyond the slot's length.
+    OutOfBounds(u16),
+    /// Registry: a value is outside the slot's allowed range (or NaN where a range is set).
+    OutOfRange(u16),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::BufferTooSmall { needed } => {
+                write!(f, "buffer too small: {needed} bytes needed")
+            }
+            Error::Truncated => f.write_str("input truncated"),
+            Error::BadStart => f.write_str("missing 0xFF start byte"),
+            Error::ReservedType => f.write_str("type byte 0xFF is reserved"),
+            Error::BadType(t) => write!(f, "base type {t} is outside 0..=126"),
+            Error::BadLength(l) => write!(f, "bad length field {l}"),
+            Error::BadChecksum => f.write_str("checksum mismatch"),
+            Error::TooLong => f.write_str("message too long for the length field"),
+            Error::PayloadTooShort {
+                msg_type,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "type {msg_type}: data too short ({actual} bytes, needs {expected})"
+            ),
+            Error::PayloadTooLong {
+                msg_type,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "type {msg_type}: data too long ({actual} bytes, allows {expected})"
+            ),
+            Error::CountMismatch { msg_type, count } => {
+                write!(
+                    f,
+                    "type {msg_type}: count {count} does not match the length"
+                )
+            }
+            Error::NegativeUflt16 => f.write_str("uflt16 field has its sign bit set"),
+            Error::UnknownUpdateMode(m) => write!(f, "unknown update type {m}"),
+            Error::NonZeroSingleIndex(i) => {
+                write!(f, "single-value update with non-zero element field {i}")
+            }
+            Error::UnknownCommand(c) => write!(f, "unknown system control command {c}"),
+            Error::TooManySatellites(n) => write!(f, "{n} satellites do not fit the list"),
+            Error::UnknownAddress(a) => write!(f, "no system value at address {a:#06x}"),
+            Error::ReadOnly(a) => write!(f, "address {a:#06x} is read-only"),
+            Error::WrongMode(a) => write!(f, "update mode does not fit address {a:#06x}"),
+            Error::WrongSize(a) => write!(f, "data size does not fit address {a:#06x}"),
+            Error::OutOfBounds(a) => write!(f, "index or count out of bounds at {a:#06x}"),
+            Error::OutOfRange(a) => write!(f, "value out of range for address {a:#06x}"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// Result alias used throughout the crate.
+pub type Result<T> = core::result::Result<T, Error>;

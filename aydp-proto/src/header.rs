@@ -1,0 +1,222 @@
+//! The message header (DECISIONS.md Y3): a checked zero-copy view and a plain representation.
+//!
+//! ```text
+//! normal     FF | type | length u32 LE | seconds i64 LE | sub-seconds i64 LE     (22 bytes)
+//! expedited  FF | type|0x80 | length u32 LE                                     ( 6 bytes)
+//! ```
+
+use crate::error::{Error, Result};
+use crate::profile::{
+    EXPEDITED, EXPEDITED_HEADER_LEN, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START, Timestamp,
+};
+
+/// Read `K` bytes at a constant offset; zeros if the buffer is short (never panics).
+#[inline]
+pub(crate) fn array_at<const K: usize>(buf: &[u8], at: usize) -> [u8; K] {
+    let mut out = [0u8; K];
+    if let Some(src) = buf.get(at..) {
+        for (d, s) in out.iter_mut().zip(src) {
+            *d = *s;
+        }
+    }
+    out
+}
+
+/// Copy `src` into `buf` from offset `at`, as far as it fits (never panics).
+#[inline]
+pub(crate) fn put(buf: &mut [u8], at: usize, src: &[u8]) {
+    if let Some(dst) = buf.get_mut(at..) {
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = *s;
+        }
+    }
+}
+
+/// A read-only view of a header at the start of a buffer.
+///
+/// ```
+/// use aydp_proto::Header;
+/// let h = Header::new_checked(&[0xFF, 0x80, 0x07, 0, 0, 0, 0x78][..]).unwrap();
+/// assert!(h.is_expedited());
+/// assert_eq!(h.base_type(), 0);
+/// assert_eq!(h.length_field(), 7);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Header<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> Header<T> {
+    /// Wrap a buffer without checks. Accessors never panic; on a short buffer they read zeros.
+    pub const fn new_unchecked(buffer: T) -> Self {
+        Self { buffer }
+    }
+
+    /// Wrap a buffer after checking the start byte, that the type is not 0xFF, and that the
+    /// buffer holds the whole header (6 or 22 bytes).
+    pub fn new_checked(buffer: T) -> Result<Self> {
+        let h = Self::new_unchecked(buffer);
+        h.check()?;
+        Ok(h)
+    }
+
+    /// The checks [`Header::new_checked`] performs.
+    pub fn check(&self) -> Result<()> {
+        let b = self.buffer.as_ref();
+        match b {
+            [] | [_] => Err(Error::Truncated),
+            [s, ..] if *s != START => Err(Error::BadStart),
+            [_, t, ..] if *t == START => Err(Error::ReservedType),
+            _ if b.len() < self.header_len() => Err(Error::Truncated),
+            _ => Ok(()),
+        }
+    }
+
+    /// The underlying buffer.
+    pub fn into_inner(self) -> T {
+        self.buffer
+    }
+
+    /// The type byte as sent (with the expedited bit).
+    #[inline]
+    pub fn type_byte(&self) -> u8 {
+        self.buffer.as_ref().get(1).copied().unwrap_or(0)
+    }
+
+    /// Whether the expedited bit (0x80) is set.
+    #[inline]
+    pub fn is_expedited(&self) -> bool {
+        self.type_byte() & EXPEDITED != 0
+    }
+
+    /// The type without the expedited bit.
+    #[inline]
+    pub fn base_type(&self) -> u8 {
+        self.type_byte() & !EXPEDITED
+    }
+
+    /// Header length: 6 if expedited, else 22.
+    #[inline]
+    pub fn header_len(&self) -> usize {
+        Profile::header_len(self.is_expedited())
+    }
+
+    /// The raw u32 length field (its meaning depends on the profile).
+    #[inline]
+    pub fn length_field(&self) -> u32 {
+        u32::from_le_bytes(array_at(self.buffer.as_ref(), 2))
+    }
+
+    /// Seconds from the epoch, or `None` for an expedited header.
+    pub fn timestamp(&self) -> Option<Timestamp> {
+        if self.is_expedited() {
+            return None;
+        }
+        let b = self.buffer.as_ref();
+        Some(Timestamp {
+            seconds: i64::from_le_bytes(array_at(b, 6)),
+            subsec: i64::from_le_bytes(array_at(b, 14)),
+        })
+    }
+}
+
+/// A header as plain values. Expedited iff `timestamp` is `None`.
+///
+/// ```
+/// use aydp_proto::{HeaderRepr, Profile, Timestamp};
+/// let repr = HeaderRepr { base_type: 1, timestamp: Some(Timestamp::new(42, 500_000)), data_len: 4 };
+/// let mut buf = [0u8; 22];
+/// repr.emit(&mut buf, Profile::Reference).unwrap();
+/// assert_eq!(&buf[..6], &[0xFF, 0x01, 0x04, 0, 0, 0]);
+/// assert_eq!(repr.buffer_len(), 22);
+/// assert_eq!(repr.frame_len(), 27);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct HeaderRepr {
+    /// Base type, 0..=126 (the expedited bit is derived from `timestamp`).
+    pub base_type: u8,
+    /// Header time for a normal message; `None` makes the message expedited.
+    pub timestamp: Option<Timestamp>,
+    /// Number of data bytes between header and checksum.
+    pub data_len: usize,
+}
+
+impl HeaderRepr {
+    /// Parse a checked header in the given profile. Fails if the length field is below the
+    /// profile's minimum.
+    pub fn parse<T: AsRef<[u8]>>(header: &Header<T>, profile: Profile) -> Result<Self> {
+        header.check()?;
+        let expedited = header.is_expedited();
+        let field = header.length_field();
+        let frame = profile
+            .frame_len(field, expedited)
+            .ok_or(Error::BadLength(field))?;
+        Ok(Self {
+            base_type: header.base_type(),
+            timestamp: header.timestamp(),
+            data_len: frame.saturating_sub(Profile::overhead(expedited)),
+        })
+    }
+
+    /// Whether this header is expedited (no time fields).
+    #[inline]
+    pub const fn is_expedited(&self) -> bool {
+        self.timestamp.is_none()
+    }
+
+    /// The type byte on the wire.
+    #[inline]
+    pub const fn type_byte(&self) -> u8 {
+        if self.is_expedited() {
+            self.base_type | EXPEDITED
+        } else {
+            self.base_type
+        }
+    }
+
+    /// Header length: 6 (expedited) or 22 (normal).
+    #[inline]
+    pub const fn buffer_len(&self) -> usize {
+        Profile::header_len(self.is_expedited())
+    }
+
+    /// Whole message length: header, data and checksum (saturating).
+    #[inline]
+    pub const fn frame_len(&self) -> usize {
+        self.data_len
+            .saturating_add(Profile::overhead(self.is_expedited()))
+    }
+
+    /// The header bytes; only the first [`HeaderRepr::buffer_len`] are meaningful.
+    pub fn to_bytes(&self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
+        if self.base_type > MAX_BASE_TYPE {
+            return Err(Error::BadType(self.base_type));
+        }
+        let length = profile
+            .length_field(self.data_len, self.is_expedited())
+            .ok_or(Error::TooLong)?;
+        let mut out = [0u8; NORMAL_HEADER_LEN];
+        out[0] = START;
+        out[1] = self.type_byte();
+        put(&mut out, 2, &length.to_le_bytes());
+        if let Some(t) = self.timestamp {
+            put(&mut out, EXPEDITED_HEADER_LEN, &t.seconds.to_le_bytes());
+            put(&mut out, EXPEDITED_HEADER_LEN + 8, &t.subsec.to_le_bytes());
+        }
+        Ok(out)
+    }
+
+    /// Write the header into the start of `buf`; returns the bytes written.
+    pub fn emit(&self, buf: &mut [u8], profile: Profile) -> Result<usize> {
+        let n = self.buffer_len();
+        if buf.len() < n {
+            return Err(Error::BufferTooSmall { needed: n });
+        }
+        let bytes = self.to_bytes(profile)?;
+        put(buf, 0, bytes.get(..n).unwrap_or(&[]));
+        Ok(n)
+    }
+}

@@ -1,0 +1,67 @@
+//! System control (type 9, Y8): command u8 then arguments.
+
+use super::{too_long, too_short};
+use crate::encoder::Payload;
+use crate::error::{Error, Result};
+
+/// System control commands (table 3.10).
+///
+/// ```
+/// use aydp_proto::SystemControl;
+/// assert_eq!(SystemControl::parse(&[1, 8, 0]), Ok(SystemControl::RequestData { address: 8 }));
+/// assert_eq!(SystemControl::parse(&[2]), Ok(SystemControl::StoreConfiguration));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum SystemControl {
+    /// 1: request the value at `address`; the reply is a system value update.
+    RequestData {
+        /// Address to read.
+        address: u16,
+    },
+    /// 2: store the configuration in non-volatile storage.
+    StoreConfiguration,
+}
+
+impl SystemControl {
+    /// Base type.
+    pub const TYPE: u8 = 9;
+
+    /// Parse: request data is exactly 3 bytes, store configuration exactly 1.
+    pub fn parse(data: &[u8]) -> Result<Self> {
+        match data {
+            [] => Err(too_short(Self::TYPE, 1, 0)),
+            [1, a0, a1] => Ok(SystemControl::RequestData {
+                address: u16::from_le_bytes([*a0, *a1]),
+            }),
+            [1, ..] if data.len() < 3 => Err(too_short(Self::TYPE, 3, data.len())),
+            [1, ..] => Err(too_long(Self::TYPE, 3, data.len())),
+            [2] => Ok(SystemControl::StoreConfiguration),
+            [2, ..] => Err(too_long(Self::TYPE, 1, data.len())),
+            [c, ..] => Err(Error::UnknownCommand(*c)),
+        }
+    }
+
+    fn bytes(&self) -> ([u8; 3], usize) {
+        match *self {
+            SystemControl::RequestData { address } => {
+                let [a0, a1] = address.to_le_bytes();
+                ([1, a0, a1], 3)
+            }
+            SystemControl::StoreConfiguration => ([2, 0, 0], 1),
+        }
+    }
+}
+
+impl Payload for SystemControl {
+    fn base_type(&self) -> u8 {
+        Self::TYPE
+    }
+    fn data_len(&self) -> usize {
+        self.bytes().1
+    }
+    fn data_byte(&self, index: usize) -> u8 {
+        self.bytes().0.get(index).copied().unwrap_or(0)
+    }
+}

@@ -1,0 +1,280 @@
+//! Position fix quality (type 4) and fix detail (type 5) (Y8), with `uflt16` fields (Y7).
+
+use super::{exact, fixed_payload, too_short};
+use crate::encoder::Payload;
+use crate::error::{Error, Result};
+use crate::header::{array_at, put};
+use crate::uflt16;
+
+/// Position fix quality (type 4): 8 bytes.
+///
+/// ```
+/// use aydp_proto::FixQuality;
+/// let q = FixQuality { fix_type: 3, mean_dop: 1.5, hdop: 1.0, vdop: 2.0, satellites: 9 };
+/// assert_eq!(FixQuality::parse(&q.to_bytes()), Ok(q));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct FixQuality {
+    /// Fix type.
+    pub fix_type: u8,
+    /// Mean dilution of precision (uflt16 on the wire).
+    pub mean_dop: f32,
+    /// Horizontal DOP (uflt16).
+    pub hdop: f32,
+    /// Vertical DOP (uflt16).
+    pub vdop: f32,
+    /// Number of satellites.
+    pub satellites: u8,
+}
+
+fn uf(b: &[u8], at: usize) -> Result<f32> {
+    uflt16::decode(u16::from_le_bytes(array_at(b, at)))
+}
+
+impl FixQuality {
+    /// Base type.
+    pub const TYPE: u8 = 4;
+    /// Data length.
+    pub const LEN: usize = 8;
+
+    /// Parse exactly 8 data bytes; a negative `uflt16` is an error.
+    pub fn parse(data: &[u8]) -> Result<Self> {
+        let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
+        Ok(Self {
+            fix_type: b[0],
+            mean_dop: uf(b, 1)?,
+            hdop: uf(b, 3)?,
+            vdop: uf(b, 5)?,
+            satellites: b[7],
+        })
+    }
+
+    /// The 8 data bytes (DOPs rounded to binary16, negatives clamped to 0).
+    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+        let mut out = [0u8; Self::LEN];
+        out[0] = self.fix_type;
+        put(&mut out, 1, &uflt16::encode(self.mean_dop).to_le_bytes());
+        put(&mut out, 3, &uflt16::encode(self.hdop).to_le_bytes());
+        put(&mut out, 5, &uflt16::encode(self.vdop).to_le_bytes());
+        out[7] = self.satellites;
+        out
+    }
+}
+
+fixed_payload!(FixQuality);
+
+/// One satellite of a fix detail message: 7 bytes on the wire.
+///
+/// ```
+/// use aydp_proto::Satellite;
+/// let s = Satellite { id: 7, azimuth: 180.0, elevation: 45.0, snr: 38.0 };
+/// assert_eq!(Satellite::parse(&s.to_bytes()), Ok(s));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Satellite {
+    /// Satellite ID.
+    pub id: u8,
+    /// Azimuth (uflt16).
+    pub azimuth: f32,
+    /// Elevation (uflt16).
+    pub elevation: f32,
+    /// Signal to noise ratio (uflt16).
+    pub snr: f32,
+}
+
+impl Satellite {
+    /// Bytes per satellite.
+    pub const LEN: usize = 7;
+
+    /// Parse 7 bytes.
+    pub fn parse(b: &[u8; Self::LEN]) -> Result<Self> {
+        Ok(Self {
+            id: b[0],
+            azimuth: uf(b, 1)?,
+            elevation: uf(b, 3)?,
+            snr: uf(b, 5)?,
+        })
+    }
+
+    /// The 7 bytes.
+    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+        let mut out = [0u8; Self::LEN];
+        out[0] = self.id;
+        put(&mut out, 1, &uflt16::encode(self.azimuth).to_le_bytes());
+        put(&mut out, 3, &uflt16::encode(self.elevation).to_le_bytes());
+        put(&mut out, 5, &uflt16::encode(self.snr).to_le_bytes());
+        out
+    }
+}
+
+/// A bounded list of satellites, as collected from a [`FixDetail`].
+pub type SatelliteList<const M: usize> = heapless::Vec<Satellite, M>;
+
+/// Position fix detail (type 5): count u8, then count × 7 bytes. A zero-copy, validated view.
+///
+/// ```
+/// use aydp_proto::{FixDetail, FixDetailBuilder, Satellite};
+/// let mut buf = [0u8; 64];
+/// let mut b = FixDetailBuilder::new(&mut buf);
+/// b.push(Satellite { id: 3, azimuth: 90.0, elevation: 30.0, snr: 40.0 }).unwrap();
+/// let detail = b.finish();
+/// assert_eq!(detail.len(), 1);
+/// let again = FixDetail::parse(detail.as_bytes()).unwrap();
+/// let list = again.to_list::<16>().unwrap();
+/// assert_eq!(list[0].id, 3);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct FixDetail<'a> {
+    data: &'a [u8],
+}
+
+impl<'a> FixDetail<'a> {
+    /// Base type.
+    pub const TYPE: u8 = 5;
+
+    /// Validate: the count must match the length and no `uflt16` may be negative.
+    pub fn parse(data: &'a [u8]) -> Result<Self> {
+        let Some((&count, rest)) = data.split_first() else {
+            return Err(too_short(Self::TYPE, 1, 0));
+        };
+        let count = count as usize;
+        if rest.len() != count * Satellite::LEN {
+            return Err(Error::CountMismatch {
+                msg_type: Self::TYPE,
+                count,
+            });
+        }
+        for chunk in rest.chunks_exact(Satellite::LEN) {
+            for field in [1usize, 3, 5] {
+                uflt16::decode(u16::from_le_bytes(array_at(chunk, field)))?;
+            }
+        }
+        Ok(Self { data })
+    }
+
+    /// Number of satellites.
+    pub fn len(&self) -> usize {
+        self.data.first().copied().unwrap_or(0) as usize
+    }
+
+    /// Whether the list is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The data bytes.
+    pub fn as_bytes(&self) -> &'a [u8] {
+        self.data
+    }
+
+    /// Iterate over the satellites without copying the message.
+    pub fn satellites(&self) -> Satellites<'a> {
+        Satellites {
+            chunks: self
+                .data
+                .get(1..)
+                .unwrap_or(&[])
+                .chunks_exact(Satellite::LEN),
+        }
+    }
+
+    /// Collect into a bounded list; fails if more than `M` satellites.
+    pub fn to_list<const M: usize>(&self) -> Result<SatelliteList<M>> {
+        let mut out = SatelliteList::<M>::new();
+        for s in self.satellites() {
+            out.push(s)
+                .map_err(|_| Error::TooManySatellites(self.len()))?;
+        }
+        Ok(out)
+    }
+}
+
+impl Payload for FixDetail<'_> {
+    fn base_type(&self) -> u8 {
+        Self::TYPE
+    }
+    fn data_len(&self) -> usize {
+        self.data.len()
+    }
+    fn data_byte(&self, index: usize) -> u8 {
+        self.data.get(index).copied().unwrap_or(0)
+    }
+    fn write_data(&self, out: &mut [u8]) {
+        put(out, 0, self.data);
+    }
+}
+
+/// Iterator over the satellites of a [`FixDetail`].
+#[derive(Debug, Clone)]
+pub struct Satellites<'a> {
+    chunks: core::slice::ChunksExact<'a, u8>,
+}
+
+impl Iterator for Satellites<'_> {
+    type Item = Satellite;
+    fn next(&mut self) -> Option<Satellite> {
+        let chunk = self.chunks.next()?;
+        let b: [u8; Satellite::LEN] = array_at(chunk, 0);
+        // Validated by `FixDetail::parse`; a negative value cannot occur here.
+        Satellite::parse(&b).ok()
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.chunks.size_hint()
+    }
+}
+
+/// Builds a [`FixDetail`] into a caller's buffer.
+///
+/// ```
+/// use aydp_proto::{FixDetailBuilder, Satellite};
+/// let mut buf = [0u8; 8];
+/// let mut b = FixDetailBuilder::new(&mut buf);
+/// assert!(b.push(Satellite::default()).is_ok());
+/// assert!(b.push(Satellite::default()).is_err()); // buffer full
+/// ```
+#[derive(Debug)]
+pub struct FixDetailBuilder<'b> {
+    buf: &'b mut [u8],
+    count: u8,
+}
+
+impl<'b> FixDetailBuilder<'b> {
+    /// Start an empty list in `buf` (needs at least 1 byte to finish).
+    pub fn new(buf: &'b mut [u8]) -> Self {
+        Self { buf, count: 0 }
+    }
+
+    /// Append a satellite; fails if the buffer is full or 255 are already held.
+    pub fn push(&mut self, sat: Satellite) -> Result<()> {
+        let at = 1 + self.count as usize * Satellite::LEN;
+        if self.count == u8::MAX {
+            return Err(Error::TooManySatellites(256));
+        }
+        let Some(dst) = self.buf.get_mut(at..at + Satellite::LEN) else {
+            return Err(Error::BufferTooSmall {
+                needed: at + Satellite::LEN,
+            });
+        };
+        put(dst, 0, &sat.to_bytes());
+        self.count += 1;
+        Ok(())
+    }
+
+    /// The finished view.
+    pub fn finish(self) -> FixDetail<'b> {
+        let n = 1 + self.count as usize * Satellite::LEN;
+        if let Some(c) = self.buf.first_mut() {
+            *c = self.count;
+        }
+        let buf: &'b [u8] = self.buf;
+        FixDetail {
+            data: buf.get(..n).unwrap_or(&[]),
+        }
+    }
+}

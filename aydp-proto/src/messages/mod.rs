@@ -1,0 +1,220 @@
+//! Typed messages and the [`Message`] enum that ties them to type numbers per profile.
+
+mod control;
+mod fix;
+mod output;
+mod position;
+mod reference;
+mod svu;
+
+pub use control::SystemControl;
+pub use fix::{FixDetail, FixDetailBuilder, FixQuality, Satellite, SatelliteList, Satellites};
+pub use output::{DirectOutput, DirectOutputBuilder, Entries, OutputEntry};
+pub use position::Position;
+pub use reference::{VesselData, WindDirection, WindSpeed};
+pub use svu::{SystemValueUpdate, UpdateMode};
+
+use crate::encoder::{Payload, Raw};
+use crate::error::{Error, Result};
+use crate::profile::Profile;
+
+pub(crate) const fn too_short(msg_type: u8, expected: usize, actual: usize) -> Error {
+    Error::PayloadTooShort {
+        msg_type,
+        expected,
+        actual,
+    }
+}
+
+pub(crate) const fn too_long(msg_type: u8, expected: usize, actual: usize) -> Error {
+    Error::PayloadTooLong {
+        msg_type,
+        expected,
+        actual,
+    }
+}
+
+/// `data` as exactly `K` bytes, or a typed too-short/too-long error.
+pub(crate) fn exact<const K: usize>(data: &[u8], msg_type: u8) -> Result<&[u8; K]> {
+    if data.len() < K {
+        return Err(too_short(msg_type, K, data.len()));
+    }
+    <&[u8; K]>::try_from(data).map_err(|_| too_long(msg_type, K, data.len()))
+}
+
+/// `Payload` for a fixed-size type with `TYPE`, `LEN` and `to_bytes`.
+macro_rules! fixed_payload {
+    ($t:ty) => {
+        impl $crate::encoder::Payload for $t {
+            fn base_type(&self) -> u8 {
+                Self::TYPE
+            }
+            fn data_len(&self) -> usize {
+                Self::LEN
+            }
+            fn data_byte(&self, index: usize) -> u8 {
+                self.to_bytes().get(index).copied().unwrap_or(0)
+            }
+            fn write_data(&self, out: &mut [u8]) {
+                $crate::header::put(out, 0, &self.to_bytes());
+            }
+        }
+    };
+}
+pub(crate) use fixed_payload;
+
+/// Base type of time sync (`Spec`) and no-op (`Reference`); expedited it is the heartbeat.
+pub const TIME_SYNC: u8 = 0;
+/// First user-defined type.
+pub const USER_FIRST: u8 = 100;
+/// Last user-defined type.
+pub const USER_LAST: u8 = 126;
+
+/// Any AYDP message, typed where the profile defines the type.
+///
+/// | type | `Spec` | `Reference` |
+/// |---|---|---|
+/// | 0 | `TimeSync` (normal) / `Heartbeat` (expedited) | `NoOp` |
+/// | 1, 2 | `Tbd` (raw) | `WindSpeed`, `WindDirection` |
+/// | 3, 4, 5, 7, 8, 9 | typed | typed (the document's layouts) |
+/// | 6 | `Tbd` (raw) | `Unknown` (raw) |
+/// | 17 | `Unknown` (raw) | `VesselData` |
+/// | 100..=126 | `UserDefined` (raw) | `UserDefined` (raw) |
+/// | other | `Unknown` (raw) | `Unknown` (raw) |
+///
+/// ```
+/// use aydp_proto::{Message, Profile, Position};
+/// let data = Position { latitude: 1.0, longitude: 2.0, altitude: 3.0 }.to_bytes();
+/// let m = Message::parse(3, false, &data, Profile::Spec).unwrap();
+/// assert!(matches!(m, Message::Position(p) if p.altitude == 3.0));
+/// assert!(matches!(Message::parse(2, false, &[9], Profile::Spec), Ok(Message::Tbd(_))));
+/// assert!(Message::parse(3, false, &data[..19], Profile::Spec).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Message<'a> {
+    /// Type 0, normal, `Spec`: the header time is the time to set.
+    TimeSync,
+    /// Type 0, expedited (128), `Spec`.
+    Heartbeat,
+    /// Type 0 in `Reference` (no-op), normal or expedited.
+    NoOp,
+    /// Type 3.
+    Position(Position),
+    /// Type 4.
+    FixQuality(FixQuality),
+    /// Type 5.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    FixDetail(FixDetail<'a>),
+    /// Type 7.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    DirectOutput(DirectOutput<'a>),
+    /// Type 8.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    SystemValueUpdate(SystemValueUpdate<'a>),
+    /// Type 9.
+    SystemControl(SystemControl),
+    /// Type 1 in `Reference`.
+    WindSpeed(WindSpeed),
+    /// Type 2 in `Reference`.
+    WindDirection(WindDirection),
+    /// Type 17 in `Reference`.
+    VesselData(VesselData),
+    /// Types 1, 2 and 6 in `Spec` ("TBD" in the document, Y8): raw data.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    Tbd(Raw<'a>),
+    /// Types 100..=126: raw data.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    UserDefined(Raw<'a>),
+    /// Any type the profile does not define: raw data.
+    #[cfg_attr(feature = "serde", serde(borrow))]
+    Unknown(Raw<'a>),
+}
+
+fn empty(msg_type: u8, data: &[u8]) -> Result<()> {
+    if data.is_empty() {
+        Ok(())
+    } else {
+        Err(too_long(msg_type, 0, data.len()))
+    }
+}
+
+impl<'a> Message<'a> {
+    /// Parse the data of a message of `base_type` (without the expedited bit).
+    pub fn parse(base_type: u8, expedited: bool, data: &'a [u8], profile: Profile) -> Result<Self> {
+        let raw = Raw {
+            msg_type: base_type,
+            data,
+        };
+        let m = match (profile, base_type) {
+            (Profile::Spec, TIME_SYNC) => {
+                empty(base_type, data)?;
+                if expedited {
+                    Message::Heartbeat
+                } else {
+                    Message::TimeSync
+                }
+            }
+            (Profile::Reference, TIME_SYNC) => {
+                empty(base_type, data)?;
+                Message::NoOp
+            }
+            (Profile::Spec, 1 | 2 | 6) => Message::Tbd(raw),
+            (Profile::Reference, WindSpeed::TYPE) => Message::WindSpeed(WindSpeed::parse(data)?),
+            (Profile::Reference, WindDirection::TYPE) => {
+                Message::WindDirection(WindDirection::parse(data)?)
+            }
+            (Profile::Reference, VesselData::TYPE) => Message::VesselData(VesselData::parse(data)?),
+            (_, Position::TYPE) => Message::Position(Position::parse(data)?),
+            (_, FixQuality::TYPE) => Message::FixQuality(FixQuality::parse(data)?),
+            (_, FixDetail::TYPE) => Message::FixDetail(FixDetail::parse(data)?),
+            (_, DirectOutput::TYPE) => Message::DirectOutput(DirectOutput::parse(data)?),
+            (_, SystemValueUpdate::TYPE) => {
+                Message::SystemValueUpdate(SystemValueUpdate::parse(data)?)
+            }
+            (_, SystemControl::TYPE) => Message::SystemControl(SystemControl::parse(data)?),
+            (_, USER_FIRST..=USER_LAST) => Message::UserDefined(raw),
+            _ => Message::Unknown(raw),
+        };
+        Ok(m)
+    }
+
+    fn as_payload(&self) -> &dyn Payload {
+        match self {
+            Message::TimeSync | Message::Heartbeat | Message::NoOp => &EMPTY,
+            Message::Position(p) => p,
+            Message::FixQuality(p) => p,
+            Message::FixDetail(p) => p,
+            Message::DirectOutput(p) => p,
+            Message::SystemValueUpdate(p) => p,
+            Message::SystemControl(p) => p,
+            Message::WindSpeed(p) => p,
+            Message::WindDirection(p) => p,
+            Message::VesselData(p) => p,
+            Message::Tbd(r) | Message::UserDefined(r) | Message::Unknown(r) => r,
+        }
+    }
+}
+
+const EMPTY: Raw<'static> = Raw {
+    msg_type: TIME_SYNC,
+    data: &[],
+};
+
+/// Encoding a `Message` writes its base type; `Heartbeat` and `TimeSync` differ only in
+/// whether the encoder is asked for an expedited or a normal message.
+impl Payload for Message<'_> {
+    fn base_type(&self) -> u8 {
+        self.as_payload().base_type()
+    }
+    fn data_len(&self) -> usize {
+        self.as_payload().data_len()
+    }
+    fn data_byte(&self, index: usize) -> u8 {
+        self.as_payload().data_byte(index)
+    }
+    fn write_data(&self, out: &mut [u8]) {
+        self.as_payload().write_data(out)
+    }
+}

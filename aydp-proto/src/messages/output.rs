@@ -1,0 +1,197 @@
+//! Direct output control (type 7, Y8): count u16, then count × (device u8, channel u8, f32).
+
+use super::too_short;
+use crate::encoder::Payload;
+use crate::error::{Error, Result};
+use crate::header::{array_at, put};
+
+/// One output setting.
+///
+/// ```
+/// use aydp_proto::OutputEntry;
+/// let e = OutputEntry { device: 1, channel: 2, value: 10.0 };
+/// assert_eq!(e.to_bytes(), [0x01, 0x02, 0x00, 0x00, 0x20, 0x41]);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct OutputEntry {
+    /// Output device.
+    pub device: u8,
+    /// Channel within the device.
+    pub channel: u8,
+    /// Calibrated output value.
+    pub value: f32,
+}
+
+impl OutputEntry {
+    /// Bytes per entry.
+    pub const LEN: usize = 6;
+
+    /// The 6 bytes of this entry.
+    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+        let mut out = [0u8; Self::LEN];
+        out[0] = self.device;
+        out[1] = self.channel;
+        put(&mut out, 2, &self.value.to_le_bytes());
+        out
+    }
+
+    fn from_chunk(b: &[u8]) -> Self {
+        let a: [u8; Self::LEN] = array_at(b, 0);
+        Self {
+            device: a[0],
+            channel: a[1],
+            value: f32::from_le_bytes(array_at(&a, 2)),
+        }
+    }
+}
+
+/// Direct output control (type 7): a validated, zero-copy view over the message data.
+///
+/// The document says a channel named twice takes the last value; [`DirectOutput::entries`]
+/// yields entries in order, so applying them in order gives exactly that.
+///
+/// ```
+/// use aydp_proto::{DirectOutput, OutputEntry};
+/// let data = [0x01, 0x00, 0x01, 0x02, 0x00, 0x00, 0x20, 0x41];
+/// let out = DirectOutput::parse(&data).unwrap();
+/// let e: Vec<OutputEntry> = out.entries().collect();
+/// assert_eq!(e, vec![OutputEntry { device: 1, channel: 2, value: 10.0 }]);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct DirectOutput<'a> {
+    data: &'a [u8],
+}
+
+impl<'a> DirectOutput<'a> {
+    /// Base type.
+    pub const TYPE: u8 = 7;
+
+    /// Validate: the u16 count must match the data length exactly.
+    pub fn parse(data: &'a [u8]) -> Result<Self> {
+        let Some(rest) = data.get(2..) else {
+            return Err(too_short(Self::TYPE, 2, data.len()));
+        };
+        let count = u16::from_le_bytes(array_at(data, 0)) as usize;
+        if rest.len() != count * OutputEntry::LEN {
+            return Err(Error::CountMismatch {
+                msg_type: Self::TYPE,
+                count,
+            });
+        }
+        Ok(Self { data })
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        u16::from_le_bytes(array_at(self.data, 0)) as usize
+    }
+
+    /// Whether there are no entries.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The data bytes.
+    pub fn as_bytes(&self) -> &'a [u8] {
+        self.data
+    }
+
+    /// The entries, in message order, without copying.
+    pub fn entries(&self) -> Entries<'a> {
+        Entries {
+            chunks: self
+                .data
+                .get(2..)
+                .unwrap_or(&[])
+                .chunks_exact(OutputEntry::LEN),
+        }
+    }
+}
+
+impl Payload for DirectOutput<'_> {
+    fn base_type(&self) -> u8 {
+        Self::TYPE
+    }
+    fn data_len(&self) -> usize {
+        self.data.len()
+    }
+    fn data_byte(&self, index: usize) -> u8 {
+        self.data.get(index).copied().unwrap_or(0)
+    }
+    fn write_data(&self, out: &mut [u8]) {
+        put(out, 0, self.data);
+    }
+}
+
+/// Iterator over [`DirectOutput`] entries.
+#[derive(Debug, Clone)]
+pub struct Entries<'a> {
+    chunks: core::slice::ChunksExact<'a, u8>,
+}
+
+impl Iterator for Entries<'_> {
+    type Item = OutputEntry;
+    fn next(&mut self) -> Option<OutputEntry> {
+        self.chunks.next().map(OutputEntry::from_chunk)
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.chunks.size_hint()
+    }
+}
+
+impl ExactSizeIterator for Entries<'_> {}
+
+/// Builds a [`DirectOutput`] in a caller's buffer.
+///
+/// ```
+/// use aydp_proto::{DirectOutputBuilder, Encoder, OutputEntry, Profile};
+/// let mut data = [0u8; 32];
+/// let mut b = DirectOutputBuilder::new(&mut data);
+/// b.push(OutputEntry { device: 1, channel: 2, value: 10.0 }).unwrap();
+/// let out = b.finish();
+/// let mut frame = [0u8; 32];
+/// let n = Encoder::new(Profile::Spec).encode_expedited(&out, &mut frame).unwrap();
+/// assert_eq!(&frame[..n], &[0xFF, 0x87, 0x0F, 0, 0, 0, 0x01, 0x00, 0x01, 0x02, 0, 0, 0x20, 0x41, 0x14]);
+/// ```
+#[derive(Debug)]
+pub struct DirectOutputBuilder<'b> {
+    buf: &'b mut [u8],
+    count: u16,
+}
+
+impl<'b> DirectOutputBuilder<'b> {
+    /// Start an empty list in `buf` (needs at least 2 bytes to finish).
+    pub fn new(buf: &'b mut [u8]) -> Self {
+        Self { buf, count: 0 }
+    }
+
+    /// Append an entry; fails if the buffer is full or 65 535 entries are held.
+    pub fn push(&mut self, entry: OutputEntry) -> Result<()> {
+        if self.count == u16::MAX {
+            return Err(Error::TooLong);
+        }
+        let at = 2 + self.count as usize * OutputEntry::LEN;
+        let Some(dst) = self.buf.get_mut(at..at + OutputEntry::LEN) else {
+            return Err(Error::BufferTooSmall {
+                needed: at + OutputEntry::LEN,
+            });
+        };
+        put(dst, 0, &entry.to_bytes());
+        self.count += 1;
+        Ok(())
+    }
+
+    /// The finished view.
+    pub fn finish(self) -> DirectOutput<'b> {
+        let n = 2 + self.count as usize * OutputEntry::LEN;
+        put(self.buf, 0, &self.count.to_le_bytes());
+        let buf: &'b [u8] = self.buf;
+        DirectOutput {
+            data: buf.get(..n).unwrap_or(&[]),
+        }
+    }
+}

@@ -1,0 +1,52 @@
+//! Position (type 3, Y8): f64 latitude, f64 longitude, f32 altitude, 20 bytes.
+
+use super::{exact, fixed_payload};
+use crate::error::Result;
+use crate::header::{array_at, put};
+
+/// Position (type 3).
+///
+/// ```
+/// use aydp_proto::Position;
+/// let p = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
+/// assert_eq!(Position::parse(&p.to_bytes()), Ok(p));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Position {
+    /// Latitude (degrees).
+    pub latitude: f64,
+    /// Longitude (degrees).
+    pub longitude: f64,
+    /// Altitude.
+    pub altitude: f32,
+}
+
+impl Position {
+    /// Base type.
+    pub const TYPE: u8 = 3;
+    /// Data length.
+    pub const LEN: usize = 20;
+
+    /// Parse exactly 20 data bytes.
+    pub fn parse(data: &[u8]) -> Result<Self> {
+        let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
+        Ok(Self {
+            latitude: f64::from_le_bytes(array_at(b, 0)),
+            longitude: f64::from_le_bytes(array_at(b, 8)),
+            altitude: f32::from_le_bytes(array_at(b, 16)),
+        })
+    }
+
+    /// The 20 data bytes.
+    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+        let mut out = [0u8; Self::LEN];
+        put(&mut out, 0, &self.latitude.to_le_bytes());
+        put(&mut out, 8, &self.longitude.to_le_bytes());
+        put(&mut out, 16, &self.altitude.to_le_bytes());
+        out
+    }
+}
+
+fixed_payload!(Position);

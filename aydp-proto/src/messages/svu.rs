@@ -1,0 +1,125 @@
+//! System value update (type 8, Y8): update type u8, address u16, u32, data.
+
+use super::too_short;
+use crate::encoder::Payload;
+use crate::error::{Error, Result};
+use crate::header::{array_at, put};
+
+/// Which part of a value an update writes (table 3.7).
+///
+/// ```
+/// use aydp_proto::UpdateMode;
+/// assert_eq!(UpdateMode::Element { index: 4 }.code(), 3);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum UpdateMode {
+    /// 1: a single value; the u32 field is 0.
+    Single,
+    /// 2: the entire array, `count` elements.
+    Array {
+        /// Number of elements in the data.
+        count: u32,
+    },
+    /// 3: one element of an array.
+    Element {
+        /// Element index.
+        index: u32,
+    },
+}
+
+impl UpdateMode {
+    /// The update type byte.
+    pub const fn code(&self) -> u8 {
+        match self {
+            UpdateMode::Single => 1,
+            UpdateMode::Array { .. } => 2,
+            UpdateMode::Element { .. } => 3,
+        }
+    }
+
+    /// The "array size or element" field.
+    pub const fn field(&self) -> u32 {
+        match *self {
+            UpdateMode::Single => 0,
+            UpdateMode::Array { count } => count,
+            UpdateMode::Element { index } => index,
+        }
+    }
+}
+
+/// System value update (type 8). The data is kept as bytes: only the device knows the type.
+///
+/// ```
+/// use aydp_proto::{SystemValueUpdate, UpdateMode};
+/// let u = SystemValueUpdate::parse(&[1, 0, 0, 0, 0, 0, 0, 1]).unwrap();
+/// assert_eq!(u, SystemValueUpdate { address: 0, mode: UpdateMode::Single, data: &[1] });
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SystemValueUpdate<'a> {
+    /// Address (table 3.9 and the device's own map).
+    pub address: u16,
+    /// Update mode.
+    pub mode: UpdateMode,
+    /// The value bytes, little-endian.
+    pub data: &'a [u8],
+}
+
+impl<'a> SystemValueUpdate<'a> {
+    /// Base type.
+    pub const TYPE: u8 = 8;
+    /// Bytes before the value data.
+    pub const HEADER_LEN: usize = 7;
+
+    /// Parse: at least 7 bytes, a known mode, and a zero field for single-value updates.
+    pub fn parse(data: &'a [u8]) -> Result<Self> {
+        let Some(value) = data.get(Self::HEADER_LEN..) else {
+            return Err(too_short(Self::TYPE, Self::HEADER_LEN, data.len()));
+        };
+        let h: [u8; 7] = array_at(data, 0);
+        let address = u16::from_le_bytes([h[1], h[2]]);
+        let field = u32::from_le_bytes([h[3], h[4], h[5], h[6]]);
+        let mode = match h[0] {
+            1 if field == 0 => UpdateMode::Single,
+            1 => return Err(Error::NonZeroSingleIndex(field)),
+            2 => UpdateMode::Array { count: field },
+            3 => UpdateMode::Element { index: field },
+            m => return Err(Error::UnknownUpdateMode(m)),
+        };
+        Ok(Self {
+            address,
+            mode,
+            data: value,
+        })
+    }
+
+    fn head(&self) -> [u8; 7] {
+        let mut h = [0u8; 7];
+        h[0] = self.mode.code();
+        put(&mut h, 1, &self.address.to_le_bytes());
+        put(&mut h, 3, &self.mode.field().to_le_bytes());
+        h
+    }
+}
+
+impl Payload for SystemValueUpdate<'_> {
+    fn base_type(&self) -> u8 {
+        Self::TYPE
+    }
+    fn data_len(&self) -> usize {
+        self.data.len().saturating_add(Self::HEADER_LEN)
+    }
+    fn data_byte(&self, index: usize) -> u8 {
+        match index.checked_sub(Self::HEADER_LEN) {
+            None => self.head().get(index).copied().unwrap_or(0),
+            Some(i) => self.data.get(i).copied().unwrap_or(0),
+        }
+    }
+    fn write_data(&self, out: &mut [u8]) {
+        put(out, 0, &self.head());
+        put(out, Self::HEADER_LEN, self.data);
+    }
+}

@@ -1,0 +1,145 @@
+//! The two conventions AYDP is found in (DECISIONS.md Y1, Y2) and the header timestamp.
+
+/// Start byte of every message.
+pub const START: u8 = 0xFF;
+/// Bit set in the type byte of an expedited message (no time fields).
+pub const EXPEDITED: u8 = 0x80;
+/// Length of a normal header: start, type, u32 length, i64 seconds, i64 sub-seconds (Y3).
+pub const NORMAL_HEADER_LEN: usize = 22;
+/// Length of an expedited header: start, type, u32 length (Y3).
+pub const EXPEDITED_HEADER_LEN: usize = 6;
+/// Highest base type (Y3).
+pub const MAX_BASE_TYPE: u8 = 126;
+
+/// Which AYDP convention an encoder or decoder follows.
+///
+/// ```
+/// use aydp_proto::Profile;
+/// // Spec: the length counts the whole message. A heartbeat is 7 bytes.
+/// assert_eq!(Profile::Spec.length_field(0, true), Some(7));
+/// // Reference: the length counts data bytes only.
+/// assert_eq!(Profile::Reference.length_field(4, false), Some(4));
+/// assert_eq!(Profile::Reference.frame_len(4, false), Some(27));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Profile {
+    /// The 2016 document (Y1): the length counts the whole message, sub-seconds are milliseconds.
+    #[default]
+    Spec,
+    /// The released AYDP software (Y2): the length counts data bytes only, sub-seconds are
+    /// microseconds, and wind speed (1), wind direction (2) and vessel data (17) are typed.
+    Reference,
+}
+
+impl Profile {
+    /// Header length for a normal (`expedited == false`) or expedited message.
+    #[inline]
+    pub const fn header_len(expedited: bool) -> usize {
+        if expedited {
+            EXPEDITED_HEADER_LEN
+        } else {
+            NORMAL_HEADER_LEN
+        }
+    }
+
+    /// Bytes a message adds around its data: header plus checksum byte.
+    #[inline]
+    pub const fn overhead(expedited: bool) -> usize {
+        Self::header_len(expedited) + 1
+    }
+
+    /// The length field for `data_len` data bytes, or `None` if it does not fit in a u32.
+    #[inline]
+    pub const fn length_field(self, data_len: usize, expedited: bool) -> Option<u32> {
+        let n = match self {
+            Profile::Spec => match data_len.checked_add(Self::overhead(expedited)) {
+                Some(n) => n,
+                None => return None,
+            },
+            Profile::Reference => data_len,
+        };
+        if n > u32::MAX as usize {
+            None
+        } else {
+            Some(n as u32)
+        }
+    }
+
+    /// Whole message length (start to checksum) announced by a length field, or `None` if the
+    /// field is below this profile's minimum or the sum overflows `usize`.
+    #[inline]
+    pub const fn frame_len(self, length_field: u32, expedited: bool) -> Option<usize> {
+        let field = length_field as usize;
+        // u32 -> usize never truncates on the 32- and 64-bit targets this crate supports;
+        // guard anyway so a 16-bit target cannot alias.
+        if field as u32 != length_field {
+            return None;
+        }
+        match self {
+            Profile::Spec => {
+                if field < Self::overhead(expedited) {
+                    None
+                } else {
+                    Some(field)
+                }
+            }
+            Profile::Reference => field.checked_add(Self::overhead(expedited)),
+        }
+    }
+
+    /// Sub-second units per second in the header: 1000 (ms) for `Spec`, 1 000 000 (µs) for
+    /// `Reference`.
+    #[inline]
+    pub const fn subsec_per_second(self) -> i64 {
+        match self {
+            Profile::Spec => 1_000,
+            Profile::Reference => 1_000_000,
+        }
+    }
+}
+
+/// Header time of a normal message: seconds from the epoch plus a sub-second count whose unit
+/// is the profile's ([`Profile::subsec_per_second`]).
+///
+/// ```
+/// use aydp_proto::{Profile, Timestamp};
+/// let t = Timestamp::new(42, 500);
+/// assert_eq!(t.subsec_micros(Profile::Spec), 500_000);
+/// assert_eq!(Timestamp::from_micros(42, 500_000, Profile::Reference).subsec, 500_000);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Timestamp {
+    /// Seconds from the epoch.
+    pub seconds: i64,
+    /// Sub-seconds, in milliseconds (`Spec`) or microseconds (`Reference`).
+    pub subsec: i64,
+}
+
+impl Timestamp {
+    /// A timestamp from raw header fields.
+    pub const fn new(seconds: i64, subsec: i64) -> Self {
+        Self { seconds, subsec }
+    }
+
+    /// A timestamp from seconds and microseconds, converted to the profile's sub-second unit
+    /// (truncating to milliseconds for `Spec`).
+    pub const fn from_micros(seconds: i64, micros: i64, profile: Profile) -> Self {
+        let subsec = match profile {
+            Profile::Spec => micros / 1000,
+            Profile::Reference => micros,
+        };
+        Self { seconds, subsec }
+    }
+
+    /// The sub-second field in microseconds, read in the given profile (saturating).
+    pub const fn subsec_micros(&self, profile: Profile) -> i64 {
+        match profile {
+            Profile::Spec => self.subsec.saturating_mul(1000),
+            Profile::Reference => self.subsec,
+        }
+    }
+}

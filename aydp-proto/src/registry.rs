@@ -1,0 +1,450 @@
+//! A system-value registry for devices: addresses mapped to typed slots over caller-owned
+//! storage (no allocation), with read-only, bounds and range checks.
+//!
+//! A device builds a table of [`Slot`]s, each pointing at its own variables, and wraps it in a
+//! [`Registry`]. Incoming system value updates are applied with [`Registry::apply`], which
+//! either changes exactly what the update names or rejects it with a reason and changes
+//! nothing. [`Registry::read`] builds the system value update that answers a request-data
+//! command (Y8, section 3.10.1). The firmware reads and writes its own settings through
+//! [`Registry::get`] and [`Registry::set`].
+//!
+//! Arrays are fixed-length: a whole-array update must carry exactly the array's element count
+//! (the document warns that changing an array's length can crash a device).
+//!
+//! ```
+//! use aydp_proto::registry::{Cell, Registry, Slot};
+//! use aydp_proto::{Error, SystemValueUpdate, UpdateMode};
+//!
+//! let mut direct = 0u8;
+//! let mut name = *b"demo boat\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
+//! let mut rates = [10u16, 20, 50];
+//! let mut slots = [
+//!     Slot::value(0x0000, Cell::u8(&mut direct)).with_range(0.0, 1.0),
+//!     Slot::value(0x0001, Cell::Chars(&mut name)).read_only(),
+//!     Slot::array(0x0100, Cell::U16(&mut rates)),
+//! ];
+//! let mut reg = Registry::new(&mut slots);
+//!
+//! let on = SystemValueUpdate { address: 0, mode: UpdateMode::Single, data: &[1] };
+//! assert_eq!(reg.apply(&on), Ok(()));
+//! assert_eq!(reg.get::<u8>(0, 0), Some(1));
+//! let bad = SystemValueUpdate { address: 0, mode: UpdateMode::Single, data: &[2] };
+//! assert_eq!(reg.apply(&bad), Err(Error::OutOfRange(0)));
+//! let rename = SystemValueUpdate { address: 1, mode: UpdateMode::Single, data: b"x" };
+//! assert_eq!(reg.apply(&rename), Err(Error::ReadOnly(1)));
+//! let elem = SystemValueUpdate { address: 0x100, mode: UpdateMode::Element { index: 2 }, data: &[100, 0] };
+//! assert_eq!(reg.apply(&elem), Ok(()));
+//! assert_eq!(reg.get::<u16>(0x100, 2), Some(100));
+//!
+//! let mut out = [0u8; 16];
+//! let reply = reg.read(0x100, &mut out).unwrap();
+//! assert_eq!(reply.mode, UpdateMode::Array { count: 3 });
+//! assert_eq!(reply.data, &[10, 0, 20, 0, 100, 0]);
+//! ```
+
+use crate::error::{Error, Result};
+use crate::header::array_at;
+use crate::messages::{SystemValueUpdate, UpdateMode};
+
+/// Whether the protocol may write a slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Access {
+    /// Updates are rejected with [`Error::ReadOnly`].
+    ReadOnly,
+    /// Updates are applied after the checks.
+    ReadWrite,
+}
+
+/// Caller-owned storage of a slot: a slice of elements (one element for a scalar).
+/// `Chars` is a fixed `char[N]` text, NUL-padded.
+#[derive(Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum Cell<'a> {
+    /// `uint8` elements.
+    U8(&'a mut [u8]),
+    /// `uint16` elements.
+    U16(&'a mut [u16]),
+    /// `uint32` elements.
+    U32(&'a mut [u32]),
+    /// `int32` elements.
+    I32(&'a mut [i32]),
+    /// `flt32` elements.
+    F32(&'a mut [f32]),
+    /// `flt64` elements.
+    F64(&'a mut [f64]),
+    /// `char[N]` text.
+    Chars(&'a mut [u8]),
+}
+
+macro_rules! scalar_ctor {
+    ($name:ident, $t:ty, $v:ident) => {
+        #[doc = concat!("A one-element `", stringify!($t), "` cell over `value`.")]
+        pub fn $name(value: &'a mut $t) -> Self {
+            Cell::$v(core::slice::from_mut(value))
+        }
+    };
+}
+
+impl<'a> Cell<'a> {
+    scalar_ctor!(u8, u8, U8);
+    scalar_ctor!(u16, u16, U16);
+    scalar_ctor!(u32, u32, U32);
+    scalar_ctor!(i32, i32, I32);
+    scalar_ctor!(f32, f32, F32);
+    scalar_ctor!(f64, f64, F64);
+
+    /// Bytes per element on the wire.
+    pub const fn element_size(&self) -> usize {
+        match self {
+            Cell::U8(_) | Cell::Chars(_) => 1,
+            Cell::U16(_) => 2,
+            Cell::U32(_) | Cell::I32(_) | Cell::F32(_) => 4,
+            Cell::F64(_) => 8,
+        }
+    }
+
+    /// Number of elements.
+    pub const fn len(&self) -> usize {
+        match self {
+            Cell::U8(s) | Cell::Chars(s) => s.len(),
+            Cell::U16(s) => s.len(),
+            Cell::U32(s) => s.len(),
+            Cell::I32(s) => s.len(),
+            Cell::F32(s) => s.len(),
+            Cell::F64(s) => s.len(),
+        }
+    }
+
+    /// Whether the cell holds no element.
+    pub const fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Element `i` of wire bytes `b` as f64 (for range checks), `None` for text.
+    fn wire_value(&self, b: &[u8]) -> Option<f64> {
+        Some(match self {
+            Cell::Chars(_) => return None,
+            Cell::U8(_) => b.first().copied().unwrap_or(0) as f64,
+            Cell::U16(_) => u16::from_le_bytes(array_at(b, 0)) as f64,
+            Cell::U32(_) => u32::from_le_bytes(array_at(b, 0)) as f64,
+            Cell::I32(_) => i32::from_le_bytes(array_at(b, 0)) as f64,
+            Cell::F32(_) => f32::from_le_bytes(array_at(b, 0)) as f64,
+            Cell::F64(_) => f64::from_le_bytes(array_at(b, 0)),
+        })
+    }
+
+    /// Store one element from its wire bytes.
+    fn store(&mut self, index: usize, b: &[u8]) {
+        match self {
+            Cell::U8(s) | Cell::Chars(s) => set(s, index, b.first().copied().unwrap_or(0)),
+            Cell::U16(s) => set(s, index, u16::from_le_bytes(array_at(b, 0))),
+            Cell::U32(s) => set(s, index, u32::from_le_bytes(array_at(b, 0))),
+            Cell::I32(s) => set(s, index, i32::from_le_bytes(array_at(b, 0))),
+            Cell::F32(s) => set(s, index, f32::from_le_bytes(array_at(b, 0))),
+            Cell::F64(s) => set(s, index, f64::from_le_bytes(array_at(b, 0))),
+        }
+    }
+
+    /// Write element `index` as wire bytes into `out` (at most 8 bytes).
+    fn load(&self, index: usize, out: &mut [u8]) {
+        let bytes: ([u8; 8], usize) = match self {
+            Cell::U8(s) | Cell::Chars(s) => wide(get(s, index).to_le_bytes()),
+            Cell::U16(s) => wide(get(s, index).to_le_bytes()),
+            Cell::U32(s) => wide(get(s, index).to_le_bytes()),
+            Cell::I32(s) => wide(get(s, index).to_le_bytes()),
+            Cell::F32(s) => wide(get(s, index).to_le_bytes()),
+            Cell::F64(s) => wide(get(s, index).to_le_bytes()),
+        };
+        crate::header::put(out, 0, bytes.0.get(..bytes.1).unwrap_or(&[]));
+    }
+}
+
+fn wide<const K: usize>(b: [u8; K]) -> ([u8; 8], usize) {
+    (array_at(&b, 0), K)
+}
+
+fn set<T>(s: &mut [T], i: usize, v: T) {
+    if let Some(d) = s.get_mut(i) {
+        *d = v;
+    }
+}
+
+fn get<T: Copy + Default>(s: &[T], i: usize) -> T {
+    s.get(i).copied().unwrap_or_default()
+}
+
+/// One registered address.
+///
+/// ```
+/// use aydp_proto::registry::{Access, Cell, Slot};
+/// let mut interval_ms = 1000u32;
+/// let s = Slot::value(0x0200, Cell::u32(&mut interval_ms)).with_range(10.0, 60_000.0);
+/// assert_eq!(s.access, Access::ReadWrite);
+/// ```
+#[derive(Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Slot<'a> {
+    /// The 16-bit address.
+    pub address: u16,
+    /// Read-only or read-write.
+    pub access: Access,
+    /// `true`: an array (modes 2 and 3). `false`: a single value (mode 1). `Chars` text
+    /// accepts all three modes.
+    pub is_array: bool,
+    /// Inclusive allowed range, checked on every numeric element of an update.
+    pub range: Option<(f64, f64)>,
+    /// The storage.
+    pub cell: Cell<'a>,
+}
+
+impl<'a> Slot<'a> {
+    /// A read-write single value (use a one-element cell) or a `Chars` text.
+    pub const fn value(address: u16, cell: Cell<'a>) -> Self {
+        Self {
+            address,
+            access: Access::ReadWrite,
+            is_array: false,
+            range: None,
+            cell,
+        }
+    }
+
+    /// A read-write fixed-length array.
+    pub const fn array(address: u16, cell: Cell<'a>) -> Self {
+        Self {
+            address,
+            access: Access::ReadWrite,
+            is_array: true,
+            range: None,
+            cell,
+        }
+    }
+
+    /// Make the slot read-only for the protocol.
+    pub const fn read_only(mut self) -> Self {
+        self.access = Access::ReadOnly;
+        self
+    }
+
+    /// Restrict numeric values to `min..=max` (NaN is then rejected too).
+    pub const fn with_range(mut self, min: f64, max: f64) -> Self {
+        self.range = Some((min, max));
+        self
+    }
+
+    fn is_text(&self) -> bool {
+        matches!(self.cell, Cell::Chars(_))
+    }
+
+    /// Check an update against this slot; returns (first element, element count) to write.
+    fn check(&self, update: &SystemValueUpdate<'_>) -> Result<(usize, usize)> {
+        let a = self.address;
+        if self.access == Access::ReadOnly {
+            return Err(Error::ReadOnly(a));
+        }
+        let size = self.cell.element_size();
+        let n = self.cell.len();
+        let data = update.data.len();
+        let (first, count) = match update.mode {
+            UpdateMode::Single if self.is_text() => {
+                if data > n {
+                    return Err(Error::WrongSize(a));
+                }
+                (0, data)
+            }
+            UpdateMode::Single if self.is_array => return Err(Error::WrongMode(a)),
+            UpdateMode::Single => {
+                if data != size {
+                    return Err(Error::WrongSize(a));
+                }
+                (0, 1)
+            }
+            _ if !self.is_array && !self.is_text() => return Err(Error::WrongMode(a)),
+            UpdateMode::Array { count } => {
+                if count as usize != n || count as u64 > n as u64 {
+                    return Err(Error::OutOfBounds(a));
+                }
+                if Some(data) != n.checked_mul(size) {
+                    return Err(Error::WrongSize(a));
+                }
+                (0, n)
+            }
+            UpdateMode::Element { index } => {
+                if index as u64 >= n as u64 {
+                    return Err(Error::OutOfBounds(a));
+                }
+                if data != size {
+                    return Err(Error::WrongSize(a));
+                }
+                (index as usize, 1)
+            }
+        };
+        if let Some((min, max)) = self.range {
+            for chunk in update.data.chunks_exact(size) {
+                if let Some(v) = self.cell.wire_value(chunk) {
+                    // `!(a <= b)` also rejects NaN.
+                    if !(min <= v && v <= max) {
+                        return Err(Error::OutOfRange(a));
+                    }
+                }
+            }
+        }
+        Ok((first, count))
+    }
+}
+
+/// A table of slots, searched by address.
+///
+/// See the [module documentation](self) for a full example.
+#[derive(Debug)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Registry<'s, 'a> {
+    slots: &'s mut [Slot<'a>],
+}
+
+/// Element types that [`Registry::get`] and [`Registry::set`] read and write.
+pub trait Element: Copy + Sized {
+    /// Read element `index` of a cell of the matching type.
+    fn read(cell: &Cell<'_>, index: usize) -> Option<Self>;
+    /// Write element `index`; `false` if the type or index does not fit.
+    fn write(cell: &mut Cell<'_>, index: usize, value: Self) -> bool;
+    /// The value as f64, for range checks (`None`: no range applies).
+    fn as_f64(self) -> Option<f64>;
+}
+
+macro_rules! element {
+    ($t:ty, $($v:ident)|+) => {
+        impl Element for $t {
+            fn read(cell: &Cell<'_>, index: usize) -> Option<Self> {
+                match cell {
+                    $(Cell::$v(s))|+ => s.get(index).copied(),
+                    #[allow(unreachable_patterns)]
+                    _ => None,
+                }
+            }
+            fn write(cell: &mut Cell<'_>, index: usize, value: Self) -> bool {
+                match cell {
+                    $(Cell::$v(s))|+ => match s.get_mut(index) {
+                        Some(d) => {
+                            *d = value;
+                            true
+                        }
+                        None => false,
+                    },
+                    #[allow(unreachable_patterns)]
+                    _ => false,
+                }
+            }
+            fn as_f64(self) -> Option<f64> {
+                Some(self as f64)
+            }
+        }
+    };
+}
+element!(u8, U8 | Chars);
+element!(u16, U16);
+element!(u32, U32);
+element!(i32, I32);
+element!(f32, F32);
+element!(f64, F64);
+
+impl<'s, 'a> Registry<'s, 'a> {
+    /// Wrap a table. Addresses should be unique; the first match wins.
+    pub fn new(slots: &'s mut [Slot<'a>]) -> Self {
+        Self { slots }
+    }
+
+    /// The slot at `address`.
+    pub fn slot(&self, address: u16) -> Option<&Slot<'a>> {
+        self.slots.iter().find(|s| s.address == address)
+    }
+
+    fn slot_mut(&mut self, address: u16) -> Result<&mut Slot<'a>> {
+        self.slots
+            .iter_mut()
+            .find(|s| s.address == address)
+            .ok_or(Error::UnknownAddress(address))
+    }
+
+    /// Apply a system value update, or reject it with the reason and change nothing.
+    pub fn apply(&mut self, update: &SystemValueUpdate<'_>) -> Result<()> {
+        let slot = self.slot_mut(update.address)?;
+        let (first, count) = slot.check(update)?;
+        let size = slot.cell.element_size();
+        if slot.is_text() && update.mode == UpdateMode::Single {
+            // Text: the new string, NUL-padded to the slot's length.
+            let n = slot.cell.len();
+            for i in 0..n {
+                let b = update.data.get(i).copied().unwrap_or(0);
+                slot.cell.store(i, &[b]);
+            }
+            return Ok(());
+        }
+        for (k, chunk) in update.data.chunks_exact(size).take(count).enumerate() {
+            slot.cell.store(first.saturating_add(k), chunk);
+        }
+        Ok(())
+    }
+
+    /// Build the system value update that answers "request data" for `address`, writing the
+    /// value bytes into `out`. Scalars answer in mode 1; arrays and text answer with the whole
+    /// array in mode 2.
+    pub fn read<'o>(&self, address: u16, out: &'o mut [u8]) -> Result<SystemValueUpdate<'o>> {
+        let slot = self.slot(address).ok_or(Error::UnknownAddress(address))?;
+        let size = slot.cell.element_size();
+        let n = slot.cell.len();
+        let total = n.saturating_mul(size);
+        let Some(dst) = out.get_mut(..total) else {
+            return Err(Error::BufferTooSmall { needed: total });
+        };
+        for (i, chunk) in dst.chunks_exact_mut(size).enumerate() {
+            slot.cell.load(i, chunk);
+        }
+        let mode = if slot.is_array || slot.is_text() {
+            UpdateMode::Array {
+                count: u32::try_from(n).map_err(|_| Error::TooLong)?,
+            }
+        } else {
+            UpdateMode::Single
+        };
+        let data: &'o [u8] = dst;
+        Ok(SystemValueUpdate {
+            address,
+            mode,
+            data,
+        })
+    }
+
+    /// Read element `index` at `address` as `T` (`None` if absent or of another type).
+    pub fn get<T: Element>(&self, address: u16, index: usize) -> Option<T> {
+        T::read(&self.slot(address)?.cell, index)
+    }
+
+    /// Set element `index` at `address` from the device itself: read-only does not apply
+    /// (the device owns its values), but the type, bounds and range checks do.
+    pub fn set<T: Element>(&mut self, address: u16, index: usize, value: T) -> Result<()> {
+        let slot = self.slot_mut(address)?;
+        if let (Some((min, max)), Some(v)) = (slot.range, value.as_f64())
+            && !(min <= v && v <= max)
+        {
+            return Err(Error::OutOfRange(address));
+        }
+        if T::write(&mut slot.cell, index, value) {
+            Ok(())
+        } else if index >= slot.cell.len() {
+            Err(Error::OutOfBounds(address))
+        } else {
+            Err(Error::WrongSize(address))
+        }
+    }
+
+    /// All slots.
+    pub fn slots(&self) -> &[Slot<'a>] {
+        self.slots
+    }
+}
