@@ -2,8 +2,8 @@
 //!
 //! The conversions are written here (no extra crate) and are `const fn`. Decoding is exact:
 //! every binary16 value is representable in `f32`. Encoding rounds to nearest, ties to even,
-//! overflows to +infinity, clamps negative values (and -0.0) to +0.0 and maps NaN to the quiet
-//! NaN 0x7E00.
+//! overflows to +infinity, clamps negative values (and -0.0) to +0.0 and keeps a NaN's top ten payload bits
+//! (so every binary16 bit pattern without its sign bit survives decode then encode).
 
 use crate::error::{Error, Result};
 
@@ -66,7 +66,10 @@ pub const fn encode(value: f32) -> u16 {
         return if mant == 0 {
             if bits & 0x8000_0000 != 0 { 0 } else { 0x7C00 }
         } else {
-            0x7E00
+            // NaN: keep the top ten payload bits, so decode -> encode is the identity; a
+            // payload that lives only in the low bits becomes the quiet NaN.
+            let payload = (mant >> 13) as u16;
+            0x7C00 | if payload == 0 { 0x0200 } else { payload }
         };
     }
     if bits & 0x8000_0000 != 0 {

@@ -71,7 +71,7 @@ fn wrong_payload_sizes_are_typed_errors() {
     ));
     assert!(matches!(
         Message::parse(127, false, &[], Profile::Spec),
-        Ok(Message::Unknown(_))
+        Err(aydp_proto::Error::BadType(127))
     ));
 }
 
@@ -538,4 +538,25 @@ fn registry_text_slot_accepts_shorter_text_nul_padded() {
     })
     .unwrap();
     assert_eq!(name, *b"xy\0\0\0\0\0z");
+}
+
+/// Found by fuzzing (aydp_roundtrip): every non-negative binary16 pattern, NaN payloads and
+/// subnormals included, survives decode then encode, so a received frame re-encodes to itself.
+#[test]
+fn uflt16_decode_then_encode_is_the_identity_on_every_non_negative_pattern() {
+    for bits in 0u16..0x8000 {
+        let v = uflt16::decode(bits).unwrap();
+        assert_eq!(uflt16::encode(v), bits, "pattern {bits:#06x}");
+    }
+}
+
+/// Found by fuzzing (aydp_parse): base type 127 is not a type (Y3), for parse as for encode.
+#[test]
+fn base_type_127_is_rejected_by_parse_as_by_the_encoder() {
+    for profile in [aydp_proto::Profile::Spec, aydp_proto::Profile::Reference] {
+        assert_eq!(
+            aydp_proto::Message::parse(127, false, &[], profile),
+            Err(aydp_proto::Error::BadType(127))
+        );
+    }
 }

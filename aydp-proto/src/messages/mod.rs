@@ -143,6 +143,10 @@ fn empty(msg_type: u8, data: &[u8]) -> Result<()> {
 impl<'a> Message<'a> {
     /// Parse the data of a message of `base_type` (without the expedited bit).
     pub fn parse(base_type: u8, expedited: bool, data: &'a [u8], profile: Profile) -> Result<Self> {
+        if base_type > USER_LAST {
+            // Y3: base types are 0..=126 (the encoder refuses anything else too).
+            return Err(Error::BadType(base_type));
+        }
         let raw = Raw {
             msg_type: base_type,
             data,

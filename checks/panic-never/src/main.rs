@@ -176,8 +176,81 @@ mod aok {
     }
 }
 
+mod aydp {
+    use super::*;
+    use aydp_proto::{registry::{Cell, Registry, Slot}, *};
+
+    pub fn run() {
+        let profile = if input_byte(20) & 1 == 0 { Profile::Spec } else { Profile::Reference };
+        // The decoder, byte by byte, draining every event; then a flush.
+        let mut d = Decoder::<128>::new(profile);
+        let mut enable = 0u8;
+        let mut name = [0u8; 40];
+        let mut gains = [0f32; 3];
+        let mut rate = 0u16;
+        let mut slots = [
+            Slot::value(0, Cell::u8(&mut enable)).with_range(0.0, 1.0),
+            Slot::value(1, Cell::Chars(&mut name)).read_only(),
+            Slot::array(0x100, Cell::F32(&mut gains)),
+            Slot::value(0x101, Cell::u16(&mut rate)),
+        ];
+        let mut reg = Registry::new(&mut slots);
+        let enc = Encoder::new(profile);
+        for i in 0..len() {
+            let mut ev = d.push(input_byte(i));
+            while let Some(e) = ev {
+                if let Ok(frame) = e {
+                    sink(frame.base_type() as u32 ^ frame.data().len() as u32);
+                    if let Ok(msg) = frame.message() {
+                        if let Message::SystemValueUpdate(u) = &msg {
+                            sink(reg.apply(u).is_ok() as u32);
+                        }
+                        let mut out = [0u8; 200];
+                        let k = input_byte(21) as usize % 201;
+                        if let Ok(n) = enc.encode_expedited(&msg, &mut out[..k]) {
+                            sink(n as u32);
+                        }
+                    }
+                }
+                ev = d.poll();
+            }
+        }
+        d.flush(|e| sink(e.is_ok() as u32));
+        sink(d.stats().bytes_discarded);
+
+        // Typed parse of opaque data, every type, both forms.
+        let data: [u8; 128] = input();
+        let n = len() % 129;
+        if let Ok(msg) = Message::parse(input_byte(22) & 0x7F, input_byte(23) & 1 == 1, &data[..n], profile) {
+            let ts = Timestamp { seconds: input_byte(24) as i64, subsec: input_byte(25) as i64 };
+            let mut out = [0u8; 200];
+            let k = input_byte(26) as usize % 201;
+            if let Ok(n) = enc.encode_normal(&msg, ts, &mut out[..k]) {
+                sink(n as u32);
+            }
+            if let Ok(bytes) = enc.iter_normal(&msg, ts) {
+                for b in bytes {
+                    sink(b as u32);
+                }
+            }
+        }
+        if let Ok(f) = Frame::new_checked(&data[..n], profile) {
+            sink(f.checksum() as u32);
+        }
+        // Registry reply to request-data for an opaque address.
+        let mut out = [0u8; 64];
+        let k = input_byte(27) as usize % 65;
+        let addr = u16::from_le_bytes([input_byte(28), input_byte(29)]);
+        if let Ok(reply) = reg.read(addr, &mut out[..k]) {
+            sink(reply.address as u32);
+        }
+        sink(uflt16::encode(f32::from_bits(len() as u32)) as u32);
+    }
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn entry() -> ! {
+    aydp::run();
     aeolus::run();
     aok::run();
     loop {

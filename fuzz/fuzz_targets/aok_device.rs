@@ -1,0 +1,20 @@
+//! The AOK device-side decoder (what the PC sends) on any byte stream: no panic; every
+//! command it yields re-encodes to bytes that decode to the same command.
+#![no_main]
+use aok_proto::{Command, DeviceDecoder};
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    let mut d = DeviceDecoder::new();
+    let mut cmds = Vec::new();
+    for &b in data {
+        cmds.extend(d.push(b).flatten());
+    }
+    cmds.extend(d.idle().flatten());
+    for c in cmds {
+        let (bytes, n) = c.to_bytes();
+        let (again, used) = Command::parse(&bytes[..n]).unwrap();
+        assert_eq!(again, c);
+        assert_eq!(used, n);
+    }
+});
