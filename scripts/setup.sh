@@ -3,6 +3,7 @@
 # step checks first and does nothing when the tool is already there.
 #   scripts/setup.sh            toolchain + thumb targets (from rust-toolchain.toml)
 #   scripts/setup.sh qemu       + qemu-system-arm (Debian package)
+#   scripts/setup.sh defmt-print + defmt-print (decodes the firmware's defmt log)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,6 +16,7 @@ need_apt=()
 for want in "$@"; do
   case "$want" in
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
+    defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done

@@ -30,8 +30,17 @@ if ! (cd checks/panic-never && cargo build -q --release); then
   exit 1
 fi
 
+step "firmware: release builds for both boards, clippy on thumb"
+cargo qemu-build -q
+cargo stm32-build -q
+cargo clippy -q -p firmware-example --release --target thumbv7m-none-eabi --features board-qemu --lib --bins -- -D warnings
+cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features board-stm32f411 --lib --bins -- -D warnings
+
 step "rustdoc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 
 step "host tests"
 cargo test --workspace --all-features
+
+step "fuzz smoke run: every cargo-fuzz target for ${FUZZ_SECONDS:-20} s"
+scripts/fuzz.sh "${FUZZ_SECONDS:-20}"

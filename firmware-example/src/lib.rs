@@ -1,3 +1,53 @@
-//! The sensor-box application (work in progress).
+//! The sensor-box firmware example: the board-independent part.
+//!
+//! This library holds what the application needs and what can be tested on
+//! the host, with no `unsafe` and no board crate:
+//!
+//! * [`clock`]: the [`Clock`] trait (a monotonic millisecond clock) and a
+//!   [`ManualClock`] for host tests and simulations;
+//! * [`serial`]: [`QueuedSerial`], the serial port type the application sees on
+//!   every board. It implements `embedded_hal_nb::serial::{Read, Write}` over
+//!   two `heapless::spsc` queues; the other ends ([`SerialIsr`]) belong to the
+//!   board's UART interrupt handler;
+//! * [`storage`]: `embedded-storage` NOR flash over a byte slice ([`MemFlash`],
+//!   the QEMU board's flash store and the host tests' store) and a
+//!   [`FlashWindow`] that gives a sub-range of a bigger flash;
+//! * [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the
+//!   target (feature `defmt`) and compile to nothing on the host.
+//!
+//! The boards themselves (`src/board/qemu.rs`, `src/board/stm32f411.rs`) and
+//! the `sensor-box` binary live in the binary target: all `unsafe` of the
+//! example is there.
+//!
+//! ```
+//! use embedded_hal_nb::serial::{Read, Write};
+//! use firmware_example::serial::{PortStats, QueuedSerial};
+//! use heapless::spsc::Queue;
+//!
+//! let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+//! let stats = PortStats::new();
+//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! isr.received(0x7E); // what the UART interrupt does for each byte
+//! assert_eq!(port.read(), Ok(0x7E));
+//! port.write(0x55).unwrap();
+//! assert_eq!(isr.next_to_send(), Some(0x55)); // the interrupt sends it
+//! ```
 #![no_std]
+#![forbid(unsafe_code)]
 #![deny(missing_docs)]
+
+pub mod clock;
+mod error;
+pub mod log;
+pub mod serial;
+pub mod storage;
+
+pub use clock::{Clock, ManualClock};
+pub use error::Error;
+pub use serial::{PortStats, QueuedSerial, SerialIsr};
+pub use storage::{FlashWindow, MemFlash};
+
+/// Re-exported for the logging macros; not part of the API.
+#[doc(hidden)]
+#[cfg(all(feature = "defmt", target_os = "none"))]
+pub use defmt as __defmt;

@@ -1,0 +1,127 @@
+//! Board support: one module per board, selected by a cargo feature.
+//!
+//! Every board module has the same shape:
+//!
+//! * `NAME`: the board's name, for the boot log;
+//! * `Store`: its flash store type (`embedded-storage` `NorFlash`);
+//! * `init() -> Board<Store>`: clocks, SysTick, three interrupt-driven UARTs
+//!   and the flash store;
+//! * the UART interrupt handlers, which move bytes between the UARTs and the
+//!   queues behind [`QueuedSerial`].
+//!
+//! What is the same on every Cortex-M (the millisecond clock, the painted
+//! stack, the warm reset) is in this file.
+//!
+//! | board feature     | target                 | module           | memory map                |
+//! |-------------------|------------------------|------------------|---------------------------|
+//! | `board-qemu`      | `thumbv7m-none-eabi`   | `qemu.rs`        | `memory.x` (top level)    |
+//! | `board-stm32f411` | `thumbv7em-none-eabihf`| `stm32f411.rs`   | `board/stm32f411.x`       |
+
+use core::cell::Cell;
+use critical_section::Mutex;
+use firmware_example::{Clock, QueuedSerial};
+
+#[cfg(all(feature = "board-qemu", feature = "board-stm32f411"))]
+compile_error!("choose one board: `board-qemu` or `board-stm32f411`, not both");
+#[cfg(not(any(feature = "board-qemu", feature = "board-stm32f411")))]
+compile_error!(
+    "the sensor-box firmware needs a board: `cargo qemu` / `--features board-qemu`, or `cargo stm32` / `--features board-stm32f411`"
+);
+
+#[cfg(feature = "board-qemu")]
+mod qemu;
+#[cfg(feature = "board-qemu")]
+pub use qemu::{NAME, init};
+
+#[cfg(feature = "board-stm32f411")]
+mod stm32f411;
+#[cfg(feature = "board-stm32f411")]
+pub use stm32f411::{NAME, init};
+
+/// What `init` hands to the application.
+pub struct Board<S> {
+    /// UART0: AEOLUS.
+    pub uart0: QueuedSerial<'static>,
+    /// UART1: AYDP.
+    pub uart1: QueuedSerial<'static>,
+    /// UART2: AOK.
+    pub uart2: QueuedSerial<'static>,
+    /// Milliseconds since boot.
+    pub clock: SysTickClock,
+    /// The settings store.
+    pub store: S,
+}
+
+/// Warm reset (`SCB::sys_reset`): RAM is not cleared, so QEMU's emulated
+/// flash survives; the STM32's real flash survives anyway.
+pub fn reset() -> ! {
+    cortex_m::peripheral::SCB::sys_reset()
+}
+
+// ---------------------------------------------------------------- clock
+
+static MILLIS: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
+
+/// The SysTick millisecond clock (a handle; the count lives in a static).
+#[derive(Clone, Copy)]
+pub struct SysTickClock(());
+
+impl Clock for SysTickClock {
+    fn now_ms(&self) -> u64 {
+        critical_section::with(|cs| MILLIS.borrow(cs).get())
+    }
+}
+
+/// Starts SysTick at 1 kHz from the core clock.
+fn start_systick(mut syst: cortex_m::peripheral::SYST, core_hz: u32) -> SysTickClock {
+    use cortex_m::peripheral::syst::SystClkSource;
+    syst.set_clock_source(SystClkSource::Core);
+    syst.set_reload(core_hz / 1000 - 1);
+    syst.clear_current();
+    syst.enable_counter();
+    syst.enable_interrupt();
+    SysTickClock(())
+}
+
+#[cortex_m_rt::exception]
+fn SysTick() {
+    critical_section::with(|cs| {
+        let c = MILLIS.borrow(cs);
+        c.set(c.get().wrapping_add(1));
+    });
+}
+
+// ---------------------------------------------------------------- stack
+
+/// The value cortex-m-rt's `paint-stack` feature writes over the whole stack
+/// before `main` (it must match cortex-m-rt's `STACK_PAINT_VALUE`).
+const STACK_PAINT: u32 = 0xCCCC_CCCC;
+
+unsafe extern "C" {
+    static _stack_start: u32;
+    static _stack_end: u32;
+}
+
+/// Stack size, bytes: from the end of static RAM to the top of RAM.
+pub fn stack_size() -> usize {
+    let top = &raw const _stack_start as usize;
+    let bottom = &raw const _stack_end as usize;
+    top.saturating_sub(bottom)
+}
+
+/// The stack high-water mark, bytes: the deepest the stack has ever been,
+/// found as the lowest word no longer holding the paint.
+pub fn stack_high_water() -> usize {
+    let top = &raw const _stack_start as usize;
+    let mut p = &raw const _stack_end as usize;
+    while p < top {
+        // SAFETY: p is a word-aligned address inside the stack region, which
+        // is always mapped RAM; volatile because the stack changes under us.
+        let word = unsafe { core::ptr::read_volatile(p as *const u32) };
+        if word != STACK_PAINT {
+            break;
+        }
+        p += 4;
+    }
+    top - p
+}

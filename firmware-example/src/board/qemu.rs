@@ -1,0 +1,249 @@
+//! QEMU `lm3s6965evb` (TI Stellaris LM3S6965, Cortex-M3).
+//!
+//! * UART0/1/2: PL011-compatible UARTs at 0x4000_C000/D000/E000, IRQs 5, 6
+//!   and 33. `scripts/qemu-run.sh` puts them on TCP sockets.
+//! * Log: `defmt` over semihosting (`defmt-semihosting`), decoded on the
+//!   host by `defmt-print`.
+//! * Flash store: the last 4 KiB of RAM (`.flash_emu`, a NOLOAD section of
+//!   `memory.x`), which a warm reset leaves alone.
+//! * Clock: SysTick from the core clock. QEMU without `-icount` follows the
+//!   host's clock.
+
+use super::{Board, start_systick};
+use core::mem::MaybeUninit;
+use core::ptr::{addr_of_mut, read_volatile, write_volatile};
+use core::sync::atomic::{AtomicBool, Ordering};
+use cortex_m::peripheral::NVIC;
+use defmt_semihosting as _;
+use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
+use heapless::spsc::Queue;
+
+/// The board's name for the boot log.
+pub const NAME: &str = "qemu-lm3s6965evb";
+
+/// The flash store: NOR flash emulated in the `.flash_emu` RAM region.
+pub type Store = MemFlash<'static>;
+
+/// Core clock QEMU gives the lm3s6965 at reset, Hz (measured: see
+/// docs/notes-board.md).
+const CORE_HZ: u32 = 12_000_000;
+
+const UART_BASE: [usize; 3] = [0x4000_C000, 0x4000_D000, 0x4000_E000];
+const RX_CAP: usize = 256;
+const TX_CAP: usize = 512;
+
+// PL011 registers (offsets) and bits.
+const DR: usize = 0x000;
+const FR: usize = 0x018;
+const IBRD: usize = 0x024;
+const FBRD: usize = 0x028;
+const LCRH: usize = 0x02C;
+const CTL: usize = 0x030;
+const IMSC: usize = 0x038;
+const ICR: usize = 0x044;
+const FR_RXFE: u32 = 1 << 4;
+const FR_TXFF: u32 = 1 << 5;
+const DR_ERRORS: u32 = 0xF00; // OE | BE | PE | FE
+const INT_RX: u32 = 1 << 4;
+const INT_TX: u32 = 1 << 5;
+const INT_RT: u32 = 1 << 6;
+const LCRH_WLEN8_FEN: u32 = 0x70;
+const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
+/// System control: run-mode clock gating 1 (UART0..2 are bits 0..2).
+const SYSCTL_RCGC1: usize = 0x400F_E104;
+
+/// The lm3s6965 interrupt numbers this board uses.
+#[derive(Clone, Copy)]
+#[repr(u16)]
+enum Irq {
+    Uart0 = 5,
+    Uart1 = 6,
+    Uart2 = 33,
+}
+
+// SAFETY: the numbers are the lm3s6965's UART0..2 interrupt lines.
+unsafe impl cortex_m::interrupt::InterruptNumber for Irq {
+    fn number(self) -> u16 {
+        self as u16
+    }
+}
+
+const IRQS: [Irq; 3] = [Irq::Uart0, Irq::Uart1, Irq::Uart2];
+
+// --------------------------------------------------------- vector table
+
+/// One entry of the device interrupt table.
+#[derive(Clone, Copy)]
+#[repr(C)]
+pub union Vector {
+    handler: unsafe extern "C" fn(),
+    reserved: usize,
+}
+
+unsafe extern "C" {
+    fn DefaultHandler();
+}
+
+/// The lm3s6965's interrupt vectors 0..=33 (cortex-m-rt's `device` feature
+/// expects the board to provide them).
+#[unsafe(link_section = ".vector_table.interrupts")]
+#[unsafe(no_mangle)]
+pub static __INTERRUPTS: [Vector; 34] = {
+    let mut v = [Vector {
+        handler: DefaultHandler,
+    }; 34];
+    v[Irq::Uart0 as usize] = Vector { handler: uart0 };
+    v[Irq::Uart1 as usize] = Vector { handler: uart1 };
+    v[Irq::Uart2 as usize] = Vector { handler: uart2 };
+    v
+};
+
+// ------------------------------------------------------------- statics
+
+static mut RX_QUEUES: [Queue<u8, RX_CAP>; 3] = [const { Queue::new() }; 3];
+static mut TX_QUEUES: [Queue<u8, TX_CAP>; 3] = [const { Queue::new() }; 3];
+static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
+/// The interrupt handlers' halves; written once in `init` before the UART
+/// interrupts are unmasked, used only by the handlers afterwards.
+static mut ISR: [Option<SerialIsr<'static>>; 3] = [const { None }; 3];
+
+/// The emulated flash: never initialised by the startup code.
+#[unsafe(link_section = ".flash_emu")]
+static mut FLASH_EMU: MaybeUninit<[u8; 4096]> = MaybeUninit::uninit();
+
+static TAKEN: AtomicBool = AtomicBool::new(false);
+
+fn reg(base: usize, offset: usize) -> *mut u32 {
+    (base + offset) as *mut u32
+}
+
+/// Brings the board up. Call once.
+pub fn init() -> Board<Store> {
+    if TAKEN.swap(true, Ordering::AcqRel) {
+        // A second call would alias the queues and the store.
+        super::reset();
+    }
+    let mut core = cortex_m::Peripherals::take().unwrap_or_else(|| super::reset());
+    let clock = start_systick(core.SYST, CORE_HZ);
+
+    // SAFETY: RCGC1 is a valid lm3s6965 system-control register.
+    unsafe { write_volatile(SYSCTL_RCGC1 as *mut u32, 0b111) };
+
+    let kicks: [fn(); 3] = [
+        || NVIC::pend(Irq::Uart0),
+        || NVIC::pend(Irq::Uart1),
+        || NVIC::pend(Irq::Uart2),
+    ];
+    // SAFETY: `TAKEN` makes this run once, so these are the only references
+    // to the queues; the ISR halves are stored before the interrupts are
+    // unmasked below.
+    let (rxq, txq, isr) = unsafe {
+        (
+            &mut *addr_of_mut!(RX_QUEUES),
+            &mut *addr_of_mut!(TX_QUEUES),
+            &mut *addr_of_mut!(ISR),
+        )
+    };
+    let mut ports = rxq
+        .iter_mut()
+        .zip(txq.iter_mut())
+        .zip(STATS.iter())
+        .zip(kicks)
+        .zip(isr.iter_mut())
+        .map(|((((rx, tx), stats), kick), slot)| {
+            let (port, half) = QueuedSerial::split(rx, tx, stats, kick);
+            *slot = Some(half);
+            port
+        });
+    let (Some(uart0), Some(uart1), Some(uart2)) = (ports.next(), ports.next(), ports.next()) else {
+        super::reset();
+    };
+
+    for (base, irq) in UART_BASE.iter().zip(IRQS) {
+        // SAFETY: valid PL011 registers of the lm3s6965; the UART is
+        // disabled while it is configured.
+        unsafe {
+            write_volatile(reg(*base, CTL), 0);
+            // 115200 Bd at 12 MHz: 12e6 / (16 * 115200) = 6.5104 -> 6 + 33/64.
+            write_volatile(reg(*base, IBRD), 6);
+            write_volatile(reg(*base, FBRD), 33);
+            write_volatile(reg(*base, LCRH), LCRH_WLEN8_FEN);
+            write_volatile(reg(*base, ICR), 0x7FF);
+            write_volatile(reg(*base, IMSC), INT_RX | INT_RT);
+            write_volatile(reg(*base, CTL), CTL_UARTEN_TXE_RXE);
+        }
+        // SAFETY: the handler's state is in place (above).
+        unsafe {
+            core.NVIC.set_priority(irq, 0x40);
+            NVIC::unmask(irq);
+        }
+    }
+
+    // SAFETY: `TAKEN` makes this the only reference to the region. The bytes
+    // are whatever the RAM holds (zero after power-on, the stored settings
+    // after a warm reset); the store's own format tells them apart.
+    let mem: &'static mut [u8; 4096] = unsafe { (*addr_of_mut!(FLASH_EMU)).assume_init_mut() };
+
+    Board {
+        uart0,
+        uart1,
+        uart2,
+        clock,
+        store: MemFlash::new(mem),
+    }
+}
+
+/// Moves bytes between one PL011 and its queues. Called by its interrupt,
+/// which fires on RX, RX timeout, TX FIFO room (only while bytes wait) and
+/// when the application pends it after queueing a byte.
+fn service(index: usize) {
+    let Some(&base) = UART_BASE.get(index) else {
+        return;
+    };
+    // SAFETY: only this interrupt handler uses the ISR halves after `init`.
+    let slot = unsafe { (*addr_of_mut!(ISR)).get_mut(index) };
+    let Some(Some(isr)) = slot else {
+        return;
+    };
+    // SAFETY: valid PL011 registers; reads of DR pop the RX FIFO.
+    unsafe {
+        write_volatile(reg(base, ICR), INT_RX | INT_RT | INT_TX);
+        while read_volatile(reg(base, FR)) & FR_RXFE == 0 {
+            let dr = read_volatile(reg(base, DR));
+            if dr & DR_ERRORS != 0 {
+                isr.receive_error();
+            } else {
+                isr.received(dr as u8);
+            }
+        }
+        while read_volatile(reg(base, FR)) & FR_TXFF == 0 {
+            match isr.next_to_send() {
+                Some(b) => write_volatile(reg(base, DR), u32::from(b)),
+                None => break,
+            }
+        }
+        let tx = if isr.tx_pending() { INT_TX } else { 0 };
+        write_volatile(reg(base, IMSC), INT_RX | INT_RT | tx);
+    }
+}
+
+unsafe extern "C" fn uart0() {
+    service(0);
+}
+
+unsafe extern "C" fn uart1() {
+    service(1);
+}
+
+unsafe extern "C" fn uart2() {
+    service(2);
+}
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    match info.location() {
+        Some(l) => defmt::error!("panic at {=str}:{=u32}", l.file(), l.line()),
+        None => defmt::error!("panic"),
+    }
+    semihosting::process::exit(101)
+}

@@ -1,0 +1,217 @@
+//! STM32F411 (Black Pill F411CE, Nucleo-F411RE) through `stm32f4xx-hal`.
+//!
+//! | port  | protocol | USART  | TX   | RX   | baud    |
+//! |-------|----------|--------|------|------|---------|
+//! | UART0 | AEOLUS   | USART2 | PA2  | PA3  | 921 600 |
+//! | UART1 | AYDP     | USART1 | PA9  | PA10 | 115 200 |
+//! | UART2 | AOK      | USART6 | PA11 | PA12 | 38 400  |
+//!
+//! On the Nucleo, USART2 (PA2/PA3) is the ST-LINK virtual COM port, so AEOLUS
+//! comes out of the USB cable (check that the ST-LINK firmware supports
+//! 921 600 Bd, or lower `BAUD` for a quick look). On the Black Pill, PA11/PA12
+//! are the USB connector's pins, unused by this firmware.
+//!
+//! * Clock: HSI (16 MHz, no crystal needed on either board) through the PLL
+//!   to 100 MHz; SysTick at 1 kHz from the core clock.
+//! * Log: `defmt` over RTT (`defmt-rtt`), shown by `probe-rs run`.
+//! * Flash store: sector 7 (128 KiB at 0x0806_0000), outside the program's
+//!   memory map (`stm32f411.x`).
+
+use super::{Board, start_systick};
+use core::ptr::addr_of_mut;
+use core::sync::atomic::{AtomicBool, Ordering};
+use cortex_m::peripheral::NVIC;
+use defmt_rtt as _;
+use embedded_hal_nb::serial::{Read, Write};
+use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
+use firmware_example::{FlashWindow, PortStats, QueuedSerial, SerialIsr};
+use heapless::spsc::Queue;
+use panic_probe as _;
+use stm32f4xx_hal::flash::{self, FlashExt, LockedFlash};
+use stm32f4xx_hal::pac::{self, Interrupt, USART1, USART2, USART6, interrupt};
+use stm32f4xx_hal::prelude::*;
+use stm32f4xx_hal::rcc::Config;
+use stm32f4xx_hal::serial::{self, Instance, Rx, Tx, TxISR, TxListen};
+
+/// The board's name for the boot log.
+pub const NAME: &str = "stm32f411";
+
+/// The settings store: sector 7 of the internal flash.
+pub type Store = FlashWindow<Stm32Flash>;
+
+/// Baud rates of UART0 (AEOLUS), UART1 (AYDP) and UART2 (AOK).
+pub const BAUD: [u32; 3] = [921_600, 115_200, 38_400];
+/// Offset of the store (sector 7) from the start of flash.
+const STORE_OFFSET: u32 = 0x6_0000;
+/// Size of the store (all of sector 7).
+const STORE_LEN: u32 = 0x2_0000;
+const SYSCLK_HZ: u32 = 100_000_000;
+const RX_CAP: usize = 256;
+const TX_CAP: usize = 512;
+
+/// The internal flash as `embedded-storage` NOR flash; it is unlocked only
+/// for the duration of each erase or write.
+pub struct Stm32Flash(LockedFlash);
+
+impl ErrorType for Stm32Flash {
+    type Error = flash::Error;
+}
+
+impl ReadNorFlash for Stm32Flash {
+    const READ_SIZE: usize = 1;
+
+    fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), flash::Error> {
+        ReadNorFlash::read(&mut self.0, offset, bytes)
+    }
+
+    fn capacity(&self) -> usize {
+        ReadNorFlash::capacity(&self.0)
+    }
+}
+
+impl NorFlash for Stm32Flash {
+    const WRITE_SIZE: usize = 1;
+    /// The largest sector; only sector 7 is ever erased (see `STORE_OFFSET`).
+    const ERASE_SIZE: usize = 128 * 1024;
+
+    fn erase(&mut self, from: u32, to: u32) -> Result<(), flash::Error> {
+        NorFlash::erase(&mut self.0.unlocked(), from, to)
+    }
+
+    fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), flash::Error> {
+        NorFlash::write(&mut self.0.unlocked(), offset, bytes)
+    }
+}
+
+/// One USART as its interrupt handler sees it.
+struct IsrPort<U: Instance> {
+    tx: Tx<U>,
+    rx: Rx<U>,
+    half: SerialIsr<'static>,
+}
+
+static mut RX_QUEUES: [Queue<u8, RX_CAP>; 3] = [const { Queue::new() }; 3];
+static mut TX_QUEUES: [Queue<u8, TX_CAP>; 3] = [const { Queue::new() }; 3];
+static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
+/// Written once in `init` before the USART interrupts are unmasked, used
+/// only by the interrupt handlers afterwards.
+static mut PORT0: Option<IsrPort<USART2>> = None;
+static mut PORT1: Option<IsrPort<USART1>> = None;
+static mut PORT2: Option<IsrPort<USART6>> = None;
+static TAKEN: AtomicBool = AtomicBool::new(false);
+
+/// Brings the board up. Call once.
+pub fn init() -> Board<Store> {
+    if TAKEN.swap(true, Ordering::AcqRel) {
+        super::reset();
+    }
+    let (Some(dp), Some(cp)) = (pac::Peripherals::take(), cortex_m::Peripherals::take()) else {
+        super::reset();
+    };
+    let mut rcc = dp.RCC.freeze(Config::hsi().sysclk(SYSCLK_HZ.Hz()));
+    let clock = start_systick(cp.SYST, rcc.clocks.hclk().raw());
+    let gpioa = dp.GPIOA.split(&mut rcc);
+
+    let cfg = |baud: u32| serial::Config::default().baudrate(baud.bps());
+    let (Ok(s0), Ok(s1), Ok(s2)) = (
+        dp.USART2
+            .serial((gpioa.pa2, gpioa.pa3), cfg(BAUD[0]), &mut rcc),
+        dp.USART1
+            .serial((gpioa.pa9, gpioa.pa10), cfg(BAUD[1]), &mut rcc),
+        dp.USART6
+            .serial((gpioa.pa11, gpioa.pa12), cfg(BAUD[2]), &mut rcc),
+    ) else {
+        super::reset();
+    };
+
+    // SAFETY: `TAKEN` makes this run once, so these are the only references
+    // to the queues; the handlers' halves are stored before the interrupts
+    // are unmasked below.
+    let (rxq, txq) = unsafe { (&mut *addr_of_mut!(RX_QUEUES), &mut *addr_of_mut!(TX_QUEUES)) };
+    let [rx0, rx1, rx2] = rxq;
+    let [tx0, tx1, tx2] = txq;
+    let [st0, st1, st2] = &STATS;
+    let (uart0, h0) = QueuedSerial::split(rx0, tx0, st0, || NVIC::pend(Interrupt::USART2));
+    let (uart1, h1) = QueuedSerial::split(rx1, tx1, st1, || NVIC::pend(Interrupt::USART1));
+    let (uart2, h2) = QueuedSerial::split(rx2, tx2, st2, || NVIC::pend(Interrupt::USART6));
+    // SAFETY: as above; the interrupts are still masked.
+    unsafe {
+        *addr_of_mut!(PORT0) = Some(isr_port(s0, h0));
+        *addr_of_mut!(PORT1) = Some(isr_port(s1, h1));
+        *addr_of_mut!(PORT2) = Some(isr_port(s2, h2));
+        NVIC::unmask(Interrupt::USART2);
+        NVIC::unmask(Interrupt::USART1);
+        NVIC::unmask(Interrupt::USART6);
+    }
+
+    let Ok(store) = FlashWindow::new(
+        Stm32Flash(LockedFlash::new(dp.FLASH)),
+        STORE_OFFSET,
+        STORE_LEN,
+    ) else {
+        super::reset();
+    };
+    Board {
+        uart0,
+        uart1,
+        uart2,
+        clock,
+        store,
+    }
+}
+
+fn isr_port<U: Instance>(serial: serial::Serial<U>, half: SerialIsr<'static>) -> IsrPort<U> {
+    let (tx, mut rx) = serial.split();
+    rx.listen();
+    IsrPort { tx, rx, half }
+}
+
+/// Moves bytes between one USART and its queues: drains RXNE, feeds TXE, and
+/// keeps the TXE interrupt enabled only while bytes wait.
+fn service<U: Instance>(port: &mut IsrPort<U>) {
+    // A few rounds at most: each read either returns a byte, clears an error
+    // (the HAL reads DR), or says the register is empty.
+    for _ in 0..4 {
+        match port.rx.read() {
+            Ok(b) => {
+                port.half.received(b);
+            }
+            Err(nb::Error::Other(_)) => port.half.receive_error(),
+            Err(nb::Error::WouldBlock) => break,
+        }
+    }
+    if port.tx.is_tx_empty()
+        && let Some(b) = port.half.next_to_send()
+    {
+        let _ = port.tx.write(b);
+    }
+    if port.half.tx_pending() {
+        port.tx.listen();
+    } else {
+        port.tx.unlisten();
+    }
+}
+
+#[interrupt]
+fn USART2() {
+    // SAFETY: only this handler touches PORT0 after `init`.
+    if let Some(p) = unsafe { (*addr_of_mut!(PORT0)).as_mut() } {
+        service(p);
+    }
+}
+
+#[interrupt]
+fn USART1() {
+    // SAFETY: only this handler touches PORT1 after `init`.
+    if let Some(p) = unsafe { (*addr_of_mut!(PORT1)).as_mut() } {
+        service(p);
+    }
+}
+
+#[interrupt]
+fn USART6() {
+    // SAFETY: only this handler touches PORT2 after `init`.
+    if let Some(p) = unsafe { (*addr_of_mut!(PORT2)).as_mut() } {
+        service(p);
+    }
+}

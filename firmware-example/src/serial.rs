@@ -1,0 +1,281 @@
+//! The serial port the application sees on every board.
+//!
+//! A UART is split in two halves joined by two `heapless::spsc` queues:
+//!
+//! ```text
+//!   application (main loop)                      UART interrupt handler
+//!   QueuedSerial::read()   <-- RX queue <--      SerialIsr::received(byte)
+//!   QueuedSerial::write(b) --> TX queue -->      SerialIsr::next_to_send()
+//!                          --> kick() (pends the interrupt)
+//! ```
+//!
+//! * RX: the interrupt moves every received byte into the RX queue at once, so
+//!   nothing is lost while the main loop is busy (telemetry at full rate). A
+//!   full queue drops the byte and counts it in [`PortStats`].
+//! * TX: `write` queues the byte and calls the board's `kick`, which pends the
+//!   UART interrupt; the handler moves queued bytes into the UART while it
+//!   has room, and keeps its TX interrupt enabled only while bytes are
+//!   waiting. `write` returns `nb::WouldBlock` only when the TX queue is full,
+//!   so the main loop never waits for the wire.
+//!
+//! The same type runs in host tests: the test plays the interrupt handler.
+
+use core::sync::atomic::{AtomicU32, Ordering};
+use embedded_hal_nb::serial::{ErrorType, Read, Write};
+use heapless::spsc::{Consumer, Producer, Queue};
+
+/// Counters shared by both halves of a port. Wrapping `u32`s.
+#[derive(Debug, Default)]
+pub struct PortStats {
+    rx_bytes: AtomicU32,
+    rx_dropped: AtomicU32,
+    rx_errors: AtomicU32,
+    tx_bytes: AtomicU32,
+}
+
+/// A copy of the counters at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PortCounters {
+    /// Bytes received and queued.
+    pub rx_bytes: u32,
+    /// Bytes received but dropped because the RX queue was full.
+    pub rx_dropped: u32,
+    /// UART receive errors (overrun, framing, parity, break) reported by the board.
+    pub rx_errors: u32,
+    /// Bytes handed to the UART.
+    pub tx_bytes: u32,
+}
+
+impl PortStats {
+    /// All counters at zero (usable in a `static`).
+    ///
+    /// ```
+    /// static STATS: firmware_example::PortStats = firmware_example::PortStats::new();
+    /// assert_eq!(STATS.snapshot().rx_bytes, 0);
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            rx_bytes: AtomicU32::new(0),
+            rx_dropped: AtomicU32::new(0),
+            rx_errors: AtomicU32::new(0),
+            tx_bytes: AtomicU32::new(0),
+        }
+    }
+
+    /// Reads all counters.
+    ///
+    /// ```
+    /// let s = firmware_example::PortStats::new();
+    /// assert_eq!(s.snapshot(), Default::default());
+    /// ```
+    pub fn snapshot(&self) -> PortCounters {
+        PortCounters {
+            rx_bytes: self.rx_bytes.load(Ordering::Relaxed),
+            rx_dropped: self.rx_dropped.load(Ordering::Relaxed),
+            rx_errors: self.rx_errors.load(Ordering::Relaxed),
+            tx_bytes: self.tx_bytes.load(Ordering::Relaxed),
+        }
+    }
+}
+
+fn bump(counter: &AtomicU32) {
+    // Single-core targets: load/store is enough and works on every Cortex-M;
+    // only the interrupt handler writes the counters it bumps.
+    counter.store(
+        counter.load(Ordering::Relaxed).wrapping_add(1),
+        Ordering::Relaxed,
+    );
+}
+
+/// The application's half of a UART: `embedded_hal_nb` `Read<u8>` and `Write<u8>`.
+pub struct QueuedSerial<'q> {
+    rx: Consumer<'q, u8>,
+    tx: Producer<'q, u8>,
+    stats: &'q PortStats,
+    kick: fn(),
+}
+
+/// The interrupt handler's half of a UART.
+pub struct SerialIsr<'q> {
+    rx: Producer<'q, u8>,
+    tx: Consumer<'q, u8>,
+    stats: &'q PortStats,
+}
+
+impl<'q> QueuedSerial<'q> {
+    /// Splits an RX and a TX queue into the application's port and the
+    /// interrupt handler's half. `kick` is called after every queued TX byte;
+    /// a board makes it pend the UART interrupt.
+    ///
+    /// ```
+    /// use firmware_example::QueuedSerial;
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 16>::new(), heapless::spsc::Queue::<u8, 16>::new());
+    /// let stats = firmware_example::PortStats::new();
+    /// let (port, isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// # let _ = (port, isr);
+    /// ```
+    pub fn split<const RX: usize, const TX: usize>(
+        rx_queue: &'q mut Queue<u8, RX>,
+        tx_queue: &'q mut Queue<u8, TX>,
+        stats: &'q PortStats,
+        kick: fn(),
+    ) -> (QueuedSerial<'q>, SerialIsr<'q>) {
+        let (rx_prod, rx_cons) = rx_queue.split();
+        let (tx_prod, tx_cons) = tx_queue.split();
+        (
+            QueuedSerial {
+                rx: rx_cons,
+                tx: tx_prod,
+                stats,
+                kick,
+            },
+            SerialIsr {
+                rx: rx_prod,
+                tx: tx_cons,
+                stats,
+            },
+        )
+    }
+
+    /// Received bytes waiting to be read.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// isr.received(1);
+    /// assert_eq!(port.rx_pending(), 1);
+    /// ```
+    pub fn rx_pending(&self) -> usize {
+        self.rx.len()
+    }
+
+    /// Room left in the TX queue, bytes.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert_eq!(port.tx_space(), 3); // a heapless queue of N holds N - 1
+    /// ```
+    pub fn tx_space(&self) -> usize {
+        self.tx.capacity().saturating_sub(self.tx.len())
+    }
+
+    /// The port's counters.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert_eq!(port.counters().rx_dropped, 0);
+    /// ```
+    pub fn counters(&self) -> PortCounters {
+        self.stats.snapshot()
+    }
+}
+
+impl ErrorType for QueuedSerial<'_> {
+    type Error = core::convert::Infallible;
+}
+
+impl Read<u8> for QueuedSerial<'_> {
+    /// The next received byte, or `WouldBlock` when none is waiting.
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        self.rx.dequeue().ok_or(nb::Error::WouldBlock)
+    }
+}
+
+impl Write<u8> for QueuedSerial<'_> {
+    /// Queues a byte; `WouldBlock` when the TX queue is full.
+    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
+        let queued = self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock);
+        (self.kick)();
+        queued
+    }
+
+    /// `Ok` once every queued byte has gone to the UART, else `WouldBlock`.
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        if self.tx.is_empty() {
+            Ok(())
+        } else {
+            (self.kick)();
+            Err(nb::Error::WouldBlock)
+        }
+    }
+}
+
+impl SerialIsr<'_> {
+    /// Stores a received byte; when the RX queue is full the byte is dropped
+    /// and counted. Returns whether it was stored.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert!(isr.received(1));
+    /// assert!(!isr.received(2)); // the queue holds one byte
+    /// assert_eq!(port.counters().rx_dropped, 1);
+    /// ```
+    pub fn received(&mut self, byte: u8) -> bool {
+        match self.rx.enqueue(byte) {
+            Ok(()) => {
+                bump(&self.stats.rx_bytes);
+                true
+            }
+            Err(_) => {
+                bump(&self.stats.rx_dropped);
+                false
+            }
+        }
+    }
+
+    /// Counts a receive error reported by the UART hardware.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// isr.receive_error();
+    /// assert_eq!(port.counters().rx_errors, 1);
+    /// ```
+    pub fn receive_error(&mut self) {
+        bump(&self.stats.rx_errors);
+    }
+
+    /// The next byte to hand to the UART, if any.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (_port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert_eq!(isr.next_to_send(), None);
+    /// ```
+    pub fn next_to_send(&mut self) -> Option<u8> {
+        let byte = self.tx.dequeue();
+        if byte.is_some() {
+            bump(&self.stats.tx_bytes);
+        }
+        byte
+    }
+
+    /// Whether bytes are waiting to be sent (keep the TX interrupt enabled).
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (_port, isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert!(!isr.tx_pending());
+    /// ```
+    pub fn tx_pending(&self) -> bool {
+        self.tx.ready()
+    }
+}

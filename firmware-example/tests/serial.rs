@@ -1,0 +1,97 @@
+//! QueuedSerial: the application's port over the interrupt handler's queues.
+
+use core::sync::atomic::{AtomicU32, Ordering};
+use embedded_hal_nb::serial::{Read, Write};
+use firmware_example::{PortStats, QueuedSerial};
+use heapless::spsc::Queue;
+
+static KICKS: AtomicU32 = AtomicU32::new(0);
+fn kick() {
+    KICKS.fetch_add(1, Ordering::Relaxed);
+}
+
+#[test]
+fn rx_bytes_arrive_in_order_and_empty_is_would_block() {
+    let (mut rxq, mut txq) = (Queue::<u8, 64>::new(), Queue::<u8, 64>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    assert_eq!(port.read(), Err(nb::Error::WouldBlock));
+    for b in 0..50u8 {
+        assert!(isr.received(b));
+    }
+    assert_eq!(port.rx_pending(), 50);
+    let got: Vec<u8> = core::iter::from_fn(|| port.read().ok()).collect();
+    assert_eq!(got, (0..50).collect::<Vec<u8>>());
+    assert_eq!(port.read(), Err(nb::Error::WouldBlock));
+    assert_eq!(port.counters().rx_bytes, 50);
+}
+
+#[test]
+fn full_rx_queue_drops_and_counts() {
+    let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let stored = (0..10u8).filter(|b| isr.received(*b)).count();
+    assert_eq!(stored, 7); // capacity N - 1
+    let c = port.counters();
+    assert_eq!((c.rx_bytes, c.rx_dropped), (7, 3));
+    // The stored bytes are the first seven, untouched.
+    let got: Vec<u8> = core::iter::from_fn(|| port.read().ok()).collect();
+    assert_eq!(got, vec![0, 1, 2, 3, 4, 5, 6]);
+    isr.receive_error();
+    assert_eq!(port.counters().rx_errors, 1);
+}
+
+#[test]
+fn tx_queues_kicks_and_would_block_when_full() {
+    KICKS.store(0, Ordering::Relaxed);
+    let (mut rxq, mut txq) = (Queue::<u8, 4>::new(), Queue::<u8, 4>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, kick);
+    assert_eq!(port.tx_space(), 3);
+    assert_eq!(port.flush(), Ok(()));
+    for b in [10u8, 11, 12] {
+        assert_eq!(port.write(b), Ok(()));
+    }
+    assert_eq!(port.write(13), Err(nb::Error::WouldBlock));
+    assert_eq!(
+        KICKS.load(Ordering::Relaxed),
+        4,
+        "every write pends the interrupt"
+    );
+    assert_eq!(port.flush(), Err(nb::Error::WouldBlock));
+    assert!(isr.tx_pending());
+    assert_eq!(isr.next_to_send(), Some(10));
+    assert_eq!(port.write(13), Ok(()));
+    let sent: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
+    assert_eq!(sent, vec![11, 12, 13]);
+    assert!(!isr.tx_pending());
+    assert_eq!(port.flush(), Ok(()));
+    assert_eq!(port.counters().tx_bytes, 4);
+}
+
+/// Interleaved traffic: the "interrupt" receives while the application
+/// echoes; nothing is lost or reordered while the queues have room.
+#[test]
+fn echo_loop_keeps_every_byte() {
+    let (mut rxq, mut txq) = (Queue::<u8, 32>::new(), Queue::<u8, 32>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let input: Vec<u8> = (0..5000u32).map(|i| (i * 7 + 3) as u8).collect();
+    let mut wire = Vec::new();
+    for chunk in input.chunks(13) {
+        for &b in chunk {
+            assert!(isr.received(b));
+        }
+        while let Ok(b) = port.read() {
+            nb::block!(port.write(b)).unwrap();
+            // The UART takes bytes as fast as the application queues them.
+            if let Some(out) = isr.next_to_send() {
+                wire.push(out);
+            }
+        }
+    }
+    wire.extend(core::iter::from_fn(|| isr.next_to_send()));
+    assert_eq!(wire, input);
+    assert_eq!(port.counters().rx_dropped, 0);
+}

@@ -1,0 +1,37 @@
+//! The crate's error type.
+
+use core::fmt;
+
+/// Why a set of [`FlightParams`](crate::FlightParams) was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Error {
+    /// A parameter is NaN or infinite.
+    NotFinite,
+    /// Airspeed outside `MIN_AIRSPEED_MPS..=MAX_AIRSPEED_MPS`.
+    Airspeed,
+    /// Bank angle outside `-MAX_BANK_DEG..=MAX_BANK_DEG`.
+    Bank,
+    /// Altitude outside the ISA troposphere model's range.
+    Altitude,
+    /// Start latitude beyond ±85° or longitude beyond ±180°.
+    Position,
+    /// Wind speed negative or not below the airspeed.
+    Wind,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Error::NotFinite => "a flight parameter is not a finite number",
+            Error::Airspeed => "airspeed out of range",
+            Error::Bank => "bank angle out of range",
+            Error::Altitude => "altitude out of the ISA troposphere range",
+            Error::Position => "start position out of range",
+            Error::Wind => "wind speed negative or not below the airspeed",
+        })
+    }
+}
+
+impl core::error::Error for Error {}
