@@ -213,6 +213,13 @@ pub struct Flight {
     oat_c: f32,
 }
 
+/// The flight of [`FlightParams::DEFAULT`] (valid by construction; pinned by a test).
+impl Default for Flight {
+    fn default() -> Self {
+        Self::build(FlightParams::DEFAULT)
+    }
+}
+
 impl Flight {
     /// Validates the parameters and precomputes the turn.
     ///
@@ -223,11 +230,16 @@ impl Flight {
     /// ```
     pub fn new(params: FlightParams) -> Result<Flight, Error> {
         params.validate()?;
+        Ok(Self::build(params))
+    }
+
+    /// Precomputes the turn for parameters already validated.
+    fn build(params: FlightParams) -> Flight {
         let bank_rad = params.bank_deg * DEG;
         let omega = G * tanf(bank_rad) / params.airspeed_mps;
         let from = params.wind_from_deg * DEG;
         let w = params.wind_speed_mps;
-        Ok(Flight {
+        Flight {
             params,
             bank_rad,
             heading0_rad: params.start_heading_deg * DEG,
@@ -237,7 +249,7 @@ impl Flight {
             pitot_mbar: atmosphere::dynamic_pressure_pa(params.altitude_m, params.airspeed_mps)
                 / 100.0,
             oat_c: atmosphere::temperature_k(params.altitude_m) - 273.15,
-        })
+        }
     }
 
     /// The parameters this flight was built from.

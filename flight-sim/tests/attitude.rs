@@ -145,3 +145,11 @@ proptest! {
         prop_assert!((back.yaw - yaw).abs() < 1e-3, "{:?} -> {:?}", e, back);
     }
 }
+
+#[test]
+fn default_flight_is_the_validated_default() {
+    assert_eq!(
+        flight_sim::Flight::default(),
+        flight_sim::Flight::new(flight_sim::FlightParams::DEFAULT).unwrap()
+    );
+}

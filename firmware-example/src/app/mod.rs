@@ -1,0 +1,98 @@
+//! The sensor-box application: AEOLUS telemetry on UART0, AYDP on UART1, AOK on UART2.
+//!
+//! It is generic over the serial ports (`embedded_hal_nb::serial::{Read, Write}`), a flash
+//! store (`embedded_storage::nor_flash::NorFlash`) and the time (`now_ms`, passed in), so the
+//! same code runs on both boards and in host tests with in-memory ports and a simulated clock.
+//!
+//! Structure:
+//! - [`state`]: the data the links share ([`Shared`]), the [`Settings`] and the
+//!   [`Persisted`] record kept in flash.
+//! - [`persist`]: loading and storing the [`Persisted`] record (postcard, versioned, CRC).
+//! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
+//!   (shared with `protolink sim`).
+//! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
+//!
+//! The main loop calls [`App::poll`] as often as it can; the flash is written only from there.
+
+pub mod aeolus_link;
+pub mod aok_link;
+pub mod aydp_link;
+pub mod persist;
+pub mod state;
+pub mod telemetry;
+
+pub use state::{Persisted, Settings, Shared};
+
+use embedded_hal_nb::serial::{Read, Write};
+use embedded_storage::nor_flash::NorFlash;
+
+/// What the main loop must do after a poll.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
+pub enum Control {
+    /// Keep going.
+    Run,
+    /// Reset the MCU (warm reset: the flash store survives).
+    Reboot,
+}
+
+/// The whole application.
+pub struct App {
+    /// State shared by the links.
+    pub shared: Shared,
+    /// AEOLUS on UART0.
+    pub aeolus: aeolus_link::AeolusLink,
+    /// AYDP on UART1.
+    pub aydp: aydp_link::AydpLink,
+    /// AOK on UART2.
+    pub aok: aok_link::AokLink,
+}
+
+impl App {
+    /// Boots the application: loads the persisted record from `flash` (defaults and a logged
+    /// warning if it is missing or corrupt), starts the simulated flight at `now_ms`.
+    pub fn new<F: NorFlash>(flash: &mut F, now_ms: u64) -> Self {
+        let persisted = persist::load_or_default(flash);
+        let shared = Shared::new(persisted, now_ms);
+        let aok = aok_link::AokLink::new(&shared);
+        App {
+            aeolus: aeolus_link::AeolusLink::new(now_ms),
+            aydp: aydp_link::AydpLink::new(now_ms),
+            aok,
+            shared,
+        }
+    }
+
+    /// Runs every link once: reads what arrived, answers, and sends what is due at `now_ms`.
+    /// Writes the flash when a link asked for it.
+    pub fn poll<U0, U1, U2, F>(
+        &mut self,
+        now_ms: u64,
+        uart0: &mut U0,
+        uart1: &mut U1,
+        uart2: &mut U2,
+        flash: &mut F,
+    ) -> Control
+    where
+        U0: Read<u8> + Write<u8>,
+        U1: Read<u8> + Write<u8>,
+        U2: Read<u8> + Write<u8>,
+        F: NorFlash,
+    {
+        self.aeolus.poll(now_ms, uart0, &mut self.shared);
+        self.aydp.poll(now_ms, uart1, &mut self.shared);
+        self.aok.poll(now_ms, uart2, &mut self.shared);
+        if core::mem::take(&mut self.shared.requests.store) {
+            if persist::store(flash, &self.shared.persisted).is_err() {
+                crate::warn!("flash store: write failed; settings kept in RAM only");
+                self.shared.counters.store_failures =
+                    self.shared.counters.store_failures.wrapping_add(1);
+            }
+        }
+        if core::mem::take(&mut self.shared.requests.reboot) {
+            Control::Reboot
+        } else {
+            Control::Run
+        }
+    }
+}

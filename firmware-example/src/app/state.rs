@@ -1,0 +1,225 @@
+//! The state the three links share, and the record kept in flash.
+
+use flight_sim::{Flight, FlightParams};
+use serde::{Deserialize, Serialize};
+
+/// AEOLUS telemetry intervals in ms (spec figure 1c), settable over AYDP.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Intervals {
+    /// GYRO, ACCEL, MAGNET, ATTITUDE and COMPASS.
+    pub imu_ms: u32,
+    /// PRESSURE.
+    pub pressure_ms: u32,
+    /// GPS.
+    pub gps_ms: u32,
+    /// TEMP.
+    pub temp_ms: u32,
+    /// WIND.
+    pub wind_ms: u32,
+    /// AEOLUSINFO.
+    pub info_ms: u32,
+}
+
+impl Intervals {
+    /// The AEOLUS-SENSE intervals of the spec's figure 1c.
+    pub const SPEC: Intervals = Intervals {
+        imu_ms: 7,
+        pressure_ms: 5,
+        gps_ms: 92,
+        temp_ms: 829,
+        wind_ms: 1000,
+        info_ms: 1000,
+    };
+}
+
+/// The box's own settings (AYDP addresses in the README), persisted by "store configuration".
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// AEOLUS telemetry intervals.
+    pub intervals: Intervals,
+    /// Simulated true airspeed, m/s.
+    pub airspeed_mps: f32,
+    /// Simulated bank angle, degrees (positive: right turn).
+    pub bank_deg: f32,
+    /// Simulated altitude, m.
+    pub altitude_m: f32,
+    /// Period of the AOK debug value stream, ms (0 = as fast as the link allows).
+    pub aok_debug_period_ms: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let f = FlightParams::DEFAULT;
+        Settings {
+            intervals: Intervals::SPEC,
+            airspeed_mps: f.airspeed_mps,
+            bank_deg: f.bank_deg,
+            altitude_m: f.altitude_m,
+            aok_debug_period_ms: 20,
+        }
+    }
+}
+
+impl Settings {
+    /// The flight parameters these settings ask for.
+    pub fn flight_params(&self) -> FlightParams {
+        FlightParams {
+            airspeed_mps: self.airspeed_mps,
+            bank_deg: self.bank_deg,
+            altitude_m: self.altitude_m,
+            ..FlightParams::DEFAULT
+        }
+    }
+}
+
+/// Number of AOK parameters the box holds.
+pub const AOK_PARAMS: usize = 32;
+/// Number of AOK parameter sets in flash.
+pub const AOK_SETS: usize = 5;
+/// AOK waypoint slots in flash: 0..=30 (waypoints 1..=31) and 31 (mission POI).
+pub const AOK_FLASH_WAYPOINTS: usize = 32;
+
+/// One AOK waypoint as stored: raw longitude, latitude and the two action words (K8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct StoredWaypoint {
+    /// Longitude, raw i32.
+    pub lon: i32,
+    /// Latitude, raw i32.
+    pub lat: i32,
+    /// Action word 1.
+    pub action1: u32,
+    /// Action word 2.
+    pub action2: u32,
+}
+
+/// What the AOK side keeps in flash.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AokFlash {
+    /// The parameter sets (`63 04 NUM` saves the RAM parameters into set NUM).
+    pub sets: [[i32; AOK_PARAMS]; AOK_SETS],
+    /// The set loaded at boot (`63 05 NUM`).
+    pub start_set: u8,
+    /// Waypoints 1..=31 and the mission POI (`63 08` saves RAM to flash).
+    pub waypoints: [StoredWaypoint; AOK_FLASH_WAYPOINTS],
+}
+
+impl Default for AokFlash {
+    fn default() -> Self {
+        AokFlash {
+            sets: [[0; AOK_PARAMS]; AOK_SETS],
+            start_set: 0,
+            waypoints: [StoredWaypoint::default(); AOK_FLASH_WAYPOINTS],
+        }
+    }
+}
+
+/// The record kept in flash: a RAM mirror of what the flash holds after the last load or store.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Persisted {
+    /// The box's settings.
+    pub settings: Settings,
+    /// The AOK parameter sets and waypoints.
+    pub aok: AokFlash,
+}
+
+/// Requests the links make of the main loop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Requests {
+    /// Write [`Shared::persisted`] to flash.
+    pub store: bool,
+    /// Warm reset.
+    pub reboot: bool,
+}
+
+/// Application-level counters (the protocol decoders keep their own).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Counters {
+    /// Flash writes that failed.
+    pub store_failures: u32,
+}
+
+/// Number of direct-output channels the box exposes (AYDP direct output control).
+pub const OUTPUTS: usize = 8;
+
+/// One direct output: the (device, channel) it answers to and its current value.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Output {
+    /// AYDP output device.
+    pub device: u8,
+    /// AYDP output channel.
+    pub channel: u8,
+    /// Calibrated output value last set.
+    pub value: f32,
+}
+
+/// The state the links share.
+pub struct Shared {
+    /// The flash record as last loaded or stored; the settings in it are live.
+    pub persisted: Persisted,
+    /// The simulated flight built from the settings.
+    pub flight: Flight,
+    /// When the flight started (ms since boot).
+    pub flight_epoch_ms: u64,
+    /// Telemetry paused by the AEOLUS command "a pause".
+    pub paused: bool,
+    /// Wall-clock time from the last SETTIME, and when it arrived (ms since boot).
+    pub wall_clock: Option<(aeolus_proto::message::SetTime, u64)>,
+    /// AYDP address 0x0000: direct output control enabled.
+    pub direct_control: bool,
+    /// The direct outputs (device 1, channels 0..OUTPUTS).
+    pub outputs: [Output; OUTPUTS],
+    /// Requests to the main loop.
+    pub requests: Requests,
+    /// Counters.
+    pub counters: Counters,
+}
+
+impl Shared {
+    /// The shared state after boot.
+    pub fn new(persisted: Persisted, now_ms: u64) -> Self {
+        let flight = build_flight(&persisted.settings);
+        let mut outputs = [Output::default(); OUTPUTS];
+        for (i, o) in outputs.iter_mut().enumerate() {
+            o.device = 1;
+            o.channel = i as u8;
+        }
+        Shared {
+            persisted,
+            flight,
+            flight_epoch_ms: now_ms,
+            paused: false,
+            wall_clock: None,
+            direct_control: false,
+            outputs,
+            requests: Requests::default(),
+            counters: Counters::default(),
+        }
+    }
+
+    /// The live settings.
+    pub fn settings(&self) -> &Settings {
+        &self.persisted.settings
+    }
+
+    /// Rebuilds the simulated flight after the settings changed (invalid parameters keep the
+    /// previous flight).
+    pub fn settings_changed(&mut self, now_ms: u64) {
+        match Flight::new(self.persisted.settings.flight_params()) {
+            Ok(f) => {
+                self.flight = f;
+                self.flight_epoch_ms = now_ms;
+            }
+            Err(_) => crate::warn!("settings: flight parameters out of range, flight unchanged"),
+        }
+    }
+
+    /// The simulated state at `now_ms`.
+    pub fn flight_state(&self, now_ms: u64) -> flight_sim::State {
+        self.flight
+            .state(now_ms.saturating_sub(self.flight_epoch_ms))
+    }
+}
+
+fn build_flight(settings: &Settings) -> Flight {
+    Flight::new(settings.flight_params()).unwrap_or_default()
+}
