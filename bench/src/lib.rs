@@ -1,0 +1,289 @@
+//! Inputs of the benchmarks: 64 KiB streams of valid frames per protocol, built outside the
+//! measured code, and the functions measured.
+
+use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::*};
+use aydp_proto::{Decoder, Encoder, Profile, Timestamp};
+use protolink_tests::rng::Rng;
+
+/// Size of every input stream.
+pub const STREAM: usize = 64 * 1024;
+
+/// AEOLUS telemetry as the box sends it: the figure-1c mix (IMU types dominate), 64 KiB.
+pub fn aeolus_stream() -> Vec<u8> {
+    let mut rng = Rng::new(1);
+    let mut out = Vec::with_capacity(STREAM + 128);
+    let mut t = 0.0;
+    while out.len() < STREAM {
+        t += 1.0;
+        let msg = match rng.below(8) {
+            0 => Message::Gyro(Gyro { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
+            1 => Message::Accel(Accel { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
+            2 => Message::Magnet(Magnet { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
+            3 => Message::Pressure(Pressure {
+                valid: true,
+                timestamp_ms: t,
+                static_mbar: rng.f32(),
+                pitot_mbar: rng.f32(),
+                airspeed_mps: rng.f32(),
+            }),
+            4 | 5 => Message::Attitude(Attitude {
+                valid: true,
+                timestamp_ms: t,
+                roll_rad: rng.f32(),
+                pitch_rad: rng.f32(),
+                yaw_rad: rng.f32(),
+                slip_ball: 0.0,
+                turn_coordinator: rng.f32(),
+                qx: rng.f32(),
+                qy: rng.f32(),
+                qz: rng.f32(),
+                qw: rng.f32(),
+            }),
+            6 => Message::Compass(Compass { valid: true, timestamp_ms: t, heading_deg: rng.f32(), ..Compass::default() }),
+            _ => Message::Gps(Gps { valid: true, has_fix: true, satellites: 9, timestamp_ms: t, ..Gps::default() }),
+        };
+        let mut buf = [0u8; max_encoded_len(80)];
+        let n = msg.encode(&mut buf, CrcMode::Compute).unwrap();
+        out.extend_from_slice(&buf[..n]);
+    }
+    out
+}
+
+/// The AEOLUS messages of [`aeolus_stream`], for the encoder benchmarks.
+pub fn aeolus_messages() -> Vec<Message<'static>> {
+    let stream = aeolus_stream();
+    let mut d = Deframer::<256>::new();
+    let mut msgs = Vec::new();
+    d.push_slice(&stream, |ev| {
+        let f = ev.unwrap();
+        let data: &'static [u8] = Box::leak(f.raw().to_vec().into_boxed_slice());
+        msgs.push(Message::parse(data[0], &data[1..data.len() - 2]).unwrap());
+    });
+    msgs
+}
+
+/// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
+#[inline(never)]
+pub fn aeolus_deframe(stream: &[u8]) -> u32 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut n = 0;
+    for &b in stream {
+        if let Some(Ok(_)) = d.push(b) {
+            n += 1;
+        }
+    }
+    n
+}
+
+/// Deframes and parses every frame into a typed message.
+#[inline(never)]
+pub fn aeolus_decode(stream: &[u8]) -> f64 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut acc = 0.0;
+    for &b in stream {
+        if let Some(Ok(frame)) = d.push(b) {
+            if let Ok(Message::Gyro(g)) = frame.message() {
+                acc += g.timestamp_ms;
+            }
+        }
+    }
+    acc
+}
+
+/// Encodes every message into one output buffer; returns the bytes written.
+#[inline(never)]
+pub fn aeolus_encode(msgs: &[Message<'_>], out: &mut [u8]) -> usize {
+    let mut at = 0;
+    for m in msgs {
+        at += m.encode(&mut out[at..], CrcMode::Compute).unwrap();
+    }
+    at
+}
+
+/// AYDP in the `Spec` profile: a mix of expedited and timed messages, 64 KiB.
+pub fn aydp_stream() -> Vec<u8> {
+    let mut rng = Rng::new(2);
+    let enc = Encoder::new(Profile::Spec);
+    let mut out = Vec::with_capacity(STREAM + 128);
+    let mut buf = [0u8; 128];
+    while out.len() < STREAM {
+        let msg = aydp_message(&mut rng);
+        let n = if rng.below(2) == 0 {
+            enc.encode_expedited(&msg, &mut buf).unwrap()
+        } else {
+            enc.encode_normal(&msg, Timestamp { seconds: 1_700_000_000, subsec: 250 }, &mut buf).unwrap()
+        };
+        out.extend_from_slice(&buf[..n]);
+    }
+    out
+}
+
+fn aydp_message(rng: &mut Rng) -> aydp_proto::Message<'static> {
+    use aydp_proto::Message as M;
+    let data: &'static [u8] = Box::leak(rng.bytes(20).into_boxed_slice());
+    match rng.below(3) {
+        0 => M::parse(3, false, data, Profile::Spec).unwrap(),
+        1 => M::parse(4, false, &data[..8], Profile::Spec).unwrap_or(M::Heartbeat),
+        _ => M::Heartbeat,
+    }
+}
+
+/// The AYDP messages of [`aydp_stream`].
+pub fn aydp_messages() -> Vec<aydp_proto::Message<'static>> {
+    let mut rng = Rng::new(2);
+    (0..3000).map(|_| aydp_message(&mut rng)).collect()
+}
+
+/// Decodes `stream` (every event drained) and parses every frame.
+#[inline(never)]
+pub fn aydp_decode(stream: &[u8]) -> u32 {
+    let mut d = Decoder::<128>::new(Profile::Spec);
+    let mut n = 0;
+    for &b in stream {
+        let mut ev = d.push(b);
+        while let Some(e) = ev {
+            if let Ok(f) = e {
+                if f.message().is_ok() {
+                    n += 1;
+                }
+            }
+            ev = d.poll();
+        }
+    }
+    n
+}
+
+/// Encodes every message, expedited, into one buffer.
+#[inline(never)]
+pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
+    let enc = Encoder::new(Profile::Spec);
+    let mut at = 0;
+    for m in msgs {
+        at += enc.encode_expedited(m, &mut out[at..]).unwrap();
+    }
+    at
+}
+
+/// AOK debug frames as the device streams them, 64 KiB.
+pub fn aok_debug_stream() -> Vec<u8> {
+    let mut rng = Rng::new(3);
+    let mut out = Vec::with_capacity(STREAM + 16);
+    let mut buf = [0u8; 8];
+    while out.len() < STREAM {
+        let v = aok_proto::DebugValue { number: rng.byte(), value: rng.next_u64() as i32 };
+        let n = aok_proto::device::encode_debug(v, &mut buf).unwrap();
+        out.extend_from_slice(&buf[..n]);
+    }
+    out
+}
+
+/// AOK commands as the PC sends them (parameter sets, waypoint sets, motor tests), 64 KiB.
+pub fn aok_command_stream() -> Vec<u8> {
+    use aok_proto::{Command, MotorTest, Motor, ParameterValue};
+    let mut rng = Rng::new(4);
+    let mut out = Vec::with_capacity(STREAM + 32);
+    let mut buf = [0u8; 32];
+    while out.len() < STREAM {
+        let cmd = match rng.below(2) {
+            0 => Command::SetParameter(ParameterValue { number: rng.byte(), value: rng.next_u64() as i32 }),
+            _ => Command::MotorTest(MotorTest { motor: Motor::new(1 + rng.byte() % 12).unwrap(), value: rng.byte() }),
+        };
+        let n = cmd.emit(&mut buf).unwrap();
+        out.extend_from_slice(&buf[..n]);
+    }
+    out
+}
+
+/// PC side: decodes the device's debug stream.
+#[inline(never)]
+pub fn aok_pc_decode(stream: &[u8]) -> i64 {
+    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    let mut acc = 0i64;
+    for &b in stream {
+        for m in d.push(b) {
+            if let aok_proto::Message::Debug(v) = m {
+                acc += v.value as i64;
+            }
+        }
+    }
+    acc
+}
+
+/// Device side: decodes the PC's commands.
+#[inline(never)]
+pub fn aok_device_decode(stream: &[u8]) -> u32 {
+    let mut d = aok_proto::DeviceDecoder::new();
+    let mut n = 0;
+    for &b in stream {
+        for c in d.push(b) {
+            n += c.is_ok() as u32;
+        }
+    }
+    n
+}
+
+/// Encodes debug frames for every value; returns the bytes written.
+#[inline(never)]
+pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
+    let mut at = 0;
+    for v in values {
+        at += aok_proto::device::encode_debug(*v, &mut out[at..]).unwrap();
+    }
+    at
+}
+
+/// MAVLink v2 ATTITUDE frames (28-byte payload, 40 bytes on the wire: the size of an AEOLUS
+/// GYRO frame), 64 KiB.
+pub fn mavlink_stream() -> Vec<u8> {
+    use mavlink::{MavHeader, dialects::common::{ATTITUDE_DATA, MavMessage}};
+    let mut rng = Rng::new(5);
+    let mut out = Vec::with_capacity(STREAM + 64);
+    let mut seq = 0u8;
+    while out.len() < STREAM {
+        let msg = MavMessage::ATTITUDE(ATTITUDE_DATA {
+            time_boot_ms: rng.next_u64() as u32,
+            roll: rng.f32(),
+            pitch: rng.f32(),
+            yaw: rng.f32(),
+            rollspeed: rng.f32(),
+            pitchspeed: rng.f32(),
+            yawspeed: rng.f32(),
+        });
+        let header = MavHeader { system_id: 1, component_id: 1, sequence: seq };
+        seq = seq.wrapping_add(1);
+        mavlink::write_v2_msg(&mut out, header, &msg).unwrap();
+    }
+    out
+}
+
+/// The `mavlink` crate's v2 frame parser over `stream`; returns the messages parsed.
+#[inline(never)]
+pub fn mavlink_decode(stream: &[u8]) -> u32 {
+    let mut reader = mavlink::MavlinkReader::new(stream);
+    let mut n = 0;
+    while let Ok((_, _msg)) =
+        reader.read_message::<mavlink::dialects::common::MavMessage>(mavlink::MavlinkVersion::V2)
+    {
+        n += 1;
+    }
+    n
+}
+
+/// The section 4.3 CRC over `bytes`.
+#[inline(never)]
+pub fn aeolus_crc(bytes: &[u8]) -> u16 {
+    aeolus_proto::crc::checksum(bytes)
+}
+
+/// The `crc` crate's table-driven CRC-16 (XMODEM: same polynomial, standard form).
+#[inline(never)]
+pub fn crc_crate_xmodem(bytes: &[u8]) -> u16 {
+    const C: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_XMODEM);
+    C.checksum(bytes)
+}
+
+/// The naive AEOLUS decoder of the corruption figures (allocates per frame).
+#[inline(never)]
+pub fn aeolus_naive(stream: &[u8]) -> usize {
+    protolink_tests::naive::aeolus(stream).len()
+}

@@ -1,0 +1,134 @@
+//! # footprint
+//!
+//! One protocol, one direction, nothing else: the flash a firmware pays for it is this binary's
+//! size minus the empty baseline (no feature). Every entry point sits in its own
+//! `#[inline(never)]` function so its stack frame can be read from `-Z emit-stack-sizes`.
+#![no_std]
+#![no_main]
+#![allow(unused)]
+
+use core::ptr::{addr_of, read_volatile, write_volatile, addr_of_mut};
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    loop {}
+}
+
+static mut INPUT: [u8; 256] = [0; 256];
+static mut SINK: u32 = 0;
+
+fn byte(i: usize) -> u8 {
+    unsafe { read_volatile(addr_of!(INPUT).cast::<u8>().add(i % 256)) }
+}
+fn sink(v: u32) {
+    unsafe { write_volatile(addr_of_mut!(SINK), v) }
+}
+fn f32_in(i: usize) -> f32 {
+    f32::from_bits(u32::from_le_bytes([byte(i), byte(i + 1), byte(i + 2), byte(i + 3)]))
+}
+
+#[cfg(feature = "aeolus-decode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aeolus_decode() {
+    use aeolus_proto::{Deframer, MAX_FIXED_FRAME, message::Message};
+    static mut D: Deframer<MAX_FIXED_FRAME> = Deframer::new();
+    let d = unsafe { &mut *addr_of_mut!(D) };
+    if let Some(Ok(frame)) = d.push(byte(0)) {
+        if let Ok(Message::Gyro(g)) = frame.message() {
+            sink(g.x.to_bits());
+        }
+    }
+}
+
+#[cfg(feature = "aeolus-encode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aeolus_encode() {
+    use aeolus_proto::{CrcMode, max_encoded_len, message::{Gyro, Message}};
+    let m = Message::Gyro(Gyro { valid: true, timestamp_ms: f32_in(0) as f64, x: f32_in(4), y: f32_in(8), z: f32_in(12) });
+    let mut out = [0u8; max_encoded_len(Gyro::LEN)];
+    if let Ok(n) = m.encode(&mut out, CrcMode::Compute) {
+        for b in &out[..n] {
+            sink(*b as u32);
+        }
+    }
+}
+
+#[cfg(feature = "aydp-decode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aydp_decode() {
+    use aydp_proto::{Decoder, Profile};
+    static mut D: Decoder<128> = Decoder::new(Profile::Spec);
+    let d = unsafe { &mut *addr_of_mut!(D) };
+    let mut ev = d.push(byte(0));
+    while let Some(e) = ev {
+        if let Ok(f) = e {
+            if let Ok(m) = f.message() {
+                sink(f.base_type() as u32);
+            }
+        }
+        ev = d.poll();
+    }
+}
+
+#[cfg(feature = "aydp-encode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aydp_encode() {
+    use aydp_proto::{Encoder, Position, Profile, Timestamp};
+    let p = Position { latitude: f32_in(0) as f64, longitude: f32_in(4) as f64, altitude: f32_in(8) };
+    let mut out = [0u8; 64];
+    let ts = Timestamp { seconds: byte(12) as i64, subsec: byte(13) as i64 };
+    if let Ok(n) = Encoder::new(Profile::Spec).encode_normal(&p, ts, &mut out) {
+        for b in &out[..n] {
+            sink(*b as u32);
+        }
+    }
+}
+
+#[cfg(feature = "aok-decode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aok_decode() {
+    use aok_proto::DeviceDecoder;
+    static mut D: DeviceDecoder = DeviceDecoder::new();
+    let d = unsafe { &mut *addr_of_mut!(D) };
+    for c in d.push(byte(0)).flatten() {
+        sink(c.buffer_len() as u32);
+    }
+}
+
+#[cfg(feature = "aok-encode")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aok_encode() {
+    use aok_proto::{DebugValue, device::encode_debug};
+    let mut out = [0u8; 8];
+    let v = DebugValue { number: byte(0), value: f32_in(1).to_bits() as i32 };
+    if let Ok(n) = encode_debug(v, &mut out) {
+        for b in &out[..n] {
+            sink(*b as u32);
+        }
+    }
+}
+
+#[unsafe(no_mangle)]
+pub extern "C" fn entry() -> ! {
+    loop {
+        #[cfg(feature = "aeolus-decode")]
+        fp_aeolus_decode();
+        #[cfg(feature = "aeolus-encode")]
+        fp_aeolus_encode();
+        #[cfg(feature = "aydp-decode")]
+        fp_aydp_decode();
+        #[cfg(feature = "aydp-encode")]
+        fp_aydp_encode();
+        #[cfg(feature = "aok-decode")]
+        fp_aok_decode();
+        #[cfg(feature = "aok-encode")]
+        fp_aok_encode();
+        sink(byte(255) as u32);
+    }
+}
