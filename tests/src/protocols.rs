@@ -194,3 +194,170 @@ pub fn channels() -> [Channel; 5] {
         Channel::Drops { rate: 1e-3 },
     ]
 }
+
+#[allow(dead_code, clippy::all)]
+#[path = "../../aydp-proto/tests/support/naive.rs"]
+mod aydp_naive;
+/// The AYDP stream generators and naive decoder of `aydp-proto`'s own tests, shared here.
+#[allow(dead_code, clippy::all)]
+#[path = "../../aydp-proto/tests/support/streamgen.rs"]
+mod aydp_streamgen;
+
+/// AYDP in one profile. Garbage comes from `aydp-proto`'s stream generator: 0..=64 bytes, a
+/// quarter of them 0xFF, one 0xFF in 64 followed by a plausible type and length.
+pub struct Aydp {
+    /// The profile.
+    pub profile: aydp_proto::Profile,
+}
+
+const AYDP_CAPACITY: usize = 256;
+
+impl Protocol for Aydp {
+    fn name(&self) -> String {
+        format!("AYDP ({:?})", self.profile)
+    }
+
+    fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>) {
+        let mut r = aydp_streamgen::Rng(rng.next_u64());
+        let wire = aydp_streamgen::random_message(&mut r, self.profile);
+        (wire.clone(), wire)
+    }
+
+    fn garbage(&self, rng: &mut Rng, _n: usize) -> Vec<u8> {
+        let mut r = aydp_streamgen::Rng(rng.next_u64());
+        let mut out = Vec::new();
+        aydp_streamgen::garbage(&mut r, self.profile, AYDP_CAPACITY, (1, 64), &mut out);
+        out
+    }
+
+    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut d = aydp_proto::Decoder::<AYDP_CAPACITY>::new(self.profile);
+        let mut out = Vec::new();
+        d.feed(stream, |ev| {
+            if let Ok(f) = ev {
+                out.push(f.as_bytes().to_vec());
+            }
+        });
+        d.flush(|ev| {
+            if let Ok(f) = ev {
+                out.push(f.as_bytes().to_vec());
+            }
+        });
+        out
+    }
+
+    fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut d = aydp_naive::NaiveDecoder::new(self.profile, AYDP_CAPACITY);
+        stream.iter().filter_map(|&b| d.push(b)).collect()
+    }
+}
+
+/// AOK, device side: the PC's checksummed commands (parameter set, waypoint set, motor test,
+/// external control). Garbage is rich in command bytes.
+pub struct Aok;
+
+impl Aok {
+    fn command(rng: &mut Rng) -> aok_proto::Command {
+        use aok_proto::*;
+        let stick = |rng: &mut Rng| Stick::saturating(rng.below(401) as i16 - 200);
+        match rng.below(4) {
+            0 => Command::SetParameter(ParameterValue {
+                number: rng.byte(),
+                value: rng.next_u64() as i32,
+            }),
+            1 => Command::MotorTest(MotorTest {
+                motor: Motor::new(1 + rng.byte() % 12).unwrap_or(Motor::new(1).unwrap()),
+                value: rng.byte(),
+            }),
+            2 => Command::SetWaypoint(Waypoint {
+                slot: WaypointSlot::from_wire(rng.byte() % 32).unwrap_or(WaypointSlot::FbcTarget),
+                longitude: rng.next_u64() as i32,
+                latitude: rng.next_u64() as i32,
+                action1: ActionWord(rng.next_u64() as u32),
+                action2: ActionWord(rng.next_u64() as u32),
+            }),
+            _ => Command::ExternalControl(ExternalControl {
+                roll: stick(rng),
+                nick: stick(rng),
+                yaw: stick(rng),
+                pitch: rng.next_u64() as i16,
+                expiry_ms: rng.next_u64() as u16,
+            }),
+        }
+    }
+}
+
+/// Length of the AOK command that starts with `first` (and `second` for `63`), if any.
+fn aok_len(first: u8, second: Option<u8>) -> Option<usize> {
+    Some(match first {
+        0x63 => match second? {
+            0x03..=0x05 => 3,
+            _ => 2,
+        },
+        0x67 | 0x47 | 0x78 => 2,
+        0x73 => 7,
+        0x31..=0x39 | 0x41..=0x43 => 3,
+        0x77 => 19,
+        0x53 => 12,
+        _ => return None,
+    })
+}
+
+impl Protocol for Aok {
+    fn name(&self) -> String {
+        "AOK (device side)".into()
+    }
+
+    fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>) {
+        let (bytes, n) = Self::command(rng).to_bytes();
+        (bytes[..n].to_vec(), bytes[..n].to_vec())
+    }
+
+    fn garbage(&self, rng: &mut Rng, n: usize) -> Vec<u8> {
+        const STARTS: [u8; 6] = [0x73, 0x77, 0x53, 0x33, 0x63, 0x67];
+        (0..n)
+            .map(|_| {
+                if rng.below(4) == 0 {
+                    STARTS[rng.below(6) as usize]
+                } else {
+                    rng.byte()
+                }
+            })
+            .collect()
+    }
+
+    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut d = aok_proto::DeviceDecoder::new();
+        let mut out = Vec::new();
+        for &b in stream {
+            for c in d.push(b).flatten() {
+                let (bytes, n) = c.to_bytes();
+                out.push(bytes[..n].to_vec());
+            }
+        }
+        for c in d.idle().flatten() {
+            let (bytes, n) = c.to_bytes();
+            out.push(bytes[..n].to_vec());
+        }
+        out
+    }
+
+    /// Trusts the length the command byte implies: on a bad checksum it skips all of it.
+    fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < stream.len() {
+            match aok_len(stream[i], stream.get(i + 1).copied()) {
+                Some(len) if i + len <= stream.len() => {
+                    if let Ok((c, _)) = aok_proto::Command::parse(&stream[i..i + len]) {
+                        let (bytes, n) = c.to_bytes();
+                        out.push(bytes[..n].to_vec());
+                    }
+                    i += len;
+                }
+                _ => i += 1,
+            }
+        }
+        out
+    }
+}

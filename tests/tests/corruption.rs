@@ -48,3 +48,13 @@ fn aeolus_strict_accepts_no_corrupted_frame_at_ber_1e_4() {
     assert_eq!(real.wrongly_accepted, 0);
     assert_eq!(real.intact_delivered, real.intact_sent);
 }
+
+#[test]
+fn aydp_delivers_at_least_99_9_percent_through_garbage() {
+    for profile in [aydp_proto::Profile::Spec, aydp_proto::Profile::Reference] {
+        let (real, naive) = run(&Aydp { profile }, Channel::Garbage { max: 64 }, N, 4);
+        println!("{profile:?}: real {real:?}\n naive {naive:?}");
+        assert!(real.delivered_percent() >= 99.9, "{profile:?}: {real:?}");
+        assert!(naive.delivered_percent() < real.delivered_percent());
+    }
+}
