@@ -33,30 +33,27 @@ const fn needs_escape(byte: u8) -> bool {
     byte.wrapping_sub(ESCAPE) < 2
 }
 
-/// Writes escaped bytes into a slice, failing cleanly when it is full.
-struct SliceWriter<'o> {
-    out: &'o mut [u8],
-    len: usize,
-}
-
-impl SliceWriter<'_> {
-    #[inline(always)]
-    fn raw(&mut self, byte: u8) -> Result<(), Error> {
-        let slot = self.out.get_mut(self.len).ok_or(Error::BufferTooSmall)?;
-        *slot = byte;
-        self.len += 1;
-        Ok(())
+/// Copies `src` into `out` at `at`, escaping 0x7D and 0x7E; runs of ordinary bytes are copied
+/// in bulk. Returns the new write position.
+#[inline]
+fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8]) -> Result<usize, Error> {
+    while !src.is_empty() {
+        let run = crate::scan::run_len(src);
+        let (plain, rest) = src.split_at(run);
+        let end = at + run;
+        out.get_mut(at..end)
+            .ok_or(Error::BufferTooSmall)?
+            .copy_from_slice(plain);
+        at = end;
+        let Some((&special, rest)) = rest.split_first() else {
+            break;
+        };
+        let pair = out.get_mut(at..at + 2).ok_or(Error::BufferTooSmall)?;
+        pair.copy_from_slice(&[ESCAPE, special ^ 0x20]);
+        at += 2;
+        src = rest;
     }
-
-    #[inline(always)]
-    fn escaped(&mut self, byte: u8) -> Result<(), Error> {
-        if needs_escape(byte) {
-            self.raw(ESCAPE)?;
-            self.raw(byte ^ 0x20)
-        } else {
-            self.raw(byte)
-        }
-    }
+    Ok(at)
 }
 
 /// Encodes one frame into `out` and returns the number of bytes written.
@@ -81,22 +78,21 @@ pub fn encode_frame(
     crc_mode: CrcMode,
     out: &mut [u8],
 ) -> Result<usize, Error> {
-    let mut w = SliceWriter { out, len: 0 };
-    w.raw(FLAG)?;
-    w.escaped(id)?;
-    let mut crc = crc::update(0, id);
-    for &b in head.iter().chain(tail) {
-        crc = crc::update(crc, b);
-        w.escaped(b)?;
-    }
-    if crc_mode == CrcMode::Omit {
-        crc = 0;
-    }
-    let [lo, hi] = crc.to_le_bytes();
-    w.escaped(lo)?;
-    w.escaped(hi)?;
-    w.raw(FLAG)?;
-    Ok(w.len)
+    let crc = match crc_mode {
+        CrcMode::Compute => {
+            let c = crc::update(0, id);
+            let c = head.iter().fold(c, |c, &b| crc::update(c, b));
+            tail.iter().fold(c, |c, &b| crc::update(c, b))
+        }
+        CrcMode::Omit => 0,
+    };
+    *out.first_mut().ok_or(Error::BufferTooSmall)? = FLAG;
+    let mut at = put_escaped(out, 1, &[id])?;
+    at = put_escaped(out, at, head)?;
+    at = put_escaped(out, at, tail)?;
+    at = put_escaped(out, at, &crc.to_le_bytes())?;
+    *out.get_mut(at).ok_or(Error::BufferTooSmall)? = FLAG;
+    Ok(at + 1)
 }
 
 /// An iterator over the bytes of one escaped frame, for a UART TX path with no buffer.

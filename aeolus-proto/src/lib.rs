@@ -61,6 +61,7 @@ mod encode;
 mod error;
 mod frame;
 pub mod message;
+mod scan;
 
 pub use datagram::{DatagramFrames, decode_datagram};
 pub use deframe::{Deframer, Stats};

@@ -328,3 +328,45 @@ fn a_mebibyte_of_random_bytes_never_panics_and_the_counters_add_up() {
         off += n;
     }
 }
+
+/// `push_slice` copies runs in bulk; it must give exactly what pushing byte by byte gives,
+/// events and counters, on noise and on frames, for a capacity that overflows often.
+#[test]
+fn push_slice_is_exactly_push_byte_by_byte() {
+    let mut rng = Rng(0xB01D);
+    let mut stream = rng.bytes(200_000);
+    for _ in 0..2000 {
+        stream.extend(garbage(&mut rng, 30));
+        stream.extend(random_message(&mut rng));
+    }
+    fn by_byte<const N: usize>(bytes: &[u8]) -> (Events, Stats) {
+        let mut d = Deframer::<N>::new();
+        let mut ev = Vec::new();
+        for &b in bytes {
+            if let Some(e) = d.push(b) {
+                ev.push(e.map(|f| (f.id(), f.raw().to_vec())));
+            }
+        }
+        (ev, *d.stats())
+    }
+    fn sliced<const N: usize>(bytes: &[u8], chunk: usize) -> (Events, Stats) {
+        let mut d = Deframer::<N>::new();
+        let mut ev = Vec::new();
+        for c in bytes.chunks(chunk) {
+            ev.extend(events(&mut d, c));
+        }
+        (ev, *d.stats())
+    }
+    for chunk in [1, 7, 64, 4096, stream.len()] {
+        assert_eq!(
+            sliced::<24>(&stream, chunk),
+            by_byte::<24>(&stream),
+            "capacity 24, chunk {chunk}"
+        );
+        assert_eq!(
+            sliced::<256>(&stream, chunk),
+            by_byte::<256>(&stream),
+            "capacity 256, chunk {chunk}"
+        );
+    }
+}

@@ -31,6 +31,18 @@ fn decode_aeolus(input: Vec<u8>) -> f64 {
 
 #[library_benchmark]
 #[bench::aeolus(aeolus_stream())]
+fn deframe_slice(input: Vec<u8>) -> u32 {
+    black_box(aeolus_deframe_slice(black_box(&input)))
+}
+
+#[library_benchmark]
+#[bench::aeolus(aeolus_stream())]
+fn decode_aeolus_slice(input: Vec<u8>) -> f64 {
+    black_box(aeolus_decode_slice(black_box(&input)))
+}
+
+#[library_benchmark]
+#[bench::aeolus(aeolus_stream())]
 fn naive_aeolus(input: Vec<u8>) -> usize {
     black_box(aeolus_naive(black_box(&input)))
 }
@@ -82,7 +94,12 @@ fn encode_aydp(input: (Vec<aydp_proto::Message<'static>>, Vec<u8>)) -> usize {
 }
 
 fn aok_encode_setup() -> (Vec<aok_proto::DebugValue>, Vec<u8>) {
-    let values = (0..STREAM / 7).map(|i| aok_proto::DebugValue { number: i as u8, value: i as i32 * 7919 }).collect();
+    let values = (0..STREAM / 7)
+        .map(|i| aok_proto::DebugValue {
+            number: i as u8,
+            value: i as i32 * 7919,
+        })
+        .collect();
     (values, vec![0u8; 2 * STREAM])
 }
 
@@ -95,7 +112,7 @@ fn encode_aok(input: (Vec<aok_proto::DebugValue>, Vec<u8>)) -> usize {
 
 library_benchmark_group!(
     name = codecs;
-    benchmarks = crc_section_4_3, crc_crate_table, deframe, decode_aeolus, naive_aeolus, decode_aydp,
+    benchmarks = crc_section_4_3, crc_crate_table, deframe, decode_aeolus, deframe_slice, decode_aeolus_slice, naive_aeolus, decode_aydp,
         decode_aok_pc, decode_aok_device, decode_mavlink, encode_aeolus, encode_aydp, encode_aok
 );
 

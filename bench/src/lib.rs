@@ -16,9 +16,27 @@ pub fn aeolus_stream() -> Vec<u8> {
     while out.len() < STREAM {
         t += 1.0;
         let msg = match rng.below(8) {
-            0 => Message::Gyro(Gyro { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
-            1 => Message::Accel(Accel { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
-            2 => Message::Magnet(Magnet { valid: true, timestamp_ms: t, x: rng.f32(), y: rng.f32(), z: rng.f32() }),
+            0 => Message::Gyro(Gyro {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
+            1 => Message::Accel(Accel {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
+            2 => Message::Magnet(Magnet {
+                valid: true,
+                timestamp_ms: t,
+                x: rng.f32(),
+                y: rng.f32(),
+                z: rng.f32(),
+            }),
             3 => Message::Pressure(Pressure {
                 valid: true,
                 timestamp_ms: t,
@@ -39,8 +57,19 @@ pub fn aeolus_stream() -> Vec<u8> {
                 qz: rng.f32(),
                 qw: rng.f32(),
             }),
-            6 => Message::Compass(Compass { valid: true, timestamp_ms: t, heading_deg: rng.f32(), ..Compass::default() }),
-            _ => Message::Gps(Gps { valid: true, has_fix: true, satellites: 9, timestamp_ms: t, ..Gps::default() }),
+            6 => Message::Compass(Compass {
+                valid: true,
+                timestamp_ms: t,
+                heading_deg: rng.f32(),
+                ..Compass::default()
+            }),
+            _ => Message::Gps(Gps {
+                valid: true,
+                has_fix: true,
+                satellites: 9,
+                timestamp_ms: t,
+                ..Gps::default()
+            }),
         };
         let mut buf = [0u8; max_encoded_len(80)];
         let n = msg.encode(&mut buf, CrcMode::Compute).unwrap();
@@ -73,6 +102,28 @@ pub fn aeolus_deframe(stream: &[u8]) -> u32 {
         }
     }
     n
+}
+
+/// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
+#[inline(never)]
+pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut n = 0;
+    d.push_slice(stream, |ev| n += ev.is_ok() as u32);
+    n
+}
+
+/// Deframes with `push_slice` and parses every frame into a typed message.
+#[inline(never)]
+pub fn aeolus_decode_slice(stream: &[u8]) -> f64 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut acc = 0.0;
+    d.push_slice(stream, |ev| {
+        if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
+            acc += g.timestamp_ms;
+        }
+    });
+    acc
 }
 
 /// Deframes and parses every frame into a typed message.
@@ -111,7 +162,15 @@ pub fn aydp_stream() -> Vec<u8> {
         let n = if rng.below(2) == 0 {
             enc.encode_expedited(&msg, &mut buf).unwrap()
         } else {
-            enc.encode_normal(&msg, Timestamp { seconds: 1_700_000_000, subsec: 250 }, &mut buf).unwrap()
+            enc.encode_normal(
+                &msg,
+                Timestamp {
+                    seconds: 1_700_000_000,
+                    subsec: 250,
+                },
+                &mut buf,
+            )
+            .unwrap()
         };
         out.extend_from_slice(&buf[..n]);
     }
@@ -170,7 +229,10 @@ pub fn aok_debug_stream() -> Vec<u8> {
     let mut out = Vec::with_capacity(STREAM + 16);
     let mut buf = [0u8; 8];
     while out.len() < STREAM {
-        let v = aok_proto::DebugValue { number: rng.byte(), value: rng.next_u64() as i32 };
+        let v = aok_proto::DebugValue {
+            number: rng.byte(),
+            value: rng.next_u64() as i32,
+        };
         let n = aok_proto::device::encode_debug(v, &mut buf).unwrap();
         out.extend_from_slice(&buf[..n]);
     }
@@ -179,14 +241,20 @@ pub fn aok_debug_stream() -> Vec<u8> {
 
 /// AOK commands as the PC sends them (parameter sets, waypoint sets, motor tests), 64 KiB.
 pub fn aok_command_stream() -> Vec<u8> {
-    use aok_proto::{Command, MotorTest, Motor, ParameterValue};
+    use aok_proto::{Command, Motor, MotorTest, ParameterValue};
     let mut rng = Rng::new(4);
     let mut out = Vec::with_capacity(STREAM + 32);
     let mut buf = [0u8; 32];
     while out.len() < STREAM {
         let cmd = match rng.below(2) {
-            0 => Command::SetParameter(ParameterValue { number: rng.byte(), value: rng.next_u64() as i32 }),
-            _ => Command::MotorTest(MotorTest { motor: Motor::new(1 + rng.byte() % 12).unwrap(), value: rng.byte() }),
+            0 => Command::SetParameter(ParameterValue {
+                number: rng.byte(),
+                value: rng.next_u64() as i32,
+            }),
+            _ => Command::MotorTest(MotorTest {
+                motor: Motor::new(1 + rng.byte() % 12).unwrap(),
+                value: rng.byte(),
+            }),
         };
         let n = cmd.emit(&mut buf).unwrap();
         out.extend_from_slice(&buf[..n]);
@@ -235,7 +303,10 @@ pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
 /// MAVLink v2 ATTITUDE frames (28-byte payload, 40 bytes on the wire: the size of an AEOLUS
 /// GYRO frame), 64 KiB.
 pub fn mavlink_stream() -> Vec<u8> {
-    use mavlink::{MavHeader, dialects::common::{ATTITUDE_DATA, MavMessage}};
+    use mavlink::{
+        MavHeader,
+        dialects::common::{ATTITUDE_DATA, MavMessage},
+    };
     let mut rng = Rng::new(5);
     let mut out = Vec::with_capacity(STREAM + 64);
     let mut seq = 0u8;
@@ -249,7 +320,11 @@ pub fn mavlink_stream() -> Vec<u8> {
             pitchspeed: rng.f32(),
             yawspeed: rng.f32(),
         });
-        let header = MavHeader { system_id: 1, component_id: 1, sequence: seq };
+        let header = MavHeader {
+            system_id: 1,
+            component_id: 1,
+            sequence: seq,
+        };
         seq = seq.wrapping_add(1);
         mavlink::write_v2_msg(&mut out, header, &msg).unwrap();
     }
