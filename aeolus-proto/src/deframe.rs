@@ -181,12 +181,13 @@ impl<const N: usize> Deframer<N> {
     /// instructions; flags, escapes and errors go through an out-of-line slow path.
     #[inline(always)]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
-        if self.state == State::Frame && byte.wrapping_sub(ESCAPE) >= 2 {
-            if let Some(slot) = self.buf.get_mut(self.len) {
-                *slot = byte;
-                self.len += 1;
-                return None;
-            }
+        if self.state == State::Frame
+            && byte.wrapping_sub(ESCAPE) >= 2
+            && let Some(slot) = self.buf.get_mut(self.len)
+        {
+            *slot = byte;
+            self.len += 1;
+            return None;
         }
         self.push_slow(byte)
     }

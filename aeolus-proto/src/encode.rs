@@ -39,17 +39,17 @@ const fn needs_escape(byte: u8) -> bool {
 fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8]) -> Result<usize, Error> {
     while !src.is_empty() {
         let run = crate::scan::run_len(src);
-        let (plain, rest) = src.split_at(run);
-        let end = at + run;
-        out.get_mut(at..end)
-            .ok_or(Error::BufferTooSmall)?
-            .copy_from_slice(plain);
-        at = end;
+        let (plain, rest) = src.split_at_checked(run).unwrap_or((src, &[]));
+        // Two-step slicing: the destination has exactly `plain.len()` bytes by construction.
+        let dst = out.get_mut(at..).and_then(|o| o.get_mut(..plain.len()));
+        dst.ok_or(Error::BufferTooSmall)?.copy_from_slice(plain);
+        at += plain.len();
         let Some((&special, rest)) = rest.split_first() else {
             break;
         };
-        let pair = out.get_mut(at..at + 2).ok_or(Error::BufferTooSmall)?;
-        pair.copy_from_slice(&[ESCAPE, special ^ 0x20]);
+        let pair = out.get_mut(at..).and_then(|o| o.get_mut(..2));
+        pair.ok_or(Error::BufferTooSmall)?
+            .copy_from_slice(&[ESCAPE, special ^ 0x20]);
         at += 2;
         src = rest;
     }

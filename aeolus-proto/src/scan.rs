@@ -27,9 +27,8 @@ pub(crate) fn run_len(bytes: &[u8]) -> usize {
     let mut words = bytes.chunks_exact(WORD);
     let mut n = 0;
     for w in &mut words {
-        let mut a = [0u8; WORD];
-        a.copy_from_slice(w);
-        let x = usize::from_le_bytes(a);
+        // `chunks_exact` guarantees the length; the fallback only keeps panics out.
+        let x = usize::from_le_bytes(<[u8; WORD]>::try_from(w).unwrap_or([0x7E; WORD]));
         let hits = zero_bytes(x ^ (ONES * 0x7D)) | zero_bytes(x ^ (ONES * 0x7E));
         if hits != 0 {
             return n + (hits.trailing_zeros() / 8) as usize;
