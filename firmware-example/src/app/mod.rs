@@ -82,12 +82,12 @@ impl App {
         self.aeolus.poll(now_ms, uart0, &mut self.shared);
         self.aydp.poll(now_ms, uart1, &mut self.shared);
         self.aok.poll(now_ms, uart2, &mut self.shared);
-        if core::mem::take(&mut self.shared.requests.store) {
-            if persist::store(flash, &self.shared.persisted).is_err() {
-                crate::warn!("flash store: write failed; settings kept in RAM only");
-                self.shared.counters.store_failures =
-                    self.shared.counters.store_failures.wrapping_add(1);
-            }
+        if core::mem::take(&mut self.shared.requests.store)
+            && persist::store(flash, &self.shared.persisted).is_err()
+        {
+            crate::warn!("flash store: write failed; settings kept in RAM only");
+            self.shared.counters.store_failures =
+                self.shared.counters.store_failures.wrapping_add(1);
         }
         if core::mem::take(&mut self.shared.requests.reboot) {
             Control::Reboot

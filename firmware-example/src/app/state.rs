@@ -204,12 +204,11 @@ impl Shared {
     /// Rebuilds the simulated flight after the settings changed (invalid parameters keep the
     /// previous flight).
     pub fn settings_changed(&mut self, now_ms: u64) {
-        match Flight::new(self.persisted.settings.flight_params()) {
-            Ok(f) => {
-                self.flight = f;
-                self.flight_epoch_ms = now_ms;
-            }
-            Err(_) => crate::warn!("settings: flight parameters out of range, flight unchanged"),
+        if let Ok(f) = Flight::new(self.persisted.settings.flight_params()) {
+            self.flight = f;
+            self.flight_epoch_ms = now_ms;
+        } else {
+            crate::warn!("settings: flight parameters out of range, flight unchanged");
         }
     }
 
