@@ -2,17 +2,18 @@
 //!
 //! The board is chosen by feature (`board-qemu` or `board-stm32f411`); the
 //! `.cargo/config.toml` aliases `cargo qemu` and `cargo stm32` pick the
-//! target and feature. For now `main` is the boot smoke test of the board
-//! layer:
+//! target and feature. The binary is only the glue between the board and the
+//! application (`firmware_example::app`):
 //!
-//! * logs the boot with `defmt`;
-//! * counts boots in the flash store (shows that the store survives a warm
-//!   reset) and writes a greeting line on each UART;
-//! * echoes every byte received on each UART back out of the same UART;
-//! * a `0x12` byte (Ctrl-R) on UART0 warm-resets the box (smoke test only;
-//!   the application will use AEOLUS "a reboot");
-//! * every 5 s logs the uptime, the stack high-water mark and the port
-//!   counters.
+//! 1. `board::init()`: clocks, SysTick, three interrupt-driven UARTs, the
+//!    flash store;
+//! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
+//!    warning if the store is missing or corrupt) and queues the boot TOAST;
+//! 3. the main loop: `App::poll` with the three ports as often as there is
+//!    something to do (the CPU sleeps in `wfi` until the next interrupt: the
+//!    1 ms SysTick or a UART), a warm reset when a link asks for one, and every
+//!    5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
+//!    (cortex-m-rt paints the stack before `main`) and the UART counters.
 //!
 //! On the host this file builds a stub `main` that says how to run it.
 #![cfg_attr(target_os = "none", no_std)]
@@ -21,115 +22,96 @@
 #[cfg(target_os = "none")]
 mod board;
 
+/// Period of the status log line, ms.
 #[cfg(target_os = "none")]
-mod app {
+const REPORT_MS: u64 = 5_000;
+
+/// How long a reboot waits for UART0 to send its last bytes (the answer
+/// TOAST), ms.
+#[cfg(target_os = "none")]
+const REBOOT_FLUSH_MS: u64 = 20;
+
+#[cfg(target_os = "none")]
+mod run {
+    use super::{REBOOT_FLUSH_MS, REPORT_MS};
     use crate::board;
-    use core::fmt::Write as _;
     use cortex_m as _;
-    use embedded_hal_nb::serial::{Read, Write};
-    use embedded_storage::nor_flash::{NorFlash, ReadNorFlash};
-    use firmware_example::{Clock, QueuedSerial, info, warn};
-
-    /// "BOOT" little-endian: marks a valid boot counter in the store.
-    const BOOT_MAGIC: u32 = 0x544F_4F42;
-
-    /// Reads, increments and stores the boot counter; 1 on an empty store.
-    fn count_boot<S: NorFlash>(store: &mut S) -> u32 {
-        let mut word = [0u8; 8];
-        let stored = match store.read(0, &mut word) {
-            Ok(()) => {
-                let (magic, count) = word.split_at(4);
-                let magic = u32::from_le_bytes(magic.try_into().unwrap_or([0; 4]));
-                let count = u32::from_le_bytes(count.try_into().unwrap_or([0; 4]));
-                (magic == BOOT_MAGIC).then_some(count)
-            }
-            Err(_) => None,
-        };
-        if stored.is_none() {
-            warn!("flash store: no boot counter, starting at 1");
-        }
-        let boots = stored.unwrap_or(0).wrapping_add(1);
-        let mut new = [0u8; 8];
-        new[..4].copy_from_slice(&BOOT_MAGIC.to_le_bytes());
-        new[4..].copy_from_slice(&boots.to_le_bytes());
-        let erase_to = u32::try_from(S::ERASE_SIZE).unwrap_or(u32::MAX);
-        if store
-            .erase(0, erase_to)
-            .and_then(|()| store.write(0, &new))
-            .is_err()
-        {
-            warn!("flash store: could not write the boot counter");
-        }
-        boots
-    }
-
-    /// Writes all of `bytes`, waiting while the TX queue is full.
-    fn send(port: &mut QueuedSerial<'static>, bytes: &[u8]) {
-        for &b in bytes {
-            let _ = nb::block!(port.write(b));
-        }
-    }
+    use embedded_hal_nb::serial::Write;
+    use embedded_storage::nor_flash::ReadNorFlash;
+    use firmware_example::app::{App, Control};
+    use firmware_example::{Clock, QueuedSerial, info};
 
     #[cortex_m_rt::entry]
     fn main() -> ! {
-        let mut b = board::init();
+        let b = board::init();
+        let (mut uart0, mut uart1, mut uart2) = (b.uart0, b.uart1, b.uart2);
+        let (clock, mut store) = (b.clock, b.store);
         info!(
-            "sensor-box {=str} on {=str}: booting",
+            "sensor-box {=str} on {=str}: booting; flash store {=usize} bytes",
             env!("CARGO_PKG_VERSION"),
-            board::NAME
+            board::NAME,
+            store.capacity()
         );
-        let boots = count_boot(&mut b.store);
+
+        let mut app = App::new(&mut store, clock.now_ms());
         info!(
-            "boot #{=u32}; flash store {=usize} bytes",
-            boots,
-            b.store.capacity()
+            "booted: App {=usize} bytes, stack high-water {=usize} bytes",
+            core::mem::size_of::<App>(),
+            board::stack_high_water()
         );
-
-        let mut ports = [b.uart0, b.uart1, b.uart2];
-        for (i, port) in ports.iter_mut().enumerate() {
-            let mut line: heapless::String<64> = heapless::String::new();
-            let _ = write!(line, "sensor-box boot #{boots} UART{i} echo ready\r\n");
-            send(port, line.as_bytes());
-        }
-
-        let flight = flight_sim::Flight::new(flight_sim::FlightParams::DEFAULT).ok();
-        let mut next_report = 5_000u64;
+        let mut next_report = clock.now_ms().saturating_add(REPORT_MS);
         loop {
-            for (i, port) in ports.iter_mut().enumerate() {
-                while let Ok(byte) = port.read() {
-                    if i == 0 && byte == 0x12 {
-                        info!("Ctrl-R on UART0: warm reset");
-                        board::reset();
-                    }
-                    let _ = nb::block!(port.write(byte));
-                }
+            let now = clock.now_ms();
+            let control = app.poll(now, &mut uart0, &mut uart1, &mut uart2, &mut store);
+            if control == Control::Reboot {
+                info!("reboot requested: warm reset");
+                flush(&mut uart0, &clock, now.saturating_add(REBOOT_FLUSH_MS));
+                board::reset();
             }
-            let now = b.clock.now_ms();
             if now >= next_report {
-                next_report = now.saturating_add(5_000);
-                info!(
-                    "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
-                    now,
-                    board::stack_high_water(),
-                    board::stack_size()
-                );
-                for (i, port) in ports.iter().enumerate() {
-                    let c = port.counters();
-                    info!(
-                        "UART{=usize}: rx {=u32} dropped {=u32} errors {=u32} tx {=u32}",
-                        i, c.rx_bytes, c.rx_dropped, c.rx_errors, c.tx_bytes
-                    );
-                }
-                if let Some(f) = &flight {
-                    let s = f.state(now);
-                    info!(
-                        "sim: heading {=f32} deg, lat {=f64} lon {=f64}",
-                        s.heading_deg, s.latitude_deg, s.longitude_deg
-                    );
-                }
+                next_report = now.saturating_add(REPORT_MS);
+                report(now, &app, [&uart0, &uart1, &uart2]);
             }
             cortex_m::asm::wfi();
         }
+    }
+
+    /// Waits until `port` has handed its queued bytes to the UART, or until
+    /// `deadline` (ms since boot).
+    fn flush(port: &mut QueuedSerial<'static>, clock: &impl Clock, deadline: u64) {
+        while port.flush().is_err() && clock.now_ms() < deadline {}
+    }
+
+    /// The periodic status lines.
+    fn report(now: u64, app: &App, ports: [&QueuedSerial<'static>; 3]) {
+        info!(
+            "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
+            now,
+            board::stack_high_water(),
+            board::stack_size()
+        );
+        for (i, port) in ports.iter().enumerate() {
+            let c = port.counters();
+            info!(
+                "UART{=usize}: rx {=u32} dropped {=u32} errors {=u32} tx {=u32}",
+                i, c.rx_bytes, c.rx_dropped, c.rx_errors, c.tx_bytes
+            );
+        }
+        let a = app.aeolus.counters();
+        let rx = app.aeolus.rx_stats();
+        info!(
+            "AEOLUS: telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; rx ok {=u32} crc errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
+            a.telemetry_total(),
+            a.toasts,
+            a.tx_dropped,
+            app.aeolus.telemetry().skipped(),
+            rx.frames_delivered(),
+            rx.crc_errors,
+            a.commands,
+            a.unknown_commands,
+            a.settime,
+            app.shared.paused
+        );
     }
 }
 

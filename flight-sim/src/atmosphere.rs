@@ -5,7 +5,7 @@
 //! assert!((p - 101_325.0).abs() < 0.5);
 //! ```
 
-use libm::powf;
+use libm::{expf, logf};
 
 /// Sea-level standard pressure, Pa.
 pub const P0_PA: f32 = 101_325.0;
@@ -38,7 +38,8 @@ pub fn temperature_k(altitude_m: f32) -> f32 {
 /// ```
 pub fn pressure_pa(altitude_m: f32) -> f32 {
     let exponent = crate::G / (LAPSE_K_PER_M * R_AIR);
-    P0_PA * powf(temperature_k(altitude_m) / T0_K, exponent)
+    // x^k as exp(k·ln x): on a Cortex-M this is ~1 KiB smaller than `powf`, same accuracy here.
+    P0_PA * expf(exponent * logf(temperature_k(altitude_m) / T0_K))
 }
 
 /// ISA air density, kg/m³ (`ρ = p / (R·T)`).

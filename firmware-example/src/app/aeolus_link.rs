@@ -1,14 +1,181 @@
-//! AEOLUS on UART0.
+//! AEOLUS on UART0: telemetry out, COMMAND and SETTIME in.
 //!
-//! STUB: to be implemented.
+//! Every [`AeolusLink::poll`] does three things, in this order, and never waits:
+//!
+//! 1. **RX**: reads every byte the port has (up to [`RX_BUDGET`]) into an
+//!    [`aeolus_proto::Deframer`] and acts on each complete frame:
+//!    * COMMAND `"a pause"`: telemetry stops ([`Shared::paused`]), TOAST `"AEOLUS paused"`;
+//!    * COMMAND `"a resume"`: telemetry starts over, TOAST `"AEOLUS resumed"`;
+//!    * COMMAND `"a reboot"`: TOAST `"AEOLUS rebooting"`, then [`Requests::reboot`] asks the
+//!      main loop for a warm reset;
+//!    * any other COMMAND: TOAST `"unknown command: <the command>"`;
+//!    * SETTIME: stored in [`Shared::wall_clock`] with the arrival time, and logged (an
+//!      out-of-range date is counted and ignored);
+//!    * anything else is counted and ignored.
+//! 2. **Telemetry**: unless paused, the [`Kind`]s the [`Telemetry`] schedule says are due are
+//!    built from the simulated flight at `now_ms` and encoded into the TX queue.
+//! 3. **TX**: the TX queue (whole encoded frames, [`TX_QUEUE`] bytes) is drained into the port
+//!    with non-blocking writes, after each frame queued and at the end of the poll, until the
+//!    port says `WouldBlock`; the rest waits for the next poll. So a slow UART never stalls
+//!    the decoders: one poll costs at most the encoding of the frames due now and the copy of
+//!    what the port accepts.
+//!
+//! A frame that does not fit in the queue is dropped whole (counted in
+//! [`LinkCounters::tx_dropped`]), never cut; telemetry leaves [`TX_RESERVE`] bytes free so
+//! that answers (TOASTs) still fit when the UART cannot keep up.
+//!
+//! [`Requests::reboot`]: super::state::Requests::reboot
+//!
+//! ```
+//! use aeolus_proto::{Deframer, message::{Message, Text}, CrcMode};
+//! use embedded_hal_nb::serial::Write;
+//! use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+//! use firmware_example::{PortStats, QueuedSerial};
+//! use heapless::spsc::Queue;
+//!
+//! let (mut rxq, mut txq) = (Queue::<u8, 256>::new(), Queue::<u8, 4096>::new());
+//! let stats = PortStats::new();
+//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! let mut shared = Shared::new(Persisted::default(), 0);
+//! let mut link = AeolusLink::new(0);
+//!
+//! // The peer sends "a pause".
+//! let mut frame = [0u8; 64];
+//! let n = Message::Command(Text::new("a pause").unwrap())
+//!     .encode(&mut frame, CrcMode::Compute)
+//!     .unwrap();
+//! for &b in &frame[..n] {
+//!     isr.received(b);
+//! }
+//! link.poll(0, &mut port, &mut shared);
+//! assert!(shared.paused);
+//!
+//! // On the wire: the boot TOAST, no telemetry (paused before it was due), the answer.
+//! let mut toasts = Vec::new();
+//! let mut deframer = Deframer::<256>::new();
+//! while let Some(b) = isr.next_to_send() {
+//!     if let Some(Ok(f)) = deframer.push(b) {
+//!         if let Ok(Message::Toast(t)) = f.message() {
+//!             toasts.push(t.as_str().unwrap_or("").to_owned());
+//!         }
+//!     }
+//! }
+//! assert_eq!(toasts, ["AEOLUS on", "AEOLUS paused"]);
+//! ```
 
 use super::Shared;
+use super::telemetry::{Kind, Telemetry, build};
+use aeolus_proto::message::{Message, SetTime, Text, id};
+use aeolus_proto::{CrcMode, Deframer, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use embedded_hal_nb::serial::{Read, Write};
+use heapless::Deque;
+
+/// Bytes of encoded frames the link queues for TX, in front of the port's own queue (512
+/// bytes on both boards). Each frame is handed to the port as soon as it is queued, so this
+/// queue only fills when the UART falls behind. The worst millisecond of the spec schedule
+/// (the five 7 ms messages and PRESSURE together) is 298 bytes; at boot all ten kinds and the
+/// TOAST are 468.
+pub const TX_QUEUE: usize = 512;
+
+/// Queue bytes telemetry leaves free for answers: one longest TOAST.
+pub const TX_RESERVE: usize = FRAME_BUF;
+
+/// The most bytes one poll reads. The boards' RX queues hold 255 bytes, so one poll always
+/// empties them; the bound only keeps a port that never runs dry from starving the others.
+pub const RX_BUDGET: usize = 1024;
+
+/// Capacity of the RX deframer (unescaped ID + data + CRC): every fixed-size message and
+/// every COMMAND of up to [`TEXT_CAPACITY`] characters.
+pub const RX_FRAME: usize = MAX_FIXED_FRAME;
+
+/// The longest frame the link sends: a TOAST of [`TEXT_CAPACITY`] characters and its NUL
+/// (longer than the longest telemetry message, COMPASS).
+const FRAME_BUF: usize = max_encoded_len(TEXT_CAPACITY + 1);
+
+/// The boot TOAST.
+pub const BOOT_TOAST: &str = "AEOLUS on";
+
+/// Prefix of the answer to a COMMAND the box does not know.
+pub const UNKNOWN_PREFIX: &[u8] = b"unknown command: ";
+
+/// What the link has done since boot (wrapping counters). The deframer keeps its own
+/// ([`AeolusLink::rx_stats`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
+pub struct LinkCounters {
+    /// Telemetry frames queued, per [`Kind`] (indexed by [`Kind::index`]).
+    pub sent: [u32; Kind::COUNT],
+    /// TOASTs queued (boot, answers).
+    pub toasts: u32,
+    /// Frames dropped because the TX queue was full.
+    pub tx_dropped: u32,
+    /// COMMANDs obeyed ("a pause", "a resume", "a reboot").
+    pub commands: u32,
+    /// COMMANDs answered "unknown command".
+    pub unknown_commands: u32,
+    /// SETTIMEs stored.
+    pub settime: u32,
+    /// SETTIMEs ignored because a field was out of range.
+    pub settime_rejected: u32,
+    /// Good frames of a type the box does not act on (TOAST, telemetry, LOG, ...).
+    pub ignored: u32,
+    /// Frames the deframer rejected, or whose data did not parse.
+    pub rx_errors: u32,
+    /// Errors reported by the port itself.
+    pub port_errors: u32,
+}
+
+impl LinkCounters {
+    /// All telemetry frames queued.
+    ///
+    /// ```
+    /// let c = firmware_example::app::aeolus_link::LinkCounters::default();
+    /// assert_eq!(c.telemetry_total(), 0);
+    /// ```
+    pub fn telemetry_total(&self) -> u32 {
+        self.sent.iter().fold(0u32, |a, &n| a.wrapping_add(n))
+    }
+}
+
+/// What a received frame asks for, copied out of the deframer's buffer.
+enum Incoming {
+    Command(Text),
+    SetTime(SetTime),
+    Ignored,
+    Error,
+}
 
 /// The AEOLUS link.
-pub struct AeolusLink {}
+pub struct AeolusLink {
+    telemetry: Telemetry,
+    deframer: Deframer<RX_FRAME>,
+    tx: Deque<u8, TX_QUEUE>,
+    /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
+    was_paused: bool,
+    counters: LinkCounters,
+}
 
 impl AeolusLink {
+    /// The link at boot: TOAST "AEOLUS on" is queued and every telemetry kind is due at
+    /// `now_ms`.
+    ///
+    /// ```
+    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// assert_eq!(link.counters().toasts, 1);
+    /// assert_eq!(link.tx_pending(), 15); // 7E 52 "AEOLUS on" 00 CRC CRC 7E
+    /// ```
+    pub fn new(now_ms: u64) -> Self {
+        let mut link = AeolusLink {
+            telemetry: Telemetry::new(now_ms),
+            deframer: Deframer::new(),
+            tx: Deque::new(),
+            was_paused: false,
+            counters: LinkCounters::default(),
+        };
+        link.toast(BOOT_TOAST.as_bytes());
+        link
+    }
+
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
     pub fn poll<P: Read<u8> + Write<u8>>(
         &mut self,
@@ -16,14 +183,214 @@ impl AeolusLink {
         port: &mut P,
         shared: &mut Shared,
     ) {
-        let _ = (now_ms, port, shared);
+        self.receive(now_ms, port, shared);
+        if shared.paused {
+            self.was_paused = true;
+        } else {
+            if core::mem::take(&mut self.was_paused) {
+                self.telemetry.restart(now_ms);
+            }
+            self.send_due(now_ms, port, shared);
+        }
+        drain(&mut self.tx, port, &mut self.counters);
+    }
+
+    /// The link's counters.
+    pub fn counters(&self) -> &LinkCounters {
+        &self.counters
+    }
+
+    /// The RX deframer's counters (frames, CRC errors, bytes discarded, ...).
+    ///
+    /// ```
+    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// assert_eq!(link.rx_stats().frames_ok, 0);
+    /// ```
+    pub fn rx_stats(&self) -> &aeolus_proto::Stats {
+        self.deframer.stats()
+    }
+
+    /// The telemetry schedule.
+    pub fn telemetry(&self) -> &Telemetry {
+        &self.telemetry
+    }
+
+    /// Encoded bytes waiting in the TX queue.
+    pub fn tx_pending(&self) -> usize {
+        self.tx.len()
+    }
+
+    fn receive<P: Read<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
+        for _ in 0..RX_BUDGET {
+            match port.read() {
+                Ok(byte) => {
+                    let incoming = self.deframe(byte);
+                    self.handle(incoming, now_ms, shared);
+                }
+                Err(nb::Error::WouldBlock) => break,
+                Err(nb::Error::Other(_)) => bump(&mut self.counters.port_errors),
+            }
+        }
+    }
+
+    /// Feeds one byte to the deframer; what a completed frame asks for, if any. Only the two
+    /// messages the box acts on are parsed (the others' parsers stay out of the firmware).
+    fn deframe(&mut self, byte: u8) -> Option<Incoming> {
+        let Ok(frame) = self.deframer.push(byte)? else {
+            return Some(Incoming::Error);
+        };
+        let parsed = match frame.id() {
+            id::COMMAND => Text::parse(id::COMMAND, frame.data()).map(Incoming::Command),
+            id::SETTIME => SetTime::parse(frame.data()).map(Incoming::SetTime),
+            _ => Ok(Incoming::Ignored),
+        };
+        Some(parsed.unwrap_or(Incoming::Error))
+    }
+
+    fn handle(&mut self, incoming: Option<Incoming>, now_ms: u64, shared: &mut Shared) {
+        match incoming {
+            None => {}
+            Some(Incoming::Command(text)) => self.command(&text, shared),
+            Some(Incoming::SetTime(time)) => self.set_time(time, now_ms, shared),
+            Some(Incoming::Ignored) => bump(&mut self.counters.ignored),
+            Some(Incoming::Error) => bump(&mut self.counters.rx_errors),
+        }
+    }
+
+    fn command(&mut self, text: &Text, shared: &mut Shared) {
+        match text.as_bytes().trim_ascii() {
+            b"a pause" => {
+                crate::info!("AEOLUS: a pause");
+                shared.paused = true;
+                self.toast(b"AEOLUS paused");
+            }
+            b"a resume" => {
+                crate::info!("AEOLUS: a resume");
+                shared.paused = false;
+                self.toast(b"AEOLUS resumed");
+            }
+            b"a reboot" => {
+                crate::info!("AEOLUS: a reboot");
+                self.toast(b"AEOLUS rebooting");
+                shared.requests.reboot = true;
+            }
+            other => {
+                crate::warn!("AEOLUS: unknown command ({=usize} bytes)", other.len());
+                bump(&mut self.counters.unknown_commands);
+                let mut answer = [0u8; TEXT_CAPACITY];
+                let n = join(&mut answer, UNKNOWN_PREFIX, other);
+                self.toast(answer.get(..n).unwrap_or(&[]));
+                return;
+            }
+        }
+        bump(&mut self.counters.commands);
+    }
+
+    fn set_time(&mut self, time: SetTime, now_ms: u64, shared: &mut Shared) {
+        if !settime_in_range(&time) {
+            crate::warn!("AEOLUS: SETTIME out of range, ignored");
+            bump(&mut self.counters.settime_rejected);
+            return;
+        }
+        crate::info!(
+            "AEOLUS: SETTIME {=u16}-{=u8}-{=u8} {=u8}:{=u8}:{=u8} at {=u64} ms",
+            1900 + u16::from(time.year_since_1900),
+            time.month0 + 1,
+            time.day,
+            time.hour,
+            time.minute,
+            time.second,
+            now_ms
+        );
+        shared.wall_clock = Some((time, now_ms));
+        bump(&mut self.counters.settime);
+    }
+
+    /// Builds and queues the telemetry due at `now_ms` (one flight state for all of them).
+    fn send_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+        let intervals = shared.settings().intervals;
+        let AeolusLink {
+            telemetry,
+            tx,
+            counters,
+            ..
+        } = self;
+        let mut state = None;
+        for kind in telemetry.due(now_ms, &intervals) {
+            let state = state.get_or_insert_with(|| shared.flight_state(now_ms));
+            let msg = build(kind, state, now_ms);
+            if enqueue(tx, &msg, TX_RESERVE) {
+                if let Some(n) = counters.sent.get_mut(kind.index()) {
+                    bump(n);
+                }
+            } else {
+                bump(&mut counters.tx_dropped);
+            }
+            drain(tx, port, counters);
+        }
+    }
+
+    /// Queues a TOAST (text truncated to [`TEXT_CAPACITY`]).
+    fn toast(&mut self, text: &[u8]) {
+        let text = text.get(..TEXT_CAPACITY).unwrap_or(text);
+        let queued = Text::from_bytes(text)
+            .map(|t| enqueue(&mut self.tx, &Message::Toast(t), 0))
+            .unwrap_or(false);
+        if queued {
+            bump(&mut self.counters.toasts);
+        } else {
+            bump(&mut self.counters.tx_dropped);
+        }
     }
 }
 
-impl AeolusLink {
-    /// The link at boot.
-    pub fn new(now_ms: u64) -> Self {
-        let _ = now_ms;
-        AeolusLink {}
+/// Moves queued bytes into the port until it would block.
+fn drain<P: Write<u8>>(tx: &mut Deque<u8, TX_QUEUE>, port: &mut P, counters: &mut LinkCounters) {
+    while let Some(&byte) = tx.front() {
+        match port.write(byte) {
+            Ok(()) => {
+                tx.pop_front();
+            }
+            Err(nb::Error::WouldBlock) => break,
+            Err(nb::Error::Other(_)) => {
+                bump(&mut counters.port_errors);
+                break;
+            }
+        }
     }
+}
+
+/// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare.
+fn enqueue(tx: &mut Deque<u8, TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> bool {
+    let mut buf = [0u8; FRAME_BUF];
+    let Ok(n) = msg.encode(&mut buf, CrcMode::Compute) else {
+        return false;
+    };
+    let free = TX_QUEUE.saturating_sub(tx.len());
+    if free < n.saturating_add(reserve) {
+        return false;
+    }
+    buf.get(..n)
+        .unwrap_or(&[])
+        .iter()
+        .all(|&b| tx.push_back(b).is_ok())
+}
+
+/// Writes `a` then as much of `b` as fits into `out`; returns the length written.
+fn join(out: &mut [u8], a: &[u8], b: &[u8]) -> usize {
+    let mut n = 0;
+    for (slot, &byte) in out.iter_mut().zip(a.iter().chain(b)) {
+        *slot = byte;
+        n += 1;
+    }
+    n
+}
+
+/// SETTIME fields within the ranges of section 7.16 (DECISIONS.md A8).
+fn settime_in_range(t: &SetTime) -> bool {
+    t.month0 <= 11 && (1..=31).contains(&t.day) && t.hour <= 23 && t.minute <= 59 && t.second <= 59
+}
+
+fn bump(counter: &mut u32) {
+    *counter = counter.wrapping_add(1);
 }

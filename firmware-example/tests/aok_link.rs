@@ -1,0 +1,1093 @@
+//! The AOK link on UART2, driven like a PC would drive it: in-memory serial ports (the
+//! `QueuedSerial`/`SerialIsr` pair the boards use), a simulated clock, commands built with
+//! `aok_proto`'s encoders and the device's output read with its `PcDecoder` (and, end to end,
+//! with its `Client`).
+
+use std::cell::Cell;
+use std::rc::Rc;
+
+use aok_proto::pc::{Expect, PcDecoder};
+use aok_proto::{
+    Action, ActionWord, Client, Command, Config, DebugValue, Error, ExternalControl, Message,
+    Motor, MotorTest, ParameterValue, Stick, Waypoint, WaypointNumber, WaypointSlot,
+};
+use embedded_hal_nb::serial::{ErrorType, Read, Write};
+use firmware_example::app::aok_link::{
+    AokLink, ControlSource, DebugId, FIRMWARE, IDLE_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
+    STATUS_FLYING, STATUS_MOTOR_TEST,
+};
+use firmware_example::app::state::StoredWaypoint;
+use firmware_example::app::{App, Control, Persisted, Shared};
+use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
+use heapless::spsc::Queue;
+
+/// A port pair over queues that live for the whole test binary (leaked: a few KiB per test).
+fn ports<const TX: usize>() -> (QueuedSerial<'static>, SerialIsr<'static>) {
+    let rx = Box::leak(Box::new(Queue::<u8, 1024>::new()));
+    let tx = Box::leak(Box::new(Queue::<u8, TX>::new()));
+    let stats = Box::leak(Box::new(PortStats::new()));
+    QueuedSerial::split(rx, tx, stats, || {})
+}
+
+/// The link, its shared state, its port and a simulated clock.
+struct Rig {
+    shared: Shared,
+    link: AokLink,
+    port: QueuedSerial<'static>,
+    isr: SerialIsr<'static>,
+    now: u64,
+    /// Whether `step` hands the device's output to the PC (false: the port's TX queue fills).
+    draining: bool,
+    out: Vec<u8>,
+}
+
+impl Rig {
+    fn new() -> Self {
+        Self::with(Persisted::default(), ports::<1024>())
+    }
+
+    fn with(
+        persisted: Persisted,
+        (port, isr): (QueuedSerial<'static>, SerialIsr<'static>),
+    ) -> Self {
+        let shared = Shared::new(persisted, 0);
+        let link = AokLink::new(&shared);
+        Rig {
+            shared,
+            link,
+            port,
+            isr,
+            now: 0,
+            draining: true,
+            out: Vec::new(),
+        }
+    }
+
+    /// The PC sends raw bytes.
+    fn send(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            assert!(self.isr.received(b), "RX queue full");
+        }
+    }
+
+    /// The PC sends a command.
+    fn cmd(&mut self, c: Command) {
+        let (frame, n) = c.to_bytes();
+        self.send(&frame[..n]);
+    }
+
+    /// One poll at the current time; the PC reads what the port sent.
+    fn poll(&mut self) {
+        self.link.poll(self.now, &mut self.port, &mut self.shared);
+        if self.draining {
+            while let Some(b) = self.isr.next_to_send() {
+                self.out.push(b);
+            }
+        }
+    }
+
+    /// Polls once per millisecond for `ms` milliseconds, starting at the current time.
+    fn run(&mut self, ms: u64) {
+        for _ in 0..ms {
+            self.poll();
+            self.now += 1;
+        }
+    }
+
+    /// Everything the device sent since the last call.
+    fn take(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.out)
+    }
+
+    /// Debug off, and whatever was still queued read away.
+    fn quiet(&mut self) {
+        self.cmd(Command::DebugOff);
+        self.run(5);
+        self.take();
+    }
+
+    /// The PC sends `bytes`; the device's answer after 5 ms.
+    fn exchange(&mut self, bytes: &[u8]) -> Vec<u8> {
+        self.send(bytes);
+        self.run(5);
+        self.take()
+    }
+
+    fn exchange_cmd(&mut self, c: Command) -> Vec<u8> {
+        let (frame, n) = c.to_bytes();
+        self.exchange(&frame[..n])
+    }
+}
+
+/// Decodes the device's stream as the PC would with `expect` pending; every byte must belong
+/// to a frame.
+fn decode(bytes: &[u8], expect: Expect) -> Vec<Message> {
+    let mut pc = PcDecoder::new(FIRMWARE);
+    pc.expect(expect);
+    let mut got = Vec::new();
+    for &b in bytes {
+        got.extend(pc.push(b));
+    }
+    assert_eq!(pc.stats().unknown_bytes, 0, "stray bytes in {bytes:02x?}");
+    assert_eq!(pc.stats().checksum_errors, 0, "bad frames in {bytes:02x?}");
+    assert_eq!(pc.buffered(), 0, "partial frame at the end of {bytes:02x?}");
+    got
+}
+
+fn debug_values(bytes: &[u8]) -> Vec<DebugValue> {
+    decode(bytes, Expect::Nothing)
+        .into_iter()
+        .map(|m| match m {
+            Message::Debug(d) => d,
+            other => panic!("not a debug frame: {other:?}"),
+        })
+        .collect()
+}
+
+fn value_of(frames: &[DebugValue], id: DebugId) -> i32 {
+    frames
+        .iter()
+        .find(|d| d.number == id as u8)
+        .unwrap_or_else(|| panic!("no value {id:?}"))
+        .value
+}
+
+fn land(rig: &mut Rig) {
+    rig.shared.paused = true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Debug stream
+
+#[test]
+fn debug_stream_at_boot_cycles_through_the_list_with_the_flight_status() {
+    let mut rig = Rig::new();
+    rig.run(300); // default period 20 ms: frames at 0, 20, .., 280
+    let out = rig.take();
+    // The first frame, whole: roll at t = 0 is the 20° bank: 2000 = 00 00 07 D0.
+    assert_eq!(&out[..7], &[0x1c, 0x01, 0x00, 0x00, 0x07, 0xd0, 0xd6]);
+    // The flight status frame: flying (the simulated flight runs, telemetry not paused).
+    assert_eq!(&out[out.len() - 7..], &[0x1c, 0x56, 0, 0, 0, 1, 0x57]);
+    let frames = debug_values(&out);
+    let numbers: Vec<u8> = frames.iter().map(|d| d.number).collect();
+    assert_eq!(numbers, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 86]);
+    // The default flight: 50 m/s, 20° right bank, 1000 m, level.
+    assert_eq!(value_of(&frames, DebugId::Pitch), 0);
+    assert_eq!(value_of(&frames, DebugId::Airspeed), 5000);
+    assert_eq!(value_of(&frames, DebugId::Altitude), 100_000);
+    // ISA at 1000 m: 101325 * (1 - 0.0065 * 1000 / 288.15)^5.2559 = 89874.6 Pa, 8.50 °C.
+    assert!((value_of(&frames, DebugId::StaticPressure) - 89_875).abs() <= 2);
+    assert_eq!(value_of(&frames, DebugId::Temperature), 850);
+    // q = rho/2 * V^2 with rho(1000 m) = 1.1117 kg/m^3: 1389.6 Pa.
+    assert!((value_of(&frames, DebugId::PitotPressure) - 1390).abs() <= 2);
+    // Turn rate g * tan(20°) / V = 4.090 °/s.
+    assert!((value_of(&frames, DebugId::TurnRate) - 409).abs() <= 1);
+    // Start position 48.3538 N 11.7861 E, moved at most a few metres in 0.3 s.
+    assert!((value_of(&frames, DebugId::Latitude) - 483_538_000).abs() < 2_000);
+    assert!((value_of(&frames, DebugId::Longitude) - 117_861_000).abs() < 2_000);
+    // Heading starts at 0 and turns right at ~4°/s: after 40 ms it is a small positive angle.
+    let heading = value_of(&frames, DebugId::Heading);
+    assert!((0..100).contains(&heading), "heading {heading}");
+    let gs = value_of(&frames, DebugId::GroundSpeed);
+    assert!((4500..=5500).contains(&gs), "ground speed {gs}");
+    assert_eq!(value_of(&frames, DebugId::ControlSource), 0);
+    assert_eq!(value_of(&frames, DebugId::MotorTestMask), 0);
+    assert_eq!(value_of(&frames, DebugId::FlightStatus), STATUS_FLYING);
+    assert_eq!(rig.link.counters().debug_frames, 15);
+}
+
+#[test]
+fn debug_rate_follows_the_setting() {
+    let mut rig = Rig::new();
+    rig.shared.persisted.settings.aok_debug_period_ms = 50;
+    rig.run(1000);
+    let frames = debug_values(&rig.take());
+    assert_eq!(frames.len(), 20);
+    // 86 is sent once per cycle of 15.
+    assert_eq!(frames.iter().filter(|d| d.number == 86).count(), 1);
+    assert_eq!(frames[15].number, 1);
+
+    // Period 0: as fast as the link takes them; here one per poll.
+    rig.shared.persisted.settings.aok_debug_period_ms = 0;
+    rig.run(150);
+    let frames = debug_values(&rig.take());
+    assert_eq!(frames.len(), 150);
+    assert_eq!(frames.iter().filter(|d| d.number == 86).count(), 10);
+}
+
+#[test]
+fn late_debug_frames_after_debug_off_are_only_what_was_queued() {
+    // A port whose TX queue holds 15 bytes: the line is slow, frames back up.
+    let mut rig = Rig::with(Persisted::default(), ports::<16>());
+    rig.shared.persisted.settings.aok_debug_period_ms = 0;
+    rig.run(10);
+    let before = debug_values(&rig.take()).len();
+    assert_eq!(before, 10);
+    // The line stalls: nothing leaves the port for 20 ms.
+    rig.draining = false;
+    rig.run(20);
+    // 15 bytes in the port, 6 in the link: two whole frames and one split between them.
+    assert_eq!(rig.link.tx_pending(), 6);
+    let queued = rig.link.counters().debug_frames;
+    assert_eq!(queued, 13);
+    rig.cmd(Command::DebugOff);
+    rig.poll();
+    assert!(!rig.link.debug_enabled());
+    rig.draining = true;
+    rig.run(500);
+    let late = debug_values(&rig.take());
+    // Exactly the three frames already queued, complete; nothing was built after debug-off.
+    assert_eq!(late.len(), 3);
+    assert_eq!(rig.link.counters().debug_frames, queued);
+    assert_eq!(
+        late.iter().map(|d| d.number).collect::<Vec<_>>(),
+        [11, 12, 13]
+    );
+    // Debug on: the stream resumes where the cycle was.
+    let out = rig.exchange_cmd(Command::DebugOn);
+    assert_eq!(debug_values(&out)[0].number, 14);
+}
+
+#[test]
+fn debug_off_then_silence_then_on() {
+    let mut rig = Rig::new();
+    rig.run(100);
+    rig.quiet();
+    rig.run(1000);
+    assert_eq!(rig.take(), []);
+    rig.cmd(Command::DebugOn);
+    rig.run(100);
+    assert_eq!(debug_values(&rig.take()).len(), 5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reset
+
+#[test]
+fn reset_requests_a_reboot() {
+    let mut rig = Rig::new();
+    assert!(!rig.shared.requests.reboot);
+    rig.send(&[0x63, 0x07]);
+    rig.poll();
+    assert!(rig.shared.requests.reboot);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameters
+
+#[test]
+fn set_and_get_parameters_with_acks() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // 73 NUM B1..B4 CRC: parameter 5 = 1500, CRC = 05^00^00^05^DC.
+    assert_eq!(
+        rig.exchange(&[0x73, 0x05, 0x00, 0x00, 0x05, 0xdc, 0xdc]),
+        b"O"
+    );
+    assert_eq!(rig.link.parameters()[5], 1500);
+    // 67 05: FF 05 00 00 05 DC D9 (CRC over B1..B4 only).
+    assert_eq!(
+        rig.exchange(&[0x67, 0x05]),
+        [0xff, 0x05, 0x00, 0x00, 0x05, 0xdc, 0xd9]
+    );
+    // Negative values, MSB first: parameter 0 = -2.
+    assert_eq!(
+        rig.exchange(&[0x73, 0x00, 0xff, 0xff, 0xff, 0xfe, 0x01]),
+        b"O"
+    );
+    assert_eq!(
+        rig.exchange(&[0x67, 0x00]),
+        [0xff, 0x00, 0xff, 0xff, 0xff, 0xfe, 0x01]
+    );
+    // Parameter 32 does not exist (AOK_PARAMS = 32): 'E', nothing changes.
+    assert_eq!(
+        rig.exchange_cmd(Command::SetParameter(ParameterValue {
+            number: 32,
+            value: 1
+        })),
+        b"E"
+    );
+    // A bad checksum: 'E', parameter 5 keeps 1500.
+    assert_eq!(
+        rig.exchange(&[0x73, 0x05, 0x00, 0x00, 0x00, 0x07, 0x00]),
+        b"E"
+    );
+    assert_eq!(rig.link.parameters()[5], 1500);
+    // Reading past the table answers 0: 67 28 (40).
+    assert_eq!(rig.exchange(&[0x67, 0x28]), [0xff, 0x28, 0, 0, 0, 0, 0]);
+    assert_eq!(rig.link.counters().rejected, 2);
+}
+
+#[test]
+fn non_in_flight_parameters_are_refused_while_flying() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // Flying: parameter 17 (not in flight) -> 'I', unchanged; parameter 15 (in flight) -> 'O'.
+    assert_eq!(
+        rig.exchange(&[0x73, 0x11, 0x00, 0x00, 0x04, 0xd2, 0xc7]),
+        b"I"
+    );
+    assert_eq!(rig.link.parameters()[17], 0);
+    assert_eq!(
+        rig.exchange_cmd(Command::SetParameter(ParameterValue {
+            number: 15,
+            value: 7
+        })),
+        b"O"
+    );
+    assert_eq!(rig.link.parameters()[15], 7);
+    assert_eq!(rig.link.counters().refused_in_flight, 1);
+    // The flight status says flying.
+    let status = rig
+        .link
+        .debug_value(DebugId::FlightStatus, rig.now, &rig.shared);
+    assert_eq!(status & STATUS_FLYING, STATUS_FLYING);
+    // Landed ("a pause" on AEOLUS): parameter 17 is accepted.
+    land(&mut rig);
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::FlightStatus, rig.now, &rig.shared),
+        0
+    );
+    assert_eq!(
+        rig.exchange(&[0x73, 0x11, 0x00, 0x00, 0x04, 0xd2, 0xc7]),
+        b"O"
+    );
+    assert_eq!(rig.link.parameters()[17], 1234);
+}
+
+#[test]
+fn bulk_read_answers_sixteen_replies_and_zero_past_the_table() {
+    let mut persisted = Persisted::default();
+    for (i, p) in persisted.aok.sets[0].iter_mut().enumerate() {
+        *p = 100 * i as i32 - 1000;
+    }
+    let mut rig = Rig::with(persisted, ports::<1024>());
+    rig.quiet();
+    // Parameters come from the start set (0) at boot.
+    assert_eq!(rig.link.parameters()[31], 2100);
+    let out = rig.exchange(&[0x47, 0x00]);
+    assert_eq!(out.len(), 112);
+    assert_eq!(&out[..7], &[0xff, 0x00, 0xff, 0xff, 0xfc, 0x18, 0xe4]); // -1000
+    assert_eq!(&out[105..], &[0xff, 0x0f, 0x00, 0x00, 0x01, 0xf4, 0xf5]); // 500
+    let replies = decode(&out, Expect::Bulk(0));
+    assert_eq!(replies.len(), 16);
+    for (i, m) in replies.iter().enumerate() {
+        assert_eq!(
+            *m,
+            Message::Parameter(ParameterValue {
+                number: i as u8,
+                value: 100 * i as i32 - 1000
+            })
+        );
+    }
+    // 47 1C: 28..=31 from the table, 32..=43 answered 0.
+    let replies = decode(&rig.exchange(&[0x47, 0x1c]), Expect::Bulk(0x1c));
+    let values: Vec<(u8, i32)> = replies
+        .iter()
+        .map(|m| match m {
+            Message::Parameter(p) => (p.number, p.value),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        &values[..5],
+        &[(28, 1800), (29, 1900), (30, 2000), (31, 2100), (32, 0)]
+    );
+    assert_eq!(values[15], (43, 0));
+    // 47 FA: numbers wrap at 255 (250..=255, then 0..=9).
+    let replies = decode(&rig.exchange(&[0x47, 0xfa]), Expect::Bulk(0xfa));
+    assert_eq!(
+        replies[6],
+        Message::Parameter(ParameterValue {
+            number: 0,
+            value: -1000
+        })
+    );
+    assert_eq!(
+        replies[15],
+        Message::Parameter(ParameterValue {
+            number: 9,
+            value: -100
+        })
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameter sets
+
+#[test]
+fn save_load_and_start_set_change_the_flash_record() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    for (n, v) in [(0u8, 11), (17, 1234), (31, -5)] {
+        let out = rig.exchange_cmd(Command::SetParameter(ParameterValue {
+            number: n,
+            value: v,
+        }));
+        assert_eq!(out, b"O");
+    }
+    // 63 04 02: save into set 2 -> 'O' and a flash write requested.
+    assert_eq!(rig.exchange(&[0x63, 0x04, 0x02]), b"O");
+    assert!(std::mem::take(&mut rig.shared.requests.store));
+    let set2 = rig.shared.persisted.aok.sets[2];
+    assert_eq!((set2[0], set2[17], set2[31], set2[1]), (11, 1234, -5, 0));
+    assert_eq!(rig.shared.persisted.aok.sets[0], [0; 32]);
+    // Change RAM, then 63 03 02 loads set 2 back (no flash write).
+    assert_eq!(
+        rig.exchange(&[0x73, 0x11, 0x00, 0x00, 0x00, 0x01, 0x10]),
+        b"O"
+    );
+    assert_eq!(rig.link.parameters()[17], 1);
+    assert_eq!(rig.exchange(&[0x63, 0x03, 0x02]), b"O");
+    assert_eq!(rig.link.parameters()[17], 1234);
+    assert!(!rig.shared.requests.store);
+    // 63 03 00 loads the empty set 0.
+    assert_eq!(rig.exchange(&[0x63, 0x03, 0x00]), b"O");
+    assert_eq!(rig.link.parameters(), &[0; 32]);
+    // 63 05 02: start set 2.
+    assert_eq!(rig.shared.persisted.aok.start_set, 0);
+    assert_eq!(rig.exchange(&[0x63, 0x05, 0x02]), b"O");
+    assert_eq!(rig.shared.persisted.aok.start_set, 2);
+    assert!(std::mem::take(&mut rig.shared.requests.store));
+    // Sets 0..=4 exist: 5 is 'E' for all three, nothing changes.
+    for sub in [3, 4, 5] {
+        assert_eq!(rig.exchange(&[0x63, sub, 0x05]), b"E");
+    }
+    assert!(!rig.shared.requests.store);
+    assert_eq!(rig.shared.persisted.aok.start_set, 2);
+    // A new link over the same record (what a reboot does) boots with set 2.
+    let link = AokLink::new(&rig.shared);
+    assert_eq!(link.parameters()[17], 1234);
+    assert_eq!(link.parameters()[31], -5);
+}
+
+#[test]
+fn set_commands_are_refused_while_flying() {
+    let mut persisted = Persisted::default();
+    persisted.aok.sets[1][3] = 33;
+    let mut rig = Rig::with(persisted, ports::<1024>());
+    rig.quiet();
+    assert_eq!(rig.exchange(&[0x63, 0x04, 0x01]), b"I");
+    assert_eq!(rig.exchange(&[0x63, 0x03, 0x01]), b"I");
+    assert_eq!(rig.exchange(&[0x63, 0x05, 0x01]), b"I");
+    assert_eq!(rig.exchange(&[0x63, 0x08]), b"I");
+    assert!(!rig.shared.requests.store);
+    assert_eq!(rig.shared.persisted.aok.sets[1][3], 33);
+    assert_eq!(rig.shared.persisted.aok.start_set, 0);
+    assert_eq!(rig.link.parameters()[3], 0);
+    assert_eq!(rig.link.counters().refused_in_flight, 4);
+    // An unknown set is an error first, flying or not.
+    assert_eq!(rig.exchange(&[0x63, 0x04, 0x09]), b"E");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Waypoints
+
+const WP3: Waypoint = Waypoint {
+    slot: WaypointSlot::Waypoint(match WaypointNumber::new(1) {
+        Ok(n) => n,
+        Err(_) => panic!(),
+    }),
+    longitude: 0x1122_3344,
+    latitude: 0x5566_7788u32 as i32,
+    action1: ActionWord::new(Action::Pause, 10),
+    action2: ActionWord::NONE,
+};
+
+/// The `77` frame of WP3 in slot 0, written out by hand (MSB first, CRC = XOR of NUM..D4).
+const WP3_FRAME: [u8; 19] = [
+    0x77, 0x00, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88, 0x00, 0x01, 0x80, 0x0a, 0x00, 0x00,
+    0x80, 0x00, 0x83,
+];
+
+#[test]
+fn waypoints_set_and_read_in_ram() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // Flying does not matter for RAM waypoints.
+    assert_eq!(rig.exchange(&WP3_FRAME), b"O");
+    assert_eq!(rig.exchange(&[0x78, 0x00]), WP3_FRAME);
+    // The POI in RAM (254) and the FBC target (255).
+    let poi = Waypoint {
+        slot: WaypointSlot::RamPoi,
+        longitude: -2,
+        latitude: 246,
+        action1: ActionWord::new(Action::SetFlySpeed, 100),
+        action2: ActionWord::NONE,
+    };
+    let (frame, _) = Command::SetWaypoint(poi).to_bytes();
+    assert_eq!(
+        frame,
+        [
+            0x77, 0xfe, 0xff, 0xff, 0xff, 0xfe, 0x00, 0x00, 0x00, 0xf6, 0x00, 0x06, 0x80, 0x64,
+            0x00, 0x00, 0x80, 0x00, 0x6b
+        ]
+    );
+    assert_eq!(rig.exchange(&frame), b"O");
+    let fbc = Waypoint {
+        slot: WaypointSlot::FbcTarget,
+        ..poi
+    };
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(fbc)), b"O");
+    assert_eq!(
+        decode(&rig.exchange(&[0x78, 0xfe]), Expect::Nothing),
+        [Message::Waypoint(poi)]
+    );
+    assert_eq!(
+        decode(&rig.exchange(&[0x78, 0xff]), Expect::Nothing),
+        [Message::Waypoint(fbc)]
+    );
+    // An unset slot reads 0/0 with zero action words.
+    let out = rig.exchange(&[0x78, 0x1e]);
+    assert_eq!(out, {
+        let mut f = [0u8; 19];
+        f[0] = 0x77;
+        f[1] = 0x1e;
+        f[18] = 0x1e;
+        f
+    });
+    // Nothing of this went to flash.
+    assert!(!rig.shared.requests.store);
+    assert_eq!(
+        rig.shared.persisted.aok.waypoints,
+        Persisted::default().aok.waypoints
+    );
+    // Slot 32 does not exist: a 77 with a good checksum is answered 'E'; so is a bad checksum.
+    let mut bad = WP3_FRAME;
+    bad[1] = 0x20;
+    bad[18] ^= 0x20;
+    assert_eq!(rig.exchange(&bad), b"E");
+    assert_eq!(rig.exchange(&[0x78, 0x20]), b"E");
+    // (A frame whose bytes hold no other command start: the rescan after a bad checksum
+    // finds nothing else to answer.)
+    let mut bad = [0u8; 19];
+    bad[0] = 0x77;
+    bad[1] = 0x1e;
+    bad[18] = 0x1f; // should be 0x1e
+    assert_eq!(rig.exchange(&bad), b"E");
+    assert_eq!(rig.exchange(&[0x78, 0x00]), WP3_FRAME);
+}
+
+#[test]
+fn waypoints_move_between_ram_and_flash() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    assert_eq!(rig.exchange(&WP3_FRAME), b"O");
+    let poi = Waypoint {
+        slot: WaypointSlot::RamPoi,
+        longitude: 7,
+        latitude: 8,
+        action1: ActionWord::NONE,
+        action2: ActionWord::NONE,
+    };
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(poi)), b"O");
+    // 63 08: RAM -> flash; the RAM POI (254) overwrites the mission POI (31).
+    assert_eq!(rig.exchange(&[0x63, 0x08]), b"O");
+    assert!(std::mem::take(&mut rig.shared.requests.store));
+    let flash = &rig.shared.persisted.aok.waypoints;
+    assert_eq!(
+        flash[0],
+        StoredWaypoint {
+            lon: 0x1122_3344,
+            lat: 0x5566_7788u32 as i32,
+            action1: 0x0001_800a,
+            action2: 0x0000_8000
+        }
+    );
+    assert_eq!(
+        flash[31],
+        StoredWaypoint {
+            lon: 7,
+            lat: 8,
+            action1: 0x8000,
+            action2: 0x8000
+        }
+    );
+    // 78 1F reads the mission POI from flash.
+    let mission_poi = Waypoint {
+        slot: WaypointSlot::MissionPoi,
+        ..poi
+    };
+    assert_eq!(
+        decode(&rig.exchange(&[0x78, 0x1f]), Expect::Nothing),
+        [Message::Waypoint(mission_poi)]
+    );
+    // RAM changes: waypoint 1 moved, POI moved.
+    let moved = Waypoint {
+        longitude: 1,
+        latitude: 1,
+        ..WP3
+    };
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(moved)), b"O");
+    assert_eq!(
+        rig.exchange_cmd(Command::SetWaypoint(Waypoint {
+            longitude: 99,
+            ..poi
+        })),
+        b"O"
+    );
+    // `77 1F` writes the flash mission POI directly (and asks for a flash write).
+    let new_mission_poi = Waypoint {
+        longitude: 50,
+        latitude: 60,
+        ..mission_poi
+    };
+    assert_eq!(
+        rig.exchange_cmd(Command::SetWaypoint(new_mission_poi)),
+        b"O"
+    );
+    assert!(std::mem::take(&mut rig.shared.requests.store));
+    assert_eq!(rig.shared.persisted.aok.waypoints[31].lon, 50);
+    // 63 09: flash -> RAM; waypoint 1 is back, and the mission POI (31) goes to the RAM POI.
+    assert_eq!(rig.exchange(&[0x63, 0x09]), b"O");
+    assert!(!rig.shared.requests.store);
+    assert_eq!(rig.exchange(&[0x78, 0x00]), WP3_FRAME);
+    assert_eq!(
+        decode(&rig.exchange(&[0x78, 0xfe]), Expect::Nothing),
+        [Message::Waypoint(Waypoint {
+            slot: WaypointSlot::RamPoi,
+            ..new_mission_poi
+        })]
+    );
+}
+
+#[test]
+fn mission_poi_in_flash_is_refused_while_flying() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    let w = Waypoint {
+        slot: WaypointSlot::MissionPoi,
+        ..WP3
+    };
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(w)), b"I");
+    assert!(!rig.shared.requests.store);
+    // 63 09 (no flash write) is allowed in flight.
+    assert_eq!(rig.exchange(&[0x63, 0x09]), b"O");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Motor test
+
+#[test]
+fn motor_test_values_lapse_500_ms_after_the_last_frame() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    let start = rig.now;
+    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32.
+    rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
+    rig.run(1);
+    let mut expect = [0u8; 12];
+    expect[0] = 100;
+    expect[11] = 32;
+    assert_eq!(rig.link.motor_outputs(), expect);
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::MotorTestMask, rig.now, &rig.shared),
+        0x801
+    );
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::FlightStatus, rig.now, &rig.shared),
+        STATUS_MOTOR_TEST
+    );
+    // Motor 12 is refreshed at +300 ms; motor 1 is not.
+    rig.run(299);
+    assert_eq!(rig.now, start + 300);
+    rig.send(&[0x43, 0x20, 0x63]);
+    rig.run(199);
+    assert_eq!(rig.now, start + 499);
+    rig.poll();
+    assert_eq!(rig.link.motor_outputs()[0], 100); // +499: still held
+    rig.now += 1;
+    rig.poll();
+    assert_eq!(rig.link.motor_outputs()[0], 0); // +500: lapsed
+    assert_eq!(rig.link.motor_outputs()[11], 32);
+    rig.now = start + 300 + MOTOR_LAPSE_MS - 1;
+    rig.poll();
+    assert_eq!(rig.link.motor_outputs()[11], 32);
+    rig.now += 1;
+    rig.poll();
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::MotorTestMask, rig.now, &rig.shared),
+        0
+    );
+    // No ack for motor test; a bad checksum is 'E' and changes nothing.
+    assert_eq!(rig.take(), []);
+    assert_eq!(rig.exchange(&[0x35, 0x10, 0x00]), b"E");
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+}
+
+#[test]
+fn motor_test_is_ignored_while_flying() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    let test = MotorTest {
+        motor: Motor::new(4).unwrap(),
+        value: 200,
+    };
+    assert_eq!(rig.exchange_cmd(Command::MotorTest(test)), []);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(rig.link.counters().refused_in_flight, 1);
+    land(&mut rig);
+    rig.exchange_cmd(Command::MotorTest(test));
+    assert_eq!(rig.link.motor_outputs()[3], 200);
+}
+
+// ---------------------------------------------------------------------------------------------
+// External control
+
+#[test]
+fn external_control_expires_back_to_rc() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    let start = rig.now;
+    // The spec's example: roll 32, nick -32, yaw 0, pitch 0, expiry 500 ms.
+    rig.send(&[
+        0x53, 0x20, 0x00, 0xe0, 0xff, 0x00, 0x00, 0x00, 0x00, 0xf4, 0x01, 0xca,
+    ]);
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::External);
+    let sticks = rig.link.external_control().unwrap();
+    assert_eq!(
+        (
+            sticks.roll.get(),
+            sticks.nick.get(),
+            sticks.yaw.get(),
+            sticks.expiry_ms
+        ),
+        (32, -32, 0, 500)
+    );
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::ControlSource, rig.now, &rig.shared),
+        1
+    );
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::FlightStatus, rig.now, &rig.shared),
+        STATUS_FLYING | STATUS_EXTERNAL
+    );
+    rig.now = start + 499;
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::External);
+    rig.now = start + 500;
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    assert_eq!(rig.link.external_control(), None);
+    assert_eq!(
+        rig.link
+            .debug_value(DebugId::ControlSource, rig.now, &rig.shared),
+        0
+    );
+
+    // A new frame before the expiry extends it: frames at +0 and +300 with 200 ms each.
+    let frame = |roll| {
+        Command::ExternalControl(ExternalControl {
+            roll: Stick::new(roll).unwrap(),
+            nick: Stick::CENTER,
+            yaw: Stick::new(-200).unwrap(),
+            pitch: 0,
+            expiry_ms: 400,
+        })
+    };
+    let t0 = rig.now;
+    rig.cmd(frame(10));
+    rig.poll();
+    rig.now = t0 + 300;
+    rig.cmd(frame(20));
+    rig.poll();
+    rig.now = t0 + 699;
+    rig.poll();
+    assert_eq!(rig.link.external_control().unwrap().roll.get(), 20);
+    rig.now = t0 + 700;
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    // External control has no ack.
+    assert_eq!(rig.take(), []);
+}
+
+#[test]
+fn external_control_with_a_stick_beyond_200_is_ignored() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // Roll 201 (C9 00), good checksum: consumed, no ack, control stays with RC.
+    let body = [0xc9, 0x00, 0, 0, 0, 0, 0, 0, 0xf4, 0x01];
+    let crc = body.iter().fold(0, |a, b| a ^ b);
+    let mut frame = vec![0x53];
+    frame.extend(body);
+    frame.push(crc);
+    assert_eq!(rig.exchange(&frame), []);
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    assert_eq!(rig.link.decoder_stats().invalid, 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Robustness
+
+#[test]
+fn garbage_before_a_command_and_a_dead_partial_frame() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // Noise, a 73 with a bad checksum ('E'), then a read: the read is still answered.
+    let out = rig.exchange(&[0x00, 0x12, 0x73, 0x01, 0, 0, 0, 5, 0x00, 0x67, 0x01]);
+    assert_eq!(out, [b'E', 0xff, 0x01, 0, 0, 0, 0, 0]);
+    // A partial 73 and then silence: after IDLE_MS it is abandoned, so the read that follows
+    // is not swallowed as its body.
+    rig.send(&[0x73, 0x01]);
+    rig.run(IDLE_MS + 1);
+    assert_eq!(rig.link.decoder_stats().abandoned, 1);
+    assert_eq!(rig.exchange(&[0x67, 0x02]), [0xff, 0x02, 0, 0, 0, 0, 0]);
+}
+
+#[test]
+fn a_slow_port_never_blocks_and_loses_no_reply() {
+    // The port's TX queue holds 7 bytes: a bulk reply (112 bytes) leaves over 16 polls.
+    let mut rig = Rig::with(Persisted::default(), ports::<8>());
+    rig.quiet();
+    rig.send(&[
+        0x47, 0x00, 0x67, 0x03, 0x73, 0x03, 0, 0, 0, 9, 0x0a, 0x67, 0x03,
+    ]);
+    let mut polls = 0;
+    let mut out = Vec::new();
+    while out.len() < 112 + 7 + 1 + 7 {
+        rig.link.poll(rig.now, &mut rig.port, &mut rig.shared);
+        polls += 1;
+        // The UART sends at most 7 bytes between two polls.
+        for _ in 0..7 {
+            out.extend(rig.isr.next_to_send());
+        }
+        rig.now += 2;
+        assert!(polls < 100, "stuck after {} bytes", out.len());
+    }
+    assert!(polls >= 18);
+    let replies = decode(&out[..119], Expect::Bulk(0));
+    assert_eq!(replies.len(), 17);
+    assert_eq!(
+        replies[16],
+        Message::Parameter(ParameterValue {
+            number: 3,
+            value: 0
+        })
+    );
+    assert_eq!(out[119], b'O');
+    assert_eq!(&out[120..], &[0xff, 0x03, 0, 0, 0, 9, 9]);
+    assert_eq!(rig.link.counters().replies_dropped, 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// End to end with the PC-side client, debug stream running
+
+/// The PC's serial port: every read lets the device run at the current simulated time.
+struct Wire {
+    rig: Rig,
+    clock: Rc<Cell<u64>>,
+}
+
+impl ErrorType for Wire {
+    type Error = core::convert::Infallible;
+}
+
+impl Read<u8> for Wire {
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        self.rig.now = self.clock.get();
+        self.rig.poll();
+        if self.rig.out.is_empty() {
+            Err(nb::Error::WouldBlock)
+        } else {
+            Ok(self.rig.out.remove(0))
+        }
+    }
+}
+
+impl Write<u8> for Wire {
+    fn write(&mut self, byte: u8) -> nb::Result<(), Self::Error> {
+        self.rig.send(&[byte]);
+        Ok(())
+    }
+
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+#[test]
+fn client_reads_and_sets_through_the_debug_stream() {
+    let mut rig = Rig::new();
+    // The debug stream runs for a while; the PC has not read it yet.
+    rig.run(200);
+    let clock = Rc::new(Cell::new(rig.now));
+    let wire = Wire {
+        rig,
+        clock: clock.clone(),
+    };
+    let mut client = Client::new(wire, Config::new(FIRMWARE));
+    let tick = || {
+        clock.set(clock.get() + 1);
+        clock.get() as u32
+    };
+    assert_eq!(client.set_parameter(3, -77, tick), Ok(()));
+    assert_eq!(client.read_parameter(3, tick), Ok(-77));
+    assert_eq!(
+        client.set_parameter(20, 1, tick),
+        Err(Error::RefusedInFlight)
+    );
+    assert_eq!(client.set_parameter(40, 1, tick), Err(Error::Rejected));
+    let bulk = client.bulk_read(0, tick).unwrap();
+    assert_eq!(bulk[3], -77);
+    assert_eq!(bulk[15], 0);
+    let w = Waypoint {
+        slot: WaypointSlot::Waypoint(WaypointNumber::new(5).unwrap()),
+        ..WP3
+    };
+    assert_eq!(client.set_waypoint(w, tick), Ok(()));
+    assert_eq!(client.read_waypoint(w.slot, tick), Ok(w));
+    // The client turned debug back on after each request; the device agrees once it has read
+    // the `63 02`, and the stream runs again.
+    assert!(client.debug_enabled());
+    let rig = &mut client.serial_mut().rig;
+    rig.out.clear();
+    rig.run(100);
+    assert!(rig.link.debug_enabled());
+    assert_eq!(debug_values(&rig.take()).len(), 5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Through the App: reset, and sets and waypoints surviving a reboot
+
+type Port = (QueuedSerial<'static>, SerialIsr<'static>);
+
+fn app_poll(app: &mut App, now: u64, uarts: &mut [Port; 3], flash: &mut MemFlash<'_>) -> Control {
+    let [(u0, i0), (u1, i1), (u2, _)] = uarts;
+    let c = app.poll(now, u0, u1, u2, flash);
+    while i0.next_to_send().is_some() {}
+    while i1.next_to_send().is_some() {}
+    c
+}
+
+#[test]
+fn sets_and_waypoints_survive_a_reboot() {
+    let mut mem = vec![0xffu8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    let mut uarts = [ports::<1024>(), ports::<1024>(), ports::<1024>()];
+    let mut app = App::new(&mut flash, 0);
+    app.shared.paused = true;
+    let mut now = 0;
+    let mut run = |app: &mut App, uarts: &mut [Port; 3], bytes: &[u8]| {
+        for &b in bytes {
+            assert!(uarts[2].1.received(b));
+        }
+        let mut control = Control::Run;
+        for _ in 0..5 {
+            if app_poll(app, now, uarts, &mut flash) == Control::Reboot {
+                control = Control::Reboot;
+            }
+            now += 1;
+        }
+        let mut out = Vec::new();
+        while let Some(b) = uarts[2].1.next_to_send() {
+            out.push(b);
+        }
+        (control, out)
+    };
+    run(&mut app, &mut uarts, &[0x63, 0x01]);
+    // Parameter 17 = 1234 into set 3, set 3 as the start set, waypoint 1 and the POI to flash.
+    let steps: [&[u8]; 5] = [
+        &[0x73, 0x11, 0x00, 0x00, 0x04, 0xd2, 0xc7],
+        &[0x63, 0x04, 0x03],
+        &[0x63, 0x05, 0x03],
+        &WP3_FRAME,
+        &[0x63, 0x08],
+    ];
+    for s in steps {
+        assert_eq!(run(&mut app, &mut uarts, s), (Control::Run, b"O".to_vec()));
+    }
+    // The App took the store requests.
+    assert!(!app.shared.requests.store);
+    // 63 07: the App asks the main loop for a reset.
+    assert_eq!(run(&mut app, &mut uarts, &[0x63, 0x07]).0, Control::Reboot);
+    drop(app);
+
+    let app = App::new(&mut flash, 0);
+    assert_eq!(app.shared.persisted.aok.start_set, 3);
+    assert_eq!(app.aok.parameters()[17], 1234);
+    assert!(app.aok.debug_enabled());
+    let w = app.aok.waypoint(WP3.slot, &app.shared);
+    assert_eq!(
+        (w.lon, w.lat, w.action1),
+        (0x1122_3344, 0x5566_7788u32 as i32, 0x0001_800a)
+    );
+}
+
+#[test]
+fn a_frame_held_back_by_a_full_tx_queue_is_not_abandoned() {
+    let mut rig = Rig::with(Persisted::default(), ports::<8>());
+    rig.quiet();
+    // The line stalls: nothing leaves the port.
+    rig.draining = false;
+    // A 73 whose checksum fails ('E'); the rescan finds a bulk read (112 bytes: the link's TX
+    // queue is now too full to read more) and the start of a real 73 (4 of its 7 bytes).
+    rig.send(&[0x73, 0x47, 0x00, 0x73, 0x03, 0x00, 0x00]);
+    rig.poll();
+    assert_eq!(rig.link.decoder_stats().checksum_errors, 1);
+    // The rest of the 73 arrives but waits in the port's RX queue while the TX queue is full.
+    rig.send(&[0x00, 0x09, 0x0a]);
+    rig.run(IDLE_MS * 2);
+    assert_eq!(rig.link.decoder_stats().abandoned, 0);
+    assert_eq!(rig.link.parameters()[3], 0);
+    // The line moves again: everything is answered, in order.
+    rig.draining = true;
+    rig.run(50);
+    let out = rig.take();
+    assert_eq!(out.len(), 1 + 112 + 1);
+    assert_eq!(out[0], b'E');
+    assert_eq!(decode(&out[1..113], Expect::Bulk(0)).len(), 16);
+    assert_eq!(out[113], b'O');
+    assert_eq!(rig.link.parameters()[3], 9);
+    assert_eq!(rig.link.decoder_stats().abandoned, 0);
+}
+
+#[test]
+fn boot_loads_the_start_set_and_the_flash_waypoints() {
+    let mut persisted = Persisted::default();
+    persisted.aok.sets[4][0] = 44;
+    persisted.aok.start_set = 4;
+    persisted.aok.waypoints[30].lon = 30;
+    persisted.aok.waypoints[31].lat = 31;
+    let shared = Shared::new(persisted.clone(), 0);
+    let link = AokLink::new(&shared);
+    assert_eq!(link.parameters()[0], 44);
+    assert!(link.debug_enabled());
+    let slot = |n| WaypointSlot::from_wire(n).unwrap();
+    assert_eq!(link.waypoint(slot(30), &shared).lon, 30);
+    // Flash slot 31 (the mission POI) is also the RAM POI (254) after boot.
+    assert_eq!(link.waypoint(slot(254), &shared).lat, 31);
+    assert_eq!(link.waypoint(slot(31), &shared).lat, 31);
+    assert_eq!(link.waypoint(slot(255), &shared), StoredWaypoint::default());
+    // A start set beyond the table (a corrupt record): all parameters 0.
+    persisted.aok.start_set = 5;
+    let link = AokLink::new(&Shared::new(persisted, 0));
+    assert_eq!(link.parameters(), &[0; 32]);
+}
+
+#[test]
+fn external_control_with_expiry_0_hands_back_at_once() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    rig.cmd(Command::ExternalControl(ExternalControl {
+        roll: Stick::new(-200).unwrap(),
+        nick: Stick::CENTER,
+        yaw: Stick::CENTER,
+        pitch: 0,
+        expiry_ms: 0,
+    }));
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    assert_eq!(rig.link.decoder_stats().ok, 2); // 63 01 and the 53
+}

@@ -1,0 +1,592 @@
+//! The flash store: round trip, image layout, empty and corrupted stores, the version 1
+//! migration, write alignment, and settings surviving a reboot of the App.
+
+use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
+use firmware_example::app::persist::{
+    self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, PersistedV1, SettingsV1, StoreError,
+    VERSION,
+};
+use firmware_example::app::state::{AOK_PARAMS, AokFlash, Intervals, StoredWaypoint};
+use firmware_example::app::{App, Persisted, Settings};
+use firmware_example::{Error, MemFlash, PortStats, QueuedSerial};
+use heapless::spsc::Queue;
+
+/// A record with every field away from its default.
+fn sample() -> Persisted {
+    let mut aok = AokFlash::default();
+    for (s, set) in aok.sets.iter_mut().enumerate() {
+        for (p, v) in set.iter_mut().enumerate() {
+            *v = (s as i32 * 1000 - p as i32 * 37) * if p % 2 == 0 { 1 } else { -1 };
+        }
+    }
+    aok.start_set = 3;
+    aok.waypoints[0] = StoredWaypoint {
+        lon: 117_861_000,
+        lat: 483_538_000,
+        action1: 0xDEAD_BEEF,
+        action2: 7,
+    };
+    aok.waypoints[31] = StoredWaypoint {
+        lon: -1,
+        lat: i32::MIN,
+        action1: u32::MAX,
+        action2: 0,
+    };
+    Persisted {
+        settings: Settings {
+            intervals: Intervals {
+                imu_ms: 10,
+                pressure_ms: 6,
+                gps_ms: 100,
+                temp_ms: 1000,
+                wind_ms: 2000,
+                info_ms: 500,
+            },
+            airspeed_mps: 62.5,
+            bank_deg: -25.0,
+            altitude_m: 1500.0,
+            aok_debug_period_ms: 50,
+        },
+        aok,
+    }
+}
+
+/// CRC-32/ISO-HDLC written out bit by bit (reflected 0x04C11DB7, init and xorout all ones),
+/// independent of the `crc` crate the firmware uses.
+fn crc32_iso_hdlc(bytes: &[u8]) -> u32 {
+    let mut crc = 0xFFFF_FFFFu32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+#[test]
+fn the_reference_crc_is_crc_32_iso_hdlc() {
+    assert_eq!(crc32_iso_hdlc(b"123456789"), 0xCBF4_3926);
+}
+
+#[test]
+fn round_trip() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    let record = sample();
+    persist::store(&mut flash, &record).unwrap();
+    let loaded = persist::load(&mut flash).unwrap();
+    assert_eq!(loaded.version, 2);
+    assert_eq!(loaded.record, record);
+    assert_eq!(persist::load_or_default(&mut flash), record);
+}
+
+#[test]
+fn the_image_layout() {
+    let mut mem = [0u8; 4096];
+    persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
+    assert_eq!(&mem[0..4], b"SBOX");
+    assert_eq!(MAGIC, 0x584F_4253);
+    assert_eq!(
+        &mem[4..8],
+        &[0x02, 0x00, 0x00, 0x00],
+        "version 2, reserved 0"
+    );
+    let len = u32::from_le_bytes(mem[8..12].try_into().unwrap()) as usize;
+    let payload = &mem[HEADER_LEN..HEADER_LEN + len];
+    let mut buf = [0u8; PAYLOAD_MAX];
+    assert_eq!(postcard::to_slice(&sample(), &mut buf).unwrap(), payload);
+    // The CRC covers header bytes 0..12 and the payload.
+    let mut covered = mem[..12].to_vec();
+    covered.extend_from_slice(payload);
+    assert_eq!(
+        u32::from_le_bytes(mem[12..16].try_into().unwrap()),
+        crc32_iso_hdlc(&covered)
+    );
+    // The settings come first: intervals as varints, then the three f32, then the AOK period.
+    assert_eq!(
+        &payload[..22],
+        &[
+            10, 6, 100, 0xE8, 0x07, 0xD0, 0x0F, 0xF4, 0x03, // 10 6 100 1000 2000 500
+            0x00, 0x00, 0x7A, 0x42, // 62.5
+            0x00, 0x00, 0xC8, 0xC1, // -25.0
+            0x00, 0x80, 0xBB, 0x44, // 1500.0
+            50,   // AOK debug period
+        ]
+    );
+    // Only the pages the image covers are erased; the padding up to the write size and the
+    // rest of those pages stay 0xFF, and the pages after them are untouched (0 here).
+    let erased = (HEADER_LEN + len).div_ceil(1024) * 1024;
+    assert_eq!(erased, 1024);
+    assert!(mem[HEADER_LEN + len..erased].iter().all(|&b| b == 0xFF));
+    assert!(mem[erased..].iter().all(|&b| b == 0));
+}
+
+#[test]
+fn the_payload_bound_is_exact() {
+    // The largest record: every varint at its 5-byte maximum.
+    let mut worst = Persisted::default();
+    worst.settings.intervals = Intervals {
+        imu_ms: u32::MAX,
+        pressure_ms: u32::MAX,
+        gps_ms: u32::MAX,
+        temp_ms: u32::MAX,
+        wind_ms: u32::MAX,
+        info_ms: u32::MAX,
+    };
+    worst.settings.aok_debug_period_ms = u32::MAX;
+    worst.aok.sets = [[i32::MIN; AOK_PARAMS]; 5];
+    worst.aok.start_set = u8::MAX;
+    worst.aok.waypoints = [StoredWaypoint {
+        lon: i32::MIN,
+        lat: i32::MIN,
+        action1: u32::MAX,
+        action2: u32::MAX,
+    }; 32];
+    let mut buf = [0u8; PAYLOAD_MAX + 64];
+    assert_eq!(
+        postcard::to_slice(&worst, &mut buf).unwrap().len(),
+        PAYLOAD_MAX
+    );
+    assert_eq!(PAYLOAD_MAX, 1488);
+    assert_eq!(IMAGE_MAX, 1504);
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    persist::store(&mut flash, &worst).unwrap();
+    assert_eq!(persist::load(&mut flash).unwrap().record, worst);
+}
+
+#[test]
+fn an_empty_store_gives_the_defaults() {
+    // Erased NOR flash.
+    let mut mem = [0xFFu8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    assert_eq!(persist::load(&mut flash), Err(StoreError::Empty));
+    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    // QEMU's RAM-backed store after power-on: zeros.
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    assert_eq!(persist::load(&mut flash), Err(StoreError::Empty));
+    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+}
+
+#[test]
+fn a_corrupted_store_gives_the_defaults() {
+    let mut clean = [0u8; 4096];
+    persist::store(&mut MemFlash::new(&mut clean), &sample()).unwrap();
+    let len = u32::from_le_bytes(clean[8..12].try_into().unwrap()) as usize;
+
+    let flipped = |at: usize| {
+        let mut mem = clean;
+        mem[at] ^= 0xFF;
+        let mut flash = MemFlash::new(&mut mem);
+        (
+            persist::load(&mut flash).map(|l| l.record),
+            persist::load_or_default(&mut flash),
+        )
+    };
+    // The reasons, byte by byte.
+    assert_eq!(flipped(0).0, Err(StoreError::BadMagic));
+    assert_eq!(flipped(4).0, Err(StoreError::UnsupportedVersion(0x00FD)));
+    assert_eq!(
+        flipped(6).0,
+        Err(StoreError::BadCrc),
+        "reserved bytes are covered"
+    );
+    assert_eq!(
+        flipped(10).0,
+        Err(StoreError::BadLength(len as u32 ^ 0x00FF_0000))
+    );
+    assert_eq!(flipped(13).0, Err(StoreError::BadCrc));
+    assert_eq!(flipped(HEADER_LEN + 100).0, Err(StoreError::BadCrc));
+    // Every single flipped byte of the image: an error, the defaults, never a panic.
+    for at in 0..HEADER_LEN + len {
+        let (loaded, record) = flipped(at);
+        assert!(loaded.is_err(), "byte {at}");
+        assert_eq!(record, Persisted::default(), "byte {at}");
+    }
+    // And single bit flips in the payload.
+    for at in HEADER_LEN..HEADER_LEN + len {
+        for bit in 0..8 {
+            let mut mem = clean;
+            mem[at] ^= 1 << bit;
+            assert_eq!(
+                persist::load(&mut MemFlash::new(&mut mem)).map(|l| l.version),
+                Err(StoreError::BadCrc)
+            );
+        }
+    }
+}
+
+#[test]
+fn a_torn_write_gives_the_defaults() {
+    // The reset came after the first 256 bytes: the rest is still erased.
+    let mut mem = [0u8; 4096];
+    persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
+    mem[256..].fill(0xFF);
+    assert_eq!(
+        persist::load(&mut MemFlash::new(&mut mem)).map(|l| l.version),
+        Err(StoreError::BadCrc)
+    );
+}
+
+#[test]
+fn garbage_never_panics() {
+    // Deterministic xorshift: 2000 stores of random bytes, some with a valid-looking header.
+    let mut x = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    for case in 0..2000 {
+        let mut mem = [0u8; 2048];
+        for b in mem.iter_mut() {
+            *b = next() as u8;
+        }
+        if case % 2 == 0 {
+            mem[0..4].copy_from_slice(b"SBOX");
+            mem[4] = (case % 4) as u8; // versions 0 and 2
+            mem[5] = 0;
+            let len = (next() % 1600) as u32;
+            mem[8..12].copy_from_slice(&len.to_le_bytes());
+        }
+        let mut flash = MemFlash::new(&mut mem);
+        assert!(persist::load(&mut flash).is_err(), "case {case}");
+        assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    }
+}
+
+#[test]
+fn a_valid_crc_over_a_foreign_payload_is_a_decode_error() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    // Too short for a record.
+    persist::write_image(&mut flash, VERSION, &[1u8, 2, 3]).unwrap();
+    assert_eq!(persist::load(&mut flash), Err(StoreError::Decode));
+    // A whole record plus trailing bytes.
+    persist::write_image(&mut flash, VERSION, &(Persisted::default(), 7u8)).unwrap();
+    assert_eq!(persist::load(&mut flash), Err(StoreError::Decode));
+    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+}
+
+#[test]
+fn a_newer_version_gives_the_defaults() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    persist::write_image(&mut flash, 3, &sample()).unwrap();
+    assert_eq!(
+        persist::load(&mut flash),
+        Err(StoreError::UnsupportedVersion(3))
+    );
+    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+}
+
+#[test]
+fn a_version_1_store_is_migrated() {
+    let current = sample();
+    let old = PersistedV1 {
+        settings: SettingsV1 {
+            intervals: current.settings.intervals,
+            airspeed_mps: 62.5,
+            bank_deg: -25.0,
+            altitude_m: 1500.0,
+        },
+        aok: current.aok.clone(),
+    };
+    let mut mem = [0u8; 4096];
+    persist::write_image(&mut MemFlash::new(&mut mem), 1, &old).unwrap();
+    assert_eq!(&mem[4..6], &[0x01, 0x00]);
+
+    let mut flash = MemFlash::new(&mut mem);
+    let loaded = persist::load(&mut flash).unwrap();
+    assert_eq!(loaded.version, 1);
+    let s = loaded.record.settings;
+    assert_eq!(s.intervals.gps_ms, 100);
+    assert_eq!(s.intervals.info_ms, 500);
+    assert_eq!(
+        (s.airspeed_mps, s.bank_deg, s.altitude_m),
+        (62.5, -25.0, 1500.0)
+    );
+    // The field version 1 did not have takes its default.
+    assert_eq!(s.aok_debug_period_ms, 20);
+    assert_eq!(loaded.record.aok, current.aok);
+    assert_eq!(persist::load_or_default(&mut flash), loaded.record);
+
+    // The App boots from it; its next store writes version 2.
+    let mut app = App::new(&mut flash, 0);
+    assert_eq!(app.shared.settings().bank_deg, -25.0);
+    assert_eq!(app.shared.flight.params().bank_deg, -25.0);
+    app.shared.requests.store = true;
+    poll_app(&mut app, &mut flash);
+    let loaded = persist::load(&mut flash).unwrap();
+    assert_eq!(loaded.version, 2);
+    assert_eq!(loaded.record.settings.aok_debug_period_ms, 20);
+    assert_eq!(loaded.record.settings.airspeed_mps, 62.5);
+}
+
+#[test]
+fn a_record_too_big_for_the_store_is_refused_and_the_old_one_kept() {
+    let mut mem = [0u8; 1024];
+    let mut flash = MemFlash::new(&mut mem);
+    persist::store(&mut flash, &Persisted::default()).unwrap();
+    let mut big = sample();
+    big.aok.sets = [[i32::MIN; AOK_PARAMS]; 5];
+    big.aok.waypoints = [StoredWaypoint {
+        lon: i32::MIN,
+        lat: i32::MIN,
+        action1: u32::MAX,
+        action2: u32::MAX,
+    }; 32];
+    assert_eq!(persist::store(&mut flash, &big), Err(StoreError::TooLarge));
+    assert_eq!(
+        persist::load(&mut flash).unwrap().record,
+        Persisted::default()
+    );
+}
+
+/// A NOR flash that insists on its sizes: `W`-byte writes, 4-byte reads, 2 KiB pages. It
+/// records every write and refuses to program bits that are not erased.
+struct Strict<const W: usize = 8> {
+    mem: Vec<u8>,
+    writes: Vec<(u32, usize)>,
+    broken: bool,
+}
+
+impl<const W: usize> ErrorType for Strict<W> {
+    type Error = Error;
+}
+
+impl<const W: usize> ReadNorFlash for Strict<W> {
+    const READ_SIZE: usize = 4;
+    fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), Error> {
+        let o = offset as usize;
+        if !o.is_multiple_of(4) || !bytes.len().is_multiple_of(4) {
+            return Err(Error::NotAligned);
+        }
+        bytes.copy_from_slice(self.mem.get(o..o + bytes.len()).ok_or(Error::OutOfBounds)?);
+        Ok(())
+    }
+    fn capacity(&self) -> usize {
+        self.mem.len()
+    }
+}
+
+impl<const W: usize> NorFlash for Strict<W> {
+    const WRITE_SIZE: usize = W;
+    const ERASE_SIZE: usize = 2048;
+    fn erase(&mut self, from: u32, to: u32) -> Result<(), Error> {
+        if !from.is_multiple_of(2048) || !to.is_multiple_of(2048) {
+            return Err(Error::NotAligned);
+        }
+        self.mem
+            .get_mut(from as usize..to as usize)
+            .ok_or(Error::OutOfBounds)?
+            .fill(0xFF);
+        Ok(())
+    }
+    fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Error> {
+        let o = offset as usize;
+        if !o.is_multiple_of(W) || !bytes.len().is_multiple_of(W) {
+            return Err(Error::NotAligned);
+        }
+        self.writes.push((offset, bytes.len()));
+        if self.broken {
+            return Ok(()); // claims success, programs nothing
+        }
+        let dst = self
+            .mem
+            .get_mut(o..o + bytes.len())
+            .ok_or(Error::OutOfBounds)?;
+        if dst.iter().any(|&b| b != 0xFF) {
+            return Err(Error::Device); // not erased
+        }
+        dst.copy_from_slice(bytes);
+        Ok(())
+    }
+}
+
+#[test]
+fn writes_are_aligned_chunks_after_an_erase() {
+    let mut flash = Strict::<8> {
+        mem: vec![0u8; 4096],
+        writes: Vec::new(),
+        broken: false,
+    };
+    let record = sample();
+    persist::store(&mut flash, &record).unwrap();
+    let len = u32::from_le_bytes(flash.mem[8..12].try_into().unwrap()) as usize;
+    let padded = (HEADER_LEN + len).div_ceil(8) * 8;
+    // Consecutive 64-byte chunks from offset 0 covering the padded image; the last one is
+    // shorter but still whole write units.
+    let mut at = 0;
+    for (i, &(offset, n)) in flash.writes.iter().enumerate() {
+        assert_eq!(offset as usize, at);
+        if i + 1 < flash.writes.len() {
+            assert_eq!(n, CHUNK);
+        } else {
+            assert!(n <= CHUNK && n.is_multiple_of(8));
+        }
+        at += n;
+    }
+    assert_eq!(at, padded);
+    assert_eq!(flash.writes.len(), padded.div_ceil(CHUNK));
+    assert_eq!(persist::load(&mut flash).unwrap().record, record);
+    // A second store erases first (the strict flash refuses to program unerased bytes).
+    let mut changed = record.clone();
+    changed.settings.bank_deg = 5.0;
+    persist::store(&mut flash, &changed).unwrap();
+    assert_eq!(persist::load(&mut flash).unwrap().record, changed);
+}
+
+#[test]
+fn an_odd_or_huge_write_unit_is_unsupported() {
+    let mut odd = Strict::<3> {
+        mem: vec![0u8; 4096],
+        writes: Vec::new(),
+        broken: false,
+    };
+    assert_eq!(
+        persist::store(&mut odd, &sample()),
+        Err(StoreError::Unsupported)
+    );
+    let mut huge = Strict::<128> {
+        mem: vec![0u8; 4096],
+        writes: Vec::new(),
+        broken: false,
+    };
+    assert_eq!(
+        persist::store(&mut huge, &sample()),
+        Err(StoreError::Unsupported)
+    );
+    assert!(odd.writes.is_empty() && huge.writes.is_empty());
+    // Nothing was erased either: the store still reads as blank (zeros).
+    assert_eq!(
+        persist::load(&mut odd).map(|l| l.version),
+        Err(StoreError::Empty)
+    );
+}
+
+#[test]
+fn a_one_byte_write_unit_works() {
+    let mut flash = Strict::<1> {
+        mem: vec![0xFFu8; 4096],
+        writes: Vec::new(),
+        broken: false,
+    };
+    persist::store(&mut flash, &sample()).unwrap();
+    assert_eq!(persist::load(&mut flash).unwrap().record, sample());
+}
+
+#[test]
+fn a_flash_that_does_not_program_fails_verification() {
+    let mut flash = Strict::<8> {
+        mem: vec![0u8; 4096],
+        writes: Vec::new(),
+        broken: true,
+    };
+    assert_eq!(
+        persist::store(&mut flash, &sample()),
+        Err(StoreError::Verify)
+    );
+    assert_eq!(
+        persist::load(&mut flash).map(|l| l.version),
+        Err(StoreError::Empty)
+    );
+}
+
+/// One App poll with idle ports.
+fn poll_app<F: NorFlash>(app: &mut App, flash: &mut F) {
+    let mut q: Vec<Queue<u8, 8192>> = (0..6).map(|_| Queue::new()).collect();
+    let stats = [PortStats::new(), PortStats::new(), PortStats::new()];
+    let [q0, q1, q2, q3, q4, q5] = &mut q[..] else {
+        unreachable!()
+    };
+    let (mut u0, _i0) = QueuedSerial::split(q0, q1, &stats[0], || {});
+    let (mut u1, _i1) = QueuedSerial::split(q2, q3, &stats[1], || {});
+    let (mut u2, _i2) = QueuedSerial::split(q4, q5, &stats[2], || {});
+    app.poll(0, &mut u0, &mut u1, &mut u2, flash);
+}
+
+#[test]
+fn settings_stored_by_the_app_come_back_after_a_reboot() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    let mut app = App::new(&mut flash, 0);
+    assert_eq!(
+        app.shared.persisted,
+        Persisted::default(),
+        "empty store: defaults"
+    );
+    app.shared.persisted = sample();
+    app.shared.requests.store = true;
+    poll_app(&mut app, &mut flash);
+    assert!(!app.shared.requests.store);
+    assert_eq!(app.shared.counters.store_failures, 0);
+    drop(app);
+
+    // Warm reset: the flash survives, the App starts again.
+    let app = App::new(&mut flash, 0);
+    assert_eq!(app.shared.persisted, sample());
+    assert_eq!(app.shared.flight.params().airspeed_mps, 62.5);
+}
+
+#[test]
+fn the_app_boots_with_defaults_from_a_corrupt_store() {
+    let mut mem = [0u8; 4096];
+    persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
+    mem[HEADER_LEN + 3] ^= 0x40;
+    let app = App::new(&mut MemFlash::new(&mut mem), 0);
+    assert_eq!(app.shared.persisted, Persisted::default());
+}
+
+#[test]
+fn a_failed_store_is_counted_by_the_app() {
+    let mut flash = Strict::<8> {
+        mem: vec![0u8; 4096],
+        writes: Vec::new(),
+        broken: true,
+    };
+    let mut app = App::new(&mut flash, 0);
+    app.shared.requests.store = true;
+    poll_app(&mut app, &mut flash);
+    assert_eq!(app.shared.counters.store_failures, 1);
+}
+
+#[test]
+fn load_into_leaves_the_record_alone_on_an_error() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    // Good settings and the first parameter set, then the payload ends: the CRC is right, the
+    // decode fails after the point where a one-pass decoder would have written the settings.
+    persist::write_image(
+        &mut flash,
+        VERSION,
+        &(sample().settings, [7i32; AOK_PARAMS]),
+    )
+    .unwrap();
+    let mut record = Persisted::default();
+    record.settings.bank_deg = 1.5;
+    let before = record.clone();
+    assert_eq!(
+        persist::load_into(&mut flash, &mut record),
+        Err(StoreError::Decode)
+    );
+    assert_eq!(record, before);
+    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+}
+
+#[test]
+fn load_into_fills_the_record_in_place() {
+    let mut mem = [0u8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    persist::store(&mut flash, &sample()).unwrap();
+    let mut record = Persisted::default();
+    assert_eq!(persist::load_into(&mut flash, &mut record), Ok(2));
+    assert_eq!(record, sample());
+}
