@@ -36,7 +36,10 @@ pub struct Ports(u16);
 impl Ports {
     /// `aeolus_telemetry_crc_rates_and_commands`.
     const AEOLUS: Ports = Ports(17_400);
-    // The AYDP store/reboot test takes 17_410, the AOK test 17_420.
+    /// `aydp_setting_survives_store_and_reboot`.
+    const AYDP: Ports = Ports(17_410);
+    /// `aok_parameter_and_waypoint`.
+    const AOK: Ports = Ports(17_420);
 }
 
 impl Ports {
@@ -592,4 +595,184 @@ fn aeolus_telemetry_crc_rates_and_commands() {
     let log = q.stop();
     println!("{log}");
     assert!(log.contains("AEOLUS: a pause") && log.contains("AEOLUS: a resume"));
+}
+
+// ------------------------------------------------------------------ AYDP over UART1
+
+/// Sends one AYDP message (profile `Spec`, expedited) on UART1.
+fn aydp_send(port: &mut TcpStream, msg: &aydp_proto::Message<'_>) {
+    let mut buf = [0u8; 128];
+    let n = aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
+        .encode_expedited(msg, &mut buf)
+        .expect("encode");
+    port.write_all(&buf[..n]).expect("write UART1");
+}
+
+/// Reads UART1 until a system value update for `address` arrives; returns its data.
+fn aydp_read_value(port: &mut TcpStream, address: u16, timeout: Duration) -> Option<Vec<u8>> {
+    let mut d = aydp_proto::Decoder::<256>::new(aydp_proto::Profile::Spec);
+    let end = Instant::now() + timeout;
+    port.set_read_timeout(Some(Duration::from_millis(50)))
+        .ok()?;
+    let mut buf = [0u8; 512];
+    while Instant::now() < end {
+        let n = match port.read(&mut buf) {
+            Ok(0) => return None,
+            Ok(n) => n,
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => continue,
+            Err(e) => panic!("UART1: {e}"),
+        };
+        let mut found = None;
+        d.feed(&buf[..n], |ev| {
+            if let Ok(Ok(aydp_proto::Message::SystemValueUpdate(u))) = ev.map(|f| f.message())
+                && u.address == address
+            {
+                found = Some(u.data.to_vec());
+            }
+        });
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+fn request(port: &mut TcpStream, address: u16) -> Option<Vec<u8>> {
+    let req =
+        aydp_proto::Message::SystemControl(aydp_proto::SystemControl::RequestData { address });
+    aydp_send(port, &req);
+    aydp_read_value(port, address, Duration::from_secs(3))
+}
+
+#[test]
+fn aydp_setting_survives_store_and_reboot() {
+    let Some(mut q) = boot(Ports::AYDP) else {
+        return;
+    };
+    let log = q.log().display().to_string();
+    let first = q.uart0.read_until(Duration::from_secs(10), |_| true);
+    assert_eq!(
+        q.uart0.frames[first].toast().as_deref(),
+        Some("AEOLUS on"),
+        "log: {log}"
+    );
+
+    // Airspeed (0x0110, f32) from its default to 72 m/s, read back.
+    const AIRSPEED: u16 = 0x0110;
+    let before = request(&mut q.uart1, AIRSPEED).expect("airspeed readable");
+    assert_ne!(
+        before,
+        72.0f32.to_le_bytes(),
+        "the default is not already 72"
+    );
+    let value = 72.0f32.to_le_bytes();
+    let set = aydp_proto::Message::SystemValueUpdate(aydp_proto::SystemValueUpdate {
+        address: AIRSPEED,
+        mode: aydp_proto::UpdateMode::Single,
+        data: &value,
+    });
+    aydp_send(&mut q.uart1, &set);
+    assert_eq!(
+        request(&mut q.uart1, AIRSPEED).as_deref(),
+        Some(&value[..]),
+        "log: {log}"
+    );
+
+    // Store configuration, then "a reboot" over AEOLUS: the box comes back with TOAST "AEOLUS on".
+    aydp_send(
+        &mut q.uart1,
+        &aydp_proto::Message::SystemControl(aydp_proto::SystemControl::StoreConfiguration),
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    q.uart0.command("a reboot");
+    let seen = q.uart0.frames.len();
+    let again = q.uart0.read_until(Duration::from_secs(10), |f| {
+        f.toast().as_deref() == Some("AEOLUS on")
+    });
+    assert!(
+        again >= seen,
+        "a second boot TOAST after the reboot; log: {log}"
+    );
+
+    // After the reboot the stored airspeed is back.
+    assert_eq!(
+        request(&mut q.uart1, AIRSPEED).as_deref(),
+        Some(&value[..]),
+        "log: {log}"
+    );
+    let fw_log = q.stop();
+    println!("firmware log after the reboot test:\n{fw_log}");
+}
+
+// ------------------------------------------------------------------ AOK over UART2
+
+/// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
+struct NbSerial(TcpStream);
+
+impl embedded_hal_nb::serial::ErrorType for NbSerial {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal_nb::serial::Read<u8> for NbSerial {
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        let mut b = [0u8; 1];
+        match self.0.read(&mut b) {
+            Ok(1) => Ok(b[0]),
+            _ => Err(nb::Error::WouldBlock),
+        }
+    }
+}
+
+impl embedded_hal_nb::serial::Write<u8> for NbSerial {
+    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
+        match self.0.write(&[word]) {
+            Ok(1) => Ok(()),
+            _ => Err(nb::Error::WouldBlock),
+        }
+    }
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        Ok(())
+    }
+}
+
+#[test]
+fn aok_parameter_and_waypoint() {
+    use aok_proto::{ActionWord, Client, Config, FirmwareVersion, Waypoint, WaypointSlot};
+    let Some(mut q) = boot(Ports::AOK) else {
+        return;
+    };
+    let log = q.log().display().to_string();
+    q.uart0.read_until(Duration::from_secs(10), |_| true);
+    let port = q.uart2.try_clone().expect("clone UART2");
+    port.set_nonblocking(true).expect("nonblocking");
+    let mut client = Client::new(NbSerial(port), Config::new(FirmwareVersion::new(0, 35)));
+    let t0 = Instant::now();
+    let mut now = || t0.elapsed().as_millis() as u32;
+
+    // Parameter 12 (settable in flight) to 1500, read back; the debug stream runs meanwhile.
+    client
+        .set_parameter(12, 1500, &mut now)
+        .expect("set parameter 12");
+    assert_eq!(client.read_parameter(12, &mut now), Ok(1500), "log: {log}");
+    // Parameter 20 is not settable in flight: 'I' while the simulated flight runs.
+    assert_eq!(
+        client.set_parameter(20, 7, &mut now),
+        Err(aok_proto::Error::RefusedInFlight)
+    );
+
+    // Waypoint 1 (slot 0) set in RAM and read back as the same 77 frame.
+    let wp = Waypoint {
+        slot: WaypointSlot::from_wire(0).expect("slot 0"),
+        longitude: 237_512_345,
+        latitude: 480_012_345,
+        action1: ActionWord(0x0002_800F),
+        action2: ActionWord(0x0006_80FA),
+    };
+    client.set_waypoint(wp, &mut now).expect("set waypoint 1");
+    assert_eq!(
+        client.read_waypoint(wp.slot, &mut now),
+        Ok(wp),
+        "log: {log}"
+    );
+    q.stop();
 }
