@@ -13,6 +13,13 @@ fn main() {
     let protocols: Vec<Box<dyn Protocol>> = vec![
         Box::new(Aeolus { strict: false }),
         Box::new(Aeolus { strict: true }),
+        Box::new(Aydp {
+            profile: aydp_proto::Profile::Spec,
+        }),
+        Box::new(Aydp {
+            profile: aydp_proto::Profile::Reference,
+        }),
+        Box::new(Aok),
     ];
     println!(
         "| protocol | channel | intact sent | delivered (crate) | wrongly accepted (crate) | delivered (naive) | wrongly accepted (naive) |"
