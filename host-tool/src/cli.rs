@@ -1,0 +1,77 @@
+//! The command line: `protolink <subcommand> ...`, every subcommand with an example in `--help`.
+
+use clap::{Parser, Subcommand};
+
+use crate::aok_cmd::AokArgs;
+use crate::aydp_cmd::AydpArgs;
+use crate::bridge::BridgeArgs;
+use crate::decode::DecodeArgs;
+use crate::error::Result;
+use crate::watch::WatchArgs;
+
+const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
+  serial:/dev/ttyUSB0@921600   a serial port at that baud rate (115200 if @BAUD is left out)
+  tcp:127.0.0.1:7000           a TCP connection (the QEMU UART sockets: 7000 AEOLUS, 7001 AYDP, 7002 AOK)
+  udp:5001                     a UDP socket bound to 127.0.0.1:5001 (udp:0.0.0.0:5001 for every interface)
+  file:capture.bin             a file, read once
+  -                            stdin (and stdout for writes)";
+
+/// `protolink`: watch, drive and bridge AEOLUS, AYDP and AOK boxes from a desk.
+#[derive(Debug, Parser)]
+#[command(name = "protolink", version, about, after_help = ENDPOINTS)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Decode a stream: one line per message, errors with their byte offset, counters at the end.
+    #[command(after_help = "Examples:
+  protolink decode --proto aeolus --from tcp:127.0.0.1:7000 --seconds 5
+  protolink decode --proto aydp --profile reference --from file:capture.bin --json
+  protolink decode --proto aok --side device --from serial:/dev/ttyUSB0@38400")]
+    Decode(DecodeArgs),
+    /// The AEOLUS box's WiFi side: UART frames out as UDP datagrams, datagrams in to the UART.
+    #[command(after_help = "Examples:
+  protolink bridge --uart tcp:127.0.0.1:7000 --udp-out 127.0.0.1:5001 --udp-in 5002
+  protolink bridge --uart serial:/dev/ttyUSB0@921600 --pack 4 --seconds 60")]
+    Bridge(BridgeArgs),
+    // The `sim` subcommand (a virtual AEOLUS-SENSE box on UDP, issue 6) goes here. It will share
+    // the firmware's telemetry code (issue 5), which does not exist yet, so it is not registered.
+    /// Read and write an AYDP device's system values, store its configuration, set outputs.
+    #[command(after_help = "Examples:
+  protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
+  protolink aydp --to tcp:127.0.0.1:7001 set 0x0100 25.5 --as f32
+  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable")]
+    Aydp(AydpArgs),
+    /// Drive an AOK flight controller: debug, parameters, waypoints, motors, external control.
+    #[command(after_help = "Examples:
+  protolink aok --to tcp:127.0.0.1:7002 get 12
+  protolink aok --to serial:/dev/ttyUSB0@38400 --firmware 0.30 set 12 1500
+  protolink aok --to tcp:127.0.0.1:7002 waypoint get 1")]
+    Aok(AokArgs),
+    /// A live view of AEOLUS telemetry: attitude, airspeed, altitude, heading, GPS, wind, rates.
+    #[command(after_help = "Examples:
+  protolink watch --from tcp:127.0.0.1:7000
+  protolink watch --from udp:5001 --seconds 10")]
+    Watch(WatchArgs),
+}
+
+impl Cli {
+    /// Runs the chosen subcommand.
+    ///
+    /// # Errors
+    /// Whatever the subcommand reports.
+    pub fn run(&self) -> Result<()> {
+        match &self.command {
+            Command::Decode(a) => crate::decode::run(a),
+            Command::Bridge(a) => crate::bridge::run(a),
+            Command::Aydp(a) => crate::aydp_cmd::run(a),
+            Command::Aok(a) => crate::aok_cmd::run(a),
+            Command::Watch(a) => crate::watch::run(a),
+        }
+    }
+}

@@ -1,0 +1,428 @@
+//! Endpoints: one syntax for every subcommand, and the byte streams they open.
+//!
+//! | text | what it opens |
+//! | --- | --- |
+//! | `serial:/dev/ttyUSB0@921600` | a serial port, 8N1, at that baud rate (115200 when `@BAUD` is left out) |
+//! | `tcp:127.0.0.1:7000` | a TCP connection to that address (the QEMU UART sockets) |
+//! | `udp:5001` | a UDP socket bound to `127.0.0.1:5001`; `udp:0.0.0.0:5001` listens on every interface |
+//! | `file:capture.bin` | a file, read from start to end (read-only) |
+//! | `-` | standard input for reading, standard output for writing |
+//!
+//! A UDP endpoint answers the sender of the last datagram it received.
+
+use std::fmt;
+use std::fs::File;
+use std::io::{self, Read, Write};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpStream, ToSocketAddrs, UdpSocket};
+use std::path::PathBuf;
+use std::str::FromStr;
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
+use std::time::Duration;
+
+use crate::error::{Error, Result};
+
+/// The baud rate used when a serial endpoint gives none.
+pub const DEFAULT_BAUD: u32 = 115_200;
+/// How long connecting to a TCP endpoint may take.
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Where bytes come from or go to, parsed from the command line.
+///
+/// ```
+/// use protolink::endpoint::Endpoint;
+/// let e: Endpoint = "serial:/dev/ttyUSB0@921600".parse()?;
+/// assert_eq!(e, Endpoint::Serial { path: "/dev/ttyUSB0".into(), baud: 921_600 });
+/// assert_eq!("udp:5001".parse::<Endpoint>()?.to_string(), "udp:127.0.0.1:5001");
+/// assert!("http://example".parse::<Endpoint>().is_err());
+/// # Ok::<(), protolink::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Endpoint {
+    /// A serial port and its baud rate.
+    Serial {
+        /// The device path, e.g. `/dev/ttyUSB0`.
+        path: String,
+        /// The baud rate.
+        baud: u32,
+    },
+    /// A TCP server to connect to, as `HOST:PORT`.
+    Tcp(String),
+    /// A local UDP address to bind.
+    Udp(SocketAddr),
+    /// A file to read.
+    File(PathBuf),
+    /// Standard input (and standard output for writes).
+    Stdio,
+}
+
+fn bad(text: &str, reason: impl Into<String>) -> Error {
+    Error::Endpoint {
+        text: text.to_owned(),
+        reason: reason.into(),
+    }
+}
+
+/// Parses `PORT` (bound to 127.0.0.1) or `ADDR:PORT`.
+///
+/// ```
+/// use protolink::endpoint::parse_local_addr;
+/// assert_eq!(parse_local_addr("5002").unwrap().to_string(), "127.0.0.1:5002");
+/// assert_eq!(parse_local_addr("0.0.0.0:5002").unwrap().to_string(), "0.0.0.0:5002");
+/// assert!(parse_local_addr("99999").is_err());
+/// ```
+pub fn parse_local_addr(text: &str) -> std::result::Result<SocketAddr, String> {
+    if let Ok(port) = text.parse::<u16>() {
+        return Ok(SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), port));
+    }
+    text.parse::<SocketAddr>().map_err(|_| {
+        format!("'{text}' is neither a port (0..=65535) nor an IP address with a port (ADDR:PORT)")
+    })
+}
+
+impl FromStr for Endpoint {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        if text == "-" {
+            return Ok(Endpoint::Stdio);
+        }
+        let Some((scheme, rest)) = text.split_once(':') else {
+            return Err(bad(
+                text,
+                "expected serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH or -",
+            ));
+        };
+        match scheme {
+            "serial" => {
+                let (path, baud) = match rest.rsplit_once('@') {
+                    Some((path, baud)) => {
+                        let baud = baud
+                            .parse::<u32>()
+                            .ok()
+                            .filter(|&b| b > 0)
+                            .ok_or_else(|| bad(text, format!("'{baud}' is not a baud rate")))?;
+                        (path, baud)
+                    }
+                    None => (rest, DEFAULT_BAUD),
+                };
+                if path.is_empty() {
+                    return Err(bad(text, "the serial port path is empty"));
+                }
+                Ok(Endpoint::Serial {
+                    path: path.to_owned(),
+                    baud,
+                })
+            }
+            "tcp" => {
+                let Some((host, port)) = rest.rsplit_once(':') else {
+                    return Err(bad(text, "expected tcp:HOST:PORT"));
+                };
+                if host.is_empty() {
+                    return Err(bad(text, "the host is empty"));
+                }
+                if port.parse::<u16>().is_err() {
+                    return Err(bad(text, format!("'{port}' is not a port (0..=65535)")));
+                }
+                Ok(Endpoint::Tcp(rest.to_owned()))
+            }
+            "udp" => parse_local_addr(rest)
+                .map(Endpoint::Udp)
+                .map_err(|reason| bad(text, reason)),
+            "file" => {
+                if rest.is_empty() {
+                    return Err(bad(text, "the file path is empty"));
+                }
+                Ok(Endpoint::File(PathBuf::from(rest)))
+            }
+            other => Err(bad(
+                text,
+                format!(
+                    "unknown kind '{other}': expected serial:, tcp:, udp:, file: or - for stdin"
+                ),
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Endpoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Endpoint::Serial { path, baud } => write!(f, "serial:{path}@{baud}"),
+            Endpoint::Tcp(addr) => write!(f, "tcp:{addr}"),
+            Endpoint::Udp(addr) => write!(f, "udp:{addr}"),
+            Endpoint::File(path) => write!(f, "file:{}", path.display()),
+            Endpoint::Stdio => f.write_str("-"),
+        }
+    }
+}
+
+/// What one [`Link::read`] got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    /// This many bytes (for UDP: one whole datagram).
+    Data(usize),
+    /// Nothing arrived within the timeout.
+    Idle,
+    /// The stream ended (end of file, or the peer closed the connection).
+    End,
+}
+
+enum Kind {
+    Serial(Box<dyn serialport::SerialPort>),
+    Tcp(TcpStream),
+    Udp {
+        socket: UdpSocket,
+        peer: Option<SocketAddr>,
+    },
+    File(File),
+    Stdio {
+        chunks: Receiver<io::Result<Vec<u8>>>,
+        pending: Vec<u8>,
+        ended: bool,
+    },
+}
+
+/// An open endpoint: a byte stream with timed reads.
+pub struct Link {
+    kind: Kind,
+    name: String,
+}
+
+impl fmt::Debug for Link {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Link").field("name", &self.name).finish()
+    }
+}
+
+fn timeout_or_tick(timeout: Duration) -> Duration {
+    // A zero timeout means "block forever" to the socket APIs.
+    timeout.max(Duration::from_millis(1))
+}
+
+fn is_timeout(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut | io::ErrorKind::Interrupted
+    )
+}
+
+impl Endpoint {
+    /// Opens the endpoint.
+    ///
+    /// ```
+    /// use protolink::endpoint::{Endpoint, Input};
+    /// let dir = std::env::temp_dir().join(format!("protolink-doc-{}", std::process::id()));
+    /// std::fs::write(&dir, b"abc")?;
+    /// let mut link = Endpoint::File(dir.clone()).open()?;
+    /// let mut buf = [0u8; 8];
+    /// assert_eq!(link.read(&mut buf, std::time::Duration::from_millis(10))?, Input::Data(3));
+    /// assert_eq!(link.read(&mut buf, std::time::Duration::from_millis(10))?, Input::End);
+    /// std::fs::remove_file(dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::Open`] with the operating system's reason.
+    pub fn open(&self) -> Result<Link> {
+        let name = self.to_string();
+        let open_err = |source: io::Error| Error::Open {
+            endpoint: name.clone(),
+            source,
+        };
+        let kind = match self {
+            Endpoint::Serial { path, baud } => {
+                let port = serialport::new(path, *baud)
+                    .timeout(Duration::from_millis(10))
+                    .open()
+                    .map_err(|e| open_err(io::Error::other(e.description)))?;
+                Kind::Serial(port)
+            }
+            Endpoint::Tcp(addr) => {
+                let addrs: Vec<SocketAddr> = addr.to_socket_addrs().map_err(open_err)?.collect();
+                let mut last = io::Error::new(io::ErrorKind::NotFound, "no address found");
+                let mut stream = None;
+                for a in addrs {
+                    match TcpStream::connect_timeout(&a, CONNECT_TIMEOUT) {
+                        Ok(s) => {
+                            stream = Some(s);
+                            break;
+                        }
+                        Err(e) => last = e,
+                    }
+                }
+                let stream = stream.ok_or_else(|| open_err(last))?;
+                // Small command frames should leave at once.
+                stream.set_nodelay(true).map_err(open_err)?;
+                Kind::Tcp(stream)
+            }
+            Endpoint::Udp(addr) => Kind::Udp {
+                socket: UdpSocket::bind(addr).map_err(open_err)?,
+                peer: None,
+            },
+            Endpoint::File(path) => Kind::File(File::open(path).map_err(open_err)?),
+            Endpoint::Stdio => {
+                let (tx, rx) = channel();
+                std::thread::spawn(move || {
+                    let mut stdin = io::stdin().lock();
+                    let mut buf = vec![0u8; 64 * 1024];
+                    loop {
+                        let r = stdin.read(&mut buf);
+                        let done = !matches!(r, Ok(n) if n > 0);
+                        if tx.send(r.map(|n| buf[..n].to_vec())).is_err() || done {
+                            break;
+                        }
+                    }
+                });
+                Kind::Stdio {
+                    chunks: rx,
+                    pending: Vec::new(),
+                    ended: false,
+                }
+            }
+        };
+        Ok(Link { kind, name })
+    }
+}
+
+impl Link {
+    /// The endpoint as written, for messages.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Whether each read returns one datagram (UDP), so a frame never spans two reads.
+    pub fn is_datagram(&self) -> bool {
+        matches!(self.kind, Kind::Udp { .. })
+    }
+
+    /// Reads what is available, waiting at most `timeout`. For UDP, `buf` should hold 65 535
+    /// bytes; a longer datagram is cut.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the operating system reports a read error.
+    pub fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<Input> {
+        let what = || format!("reading from {}", self.name);
+        let result = match &mut self.kind {
+            Kind::Serial(port) => {
+                if port.timeout() != timeout {
+                    port.set_timeout(timeout)
+                        .map_err(|e| io::Error::other(e.description))
+                        .map_err(|source| Error::Io {
+                            what: what(),
+                            source,
+                        })?;
+                }
+                match port.read(buf) {
+                    Ok(0) => Ok(Input::Idle),
+                    Ok(n) => Ok(Input::Data(n)),
+                    Err(e) => Err(e),
+                }
+            }
+            Kind::Tcp(stream) => {
+                stream
+                    .set_read_timeout(Some(timeout_or_tick(timeout)))
+                    .map_err(|source| Error::Io {
+                        what: what(),
+                        source,
+                    })?;
+                match stream.read(buf) {
+                    Ok(0) => Ok(Input::End),
+                    Ok(n) => Ok(Input::Data(n)),
+                    Err(e) if e.kind() == io::ErrorKind::ConnectionReset => Ok(Input::End),
+                    Err(e) => Err(e),
+                }
+            }
+            Kind::Udp { socket, peer } => {
+                socket
+                    .set_read_timeout(Some(timeout_or_tick(timeout)))
+                    .map_err(|source| Error::Io {
+                        what: what(),
+                        source,
+                    })?;
+                match socket.recv_from(buf) {
+                    Ok((n, from)) => {
+                        *peer = Some(from);
+                        Ok(Input::Data(n))
+                    }
+                    Err(e) => Err(e),
+                }
+            }
+            Kind::File(file) => match file.read(buf) {
+                Ok(0) => Ok(Input::End),
+                Ok(n) => Ok(Input::Data(n)),
+                Err(e) => Err(e),
+            },
+            Kind::Stdio {
+                chunks,
+                pending,
+                ended,
+            } => {
+                if pending.is_empty() && !*ended {
+                    match chunks.recv_timeout(timeout) {
+                        Ok(Ok(chunk)) if chunk.is_empty() => *ended = true,
+                        Ok(Ok(chunk)) => *pending = chunk,
+                        Ok(Err(e)) => {
+                            *ended = true;
+                            return Err(Error::Io {
+                                what: what(),
+                                source: e,
+                            });
+                        }
+                        Err(RecvTimeoutError::Timeout) => return Ok(Input::Idle),
+                        Err(RecvTimeoutError::Disconnected) => *ended = true,
+                    }
+                }
+                if pending.is_empty() {
+                    return Ok(Input::End);
+                }
+                let n = pending.len().min(buf.len());
+                buf[..n].copy_from_slice(&pending[..n]);
+                pending.drain(..n);
+                return Ok(Input::Data(n));
+            }
+        };
+        match result {
+            Ok(input) => Ok(input),
+            Err(e) if is_timeout(&e) => Ok(Input::Idle),
+            Err(source) => Err(Error::Io {
+                what: what(),
+                source,
+            }),
+        }
+    }
+
+    /// Writes all of `bytes` (for UDP: one datagram to the last sender).
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a file endpoint, or a UDP endpoint that has not heard from
+    /// anyone yet; [`Error::Io`] when the operating system reports a write error.
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<()> {
+        let io_err = |source| Error::Io {
+            what: format!("writing to {}", self.name),
+            source,
+        };
+        match &mut self.kind {
+            Kind::Serial(port) => {
+                port.write_all(bytes).map_err(io_err)?;
+                port.flush().map_err(io_err)
+            }
+            Kind::Tcp(stream) => stream.write_all(bytes).map_err(io_err),
+            Kind::Udp { socket, peer } => match peer {
+                Some(to) => socket.send_to(bytes, *to).map(|_| ()).map_err(io_err),
+                None => Err(Error::Unsupported(format!(
+                    "cannot send on {}: it answers the last sender, and no datagram has arrived yet",
+                    self.name
+                ))),
+            },
+            Kind::File(_) => Err(Error::Unsupported(format!(
+                "{} is read-only: a file endpoint cannot receive bytes",
+                self.name
+            ))),
+            Kind::Stdio { .. } => {
+                let mut out = io::stdout().lock();
+                out.write_all(bytes).map_err(io_err)?;
+                out.flush().map_err(io_err)
+            }
+        }
+    }
+}

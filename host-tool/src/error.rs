@@ -1,0 +1,78 @@
+//! The crate's single error type. Every variant prints as one clear sentence.
+
+use std::io;
+
+/// Everything that can stop a `protolink` command.
+///
+/// `main` prints it as `error: <sentence>` and exits with status 1.
+///
+/// ```
+/// let e = protolink::Error::Timeout { what: "the reply to request data 0x0008".into(), ms: 500 };
+/// assert_eq!(e.to_string(), "no answer to the reply to request data 0x0008 within 500 ms");
+/// ```
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// An endpoint string that does not follow the syntax.
+    #[error("invalid endpoint '{text}': {reason}")]
+    Endpoint {
+        /// The text as given.
+        text: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// An endpoint could not be opened.
+    #[error("cannot open {endpoint}: {source}")]
+    Open {
+        /// The endpoint, as written on the command line.
+        endpoint: String,
+        /// The operating system's reason.
+        source: io::Error,
+    },
+    /// Reading from or writing to an open endpoint failed.
+    #[error("{what} failed: {source}")]
+    Io {
+        /// What was being done, e.g. "writing to tcp:127.0.0.1:7001".
+        what: String,
+        /// The operating system's reason.
+        source: io::Error,
+    },
+    /// The endpoint cannot carry bytes in this direction (e.g. writing to `file:`).
+    #[error("{0}")]
+    Unsupported(String),
+    /// A command-line value that clap could not check by itself.
+    #[error("{0}")]
+    Usage(String),
+    /// The device did not answer in time.
+    #[error("no answer to {what} within {ms} ms")]
+    Timeout {
+        /// What was being waited for.
+        what: String,
+        /// The timeout.
+        ms: u64,
+    },
+    /// The device answered, but not as expected.
+    #[error("{0}")]
+    Device(String),
+    /// An AYDP protocol error, with what was being done.
+    #[error("{what}: {source}")]
+    Aydp {
+        /// What was being done.
+        what: String,
+        /// The protocol error.
+        source: aydp_proto::Error,
+    },
+    /// An AOK protocol or client error, with what was being done.
+    #[error("{what}: {source}")]
+    Aok {
+        /// What was being done.
+        what: String,
+        /// The protocol error.
+        source: aok_proto::Error,
+    },
+    /// Writing the output (stdout) failed.
+    #[error("writing the output failed: {0}")]
+    Output(#[source] io::Error),
+}
+
+/// The crate's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,51 @@
+//! # protolink
+//!
+//! The host-side companion of the AEOLUS, AYDP and AOK protocol crates: a `std` command-line
+//! tool (the `protolink` binary) and the library it is built from.
+//!
+//! | module | holds |
+//! | --- | --- |
+//! | [`cli`] | the command line (clap), one subcommand per module below |
+//! | [`endpoint`] | `serial:`, `tcp:`, `udp:`, `file:` and `-` endpoints, opened as byte streams |
+//! | [`decode`] | `decode`: stream decoders for the three protocols, events, text and JSON lines |
+//! | [`bridge`] | `bridge`: AEOLUS UART frames to UDP datagrams and back |
+//! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
+//! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
+//! | [`watch`] | `watch`: the live telemetry view |
+//! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
+//! | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
+//! | [`render`], [`progress`], [`stop`] | output, progress spinner, Ctrl-C and `--seconds` |
+//! | [`error`] | the crate's one error type |
+//!
+//! The `sim` subcommand (a virtual AEOLUS-SENSE box) will get its own module once the firmware's
+//! telemetry code exists to share.
+//!
+//! ```
+//! use protolink::decode::{AeolusDecoder, StreamDecoder};
+//! // A TOAST "hi" frame, then one with a flipped bit.
+//! let stream = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x7E, 0x52, b'h', b'j', 0, 0x73, 0xEC, 0x7E];
+//! let mut decoder = AeolusDecoder::new();
+//! let mut events = Vec::new();
+//! decoder.feed(&stream, 0, &mut events);
+//! assert_eq!(events[0].to_text(), "@7 TOAST id=82 len=8 crc=ok text=hi");
+//! assert!(events[1].to_text().starts_with("@15 error: CRC mismatch on message 82"));
+//! ```
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod aok_cmd;
+pub mod aydp_cmd;
+pub mod bridge;
+pub mod cli;
+pub mod decode;
+pub mod endpoint;
+pub mod error;
+pub mod nb_serial;
+pub mod progress;
+pub mod render;
+// pub mod sim;  // issue 6: the virtual box, once firmware-example's telemetry code exists.
+pub mod stop;
+pub mod value_type;
+pub mod watch;
+
+pub use error::{Error, Result};

@@ -1,0 +1,49 @@
+//! Stopping long-running commands (`decode`, `bridge`, `watch`): Ctrl-C (SIGINT) and
+//! `--seconds N`. The short request/reply commands keep the default Ctrl-C, which ends them at once.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Installs the Ctrl-C handler: it only sets a flag, so every loop finishes its current step and
+/// prints its counters. Calling it twice is harmless.
+pub fn install_ctrl_c() {
+    // An error means a handler is already installed, which is what we want anyway.
+    let _ = ctrlc::set_handler(|| STOP.store(true, Ordering::SeqCst));
+}
+
+/// Whether Ctrl-C was pressed.
+pub fn requested() -> bool {
+    STOP.load(Ordering::SeqCst)
+}
+
+/// When a command should end by itself: `--seconds N`, or never.
+///
+/// ```
+/// use protolink::stop::Deadline;
+/// assert!(!Deadline::after_seconds(None).reached());
+/// assert!(Deadline::after_seconds(Some(0.0)).reached());
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct Deadline(Option<Instant>);
+
+impl Deadline {
+    /// A deadline `seconds` from now (`None`: never).
+    pub fn after_seconds(seconds: Option<f64>) -> Self {
+        Deadline(seconds.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))))
+    }
+
+    /// Whether the deadline has passed or Ctrl-C was pressed.
+    pub fn reached(&self) -> bool {
+        requested() || self.0.is_some_and(|t| Instant::now() >= t)
+    }
+
+    /// How long is left, capped at `cap` (`cap` when there is no deadline).
+    pub fn left(&self, cap: Duration) -> Duration {
+        match self.0 {
+            Some(t) => t.saturating_duration_since(Instant::now()).min(cap),
+            None => cap,
+        }
+    }
+}
