@@ -1,6 +1,6 @@
 //! The byte-at-a-time deframer (spec section 4.2).
 
-use crate::{ESCAPE, Error, FLAG, Frame};
+use crate::{ESCAPE, Error, FLAG, Frame, scan::is_special};
 
 /// Counters kept by a [`Deframer`], MAVLink style. They wrap on overflow.
 ///
@@ -182,7 +182,7 @@ impl<const N: usize> Deframer<N> {
     #[inline(always)]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         if self.state == State::Frame
-            && byte.wrapping_sub(ESCAPE) >= 2
+            && !is_special(byte)
             && let Some(slot) = self.buf.get_mut(self.len)
         {
             *slot = byte;
@@ -196,7 +196,7 @@ impl<const N: usize> Deframer<N> {
     fn push_slow(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         match self.state {
             State::Frame => {
-                if byte.wrapping_sub(ESCAPE) >= 2 {
+                if !is_special(byte) {
                     self.store(byte)
                 } else if byte == ESCAPE {
                     self.state = State::Escape;

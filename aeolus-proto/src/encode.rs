@@ -1,6 +1,6 @@
 //! Building frames: flag, ID, data and CRC, escaped, flag (spec section 4.1).
 
-use crate::{ESCAPE, Error, FLAG, crc};
+use crate::{ESCAPE, Error, FLAG, crc, scan::is_special};
 
 /// Whether an encoded frame carries a real CRC.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -26,11 +26,6 @@ pub enum CrcMode {
 /// ```
 pub const fn max_encoded_len(data_len: usize) -> usize {
     2 + 2 * (1 + data_len + 2)
-}
-
-#[inline(always)]
-const fn needs_escape(byte: u8) -> bool {
-    byte.wrapping_sub(ESCAPE) < 2
 }
 
 /// Copies `src` into `out` at `at`, escaping 0x7D and 0x7E; runs of ordinary bytes are copied
@@ -170,7 +165,7 @@ impl Iterator for FrameBytes<'_> {
             return Some(FLAG);
         }
         let byte = self.logical(pos)?;
-        if needs_escape(byte) {
+        if is_special(byte) {
             self.pending = Some(byte ^ 0x20);
             Some(ESCAPE)
         } else {
