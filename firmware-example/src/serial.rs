@@ -185,8 +185,15 @@ impl ErrorType for QueuedSerial<'_> {
 
 impl Read<u8> for QueuedSerial<'_> {
     /// The next received byte, or `WouldBlock` when none is waiting.
+    ///
+    /// When the queue was full, the board's interrupt may have stopped taking bytes from the
+    /// UART (see [`SerialIsr::rx_room`]); reading then kicks it, so it takes them again.
     fn read(&mut self) -> nb::Result<u8, Self::Error> {
-        self.rx.dequeue().ok_or(nb::Error::WouldBlock)
+        let byte = self.rx.dequeue().ok_or(nb::Error::WouldBlock)?;
+        if self.rx.len() + 1 >= self.rx.capacity() {
+            (self.kick)();
+        }
+        Ok(byte)
     }
 }
 
@@ -264,6 +271,24 @@ impl SerialIsr<'_> {
             bump(&self.stats.tx_bytes);
         }
         byte
+    }
+
+    /// Whether the RX queue has room for another byte. A board whose UART can hold bytes back
+    /// (a FIFO, and a peer that waits for it, as QEMU's sockets do) stops reading the UART
+    /// while this is false instead of dropping bytes; the application's next read kicks the
+    /// interrupt again.
+    ///
+    /// ```
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (_port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert!(isr.rx_room());
+    /// isr.received(7); // the queue holds one byte
+    /// assert!(!isr.rx_room());
+    /// ```
+    pub fn rx_room(&self) -> bool {
+        self.rx.ready()
     }
 
     /// Whether bytes are waiting to be sent (keep the TX interrupt enabled).

@@ -95,3 +95,32 @@ fn echo_loop_keeps_every_byte() {
     assert_eq!(wire, input);
     assert_eq!(port.counters().rx_dropped, 0);
 }
+
+static RX_KICKS: AtomicU32 = AtomicU32::new(0);
+fn rx_kick() {
+    RX_KICKS.fetch_add(1, Ordering::Relaxed);
+}
+
+#[test]
+fn reading_from_a_full_rx_queue_kicks_the_interrupt() {
+    // A board that holds bytes in its UART FIFO while the queue is full (QEMU) must be told
+    // when there is room again; reading from a queue that is not near full costs no kick.
+    let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, rx_kick);
+    while isr.rx_room() {
+        assert!(isr.received(1));
+    }
+    assert_eq!(port.rx_pending(), 7);
+    assert_eq!(port.read(), Ok(1));
+    assert_eq!(RX_KICKS.load(Ordering::Relaxed), 1, "room again: kicked");
+    assert!(isr.rx_room());
+    assert_eq!(port.read(), Ok(1));
+    assert_eq!(port.read(), Ok(1));
+    assert_eq!(
+        RX_KICKS.load(Ordering::Relaxed),
+        1,
+        "not near full: no kick"
+    );
+    assert_eq!(port.counters().rx_dropped, 0);
+}

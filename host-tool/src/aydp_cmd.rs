@@ -389,7 +389,7 @@ pub fn run(args: &AydpArgs) -> Result<()> {
                 // AYDP has no ack: a request answered after the store shows the device is
                 // alive and has handled the store before it.
                 s.read(DIRECT_CONTROL)?;
-                out.line("store configuration sent; the device answers")?;
+                out.line("store configuration sent (AYDP has no acknowledgement; the device answered a request sent after it)")?;
             }
         }
         AydpAction::Output { outputs, enable } => {

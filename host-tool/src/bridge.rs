@@ -87,29 +87,161 @@ pub fn push_frame(raw: &[u8], wire: &mut Vec<u8>) {
     wire.push(FLAG);
 }
 
-struct Sender {
+/// What a [`Packer`] has sent.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct SendCounters {
+    /// Frames that went out inside a datagram.
+    pub frames: u64,
+    /// Datagrams sent.
+    pub datagrams: u64,
+    /// Datagrams whose send failed.
+    pub errors: u64,
+}
+
+/// Packs escaped AEOLUS frames into UDP datagrams and sends them: up to `pack` frames per
+/// datagram, never more than [`MAX_DATAGRAM`] bytes (a single longer frame goes out alone),
+/// and a partly filled pack waits at most [`PACK_HOLD`]. Used by `bridge` and `sim`.
+///
+/// ```
+/// use std::net::UdpSocket;
+/// use protolink::bridge::Packer;
+/// let rx = UdpSocket::bind("127.0.0.1:0")?;
+/// let mut packer = Packer::open(rx.local_addr()?, false, 2)?;
+/// let toast = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
+/// packer.push(&toast); // held: the pack takes two frames
+/// packer.push(&toast); // full: sent
+/// let mut buf = [0u8; 64];
+/// assert_eq!(rx.recv(&mut buf)?, 16);
+/// assert_eq!(packer.counters().frames, 2);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Packer {
     socket: UdpSocket,
     to: SocketAddr,
+    limit: usize,
     pack: Vec<u8>,
     frames: usize,
     since: Option<Instant>,
+    counters: SendCounters,
 }
 
-impl Sender {
-    fn send(&mut self, counters: &mut Counters) {
+impl Packer {
+    /// A packer sending to `to` (from an ephemeral port on 127.0.0.1 when `to` is a loopback
+    /// address, on every interface otherwise), `pack` frames per datagram at most (0 is
+    /// taken as 1). `broadcast` allows a broadcast destination.
+    ///
+    /// # Errors
+    /// Binding the socket or allowing broadcast fails.
+    pub fn open(to: SocketAddr, broadcast: bool, pack: u16) -> Result<Self> {
+        let bind = if to.ip().is_loopback() {
+            SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), 0)
+        } else {
+            SocketAddr::new(IpAddr::V4(Ipv4Addr::UNSPECIFIED), 0)
+        };
+        let open_err = |source| Error::Open {
+            endpoint: format!("a UDP socket for {to}"),
+            source,
+        };
+        let socket = UdpSocket::bind(bind).map_err(open_err)?;
+        if broadcast {
+            socket.set_broadcast(true).map_err(open_err)?;
+        }
+        Ok(Packer {
+            socket,
+            to,
+            limit: usize::from(pack.max(1)),
+            pack: Vec::with_capacity(MAX_DATAGRAM),
+            frames: 0,
+            since: None,
+            counters: SendCounters::default(),
+        })
+    }
+
+    /// Where the datagrams go.
+    pub fn destination(&self) -> SocketAddr {
+        self.to
+    }
+
+    /// What has been sent so far.
+    pub fn counters(&self) -> SendCounters {
+        self.counters
+    }
+
+    /// Adds one escaped frame (flags included); sends the pack when it is full.
+    pub fn push(&mut self, wire: &[u8]) {
+        if !self.pack.is_empty() && self.pack.len() + wire.len() > MAX_DATAGRAM {
+            self.flush();
+        }
+        self.pack.extend_from_slice(wire);
+        self.frames += 1;
+        self.since.get_or_insert_with(Instant::now);
+        if self.frames >= self.limit {
+            self.flush();
+        }
+    }
+
+    /// Sends a partly filled pack that has waited [`PACK_HOLD`].
+    pub fn poll(&mut self) {
+        if self.since.is_some_and(|t| t.elapsed() >= PACK_HOLD) {
+            self.flush();
+        }
+    }
+
+    /// Sends what is packed now.
+    pub fn flush(&mut self) {
         if self.pack.is_empty() {
             return;
         }
         match self.socket.send_to(&self.pack, self.to) {
             Ok(_) => {
-                counters.datagrams_sent += 1;
-                counters.frames_forwarded += self.frames as u64;
+                self.counters.datagrams += 1;
+                self.counters.frames += self.frames as u64;
             }
-            Err(_) => counters.send_errors += 1,
+            Err(_) => self.counters.errors += 1,
         }
         self.pack.clear();
         self.frames = 0;
         self.since = None;
+    }
+}
+
+/// Binds the in-port (`udp_in`), non-blocking.
+///
+/// # Errors
+/// The address is taken or cannot be bound.
+pub fn bind_in_port(udp_in: SocketAddr) -> Result<UdpSocket> {
+    let open_err = |source| Error::Open {
+        endpoint: format!("udp:{udp_in}"),
+        source,
+    };
+    let socket = UdpSocket::bind(udp_in).map_err(open_err)?;
+    socket.set_nonblocking(true).map_err(open_err)?;
+    Ok(socket)
+}
+
+/// Takes every datagram waiting on the non-blocking `socket`, handing each to `f`.
+///
+/// # Errors
+/// Receiving fails for another reason than "nothing waiting".
+pub fn receive_all(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8])) -> Result<()> {
+    loop {
+        match socket.recv_from(buf) {
+            Ok((n, _from)) => f(buf.get(..n).unwrap_or(&[])),
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => return Ok(()),
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(source) => {
+                return Err(Error::Io {
+                    what: format!(
+                        "receiving on udp:{}",
+                        socket
+                            .local_addr()
+                            .map_or_else(|_| "?".to_owned(), |a| a.to_string())
+                    ),
+                    source,
+                });
+            }
+        }
     }
 }
 
@@ -123,35 +255,8 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         Some(addr) => SocketAddr::new(addr, args.udp_out.port()),
         None => args.udp_out,
     };
-    let bind = if to.ip().is_loopback() {
-        SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), 0)
-    } else {
-        SocketAddr::new(IpAddr::V4(Ipv4Addr::UNSPECIFIED), 0)
-    };
-    let open_err = |what: String| {
-        move |source: io::Error| Error::Open {
-            endpoint: what,
-            source,
-        }
-    };
-    let out_socket = UdpSocket::bind(bind).map_err(open_err(format!("a UDP socket for {to}")))?;
-    if args.broadcast.is_some() {
-        out_socket
-            .set_broadcast(true)
-            .map_err(open_err(format!("a broadcast socket for {to}")))?;
-    }
-    let in_socket =
-        UdpSocket::bind(args.udp_in).map_err(open_err(format!("udp:{}", args.udp_in)))?;
-    in_socket
-        .set_nonblocking(true)
-        .map_err(open_err(format!("udp:{}", args.udp_in)))?;
-    let mut sender = Sender {
-        socket: out_socket,
-        to,
-        pack: Vec::with_capacity(MAX_DATAGRAM),
-        frames: 0,
-        since: None,
-    };
+    let mut packer = Packer::open(to, args.broadcast.is_some(), args.pack)?;
+    let in_socket = bind_in_port(args.udp_in)?;
     let _ = writeln!(
         io::stderr(),
         "bridging {} -> udp {to}, udp {} -> {} (Ctrl-C to stop)",
@@ -165,62 +270,51 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
     let mut deframer = Box::new(Deframer::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let mut datagram = vec![0u8; 65_536];
+    let mut wire = Vec::with_capacity(2 * AEOLUS_CAPACITY + 2);
     let mut warned = false;
-    let pack = usize::from(args.pack);
     while !deadline.reached() {
         let input = uart.read(&mut buf, deadline.left(Duration::from_millis(5)))?;
         if let Input::Data(n) = input {
             counters.uart_bytes += n as u64;
             for &b in &buf[..n] {
                 if let Some(Ok(frame)) = deframer.push(b) {
-                    let raw = frame.raw();
-                    let wire_len = 2 + raw.len() * 2;
-                    if !sender.pack.is_empty() && sender.pack.len() + wire_len > MAX_DATAGRAM {
-                        sender.send(&mut counters);
-                    }
-                    push_frame(raw, &mut sender.pack);
-                    sender.frames += 1;
-                    sender.since.get_or_insert_with(Instant::now);
-                    if sender.frames >= pack {
-                        sender.send(&mut counters);
-                    }
+                    wire.clear();
+                    push_frame(frame.raw(), &mut wire);
+                    packer.push(&wire);
                 }
             }
         }
-        let hold_over = sender.since.is_some_and(|t| t.elapsed() >= PACK_HOLD);
-        if matches!(input, Input::Idle | Input::End) || hold_over {
-            sender.send(&mut counters);
+        if matches!(input, Input::Idle | Input::End) {
+            packer.flush();
+        } else {
+            packer.poll();
         }
-        loop {
-            match in_socket.recv_from(&mut datagram) {
-                Ok((n, _from)) => {
-                    counters.datagrams_received += 1;
-                    match uart.write_all(&datagram[..n]) {
-                        Ok(()) => counters.bytes_to_uart += n as u64,
-                        Err(e) => {
-                            counters.uart_write_errors += 1;
-                            if !warned {
-                                let _ = writeln!(io::stderr(), "warning: {e}");
-                                warned = true;
-                            }
-                        }
-                    }
-                }
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                Err(source) => {
-                    return Err(Error::Io {
-                        what: format!("receiving on udp:{}", args.udp_in),
-                        source,
-                    });
+        let mut write_error = None;
+        receive_all(&in_socket, &mut datagram, |d| {
+            counters.datagrams_received += 1;
+            match uart.write_all(d) {
+                Ok(()) => counters.bytes_to_uart += d.len() as u64,
+                Err(e) => {
+                    counters.uart_write_errors += 1;
+                    write_error.get_or_insert(e);
                 }
             }
+        })?;
+        if let Some(e) = write_error
+            && !warned
+        {
+            let _ = writeln!(io::stderr(), "warning: {e}");
+            warned = true;
         }
         if input == Input::End {
             break;
         }
     }
-    sender.send(&mut counters);
+    packer.flush();
+    let sent = packer.counters();
+    counters.frames_forwarded = sent.frames;
+    counters.datagrams_sent = sent.datagrams;
+    counters.send_errors = sent.errors;
     let mut out = Out::new();
     out.line(&format!("bridge: {}", text(&to_json(&counters))))?;
     out.line(&format!(

@@ -7,6 +7,7 @@ use crate::aydp_cmd::AydpArgs;
 use crate::bridge::BridgeArgs;
 use crate::decode::DecodeArgs;
 use crate::error::Result;
+use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
 
 const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
@@ -39,8 +40,12 @@ pub enum Command {
   protolink bridge --uart tcp:127.0.0.1:7000 --udp-out 127.0.0.1:5001 --udp-in 5002
   protolink bridge --uart serial:/dev/ttyUSB0@921600 --pack 4 --seconds 60")]
     Bridge(BridgeArgs),
-    // The `sim` subcommand (a virtual AEOLUS-SENSE box on UDP, issue 6) goes here. It will share
-    // the firmware's telemetry code (issue 5), which does not exist yet, so it is not registered.
+    /// A virtual AEOLUS-SENSE box on UDP: the firmware's telemetry, flight and command handling.
+    #[command(after_help = "Examples:
+  protolink sim --udp-out 127.0.0.1:5001 --udp-in 5002
+  protolink sim --pack 8 --airspeed 35 --bank -15 --seconds 60
+  protolink watch --from udp:5001      (in a second terminal: watch what it sends)")]
+    Sim(SimArgs),
     /// Read and write an AYDP device's system values, store its configuration, set outputs.
     #[command(after_help = "Examples:
   protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
@@ -71,6 +76,7 @@ impl Cli {
             Command::Bridge(a) => crate::bridge::run(a),
             Command::Aydp(a) => crate::aydp_cmd::run(a),
             Command::Aok(a) => crate::aok_cmd::run(a),
+            Command::Sim(a) => crate::sim::run(a),
             Command::Watch(a) => crate::watch::run(a),
         }
     }

@@ -12,13 +12,11 @@
 //! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
 //! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
 //! | [`watch`] | `watch`: the live telemetry view |
+//! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
 //! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
 //! | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
 //! | [`render`], [`progress`], [`stop`] | output, progress spinner, Ctrl-C and `--seconds` |
 //! | [`error`] | the crate's one error type |
-//!
-//! The `sim` subcommand (a virtual AEOLUS-SENSE box) will get its own module once the firmware's
-//! telemetry code exists to share.
 //!
 //! ```
 //! use protolink::decode::{AeolusDecoder, StreamDecoder};
@@ -43,7 +41,7 @@ pub mod error;
 pub mod nb_serial;
 pub mod progress;
 pub mod render;
-// pub mod sim;  // issue 6: the virtual box, once firmware-example's telemetry code exists.
+pub mod sim;
 pub mod stop;
 pub mod value_type;
 pub mod watch;

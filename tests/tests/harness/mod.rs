@@ -1,0 +1,477 @@
+//! The QEMU harness of the end-to-end tests: boots the release sensor-box firmware in QEMU
+//! (`lm3s6965evb`) through `scripts/qemu-run.sh` and connects to its three UART sockets.
+//!
+//! * Skipped, with a message saying so, only when `qemu-system-arm` is not installed
+//!   (`scripts/setup.sh qemu` installs it; `.ci/run` does).
+//! * The firmware is built by the harness itself (`cargo qemu-build`, a no-op when
+//!   `scripts/test.sh` has built it already), into `$CARGO_TARGET_DIR` (default `target/`).
+//!   `SENSOR_BOX_ELF=path` boots a given ELF instead. [`protolink`] builds the host tool the
+//!   same way.
+//! * Every test boots its own QEMU on its own fixed ports ([`Ports`]), far from the demo's
+//!   7000..7002, and the tests of one file take turns (one QEMU at a time, so that timing is
+//!   not disturbed by a second emulator on the same cores; cargo runs test files one after
+//!   the other). QEMU is killed when the test ends, whether it passed or not ([`Qemu`]'s
+//!   `Drop`). The firmware's defmt log goes to `$CARGO_TARGET_DIR/qemu-firmware-PORT.log`
+//!   (decoded when `defmt-print` is installed).
+//!
+//! To add a test: give it its own [`Ports`], then `let Some(mut q) = boot(Ports::NEXT_ONE) else
+//! { return };` and use `q.uart0` (an [`Aeolus`] reader over the AEOLUS socket), `q.uart1`
+//! (AYDP) and `q.uart2` (AOK), plain `TcpStream`s for the last two. To let `protolink` take a
+//! UART instead, close the harness's connection first ([`Aeolus::disconnect`],
+//! `TcpStream::shutdown`): a QEMU UART socket serves one client at a time.
+#![allow(dead_code)]
+
+use aeolus_proto::message::{Message, Text};
+use aeolus_proto::{CrcMode, Deframer, max_encoded_len};
+use std::fs::File;
+use std::io::{ErrorKind, Read, Write};
+use std::net::TcpStream;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Mutex, MutexGuard, OnceLock};
+use std::time::{Duration, Instant};
+
+// ------------------------------------------------------------------ QEMU harness
+
+/// The three TCP ports of one QEMU instance (UART0, UART1, UART2).
+#[derive(Debug, Clone, Copy)]
+pub struct Ports(pub u16);
+
+impl Ports {
+    /// `qemu_firmware::aeolus_telemetry_crc_rates_and_commands`.
+    pub const AEOLUS: Ports = Ports(17_400);
+    /// `qemu_firmware::aydp_setting_survives_store_and_reboot`.
+    pub const AYDP: Ports = Ports(17_410);
+    /// `qemu_firmware::aok_parameter_and_waypoint`.
+    pub const AOK: Ports = Ports(17_420);
+    /// `protolink_e2e::bridge_carries_telemetry_and_commands_over_udp`.
+    pub const BRIDGE: Ports = Ports(17_430);
+    /// `protolink_e2e::protolink_aydp_set_get_store`.
+    pub const CLI_AYDP: Ports = Ports(17_440);
+    /// `protolink_e2e::protolink_aok_get_set_waypoint`.
+    pub const CLI_AOK: Ports = Ports(17_450);
+}
+
+impl Ports {
+    /// The TCP port of UART `n`.
+    pub fn uart(self, n: u16) -> u16 {
+        self.0 + n
+    }
+}
+
+/// One QEMU at a time (see the module docs).
+static QEMU_LOCK: Mutex<()> = Mutex::new(());
+
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ is inside the workspace")
+        .to_path_buf()
+}
+
+pub fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .map(|p| {
+            if p.is_relative() {
+                workspace_root().join(p)
+            } else {
+                p
+            }
+        })
+        .unwrap_or_else(|| workspace_root().join("target"))
+}
+
+pub fn qemu_installed() -> bool {
+    Command::new("qemu-system-arm")
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// The release firmware ELF, built once per test run.
+pub fn firmware_elf() -> &'static Path {
+    static ELF: OnceLock<PathBuf> = OnceLock::new();
+    ELF.get_or_init(|| {
+        if let Some(elf) = std::env::var_os("SENSOR_BOX_ELF") {
+            return PathBuf::from(elf);
+        }
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = Command::new(cargo)
+            .arg("qemu-build")
+            .current_dir(workspace_root())
+            .env("CARGO_TARGET_DIR", target_dir())
+            .status()
+            .expect("run `cargo qemu-build`");
+        assert!(status.success(), "`cargo qemu-build` failed");
+        target_dir().join("thumbv7m-none-eabi/release/sensor-box")
+    })
+}
+
+/// The `protolink` binary (debug build), built once per test run (`cargo build -p protolink`,
+/// a no-op inside `cargo test --workspace`, which has built it already).
+pub fn protolink() -> &'static Path {
+    static BIN: OnceLock<PathBuf> = OnceLock::new();
+    BIN.get_or_init(|| {
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = Command::new(cargo)
+            .args(["build", "-q", "-p", "protolink", "--bin", "protolink"])
+            .current_dir(workspace_root())
+            .env("CARGO_TARGET_DIR", target_dir())
+            .status()
+            .expect("run `cargo build -p protolink`");
+        assert!(status.success(), "`cargo build -p protolink` failed");
+        target_dir().join("debug/protolink")
+    })
+}
+
+/// A running QEMU and the sockets of its three UARTs. Dropping it kills QEMU.
+pub struct Qemu {
+    /// UART0: AEOLUS.
+    pub uart0: Aeolus,
+    /// UART1: AYDP.
+    pub uart1: TcpStream,
+    /// UART2: AOK.
+    pub uart2: TcpStream,
+    process: Process,
+    /// Released last, once QEMU is gone.
+    _turn: MutexGuard<'static, ()>,
+}
+
+/// `scripts/qemu-run.sh` and what it started (QEMU, defmt-print), in their own process group.
+struct Process {
+    child: Child,
+    log: PathBuf,
+}
+
+/// Boots the release firmware in QEMU on `ports` and connects to its three UARTs; `None`
+/// (after saying why) when `qemu-system-arm` is missing.
+///
+/// QEMU runs in wait mode (`QEMU_WAIT=1`): the CPU starts only once UART0 is connected, so
+/// the first bytes read from it are the boot TOAST.
+pub fn boot(ports: Ports) -> Option<Qemu> {
+    if !qemu_installed() {
+        eprintln!(
+            "SKIPPED: qemu-system-arm is not installed, so the firmware cannot be booted \
+             (install it with `scripts/setup.sh qemu`)"
+        );
+        return None;
+    }
+    let elf = firmware_elf();
+    assert!(elf.is_file(), "no firmware at {}", elf.display());
+    let turn = QEMU_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+
+    let log = target_dir().join(format!("qemu-firmware-{}.log", ports.0));
+    let out = File::create(&log).expect("create the QEMU log file");
+    let err = out.try_clone().expect("clone the log file handle");
+    let defmt_print = Command::new("defmt-print")
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    let child = Command::new(workspace_root().join("scripts/qemu-run.sh"))
+        .arg(elf)
+        .env("QEMU_UART0_PORT", ports.uart(0).to_string())
+        .env("QEMU_UART1_PORT", ports.uart(1).to_string())
+        .env("QEMU_UART2_PORT", ports.uart(2).to_string())
+        .env("QEMU_WAIT", "1")
+        .env("QEMU_DEFMT", if defmt_print { "1" } else { "0" })
+        .stdin(Stdio::null())
+        .stdout(out)
+        .stderr(err)
+        // Its own process group, so that Drop stops the script, QEMU and defmt-print.
+        .process_group(0)
+        .spawn()
+        .expect("start scripts/qemu-run.sh");
+    // From here on, a panic drops `process`, which kills QEMU.
+    let mut process = Process { child, log };
+    // QEMU creates UART1 and UART2's sockets only after a client took UART0 (wait mode).
+    let uart0 = Aeolus::new(process.connect(ports.uart(0)));
+    let uart1 = process.connect(ports.uart(1));
+    let uart2 = process.connect(ports.uart(2));
+    Some(Qemu {
+        uart0,
+        uart1,
+        uart2,
+        process,
+        _turn: turn,
+    })
+}
+
+impl Qemu {
+    /// Where the firmware's log goes.
+    pub fn log(&self) -> &Path {
+        &self.process.log
+    }
+
+    /// Stops QEMU; the firmware's whole log.
+    pub fn stop(self) -> String {
+        let log = self.process.log.clone();
+        drop(self);
+        std::fs::read_to_string(&log).unwrap_or_default()
+    }
+}
+
+impl Process {
+    /// Connects to `port`, retrying while QEMU starts (10 s at most).
+    fn connect(&mut self, port: u16) -> TcpStream {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            match TcpStream::connect(("127.0.0.1", port)) {
+                Ok(s) => {
+                    s.set_nodelay(true).ok();
+                    return s;
+                }
+                Err(e) => {
+                    if let Ok(Some(status)) = self.child.try_wait() {
+                        panic!(
+                            "QEMU exited ({status}) before port {port} was up; log: {}",
+                            self.log.display()
+                        );
+                    }
+                    assert!(
+                        Instant::now() < deadline,
+                        "port {port} not up after 10 s ({e}); log: {}",
+                        self.log.display()
+                    );
+                    std::thread::sleep(Duration::from_millis(50));
+                }
+            }
+        }
+    }
+}
+
+impl Drop for Process {
+    fn drop(&mut self) {
+        let group = format!("-{}", self.child.id());
+        let _ = Command::new("kill").args(["-TERM", "--", &group]).status();
+        let deadline = Instant::now() + Duration::from_secs(3);
+        while Instant::now() < deadline {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = Command::new("kill").args(["-KILL", "--", &group]).status();
+        let _ = self.child.wait();
+    }
+}
+
+// ------------------------------------------------------------------ AEOLUS reader
+
+/// One frame received on UART0.
+#[derive(Debug, Clone)]
+pub struct Frame {
+    /// Message ID.
+    pub id: u8,
+    /// Message data.
+    pub data: Vec<u8>,
+}
+
+impl Frame {
+    pub fn msg(&self) -> Option<Message<'_>> {
+        Message::parse(self.id, &self.data).ok()
+    }
+
+    pub fn toast(&self) -> Option<String> {
+        match self.msg()? {
+            Message::Toast(t) => Some(String::from_utf8_lossy(t.as_bytes()).into_owned()),
+            _ => None,
+        }
+    }
+
+    /// The timestamp (ms since boot) of a telemetry message.
+    pub fn timestamp(&self) -> Option<f64> {
+        Some(match self.msg()? {
+            Message::Gyro(m) => m.timestamp_ms,
+            Message::Accel(m) => m.timestamp_ms,
+            Message::Magnet(m) => m.timestamp_ms,
+            Message::Attitude(m) => m.timestamp_ms,
+            Message::Compass(m) => m.timestamp_ms,
+            Message::Pressure(m) => m.timestamp_ms,
+            Message::Gps(m) => m.timestamp_ms,
+            Message::Temp(m) => m.timestamp_ms,
+            Message::Wind(m) => m.timestamp_ms,
+            _ => return None,
+        })
+    }
+
+    pub fn is_telemetry(&self) -> bool {
+        TELEMETRY.iter().any(|t| t.id == self.id)
+    }
+}
+
+/// The UART0 socket and everything decoded from it so far, with a strict deframer: a frame
+/// without a CRC or with a wrong one is counted, never delivered.
+#[derive(Default)]
+pub struct Aeolus {
+    stream: Option<TcpStream>,
+    deframer: Deframer<{ aeolus_proto::MAX_FIXED_FRAME }>,
+    /// Every frame received, in order.
+    pub frames: Vec<Frame>,
+    /// Every byte received.
+    pub bytes: usize,
+    outgoing: Vec<u8>,
+}
+
+impl Aeolus {
+    fn new(stream: TcpStream) -> Self {
+        stream
+            .set_read_timeout(Some(Duration::from_millis(20)))
+            .expect("set a read timeout");
+        Aeolus {
+            stream: Some(stream),
+            deframer: Deframer::strict(),
+            ..Aeolus::default()
+        }
+    }
+
+    /// Reads and decodes for `d`; returns the index of the first frame read.
+    pub fn read_for(&mut self, d: Duration) -> usize {
+        let first = self.frames.len();
+        let deadline = Instant::now() + d;
+        while Instant::now() < deadline {
+            self.read_some();
+        }
+        first
+    }
+
+    /// Reads until a frame satisfying `want` arrives (within `timeout`); its index.
+    pub fn read_until(&mut self, timeout: Duration, want: impl Fn(&Frame) -> bool) -> usize {
+        let mut checked = self.frames.len();
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(i) = self.frames[checked..].iter().position(&want) {
+                return checked + i;
+            }
+            checked = self.frames.len();
+            assert!(
+                Instant::now() < deadline,
+                "nothing wanted within {timeout:?}"
+            );
+            self.read_some();
+        }
+    }
+
+    fn read_some(&mut self) {
+        let mut buf = [0u8; 4096];
+        let stream = self.stream.as_mut().expect("connected");
+        match stream.read(&mut buf) {
+            Ok(0) => panic!("QEMU closed UART0"),
+            Ok(n) => {
+                self.bytes += n;
+                for &b in &buf[..n] {
+                    if let Some(Ok(f)) = self.deframer.push(b) {
+                        self.frames.push(Frame {
+                            id: f.id(),
+                            data: f.data().to_vec(),
+                        });
+                    }
+                }
+            }
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
+            Err(e) => panic!("UART0: {e}"),
+        }
+    }
+
+    /// Sends a COMMAND.
+    pub fn command(&mut self, text: &str) {
+        self.queue_command(text);
+        self.flush_commands();
+    }
+
+    /// Adds a COMMAND to what [`Aeolus::flush_commands`] sends in one write.
+    pub fn queue_command(&mut self, text: &str) {
+        let msg = Message::Command(Text::new(text).expect("short command"));
+        let mut buf = vec![0u8; max_encoded_len(msg.buffer_len())];
+        let n = msg.encode(&mut buf, CrcMode::Compute).expect("encode");
+        self.outgoing.extend_from_slice(&buf[..n]);
+    }
+
+    /// Sends the queued COMMANDs in one write.
+    pub fn flush_commands(&mut self) {
+        let stream = self.stream.as_mut().expect("connected");
+        stream.write_all(&self.outgoing).expect("send to UART0");
+        self.outgoing.clear();
+    }
+
+    /// Closes the socket, so that another client (`protolink bridge`) can take UART0. QEMU
+    /// drops what the UART sends while no client is connected.
+    pub fn disconnect(&mut self) {
+        self.stream = None;
+    }
+
+    /// The deframer's counters.
+    pub fn stats(&self) -> &aeolus_proto::Stats {
+        self.deframer.stats()
+    }
+}
+
+// ------------------------------------------------------------------ the periodic messages
+
+/// The periodic messages and their spec intervals (figure 1c), ms.
+pub struct Periodic {
+    /// Message ID.
+    pub id: u8,
+    /// Name in the spec.
+    pub name: &'static str,
+    /// Spec interval, ms.
+    pub interval_ms: f64,
+}
+
+pub const TELEMETRY: [Periodic; 10] = [
+    Periodic {
+        id: 62,
+        name: "GYRO",
+        interval_ms: 7.0,
+    },
+    Periodic {
+        id: 63,
+        name: "ACCEL",
+        interval_ms: 7.0,
+    },
+    Periodic {
+        id: 64,
+        name: "MAGNET",
+        interval_ms: 7.0,
+    },
+    Periodic {
+        id: 71,
+        name: "ATTITUDE",
+        interval_ms: 7.0,
+    },
+    Periodic {
+        id: 72,
+        name: "COMPASS",
+        interval_ms: 7.0,
+    },
+    Periodic {
+        id: 61,
+        name: "PRESSURE",
+        interval_ms: 5.0,
+    },
+    Periodic {
+        id: 66,
+        name: "GPS",
+        interval_ms: 92.0,
+    },
+    Periodic {
+        id: 65,
+        name: "TEMP",
+        interval_ms: 829.0,
+    },
+    Periodic {
+        id: 73,
+        name: "WIND",
+        interval_ms: 1000.0,
+    },
+    Periodic {
+        id: 51,
+        name: "AEOLUSINFO",
+        interval_ms: 1000.0,
+    },
+];

@@ -1,0 +1,378 @@
+//! The release firmware in QEMU, driven through the real `protolink` binary, as a person at a
+//! desk would: `bridge` between UART0 and UDP on 127.0.0.1, `aydp` on UART1, `aok` on UART2.
+//! The harness (QEMU, ports, the firmware build) is `harness/mod.rs`.
+
+mod harness;
+
+use aeolus_proto::decode_datagram;
+use aeolus_proto::message::{Message, SetTime, Text};
+use harness::*;
+use std::io::Read;
+use std::net::{Shutdown, UdpSocket};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The longest one `protolink` run may take before the test fails (never a hang).
+const RUN_LIMIT: Duration = Duration::from_secs(30);
+
+fn spawn(args: &[&str]) -> Child {
+    Command::new(protolink())
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start protolink")
+}
+
+/// Waits for a run (killing it after [`RUN_LIMIT`]), reading its pipes meanwhile.
+fn finish(mut child: Child) -> Output {
+    let mut out = child.stdout.take().expect("stdout");
+    let mut err = child.stderr.take().expect("stderr");
+    let out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = out.read_to_end(&mut v);
+        v
+    });
+    let err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = err.read_to_end(&mut v);
+        v
+    });
+    let started = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        if started.elapsed() > RUN_LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("protolink ran longer than {RUN_LIMIT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("stdout reader"),
+        stderr: err.join().expect("stderr reader"),
+    }
+}
+
+/// Runs `protolink ARGS`, asserts a zero exit, returns stdout.
+fn protolink_ok(args: &[&str]) -> String {
+    let out = finish(spawn(args));
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "protolink {args:?} failed ({:?})\nstdout:\n{stdout}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+/// Boots QEMU and checks the boot TOAST on UART0; `None` when QEMU is not installed.
+fn boot_checked(ports: Ports) -> Option<Qemu> {
+    let mut q = boot(ports)?;
+    let first = q.uart0.read_until(Duration::from_secs(10), |_| true);
+    assert_eq!(
+        q.uart0.frames[first].toast().as_deref(),
+        Some("AEOLUS on"),
+        "log: {}",
+        q.log().display()
+    );
+    Some(q)
+}
+
+// ------------------------------------------------------------------ bridge
+
+/// The test's UDP side of the bridge: every datagram decoded strictly (a frame without a CRC
+/// or with a wrong one fails the test).
+struct Udp {
+    rx: UdpSocket,
+    tx: UdpSocket,
+    frames: Vec<Frame>,
+    datagrams: usize,
+}
+
+impl Udp {
+    fn read_some(&mut self) {
+        let mut buf = [0u8; 2048];
+        if let Ok(n) = self.rx.recv(&mut buf) {
+            self.datagrams += 1;
+            for f in decode_datagram(&mut buf[..n], true) {
+                let f = f.unwrap_or_else(|e| panic!("bad frame in datagram: {e:?}"));
+                self.frames.push(Frame {
+                    id: f.id(),
+                    data: f.data().to_vec(),
+                });
+            }
+        }
+    }
+
+    fn read_for(&mut self, d: Duration) {
+        let end = Instant::now() + d;
+        while Instant::now() < end {
+            self.read_some();
+        }
+    }
+
+    fn read_until_toast(&mut self, timeout: Duration) -> usize {
+        let mut checked = self.frames.len();
+        let end = Instant::now() + timeout;
+        loop {
+            if let Some(i) = self.frames[checked..]
+                .iter()
+                .position(|f| f.toast().is_some())
+            {
+                return checked + i;
+            }
+            checked = self.frames.len();
+            assert!(Instant::now() < end, "no TOAST within {timeout:?}");
+            self.read_some();
+        }
+    }
+
+    fn send(&self, msg: &Message<'_>, to: u16) {
+        let mut buf = [0u8; 128];
+        let n = msg
+            .encode(&mut buf, aeolus_proto::CrcMode::Compute)
+            .expect("encode");
+        self.tx
+            .send_to(&buf[..n], ("127.0.0.1", to))
+            .expect("send to the bridge");
+    }
+}
+
+#[test]
+fn bridge_carries_telemetry_and_commands_over_udp() {
+    let ports = Ports::BRIDGE;
+    let Some(mut q) = boot_checked(ports) else {
+        return;
+    };
+    // The bridge takes UART0 from the harness.
+    q.uart0.disconnect();
+    let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+    rx.set_read_timeout(Some(Duration::from_millis(20)))
+        .unwrap();
+    let out_port = rx.local_addr().unwrap().port();
+    let in_port = ports.uart(0) + 5;
+    let mut udp = Udp {
+        rx,
+        tx: UdpSocket::bind("127.0.0.1:0").unwrap(),
+        frames: Vec::new(),
+        datagrams: 0,
+    };
+    let bridge = spawn(&[
+        "bridge",
+        "--uart",
+        &format!("tcp:127.0.0.1:{}", ports.uart(0)),
+        "--udp-out",
+        &format!("127.0.0.1:{out_port}"),
+        "--udp-in",
+        &in_port.to_string(),
+        "--seconds",
+        "9",
+    ]);
+
+    // 3 s of datagrams: every frame with a good CRC, every telemetry type present.
+    udp.read_for(Duration::from_secs(3));
+    let n = udp.frames.len();
+    println!(
+        "3 s through the bridge: {n} frames in {} datagrams",
+        udp.datagrams
+    );
+    for p in &TELEMETRY {
+        let count = udp.frames.iter().filter(|f| f.id == p.id).count();
+        println!("{:>10}: {count}", p.name);
+        assert!(count >= 1, "no {} through the bridge", p.name);
+    }
+    // At the spec rates 3 s carry about 3,000 frames; allow for the bridge's start.
+    assert!(n >= 1_500, "only {n} frames in 3 s");
+    assert_eq!(udp.datagrams, n, "one frame per datagram (no --pack)");
+
+    // SETTIME and "a pause" as datagrams to the in-port: the answer, then no telemetry.
+    let time = SetTime {
+        year_since_1900: 126,
+        month0: 10,
+        day: 21,
+        hour: 12,
+        minute: 34,
+        second: 56,
+    };
+    udp.send(&Message::SetTime(time), in_port);
+    udp.send(
+        &Message::Command(Text::new("a pause").expect("short")),
+        in_port,
+    );
+    let ack = udp.read_until_toast(Duration::from_secs(3));
+    assert_eq!(udp.frames[ack].toast().as_deref(), Some("AEOLUS paused"));
+    udp.read_for(Duration::from_millis(700));
+    let during: Vec<&Frame> = udp.frames[ack + 1..].iter().collect();
+    assert!(during.is_empty(), "sent while paused: {during:?}");
+
+    // "a resume": the answer, then telemetry again.
+    udp.send(
+        &Message::Command(Text::new("a resume").expect("short")),
+        in_port,
+    );
+    let ack = udp.read_until_toast(Duration::from_secs(3));
+    assert_eq!(udp.frames[ack].toast().as_deref(), Some("AEOLUS resumed"));
+    udp.read_for(Duration::from_millis(500));
+    let resumed = &udp.frames[ack + 1..];
+    assert!(
+        resumed.len() >= 200 && resumed.iter().all(Frame::is_telemetry),
+        "{} frames after the resume",
+        resumed.len()
+    );
+
+    // The bridge ends by itself (--seconds) and reports its counters.
+    let out = finish(bridge);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "bridge failed: {out:?}");
+    println!("{stdout}");
+    let counters = stdout
+        .lines()
+        .find(|l| l.starts_with("bridge: "))
+        .expect("the bridge's counters");
+    for want in [
+        "datagrams_received=3 ",
+        "send_errors=0 ",
+        "uart_write_errors=0",
+    ] {
+        assert!(counters.contains(want), "{want} not in {counters}");
+    }
+    let deframer = stdout
+        .lines()
+        .find(|l| l.starts_with("uart deframer: "))
+        .expect("the deframer's counters");
+    assert!(deframer.contains("crc_errors=0 "), "{deframer}");
+
+    // The firmware's log shows it took the SETTIME and the commands.
+    let log = q.stop();
+    println!("{log}");
+    assert!(
+        log.contains("SETTIME 2026-11-21 12:34:56"),
+        "SETTIME not in the firmware's log"
+    );
+    assert!(log.contains("AEOLUS: a pause") && log.contains("AEOLUS: a resume"));
+}
+
+// ------------------------------------------------------------------ aydp
+
+#[test]
+fn protolink_aydp_set_get_store() {
+    let ports = Ports::CLI_AYDP;
+    let Some(mut q) = boot_checked(ports) else {
+        return;
+    };
+    // protolink takes UART1 from the harness.
+    q.uart1.shutdown(Shutdown::Both).expect("close UART1");
+    let to = format!("tcp:127.0.0.1:{}", ports.uart(1));
+    let aydp = |args: &[&str]| {
+        let mut all = vec!["aydp", "--to", to.as_str()];
+        all.extend_from_slice(args);
+        protolink_ok(&all)
+    };
+
+    // Read-only identity, then the simulated airspeed from its default to 64.5 m/s.
+    assert_eq!(
+        aydp(&["get", "0x0001", "--as", "char[40]"]),
+        "0x0001 char[40] = \"protolink sensor box\"\n"
+    );
+    assert_eq!(
+        aydp(&["get", "0x0110", "--as", "f32"]),
+        "0x0110 f32 = 50.0\n"
+    );
+    // `set` reads the value back and prints what the device holds.
+    assert_eq!(
+        aydp(&["set", "0x0110", "64.5", "--as", "f32"]),
+        "0x0110 f32 = 64.5\n"
+    );
+    assert_eq!(
+        aydp(&["get", "0x0110", "--as", "f32"]),
+        "0x0110 f32 = 64.5\n"
+    );
+    // The element form and the array form on the AEOLUS intervals.
+    assert_eq!(
+        aydp(&["set", "0x0100[1]", "6", "--as", "u32[6]"]),
+        "0x0100 u32[6] = [7, 6, 92, 829, 1000, 1000]\n"
+    );
+    assert_eq!(
+        aydp(&["set", "0x0100", "7,5,92,829,1000,1000", "--as", "u32[6]"]),
+        "0x0100 u32[6] = [7, 5, 92, 829, 1000, 1000]\n"
+    );
+    // A value out of the registry's range is refused by the device, in one sentence.
+    let out = finish(spawn(&[
+        "aydp", "--to", &to, "set", "0x0110", "400", "--as", "f32",
+    ]));
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: ") && !err.contains("panicked"),
+        "{err}"
+    );
+
+    // Store, then "a reboot" over AEOLUS: the stored airspeed is back after the boot.
+    assert!(aydp(&["store"]).starts_with("store configuration sent"));
+    q.uart0.command("a reboot");
+    let seen = q.uart0.frames.len();
+    let again = q.uart0.read_until(Duration::from_secs(10), |f| {
+        f.toast().as_deref() == Some("AEOLUS on")
+    });
+    assert!(again >= seen, "a second boot TOAST");
+    assert_eq!(
+        aydp(&["get", "0x0110", "--as", "f32"]),
+        "0x0110 f32 = 64.5\n"
+    );
+    q.stop();
+}
+
+// ------------------------------------------------------------------ aok
+
+#[test]
+fn protolink_aok_get_set_waypoint() {
+    let ports = Ports::CLI_AOK;
+    let Some(mut q) = boot_checked(ports) else {
+        return;
+    };
+    q.uart2.shutdown(Shutdown::Both).expect("close UART2");
+    // Nobody needs UART0 here: let QEMU drop what it sends.
+    q.uart0.disconnect();
+    let to = format!("tcp:127.0.0.1:{}", ports.uart(2));
+    let aok = |args: &[&str]| {
+        let mut all = vec!["aok", "--to", to.as_str()];
+        all.extend_from_slice(args);
+        protolink_ok(&all)
+    };
+
+    assert_eq!(aok(&["get", "12"]), "parameter 12 = 0\n");
+    assert_eq!(aok(&["set", "12", "1500"]), "parameter 12 = 1500 (acked)\n");
+    assert_eq!(aok(&["get", "12"]), "parameter 12 = 1500\n");
+    // Parameter 20 cannot be set in flight: the device's 'I', as one sentence and status 1.
+    let out = finish(spawn(&["aok", "--to", &to, "set", "20", "7"]));
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "error: the device refused setting parameter 20 in flight ('I')\n"
+    );
+
+    let wp = "waypoint 1: longitude=237512345 latitude=480012345 \
+              action1=hold-and-climb:15 action2=set-fly-speed:250";
+    assert_eq!(
+        aok(&[
+            "waypoint",
+            "set",
+            "1",
+            "237512345",
+            "480012345",
+            "--action1",
+            "hold-and-climb:15",
+            "--action2",
+            "set-fly-speed:250",
+        ]),
+        format!("{wp} (acked)\n")
+    );
+    assert_eq!(aok(&["waypoint", "get", "1"]), format!("{wp}\n"));
+    q.stop();
+}
