@@ -2,10 +2,20 @@
 # The main job: boots the sensor-box firmware in QEMU (lm3s6965evb) and shows its live AEOLUS
 # telemetry with `protolink watch`, while the firmware's defmt log goes to a file.
 #
-#   scripts/demo.sh              runs until Ctrl-C
-#   DEMO_SECONDS=20 scripts/demo.sh    stops by itself after 20 s
+#   scripts/demo.sh                  runs until Ctrl-C
+#   scripts/demo.sh --seconds 20     stops by itself after 20 s (or DEMO_SECONDS=20)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+seconds=${DEMO_SECONDS:-}
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) [ $# -ge 2 ] || { echo "demo.sh: --seconds needs a number" >&2; exit 2; }
+               seconds=$2; shift 2 ;;
+    --seconds=*) seconds=${1#--seconds=}; shift ;;
+    -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "demo.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
+  esac
+done
 bash scripts/setup.sh qemu defmt-print
 
 echo "building the firmware (release, thumbv7m) and protolink ..." >&2
@@ -27,5 +37,5 @@ for _ in $(seq 200); do
 done
 echo "firmware log (defmt): $log; AYDP on 127.0.0.1:${QEMU_UART1_PORT:-7001}, AOK on 127.0.0.1:${QEMU_UART2_PORT:-7002}" >&2
 args=(watch --from "tcp:127.0.0.1:$port")
-[ -n "${DEMO_SECONDS:-}" ] && args+=(--seconds "$DEMO_SECONDS")
+[ -n "$seconds" ] && args+=(--seconds "$seconds")
 target/release/protolink "${args[@]}"
