@@ -1,8 +1,12 @@
 //! Inputs of the benchmarks: 64 KiB streams of valid frames per protocol, built outside the
-//! measured code, and the functions measured.
+//! measured code. The measured functions are in `bench-kernels` (re-exported here), shared with
+//! the Cortex-M3 harness; the two that need `std` (the `mavlink` peer and the naive decoder)
+//! stay here.
+
+pub use bench_kernels::*;
 
 use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::*};
-use aydp_proto::{Decoder, Encoder, Profile, Timestamp};
+use aydp_proto::{Encoder, Profile, Timestamp};
 use protolink_tests::rng::Rng;
 
 /// Size of every input stream.
@@ -91,66 +95,6 @@ pub fn aeolus_messages() -> Vec<Message<'static>> {
     msgs
 }
 
-/// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
-#[inline(never)]
-pub fn aeolus_deframe(stream: &[u8]) -> u32 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut n = 0;
-    for &b in stream {
-        if let Some(Ok(_)) = d.push(b) {
-            n += 1;
-        }
-    }
-    n
-}
-
-/// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
-#[inline(never)]
-pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut n = 0;
-    d.push_slice(stream, |ev| n += ev.is_ok() as u32);
-    n
-}
-
-/// Deframes with `push_slice` and parses every frame into a typed message.
-#[inline(never)]
-pub fn aeolus_decode_slice(stream: &[u8]) -> f64 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut acc = 0.0;
-    d.push_slice(stream, |ev| {
-        if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
-            acc += g.timestamp_ms;
-        }
-    });
-    acc
-}
-
-/// Deframes and parses every frame into a typed message.
-#[inline(never)]
-pub fn aeolus_decode(stream: &[u8]) -> f64 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut acc = 0.0;
-    for &b in stream {
-        if let Some(Ok(frame)) = d.push(b) {
-            if let Ok(Message::Gyro(g)) = frame.message() {
-                acc += g.timestamp_ms;
-            }
-        }
-    }
-    acc
-}
-
-/// Encodes every message into one output buffer; returns the bytes written.
-#[inline(never)]
-pub fn aeolus_encode(msgs: &[Message<'_>], out: &mut [u8]) -> usize {
-    let mut at = 0;
-    for m in msgs {
-        at += m.encode(&mut out[at..], CrcMode::Compute).unwrap();
-    }
-    at
-}
-
 /// AYDP in the `Spec` profile: a mix of expedited and timed messages, 64 KiB.
 pub fn aydp_stream() -> Vec<u8> {
     let mut rng = Rng::new(2);
@@ -193,36 +137,6 @@ pub fn aydp_messages() -> Vec<aydp_proto::Message<'static>> {
     (0..3000).map(|_| aydp_message(&mut rng)).collect()
 }
 
-/// Decodes `stream` (every event drained) and parses every frame.
-#[inline(never)]
-pub fn aydp_decode(stream: &[u8]) -> u32 {
-    let mut d = Decoder::<128>::new(Profile::Spec);
-    let mut n = 0;
-    for &b in stream {
-        let mut ev = d.push(b);
-        while let Some(e) = ev {
-            if let Ok(f) = e {
-                if f.message().is_ok() {
-                    n += 1;
-                }
-            }
-            ev = d.poll();
-        }
-    }
-    n
-}
-
-/// Encodes every message, expedited, into one buffer.
-#[inline(never)]
-pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
-    let enc = Encoder::new(Profile::Spec);
-    let mut at = 0;
-    for m in msgs {
-        at += enc.encode_expedited(m, &mut out[at..]).unwrap();
-    }
-    at
-}
-
 /// AOK debug frames as the device streams them, 64 KiB.
 pub fn aok_debug_stream() -> Vec<u8> {
     let mut rng = Rng::new(3);
@@ -260,44 +174,6 @@ pub fn aok_command_stream() -> Vec<u8> {
         out.extend_from_slice(&buf[..n]);
     }
     out
-}
-
-/// PC side: decodes the device's debug stream.
-#[inline(never)]
-pub fn aok_pc_decode(stream: &[u8]) -> i64 {
-    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-    let mut acc = 0i64;
-    for &b in stream {
-        for m in d.push(b) {
-            if let aok_proto::Message::Debug(v) = m {
-                acc += v.value as i64;
-            }
-        }
-    }
-    acc
-}
-
-/// Device side: decodes the PC's commands.
-#[inline(never)]
-pub fn aok_device_decode(stream: &[u8]) -> u32 {
-    let mut d = aok_proto::DeviceDecoder::new();
-    let mut n = 0;
-    for &b in stream {
-        for c in d.push(b) {
-            n += c.is_ok() as u32;
-        }
-    }
-    n
-}
-
-/// Encodes debug frames for every value; returns the bytes written.
-#[inline(never)]
-pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
-    let mut at = 0;
-    for v in values {
-        at += aok_proto::device::encode_debug(*v, &mut out[at..]).unwrap();
-    }
-    at
 }
 
 /// MAVLink v2 ATTITUDE frames (28-byte payload, 40 bytes on the wire: the size of an AEOLUS
@@ -342,19 +218,6 @@ pub fn mavlink_decode(stream: &[u8]) -> u32 {
         n += 1;
     }
     n
-}
-
-/// The section 4.3 CRC over `bytes`.
-#[inline(never)]
-pub fn aeolus_crc(bytes: &[u8]) -> u16 {
-    aeolus_proto::crc::checksum(bytes)
-}
-
-/// The `crc` crate's table-driven CRC-16 (XMODEM: same polynomial, standard form).
-#[inline(never)]
-pub fn crc_crate_xmodem(bytes: &[u8]) -> u16 {
-    const C: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_XMODEM);
-    C.checksum(bytes)
 }
 
 /// The naive AEOLUS decoder of the corruption figures (allocates per frame).

@@ -5,7 +5,15 @@ use protolink_bench::*;
 
 fn main() {
     let a = aeolus_stream().len();
-    for name in ["crc_section_4_3", "crc_crate_table", "deframe", "decode_aeolus", "deframe_slice", "decode_aeolus_slice", "naive_aeolus"] {
+    for name in [
+        "crc_section_4_3",
+        "crc_crate_table",
+        "deframe",
+        "decode_aeolus",
+        "deframe_slice",
+        "decode_aeolus_slice",
+        "naive_aeolus",
+    ] {
         println!("{name} {a}");
     }
     println!("decode_aydp {}", aydp_stream().len());
@@ -16,7 +24,11 @@ fn main() {
     let mut out = vec![0u8; 2 * STREAM];
     println!("encode_aeolus {}", aeolus_encode(&msgs, &mut out));
     println!("encode_aydp {}", aydp_encode(&aydp_messages(), &mut out));
-    let values: Vec<_> =
-        (0..STREAM / 7).map(|i| aok_proto::DebugValue { number: i as u8, value: i as i32 * 7919 }).collect();
+    let values: Vec<_> = (0..STREAM / 7)
+        .map(|i| aok_proto::DebugValue {
+            number: i as u8,
+            value: i as i32 * 7919,
+        })
+        .collect();
     println!("encode_aok {}", aok_encode(&values, &mut out));
 }

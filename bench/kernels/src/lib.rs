@@ -1,0 +1,154 @@
+//! The measured functions of the benchmarks, shared by the x86-64 callgrind bench
+//! (`bench/benches/codecs.rs`, through `protolink-bench`) and the Cortex-M3 harness
+//! (`checks/cm3-bench`), so both count the instructions of the very same code.
+//!
+//! `no_std` and allocation-free, so it links on thumbv7m; the inputs are built elsewhere
+//! (`protolink_bench::*_stream`). Every function is `#[inline(never)]`, so it stays one
+//! measurable symbol. Each returns a value that depends on everything it decoded, so the
+//! optimiser cannot drop the work.
+#![no_std]
+#![allow(clippy::collapsible_if)]
+
+use aeolus_proto::{CrcMode, Deframer, message::Message};
+use aydp_proto::{Decoder, Encoder, Profile};
+
+/// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
+#[inline(never)]
+pub fn aeolus_deframe(stream: &[u8]) -> u32 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut n = 0;
+    for &b in stream {
+        if let Some(Ok(_)) = d.push(b) {
+            n += 1;
+        }
+    }
+    n
+}
+
+/// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
+#[inline(never)]
+pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut n = 0;
+    d.push_slice(stream, |ev| n += ev.is_ok() as u32);
+    n
+}
+
+/// Deframes with `push_slice` and parses every frame into a typed message.
+#[inline(never)]
+pub fn aeolus_decode_slice(stream: &[u8]) -> f64 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut acc = 0.0;
+    d.push_slice(stream, |ev| {
+        if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
+            acc += g.timestamp_ms;
+        }
+    });
+    acc
+}
+
+/// Deframes and parses every frame into a typed message.
+#[inline(never)]
+pub fn aeolus_decode(stream: &[u8]) -> f64 {
+    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut acc = 0.0;
+    for &b in stream {
+        if let Some(Ok(frame)) = d.push(b) {
+            if let Ok(Message::Gyro(g)) = frame.message() {
+                acc += g.timestamp_ms;
+            }
+        }
+    }
+    acc
+}
+
+/// Encodes every message into one output buffer; returns the bytes written.
+#[inline(never)]
+pub fn aeolus_encode(msgs: &[Message<'_>], out: &mut [u8]) -> usize {
+    let mut at = 0;
+    for m in msgs {
+        at += m.encode(&mut out[at..], CrcMode::Compute).unwrap();
+    }
+    at
+}
+
+/// Decodes `stream` (every event drained) and parses every frame.
+#[inline(never)]
+pub fn aydp_decode(stream: &[u8]) -> u32 {
+    let mut d = Decoder::<128>::new(Profile::Spec);
+    let mut n = 0;
+    for &b in stream {
+        let mut ev = d.push(b);
+        while let Some(e) = ev {
+            if let Ok(f) = e {
+                if f.message().is_ok() {
+                    n += 1;
+                }
+            }
+            ev = d.poll();
+        }
+    }
+    n
+}
+
+/// Encodes every message, expedited, into one buffer.
+#[inline(never)]
+pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
+    let enc = Encoder::new(Profile::Spec);
+    let mut at = 0;
+    for m in msgs {
+        at += enc.encode_expedited(m, &mut out[at..]).unwrap();
+    }
+    at
+}
+
+/// PC side: decodes the device's debug stream.
+#[inline(never)]
+pub fn aok_pc_decode(stream: &[u8]) -> i64 {
+    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    let mut acc = 0i64;
+    for &b in stream {
+        for m in d.push(b) {
+            if let aok_proto::Message::Debug(v) = m {
+                acc += v.value as i64;
+            }
+        }
+    }
+    acc
+}
+
+/// Device side: decodes the PC's commands.
+#[inline(never)]
+pub fn aok_device_decode(stream: &[u8]) -> u32 {
+    let mut d = aok_proto::DeviceDecoder::new();
+    let mut n = 0;
+    for &b in stream {
+        for c in d.push(b) {
+            n += c.is_ok() as u32;
+        }
+    }
+    n
+}
+
+/// Encodes debug frames for every value; returns the bytes written.
+#[inline(never)]
+pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
+    let mut at = 0;
+    for v in values {
+        at += aok_proto::device::encode_debug(*v, &mut out[at..]).unwrap();
+    }
+    at
+}
+
+/// The section 4.3 CRC over `bytes`.
+#[inline(never)]
+pub fn aeolus_crc(bytes: &[u8]) -> u16 {
+    aeolus_proto::crc::checksum(bytes)
+}
+
+/// The `crc` crate's table-driven CRC-16 (XMODEM: same polynomial, standard form).
+#[inline(never)]
+pub fn crc_crate_xmodem(bytes: &[u8]) -> u16 {
+    const C: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_XMODEM);
+    C.checksum(bytes)
+}
