@@ -122,7 +122,9 @@ def main():
     out += sh("python3 scripts/footprint.py").splitlines()
 
     out += ["", f"## Fuzzing ({fuzz_seconds} s per target)", "", "`scripts/fuzz.sh {0}`".format(fuzz_seconds), "", "```"]
-    r = subprocess.run(["bash", "scripts/fuzz.sh", str(fuzz_seconds)], cwd=root, capture_output=True, text=True)
+    fuzz_env = dict(os.environ, FUZZ_JOBS=os.environ.get("FUZZ_JOBS", str(os.cpu_count() or 1)))
+    r = subprocess.run(["bash", "scripts/fuzz.sh", str(fuzz_seconds)], cwd=root, env=fuzz_env,
+                       capture_output=True, text=True)
     out += [l for l in r.stdout.splitlines() if re.match(r"^(target|\w+\s+\d+)", l)]
     out += ["```", ""]
 

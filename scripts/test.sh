@@ -44,4 +44,4 @@ step "host tests"
 cargo test --workspace --all-features
 
 step "fuzz smoke run: every cargo-fuzz target for ${FUZZ_SECONDS:-20} s"
-scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+FUZZ_JOBS="${FUZZ_JOBS:-$(nproc)}" scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
