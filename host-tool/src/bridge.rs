@@ -25,16 +25,14 @@ pub const MAX_DATAGRAM: usize = 1472;
 /// How long a partly filled pack may wait for more frames.
 pub const PACK_HOLD: Duration = Duration::from_millis(20);
 
-/// Arguments of `protolink bridge`.
+/// The UDP side of a box, shared by `bridge` and `sim`: where datagrams go, where they arrive,
+/// how many frames a datagram packs.
 #[derive(Debug, Clone, Args)]
-pub struct BridgeArgs {
-    /// The box's UART (serial:PATH@BAUD, tcp:HOST:PORT, file:PATH, -).
-    #[arg(long, value_name = "ENDPOINT")]
-    pub uart: Endpoint,
+pub struct UdpArgs {
     /// Where datagrams go: PORT (on 127.0.0.1) or ADDR:PORT.
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:5001", value_parser = parse_local_addr)]
     pub udp_out: SocketAddr,
-    /// The port datagrams for the UART arrive on: PORT (bound to 127.0.0.1) or ADDR:PORT
+    /// The port datagrams for the box arrive on: PORT (bound to 127.0.0.1) or ADDR:PORT
     /// (0.0.0.0:5002 listens on every interface).
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "5002", value_parser = parse_local_addr)]
     pub udp_in: SocketAddr,
@@ -44,6 +42,49 @@ pub struct BridgeArgs {
     /// Send to this broadcast address instead (on the --udp-out port). Never a default.
     #[arg(long, value_name = "ADDR")]
     pub broadcast: Option<IpAddr>,
+}
+
+impl UdpArgs {
+    /// Where datagrams go: `--udp-out`, or the `--broadcast` address on its port.
+    ///
+    /// ```
+    /// use clap::Parser;
+    /// #[derive(Parser)]
+    /// struct Cli {
+    ///     #[command(flatten)]
+    ///     udp: protolink::bridge::UdpArgs,
+    /// }
+    /// let cli = Cli::parse_from(["x", "--udp-out", "6001"]);
+    /// assert_eq!(cli.udp.destination().to_string(), "127.0.0.1:6001");
+    /// let cli = Cli::parse_from(["x", "--broadcast", "10.0.0.255"]);
+    /// assert_eq!(cli.udp.destination().to_string(), "10.0.0.255:5001");
+    /// ```
+    pub fn destination(&self) -> SocketAddr {
+        match self.broadcast {
+            Some(addr) => SocketAddr::new(addr, self.udp_out.port()),
+            None => self.udp_out,
+        }
+    }
+
+    /// The [`Packer`] for the destination and the bound, non-blocking in-port.
+    ///
+    /// # Errors
+    /// A socket cannot be bound.
+    pub fn open(&self) -> Result<(Packer, UdpSocket)> {
+        let packer = Packer::open(self.destination(), self.broadcast.is_some(), self.pack)?;
+        Ok((packer, bind_in_port(self.udp_in)?))
+    }
+}
+
+/// Arguments of `protolink bridge`.
+#[derive(Debug, Clone, Args)]
+pub struct BridgeArgs {
+    /// The box's UART (serial:PATH@BAUD, tcp:HOST:PORT, file:PATH, -).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub uart: Endpoint,
+    /// The UDP side.
+    #[command(flatten)]
+    pub udp: UdpArgs,
     /// Stop after this many seconds (default: on Ctrl-C, or when the UART ends).
     #[arg(long, value_name = "N")]
     pub seconds: Option<f64>,
@@ -251,17 +292,13 @@ pub fn receive_all(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8]))
 /// Opening the UART or the sockets, reading the UART, or writing the output.
 pub fn run(args: &BridgeArgs) -> Result<()> {
     let mut uart = args.uart.open()?;
-    let to = match args.broadcast {
-        Some(addr) => SocketAddr::new(addr, args.udp_out.port()),
-        None => args.udp_out,
-    };
-    let mut packer = Packer::open(to, args.broadcast.is_some(), args.pack)?;
-    let in_socket = bind_in_port(args.udp_in)?;
+    let (mut packer, in_socket) = args.udp.open()?;
+    let to = packer.destination();
     let _ = writeln!(
         io::stderr(),
         "bridging {} -> udp {to}, udp {} -> {} (Ctrl-C to stop)",
         uart.name(),
-        args.udp_in,
+        args.udp.udp_in,
         uart.name()
     );
     stop::install_ctrl_c();

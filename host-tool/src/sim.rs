@@ -15,7 +15,6 @@
 use std::collections::VecDeque;
 use std::convert::Infallible;
 use std::io::{self, IsTerminal, Write as _};
-use std::net::{IpAddr, SocketAddr};
 use std::time::{Duration, Instant};
 
 use aeolus_proto::FLAG;
@@ -26,8 +25,7 @@ use firmware_example::app::telemetry::Kind;
 use firmware_example::app::{Persisted, Settings, Shared};
 use serde_json::{Map, Value, json};
 
-use crate::bridge::{Packer, bind_in_port, receive_all};
-use crate::endpoint::parse_local_addr;
+use crate::bridge::{Packer, UdpArgs, receive_all};
 use crate::error::{Error, Result};
 use crate::render::{Out, text, to_json};
 use crate::stop::{self, Deadline};
@@ -35,19 +33,9 @@ use crate::stop::{self, Deadline};
 /// Arguments of `protolink sim`.
 #[derive(Debug, Clone, Args)]
 pub struct SimArgs {
-    /// Where telemetry goes: PORT (on 127.0.0.1) or ADDR:PORT.
-    #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:5001", value_parser = parse_local_addr)]
-    pub udp_out: SocketAddr,
-    /// The port COMMAND and SETTIME datagrams arrive on: PORT (bound to 127.0.0.1) or
-    /// ADDR:PORT (0.0.0.0:5002 listens on every interface).
-    #[arg(long, value_name = "[ADDR:]PORT", default_value = "5002", value_parser = parse_local_addr)]
-    pub udp_in: SocketAddr,
-    /// Pack up to N frames into one datagram (1: one frame per datagram).
-    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
-    pub pack: u16,
-    /// Send to this broadcast address instead (on the --udp-out port). Never a default.
-    #[arg(long, value_name = "ADDR")]
-    pub broadcast: Option<IpAddr>,
+    /// The UDP side: telemetry out, COMMAND and SETTIME in.
+    #[command(flatten)]
+    pub udp: UdpArgs,
     /// Simulated true airspeed, m/s (5..=150; the firmware's default otherwise).
     #[arg(long, value_name = "M/S")]
     pub airspeed: Option<f32>,
@@ -278,16 +266,12 @@ const MAX_BEHIND: Duration = Duration::from_millis(50);
 /// A flight option out of range, the sockets cannot be opened, or the output fails.
 pub fn run(args: &SimArgs) -> Result<()> {
     let settings = args.settings()?;
-    let to = match args.broadcast {
-        Some(addr) => SocketAddr::new(addr, args.udp_out.port()),
-        None => args.udp_out,
-    };
-    let mut packer = Packer::open(to, args.broadcast.is_some(), args.pack)?;
-    let in_socket = bind_in_port(args.udp_in)?;
+    let (mut packer, in_socket) = args.udp.open()?;
+    let to = packer.destination();
     let _ = writeln!(
         io::stderr(),
         "sim: AEOLUS-SENSE box, telemetry -> udp {to}, commands <- udp {} (Ctrl-C to stop)",
-        args.udp_in
+        args.udp.udp_in
     );
     stop::install_ctrl_c();
     let deadline = Deadline::after_seconds(args.seconds);
