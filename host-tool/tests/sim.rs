@@ -3,125 +3,34 @@
 
 mod common;
 
-use std::net::UdpSocket;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use aeolus_proto::message::{Message, SetTime, Text};
-use aeolus_proto::{CrcMode, decode_datagram};
+use aeolus_proto::message::{Message, SetTime};
 use common::*;
+use protolink_tests::aeolus_udp::{App, Received};
 
-/// One received frame.
-#[derive(Debug, Clone)]
-struct Got {
-    id: u8,
-    data: Vec<u8>,
-    /// Index of the datagram it came in.
-    datagram: usize,
+fn timestamp(f: &Received) -> Option<f64> {
+    Some(match f.message()? {
+        Message::Gyro(m) => m.timestamp_ms,
+        Message::Accel(m) => m.timestamp_ms,
+        Message::Magnet(m) => m.timestamp_ms,
+        Message::Attitude(m) => m.timestamp_ms,
+        Message::Compass(m) => m.timestamp_ms,
+        Message::Pressure(m) => m.timestamp_ms,
+        Message::Gps(m) => m.timestamp_ms,
+        Message::Temp(m) => m.timestamp_ms,
+        Message::Wind(m) => m.timestamp_ms,
+        _ => return None,
+    })
 }
 
-impl Got {
-    fn toast(&self) -> Option<String> {
-        match Message::parse(self.id, &self.data) {
-            Ok(Message::Toast(t)) => Some(String::from_utf8_lossy(t.as_bytes()).into_owned()),
-            _ => None,
-        }
-    }
-
-    fn timestamp(&self) -> Option<f64> {
-        Some(match Message::parse(self.id, &self.data).ok()? {
-            Message::Gyro(m) => m.timestamp_ms,
-            Message::Accel(m) => m.timestamp_ms,
-            Message::Magnet(m) => m.timestamp_ms,
-            Message::Attitude(m) => m.timestamp_ms,
-            Message::Compass(m) => m.timestamp_ms,
-            Message::Pressure(m) => m.timestamp_ms,
-            Message::Gps(m) => m.timestamp_ms,
-            Message::Temp(m) => m.timestamp_ms,
-            Message::Wind(m) => m.timestamp_ms,
-            _ => return None,
-        })
-    }
-}
-
-/// The test's side of the UDP link: a receiving socket, the frames so far (every one with a
-/// good CRC, or the test fails), and a socket to send commands from.
-struct Link {
-    rx: UdpSocket,
-    tx: UdpSocket,
-    in_port: u16,
-    frames: Vec<Got>,
-    datagrams: usize,
-}
-
-impl Link {
-    fn new() -> Self {
-        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
-        rx.set_read_timeout(Some(Duration::from_millis(20)))
-            .unwrap();
-        Link {
-            rx,
-            tx: UdpSocket::bind("127.0.0.1:0").unwrap(),
-            in_port: free_udp_port(),
-            frames: Vec::new(),
-            datagrams: 0,
-        }
-    }
-
-    fn out_port(&self) -> String {
-        self.rx.local_addr().unwrap().port().to_string()
-    }
-
-    fn read_some(&mut self) {
-        let mut buf = [0u8; 2048];
-        if let Ok(n) = self.rx.recv(&mut buf) {
-            for f in decode_datagram(&mut buf[..n], true) {
-                let f = f.unwrap_or_else(|e| panic!("a bad frame from the sim: {e:?}"));
-                self.frames.push(Got {
-                    id: f.id(),
-                    data: f.data().to_vec(),
-                    datagram: self.datagrams,
-                });
-            }
-            self.datagrams += 1;
-        }
-    }
-
-    fn read_for(&mut self, d: Duration) -> usize {
-        let first = self.frames.len();
-        let end = Instant::now() + d;
-        while Instant::now() < end {
-            self.read_some();
-        }
-        first
-    }
-
-    fn read_until_toast(&mut self, timeout: Duration) -> usize {
-        let mut checked = self.frames.len();
-        let end = Instant::now() + timeout;
-        loop {
-            if let Some(i) = self.frames[checked..]
-                .iter()
-                .position(|f| f.toast().is_some())
-            {
-                return checked + i;
-            }
-            checked = self.frames.len();
-            assert!(Instant::now() < end, "no TOAST within {timeout:?}");
-            self.read_some();
-        }
-    }
-
-    fn send(&self, msg: &Message<'_>) {
-        let mut buf = [0u8; 128];
-        let n = msg.encode(&mut buf, CrcMode::Compute).unwrap();
-        self.tx
-            .send_to(&buf[..n], ("127.0.0.1", self.in_port))
-            .unwrap();
-    }
-
-    fn command(&self, text: &str) {
-        self.send(&Message::Command(Text::new(text).unwrap()));
-    }
+/// Starts `protolink sim` for `app` with `extra` arguments.
+fn sim(app: &App, extra: &[&str]) -> std::process::Child {
+    let out = format!("127.0.0.1:{}", app.port());
+    let inp = app.box_port.to_string();
+    let mut args = vec!["sim", "--udp-out", &out, "--udp-in", &inp];
+    args.extend_from_slice(extra);
+    spawn(&args)
 }
 
 /// The spec's periodic messages (figure 1c): ID, name, interval in ms.
@@ -139,18 +48,8 @@ const PERIODIC: [(u8, &str, f64); 9] = [
 
 #[test]
 fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
-    let mut link = Link::new();
-    let in_port = link.in_port.to_string();
-    let out_port = link.out_port();
-    let child = spawn(&[
-        "sim",
-        "--udp-out",
-        &format!("127.0.0.1:{out_port}"),
-        "--udp-in",
-        &in_port,
-        "--seconds",
-        "6",
-    ]);
+    let mut link = App::new(free_udp_port());
+    let child = sim(&link, &["--seconds", "6"]);
 
     // The boot TOAST first, then 2 s of telemetry, every frame with a good CRC.
     let first = link.read_until_toast(Duration::from_secs(5));
@@ -162,7 +61,7 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
             .frames
             .iter()
             .filter(|f| f.id == id)
-            .filter_map(Got::timestamp)
+            .filter_map(timestamp)
             .collect();
         assert!(!ts.is_empty(), "no {name} in 2 s");
         if ts.len() >= 3 {
@@ -238,20 +137,8 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
 
 #[test]
 fn sim_packs_frames_into_datagrams() {
-    let mut link = Link::new();
-    let in_port = link.in_port.to_string();
-    let out_port = link.out_port();
-    let child = spawn(&[
-        "sim",
-        "--udp-out",
-        &out_port,
-        "--udp-in",
-        &in_port,
-        "--pack",
-        "4",
-        "--seconds",
-        "1.5",
-    ]);
+    let mut link = App::new(free_udp_port());
+    let child = sim(&link, &["--pack", "4", "--seconds", "1.5"]);
     link.read_for(Duration::from_millis(1200));
     let out = ok(&finish(child));
     let mut per_datagram = vec![0usize; link.datagrams];

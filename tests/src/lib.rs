@@ -1,7 +1,8 @@
 //! Shared pieces of the cross-crate tests and of the corruption-figures program:
 //! a seeded RNG, the noisy channels, naive decoders, and the scoring of what a decoder
-//! delivered against what was sent.
+//! delivered against what was sent; and the app's side of an AEOLUS box on UDP.
 
+pub mod aeolus_udp;
 pub mod channel;
 pub mod naive;
 pub mod protocols;

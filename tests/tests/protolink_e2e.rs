@@ -4,11 +4,11 @@
 
 mod harness;
 
-use aeolus_proto::decode_datagram;
-use aeolus_proto::message::{Message, SetTime, Text};
+use aeolus_proto::message::{Message, SetTime};
 use harness::*;
+use protolink_tests::aeolus_udp::{App, Received};
 use std::io::Read;
-use std::net::{Shutdown, UdpSocket};
+use std::net::Shutdown;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -86,64 +86,6 @@ fn boot_checked(ports: Ports) -> Option<Qemu> {
 
 // ------------------------------------------------------------------ bridge
 
-/// The test's UDP side of the bridge: every datagram decoded strictly (a frame without a CRC
-/// or with a wrong one fails the test).
-struct Udp {
-    rx: UdpSocket,
-    tx: UdpSocket,
-    frames: Vec<Frame>,
-    datagrams: usize,
-}
-
-impl Udp {
-    fn read_some(&mut self) {
-        let mut buf = [0u8; 2048];
-        if let Ok(n) = self.rx.recv(&mut buf) {
-            self.datagrams += 1;
-            for f in decode_datagram(&mut buf[..n], true) {
-                let f = f.unwrap_or_else(|e| panic!("bad frame in datagram: {e:?}"));
-                self.frames.push(Frame {
-                    id: f.id(),
-                    data: f.data().to_vec(),
-                });
-            }
-        }
-    }
-
-    fn read_for(&mut self, d: Duration) {
-        let end = Instant::now() + d;
-        while Instant::now() < end {
-            self.read_some();
-        }
-    }
-
-    fn read_until_toast(&mut self, timeout: Duration) -> usize {
-        let mut checked = self.frames.len();
-        let end = Instant::now() + timeout;
-        loop {
-            if let Some(i) = self.frames[checked..]
-                .iter()
-                .position(|f| f.toast().is_some())
-            {
-                return checked + i;
-            }
-            checked = self.frames.len();
-            assert!(Instant::now() < end, "no TOAST within {timeout:?}");
-            self.read_some();
-        }
-    }
-
-    fn send(&self, msg: &Message<'_>, to: u16) {
-        let mut buf = [0u8; 128];
-        let n = msg
-            .encode(&mut buf, aeolus_proto::CrcMode::Compute)
-            .expect("encode");
-        self.tx
-            .send_to(&buf[..n], ("127.0.0.1", to))
-            .expect("send to the bridge");
-    }
-}
-
 #[test]
 fn bridge_carries_telemetry_and_commands_over_udp() {
     let ports = Ports::BRIDGE;
@@ -152,17 +94,9 @@ fn bridge_carries_telemetry_and_commands_over_udp() {
     };
     // The bridge takes UART0 from the harness.
     q.uart0.disconnect();
-    let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
-    rx.set_read_timeout(Some(Duration::from_millis(20)))
-        .unwrap();
-    let out_port = rx.local_addr().unwrap().port();
     let in_port = ports.uart(0) + 5;
-    let mut udp = Udp {
-        rx,
-        tx: UdpSocket::bind("127.0.0.1:0").unwrap(),
-        frames: Vec::new(),
-        datagrams: 0,
-    };
+    let mut udp = App::new(in_port);
+    let out_port = udp.port();
     let bridge = spawn(&[
         "bridge",
         "--uart",
@@ -200,28 +134,25 @@ fn bridge_carries_telemetry_and_commands_over_udp() {
         minute: 34,
         second: 56,
     };
-    udp.send(&Message::SetTime(time), in_port);
-    udp.send(
-        &Message::Command(Text::new("a pause").expect("short")),
-        in_port,
-    );
+    udp.send(&Message::SetTime(time));
+    udp.command("a pause");
     let ack = udp.read_until_toast(Duration::from_secs(3));
     assert_eq!(udp.frames[ack].toast().as_deref(), Some("AEOLUS paused"));
     udp.read_for(Duration::from_millis(700));
-    let during: Vec<&Frame> = udp.frames[ack + 1..].iter().collect();
+    let during: Vec<&Received> = udp.frames[ack + 1..].iter().collect();
     assert!(during.is_empty(), "sent while paused: {during:?}");
 
     // "a resume": the answer, then telemetry again.
-    udp.send(
-        &Message::Command(Text::new("a resume").expect("short")),
-        in_port,
-    );
+    udp.command("a resume");
     let ack = udp.read_until_toast(Duration::from_secs(3));
     assert_eq!(udp.frames[ack].toast().as_deref(), Some("AEOLUS resumed"));
     udp.read_for(Duration::from_millis(500));
     let resumed = &udp.frames[ack + 1..];
     assert!(
-        resumed.len() >= 200 && resumed.iter().all(Frame::is_telemetry),
+        resumed.len() >= 200
+            && resumed
+                .iter()
+                .all(|f| TELEMETRY.iter().any(|p| p.id == f.id)),
         "{} frames after the resume",
         resumed.len()
     );
