@@ -103,7 +103,10 @@ enum State {
 #[derive(Debug, Clone)]
 pub struct Deframer<const N: usize> {
     buf: [u8; N],
-    len: usize,
+    /// The fast path's write index. In the `Frame` state it is the number of bytes held; in the
+    /// other states it is that number plus [`Self::PARKED`], past the end of `buf`, so that the
+    /// fast path's single bounds check also sends every byte of those states to the slow path.
+    at: usize,
     escapes: usize,
     state: State,
     strict: bool,
@@ -117,11 +120,14 @@ impl<const N: usize> Default for Deframer<N> {
 }
 
 impl<const N: usize> Deframer<N> {
+    /// Added to the length outside the `Frame` state (see `at`): never a valid index.
+    const PARKED: usize = N + 1;
+
     /// A deframer that accepts frames without CRC (`00 00`), as the spec allows.
     pub const fn new() -> Self {
         Deframer {
             buf: [0; N],
-            len: 0,
+            at: Self::PARKED,
             escapes: 0,
             state: State::Hunt,
             strict: false,
@@ -165,14 +171,32 @@ impl<const N: usize> Deframer<N> {
     pub const fn pending_bytes(&self) -> usize {
         match self.state {
             State::Hunt => 0,
-            State::Frame | State::Escape => self.len + self.escapes,
+            State::Frame | State::Escape => self.len().wrapping_add(self.escapes),
         }
+    }
+
+    /// Unescaped bytes held for the frame in progress.
+    #[inline(always)]
+    const fn len(&self) -> usize {
+        match self.state {
+            State::Frame => self.at,
+            State::Hunt | State::Escape => self.at.wrapping_sub(Self::PARKED),
+        }
+    }
+
+    /// Moves to `state`, holding `len` unescaped bytes.
+    #[inline(always)]
+    fn enter(&mut self, state: State, len: usize) {
+        self.state = state;
+        self.at = match state {
+            State::Frame => len,
+            State::Hunt | State::Escape => len.wrapping_add(Self::PARKED),
+        };
     }
 
     /// Drops the frame in progress (counting its bytes as discarded) and hunts for a flag.
     pub fn reset(&mut self) {
-        self.drop_frame(0);
-        self.state = State::Hunt;
+        self.drop_frame(0, State::Hunt);
     }
 
     /// Feeds one byte. Returns at most one event.
@@ -181,12 +205,12 @@ impl<const N: usize> Deframer<N> {
     /// instructions; flags, escapes and errors go through an out-of-line slow path.
     #[inline(always)]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
-        if self.state == State::Frame
-            && !is_special(byte)
-            && let Some(slot) = self.buf.get_mut(self.len)
+        // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
+        if !is_special(byte)
+            && let Some(slot) = self.buf.get_mut(self.at)
         {
             *slot = byte;
-            self.len += 1;
+            self.at += 1;
             return None;
         }
         self.push_slow(byte)
@@ -199,8 +223,8 @@ impl<const N: usize> Deframer<N> {
                 if !is_special(byte) {
                     self.store(byte)
                 } else if byte == ESCAPE {
-                    self.state = State::Escape;
                     self.escapes += 1;
+                    self.enter(State::Escape, self.at);
                     None
                 } else {
                     self.end_frame()
@@ -208,19 +232,17 @@ impl<const N: usize> Deframer<N> {
             }
             State::Escape => match byte {
                 0x5D | 0x5E => {
-                    self.state = State::Frame;
+                    self.enter(State::Frame, self.len());
                     self.store(byte ^ 0x20)
                 }
                 FLAG => {
                     self.stats.flags = self.stats.flags.wrapping_add(1);
-                    self.drop_frame(0);
-                    self.state = State::Frame;
+                    self.drop_frame(0, State::Frame);
                     self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
                     Some(Err(Error::EscapedFlag))
                 }
                 _ => {
-                    self.drop_frame(1);
-                    self.state = State::Hunt;
+                    self.drop_frame(1, State::Hunt);
                     self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
                     Some(Err(Error::InvalidEscape))
                 }
@@ -228,7 +250,7 @@ impl<const N: usize> Deframer<N> {
             State::Hunt => {
                 if byte == FLAG {
                     self.stats.flags = self.stats.flags.wrapping_add(1);
-                    self.state = State::Frame;
+                    self.enter(State::Frame, 0);
                 } else {
                     self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                 }
@@ -257,12 +279,12 @@ impl<const N: usize> Deframer<N> {
     ) {
         loop {
             if self.state == State::Frame {
-                let room = self.buf.get_mut(self.len..).unwrap_or(&mut []);
+                let room = self.buf.get_mut(self.at..).unwrap_or(&mut []);
                 let window = bytes.get(..room.len()).unwrap_or(bytes);
                 let run = crate::scan::run_len(window);
                 if let (Some(dst), Some(src)) = (room.get_mut(..run), bytes.get(..run)) {
                     dst.copy_from_slice(src);
-                    self.len += run;
+                    self.at += run;
                 }
                 bytes = bytes.get(run..).unwrap_or(&[]);
             }
@@ -276,32 +298,34 @@ impl<const N: usize> Deframer<N> {
         }
     }
 
+    /// Stores an unescaped byte; only in the `Frame` state (where `at` is the length).
     #[inline(always)]
     fn store(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
-        if let Some(slot) = self.buf.get_mut(self.len) {
+        if let Some(slot) = self.buf.get_mut(self.at) {
             *slot = byte;
-            self.len += 1;
+            self.at += 1;
             None
         } else {
-            self.drop_frame(1);
-            self.state = State::Hunt;
+            self.drop_frame(1, State::Hunt);
             self.stats.overflows = self.stats.overflows.wrapping_add(1);
             Some(Err(Error::Overflow))
         }
     }
 
-    /// Counts the frame in progress (plus `extra` bytes) as discarded and empties the buffer.
-    fn drop_frame(&mut self, extra: usize) {
-        let wire = self.pending_bytes() + extra;
+    /// Counts the frame in progress (plus `extra` bytes) as discarded, empties the buffer and
+    /// moves to `next`.
+    fn drop_frame(&mut self, extra: usize, next: State) {
+        let wire = self.pending_bytes().wrapping_add(extra);
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(wire as u32);
-        self.len = 0;
         self.escapes = 0;
+        self.enter(next, 0);
     }
 
     fn end_frame(&mut self) -> Option<Result<Frame<'_>, Error>> {
         let stats = &mut self.stats;
         stats.flags = stats.flags.wrapping_add(1);
-        let len = core::mem::take(&mut self.len);
+        // Only reached in the `Frame` state, where `at` is the length; the state stays `Frame`.
+        let len = core::mem::take(&mut self.at);
         let wire = (len + core::mem::take(&mut self.escapes)) as u32;
         if len == 0 {
             return None;

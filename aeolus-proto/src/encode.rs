@@ -51,6 +51,22 @@ fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8]) -> Result<usize, E
     Ok(at)
 }
 
+/// Writes one byte into `out` at `at`, escaped if it is 0x7D or 0x7E. Returns the new write
+/// position. For the ID and the CRC bytes, where a run scan and a bulk copy cost more than
+/// they save.
+#[inline(always)]
+fn put_escaped_byte(out: &mut [u8], at: usize, byte: u8) -> Result<usize, Error> {
+    if is_special(byte) {
+        let pair = out.get_mut(at..).and_then(|o| o.get_mut(..2));
+        pair.ok_or(Error::BufferTooSmall)?
+            .copy_from_slice(&[ESCAPE, byte ^ 0x20]);
+        Ok(at + 2)
+    } else {
+        *out.get_mut(at).ok_or(Error::BufferTooSmall)? = byte;
+        Ok(at + 1)
+    }
+}
+
 /// Encodes one frame into `out` and returns the number of bytes written.
 ///
 /// The data is `head` followed by `tail` (pass `&[]` as `tail` for a single slice; the text
@@ -76,16 +92,17 @@ pub fn encode_frame(
     let crc = match crc_mode {
         CrcMode::Compute => {
             let c = crc::update(0, id);
-            let c = head.iter().fold(c, |c, &b| crc::update(c, b));
-            tail.iter().fold(c, |c, &b| crc::update(c, b))
+            crc::update_slice(crc::update_slice(c, head), tail)
         }
         CrcMode::Omit => 0,
     };
     *out.first_mut().ok_or(Error::BufferTooSmall)? = FLAG;
-    let mut at = put_escaped(out, 1, &[id])?;
+    let mut at = put_escaped_byte(out, 1, id)?;
     at = put_escaped(out, at, head)?;
     at = put_escaped(out, at, tail)?;
-    at = put_escaped(out, at, &crc.to_le_bytes())?;
+    let [lo, hi] = crc.to_le_bytes();
+    at = put_escaped_byte(out, at, lo)?;
+    at = put_escaped_byte(out, at, hi)?;
     *out.get_mut(at).ok_or(Error::BufferTooSmall)? = FLAG;
     Ok(at + 1)
 }

@@ -11,7 +11,8 @@ const HIGHS: usize = ONES << 7;
 /// Whether `byte` is the flag or the escape byte.
 #[inline(always)]
 pub(crate) const fn is_special(byte: u8) -> bool {
-    byte.wrapping_sub(ESCAPE) < 2
+    // In 32 bits, so no zero extension is needed after the subtraction.
+    (byte as u32).wrapping_sub(ESCAPE as u32) < 2
 }
 
 /// A word with the high bit set in (at least) the lowest byte of `x` that is zero. The lowest

@@ -78,7 +78,7 @@ fn main() {
         "u32",
         bench::aeolus_deframe_slice(&stream).to_string(),
     );
-    let bits = |v: f64| format!("0x{:016X}", v.to_bits());
+    let bits = |v: u64| format!("0x{v:016X}");
     konst(
         "AEOLUS_DECODE_BITS",
         "u64",

@@ -45,18 +45,7 @@ impl Sent {
     }
 
     fn timestamp(&self) -> Option<f64> {
-        Some(match self.msg() {
-            Message::Gyro(m) => m.timestamp_ms,
-            Message::Accel(m) => m.timestamp_ms,
-            Message::Magnet(m) => m.timestamp_ms,
-            Message::Attitude(m) => m.timestamp_ms,
-            Message::Compass(m) => m.timestamp_ms,
-            Message::Pressure(m) => m.timestamp_ms,
-            Message::Gps(m) => m.timestamp_ms,
-            Message::Temp(m) => m.timestamp_ms,
-            Message::Wind(m) => m.timestamp_ms,
-            _ => return None,
-        })
+        self.msg().timestamp_ms()
     }
 }
 

@@ -86,25 +86,10 @@ pub fn isa_altitude_m(static_mbar: f32) -> f64 {
     44_330.77 * (1.0 - (f64::from(static_mbar) / 1013.25).powf(0.190_263))
 }
 
-fn timestamp(m: &Message<'_>) -> Option<f64> {
-    Some(match m {
-        Message::Pressure(p) => p.timestamp_ms,
-        Message::Gyro(p) => p.timestamp_ms,
-        Message::Accel(p) => p.timestamp_ms,
-        Message::Magnet(p) => p.timestamp_ms,
-        Message::Temp(p) => p.timestamp_ms,
-        Message::Gps(p) => p.timestamp_ms,
-        Message::Attitude(p) => p.timestamp_ms,
-        Message::Compass(p) => p.timestamp_ms,
-        Message::Wind(p) => p.timestamp_ms,
-        _ => return None,
-    })
-}
-
 impl View {
     /// Takes one message into the view.
     pub fn take(&mut self, m: &Message<'_>, now: Instant) {
-        let ts = timestamp(m);
+        let ts = m.timestamp_ms();
         let entry = self.types.entry(m.id()).or_insert((
             m.name(),
             Arrivals {

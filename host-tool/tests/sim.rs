@@ -10,18 +10,7 @@ use common::*;
 use protolink_tests::aeolus_udp::{App, Received};
 
 fn timestamp(f: &Received) -> Option<f64> {
-    Some(match f.message()? {
-        Message::Gyro(m) => m.timestamp_ms,
-        Message::Accel(m) => m.timestamp_ms,
-        Message::Magnet(m) => m.timestamp_ms,
-        Message::Attitude(m) => m.timestamp_ms,
-        Message::Compass(m) => m.timestamp_ms,
-        Message::Pressure(m) => m.timestamp_ms,
-        Message::Gps(m) => m.timestamp_ms,
-        Message::Temp(m) => m.timestamp_ms,
-        Message::Wind(m) => m.timestamp_ms,
-        _ => return None,
-    })
+    f.message()?.timestamp_ms()
 }
 
 /// Starts `protolink sim` for `app` with `extra` arguments.

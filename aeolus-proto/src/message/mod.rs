@@ -351,5 +351,31 @@ impl<'a> Message<'a> {
     }
 }
 
+impl Message<'_> {
+    /// The timestamp (ms since the box booted) of a timestamped telemetry message: GYRO,
+    /// ACCEL, MAGNET, PRESSURE, TEMP, GPS, ATTITUDE, COMPASS and WIND; `None` for the others.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, Wind, Text};
+    /// let wind = Message::Wind(Wind { timestamp_ms: 1500.0, ..Wind::default() });
+    /// assert_eq!(wind.timestamp_ms(), Some(1500.0));
+    /// assert_eq!(Message::Toast(Text::new("hi").unwrap()).timestamp_ms(), None);
+    /// ```
+    pub fn timestamp_ms(&self) -> Option<f64> {
+        Some(match self {
+            Self::Gyro(m) => m.timestamp_ms,
+            Self::Accel(m) => m.timestamp_ms,
+            Self::Magnet(m) => m.timestamp_ms,
+            Self::Pressure(m) => m.timestamp_ms,
+            Self::Temp(m) => m.timestamp_ms,
+            Self::Gps(m) => m.timestamp_ms,
+            Self::Attitude(m) => m.timestamp_ms,
+            Self::Compass(m) => m.timestamp_ms,
+            Self::Wind(m) => m.timestamp_ms,
+            _ => return None,
+        })
+    }
+}
+
 /// The longest fixed layout among the typed messages (COMPASS, 80 bytes).
 const MAX_FIXED_DATA: usize = Compass::LEN;

@@ -34,28 +34,31 @@ pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
     n
 }
 
-/// Deframes with `push_slice` and parses every frame into a typed message.
+/// Deframes with `push_slice` and parses every frame into a typed message. Returns the XOR of
+/// the GYRO timestamps' bit patterns: an integer fold, so that no soft-float addition (a
+/// library call on Cortex-M3) is counted as decoding.
 #[inline(never)]
-pub fn aeolus_decode_slice(stream: &[u8]) -> f64 {
+pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
     let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut acc = 0.0;
+    let mut acc = 0;
     d.push_slice(stream, |ev| {
         if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
-            acc += g.timestamp_ms;
+            acc ^= g.timestamp_ms.to_bits();
         }
     });
     acc
 }
 
-/// Deframes and parses every frame into a typed message.
+/// Deframes and parses every frame into a typed message. Returns the XOR of the GYRO
+/// timestamps' bit patterns (see [`aeolus_decode_slice`]).
 #[inline(never)]
-pub fn aeolus_decode(stream: &[u8]) -> f64 {
+pub fn aeolus_decode(stream: &[u8]) -> u64 {
     let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
-    let mut acc = 0.0;
+    let mut acc = 0;
     for &b in stream {
         if let Some(Ok(frame)) = d.push(b) {
             if let Ok(Message::Gyro(g)) = frame.message() {
-                acc += g.timestamp_ms;
+                acc ^= g.timestamp_ms.to_bits();
             }
         }
     }

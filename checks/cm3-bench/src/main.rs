@@ -195,7 +195,7 @@ fn run(clock: &Clock) {
         r == AEOLUS_FRAMES
     });
     stream_row(clock, "aeolus_decode", stream, aeolus_decode, |r| {
-        r.to_bits() == AEOLUS_DECODE_BITS
+        *r == AEOLUS_DECODE_BITS
     });
     stream_row(
         clock,
@@ -209,7 +209,7 @@ fn run(clock: &Clock) {
         "aeolus_decode_slice",
         stream,
         aeolus_decode_slice,
-        |r| r.to_bits() == AEOLUS_DECODE_SLICE_BITS,
+        |&r| r == AEOLUS_DECODE_SLICE_BITS,
     );
 
     // The messages of `bench::aeolus_messages`: typed parses of the stream's frames, borrowing
