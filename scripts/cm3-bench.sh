@@ -149,16 +149,19 @@ function note(v, target) {
   return sprintf("target %s: missed by %.0f%%", target, (v / target - 1) * 100)
 }
 BEGIN {
-  order = "aeolus_crc crc_crate_xmodem aeolus_deframe aeolus_decode aeolus_deframe_slice aeolus_decode_slice aydp_decode aok_pc_decode aok_device_decode aeolus_encode aydp_encode aok_encode"
+  order = "aeolus_crc crc_crate_xmodem aeolus_deframe aeolus_decode aeolus_deframe_slice aeolus_decode_slice aydp_decode aydp_decode_feed aok_pc_decode aok_pc_decode_feed aok_device_decode aok_device_decode_feed aeolus_encode aydp_encode aok_encode"
   label["aeolus_crc"] = "AEOLUS CRC alone (section 4.3, const table)"
   label["crc_crate_xmodem"] = "peer: `crc` crate, CRC-16/XMODEM table"; extra["crc_crate_xmodem"] = "same bytes"
   label["aeolus_deframe"] = "AEOLUS deframe, `push` byte by byte"; target["aeolus_deframe"] = 20
   label["aeolus_decode"] = "AEOLUS full decode (deframe + typed parse), `push` byte by byte"; target["aeolus_decode"] = 20
   label["aeolus_deframe_slice"] = "AEOLUS deframe, `push_slice`"; target["aeolus_deframe_slice"] = 20
   label["aeolus_decode_slice"] = "AEOLUS full decode (deframe + typed parse), `push_slice`"; target["aeolus_decode_slice"] = 20
-  label["aydp_decode"] = "AYDP decode (Spec, events drained, typed parse)"; target["aydp_decode"] = 15
-  label["aok_pc_decode"] = "AOK PC side: device'"'"'s debug frames"; target["aok_pc_decode"] = 15
-  label["aok_device_decode"] = "AOK device side: PC'"'"'s commands"; target["aok_device_decode"] = 15
+  label["aydp_decode"] = "AYDP decode (Spec, typed parse), `push` byte by byte"; target["aydp_decode"] = 15
+  label["aydp_decode_feed"] = "AYDP decode (Spec, typed parse), `feed`"; target["aydp_decode_feed"] = 15
+  label["aok_pc_decode"] = "AOK PC side (device'"'"'s debug frames), `push` byte by byte"; target["aok_pc_decode"] = 15
+  label["aok_pc_decode_feed"] = "AOK PC side (device'"'"'s debug frames), `feed`"; target["aok_pc_decode_feed"] = 15
+  label["aok_device_decode"] = "AOK device side (PC'"'"'s commands), `push` byte by byte"; target["aok_device_decode"] = 15
+  label["aok_device_decode_feed"] = "AOK device side (PC'"'"'s commands), `feed`"; target["aok_device_decode_feed"] = 15
   label["aeolus_encode"] = "AEOLUS encode (typed message to escaped frame), per output byte"; target["aeolus_encode"] = 15
   label["aydp_encode"] = "AYDP encode (expedited), per output byte"; target["aydp_encode"] = 15
   label["aok_encode"] = "AOK encode (debug frames), per output byte"; target["aok_encode"] = 15

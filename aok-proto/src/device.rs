@@ -95,6 +95,85 @@ impl DeviceDecoder {
         }
     }
 
+    /// Feed a slice and hand every item to `on_event`, in order.
+    ///
+    /// This is the bulk path: it behaves exactly like pushing the bytes one at a time with
+    /// [`DeviceDecoder::push`] and draining each iterator (same items in the same order, same
+    /// counters, same bytes left buffered), but while the decoder holds nothing, commands are
+    /// parsed straight from `bytes` without being copied, and a false start's rescan is simply
+    /// the next position in `bytes`. Bytes held from an earlier call, and a command cut by the
+    /// end of the slice (at most 18 bytes), go through [`DeviceDecoder::push`].
+    ///
+    /// ```
+    /// use aok_proto::{Command, DeviceDecoder, Error};
+    /// let mut dec = DeviceDecoder::new();
+    /// let mut got = Vec::new();
+    /// // Noise, a motor-test start whose checksum fails, a read, and half a read.
+    /// dec.feed(&[0x00, 0x31, 0x67, 0x0c, 0x67], |item| got.push(item));
+    /// assert_eq!(got, [Err(Error::Checksum), Ok(Command::ReadParameter(12))]);
+    /// assert_eq!(dec.buffered(), 1);
+    /// dec.feed(&[0x0d], |item| got.push(item));
+    /// assert_eq!(got[2], Ok(Command::ReadParameter(13)));
+    /// assert_eq!(dec.stats().unknown_bytes, 1);
+    /// ```
+    pub fn feed<F: FnMut(Result<Command, Error>)>(&mut self, bytes: &[u8], mut on_event: F) {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            for item in self.push(byte) {
+                on_event(item);
+            }
+        }
+        // Nothing held: parse in place.
+        loop {
+            let Some((&first, tail)) = rest.split_first() else {
+                return;
+            };
+            let need = match command_len(first, tail.first().copied()) {
+                Len::Is(n) => n,
+                Len::More => break,
+                Len::Unknown => {
+                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                    continue;
+                }
+            };
+            let Some((frame, after)) = rest.split_at_checked(need) else {
+                break;
+            };
+            match Command::parse_known(first, frame) {
+                Ok(cmd) => {
+                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    rest = after;
+                    on_event(Ok(cmd));
+                }
+                Err(Error::Checksum) => {
+                    // The false start is dropped; the rescan starts at the next byte.
+                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                    on_event(Err(Error::Checksum));
+                }
+                Err(e) => {
+                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
+                    rest = after;
+                    on_event(Err(e));
+                }
+            }
+        }
+        // A command cut by the end of the slice: keep it, exactly as pushing would.
+        for &byte in rest {
+            for item in self.push(byte) {
+                on_event(item);
+            }
+        }
+    }
+
     /// Continue on bytes already buffered, without new input: what an undrained iterator left.
     ///
     /// ```
@@ -162,8 +241,22 @@ impl DeviceDecoder {
 
     #[inline]
     fn step(&mut self, flush: bool) -> Option<Result<Command, Error>> {
-        if self.len < self.need && !flush {
+        // Nothing buffered gives nothing (the usual last call on an iterator); a frame still
+        // short of its known length gives nothing until the line goes quiet.
+        if self.len == 0 || (self.len < self.need && !flush) {
             return None;
+        }
+        // The first byte of a command only tells its length (every command has two or more).
+        if self.len == 1 && !flush {
+            let need = match self.buf.first().map(|&b| command_len(b, None)) {
+                Some(Len::Is(n)) if n > 1 => n,
+                Some(Len::More) => 2,
+                _ => 0,
+            };
+            if need != 0 {
+                self.need = need;
+                return None;
+            }
         }
         self.step_slow(flush)
     }

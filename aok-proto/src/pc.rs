@@ -187,6 +187,119 @@ impl PcDecoder {
         }
     }
 
+    /// Feed a slice and hand every message to `on_message`, in order.
+    ///
+    /// This is the bulk path: it behaves exactly like pushing the bytes one at a time with
+    /// [`PcDecoder::push`] and draining each iterator (same messages in the same order, same
+    /// counters, same pending request, same bytes left buffered), but while the decoder holds
+    /// nothing, frames are parsed straight from `bytes` without being copied, and a false
+    /// start's rescan is simply the next position in `bytes`. Bytes held from an earlier call,
+    /// and a frame cut by the end of the slice (at most 18 bytes), go through
+    /// [`PcDecoder::push`].
+    ///
+    /// ```
+    /// use aok_proto::{pc::{Expect, PcDecoder}, Ack, DebugValue, FirmwareVersion, Message};
+    /// let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// let mut got = Vec::new();
+    /// // A debug frame, the ack, and the first half of the next debug frame.
+    /// dec.feed(&[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O', 0x1c, 0x56], |m| got.push(m));
+    /// assert_eq!(got, [
+    ///     Message::Debug(DebugValue { number: 86, value: -2 }),
+    ///     Message::Ack(Ack::Ok),
+    /// ]);
+    /// assert_eq!(dec.expecting(), Expect::Nothing);
+    /// assert_eq!(dec.buffered(), 2);
+    /// dec.feed(&[0, 0, 0, 1, 0x57], |m| got.push(m));
+    /// assert_eq!(got[2], Message::Debug(DebugValue { number: 86, value: 1 }));
+    /// ```
+    pub fn feed<F: FnMut(Message)>(&mut self, bytes: &[u8], mut on_message: F) {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            for m in self.push(byte) {
+                on_message(m);
+            }
+        }
+        // Nothing held: parse in place.
+        loop {
+            let Some((&first, tail)) = rest.split_first() else {
+                return;
+            };
+            let headerless = match self.expect {
+                Expect::Parameter(n) if self.form == ReplyForm::Headerless => Some(n),
+                _ => None,
+            };
+            if let Some(number) = headerless {
+                let Some(reply) = rest.get(..HEADERLESS_REPLY_LEN) else {
+                    break;
+                };
+                match ParameterValue::parse_headerless(reply, number) {
+                    Ok(p) => {
+                        self.stats.ok = self.stats.ok.wrapping_add(1);
+                        rest = rest.get(HEADERLESS_REPLY_LEN..).unwrap_or(&[]);
+                        let m = Message::Parameter(p);
+                        self.settle(&m);
+                        on_message(m);
+                        continue;
+                    }
+                    // Not a reply; maybe a debug frame (the rules below).
+                    Err(_) if first == DEBUG => {}
+                    Err(_) => {
+                        self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                        rest = tail;
+                        continue;
+                    }
+                }
+            }
+            let need = match first {
+                DEBUG => DEBUG_LEN,
+                PARAMETER_REPLY => HEADED_REPLY_LEN,
+                WAYPOINT => WAYPOINT_LEN,
+                b'O' | b'E' | b'I' if self.expect == Expect::Ack => 1,
+                _ => {
+                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                    continue;
+                }
+            };
+            let Some((frame, after)) = rest.split_at_checked(need) else {
+                break;
+            };
+            match Message::parse(frame) {
+                Ok((m, _)) => {
+                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    rest = after;
+                    self.settle(&m);
+                    on_message(m);
+                }
+                Err(Error::Checksum) => {
+                    // The false start is dropped; the rescan starts at the next byte.
+                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                }
+                Err(_) => {
+                    // Intact but out of range (a waypoint reply with a bad slot): dropped whole.
+                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
+                    rest = after;
+                }
+            }
+        }
+        // A frame cut by the end of the slice: keep it, exactly as pushing would.
+        for &byte in rest {
+            for m in self.push(byte) {
+                on_message(m);
+            }
+        }
+    }
+
     /// Continue on bytes already buffered, without new input: what an undrained iterator left.
     ///
     /// ```
@@ -289,10 +402,32 @@ impl PcDecoder {
 
     #[inline]
     fn step(&mut self, flush: bool) -> Option<Message> {
-        if self.len < self.need && !flush {
+        // Nothing buffered gives nothing (the usual last call on an iterator); a frame still
+        // short of its known length gives nothing until the line goes quiet.
+        if self.len == 0 || (self.len < self.need && !flush) {
             return None;
         }
+        // The first byte of a self-describing frame only tells its length (unless a headerless
+        // reply is pending: then any byte may start one, and the slow path decides).
+        if self.len == 1 && !flush && !self.headerless_pending() {
+            let need = match self.buf.first() {
+                Some(&DEBUG) => DEBUG_LEN,
+                Some(&PARAMETER_REPLY) => HEADED_REPLY_LEN,
+                Some(&WAYPOINT) => WAYPOINT_LEN,
+                _ => 0,
+            };
+            if need != 0 {
+                self.need = need;
+                return None;
+            }
+        }
         self.step_slow(flush)
+    }
+
+    /// Whether a headerless (<= 0.30) parameter reply is pending: then any byte may start one.
+    #[inline]
+    fn headerless_pending(&self) -> bool {
+        matches!(self.expect, Expect::Parameter(_)) && self.form == ReplyForm::Headerless
     }
 
     fn step_slow(&mut self, flush: bool) -> Option<Message> {

@@ -12,7 +12,8 @@
 //! - [`frame`]: [`Frame`], a checked whole message;
 //! - [`checksum`]: the XOR checksum;
 //! - [`encoder`]: [`Encoder`] (into a buffer or as a byte iterator) and the [`Payload`] trait;
-//! - [`decoder`]: the byte-at-a-time [`Decoder`] with lossless resynchronisation;
+//! - [`decoder`]: the [`Decoder`] with lossless resynchronisation, byte at a time or a slice
+//!   at a time;
 //! - [`messages`]: typed messages and the [`Message`] enum;
 //! - [`uflt16`]: the binary16 conversions;
 //! - [`registry`]: the system-value registry for devices.

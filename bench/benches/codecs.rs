@@ -25,7 +25,7 @@ fn deframe(input: Vec<u8>) -> u32 {
 
 #[library_benchmark]
 #[bench::aeolus(aeolus_stream())]
-fn decode_aeolus(input: Vec<u8>) -> f64 {
+fn decode_aeolus(input: Vec<u8>) -> u64 {
     black_box(aeolus_decode(black_box(&input)))
 }
 
@@ -37,7 +37,7 @@ fn deframe_slice(input: Vec<u8>) -> u32 {
 
 #[library_benchmark]
 #[bench::aeolus(aeolus_stream())]
-fn decode_aeolus_slice(input: Vec<u8>) -> f64 {
+fn decode_aeolus_slice(input: Vec<u8>) -> u64 {
     black_box(aeolus_decode_slice(black_box(&input)))
 }
 
@@ -47,22 +47,42 @@ fn naive_aeolus(input: Vec<u8>) -> usize {
     black_box(aeolus_naive(black_box(&input)))
 }
 
+// Every decoder twice: byte by byte (`push`, the `_push` rows) and through its slice API
+// (`push_slice` / `feed`).
+#[library_benchmark]
+#[bench::aydp(aydp_stream())]
+fn decode_aydp_push(input: Vec<u8>) -> u32 {
+    black_box(aydp_decode(black_box(&input)))
+}
+
 #[library_benchmark]
 #[bench::aydp(aydp_stream())]
 fn decode_aydp(input: Vec<u8>) -> u32 {
-    black_box(aydp_decode(black_box(&input)))
+    black_box(aydp_decode_feed(black_box(&input)))
+}
+
+#[library_benchmark]
+#[bench::aok(aok_debug_stream())]
+fn decode_aok_pc_push(input: Vec<u8>) -> i64 {
+    black_box(aok_pc_decode(black_box(&input)))
 }
 
 #[library_benchmark]
 #[bench::aok(aok_debug_stream())]
 fn decode_aok_pc(input: Vec<u8>) -> i64 {
-    black_box(aok_pc_decode(black_box(&input)))
+    black_box(aok_pc_decode_feed(black_box(&input)))
+}
+
+#[library_benchmark]
+#[bench::aok(aok_command_stream())]
+fn decode_aok_device_push(input: Vec<u8>) -> u32 {
+    black_box(aok_device_decode(black_box(&input)))
 }
 
 #[library_benchmark]
 #[bench::aok(aok_command_stream())]
 fn decode_aok_device(input: Vec<u8>) -> u32 {
-    black_box(aok_device_decode(black_box(&input)))
+    black_box(aok_device_decode_feed(black_box(&input)))
 }
 
 #[library_benchmark]

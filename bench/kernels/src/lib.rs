@@ -94,6 +94,22 @@ pub fn aydp_decode(stream: &[u8]) -> u32 {
     n
 }
 
+/// [`aydp_decode`] through `Decoder::feed`, the bulk path: every event handed over, every
+/// frame parsed.
+#[inline(never)]
+pub fn aydp_decode_feed(stream: &[u8]) -> u32 {
+    let mut d = Decoder::<128>::new(Profile::Spec);
+    let mut n = 0;
+    d.feed(stream, |e| {
+        if let Ok(f) = e {
+            if f.message().is_ok() {
+                n += 1;
+            }
+        }
+    });
+    n
+}
+
 /// Encodes every message, expedited, into one buffer.
 #[inline(never)]
 pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
@@ -130,6 +146,28 @@ pub fn aok_device_decode(stream: &[u8]) -> u32 {
             n += c.is_ok() as u32;
         }
     }
+    n
+}
+
+/// [`aok_pc_decode`] through `PcDecoder::feed`, the bulk path.
+#[inline(never)]
+pub fn aok_pc_decode_feed(stream: &[u8]) -> i64 {
+    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    let mut acc = 0i64;
+    d.feed(stream, |m| {
+        if let aok_proto::Message::Debug(v) = m {
+            acc += v.value as i64;
+        }
+    });
+    acc
+}
+
+/// [`aok_device_decode`] through `DeviceDecoder::feed`, the bulk path.
+#[inline(never)]
+pub fn aok_device_decode_feed(stream: &[u8]) -> u32 {
+    let mut d = aok_proto::DeviceDecoder::new();
+    let mut n = 0;
+    d.feed(stream, |c| n += c.is_ok() as u32);
     n
 }
 

@@ -16,9 +16,21 @@ fn main() {
     ] {
         println!("{name} {a}");
     }
-    println!("decode_aydp {}", aydp_stream().len());
-    println!("decode_aok_pc {}", aok_debug_stream().len());
-    println!("decode_aok_device {}", aok_command_stream().len());
+    for (names, len) in [
+        (["decode_aydp", "decode_aydp_push"], aydp_stream().len()),
+        (
+            ["decode_aok_pc", "decode_aok_pc_push"],
+            aok_debug_stream().len(),
+        ),
+        (
+            ["decode_aok_device", "decode_aok_device_push"],
+            aok_command_stream().len(),
+        ),
+    ] {
+        for name in names {
+            println!("{name} {len}");
+        }
+    }
     println!("decode_mavlink {}", mavlink_stream().len());
     let msgs = aeolus_messages();
     let mut out = vec![0u8; 2 * STREAM];

@@ -250,6 +250,9 @@ fn run(clock: &Clock) {
     stream_row(clock, "aydp_decode", stream, aydp_decode, |&r| {
         r == AYDP_FRAMES
     });
+    stream_row(clock, "aydp_decode_feed", stream, aydp_decode_feed, |&r| {
+        r == AYDP_FRAMES
+    });
 
     // The messages of `bench::aydp_messages`, as (base type, expedited, data) in flash.
     let blob = input!("aydp_messages.bin");
@@ -290,9 +293,23 @@ fn run(clock: &Clock) {
     });
     stream_row(
         clock,
+        "aok_pc_decode_feed",
+        debug,
+        aok_pc_decode_feed,
+        |&r| r == AOK_PC_SUM,
+    );
+    stream_row(
+        clock,
         "aok_device_decode",
         commands,
         aok_device_decode,
+        |&r| r == AOK_DEVICE_COMMANDS,
+    );
+    stream_row(
+        clock,
+        "aok_device_decode_feed",
+        commands,
+        aok_device_decode_feed,
         |&r| r == AOK_DEVICE_COMMANDS,
     );
 

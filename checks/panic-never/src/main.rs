@@ -67,6 +67,26 @@ mod aeolus {
         }
         sink(d.stats().bytes_discarded ^ s.stats().frames_ok);
 
+        // The bulk path, in opaque chunks, and the CRC over an opaque slice.
+        let bulk: [u8; 512] = input();
+        let total = len() % 513;
+        let mut b = Deframer::<{ MAX_FIXED_FRAME }>::new();
+        let mut at = 0;
+        while at < total {
+            let step = 1 + input_byte(at) as usize % 67;
+            let end = if at + step < total { at + step } else { total };
+            b.push_slice(bulk.get(at..end).unwrap_or(&[]), |ev| {
+                if let Ok(frame) = ev {
+                    if let Ok(msg) = frame.message() {
+                        sink(msg.buffer_len() as u32);
+                    }
+                }
+            });
+            at = end;
+        }
+        sink(b.stats().frames_ok);
+        sink(crc::update_slice(input_byte(3) as u16, bulk.get(..total).unwrap_or(&[])) as u32);
+
         // Datagram decoding in place.
         let mut dg: [u8; 300] = input();
         let n = len() % 301;
@@ -153,6 +173,34 @@ mod aok {
         }
         sink(dev.stats().discarded ^ host.stats().ok);
 
+        // The bulk paths, in opaque chunks, with the pending request switched between them.
+        let bulk: [u8; 512] = input();
+        let total = len() % 513;
+        let mut bdev = DeviceDecoder::new();
+        let mut bhost = PcDecoder::new(fw);
+        let mut at = 0;
+        while at < total {
+            let step = 1 + input_byte(at) as usize % 41;
+            let end = if at + step < total { at + step } else { total };
+            let chunk = bulk.get(at..end).unwrap_or(&[]);
+            bdev.feed(chunk, |c| {
+                if let Ok(cmd) = c {
+                    sink(cmd.buffer_len() as u32);
+                }
+            });
+            if input_byte(end) & 7 == 0 {
+                bhost.expect(match input_byte(end + 1) & 3 {
+                    0 => Expect::Ack,
+                    1 => Expect::Parameter(input_byte(end + 2)),
+                    2 => Expect::Bulk(input_byte(end + 2)),
+                    _ => Expect::Waypoint(slot),
+                });
+            }
+            bhost.feed(chunk, |m| sink(m.buffer_len(ReplyForm::Headerless) as u32));
+            at = end;
+        }
+        sink(bdev.stats().discarded ^ bhost.stats().ok);
+
         // Typed parses on opaque bytes.
         let bytes: [u8; 32] = input();
         let n = len() % 33;
@@ -217,6 +265,29 @@ mod aydp {
         }
         d.flush(|e| sink(e.is_ok() as u32));
         sink(d.stats().bytes_discarded);
+
+        // The bulk path, in opaque chunks, then a flush.
+        let bulk: [u8; 512] = input();
+        let total = len() % 513;
+        let mut b = Decoder::<128>::new(profile);
+        let mut at = 0;
+        while at < total {
+            let step = 1 + input_byte(at) as usize % 97;
+            let end = if at + step < total { at + step } else { total };
+            b.feed(bulk.get(at..end).unwrap_or(&[]), |e| {
+                if let Ok(frame) = e {
+                    sink(frame.base_type() as u32 ^ frame.data().len() as u32);
+                    if let Ok(msg) = frame.message() {
+                        sink(matches!(msg, Message::Heartbeat) as u32);
+                    }
+                }
+            });
+            at = end;
+        }
+        let mut small = Decoder::<4>::new(profile);
+        small.feed(bulk.get(..total).unwrap_or(&[]), |e| sink(e.is_ok() as u32));
+        b.flush(|e| sink(e.is_ok() as u32));
+        sink(b.stats().bytes_discarded ^ small.stats().length_errors);
 
         // Typed parse of opaque data, every type, both forms.
         let data: [u8; 128] = input();

@@ -1,0 +1,251 @@
+//! The bulk path (`Decoder::feed`) against the byte-at-a-time path (`push`, then `poll` until
+//! `None`): on any byte stream, split at any chunk boundaries, in both profiles and at several
+//! capacities, both give the same events in the same order, the same counters after every
+//! chunk, and the same end state (what `flush` reports).
+
+#[path = "support/streamgen.rs"]
+mod streamgen;
+
+use aydp_proto::{Decoder, Error, Frame, Profile, Stats};
+use proptest::prelude::*;
+use streamgen::{Rng, garbage, random_message};
+
+type Event = Result<Vec<u8>, Error>;
+
+fn record(out: &mut Vec<Event>) -> impl FnMut(Result<Frame<'_>, Error>) + '_ {
+    |e| out.push(e.map(|f| f.as_bytes().to_vec()))
+}
+
+/// The reference: every byte pushed on its own, every event drained.
+fn bytewise<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Event>) {
+    for &b in bytes {
+        let mut ev = dec.push(b);
+        while let Some(e) = ev {
+            out.push(e.map(|f| f.as_bytes().to_vec()));
+            ev = dec.poll();
+        }
+    }
+}
+
+/// Feed `stream` in chunks of the given sizes (cycled; 0 is an empty call) both ways and
+/// compare after every chunk and after the final flush.
+fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]) {
+    let mut slow = Decoder::<N>::new(profile);
+    let mut fast = Decoder::<N>::new(profile);
+    let mut rest = stream;
+    // The extra 1 makes every round of `sizes` consume a byte, so the loop ends.
+    let mut sizes = sizes.iter().chain(&[1]).cycle();
+    let mut at = 0;
+    let mut all = Vec::new();
+    loop {
+        let n = (*sizes.next().unwrap()).min(rest.len());
+        let (chunk, tail) = rest.split_at(n);
+        let (mut want, mut got) = (Vec::new(), Vec::new());
+        bytewise(&mut slow, chunk, &mut want);
+        fast.feed(chunk, record(&mut got));
+        at += n;
+        assert_eq!(
+            got, want,
+            "N={N} {profile:?}: events of the chunk ending at {at}"
+        );
+        assert_eq!(
+            fast.stats(),
+            slow.stats(),
+            "N={N} {profile:?}: stats at {at}"
+        );
+        assert_eq!(fast.has_pending(), slow.has_pending());
+        all.extend(got);
+        rest = tail;
+        if rest.is_empty() {
+            break;
+        }
+    }
+    let (mut want, mut got) = (Vec::new(), Vec::new());
+    slow.flush(record(&mut want));
+    fast.flush(record(&mut got));
+    assert_eq!(got, want, "N={N} {profile:?}: flush");
+    assert_eq!(
+        fast.stats(),
+        slow.stats(),
+        "N={N} {profile:?}: stats after flush"
+    );
+    all.extend(got);
+    conserved(stream, &fast.stats(), &all);
+}
+
+/// After a flush every byte fed is either in a delivered frame or discarded (D3).
+fn conserved(stream: &[u8], stats: &Stats, events: &[Event]) {
+    let delivered: usize = events.iter().flatten().map(Vec::len).sum();
+    assert_eq!(delivered + stats.bytes_discarded as usize, stream.len());
+}
+
+fn check_all(profile: Profile, stream: &[u8], sizes: &[usize]) {
+    check_chunks::<128>(profile, stream, sizes);
+    check_chunks::<40>(profile, stream, sizes);
+    check_chunks::<23>(profile, stream, sizes);
+    check_chunks::<7>(profile, stream, sizes);
+    check_chunks::<6>(profile, stream, sizes);
+    check_chunks::<3>(profile, stream, sizes);
+}
+
+/// One piece of a test stream.
+fn piece(profile: Profile) -> impl Strategy<Value = Vec<u8>> {
+    prop_oneof![
+        // A valid message.
+        3 => any::<u64>().prop_map(move |seed| random_message(&mut Rng(seed), profile)),
+        // A message with one byte changed (checksum failure, or a changed length).
+        1 => (any::<u64>(), any::<prop::sample::Index>(), any::<u8>()).prop_map(
+            move |(seed, i, v)| {
+                let mut m = random_message(&mut Rng(seed), profile);
+                let i = i.index(m.len());
+                m[i] = v;
+                m
+            }
+        ),
+        // A message cut short.
+        1 => (any::<u64>(), any::<prop::sample::Index>()).prop_map(move |(seed, i)| {
+            let m = random_message(&mut Rng(seed), profile);
+            m[..i.index(m.len())].to_vec()
+        }),
+        // Garbage rich in 0xFF and plausible headers.
+        2 => any::<u64>().prop_map(move |seed| {
+            let mut out = Vec::new();
+            garbage(&mut Rng(seed), profile, 128, (1, 4), &mut out);
+            out
+        }),
+        // A run of 0xFF.
+        1 => (1usize..12).prop_map(|n| vec![0xFF; n]),
+        // Plain random bytes.
+        1 => prop::collection::vec(any::<u8>(), 0..24),
+    ]
+}
+
+fn profile() -> impl Strategy<Value = Profile> {
+    prop_oneof![Just(Profile::Spec), Just(Profile::Reference)]
+}
+
+fn framed_stream() -> impl Strategy<Value = (Profile, Vec<u8>)> {
+    profile().prop_flat_map(|p| {
+        prop::collection::vec(piece(p), 0..24).prop_map(move |pieces| (p, pieces.concat()))
+    })
+}
+
+/// Bytes that make false starts likely: 0xFF, type bytes, small length fields.
+fn biased_stream() -> impl Strategy<Value = Vec<u8>> {
+    prop::collection::vec(
+        prop_oneof![
+            3 => Just(0xFFu8),
+            1 => Just(0x80u8),
+            3 => Just(0u8),
+            2 => 0u8..48,
+            2 => any::<u8>(),
+        ],
+        0..400,
+    )
+}
+
+fn chunk_sizes() -> impl Strategy<Value = Vec<usize>> {
+    prop::collection::vec(
+        prop_oneof![3 => 0usize..8, 2 => 0usize..64, 1 => 0usize..600],
+        1..16,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_bytes_bulk_equals_bytewise(
+        p in profile(),
+        stream in prop::collection::vec(any::<u8>(), 0..600),
+        sizes in chunk_sizes(),
+    ) {
+        check_all(p, &stream, &sizes);
+    }
+
+    #[test]
+    fn biased_bytes_bulk_equals_bytewise(
+        p in profile(),
+        stream in biased_stream(),
+        sizes in chunk_sizes(),
+    ) {
+        check_all(p, &stream, &sizes);
+    }
+
+    #[test]
+    fn frames_garbage_and_ff_runs_bulk_equals_bytewise(
+        (p, stream) in framed_stream(),
+        sizes in chunk_sizes(),
+    ) {
+        check_all(p, &stream, &sizes);
+    }
+
+    /// `feed` after pushes whose events were not polled (queued rescans, a frame still lent
+    /// out) continues exactly as pushing those bytes would.
+    #[test]
+    fn feed_after_undrained_pushes_equals_bytewise(
+        (p, stream) in framed_stream(),
+        ops in prop::collection::vec((0usize..3, 0usize..80), 0..40),
+    ) {
+        let mut slow = Decoder::<64>::new(p);
+        let mut fast = Decoder::<64>::new(p);
+        let (mut want, mut got) = (Vec::new(), Vec::new());
+        let mut rest = &stream[..];
+        // Every round of `ops` consumes at least one byte, so this ends.
+        let ops = ops.into_iter().chain([(2, 1)]).collect::<Vec<_>>();
+        for (op, n) in ops.into_iter().cycle() {
+            if rest.is_empty() {
+                break;
+            }
+            if op == 1 {
+                // One poll each; no input consumed.
+                if let Some(e) = slow.poll() {
+                    want.push(e.map(|f| f.as_bytes().to_vec()));
+                }
+                if let Some(e) = fast.poll() {
+                    got.push(e.map(|f| f.as_bytes().to_vec()));
+                }
+                continue;
+            }
+            let n = n.min(rest.len());
+            let (chunk, tail) = rest.split_at(n);
+            rest = tail;
+            if op == 0 {
+                // Push without polling: only the first event of each byte is taken.
+                for &b in chunk {
+                    if let Some(e) = slow.push(b) {
+                        want.push(e.map(|f| f.as_bytes().to_vec()));
+                    }
+                    if let Some(e) = fast.push(b) {
+                        got.push(e.map(|f| f.as_bytes().to_vec()));
+                    }
+                }
+            } else {
+                bytewise(&mut slow, chunk, &mut want);
+                fast.feed(chunk, record(&mut got));
+            }
+            prop_assert_eq!(&got, &want);
+            prop_assert_eq!(fast.stats(), slow.stats());
+        }
+        slow.flush(record(&mut want));
+        fast.flush(record(&mut got));
+        prop_assert_eq!(&got, &want);
+        prop_assert_eq!(fast.stats(), slow.stats());
+    }
+}
+
+/// A long stream of valid messages behind garbage, fed in 4 KiB blocks (what a DMA ring
+/// hands over), is decoded exactly as byte by byte.
+#[test]
+fn long_stream_in_dma_blocks() {
+    for profile in [Profile::Spec, Profile::Reference] {
+        let mut rng = Rng(0xB0B);
+        let mut stream = Vec::new();
+        for _ in 0..3000 {
+            garbage(&mut rng, profile, 128, (1, 64), &mut stream);
+            stream.extend(random_message(&mut rng, profile));
+        }
+        check_chunks::<128>(profile, &stream, &[4096]);
+        check_chunks::<128>(profile, &stream, &[4093, 1, 0, 17]);
+    }
+}

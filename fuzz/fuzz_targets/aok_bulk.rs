@@ -1,0 +1,81 @@
+//! The AOK bulk paths (`DeviceDecoder::feed`, `PcDecoder::feed`) against pushing byte by byte and
+//! draining every iterator: on any byte stream, in chunks the input chooses, with the PC's
+//! pending request switched between chunks, both give the same items, counters, pending request
+//! and buffered bytes after every chunk, and the same `idle()`.
+#![no_main]
+use aok_proto::{DeviceDecoder, FirmwareVersion, PcDecoder, WaypointSlot, pc::Expect};
+use libfuzzer_sys::fuzz_target;
+
+fn chunks<'a>(cuts: &'a [u8], data: &'a [u8]) -> impl Iterator<Item = (u8, &'a [u8])> + 'a {
+    let mut rest = data;
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        let c = cuts.get(i % cuts.len().max(1)).copied().unwrap_or(0x1F);
+        // 0..=31 bytes a chunk; every fourth chunk has one or more.
+        let n = if i % 4 == 3 { (c as usize % 32).max(1) } else { c as usize % 32 }.min(rest.len());
+        i += 1;
+        let (chunk, tail) = rest.split_at(n);
+        rest = tail;
+        Some((c, chunk))
+    })
+}
+
+fuzz_target!(|input: &[u8]| {
+    // First byte: firmware and how many chunk sizes follow; then the sizes; then data.
+    let Some((&cfg, rest)) = input.split_first() else { return };
+    let (cuts, data) = rest.split_at((cfg as usize & 7).min(rest.len()));
+
+    let mut slow = DeviceDecoder::new();
+    let mut fast = DeviceDecoder::new();
+    for (_, chunk) in chunks(cuts, data) {
+        let mut want = Vec::new();
+        for &b in chunk {
+            want.extend(slow.push(b));
+        }
+        let mut got = Vec::new();
+        fast.feed(chunk, |c| got.push(c));
+        assert_eq!(got, want);
+        assert_eq!(fast.stats(), slow.stats());
+        assert_eq!(fast.buffered(), slow.buffered());
+    }
+    assert!(fast.idle().eq(slow.idle()));
+    assert_eq!(fast.stats(), slow.stats());
+
+    let fw = match (cfg >> 3) & 3 {
+        0 => FirmwareVersion::new(0, 30),
+        1 => FirmwareVersion::new(0, 31),
+        _ => FirmwareVersion::LATEST,
+    };
+    let mut slow = PcDecoder::new(fw);
+    let mut fast = PcDecoder::new(fw);
+    for (c, chunk) in chunks(cuts, data) {
+        let mut want = Vec::new();
+        for &b in chunk {
+            want.extend(slow.push(b));
+        }
+        let mut got = Vec::new();
+        fast.feed(chunk, |m| got.push(m));
+        assert_eq!(got, want);
+        assert_eq!(fast.stats(), slow.stats());
+        assert_eq!(fast.buffered(), slow.buffered());
+        assert_eq!(fast.expecting(), slow.expecting());
+        // The chunk-size byte also picks the next pending request.
+        let e = match c >> 5 {
+            0 => None,
+            1 => Some(Expect::Ack),
+            2 | 3 => Some(Expect::Parameter(c & 3)),
+            4 => Some(Expect::Bulk((c & 3).wrapping_sub(15))),
+            5 => Some(Expect::Waypoint(WaypointSlot::from_wire(c & 0x1F).unwrap_or(WaypointSlot::FbcTarget))),
+            _ => Some(Expect::Nothing),
+        };
+        if let Some(e) = e {
+            slow.expect(e);
+            fast.expect(e);
+        }
+    }
+    assert!(fast.idle().eq(slow.idle()));
+    assert_eq!(fast.stats(), slow.stats());
+});
