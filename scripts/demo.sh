@@ -26,9 +26,11 @@ port=${QEMU_UART0_PORT:-7000}
 log=${DEMO_LOG:-target/demo-firmware.log}
 
 # UART0 waits for its client, so the watcher sees the boot TOAST too.
-QEMU_WAIT=1 scripts/qemu-run.sh "$elf" >"$log" 2>&1 &
+# In its own process group (setsid), so that the exit trap stops QEMU and defmt-print too,
+# not just the script that started them.
+QEMU_WAIT=1 setsid scripts/qemu-run.sh "$elf" >"$log" 2>&1 &
 qemu=$!
-trap 'kill "$qemu" 2>/dev/null; wait "$qemu" 2>/dev/null || true' EXIT
+trap 'kill -TERM -- "-$qemu" 2>/dev/null; wait "$qemu" 2>/dev/null || true' EXIT
 # Wait until QEMU listens (without connecting: the first client is the watcher).
 hex=$(printf ':%04X ' "$port")
 for _ in $(seq 200); do

@@ -132,8 +132,9 @@ fn encode_aok(input: (Vec<aok_proto::DebugValue>, Vec<u8>)) -> usize {
 
 library_benchmark_group!(
     name = codecs;
-    benchmarks = crc_section_4_3, crc_crate_table, deframe, decode_aeolus, deframe_slice, decode_aeolus_slice, naive_aeolus, decode_aydp,
-        decode_aok_pc, decode_aok_device, decode_mavlink, encode_aeolus, encode_aydp, encode_aok
+    benchmarks = crc_section_4_3, crc_crate_table, deframe, decode_aeolus, deframe_slice, decode_aeolus_slice, naive_aeolus,
+        decode_aydp_push, decode_aydp, decode_aok_pc_push, decode_aok_pc, decode_aok_device_push, decode_aok_device,
+        decode_mavlink, encode_aeolus, encode_aydp, encode_aok
 );
 
 main!(library_benchmark_groups = codecs);
