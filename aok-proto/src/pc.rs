@@ -257,17 +257,11 @@ impl PcDecoder {
                     }
                 }
             }
-            let need = match first {
-                DEBUG => DEBUG_LEN,
-                PARAMETER_REPLY => HEADED_REPLY_LEN,
-                WAYPOINT => WAYPOINT_LEN,
-                b'O' | b'E' | b'I' if self.expect == Expect::Ack => 1,
-                _ => {
-                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
-                    rest = tail;
-                    continue;
-                }
+            let Some(need) = frame_len(first, self.expect) else {
+                self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                rest = tail;
+                continue;
             };
             let Some((frame, after)) = rest.split_at_checked(need) else {
                 break;
@@ -471,16 +465,10 @@ impl PcDecoder {
                     }
                 }
             }
-            let need = match first {
-                DEBUG => DEBUG_LEN,
-                PARAMETER_REPLY => HEADED_REPLY_LEN,
-                WAYPOINT => WAYPOINT_LEN,
-                b'O' | b'E' | b'I' if self.expect == Expect::Ack => 1,
-                _ => {
-                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                    self.drop_front();
-                    continue;
-                }
+            let Some(need) = frame_len(first, self.expect) else {
+                self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                self.drop_front();
+                continue;
             };
             if len < need {
                 if flush {
@@ -533,5 +521,17 @@ impl Iterator for Messages<'_> {
     #[inline]
     fn next(&mut self) -> Option<Message> {
         self.dec.step(self.flush)
+    }
+}
+
+/// The length of the frame that `first` starts while `expect` is pending (with a header: the
+/// headerless reply is read before this), or `None` for a byte that starts no frame.
+const fn frame_len(first: u8, expect: Expect) -> Option<usize> {
+    match first {
+        DEBUG => Some(DEBUG_LEN),
+        PARAMETER_REPLY => Some(HEADED_REPLY_LEN),
+        WAYPOINT => Some(WAYPOINT_LEN),
+        b'O' | b'E' | b'I' if matches!(expect, Expect::Ack) => Some(1),
+        _ => None,
     }
 }
