@@ -172,6 +172,27 @@ impl<const N: usize> Decoder<N> {
         self.pending != 0
     }
 
+    /// Bytes received that the decoder has not examined yet: queued behind a failed candidate
+    /// for a rescan. A caller that counts the bytes it pushed finds where an event's bytes
+    /// are: a frame just handed out ends that many bytes before the end of the input pushed so
+    /// far, and a failed candidate (length, checksum, truncation) started one byte before
+    /// those.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let mut dec = Decoder::<64>::new(Profile::Spec);
+    /// // A false start whose length (7) takes in a heartbeat's first bytes: it fails, and the
+    /// // six bytes after it wait for the rescan.
+    /// for &b in &[0xFF, 0x80, 0x07, 0, 0, 0] {
+    ///     assert!(dec.push(b).is_none());
+    /// }
+    /// assert!(dec.push(0xFF).unwrap().is_err());
+    /// assert_eq!(dec.unscanned_bytes(), 6); // the candidate started at 7 - 6 - 1 = 0
+    /// ```
+    pub const fn unscanned_bytes(&self) -> usize {
+        self.pending
+    }
+
     /// Forget everything held (counters are kept).
     pub fn reset(&mut self) {
         self.len = 0;
@@ -256,19 +277,23 @@ impl<const N: usize> Decoder<N> {
     /// ```
     pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
         self.release();
-        let outcome = loop {
-            if self.pending == 0 {
-                return None;
-            }
+        let outcome = self.rescan_queued();
+        self.event(outcome)
+    }
+
+    /// Steps through the queued bytes until one completes or fails a candidate (`More`: none
+    /// did, and the queue is empty).
+    fn rescan_queued(&mut self) -> Outcome {
+        while self.pending != 0 {
             let byte = self.buf.get(self.head).copied().unwrap_or(0);
             self.head = self.head.wrapping_add(1);
             self.pending -= 1;
             match self.step(byte) {
                 Outcome::More => {}
-                other => break other,
+                other => return other,
             }
-        };
-        self.event(outcome)
+        }
+        Outcome::More
     }
 
     /// Feed a slice, handing every event (frames and failures) to `on_event` in order.
@@ -444,17 +469,34 @@ impl<const N: usize> Decoder<N> {
     /// assert_eq!(evs, vec![Err(Error::Truncated)]);
     /// ```
     pub fn flush<F: FnMut(Result<Frame<'_>>)>(&mut self, mut on_event: F) {
-        loop {
-            while let Some(e) = self.poll() {
-                on_event(e);
-            }
-            if self.len == 0 {
-                break;
-            }
-            self.rescan();
-            on_event(Err(Error::Truncated));
+        while let Some(e) = self.flush_next() {
+            on_event(e);
         }
-        self.reset();
+    }
+
+    /// End of stream, one event at a time: the next event [`Decoder::flush`] would hand over,
+    /// or `None` once the decoder is empty (it is then reset). Between calls the caller may
+    /// read [`Decoder::unscanned_bytes`] to place each event in the input.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Error, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// dec.feed(&[0xFF, 0x80, 0x07], |_| {});
+    /// assert!(matches!(dec.flush_next(), Some(Err(Error::Truncated))));
+    /// assert!(dec.flush_next().is_none());
+    /// ```
+    pub fn flush_next(&mut self) -> Option<Result<Frame<'_>>> {
+        self.release();
+        let outcome = self.rescan_queued();
+        if outcome != Outcome::More {
+            return self.event(outcome);
+        }
+        if self.len == 0 {
+            self.reset();
+            return None;
+        }
+        self.rescan();
+        Some(Err(Error::Truncated))
     }
 
     /// Drop a frame handed out on the previous call. Queued bytes stay where they are.

@@ -29,12 +29,14 @@ pub struct AokArgs {
     /// read needs >= 0.35.
     #[arg(long, value_name = "MAJOR.MINOR", default_value = "0.35", value_parser = parse_firmware)]
     pub firmware: FirmwareVersion,
-    /// How long to wait for a reply, in milliseconds.
-    #[arg(long, value_name = "MS", default_value_t = 1000)]
-    pub timeout_ms: u32,
-    /// How long the line must stay quiet after debug-off before a request goes out, in ms.
-    #[arg(long, value_name = "MS", default_value_t = 50)]
-    pub quiet_ms: u32,
+    /// How long to wait for a reply: `2000` (ms), `2s`, `500ms` (1 ms to 1 h).
+    #[arg(long, visible_alias = "timeout", value_name = "DURATION", default_value = "2000",
+          value_parser = crate::args::timeout_ms)]
+    pub timeout_ms: Duration,
+    /// How long the line must stay quiet after debug-off before a request goes out: `50` (ms),
+    /// `0.1s` (0 ms to 1 h).
+    #[arg(long, value_name = "DURATION", default_value = "50", value_parser = crate::args::period_ms)]
+    pub quiet_ms: Duration,
     /// The device is not sending debug values (skip the debug-off/on around requests).
     #[arg(long)]
     pub debug_is_off: bool,
@@ -87,9 +89,13 @@ pub enum AokAction {
         motor: Motor,
         /// Test value 0..=255.
         value: u8,
-        /// Repeat the value every 200 ms for this long.
-        #[arg(long, value_name = "MS")]
-        hold_ms: Option<u64>,
+        /// Repeat the value every 200 ms for this long: `2000` (ms), `2s` (0 ms to 1 h).
+        #[arg(long, value_name = "DURATION", value_parser = crate::args::period_ms)]
+        hold_ms: Option<Duration>,
+        /// Check the outcome in the debug values: flight status (86) and this project's
+        /// motor-test mask (14).
+        #[arg(long)]
+        verify: bool,
     },
     /// External control: roll, nick, yaw (-200..=200) and the unused pitch field.
     #[command(
@@ -280,13 +286,13 @@ impl Session {
     pub fn open(args: &AokArgs) -> Result<Self> {
         let link = args.to.open()?;
         let mut config = Config::new(args.firmware);
-        config.timeout_ms = args.timeout_ms;
-        config.quiet_ms = args.quiet_ms;
+        config.timeout_ms = millis(args.timeout_ms);
+        config.quiet_ms = millis(args.quiet_ms);
         config.debug_on = !args.debug_is_off;
         Ok(Session {
             client: Client::new(NbSerial::new(link), config),
             started: Instant::now(),
-            timeout_ms: args.timeout_ms,
+            timeout_ms: millis(args.timeout_ms),
         })
     }
 
@@ -316,9 +322,9 @@ impl Session {
                 ms: u64::from(self.timeout_ms),
             }),
             Err(aok_proto::Error::Rejected) => {
-                Err(Error::Device(format!("the device rejected {what} ('E')")))
+                Err(Error::Refused(format!("the device rejected {what} ('E')")))
             }
-            Err(aok_proto::Error::RefusedInFlight) => Err(Error::Device(format!(
+            Err(aok_proto::Error::RefusedInFlight) => Err(Error::Refused(format!(
                 "the device refused {what} in flight ('I')"
             ))),
             Err(source) => Err(Error::Aok {
@@ -327,6 +333,11 @@ impl Session {
             }),
         }
     }
+}
+
+/// A duration as the client's `u32` milliseconds (the parsers keep it within an hour).
+fn millis(d: Duration) -> u32 {
+    u32::try_from(d.as_millis()).unwrap_or(u32::MAX)
 }
 
 fn waypoint_line(w: &Waypoint) -> String {
@@ -340,13 +351,125 @@ fn waypoint_line(w: &Waypoint) -> String {
     )
 }
 
+/// How a command that changes the box ended, when it did not fail.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Answer {
+    /// The box said yes (an ack, or a read-back that matches).
+    Confirmed(String),
+    /// The protocol gives no answer to this command; the sentence says what is known.
+    Unconfirmed(String),
+}
+
+impl Answer {
+    /// The outcome as the end of an output line.
+    ///
+    /// ```
+    /// use protolink::aok_cmd::Answer;
+    /// assert_eq!(Answer::Confirmed("acked 'O'".into()).show(), "confirmed (acked 'O')");
+    /// ```
+    pub fn show(&self) -> String {
+        match self {
+            Answer::Confirmed(why) => format!("confirmed ({why})"),
+            Answer::Unconfirmed(why) => format!("unconfirmed ({why})"),
+        }
+    }
+}
+
+impl Session {
+    /// Sends a command the spec gives no ack and waits for one all the same: this project's
+    /// box (and some firmware) answers 'O', 'E' or 'I'. No answer within the timeout is
+    /// [`Answer::Unconfirmed`]; 'E' and 'I' are [`Error::Refused`].
+    ///
+    /// # Errors
+    /// A refusal, or an I/O error.
+    pub fn run_acked(&mut self, command: Command, what: &str) -> Result<Answer> {
+        let started = self.started;
+        self.client
+            .start_expecting(command, aok_proto::pc::Expect::Ack)
+            .map_err(|source| Error::Aok {
+                what: what.to_string(),
+                source,
+            })?;
+        let result = {
+            let _spinner = Spinner::start(&format!("waiting for the answer to {what}"));
+            self.client.wait(|| started.elapsed().as_millis() as u32)
+        };
+        let serial = self.client.serial_mut();
+        if let Some(e) = serial.take_error() {
+            return Err(e);
+        }
+        match result {
+            Ok(_) => Ok(Answer::Confirmed("acked 'O'".into())),
+            Err(aok_proto::Error::Timeout) => Ok(Answer::Unconfirmed(format!(
+                "no ack within {} ms; AOK defines no answer to {what}",
+                self.timeout_ms
+            ))),
+            Err(aok_proto::Error::Rejected) => {
+                Err(Error::Refused(format!("the device rejected {what} ('E')")))
+            }
+            Err(aok_proto::Error::RefusedInFlight) => Err(Error::Refused(format!(
+                "the device refused {what} in flight ('I')"
+            ))),
+            Err(source) => Err(Error::Aok {
+                what: what.to_string(),
+                source,
+            }),
+        }
+    }
+
+    /// Watches the debug values for up to the timeout after a motor test: flight status (86,
+    /// bit 0 = flying) refuses it, the motor-test mask (14, bit `motor - 1`) confirms it.
+    ///
+    /// # Errors
+    /// The box is flying, or an I/O error.
+    pub fn verify_motor(&mut self, motor: Motor, value: u8) -> Result<Answer> {
+        let started = Instant::now();
+        let limit = Duration::from_millis(u64::from(self.timeout_ms));
+        let now = self.started;
+        let mut seen = false;
+        while started.elapsed() < limit {
+            let _ = self.client.poll(now.elapsed().as_millis() as u32);
+            while let Some(d) = self.client.next_debug() {
+                seen = true;
+                match d.number {
+                    86 if d.value & 1 != 0 => {
+                        return Err(Error::Refused(format!(
+                            "the box is flying (debug value 86 = {}), so it ignores motor tests",
+                            d.value
+                        )));
+                    }
+                    14 if value > 0 && d.value & (1 << (motor.get() - 1)) != 0 => {
+                        return Ok(Answer::Confirmed(format!(
+                            "debug value 14 shows motor {} under test",
+                            motor.get()
+                        )));
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(e) = self.client.serial_mut().take_error() {
+                return Err(e);
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        Ok(Answer::Unconfirmed(if seen {
+            "the debug values did not show the motor under test".into()
+        } else {
+            "no debug values arrived to check it against".into()
+        }))
+    }
+}
+
 /// Runs `protolink aok`.
+///
+/// Commands that read print what the device answered; commands that change it end in
+/// `confirmed (...)` or `unconfirmed (...)`, and a refusal is an error (exit status 1).
 ///
 /// # Errors
 /// Opening the endpoint, a timeout, or a refusal.
 pub fn run(args: &AokArgs) -> Result<()> {
     let mut s = Session::open(args)?;
-    let mut out = Out::new();
+    let mut out = Out::beside(&args.to);
     match &args.action {
         AokAction::Debug { state } => {
             let on = state == "on";
@@ -356,7 +479,10 @@ pub fn run(args: &AokArgs) -> Result<()> {
                 Command::DebugOff
             };
             s.run(cmd, "debug on/off")?;
-            out.line(&format!("debug output {state}"))?;
+            out.line(&format!(
+                "debug output {state}: unconfirmed (AOK defines no answer to 63 0{})",
+                if on { 2 } else { 1 }
+            ))?;
         }
         AokAction::Get { number } => {
             let what = format!("the read of parameter {number}");
@@ -373,7 +499,9 @@ pub fn run(args: &AokArgs) -> Result<()> {
                 value: *value,
             });
             s.run(cmd, &format!("setting parameter {number}"))?;
-            out.line(&format!("parameter {number} = {value} (acked)"))?;
+            out.line(&format!(
+                "parameter {number} = {value}: confirmed (acked 'O')"
+            ))?;
         }
         AokAction::Bulk { first } => {
             if !args.firmware.has_bulk_read() {
@@ -418,31 +546,42 @@ pub fn run(args: &AokArgs) -> Result<()> {
                 Command::SetWaypoint(w),
                 &format!("setting waypoint {}", slot_name(*slot)),
             )?;
-            out.line(&format!("{} (acked)", waypoint_line(&w)))?;
+            out.line(&format!("{}: confirmed (acked 'O')", waypoint_line(&w)))?;
         }
         AokAction::Motor {
             motor,
             value,
             hold_ms,
+            verify,
         } => {
             let cmd = Command::MotorTest(MotorTest {
                 motor: *motor,
                 value: *value,
             });
-            let hold = Duration::from_millis(hold_ms.unwrap_or(0));
+            let hold = hold_ms.unwrap_or(Duration::ZERO);
             let started = Instant::now();
             let mut sent = 0u32;
+            let mut answer = Answer::Unconfirmed(
+                "AOK defines no answer to a motor test; pass --verify to check the debug values"
+                    .into(),
+            );
             loop {
                 s.run(cmd, "the motor test")?;
                 sent += 1;
+                if *verify && sent == 1 {
+                    answer = s.verify_motor(*motor, *value)?;
+                }
                 if started.elapsed() >= hold {
                     break;
                 }
-                std::thread::sleep(Duration::from_millis(200).min(hold - started.elapsed()));
+                std::thread::sleep(
+                    Duration::from_millis(200).min(hold.saturating_sub(started.elapsed())),
+                );
             }
             out.line(&format!(
-                "motor {} test value {value} sent {sent} time(s)",
-                motor.get()
+                "motor {} test value {value} ({sent} frame(s)): {}",
+                motor.get(),
+                answer.show()
             ))?;
         }
         AokAction::Extern {
@@ -461,23 +600,24 @@ pub fn run(args: &AokArgs) -> Result<()> {
             });
             s.run(cmd, "external control")?;
             out.line(&format!(
-                "external control sent: roll={} nick={} yaw={} pitch={pitch} expiry={expiry} ms",
+                "external control roll={} nick={} yaw={} pitch={pitch} expiry={expiry} ms: \
+                 unconfirmed (AOK defines no answer to 53)",
                 roll.get(),
                 nick.get(),
                 yaw.get()
             ))?;
         }
         AokAction::SaveSet { set } => {
-            s.run(Command::SaveSet(*set), "save-set")?;
-            out.line(&format!("save parameters to set {set} sent"))?;
+            let answer = s.run_acked(Command::SaveSet(*set), &format!("save-set {set}"))?;
+            out.line(&format!("save parameters to set {set}: {}", answer.show()))?;
         }
         AokAction::LoadSet { set } => {
-            s.run(Command::LoadSet(*set), "load-set")?;
-            out.line(&format!("load parameter set {set} sent"))?;
+            let answer = s.run_acked(Command::LoadSet(*set), &format!("load-set {set}"))?;
+            out.line(&format!("load parameter set {set}: {}", answer.show()))?;
         }
         AokAction::Reset => {
             s.run(Command::Reset, "reset")?;
-            out.line("reset sent")?;
+            out.line("reset: unconfirmed (AOK defines no answer to 63 07; the device restarts)")?;
         }
     }
     out.flush()

@@ -6,7 +6,6 @@
 //! Requests go out as expedited messages, like the document's examples. Other traffic from the
 //! device (heartbeats, positions) is skipped while waiting.
 
-use std::io::{self, Write};
 use std::time::{Duration, Instant};
 
 use aydp_proto::{
@@ -35,9 +34,10 @@ pub struct AydpArgs {
     /// AYDP profile of the device.
     #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
     pub profile: ProfileArg,
-    /// How long to wait for each reply, in milliseconds.
-    #[arg(long, value_name = "MS", default_value_t = 2000)]
-    pub timeout_ms: u64,
+    /// How long to wait for each reply: `2000` (ms), `2s`, `500ms` (1 ms to 1 h).
+    #[arg(long, visible_alias = "timeout", value_name = "DURATION", default_value = "2000",
+          value_parser = crate::args::timeout_ms)]
+    pub timeout_ms: Duration,
     /// Do not read values back after changing them.
     #[arg(long)]
     pub no_verify: bool,
@@ -79,7 +79,8 @@ pub enum AydpAction {
         #[arg(long = "as", value_name = "TYPE")]
         value_type: ValueType,
     },
-    /// Store the configuration in the device's non-volatile memory.
+    /// Store the configuration in the device's non-volatile memory (unconfirmed: AYDP has no
+    /// acknowledgement).
     #[command(after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 store")]
     Store,
     /// Set outputs directly (direct output control).
@@ -93,6 +94,13 @@ pub enum AydpAction {
         /// Enable direct control (address 0x0000 = 1) first.
         #[arg(long)]
         enable: bool,
+        /// Confirm the outcome by reading the box's link counters before and after (this
+        /// project's sensor box: u32[10] at --counters, element 8 applied, 9 refused).
+        #[arg(long)]
+        verify: bool,
+        /// Where the link counters are, for --verify.
+        #[arg(long, value_name = "ADDR", default_value = "0x0300", value_parser = parse_address)]
+        counters: u16,
     },
 }
 
@@ -157,6 +165,7 @@ pub fn parse_target(text: &str) -> std::result::Result<Target, String> {
 /// assert_eq!(protolink::aydp_cmd::parse_output("1:2=10.0"),
 ///            Ok(OutputEntry { device: 1, channel: 2, value: 10.0 }));
 /// assert!(protolink::aydp_cmd::parse_output("1=10").is_err());
+/// assert!(protolink::aydp_cmd::parse_output("1:2=nan").is_err());
 /// ```
 ///
 /// # Errors
@@ -168,7 +177,8 @@ pub fn parse_output(text: &str) -> std::result::Result<OutputEntry, String> {
     Ok(OutputEntry {
         device: device.trim().parse().map_err(|_| bad())?,
         channel: channel.trim().parse().map_err(|_| bad())?,
-        value: value.trim().parse().map_err(|_| bad())?,
+        value: crate::args::finite(value.trim())
+            .map_err(|_| format!("'{text}': the value must be a finite number"))?,
     })
 }
 
@@ -266,6 +276,28 @@ impl Session {
         }
     }
 
+    /// Reads the direct-output counters (applied, refused) from the link counters at
+    /// `address` (u32 elements 8 and 9, little-endian).
+    ///
+    /// # Errors
+    /// No answer, or an answer too short to hold them.
+    pub fn output_counters(&mut self, address: u16) -> Result<(u32, u32)> {
+        let r = self.read(address)?;
+        let word = |i: usize| {
+            r.data
+                .get(i * 4..i * 4 + 4)
+                .and_then(|b| b.try_into().ok())
+                .map(u32::from_le_bytes)
+        };
+        match (word(8), word(9)) {
+            (Some(applied), Some(refused)) => Ok((applied, refused)),
+            _ => Err(Error::Device(format!(
+                "the counters at {address:#06x} are {} bytes, too short for --verify (40 needed)",
+                r.data.len()
+            ))),
+        }
+    }
+
     fn scan(&mut self, bytes: &[u8], address: u16) -> Option<Reading> {
         let mut found = None;
         let mut skipped = 0u32;
@@ -335,12 +367,8 @@ fn usage(e: String) -> Error {
 /// # Errors
 /// Opening the endpoint, a bad value, a timeout, or a value the device did not take.
 pub fn run(args: &AydpArgs) -> Result<()> {
-    let mut s = Session::open(
-        &args.to,
-        args.profile,
-        Duration::from_millis(args.timeout_ms),
-    )?;
-    let mut out = Out::new();
+    let mut s = Session::open(&args.to, args.profile, args.timeout_ms)?;
+    let mut out = Out::beside(&args.to);
     match &args.action {
         AydpAction::Get {
             address,
@@ -374,25 +402,37 @@ pub fn run(args: &AydpArgs) -> Result<()> {
                 data: &data,
             })?;
             if args.no_verify {
-                out.line(&format!("{:#06x} set (not verified)", target.address))?;
+                out.line(&format!(
+                    "{:#06x} set: unconfirmed (--no-verify: not read back)",
+                    target.address
+                ))?;
             } else {
                 let reading = s.read(target.address)?;
                 verify(&reading, target, *value_type, &data)?;
-                out.line(&describe(&reading, Some(*value_type))?.0)?;
+                let line = describe(&reading, Some(*value_type))?.0;
+                out.line(&format!("{line}: confirmed (read back)"))?;
             }
         }
         AydpAction::Store => {
             s.send(&SystemControl::StoreConfiguration)?;
             if args.no_verify {
-                out.line("store configuration sent")?;
+                out.line("store configuration: unconfirmed (AYDP has no acknowledgement)")?;
             } else {
-                // AYDP has no ack: a request answered after the store shows the device is
-                // alive and has handled the store before it.
+                // No ack exists: a request answered after the store shows only that the device
+                // is alive and has read the store before it.
                 s.read(DIRECT_CONTROL)?;
-                out.line("store configuration sent (AYDP has no acknowledgement; the device answered a request sent after it)")?;
+                out.line(
+                    "store configuration: unconfirmed (AYDP has no acknowledgement; the device \
+                     answered a request sent after it, so it received the store)",
+                )?;
             }
         }
-        AydpAction::Output { outputs, enable } => {
+        AydpAction::Output {
+            outputs,
+            enable,
+            verify,
+            counters,
+        } => {
             if *enable {
                 s.send(&SystemValueUpdate {
                     address: DIRECT_CONTROL,
@@ -402,24 +442,26 @@ pub fn run(args: &AydpArgs) -> Result<()> {
             }
             if !args.no_verify {
                 let r = s.read(DIRECT_CONTROL)?;
-                match (r.data.as_slice(), enable) {
-                    ([1], _) => {}
-                    (_, true) => {
-                        return Err(Error::Device(format!(
-                            "the device did not enable direct control: 0x0000 reads {}",
+                if r.data != [1] {
+                    return Err(Error::Refused(if *enable {
+                        format!(
+                            "the device refused to enable direct control: 0x0000 reads {}",
                             hex(&r.data)
-                        )));
-                    }
-                    (_, false) => {
-                        let _ = writeln!(
-                            io::stderr(),
-                            "warning: direct control is off (0x0000 = {}): the device ignores \
-                             these outputs; pass --enable to turn it on",
+                        )
+                    } else {
+                        format!(
+                            "the device refuses direct outputs: direct control is off (0x0000 = \
+                             {}); pass --enable to turn it on",
                             hex(&r.data)
-                        );
-                    }
+                        )
+                    }));
                 }
             }
+            let before = if *verify {
+                Some(s.output_counters(*counters)?)
+            } else {
+                None
+            };
             let mut buf = vec![0u8; 2 + outputs.len() * OutputEntry::LEN];
             let mut builder = DirectOutputBuilder::new(&mut buf);
             for e in outputs {
@@ -430,9 +472,35 @@ pub fn run(args: &AydpArgs) -> Result<()> {
             }
             let message = builder.finish();
             s.send(&message)?;
+            let outcome = match before {
+                Some(before) => {
+                    let after = s.output_counters(*counters)?;
+                    if after.1 != before.1 {
+                        return Err(Error::Refused(format!(
+                            "the device refused the outputs (its direct-refused counter went \
+                             from {} to {}): an unknown device or channel, or direct control off",
+                            before.1, after.1
+                        )));
+                    }
+                    if after.0 == before.0 {
+                        return Err(Error::Refused(format!(
+                            "the device refused the outputs: its direct-applied counter stayed \
+                             at {}",
+                            after.0
+                        )));
+                    }
+                    format!(
+                        "confirmed (the direct-applied counter went from {} to {})",
+                        before.0, after.0
+                    )
+                }
+                None => "unconfirmed (AYDP has no acknowledgement; --verify reads the box's \
+                         counters)"
+                    .to_string(),
+            };
             for e in outputs {
                 out.line(&format!(
-                    "output {}:{} = {} sent",
+                    "output {}:{} = {}: {outcome}",
                     e.device, e.channel, e.value
                 ))?;
             }
@@ -464,7 +532,7 @@ fn verify(reading: &Reading, target: &Target, value_type: ValueType, sent: &[u8]
         let now = describe(reading, Some(value_type))
             .map(|d| d.0)
             .unwrap_or_else(|_| hex(&reading.data));
-        Err(Error::Device(format!(
+        Err(Error::Refused(format!(
             "the device did not take the value (read back: {now}); the address may be read-only, \
              or the value out of range or of another type"
         )))

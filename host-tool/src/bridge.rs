@@ -7,6 +7,9 @@
 
 use std::io::{self, Write};
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{SyncSender, sync_channel};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use aeolus_proto::{Deframer, ESCAPE, FLAG};
@@ -85,9 +88,9 @@ pub struct BridgeArgs {
     /// The UDP side.
     #[command(flatten)]
     pub udp: UdpArgs,
-    /// Stop after this many seconds (default: on Ctrl-C, or when the UART ends).
-    #[arg(long, value_name = "N")]
-    pub seconds: Option<f64>,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or when the UART ends).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<std::time::Duration>,
 }
 
 /// What the bridge did, printed on exit.
@@ -107,6 +110,9 @@ pub struct Counters {
     pub bytes_to_uart: u64,
     /// Datagrams that could not be written to the UART.
     pub uart_write_errors: u64,
+    /// Datagrams dropped because the UART writer's queue was full (the UART is slower than
+    /// the datagrams arriving).
+    pub uart_queue_dropped: u64,
 }
 
 /// Appends `raw` (ID, data and CRC, unescaped) as one escaped frame with its two flags.
@@ -139,6 +145,12 @@ pub struct SendCounters {
     pub errors: u64,
 }
 
+/// Most datagrams taken from the in-port per turn of a loop, so a flood cannot keep the loop
+/// from its other work.
+pub const DATAGRAMS_PER_TURN: usize = 64;
+/// Datagrams that may wait for the UART writer; more are dropped and counted.
+pub const UART_QUEUE: usize = 256;
+
 /// Packs escaped AEOLUS frames into UDP datagrams and sends them: up to `pack` frames per
 /// datagram, never more than [`MAX_DATAGRAM`] bytes (a single longer frame goes out alone),
 /// and a partly filled pack waits at most [`PACK_HOLD`]. Used by `bridge` and `sim`.
@@ -165,6 +177,7 @@ pub struct Packer {
     frames: usize,
     since: Option<Instant>,
     counters: SendCounters,
+    last_error: Option<io::Error>,
 }
 
 impl Packer {
@@ -196,6 +209,7 @@ impl Packer {
             frames: 0,
             since: None,
             counters: SendCounters::default(),
+            last_error: None,
         })
     }
 
@@ -207,6 +221,24 @@ impl Packer {
     /// What has been sent so far.
     pub fn counters(&self) -> SendCounters {
         self.counters
+    }
+
+    /// Fails when datagrams were to be sent and not one of them went out, naming the last
+    /// reason: a box whose every send fails must not look like one that worked.
+    ///
+    /// # Errors
+    /// [`Error::Io`] with the last send error.
+    pub fn check(&mut self) -> Result<()> {
+        match self.last_error.take() {
+            Some(source) if self.counters.datagrams == 0 => Err(Error::Io {
+                what: format!(
+                    "sending every one of {} datagrams to {}",
+                    self.counters.errors, self.to
+                ),
+                source,
+            }),
+            _ => Ok(()),
+        }
     }
 
     /// Adds one escaped frame (flags included); sends the pack when it is full.
@@ -239,7 +271,10 @@ impl Packer {
                 self.counters.datagrams += 1;
                 self.counters.frames += self.frames as u64;
             }
-            Err(_) => self.counters.errors += 1,
+            Err(e) => {
+                self.counters.errors += 1;
+                self.last_error = Some(e);
+            }
         }
         self.pack.clear();
         self.frames = 0;
@@ -261,15 +296,20 @@ pub fn bind_in_port(udp_in: SocketAddr) -> Result<UdpSocket> {
     Ok(socket)
 }
 
-/// Takes every datagram waiting on the non-blocking `socket`, handing each to `f`.
+/// Takes the datagrams waiting on the non-blocking `socket`, at most [`DATAGRAMS_PER_TURN`],
+/// handing each to `f`. Returns how many it took.
 ///
 /// # Errors
 /// Receiving fails for another reason than "nothing waiting".
-pub fn receive_all(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8])) -> Result<()> {
-    loop {
+pub fn receive_some(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8])) -> Result<usize> {
+    let mut taken = 0;
+    while taken < DATAGRAMS_PER_TURN {
         match socket.recv_from(buf) {
-            Ok((n, _from)) => f(buf.get(..n).unwrap_or(&[])),
-            Err(e) if e.kind() == io::ErrorKind::WouldBlock => return Ok(()),
+            Ok((n, _from)) => {
+                taken += 1;
+                f(buf.get(..n).unwrap_or(&[]));
+            }
+            Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
             Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
             Err(source) => {
                 return Err(Error::Io {
@@ -283,6 +323,91 @@ pub fn receive_all(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8]))
                 });
             }
         }
+    }
+    Ok(taken)
+}
+
+/// Writes datagrams to the UART from a thread of its own through a bounded queue, so a slow
+/// UART never holds up reading it, and a flood is dropped (and counted) instead of queued.
+struct UartWriter {
+    queue: Option<SyncSender<Vec<u8>>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    written: Arc<AtomicU64>,
+    errors: Arc<AtomicU64>,
+    first_error: Arc<Mutex<Option<String>>>,
+    dropped: u64,
+}
+
+impl UartWriter {
+    /// A writer for `to`, or, when the UART takes no bytes (`file:`), one that counts every
+    /// datagram as a write error with that reason.
+    fn start(to: Result<Box<dyn Write + Send>>) -> Self {
+        let mut to = match to {
+            Ok(to) => to,
+            Err(e) => {
+                return UartWriter {
+                    queue: None,
+                    thread: None,
+                    written: Arc::default(),
+                    errors: Arc::default(),
+                    first_error: Arc::new(Mutex::new(Some(e.to_string()))),
+                    dropped: 0,
+                };
+            }
+        };
+        let (tx, rx) = sync_channel::<Vec<u8>>(UART_QUEUE);
+        let written = Arc::new(AtomicU64::new(0));
+        let errors = Arc::new(AtomicU64::new(0));
+        let first_error = Arc::new(Mutex::new(None));
+        let (w, e, f) = (written.clone(), errors.clone(), first_error.clone());
+        let thread = std::thread::spawn(move || {
+            for datagram in rx {
+                match to.write_all(&datagram).and_then(|()| to.flush()) {
+                    Ok(()) => {
+                        w.fetch_add(datagram.len() as u64, Ordering::Relaxed);
+                    }
+                    Err(err) => {
+                        e.fetch_add(1, Ordering::Relaxed);
+                        if let Ok(mut slot) = f.lock() {
+                            slot.get_or_insert_with(|| err.to_string());
+                        }
+                    }
+                }
+            }
+        });
+        UartWriter {
+            queue: Some(tx),
+            thread: Some(thread),
+            written,
+            errors,
+            first_error,
+            dropped: 0,
+        }
+    }
+
+    fn send(&mut self, datagram: &[u8]) {
+        match &self.queue {
+            Some(q) => {
+                if q.try_send(datagram.to_vec()).is_err() {
+                    self.dropped += 1;
+                }
+            }
+            None => {
+                self.errors.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// Waits for the queue to drain, then fills in the counters.
+    fn finish(mut self, counters: &mut Counters) -> Option<String> {
+        drop(self.queue.take());
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+        counters.bytes_to_uart = self.written.load(Ordering::Relaxed);
+        counters.uart_write_errors = self.errors.load(Ordering::Relaxed);
+        counters.uart_queue_dropped = self.dropped;
+        self.first_error.lock().ok().and_then(|mut e| e.take())
     }
 }
 
@@ -302,52 +427,40 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         uart.name()
     );
     stop::install_ctrl_c();
-    let deadline = Deadline::after_seconds(args.seconds);
+    let deadline = Deadline::after(args.seconds);
     let mut counters = Counters::default();
     let mut deframer = Box::new(Deframer::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let mut datagram = vec![0u8; 65_536];
     let mut wire = Vec::with_capacity(2 * AEOLUS_CAPACITY + 2);
-    let mut warned = false;
+    let mut writer = UartWriter::start(uart.writer());
     while !deadline.reached() {
         let input = uart.read(&mut buf, deadline.left(Duration::from_millis(5)))?;
         if let Input::Data(n) = input {
             counters.uart_bytes += n as u64;
-            for &b in &buf[..n] {
-                if let Some(Ok(frame)) = deframer.push(b) {
+            deframer.push_slice(&buf[..n], |event| {
+                if let Ok(frame) = event {
                     wire.clear();
                     push_frame(frame.raw(), &mut wire);
                     packer.push(&wire);
                 }
-            }
+            });
         }
         if matches!(input, Input::Idle | Input::End) {
             packer.flush();
         } else {
             packer.poll();
         }
-        let mut write_error = None;
-        receive_all(&in_socket, &mut datagram, |d| {
+        receive_some(&in_socket, &mut datagram, |d| {
             counters.datagrams_received += 1;
-            match uart.write_all(d) {
-                Ok(()) => counters.bytes_to_uart += d.len() as u64,
-                Err(e) => {
-                    counters.uart_write_errors += 1;
-                    write_error.get_or_insert(e);
-                }
-            }
+            writer.send(d);
         })?;
-        if let Some(e) = write_error
-            && !warned
-        {
-            let _ = writeln!(io::stderr(), "warning: {e}");
-            warned = true;
-        }
         if input == Input::End {
             break;
         }
     }
     packer.flush();
+    let write_error = writer.finish(&mut counters);
     let sent = packer.counters();
     counters.frames_forwarded = sent.frames;
     counters.datagrams_sent = sent.datagrams;
@@ -358,5 +471,15 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         "uart deframer: {}",
         text(&json!(to_json(deframer.stats())))
     ))?;
-    out.flush()
+    out.flush()?;
+    if let Some(e) = write_error {
+        let _ = writeln!(
+            io::stderr(),
+            "warning: {} of {} datagrams could not be written to {}: {e}",
+            counters.uart_write_errors,
+            counters.datagrams_received,
+            uart.name()
+        );
+    }
+    packer.check()
 }

@@ -1,9 +1,11 @@
 //! `protolink decode`: one line per message (text or JSON), errors in the stream with their byte
 //! offset, and the decoder's counters at the end.
 //!
-//! The offset of a line is the 0-based index of the input byte at which the decoder reported it:
-//! the closing flag of an AEOLUS frame, the last byte of an AYDP or AOK message, or the byte that
-//! revealed an error. Message lines also carry `len`, the message's length on the wire.
+//! The offset of a message is the 0-based index of its first byte in the input: the opening
+//! flag of an AEOLUS frame, the 0xFF start of an AYDP message, the first byte of an AOK frame,
+//! also for messages a rescan found among bytes already held. `len` is its length on the wire,
+//! so its bytes are `offset..offset + len`. An AEOLUS or AYDP error is reported at the first
+//! byte of the failed frame or candidate; an AOK error at the byte that revealed it.
 
 use std::time::Duration;
 
@@ -74,9 +76,9 @@ pub struct DecodeArgs {
     /// One JSON object per line instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Stop after this many seconds (default: at the end of the input, or on Ctrl-C).
-    #[arg(long, value_name = "N")]
-    pub seconds: Option<f64>,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the input, or on Ctrl-C).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<std::time::Duration>,
 }
 
 /// One thing a decoder reports.
@@ -205,6 +207,8 @@ pub const AYDP_CAPACITY: usize = 16384;
 #[derive(Debug)]
 pub struct AeolusDecoder {
     deframer: Box<aeolus_proto::Deframer<AEOLUS_CAPACITY>>,
+    /// Offset of the latest flag: the opening flag of the frame being collected.
+    opened_at: u64,
     malformed: u32,
     truncated: u32,
 }
@@ -220,6 +224,7 @@ impl AeolusDecoder {
     pub fn new() -> Self {
         AeolusDecoder {
             deframer: Box::new(aeolus_proto::Deframer::new()),
+            opened_at: 0,
             malformed: 0,
             truncated: 0,
         }
@@ -241,9 +246,7 @@ impl AeolusDecoder {
 pub fn aeolus_fields(message: &aeolus_proto::message::Message<'_>) -> (&'static str, Value) {
     use aeolus_proto::message::Message as M;
     let fields = match message {
-        M::Toast(t) | M::Command(t) => {
-            json!({ "text": String::from_utf8_lossy(t.as_bytes()) })
-        }
+        M::Toast(t) | M::Command(t) => text_fields(t.as_bytes()),
         M::CalibInfo(d) | M::DebugInfo(d) | M::Log(d) | M::Unknown { data: d, .. } => {
             json!({ "len": d.len(), "data": hex(d) })
         }
@@ -252,11 +255,31 @@ pub fn aeolus_fields(message: &aeolus_proto::message::Message<'_>) -> (&'static 
     (message.name(), fields)
 }
 
+/// A text field: `{"text": ...}` escaped with [`render::escape_text`], plus `"hex"` of the raw
+/// bytes whenever the text is not clean UTF-8 (DECISIONS.md A6: the raw bytes are kept).
+///
+/// ```
+/// let v = protolink::decode::text_fields(b"\x1b[2J");
+/// assert_eq!(v.to_string(), r#"{"text":"\\x1b[2J","hex":"1b5b324a"}"#);
+/// ```
+pub fn text_fields(bytes: &[u8]) -> Value {
+    let mut m = Map::new();
+    m.insert("text".into(), json!(render::escape_text(bytes)));
+    if !render::is_clean_text(bytes) {
+        m.insert("hex".into(), json!(hex(bytes)));
+    }
+    Value::Object(m)
+}
+
 impl StreamDecoder for AeolusDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
         for (i, &b) in bytes.iter().enumerate() {
             let at = offset + i as u64;
-            let pending = self.deframer.pending_bytes();
+            // A frame holds no flag, so the flag before its closing one opened it.
+            let opened = self.opened_at;
+            if b == aeolus_proto::FLAG {
+                self.opened_at = at;
+            }
             let Some(event) = self.deframer.push(b) else {
                 continue;
             };
@@ -264,7 +287,7 @@ impl StreamDecoder for AeolusDecoder {
                 Ok(frame) => {
                     let mut meta = Map::new();
                     meta.insert("id".into(), json!(frame.id()));
-                    meta.insert("len".into(), json!(pending + 2));
+                    meta.insert("len".into(), json!(at + 1 - opened));
                     meta.insert(
                         "crc".into(),
                         json!(if frame.has_crc() { "ok" } else { "none" }),
@@ -272,18 +295,18 @@ impl StreamDecoder for AeolusDecoder {
                     match frame.message() {
                         Ok(m) => {
                             let (name, fields) = aeolus_fields(&m);
-                            out.push(Event::message(at, name, meta, fields));
+                            out.push(Event::message(opened, name, meta, fields));
                         }
                         Err(e) => {
                             self.malformed = self.malformed.wrapping_add(1);
                             out.push(Event::error(
-                                at,
+                                opened,
                                 format!("{e} (frame {})", hex(frame.raw())),
                             ));
                         }
                     }
                 }
-                Err(e) => out.push(Event::error(at, e.to_string())),
+                Err(e) => out.push(Event::error(opened, e.to_string())),
             }
         }
     }
@@ -292,10 +315,11 @@ impl StreamDecoder for AeolusDecoder {
         if self.deframer.pending_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
-                offset.saturating_sub(1),
+                self.opened_at,
                 aeolus_proto::Error::Truncated.to_string(),
             ));
         }
+        self.opened_at = offset;
         // A frame never spans two datagrams (DECISIONS.md A9): start afresh.
         self.deframer.reset();
     }
@@ -304,7 +328,7 @@ impl StreamDecoder for AeolusDecoder {
         if self.deframer.pending_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
-                offset.saturating_sub(1),
+                self.opened_at.min(offset.saturating_sub(1)),
                 "input ends inside a frame".to_string(),
             ));
             self.deframer.reset();
@@ -394,49 +418,60 @@ pub fn aydp_fields(
     Ok((name, meta, fields))
 }
 
+/// What an AYDP event becomes once its frame is let go: the printed parts, and the frame's
+/// length on the wire (0 for a failure).
+type AydpOutcome = (
+    std::result::Result<(String, Map<String, Value>, Value), String>,
+    u64,
+);
+
+fn aydp_outcome(ev: aydp_proto::Result<aydp_proto::Frame<'_>>) -> AydpOutcome {
+    match ev {
+        Ok(frame) => (aydp_fields(&frame), frame.as_bytes().len() as u64),
+        Err(aydp_proto::Error::Truncated) => (Err("input ends inside a message".into()), 0),
+        Err(e) => (Err(e.to_string()), 0),
+    }
+}
+
+impl AydpDecoder {
+    /// Places one event in the input: `fed` bytes have been pushed, and the decoder has not
+    /// yet examined its last `unscanned_bytes()`.
+    fn place(&mut self, (result, len): AydpOutcome, fed: u64, out: &mut Vec<Event>) {
+        let end = fed.saturating_sub(self.decoder.unscanned_bytes() as u64);
+        match result {
+            Ok((name, meta, fields)) => {
+                out.push(Event::message(end.saturating_sub(len), name, meta, fields));
+            }
+            // A good frame whose data does not parse: at its own first byte.
+            Err(e) if len > 0 => {
+                self.malformed = self.malformed.wrapping_add(1);
+                out.push(Event::error(end.saturating_sub(len), e));
+            }
+            // A failed candidate: its start byte was dropped just before the queued bytes.
+            Err(e) => out.push(Event::error(end.saturating_sub(1), e)),
+        }
+    }
+}
+
 impl StreamDecoder for AydpDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
         for (i, &b) in bytes.iter().enumerate() {
-            let at = offset + i as u64;
-            let mut event = self.decoder.push(b);
+            let fed = offset + i as u64 + 1;
+            let mut event = self.decoder.push(b).map(aydp_outcome);
             while let Some(ev) = event {
-                match ev {
-                    Ok(frame) => match aydp_fields(&frame) {
-                        Ok((name, meta, fields)) => {
-                            out.push(Event::message(at, name, meta, fields))
-                        }
-                        Err(e) => {
-                            self.malformed = self.malformed.wrapping_add(1);
-                            out.push(Event::error(at, e));
-                        }
-                    },
-                    Err(e) => out.push(Event::error(at, e.to_string())),
-                }
-                event = self.decoder.poll();
+                self.place(ev, fed, out);
+                event = self.decoder.poll().map(aydp_outcome);
             }
         }
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        let at = offset.saturating_sub(1);
-        let mut malformed = 0u32;
-        let mut truncated = 0u32;
-        self.decoder.flush(|ev| match ev {
-            Ok(frame) => match aydp_fields(&frame) {
-                Ok((name, meta, fields)) => out.push(Event::message(at, name, meta, fields)),
-                Err(e) => {
-                    malformed += 1;
-                    out.push(Event::error(at, e));
-                }
-            },
-            Err(aydp_proto::Error::Truncated) => {
-                truncated += 1;
-                out.push(Event::error(at, "input ends inside a message"));
+        while let Some(ev) = self.decoder.flush_next().map(aydp_outcome) {
+            if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.starts_with("input ends")) {
+                self.truncated = self.truncated.wrapping_add(1);
             }
-            Err(e) => out.push(Event::error(at, e.to_string())),
-        });
-        self.malformed = self.malformed.wrapping_add(malformed);
-        self.truncated = self.truncated.wrapping_add(truncated);
+            self.place(ev, offset, out);
+        }
     }
 
     fn counters(&self) -> Value {
@@ -569,21 +604,44 @@ pub fn waypoint_fields(w: &aok_proto::Waypoint) -> Value {
     })
 }
 
+impl AokDecoder {
+    fn buffered(&self) -> u64 {
+        match self {
+            AokDecoder::FromDevice(d) => d.buffered() as u64,
+            AokDecoder::FromPc(d) => d.buffered() as u64,
+        }
+    }
+}
+
+/// Gives the messages among `events` (each with its wire length in `lens`, 0 for an error)
+/// their first byte: the last one ends where the decoder's held bytes begin (`end`), and
+/// each earlier one ends where the next begins. Errors keep the offset they have.
+fn place_backwards(events: &mut [Event], lens: &[u64], mut end: u64) {
+    for (e, &len) in events.iter_mut().zip(lens).rev() {
+        if len > 0 {
+            end = end.saturating_sub(len);
+            e.offset = end;
+        }
+    }
+}
+
 impl StreamDecoder for AokDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
+        let mut lens = Vec::new();
         for (i, &b) in bytes.iter().enumerate() {
             let at = offset + i as u64;
             let before = self.stats();
+            let first = out.len();
+            lens.clear();
             match self {
                 AokDecoder::FromDevice(d) => {
                     for m in d.push(b) {
                         let (name, fields) = aok_message_fields(&m);
+                        let len = m.buffer_len(aok_proto::ReplyForm::Headed);
                         let mut meta = Map::new();
-                        meta.insert(
-                            "len".into(),
-                            json!(m.buffer_len(aok_proto::ReplyForm::Headed)),
-                        );
+                        meta.insert("len".into(), json!(len));
                         out.push(Event::message(at, name, meta, fields));
+                        lens.push(len as u64);
                     }
                 }
                 AokDecoder::FromPc(d) => {
@@ -594,11 +652,19 @@ impl StreamDecoder for AokDecoder {
                                 let mut meta = Map::new();
                                 meta.insert("len".into(), json!(c.buffer_len()));
                                 out.push(Event::message(at, name, meta, fields));
+                                lens.push(c.buffer_len() as u64);
                             }
-                            Err(e) => out.push(Event::error(at, e.to_string())),
+                            Err(e) => {
+                                out.push(Event::error(at, e.to_string()));
+                                lens.push(0);
+                            }
                         }
                     }
                 }
+            }
+            let end = at + 1 - self.buffered();
+            if let Some(events) = out.get_mut(first..) {
+                place_backwards(events, &lens, end);
             }
             if let AokDecoder::FromDevice(_) = self {
                 // The PC decoder only counts its failures: report them from the counters.
@@ -615,18 +681,23 @@ impl StreamDecoder for AokDecoder {
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
         let at = offset.saturating_sub(1);
+        let mut lens = Vec::new();
         loop {
             let before = self.stats();
-            let mut got = false;
+            let first = out.len();
+            lens.clear();
             match self {
                 AokDecoder::FromDevice(d) => {
                     if d.buffered() == 0 {
                         break;
                     }
                     for m in d.idle() {
-                        got = true;
                         let (name, fields) = aok_message_fields(&m);
-                        out.push(Event::message(at, name, Map::new(), fields));
+                        let len = m.buffer_len(aok_proto::ReplyForm::Headed);
+                        let mut meta = Map::new();
+                        meta.insert("len".into(), json!(len));
+                        out.push(Event::message(at, name, meta, fields));
+                        lens.push(len as u64);
                     }
                 }
                 AokDecoder::FromPc(d) => {
@@ -634,16 +705,26 @@ impl StreamDecoder for AokDecoder {
                         break;
                     }
                     for item in d.idle() {
-                        got = true;
                         match item {
                             Ok(c) => {
                                 let (name, fields) = aok_command_fields(&c);
-                                out.push(Event::message(at, name, Map::new(), fields));
+                                let mut meta = Map::new();
+                                meta.insert("len".into(), json!(c.buffer_len()));
+                                out.push(Event::message(at, name, meta, fields));
+                                lens.push(c.buffer_len() as u64);
                             }
-                            Err(e) => out.push(Event::error(at, e.to_string())),
+                            Err(e) => {
+                                out.push(Event::error(at, e.to_string()));
+                                lens.push(0);
+                            }
                         }
                     }
                 }
+            }
+            let got = out.len() > first;
+            let end = offset.saturating_sub(self.buffered());
+            if let Some(events) = out.get_mut(first..) {
+                place_backwards(events, &lens, end);
             }
             let after = self.stats();
             if after.abandoned > before.abandoned {
@@ -687,7 +768,7 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
     let mut decoder = decoder_for(args.proto, args.profile, args.side);
     // Ctrl-C ends the input: the counters are still printed.
     crate::stop::install_ctrl_c();
-    let deadline = Deadline::after_seconds(args.seconds);
+    let deadline = Deadline::after(args.seconds);
     let mut out = Out::new();
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
         for e in events {

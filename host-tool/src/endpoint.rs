@@ -16,13 +16,16 @@ use std::io::{self, Read, Write};
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpStream, ToSocketAddrs, UdpSocket};
 use std::path::PathBuf;
 use std::str::FromStr;
-use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, sync_channel};
 use std::time::Duration;
 
 use crate::error::{Error, Result};
 
 /// The baud rate used when a serial endpoint gives none.
 pub const DEFAULT_BAUD: u32 = 115_200;
+/// How many 64 KiB chunks of stdin may wait to be decoded: the reader thread blocks beyond
+/// that, so a fast producer is slowed down instead of filling memory.
+pub const STDIN_CHUNKS: usize = 4;
 /// How long connecting to a TCP endpoint may take.
 pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 
@@ -261,7 +264,7 @@ impl Endpoint {
             },
             Endpoint::File(path) => Kind::File(File::open(path).map_err(open_err)?),
             Endpoint::Stdio => {
-                let (tx, rx) = channel();
+                let (tx, rx) = sync_channel(STDIN_CHUNKS);
                 std::thread::spawn(move || {
                     let mut stdin = io::stdin().lock();
                     let mut buf = vec![0u8; 64 * 1024];
@@ -388,6 +391,31 @@ impl Link {
                 what: what(),
                 source,
             }),
+        }
+    }
+
+    /// A second handle that writes to the same endpoint, for a writer thread, so that slow
+    /// writes never hold up reads.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for `file:` and `udp:` endpoints; [`Error::Io`] when the
+    /// operating system cannot duplicate the handle.
+    pub fn writer(&self) -> Result<Box<dyn Write + Send>> {
+        let io_err = |source| Error::Io {
+            what: format!("duplicating {}", self.name),
+            source,
+        };
+        match &self.kind {
+            Kind::Serial(port) => Ok(Box::new(
+                port.try_clone()
+                    .map_err(|e| io_err(io::Error::other(e.description)))?,
+            )),
+            Kind::Tcp(stream) => Ok(Box::new(stream.try_clone().map_err(io_err)?)),
+            Kind::Stdio { .. } => Ok(Box::new(io::stdout())),
+            Kind::Udp { .. } | Kind::File(_) => Err(Error::Unsupported(format!(
+                "{} cannot take bytes from a second writer",
+                self.name
+            ))),
         }
     }
 

@@ -53,6 +53,10 @@ pub enum Error {
     /// The device answered, but not as expected.
     #[error("{0}")]
     Device(String),
+    /// The box refused a change: it answered no (`E`, `I`, a TOAST, a counter) or read back
+    /// something else. The sentence names the reason.
+    #[error("{0}")]
+    Refused(String),
     /// An AYDP protocol error, with what was being done.
     #[error("{what}: {source}")]
     Aydp {
@@ -72,6 +76,21 @@ pub enum Error {
     /// Writing the output (stdout) failed.
     #[error("writing the output failed: {0}")]
     Output(#[source] io::Error),
+}
+
+impl Error {
+    /// The process exit status for this error: 2 for a command-line mistake, 1 otherwise.
+    ///
+    /// ```
+    /// assert_eq!(protolink::Error::Usage("x".into()).exit_code(), 2);
+    /// assert_eq!(protolink::Error::Refused("x".into()).exit_code(), 1);
+    /// ```
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Usage(_) | Error::Endpoint { .. } => 2,
+            _ => 1,
+        }
+    }
 }
 
 /// The crate's result type.

@@ -25,13 +25,14 @@
 //! let mut decoder = AeolusDecoder::new();
 //! let mut events = Vec::new();
 //! decoder.feed(&stream, 0, &mut events);
-//! assert_eq!(events[0].to_text(), "@7 TOAST id=82 len=8 crc=ok text=hi");
-//! assert!(events[1].to_text().starts_with("@15 error: CRC mismatch on message 82"));
+//! assert_eq!(events[0].to_text(), "@0 TOAST id=82 len=8 crc=ok text=hi");
+//! assert!(events[1].to_text().starts_with("@8 error: CRC mismatch on message 82"));
 //! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 pub mod aok_cmd;
+pub mod args;
 pub mod aydp_cmd;
 pub mod bridge;
 pub mod cli;

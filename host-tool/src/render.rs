@@ -1,7 +1,7 @@
 //! Turning decoded values into output: JSON values, readable `key=value` text, hex, and a
 //! buffered stdout that reports a closed pipe instead of panicking.
 
-use std::io::{self, BufWriter, Stdout, Write};
+use std::io::{self, BufWriter, Write};
 
 use serde::Serialize;
 use serde_json::{Map, Number, Value};
@@ -21,6 +21,65 @@ pub fn hex(bytes: &[u8]) -> String {
             let _ = write!(s, "{b:02x}");
             s
         })
+}
+
+/// Text from the wire made safe and lossless for a terminal: printable characters stay,
+/// a backslash becomes `\\`, control characters and bytes that are not UTF-8 become `\xNN`
+/// (C1 controls `\u{NN}`). Different byte strings always give different text.
+///
+/// ```
+/// use protolink::render::escape_text;
+/// assert_eq!(escape_text(b"AEOLUS on"), "AEOLUS on");
+/// assert_eq!(escape_text(b"\x1b[2Jhi\xff"), "\\x1b[2Jhi\\xff");
+/// assert_eq!(escape_text("a\\b".as_bytes()), "a\\\\b");
+/// assert_eq!(escape_text("Grüße".as_bytes()), "Grüße");
+/// ```
+pub fn escape_text(bytes: &[u8]) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::with_capacity(bytes.len());
+    for chunk in bytes.utf8_chunks() {
+        for c in chunk.valid().chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                    let _ = write!(out, "\\x{:02x}", c as u32);
+                }
+                c if c.is_control() => {
+                    let _ = write!(out, "\\u{{{:x}}}", c as u32);
+                }
+                c => out.push(c),
+            }
+        }
+        for b in chunk.invalid() {
+            let _ = write!(out, "\\x{b:02x}");
+        }
+    }
+    out
+}
+
+/// Whether `bytes` is text that [`escape_text`] leaves unchanged (UTF-8 without controls or
+/// backslashes); when it is not, JSON output carries the raw bytes in hex beside the text.
+///
+/// ```
+/// assert!(protolink::render::is_clean_text(b"a pause"));
+/// assert!(!protolink::render::is_clean_text(b"\xff"));
+/// ```
+pub fn is_clean_text(bytes: &[u8]) -> bool {
+    std::str::from_utf8(bytes).is_ok_and(|s| !s.chars().any(|c| c.is_control() || c == '\\'))
+}
+
+/// Any control character left in `s` as `\xNN` or `\u{NN}`, so nothing reaches a terminal raw.
+fn no_controls(s: &str) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        if c.is_control() {
+            let _ = write!(out, "\\u{{{:x}}}", c as u32);
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// `CamelCase` to `UPPER_SNAKE` (`SystemValueUpdate` -> `SYSTEM_VALUE_UPDATE`).
@@ -160,9 +219,9 @@ fn inner_text(v: &Value) -> String {
         Value::String(s)
             if !s.is_empty() && !s.contains(char::is_whitespace) && !s.contains('"') =>
         {
-            s.clone()
+            no_controls(s)
         }
-        Value::String(s) => format!("{s:?}"),
+        Value::String(s) => format!("\"{}\"", no_controls(s).replace('"', "\\\"")),
         Value::Array(items) => format!(
             "[{}]",
             items.iter().map(inner_text).collect::<Vec<_>>().join(",")
@@ -174,9 +233,14 @@ fn inner_text(v: &Value) -> String {
 
 /// Buffered standard output. A closed pipe (`protolink decode ... | head`) becomes an
 /// [`Error::Output`] instead of a panic.
-#[derive(Debug)]
 pub struct Out {
-    inner: BufWriter<Stdout>,
+    inner: BufWriter<Box<dyn Write>>,
+}
+
+impl std::fmt::Debug for Out {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Out")
+    }
 }
 
 impl Default for Out {
@@ -189,7 +253,19 @@ impl Out {
     /// Standard output, buffered.
     pub fn new() -> Self {
         Out {
-            inner: BufWriter::with_capacity(64 * 1024, io::stdout()),
+            inner: BufWriter::with_capacity(64 * 1024, Box::new(io::stdout())),
+        }
+    }
+
+    /// The output for result lines of a command whose frames go to `to`: standard error when
+    /// the frames take standard output (`--to -`), so text never mixes with binary frames.
+    pub fn beside(to: &crate::endpoint::Endpoint) -> Self {
+        if *to == crate::endpoint::Endpoint::Stdio {
+            Out {
+                inner: BufWriter::new(Box::new(io::stderr())),
+            }
+        } else {
+            Self::new()
         }
     }
 

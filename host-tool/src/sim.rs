@@ -25,7 +25,7 @@ use firmware_example::app::telemetry::Kind;
 use firmware_example::app::{Persisted, Settings, Shared};
 use serde_json::{Map, Value, json};
 
-use crate::bridge::{Packer, UdpArgs, receive_all};
+use crate::bridge::{Packer, UdpArgs, receive_some};
 use crate::error::{Error, Result};
 use crate::render::{Out, text, to_json};
 use crate::stop::{self, Deadline};
@@ -37,17 +37,19 @@ pub struct SimArgs {
     #[command(flatten)]
     pub udp: UdpArgs,
     /// Simulated true airspeed, m/s (5..=150; the firmware's default otherwise).
-    #[arg(long, value_name = "M/S")]
+    #[arg(long, value_name = "M/S", value_parser = |t: &str| crate::args::number_in(t, 5.0, 150.0, "m/s"))]
     pub airspeed: Option<f32>,
     /// Simulated bank angle, degrees (-60..=60; positive turns right).
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true,
+          value_parser = |t: &str| crate::args::number_in(t, -60.0, 60.0, "degrees"))]
     pub bank: Option<f32>,
     /// Simulated altitude, m (the ISA troposphere: -500..=11000).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_negative_numbers = true,
+          value_parser = |t: &str| crate::args::number_in(t, -500.0, 11000.0, "m"))]
     pub altitude: Option<f32>,
-    /// Stop after this many seconds (default: on Ctrl-C).
-    #[arg(long, value_name = "N")]
-    pub seconds: Option<f64>,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<std::time::Duration>,
 }
 
 impl SimArgs {
@@ -155,7 +157,12 @@ pub struct Sim {
     /// Counters of the links that ended in a reboot, summed.
     before_reboots: LinkCounters,
     reboots: u32,
+    dropped: u64,
 }
+
+/// Bytes the virtual box holds for its link to read (the link reads up to
+/// `aeolus_link::RX_BUDGET` per millisecond poll).
+pub const RX_QUEUE: usize = 4 * firmware_example::app::aeolus_link::RX_BUDGET;
 
 impl Sim {
     /// A box booting at `now_ms` with `settings` (its TOAST "AEOLUS on" goes out first).
@@ -170,13 +177,26 @@ impl Sim {
             port: DatagramPort::default(),
             before_reboots: LinkCounters::default(),
             reboots: 0,
+            dropped: 0,
         }
     }
 
     /// Hands the box one received datagram (one or more frames; anything else is counted by
-    /// its deframer and ignored).
-    pub fn receive(&mut self, datagram: &[u8]) {
+    /// its deframer and ignored). A datagram that does not fit whole into the box's receive
+    /// queue ([`RX_QUEUE`] bytes, about four of the box's polls) is dropped and counted, as a
+    /// real box's full UART FIFO would drop it; returns whether it was taken.
+    pub fn receive(&mut self, datagram: &[u8]) -> bool {
+        if self.port.rx.len() + datagram.len() > RX_QUEUE {
+            self.dropped = self.dropped.wrapping_add(1);
+            return false;
+        }
         self.port.rx.extend(datagram);
+        true
+    }
+
+    /// Datagrams dropped because the receive queue was full.
+    pub fn dropped(&self) -> u64 {
+        self.dropped
     }
 
     /// Runs the box at `now_ms`: acts on what was received, and hands each frame it sends
@@ -232,6 +252,7 @@ impl Sim {
             "settime_rejected": c.settime_rejected,
             "rx_errors": c.rx_errors,
             "reboots": self.reboots,
+            "datagrams_dropped": self.dropped,
         })
     }
 }
@@ -274,7 +295,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
         args.udp.udp_in
     );
     stop::install_ctrl_c();
-    let deadline = Deadline::after_seconds(args.seconds);
+    let deadline = Deadline::after(args.seconds);
     let start = Instant::now();
     let mut sim = Sim::new(settings, 0);
     let mut datagram = vec![0u8; 65_536];
@@ -282,7 +303,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let mut status = Status::new();
     let mut next = start;
     while !deadline.reached() {
-        receive_all(&in_socket, &mut datagram, |d| {
+        receive_some(&in_socket, &mut datagram, |d| {
             received += 1;
             sim.receive(d);
         })?;

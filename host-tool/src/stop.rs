@@ -22,16 +22,18 @@ pub fn requested() -> bool {
 ///
 /// ```
 /// use protolink::stop::Deadline;
-/// assert!(!Deadline::after_seconds(None).reached());
-/// assert!(Deadline::after_seconds(Some(0.0)).reached());
+/// use std::time::Duration;
+/// assert!(!Deadline::after(None).reached());
+/// assert!(Deadline::after(Some(Duration::ZERO)).reached());
 /// ```
 #[derive(Debug, Clone, Copy)]
 pub struct Deadline(Option<Instant>);
 
 impl Deadline {
-    /// A deadline `seconds` from now (`None`: never).
-    pub fn after_seconds(seconds: Option<f64>) -> Self {
-        Deadline(seconds.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0))))
+    /// A deadline `run_time` from now (`None`: never). A time too far ahead to represent is
+    /// taken as never.
+    pub fn after(run_time: Option<Duration>) -> Self {
+        Deadline(run_time.and_then(|d| Instant::now().checked_add(d)))
     }
 
     /// Whether the deadline has passed or Ctrl-C was pressed.

@@ -237,6 +237,7 @@ impl ValueType {
     /// let mut data = 1.5f32.to_le_bytes().to_vec();
     /// data.extend(0.1f32.to_le_bytes());
     /// assert_eq!(t.decode(&data).unwrap().to_string(), "[1.5,0.1]");
+    /// assert!(t.decode(&data[..4]).is_err()); // one element short of f32[2]
     /// let c: ValueType = "char[8]".parse().unwrap();
     /// assert_eq!(c.decode(b"boat\0\0\0\0").unwrap(), "boat");
     /// ```
@@ -246,14 +247,14 @@ impl ValueType {
     pub fn decode(self, data: &[u8]) -> Result<Value, String> {
         let size = self.element().size();
         match self {
-            ValueType::Chars(_) => {
+            ValueType::Chars(n) if data.len() == n => {
                 let end = data.iter().position(|&b| b == 0).unwrap_or(data.len());
-                Ok(json!(String::from_utf8_lossy(&data[..end])))
+                Ok(json!(crate::render::escape_text(&data[..end])))
             }
             ValueType::Scalar(s) if data.len() == size => Ok(s.decode(data)),
-            ValueType::Array(s, _) if !data.is_empty() && data.len().is_multiple_of(size) => Ok(
-                Value::Array(data.chunks_exact(size).map(|c| s.decode(c)).collect()),
-            ),
+            ValueType::Array(s, n) if data.len() == n.saturating_mul(size) => Ok(Value::Array(
+                data.chunks_exact(size).map(|c| s.decode(c)).collect(),
+            )),
             _ => Err(format!(
                 "{} value bytes do not fit {self} ({size} bytes per element)",
                 data.len()

@@ -26,9 +26,9 @@ pub struct WatchArgs {
     /// Where the AEOLUS telemetry comes from (tcp:HOST:PORT, udp:PORT, serial:PATH@BAUD, file:PATH, -).
     #[arg(long, value_name = "ENDPOINT")]
     pub from: Endpoint,
-    /// Stop after this many seconds (default: on Ctrl-C, or at the end of the input).
-    #[arg(long, value_name = "N")]
-    pub seconds: Option<f64>,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the end of the input).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<std::time::Duration>,
     /// Print the plain summary even on a terminal.
     #[arg(long)]
     pub plain: bool,
@@ -121,7 +121,7 @@ impl View {
             Message::Wind(v) => self.wind = Some(*v),
             Message::Temp(v) => self.temp = Some(*v),
             Message::AeolusInfo(v) => self.info = Some(*v),
-            Message::Toast(t) => self.toast = Some(String::from_utf8_lossy(t.as_bytes()).into()),
+            Message::Toast(t) => self.toast = Some(crate::render::escape_text(t.as_bytes())),
             _ => {}
         }
     }
@@ -268,7 +268,7 @@ fn valid(v: bool) -> &'static str {
 pub fn run(args: &WatchArgs) -> Result<()> {
     let mut link = args.from.open()?;
     stop::install_ctrl_c();
-    let deadline = Deadline::after_seconds(args.seconds);
+    let deadline = Deadline::after(args.seconds);
     let tty = !args.plain && std::io::stdout().is_terminal();
     let refresh = if tty { TTY_REFRESH } else { PLAIN_REFRESH };
     let mut out = Out::new();

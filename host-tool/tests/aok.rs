@@ -191,7 +191,7 @@ fn get_survives_late_debug_frames_in_both_reply_forms() {
 #[test]
 fn set_waits_for_the_ack() {
     let (out, log) = with_device("0.35", &["set", "12", "-42"]);
-    assert_eq!(ok(&out), "parameter 12 = -42 (acked)\n");
+    assert_eq!(ok(&out), "parameter 12 = -42: confirmed (acked 'O')\n");
     assert_eq!(log.params, [(12, -42)]);
 
     let (out, log) = with_device("0.35", &["set", &IN_FLIGHT_ONLY.to_string(), "1"]);
@@ -221,7 +221,7 @@ fn bulk_reads_sixteen_values() {
     assert!(log.commands.contains(&Command::BulkRead(250)));
     // Older firmware has no bulk read: refused before anything is asked.
     let (out, log) = with_device("0.34", &["bulk", "0"]);
-    assert!(failed(&out).contains("bulk read needs firmware 0.35 or newer"));
+    assert!(usage_failed(&out).contains("bulk read needs firmware 0.35 or newer"));
     assert!(log.commands.is_empty());
 }
 
@@ -246,7 +246,7 @@ fn waypoints_get_and_set() {
     );
     assert_eq!(
         ok(&out),
-        "waypoint fbc: longitude=-1000 latitude=2000 action1=pause:5 action2=none:0 (acked)\n"
+        "waypoint fbc: longitude=-1000 latitude=2000 action1=pause:5 action2=none:0: confirmed (acked 'O')\n"
     );
     assert_eq!(
         log.waypoints,
@@ -369,5 +369,11 @@ fn motor_hold_repeats_the_value_before_it_lapses() {
         .count();
     // Every 200 ms for 450 ms: at least at 0, 200 and 400 ms, so the 500 ms lapse never hits.
     assert!(sent >= 3, "{sent} sends");
-    assert_eq!(text, format!("motor 2 test value 30 sent {sent} time(s)\n"));
+    assert_eq!(
+        text,
+        format!(
+            "motor 2 test value 30 ({sent} frame(s)): unconfirmed (AOK defines no answer to a \
+             motor test; pass --verify to check the debug values)\n"
+        )
+    );
 }

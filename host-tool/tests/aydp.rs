@@ -155,25 +155,31 @@ fn get_prints_typed_values() {
 #[test]
 fn set_single_array_and_element_forms() {
     let (out, log) = with_device(Profile::Spec, &["set", "0x0100", "25.5", "--as", "f32"]);
-    assert_eq!(ok(&out), "0x0100 f32 = 25.5\n");
+    assert_eq!(ok(&out), "0x0100 f32 = 25.5: confirmed (read back)\n");
     assert_eq!(log.speed, 25.5);
 
     let (out, log) = with_device(
         Profile::Spec,
         &["set", "0x0101", "10,20,30", "--as", "u16[3]"],
     );
-    assert_eq!(ok(&out), "0x0101 u16[3] = [10, 20, 30]\n");
+    assert_eq!(
+        ok(&out),
+        "0x0101 u16[3] = [10, 20, 30]: confirmed (read back)\n"
+    );
     assert_eq!(log.rates, [10, 20, 30]);
 
     let (out, log) = with_device(
         Profile::Spec,
         &["set", "0x0101[2]", "1000", "--as", "u16[3]"],
     );
-    assert_eq!(ok(&out), "0x0101 u16[3] = [7, 92, 1000]\n");
+    assert_eq!(
+        ok(&out),
+        "0x0101 u16[3] = [7, 92, 1000]: confirmed (read back)\n"
+    );
     assert_eq!(log.rates, [7, 92, 1000]);
 
     let (out, log) = with_device(Profile::Spec, &["set", "0x0102", "-70000", "--as", "i32"]);
-    assert_eq!(ok(&out), "0x0102 i32 = -70000\n");
+    assert_eq!(ok(&out), "0x0102 i32 = -70000: confirmed (read back)\n");
     assert_eq!(log.offset, -70000);
 }
 
@@ -183,7 +189,7 @@ fn the_reference_profile_works_the_same() {
         Profile::Reference,
         &["set", "0x0100", "12.25", "--as", "f32"],
     );
-    assert_eq!(ok(&out), "0x0100 f32 = 12.25\n");
+    assert_eq!(ok(&out), "0x0100 f32 = 12.25: confirmed (read back)\n");
     assert_eq!(log.speed, 12.25);
 }
 
@@ -209,14 +215,14 @@ fn a_value_the_device_refuses_is_an_error() {
 #[test]
 fn bad_values_are_refused_before_anything_is_sent() {
     let (out, log) = with_device(Profile::Spec, &["set", "0x0101", "1,2", "--as", "u16[3]"]);
-    let err = failed(&out);
+    let err = usage_failed(&out);
     assert!(
         err.contains("u16[3] needs exactly 3 comma-separated values, got 2"),
         "{err}"
     );
     assert_eq!(log.rates, [7, 92, 829]);
     let (out, _) = with_device(Profile::Spec, &["set", "0x0000", "300", "--as", "u8"]);
-    assert!(failed(&out).contains("'300' is not a u8 value"));
+    assert!(usage_failed(&out).contains("'300' is not a u8 value"));
 }
 
 #[test]
@@ -224,25 +230,34 @@ fn store_is_sent_and_confirmed() {
     let (out, log) = with_device(Profile::Spec, &["store"]);
     assert_eq!(
         ok(&out),
-        "store configuration sent (AYDP has no acknowledgement; the device answered a request sent after it)\n"
+        "store configuration: unconfirmed (AYDP has no acknowledgement; the device answered a \
+         request sent after it, so it received the store)\n"
     );
     assert_eq!(log.stores, 1);
 }
 
 #[test]
 fn output_enables_direct_control_only_when_asked() {
+    // Direct control is off and --enable not given: the device would ignore the outputs, so
+    // that is a refusal (status 1), and nothing is sent.
     let (out, log) = with_device(Profile::Spec, &["output", "1:2=10.0", "1:3=-5"]);
-    let text = ok(&out);
-    assert!(stderr(&out).contains("warning: direct control is off (0x0000 = 00)"));
-    assert_eq!(text, "output 1:2 = 10 sent\noutput 1:3 = -5 sent\n");
-    assert_eq!(
-        (log.direct, log.ignored_outputs, log.outputs.len()),
-        (0, 1, 0)
+    assert!(
+        failed(&out).contains(
+            "the device refuses direct outputs: direct control is off (0x0000 = 00); pass \
+             --enable to turn it on"
+        ),
+        "{}",
+        stderr(&out)
     );
+    assert_eq!((log.direct, log.outputs.len()), (0, 0));
 
     let (out, log) = with_device(Profile::Spec, &["output", "1:2=10.0", "1:3=-5", "--enable"]);
-    ok(&out);
-    assert!(!stderr(&out).contains("warning"));
+    assert_eq!(
+        ok(&out),
+        "output 1:2 = 10: unconfirmed (AYDP has no acknowledgement; --verify reads the box's \
+         counters)\noutput 1:3 = -5: unconfirmed (AYDP has no acknowledgement; --verify reads \
+         the box's counters)\n"
+    );
     assert_eq!(log.direct, 1);
     assert_eq!(
         log.outputs,

@@ -145,11 +145,14 @@ fn sim_packs_frames_into_datagrams() {
 
 #[test]
 fn sim_refuses_an_impossible_flight_in_one_sentence() {
-    let err = failed(&run(&["sim", "--airspeed", "500", "--seconds", "1"]));
+    let err = usage_failed(&run(&["sim", "--airspeed", "500", "--seconds", "1"]));
     assert!(
-        err.contains("error: cannot simulate that flight: airspeed out of range"),
+        err.contains("'500' is out of range: expected a number from 5 to 150 m/s"),
         "{err}"
     );
-    let err = failed(&run(&["sim", "--bank", "-75", "--seconds", "1"]));
-    assert!(err.contains("bank angle out of range"), "{err}");
+    let err = usage_failed(&run(&["sim", "--bank", "-75", "--seconds", "1"]));
+    assert!(
+        err.contains("expected a number from -60 to 60 degrees"),
+        "{err}"
+    );
 }

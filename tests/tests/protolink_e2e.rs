@@ -218,7 +218,7 @@ fn protolink_aydp_set_get_store() {
     // `set` reads the value back and prints what the device holds.
     assert_eq!(
         aydp(&["set", "0x0110", "64.5", "--as", "f32"]),
-        "0x0110 f32 = 64.5\n"
+        "0x0110 f32 = 64.5: confirmed (read back)\n"
     );
     assert_eq!(
         aydp(&["get", "0x0110", "--as", "f32"]),
@@ -227,11 +227,11 @@ fn protolink_aydp_set_get_store() {
     // The element form and the array form on the AEOLUS intervals.
     assert_eq!(
         aydp(&["set", "0x0100[1]", "6", "--as", "u32[6]"]),
-        "0x0100 u32[6] = [7, 6, 92, 829, 1000, 1000]\n"
+        "0x0100 u32[6] = [7, 6, 92, 829, 1000, 1000]: confirmed (read back)\n"
     );
     assert_eq!(
         aydp(&["set", "0x0100", "7,5,92,829,1000,1000", "--as", "u32[6]"]),
-        "0x0100 u32[6] = [7, 5, 92, 829, 1000, 1000]\n"
+        "0x0100 u32[6] = [7, 5, 92, 829, 1000, 1000]: confirmed (read back)\n"
     );
     // A value out of the registry's range is refused by the device, in one sentence.
     let out = finish(spawn(&[
@@ -245,7 +245,7 @@ fn protolink_aydp_set_get_store() {
     );
 
     // Store, then "a reboot" over AEOLUS: the stored airspeed is back after the boot.
-    assert!(aydp(&["store"]).starts_with("store configuration sent"));
+    assert!(aydp(&["store"]).starts_with("store configuration: unconfirmed"));
     q.uart0.command("a reboot");
     let seen = q.uart0.frames.len();
     let again = q.uart0.read_until(Duration::from_secs(10), |f| {
@@ -278,7 +278,10 @@ fn protolink_aok_get_set_waypoint() {
     };
 
     assert_eq!(aok(&["get", "12"]), "parameter 12 = 0\n");
-    assert_eq!(aok(&["set", "12", "1500"]), "parameter 12 = 1500 (acked)\n");
+    assert_eq!(
+        aok(&["set", "12", "1500"]),
+        "parameter 12 = 1500: confirmed (acked 'O')\n"
+    );
     assert_eq!(aok(&["get", "12"]), "parameter 12 = 1500\n");
     // Parameter 20 cannot be set in flight: the device's 'I', as one sentence and status 1.
     let out = finish(spawn(&["aok", "--to", &to, "set", "20", "7"]));
@@ -302,7 +305,7 @@ fn protolink_aok_get_set_waypoint() {
             "--action2",
             "set-fly-speed:250",
         ]),
-        format!("{wp} (acked)\n")
+        format!("{wp}: confirmed (acked 'O')\n")
     );
     assert_eq!(aok(&["waypoint", "get", "1"]), format!("{wp}\n"));
     q.stop();

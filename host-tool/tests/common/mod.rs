@@ -99,6 +99,21 @@ pub fn ok(out: &Output) -> String {
     stdout(out)
 }
 
+/// Asserts a command-line mistake: exit status 2, one `error: ...` line, no panic.
+pub fn usage_failed(out: &Output) -> String {
+    let err = stderr(out);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "stderr:\n{err}\nstdout:\n{}",
+        stdout(out)
+    );
+    assert!(err.starts_with("error: "), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
 /// Asserts the tool's error contract: exit status 1, one `error: ...` line, no panic.
 pub fn failed(out: &Output) -> String {
     let err = stderr(out);
