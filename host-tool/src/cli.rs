@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 
+use crate::aeolus_cmd::AeolusArgs;
 use crate::aok_cmd::AokArgs;
 use crate::aydp_cmd::AydpArgs;
 use crate::bridge::BridgeArgs;
@@ -46,6 +47,11 @@ pub enum Command {
   protolink sim --pack 8 --airspeed 35 --bank -15 --seconds 60
   protolink watch --from udp:5001      (in a second terminal: watch what it sends)")]
     Sim(SimArgs),
+    /// Send an AEOLUS box a COMMAND or SETTIME, and report its TOAST answer.
+    #[command(after_help = "Examples:
+  protolink aeolus --to udp:127.0.0.1:5002 --from udp:5001 command \"a pause\"
+  protolink aeolus --to tcp:127.0.0.1:7000 settime now")]
+    Aeolus(AeolusArgs),
     /// Read and write an AYDP device's system values, store its configuration, set outputs.
     #[command(after_help = "Examples:
   protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
@@ -74,6 +80,7 @@ impl Cli {
         match &self.command {
             Command::Decode(a) => crate::decode::run(a),
             Command::Bridge(a) => crate::bridge::run(a),
+            Command::Aeolus(a) => crate::aeolus_cmd::run(a),
             Command::Aydp(a) => crate::aydp_cmd::run(a),
             Command::Aok(a) => crate::aok_cmd::run(a),
             Command::Sim(a) => crate::sim::run(a),

@@ -7,6 +7,7 @@
 //! | `udp:5001` | a UDP socket bound to `127.0.0.1:5001`; `udp:0.0.0.0:5001` listens on every interface |
 //! | `file:capture.bin` | a file, read from start to end (read-only) |
 //! | `-` | standard input for reading, standard output for writing |
+//! | `capture.bin` | a bare path: a file, as `file:` |
 //!
 //! A UDP endpoint answers the sender of the last datagram it received.
 
@@ -37,6 +38,7 @@ pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 /// assert_eq!(e, Endpoint::Serial { path: "/dev/ttyUSB0".into(), baud: 921_600 });
 /// assert_eq!("udp:5001".parse::<Endpoint>()?.to_string(), "udp:127.0.0.1:5001");
 /// assert!("http://example".parse::<Endpoint>().is_err());
+/// assert_eq!("capture.bin".parse::<Endpoint>()?, Endpoint::File("capture.bin".into()));
 /// # Ok::<(), protolink::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -89,10 +91,22 @@ impl FromStr for Endpoint {
         if text == "-" {
             return Ok(Endpoint::Stdio);
         }
-        let Some((scheme, rest)) = text.split_once(':') else {
+        let known = ["serial", "tcp", "udp", "file"];
+        let Some((scheme, rest)) = text
+            .split_once(':')
+            .filter(|(scheme, _)| known.contains(scheme))
+        else {
+            // A bare path is a file to read (`protolink decode --from capture.bin`).
+            if !text.is_empty() && (!text.contains(':') || std::path::Path::new(text).exists()) {
+                return Ok(Endpoint::File(PathBuf::from(text)));
+            }
+            let kind = text.split_once(':').map_or(text, |(k, _)| k);
             return Err(bad(
                 text,
-                "expected serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH or -",
+                format!(
+                    "unknown kind '{kind}': expected serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, \
+                     file:PATH, a file's path, or - for stdin"
+                ),
             ));
         };
         match scheme {
@@ -131,18 +145,13 @@ impl FromStr for Endpoint {
             "udp" => parse_local_addr(rest)
                 .map(Endpoint::Udp)
                 .map_err(|reason| bad(text, reason)),
-            "file" => {
+            // "file", the only kind left after the filter above.
+            _ => {
                 if rest.is_empty() {
                     return Err(bad(text, "the file path is empty"));
                 }
                 Ok(Endpoint::File(PathBuf::from(rest)))
             }
-            other => Err(bad(
-                text,
-                format!(
-                    "unknown kind '{other}': expected serial:, tcp:, udp:, file: or - for stdin"
-                ),
-            )),
         }
     }
 }

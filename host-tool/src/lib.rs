@@ -9,6 +9,8 @@
 //! | [`endpoint`] | `serial:`, `tcp:`, `udp:`, `file:` and `-` endpoints, opened as byte streams |
 //! | [`decode`] | `decode`: stream decoders for the three protocols, events, text and JSON lines |
 //! | [`bridge`] | `bridge`: AEOLUS UART frames to UDP datagrams and back |
+//! | [`aeolus_cmd`] | `aeolus`: COMMAND and SETTIME to a box, its TOAST as the answer |
+//! | [`args`] | durations with units and range-checked numbers on the command line |
 //! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
 //! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
 //! | [`watch`] | `watch`: the live telemetry view |
@@ -31,6 +33,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod aeolus_cmd;
 pub mod aok_cmd;
 pub mod args;
 pub mod aydp_cmd;

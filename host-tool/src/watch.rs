@@ -34,6 +34,11 @@ pub struct WatchArgs {
     pub plain: bool,
 }
 
+/// A type is never called stale sooner than this after its last message (host jitter).
+pub const STALE_FLOOR: Duration = Duration::from_millis(100);
+/// With no byte at all after this long, the view says so and names the likely causes.
+pub const NO_DATA_AFTER: Duration = Duration::from_secs(2);
+
 /// Arrivals of one message type.
 #[derive(Debug, Clone, Copy)]
 struct Arrivals {
@@ -50,6 +55,18 @@ impl Arrivals {
     /// Mean interval on the box's clock (message timestamps), ms.
     fn box_interval_ms(&self) -> Option<f64> {
         (self.box_steps > 0).then(|| self.box_sum_ms / self.box_steps as f64)
+    }
+
+    /// Whether this type has missed three of its intervals (measured on the host, or 1 s
+    /// when only one has arrived), and how long ago the last one came.
+    fn stale(&self, now: Instant) -> Option<Duration> {
+        let age = now.saturating_duration_since(self.last_host);
+        let interval = self
+            .host_interval_ms()
+            .map_or(Duration::from_secs(1), |ms| {
+                Duration::from_secs_f64(ms / 1000.0)
+            });
+        (age > (interval * 3).max(STALE_FLOOR)).then_some(age)
     }
 
     /// Mean interval of arrival on the host, ms.
@@ -131,10 +148,19 @@ impl View {
         &self,
         source: &str,
         elapsed: Duration,
+        now: Instant,
         stats: &aeolus_proto::Stats,
     ) -> Vec<String> {
         let dash = || "-".to_string();
         let mut l = Vec::new();
+        if self.bytes == 0 && elapsed >= NO_DATA_AFTER {
+            l.push(format!(
+                "NO DATA    nothing from {source} for {:.1} s: is it the right port, is the box \
+                 running, or does another client hold the QEMU socket (QEMU serves one client \
+                 per UART)?",
+                elapsed.as_secs_f64()
+            ));
+        }
         l.push(format!(
             "protolink watch  {source}  {:.1} s  {} bytes",
             elapsed.as_secs_f64(),
@@ -227,13 +253,17 @@ impl View {
             l.push(format!("toast      {t:?}"));
         }
         l.push(format!(
-            "messages   {:<12} {:>4} {:>8} {:>15} {:>15}",
+            "messages   {:<12} {:>4} {:>8} {:>15} {:>15}  state",
             "type", "id", "count", "interval (box)", "interval (host)"
         ));
         let ms = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |v| format!("{v:.1} ms"));
         for (id, (name, a)) in &self.types {
+            let state = match a.stale(now) {
+                Some(age) => format!("STALE, last {:.1} s ago", age.as_secs_f64()),
+                None => "live".to_string(),
+            };
             l.push(format!(
-                "           {:<12} {:>4} {:>8} {:>15} {:>15}",
+                "           {:<12} {:>4} {:>8} {:>15} {:>15}  {state}",
                 name,
                 id,
                 a.count,
@@ -280,7 +310,7 @@ pub fn run(args: &WatchArgs) -> Result<()> {
     let source = link.name().to_string();
     let draw =
         |out: &mut Out, view: &View, stats: &aeolus_proto::Stats, last: bool| -> Result<()> {
-            let lines = view.lines(&source, started.elapsed(), stats);
+            let lines = view.lines(&source, started.elapsed(), Instant::now(), stats);
             if tty {
                 // Home, then each line cleared to its end, then everything below cleared.
                 out.raw("\x1b[H")?;

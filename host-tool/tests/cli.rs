@@ -154,9 +154,10 @@ fn endpoint_syntax() {
         parse("file:a/b.bin").unwrap(),
         Endpoint::File("a/b.bin".into())
     );
+    // A bare path is a file (a newcomer's `--from capture.bin`).
+    assert_eq!(parse("x").unwrap(), Endpoint::File("x".into()));
     for bad in [
         "",
-        "x",
         "serial:",
         "serial:/dev/x@",
         "serial:/dev/x@0",
