@@ -152,7 +152,7 @@ pub enum WaypointAction {
         #[arg(value_parser = parse_slot)]
         slot: WaypointSlot,
     },
-    /// Write a slot. Coordinates are raw i32 (their unit is unstated, K8).
+    /// Write a slot. Coordinates are raw i32 (the spec states no unit, so they are sent as given).
     #[command(
         after_help = "Example:\n  protolink aok --to tcp:127.0.0.1:7002 waypoint set 1 237512345 480012345 \
         --action1 hold-and-climb:15 --action2 set-fly-speed:250"

@@ -195,16 +195,28 @@ fn endpoint_syntax() {
 #[test]
 fn no_field_address_is_a_default_anywhere() {
     // DECISIONS.md A9: no code sends to a 192.168.x.x address by default.
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/src");
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            !text.contains("192.168"),
-            "{} mentions a 192.168 address",
-            path.display()
-        );
+    let mut dirs = vec![std::path::PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/src"
+    ))];
+    let mut files = 0;
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+                continue;
+            }
+            files += 1;
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert!(
+                !text.contains("192.168"),
+                "{} mentions a 192.168 address",
+                path.display()
+            );
+        }
     }
+    assert!(files > 10, "{files} source files read");
     let help = ok(&run(&["bridge", "--help"]));
     assert!(help.contains("[default: 127.0.0.1:5001]"), "{help}");
     let broadcast = help.lines().find(|l| l.contains("--broadcast")).unwrap();
