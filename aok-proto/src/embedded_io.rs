@@ -6,7 +6,7 @@
 //!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
 //!   exactly those of `push` byte by byte; at the end of the stream, those of `idle()`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a
-//!   [`Write`](::embedded_io::Write).
+//!   [`Write`].
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
 

@@ -7,13 +7,17 @@
 //!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
 //!   exactly those of `push` byte by byte; at the end of the stream, those of `idle()`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a
-//!   [`Write`](::embedded_io_async::Write).
+//!   [`Write`].
+//! - [`AsyncClient`] is the PC-side [`Client`](crate::Client) over an async port.
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
 //! [`IoError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
 //! in progress only if the transport's `read` is not cancel-safe.
 
 use ::embedded_io_async::{Read, Write};
+
+mod client;
+pub use client::{AsyncClient, Pipe, TICK_MS};
 
 use crate::io::{ReaderCore, Stream, command_bytes, message_bytes};
 use crate::{Command, DeviceDecoder, FirmwareVersion, IoError, Message, PcDecoder, ReplyForm};
