@@ -15,12 +15,20 @@ cargo fmt --all -- --check
 step "clippy (all targets, warnings denied)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
 
-step "cross-compile the libraries for both thumb targets (default and defmt features)"
-for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
+step "cross-compile the libraries for thumbv6m, thumbv7m and thumbv7em (no features, defmt, embedded-io + embedded-io-async)"
+for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   for l in "${LIBS[@]}"; do
     cargo build -q -p "$l" --target "$t" --release
-    cargo build -q -p "$l" --target "$t" --release --features defmt
+    cargo build -q -p "$l" --target "$t" --release --features defmt,embedded-io,embedded-io-async
   done
+done
+
+MSRV=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' aeolus-proto/Cargo.toml)
+step "MSRV: the libraries with Rust $MSRV exactly (host check with all features, thumbv6m build)"
+for l in "${LIBS[@]}"; do
+  cargo +"$MSRV" check -q -p "$l" --all-features
+  cargo +"$MSRV" check -q -p "$l" --no-default-features
+  cargo +"$MSRV" build -q -p "$l" --target thumbv6m-none-eabi --release --features embedded-io,embedded-io-async
 done
 
 step "panic-never: link-time proof that no panic path survives (checks/panic-never)"

@@ -206,12 +206,13 @@ impl<const N: usize> Deframer<N> {
     #[inline(always)]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
-        if !is_special(byte)
-            && let Some(slot) = self.buf.get_mut(self.at)
-        {
-            *slot = byte;
-            self.at += 1;
-            return None;
+        // (Nested rather than a let chain: the crate's MSRV is 1.87.)
+        if !is_special(byte) {
+            if let Some(slot) = self.buf.get_mut(self.at) {
+                *slot = byte;
+                self.at += 1;
+                return None;
+            }
         }
         self.push_slow(byte)
     }

@@ -208,24 +208,24 @@ impl<const N: usize> Decoder<N> {
             EXPEDITED_HEADER_LEN
         };
         if self.pending == 0 {
-            if len >= 2
-                && len.wrapping_add(1) < limit
-                && let Some(slot) = self.buf.get_mut(len)
-            {
-                *slot = byte;
-                self.len = len + 1;
-                self.xor ^= byte;
-                return None;
+            // (Nested rather than a let chain: the crate's MSRV is 1.87.)
+            if len >= 2 && len.wrapping_add(1) < limit {
+                if let Some(slot) = self.buf.get_mut(len) {
+                    *slot = byte;
+                    self.len = len + 1;
+                    self.xor ^= byte;
+                    return None;
+                }
             }
             // Hunting (`len == 0` also means no frame is lent out): a start, or noise.
             if len == 0 {
-                if byte == START
-                    && let Some(slot) = self.buf.first_mut()
-                {
-                    *slot = START;
-                    self.len = 1;
-                    self.xor = START;
-                    return None;
+                if byte == START {
+                    if let Some(slot) = self.buf.first_mut() {
+                        *slot = START;
+                        self.len = 1;
+                        self.xor = START;
+                        return None;
+                    }
                 }
                 if byte != START {
                     self.discard(1);
