@@ -39,6 +39,12 @@ if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --rele
   exit 1
 fi
 
+step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 scripts/footprint.py)"
+(cd checks/footprint && for t in thumbv7m-none-eabi thumbv6m-none-eabi; do
+  cargo build -q --release --target "$t" \
+    --features aeolus-decode,aeolus-encode,aydp-decode,aydp-encode,aok-decode,aok-encode
+done)
+
 step "firmware: release builds for both boards, clippy on thumb"
 cargo qemu-build -q
 cargo stm32-build -q

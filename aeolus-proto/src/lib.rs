@@ -89,3 +89,8 @@ pub const TEXT_CAPACITY: usize = 120;
 /// The unescaped length (ID + data + CRC) of the longest fixed-size message, DEBUGINFO:
 /// a [`Deframer`] of this capacity receives every message but long LOG or text messages.
 pub const MAX_FIXED_FRAME: usize = 1 + message::DEBUGINFO_LEN + 2;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
