@@ -4,8 +4,8 @@
 //!   [`FrameReader::read_frame`] returns the next frame. Every read is decoded with the slice
 //!   fast path of [`Deframer::push_slice`], and the frames and errors are exactly those of
 //!   [`Deframer::push`] byte by byte.
-//! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk
-//!   of at most 32 bytes at a time, with no frame buffer.
+//! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
+//!   a time, with no frame buffer.
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
 

@@ -2,11 +2,11 @@
 //! and other executors.
 //!
 //! - [`FrameReader`] owns a [`Deframer`] and a read buffer of `R` bytes; each
-//!   [`FrameReader::read_frame`]`.await` returns the next frame. Every read is decoded with the slice
-//!   fast path of [`Deframer::push_slice`], and the frames and errors are exactly those of
-//!   [`Deframer::push`] byte by byte.
-//! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk
-//!   of at most 32 bytes at a time, with no frame buffer.
+//!   [`FrameReader::read_frame`]`.await` returns the next frame. Every read is decoded with
+//!   the slice fast path of [`Deframer::push_slice`], and the frames and errors are exactly
+//!   those of [`Deframer::push`] byte by byte.
+//! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
+//!   a time, with no frame buffer.
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
 //! [`IoError`]. Cancelling `read_frame` loses no decoded state; it loses the bytes of a read in

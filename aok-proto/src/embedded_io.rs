@@ -5,8 +5,7 @@
 //!   and [`CommandReader::read_command`] return the next item. Every read is decoded with the
 //!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
 //!   exactly those of `push` byte by byte; at the end of the stream, those of `idle()`.
-//! - [`Writer`] writes commands (PC side) and messages (device side) into a
-//!   [`Write`].
+//! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
 

@@ -6,8 +6,7 @@
 //!   and [`CommandReader::read_command`] return the next item. Every read is decoded with the
 //!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
 //!   exactly those of `push` byte by byte; at the end of the stream, those of `idle()`.
-//! - [`Writer`] writes commands (PC side) and messages (device side) into a
-//!   [`Write`].
+//! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //! - [`AsyncClient`] is the PC-side [`Client`](crate::Client) over an async port.
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are

@@ -6,8 +6,8 @@
 //!   path of [`Decoder::feed`] (messages checked in place in the read buffer), and the frames
 //!   and errors are exactly those of [`Decoder::push`] and [`Decoder::poll`] byte by byte; at
 //!   the end of the stream, those of [`Decoder::flush`].
-//! - [`FrameWriter`] encodes messages straight into a [`Write`] with
-//!   the [`Encoder`]'s byte iterator, a chunk of at most 32 bytes at a time.
+//! - [`FrameWriter`] encodes messages straight into a [`Write`] with the [`Encoder`]'s byte
+//!   iterator, a chunk of at most 32 bytes at a time.
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
 //! [`IoError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
