@@ -18,7 +18,8 @@ target = os.environ.get("FOOTPRINT_TARGET_DIR", "/tmp/footprint-target")
 tools = glob.glob(os.path.expanduser("~/.rustup/toolchains/1.95.0-*/lib/rustlib/*/bin"))[0]
 size_tool, readobj, objdump = (os.path.join(tools, t) for t in ("llvm-size", "llvm-readobj", "llvm-objdump"))
 targets = sys.argv[1:] or ["thumbv7m-none-eabi", "thumbv6m-none-eabi"]
-features = ["", "aeolus-decode", "aeolus-encode", "aydp-decode", "aydp-encode", "aok-decode", "aok-encode"]
+features = ["", "aeolus-decode", "aeolus-encode", "aydp-decode", "aydp-encode", "aok-decode", "aok-encode",
+            "aeolus-read", "aydp-read", "aok-read"]
 
 
 def build(triple, feature, nightly):

@@ -42,7 +42,7 @@ fi
 step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 scripts/footprint.py)"
 (cd checks/footprint && for t in thumbv7m-none-eabi thumbv6m-none-eabi; do
   cargo build -q --release --target "$t" \
-    --features aeolus-decode,aeolus-encode,aydp-decode,aydp-encode,aok-decode,aok-encode
+    --features aeolus-decode,aeolus-encode,aydp-decode,aydp-encode,aok-decode,aok-encode,aeolus-read,aydp-read,aok-read
 done)
 
 step "firmware: release builds for both boards, clippy on thumb"
