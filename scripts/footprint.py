@@ -1,5 +1,9 @@
 #!/usr/bin/env python3
-"""Flash and stack figures of the protocol crates on thumbv7m (checks/footprint).
+"""Flash and stack figures of the protocol crates on thumbv7m and thumbv6m (checks/footprint).
+
+`python3 scripts/footprint.py [TARGET...]`: thumbv7m-none-eabi then thumbv6m-none-eabi by default
+(nightly needs both targets: `rustup target add --toolchain nightly thumbv7m-none-eabi
+thumbv6m-none-eabi`).
 
 Flash: each protocol's decode-only (then encode-only) binary minus the empty baseline, from
 llvm-size (text + data). Stack: nightly's -Z emit-stack-sizes gives every function's frame; the
@@ -13,19 +17,22 @@ crate = os.path.join(root, "checks", "footprint")
 target = os.environ.get("FOOTPRINT_TARGET_DIR", "/tmp/footprint-target")
 tools = glob.glob(os.path.expanduser("~/.rustup/toolchains/1.95.0-*/lib/rustlib/*/bin"))[0]
 size_tool, readobj, objdump = (os.path.join(tools, t) for t in ("llvm-size", "llvm-readobj", "llvm-objdump"))
-features = ["", "aeolus-decode", "aeolus-encode", "aydp-decode", "aydp-encode", "aok-decode", "aok-encode"]
+targets = sys.argv[1:] or ["thumbv7m-none-eabi", "thumbv6m-none-eabi"]
+features = ["", "aeolus-decode", "aeolus-encode", "aydp-decode", "aydp-encode", "aok-decode", "aok-encode",
+            "aeolus-read", "aydp-read", "aok-read"]
 
 
-def build(feature, nightly):
+def build(triple, feature, nightly):
     tdir = os.path.join(target, ("n-" if nightly else "s-") + (feature or "baseline"))
-    cmd = ["cargo"] + (["+nightly"] if nightly else []) + ["build", "-q", "--release", "--target-dir", tdir]
+    cmd = ["cargo"] + (["+nightly"] if nightly else []) + ["build", "-q", "--release", "--target-dir", tdir,
+                                                            "--target", triple]
     if feature:
         cmd += ["--features", feature]
     env = dict(os.environ)
     if nightly:
         env["RUSTFLAGS"] = "-Z emit-stack-sizes -C link-arg=--entry=entry -C link-arg=--gc-sections"
     subprocess.run(cmd, cwd=crate, check=True, env=env)
-    return os.path.join(tdir, "thumbv7m-none-eabi", "release", "footprint")
+    return os.path.join(tdir, triple, "release", "footprint")
 
 
 def flash(elf):
@@ -69,13 +76,23 @@ def worst(fn, sizes, graph, seen=()):
     return sizes.get(fn, 0) + max(below, default=0)
 
 
-base = flash(build("", False))
-print("| protocol, direction | flash (B, minus baseline) | worst stack of the entry point (B) |")
-print("| --- | ---: | ---: |")
-for f in features[1:]:
-    size = flash(build(f, False)) - base
-    elf = build(f, True)
-    fn = "fp_" + f.replace("-", "_")
-    st = worst(fn, stack_sizes(elf), call_graph(elf))
-    print(f"| {f} | {size} | {st} |")
-print(f"\nbaseline (empty binary): {base} B")
+def table(triple):
+    base = flash(build(triple, "", False))
+    print("| protocol, direction | flash (B, minus baseline) | worst stack of the entry point (B) |")
+    print("| --- | ---: | ---: |")
+    for f in features[1:]:
+        size = flash(build(triple, f, False)) - base
+        elf = build(triple, f, True)
+        fn = "fp_" + f.replace("-", "_")
+        st = worst(fn, stack_sizes(elf), call_graph(elf))
+        print(f"| {f} | {size} | {st} |")
+    print(f"\nbaseline (empty binary): {base} B")
+
+
+for i, triple in enumerate(targets):
+    if i:
+        # The first target's table stands under the caller's heading; the others get their own.
+        core = {"thumbv6m-none-eabi": "Cortex-M0/M0+", "thumbv7m-none-eabi": "Cortex-M3",
+                "thumbv7em-none-eabihf": "Cortex-M4F"}.get(triple, triple)
+        print(f"\n### {triple} ({core})\n")
+    table(triple)

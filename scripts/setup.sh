@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the project needs on a fresh Debian machine. Idempotent: each
 # step checks first and does nothing when the tool is already there.
-#   scripts/setup.sh            toolchain + thumb targets (from rust-toolchain.toml)
+#   scripts/setup.sh            toolchain + thumb targets (from rust-toolchain.toml), the
+#                               thumbv6m target, and the libraries' MSRV toolchain (1.87)
 #   scripts/setup.sh qemu       + qemu-system-arm (Debian package)
 #   scripts/setup.sh defmt-print + defmt-print (decodes the firmware's defmt log)
 set -euo pipefail
@@ -11,6 +12,14 @@ cd "$(dirname "$0")/.."
 # components and the thumb targets listed there.
 rustup show active-toolchain >/dev/null 2>&1 || rustup toolchain install
 rustup target list --installed | grep -q thumbv7m-none-eabi || rustup toolchain install
+# Cortex-M0/M0+ (RP2040 and the cheapest boards): the libraries, footprint and panic-never
+# are built for it too.
+rustup target list --installed | grep -q thumbv6m-none-eabi || rustup target add thumbv6m-none-eabi
+# The libraries' MSRV (rust-version in their Cargo.toml), checked with exactly that toolchain.
+MSRV=1.87
+rustup toolchain list | grep -q "^$MSRV-" || rustup toolchain install "$MSRV" --profile minimal
+rustup +"$MSRV" target list --installed | grep -q thumbv6m-none-eabi \
+  || rustup +"$MSRV" target add thumbv6m-none-eabi
 
 need_apt=()
 for want in "$@"; do

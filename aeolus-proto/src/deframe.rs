@@ -206,12 +206,13 @@ impl<const N: usize> Deframer<N> {
     #[inline(always)]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
-        if !is_special(byte)
-            && let Some(slot) = self.buf.get_mut(self.at)
-        {
-            *slot = byte;
-            self.at += 1;
-            return None;
+        // (Nested rather than a let chain: the crate's MSRV is 1.87.)
+        if !is_special(byte) {
+            if let Some(slot) = self.buf.get_mut(self.at) {
+                *slot = byte;
+                self.at += 1;
+                return None;
+            }
         }
         self.push_slow(byte)
     }
@@ -278,16 +279,7 @@ impl<const N: usize> Deframer<N> {
         mut on_event: impl FnMut(Result<Frame<'_>, Error>),
     ) {
         loop {
-            if self.state == State::Frame {
-                let room = self.buf.get_mut(self.at..).unwrap_or(&mut []);
-                let window = bytes.get(..room.len()).unwrap_or(bytes);
-                let run = crate::scan::run_len(window);
-                if let (Some(dst), Some(src)) = (room.get_mut(..run), bytes.get(..run)) {
-                    dst.copy_from_slice(src);
-                    self.at += run;
-                }
-                bytes = bytes.get(run..).unwrap_or(&[]);
-            }
+            bytes = self.copy_run(bytes);
             let Some((&b, rest)) = bytes.split_first() else {
                 return;
             };
@@ -296,6 +288,56 @@ impl<const N: usize> Deframer<N> {
                 on_event(ev);
             }
         }
+    }
+
+    /// Inside a frame, copies the leading run of ordinary bytes of `bytes` that still fits
+    /// (found a word at a time) and returns the rest; outside a frame returns `bytes` as is.
+    #[inline(always)]
+    fn copy_run<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
+        if self.state != State::Frame {
+            return bytes;
+        }
+        let room = self.buf.get_mut(self.at..).unwrap_or(&mut []);
+        let window = bytes.get(..room.len()).unwrap_or(bytes);
+        let run = crate::scan::run_len(window);
+        if let (Some(dst), Some(src)) = (room.get_mut(..run), bytes.get(..run)) {
+            dst.copy_from_slice(src);
+            self.at += run;
+        }
+        bytes.get(run..).unwrap_or(&[])
+    }
+
+    /// Feeds `bytes` up to and including the first byte that gives an event, with the fast
+    /// path of [`Deframer::push_slice`]. Returns how many bytes were consumed and what the
+    /// last of them gave, as a [`Found`] that does not borrow the deframer: a reader keeps
+    /// looping over reads and asks for the frame ([`Deframer::found_frame`]) afterwards.
+    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+    pub(crate) fn push_until(&mut self, bytes: &[u8]) -> (usize, Found) {
+        let total = bytes.len();
+        let mut rest = bytes;
+        loop {
+            rest = self.copy_run(rest);
+            let Some((&b, after)) = rest.split_first() else {
+                return (total, Found::Nothing);
+            };
+            rest = after;
+            let found = match self.push_slow(b) {
+                None => continue,
+                Some(Ok(frame)) => Found::Frame {
+                    len: frame.raw().len(),
+                    has_crc: frame.has_crc(),
+                },
+                Some(Err(e)) => Found::Error(e),
+            };
+            return (total.saturating_sub(rest.len()), found);
+        }
+    }
+
+    /// The frame a [`Found::Frame`] from the last [`Deframer::push_until`] stands for: it is
+    /// still in the buffer until the next byte is pushed.
+    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+    pub(crate) fn found_frame(&self, len: usize, has_crc: bool) -> Frame<'_> {
+        Frame::checked(self.buf.get(..len).unwrap_or(&[]), has_crc)
     }
 
     /// Stores an unescaped byte; only in the `Frame` state (where `at` is the length).
@@ -361,3 +403,15 @@ const STATS0: Stats = Stats {
     frame_bytes: 0,
     flags: 0,
 };
+
+/// What [`Deframer::push_until`] stopped at.
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Found {
+    /// Every byte was consumed without an event.
+    Nothing,
+    /// A frame of `len` unescaped bytes is in the buffer.
+    Frame { len: usize, has_crc: bool },
+    /// A frame was dropped for this error.
+    Error(Error),
+}

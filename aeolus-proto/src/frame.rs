@@ -59,6 +59,12 @@ impl<'a> Frame<'a> {
         }
     }
 
+    /// Wraps bytes the deframer has already checked, without checking them again.
+    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+    pub(crate) const fn checked(raw: &'a [u8], has_crc: bool) -> Self {
+        Frame { raw, has_crc }
+    }
+
     /// The message ID.
     pub const fn id(&self) -> u8 {
         match self.raw {

@@ -11,6 +11,9 @@
 //!   [`max_encoded_len`] sizes buffers at compile time.
 //! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`.
 //! - [`crc`]: the frame check exactly as section 4.3 prints it.
+//! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
+//!   `FrameReader` that returns the next frame from a `Read` and a `FrameWriter` that encodes
+//!   into a `Write`, blocking or async, with the error type `IoError`.
 //!
 //! Byte order is little-endian (DECISIONS.md A1). Decoders never panic, whatever the input.
 //!
@@ -57,9 +60,15 @@
 pub mod crc;
 mod datagram;
 mod deframe;
+#[cfg(feature = "embedded-io")]
+pub mod embedded_io;
+#[cfg(feature = "embedded-io-async")]
+pub mod embedded_io_async;
 mod encode;
 mod error;
 mod frame;
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+mod io;
 pub mod message;
 mod scan;
 
@@ -68,6 +77,8 @@ pub use deframe::{Deframer, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::Error;
 pub use frame::Frame;
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+pub use io::IoError;
 
 /// The flag byte that opens and closes every frame.
 pub const FLAG: u8 = 0x7E;
@@ -78,3 +89,8 @@ pub const TEXT_CAPACITY: usize = 120;
 /// The unescaped length (ID + data + CRC) of the longest fixed-size message, DEBUGINFO:
 /// a [`Deframer`] of this capacity receives every message but long LOG or text messages.
 pub const MAX_FIXED_FRAME: usize = 1 + message::DEBUGINFO_LEN + 2;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -174,6 +174,74 @@ impl DeviceDecoder {
         }
     }
 
+    /// Feed `bytes` up to and including the first item, with the bulk path of
+    /// [`DeviceDecoder::feed`] (commands parsed in place while nothing is held); items an
+    /// earlier call left undrained come first. Returns how many bytes were consumed and the
+    /// item. Calling it until it finds nothing in an empty slice gives exactly the items of
+    /// [`DeviceDecoder::push`] with every iterator drained.
+    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Command, Error>>) {
+        let total = bytes.len();
+        if let Some(item) = self.drain().next() {
+            return (0, Some(item));
+        }
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return (total, None);
+            };
+            rest = after;
+            if let Some(item) = self.push(byte).next() {
+                return (total.saturating_sub(rest.len()), Some(item));
+            }
+        }
+        // Nothing held: parse in place (the rules of `feed`).
+        loop {
+            let Some((&first, tail)) = rest.split_first() else {
+                return (total, None);
+            };
+            let need = match command_len(first, tail.first().copied()) {
+                Len::Is(n) => n,
+                Len::More => break,
+                Len::Unknown => {
+                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                    continue;
+                }
+            };
+            let Some((frame, after)) = rest.split_at_checked(need) else {
+                break;
+            };
+            let (item, rest) = match Command::parse_known(first, frame) {
+                Ok(cmd) => {
+                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    (Ok(cmd), after)
+                }
+                Err(Error::Checksum) => {
+                    // The false start is dropped; the rescan starts at the next byte.
+                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    (Err(Error::Checksum), tail)
+                }
+                Err(e) => {
+                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
+                    (Err(e), after)
+                }
+            };
+            return (total.saturating_sub(rest.len()), Some(item));
+        }
+        // A command cut by the end of the slice: keep it, exactly as pushing would.
+        while let Some((&byte, after)) = rest.split_first() {
+            rest = after;
+            if let Some(item) = self.push(byte).next() {
+                return (total.saturating_sub(rest.len()), Some(item));
+            }
+        }
+        (total, None)
+    }
+
     /// Continue on bytes already buffered, without new input: what an undrained iterator left.
     ///
     /// ```

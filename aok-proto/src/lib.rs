@@ -7,6 +7,10 @@
 //!   stream of debug frames, acks and replies, knowing which request is pending.
 //! * [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits: debug off,
 //!   drain, request, wait (with timeout), debug back on.
+//! * `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): readers
+//!   that return the next message (PC side) or command (device side) from a `Read`, a writer
+//!   into a `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
+//!   client's async form.
 //! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
 //!
 //! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
@@ -43,7 +47,13 @@
 pub mod client;
 pub mod command;
 pub mod device;
+#[cfg(feature = "embedded-io")]
+pub mod embedded_io;
+#[cfg(feature = "embedded-io-async")]
+pub mod embedded_io_async;
 mod error;
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+mod io;
 pub mod message;
 pub mod pc;
 pub mod stats;
@@ -53,6 +63,8 @@ pub use client::{Client, Config, Outcome};
 pub use command::{Command, ExternalControl, MotorTest, ParameterValue, Waypoint};
 pub use device::DeviceDecoder;
 pub use error::{Error, SerialError};
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+pub use io::IoError;
 pub use message::{DebugValue, Message};
 pub use pc::PcDecoder;
 pub use stats::DecoderStats;

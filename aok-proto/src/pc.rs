@@ -294,6 +294,94 @@ impl PcDecoder {
         }
     }
 
+    /// Feed `bytes` up to and including the first message, with the bulk path of
+    /// [`PcDecoder::feed`] (frames parsed in place while nothing is held); messages an
+    /// earlier call left undrained come first. Returns how many bytes were consumed and the
+    /// message. Calling it until it finds nothing in an empty slice gives exactly the
+    /// messages of [`PcDecoder::push`] with every iterator drained.
+    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Message>) {
+        let total = bytes.len();
+        if let Some(m) = self.drain().next() {
+            return (0, Some(m));
+        }
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return (total, None);
+            };
+            rest = after;
+            if let Some(m) = self.push(byte).next() {
+                return (total.saturating_sub(rest.len()), Some(m));
+            }
+        }
+        // Nothing held: parse in place (the rules of `feed`).
+        loop {
+            let Some((&first, tail)) = rest.split_first() else {
+                return (total, None);
+            };
+            let headerless = match self.expect {
+                Expect::Parameter(n) if self.form == ReplyForm::Headerless => Some(n),
+                _ => None,
+            };
+            if let Some(number) = headerless {
+                let Some(reply) = rest.get(..HEADERLESS_REPLY_LEN) else {
+                    break;
+                };
+                match ParameterValue::parse_headerless(reply, number) {
+                    Ok(p) => {
+                        self.stats.ok = self.stats.ok.wrapping_add(1);
+                        rest = rest.get(HEADERLESS_REPLY_LEN..).unwrap_or(&[]);
+                        let m = Message::Parameter(p);
+                        self.settle(&m);
+                        return (total.saturating_sub(rest.len()), Some(m));
+                    }
+                    Err(_) if first == DEBUG => {}
+                    Err(_) => {
+                        self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                        rest = tail;
+                        continue;
+                    }
+                }
+            }
+            let Some(need) = frame_len(first, self.expect) else {
+                self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
+                self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                rest = tail;
+                continue;
+            };
+            let Some((frame, after)) = rest.split_at_checked(need) else {
+                break;
+            };
+            match Message::parse(frame) {
+                Ok((m, _)) => {
+                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.settle(&m);
+                    return (total.saturating_sub(after.len()), Some(m));
+                }
+                Err(Error::Checksum) => {
+                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
+                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    rest = tail;
+                }
+                Err(_) => {
+                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
+                    rest = after;
+                }
+            }
+        }
+        // A frame cut by the end of the slice: keep it, exactly as pushing would.
+        while let Some((&byte, after)) = rest.split_first() {
+            rest = after;
+            if let Some(m) = self.push(byte).next() {
+                return (total.saturating_sub(rest.len()), Some(m));
+            }
+        }
+        (total, None)
+    }
+
     /// Continue on bytes already buffered, without new input: what an undrained iterator left.
     ///
     /// ```

@@ -22,10 +22,11 @@ pub const fn xor(bytes: &[u8]) -> u8 {
     while let Some((pair, tail)) = rest.split_first_chunk::<{ 2 * WORD }>() {
         // Two words per step. Both halves of a `2 * WORD` array are exactly one word, so the
         // `if let` always matches; it only keeps indexing (and its panic path) out.
-        if let Some((a, b)) = pair.split_first_chunk::<WORD>()
-            && let Some(b) = b.first_chunk::<WORD>()
-        {
-            acc ^= usize::from_ne_bytes(*a) ^ usize::from_ne_bytes(*b);
+        // (Nested rather than a let chain: the crate's MSRV is 1.87.)
+        if let Some((a, b)) = pair.split_first_chunk::<WORD>() {
+            if let Some(b) = b.first_chunk::<WORD>() {
+                acc ^= usize::from_ne_bytes(*a) ^ usize::from_ne_bytes(*b);
+            }
         }
         rest = tail;
     }
@@ -33,11 +34,11 @@ pub const fn xor(bytes: &[u8]) -> u8 {
         acc ^= usize::from_ne_bytes(*w);
         rest = tail;
     }
-    if WORD > 4
-        && let Some((w, tail)) = rest.split_first_chunk::<4>()
-    {
-        acc ^= u32::from_ne_bytes(*w) as usize;
-        rest = tail;
+    if WORD > 4 {
+        if let Some((w, tail)) = rest.split_first_chunk::<4>() {
+            acc ^= u32::from_ne_bytes(*w) as usize;
+            rest = tail;
+        }
     }
     if let Some((w, tail)) = rest.split_first_chunk::<2>() {
         acc ^= u16::from_ne_bytes(*w) as usize;

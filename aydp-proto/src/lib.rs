@@ -16,7 +16,10 @@
 //!   at a time;
 //! - [`messages`]: typed messages and the [`Message`] enum;
 //! - [`uflt16`]: the binary16 conversions;
-//! - [`registry`]: the system-value registry for devices.
+//! - [`registry`]: the system-value registry for devices;
+//! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
+//!   `FrameReader` that returns the next message from a `Read` and a `FrameWriter` that
+//!   encodes into a `Write`, blocking or async, with the error type `IoError`.
 //!
 //! ```
 //! use aydp_proto::{Decoder, Encoder, Message, Position, Profile, Timestamp};
@@ -42,10 +45,16 @@
 
 pub mod checksum;
 pub mod decoder;
+#[cfg(feature = "embedded-io")]
+pub mod embedded_io;
+#[cfg(feature = "embedded-io-async")]
+pub mod embedded_io_async;
 pub mod encoder;
 mod error;
 pub mod frame;
 pub mod header;
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+mod io;
 pub mod messages;
 pub mod profile;
 pub mod registry;
@@ -56,6 +65,8 @@ pub use encoder::{Bytes, Encoder, Payload, Raw};
 pub use error::{Error, Result};
 pub use frame::Frame;
 pub use header::{Header, HeaderRepr};
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+pub use io::IoError;
 pub use messages::{
     DirectOutput, DirectOutputBuilder, Entries, FixDetail, FixDetailBuilder, FixQuality, Message,
     OutputEntry, Position, Satellite, SatelliteList, Satellites, SystemControl, SystemValueUpdate,

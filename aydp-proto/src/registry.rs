@@ -429,10 +429,11 @@ impl<'s, 'a> Registry<'s, 'a> {
     /// (the device owns its values), but the type, bounds and range checks do.
     pub fn set<T: Element>(&mut self, address: u16, index: usize, value: T) -> Result<()> {
         let slot = self.slot_mut(address)?;
-        if let (Some((min, max)), Some(v)) = (slot.range, value.as_f64())
-            && !(min <= v && v <= max)
-        {
-            return Err(Error::OutOfRange(address));
+        // (Nested rather than a let chain: the crate's MSRV is 1.87.)
+        if let (Some((min, max)), Some(v)) = (slot.range, value.as_f64()) {
+            if !(min <= v && v <= max) {
+                return Err(Error::OutOfRange(address));
+            }
         }
         if T::write(&mut slot.cell, index, value) {
             Ok(())

@@ -114,6 +114,66 @@ fn fp_aok_encode() {
     }
 }
 
+/// A transport that hands over an opaque number of opaque bytes per read.
+#[cfg(any(feature = "aeolus-read", feature = "aydp-read", feature = "aok-read"))]
+struct Volatile;
+
+#[cfg(any(feature = "aeolus-read", feature = "aydp-read", feature = "aok-read"))]
+impl embedded_io::ErrorType for Volatile {
+    type Error = embedded_io::ErrorKind;
+}
+
+#[cfg(any(feature = "aeolus-read", feature = "aydp-read", feature = "aok-read"))]
+impl embedded_io::Read for Volatile {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        let n = (byte(1) as usize).min(buf.len());
+        for (i, b) in buf.iter_mut().take(n).enumerate() {
+            *b = byte(i + 2);
+        }
+        Ok(n)
+    }
+}
+
+#[cfg(feature = "aeolus-read")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aeolus_read() {
+    use aeolus_proto::{MAX_FIXED_FRAME, embedded_io::FrameReader, message::Message};
+    static mut R: FrameReader<Volatile, MAX_FIXED_FRAME, 64> = FrameReader::new(Volatile);
+    let r = unsafe { &mut *addr_of_mut!(R) };
+    if let Ok(frame) = r.read_frame() {
+        if let Ok(Message::Gyro(g)) = frame.message() {
+            sink(g.x.to_bits());
+        }
+    }
+}
+
+#[cfg(feature = "aydp-read")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aydp_read() {
+    use aydp_proto::{Profile, embedded_io::FrameReader};
+    static mut R: FrameReader<Volatile, 128, 64> = FrameReader::new(Volatile, Profile::Spec);
+    let r = unsafe { &mut *addr_of_mut!(R) };
+    if let Ok(f) = r.read_frame() {
+        if let Ok(m) = f.message() {
+            sink(f.base_type() as u32);
+        }
+    }
+}
+
+#[cfg(feature = "aok-read")]
+#[inline(never)]
+#[unsafe(no_mangle)]
+fn fp_aok_read() {
+    use aok_proto::embedded_io::CommandReader;
+    static mut R: CommandReader<Volatile, 64> = CommandReader::new(Volatile);
+    let r = unsafe { &mut *addr_of_mut!(R) };
+    if let Ok(c) = r.read_command() {
+        sink(c.buffer_len() as u32);
+    }
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn entry() -> ! {
     loop {
@@ -129,6 +189,12 @@ pub extern "C" fn entry() -> ! {
         fp_aok_decode();
         #[cfg(feature = "aok-encode")]
         fp_aok_encode();
+        #[cfg(feature = "aeolus-read")]
+        fp_aeolus_read();
+        #[cfg(feature = "aydp-read")]
+        fp_aydp_read();
+        #[cfg(feature = "aok-read")]
+        fp_aok_read();
         sink(byte(255) as u32);
     }
 }

@@ -5,6 +5,17 @@
 //! defined nowhere, so this binary only links if the optimiser removed every panic path: if a
 //! change makes a panic reachable from any of these entry points, the link fails with
 //! `undefined symbol: PANIC_PATH_REACHABLE_see_checks_panic_never`.
+//!
+//! The `embedded-io` readers and writers of the three crates, the `embedded-io-async` readers
+//! and the AOK async writer are driven too, through a transport whose chunk sizes, errors and
+//! end of stream are opaque. Not here: the AEOLUS and AYDP async writers and the AOK
+//! `AsyncClient`. Every `async fn` state machine carries a compiler-inserted panic for being
+//! polled after it completed; LLVM removes it only where it can see the whole state machine,
+//! and it cannot across those three's loops. With a plain `loop {}` panic handler that guard
+//! (`panic_const_async_fn_resumed`) is the only panic call they add; their logic is that of
+//! the blocking writers and `Client`, which are checked here.
+//!
+//! Built for thumbv7m (the default) and for thumbv6m (`--target thumbv6m-none-eabi`).
 #![no_std]
 #![no_main]
 
@@ -319,11 +330,168 @@ mod aydp {
     }
 }
 
+mod io {
+    use super::*;
+    use core::future::Future;
+    use core::pin::pin;
+    use core::task::{Context, Poll, Waker};
+    use embedded_io::ErrorKind;
+
+    /// Reads opaque chunks (0 bytes: EOF) of opaque bytes, fails when told to; writes take an
+    /// opaque number of bytes (0 included) or fail.
+    pub struct Opaque {
+        at: usize,
+    }
+
+    impl Opaque {
+        fn read_now(&mut self, buf: &mut [u8]) -> Result<usize, ErrorKind> {
+            let ctl = input_byte(self.at);
+            self.at = self.at.wrapping_add(1);
+            if ctl == 0xEE {
+                return Err(ErrorKind::Other);
+            }
+            let n = (ctl as usize % 70).min(buf.len());
+            for b in buf.iter_mut().take(n) {
+                *b = input_byte(self.at);
+                self.at = self.at.wrapping_add(1);
+            }
+            Ok(n)
+        }
+        fn write_now(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+            let ctl = input_byte(self.at);
+            self.at = self.at.wrapping_add(1);
+            if ctl == 0xEE {
+                return Err(ErrorKind::Other);
+            }
+            for &b in buf.iter().take(ctl as usize) {
+                sink(b as u32);
+            }
+            Ok((ctl as usize).min(buf.len()))
+        }
+    }
+
+    impl embedded_io::ErrorType for Opaque {
+        type Error = ErrorKind;
+    }
+    impl embedded_io::Read for Opaque {
+        fn read(&mut self, buf: &mut [u8]) -> Result<usize, ErrorKind> {
+            self.read_now(buf)
+        }
+    }
+    impl embedded_io::Write for Opaque {
+        fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+            self.write_now(buf)
+        }
+        fn flush(&mut self) -> Result<(), ErrorKind> {
+            Ok(())
+        }
+    }
+    impl embedded_io_async::Read for Opaque {
+        async fn read(&mut self, buf: &mut [u8]) -> Result<usize, ErrorKind> {
+            self.read_now(buf)
+        }
+    }
+    impl embedded_io_async::Write for Opaque {
+        async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+            self.write_now(buf)
+        }
+        async fn flush(&mut self) -> Result<(), ErrorKind> {
+            Ok(())
+        }
+    }
+
+    /// Polls once: the opaque transport never suspends, so one poll runs every await of the
+    /// readers and writers to the end. Polling only once keeps out the panic every
+    /// `async fn` state machine carries for being polled after it completed (an executor's
+    /// contract, not a path in these crates), which LLVM cannot rule out across a poll loop.
+    fn block_on<F: Future>(f: F) -> Option<F::Output> {
+        let mut f = pin!(f);
+        let mut cx = Context::from_waker(Waker::noop());
+        match f.as_mut().poll(&mut cx) {
+            Poll::Ready(v) => Some(v),
+            Poll::Pending => None,
+        }
+    }
+
+    fn opaque(at: usize) -> Opaque {
+        Opaque { at }
+    }
+
+    pub fn run() {
+        use aeolus_proto::{CrcMode, IoError as AeolusIo, MAX_FIXED_FRAME, message::Message};
+        let rounds = len() % 64;
+
+        // AEOLUS readers and writers.
+        let mut r = aeolus_proto::embedded_io::FrameReader::<_, MAX_FIXED_FRAME, 48>::new(opaque(0));
+        let mut a = aeolus_proto::embedded_io_async::FrameReader::<_, 64, 7>::new(opaque(9));
+        let mut w = aeolus_proto::embedded_io::FrameWriter::new(opaque(17));
+        for _ in 0..rounds {
+            match r.read_frame() {
+                Ok(f) => {
+                    if let Ok(m) = f.message() {
+                        sink(w.write_message(&m, CrcMode::Compute).is_ok() as u32);
+                    }
+                }
+                Err(AeolusIo::Eof) => break,
+                Err(e) => sink(e.is_protocol() as u32),
+            }
+            if let Some(Ok(f)) = block_on(a.read_frame()) {
+                if let Ok(m) = Message::parse(f.id(), f.data()) {
+                    sink(m.buffer_len() as u32);
+                }
+            }
+        }
+        sink(r.deframer().stats().frames_ok ^ a.deframer().stats().frames_ok);
+
+        // AYDP readers and writers.
+        use aydp_proto::{Profile, Raw, Timestamp};
+        let profile = if input_byte(30) & 1 == 0 { Profile::Spec } else { Profile::Reference };
+        let mut r = aydp_proto::embedded_io::FrameReader::<_, 128, 32>::new(opaque(31), profile);
+        let mut a = aydp_proto::embedded_io_async::FrameReader::<_, 40, 5>::new(opaque(37), profile);
+        let mut w = aydp_proto::embedded_io::FrameWriter::new(opaque(41), profile);
+        for _ in 0..rounds {
+            if let Ok(f) = r.read_frame() {
+                let raw = Raw { msg_type: f.base_type(), data: f.data() };
+                sink(w.write_expedited(&raw).is_ok() as u32);
+                if let Ok(m) = f.message() {
+                    let ts = Timestamp::new(len() as i64, 3);
+                    sink(w.write_normal(&m, ts).is_ok() as u32);
+                }
+            }
+            if let Some(Ok(f)) = block_on(a.read_frame()) {
+                sink(f.message().is_ok() as u32);
+            }
+        }
+        sink(r.decoder().stats().messages_ok ^ a.decoder().stats().messages_ok);
+
+        // AOK readers and writers.
+        use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};
+        let fw = FirmwareVersion::new(input_byte(44), input_byte(45));
+        let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(opaque(47), fw);
+        let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(opaque(53));
+        let mut w = aok_proto::embedded_io::Writer::new(opaque(59));
+        let mut aw = aok_proto::embedded_io_async::Writer::new(opaque(61));
+        for i in 0..rounds {
+            if input_byte(i) == 0x55 {
+                m.decoder_mut().expect(Expect::Parameter(input_byte(i + 1)));
+            }
+            if let Ok(msg) = m.read_message() {
+                sink(w.write_message(&msg, ReplyForm::Headerless).is_ok() as u32);
+            }
+            if let Some(Ok(cmd)) = block_on(c.read_command()) {
+                sink(matches!(block_on(aw.write_command(&cmd)), Some(Ok(_))) as u32);
+                sink(w.write_command(&cmd).is_ok() as u32);
+            }
+        }
+    }
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn entry() -> ! {
     aydp::run();
     aeolus::run();
     aok::run();
+    io::run();
     loop {
         core::hint::spin_loop();
     }
