@@ -18,7 +18,10 @@ Runs (each protolink in a fresh process, its peak RSS read from /proc/PID/status
                  within 1 s (then "a resume" is sent)
   bridge         `bridge --uart tcp:...` against a fake UART that streams GYRO frames at a
                  known rate (1000 frames/s) while the bridge's --udp-in is flooded; counts the
-                 distinct GYRO frames that come out on P1 and the bytes the fake UART got back
+                 distinct GYRO frames that come out on P1 and the bytes the fake UART got back.
+                 Like a real UART, the fake one reads back at a baud rate (--uart-baud, 921600)
+                 and drops what does not fit in its 4 KiB transmit buffer; a second run
+                 (bridge-unthrottled) reads back as fast as it can.
 
 Prints a Markdown table and exits 0: it is a measurement, not a test. Every address is
 127.0.0.1; every loop ends by a deadline; a protolink whose RSS passes --rss-cap-mb is killed
@@ -47,6 +50,7 @@ COMMAND_ID = 11
 TOAST_ID = 82
 TELEMETRY_IDS = {51, 61, 62, 63, 64, 65, 66, 71, 72, 73}
 DATAGRAM = 1400
+UART_BUFFER = 4096
 
 # ------------------------------------------------------------------ AEOLUS framing
 
@@ -258,6 +262,9 @@ class Run:
                                           daemon=True)]
         for t in self._readers:
             t.start()
+        self.deadline = None
+        self._watcher = threading.Thread(target=self._monitor, daemon=True)
+        self._watcher.start()
 
     def _drain(self, pipe, which):
         """Reads everything (quickly, so the tool is never held up by its stdout) and keeps
@@ -272,11 +279,12 @@ class Run:
             tail = (tail + chunk)[-4096:]
             setattr(self, which + "_tail", tail)
 
-    def watch(self, timeout):
-        """Polls VmHWM every 100 ms until the process exits (or `timeout`, then SIGTERM and
-        SIGKILL); the exit status."""
+    def _monitor(self):
+        """From the start to the exit: the peak RSS (VmHWM, every 50 ms, and wait4's
+        ru_maxrss at the exit), the RSS cap, and the deadline set by `watch` (SIGTERM, then
+        SIGKILL 3 s later). Bounded: a process still running after 10 minutes is killed."""
         pid = self.proc.pid
-        deadline = time.monotonic() + timeout
+        hard = time.monotonic() + 600
         term_sent = None
         while True:
             self.peak_kb = max(self.peak_kb, status_kb(pid, "VmHWM"))
@@ -286,16 +294,26 @@ class Run:
             wpid, status, usage = os.wait4(pid, os.WNOHANG)
             if wpid == pid:
                 self.peak_kb = max(self.peak_kb, usage.ru_maxrss)  # KiB on Linux
-                self.exit = os.waitstatus_to_exitcode(status)
-                self.proc.returncode = self.exit
-                break
+                self.proc.returncode = os.waitstatus_to_exitcode(status)
+                self.exit = self.proc.returncode
+                return
             now = time.monotonic()
+            deadline = min(self.deadline or hard, hard)
             if now > deadline and term_sent is None:
                 os.kill(pid, signal.SIGTERM)
                 term_sent = now
             elif term_sent is not None and now > term_sent + 3:
                 os.kill(pid, signal.SIGKILL)
-            time.sleep(0.1)
+            time.sleep(0.05)
+
+    @property
+    def running(self):
+        return self.exit is None
+
+    def watch(self, timeout):
+        """Waits for the exit (stopping the process after `timeout`); the exit status."""
+        self.deadline = time.monotonic() + timeout
+        self._watcher.join(timeout=timeout + 10)
         for t in self._readers:
             t.join(timeout=5)
         return self.exit
@@ -311,7 +329,7 @@ class Run:
     def note(self):
         """What went wrong, if anything, in a few words."""
         if self.killed_for_rss:
-            return f"killed at {self.cap_kb // 1024} MB RSS"
+            return f"killed when its RSS passed {self.cap_kb // 1024} MB"
         if self.exit not in (0, None):
             err = self.last_line("err")
             return f"exit {self.exit}" + (f": {err[:120]}" if err else "")
@@ -344,7 +362,7 @@ def run_decode_stdin(binary, secs, cap_mb, sec):
     view = memoryview(chunk)
     pos = 0
     deadline = time.monotonic() + secs
-    while time.monotonic() < deadline and run.proc.poll() is None:
+    while time.monotonic() < deadline and run.running:
         _, w, _ = select.select([], [fd], [], 0.1)
         if not w:
             continue
@@ -443,15 +461,15 @@ def run_sim(binary, secs, cap_mb, sec):
     time.sleep(2.0)
     late = [f for f in rx.frames if f[1] in TELEMETRY_IDS and f[0] > t_cmd + 1.0]
     last_tel = max((f[0] for f in rx.frames if f[1] in TELEMETRY_IDS), default=None)
-    paused = run.proc.poll() is None and not late
+    paused = run.running and not late
     s.sendto(command("a resume"), (HOST, in_port))
     s.close()
     run.watch(timeout=10)
     rx.stop()
     if paused:
         acted = "yes: telemetry stopped %.2f s after the command" % max(0.0, last_tel - t_cmd)
-    elif run.exit is not None and run.exit != 0:
-        acted = "unknown (sim exited early)"
+    elif run.killed_for_rss or (run.exit is not None and run.exit != 0):
+        acted = "unknown (sim stopped before the check)"
     else:
         acted = f"no: {len(late)} telemetry frames 1..2 s after it"
     during = sum(1 for f in rx.frames if f[1] in TELEMETRY_IDS and f[0] <= t_cmd)
@@ -468,9 +486,18 @@ def run_sim(binary, secs, cap_mb, sec):
     }
 
 
-def run_bridge(binary, secs, cap_mb, sec, rate=1000):
+def run_bridge(binary, secs, cap_mb, sec, baud, rate=1000):
+    """`bridge` against a fake UART: a TCP server that sends GYRO frames at `rate` per second
+    (frame k's timestamp is k ms, so each one is counted once) and reads back what the bridge
+    writes to it at `baud` (bits/s, 10 per byte; 0: as fast as it can). Like a real UART, it
+    never waits to send: a frame that does not fit in its 4 KiB transmit buffer (the bridge is
+    not reading) is dropped."""
     uart = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
     uart.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    # Small socket buffers, so that a bridge that stops reading is felt within milliseconds
+    # (set on the listener, the accepted socket inherits them).
+    uart.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, UART_BUFFER)
+    uart.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4 * UART_BUFFER)
     uart.bind((HOST, 0))
     uart.listen(1)
     uart.settimeout(10)
@@ -479,7 +506,7 @@ def run_bridge(binary, secs, cap_mb, sec, rate=1000):
     rx = UdpCounter(out_port)
     nominal = rate * secs
     frames = [gyro(i) for i in range(nominal)]
-    state = {"sent": 0, "back": 0, "error": None}
+    state = {"sent": 0, "dropped": 0, "back": 0, "start": None, "error": None}
 
     def fake_uart():
         try:
@@ -490,18 +517,34 @@ def run_bridge(binary, secs, cap_mb, sec, rate=1000):
         conn.setblocking(False)
         pending = b""
         start = time.monotonic()
+        state["start"] = start
         end = start + secs
-        hold = end + 4  # stay connected until the bridge's own --seconds ends it
-        while time.monotonic() < hold:
+        hold = end + 4  # stays connected until the bridge's own --seconds ends it
+        next_frame = 0
+        read_budget = 0.0
+        last = start
+        while True:
             now = time.monotonic()
-            due = min(nominal, int((now - start) * rate) + 1) if now < end else nominal
-            if state["sent"] < due and not pending:
-                pending = b"".join(frames[state["sent"]:due])
-                state["sent"] = due
-            r, w, _ = select.select([conn], [conn] if pending else [], [], 0.002)
+            if now >= hold:
+                break
+            due = min(nominal, int((now - start) * rate) + 1)
+            while next_frame < due:
+                f = frames[next_frame]
+                next_frame += 1
+                if len(pending) + len(f) <= UART_BUFFER:
+                    pending += f
+                    state["sent"] += 1
+                else:
+                    state["dropped"] += 1
+            if baud:
+                read_budget = min(read_budget + (now - last) * baud / 10, 4096)
+            last = now
+            want_read = not baud or read_budget >= 1
+            r, w, _ = select.select([conn] if want_read else [], [conn] if pending else [],
+                                    [], 0.001)
             if r:
                 try:
-                    d = conn.recv(1 << 20)
+                    d = conn.recv(int(read_budget) if baud else 1 << 20)
                 except (BlockingIOError, InterruptedError):
                     d = None
                 except OSError:
@@ -510,6 +553,7 @@ def run_bridge(binary, secs, cap_mb, sec, rate=1000):
                     break
                 if d:
                     state["back"] += len(d)
+                    read_budget -= len(d)
             if w and pending:
                 try:
                     n = conn.send(pending)
@@ -518,6 +562,8 @@ def run_bridge(binary, secs, cap_mb, sec, rate=1000):
                     pass
                 except OSError:
                     break
+            if not r and not w and not pending and next_frame >= nominal and not want_read:
+                time.sleep(0.001)
         conn.close()
 
     server = threading.Thread(target=fake_uart, daemon=True)
@@ -532,16 +578,25 @@ def run_bridge(binary, secs, cap_mb, sec, rate=1000):
     uart.close()
     time.sleep(0.2)
     rx.stop()
-    seqs = {struct.unpack_from("<d", data, 8)[0] for _, i, data in rx.frames
-            if i == GYRO_ID and len(data) == 32}
-    forwarded = 100.0 * len(seqs) / nominal if nominal else 0.0
-    note = (f"{len(seqs)} of {nominal} GYRO frames ({rate}/s for {secs} s; fake UART sent "
-            f"{state['sent']}) in {rx.datagrams} datagrams; {sent} flood datagrams sent, "
-            f"{state['back'] / 1e6:.1f} MB written back to the fake UART")
+    first = {}
+    for t, i, data in rx.frames:
+        if i == GYRO_ID and len(data) == 32:
+            seq = int(struct.unpack_from("<d", data, 8)[0])
+            first.setdefault(seq, t)
+    start = state["start"] or 0.0
+    late = sum(1 for seq, t in first.items() if t - (start + seq / rate) > 1.0)
+    forwarded = 100.0 * len(first) / nominal if nominal else 0.0
+    speed = f"{baud} baud" if baud else "full speed"
+    note = (f"{len(first)} of {nominal} GYRO frames ({rate}/s for {secs} s) out on --udp-out in "
+            f"{rx.datagrams} datagrams, {late} of them more than 1 s late; the fake UART sent "
+            f"{state['sent']} and dropped {state['dropped']} (its 4 KiB buffer full); "
+            f"{sent} flood datagrams sent, {state['back'] / 1e6:.1f} MB written back to the "
+            f"fake UART")
     if state["error"]:
         note += "; " + state["error"]
-    return {"what": f"bridge, --udp-in flooded ({secs} s)", "rss": run, "note": note,
-            "forwarded": forwarded}
+    return {"what": f"bridge, --udp-in flooded ({secs} s), fake UART reads at {speed}",
+            "rss": run, "note": note, "forwarded": forwarded,
+            "fw_what": f"bridge (fake UART reads at {speed}): telemetry forwarded"}
 
 
 # ------------------------------------------------------------------ report
@@ -558,9 +613,10 @@ def table(results, secs):
         rows.append(f"| {r['what']} | {shown} | {TARGET_RSS_MB:.0f} MB | {met} | {note} |")
         if "forwarded" in r:
             fw = r["forwarded"]
-            rows.append(f"| bridge: telemetry forwarded during the flood | {fw:.1f} % | "
+            rows.append(f"| {r['fw_what']} | {fw:.1f} % | "
                         f"{TARGET_FORWARDED:.0f} % | {'yes' if fw >= TARGET_FORWARDED else 'no'} "
-                        f"| share of the nominal count, distinct GYRO frames on --udp-out |")
+                        f"| distinct GYRO frames out on --udp-out while the bridge ran, share "
+                        f"of the nominal count |")
     return "\n".join(rows)
 
 
@@ -571,9 +627,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seconds", type=int, default=10, help="flood length (default 10)")
     ap.add_argument("--bin", help="protolink binary to measure (default: build the release one)")
-    ap.add_argument("--rss-cap-mb", type=int, default=2048,
-                    help="kill a protolink whose RSS passes this (default 2048)")
-    ap.add_argument("--only", nargs="*", choices=["decode-stdin", "decode-udp", "sim", "bridge"],
+    ap.add_argument("--rss-cap-mb", type=int, default=4096,
+                    help="kill a protolink whose RSS passes this (default 4096)")
+    ap.add_argument("--uart-baud", type=int, default=921600,
+                    help="how fast the bridge's fake UART reads back what the bridge writes to "
+                         "it (default 921600; the bridge-unthrottled run reads at full speed)")
+    ap.add_argument("--only", nargs="*",
+                    choices=["decode-stdin", "decode-udp", "sim", "bridge", "bridge-unthrottled"],
                     help="run only these")
     args = ap.parse_args()
     secs = max(1, args.seconds)
@@ -588,7 +648,9 @@ def main():
         binary = os.path.join(ROOT, "target/release/protolink")
     sec = seconds_arg(binary)
     runs = [("decode-stdin", run_decode_stdin), ("decode-udp", run_decode_udp),
-            ("sim", run_sim), ("bridge", run_bridge)]
+            ("sim", run_sim),
+            ("bridge", lambda *a: run_bridge(*a, baud=args.uart_baud)),
+            ("bridge-unthrottled", lambda *a: run_bridge(*a, baud=0))]
     results = []
     for name, fn in runs:
         if args.only and name not in args.only:
