@@ -2,12 +2,12 @@
 """Measures protolink under a loopback flood: peak RSS of `decode`, `sim` and `bridge`, and
 the share of telemetry that `bridge` forwards while its UDP in-port is flooded.
 
-    python3 scripts/flood.py                 10 s floods (about 80 s in all)
+    python3 scripts/flood.py                 10 s floods (about a minute in all)
     python3 scripts/flood.py --seconds 3     shorter floods
     python3 scripts/flood.py --bin PATH      an already-built protolink (no cargo build)
 
 Runs (each protolink in a fresh process, its peak RSS read from /proc/PID/status VmHWM every
-100 ms and from wait4's ru_maxrss at exit, the larger kept):
+50 ms and from wait4's ru_maxrss at exit, the larger kept):
 
   decode stdin   `decode --proto aeolus --from -`, a producer writes random bytes mixed with
                  valid GYRO frames (and some with a bad CRC) into its stdin as fast as it can
@@ -467,7 +467,8 @@ def run_sim(binary, secs, cap_mb, sec):
     run.watch(timeout=10)
     rx.stop()
     if paused:
-        acted = "yes: telemetry stopped %.2f s after the command" % max(0.0, last_tel - t_cmd)
+        stopped = max(0.0, last_tel - t_cmd) if last_tel is not None else 0.0
+        acted = f"yes: telemetry stopped {stopped:.2f} s after the command"
     elif run.killed_for_rss or (run.exit is not None and run.exit != 0):
         acted = "unknown (sim stopped before the check)"
     else:
