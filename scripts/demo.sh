@@ -16,11 +16,17 @@ while [ $# -gt 0 ]; do
     *) echo "demo.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
+# Progress on stderr: one line per step with the time since the start, and cargo's own
+# progress (its bar on a terminal, a line per crate compiled otherwise) while it builds.
+start=$(date +%s%3N)
+note() { awk -v ms="$(($(date +%s%3N) - start))" -v msg="$*" 'BEGIN { printf "demo [%5.1f s] %s\n", ms / 1000, msg }' >&2; }
+note "checking the toolchain, qemu-system-arm and defmt-print"
 bash scripts/setup.sh qemu defmt-print
 
-echo "building the firmware (release, thumbv7m) and protolink ..." >&2
-cargo qemu-build -q
-cargo build -q --release -p protolink
+note "building the firmware (release, thumbv7m-none-eabi)"
+cargo qemu-build
+note "building protolink (release)"
+cargo build --release -p protolink
 elf=target/thumbv7m-none-eabi/release/sensor-box
 port=${QEMU_UART0_PORT:-7000}
 log=${DEMO_LOG:-target/demo-firmware.log}
@@ -28,15 +34,19 @@ log=${DEMO_LOG:-target/demo-firmware.log}
 # UART0 waits for its client, so the watcher sees the boot TOAST too.
 # In its own process group (setsid), so that the exit trap stops QEMU and defmt-print too,
 # not just the script that started them.
+note "booting the firmware in QEMU (lm3s6965evb)"
 QEMU_WAIT=1 setsid scripts/qemu-run.sh "$elf" >"$log" 2>&1 &
 qemu=$!
 trap 'kill -TERM -- "-$qemu" 2>/dev/null; wait "$qemu" 2>/dev/null || true' EXIT
 # Wait until QEMU listens (without connecting: the first client is the watcher).
 hex=$(printf ':%04X ' "$port")
-for _ in $(seq 200); do
+up="QEMU is up"
+for i in $(seq 200); do
   grep -q "$hex.* 0A " /proc/net/tcp && break
+  [ "$i" = 200 ] && up="QEMU is not listening after 10 s (see $log)"
   sleep 0.05
 done
+note "$up; protolink watch on UART0 (127.0.0.1:$port)${seconds:+ for $seconds s}"
 echo "firmware log (defmt): $log; AYDP on 127.0.0.1:${QEMU_UART1_PORT:-7001}, AOK on 127.0.0.1:${QEMU_UART2_PORT:-7002}" >&2
 args=(watch --from "tcp:127.0.0.1:$port")
 [ -n "$seconds" ] && args+=(--seconds "$seconds")

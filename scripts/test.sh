@@ -1,13 +1,88 @@
 #!/usr/bin/env bash
 # Runs every test and check of the project. This is the command the README
 # gives and the one .ci/run calls.
+#
+# Each step prints how long it took. The run ends with one summary: the time of
+# every step, the QEMU tests run, the fuzz executions and crashes, and as the
+# very last line `tests: N passed, M failed` (the sum of every `cargo test`
+# "test result:" line), which CI reads. The summary is printed on failure too,
+# and the exit status is then the failing step's. The outputs it is computed
+# from are kept in target/test-logs/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# qemu-system-arm and defmt-print: the QEMU tests must run, never skip, in CI.
-bash scripts/setup.sh qemu defmt-print
 
 LIBS=(aeolus-proto aydp-proto aok-proto)
-step() { printf '\n==> %s\n' "$*"; }
+logs=target/test-logs
+mkdir -p "$logs"
+test_log=$logs/cargo-test.log
+fuzz_log=$logs/fuzz.log
+: >"$test_log"
+: >"$fuzz_log"
+# The teed steps keep cargo's colours on a terminal (the summary strips them).
+[ -t 1 ] && [ -z "${CARGO_TERM_COLOR:-}" ] && export CARGO_TERM_COLOR=always
+
+now_ms() { date +%s%3N; }
+secs() { awk -v ms="$1" 'BEGIN { s = ms / 1000; if (s < 60) printf "%.1f s", s; else printf "%d min %02d s", s / 60, s % 60 }'; }
+run_start=$(now_ms)
+current=""
+step_start=0
+timings=()
+end_step() {
+  [ -n "$current" ] || return 0
+  local d=$(($(now_ms) - step_start))
+  printf -- '--> %s: %s\n' "$current" "$(secs "$d")"
+  local short=${current%%:*}
+  timings+=("$(printf '%12s  %s' "$(secs "$d")" "${short%% (*}")")
+  current=""
+}
+step() {
+  end_step
+  current=$1
+  step_start=$(now_ms)
+  printf '\n==> %s\n' "$*"
+}
+
+# Sums, over every "test result:" line of the cargo test output, the number before WORD
+# (passed, failed); with ONLY, over the test binaries whose "Running" line matches ONLY.
+count() {
+  sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$test_log" | awk -v word="$1" -v only="${2:-}" '
+    /^ *(Running|Doc-tests) / { keep = (only == "" || $0 ~ only) }
+    /^test result:/ && (only == "" || keep) {
+      for (i = 2; i <= NF; i++) if ($i ~ "^" word) n += $(i - 1)
+    }
+    END { print n + 0 }'
+}
+
+summary() {
+  local status=$? failed_step=$current
+  trap - EXIT
+  set +e
+  end_step
+  local passed failed qemu fuzz_targets fuzz_execs fuzz_crashes
+  passed=$(count passed)
+  failed=$(count failed)
+  qemu=$(count passed 'qemu_firmware|protolink_e2e')
+  # fuzz.sh's table: "target executions crashes", one line per target.
+  read -r fuzz_targets fuzz_execs fuzz_crashes < <(awk '
+    $1 == "target" && $2 == "executions" { t = 1; next }
+    t && NF == 3 && $3 ~ /^[0-9]+$/ { n++; c += $3; if ($2 ~ /^[0-9]+$/) e += $2; else u++ }
+    END { printf "%d %d%s %d\n", n, e, (u ? "+" : ""), c }' "$fuzz_log")
+  printf '\n==> summary (%s in all)\n' "$(secs $(($(now_ms) - run_start)))"
+  printf '%s\n' "${timings[@]}"
+  echo "QEMU tests run: $qemu passed (tests/tests/qemu_firmware.rs, tests/tests/protolink_e2e.rs)"
+  if [ "$fuzz_targets" -gt 0 ]; then
+    echo "fuzz: $fuzz_execs executions over $fuzz_targets targets, $fuzz_crashes crashes"
+  else
+    echo "fuzz: not run"
+  fi
+  [ "$status" = 0 ] || echo "FAILED: step '$failed_step' (exit status $status)"
+  echo "tests: $passed passed, $failed failed"
+  exit "$status"
+}
+trap summary EXIT
+
+step "setup: qemu-system-arm and defmt-print (the QEMU tests must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print
 
 step "format"
 cargo fmt --all -- --check
@@ -55,7 +130,7 @@ step "rustdoc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 
 step "host tests"
-cargo test --workspace --all-features
+cargo test --workspace --all-features 2>&1 | tee "$test_log"
 
 step "fuzz smoke run: every cargo-fuzz target for ${FUZZ_SECONDS:-20} s"
-FUZZ_JOBS="${FUZZ_JOBS:-$(nproc)}" scripts/fuzz.sh "${FUZZ_SECONDS:-20}"
+FUZZ_JOBS="${FUZZ_JOBS:-$(nproc)}" scripts/fuzz.sh "${FUZZ_SECONDS:-20}" 2>&1 | tee "$fuzz_log"
