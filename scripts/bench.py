@@ -131,6 +131,15 @@ def main():
     out += [l for l in r.stdout.splitlines() if re.match(r"^(target|\w+\s+\d+)", l)]
     out += ["```", ""]
 
+    out += ["## protolink under a loopback flood", "",
+            "`python3 scripts/flood.py --seconds 10`: peak RSS of each command (VmHWM and wait4), the",
+            "telemetry `bridge` forwards while its in-port is flooded, and whether `sim` obeys a command",
+            "sent right after the flood. Targets: under 50 MB, at least 99 %.", ""]
+    r = subprocess.run(["python3", "scripts/flood.py", "--seconds", "10"], cwd=root,
+                       capture_output=True, text=True)
+    out += [l for l in r.stdout.splitlines() if l.startswith("|")]
+    out += [""]
+
     out += ["## Panic-never", "",
             "`checks/panic-never` (built by `scripts/test.sh`, so by CI) feeds volatile bytes through every",
             "decoder, typed parse and encoder of the three crates on thumbv7m in release; its panic handler",
