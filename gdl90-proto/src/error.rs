@@ -41,7 +41,8 @@ pub enum Error {
         actual: u16,
     },
     /// A field holds a value its specification rules out, which rejects the whole message
-    /// (ForeFlight AHRS: roll or pitch beyond ±180°, heading beyond ±360°).
+    /// (ForeFlight AHRS: roll or pitch beyond ±180°, heading beyond ±360°; a report's
+    /// latitude beyond ±90°).
     OutOfRange {
         /// The message ID.
         id: u8,

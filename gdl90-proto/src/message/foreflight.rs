@@ -295,7 +295,7 @@ fn heading_word(heading: Option<Heading>) -> u64 {
     let Some(mut tenths) = round_f32(h.degrees() * 10.0) else {
         return WORD_INVALID;
     };
-    if tenths.abs() > HEADING_LIMIT {
+    if !(-HEADING_LIMIT..=HEADING_LIMIT).contains(&tenths) {
         // An angle: reduce it rather than clamp, it is the same direction.
         tenths = tenths.rem_euclid(HEADING_LIMIT);
     }

@@ -98,7 +98,8 @@ impl<'a> Message<'a> {
     ///
     /// # Errors
     /// [`Error::WrongLength`] for a typed ID with the wrong data length, and
-    /// [`Error::OutOfRange`] for an AHRS message with an attitude or heading out of range.
+    /// [`Error::OutOfRange`] for an AHRS message with an attitude or heading out of range, or
+    /// a report with a latitude beyond ±90 degrees.
     pub fn parse(id: u8, data: &'a [u8]) -> Result<Self, Error> {
         Ok(match (id, data.first()) {
             (id::HEARTBEAT, _) => Self::Heartbeat(Heartbeat::parse(data)?),

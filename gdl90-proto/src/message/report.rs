@@ -253,10 +253,18 @@ impl Report {
     /// errors).
     ///
     /// # Errors
-    /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes.
+    /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes;
+    /// [`Error::OutOfRange`] for a latitude beyond ±90 degrees (a corrupt report: nothing in
+    /// it can be trusted).
     pub fn parse(id: u8, data: &[u8]) -> Result<Self, Error> {
         check_len(id, Self::LEN, data)?;
         let lat = f::LATITUDE.get_signed(data);
+        if lat.abs() > 1 << 22 {
+            return Err(Error::OutOfRange {
+                id,
+                field: "latitude",
+            });
+        }
         let lon = f::LONGITUDE.get_signed(data);
         let nic = f::NIC.get(data) as u8;
         let position = (lat != 0 || lon != 0 || nic != 0).then_some(LatLon {
