@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 # qemu-system-arm and defmt-print: the QEMU tests must run, never skip, in CI.
 bash scripts/setup.sh qemu defmt-print
 
-LIBS=(aeolus-proto aydp-proto aok-proto)
+LIBS=(aeolus-proto aydp-proto aok-proto gdl90-proto)
 step() { printf '\n==> %s\n' "$*"; }
 
 step "format"
