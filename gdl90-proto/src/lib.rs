@@ -93,3 +93,8 @@ pub const TYPED_FRAME: usize = 1 + message::ForeFlightId::LEN + 2;
 /// The unescaped length of the longest ICD message, the UAT uplink (ID 7: 3 bytes of time
 /// of reception and a 432-byte payload): a [`Decoder`] of this capacity receives them all.
 pub const MAX_FRAME: usize = 1 + 3 + 432 + 2;
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctest;
