@@ -447,3 +447,86 @@ fn messages_serialise_to_readable_json() {
     let json = serde_json::to_string(&Message::Ahrs(Ahrs::default())).unwrap();
     assert!(json.contains("\"roll_deg\":null"), "{json}");
 }
+
+/// The field examples printed in the ICD: message counts (3.1.4), latitude/longitude
+/// (3.5.1.3), pressure altitude (3.5.1.4), vertical velocity (3.5.1.8), geometric altitude
+/// and vertical metrics (3.8).
+#[test]
+fn icd_field_examples() {
+    // 4 uplink and 567 basic/long messages: counts bytes 0x22 0x37.
+    let hb = Heartbeat {
+        uplink_messages: 4,
+        basic_long_messages: 567,
+        ..Heartbeat::default()
+    };
+    let mut data = [0u8; Heartbeat::LEN];
+    hb.emit(&mut data).unwrap();
+    assert_eq!(data[4..6], [0x22, 0x37]);
+    assert_eq!(Heartbeat::parse(&data), Ok(hb));
+
+    let report_with = |bytes: &[(usize, u8)]| {
+        let mut d = [0u8; Report::LEN];
+        d[12] = 0x10; // NIC 1, so that a 0/0 position still reads as a position
+        for &(at, b) in bytes {
+            d[at] = b;
+        }
+        Report::parse(10, &d).unwrap()
+    };
+    let lat = |b: [u8; 3]| {
+        report_with(&[(4, b[0]), (5, b[1]), (6, b[2])])
+            .position
+            .unwrap()
+            .lat_deg
+    };
+    let lon = |b: [u8; 3]| {
+        report_with(&[(7, b[0]), (8, b[1]), (9, b[2])])
+            .position
+            .unwrap()
+            .lon_deg
+    };
+    let lsb = 180.0 / 8_388_608.0;
+    assert_eq!(lat([0x00, 0x00, 0x01]), lsb);
+    assert_eq!(lat([0xFF, 0xFF, 0xFF]), -lsb);
+    assert_eq!(lat([0x20, 0x00, 0x00]), 45.0);
+    assert_eq!(lat([0xE0, 0x00, 0x00]), -45.0);
+    assert_eq!(lat([0x40, 0x00, 0x00]), 90.0);
+    assert_eq!(lon([0x80, 0x00, 0x00]), -180.0);
+    assert_eq!(lon([0x7F, 0xFF, 0xFF]), 180.0 - lsb);
+
+    let alt = |ddd: u16| {
+        report_with(&[(10, (ddd >> 4) as u8), (11, (ddd << 4) as u8)]).pressure_altitude_ft
+    };
+    assert_eq!(alt(0x000), Some(-1000));
+    assert_eq!(alt(0x028), Some(0));
+    assert_eq!(alt(0x050), Some(1000));
+    assert_eq!(alt(0xFFE), Some(101_350));
+    assert_eq!(alt(0xFFF), None);
+
+    let vv = |v: u16| report_with(&[(14, (v >> 8) as u8), (15, v as u8)]).vertical_rate_fpm;
+    assert_eq!(vv(0x000), Some(0));
+    assert_eq!(vv(0x001), Some(64));
+    assert_eq!(vv(0xFFF), Some(-64));
+    assert_eq!(vv(0x1FD), Some(32_576));
+    assert_eq!(vv(0x1FE), Some(32_640));
+    assert_eq!(vv(0xE03), Some(-32_576));
+    assert_eq!(vv(0xE02), Some(-32_640));
+    assert_eq!(vv(0x800), None);
+    assert_eq!(vv(0x1FF), None);
+    assert_eq!(vv(0xE01), None);
+
+    let geo = |alt: i32, warning: bool, vfom_m: Option<u16>| {
+        let mut d = [0u8; GeoAltitude::LEN];
+        GeoAltitude {
+            altitude_ft: alt,
+            vertical_warning: warning,
+            vfom_m,
+        }
+        .emit(&mut d)
+        .unwrap();
+        d
+    };
+    assert_eq!(geo(-1000, true, None), [0xFF, 0x38, 0xFF, 0xFF]);
+    assert_eq!(geo(0, false, Some(40_000)), [0x00, 0x00, 0x7F, 0xFE]);
+    assert_eq!(geo(1000, false, Some(10)), [0x00, 0xC8, 0x00, 0x0A]);
+    assert_eq!(geo(0, true, Some(50)), [0x00, 0x00, 0x80, 0x32]);
+}
