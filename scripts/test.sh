@@ -96,6 +96,9 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
     cargo build -q -p "$l" --target "$t" --release
     cargo build -q -p "$l" --target "$t" --release --features defmt,embedded-io,embedded-io-async
   done
+  # gdl90-proto (Rust 1.95, no embedded-io features yet): default and defmt.
+  cargo build -q -p gdl90-proto --target "$t" --release
+  cargo build -q -p gdl90-proto --target "$t" --release --features defmt
 done
 
 MSRV=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' aeolus-proto/Cargo.toml)

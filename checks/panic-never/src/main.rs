@@ -1,9 +1,10 @@
 //! # panic-never
 //!
 //! Feeds bytes the optimiser cannot see (read with `read_volatile`) through every decoder,
-//! typed parse and encoder of the protocol crates. The panic handler calls a function that is
-//! defined nowhere, so this binary only links if the optimiser removed every panic path: if a
-//! change makes a panic reachable from any of these entry points, the link fails with
+//! typed parse and encoder of the protocol crates (AEOLUS, AOK, AYDP and GDL90). The panic
+//! handler calls a function that is defined nowhere, so this binary only links if the
+//! optimiser removed every panic path: if a change makes a panic reachable from any of these
+//! entry points, the link fails with
 //! `undefined symbol: PANIC_PATH_REACHABLE_see_checks_panic_never`.
 //!
 //! The `embedded-io` readers and writers of the three crates, the `embedded-io-async` readers
@@ -486,12 +487,136 @@ mod io {
     }
 }
 
+mod gdl90 {
+    use super::*;
+    use gdl90_proto::{message::*, *};
+
+    fn use_message(msg: &Message<'_>) {
+        sink(msg.buffer_len() as u32 ^ msg.id() as u32);
+        let mut out = [0u8; MAX_ENCODED_LEN];
+        let k = input_byte(30) as usize % (out.len() + 1);
+        if let Ok(n) = msg.encode(&mut out[..k]) {
+            sink(n as u32);
+        }
+    }
+
+    pub fn run() {
+        // The decoder, byte by byte, at the typed capacity and a tiny one.
+        let mut d = Decoder::<{ TYPED_FRAME }>::new();
+        let mut small = Decoder::<4>::new();
+        for i in 0..len() {
+            let b = input_byte(i);
+            if let Some(Ok(msg)) = d.push(b) {
+                use_message(&msg);
+            }
+            if let Some(ev) = small.push(b) {
+                sink(ev.is_ok() as u32);
+            }
+        }
+        sink(d.stats().bytes_discarded ^ small.stats().overflows);
+
+        // The slice path, in opaque chunks.
+        let bulk: [u8; 512] = input();
+        let total = len() % 513;
+        let mut b = Decoder::<{ TYPED_FRAME }>::new();
+        let mut at = 0;
+        while at < total {
+            let step = 1 + input_byte(at) as usize % 53;
+            let end = if at + step < total { at + step } else { total };
+            b.push_slice(bulk.get(at..end).unwrap_or(&[]), |ev| {
+                if let Ok(msg) = ev {
+                    use_message(&msg);
+                }
+            });
+            at = end;
+        }
+        sink(b.stats().frames_ok ^ b.pending_bytes() as u32);
+
+        // Every typed parse on opaque data; emit and encode what parsed.
+        let data: [u8; 64] = input();
+        let dl = len() % 65;
+        if let Ok(msg) = Message::parse(input_byte(31), &data[..dl]) {
+            use_message(&msg);
+            let mut raw = [0u8; 64];
+            let k = input_byte(32) as usize % 65;
+            if let Ok(n) = msg.emit(&mut raw[..k]) {
+                sink(n as u32);
+            }
+        }
+
+        // The encoders with opaque values and output sizes.
+        let f = |i: usize| f32::from_bits(u32::from_le_bytes([
+            input_byte(i), input_byte(i + 1), input_byte(i + 2), input_byte(i + 3),
+        ]));
+        let w = |i: usize| u16::from_le_bytes([input_byte(i), input_byte(i + 1)]);
+        let mut out = [0u8; MAX_ENCODED_LEN];
+        let k = input_byte(33) as usize % (MAX_ENCODED_LEN + 1);
+        let hb = Heartbeat {
+            utc_ok: input_byte(34) & 1 == 1,
+            seconds_since_midnight: f(35).to_bits(),
+            uplink_messages: input_byte(39),
+            basic_long_messages: w(40),
+            ..Heartbeat::default()
+        };
+        if let Ok(n) = encode_heartbeat(&hb, &mut out[..k]) {
+            sink(n as u32);
+        }
+        let report = Report {
+            address: f(42).to_bits(),
+            position: Some(LatLon { lat_deg: f(46) as f64 * 1e30, lon_deg: f(50) as f64 }),
+            pressure_altitude_ft: Some(f(54).to_bits() as i32),
+            track: Some(Track::MagneticHeading(f(58))),
+            nic: input_byte(62),
+            ground_speed_kt: Some(w(63)),
+            vertical_rate_fpm: Some(f(65).to_bits() as i32),
+            address_type: AddressType::from_nibble(input_byte(69)),
+            emergency: Emergency::from_nibble(input_byte(70)),
+            ..Report::default()
+        };
+        if let Ok(n) = encode_ownship(&report, &mut out[..k]) {
+            sink(n as u32);
+        }
+        if let Ok(n) = encode_traffic(&report, &mut out[..k]) {
+            sink(n as u32);
+        }
+        let alt = GeoAltitude {
+            altitude_ft: f(71).to_bits() as i32,
+            vertical_warning: true,
+            vfom_m: Some(w(75)),
+        };
+        if let Ok(n) = encode_geo_altitude(&alt, &mut out[..k]) {
+            sink(n as u32);
+        }
+        let id = ForeFlightId { serial: Some(f(77).to_bits() as u64), ..ForeFlightId::default() };
+        if let Ok(n) = encode_foreflight_id(&id, &mut out[..k]) {
+            sink(n as u32);
+        }
+        let ahrs = Ahrs {
+            roll_deg: Some(f(81)),
+            pitch_deg: Some(f(85)),
+            heading: Some(Heading::Magnetic(f(89))),
+            indicated_airspeed_kt: Some(w(93)),
+            true_airspeed_kt: None,
+        };
+        if let Ok(n) = encode_ahrs(&ahrs, &mut out[..k]) {
+            sink(n as u32);
+        }
+        if let Ok(n) = encode_frame(input_byte(95), &data[..dl], &mut out[..k]) {
+            sink(n as u32);
+        }
+        if let Some(cs) = CallSign::new(core::str::from_utf8(&data[..dl % 9]).unwrap_or("")) {
+            sink(cs.as_str().map_or(0, str::len) as u32);
+        }
+    }
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn entry() -> ! {
     aydp::run();
     aeolus::run();
     aok::run();
     io::run();
+    gdl90::run();
     loop {
         core::hint::spin_loop();
     }

@@ -1,0 +1,211 @@
+//! The stream decoder: bytes in, typed messages or errors out.
+//!
+//! It is AEOLUS's [`Deframer`] (GDL90 framing is identical: 0x7E flags, 0x7D escapes, the
+//! same CRC sent LSB first) plus two GDL90 rules: a frame whose CRC field is `00 00` is
+//! checked like any other (AEOLUS alone reads `00 00` as "no CRC"), and every good frame is
+//! parsed into a [`Message`] before it is handed over.
+
+use aeolus_proto::{Deframer, Frame};
+
+use crate::message::Message;
+use crate::{ESCAPE, Error, FLAG};
+
+/// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
+///
+/// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
+/// or is still pending in the decoder ([`Decoder::pending_bytes`]). Each counted frame was
+/// also reported as exactly one event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Stats {
+    /// Frames with a good CRC delivered as a [`Message`] (raw ones included).
+    pub frames_ok: u32,
+    /// Frames with a good CRC whose typed parse failed ([`Error::WrongLength`],
+    /// [`Error::OutOfRange`]).
+    pub invalid: u32,
+    /// Frames dropped for a CRC mismatch (a received `00 00` included).
+    pub crc_errors: u32,
+    /// Frames dropped because they outgrew the capacity.
+    pub overflows: u32,
+    /// Frames dropped because they were too short for an ID and a CRC.
+    pub too_short: u32,
+    /// Frames dropped for a bad escape sequence (invalid byte after 0x7D, or 0x7D before a
+    /// flag).
+    pub bad_escapes: u32,
+    /// Bytes dropped: noise before a flag, and the wire bytes of every dropped frame.
+    pub bytes_discarded: u32,
+    /// Wire bytes (escapes included, flags excluded) of the frames with a good CRC.
+    pub frame_bytes: u32,
+    /// Flag bytes seen.
+    pub flags: u32,
+}
+
+/// What the decoder counts beyond the AEOLUS deframer's own counters.
+#[derive(Debug, Clone, Copy, Default)]
+struct Extra {
+    /// Good-CRC frames whose typed parse failed.
+    invalid: u32,
+    /// Wire bytes of the `00 00` frames the deframer delivered unchecked and this decoder
+    /// rejected: the deframer counted them as frame bytes.
+    zero_crc_bytes: u32,
+}
+
+/// A byte-at-a-time GDL90 decoder holding at most `N` unescaped bytes per frame (ID, data,
+/// CRC).
+///
+/// Each byte gives at most one event: `None` (nothing yet), `Some(Ok(message))` or
+/// `Some(Err(error))`. After any error it resynchronises on the next flag, so an intact frame
+/// after garbage or after a bad CRC is always delivered. A capacity of
+/// [`crate::TYPED_FRAME`] receives every typed message; [`crate::MAX_FRAME`] receives every
+/// ICD message (the UAT uplink is the longest).
+///
+/// ```
+/// use gdl90_proto::{Decoder, message::Message};
+///
+/// // Noise, then the ICD's heartbeat example.
+/// let rx = [0x13, 0x37, 0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
+/// let mut decoder = Decoder::<{ gdl90_proto::TYPED_FRAME }>::new();
+/// let mut seconds = None;
+/// for &byte in &rx {
+///     match decoder.push(byte) {
+///         Some(Ok(Message::Heartbeat(hb))) => seconds = Some(hb.seconds_since_midnight),
+///         Some(Ok(other)) => println!("{}", other.name()),
+///         Some(Err(e)) => println!("error: {e}"),
+///         None => {}
+///     }
+/// }
+/// assert_eq!(seconds, Some(53467));
+/// assert_eq!(decoder.stats().bytes_discarded, 2);
+/// ```
+#[derive(Debug, Clone)]
+pub struct Decoder<const N: usize> {
+    deframer: Deframer<N>,
+    extra: Extra,
+}
+
+impl<const N: usize> Default for Decoder<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Decoder<N> {
+    /// An empty decoder, waiting for a flag.
+    pub const fn new() -> Self {
+        Decoder {
+            // Lenient mode, so that a `00 00` frame reaches `accept` whole and its real CRC
+            // can be reported; `accept` rejects it.
+            deframer: Deframer::new(),
+            extra: Extra {
+                invalid: 0,
+                zero_crc_bytes: 0,
+            },
+        }
+    }
+
+    /// Feeds one byte. Returns at most one event.
+    ///
+    /// ```
+    /// use gdl90_proto::{Decoder, Error};
+    /// // A heartbeat whose CRC field was zeroed: GDL90 has no "no CRC" code.
+    /// let mut d = Decoder::<64>::new();
+    /// let mut last = None;
+    /// for &b in &[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0x00, 0x00, 0x7E] {
+    ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|m| m.id())); }
+    /// }
+    /// assert_eq!(last, Some(Err(Error::CrcMismatch { id: 0, computed: 0x8BB3, received: 0 })));
+    /// ```
+    #[inline]
+    pub fn push(&mut self, byte: u8) -> Option<Result<Message<'_>, Error>> {
+        let event = self.deframer.push(byte)?;
+        Some(accept(&mut self.extra, event))
+    }
+
+    /// Feeds a slice and calls `on_event` for every event, in order: exactly the events of
+    /// pushing the bytes one by one, faster (runs of ordinary bytes are copied in bulk).
+    ///
+    /// ```
+    /// use gdl90_proto::Decoder;
+    /// let mut d = Decoder::<64>::new();
+    /// let mut ids = Vec::new();
+    /// let wire = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
+    /// d.push_slice(&wire, |ev| ids.push(ev.map(|m| m.id())));
+    /// assert_eq!(ids, [Ok(0)]);
+    /// ```
+    pub fn push_slice(
+        &mut self,
+        bytes: &[u8],
+        mut on_event: impl FnMut(Result<Message<'_>, Error>),
+    ) {
+        let extra = &mut self.extra;
+        self.deframer
+            .push_slice(bytes, |event| on_event(accept(extra, event)));
+    }
+
+    /// The counters so far.
+    ///
+    /// ```
+    /// use gdl90_proto::Decoder;
+    /// let mut d = Decoder::<64>::new();
+    /// d.push_slice(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
+    /// assert_eq!((d.stats().frames_ok, d.stats().frame_bytes, d.stats().flags), (1, 9, 2));
+    /// ```
+    pub fn stats(&self) -> Stats {
+        let s = self.deframer.stats();
+        let zero = self.extra.zero_crc_bytes;
+        Stats {
+            frames_ok: s.frames_ok.wrapping_sub(self.extra.invalid),
+            invalid: self.extra.invalid,
+            // Every frame the lenient deframer delivered without CRC was rejected here.
+            crc_errors: s.crc_errors.wrapping_add(s.frames_no_crc),
+            overflows: s.overflows,
+            too_short: s.too_short,
+            bad_escapes: s.bad_escapes,
+            bytes_discarded: s.bytes_discarded.wrapping_add(zero),
+            frame_bytes: s.frame_bytes.wrapping_sub(zero),
+            flags: s.flags,
+        }
+    }
+
+    /// Zeroes the counters.
+    pub fn reset_stats(&mut self) {
+        self.deframer.reset_stats();
+        self.extra = Extra::default();
+    }
+
+    /// Drops the frame in progress (counting its bytes as discarded) and waits for a flag.
+    pub fn reset(&mut self) {
+        self.deframer.reset();
+    }
+
+    /// Wire bytes of the frame in progress (received, not yet delivered nor dropped).
+    pub const fn pending_bytes(&self) -> usize {
+        self.deframer.pending_bytes()
+    }
+}
+
+/// Turns one deframer event into a decoder event, counting what the deframer cannot.
+fn accept<'a>(
+    extra: &mut Extra,
+    event: Result<Frame<'a>, aeolus_proto::Error>,
+) -> Result<Message<'a>, Error> {
+    let frame = event.map_err(Error::from_framing)?;
+    if !frame.has_crc() {
+        // The lenient deframer passes `00 00` unchecked; a real CRC of 0 would have been
+        // recognised as checked, so this CRC is wrong.
+        let raw = frame.raw();
+        let body = raw.get(..raw.len().saturating_sub(2)).unwrap_or(&[]);
+        let escapes = raw.iter().filter(|&&b| b == FLAG || b == ESCAPE).count();
+        let wire = raw.len().wrapping_add(escapes) as u32;
+        extra.zero_crc_bytes = extra.zero_crc_bytes.wrapping_add(wire);
+        return Err(Error::CrcMismatch {
+            id: frame.id(),
+            computed: aeolus_proto::crc::checksum(body),
+            received: 0,
+        });
+    }
+    Message::parse(frame.id(), frame.data()).inspect_err(|_| {
+        extra.invalid = extra.invalid.wrapping_add(1);
+    })
+}

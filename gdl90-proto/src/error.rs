@@ -1,0 +1,131 @@
+//! The crate's single error type.
+
+use core::fmt;
+
+/// Everything that can go wrong while decoding, parsing or encoding GDL90 data.
+///
+/// Decoders report these as events and carry on: no input makes them panic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum Error {
+    /// The output buffer cannot hold what was asked for.
+    BufferTooSmall,
+    /// A frame grew past the decoder's capacity. Its bytes were dropped and the decoder waits
+    /// for the next flag.
+    Overflow,
+    /// The received CRC does not match the CRC of the ID and data. GDL90 has no "no CRC"
+    /// value: a received `00 00` is checked like any other CRC.
+    CrcMismatch {
+        /// The message ID as received (it may itself be corrupted).
+        id: u8,
+        /// The CRC computed over the received ID and data.
+        computed: u16,
+        /// The CRC carried by the frame.
+        received: u16,
+    },
+    /// A frame too short to hold an ID and a CRC (1 or 2 bytes between the flags).
+    TooShort,
+    /// An escape byte (0x7D) followed by something other than 0x5D or 0x5E.
+    InvalidEscape,
+    /// An escape byte (0x7D) right before a flag: the frame was aborted.
+    EscapedFlag,
+    /// A message this crate types arrived with the wrong number of data bytes.
+    WrongLength {
+        /// The message ID.
+        id: u8,
+        /// The data length the layout prescribes (after the ID, before the CRC; a ForeFlight
+        /// sub-ID counts as data).
+        expected: u16,
+        /// The data length received.
+        actual: u16,
+    },
+    /// A field holds a value its specification rules out, which rejects the whole message
+    /// (ForeFlight AHRS: roll or pitch beyond ±180°, heading beyond ±360°; a report's
+    /// latitude beyond ±90°).
+    OutOfRange {
+        /// The message ID.
+        id: u8,
+        /// The field, as named in this crate's types.
+        field: &'static str,
+    },
+}
+
+impl Error {
+    /// The errors of the AEOLUS framing layer this crate reuses. The deframer runs in its
+    /// lenient mode and never reports `MissingCrc` (this crate turns an unchecked `00 00`
+    /// into [`Error::CrcMismatch`] itself); `Truncated`, `WrongLength` and `TextTooLong`
+    /// belong to AEOLUS datagrams and messages, which this crate does not use. They map to
+    /// the nearest GDL90 error only to keep the conversion total.
+    pub(crate) fn from_framing(e: aeolus_proto::Error) -> Self {
+        use aeolus_proto::Error as A;
+        match e {
+            A::BufferTooSmall => Error::BufferTooSmall,
+            A::Overflow => Error::Overflow,
+            A::CrcMismatch {
+                id,
+                computed,
+                received,
+            } => Error::CrcMismatch {
+                id,
+                computed,
+                received,
+            },
+            A::MissingCrc { id } => Error::CrcMismatch {
+                id,
+                computed: 0,
+                received: 0,
+            },
+            A::TooShort | A::Truncated => Error::TooShort,
+            A::InvalidEscape => Error::InvalidEscape,
+            A::EscapedFlag => Error::EscapedFlag,
+            A::WrongLength {
+                id,
+                expected,
+                actual,
+            } => Error::WrongLength {
+                id,
+                expected,
+                actual,
+            },
+            A::TextTooLong { id, len } => Error::WrongLength {
+                id,
+                expected: 0,
+                actual: len,
+            },
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::BufferTooSmall => f.write_str("output buffer too small"),
+            Error::Overflow => f.write_str("frame longer than the decoder capacity"),
+            Error::CrcMismatch {
+                id,
+                computed,
+                received,
+            } => write!(
+                f,
+                "CRC mismatch on message {id:#04x}: computed {computed:#06x}, received {received:#06x}"
+            ),
+            Error::TooShort => f.write_str("frame too short to hold an ID and a CRC"),
+            Error::InvalidEscape => f.write_str("escape byte followed by an invalid byte"),
+            Error::EscapedFlag => f.write_str("escape byte right before a flag (frame aborted)"),
+            Error::WrongLength {
+                id,
+                expected,
+                actual,
+            } => write!(
+                f,
+                "message {id:#04x} has {actual} data bytes, expected {expected}"
+            ),
+            Error::OutOfRange { id, field } => {
+                write!(f, "message {id:#04x}: {field} out of range")
+            }
+        }
+    }
+}
+
+impl core::error::Error for Error {}

@@ -1,0 +1,100 @@
+//! # gdl90-proto
+//!
+//! A zero-allocation, `no_std` encoder and decoder for GDL90 (FAA GDL 90 Public ICD Rev A)
+//! and ForeFlight's GDL 90 extensions: Heartbeat, Ownship and Traffic Reports, Ownship
+//! Geometric Altitude, ForeFlight ID and ForeFlight AHRS, typed with physical units; every
+//! other ID delivered raw.
+//!
+//! GDL90 framing is AEOLUS framing (`0x7E` flags, `0x7D` escapes, the same CRC-16 sent LSB
+//! first), so this crate reuses `aeolus-proto`'s deframer, frame encoder and CRC. The one
+//! difference is handled here: GDL90 has no "CRC `00 00` means no CRC" rule, so such a frame
+//! is checked like any other.
+//!
+//! - [`Decoder`]: byte-at-a-time ([`Decoder::push`]) or slice-at-a-time
+//!   ([`Decoder::push_slice`]) decoding into events, `Ok(Message)` or `Err(Error)`, bounded by
+//!   a const-generic capacity, resynchronising after any error, with [`Stats`] counters.
+//! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
+//!   [`encode_foreflight_id`], [`encode_ahrs`] and [`message::Message::encode`]: a whole
+//!   frame into a `&mut [u8]`, returning its length; [`MAX_ENCODED_LEN`] bytes always do.
+//! - [`message`]: the typed messages, and their byte tables in [`message::layout`].
+//!
+//! Decoders never panic, whatever the input.
+//!
+//! ## Decoding a byte stream
+//!
+//! ```
+//! use gdl90_proto::{Decoder, message::Message};
+//!
+//! // The ICD's heartbeat example, a frame with a corrupted CRC, then the heartbeat again.
+//! let heartbeat = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
+//! let mut stream = heartbeat.to_vec();
+//! stream.extend_from_slice(&[0x7E, 0x0B, 0x01, 0x2C, 0x00, 0x0A, 0x12, 0x34, 0x7E]);
+//! stream.extend_from_slice(&heartbeat);
+//!
+//! let mut decoder = Decoder::<{ gdl90_proto::TYPED_FRAME }>::new();
+//! let (mut heartbeats, mut errors) = (0, 0);
+//! for &byte in &stream {
+//!     match decoder.push(byte) {
+//!         Some(Ok(Message::Heartbeat(hb))) => {
+//!             assert!(hb.gps_position_valid && hb.utc_ok);
+//!             heartbeats += 1;
+//!         }
+//!         Some(Ok(_)) => {}
+//!         Some(Err(_)) => errors += 1,
+//!         None => {}
+//!     }
+//! }
+//! assert_eq!((heartbeats, errors), (2, 1));
+//! assert_eq!(decoder.stats().crc_errors, 1);
+//! ```
+//!
+//! ## Encoding an AHRS message
+//!
+//! ```
+//! use gdl90_proto::{encode_ahrs, MAX_ENCODED_LEN, message::{Ahrs, Heading}};
+//!
+//! let ahrs = Ahrs {
+//!     roll_deg: Some(15.0),
+//!     pitch_deg: Some(-2.5),
+//!     heading: Some(Heading::Magnetic(90.0)),
+//!     indicated_airspeed_kt: Some(110),
+//!     true_airspeed_kt: None,
+//! };
+//! let mut wire = [0u8; MAX_ENCODED_LEN];
+//! let n = encode_ahrs(&ahrs, &mut wire).unwrap();
+//! assert_eq!(&wire[..3], &[0x7E, 0x65, 0x01]);
+//! assert_eq!(wire[n - 1], 0x7E);
+//! ```
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+mod decode;
+mod encode;
+mod error;
+pub mod message;
+
+pub use aeolus_proto::crc;
+pub use decode::{Decoder, Stats};
+pub use encode::{
+    MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,
+    encode_heartbeat, encode_ownship, encode_traffic, max_encoded_len,
+};
+pub use error::Error;
+
+/// The flag byte that opens and closes every frame.
+pub const FLAG: u8 = aeolus_proto::FLAG;
+/// The control-escape byte.
+pub const ESCAPE: u8 = aeolus_proto::ESCAPE;
+/// The unescaped length (ID + data + CRC) of the longest typed message, the ForeFlight ID:
+/// a [`Decoder`] of this capacity receives every typed message (longer ones give
+/// [`Error::Overflow`]).
+pub const TYPED_FRAME: usize = 1 + message::ForeFlightId::LEN + 2;
+/// The unescaped length of the longest ICD message, the UAT uplink (ID 7: 3 bytes of time
+/// of reception and a 432-byte payload): a [`Decoder`] of this capacity receives them all.
+pub const MAX_FRAME: usize = 1 + 3 + 432 + 2;
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctest;

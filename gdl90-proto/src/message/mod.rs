@@ -1,0 +1,258 @@
+//! Typed GDL90 messages: one plain struct per message with `ID`, `LEN`, `parse`, `emit` and
+//! `buffer_len`, their byte tables in [`layout`], and the [`Message`] enum that covers every
+//! ID (raw for the IDs this crate does not type).
+//!
+//! Physical values carry their unit in their name (`_deg`, `_ft`, `_kt`, `_fpm`, `_m`), and
+//! every field with an "invalid" or "not available" code on the wire is an `Option` (or an
+//! enum), so a marker is never read as a value. Encoders clamp out-of-range values to the
+//! nearest valid code (angles are reduced instead: 370 degrees is 10 degrees); they never
+//! wrap and never turn a value into a marker.
+
+mod foreflight;
+mod geo_altitude;
+mod heartbeat;
+pub mod layout;
+mod report;
+mod scale;
+mod text;
+
+pub use foreflight::{Ahrs, AltitudeDatum, FOREFLIGHT_ID, ForeFlightId, Heading};
+pub use geo_altitude::GeoAltitude;
+pub use heartbeat::Heartbeat;
+pub use report::{AddressType, Emergency, LatLon, Report, Track};
+pub use text::{CallSign, Name};
+
+use crate::{Error, encode_frame};
+
+/// Message IDs (ICD table 2, and ForeFlight's 0x65).
+pub mod id {
+    /// Heartbeat.
+    pub const HEARTBEAT: u8 = 0;
+    /// Initialization (display to GDL 90; kept raw).
+    pub const INITIALIZATION: u8 = 2;
+    /// UAT uplink data (kept raw).
+    pub const UPLINK: u8 = 7;
+    /// Height above terrain (kept raw).
+    pub const HEIGHT_ABOVE_TERRAIN: u8 = 9;
+    /// Ownship Report.
+    pub const OWNSHIP: u8 = 10;
+    /// Ownship Geometric Altitude.
+    pub const GEO_ALTITUDE: u8 = 11;
+    /// Traffic Report.
+    pub const TRAFFIC: u8 = 20;
+    /// Basic UAT report (kept raw).
+    pub const BASIC_REPORT: u8 = 30;
+    /// Long UAT report (kept raw).
+    pub const LONG_REPORT: u8 = 31;
+    /// ForeFlight extensions (sub-ID 0: ID, 1: AHRS).
+    pub const FOREFLIGHT: u8 = super::FOREFLIGHT_ID;
+}
+
+/// Any GDL90 message: typed where this crate knows the layout, raw otherwise.
+///
+/// The [`Decoder`](crate::Decoder) delivers these; [`Message::encode`] puts one on the wire.
+///
+/// ```
+/// use gdl90_proto::{MAX_ENCODED_LEN, message::{GeoAltitude, Message}};
+/// let msg = Message::GeoAltitude(GeoAltitude { altitude_ft: 1500, ..Default::default() });
+/// let mut wire = [0u8; MAX_ENCODED_LEN];
+/// let n = msg.encode(&mut wire).unwrap();
+/// assert_eq!(&wire[..4], &[0x7E, 11, 0x01, 0x2C]);
+/// assert_eq!(wire[n - 1], 0x7E);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum Message<'a> {
+    /// Heartbeat (0).
+    Heartbeat(Heartbeat),
+    /// Ownship Report (10).
+    Ownship(Report),
+    /// Ownship Geometric Altitude (11).
+    GeoAltitude(GeoAltitude),
+    /// Traffic Report (20).
+    Traffic(Report),
+    /// ForeFlight ID (0x65, sub-ID 0).
+    ForeFlightId(ForeFlightId),
+    /// ForeFlight AHRS (0x65, sub-ID 1).
+    Ahrs(Ahrs),
+    /// Any other ID (or a ForeFlight sub-ID other than 0 and 1), kept raw.
+    Unknown {
+        /// The message ID.
+        id: u8,
+        /// The data (after the ID, before the CRC; a ForeFlight sub-ID is its first byte).
+        data: &'a [u8],
+    },
+}
+
+impl<'a> Message<'a> {
+    /// Parses the data of a message with ID `id`.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Message;
+    /// let msg = Message::parse(11, &[0x01, 0x2C, 0x7F, 0xFF]).unwrap();
+    /// let Message::GeoAltitude(alt) = msg else { panic!() };
+    /// assert_eq!((alt.altitude_ft, alt.vfom_m), (1500, None));
+    /// assert_eq!(Message::parse(7, &[1, 2, 3]).unwrap(), Message::Unknown { id: 7, data: &[1, 2, 3] });
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::WrongLength`] for a typed ID with the wrong data length, and
+    /// [`Error::OutOfRange`] for an AHRS message with an attitude or heading out of range, or
+    /// a report with a latitude beyond ±90 degrees.
+    pub fn parse(id: u8, data: &'a [u8]) -> Result<Self, Error> {
+        Ok(match (id, data.first()) {
+            (id::HEARTBEAT, _) => Self::Heartbeat(Heartbeat::parse(data)?),
+            (id::OWNSHIP, _) => Self::Ownship(Report::parse(id, data)?),
+            (id::GEO_ALTITUDE, _) => Self::GeoAltitude(GeoAltitude::parse(data)?),
+            (id::TRAFFIC, _) => Self::Traffic(Report::parse(id, data)?),
+            (id::FOREFLIGHT, Some(&ForeFlightId::SUB_ID)) => {
+                Self::ForeFlightId(ForeFlightId::parse(data)?)
+            }
+            (id::FOREFLIGHT, Some(&Ahrs::SUB_ID)) => Self::Ahrs(Ahrs::parse(data)?),
+            _ => Self::Unknown { id, data },
+        })
+    }
+
+    /// The message ID.
+    pub const fn id(&self) -> u8 {
+        match self {
+            Self::Heartbeat(_) => id::HEARTBEAT,
+            Self::Ownship(_) => id::OWNSHIP,
+            Self::GeoAltitude(_) => id::GEO_ALTITUDE,
+            Self::Traffic(_) => id::TRAFFIC,
+            Self::ForeFlightId(_) | Self::Ahrs(_) => id::FOREFLIGHT,
+            Self::Unknown { id, .. } => *id,
+        }
+    }
+
+    /// A short name for logs and desk tools (`"UNKNOWN"` for a raw message).
+    pub const fn name(&self) -> &'static str {
+        match self {
+            Self::Heartbeat(_) => "HEARTBEAT",
+            Self::Ownship(_) => "OWNSHIP",
+            Self::GeoAltitude(_) => "GEO_ALTITUDE",
+            Self::Traffic(_) => "TRAFFIC",
+            Self::ForeFlightId(_) => "FOREFLIGHT_ID",
+            Self::Ahrs(_) => "FOREFLIGHT_AHRS",
+            Self::Unknown { .. } => "UNKNOWN",
+        }
+    }
+
+    /// The data length [`Message::emit`] writes.
+    pub const fn buffer_len(&self) -> usize {
+        match self {
+            Self::Heartbeat(_) => Heartbeat::LEN,
+            Self::Ownship(_) | Self::Traffic(_) => Report::LEN,
+            Self::GeoAltitude(_) => GeoAltitude::LEN,
+            Self::ForeFlightId(_) => ForeFlightId::LEN,
+            Self::Ahrs(_) => Ahrs::LEN,
+            Self::Unknown { data, .. } => data.len(),
+        }
+    }
+
+    /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+        match self {
+            Self::Heartbeat(m) => m.emit(out),
+            Self::Ownship(m) | Self::Traffic(m) => m.emit(out),
+            Self::GeoAltitude(m) => m.emit(out),
+            Self::ForeFlightId(m) => m.emit(out),
+            Self::Ahrs(m) => m.emit(out),
+            Self::Unknown { data, .. } => {
+                let dst = out.get_mut(..data.len()).ok_or(Error::BufferTooSmall)?;
+                dst.copy_from_slice(data);
+                Ok(data.len())
+            }
+        }
+    }
+
+    /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns its
+    /// length. [`crate::MAX_ENCODED_LEN`] is enough for every typed message;
+    /// [`crate::max_encoded_len`] of [`Message::buffer_len`] for any message.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`].
+    pub fn encode(&self, out: &mut [u8]) -> Result<usize, Error> {
+        match self {
+            Self::Unknown { id, data } => encode_frame(*id, data, out),
+            _ => {
+                let mut data = [0u8; MAX_TYPED_DATA];
+                let n = self.emit(&mut data)?;
+                encode_frame(self.id(), data.get(..n).unwrap_or(&[]), out)
+            }
+        }
+    }
+}
+
+/// The longest typed layout (ForeFlight ID, 38 bytes).
+pub(crate) const MAX_TYPED_DATA: usize = ForeFlightId::LEN;
+
+/// `Err(WrongLength)` unless `data` is `len` bytes long.
+fn check_len(id: u8, len: usize, data: &[u8]) -> Result<(), Error> {
+    if data.len() == len {
+        Ok(())
+    } else {
+        Err(Error::WrongLength {
+            id,
+            expected: len as u16,
+            actual: data.len().min(u16::MAX as usize) as u16,
+        })
+    }
+}
+
+/// Zeroes `out[..len]`, lets `fill` write the fields, returns `len`.
+fn emit_into(out: &mut [u8], len: usize, fill: impl FnOnce(&mut [u8])) -> Result<usize, Error> {
+    let d = out.get_mut(..len).ok_or(Error::BufferTooSmall)?;
+    d.fill(0);
+    fill(d);
+    Ok(len)
+}
+
+/// Emits a fixed-size message of `LEN` data bytes into a stack buffer and frames it.
+fn encode_fixed<const LEN: usize>(
+    id: u8,
+    out: &mut [u8],
+    emit: impl FnOnce(&mut [u8]) -> Result<usize, Error>,
+) -> Result<usize, Error> {
+    let mut data = [0u8; LEN];
+    let n = emit(&mut data)?;
+    encode_frame(id, data.get(..n).unwrap_or(&[]), out)
+}
+
+macro_rules! encode_method {
+    ($ty:ty, $example:literal) => {
+        impl $ty {
+            /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns
+            /// its length.
+            ///
+            #[doc = $example]
+            ///
+            /// # Errors
+            /// [`Error::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
+            pub fn encode(&self, out: &mut [u8]) -> Result<usize, Error> {
+                encode_fixed::<{ <$ty>::LEN }>(<$ty>::ID, out, |d| self.emit(d))
+            }
+        }
+    };
+}
+
+encode_method!(
+    Heartbeat,
+    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::Heartbeat};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = Heartbeat::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..n], &[0x7E, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x7E]);\n```"
+);
+encode_method!(
+    GeoAltitude,
+    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::GeoAltitude};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = GeoAltitude::default().encode(&mut wire).unwrap();\nassert_eq!((wire[1], n), (11, 9));\n```"
+);
+encode_method!(
+    ForeFlightId,
+    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::ForeFlightId};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = ForeFlightId::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..4], &[0x7E, 0x65, 0, 1]);\nassert!(n <= MAX_ENCODED_LEN);\n```"
+);
+encode_method!(
+    Ahrs,
+    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::Ahrs};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = Ahrs::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..5], &[0x7E, 0x65, 1, 0x7F, 0xFF]);\nassert_eq!(wire[n - 1], 0x7E);\n```"
+);
