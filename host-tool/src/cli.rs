@@ -8,6 +8,7 @@ use crate::aydp_cmd::AydpArgs;
 use crate::bridge::BridgeArgs;
 use crate::decode::DecodeArgs;
 use crate::error::Result;
+use crate::gdl90_cmd::Gdl90Args;
 use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
 
@@ -64,6 +65,11 @@ pub enum Command {
   protolink aok --to serial:/dev/ttyUSB0@38400 --firmware 0.30 set 12 1500
   protolink aok --to tcp:127.0.0.1:7002 waypoint get 1")]
     Aok(AokArgs),
+    /// The box's telemetry as GDL90 for EFB apps (ForeFlight, Garmin Pilot, SkyDemon) on UDP 4000.
+    #[command(after_help = "Examples:
+  protolink gdl90 --from udp:5001 --to 127.0.0.1:4000
+  protolink gdl90 --from tcp:127.0.0.1:7000 --discover")]
+    Gdl90(Gdl90Args),
     /// A live view of AEOLUS telemetry: attitude, airspeed, altitude, heading, GPS, wind, rates.
     #[command(after_help = "Examples:
   protolink watch --from tcp:127.0.0.1:7000
@@ -85,6 +91,7 @@ impl Cli {
             Command::Aok(a) => crate::aok_cmd::run(a),
             Command::Sim(a) => crate::sim::run(a),
             Command::Watch(a) => crate::watch::run(a),
+            Command::Gdl90(a) => crate::gdl90_cmd::run(a),
         }
     }
 }

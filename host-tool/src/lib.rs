@@ -13,6 +13,7 @@
 //! | [`args`] | durations with units and range-checked numbers on the command line |
 //! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
 //! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
+//! | [`gdl90_cmd`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
 //! | [`watch`] | `watch`: the live telemetry view |
 //! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
 //! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
@@ -42,6 +43,7 @@ pub mod cli;
 pub mod decode;
 pub mod endpoint;
 pub mod error;
+pub mod gdl90_cmd;
 pub mod nb_serial;
 pub mod progress;
 pub mod render;

@@ -16,12 +16,14 @@ use serde_json::{Map, Value, json};
 mod aeolus;
 mod aok;
 mod aydp;
+mod gdl90;
 
 pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
 pub use aok::{
     AokDecoder, action_name, aok_command_fields, aok_message_fields, slot_name, waypoint_fields,
 };
 pub use aydp::{AYDP_CAPACITY, AydpDecoder, aydp_fields};
+pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
 
 use crate::endpoint::{Endpoint, Input, Link};
 use crate::error::Result;
@@ -37,6 +39,8 @@ pub enum Proto {
     Aydp,
     /// AOK, the copter's serial protocol.
     Aok,
+    /// GDL90 and the ForeFlight extensions, as EFB apps receive them (7E-framed, CRC-16).
+    Gdl90,
 }
 
 /// Which AYDP convention applies (DECISIONS.md Y1, Y2).
@@ -214,6 +218,7 @@ pub fn decoder_for(proto: Proto, profile: ProfileArg, side: Side) -> Box<dyn Str
         Proto::Aeolus => Box::new(AeolusDecoder::new()),
         Proto::Aydp => Box::new(AydpDecoder::new(profile.into())),
         Proto::Aok => Box::new(AokDecoder::new(side)),
+        Proto::Gdl90 => Box::new(Gdl90Decoder::default()),
     }
 }
 
