@@ -3,14 +3,15 @@
 //!
 //! AYDP has no acknowledgement, so every command that changes something is checked by reading
 //! the value back (request data, answered by a system value update), unless `--no-verify`.
-//! Requests go out as expedited messages, like the document's examples. Other traffic from the
+//! Requests go out as expedited messages in the `Spec` profile, like the document's examples, and as normal
+//! messages (22-byte header) in the `Reference` profile, which has no expedited form. Other traffic from the
 //! device (heartbeats, positions) is skipped while waiting.
 
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use aydp_proto::{
-    Decoder, DirectOutputBuilder, Encoder, Message, OutputEntry, Payload, SystemControl,
-    SystemValueUpdate, UpdateMode,
+    Decoder, DirectOutputBuilder, Encoder, Message, OutputEntry, Payload, Profile, SystemControl,
+    SystemValueUpdate, Timestamp, UpdateMode,
 };
 use clap::{Args, Subcommand};
 use serde_json::Value;
@@ -182,6 +183,50 @@ pub fn parse_output(text: &str) -> std::result::Result<OutputEntry, String> {
     })
 }
 
+/// One request as it goes on the wire. The `Spec` profile sends it expedited, like the
+/// document's examples; the `Reference` profile has no expedited form (the AYDP reference
+/// software reads every frame with the 22-byte header), so there it is a normal message
+/// stamped with `now` (seconds and microseconds since 1970).
+///
+/// ```
+/// use aydp_proto::{Encoder, Profile, SystemControl};
+/// use std::time::{Duration, UNIX_EPOCH};
+/// let now = UNIX_EPOCH + Duration::from_micros(1_700_000_000_250_000);
+/// let store = SystemControl::StoreConfiguration;
+/// let spec = protolink::aydp_cmd::request(&Encoder::new(Profile::Spec), &store, now)?;
+/// assert_eq!(spec, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
+/// let reference = protolink::aydp_cmd::request(&Encoder::new(Profile::Reference), &store, now)?;
+/// assert_eq!(reference.len(), 22 + 1 + 1);
+/// assert_eq!(&reference[..6], &[0xFF, 0x09, 1, 0, 0, 0]); // type 9, 1 data byte
+/// assert_eq!(i64::from_le_bytes(reference[6..14].try_into()?), 1_700_000_000);
+/// assert_eq!(i64::from_le_bytes(reference[14..22].try_into()?), 250_000);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// The payload does not encode.
+pub fn request<P: Payload + ?Sized>(
+    encoder: &Encoder,
+    payload: &P,
+    now: SystemTime,
+) -> Result<Vec<u8>> {
+    let expedited = encoder.profile() == Profile::Spec;
+    let mut buf = vec![0u8; encoder.frame_len(payload, expedited)];
+    let since = now.duration_since(UNIX_EPOCH).unwrap_or_default();
+    let stamp = (!expedited).then(|| Timestamp {
+        seconds: i64::try_from(since.as_secs()).unwrap_or(i64::MAX),
+        subsec: i64::from(since.subsec_micros()),
+    });
+    let n = encoder
+        .encode(payload, stamp, &mut buf)
+        .map_err(|source| Error::Aydp {
+            what: "encoding the request".into(),
+            source,
+        })?;
+    buf.truncate(n);
+    Ok(buf)
+}
+
 /// A system value as the device reported it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Reading {
@@ -224,15 +269,8 @@ impl Session {
     /// # Errors
     /// Encoding or writing.
     pub fn send<P: Payload + ?Sized>(&mut self, payload: &P) -> Result<()> {
-        let mut buf = vec![0u8; self.encoder.frame_len(payload, true)];
-        let n = self
-            .encoder
-            .encode_expedited(payload, &mut buf)
-            .map_err(|source| Error::Aydp {
-                what: "encoding the request".into(),
-                source,
-            })?;
-        self.link.write_all(&buf[..n])
+        let frame = request(&self.encoder, payload, SystemTime::now())?;
+        self.link.write_all(&frame)
     }
 
     /// Requests the value at `address` and waits for the system value update that answers it.

@@ -316,3 +316,69 @@ fn a_device_that_hangs_up_is_reported() {
     let err = failed(&out);
     assert!(err.contains(&format!("error: cannot open {ep}: ")), "{err}");
 }
+
+/// A receiver written from the AYDP reference software's frame format alone: 0xFF, type, u32
+/// data length, i64 seconds, i64 microseconds (little-endian), the data, then the XOR of
+/// every byte from the 0xFF through the last data byte. A bad checksum drops the whole
+/// claimed frame. Returns (type, data) of every frame accepted, and how many were dropped.
+fn reference_receiver(mut bytes: &[u8]) -> (Vec<(u8, Vec<u8>)>, usize) {
+    let (mut accepted, mut dropped) = (Vec::new(), 0);
+    while let Some(start) = bytes.iter().position(|&b| b == 0xFF) {
+        bytes = &bytes[start..];
+        if bytes.len() < 22 {
+            break;
+        }
+        let len = u32::from_le_bytes(bytes[2..6].try_into().unwrap()) as usize;
+        let Some(frame) = bytes.get(..22 + len + 1) else {
+            break;
+        };
+        if frame.iter().fold(0u8, |x, b| x ^ b) == 0 {
+            accepted.push((frame[1], frame[22..22 + len].to_vec()));
+        } else {
+            dropped += 1;
+        }
+        bytes = &bytes[frame.len()..];
+    }
+    (accepted, dropped)
+}
+
+/// Every frame `protolink aydp --profile reference` writes has the 22-byte header the
+/// reference software reads, and with `--to -` the result lines go to stderr, never between
+/// the frames.
+#[test]
+fn reference_profile_commands_pass_the_reference_receiver() {
+    let mut wire = Vec::new();
+    let runs: [&[&str]; 3] = [
+        &["set", "0x0100", "25.5", "--as", "f32"],
+        &["store"],
+        &["output", "1:2=10.0", "--enable"],
+    ];
+    for args in runs {
+        let mut full = vec!["aydp", "--profile", "reference", "--to", "-", "--no-verify"];
+        full.extend_from_slice(args);
+        let out = run(&full);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        assert!(!stderr(&out).is_empty(), "the result line goes to stderr");
+        wire.extend(&out.stdout);
+    }
+    let (frames, dropped) = reference_receiver(&wire);
+    assert_eq!(dropped, 0);
+    let mut set = vec![1, 0x00, 0x01, 0, 0, 0, 0];
+    set.extend(25.5f32.to_le_bytes());
+    let mut output = vec![1, 0, 1, 2];
+    output.extend(10.0f32.to_le_bytes());
+    assert_eq!(
+        frames,
+        [
+            (8, set),
+            (9, vec![2]),
+            (8, vec![1, 0x00, 0x00, 0, 0, 0, 0, 1]),
+            (7, output),
+        ]
+    );
+    // The receiver does drop a frame whose checksum is wrong, and the next one survives.
+    let mut bad = wire.clone();
+    bad[22] ^= 0x01;
+    assert_eq!(reference_receiver(&bad).1, 1);
+    assert_eq!(reference_receiver(&bad).0.len(), 3);
+}
