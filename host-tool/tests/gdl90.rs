@@ -165,3 +165,44 @@ fn decode_reads_the_icd_heartbeat_example() {
     assert!(lines[0].contains("utc_ok=true"), "{text}");
     assert!(lines[1].starts_with("@11 error: "), "{text}");
 }
+
+/// `--discover`: GDL90 goes to the host and port a ForeFlight announcement names, not to
+/// `--to`.
+#[test]
+fn discover_follows_the_foreflight_announcement() {
+    let (app, app_port) = udp();
+    let (unused, unused_port) = udp();
+    let gdl90 = spawn(&[
+        "gdl90",
+        "--from",
+        "udp:0",
+        "--to",
+        &format!("127.0.0.1:{unused_port}"),
+        "--discover",
+        "--seconds",
+        "3",
+    ]);
+    std::thread::sleep(Duration::from_millis(500));
+    let announce = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let text = format!(r#"{{"App":"ForeFlight","GDL90":{{"port":{app_port}}}}}"#);
+    let mut buf = [0u8; 512];
+    let mut heard = 0;
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_millis(2000) {
+        let _ = announce.send_to(text.as_bytes(), ("127.0.0.1", 63093));
+        while let Ok(n) = app.recv(&mut buf) {
+            assert!(unframe(&buf[..n]).is_some());
+            heard += 1;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let out = finish(gdl90);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(heard >= 5, "{heard} datagrams reached the announced app");
+    // Before the announcement, datagrams went to --to; none after it.
+    let mut after = 0;
+    while unused.recv(&mut buf).is_ok() {
+        after += 1;
+    }
+    assert!(after <= 10, "{after} datagrams still went to --to");
+}
