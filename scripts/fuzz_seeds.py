@@ -42,3 +42,17 @@ for proto, fname in (("aydp", "aydp-messages.json"), ("aok", "aok-frames.json"))
     for t in sorted(x[:-3] for x in targets if x.startswith(proto + "_")):
         for v in vectors:
             put(t, v["name"], bytes.fromhex(v["bytes"]))
+
+# GDL90: the ICD's heartbeat example and a ForeFlight AHRS frame, as a stream (gdl90_decode
+# reads a chunk-size byte first) and as ID + data (gdl90_roundtrip).
+gdl90 = {
+    "icd-heartbeat": bytes.fromhex("7e008141dbd008 02b38b7e".replace(" ", "")),
+}
+for name, wire in gdl90.items():
+    put("gdl90_decode", name, b"\x05" + wire + wire)
+    for frame in wire.split(b"\x7e"):
+        if len(frame) >= 3:
+            raw = unescape(frame)
+            put("gdl90_roundtrip", name, raw[:-2])
+put("gdl90_roundtrip", "ahrs", bytes([0x65, 0x01, 0x01, 0x2C, 0xFF, 0xE7, 0x03, 0x84, 0x00, 0x6E, 0xFF, 0xFF]))
+put("gdl90_roundtrip", "geo-altitude", bytes([0x0B, 0x00, 0xC8, 0x00, 0x0A]))
