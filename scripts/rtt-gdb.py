@@ -23,7 +23,9 @@ import struct
 import sys
 import time
 
-POLL_S = 0.05
+# 1 KiB of RTT buffer (defmt-rtt's default) holds seconds of this firmware's log; each poll
+# stops the VM for a few ms of host time, so polls are few.
+POLL_S = 0.2
 # The RTT control block: "SEGGER RTT\0..." (16 bytes), max up, max down, then the up
 # channels, 24 bytes each: name, buffer, size, write offset, read offset, flags.
 RTT_ID = b"SEGGER RTT"
@@ -134,9 +136,10 @@ def connect(port, qemu_pid):
 
 def drain(stub, cb, out):
     """Moves whatever up-channel 0 holds to `out` (the VM is stopped)."""
-    if stub.read(cb, len(RTT_ID)) != RTT_ID:
+    head = stub.read(cb, UP0 + 20)
+    if head[: len(RTT_ID)] != RTT_ID:
         return  # not initialised yet (before the firmware's first log)
-    _name, buf, size, write, read = struct.unpack("<IIIII", stub.read(cb + UP0, 20))
+    _name, buf, size, write, read = struct.unpack_from("<IIIII", head, UP0)
     if size == 0 or write >= size or read >= size or write == read:
         return
     if write > read:

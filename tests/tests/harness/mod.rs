@@ -248,6 +248,11 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
         );
         return None;
     }
+    // Both boards' firmware is built before any QEMU runs (the first test to get here builds
+    // it, the others wait): a build on the same cores would disturb a running emulator.
+    for b in [Board::Lm3s6965evb, Board::Stm32f411] {
+        firmware_elf(b);
+    }
     let elf = firmware_elf(board);
     assert!(elf.is_file(), "no firmware at {}", elf.display());
     let turn = QEMU_LOCK.lock().unwrap_or_else(|e| e.into_inner());
