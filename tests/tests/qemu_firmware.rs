@@ -171,6 +171,11 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     let log = q.stop();
     println!("{log}");
     assert!(log.contains("AEOLUS: a pause") && log.contains("AEOLUS: a resume"));
+    // The board booted is the one asked for (on the STM32 the log came over RTT), and it
+    // reported its stack high-water mark.
+    assert!(log.contains(board.log_name()), "not the {board:?} firmware");
+    let high_water = boot_stack_high_water(&log).expect("the boot line with the stack high-water");
+    println!("{board:?}: stack high-water at boot {high_water} bytes");
 }
 
 // ------------------------------------------------------------------ AYDP over UART1

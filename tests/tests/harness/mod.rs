@@ -59,6 +59,14 @@ impl Board {
         }
     }
 
+    /// How the firmware names itself in its boot log line (`board::NAME`).
+    pub fn log_name(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "on qemu-lm3s6965evb: booting",
+            Board::Stm32f411 => "on stm32f411 (simulated: QEMU netduinoplus2): booting",
+        }
+    }
+
     /// The cargo alias that builds this board's firmware.
     fn build_alias(self) -> &'static str {
         match self {
@@ -308,6 +316,14 @@ impl Qemu {
         drop(self);
         std::fs::read_to_string(&log).unwrap_or_default()
     }
+}
+
+/// The stack high-water mark the firmware logged after its first boot (`booted: App N bytes,
+/// stack high-water N bytes`), bytes.
+pub fn boot_stack_high_water(log: &str) -> Option<usize> {
+    let line = log.lines().find(|l| l.contains("booted: App"))?;
+    let rest = line.split("stack high-water ").nth(1)?;
+    rest.split_whitespace().next()?.parse().ok()
 }
 
 impl Process {
