@@ -56,6 +56,10 @@ def symbol(elf_path, name):
     return None
 
 
+class StubError(Exception):
+    """The stub refused a read or a write."""
+
+
 class Stub:
     """A GDB remote-protocol client, just enough for memory reads and writes."""
 
@@ -108,13 +112,13 @@ class Stub:
     def read(self, addr, length):
         reply = self.command(b"m%x,%x" % (addr, length))
         if reply[:1] == b"E" or len(reply) != 2 * length:
-            raise IOError(f"read {length} bytes at {addr:#x}: {reply!r}")
+            raise StubError(f"read {length} bytes at {addr:#x}: {reply!r}")
         return bytes.fromhex(reply.decode())
 
     def write(self, addr, data):
         reply = self.command(b"M%x,%x:" % (addr, len(data)) + data.hex().encode())
         if reply != b"OK":
-            raise IOError(f"write at {addr:#x}: {reply!r}")
+            raise StubError(f"write at {addr:#x}: {reply!r}")
 
     def cont(self):
         self.send(b"c")
@@ -164,7 +168,14 @@ def main():
     try:
         stub.stop()
         while True:
-            drain(stub, cb, out)
+            try:
+                drain(stub, cb, out)
+            except (StubError, TimeoutError) as e:
+                # A bad read (or a firmware that broke its control block): say so, leave the
+                # VM running, and stop reading rather than halt the firmware.
+                print(f"rtt-gdb: {e}; the RTT log stops here", file=sys.stderr)
+                stub.cont()
+                return
             stub.cont()
             time.sleep(POLL_S)
             stub.stop()
