@@ -37,7 +37,8 @@
 //!    ([`SYSTICK_HZ`]) whatever RCC says; a reload for 16 MHz would make the
 //!    millisecond clock run about ten times fast.
 //!
-//! The log stays `defmt` over RTT: `scripts/qemu-run.sh` reads the RTT buffer
+//! Besides these, only the boot log's board name ([`NAME`]) says the build is
+//! simulated. The log stays `defmt` over RTT: `scripts/qemu-run.sh` reads the RTT buffer
 //! through QEMU's GDB stub, as a probe would.
 
 use super::{Board, start_systick};
