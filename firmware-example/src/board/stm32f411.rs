@@ -28,13 +28,13 @@
 //! 1. **Clock**: HSI at 16 MHz without the PLL. The model has no RCC (every
 //!    register reads 0), so the HAL's wait for PLLRDY would never end.
 //! 2. **Settings store**: 4 KiB of the model's RAM at 0x2002_0000
-//!    ([`QEMU_STORE_ADDR`]), above the F411's 128 KiB, so the program keeps the
+//!    (`QEMU_STORE_ADDR`), above the F411's 128 KiB, so the program keeps the
 //!    F411's memory map (`stm32f411.x`) and a stack overrun still faults. The
 //!    model's flash is ROM behind a stub controller, and the flash-size
 //!    register (0x1FFF_7A22) is unmapped (`LockedFlash::capacity` bus-faults).
 //!    A warm reset leaves the region alone, so settings survive `a reboot`.
 //! 3. **SysTick reload**: the model clocks SysTick from a fixed 168 MHz
-//!    ([`SYSTICK_HZ`]) whatever RCC says; a reload for 16 MHz would make the
+//!    (`SYSTICK_HZ`) whatever RCC says; a reload for 16 MHz would make the
 //!    millisecond clock run about ten times fast.
 //!
 //! Besides these, only the boot log's board name ([`NAME`]) says the build is
