@@ -233,6 +233,7 @@ pub struct Qemu {
     /// UART2: AOK.
     pub uart2: TcpStream,
     process: Process,
+    board: Board,
     /// Released last, once QEMU is gone.
     _turn: MutexGuard<'static, ()>,
 }
@@ -300,6 +301,7 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
         uart1,
         uart2,
         process,
+        board,
         _turn: turn,
     })
 }
@@ -312,6 +314,11 @@ impl Qemu {
 
     /// Stops QEMU; the firmware's whole log.
     pub fn stop(self) -> String {
+        if self.board == Board::Stm32f411 {
+            // The STM32 log is copied out of the RTT buffer every 200 ms (scripts/rtt-gdb.py):
+            // give the last lines one more poll before QEMU goes.
+            std::thread::sleep(Duration::from_millis(500));
+        }
         let log = self.process.log.clone();
         drop(self);
         std::fs::read_to_string(&log).unwrap_or_default()
