@@ -12,6 +12,12 @@ use std::net::Shutdown;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+on_both_boards!(
+    bridge_carries_telemetry_and_commands_over_udp,
+    protolink_aydp_set_get_store,
+    protolink_aok_get_set_waypoint,
+);
+
 /// The longest one `protolink` run may take before the test fails (never a hang).
 const RUN_LIMIT: Duration = Duration::from_secs(30);
 
@@ -72,8 +78,8 @@ fn protolink_ok(args: &[&str]) -> String {
 }
 
 /// Boots QEMU and checks the boot TOAST on UART0; `None` when QEMU is not installed.
-fn boot_checked(ports: Ports) -> Option<Qemu> {
-    let mut q = boot(ports)?;
+fn boot_checked(board: Board, ports: Ports) -> Option<Qemu> {
+    let mut q = boot(board, ports)?;
     let first = q.uart0.read_until(Duration::from_secs(10), |_| true);
     assert_eq!(
         q.uart0.frames[first].toast().as_deref(),
@@ -86,10 +92,9 @@ fn boot_checked(ports: Ports) -> Option<Qemu> {
 
 // ------------------------------------------------------------------ bridge
 
-#[test]
-fn bridge_carries_telemetry_and_commands_over_udp() {
-    let ports = Ports::BRIDGE;
-    let Some(mut q) = boot_checked(ports) else {
+fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
+    let ports = Ports::BRIDGE.on(board);
+    let Some(mut q) = boot_checked(board, ports) else {
         return;
     };
     // The bridge takes UART0 from the harness.
@@ -191,10 +196,9 @@ fn bridge_carries_telemetry_and_commands_over_udp() {
 
 // ------------------------------------------------------------------ aydp
 
-#[test]
-fn protolink_aydp_set_get_store() {
-    let ports = Ports::CLI_AYDP;
-    let Some(mut q) = boot_checked(ports) else {
+fn protolink_aydp_set_get_store(board: Board) {
+    let ports = Ports::CLI_AYDP.on(board);
+    let Some(mut q) = boot_checked(board, ports) else {
         return;
     };
     // protolink takes UART1 from the harness.
@@ -261,10 +265,9 @@ fn protolink_aydp_set_get_store() {
 
 // ------------------------------------------------------------------ aok
 
-#[test]
-fn protolink_aok_get_set_waypoint() {
-    let ports = Ports::CLI_AOK;
-    let Some(mut q) = boot_checked(ports) else {
+fn protolink_aok_get_set_waypoint(board: Board) {
+    let ports = Ports::CLI_AOK.on(board);
+    let Some(mut q) = boot_checked(board, ports) else {
         return;
     };
     q.uart2.shutdown(Shutdown::Both).expect("close UART2");

@@ -9,15 +9,20 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
+on_both_boards!(
+    aeolus_telemetry_crc_rates_and_commands,
+    aydp_setting_survives_store_and_reboot,
+    aok_parameter_and_waypoint,
+);
+
 /// Tolerance on each type's mean interval, (last - first) / (n - 1) from the frames'
 /// timestamps: the issue's ±2 %. The firmware schedules without drift on its millisecond
 /// clock, so the mean only moves when QEMU (a host process) is descheduled long enough for
 /// the bounded catch-up to drop a due instant; a frame lost on the way would show up the same.
 const RATE_TOLERANCE: f64 = 0.02;
 
-#[test]
-fn aeolus_telemetry_crc_rates_and_commands() {
-    let Some(mut q) = boot(Ports::AEOLUS) else {
+fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
+    let Some(mut q) = boot(board, Ports::AEOLUS.on(board)) else {
         return;
     };
     let log = q.log().display().to_string();
@@ -166,6 +171,11 @@ fn aeolus_telemetry_crc_rates_and_commands() {
     let log = q.stop();
     println!("{log}");
     assert!(log.contains("AEOLUS: a pause") && log.contains("AEOLUS: a resume"));
+    // The board booted is the one asked for (on the STM32 the log came over RTT), and it
+    // reported its stack high-water mark.
+    assert!(log.contains(board.log_name()), "not the {board:?} firmware");
+    let high_water = boot_stack_high_water(&log).expect("the boot line with the stack high-water");
+    println!("{board:?}: stack high-water at boot {high_water} bytes");
 }
 
 // ------------------------------------------------------------------ AYDP over UART1
@@ -215,9 +225,8 @@ fn request(port: &mut TcpStream, address: u16) -> Option<Vec<u8>> {
     aydp_read_value(port, address, Duration::from_secs(3))
 }
 
-#[test]
-fn aydp_setting_survives_store_and_reboot() {
-    let Some(mut q) = boot(Ports::AYDP) else {
+fn aydp_setting_survives_store_and_reboot(board: Board) {
+    let Some(mut q) = boot(board, Ports::AYDP.on(board)) else {
         return;
     };
     let log = q.log().display().to_string();
@@ -306,10 +315,9 @@ impl embedded_hal_nb::serial::Write<u8> for NbSerial {
     }
 }
 
-#[test]
-fn aok_parameter_and_waypoint() {
+fn aok_parameter_and_waypoint(board: Board) {
     use aok_proto::{ActionWord, Client, Config, FirmwareVersion, Waypoint, WaypointSlot};
-    let Some(mut q) = boot(Ports::AOK) else {
+    let Some(mut q) = boot(board, Ports::AOK.on(board)) else {
         return;
     };
     let log = q.log().display().to_string();

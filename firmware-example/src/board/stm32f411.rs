@@ -16,6 +16,30 @@
 //! * Log: `defmt` over RTT (`defmt-rtt`), shown by `probe-rs run`.
 //! * Flash store: sector 7 (128 KiB at 0x0806_0000), outside the program's
 //!   memory map (`stm32f411.x`).
+//!
+//! ## The simulated build (feature `qemu-stm32`)
+//!
+//! `cargo stm32-qemu` boots this same board code in QEMU's `netduinoplus2`
+//! (an STM32F405: the same USART1/2/6 addresses and IRQ numbers, flash at
+//! 0x0800_0000, SRAM at 0x2000_0000). The feature changes exactly three
+//! things, each marked `qemu-stm32` below; everything else is the real
+//! board's code:
+//!
+//! 1. **Clock**: HSI at 16 MHz without the PLL. The model has no RCC (every
+//!    register reads 0), so the HAL's wait for PLLRDY would never end.
+//! 2. **Settings store**: 4 KiB of the model's RAM at 0x2002_0000
+//!    (`QEMU_STORE_ADDR`), above the F411's 128 KiB, so the program keeps the
+//!    F411's memory map (`stm32f411.x`) and a stack overrun still faults. The
+//!    model's flash is ROM behind a stub controller, and the flash-size
+//!    register (0x1FFF_7A22) is unmapped (`LockedFlash::capacity` bus-faults).
+//!    A warm reset leaves the region alone, so settings survive `a reboot`.
+//! 3. **SysTick reload**: the model clocks SysTick from a fixed 168 MHz
+//!    (`SYSTICK_HZ`) whatever RCC says; a reload for 16 MHz would make the
+//!    millisecond clock run about ten times fast.
+//!
+//! Besides these, only the boot log's board name ([`NAME`]) says the build is
+//! simulated. The log stays `defmt` over RTT: `scripts/qemu-run.sh` reads the RTT buffer
+//! through QEMU's GDB stub, as a probe would.
 
 use super::{Board, start_systick};
 use core::ptr::addr_of_mut;
@@ -23,40 +47,72 @@ use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_rtt as _;
 use embedded_hal_nb::serial::{Read, Write};
-use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
-use firmware_example::{FlashWindow, PortStats, QueuedSerial, SerialIsr};
+use firmware_example::{PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
 use panic_probe as _;
-use stm32f4xx_hal::flash::{self, FlashExt, LockedFlash};
 use stm32f4xx_hal::pac::{self, Interrupt, USART1, USART2, USART6, interrupt};
 use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::serial::{self, Instance, Rx, Tx, TxISR, TxListen};
+#[cfg(not(feature = "qemu-stm32"))]
+use {
+    embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash},
+    firmware_example::FlashWindow,
+    stm32f4xx_hal::flash::{self, FlashExt, LockedFlash},
+};
 
 /// The board's name for the boot log.
+#[cfg(not(feature = "qemu-stm32"))]
 pub const NAME: &str = "stm32f411";
+/// The board's name for the boot log.
+#[cfg(feature = "qemu-stm32")]
+pub const NAME: &str = "stm32f411 (simulated: QEMU netduinoplus2)";
 
 /// The settings store: sector 7 of the internal flash.
+#[cfg(not(feature = "qemu-stm32"))]
 pub type Store = FlashWindow<Stm32Flash>;
+/// `qemu-stm32`: the settings store is NOR flash emulated in the model's RAM.
+#[cfg(feature = "qemu-stm32")]
+pub type Store = firmware_example::MemFlash<'static>;
 
 /// Baud rates of UART0 (AEOLUS), UART1 (AYDP) and UART2 (AOK).
 pub const BAUD: [u32; 3] = [921_600, 115_200, 38_400];
 /// Offset of the store (sector 7) from the start of flash.
+#[cfg(not(feature = "qemu-stm32"))]
 const STORE_OFFSET: u32 = 0x6_0000;
 /// Size of the store (all of sector 7).
+#[cfg(not(feature = "qemu-stm32"))]
 const STORE_LEN: u32 = 0x2_0000;
+/// `qemu-stm32`: where the RAM settings store lives: the first 4 KiB past
+/// the F411's 128 KiB of SRAM, which exist only in the model (an STM32F405
+/// with 192 KiB at 0x2000_0000). Nothing links there (`stm32f411.x` ends the
+/// RAM at 128 KiB), and the startup code never touches it.
+#[cfg(feature = "qemu-stm32")]
+pub const QEMU_STORE_ADDR: usize = 0x2002_0000;
+/// `qemu-stm32`: size of the RAM settings store, bytes.
+#[cfg(feature = "qemu-stm32")]
+const QEMU_STORE_LEN: usize = 4096;
+/// The core clock: 100 MHz from HSI through the PLL.
+#[cfg(not(feature = "qemu-stm32"))]
 const SYSCLK_HZ: u32 = 100_000_000;
+/// `qemu-stm32`: the model clocks SysTick from a fixed 168 MHz, whatever the
+/// RCC says (QEMU 7.2 `netduinoplus2`, `SYSCLK_FRQ`).
+#[cfg(feature = "qemu-stm32")]
+pub const SYSTICK_HZ: u32 = 168_000_000;
 const RX_CAP: usize = 256;
 const TX_CAP: usize = 512;
 
 /// The internal flash as `embedded-storage` NOR flash; it is unlocked only
 /// for the duration of each erase or write.
+#[cfg(not(feature = "qemu-stm32"))]
 pub struct Stm32Flash(LockedFlash);
 
+#[cfg(not(feature = "qemu-stm32"))]
 impl ErrorType for Stm32Flash {
     type Error = flash::Error;
 }
 
+#[cfg(not(feature = "qemu-stm32"))]
 impl ReadNorFlash for Stm32Flash {
     const READ_SIZE: usize = 1;
 
@@ -69,6 +125,7 @@ impl ReadNorFlash for Stm32Flash {
     }
 }
 
+#[cfg(not(feature = "qemu-stm32"))]
 impl NorFlash for Stm32Flash {
     const WRITE_SIZE: usize = 1;
     /// The largest sector; only sector 7 is ever erased (see `STORE_OFFSET`).
@@ -108,8 +165,18 @@ pub fn init() -> Board<Store> {
     let (Some(dp), Some(cp)) = (pac::Peripherals::take(), cortex_m::Peripherals::take()) else {
         super::reset();
     };
+    #[cfg(not(feature = "qemu-stm32"))]
     let mut rcc = dp.RCC.freeze(Config::hsi().sysclk(SYSCLK_HZ.Hz()));
-    let clock = start_systick(cp.SYST, rcc.clocks.hclk().raw());
+    // qemu-stm32: HSI (16 MHz) without the PLL; the model's RCC never reports PLLRDY.
+    #[cfg(feature = "qemu-stm32")]
+    let mut rcc = dp.RCC.freeze(Config::hsi());
+    // SysTick counts the core clock (HCLK) on the real part.
+    #[cfg(not(feature = "qemu-stm32"))]
+    let systick_hz = rcc.clocks.hclk().raw();
+    // qemu-stm32: the model's fixed SysTick clock instead.
+    #[cfg(feature = "qemu-stm32")]
+    let systick_hz = SYSTICK_HZ;
+    let clock = start_systick(cp.SYST, systick_hz);
     let gpioa = dp.GPIOA.split(&mut rcc);
 
     let cfg = |baud: u32| serial::Config::default().baudrate(baud.bps());
@@ -144,6 +211,7 @@ pub fn init() -> Board<Store> {
         NVIC::unmask(Interrupt::USART6);
     }
 
+    #[cfg(not(feature = "qemu-stm32"))]
     let Ok(store) = FlashWindow::new(
         Stm32Flash(LockedFlash::new(dp.FLASH)),
         STORE_OFFSET,
@@ -151,6 +219,15 @@ pub fn init() -> Board<Store> {
     ) else {
         super::reset();
     };
+    // qemu-stm32: the RAM store (see `QEMU_STORE_ADDR`).
+    // SAFETY: the region is RAM in the model, outside everything the linker
+    // places (`stm32f411.x`), and `TAKEN` makes this the only reference to
+    // it. Its bytes are whatever the RAM holds (zero after power-on, the
+    // stored settings after a warm reset); the store's format tells them apart.
+    #[cfg(feature = "qemu-stm32")]
+    let store = firmware_example::MemFlash::new(unsafe {
+        core::slice::from_raw_parts_mut(QEMU_STORE_ADDR as *mut u8, QEMU_STORE_LEN)
+    });
     Board {
         uart0,
         uart1,
@@ -168,6 +245,16 @@ fn isr_port<U: Instance>(serial: serial::Serial<U>, half: SerialIsr<'static>) ->
 
 /// Moves bytes between one USART and its queues: drains RXNE, feeds TXE, and
 /// keeps the TXE interrupt enabled only while bytes wait.
+///
+/// Transmit has two ways into this handler. On the real part the TXE
+/// interrupt (enabled by `listen` below while bytes wait) calls it once per
+/// byte as the shift register empties: that is the path real hardware takes
+/// at 921 600 Bd, where the queue fills far faster than the wire drains. The
+/// application's `kick` (`NVIC::pend` after every queued byte) also calls it,
+/// which starts transmission from idle. QEMU's USART model sends a byte the
+/// moment DR is written and raises no TXE/TC interrupt, so in the simulated
+/// build (`qemu-stm32`) only the kick path runs: each queued byte pends the
+/// interrupt, and this handler finds TXE set and sends it at once.
 fn service<U: Instance>(port: &mut IsrPort<U>) {
     // A few rounds at most: each read either returns a byte, clears an error
     // (the HAL reads DR), or says the register is empty.

@@ -1,24 +1,30 @@
 //! The QEMU harness of the end-to-end tests: boots the release sensor-box firmware in QEMU
-//! (`lm3s6965evb`) through `scripts/qemu-run.sh` and connects to its three UART sockets.
+//! through `scripts/qemu-run.sh` and connects to its three UART sockets. Every test runs on
+//! both boards ([`Board`], [`on_both_boards!`]): the default `lm3s6965evb`, and the STM32F411
+//! board built with `qemu-stm32` in `netduinoplus2` (an STM32F405 model).
 //!
 //! * Skipped, with a message saying so, only when `qemu-system-arm` is not installed
 //!   (`scripts/setup.sh qemu` installs it; `.ci/run` does).
-//! * The firmware is built by the harness itself (`cargo qemu-build`, a no-op when
-//!   `scripts/test.sh` has built it already), into `$CARGO_TARGET_DIR` (default `target/`).
-//!   `SENSOR_BOX_ELF=path` boots a given ELF instead. [`protolink`] builds the host tool the
-//!   same way.
-//! * Every test boots its own QEMU on its own fixed ports ([`Ports`]), far from the demo's
-//!   7000..7002, and the tests of one file take turns (one QEMU at a time, so that timing is
-//!   not disturbed by a second emulator on the same cores; cargo runs test files one after
-//!   the other). QEMU is killed when the test ends, whether it passed or not ([`Qemu`]'s
-//!   `Drop`). The firmware's defmt log goes to `$CARGO_TARGET_DIR/qemu-firmware-PORT.log`
-//!   (decoded when `defmt-print` is installed).
+//! * The firmware is built by the harness itself (`cargo qemu-build` / `cargo
+//!   stm32-qemu-build`, a no-op when `scripts/test.sh` has built it already), into
+//!   `$CARGO_TARGET_DIR` (default `target/`). `SENSOR_BOX_ELF=path` (lm3s) and
+//!   `SENSOR_BOX_STM32_ELF=path` (STM32) boot a given ELF instead. [`protolink`] builds the
+//!   host tool the same way.
+//! * Every test boots its own QEMU on its own fixed ports ([`Ports`], moved by
+//!   [`Ports::on`] for the STM32 runs), far from the demo's 7000..7002, and the tests of one
+//!   file take turns (one QEMU at a time, so that timing is not disturbed by a second emulator
+//!   on the same cores; cargo runs test files one after the other). QEMU is killed when the
+//!   test ends, whether it passed or not ([`Qemu`]'s `Drop`). The firmware's defmt log goes
+//!   to `$CARGO_TARGET_DIR/qemu-firmware-PORT.log` (decoded when `defmt-print` is installed;
+//!   on the STM32 it is read over RTT through QEMU's GDB stub, port UART0 + 3).
 //!
-//! To add a test: give it its own [`Ports`], then `let Some(mut q) = boot(Ports::NEXT_ONE) else
-//! { return };` and use `q.uart0` (an [`Aeolus`] reader over the AEOLUS socket), `q.uart1`
-//! (AYDP) and `q.uart2` (AOK), plain `TcpStream`s for the last two. To let `protolink` take a
-//! UART instead, close the harness's connection first ([`Aeolus::disconnect`],
-//! `TcpStream::shutdown`): a QEMU UART socket serves one client at a time.
+//! To add a test: write `fn my_test(board: Board)`, add it to the file's [`on_both_boards!`]
+//! list, give it its own [`Ports`], then `let Some(mut q) = boot(board,
+//! Ports::NEXT_ONE.on(board)) else { return };` and use `q.uart0` (an [`Aeolus`] reader over
+//! the AEOLUS socket), `q.uart1` (AYDP) and `q.uart2` (AOK), plain `TcpStream`s for the last
+//! two. To let `protolink` take a UART instead, close the harness's connection first
+//! ([`Aeolus::disconnect`], `TcpStream::shutdown`): a QEMU UART socket serves one client at a
+//! time.
 #![allow(dead_code)]
 
 use aeolus_proto::message::{Message, Text};
@@ -33,6 +39,80 @@ use std::sync::{Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
 // ------------------------------------------------------------------ QEMU harness
+
+/// The board a test boots, and the QEMU machine it runs in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Board {
+    /// The default board: QEMU `lm3s6965evb` (Cortex-M3), `cargo qemu-build`.
+    Lm3s6965evb,
+    /// The STM32F411 board with its three simulation changes (`qemu-stm32`) in QEMU's
+    /// `netduinoplus2` (STM32F405, Cortex-M4F), `cargo stm32-qemu-build`.
+    Stm32f411,
+}
+
+impl Board {
+    /// The machine name for `scripts/qemu-run.sh --machine`.
+    pub fn machine(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "lm3s6965evb",
+            Board::Stm32f411 => "netduinoplus2",
+        }
+    }
+
+    /// How the firmware names itself in its boot log line (`board::NAME`).
+    pub fn log_name(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "on qemu-lm3s6965evb: booting",
+            Board::Stm32f411 => "on stm32f411 (simulated: QEMU netduinoplus2): booting",
+        }
+    }
+
+    /// The cargo alias that builds this board's firmware.
+    fn build_alias(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "qemu-build",
+            Board::Stm32f411 => "stm32-qemu-build",
+        }
+    }
+
+    /// Where that alias puts the ELF, under the target directory.
+    fn elf_path(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "thumbv7m-none-eabi/release/sensor-box",
+            Board::Stm32f411 => "thumbv7em-none-eabihf/release/sensor-box",
+        }
+    }
+
+    /// The environment variable that names a prebuilt ELF for this board.
+    fn elf_env(self) -> &'static str {
+        match self {
+            Board::Lm3s6965evb => "SENSOR_BOX_ELF",
+            Board::Stm32f411 => "SENSOR_BOX_STM32_ELF",
+        }
+    }
+}
+
+/// Defines, for each `fn name(board: Board)` listed, a module `name` with one `#[test]` per
+/// board: `name::lm3s6965evb` and `name::stm32f411_in_netduinoplus2` (run one board with
+/// `cargo test ... -- lm3s6965evb` or `-- stm32f411`).
+#[macro_export]
+macro_rules! on_both_boards {
+    ($($name:ident),* $(,)?) => {
+        $(
+            mod $name {
+                #[test]
+                fn lm3s6965evb() {
+                    super::$name(super::Board::Lm3s6965evb)
+                }
+
+                #[test]
+                fn stm32f411_in_netduinoplus2() {
+                    super::$name(super::Board::Stm32f411)
+                }
+            }
+        )*
+    };
+}
 
 /// The three TCP ports of one QEMU instance (UART0, UART1, UART2).
 #[derive(Debug, Clone, Copy)]
@@ -57,6 +137,16 @@ impl Ports {
     /// The TCP port of UART `n`.
     pub fn uart(self, n: u16) -> u16 {
         self.0 + n
+    }
+
+    /// The same test's ports on `board`: the STM32 runs are 100 higher, so that a QEMU
+    /// still closing from one board never holds the other's ports. Each test's range is
+    /// UART0..UART2, the GDB stub (+3, STM32) and the bridge's UDP in-port (+5).
+    pub fn on(self, board: Board) -> Ports {
+        match board {
+            Board::Lm3s6965evb => self,
+            Board::Stm32f411 => Ports(self.0 + 100),
+        }
     }
 }
 
@@ -92,22 +182,28 @@ pub fn qemu_installed() -> bool {
         .is_ok_and(|s| s.success())
 }
 
-/// The release firmware ELF, built once per test run.
-pub fn firmware_elf() -> &'static Path {
-    static ELF: OnceLock<PathBuf> = OnceLock::new();
-    ELF.get_or_init(|| {
-        if let Some(elf) = std::env::var_os("SENSOR_BOX_ELF") {
+/// The board's release firmware ELF, built once per test run.
+pub fn firmware_elf(board: Board) -> &'static Path {
+    static LM3S: OnceLock<PathBuf> = OnceLock::new();
+    static STM32: OnceLock<PathBuf> = OnceLock::new();
+    let cell = match board {
+        Board::Lm3s6965evb => &LM3S,
+        Board::Stm32f411 => &STM32,
+    };
+    cell.get_or_init(|| {
+        if let Some(elf) = std::env::var_os(board.elf_env()) {
             return PathBuf::from(elf);
         }
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let alias = board.build_alias();
         let status = Command::new(cargo)
-            .arg("qemu-build")
+            .arg(alias)
             .current_dir(workspace_root())
             .env("CARGO_TARGET_DIR", target_dir())
             .status()
-            .expect("run `cargo qemu-build`");
-        assert!(status.success(), "`cargo qemu-build` failed");
-        target_dir().join("thumbv7m-none-eabi/release/sensor-box")
+            .unwrap_or_else(|e| panic!("run `cargo {alias}`: {e}"));
+        assert!(status.success(), "`cargo {alias}` failed");
+        target_dir().join(board.elf_path())
     })
 }
 
@@ -137,6 +233,7 @@ pub struct Qemu {
     /// UART2: AOK.
     pub uart2: TcpStream,
     process: Process,
+    board: Board,
     /// Released last, once QEMU is gone.
     _turn: MutexGuard<'static, ()>,
 }
@@ -147,12 +244,12 @@ struct Process {
     log: PathBuf,
 }
 
-/// Boots the release firmware in QEMU on `ports` and connects to its three UARTs; `None`
-/// (after saying why) when `qemu-system-arm` is missing.
+/// Boots `board`'s release firmware in QEMU on `ports` and connects to its three UARTs;
+/// `None` (after saying why) when `qemu-system-arm` is missing.
 ///
 /// QEMU runs in wait mode (`QEMU_WAIT=1`): the CPU starts only once UART0 is connected, so
 /// the first bytes read from it are the boot TOAST.
-pub fn boot(ports: Ports) -> Option<Qemu> {
+pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
     if !qemu_installed() {
         eprintln!(
             "SKIPPED: qemu-system-arm is not installed, so the firmware cannot be booted \
@@ -160,7 +257,12 @@ pub fn boot(ports: Ports) -> Option<Qemu> {
         );
         return None;
     }
-    let elf = firmware_elf();
+    // Both boards' firmware is built before any QEMU runs (the first test to get here builds
+    // it, the others wait): a build on the same cores would disturb a running emulator.
+    for b in [Board::Lm3s6965evb, Board::Stm32f411] {
+        firmware_elf(b);
+    }
+    let elf = firmware_elf(board);
     assert!(elf.is_file(), "no firmware at {}", elf.display());
     let turn = QEMU_LOCK.lock().unwrap_or_else(|e| e.into_inner());
 
@@ -174,6 +276,7 @@ pub fn boot(ports: Ports) -> Option<Qemu> {
         .status()
         .is_ok_and(|s| s.success());
     let child = Command::new(workspace_root().join("scripts/qemu-run.sh"))
+        .args(["--machine", board.machine()])
         .arg(elf)
         .env("QEMU_UART0_PORT", ports.uart(0).to_string())
         .env("QEMU_UART1_PORT", ports.uart(1).to_string())
@@ -198,6 +301,7 @@ pub fn boot(ports: Ports) -> Option<Qemu> {
         uart1,
         uart2,
         process,
+        board,
         _turn: turn,
     })
 }
@@ -210,10 +314,23 @@ impl Qemu {
 
     /// Stops QEMU; the firmware's whole log.
     pub fn stop(self) -> String {
+        if self.board == Board::Stm32f411 {
+            // The STM32 log is copied out of the RTT buffer every 200 ms (scripts/rtt-gdb.py):
+            // give the last lines one more poll before QEMU goes.
+            std::thread::sleep(Duration::from_millis(500));
+        }
         let log = self.process.log.clone();
         drop(self);
         std::fs::read_to_string(&log).unwrap_or_default()
     }
+}
+
+/// The stack high-water mark the firmware logged after its first boot (`booted: App N bytes,
+/// stack high-water N bytes`), bytes.
+pub fn boot_stack_high_water(log: &str) -> Option<usize> {
+    let line = log.lines().find(|l| l.contains("booted: App"))?;
+    let rest = line.split("stack high-water ").nth(1)?;
+    rest.split_whitespace().next()?.parse().ok()
 }
 
 impl Process {
