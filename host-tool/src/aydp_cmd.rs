@@ -66,9 +66,9 @@ pub enum AydpAction {
     /// Write a system value: single (`ADDR VALUE`), whole array (`ADDR V1,V2,V3` with an array
     /// type) or one element (`ADDR[INDEX] VALUE`).
     #[command(after_help = "Examples:\n  \
-        protolink aydp --to tcp:127.0.0.1:7001 set 0x0100 25.5 --as f32\n  \
-        protolink aydp --to tcp:127.0.0.1:7001 set 0x0101 7,92,829 --as u16[3]\n  \
-        protolink aydp --to tcp:127.0.0.1:7001 set 0x0101[2] 1000 --as u16[3]")]
+        protolink aydp --to tcp:127.0.0.1:7001 set 0x0110 64.5 --as f32\n  \
+        protolink aydp --to tcp:127.0.0.1:7001 set 0x0100 7,5,92,829,1000,1000 --as u32[6]\n  \
+        protolink aydp --to tcp:127.0.0.1:7001 set 0x0100[1] 6 --as u32[6]")]
     Set {
         /// Address, with `[INDEX]` for the element form.
         #[arg(value_name = "ADDR[INDEX]", value_parser = parse_target)]

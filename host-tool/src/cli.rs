@@ -56,7 +56,7 @@ pub enum Command {
     /// Read and write an AYDP device's system values, store its configuration, set outputs.
     #[command(after_help = "Examples:
   protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
-  protolink aydp --to tcp:127.0.0.1:7001 set 0x0100 25.5 --as f32
+  protolink aydp --to tcp:127.0.0.1:7001 set 0x0110 64.5 --as f32
   protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable")]
     Aydp(AydpArgs),
     /// Drive an AOK flight controller: debug, parameters, waypoints, motors, external control.

@@ -131,6 +131,9 @@ impl Ports {
     pub const CLI_AYDP: Ports = Ports(17_440);
     /// `protolink_e2e::protolink_aok_get_set_waypoint`.
     pub const CLI_AOK: Ports = Ports(17_450);
+    /// `protolink_help::every_help_example_runs_against_the_firmware` (UART ports, then the
+    /// UDP ports of its examples at +5..+9).
+    pub const CLI_HELP: Ports = Ports(17_460);
 }
 
 impl Ports {
