@@ -96,7 +96,7 @@ pub enum AydpAction {
         #[arg(long)]
         enable: bool,
         /// Confirm the outcome by reading the box's link counters before and after (this
-        /// project's sensor box: u32[10] at --counters, element 8 applied, 9 refused).
+        /// project's sensor box: `u32[10]` at --counters, element 8 applied, 9 refused).
         #[arg(long)]
         verify: bool,
         /// Where the link counters are, for --verify.
