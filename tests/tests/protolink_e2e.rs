@@ -7,10 +7,8 @@ mod harness;
 use aeolus_proto::message::{Message, SetTime};
 use harness::*;
 use protolink_tests::aeolus_udp::{App, Received};
-use std::io::Read;
 use std::net::Shutdown;
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 on_both_boards!(
     bridge_carries_telemetry_and_commands_over_udp,
@@ -18,55 +16,9 @@ on_both_boards!(
     protolink_aok_get_set_waypoint,
 );
 
-/// The longest one `protolink` run may take before the test fails (never a hang).
-const RUN_LIMIT: Duration = Duration::from_secs(30);
-
-fn spawn(args: &[&str]) -> Child {
-    Command::new(protolink())
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start protolink")
-}
-
-/// Waits for a run (killing it after [`RUN_LIMIT`]), reading its pipes meanwhile.
-fn finish(mut child: Child) -> Output {
-    let mut out = child.stdout.take().expect("stdout");
-    let mut err = child.stderr.take().expect("stderr");
-    let out = std::thread::spawn(move || {
-        let mut v = Vec::new();
-        let _ = out.read_to_end(&mut v);
-        v
-    });
-    let err = std::thread::spawn(move || {
-        let mut v = Vec::new();
-        let _ = err.read_to_end(&mut v);
-        v
-    });
-    let started = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().expect("wait") {
-            break s;
-        }
-        if started.elapsed() > RUN_LIMIT {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("protolink ran longer than {RUN_LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    Output {
-        status,
-        stdout: out.join().expect("stdout reader"),
-        stderr: err.join().expect("stderr reader"),
-    }
-}
-
 /// Runs `protolink ARGS`, asserts a zero exit, returns stdout.
 fn protolink_ok(args: &[&str]) -> String {
-    let out = finish(spawn(args));
+    let out = finish(spawn_protolink(args));
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
@@ -102,7 +54,7 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
     let in_port = ports.uart(0) + 5;
     let mut udp = App::new(in_port);
     let out_port = udp.port();
-    let bridge = spawn(&[
+    let bridge = spawn_protolink(&[
         "bridge",
         "--uart",
         &format!("tcp:127.0.0.1:{}", ports.uart(0)),
@@ -238,7 +190,7 @@ fn protolink_aydp_set_get_store(board: Board) {
         "0x0100 u32[6] = [7, 5, 92, 829, 1000, 1000]: confirmed (read back)\n"
     );
     // A value out of the registry's range is refused by the device, in one sentence.
-    let out = finish(spawn(&[
+    let out = finish(spawn_protolink(&[
         "aydp", "--to", &to, "set", "0x0110", "400", "--as", "f32",
     ]));
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
@@ -287,7 +239,7 @@ fn protolink_aok_get_set_waypoint(board: Board) {
     );
     assert_eq!(aok(&["get", "12"]), "parameter 12 = 1500\n");
     // Parameter 20 cannot be set in flight: the device's 'I', as one sentence and status 1.
-    let out = finish(spawn(&["aok", "--to", &to, "set", "20", "7"]));
+    let out = finish(spawn_protolink(&["aok", "--to", &to, "set", "20", "7"]));
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),

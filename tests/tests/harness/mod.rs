@@ -34,7 +34,7 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
@@ -584,3 +584,51 @@ pub const TELEMETRY: [Periodic; 10] = [
         interval_ms: 1000.0,
     },
 ];
+
+// ------------------------------------------------------------------ protolink runs
+
+/// The longest one `protolink` run may take before the test fails (never a hang).
+pub const RUN_LIMIT: Duration = Duration::from_secs(30);
+
+pub fn spawn_protolink<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Child {
+    Command::new(protolink())
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start protolink")
+}
+
+/// Waits for a run (killing it after [`RUN_LIMIT`]), reading its pipes meanwhile.
+pub fn finish(mut child: Child) -> Output {
+    let mut out = child.stdout.take().expect("stdout");
+    let mut err = child.stderr.take().expect("stderr");
+    let out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = out.read_to_end(&mut v);
+        v
+    });
+    let err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = err.read_to_end(&mut v);
+        v
+    });
+    let started = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        if started.elapsed() > RUN_LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("protolink ran longer than {RUN_LIMIT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("stdout reader"),
+        stderr: err.join().expect("stderr reader"),
+    }
+}
