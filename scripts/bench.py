@@ -117,7 +117,7 @@ def main():
             "decoder that trusts the claimed length, on the same received bytes.", ""]
     out += sh("cargo run -q --release -p protolink-tests --example corruption").splitlines()
 
-    out += ["", "## Footprint on thumbv7m (checks/footprint)", "",
+    out += ["", "## Footprint on thumbv7m and thumbv6m (checks/footprint)", "",
             "`python3 scripts/footprint.py`: flash of a binary that only decodes (or only encodes) one",
             "protocol, minus the empty baseline; worst stack = the entry point's frame plus its deepest call",
             "chain, from nightly `-Z emit-stack-sizes` and the disassembly's call graph. Targets: decoder",
