@@ -6,5 +6,6 @@ pub mod aeolus_udp;
 pub mod channel;
 pub mod naive;
 pub mod protocols;
+pub mod resync;
 pub mod rng;
 pub mod score;
