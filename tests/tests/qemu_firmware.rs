@@ -5,8 +5,6 @@
 mod harness;
 
 use harness::*;
-use std::io::{ErrorKind, Read, Write};
-use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 on_both_boards!(
@@ -180,51 +178,6 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
 
 // ------------------------------------------------------------------ AYDP over UART1
 
-/// Sends one AYDP message (profile `Spec`, expedited) on UART1.
-fn aydp_send(port: &mut TcpStream, msg: &aydp_proto::Message<'_>) {
-    let mut buf = [0u8; 128];
-    let n = aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
-        .encode_expedited(msg, &mut buf)
-        .expect("encode");
-    port.write_all(&buf[..n]).expect("write UART1");
-}
-
-/// Reads UART1 until a system value update for `address` arrives; returns its data.
-fn aydp_read_value(port: &mut TcpStream, address: u16, timeout: Duration) -> Option<Vec<u8>> {
-    let mut d = aydp_proto::Decoder::<256>::new(aydp_proto::Profile::Spec);
-    let end = Instant::now() + timeout;
-    port.set_read_timeout(Some(Duration::from_millis(50)))
-        .ok()?;
-    let mut buf = [0u8; 512];
-    while Instant::now() < end {
-        let n = match port.read(&mut buf) {
-            Ok(0) => return None,
-            Ok(n) => n,
-            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => continue,
-            Err(e) => panic!("UART1: {e}"),
-        };
-        let mut found = None;
-        d.feed(&buf[..n], |ev| {
-            if let Ok(Ok(aydp_proto::Message::SystemValueUpdate(u))) = ev.map(|f| f.message())
-                && u.address == address
-            {
-                found = Some(u.data.to_vec());
-            }
-        });
-        if found.is_some() {
-            return found;
-        }
-    }
-    None
-}
-
-fn request(port: &mut TcpStream, address: u16) -> Option<Vec<u8>> {
-    let req =
-        aydp_proto::Message::SystemControl(aydp_proto::SystemControl::RequestData { address });
-    aydp_send(port, &req);
-    aydp_read_value(port, address, Duration::from_secs(3))
-}
-
 fn aydp_setting_survives_store_and_reboot(board: Board) {
     let Some(mut q) = boot(board, Ports::AYDP.on(board)) else {
         return;
@@ -285,35 +238,6 @@ fn aydp_setting_survives_store_and_reboot(board: Board) {
 }
 
 // ------------------------------------------------------------------ AOK over UART2
-
-/// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
-struct NbSerial(TcpStream);
-
-impl embedded_hal_nb::serial::ErrorType for NbSerial {
-    type Error = core::convert::Infallible;
-}
-
-impl embedded_hal_nb::serial::Read<u8> for NbSerial {
-    fn read(&mut self) -> nb::Result<u8, Self::Error> {
-        let mut b = [0u8; 1];
-        match self.0.read(&mut b) {
-            Ok(1) => Ok(b[0]),
-            _ => Err(nb::Error::WouldBlock),
-        }
-    }
-}
-
-impl embedded_hal_nb::serial::Write<u8> for NbSerial {
-    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
-        match self.0.write(&[word]) {
-            Ok(1) => Ok(()),
-            _ => Err(nb::Error::WouldBlock),
-        }
-    }
-    fn flush(&mut self) -> nb::Result<(), Self::Error> {
-        Ok(())
-    }
-}
 
 fn aok_parameter_and_waypoint(board: Board) {
     use aok_proto::{ActionWord, Client, Config, FirmwareVersion, Waypoint, WaypointSlot};

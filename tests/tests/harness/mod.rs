@@ -134,6 +134,8 @@ impl Ports {
     /// `protolink_help::every_help_example_runs_against_the_firmware` (UART ports, then the
     /// UDP ports of its examples at +5..+9).
     pub const CLI_HELP: Ports = Ports(17_460);
+    /// `soak::hostile_soak`.
+    pub const SOAK: Ports = Ports(17_470);
 }
 
 impl Ports {
@@ -508,6 +510,11 @@ impl Aeolus {
         self.outgoing.clear();
     }
 
+    /// Queues raw bytes (garbage, a SETTIME) for [`Aeolus::flush_commands`].
+    pub fn queue_raw(&mut self, bytes: &[u8]) {
+        self.outgoing.extend_from_slice(bytes);
+    }
+
     /// Closes the socket, so that another client (`protolink bridge`) can take UART0. QEMU
     /// drops what the UART sends while no client is connected.
     pub fn disconnect(&mut self) {
@@ -630,5 +637,82 @@ pub fn finish(mut child: Child) -> Output {
         status,
         stdout: out.join().expect("stdout reader"),
         stderr: err.join().expect("stderr reader"),
+    }
+}
+
+// ------------------------------------------------------------------ AYDP and AOK helpers
+
+/// Sends one AYDP message (profile `Spec`, expedited) on UART1.
+pub fn aydp_send(port: &mut TcpStream, msg: &aydp_proto::Message<'_>) {
+    let mut buf = [0u8; 128];
+    let n = aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
+        .encode_expedited(msg, &mut buf)
+        .expect("encode");
+    port.write_all(&buf[..n]).expect("write UART1");
+}
+
+/// Reads UART1 until a system value update for `address` arrives; returns its data.
+pub fn aydp_read_value(port: &mut TcpStream, address: u16, timeout: Duration) -> Option<Vec<u8>> {
+    let mut d = aydp_proto::Decoder::<256>::new(aydp_proto::Profile::Spec);
+    let end = Instant::now() + timeout;
+    port.set_read_timeout(Some(Duration::from_millis(50)))
+        .ok()?;
+    let mut buf = [0u8; 512];
+    while Instant::now() < end {
+        let n = match port.read(&mut buf) {
+            Ok(0) => return None,
+            Ok(n) => n,
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => continue,
+            Err(e) => panic!("UART1: {e}"),
+        };
+        let mut found = None;
+        d.feed(&buf[..n], |ev| {
+            if let Ok(Ok(aydp_proto::Message::SystemValueUpdate(u))) = ev.map(|f| f.message())
+                && u.address == address
+            {
+                found = Some(u.data.to_vec());
+            }
+        });
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+/// Requests the value at `address` on UART1 and waits up to 3 s for it.
+pub fn request(port: &mut TcpStream, address: u16) -> Option<Vec<u8>> {
+    let req =
+        aydp_proto::Message::SystemControl(aydp_proto::SystemControl::RequestData { address });
+    aydp_send(port, &req);
+    aydp_read_value(port, address, Duration::from_secs(3))
+}
+
+/// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
+pub struct NbSerial(pub TcpStream);
+
+impl embedded_hal_nb::serial::ErrorType for NbSerial {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal_nb::serial::Read<u8> for NbSerial {
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        let mut b = [0u8; 1];
+        match self.0.read(&mut b) {
+            Ok(1) => Ok(b[0]),
+            _ => Err(nb::Error::WouldBlock),
+        }
+    }
+}
+
+impl embedded_hal_nb::serial::Write<u8> for NbSerial {
+    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
+        match self.0.write(&[word]) {
+            Ok(1) => Ok(()),
+            _ => Err(nb::Error::WouldBlock),
+        }
+    }
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        Ok(())
     }
 }
