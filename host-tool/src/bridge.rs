@@ -150,6 +150,8 @@ pub struct SendCounters {
 pub const DATAGRAMS_PER_TURN: usize = 64;
 /// Datagrams that may wait for the UART writer; more are dropped and counted.
 pub const UART_QUEUE: usize = 256;
+/// How long the bridge waits at exit for datagrams still queued for the UART.
+pub const UART_DRAIN: Duration = Duration::from_secs(1);
 
 /// Packs escaped AEOLUS frames into UDP datagrams and sends them: up to `pack` frames per
 /// datagram, never more than [`MAX_DATAGRAM`] bytes (a single longer frame goes out alone),
@@ -398,11 +400,18 @@ impl UartWriter {
         }
     }
 
-    /// Waits for the queue to drain, then fills in the counters.
+    /// Lets the queue drain for at most [`UART_DRAIN`] (a UART that takes nothing must not
+    /// hold the exit), then fills in the counters.
     fn finish(mut self, counters: &mut Counters) -> Option<String> {
         drop(self.queue.take());
         if let Some(t) = self.thread.take() {
-            let _ = t.join();
+            let started = Instant::now();
+            while !t.is_finished() && started.elapsed() < UART_DRAIN {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            if t.is_finished() {
+                let _ = t.join();
+            }
         }
         counters.bytes_to_uart = self.written.load(Ordering::Relaxed);
         counters.uart_write_errors = self.errors.load(Ordering::Relaxed);
