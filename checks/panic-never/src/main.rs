@@ -61,9 +61,9 @@ mod aeolus {
     use aeolus_proto::{message::*, *};
 
     pub fn run() {
-        // Deframer, byte by byte, both modes.
-        let mut d = Deframer::<{ MAX_FIXED_FRAME }>::new();
-        let mut s = Deframer::<16>::strict();
+        // Decoder, byte by byte, both modes.
+        let mut d = Decoder::<{ MAX_FIXED_FRAME }>::new();
+        let mut s = Decoder::<16>::strict();
         for i in 0..len() {
             let b = input_byte(i);
             if let Some(Ok(frame)) = d.push(b) {
@@ -81,12 +81,12 @@ mod aeolus {
         // The bulk path, in opaque chunks, and the CRC over an opaque slice.
         let bulk: [u8; 512] = input();
         let total = len() % 513;
-        let mut b = Deframer::<{ MAX_FIXED_FRAME }>::new();
+        let mut b = Decoder::<{ MAX_FIXED_FRAME }>::new();
         let mut at = 0;
         while at < total {
             let step = 1 + input_byte(at) as usize % 67;
             let end = if at + step < total { at + step } else { total };
-            b.push_slice(bulk.get(at..end).unwrap_or(&[]), |ev| {
+            b.feed(bulk.get(at..end).unwrap_or(&[]), |ev| {
                 if let Ok(frame) = ev {
                     if let Ok(msg) = frame.message() {
                         sink(msg.buffer_len() as u32);
@@ -441,7 +441,7 @@ mod io {
                 }
             }
         }
-        sink(r.deframer().stats().frames_ok ^ a.deframer().stats().frames_ok);
+        sink(r.decoder().stats().frames_ok ^ a.decoder().stats().frames_ok);
 
         // AYDP readers and writers.
         use aydp_proto::{Profile, Raw, Timestamp};
