@@ -273,11 +273,7 @@ impl<const N: usize> Decoder<N> {
     /// });
     /// assert_eq!(ids, [Ok(82)]);
     /// ```
-    pub fn feed(
-        &mut self,
-        mut bytes: &[u8],
-        mut on_event: impl FnMut(Result<Frame<'_>, Error>),
-    ) {
+    pub fn feed(&mut self, mut bytes: &[u8], mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
         loop {
             bytes = self.copy_run(bytes);
             let Some((&b, rest)) = bytes.split_first() else {
@@ -291,7 +287,10 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// The former name of [`Decoder::feed`].
-    #[deprecated(since = "0.1.0", note = "renamed `feed`, the slice method of every protocol crate")]
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `feed`, the slice method of every protocol crate"
+    )]
     pub fn push_slice(&mut self, bytes: &[u8], on_event: impl FnMut(Result<Frame<'_>, Error>)) {
         self.feed(bytes, on_event);
     }
@@ -418,7 +417,10 @@ impl<const N: usize> Decoder<N> {
 }
 
 /// The former name of [`Decoder`].
-#[deprecated(since = "0.1.0", note = "renamed `Decoder`, the decoder's name in every protocol crate")]
+#[deprecated(
+    since = "0.1.0",
+    note = "renamed `Decoder`, the decoder's name in every protocol crate"
+)]
 pub type Deframer<const N: usize> = Decoder<N>;
 
 const STATS0: Stats = Stats {

@@ -75,9 +75,9 @@ pub mod message;
 mod scan;
 
 pub use datagram::{DatagramFrames, decode_datagram};
-pub use decoder::{Decoder, Stats};
 #[allow(deprecated)]
 pub use decoder::Deframer;
+pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::Error;
 pub use frame::Frame;

@@ -226,5 +226,8 @@ fn bad_crc_vector_is_a_crc_error_carrying_the_id() {
     assert_eq!(d.stats().bytes_discarded, 7);
     let mut datagram = wire.clone();
     let got: Vec<_> = decode_datagram(&mut datagram, false).collect();
-    assert!(matches!(got[..], [Err(Error::ChecksumMismatch { id: 82, .. })]));
+    assert!(matches!(
+        got[..],
+        [Err(Error::ChecksumMismatch { id: 82, .. })]
+    ));
 }

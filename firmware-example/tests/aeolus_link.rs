@@ -236,7 +236,11 @@ fn ten_seconds_give_the_spec_rates_within_two_percent() {
     assert_eq!(b.peer.toasts(), ["AEOLUS on"]);
     let stats = b.peer.deframer.stats();
     assert_eq!(
-        (stats.checksum_errors, stats.bytes_discarded, stats.overflows),
+        (
+            stats.checksum_errors,
+            stats.bytes_discarded,
+            stats.overflows
+        ),
         (0, 0, 0)
     );
     assert_eq!(b.link.counters().tx_dropped, 0);
