@@ -162,7 +162,7 @@ fn aydp_vectors_decode_in_their_profile() {
             // Y6: rejected; no message comes out of it.
             assert!(lines.iter().all(|l| l["kind"] == "error"), "{lines:?}");
             assert!(!lines.is_empty());
-            assert_eq!(counters["messages_ok"], 0);
+            assert_eq!(counters["frames_ok"], 0);
             continue;
         }
         let (_, want) = expect

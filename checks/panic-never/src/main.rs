@@ -462,7 +462,7 @@ mod io {
                 sink(f.message().is_ok() as u32);
             }
         }
-        sink(r.decoder().stats().messages_ok ^ a.decoder().stats().messages_ok);
+        sink(r.decoder().stats().frames_ok ^ a.decoder().stats().frames_ok);
 
         // AOK readers and writers.
         use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};
