@@ -105,7 +105,7 @@ impl Waypoint {
     /// Parse a complete `77` frame (checksum first, then the slot).
     pub(crate) fn from_frame(f: &[u8; 19]) -> Result<Self, Error> {
         if xor(&f[1..18]) != f[18] {
-            return Err(Error::Checksum);
+            return Err(Error::ChecksumMismatch);
         }
         Ok(Self {
             slot: WaypointSlot::from_wire(f[1])?,
@@ -225,7 +225,7 @@ impl Command {
     /// ```
     /// use aok_proto::{Command, Error};
     /// assert_eq!(Command::parse(&[0x63, 0x04, 2]), Ok((Command::SaveSet(2), 3)));
-    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(Error::Checksum));
+    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(Error::ChecksumMismatch));
     /// assert_eq!(Command::parse(&[0x73, 0x0c]), Err(Error::Truncated));
     /// ```
     pub fn parse(bytes: &[u8]) -> Result<(Self, usize), Error> {
@@ -258,7 +258,7 @@ impl Command {
             SET_PARAMETER => {
                 let f = fixed::<7>(bytes)?;
                 if xor(&f[1..6]) != f[6] {
-                    return Err(Error::Checksum);
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok(Self::SetParameter(ParameterValue {
                     number: f[1],
@@ -276,7 +276,7 @@ impl Command {
             EXTERNAL_CONTROL => {
                 let f = fixed::<12>(bytes)?;
                 if xor(&f[1..11]) != f[11] {
-                    return Err(Error::Checksum);
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok(Self::ExternalControl(ExternalControl {
                     roll: Stick::new(i16::from_le_bytes([f[1], f[2]]))?,
@@ -290,7 +290,7 @@ impl Command {
                 Some(motor) => {
                     let f = fixed::<3>(bytes)?;
                     if f[0] ^ f[1] != f[2] {
-                        return Err(Error::Checksum);
+                        return Err(Error::ChecksumMismatch);
                     }
                     Ok(Self::MotorTest(MotorTest { motor, value: f[1] }))
                 }
@@ -402,8 +402,7 @@ impl Command {
     /// assert_eq!(Command::ReadParameter(12).expected_reply(), Expect::Parameter(12));
     /// assert_eq!(Command::SaveSet(1).expected_reply(), Expect::Nothing);
     /// ```
-    pub const fn expected_reply(&self) -> crate::pc::Expect {
-        use crate::pc::Expect;
+    pub const fn expected_reply(&self) -> Expect {
         match self {
             Self::SetParameter(_) | Self::SetWaypoint(_) => Expect::Ack,
             Self::ReadParameter(n) => Expect::Parameter(*n),
@@ -412,6 +411,31 @@ impl Command {
             _ => Expect::Nothing,
         }
     }
+}
+
+/// What the PC is waiting for after a command ([`Command::expected_reply`]). It tells the PC
+/// decoder ([`crate::PcDecoder`]) how to read headerless parameter replies and whether single
+/// bytes 'O'/'E'/'I' are acks. Also reachable as `pc::Expect`.
+///
+/// ```
+/// use aok_proto::pc::Expect;
+/// assert_eq!(Expect::default(), Expect::Nothing);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Expect {
+    /// No request pending: only debug frames and self-describing replies are decoded.
+    #[default]
+    Nothing,
+    /// An ack ('O', 'E' or 'I') after `73` or `77`.
+    Ack,
+    /// The reply to `67 NUM`.
+    Parameter(u8),
+    /// The 16 replies to `47 NUM`; pending until the reply for NUM+15 arrives.
+    Bulk(u8),
+    /// The reply to `78 NUM`.
+    Waypoint(WaypointSlot),
 }
 
 fn control(f: &mut [u8; MAX_COMMAND_LEN], sub: u8) {

@@ -26,18 +26,16 @@
 //! let mut reply = [0u8; 7];
 //! let mut reply_len = 0;
 //! for &b in &wire[..n] {
-//!     for cmd in device.push(b) {
-//!         if let Ok(Command::ReadParameter(num)) = cmd {
-//!             let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
-//!             reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
-//!         }
+//!     if let Some(Ok(Command::ReadParameter(num))) = device.push(b) {
+//!         let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
+//!         reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
 //!     }
 //! }
 //! // PC: decode the reply.
 //! let mut pc = PcDecoder::new(FirmwareVersion::LATEST);
 //! pc.expect(Expect::Parameter(12));
-//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b).next());
-//! assert_eq!(got, Some(Message::Parameter(ParameterValue { number: 12, value: 1500 })));
+//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b));
+//! assert_eq!(got, Some(Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))));
 //! # Ok::<(), aok_proto::Error>(())
 //! ```
 #![no_std]
@@ -67,7 +65,9 @@ pub use error::{Error, SerialError};
 pub use io::IoError;
 pub use message::{DebugValue, Message};
 pub use pc::PcDecoder;
+#[allow(deprecated)]
 pub use stats::DecoderStats;
+pub use stats::Stats;
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
 };

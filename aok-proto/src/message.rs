@@ -129,7 +129,7 @@ impl Message {
             DEBUG => {
                 let f = fixed7(bytes)?;
                 if xor(&f[1..6]) != f[6] {
-                    return Err(Error::Checksum);
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok((
                     Self::Debug(DebugValue {
@@ -142,7 +142,7 @@ impl Message {
             PARAMETER_REPLY => {
                 let f = fixed7(bytes)?;
                 if xor(&f[2..6]) != f[6] {
-                    return Err(Error::Checksum);
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok((
                     Self::Parameter(ParameterValue {
@@ -189,7 +189,7 @@ impl ParameterValue {
             .and_then(|s| <&[u8; HEADERLESS_REPLY_LEN]>::try_from(s).ok())
             .ok_or(Error::Truncated)?;
         if f[0] ^ f[1] ^ f[2] ^ f[3] != f[4] {
-            return Err(Error::Checksum);
+            return Err(Error::ChecksumMismatch);
         }
         Ok(Self {
             number,

@@ -329,16 +329,20 @@ impl Protocol for Aok {
     fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
         let mut d = aok_proto::DeviceDecoder::new();
         let mut out = Vec::new();
-        for &b in stream {
-            for c in d.push(b).flatten() {
+        let mut keep = |ev: Result<aok_proto::Command, aok_proto::Error>| {
+            if let Ok(c) = ev {
                 let (bytes, n) = c.to_bytes();
                 out.push(bytes[..n].to_vec());
             }
+        };
+        for &b in stream {
+            let mut event = d.push(b);
+            while let Some(ev) = event {
+                keep(ev);
+                event = d.poll();
+            }
         }
-        for c in d.idle().flatten() {
-            let (bytes, n) = c.to_bytes();
-            out.push(bytes[..n].to_vec());
-        }
+        d.idle(keep);
         out
     }
 

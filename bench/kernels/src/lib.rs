@@ -127,10 +127,12 @@ pub fn aok_pc_decode(stream: &[u8]) -> i64 {
     let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     for &b in stream {
-        for m in d.push(b) {
-            if let aok_proto::Message::Debug(v) = m {
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            if let Ok(aok_proto::Message::Debug(v)) = ev {
                 acc += v.value as i64;
             }
+            event = d.poll();
         }
     }
     acc
@@ -142,8 +144,10 @@ pub fn aok_device_decode(stream: &[u8]) -> u32 {
     let mut d = aok_proto::DeviceDecoder::new();
     let mut n = 0;
     for &b in stream {
-        for c in d.push(b) {
-            n += c.is_ok() as u32;
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            n += ev.is_ok() as u32;
+            event = d.poll();
         }
     }
     n
@@ -155,7 +159,7 @@ pub fn aok_pc_decode_feed(stream: &[u8]) -> i64 {
     let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     d.feed(stream, |m| {
-        if let aok_proto::Message::Debug(v) = m {
+        if let Ok(aok_proto::Message::Debug(v)) = m {
             acc += v.value as i64;
         }
     });

@@ -95,7 +95,7 @@ fn fp_aok_decode() {
     use aok_proto::DeviceDecoder;
     static mut D: DeviceDecoder = DeviceDecoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
-    for c in d.push(byte(0)).flatten() {
+    if let Some(Ok(c)) = d.push(byte(0)) {
         sink(c.buffer_len() as u32);
     }
 }

@@ -148,7 +148,10 @@ mod aok {
         let slot = WaypointSlot::from_wire(input_byte(8)).unwrap_or(WaypointSlot::FbcTarget);
         for i in 0..len() {
             let b = input_byte(i);
-            for cmd in dev.push(b).flatten() {
+            let mut event = dev.push(b);
+            while let Some(item) = event {
+                event = dev.poll();
+                let Ok(cmd) = item else { continue };
                 let mut out = [0u8; 32];
                 let k = input_byte(9) as usize % 33;
                 if let Ok(n) = cmd.emit(&mut out[..k]) {
@@ -168,7 +171,10 @@ mod aok {
                 });
             }
             let form = host.reply_form();
-            for msg in host.push(b) {
+            let mut event = host.push(b);
+            while let Some(item) = event {
+                event = host.poll();
+                let Ok(msg) = item else { continue };
                 let mut out = [0u8; 32];
                 let k = input_byte(10) as usize % 33;
                 if let Ok(n) = msg.emit(form, &mut out[..k]) {
@@ -176,13 +182,17 @@ mod aok {
                 }
             }
         }
-        for cmd in dev.idle().flatten() {
-            sink(cmd.buffer_len() as u32);
-        }
-        for msg in host.idle() {
-            sink(msg.buffer_len(ReplyForm::Headed) as u32);
-        }
-        sink(dev.stats().discarded ^ host.stats().ok);
+        dev.idle(|c| {
+            if let Ok(cmd) = c {
+                sink(cmd.buffer_len() as u32);
+            }
+        });
+        host.idle(|m| {
+            if let Ok(msg) = m {
+                sink(msg.buffer_len(ReplyForm::Headed) as u32);
+            }
+        });
+        sink(dev.stats().bytes_discarded ^ host.stats().frames_ok);
 
         // The bulk paths, in opaque chunks, with the pending request switched between them.
         let bulk: [u8; 512] = input();
@@ -207,10 +217,14 @@ mod aok {
                     _ => Expect::Waypoint(slot),
                 });
             }
-            bhost.feed(chunk, |m| sink(m.buffer_len(ReplyForm::Headerless) as u32));
+            bhost.feed(chunk, |m| {
+                if let Ok(m) = m {
+                    sink(m.buffer_len(ReplyForm::Headerless) as u32);
+                }
+            });
             at = end;
         }
-        sink(bdev.stats().discarded ^ bhost.stats().ok);
+        sink(bdev.stats().bytes_discarded ^ bhost.stats().frames_ok);
 
         // Typed parses on opaque bytes.
         let bytes: [u8; 32] = input();
