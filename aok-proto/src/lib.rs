@@ -11,6 +11,7 @@
 //!   that return the next message (PC side) or command (device side) from a `Read`, a writer
 //!   into a `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
 //!   client's async form.
+//! * [`layout`]: every frame's bytes in one table (start byte, length, field offsets, checksum).
 //! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
 //!
 //! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
@@ -52,6 +53,7 @@ pub mod embedded_io_async;
 mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+pub mod layout;
 pub mod message;
 pub mod pc;
 pub mod stats;
