@@ -9,13 +9,13 @@
 #![no_std]
 #![allow(clippy::collapsible_if)]
 
-use aeolus_proto::{CrcMode, Decoder, message::Message};
+use aeolus_proto::{CrcMode, message::Message};
 use aydp_proto::{Decoder, Encoder, Profile};
 
 /// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
 #[inline(never)]
 pub fn aeolus_deframe(stream: &[u8]) -> u32 {
-    let mut d = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut n = 0;
     for &b in stream {
         if let Some(Ok(_)) = d.push(b) {
@@ -28,7 +28,7 @@ pub fn aeolus_deframe(stream: &[u8]) -> u32 {
 /// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
 #[inline(never)]
 pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
-    let mut d = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut n = 0;
     d.feed(stream, |ev| n += ev.is_ok() as u32);
     n
@@ -39,7 +39,7 @@ pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
 /// library call on Cortex-M3) is counted as decoding.
 #[inline(never)]
 pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
-    let mut d = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut acc = 0;
     d.feed(stream, |ev| {
         if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
@@ -53,7 +53,7 @@ pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
 /// timestamps' bit patterns (see [`aeolus_decode_slice`]).
 #[inline(never)]
 pub fn aeolus_decode(stream: &[u8]) -> u64 {
-    let mut d = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut acc = 0;
     for &b in stream {
         if let Some(Ok(frame)) = d.push(b) {
