@@ -9,12 +9,13 @@ use crate::{Error, shift_left};
 
 /// Byte-at-a-time decoder of the PC's commands.
 ///
-/// Feed it one byte at a time with [`DeviceDecoder::push`], which returns at most one event, then call
-/// [`DeviceDecoder::poll`] until `None` for any further events a rescan uncovered; or a slice at a
-/// time with [`DeviceDecoder::feed`]. Checksums are verified. An unknown byte is counted and skipped; a checksum failure is counted, reported as
-/// `Err(Error::ChecksumMismatch)` (the device may answer 'E') and the bytes after the false start are
-/// rescanned, so a command hidden behind garbage is still found. A frame with a good checksum but an
-/// out-of-range field (waypoint slot, stick value) is consumed whole and reported as that error.
+/// Feed it one byte at a time with [`DeviceDecoder::push`], which returns at most one event, then
+/// call [`DeviceDecoder::poll`] until `None` for any further events a rescan uncovered; or a slice
+/// at a time with [`DeviceDecoder::feed`]. Checksums are verified. An unknown byte is counted and
+/// skipped; a checksum failure is counted, reported as `Err(Error::ChecksumMismatch)` (the device
+/// may answer 'E') and the bytes after the false start are rescanned, so a command hidden behind
+/// garbage is still found. A frame with a good checksum but an out-of-range field (waypoint slot,
+/// stick value) is consumed whole and reported as that error.
 ///
 /// The buffer is fixed at the longest command (19 bytes, the waypoint frame), so no capacity parameter
 /// is needed: every command fits.
@@ -192,7 +193,7 @@ impl DeviceDecoder {
 
     /// Feed `bytes` up to and including the first item, with the bulk path of
     /// [`DeviceDecoder::feed`] (commands parsed in place while nothing is held); items an
-    /// earlier call left undrained come first. Returns how many bytes were consumed and the
+    /// earlier call left unpolled come first. Returns how many bytes were consumed and the
     /// item. Calling it until it finds nothing in an empty slice gives exactly the items of
     /// [`DeviceDecoder::push`] and [`DeviceDecoder::poll`].
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
