@@ -393,7 +393,7 @@ def summary_short(line):
     if not line.startswith("summary"):
         return "no summary line"
     fields = dict(kv.split("=", 1) for kv in line.split()[1:] if "=" in kv)
-    return " ".join(f"{k}={fields[k]}" for k in ("bytes", "frames_ok", "crc_errors")
+    return " ".join(f"{k}={fields[k]}" for k in ("bytes", "frames_ok", "checksum_errors")
                     if k in fields) or line[:80]
 
 

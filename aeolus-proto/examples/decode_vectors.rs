@@ -2,7 +2,7 @@
 //!
 //! `cargo run -p aeolus-proto --example decode_vectors -- testdata/aeolus-frames.json`
 
-use aeolus_proto::{Deframer, MAX_FIXED_FRAME};
+use aeolus_proto::{Decoder, MAX_FIXED_FRAME};
 use std::process::ExitCode;
 
 fn hex(s: &str) -> Option<Vec<u8>> {
@@ -30,7 +30,7 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let mut deframer = Deframer::<MAX_FIXED_FRAME>::new();
+    let mut deframer = Decoder::<MAX_FIXED_FRAME>::new();
     for v in doc["vectors"].as_array().into_iter().flatten() {
         let name = v["name"].as_str().unwrap_or("?");
         let wire = v["frame"]
@@ -56,7 +56,7 @@ fn main() -> ExitCode {
     let s = deframer.stats();
     println!(
         "frames ok {}, without CRC {}, CRC errors {}, overflows {}, bytes discarded {}",
-        s.frames_ok, s.frames_no_crc, s.crc_errors, s.overflows, s.bytes_discarded
+        s.frames_ok, s.frames_no_crc, s.checksum_errors, s.overflows, s.bytes_discarded
     );
     ExitCode::SUCCESS
 }

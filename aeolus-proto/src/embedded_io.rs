@@ -1,9 +1,9 @@
 //! Blocking AEOLUS frames over [`embedded_io`] (feature `embedded-io`).
 //!
-//! - [`FrameReader`] owns a [`Deframer`] and a read buffer of `R` bytes; each
+//! - [`FrameReader`] owns a [`Decoder`] and a read buffer of `R` bytes; each
 //!   [`FrameReader::read_frame`] returns the next frame. Every read is decoded with the slice
-//!   fast path of [`Deframer::push_slice`], and the frames and errors are exactly those of
-//!   [`Deframer::push`] byte by byte.
+//!   fast path of [`Decoder::feed`], and the frames and errors are exactly those of
+//!   [`Decoder::push`] byte by byte.
 //! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
 //!   a time, with no frame buffer.
 //!
@@ -13,9 +13,9 @@ use ::embedded_io::{Read, Write};
 
 use crate::io::{CHUNK, ReaderCore, fill, frame_bytes, message_data, scratch};
 use crate::message::Message;
-use crate::{CrcMode, Deframer, Frame, IoError};
+use crate::{CrcMode, Decoder, Frame, IoError};
 
-/// Reads AEOLUS frames from a blocking [`Read`]: a [`Deframer<N>`] plus an `R`-byte read
+/// Reads AEOLUS frames from a blocking [`Read`]: a [`Decoder<N>`] plus an `R`-byte read
 /// buffer.
 ///
 /// ```
@@ -36,28 +36,28 @@ pub struct FrameReader<T, const N: usize, const R: usize = 64> {
 }
 
 impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
-    /// A reader with a fresh, non-strict [`Deframer`].
+    /// A reader with a fresh, non-strict [`Decoder`].
     ///
     /// ```
     /// let reader = aeolus_proto::embedded_io::FrameReader::<_, 64, 16>::new(&[][..]);
-    /// assert_eq!(reader.deframer().stats().frames_ok, 0);
+    /// assert_eq!(reader.decoder().stats().frames_ok, 0);
     /// ```
     pub const fn new(inner: T) -> Self {
-        Self::with_deframer(inner, Deframer::new())
+        Self::with_decoder(inner, Decoder::new())
     }
 
-    /// A reader around a deframer set up by the caller (strict mode, say).
+    /// A reader around a decoder set up by the caller (strict mode, say).
     ///
     /// ```
-    /// use aeolus_proto::{embedded_io::FrameReader, Deframer, Error, IoError};
+    /// use aeolus_proto::{embedded_io::FrameReader, Decoder, Error, IoError};
     /// let wire: &[u8] = &[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E];
-    /// let mut reader = FrameReader::<_, 16>::with_deframer(wire, Deframer::strict());
+    /// let mut reader = FrameReader::<_, 16>::with_decoder(wire, Decoder::strict());
     /// assert_eq!(reader.read_frame().err(), Some(IoError::Protocol(Error::MissingCrc { id: 82 })));
     /// ```
-    pub const fn with_deframer(inner: T, deframer: Deframer<N>) -> Self {
+    pub const fn with_decoder(inner: T, decoder: Decoder<N>) -> Self {
         Self {
             inner,
-            core: ReaderCore::new(deframer),
+            core: ReaderCore::new(decoder),
         }
     }
 
@@ -75,7 +75,7 @@ impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
     /// let wire: &[u8] = &[0x7E, 0x52, b'h', b'i', 0, 0x00, 0xEC, 0x7E,
     ///                     0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
     /// let mut reader = FrameReader::<_, 32, 4>::new(wire);
-    /// assert!(matches!(reader.read_frame(), Err(IoError::Protocol(Error::CrcMismatch { .. }))));
+    /// assert!(matches!(reader.read_frame(), Err(IoError::Protocol(Error::ChecksumMismatch { .. }))));
     /// assert_eq!(reader.read_frame().map(|f| f.id()), Ok(82));
     /// ```
     pub fn read_frame(&mut self) -> Result<Frame<'_>, IoError<T::Error>> {
@@ -94,16 +94,28 @@ impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
         self.core.take(token)
     }
 
-    /// The deframer, for its counters.
+    /// The decoder, for its counters.
     ///
     /// ```
     /// let wire: &[u8] = &[0x00, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
     /// let mut reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(wire);
     /// reader.read_frame().unwrap();
-    /// assert_eq!(reader.deframer().stats().bytes_discarded, 1);
+    /// assert_eq!(reader.decoder().stats().bytes_discarded, 1);
     /// ```
-    pub const fn deframer(&self) -> &Deframer<N> {
-        &self.core.deframer
+    pub const fn decoder(&self) -> &Decoder<N> {
+        &self.core.decoder
+    }
+
+    /// The former name of [`FrameReader::decoder`].
+    #[deprecated(since = "0.1.0", note = "renamed `decoder`")]
+    pub const fn deframer(&self) -> &Decoder<N> {
+        &self.core.decoder
+    }
+
+    /// The former name of [`FrameReader::with_decoder`].
+    #[deprecated(since = "0.1.0", note = "renamed `with_decoder`")]
+    pub const fn with_deframer(inner: T, decoder: Decoder<N>) -> Self {
+        Self::with_decoder(inner, decoder)
     }
 
     /// Bytes read from the transport and not decoded yet.

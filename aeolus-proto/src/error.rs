@@ -11,11 +11,11 @@ use core::fmt;
 pub enum Error {
     /// The output buffer cannot hold what was asked for.
     BufferTooSmall,
-    /// A frame grew past the deframer's capacity. Its bytes were dropped and the deframer
+    /// A frame grew past the decoder's capacity. Its bytes were dropped and the decoder
     /// waits for the next flag.
     Overflow,
     /// The received CRC does not match the CRC of the ID and data.
-    CrcMismatch {
+    ChecksumMismatch {
         /// The message ID as received (it may itself be corrupted).
         id: u8,
         /// The CRC computed over the received ID and data.
@@ -34,7 +34,8 @@ pub enum Error {
     InvalidEscape,
     /// An escape byte (0x7D) right before a flag: the frame was aborted.
     EscapedFlag,
-    /// A datagram ended inside a frame (no closing flag).
+    /// A datagram or a stream ([`crate::Decoder::flush`]) ended inside a frame (no closing
+    /// flag).
     Truncated,
     /// A known fixed-size message ID arrived with the wrong number of data bytes.
     WrongLength {
@@ -58,8 +59,8 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Error::BufferTooSmall => f.write_str("output buffer too small"),
-            Error::Overflow => f.write_str("frame longer than the deframer capacity"),
-            Error::CrcMismatch {
+            Error::Overflow => f.write_str("frame longer than the decoder capacity"),
+            Error::ChecksumMismatch {
                 id,
                 computed,
                 received,

@@ -5,7 +5,7 @@ use crate::{Error, crc, message::Message};
 /// One received frame: the message ID, the data and the CRC, unescaped, flags removed.
 ///
 /// A `Frame` only exists once its CRC checked out (or, outside strict mode, once it was found
-/// to carry no CRC, section 4.1). It borrows the deframer's buffer.
+/// to carry no CRC, section 4.1). It borrows the decoder's buffer.
 ///
 /// ```
 /// use aeolus_proto::Frame;
@@ -31,7 +31,7 @@ impl<'a> Frame<'a> {
     /// recognised as checked in both modes.
     ///
     /// # Errors
-    /// [`Error::TooShort`], [`Error::CrcMismatch`], or [`Error::MissingCrc`] in strict mode.
+    /// [`Error::TooShort`], [`Error::ChecksumMismatch`], or [`Error::MissingCrc`] in strict mode.
     pub const fn check(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
         let [body @ .., lo, hi] = raw else {
             return Err(Error::TooShort);
@@ -44,7 +44,7 @@ impl<'a> Frame<'a> {
         if received == computed {
             Ok(Frame { raw, has_crc: true })
         } else if received != 0 {
-            Err(Error::CrcMismatch {
+            Err(Error::ChecksumMismatch {
                 id: *id,
                 computed,
                 received,
@@ -59,7 +59,7 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Wraps bytes the deframer has already checked, without checking them again.
+    /// Wraps bytes the decoder has already checked, without checking them again.
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) const fn checked(raw: &'a [u8], has_crc: bool) -> Self {
         Frame { raw, has_crc }

@@ -4,9 +4,9 @@
 
 use core::fmt;
 
-use crate::deframe::Found;
+use crate::decoder::Found;
 use crate::message::Message;
-use crate::{CrcMode, Deframer, Error, Frame, FrameBytes, TEXT_CAPACITY};
+use crate::{CrcMode, Decoder, Error, Frame, FrameBytes, TEXT_CAPACITY};
 
 /// The error of a reader or writer over `embedded-io` or `embedded-io-async`: the transport's
 /// error `E` and the protocol's [`Error`] are kept apart.
@@ -77,20 +77,20 @@ pub(crate) enum Token {
     Eof,
 }
 
-/// The reader's state: the deframer, the read buffer and the unread part of it.
+/// The reader's state: the decoder, the read buffer and the unread part of it.
 #[derive(Debug, Clone)]
 pub(crate) struct ReaderCore<const N: usize, const R: usize> {
-    pub(crate) deframer: Deframer<N>,
+    pub(crate) decoder: Decoder<N>,
     buf: [u8; R],
     start: usize,
     end: usize,
 }
 
 impl<const N: usize, const R: usize> ReaderCore<N, R> {
-    pub(crate) const fn new(deframer: Deframer<N>) -> Self {
+    pub(crate) const fn new(decoder: Decoder<N>) -> Self {
         const { assert!(R > 0, "the read buffer needs at least one byte") };
         Self {
-            deframer,
+            decoder,
             buf: [0; R],
             start: 0,
             end: 0,
@@ -103,7 +103,7 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
         if unread.is_empty() {
             return None;
         }
-        let (used, found) = self.deframer.push_until(unread);
+        let (used, found) = self.decoder.push_until(unread);
         self.start = self.start.saturating_add(used);
         match found {
             Found::Nothing => None,
@@ -125,18 +125,18 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
             self.end = n.min(R);
             return None;
         }
-        let pending = self.deframer.pending_bytes();
+        let pending = self.decoder.pending_bytes();
         if pending == 0 {
             return Some(Token::Eof);
         }
-        self.deframer.reset();
+        self.decoder.reset();
         Some(Token::UnexpectedEof(pending))
     }
 
     /// Turns a token into what the reader returns.
     pub(crate) fn take<E>(&self, token: Token) -> Result<Frame<'_>, IoError<E>> {
         match token {
-            Token::Frame { len, has_crc } => Ok(self.deframer.found_frame(len, has_crc)),
+            Token::Frame { len, has_crc } => Ok(self.decoder.found_frame(len, has_crc)),
             Token::Error(e) => Err(IoError::Protocol(e)),
             Token::UnexpectedEof(pending) => Err(IoError::UnexpectedEof { pending }),
             Token::Eof => Err(IoError::Eof),

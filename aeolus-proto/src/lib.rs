@@ -4,8 +4,10 @@
 //! protocol: GDL90-style framing (`0x7E` flags, `0x7D` escapes, a CRC-16) carrying the 16
 //! message types of the AEOLUS communications document.
 //!
-//! - [`Deframer`]: byte-at-a-time decoding of a UART stream, bounded by a const-generic
-//!   capacity, resynchronising after any error, with [`Stats`] counters.
+//! - [`Decoder`]: byte-at-a-time decoding of a UART stream (`push`, at most one event per
+//!   byte), whole slices (`feed`) and the end of the stream (`flush`), bounded by a
+//!   const-generic capacity, resynchronising after any error, with [`Stats`] counters. The
+//!   three protocol crates share this shape: see `docs/architecture.md`.
 //! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
 //! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
 //!   [`max_encoded_len`] sizes buffers at compile time.
@@ -20,25 +22,25 @@
 //! ## Decoding a UART byte stream
 //!
 //! ```
-//! use aeolus_proto::{Deframer, message::Message};
+//! use aeolus_proto::{Decoder, message::Message};
 //!
 //! // Two frames from the vectors: TOAST "AEOLUS on", then a TOAST sent without CRC.
 //! let stream: &[u8] = &[
 //!     0x7e, 0x52, 0x41, 0x45, 0x4f, 0x4c, 0x55, 0x53, 0x20, 0x6f, 0x6e, 0x00, 0x17, 0xd1, 0x7e,
 //!     0x7e, 0x52, 0x6e, 0x6f, 0x20, 0x63, 0x72, 0x63, 0x00, 0x00, 0x00, 0x7e,
 //! ];
-//! let mut deframer = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+//! let mut decoder = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
 //! let mut seen = Vec::new();
 //! for &byte in stream {
-//!     if let Some(Ok(frame)) = deframer.push(byte) {
+//!     if let Some(Ok(frame)) = decoder.push(byte) {
 //!         if let Ok(Message::Toast(text)) = frame.message() {
 //!             seen.push((text.as_str().unwrap_or("?").to_owned(), frame.has_crc()));
 //!         }
 //!     }
 //! }
 //! assert_eq!(seen, [("AEOLUS on".to_owned(), true), ("no crc".to_owned(), false)]);
-//! assert_eq!(deframer.stats().frames_ok, 1);
-//! assert_eq!(deframer.stats().frames_no_crc, 1);
+//! assert_eq!(decoder.stats().frames_ok, 1);
+//! assert_eq!(decoder.stats().frames_no_crc, 1);
 //! ```
 //!
 //! ## Encoding a GYRO message into a buffer
@@ -59,7 +61,7 @@
 
 pub mod crc;
 mod datagram;
-mod deframe;
+mod decoder;
 #[cfg(feature = "embedded-io")]
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
@@ -73,7 +75,9 @@ pub mod message;
 mod scan;
 
 pub use datagram::{DatagramFrames, decode_datagram};
-pub use deframe::{Deframer, Stats};
+#[allow(deprecated)]
+pub use decoder::Deframer;
+pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::Error;
 pub use frame::Frame;
@@ -87,7 +91,7 @@ pub const ESCAPE: u8 = 0x7D;
 /// The longest TOAST or COMMAND text (without its NUL) this crate holds.
 pub const TEXT_CAPACITY: usize = 120;
 /// The unescaped length (ID + data + CRC) of the longest fixed-size message, DEBUGINFO:
-/// a [`Deframer`] of this capacity receives every message but long LOG or text messages.
+/// a [`Decoder`] of this capacity receives every message but long LOG or text messages.
 pub const MAX_FIXED_FRAME: usize = 1 + message::DEBUGINFO_LEN + 2;
 
 /// The README's examples, compiled and run as doctests.

@@ -1,4 +1,4 @@
-//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `Deframer::push`
+//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `Decoder::push`
 //! delivers byte by byte, whatever the read sizes (1 byte up to more than the buffer), with
 //! pending reads, transport errors in mid-frame and EOF; the writers produce exactly the bytes
 //! of `encode_frame`.
@@ -8,7 +8,7 @@ mod common;
 mod transport;
 
 use aeolus_proto::{
-    CrcMode, Deframer, Error, IoError, embedded_io as bio, embedded_io_async as aio, encode_frame,
+    CrcMode, Decoder, Error, IoError, embedded_io as bio, embedded_io_async as aio, encode_frame,
     max_encoded_len, message::Message,
 };
 use common::arb_message;
@@ -27,7 +27,7 @@ enum Event {
 
 /// The reference: every byte through `push`, then the end of the stream.
 fn reference<const N: usize>(stream: &[u8]) -> (Vec<Event>, aeolus_proto::Stats) {
-    let mut d = Deframer::<N>::new();
+    let mut d = Decoder::<N>::new();
     let mut out = Vec::new();
     for &b in stream {
         match d.push(b) {
@@ -77,7 +77,7 @@ fn blocking<const N: usize, const R: usize>(
         }
     }
     assert_eq!(r.get_ref().errors_given, transport);
-    (out, *r.deframer().stats(), transport)
+    (out, *r.decoder().stats(), transport)
 }
 
 fn asynchronous<const N: usize, const R: usize>(
@@ -99,7 +99,7 @@ fn asynchronous<const N: usize, const R: usize>(
             Err(_) => transport += 1,
         }
     }
-    (out, *r.deframer().stats(), transport)
+    (out, *r.decoder().stats(), transport)
 }
 
 fn check<const N: usize, const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]) {

@@ -32,9 +32,9 @@ proptest! {
         let streamed: Vec<u8> = FrameBytes::new(msg.id(), &data[..len], mode).collect();
         prop_assert_eq!(&streamed[..], &wire[..n]);
 
-        let mut d = Deframer::<512>::new();
+        let mut d = Decoder::<512>::new();
         let mut got = Vec::new();
-        d.push_slice(&wire[..n], |ev| got.push(ev.map(|f| (f.has_crc(), f.raw().to_vec()))));
+        d.feed(&wire[..n], |ev| got.push(ev.map(|f| (f.has_crc(), f.raw().to_vec()))));
         prop_assert_eq!(got.len(), 1);
         let (has_crc, raw) = got.pop().unwrap().unwrap();
         let frame = Frame::check(&raw, false).unwrap();
@@ -88,9 +88,9 @@ fn wrong_length_is_typed_and_raw_frame_stays() {
     let mut wire = [0u8; 64];
     // A GYRO ID with 31 data bytes.
     let n = encode_frame(Gyro::ID, &[0u8; 31], &[], CrcMode::Compute, &mut wire).unwrap();
-    let mut d = Deframer::<64>::strict();
+    let mut d = Decoder::<64>::strict();
     let mut seen = 0;
-    d.push_slice(&wire[..n], |ev| {
+    d.feed(&wire[..n], |ev| {
         let frame = ev.unwrap();
         assert_eq!(
             frame.message(),

@@ -17,9 +17,9 @@ const HI: [u8; 8] = [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
 fn run_split<const N: usize>(strict: bool, bytes: &[u8]) -> (Events, Stats) {
     let fresh = || {
         if strict {
-            Deframer::<N>::strict()
+            Decoder::<N>::strict()
         } else {
-            Deframer::<N>::new()
+            Decoder::<N>::new()
         }
     };
     let mut whole = fresh();
@@ -36,7 +36,7 @@ fn run_split<const N: usize>(strict: bool, bytes: &[u8]) -> (Events, Stats) {
 }
 
 /// Every byte is a flag, part of a delivered frame, discarded, or still pending.
-fn check_accounting<const N: usize>(d: &Deframer<N>, pushed: usize) {
+fn check_accounting<const N: usize>(d: &Decoder<N>, pushed: usize) {
     let s = d.stats();
     assert_eq!(
         s.flags as usize + s.frame_bytes as usize + s.bytes_discarded as usize + d.pending_bytes(),
@@ -125,14 +125,14 @@ fn crc_mismatch_carries_the_id_and_the_next_frame_survives() {
     let (ev, st) = run_split::<64>(true, &bad);
     assert!(matches!(
         ev[0],
-        Err(Error::CrcMismatch {
+        Err(Error::ChecksumMismatch {
             id: 0x52,
             received: 0xEC73,
             ..
         })
     ));
     assert_eq!(ev[1], ok(&HI_RAW));
-    assert_eq!((st.crc_errors, st.frames_ok), (1, 1));
+    assert_eq!((st.checksum_errors, st.frames_ok), (1, 1));
 }
 
 #[test]
@@ -170,9 +170,9 @@ fn strict_mode_rejects_frames_without_crc_but_not_a_real_zero_crc() {
     };
     let mut wire = [0u8; 32];
     let n = encode_frame(0x51, &data, &[], CrcMode::Compute, &mut wire).unwrap();
-    let mut d = Deframer::<64>::strict();
+    let mut d = Decoder::<64>::strict();
     let mut checked = Vec::new();
-    d.push_slice(&wire[..n], |ev| checked.push(ev.map(|f| f.has_crc())));
+    d.feed(&wire[..n], |ev| checked.push(ev.map(|f| f.has_crc())));
     assert_eq!(checked, [Ok(true)]);
 }
 
@@ -240,14 +240,14 @@ fn a_thousand_random_messages_in_random_garbage_all_arrive_in_order() {
     for _ in 0..1000 {
         stream.extend(garbage(&mut rng, 40));
         let frame = random_message(&mut rng);
-        let mut d = Deframer::<256>::strict();
+        let mut d = Decoder::<256>::strict();
         let raw = events(&mut d, &frame).pop().unwrap().unwrap().1;
         sent.push(raw);
         stream.extend(frame);
     }
     stream.extend(garbage(&mut rng, 40));
 
-    let mut d = Deframer::<256>::strict();
+    let mut d = Decoder::<256>::strict();
     let got: Vec<Vec<u8>> = events(&mut d, &stream)
         .into_iter()
         .filter_map(|e| e.ok().map(|f| f.1))
@@ -266,7 +266,7 @@ fn a_thousand_random_messages_in_random_garbage_all_arrive_in_order() {
 
     // The same stream split at every 97th boundary (every boundary over 60 kB is slow in debug).
     for cut in (0..stream.len()).step_by(97) {
-        let mut d2 = Deframer::<256>::strict();
+        let mut d2 = Decoder::<256>::strict();
         let mut got2 = events(&mut d2, &stream[..cut]);
         got2.extend(events(&mut d2, &stream[cut..]));
         assert_eq!(
@@ -284,9 +284,9 @@ fn a_mebibyte_of_random_bytes_never_panics_and_the_counters_add_up() {
     let noise = rng.bytes(1 << 20);
     for strict in [false, true] {
         let mut d = if strict {
-            Deframer::<64>::strict()
+            Decoder::<64>::strict()
         } else {
-            Deframer::<64>::new()
+            Decoder::<64>::new()
         };
         let mut events_seen = 0u32;
         let mut delivered = 0u32;
@@ -310,7 +310,7 @@ fn a_mebibyte_of_random_bytes_never_panics_and_the_counters_add_up() {
         );
         // Random frames are short on average, so most die on CRC or as too short.
         assert!(
-            s.crc_errors > 0 && s.too_short > 0 && s.bad_escapes > 0 && s.overflows > 0,
+            s.checksum_errors > 0 && s.too_short > 0 && s.bad_escapes > 0 && s.overflows > 0,
             "{s:?}"
         );
         if strict {
@@ -340,7 +340,7 @@ fn push_slice_is_exactly_push_byte_by_byte() {
         stream.extend(random_message(&mut rng));
     }
     fn by_byte<const N: usize>(bytes: &[u8]) -> (Events, Stats) {
-        let mut d = Deframer::<N>::new();
+        let mut d = Decoder::<N>::new();
         let mut ev = Vec::new();
         for &b in bytes {
             if let Some(e) = d.push(b) {
@@ -350,7 +350,7 @@ fn push_slice_is_exactly_push_byte_by_byte() {
         (ev, *d.stats())
     }
     fn sliced<const N: usize>(bytes: &[u8], chunk: usize) -> (Events, Stats) {
-        let mut d = Deframer::<N>::new();
+        let mut d = Decoder::<N>::new();
         let mut ev = Vec::new();
         for c in bytes.chunks(chunk) {
             ev.extend(events(&mut d, c));

@@ -92,9 +92,9 @@ fn expected_message(id: u8, v: &Value) -> Message<'static> {
 }
 
 fn decode_one(wire: &[u8]) -> (Vec<u8>, bool) {
-    let mut d = Deframer::<256>::new();
+    let mut d = Decoder::<256>::new();
     let mut got = Vec::new();
-    d.push_slice(wire, |ev| {
+    d.feed(wire, |ev| {
         got.push(ev.map(|f| (f.raw().to_vec(), f.has_crc())))
     });
     assert_eq!(got.len(), 1, "exactly one event for {wire:02x?}");
@@ -167,7 +167,7 @@ fn toast_no_crc_vector_is_unchecked_and_rejected_when_strict() {
     let wire = hex(vector("toast-no-crc")["frame"].as_str().unwrap());
     let (_, has_crc) = decode_one(&wire);
     assert!(!has_crc);
-    let mut strict = Deframer::<64>::strict();
+    let mut strict = Decoder::<64>::strict();
     let ev = common::events(&mut strict, &wire);
     assert_eq!(ev, [Err(Error::MissingCrc { id: 82 })]);
     assert_eq!(strict.stats().missing_crc, 1);
@@ -194,7 +194,7 @@ fn datagram_vector_holds_two_messages() {
     );
     assert_eq!(got[1], Message::Toast(Text::new("hi").unwrap()));
     // The same bytes as a UART stream give the same two IDs.
-    let mut d = Deframer::<64>::strict();
+    let mut d = Decoder::<64>::strict();
     let ids: Vec<_> = common::events(&mut d, &stream)
         .into_iter()
         .map(|e| e.unwrap().0)
@@ -207,10 +207,10 @@ fn bad_crc_vector_is_a_crc_error_carrying_the_id() {
     let v = vector("bad-crc");
     assert_eq!(v["expect"], "crc error");
     let wire = hex(v["bytes"].as_str().unwrap());
-    let mut d = Deframer::<64>::new();
+    let mut d = Decoder::<64>::new();
     let ev = common::events(&mut d, &wire);
     let [
-        Err(Error::CrcMismatch {
+        Err(Error::ChecksumMismatch {
             id,
             computed,
             received,
@@ -222,9 +222,12 @@ fn bad_crc_vector_is_a_crc_error_carrying_the_id() {
     assert_eq!(id, 82);
     assert_eq!(received, 0x4561);
     assert_ne!(computed, received);
-    assert_eq!(d.stats().crc_errors, 1);
+    assert_eq!(d.stats().checksum_errors, 1);
     assert_eq!(d.stats().bytes_discarded, 7);
     let mut datagram = wire.clone();
     let got: Vec<_> = decode_datagram(&mut datagram, false).collect();
-    assert!(matches!(got[..], [Err(Error::CrcMismatch { id: 82, .. })]));
+    assert!(matches!(
+        got[..],
+        [Err(Error::ChecksumMismatch { id: 82, .. })]
+    ));
 }

@@ -14,7 +14,7 @@ use embedded_hal_nb::serial::{Read, Write};
 use crate::command::{Command, MAX_COMMAND_LEN, MotorTest, ParameterValue, Waypoint};
 use crate::message::{DebugValue, Message};
 use crate::pc::{DEBUG_OFF, DEBUG_ON, Expect, PcDecoder};
-use crate::stats::DecoderStats;
+use crate::stats::Stats;
 use crate::values::{Ack, FirmwareVersion, WaypointSlot};
 use crate::{Error, SerialError};
 
@@ -449,7 +449,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     /// The stream decoder's counters.
-    pub const fn decoder_stats(&self) -> &DecoderStats {
+    pub const fn decoder_stats(&self) -> &Stats {
         self.decoder.stats()
     }
 
@@ -506,12 +506,14 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
             match self.serial.read() {
                 Ok(b) => {
                     self.last_rx = now_ms;
-                    let first = self.decoder.push(b).next();
-                    if let Some(m) = first {
-                        self.handle(m);
-                        while let Some(m) = self.decoder.drain().next() {
+                    // Failures (checksums, out-of-range fields) are counted by the decoder; the
+                    // client only acts on messages.
+                    let mut event = self.decoder.push(b);
+                    while let Some(ev) = event {
+                        if let Ok(m) = ev {
                             self.handle(m);
                         }
+                        event = self.decoder.poll();
                     }
                 }
                 Err(nb::Error::WouldBlock) => break,
@@ -523,8 +525,10 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     fn flush_decoder(&mut self, now_ms: u32) {
-        while let Some(m) = self.decoder.idle().next() {
-            self.handle(m);
+        while let Some(ev) = self.decoder.idle_next() {
+            if let Ok(m) = ev {
+                self.handle(m);
+            }
         }
         self.last_rx = now_ms;
     }

@@ -1,25 +1,31 @@
 //! What the PC sends: every command as a plain `Repr` with `parse`, `emit` and `buffer_len`.
+//! The bytes of every frame are in [`crate::layout`].
 
+use crate::layout::{
+    bulk_read, control, external_control as ext, motor_test, read_parameter, read_waypoint,
+    set_parameter as set, waypoint as wp,
+};
+use crate::layout::{bytes, put};
 use crate::values::{ActionWord, Motor, Stick, WaypointSlot};
 use crate::{Error, xor};
 
 /// `63`: the two- and three-byte control commands (no checksum, K5).
-pub const CONTROL: u8 = 0x63;
+pub const CONTROL: u8 = control::START;
 /// `73`: set a parameter.
-pub const SET_PARAMETER: u8 = 0x73;
+pub const SET_PARAMETER: u8 = set::START;
 /// `67`: read a parameter.
-pub const READ_PARAMETER: u8 = 0x67;
+pub const READ_PARAMETER: u8 = read_parameter::START;
 /// `47`: bulk read 16 parameters (firmware >= 0.35).
-pub const BULK_READ: u8 = 0x47;
+pub const BULK_READ: u8 = bulk_read::START;
 /// `77`: set a waypoint (and the header of the waypoint reply).
-pub const WAYPOINT: u8 = 0x77;
+pub const WAYPOINT: u8 = wp::START;
 /// `78`: read a waypoint.
-pub const READ_WAYPOINT: u8 = 0x78;
+pub const READ_WAYPOINT: u8 = read_waypoint::START;
 /// `53`: external control.
-pub const EXTERNAL_CONTROL: u8 = 0x53;
+pub const EXTERNAL_CONTROL: u8 = ext::START;
 
 /// The longest command (and the longest device message): a waypoint frame, 19 bytes.
-pub const MAX_COMMAND_LEN: usize = 19;
+pub const MAX_COMMAND_LEN: usize = crate::layout::MAX_FRAME_LEN;
 
 /// A parameter number and value (`73` set, and the parameter reply).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -73,46 +79,30 @@ impl Waypoint {
         (self.longitude == 0 && self.latitude == 0) || (self.longitude == -1 && self.latitude == -1)
     }
 
-    /// The 19-byte `77` frame.
-    pub(crate) fn frame(&self) -> [u8; 19] {
-        let mut f = [0u8; 19];
-        f[0] = WAYPOINT;
-        f[1] = self.slot.wire();
-        let [a, b, c, d] = self.longitude.to_be_bytes();
-        f[2] = a;
-        f[3] = b;
-        f[4] = c;
-        f[5] = d;
-        let [a, b, c, d] = self.latitude.to_be_bytes();
-        f[6] = a;
-        f[7] = b;
-        f[8] = c;
-        f[9] = d;
-        let [a, b, c, d] = self.action1.raw().to_be_bytes();
-        f[10] = a;
-        f[11] = b;
-        f[12] = c;
-        f[13] = d;
-        let [a, b, c, d] = self.action2.raw().to_be_bytes();
-        f[14] = a;
-        f[15] = b;
-        f[16] = c;
-        f[17] = d;
-        f[18] = xor(&f[1..18]);
+    /// The 19-byte `77` frame ([`crate::layout::waypoint`]).
+    pub(crate) fn frame(&self) -> [u8; wp::LEN] {
+        let mut f = [0u8; wp::LEN];
+        f[0] = wp::START;
+        f[wp::SLOT] = self.slot.wire();
+        put!(f, wp::LONGITUDE, self.longitude.to_be_bytes(), 4);
+        put!(f, wp::LATITUDE, self.latitude.to_be_bytes(), 4);
+        put!(f, wp::ACTION1, self.action1.raw().to_be_bytes(), 4);
+        put!(f, wp::ACTION2, self.action2.raw().to_be_bytes(), 4);
+        f[wp::CHECKSUM] = xor(&f[wp::CHECKED]);
         f
     }
 
     /// Parse a complete `77` frame (checksum first, then the slot).
-    pub(crate) fn from_frame(f: &[u8; 19]) -> Result<Self, Error> {
-        if xor(&f[1..18]) != f[18] {
-            return Err(Error::Checksum);
+    pub(crate) fn from_frame(f: &[u8; wp::LEN]) -> Result<Self, Error> {
+        if xor(&f[wp::CHECKED]) != f[wp::CHECKSUM] {
+            return Err(Error::ChecksumMismatch);
         }
         Ok(Self {
-            slot: WaypointSlot::from_wire(f[1])?,
-            longitude: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
-            latitude: i32::from_be_bytes([f[6], f[7], f[8], f[9]]),
-            action1: ActionWord(u32::from_be_bytes([f[10], f[11], f[12], f[13]])),
-            action2: ActionWord(u32::from_be_bytes([f[14], f[15], f[16], f[17]])),
+            slot: WaypointSlot::from_wire(f[wp::SLOT])?,
+            longitude: i32::from_be_bytes(bytes!(f, wp::LONGITUDE, 4)),
+            latitude: i32::from_be_bytes(bytes!(f, wp::LATITUDE, 4)),
+            action1: ActionWord(u32::from_be_bytes(bytes!(f, wp::ACTION1, 4))),
+            action2: ActionWord(u32::from_be_bytes(bytes!(f, wp::ACTION2, 4))),
         })
     }
 }
@@ -197,15 +187,17 @@ pub(crate) const fn command_len(first: u8, second: Option<u8>) -> Len {
     match first {
         CONTROL => match second {
             None => Len::More,
-            Some(1 | 2 | 7 | 8 | 9) => Len::Is(2),
-            Some(3..=5) => Len::Is(3),
+            Some(1 | 2 | 7 | 8 | 9) => Len::Is(control::LEN),
+            Some(3..=5) => Len::Is(control::LEN_WITH_SET),
             Some(_) => Len::Unknown,
         },
-        SET_PARAMETER => Len::Is(7),
-        READ_PARAMETER | BULK_READ | READ_WAYPOINT => Len::Is(2),
-        0x31..=0x39 | 0x41..=0x43 => Len::Is(3),
-        WAYPOINT => Len::Is(19),
-        EXTERNAL_CONTROL => Len::Is(12),
+        SET_PARAMETER => Len::Is(set::LEN),
+        READ_PARAMETER => Len::Is(read_parameter::LEN),
+        BULK_READ => Len::Is(bulk_read::LEN),
+        READ_WAYPOINT => Len::Is(read_waypoint::LEN),
+        0x31..=0x39 | 0x41..=0x43 => Len::Is(motor_test::LEN),
+        WAYPOINT => Len::Is(wp::LEN),
+        EXTERNAL_CONTROL => Len::Is(ext::LEN),
         _ => Len::Unknown,
     }
 }
@@ -225,7 +217,7 @@ impl Command {
     /// ```
     /// use aok_proto::{Command, Error};
     /// assert_eq!(Command::parse(&[0x63, 0x04, 2]), Ok((Command::SaveSet(2), 3)));
-    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(Error::Checksum));
+    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(Error::ChecksumMismatch));
     /// assert_eq!(Command::parse(&[0x73, 0x0c]), Err(Error::Truncated));
     /// ```
     pub fn parse(bytes: &[u8]) -> Result<(Self, usize), Error> {
@@ -242,57 +234,69 @@ impl Command {
     pub(crate) fn parse_known(first: u8, bytes: &[u8]) -> Result<Self, Error> {
         match first {
             CONTROL => {
-                let f = fixed::<2>(bytes)?;
-                match f[1] {
+                let f = fixed::<{ control::LEN }>(bytes)?;
+                let set = || -> Result<u8, Error> {
+                    Ok(fixed::<{ control::LEN_WITH_SET }>(bytes)?[control::SET])
+                };
+                match f[control::SUB] {
                     1 => Ok(Self::DebugOff),
                     2 => Ok(Self::DebugOn),
                     7 => Ok(Self::Reset),
                     8 => Ok(Self::SaveWaypoints),
                     9 => Ok(Self::LoadWaypoints),
-                    3 => Ok(Self::LoadSet(fixed::<3>(bytes)?[2])),
-                    4 => Ok(Self::SaveSet(fixed::<3>(bytes)?[2])),
-                    5 => Ok(Self::StartSet(fixed::<3>(bytes)?[2])),
+                    3 => Ok(Self::LoadSet(set()?)),
+                    4 => Ok(Self::SaveSet(set()?)),
+                    5 => Ok(Self::StartSet(set()?)),
                     _ => Err(Error::UnknownCommand(first)),
                 }
             }
             SET_PARAMETER => {
-                let f = fixed::<7>(bytes)?;
-                if xor(&f[1..6]) != f[6] {
-                    return Err(Error::Checksum);
+                let f = fixed::<{ set::LEN }>(bytes)?;
+                if xor(&f[set::CHECKED]) != f[set::CHECKSUM] {
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok(Self::SetParameter(ParameterValue {
-                    number: f[1],
-                    value: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
+                    number: f[set::NUMBER],
+                    value: i32::from_be_bytes(bytes!(f, set::VALUE, 4)),
                 }))
             }
-            READ_PARAMETER => Ok(Self::ReadParameter(fixed::<2>(bytes)?[1])),
-            BULK_READ => Ok(Self::BulkRead(fixed::<2>(bytes)?[1])),
+            READ_PARAMETER => Ok(Self::ReadParameter(
+                fixed::<{ read_parameter::LEN }>(bytes)?[read_parameter::NUMBER],
+            )),
+            BULK_READ => Ok(Self::BulkRead(
+                fixed::<{ bulk_read::LEN }>(bytes)?[bulk_read::FIRST],
+            )),
             READ_WAYPOINT => Ok(Self::ReadWaypoint(WaypointSlot::from_wire(
-                fixed::<2>(bytes)?[1],
+                fixed::<{ read_waypoint::LEN }>(bytes)?[read_waypoint::SLOT],
             )?)),
-            WAYPOINT => Ok(Self::SetWaypoint(Waypoint::from_frame(fixed::<19>(
-                bytes,
+            WAYPOINT => Ok(Self::SetWaypoint(Waypoint::from_frame(fixed::<
+                { wp::LEN },
+            >(
+                bytes
             )?)?)),
             EXTERNAL_CONTROL => {
-                let f = fixed::<12>(bytes)?;
-                if xor(&f[1..11]) != f[11] {
-                    return Err(Error::Checksum);
+                let f = fixed::<{ ext::LEN }>(bytes)?;
+                if xor(&f[ext::CHECKED]) != f[ext::CHECKSUM] {
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok(Self::ExternalControl(ExternalControl {
-                    roll: Stick::new(i16::from_le_bytes([f[1], f[2]]))?,
-                    nick: Stick::new(i16::from_le_bytes([f[3], f[4]]))?,
-                    yaw: Stick::new(i16::from_le_bytes([f[5], f[6]]))?,
-                    pitch: i16::from_le_bytes([f[7], f[8]]),
-                    expiry_ms: u16::from_le_bytes([f[9], f[10]]),
+                    roll: Stick::new(i16::from_le_bytes(bytes!(f, ext::ROLL, 2)))?,
+                    nick: Stick::new(i16::from_le_bytes(bytes!(f, ext::NICK, 2)))?,
+                    yaw: Stick::new(i16::from_le_bytes(bytes!(f, ext::YAW, 2)))?,
+                    pitch: i16::from_le_bytes(bytes!(f, ext::PITCH, 2)),
+                    expiry_ms: u16::from_le_bytes(bytes!(f, ext::EXPIRY, 2)),
                 }))
             }
             _ => match Motor::from_command_byte(first) {
                 Some(motor) => {
-                    let f = fixed::<3>(bytes)?;
-                    if f[0] ^ f[1] != f[2] {
-                        return Err(Error::Checksum);
+                    let f = fixed::<{ motor_test::LEN }>(bytes)?;
+                    if xor(&f[motor_test::CHECKED]) != f[motor_test::CHECKSUM] {
+                        return Err(Error::ChecksumMismatch);
                     }
-                    Ok(Self::MotorTest(MotorTest { motor, value: f[1] }))
+                    Ok(Self::MotorTest(MotorTest {
+                        motor,
+                        value: f[motor_test::VALUE],
+                    }))
                 }
                 None => Err(Error::UnknownCommand(first)),
             },
@@ -335,43 +339,37 @@ impl Command {
             Self::SaveSet(n) => control_n(&mut f, 4, n),
             Self::StartSet(n) => control_n(&mut f, 5, n),
             Self::SetParameter(p) => {
-                let [a, b, c, d] = p.value.to_be_bytes();
-                f[0] = SET_PARAMETER;
-                f[1] = p.number;
-                f[2] = a;
-                f[3] = b;
-                f[4] = c;
-                f[5] = d;
-                f[6] = p.number ^ a ^ b ^ c ^ d;
+                f[0] = set::START;
+                f[set::NUMBER] = p.number;
+                put!(f, set::VALUE, p.value.to_be_bytes(), 4);
+                f[set::CHECKSUM] = xor(&f[set::CHECKED]);
             }
             Self::ReadParameter(n) => {
-                f[0] = READ_PARAMETER;
-                f[1] = n;
+                f[0] = read_parameter::START;
+                f[read_parameter::NUMBER] = n;
             }
             Self::BulkRead(n) => {
-                f[0] = BULK_READ;
-                f[1] = n;
+                f[0] = bulk_read::START;
+                f[bulk_read::FIRST] = n;
             }
             Self::ReadWaypoint(s) => {
-                f[0] = READ_WAYPOINT;
-                f[1] = s.wire();
+                f[0] = read_waypoint::START;
+                f[read_waypoint::SLOT] = s.wire();
             }
             Self::MotorTest(m) => {
                 f[0] = m.motor.command_byte();
-                f[1] = m.value;
-                f[2] = f[0] ^ m.value;
+                f[motor_test::VALUE] = m.value;
+                f[motor_test::CHECKSUM] = xor(&f[motor_test::CHECKED]);
             }
             Self::SetWaypoint(w) => f = w.frame(),
             Self::ExternalControl(e) => {
-                let [r0, r1] = e.roll.get().to_le_bytes();
-                let [n0, n1] = e.nick.get().to_le_bytes();
-                let [y0, y1] = e.yaw.get().to_le_bytes();
-                let [p0, p1] = e.pitch.to_le_bytes();
-                let [e0, e1] = e.expiry_ms.to_le_bytes();
-                let body = [r0, r1, n0, n1, y0, y1, p0, p1, e0, e1];
-                f[0] = EXTERNAL_CONTROL;
-                f[1..11].copy_from_slice(&body);
-                f[11] = xor(&body);
+                f[0] = ext::START;
+                put!(f, ext::ROLL, e.roll.get().to_le_bytes(), 2);
+                put!(f, ext::NICK, e.nick.get().to_le_bytes(), 2);
+                put!(f, ext::YAW, e.yaw.get().to_le_bytes(), 2);
+                put!(f, ext::PITCH, e.pitch.to_le_bytes(), 2);
+                put!(f, ext::EXPIRY, e.expiry_ms.to_le_bytes(), 2);
+                f[ext::CHECKSUM] = xor(&f[ext::CHECKED]);
             }
         }
         (f, self.buffer_len())
@@ -402,8 +400,7 @@ impl Command {
     /// assert_eq!(Command::ReadParameter(12).expected_reply(), Expect::Parameter(12));
     /// assert_eq!(Command::SaveSet(1).expected_reply(), Expect::Nothing);
     /// ```
-    pub const fn expected_reply(&self) -> crate::pc::Expect {
-        use crate::pc::Expect;
+    pub const fn expected_reply(&self) -> Expect {
         match self {
             Self::SetParameter(_) | Self::SetWaypoint(_) => Expect::Ack,
             Self::ReadParameter(n) => Expect::Parameter(*n),
@@ -414,15 +411,39 @@ impl Command {
     }
 }
 
+/// What the PC is waiting for after a command ([`Command::expected_reply`]). It tells the PC
+/// decoder ([`crate::PcDecoder`]) how to read headerless parameter replies and whether single
+/// bytes 'O'/'E'/'I' are acks. Also reachable as `pc::Expect`.
+///
+/// ```
+/// use aok_proto::pc::Expect;
+/// assert_eq!(Expect::default(), Expect::Nothing);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Expect {
+    /// No request pending: only debug frames and self-describing replies are decoded.
+    #[default]
+    Nothing,
+    /// An ack ('O', 'E' or 'I') after `73` or `77`.
+    Ack,
+    /// The reply to `67 NUM`.
+    Parameter(u8),
+    /// The 16 replies to `47 NUM`; pending until the reply for NUM+15 arrives.
+    Bulk(u8),
+    /// The reply to `78 NUM`.
+    Waypoint(WaypointSlot),
+}
+
 fn control(f: &mut [u8; MAX_COMMAND_LEN], sub: u8) {
-    f[0] = CONTROL;
-    f[1] = sub;
+    f[0] = control::START;
+    f[control::SUB] = sub;
 }
 
 fn control_n(f: &mut [u8; MAX_COMMAND_LEN], sub: u8, n: u8) {
-    f[0] = CONTROL;
-    f[1] = sub;
-    f[2] = n;
+    control(f, sub);
+    f[control::SET] = n;
 }
 
 /// Copy the first `n` bytes of `src` into `buf`.

@@ -3,17 +3,19 @@
 
 use crate::command::{Command, Len, MAX_COMMAND_LEN, ParameterValue, Waypoint, command_len};
 use crate::message::{DebugValue, HEADED_REPLY_LEN, Message};
-use crate::stats::DecoderStats;
+use crate::stats::Stats;
 use crate::values::{Ack, ReplyForm};
 use crate::{Error, shift_left};
 
 /// Byte-at-a-time decoder of the PC's commands.
 ///
-/// Feed it one byte at a time with [`DeviceDecoder::push`] and drain the returned iterator. Checksums
-/// are verified. An unknown byte is counted and skipped; a checksum failure is counted, reported as
-/// `Err(Error::Checksum)` (the device may answer 'E') and the bytes after the false start are
-/// rescanned, so a command hidden behind garbage is still found. A frame with a good checksum but an
-/// out-of-range field (waypoint slot, stick value) is consumed whole and reported as that error.
+/// Feed it one byte at a time with [`DeviceDecoder::push`], which returns at most one event, then
+/// call [`DeviceDecoder::poll`] until `None` for any further events a rescan uncovered; or a slice
+/// at a time with [`DeviceDecoder::feed`]. Checksums are verified. An unknown byte is counted and
+/// skipped; a checksum failure is counted, reported as `Err(Error::ChecksumMismatch)` (the device
+/// may answer 'E') and the bytes after the false start are rescanned, so a command hidden behind
+/// garbage is still found. A frame with a good checksum but an out-of-range field (waypoint slot,
+/// stick value) is consumed whole and reported as that error.
 ///
 /// The buffer is fixed at the longest command (19 bytes, the waypoint frame), so no capacity parameter
 /// is needed: every command fits.
@@ -21,16 +23,16 @@ use crate::{Error, shift_left};
 /// ```
 /// use aok_proto::{DeviceDecoder, Command, Error};
 /// let mut dec = DeviceDecoder::new();
-/// let mut got = [None, None];
+/// let mut got = Vec::new();
 /// // A stray motor-test start whose "checksum" fails, then a real read of parameter 12.
-/// let mut i = 0;
 /// for b in [0x31, 0x67, 0x0c] {
-///     for item in dec.push(b) {
-///         got[i] = Some(item);
-///         i += 1;
+///     let mut event = dec.push(b);
+///     while let Some(ev) = event {
+///         got.push(ev);
+///         event = dec.poll(); // a rescan can hold more than one event: drain them
 ///     }
 /// }
-/// assert_eq!(got, [Some(Err(Error::Checksum)), Some(Ok(Command::ReadParameter(12)))]);
+/// assert_eq!(got, [Err(Error::ChecksumMismatch), Ok(Command::ReadParameter(12))]);
 /// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -39,7 +41,7 @@ pub struct DeviceDecoder {
     len: usize,
     /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
     need: usize,
-    stats: DecoderStats,
+    stats: Stats,
 }
 
 impl Default for DeviceDecoder {
@@ -59,46 +61,57 @@ impl DeviceDecoder {
             buf: [0; MAX_COMMAND_LEN],
             len: 0,
             need: 0,
-            stats: DecoderStats {
-                ok: 0,
-                checksum_errors: 0,
-                unknown_bytes: 0,
-                invalid: 0,
-                abandoned: 0,
-                discarded: 0,
-            },
+            stats: Stats::ZERO,
         }
     }
 
-    /// Feed one byte. The returned iterator yields every item the byte completes (usually none or
-    /// one; more after a rescan). Drain it: bytes it has not looked at stay buffered.
+    /// Feed one byte. Returns the first event it causes (usually the only one); call
+    /// [`DeviceDecoder::poll`] until `None` to take any further events a rescan uncovered.
+    /// Events not taken stay buffered as bytes, ahead of new input.
     ///
     /// ```
     /// use aok_proto::{DeviceDecoder, Command};
     /// let mut dec = DeviceDecoder::new();
-    /// assert_eq!(dec.push(0x63).next(), None);
-    /// assert_eq!(dec.push(0x01).next(), Some(Ok(Command::DebugOff)));
+    /// assert_eq!(dec.push(0x63), None);
+    /// assert_eq!(dec.push(0x01), Some(Ok(Command::DebugOff)));
+    /// assert_eq!(dec.poll(), None);
     /// ```
-    pub fn push(&mut self, byte: u8) -> Commands<'_> {
+    #[inline]
+    pub fn push(&mut self, byte: u8) -> Option<Result<Command, Error>> {
         if self.len >= MAX_COMMAND_LEN {
-            // Only reachable when an earlier iterator was not drained.
+            // Only reachable when earlier events were not polled.
             self.len = shift_left(&mut self.buf, self.len, 1);
-            self.stats.discarded = self.stats.discarded.wrapping_add(1);
+            self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
         }
         if let Some(slot) = self.buf.get_mut(self.len) {
             *slot = byte;
             self.len = self.len.wrapping_add(1);
         }
-        Commands {
-            dec: self,
-            flush: false,
-        }
+        self.step(false)
+    }
+
+    /// Take the next event from bytes already buffered (after a rescan), or `None`.
+    ///
+    /// ```
+    /// use aok_proto::{Command, DeviceDecoder, Error};
+    /// let mut dec = DeviceDecoder::new();
+    /// // A `73` start swallows a read; its checksum fails when the frame is complete, and the
+    /// // rescan finds the read among the bytes held.
+    /// for b in [0x73, 0x67, 0x0c, 0x00, 0x00, 0x00] {
+    ///     assert_eq!(dec.push(b), None);
+    /// }
+    /// assert_eq!(dec.push(0x00), Some(Err(Error::ChecksumMismatch)));
+    /// assert_eq!(dec.poll(), Some(Ok(Command::ReadParameter(12))));
+    /// assert_eq!(dec.poll(), None);
+    /// ```
+    pub fn poll(&mut self) -> Option<Result<Command, Error>> {
+        self.step(false)
     }
 
     /// Feed a slice and hand every item to `on_event`, in order.
     ///
     /// This is the bulk path: it behaves exactly like pushing the bytes one at a time with
-    /// [`DeviceDecoder::push`] and draining each iterator (same items in the same order, same
+    /// [`DeviceDecoder::push`] and draining [`DeviceDecoder::poll`] after each (same items in the same order, same
     /// counters, same bytes left buffered), but while the decoder holds nothing, commands are
     /// parsed straight from `bytes` without being copied, and a false start's rescan is simply
     /// the next position in `bytes`. Bytes held from an earlier call, and a command cut by the
@@ -110,7 +123,7 @@ impl DeviceDecoder {
     /// let mut got = Vec::new();
     /// // Noise, a motor-test start whose checksum fails, a read, and half a read.
     /// dec.feed(&[0x00, 0x31, 0x67, 0x0c, 0x67], |item| got.push(item));
-    /// assert_eq!(got, [Err(Error::Checksum), Ok(Command::ReadParameter(12))]);
+    /// assert_eq!(got, [Err(Error::ChecksumMismatch), Ok(Command::ReadParameter(12))]);
     /// assert_eq!(dec.buffered(), 1);
     /// dec.feed(&[0x0d], |item| got.push(item));
     /// assert_eq!(got[2], Ok(Command::ReadParameter(13)));
@@ -124,8 +137,10 @@ impl DeviceDecoder {
                 return;
             };
             rest = after;
-            for item in self.push(byte) {
+            let mut event = self.push(byte);
+            while let Some(item) = event {
                 on_event(item);
+                event = self.poll();
             }
         }
         // Nothing held: parse in place.
@@ -138,7 +153,7 @@ impl DeviceDecoder {
                 Len::More => break,
                 Len::Unknown => {
                     self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                     rest = tail;
                     continue;
                 }
@@ -148,16 +163,16 @@ impl DeviceDecoder {
             };
             match Command::parse_known(first, frame) {
                 Ok(cmd) => {
-                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     rest = after;
                     on_event(Ok(cmd));
                 }
-                Err(Error::Checksum) => {
+                Err(Error::ChecksumMismatch) => {
                     // The false start is dropped; the rescan starts at the next byte.
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                     rest = tail;
-                    on_event(Err(Error::Checksum));
+                    on_event(Err(Error::ChecksumMismatch));
                 }
                 Err(e) => {
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
@@ -168,21 +183,23 @@ impl DeviceDecoder {
         }
         // A command cut by the end of the slice: keep it, exactly as pushing would.
         for &byte in rest {
-            for item in self.push(byte) {
+            let mut event = self.push(byte);
+            while let Some(item) = event {
                 on_event(item);
+                event = self.poll();
             }
         }
     }
 
     /// Feed `bytes` up to and including the first item, with the bulk path of
     /// [`DeviceDecoder::feed`] (commands parsed in place while nothing is held); items an
-    /// earlier call left undrained come first. Returns how many bytes were consumed and the
+    /// earlier call left unpolled come first. Returns how many bytes were consumed and the
     /// item. Calling it until it finds nothing in an empty slice gives exactly the items of
-    /// [`DeviceDecoder::push`] with every iterator drained.
+    /// [`DeviceDecoder::push`] and [`DeviceDecoder::poll`].
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Command, Error>>) {
         let total = bytes.len();
-        if let Some(item) = self.drain().next() {
+        if let Some(item) = self.poll() {
             return (0, Some(item));
         }
         let mut rest = bytes;
@@ -192,7 +209,7 @@ impl DeviceDecoder {
                 return (total, None);
             };
             rest = after;
-            if let Some(item) = self.push(byte).next() {
+            if let Some(item) = self.push(byte) {
                 return (total.saturating_sub(rest.len()), Some(item));
             }
         }
@@ -206,7 +223,7 @@ impl DeviceDecoder {
                 Len::More => break,
                 Len::Unknown => {
                     self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                     rest = tail;
                     continue;
                 }
@@ -216,14 +233,14 @@ impl DeviceDecoder {
             };
             let (item, rest) = match Command::parse_known(first, frame) {
                 Ok(cmd) => {
-                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     (Ok(cmd), after)
                 }
-                Err(Error::Checksum) => {
+                Err(Error::ChecksumMismatch) => {
                     // The false start is dropped; the rescan starts at the next byte.
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
-                    (Err(Error::Checksum), tail)
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                    (Err(Error::ChecksumMismatch), tail)
                 }
                 Err(e) => {
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
@@ -235,50 +252,57 @@ impl DeviceDecoder {
         // A command cut by the end of the slice: keep it, exactly as pushing would.
         while let Some((&byte, after)) = rest.split_first() {
             rest = after;
-            if let Some(item) = self.push(byte).next() {
+            if let Some(item) = self.push(byte) {
                 return (total.saturating_sub(rest.len()), Some(item));
             }
         }
         (total, None)
     }
 
-    /// Continue on bytes already buffered, without new input: what an undrained iterator left.
+    /// The former iterator over [`DeviceDecoder::poll`].
+    #[deprecated(since = "0.1.0", note = "call `poll` until it returns `None`")]
+    #[allow(deprecated)]
+    pub fn drain(&mut self) -> Commands<'_> {
+        Commands { dec: self }
+    }
+
+    /// The line went quiet: give up on the partial frame at the front (its first byte is dropped,
+    /// counted as abandoned and reported as [`Error::Truncated`]) and rescan what followed it,
+    /// handing every event to `on_event` until nothing is buffered. AOK's end of a stream.
     ///
     /// ```
-    /// let mut dec = aok_proto::DeviceDecoder::new();
-    /// let _ = dec.push(0x00); // iterator dropped unread
-    /// assert_eq!(dec.drain().count(), 0);
-    /// assert_eq!(dec.buffered(), 0);
+    /// use aok_proto::{DeviceDecoder, Command, Error};
+    /// let mut dec = DeviceDecoder::new();
+    /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
+    /// let mut got = Vec::new();
+    /// dec.idle(|ev| got.push(ev));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
+    /// assert_eq!(dec.stats().abandoned, 1);
     /// ```
-    pub fn drain(&mut self) -> Commands<'_> {
-        Commands {
-            dec: self,
-            flush: false,
+    pub fn idle<F: FnMut(Result<Command, Error>)>(&mut self, mut on_event: F) {
+        while let Some(item) = self.idle_next() {
+            on_event(item);
         }
     }
 
-    /// The line went quiet: give up on the partial frame (its first byte is dropped and counted as
-    /// abandoned) and rescan what followed it. Yields every command found.
+    /// [`DeviceDecoder::idle`] one event at a time: the next event, or `None` once nothing is
+    /// buffered.
     ///
     /// ```
-    /// use aok_proto::{DeviceDecoder, Command};
-    /// let mut dec = DeviceDecoder::new();
-    /// for b in [0x73, 0x63, 0x02] { for _ in dec.push(b) {} } // 73 waits for 4 more bytes
-    /// assert_eq!(dec.idle().next(), Some(Ok(Command::DebugOn)));
-    /// assert_eq!(dec.stats().abandoned, 1);
+    /// let mut dec = aok_proto::DeviceDecoder::new();
+    /// dec.feed(&[0x73], |_| {});
+    /// assert_eq!(dec.idle_next(), Some(Err(aok_proto::Error::Truncated)));
+    /// assert_eq!(dec.idle_next(), None);
     /// ```
-    pub fn idle(&mut self) -> Commands<'_> {
-        Commands {
-            dec: self,
-            flush: true,
-        }
+    pub fn idle_next(&mut self) -> Option<Result<Command, Error>> {
+        self.step(true)
     }
 
     /// Forget any buffered bytes (counters stay).
     ///
     /// ```
     /// let mut dec = aok_proto::DeviceDecoder::new();
-    /// for _ in dec.push(0x73) {}
+    /// dec.push(0x73);
     /// dec.reset();
     /// assert_eq!(dec.buffered(), 0);
     /// ```
@@ -291,7 +315,7 @@ impl DeviceDecoder {
     ///
     /// ```
     /// let mut dec = aok_proto::DeviceDecoder::new();
-    /// for _ in dec.push(0x53) {}
+    /// dec.push(0x53);
     /// assert_eq!(dec.buffered(), 1);
     /// ```
     pub const fn buffered(&self) -> usize {
@@ -301,15 +325,15 @@ impl DeviceDecoder {
     /// The counters.
     ///
     /// ```
-    /// assert_eq!(aok_proto::DeviceDecoder::new().stats().ok, 0);
+    /// assert_eq!(aok_proto::DeviceDecoder::new().stats().frames_ok, 0);
     /// ```
-    pub const fn stats(&self) -> &DecoderStats {
+    pub const fn stats(&self) -> &Stats {
         &self.stats
     }
 
     #[inline]
     fn step(&mut self, flush: bool) -> Option<Result<Command, Error>> {
-        // Nothing buffered gives nothing (the usual last call on an iterator); a frame still
+        // Nothing buffered gives nothing (the usual last call to `poll`); a frame still
         // short of its known length gives nothing until the line goes quiet.
         if self.len == 0 || (self.len < self.need && !flush) {
             return None;
@@ -351,7 +375,7 @@ impl DeviceDecoder {
                 if flush {
                     self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
                     self.drop_front();
-                    continue;
+                    return Some(Err(Error::Truncated));
                 }
                 self.need = need;
                 return None;
@@ -359,15 +383,15 @@ impl DeviceDecoder {
             let parsed = Command::parse_known(first, bytes);
             return Some(match parsed {
                 Ok(cmd) => {
-                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     self.need = 0;
                     self.len = shift_left(&mut self.buf, self.len, need);
                     Ok(cmd)
                 }
-                Err(Error::Checksum) => {
+                Err(Error::ChecksumMismatch) => {
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
                     self.drop_front();
-                    Err(Error::Checksum)
+                    Err(Error::ChecksumMismatch)
                 }
                 Err(e) => {
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
@@ -381,31 +405,38 @@ impl DeviceDecoder {
 
     fn drop_front(&mut self) {
         self.need = 0;
-        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
         self.len = shift_left(&mut self.buf, self.len, 1);
     }
 }
 
-/// The items one [`DeviceDecoder::push`] (or [`DeviceDecoder::idle`]) completes.
-///
-/// ```
-/// let mut dec = aok_proto::DeviceDecoder::new();
-/// assert_eq!(dec.push(0x67).count(), 0);
-/// assert_eq!(dec.push(0x01).count(), 1);
-/// ```
-#[derive(Debug)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Commands<'a> {
-    dec: &'a mut DeviceDecoder,
-    flush: bool,
-}
+#[allow(deprecated)]
+pub use iter::Commands;
 
-impl Iterator for Commands<'_> {
-    type Item = Result<Command, Error>;
+/// The deprecated iterator, apart so that its derives may use it.
+mod iter {
+    #![allow(deprecated)]
+    use super::*;
 
-    #[inline]
-    fn next(&mut self) -> Option<Self::Item> {
-        self.dec.step(self.flush)
+    /// The former iterator of the events still buffered ([`DeviceDecoder::drain`]): each `next` is a
+    /// [`DeviceDecoder::poll`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "call `DeviceDecoder::poll` until it returns `None`"
+    )]
+    #[derive(Debug)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct Commands<'a> {
+        pub(super) dec: &'a mut DeviceDecoder,
+    }
+
+    #[allow(deprecated)]
+    impl Iterator for Commands<'_> {
+        type Item = Result<Command, Error>;
+
+        fn next(&mut self) -> Option<Self::Item> {
+            self.dec.poll()
+        }
     }
 }
 

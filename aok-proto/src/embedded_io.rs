@@ -4,7 +4,7 @@
 //!   [`DeviceDecoder`], each with a read buffer of `R` bytes; [`MessageReader::read_message`]
 //!   and [`CommandReader::read_command`] return the next item. Every read is decoded with the
 //!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
-//!   exactly those of `push` byte by byte; at the end of the stream, those of `idle()`.
+//!   exactly those of `push` and `poll` byte by byte; at the end of the stream, those of `idle`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
@@ -64,12 +64,12 @@ impl<T: Read, const R: usize> MessageReader<T, R> {
     /// Reads until the next message and returns it.
     ///
     /// # Errors
+    /// - [`IoError::Protocol`]: a frame failed its checksum or held an out-of-range field;
+    ///   call again.
     /// - [`IoError::Transport`]: the read failed; bytes already read are kept.
     /// - [`IoError::UnexpectedEof`]: the stream ended inside a frame; what the rescan of its
     ///   bytes finds follows, then [`IoError::Eof`].
     /// - [`IoError::Eof`]: the stream ended and nothing is buffered.
-    ///
-    /// (The PC decoder counts bad frames and reports none.)
     ///
     /// ```
     /// use aok_proto::{embedded_io::MessageReader, pc::Expect, FirmwareVersion, IoError, Message,
@@ -165,7 +165,7 @@ impl<T: Read, const R: usize> MessageReader<T, R> {
 /// // A motor-test start whose checksum fails, then "read parameter 12".
 /// let wire: &[u8] = &[0x31, 0x67, 0x0c];
 /// let mut reader = CommandReader::<_>::new(wire);
-/// assert_eq!(reader.read_command(), Err(IoError::Protocol(Error::Checksum)));
+/// assert_eq!(reader.read_command(), Err(IoError::Protocol(Error::ChecksumMismatch)));
 /// assert_eq!(reader.read_command(), Ok(Command::ReadParameter(12)));
 /// assert_eq!(reader.read_command(), Err(IoError::Eof));
 /// ```
@@ -216,7 +216,7 @@ impl<T: Read, const R: usize> CommandReader<T, R> {
     /// ```
     /// let mut reader = aok_proto::embedded_io::CommandReader::<_>::new(&[0x63, 0x01][..]);
     /// reader.read_command().unwrap();
-    /// assert_eq!(reader.decoder().stats().ok, 1);
+    /// assert_eq!(reader.decoder().stats().frames_ok, 1);
     /// ```
     pub const fn decoder(&self) -> &DeviceDecoder {
         &self.core.decoder

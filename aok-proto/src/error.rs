@@ -7,14 +7,14 @@ use core::fmt;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
-    /// The input ends before the frame does.
+    /// The input ends before the frame does (also: a partial frame abandoned by `idle`).
     Truncated,
     /// The output buffer is too small for the frame.
     BufferTooSmall,
     /// The first byte is not the start of any frame this side understands.
     UnknownCommand(u8),
     /// The frame's XOR checksum does not match.
-    Checksum,
+    ChecksumMismatch,
     /// A waypoint slot byte outside 0..=31, 254 and 255.
     InvalidSlot(u8),
     /// A waypoint number outside 1..=31.
@@ -76,13 +76,23 @@ impl SerialError {
     }
 }
 
+impl Error {
+    /// The former name of [`Error::ChecksumMismatch`]; usable in patterns too.
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `ChecksumMismatch`, the name every protocol crate gives a failed check"
+    )]
+    #[allow(non_upper_case_globals)]
+    pub const Checksum: Error = Error::ChecksumMismatch;
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Truncated => f.write_str("frame truncated"),
             Self::BufferTooSmall => f.write_str("output buffer too small"),
             Self::UnknownCommand(b) => write!(f, "unknown command byte 0x{b:02x}"),
-            Self::Checksum => f.write_str("checksum mismatch"),
+            Self::ChecksumMismatch => f.write_str("checksum mismatch"),
             Self::InvalidSlot(s) => write!(f, "invalid waypoint slot {s}"),
             Self::InvalidWaypoint(n) => write!(f, "waypoint number {n} outside 1..=31"),
             Self::InvalidMotor(m) => write!(f, "motor number {m} outside 1..=12"),

@@ -20,7 +20,7 @@ use crate::values::ReplyForm;
 ///
 /// ```
 /// use aok_proto::{Error, IoError};
-/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::Checksum);
+/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch);
 /// assert!(e.is_protocol());
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```
@@ -78,7 +78,7 @@ pub(crate) trait Stream {
     type Item: Copy;
     /// `feed_until` of the decoder, with protocol errors as `Err`.
     fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Self::Item, Error>>);
-    /// The next item of `idle()`.
+    /// The next item of `idle`, without the `Truncated` of frames cut by the end.
     fn idle_next(&mut self) -> Option<Result<Self::Item, Error>>;
     /// Bytes buffered.
     fn buffered(&self) -> usize;
@@ -87,11 +87,16 @@ pub(crate) trait Stream {
 impl Stream for PcDecoder {
     type Item = Message;
     fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Message, Error>>) {
-        let (n, m) = PcDecoder::feed_until(self, bytes);
-        (n, m.map(Ok))
+        PcDecoder::feed_until(self, bytes)
     }
     fn idle_next(&mut self) -> Option<Result<Message, Error>> {
-        self.idle().next().map(Ok)
+        // The reader reports a frame cut by the end of the stream as `UnexpectedEof`.
+        loop {
+            match PcDecoder::idle_next(self)? {
+                Err(Error::Truncated) => {}
+                other => return Some(other),
+            }
+        }
     }
     fn buffered(&self) -> usize {
         PcDecoder::buffered(self)
@@ -104,7 +109,13 @@ impl Stream for DeviceDecoder {
         DeviceDecoder::feed_until(self, bytes)
     }
     fn idle_next(&mut self) -> Option<Result<Command, Error>> {
-        self.idle().next()
+        // The reader reports a frame cut by the end of the stream as `UnexpectedEof`.
+        loop {
+            match DeviceDecoder::idle_next(self)? {
+                Err(Error::Truncated) => {}
+                other => return Some(other),
+            }
+        }
     }
     fn buffered(&self) -> usize {
         DeviceDecoder::buffered(self)
@@ -118,7 +129,7 @@ pub(crate) struct ReaderCore<D, const R: usize> {
     buf: [u8; R],
     start: usize,
     end: usize,
-    /// The stream ended: hand out what `idle()` finds, then [`IoError::Eof`].
+    /// The stream ended: hand out what `idle` finds, then [`IoError::Eof`].
     ending: bool,
 }
 

@@ -11,6 +11,7 @@
 //!   that return the next message (PC side) or command (device side) from a `Read`, a writer
 //!   into a `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
 //!   client's async form.
+//! * [`layout`]: every frame's bytes in one table (start byte, length, field offsets, checksum).
 //! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
 //!
 //! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
@@ -26,18 +27,16 @@
 //! let mut reply = [0u8; 7];
 //! let mut reply_len = 0;
 //! for &b in &wire[..n] {
-//!     for cmd in device.push(b) {
-//!         if let Ok(Command::ReadParameter(num)) = cmd {
-//!             let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
-//!             reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
-//!         }
+//!     if let Some(Ok(Command::ReadParameter(num))) = device.push(b) {
+//!         let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
+//!         reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
 //!     }
 //! }
 //! // PC: decode the reply.
 //! let mut pc = PcDecoder::new(FirmwareVersion::LATEST);
 //! pc.expect(Expect::Parameter(12));
-//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b).next());
-//! assert_eq!(got, Some(Message::Parameter(ParameterValue { number: 12, value: 1500 })));
+//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b));
+//! assert_eq!(got, Some(Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))));
 //! # Ok::<(), aok_proto::Error>(())
 //! ```
 #![no_std]
@@ -54,6 +53,7 @@ pub mod embedded_io_async;
 mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+pub mod layout;
 pub mod message;
 pub mod pc;
 pub mod stats;
@@ -67,7 +67,9 @@ pub use error::{Error, SerialError};
 pub use io::IoError;
 pub use message::{DebugValue, Message};
 pub use pc::PcDecoder;
+#[allow(deprecated)]
 pub use stats::DecoderStats;
+pub use stats::Stats;
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
 };
@@ -90,6 +92,15 @@ pub(crate) fn shift_left<const N: usize>(buf: &mut [u8; N], len: usize, n: usize
     if n >= len {
         return 0;
     }
-    buf.copy_within(n..len, 0);
+    // A byte loop rather than `copy_within`: at most 18 bytes, and no bounds-check panic path
+    // left for the optimiser to prove away (at `opt-level = "z"` it does not always).
+    let mut i = 0;
+    while i + n < len {
+        let v = buf.get(i + n).copied().unwrap_or(0);
+        if let Some(d) = buf.get_mut(i) {
+            *d = v;
+        }
+        i += 1;
+    }
     len - n
 }

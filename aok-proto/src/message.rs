@@ -1,21 +1,25 @@
-//! What the device sends: debug values, acks, parameter replies and waypoint replies.
+//! What the device sends: debug values, acks, parameter replies and waypoint replies. The bytes
+//! of every frame are in [`crate::layout`].
 
 use crate::command::{ParameterValue, WAYPOINT, Waypoint, copy_out};
+use crate::layout::{
+    ack, bytes, debug, headerless_reply as headerless, parameter_reply as reply, put, waypoint,
+};
 use crate::values::{Ack, ReplyForm};
 use crate::{Error, xor};
 
 /// `1C`: the start of a debug-value frame.
-pub const DEBUG: u8 = 0x1c;
+pub const DEBUG: u8 = debug::START;
 /// `FF`: the start of a parameter reply (firmware >= 0.31).
-pub const PARAMETER_REPLY: u8 = 0xff;
+pub const PARAMETER_REPLY: u8 = reply::START;
 /// Length of a debug frame.
-pub const DEBUG_LEN: usize = 7;
+pub const DEBUG_LEN: usize = debug::LEN;
 /// Length of a headed parameter reply.
-pub const HEADED_REPLY_LEN: usize = 7;
+pub const HEADED_REPLY_LEN: usize = reply::LEN;
 /// Length of a headerless parameter reply.
-pub const HEADERLESS_REPLY_LEN: usize = 5;
+pub const HEADERLESS_REPLY_LEN: usize = headerless::LEN;
 /// Length of a waypoint reply.
-pub const WAYPOINT_LEN: usize = 19;
+pub const WAYPOINT_LEN: usize = waypoint::LEN;
 
 /// A debug value (K2): `1C NUM B1 B2 B3 B4 CRC`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -59,12 +63,19 @@ pub enum Message {
     Waypoint(Waypoint),
 }
 
-/// `HEAD NUM B1..B4 CRC`; the debug CRC covers NUM..B4, the parameter reply's only B1..B4 (K2, K4).
-fn value_frame(head: u8, number: u8, value: i32) -> [u8; 7] {
-    let [a, b, c, d] = value.to_be_bytes();
-    let crc = a ^ b ^ c ^ d;
-    let crc = if head == DEBUG { crc ^ number } else { crc };
-    [head, number, a, b, c, d, crc]
+/// `HEAD NUM B1..B4 CRC` ([`debug`] and [`reply`] share the offsets); the debug CRC covers
+/// NUM..B4, the parameter reply's only B1..B4 (K2, K4).
+fn value_frame(head: u8, number: u8, value: i32) -> [u8; debug::LEN] {
+    let mut f = [0u8; debug::LEN];
+    f[0] = head;
+    f[debug::NUMBER] = number;
+    put!(f, debug::VALUE, value.to_be_bytes(), 4);
+    f[debug::CHECKSUM] = if head == DEBUG {
+        xor(&f[debug::CHECKED])
+    } else {
+        xor(&f[reply::CHECKED])
+    };
+    f
 }
 
 impl Message {
@@ -79,7 +90,7 @@ impl Message {
     pub const fn buffer_len(&self, form: ReplyForm) -> usize {
         match (self, form) {
             (Self::Debug(_), _) => DEBUG_LEN,
-            (Self::Ack(_), _) => 1,
+            (Self::Ack(_), _) => ack::LEN,
             (Self::Parameter(_), ReplyForm::Headed) => HEADED_REPLY_LEN,
             (Self::Parameter(_), ReplyForm::Headerless) => HEADERLESS_REPLY_LEN,
             (Self::Waypoint(_), _) => WAYPOINT_LEN,
@@ -99,12 +110,15 @@ impl Message {
     pub fn emit(&self, form: ReplyForm, buf: &mut [u8]) -> Result<usize, Error> {
         match *self {
             Self::Debug(d) => copy_out(&value_frame(DEBUG, d.number, d.value), DEBUG_LEN, buf),
-            Self::Ack(a) => copy_out(&[a.byte()], 1, buf),
+            Self::Ack(a) => copy_out(&[a.byte()], ack::LEN, buf),
             Self::Parameter(p) => {
                 let f = value_frame(PARAMETER_REPLY, p.number, p.value);
                 match form {
                     ReplyForm::Headed => copy_out(&f, HEADED_REPLY_LEN, buf),
-                    ReplyForm::Headerless => copy_out(&f[2..], HEADERLESS_REPLY_LEN, buf),
+                    // The headerless reply is the headed one without `FF NUM`.
+                    ReplyForm::Headerless => {
+                        copy_out(&f[reply::VALUE..], HEADERLESS_REPLY_LEN, buf)
+                    }
                 }
             }
             Self::Waypoint(w) => copy_out(&w.frame(), WAYPOINT_LEN, buf),
@@ -128,26 +142,26 @@ impl Message {
         match first {
             DEBUG => {
                 let f = fixed7(bytes)?;
-                if xor(&f[1..6]) != f[6] {
-                    return Err(Error::Checksum);
+                if xor(&f[debug::CHECKED]) != f[debug::CHECKSUM] {
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok((
                     Self::Debug(DebugValue {
-                        number: f[1],
-                        value: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
+                        number: f[debug::NUMBER],
+                        value: i32::from_be_bytes(bytes!(f, debug::VALUE, 4)),
                     }),
                     DEBUG_LEN,
                 ))
             }
             PARAMETER_REPLY => {
                 let f = fixed7(bytes)?;
-                if xor(&f[2..6]) != f[6] {
-                    return Err(Error::Checksum);
+                if xor(&f[reply::CHECKED]) != f[reply::CHECKSUM] {
+                    return Err(Error::ChecksumMismatch);
                 }
                 Ok((
                     Self::Parameter(ParameterValue {
-                        number: f[1],
-                        value: i32::from_be_bytes([f[2], f[3], f[4], f[5]]),
+                        number: f[reply::NUMBER],
+                        value: i32::from_be_bytes(bytes!(f, reply::VALUE, 4)),
                     }),
                     HEADED_REPLY_LEN,
                 ))
@@ -160,17 +174,17 @@ impl Message {
                 Ok((Self::Waypoint(Waypoint::from_frame(f)?), WAYPOINT_LEN))
             }
             _ => match Ack::from_byte(first) {
-                Some(a) => Ok((Self::Ack(a), 1)),
+                Some(a) => Ok((Self::Ack(a), ack::LEN)),
                 None => Err(Error::UnknownCommand(first)),
             },
         }
     }
 }
 
-fn fixed7(bytes: &[u8]) -> Result<&[u8; 7], Error> {
+fn fixed7(bytes: &[u8]) -> Result<&[u8; debug::LEN], Error> {
     bytes
-        .get(..7)
-        .and_then(|s| <&[u8; 7]>::try_from(s).ok())
+        .get(..debug::LEN)
+        .and_then(|s| <&[u8; debug::LEN]>::try_from(s).ok())
         .ok_or(Error::Truncated)
 }
 
@@ -188,12 +202,12 @@ impl ParameterValue {
             .get(..HEADERLESS_REPLY_LEN)
             .and_then(|s| <&[u8; HEADERLESS_REPLY_LEN]>::try_from(s).ok())
             .ok_or(Error::Truncated)?;
-        if f[0] ^ f[1] ^ f[2] ^ f[3] != f[4] {
-            return Err(Error::Checksum);
+        if xor(&f[headerless::CHECKED]) != f[headerless::CHECKSUM] {
+            return Err(Error::ChecksumMismatch);
         }
         Ok(Self {
             number,
-            value: i32::from_be_bytes([f[0], f[1], f[2], f[3]]),
+            value: i32::from_be_bytes(bytes!(f, headerless::VALUE, 4)),
         })
     }
 }

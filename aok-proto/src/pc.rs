@@ -1,13 +1,14 @@
 //! The PC (ground tool) side: encoders for every command, and a decoder of the device's stream that
 //! knows which request is pending.
 
+pub use crate::command::Expect;
 use crate::command::{Command, MAX_COMMAND_LEN, ParameterValue, WAYPOINT};
 use crate::message::{
     DEBUG, DEBUG_LEN, HEADED_REPLY_LEN, HEADERLESS_REPLY_LEN, Message, PARAMETER_REPLY,
     WAYPOINT_LEN,
 };
-use crate::stats::DecoderStats;
-use crate::values::{FirmwareVersion, ReplyForm, WaypointSlot};
+use crate::stats::Stats;
+use crate::values::{FirmwareVersion, ReplyForm};
 use crate::{Error, shift_left};
 
 /// `63 01`, debug off, ready to send.
@@ -28,30 +29,6 @@ pub fn encode(command: &Command, buf: &mut [u8]) -> Result<usize, Error> {
     command.emit(buf)
 }
 
-/// What the PC is waiting for. It tells the decoder how to read headerless parameter replies and
-/// whether single bytes 'O'/'E'/'I' are acks.
-///
-/// ```
-/// use aok_proto::pc::Expect;
-/// assert_eq!(Expect::default(), Expect::Nothing);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum Expect {
-    /// No request pending: only debug frames and self-describing replies are decoded.
-    #[default]
-    Nothing,
-    /// An ack ('O', 'E' or 'I') after `73` or `77`.
-    Ack,
-    /// The reply to `67 NUM`.
-    Parameter(u8),
-    /// The 16 replies to `47 NUM`; pending until the reply for NUM+15 arrives.
-    Bulk(u8),
-    /// The reply to `78 NUM`.
-    Waypoint(WaypointSlot),
-}
-
 /// Byte-at-a-time decoder of the device's stream.
 ///
 /// * Debug frames (`1C`), headed parameter replies (`FF`, firmware >= 0.31) and waypoint replies (`77`)
@@ -60,8 +37,13 @@ pub enum Expect {
 /// * A headerless (<= 0.30) parameter reply is read only while [`Expect::Parameter`] is pending and the
 ///   firmware is <= 0.30. Then every byte may start a reply: a `1C` is first tried as a reply (5 bytes,
 ///   checksum over B1..B4) and, if that checksum fails, as a debug frame.
-/// * A byte inside a frame is never an ack; a failed checksum rescans from the byte after the false
-///   start, so an ack or frame hidden there is still found.
+/// * A byte inside a frame is never an ack; a failed checksum is reported as
+///   [`Error::ChecksumMismatch`] and rescans from the byte after the false start, so an ack or
+///   frame hidden there is still found. An intact frame with an out-of-range field (a waypoint
+///   reply with a bad slot) is consumed whole and reported as that error.
+///
+/// [`PcDecoder::push`] returns at most one event; call [`PcDecoder::poll`] until `None` for any
+/// further events a rescan uncovered. [`PcDecoder::feed`] does both for a slice.
 ///
 /// ```
 /// use aok_proto::{pc::{Expect, PcDecoder}, FirmwareVersion, Message, ParameterValue};
@@ -69,9 +51,13 @@ pub enum Expect {
 /// dec.expect(Expect::Parameter(12));
 /// let mut got = None;
 /// for b in [0x00, 0x00, 0x05, 0xdc, 0xd9] {
-///     if let Some(m) = dec.push(b).next() { got = Some(m); }
+///     let mut event = dec.push(b);
+///     while let Some(ev) = event {
+///         got = Some(ev);
+///         event = dec.poll(); // a rescan can hold more than one event: drain them
+///     }
 /// }
-/// assert_eq!(got, Some(Message::Parameter(ParameterValue { number: 12, value: 1500 })));
+/// assert_eq!(got, Some(Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))));
 /// assert_eq!(dec.expecting(), Expect::Nothing);
 /// ```
 #[derive(Debug, Clone)]
@@ -85,7 +71,7 @@ pub struct PcDecoder {
     expect: Expect,
     /// The byte at the front already failed as a headerless reply; read it as a debug start.
     front_not_reply: bool,
-    stats: DecoderStats,
+    stats: Stats,
 }
 
 impl PcDecoder {
@@ -103,14 +89,7 @@ impl PcDecoder {
             form: firmware.reply_form(),
             expect: Expect::Nothing,
             front_not_reply: false,
-            stats: DecoderStats {
-                ok: 0,
-                checksum_errors: 0,
-                unknown_bytes: 0,
-                invalid: 0,
-                abandoned: 0,
-                discarded: 0,
-            },
+            stats: Stats::ZERO,
         }
     }
 
@@ -143,8 +122,8 @@ impl PcDecoder {
     /// use aok_proto::pc::{Expect, PcDecoder};
     /// let mut dec = PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     /// dec.expect(Expect::Ack);
-    /// assert_eq!(dec.push(b'O').next(), Some(aok_proto::Message::Ack(aok_proto::Ack::Ok)));
-    /// assert_eq!(dec.push(b'O').next(), None); // no longer expected: an unknown byte
+    /// assert_eq!(dec.push(b'O'), Some(Ok(aok_proto::Message::Ack(aok_proto::Ack::Ok))));
+    /// assert_eq!(dec.push(b'O'), None); // no longer expected: an unknown byte
     /// ```
     pub fn expect(&mut self, expect: Expect) {
         self.expect = expect;
@@ -161,36 +140,54 @@ impl PcDecoder {
         self.expect
     }
 
-    /// Feed one byte; the iterator yields every message it completes. Drain it.
+    /// Feed one byte. Returns the first event it causes (usually the only one); call
+    /// [`PcDecoder::poll`] until `None` to take any further events a rescan uncovered. Events
+    /// not taken stay buffered as bytes, ahead of new input.
     ///
     /// ```
     /// use aok_proto::{pc::PcDecoder, FirmwareVersion, Message, DebugValue};
     /// let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
     /// let mut last = None;
     /// for b in [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57] {
-    ///     for m in dec.push(b) { last = Some(m); }
+    ///     if let Some(ev) = dec.push(b) { last = Some(ev); }
     /// }
-    /// assert_eq!(last, Some(Message::Debug(DebugValue { number: 86, value: -2 })));
+    /// assert_eq!(last, Some(Ok(Message::Debug(DebugValue { number: 86, value: -2 }))));
     /// ```
-    pub fn push(&mut self, byte: u8) -> Messages<'_> {
+    #[inline]
+    pub fn push(&mut self, byte: u8) -> Option<Result<Message, Error>> {
         if self.len >= MAX_COMMAND_LEN {
-            // Only reachable when an earlier iterator was not drained.
+            // Only reachable when earlier events were not polled.
             self.drop_front();
         }
         if let Some(slot) = self.buf.get_mut(self.len) {
             *slot = byte;
             self.len = self.len.wrapping_add(1);
         }
-        Messages {
-            dec: self,
-            flush: false,
-        }
+        self.step(false)
     }
 
-    /// Feed a slice and hand every message to `on_message`, in order.
+    /// Take the next event from bytes already buffered (after a rescan), or `None`.
+    ///
+    /// ```
+    /// use aok_proto::{pc::{Expect, PcDecoder}, Ack, Error, FirmwareVersion, Message};
+    /// let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// // A debug start whose checksum fails holds the ack: the rescan finds it.
+    /// for b in [0x1c, b'O', 0, 0, 0, 0] {
+    ///     assert_eq!(dec.push(b), None);
+    /// }
+    /// assert_eq!(dec.push(0), Some(Err(Error::ChecksumMismatch)));
+    /// assert_eq!(dec.poll(), Some(Ok(Message::Ack(Ack::Ok))));
+    /// assert_eq!(dec.poll(), None);
+    /// ```
+    pub fn poll(&mut self) -> Option<Result<Message, Error>> {
+        self.step(false)
+    }
+
+    /// Feed a slice and hand every event (messages and failures) to `on_event`, in order.
     ///
     /// This is the bulk path: it behaves exactly like pushing the bytes one at a time with
-    /// [`PcDecoder::push`] and draining each iterator (same messages in the same order, same
+    /// [`PcDecoder::push`] and draining [`PcDecoder::poll`] after each (same events in the same order, same
     /// counters, same pending request, same bytes left buffered), but while the decoder holds
     /// nothing, frames are parsed straight from `bytes` without being copied, and a false
     /// start's rescan is simply the next position in `bytes`. Bytes held from an earlier call,
@@ -203,17 +200,17 @@ impl PcDecoder {
     /// dec.expect(Expect::Ack);
     /// let mut got = Vec::new();
     /// // A debug frame, the ack, and the first half of the next debug frame.
-    /// dec.feed(&[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O', 0x1c, 0x56], |m| got.push(m));
+    /// dec.feed(&[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O', 0x1c, 0x56], |ev| got.push(ev));
     /// assert_eq!(got, [
-    ///     Message::Debug(DebugValue { number: 86, value: -2 }),
-    ///     Message::Ack(Ack::Ok),
+    ///     Ok(Message::Debug(DebugValue { number: 86, value: -2 })),
+    ///     Ok(Message::Ack(Ack::Ok)),
     /// ]);
     /// assert_eq!(dec.expecting(), Expect::Nothing);
     /// assert_eq!(dec.buffered(), 2);
-    /// dec.feed(&[0, 0, 0, 1, 0x57], |m| got.push(m));
-    /// assert_eq!(got[2], Message::Debug(DebugValue { number: 86, value: 1 }));
+    /// dec.feed(&[0, 0, 0, 1, 0x57], |ev| got.push(ev));
+    /// assert_eq!(got[2], Ok(Message::Debug(DebugValue { number: 86, value: 1 })));
     /// ```
-    pub fn feed<F: FnMut(Message)>(&mut self, bytes: &[u8], mut on_message: F) {
+    pub fn feed<F: FnMut(Result<Message, Error>)>(&mut self, bytes: &[u8], mut on_event: F) {
         let mut rest = bytes;
         // Bytes held from an earlier call: byte by byte until the buffer is empty.
         while self.len != 0 {
@@ -221,8 +218,10 @@ impl PcDecoder {
                 return;
             };
             rest = after;
-            for m in self.push(byte) {
-                on_message(m);
+            let mut event = self.push(byte);
+            while let Some(ev) = event {
+                on_event(ev);
+                event = self.poll();
             }
         }
         // Nothing held: parse in place.
@@ -240,26 +239,27 @@ impl PcDecoder {
                 };
                 match ParameterValue::parse_headerless(reply, number) {
                     Ok(p) => {
-                        self.stats.ok = self.stats.ok.wrapping_add(1);
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                         rest = rest.get(HEADERLESS_REPLY_LEN..).unwrap_or(&[]);
                         let m = Message::Parameter(p);
                         self.settle(&m);
-                        on_message(m);
+                        on_event(Ok(m));
                         continue;
                     }
                     // Not a reply; maybe a debug frame (the rules below).
                     Err(_) if first == DEBUG => {}
                     Err(_) => {
                         self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                         rest = tail;
+                        on_event(Err(Error::ChecksumMismatch));
                         continue;
                     }
                 }
             }
             let Some(need) = frame_len(first, self.expect) else {
                 self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                 rest = tail;
                 continue;
             };
@@ -268,42 +268,46 @@ impl PcDecoder {
             };
             match Message::parse(frame) {
                 Ok((m, _)) => {
-                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     rest = after;
                     self.settle(&m);
-                    on_message(m);
+                    on_event(Ok(m));
                 }
-                Err(Error::Checksum) => {
+                Err(Error::ChecksumMismatch) => {
                     // The false start is dropped; the rescan starts at the next byte.
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                     rest = tail;
+                    on_event(Err(Error::ChecksumMismatch));
                 }
-                Err(_) => {
+                Err(e) => {
                     // Intact but out of range (a waypoint reply with a bad slot): dropped whole.
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
                     rest = after;
+                    on_event(Err(e));
                 }
             }
         }
         // A frame cut by the end of the slice: keep it, exactly as pushing would.
         for &byte in rest {
-            for m in self.push(byte) {
-                on_message(m);
+            let mut event = self.push(byte);
+            while let Some(ev) = event {
+                on_event(ev);
+                event = self.poll();
             }
         }
     }
 
-    /// Feed `bytes` up to and including the first message, with the bulk path of
-    /// [`PcDecoder::feed`] (frames parsed in place while nothing is held); messages an
-    /// earlier call left undrained come first. Returns how many bytes were consumed and the
-    /// message. Calling it until it finds nothing in an empty slice gives exactly the
-    /// messages of [`PcDecoder::push`] with every iterator drained.
+    /// Feed `bytes` up to and including the first event, with the bulk path of
+    /// [`PcDecoder::feed`] (frames parsed in place while nothing is held); events an
+    /// earlier call left unpolled come first. Returns how many bytes were consumed and the
+    /// event. Calling it until it finds nothing in an empty slice gives exactly the
+    /// events of [`PcDecoder::push`] and [`PcDecoder::poll`].
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Message>) {
+    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Message, Error>>) {
         let total = bytes.len();
-        if let Some(m) = self.drain().next() {
-            return (0, Some(m));
+        if let Some(ev) = self.poll() {
+            return (0, Some(ev));
         }
         let mut rest = bytes;
         // Bytes held from an earlier call: byte by byte until the buffer is empty.
@@ -312,8 +316,8 @@ impl PcDecoder {
                 return (total, None);
             };
             rest = after;
-            if let Some(m) = self.push(byte).next() {
-                return (total.saturating_sub(rest.len()), Some(m));
+            if let Some(ev) = self.push(byte) {
+                return (total.saturating_sub(rest.len()), Some(ev));
             }
         }
         // Nothing held: parse in place (the rules of `feed`).
@@ -331,24 +335,24 @@ impl PcDecoder {
                 };
                 match ParameterValue::parse_headerless(reply, number) {
                     Ok(p) => {
-                        self.stats.ok = self.stats.ok.wrapping_add(1);
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                         rest = rest.get(HEADERLESS_REPLY_LEN..).unwrap_or(&[]);
                         let m = Message::Parameter(p);
                         self.settle(&m);
-                        return (total.saturating_sub(rest.len()), Some(m));
+                        return (total.saturating_sub(rest.len()), Some(Ok(m)));
                     }
                     Err(_) if first == DEBUG => {}
                     Err(_) => {
                         self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                        self.stats.discarded = self.stats.discarded.wrapping_add(1);
-                        rest = tail;
-                        continue;
+                        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                        let used = total.saturating_sub(tail.len());
+                        return (used, Some(Err(Error::ChecksumMismatch)));
                     }
                 }
             }
             let Some(need) = frame_len(first, self.expect) else {
                 self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                self.stats.discarded = self.stats.discarded.wrapping_add(1);
+                self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
                 rest = tail;
                 continue;
             };
@@ -357,69 +361,80 @@ impl PcDecoder {
             };
             match Message::parse(frame) {
                 Ok((m, _)) => {
-                    self.stats.ok = self.stats.ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     self.settle(&m);
-                    return (total.saturating_sub(after.len()), Some(m));
+                    return (total.saturating_sub(after.len()), Some(Ok(m)));
                 }
-                Err(Error::Checksum) => {
+                Err(Error::ChecksumMismatch) => {
+                    // The false start is dropped; the rescan starts at the next byte.
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    self.stats.discarded = self.stats.discarded.wrapping_add(1);
-                    rest = tail;
+                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                    let used = total.saturating_sub(tail.len());
+                    return (used, Some(Err(Error::ChecksumMismatch)));
                 }
-                Err(_) => {
+                Err(e) => {
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
-                    rest = after;
+                    return (total.saturating_sub(after.len()), Some(Err(e)));
                 }
             }
         }
         // A frame cut by the end of the slice: keep it, exactly as pushing would.
         while let Some((&byte, after)) = rest.split_first() {
             rest = after;
-            if let Some(m) = self.push(byte).next() {
-                return (total.saturating_sub(rest.len()), Some(m));
+            if let Some(ev) = self.push(byte) {
+                return (total.saturating_sub(rest.len()), Some(ev));
             }
         }
         (total, None)
     }
 
-    /// Continue on bytes already buffered, without new input: what an undrained iterator left.
-    ///
-    /// ```
-    /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-    /// let _ = dec.push(0x00); // iterator dropped unread
-    /// assert_eq!(dec.drain().count(), 0);
-    /// assert_eq!(dec.buffered(), 0);
-    /// ```
+    /// The former iterator over [`PcDecoder::poll`] (messages only: failures are skipped, as the
+    /// decoder did before it reported them).
+    #[deprecated(since = "0.1.0", note = "call `poll` until it returns `None`")]
+    #[allow(deprecated)]
     pub fn drain(&mut self) -> Messages<'_> {
-        Messages {
-            dec: self,
-            flush: false,
-        }
+        Messages { dec: self }
     }
 
-    /// The line went quiet: abandon the partial frame at the front and rescan what followed it.
+    /// The line went quiet: abandon the partial frame at the front (its first byte is dropped,
+    /// counted as abandoned and reported as [`Error::Truncated`]) and rescan what followed it,
+    /// handing every event to `on_event` until nothing is buffered. AOK's end of a stream.
     ///
     /// ```
-    /// use aok_proto::{pc::{Expect, PcDecoder}, FirmwareVersion, Message, Ack};
+    /// use aok_proto::{pc::{Expect, PcDecoder}, Ack, Error, FirmwareVersion, Message};
     /// let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
     /// dec.expect(Expect::Ack);
     /// // A debug frame cut short, then the ack: the ack is inside the debug candidate...
-    /// for b in [0x1c, 0x56, b'O'] { assert_eq!(dec.push(b).next(), None); }
+    /// for b in [0x1c, 0x56, b'O'] { assert_eq!(dec.push(b), None); }
     /// // ...until the line goes quiet.
-    /// assert_eq!(dec.idle().next(), Some(Message::Ack(Ack::Ok)));
+    /// let mut got = Vec::new();
+    /// dec.idle(|ev| got.push(ev));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
     /// ```
-    pub fn idle(&mut self) -> Messages<'_> {
-        Messages {
-            dec: self,
-            flush: true,
+    pub fn idle<F: FnMut(Result<Message, Error>)>(&mut self, mut on_event: F) {
+        while let Some(ev) = self.idle_next() {
+            on_event(ev);
         }
+    }
+
+    /// [`PcDecoder::idle`] one event at a time: the next event, or `None` once nothing is
+    /// buffered.
+    ///
+    /// ```
+    /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    /// dec.push(0x1c);
+    /// assert_eq!(dec.idle_next(), Some(Err(aok_proto::Error::Truncated)));
+    /// assert_eq!(dec.idle_next(), None);
+    /// ```
+    pub fn idle_next(&mut self) -> Option<Result<Message, Error>> {
+        self.step(true)
     }
 
     /// Forget buffered bytes (the pending request and the counters stay).
     ///
     /// ```
     /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-    /// for _ in dec.push(0x1c) {}
+    /// dec.push(0x1c);
     /// dec.reset();
     /// assert_eq!(dec.buffered(), 0);
     /// ```
@@ -433,7 +448,7 @@ impl PcDecoder {
     ///
     /// ```
     /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-    /// for _ in dec.push(0xff) {}
+    /// dec.push(0xff);
     /// assert_eq!(dec.buffered(), 1);
     /// ```
     pub const fn buffered(&self) -> usize {
@@ -444,23 +459,23 @@ impl PcDecoder {
     ///
     /// ```
     /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-    /// for _ in dec.push(0x00) {}
+    /// dec.push(0x00);
     /// assert_eq!(dec.stats().unknown_bytes, 1);
     /// ```
-    pub const fn stats(&self) -> &DecoderStats {
+    pub const fn stats(&self) -> &Stats {
         &self.stats
     }
 
     fn drop_front(&mut self) {
         self.need = 0;
-        self.stats.discarded = self.stats.discarded.wrapping_add(1);
+        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
         self.len = shift_left(&mut self.buf, self.len, 1);
         self.front_not_reply = false;
     }
 
     fn consume(&mut self, n: usize) {
         self.need = 0;
-        self.stats.ok = self.stats.ok.wrapping_add(1);
+        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
         self.len = shift_left(&mut self.buf, self.len, n);
         self.front_not_reply = false;
     }
@@ -483,8 +498,8 @@ impl PcDecoder {
     }
 
     #[inline]
-    fn step(&mut self, flush: bool) -> Option<Message> {
-        // Nothing buffered gives nothing (the usual last call on an iterator); a frame still
+    fn step(&mut self, flush: bool) -> Option<Result<Message, Error>> {
+        // Nothing buffered gives nothing (the usual last call to `poll`); a frame still
         // short of its known length gives nothing until the line goes quiet.
         if self.len == 0 || (self.len < self.need && !flush) {
             return None;
@@ -512,7 +527,7 @@ impl PcDecoder {
         matches!(self.expect, Expect::Parameter(_)) && self.form == ReplyForm::Headerless
     }
 
-    fn step_slow(&mut self, flush: bool) -> Option<Message> {
+    fn step_slow(&mut self, flush: bool) -> Option<Result<Message, Error>> {
         loop {
             let len = if self.len < MAX_COMMAND_LEN {
                 self.len
@@ -530,7 +545,7 @@ impl PcDecoder {
                 if len < HEADERLESS_REPLY_LEN {
                     if flush {
                         self.abandon();
-                        continue;
+                        return Some(Err(Error::Truncated));
                     }
                     self.need = HEADERLESS_REPLY_LEN;
                     return None;
@@ -540,7 +555,7 @@ impl PcDecoder {
                         self.consume(HEADERLESS_REPLY_LEN);
                         let m = Message::Parameter(p);
                         self.settle(&m);
-                        return Some(m);
+                        return Some(Ok(m));
                     }
                     Err(_) if first == DEBUG => {
                         // Not a reply; maybe a debug frame.
@@ -549,7 +564,7 @@ impl PcDecoder {
                     }
                     Err(_) => {
                         self.checksum_failed();
-                        continue;
+                        return Some(Err(Error::ChecksumMismatch));
                     }
                 }
             }
@@ -561,7 +576,7 @@ impl PcDecoder {
             if len < need {
                 if flush {
                     self.abandon();
-                    continue;
+                    return Some(Err(Error::Truncated));
                 }
                 self.need = need;
                 return None;
@@ -570,15 +585,19 @@ impl PcDecoder {
                 Ok((m, n)) => {
                     self.consume(n);
                     self.settle(&m);
-                    return Some(m);
+                    return Some(Ok(m));
                 }
-                Err(Error::Checksum) => self.checksum_failed(),
-                Err(_) => {
+                Err(Error::ChecksumMismatch) => {
+                    self.checksum_failed();
+                    return Some(Err(Error::ChecksumMismatch));
+                }
+                Err(e) => {
                     // Intact but out of range (a waypoint reply with a bad slot): drop it whole.
                     self.stats.invalid = self.stats.invalid.wrapping_add(1);
                     self.need = 0;
                     self.len = shift_left(&mut self.buf, self.len, need);
                     self.front_not_reply = false;
+                    return Some(Err(e));
                 }
             }
         }
@@ -590,25 +609,37 @@ impl PcDecoder {
     }
 }
 
-/// The messages one [`PcDecoder::push`] (or [`PcDecoder::idle`]) completes.
-///
-/// ```
-/// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
-/// assert_eq!(dec.push(0x1c).count(), 0);
-/// ```
-#[derive(Debug)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Messages<'a> {
-    dec: &'a mut PcDecoder,
-    flush: bool,
-}
+#[allow(deprecated)]
+pub use iter::Messages;
 
-impl Iterator for Messages<'_> {
-    type Item = Message;
+/// The deprecated iterator, apart so that its derives may use it.
+mod iter {
+    #![allow(deprecated)]
+    use super::*;
 
-    #[inline]
-    fn next(&mut self) -> Option<Message> {
-        self.dec.step(self.flush)
+    /// The former iterator of the messages still buffered ([`PcDecoder::drain`]): each `next` is a
+    /// [`PcDecoder::poll`], failures skipped.
+    #[deprecated(
+        since = "0.1.0",
+        note = "call `PcDecoder::poll` until it returns `None`"
+    )]
+    #[derive(Debug)]
+    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+    pub struct Messages<'a> {
+        pub(super) dec: &'a mut PcDecoder,
+    }
+
+    #[allow(deprecated)]
+    impl Iterator for Messages<'_> {
+        type Item = Message;
+
+        fn next(&mut self) -> Option<Message> {
+            loop {
+                if let Ok(m) = self.dec.poll()? {
+                    return Some(m);
+                }
+            }
+        }
     }
 }
 

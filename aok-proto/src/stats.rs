@@ -1,29 +1,48 @@
-//! Decoder counters (MAVLink style, wrapping).
+//! Decoder counters (MAVLink style, wrapping), the same for both decoders.
 
-/// What a decoder has seen. Every counter wraps.
+/// What a decoder ([`crate::PcDecoder`] or [`crate::DeviceDecoder`]) has seen. Every counter
+/// wraps. The names shared with the other protocol crates (`frames_ok`, `checksum_errors`,
+/// `bytes_discarded`) mean the same there; see `docs/architecture.md`.
 ///
 /// ```
 /// let mut dec = aok_proto::DeviceDecoder::new();
-/// for b in [0x00, 0x67, 0x0c] {
-///     for _ in dec.push(b) {}
-/// }
-/// assert_eq!(dec.stats().ok, 1);
+/// dec.feed(&[0x00, 0x67, 0x0c], |_| {});
+/// assert_eq!(dec.stats().frames_ok, 1);
 /// assert_eq!(dec.stats().unknown_bytes, 1);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct DecoderStats {
+pub struct Stats {
     /// Frames decoded and accepted.
-    pub ok: u32,
+    pub frames_ok: u32,
     /// Candidate frames whose checksum did not match (each is rescanned from its second byte).
     pub checksum_errors: u32,
     /// Bytes that cannot start any frame in the current state.
     pub unknown_bytes: u32,
     /// Frames with a good checksum but an out-of-range field (slot, stick); consumed whole.
     pub invalid: u32,
-    /// Partial frames abandoned by `idle()` (the line went quiet mid-frame).
+    /// Partial frames abandoned by `idle` (the line went quiet mid-frame).
     pub abandoned: u32,
     /// Bytes thrown away: unknown bytes, false starts and abandoned starts.
-    pub discarded: u32,
+    pub bytes_discarded: u32,
 }
+
+impl Stats {
+    /// All counters at zero, in a `const` context.
+    pub(crate) const ZERO: Stats = Stats {
+        frames_ok: 0,
+        checksum_errors: 0,
+        unknown_bytes: 0,
+        invalid: 0,
+        abandoned: 0,
+        bytes_discarded: 0,
+    };
+}
+
+/// The former name of [`Stats`].
+#[deprecated(
+    since = "0.1.0",
+    note = "renamed `Stats`, the counters' name in every protocol crate"
+)]
+pub type DecoderStats = Stats;

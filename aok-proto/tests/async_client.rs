@@ -84,7 +84,7 @@ impl embedded_io_async::Write for Device {
         }
         let mut items = Vec::new();
         for &b in buf {
-            items.extend(self.decoder.push(b));
+            self.decoder.feed(&[b], |c| items.push(c));
         }
         for item in items {
             let cmd = item.unwrap();

@@ -135,7 +135,8 @@ impl Write<u8> for Device {
             return Err(nb::Error::WouldBlock);
         }
         self.from_pc.push(byte);
-        let cmds: Vec<_> = self.decoder.push(byte).collect();
+        let mut cmds = Vec::new();
+        self.decoder.feed(&[byte], |c| cmds.push(c));
         for c in cmds {
             self.on_command(c.expect("the client sent a bad frame"));
         }

@@ -1,15 +1,19 @@
-//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `push` delivers byte
-//! by byte (each iterator drained), then what `idle()` delivers at the end of the stream,
+//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `push` and `poll`
+//! deliver byte by byte, then what `idle` delivers at the end of the stream (but `Truncated`),
 //! whatever the read sizes (1 byte up to more than the buffer), with pending reads, transport
 //! errors in mid-frame and EOF, on both sides; the writers write exactly the encoders' bytes.
+
+#[path = "support/events.rs"]
+mod events;
+use events::{idle_all, push_all};
 
 #[path = "support/transport.rs"]
 mod transport;
 
 use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
-    Ack, Command, DebugValue, DecoderStats, DeviceDecoder, Error, FirmwareVersion, IoError,
-    Message, ParameterValue, ReplyForm, WaypointSlot, embedded_io as bio, embedded_io_async as aio,
+    Ack, Command, DebugValue, DeviceDecoder, Error, FirmwareVersion, IoError, Message,
+    ParameterValue, ReplyForm, Stats, WaypointSlot, embedded_io as bio, embedded_io_async as aio,
 };
 use embedded_io::ErrorKind;
 use proptest::prelude::*;
@@ -31,22 +35,28 @@ fn pc_reference(
     fw: FirmwareVersion,
     expect: Expect,
     stream: &[u8],
-) -> (Vec<Event<Message>>, DecoderStats) {
+) -> (Vec<Event<Message>>, Stats) {
     let mut d = PcDecoder::new(fw);
     d.expect(expect);
     let mut out = Vec::new();
+    let conv = |r: Result<Message, Error>| match r {
+        Ok(m) => Event::Item(m),
+        Err(e) => Event::Protocol(e),
+    };
     for &b in stream {
-        out.extend(d.push(b).map(Event::Item));
+        out.extend(push_all(&mut d, b).into_iter().map(conv));
     }
     if d.buffered() > 0 {
         out.push(Event::UnexpectedEof(d.buffered()));
-        out.extend(d.idle().map(Event::Item));
+        // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
+        let rest = idle_all(&mut d).into_iter();
+        out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
     (out, *d.stats())
 }
 
-fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, DecoderStats) {
+fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, Stats) {
     let mut d = DeviceDecoder::new();
     let mut out = Vec::new();
     let conv = |r: Result<Command, Error>| match r {
@@ -54,11 +64,13 @@ fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, DecoderStats) {
         Err(e) => Event::Protocol(e),
     };
     for &b in stream {
-        out.extend(d.push(b).map(conv));
+        out.extend(push_all(&mut d, b).into_iter().map(conv));
     }
     if d.buffered() > 0 {
         out.push(Event::UnexpectedEof(d.buffered()));
-        out.extend(d.idle().map(conv));
+        // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
+        let rest = idle_all(&mut d).into_iter();
+        out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
     (out, *d.stats())
@@ -363,6 +375,8 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
                 value: 1500
             })),
             Event::Item(Message::Ack(Ack::Ok)),
+            // The waypoint reply with a bad checksum: the PC decoder reports its failures too.
+            Event::Protocol(Error::ChecksumMismatch),
             Event::UnexpectedEof(2),
             Event::Eof,
         ]

@@ -1,5 +1,9 @@
 //! Interleaved and corrupted streams, split at every byte boundary.
 
+#[path = "support/events.rs"]
+mod events;
+use events::{idle_all, push_all};
+
 use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
     Ack, Action, ActionWord, Command, DebugValue, DeviceDecoder, Error, ExternalControl,
@@ -61,7 +65,8 @@ impl Script {
         self.messages.push(m);
         self
     }
-    /// Feed everything, handing the decoder over (cloned, with an undrained iterator) at `split`.
+    /// Feed everything (messages only), handing the decoder over (cloned, with events not yet
+    /// polled) at `split`.
     fn run(&self, fw: FirmwareVersion, split: usize) -> Vec<Message> {
         let mut dec = PcDecoder::new(fw);
         let mut out = Vec::new();
@@ -70,13 +75,15 @@ impl Script {
                 dec.expect(*e);
             }
             if i + 1 == split {
-                // Leave the iterator undrained, move the decoder, resume with drain().
-                let _ = dec.push(b);
+                // Take the first event, move the decoder, poll the rest from the copy.
+                out.extend(dec.push(b).and_then(Result::ok));
                 let mut moved = dec.clone();
-                out.extend(moved.drain());
+                while let Some(ev) = moved.poll() {
+                    out.extend(ev.ok());
+                }
                 dec = moved;
             } else {
-                out.extend(dec.push(b));
+                out.extend(push_all(&mut dec, b).into_iter().filter_map(Result::ok));
             }
         }
         out
@@ -151,18 +158,15 @@ fn headerless_ambiguity_prefers_the_reply() {
     dec.expect(Expect::Parameter(5));
     let got: Vec<_> = [0x1c, 0x00, 0x00, 0x00, 0x1c]
         .iter()
-        .flat_map(|&b| dec.push(b).collect::<Vec<_>>())
+        .flat_map(|&b| push_all(&mut dec, b))
         .collect();
-    assert_eq!(got, vec![param(5, 0x1c00_0000)]);
+    assert_eq!(got, vec![Ok(param(5, 0x1c00_0000))]);
 }
 
 #[test]
 fn ack_bytes_are_unknown_without_a_pending_ack() {
     let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
-    let got: Vec<_> = b"OEI"
-        .iter()
-        .flat_map(|&b| dec.push(b).collect::<Vec<_>>())
-        .collect();
+    let got: Vec<_> = b"OEI".iter().flat_map(|&b| push_all(&mut dec, b)).collect();
     assert!(got.is_empty());
     assert_eq!(dec.stats().unknown_bytes, 3);
 }
@@ -176,11 +180,15 @@ fn pc_corrupted_debug_frame_hides_an_ack() {
     bytes.extend(emit_msg(debug(86, 9), ReplyForm::Headed));
     let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Ack);
-    let got: Vec<_> = bytes
-        .iter()
-        .flat_map(|&b| dec.push(b).collect::<Vec<_>>())
-        .collect();
-    assert_eq!(got, vec![Message::Ack(Ack::Ok), debug(86, 9)]);
+    let got: Vec<_> = bytes.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+    assert_eq!(
+        got,
+        vec![
+            Err(Error::ChecksumMismatch),
+            Ok(Message::Ack(Ack::Ok)),
+            Ok(debug(86, 9))
+        ]
+    );
     assert_eq!(dec.stats().checksum_errors, 1);
 }
 
@@ -189,11 +197,11 @@ fn pc_idle_releases_a_stuck_ack() {
     let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Ack);
     // Garbage FF starts a 7-byte reply candidate; the ack after it waits inside.
-    assert_eq!(dec.push(0xff).count(), 0);
-    assert_eq!(dec.push(b'E').count(), 0);
+    assert_eq!(dec.push(0xff), None);
+    assert_eq!(dec.push(b'E'), None);
     assert_eq!(
-        dec.idle().collect::<Vec<_>>(),
-        vec![Message::Ack(Ack::Error)]
+        idle_all(&mut dec),
+        vec![Err(Error::Truncated), Ok(Message::Ack(Ack::Error))]
     );
     assert_eq!(dec.stats().abandoned, 1);
     assert_eq!(dec.buffered(), 0);
@@ -259,12 +267,14 @@ fn device_stream_with_garbage_split_everywhere() {
         let mut ok = Vec::new();
         for (i, &b) in bytes.iter().enumerate() {
             if i + 1 == split {
-                let _ = dec.push(b);
+                ok.extend(dec.push(b).and_then(Result::ok));
                 let mut moved = dec.clone();
-                ok.extend(moved.drain().filter_map(Result::ok));
+                while let Some(ev) = moved.poll() {
+                    ok.extend(ev.ok());
+                }
                 dec = moved;
             } else {
-                ok.extend(dec.push(b).filter_map(Result::ok));
+                ok.extend(push_all(&mut dec, b).into_iter().filter_map(Result::ok));
             }
         }
         assert_eq!(ok, cmds, "split at {split}");
@@ -284,14 +294,14 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     bad[6] ^= 1;
     let mut items = Vec::new();
     for &b in bad.iter().chain(&[0x67, 0x05]) {
-        items.extend(dec.push(b));
+        items.extend(push_all(&mut dec, b));
     }
-    assert_eq!(items.first(), Some(&Err(Error::Checksum)));
+    assert_eq!(items.first(), Some(&Err(Error::ChecksumMismatch)));
     assert_eq!(items.last(), Some(&Ok(Command::ReadParameter(5))));
     // A waypoint read of slot 100: intact, invalid, consumed whole.
     let items: Vec<_> = [0x78, 100, 0x63, 0x02]
         .iter()
-        .flat_map(|&b| dec.push(b).collect::<Vec<_>>())
+        .flat_map(|&b| push_all(&mut dec, b))
         .collect();
     assert_eq!(
         items,
@@ -300,10 +310,7 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     // External control with roll 201 and a good checksum.
     let mut f = vec![0x53, 201, 0, 0, 0, 0, 0, 0, 0, 0xf4, 0x01];
     f.push(f[1..].iter().fold(0, |a, b| a ^ b));
-    let items: Vec<_> = f
-        .iter()
-        .flat_map(|&b| dec.push(b).collect::<Vec<_>>())
-        .collect();
+    let items: Vec<_> = f.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
     assert_eq!(items, vec![Err(Error::StickOutOfRange(201))]);
     assert_eq!(dec.stats().invalid, 2);
     assert_eq!(dec.buffered(), 0);
@@ -314,12 +321,12 @@ fn device_idle_rescans_a_dead_partial_frame() {
     let mut dec = DeviceDecoder::new();
     // A stray 77 holds a read request hostage until 19 bytes are in...
     for &b in &[0x77, 0x67, 0x0c] {
-        assert_eq!(dec.push(b).count(), 0);
+        assert_eq!(dec.push(b), None);
     }
     // ...or until the line is idle.
     assert_eq!(
-        dec.idle().collect::<Vec<_>>(),
-        vec![Ok(Command::ReadParameter(12))]
+        idle_all(&mut dec),
+        vec![Err(Error::Truncated), Ok(Command::ReadParameter(12))]
     );
     assert_eq!(dec.stats().abandoned, 1);
 }
@@ -332,8 +339,8 @@ fn bulk_pending_ends_at_the_sixteenth_reply() {
     aok_proto::device::encode_bulk(250, &[1; 16], &mut buf).unwrap();
     let mut numbers = Vec::new();
     for (i, &b) in buf.iter().enumerate() {
-        for m in dec.push(b) {
-            if let Message::Parameter(p) = m {
+        for m in push_all(&mut dec, b) {
+            if let Ok(Message::Parameter(p)) = m {
                 numbers.push(p.number);
             }
         }

@@ -43,7 +43,7 @@
 //! assert_eq!(frames, 0);
 //! dec.flush(|ev| if ev.is_ok() { frames += 1 });
 //! assert_eq!(frames, 1);
-//! assert_eq!(dec.stats().messages_ok, 1);
+//! assert_eq!(dec.stats().frames_ok, 1);
 //! ```
 
 use crate::checksum::{ff_run, find_ff, xor};
@@ -56,14 +56,14 @@ use crate::profile::{EXPEDITED, EXPEDITED_HEADER_LEN, Profile, START};
 ///
 /// ```
 /// let s = aydp_proto::Stats::default();
-/// assert_eq!(s.messages_ok, 0);
+/// assert_eq!(s.frames_ok, 0);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stats {
-    /// Messages delivered with a good checksum.
-    pub messages_ok: u32,
+    /// Frames (whole messages) delivered with a good checksum.
+    pub frames_ok: u32,
     /// Candidates that reached their announced length with a bad checksum.
     pub checksum_errors: u32,
     /// Candidates whose length field was below the profile minimum or beyond the capacity.
@@ -78,7 +78,7 @@ enum Outcome {
     More,
     Frame,
     BadLength(u32),
-    BadChecksum,
+    ChecksumMismatch,
 }
 
 /// AYDP stream decoder holding at most `N` bytes (the longest message it accepts).
@@ -139,7 +139,7 @@ impl<const N: usize> Decoder<N> {
             xor: 0,
             profile,
             stats: Stats {
-                messages_ok: 0,
+                frames_ok: 0,
                 checksum_errors: 0,
                 length_errors: 0,
                 bytes_discarded: 0,
@@ -420,13 +420,13 @@ impl<const N: usize> Decoder<N> {
                         return;
                     };
                     if xor(frame) == 0 {
-                        self.stats.messages_ok = self.stats.messages_ok.wrapping_add(1);
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                         on_event(Ok(Frame::new_unchecked(frame, self.profile)));
                         bytes = candidate.get(total..).unwrap_or(&[]);
                         continue;
                     }
                     self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    on_event(Err(Error::BadChecksum));
+                    on_event(Err(Error::ChecksumMismatch));
                 }
                 _ => {
                     self.stats.length_errors = self.stats.length_errors.wrapping_add(1);
@@ -555,11 +555,11 @@ impl<const N: usize> Decoder<N> {
                     return (total, Found::Nothing);
                 };
                 if xor(frame) == 0 {
-                    self.stats.messages_ok = self.stats.messages_ok.wrapping_add(1);
+                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
                     return (at.saturating_add(len), Found::InPlace { at, len });
                 }
                 self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                Found::Error(Error::BadChecksum)
+                Found::Error(Error::ChecksumMismatch)
             }
             _ => {
                 self.stats.length_errors = self.stats.length_errors.wrapping_add(1);
@@ -721,13 +721,13 @@ impl<const N: usize> Decoder<N> {
     /// The candidate holds all its announced bytes: the checksum decides.
     fn complete(&mut self) -> Outcome {
         if self.xor == 0 {
-            self.stats.messages_ok = self.stats.messages_ok.wrapping_add(1);
+            self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
             self.delivered = true;
             return Outcome::Frame;
         }
         self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
         self.rescan();
-        Outcome::BadChecksum
+        Outcome::ChecksumMismatch
     }
 
     #[inline]
@@ -739,7 +739,7 @@ impl<const N: usize> Decoder<N> {
                 self.profile,
             ))),
             Outcome::BadLength(field) => Some(Err(Error::BadLength(field))),
-            Outcome::BadChecksum => Some(Err(Error::BadChecksum)),
+            Outcome::ChecksumMismatch => Some(Err(Error::ChecksumMismatch)),
         }
     }
 
@@ -828,7 +828,7 @@ impl Found {
             Outcome::More => None,
             Outcome::Frame => Some(Found::Held),
             Outcome::BadLength(field) => Some(Found::Error(Error::BadLength(field))),
-            Outcome::BadChecksum => Some(Found::Error(Error::BadChecksum)),
+            Outcome::ChecksumMismatch => Some(Found::Error(Error::ChecksumMismatch)),
         }
     }
 }

@@ -25,7 +25,7 @@ pub enum Error {
     /// match the bytes present.
     BadLength(u32),
     /// The XOR checksum does not match (Y4).
-    BadChecksum,
+    ChecksumMismatch,
     /// The message data is too long to be described by the 32-bit length field.
     TooLong,
     /// The data is shorter than the message type needs.
@@ -77,6 +77,16 @@ pub enum Error {
     OutOfRange(u16),
 }
 
+impl Error {
+    /// The former name of [`Error::ChecksumMismatch`]; usable in patterns too.
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `ChecksumMismatch`, the name every protocol crate gives a failed check"
+    )]
+    #[allow(non_upper_case_globals)]
+    pub const BadChecksum: Error = Error::ChecksumMismatch;
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
@@ -88,7 +98,7 @@ impl fmt::Display for Error {
             Error::ReservedType => f.write_str("type byte 0xFF is reserved"),
             Error::BadType(t) => write!(f, "base type {t} is outside 0..=126"),
             Error::BadLength(l) => write!(f, "bad length field {l}"),
-            Error::BadChecksum => f.write_str("checksum mismatch"),
+            Error::ChecksumMismatch => f.write_str("checksum mismatch"),
             Error::TooLong => f.write_str("message too long for the length field"),
             Error::PayloadTooShort {
                 msg_type,

@@ -38,7 +38,7 @@ impl<'a> Frame<'a> {
             return Err(Error::BadLength(field));
         }
         if xor(bytes) != 0 {
-            return Err(Error::BadChecksum);
+            return Err(Error::ChecksumMismatch);
         }
         Ok(Self { bytes, profile })
     }

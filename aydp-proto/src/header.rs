@@ -6,9 +6,8 @@
 //! ```
 
 use crate::error::{Error, Result};
-use crate::profile::{
-    EXPEDITED, EXPEDITED_HEADER_LEN, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START, Timestamp,
-};
+use crate::layout::header as layout;
+use crate::profile::{EXPEDITED, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START, Timestamp};
 
 /// Read `K` bytes at a constant offset; zeros if the buffer is short (never panics).
 #[inline]
@@ -105,7 +104,7 @@ impl<T: AsRef<[u8]>> Header<T> {
     /// The raw u32 length field (its meaning depends on the profile).
     #[inline]
     pub fn length_field(&self) -> u32 {
-        u32::from_le_bytes(array_at(self.buffer.as_ref(), 2))
+        u32::from_le_bytes(array_at(self.buffer.as_ref(), layout::LENGTH))
     }
 
     /// Seconds from the epoch, or `None` for an expedited header.
@@ -115,8 +114,8 @@ impl<T: AsRef<[u8]>> Header<T> {
         }
         let b = self.buffer.as_ref();
         Some(Timestamp {
-            seconds: i64::from_le_bytes(array_at(b, 6)),
-            subsec: i64::from_le_bytes(array_at(b, 14)),
+            seconds: i64::from_le_bytes(array_at(b, layout::SECONDS)),
+            subsec: i64::from_le_bytes(array_at(b, layout::SUBSEC)),
         })
     }
 }
@@ -199,12 +198,12 @@ impl HeaderRepr {
             .length_field(self.data_len, self.is_expedited())
             .ok_or(Error::TooLong)?;
         let mut out = [0u8; NORMAL_HEADER_LEN];
-        out[0] = START;
-        out[1] = self.type_byte();
-        put(&mut out, 2, &length.to_le_bytes());
+        out[layout::START] = START;
+        out[layout::TYPE] = self.type_byte();
+        put(&mut out, layout::LENGTH, &length.to_le_bytes());
         if let Some(t) = self.timestamp {
-            put(&mut out, EXPEDITED_HEADER_LEN, &t.seconds.to_le_bytes());
-            put(&mut out, EXPEDITED_HEADER_LEN + 8, &t.subsec.to_le_bytes());
+            put(&mut out, layout::SECONDS, &t.seconds.to_le_bytes());
+            put(&mut out, layout::SUBSEC, &t.subsec.to_le_bytes());
         }
         Ok(out)
     }

@@ -18,7 +18,7 @@ use crate::frame::Frame;
 ///
 /// ```
 /// use aydp_proto::{Error, IoError};
-/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::BadChecksum);
+/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch);
 /// assert!(e.is_protocol());
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```

@@ -8,6 +8,7 @@
 //!
 //! Modules:
 //! - [`profile`]: the two profiles and the header [`Timestamp`];
+//! - [`layout`]: every message's bytes in one table (field offsets, lengths);
 //! - [`header`]: the header view [`Header`] and [`HeaderRepr`];
 //! - [`frame`]: [`Frame`], a checked whole message;
 //! - [`checksum`]: the XOR checksum;
@@ -55,6 +56,7 @@ pub mod frame;
 pub mod header;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+pub mod layout;
 pub mod messages;
 pub mod profile;
 pub mod registry;

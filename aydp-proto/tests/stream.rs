@@ -90,7 +90,7 @@ fn stream_figures(profile: Profile, seed: u64, mix: (u64, u64)) -> (f64, f64) {
         naive_ok,
         pct(naive_ok),
     );
-    assert_eq!(stats.messages_ok as usize, got.len());
+    assert_eq!(stats.frames_ok as usize, got.len());
     (pct(ok), pct(naive_ok))
 }
 
@@ -250,7 +250,7 @@ fn a_false_start_hides_a_good_message_and_the_rescan_finds_it() {
     stream.extend_from_slice(&hb);
     stream.extend(std::iter::repeat_n(0x55, 17));
     let (events, stats) = run_lib(&stream, Profile::Spec);
-    assert_eq!(events, vec![Err(Error::BadChecksum), Ok(hb.to_vec())]);
+    assert_eq!(events, vec![Err(Error::ChecksumMismatch), Ok(hb.to_vec())]);
     assert_eq!(stats.checksum_errors, 1);
     assert_eq!(stats.bytes_discarded as usize, stream.len() - hb.len());
     // The naive decoder loses it.

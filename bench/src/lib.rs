@@ -5,7 +5,7 @@
 
 pub use bench_kernels::*;
 
-use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::*};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::*};
 use aydp_proto::{Encoder, Profile, Timestamp};
 use protolink_tests::rng::Rng;
 
@@ -85,9 +85,9 @@ pub fn aeolus_stream() -> Vec<u8> {
 /// The AEOLUS messages of [`aeolus_stream`], for the encoder benchmarks.
 pub fn aeolus_messages() -> Vec<Message<'static>> {
     let stream = aeolus_stream();
-    let mut d = Deframer::<256>::new();
+    let mut d = Decoder::<256>::new();
     let mut msgs = Vec::new();
-    d.push_slice(&stream, |ev| {
+    d.feed(&stream, |ev| {
         let f = ev.unwrap();
         let data: &'static [u8] = Box::leak(f.raw().to_vec().into_boxed_slice());
         msgs.push(Message::parse(data[0], &data[1..data.len() - 2]).unwrap());

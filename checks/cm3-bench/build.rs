@@ -48,9 +48,9 @@ fn main() {
     // parses, each with a length byte in front, for the encoder.
     let stream = bench::aeolus_stream();
     let mut frames = Vec::new();
-    let mut d = aeolus_proto::Deframer::<256>::new();
+    let mut d = aeolus_proto::Decoder::<256>::new();
     let mut n_msgs = 0u32;
-    d.push_slice(&stream, |ev| {
+    d.feed(&stream, |ev| {
         let raw = ev.unwrap().raw();
         frames.push(u8::try_from(raw.len()).unwrap());
         frames.extend_from_slice(raw);

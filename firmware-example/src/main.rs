@@ -106,7 +106,7 @@ mod run {
             a.tx_dropped,
             app.aeolus.telemetry().skipped(),
             rx.frames_delivered(),
-            rx.crc_errors,
+            rx.checksum_errors,
             a.commands,
             a.unknown_commands,
             a.settime,

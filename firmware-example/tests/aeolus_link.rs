@@ -3,7 +3,7 @@
 //! millisecond clock (one poll per simulated millisecond, as the firmware's main loop does).
 
 use aeolus_proto::message::{Message, SetTime, Text};
-use aeolus_proto::{CrcMode, Deframer, max_encoded_len};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
 use firmware_example::app::aeolus_link::{AeolusLink, TX_QUEUE};
 use firmware_example::app::state::Intervals;
 use firmware_example::app::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
@@ -52,7 +52,7 @@ impl Sent {
 /// The peer on the other end of UART0: a strict deframer (every frame must carry a good CRC).
 struct Peer {
     isr: SerialIsr<'static>,
-    deframer: Deframer<512>,
+    deframer: Decoder<512>,
     frames: Vec<Sent>,
 }
 
@@ -122,7 +122,7 @@ impl SensorBox {
             port,
             peer: Peer {
                 isr,
-                deframer: Deframer::strict(),
+                deframer: Decoder::strict(),
                 frames: Vec::new(),
             },
             now: 0,
@@ -236,7 +236,11 @@ fn ten_seconds_give_the_spec_rates_within_two_percent() {
     assert_eq!(b.peer.toasts(), ["AEOLUS on"]);
     let stats = b.peer.deframer.stats();
     assert_eq!(
-        (stats.crc_errors, stats.bytes_discarded, stats.overflows),
+        (
+            stats.checksum_errors,
+            stats.bytes_discarded,
+            stats.overflows
+        ),
         (0, 0, 0)
     );
     assert_eq!(b.link.counters().tx_dropped, 0);
@@ -647,7 +651,7 @@ fn reboot_answers_then_asks_the_main_loop_for_a_reset() {
     let (mut u2, _isr2) = port::<8192>();
     let mut peer = Peer {
         isr: isr0,
-        deframer: Deframer::strict(),
+        deframer: Decoder::strict(),
         frames: Vec::new(),
     };
     for now in 0..50 {
@@ -750,7 +754,7 @@ fn commands_split_over_many_polls_and_after_garbage_are_found() {
     }
     assert!(b.shared.paused);
     assert_eq!(b.link.counters().commands, 1);
-    assert_eq!(b.link.rx_stats().crc_errors, 1);
+    assert_eq!(b.link.rx_stats().checksum_errors, 1);
     assert_eq!(b.link.counters().rx_errors, 2); // the bad escape and the bad CRC
     // Frames of other types are counted and ignored.
     b.peer
@@ -769,7 +773,7 @@ fn a_slow_uart_drops_whole_frames_but_still_answers() {
         port,
         peer: Peer {
             isr,
-            deframer: Deframer::strict(),
+            deframer: Decoder::strict(),
             frames: Vec::new(),
         },
         ..SensorBox::boot()
@@ -789,7 +793,7 @@ fn a_slow_uart_drops_whole_frames_but_still_answers() {
             .contains(&"unknown command: a c pressure".to_owned())
     );
     let stats = b.peer.deframer.stats();
-    assert_eq!((stats.crc_errors, stats.bytes_discarded), (0, 0));
+    assert_eq!((stats.checksum_errors, stats.bytes_discarded), (0, 0));
     // Sent frames are whole frames: about 11 kB/s of them.
     assert!(b.peer.frames.len() > 200);
 }

@@ -578,7 +578,7 @@ fn the_document_example_with_two_data_bytes_is_malformed() {
     // Y6: "enable direct control" as printed carries 2 data bytes: the frame is good, the
     // typed parse fails.
     rig.exchange(&[0xFF, 0x88, 0x09, 0x00, 0x00, 0x00, 0x00, 0x01, 0x7F]);
-    assert_eq!(rig.app.aydp.decoder_stats().messages_ok, 1);
+    assert_eq!(rig.app.aydp.decoder_stats().frames_ok, 1);
     assert_eq!(rig.app.aydp.counters().malformed, 1);
     assert!(!rig.app.shared.direct_control);
 }

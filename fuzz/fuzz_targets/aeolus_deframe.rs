@@ -1,12 +1,12 @@
 //! The AEOLUS deframer on any byte stream, normal and strict: no panic, and the byte
 //! accounting holds after every byte.
 #![no_main]
-use aeolus_proto::Deframer;
+use aeolus_proto::Decoder;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let mut normal = Deframer::<64>::new();
-    let mut strict = Deframer::<64>::strict();
+    let mut normal = Decoder::<64>::new();
+    let mut strict = Decoder::<64>::strict();
     for (i, &b) in data.iter().enumerate() {
         if let Some(Ok(frame)) = normal.push(b) {
             assert!(frame.raw().len() >= 3);

@@ -2,7 +2,7 @@
 //! 0/1, texts NUL-terminated: what `emit` writes); and parse(emit(m)) == m for every parsed m,
 //! bit for bit, through a full frame encode and deframe.
 #![no_main]
-use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::Message};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -20,7 +20,7 @@ fuzz_target!(|data: &[u8]| {
     let mut wire = vec![0u8; max_encoded_len(n)];
     let w = msg.encode(&mut wire, CrcMode::Compute).unwrap();
     // Capacity for the longest input the fuzzer makes (-max_len=4096).
-    let mut d = Deframer::<4100>::strict();
+    let mut d = Decoder::<4100>::strict();
     let mut seen = 0;
     for &b in &wire[..w] {
         if let Some(ev) = d.push(b) {

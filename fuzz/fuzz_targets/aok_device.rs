@@ -8,9 +8,13 @@ fuzz_target!(|data: &[u8]| {
     let mut d = DeviceDecoder::new();
     let mut cmds = Vec::new();
     for &b in data {
-        cmds.extend(d.push(b).flatten());
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            cmds.extend(ev);
+            event = d.poll();
+        }
     }
-    cmds.extend(d.idle().flatten());
+    d.idle(|ev| cmds.extend(ev));
     for c in cmds {
         let (bytes, n) = c.to_bytes();
         let (again, used) = Command::parse(&bytes[..n]).unwrap();

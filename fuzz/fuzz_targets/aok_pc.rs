@@ -17,12 +17,15 @@ fuzz_target!(|data: &[u8]| {
                 _ => Expect::Waypoint(WaypointSlot::from_wire(b).unwrap_or(WaypointSlot::FbcTarget)),
             });
         }
-        for m in d.push(b) {
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            event = d.poll();
+            let Ok(m) = ev else { continue };
             let mut out = [0u8; 32];
             let form = if fw == FirmwareVersion::LATEST { ReplyForm::Headed } else { ReplyForm::Headerless };
             let n = m.emit(form, &mut out).unwrap();
             assert_eq!(n, m.buffer_len(form));
         }
     }
-    for _ in d.idle() {}
+    d.idle(|_| {});
 });

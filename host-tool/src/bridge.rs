@@ -12,7 +12,7 @@ use std::sync::mpsc::{SyncSender, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use aeolus_proto::{Deframer, ESCAPE, FLAG};
+use aeolus_proto::{Decoder, ESCAPE, FLAG};
 use clap::Args;
 use serde_json::json;
 
@@ -438,7 +438,7 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
     let mut counters = Counters::default();
-    let mut deframer = Box::new(Deframer::<AEOLUS_CAPACITY>::new());
+    let mut deframer = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let mut datagram = vec![0u8; 65_536];
     let mut wire = Vec::with_capacity(2 * AEOLUS_CAPACITY + 2);
@@ -447,7 +447,7 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         let input = uart.read(&mut buf, deadline.left(Duration::from_millis(5)))?;
         if let Input::Data(n) = input {
             counters.uart_bytes += n as u64;
-            deframer.push_slice(&buf[..n], |event| {
+            deframer.feed(&buf[..n], |event| {
                 if let Ok(frame) = event {
                     wire.clear();
                     push_frame(frame.raw(), &mut wire);

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::Deframer;
+use aeolus_proto::Decoder;
 use aeolus_proto::message::{AeolusInfo, Attitude, Compass, Gps, Message, Pressure, Temp, Wind};
 use clap::Args;
 
@@ -274,7 +274,7 @@ impl View {
         l.push(format!(
             "errors     crc {}  no-crc frames {}  overflows {}  too short {}  bad escapes {}  \
              malformed {}  truncated {}  bytes discarded {}",
-            stats.crc_errors,
+            stats.checksum_errors,
             stats.frames_no_crc,
             stats.overflows,
             stats.too_short,
@@ -303,7 +303,7 @@ pub fn run(args: &WatchArgs) -> Result<()> {
     let refresh = if tty { TTY_REFRESH } else { PLAIN_REFRESH };
     let mut out = Out::new();
     let mut view = View::default();
-    let mut deframer = Box::new(Deframer::<AEOLUS_CAPACITY>::new());
+    let mut deframer = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let started = Instant::now();
     let mut next_draw = started + refresh;

@@ -67,7 +67,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                 Ok(0) => break,
                 Ok(n) => {
                     for &b in &buf[..n] {
-                        for item in decoder.push(b) {
+                        let mut items = Vec::new();
+                        decoder.feed(&[b], |item| items.push(item));
+                        for item in items {
                             let Ok(cmd) = item else {
                                 let k = encode_ack(Ack::Error, &mut frame).unwrap();
                                 out.extend(&frame[..k]);

@@ -140,7 +140,7 @@ fn every_good_frame_becomes_one_datagram_byte_for_byte() {
         "{}",
         run.stdout
     );
-    assert!(run.stdout.contains("crc_errors=1"), "{}", run.stdout);
+    assert!(run.stdout.contains("checksum_errors=1"), "{}", run.stdout);
 }
 
 #[test]

@@ -40,7 +40,7 @@ fn aeolus_vectors_decode_to_their_fields() {
                         .unwrap()
                         .starts_with("CRC mismatch on message 82")
                 );
-                assert_eq!(counters["crc_errors"], 1);
+                assert_eq!(counters["checksum_errors"], 1);
             }
             "datagram-two-messages" => {
                 let names: Vec<_> = lines.iter().map(|l| l["name"].clone()).collect();
@@ -100,7 +100,7 @@ fn aeolus_text_lines_are_readable_and_offsets_are_exact() {
     let last = lines.last().unwrap();
     assert!(
         last.starts_with(&format!(
-            "summary: bytes={} frames_ok=9 frames_no_crc=1 crc_errors=1",
+            "summary: bytes={} frames_ok=9 frames_no_crc=1 checksum_errors=1",
             stream.len()
         )),
         "{last}"
@@ -162,7 +162,7 @@ fn aydp_vectors_decode_in_their_profile() {
             // Y6: rejected; no message comes out of it.
             assert!(lines.iter().all(|l| l["kind"] == "error"), "{lines:?}");
             assert!(!lines.is_empty());
-            assert_eq!(counters["messages_ok"], 0);
+            assert_eq!(counters["frames_ok"], 0);
             continue;
         }
         let (_, want) = expect
@@ -377,6 +377,6 @@ fn udp_datagrams_keep_their_boundaries() {
         "{errors:?}"
     );
     let summary = lines.last().unwrap();
-    assert_eq!(summary["counters"]["crc_errors"], 0);
+    assert_eq!(summary["counters"]["checksum_errors"], 0);
     assert_eq!(summary["counters"]["truncated"], errors.len());
 }

@@ -7,7 +7,7 @@ use crate::{
     rng::Rng,
     score::{Figures, score},
 };
-use aeolus_proto::{CrcMode, Deframer, max_encoded_len, message::*};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::*};
 
 /// A protocol under test.
 pub trait Protocol {
@@ -162,12 +162,12 @@ impl Protocol for Aeolus {
 
     fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
         let mut d = if self.strict {
-            Deframer::<256>::strict()
+            Decoder::<256>::strict()
         } else {
-            Deframer::<256>::new()
+            Decoder::<256>::new()
         };
         let mut out = Vec::new();
-        d.push_slice(stream, |ev| {
+        d.feed(stream, |ev| {
             if let Ok(f) = ev {
                 out.push(f.raw().to_vec());
             }
@@ -329,16 +329,20 @@ impl Protocol for Aok {
     fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
         let mut d = aok_proto::DeviceDecoder::new();
         let mut out = Vec::new();
-        for &b in stream {
-            for c in d.push(b).flatten() {
+        let mut keep = |ev: Result<aok_proto::Command, aok_proto::Error>| {
+            if let Ok(c) = ev {
                 let (bytes, n) = c.to_bytes();
                 out.push(bytes[..n].to_vec());
             }
+        };
+        for &b in stream {
+            let mut event = d.push(b);
+            while let Some(ev) = event {
+                keep(ev);
+                event = d.poll();
+            }
         }
-        for c in d.idle().flatten() {
-            let (bytes, n) = c.to_bytes();
-            out.push(bytes[..n].to_vec());
-        }
+        d.idle(keep);
         out
     }
 

@@ -134,7 +134,7 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
         .lines()
         .find(|l| l.starts_with("uart deframer: "))
         .expect("the deframer's counters");
-    assert!(deframer.contains("crc_errors=0 "), "{deframer}");
+    assert!(deframer.contains("checksum_errors=0 "), "{deframer}");
 
     // The firmware's log shows it took the SETTIME and the commands.
     let log = q.stop();

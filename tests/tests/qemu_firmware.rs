@@ -45,7 +45,7 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     assert_eq!(s.frames_ok as usize, u0.frames.len());
     assert_eq!(
         (
-            s.crc_errors,
+            s.checksum_errors,
             s.missing_crc,
             s.frames_no_crc,
             s.overflows,
@@ -162,7 +162,7 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     );
     assert!(resumed.iter().all(|f| f.is_telemetry()));
     let s = *u0.stats();
-    assert_eq!((s.crc_errors, s.bytes_discarded), (0, 0));
+    assert_eq!((s.checksum_errors, s.bytes_discarded), (0, 0));
 
     // The firmware's own view (its log: boot, commands, and the 5 s status lines with the
     // stack high-water mark and the UART counters).

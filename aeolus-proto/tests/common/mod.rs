@@ -14,11 +14,11 @@ pub fn hex(s: &str) -> Vec<u8> {
 
 /// Feeds `bytes` and collects every event as `Ok((id, raw))` or `Err(error)`.
 pub fn events<const N: usize>(
-    d: &mut aeolus_proto::Deframer<N>,
+    d: &mut aeolus_proto::Decoder<N>,
     bytes: &[u8],
 ) -> Vec<Result<(u8, Vec<u8>), aeolus_proto::Error>> {
     let mut out = Vec::new();
-    d.push_slice(bytes, |ev| out.push(ev.map(|f| (f.id(), f.raw().to_vec()))));
+    d.feed(bytes, |ev| out.push(ev.map(|f| (f.id(), f.raw().to_vec()))));
     out
 }
 

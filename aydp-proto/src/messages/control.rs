@@ -3,6 +3,7 @@
 use super::{too_long, too_short};
 use crate::encoder::Payload;
 use crate::error::{Error, Result};
+use crate::layout::system_control as at;
 
 /// System control commands (table 3.10).
 ///
@@ -35,10 +36,16 @@ impl SystemControl {
             [1, a0, a1] => Ok(SystemControl::RequestData {
                 address: u16::from_le_bytes([*a0, *a1]),
             }),
-            [1, ..] if data.len() < 3 => Err(too_short(Self::TYPE, 3, data.len())),
-            [1, ..] => Err(too_long(Self::TYPE, 3, data.len())),
+            [1, ..] if data.len() < at::REQUEST_DATA_LEN => {
+                Err(too_short(Self::TYPE, at::REQUEST_DATA_LEN, data.len()))
+            }
+            [1, ..] => Err(too_long(Self::TYPE, at::REQUEST_DATA_LEN, data.len())),
             [2] => Ok(SystemControl::StoreConfiguration),
-            [2, ..] => Err(too_long(Self::TYPE, 1, data.len())),
+            [2, ..] => Err(too_long(
+                Self::TYPE,
+                at::STORE_CONFIGURATION_LEN,
+                data.len(),
+            )),
             [c, ..] => Err(Error::UnknownCommand(*c)),
         }
     }
@@ -47,9 +54,9 @@ impl SystemControl {
         match *self {
             SystemControl::RequestData { address } => {
                 let [a0, a1] = address.to_le_bytes();
-                ([1, a0, a1], 3)
+                ([1, a0, a1], at::REQUEST_DATA_LEN)
             }
-            SystemControl::StoreConfiguration => ([2, 0, 0], 1),
+            SystemControl::StoreConfiguration => ([2, 0, 0], at::STORE_CONFIGURATION_LEN),
         }
     }
 }

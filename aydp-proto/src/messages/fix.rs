@@ -4,6 +4,7 @@ use super::{exact, fixed_payload, too_short};
 use crate::encoder::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
+use crate::layout::{fix_quality as fq, satellite as sat};
 use crate::uflt16;
 
 /// Position fix quality (type 4): 8 bytes.
@@ -37,28 +38,32 @@ impl FixQuality {
     /// Base type.
     pub const TYPE: u8 = 4;
     /// Data length.
-    pub const LEN: usize = 8;
+    pub const LEN: usize = fq::LEN;
 
     /// Parse exactly 8 data bytes; a negative `uflt16` is an error.
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         Ok(Self {
-            fix_type: b[0],
-            mean_dop: uf(b, 1)?,
-            hdop: uf(b, 3)?,
-            vdop: uf(b, 5)?,
-            satellites: b[7],
+            fix_type: b[fq::FIX_TYPE],
+            mean_dop: uf(b, fq::MEAN_DOP)?,
+            hdop: uf(b, fq::HDOP)?,
+            vdop: uf(b, fq::VDOP)?,
+            satellites: b[fq::SATELLITES],
         })
     }
 
     /// The 8 data bytes (DOPs rounded to binary16, negatives clamped to 0).
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
-        out[0] = self.fix_type;
-        put(&mut out, 1, &uflt16::encode(self.mean_dop).to_le_bytes());
-        put(&mut out, 3, &uflt16::encode(self.hdop).to_le_bytes());
-        put(&mut out, 5, &uflt16::encode(self.vdop).to_le_bytes());
-        out[7] = self.satellites;
+        out[fq::FIX_TYPE] = self.fix_type;
+        put(
+            &mut out,
+            fq::MEAN_DOP,
+            &uflt16::encode(self.mean_dop).to_le_bytes(),
+        );
+        put(&mut out, fq::HDOP, &uflt16::encode(self.hdop).to_le_bytes());
+        put(&mut out, fq::VDOP, &uflt16::encode(self.vdop).to_le_bytes());
+        out[fq::SATELLITES] = self.satellites;
         out
     }
 }
@@ -88,25 +93,33 @@ pub struct Satellite {
 
 impl Satellite {
     /// Bytes per satellite.
-    pub const LEN: usize = 7;
+    pub const LEN: usize = sat::LEN;
 
     /// Parse 7 bytes.
     pub fn parse(b: &[u8; Self::LEN]) -> Result<Self> {
         Ok(Self {
-            id: b[0],
-            azimuth: uf(b, 1)?,
-            elevation: uf(b, 3)?,
-            snr: uf(b, 5)?,
+            id: b[sat::ID],
+            azimuth: uf(b, sat::AZIMUTH)?,
+            elevation: uf(b, sat::ELEVATION)?,
+            snr: uf(b, sat::SNR)?,
         })
     }
 
     /// The 7 bytes.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
-        out[0] = self.id;
-        put(&mut out, 1, &uflt16::encode(self.azimuth).to_le_bytes());
-        put(&mut out, 3, &uflt16::encode(self.elevation).to_le_bytes());
-        put(&mut out, 5, &uflt16::encode(self.snr).to_le_bytes());
+        out[sat::ID] = self.id;
+        put(
+            &mut out,
+            sat::AZIMUTH,
+            &uflt16::encode(self.azimuth).to_le_bytes(),
+        );
+        put(
+            &mut out,
+            sat::ELEVATION,
+            &uflt16::encode(self.elevation).to_le_bytes(),
+        );
+        put(&mut out, sat::SNR, &uflt16::encode(self.snr).to_le_bytes());
         out
     }
 }
@@ -151,7 +164,7 @@ impl<'a> FixDetail<'a> {
             });
         }
         for chunk in rest.chunks_exact(Satellite::LEN) {
-            for field in [1usize, 3, 5] {
+            for field in [sat::AZIMUTH, sat::ELEVATION, sat::SNR] {
                 uflt16::decode(u16::from_le_bytes(array_at(chunk, field)))?;
             }
         }

@@ -4,6 +4,7 @@ use super::too_short;
 use crate::encoder::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
+use crate::layout::{direct_output, output_entry as entry};
 
 /// One output setting.
 ///
@@ -26,14 +27,14 @@ pub struct OutputEntry {
 
 impl OutputEntry {
     /// Bytes per entry.
-    pub const LEN: usize = 6;
+    pub const LEN: usize = entry::LEN;
 
     /// The 6 bytes of this entry.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
-        out[0] = self.device;
-        out[1] = self.channel;
-        put(&mut out, 2, &self.value.to_le_bytes());
+        out[entry::DEVICE] = self.device;
+        out[entry::CHANNEL] = self.channel;
+        put(&mut out, entry::VALUE, &self.value.to_le_bytes());
         out
     }
 
@@ -42,7 +43,7 @@ impl OutputEntry {
         Self {
             device: a[0],
             channel: a[1],
-            value: f32::from_le_bytes(array_at(&a, 2)),
+            value: f32::from_le_bytes(array_at(&a, entry::VALUE)),
         }
     }
 }
@@ -75,7 +76,7 @@ impl<'a> DirectOutput<'a> {
         let Some(rest) = data.get(2..) else {
             return Err(too_short(Self::TYPE, 2, data.len()));
         };
-        let count = u16::from_le_bytes(array_at(data, 0)) as usize;
+        let count = u16::from_le_bytes(array_at(data, direct_output::COUNT)) as usize;
         if rest.len() != count * OutputEntry::LEN {
             return Err(Error::CountMismatch {
                 msg_type: Self::TYPE,
@@ -87,7 +88,7 @@ impl<'a> DirectOutput<'a> {
 
     /// Number of entries.
     pub fn len(&self) -> usize {
-        u16::from_le_bytes(array_at(self.data, 0)) as usize
+        u16::from_le_bytes(array_at(self.data, direct_output::COUNT)) as usize
     }
 
     /// Whether there are no entries.

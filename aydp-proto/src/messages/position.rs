@@ -3,6 +3,7 @@
 use super::{exact, fixed_payload};
 use crate::error::Result;
 use crate::header::{array_at, put};
+use crate::layout::position as at;
 
 /// Position (type 3).
 ///
@@ -27,24 +28,24 @@ impl Position {
     /// Base type.
     pub const TYPE: u8 = 3;
     /// Data length.
-    pub const LEN: usize = 20;
+    pub const LEN: usize = at::LEN;
 
     /// Parse exactly 20 data bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         Ok(Self {
-            latitude: f64::from_le_bytes(array_at(b, 0)),
-            longitude: f64::from_le_bytes(array_at(b, 8)),
-            altitude: f32::from_le_bytes(array_at(b, 16)),
+            latitude: f64::from_le_bytes(array_at(b, at::LATITUDE)),
+            longitude: f64::from_le_bytes(array_at(b, at::LONGITUDE)),
+            altitude: f32::from_le_bytes(array_at(b, at::ALTITUDE)),
         })
     }
 
     /// The 20 data bytes.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
-        put(&mut out, 0, &self.latitude.to_le_bytes());
-        put(&mut out, 8, &self.longitude.to_le_bytes());
-        put(&mut out, 16, &self.altitude.to_le_bytes());
+        put(&mut out, at::LATITUDE, &self.latitude.to_le_bytes());
+        put(&mut out, at::LONGITUDE, &self.longitude.to_le_bytes());
+        put(&mut out, at::ALTITUDE, &self.altitude.to_le_bytes());
         out
     }
 }

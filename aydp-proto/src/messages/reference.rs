@@ -3,6 +3,7 @@
 use super::{exact, fixed_payload};
 use crate::error::Result;
 use crate::header::{array_at, put};
+use crate::layout::{vessel_data as at, wind};
 
 /// Wind speed (type 1 in `Reference`): one f32, mph.
 ///
@@ -19,10 +20,13 @@ impl WindSpeed {
     /// Base type.
     pub const TYPE: u8 = 1;
     /// Data length.
-    pub const LEN: usize = 4;
+    pub const LEN: usize = wind::LEN;
     /// Parse exactly 4 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
-        Ok(Self(f32::from_le_bytes(*exact::<4>(data, Self::TYPE)?)))
+        Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
+            data,
+            Self::TYPE,
+        )?)))
     }
     /// The 4 data bytes.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
@@ -46,10 +50,13 @@ impl WindDirection {
     /// Base type.
     pub const TYPE: u8 = 2;
     /// Data length.
-    pub const LEN: usize = 4;
+    pub const LEN: usize = wind::LEN;
     /// Parse exactly 4 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
-        Ok(Self(f32::from_le_bytes(*exact::<4>(data, Self::TYPE)?)))
+        Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
+            data,
+            Self::TYPE,
+        )?)))
     }
     /// The 4 data bytes.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
@@ -105,28 +112,28 @@ impl VesselData {
     /// Base type.
     pub const TYPE: u8 = 17;
     /// Data length.
-    pub const LEN: usize = 68;
+    pub const LEN: usize = at::LEN;
 
     /// Parse exactly 68 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         let f = |at| f32::from_le_bytes(array_at(b, at));
         Ok(Self {
-            roll: f(0),
-            pitch: f(4),
-            heading: f(8),
-            roll_rate: f(12),
-            pitch_rate: f(16),
-            heading_rate: f(20),
-            latitude: f64::from_le_bytes(array_at(b, 24)),
-            longitude: f64::from_le_bytes(array_at(b, 32)),
-            track: f(40),
-            speed_over_ground: f(44),
-            fix_type: i32::from_le_bytes(array_at(b, 48)),
-            satellites: i32::from_le_bytes(array_at(b, 52)),
-            mean_dop: f(56),
-            hdop: f(60),
-            vdop: f(64),
+            roll: f(at::ROLL),
+            pitch: f(at::PITCH),
+            heading: f(at::HEADING),
+            roll_rate: f(at::ROLL_RATE),
+            pitch_rate: f(at::PITCH_RATE),
+            heading_rate: f(at::HEADING_RATE),
+            latitude: f64::from_le_bytes(array_at(b, at::LATITUDE)),
+            longitude: f64::from_le_bytes(array_at(b, at::LONGITUDE)),
+            track: f(at::TRACK),
+            speed_over_ground: f(at::SPEED_OVER_GROUND),
+            fix_type: i32::from_le_bytes(array_at(b, at::FIX_TYPE)),
+            satellites: i32::from_le_bytes(array_at(b, at::SATELLITES)),
+            mean_dop: f(at::MEAN_DOP),
+            hdop: f(at::HDOP),
+            vdop: f(at::VDOP),
         })
     }
 
@@ -134,25 +141,25 @@ impl VesselData {
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut o = [0u8; Self::LEN];
         let fs = [
-            (0, self.roll),
-            (4, self.pitch),
-            (8, self.heading),
-            (12, self.roll_rate),
-            (16, self.pitch_rate),
-            (20, self.heading_rate),
-            (40, self.track),
-            (44, self.speed_over_ground),
-            (56, self.mean_dop),
-            (60, self.hdop),
-            (64, self.vdop),
+            (at::ROLL, self.roll),
+            (at::PITCH, self.pitch),
+            (at::HEADING, self.heading),
+            (at::ROLL_RATE, self.roll_rate),
+            (at::PITCH_RATE, self.pitch_rate),
+            (at::HEADING_RATE, self.heading_rate),
+            (at::TRACK, self.track),
+            (at::SPEED_OVER_GROUND, self.speed_over_ground),
+            (at::MEAN_DOP, self.mean_dop),
+            (at::HDOP, self.hdop),
+            (at::VDOP, self.vdop),
         ];
         for (at, v) in fs {
             put(&mut o, at, &v.to_le_bytes());
         }
-        put(&mut o, 24, &self.latitude.to_le_bytes());
-        put(&mut o, 32, &self.longitude.to_le_bytes());
-        put(&mut o, 48, &self.fix_type.to_le_bytes());
-        put(&mut o, 52, &self.satellites.to_le_bytes());
+        put(&mut o, at::LATITUDE, &self.latitude.to_le_bytes());
+        put(&mut o, at::LONGITUDE, &self.longitude.to_le_bytes());
+        put(&mut o, at::FIX_TYPE, &self.fix_type.to_le_bytes());
+        put(&mut o, at::SATELLITES, &self.satellites.to_le_bytes());
         o
     }
 }

@@ -4,6 +4,7 @@ use super::too_short;
 use crate::encoder::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
+use crate::layout::system_value_update as at;
 
 /// Which part of a value an update writes (table 3.7).
 ///
@@ -72,17 +73,17 @@ impl<'a> SystemValueUpdate<'a> {
     /// Base type.
     pub const TYPE: u8 = 8;
     /// Bytes before the value data.
-    pub const HEADER_LEN: usize = 7;
+    pub const HEADER_LEN: usize = at::VALUE;
 
     /// Parse: at least 7 bytes, a known mode, and a zero field for single-value updates.
     pub fn parse(data: &'a [u8]) -> Result<Self> {
         let Some(value) = data.get(Self::HEADER_LEN..) else {
             return Err(too_short(Self::TYPE, Self::HEADER_LEN, data.len()));
         };
-        let h: [u8; 7] = array_at(data, 0);
-        let address = u16::from_le_bytes([h[1], h[2]]);
-        let field = u32::from_le_bytes([h[3], h[4], h[5], h[6]]);
-        let mode = match h[0] {
+        let h: [u8; at::VALUE] = array_at(data, 0);
+        let address = u16::from_le_bytes(array_at(&h, at::ADDRESS));
+        let field = u32::from_le_bytes(array_at(&h, at::FIELD));
+        let mode = match h[at::MODE] {
             1 if field == 0 => UpdateMode::Single,
             1 => return Err(Error::NonZeroSingleIndex(field)),
             2 => UpdateMode::Array { count: field },
@@ -96,11 +97,11 @@ impl<'a> SystemValueUpdate<'a> {
         })
     }
 
-    fn head(&self) -> [u8; 7] {
-        let mut h = [0u8; 7];
-        h[0] = self.mode.code();
-        put(&mut h, 1, &self.address.to_le_bytes());
-        put(&mut h, 3, &self.mode.field().to_le_bytes());
+    fn head(&self) -> [u8; at::VALUE] {
+        let mut h = [0u8; Self::HEADER_LEN];
+        h[at::MODE] = self.mode.code();
+        put(&mut h, at::ADDRESS, &self.address.to_le_bytes());
+        put(&mut h, at::FIELD, &self.mode.field().to_le_bytes());
         h
     }
 }

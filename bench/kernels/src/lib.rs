@@ -9,13 +9,13 @@
 #![no_std]
 #![allow(clippy::collapsible_if)]
 
-use aeolus_proto::{CrcMode, Deframer, message::Message};
+use aeolus_proto::{CrcMode, message::Message};
 use aydp_proto::{Decoder, Encoder, Profile};
 
 /// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
 #[inline(never)]
 pub fn aeolus_deframe(stream: &[u8]) -> u32 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut n = 0;
     for &b in stream {
         if let Some(Ok(_)) = d.push(b) {
@@ -28,9 +28,9 @@ pub fn aeolus_deframe(stream: &[u8]) -> u32 {
 /// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
 #[inline(never)]
 pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut n = 0;
-    d.push_slice(stream, |ev| n += ev.is_ok() as u32);
+    d.feed(stream, |ev| n += ev.is_ok() as u32);
     n
 }
 
@@ -39,9 +39,9 @@ pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
 /// library call on Cortex-M3) is counted as decoding.
 #[inline(never)]
 pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut acc = 0;
-    d.push_slice(stream, |ev| {
+    d.feed(stream, |ev| {
         if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
             acc ^= g.timestamp_ms.to_bits();
         }
@@ -53,7 +53,7 @@ pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
 /// timestamps' bit patterns (see [`aeolus_decode_slice`]).
 #[inline(never)]
 pub fn aeolus_decode(stream: &[u8]) -> u64 {
-    let mut d = Deframer::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
+    let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut acc = 0;
     for &b in stream {
         if let Some(Ok(frame)) = d.push(b) {
@@ -127,10 +127,12 @@ pub fn aok_pc_decode(stream: &[u8]) -> i64 {
     let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     for &b in stream {
-        for m in d.push(b) {
-            if let aok_proto::Message::Debug(v) = m {
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            if let Ok(aok_proto::Message::Debug(v)) = ev {
                 acc += v.value as i64;
             }
+            event = d.poll();
         }
     }
     acc
@@ -142,8 +144,10 @@ pub fn aok_device_decode(stream: &[u8]) -> u32 {
     let mut d = aok_proto::DeviceDecoder::new();
     let mut n = 0;
     for &b in stream {
-        for c in d.push(b) {
-            n += c.is_ok() as u32;
+        let mut event = d.push(b);
+        while let Some(ev) = event {
+            n += ev.is_ok() as u32;
+            event = d.poll();
         }
     }
     n
@@ -155,7 +159,7 @@ pub fn aok_pc_decode_feed(stream: &[u8]) -> i64 {
     let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     d.feed(stream, |m| {
-        if let aok_proto::Message::Debug(v) = m {
+        if let Ok(aok_proto::Message::Debug(v)) = m {
             acc += v.value as i64;
         }
     });

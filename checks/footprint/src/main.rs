@@ -31,8 +31,8 @@ fn f32_in(i: usize) -> f32 {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aeolus_decode() {
-    use aeolus_proto::{Deframer, MAX_FIXED_FRAME, message::Message};
-    static mut D: Deframer<MAX_FIXED_FRAME> = Deframer::new();
+    use aeolus_proto::{Decoder, MAX_FIXED_FRAME, message::Message};
+    static mut D: Decoder<MAX_FIXED_FRAME> = Decoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
     if let Some(Ok(frame)) = d.push(byte(0)) {
         if let Ok(Message::Gyro(g)) = frame.message() {
@@ -95,7 +95,7 @@ fn fp_aok_decode() {
     use aok_proto::DeviceDecoder;
     static mut D: DeviceDecoder = DeviceDecoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
-    for c in d.push(byte(0)).flatten() {
+    if let Some(Ok(c)) = d.push(byte(0)) {
         sink(c.buffer_len() as u32);
     }
 }

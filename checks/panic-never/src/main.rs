@@ -62,9 +62,9 @@ mod aeolus {
     use aeolus_proto::{message::*, *};
 
     pub fn run() {
-        // Deframer, byte by byte, both modes.
-        let mut d = Deframer::<{ MAX_FIXED_FRAME }>::new();
-        let mut s = Deframer::<16>::strict();
+        // Decoder, byte by byte, both modes.
+        let mut d = Decoder::<{ MAX_FIXED_FRAME }>::new();
+        let mut s = Decoder::<16>::strict();
         for i in 0..len() {
             let b = input_byte(i);
             if let Some(Ok(frame)) = d.push(b) {
@@ -82,12 +82,12 @@ mod aeolus {
         // The bulk path, in opaque chunks, and the CRC over an opaque slice.
         let bulk: [u8; 512] = input();
         let total = len() % 513;
-        let mut b = Deframer::<{ MAX_FIXED_FRAME }>::new();
+        let mut b = Decoder::<{ MAX_FIXED_FRAME }>::new();
         let mut at = 0;
         while at < total {
             let step = 1 + input_byte(at) as usize % 67;
             let end = if at + step < total { at + step } else { total };
-            b.push_slice(bulk.get(at..end).unwrap_or(&[]), |ev| {
+            b.feed(bulk.get(at..end).unwrap_or(&[]), |ev| {
                 if let Ok(frame) = ev {
                     if let Ok(msg) = frame.message() {
                         sink(msg.buffer_len() as u32);
@@ -149,7 +149,10 @@ mod aok {
         let slot = WaypointSlot::from_wire(input_byte(8)).unwrap_or(WaypointSlot::FbcTarget);
         for i in 0..len() {
             let b = input_byte(i);
-            for cmd in dev.push(b).flatten() {
+            let mut event = dev.push(b);
+            while let Some(item) = event {
+                event = dev.poll();
+                let Ok(cmd) = item else { continue };
                 let mut out = [0u8; 32];
                 let k = input_byte(9) as usize % 33;
                 if let Ok(n) = cmd.emit(&mut out[..k]) {
@@ -169,7 +172,10 @@ mod aok {
                 });
             }
             let form = host.reply_form();
-            for msg in host.push(b) {
+            let mut event = host.push(b);
+            while let Some(item) = event {
+                event = host.poll();
+                let Ok(msg) = item else { continue };
                 let mut out = [0u8; 32];
                 let k = input_byte(10) as usize % 33;
                 if let Ok(n) = msg.emit(form, &mut out[..k]) {
@@ -177,13 +183,17 @@ mod aok {
                 }
             }
         }
-        for cmd in dev.idle().flatten() {
-            sink(cmd.buffer_len() as u32);
-        }
-        for msg in host.idle() {
-            sink(msg.buffer_len(ReplyForm::Headed) as u32);
-        }
-        sink(dev.stats().discarded ^ host.stats().ok);
+        dev.idle(|c| {
+            if let Ok(cmd) = c {
+                sink(cmd.buffer_len() as u32);
+            }
+        });
+        host.idle(|m| {
+            if let Ok(msg) = m {
+                sink(msg.buffer_len(ReplyForm::Headed) as u32);
+            }
+        });
+        sink(dev.stats().bytes_discarded ^ host.stats().frames_ok);
 
         // The bulk paths, in opaque chunks, with the pending request switched between them.
         let bulk: [u8; 512] = input();
@@ -208,10 +218,14 @@ mod aok {
                     _ => Expect::Waypoint(slot),
                 });
             }
-            bhost.feed(chunk, |m| sink(m.buffer_len(ReplyForm::Headerless) as u32));
+            bhost.feed(chunk, |m| {
+                if let Ok(m) = m {
+                    sink(m.buffer_len(ReplyForm::Headerless) as u32);
+                }
+            });
             at = end;
         }
-        sink(bdev.stats().discarded ^ bhost.stats().ok);
+        sink(bdev.stats().bytes_discarded ^ bhost.stats().frames_ok);
 
         // Typed parses on opaque bytes.
         let bytes: [u8; 32] = input();
@@ -442,7 +456,7 @@ mod io {
                 }
             }
         }
-        sink(r.deframer().stats().frames_ok ^ a.deframer().stats().frames_ok);
+        sink(r.decoder().stats().frames_ok ^ a.decoder().stats().frames_ok);
 
         // AYDP readers and writers.
         use aydp_proto::{Profile, Raw, Timestamp};
@@ -463,7 +477,7 @@ mod io {
                 sink(f.message().is_ok() as u32);
             }
         }
-        sink(r.decoder().stats().messages_ok ^ a.decoder().stats().messages_ok);
+        sink(r.decoder().stats().frames_ok ^ a.decoder().stats().frames_ok);
 
         // AOK readers and writers.
         use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};

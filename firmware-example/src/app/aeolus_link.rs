@@ -3,7 +3,7 @@
 //! Every [`AeolusLink::poll`] does three things, in this order, and never waits:
 //!
 //! 1. **RX**: reads every byte the port has (up to [`RX_BUDGET`]) into an
-//!    [`aeolus_proto::Deframer`] and acts on each complete frame:
+//!    [`aeolus_proto::Decoder`] and acts on each complete frame:
 //!    * COMMAND `"a pause"`: telemetry stops ([`Shared::paused`]), TOAST `"AEOLUS paused"`;
 //!    * COMMAND `"a resume"`: telemetry starts over, TOAST `"AEOLUS resumed"`;
 //!    * COMMAND `"a reboot"`: TOAST `"AEOLUS rebooting"`, then [`Requests::reboot`] asks the
@@ -27,7 +27,7 @@
 //! [`Requests::reboot`]: super::state::Requests::reboot
 //!
 //! ```
-//! use aeolus_proto::{Deframer, message::{Message, Text}, CrcMode};
+//! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use embedded_hal_nb::serial::Write;
 //! use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
@@ -52,7 +52,7 @@
 //!
 //! // On the wire: the boot TOAST, no telemetry (paused before it was due), the answer.
 //! let mut toasts = Vec::new();
-//! let mut deframer = Deframer::<256>::new();
+//! let mut deframer = Decoder::<256>::new();
 //! while let Some(b) = isr.next_to_send() {
 //!     if let Some(Ok(f)) = deframer.push(b) {
 //!         if let Ok(Message::Toast(t)) = f.message() {
@@ -66,7 +66,7 @@
 use super::Shared;
 use super::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, SetTime, Text, id};
-use aeolus_proto::{CrcMode, Deframer, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
+use aeolus_proto::{CrcMode, Decoder, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use embedded_hal_nb::serial::{Read, Write};
 use heapless::Deque;
 
@@ -148,7 +148,7 @@ enum Incoming {
 /// The AEOLUS link.
 pub struct AeolusLink {
     telemetry: Telemetry,
-    deframer: Deframer<RX_FRAME>,
+    deframer: Decoder<RX_FRAME>,
     tx: Deque<u8, TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
@@ -167,7 +167,7 @@ impl AeolusLink {
     pub fn new(now_ms: u64) -> Self {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
-            deframer: Deframer::new(),
+            deframer: Decoder::new(),
             tx: Deque::new(),
             was_paused: false,
             counters: LinkCounters::default(),

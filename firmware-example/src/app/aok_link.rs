@@ -45,8 +45,8 @@ use super::Shared;
 use super::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::{DEBUG_LEN, HEADED_REPLY_LEN};
 use aok_proto::{
-    Ack, ActionWord, Command, DebugValue, DecoderStats, DeviceDecoder, Error as AokError,
-    ExternalControl, FirmwareVersion, MotorTest, ParameterValue, Waypoint, WaypointSlot, device,
+    Ack, ActionWord, Command, DebugValue, DeviceDecoder, Error as AokError, ExternalControl,
+    FirmwareVersion, MotorTest, ParameterValue, Stats, Waypoint, WaypointSlot, device,
 };
 use embedded_hal_nb::serial::{Read, Write};
 use heapless::Deque;
@@ -319,7 +319,7 @@ impl AokLink {
     }
 
     /// The command decoder's counters.
-    pub fn decoder_stats(&self) -> &DecoderStats {
+    pub fn decoder_stats(&self) -> &Stats {
         self.decoder.stats()
     }
 
@@ -354,9 +354,10 @@ impl AokLink {
             match port.read() {
                 Ok(byte) => {
                     self.last_rx_ms = now_ms;
-                    let _ = self.decoder.push(byte);
-                    while let Some(item) = self.decoder.drain().next() {
+                    let mut event = self.decoder.push(byte);
+                    while let Some(item) = event {
                         self.handle(item, now_ms, shared);
+                        event = self.decoder.poll();
                     }
                 }
                 Err(nb::Error::WouldBlock) => {
@@ -374,7 +375,7 @@ impl AokLink {
             && self.decoder.buffered() > 0
             && now_ms.saturating_sub(self.last_rx_ms) >= IDLE_MS
         {
-            while let Some(item) = self.decoder.idle().next() {
+            while let Some(item) = self.decoder.idle_next() {
                 self.handle(item, now_ms, shared);
             }
         }
@@ -430,7 +431,9 @@ impl AokLink {
     fn handle(&mut self, item: Result<Command, AokError>, now_ms: u64, shared: &mut Shared) {
         let command = match item {
             Ok(c) => c,
-            Err(AokError::Checksum) | Err(AokError::InvalidSlot(_)) => {
+            // A frame cut by a quiet line: counted by the decoder, nothing to answer.
+            Err(AokError::Truncated) => return,
+            Err(AokError::ChecksumMismatch) | Err(AokError::InvalidSlot(_)) => {
                 // A faulty `73`/`77` is answered 'E' (the spec); the decoder cannot say which
                 // command a bad checksum belonged to, so every one is answered.
                 self.ack(Ack::Error);

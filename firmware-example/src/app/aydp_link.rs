@@ -255,7 +255,7 @@ impl AydpLink {
     ///
     /// ```
     /// let link = firmware_example::app::aydp_link::AydpLink::new(0);
-    /// assert_eq!(link.decoder_stats().messages_ok, 0);
+    /// assert_eq!(link.decoder_stats().frames_ok, 0);
     /// ```
     pub fn decoder_stats(&self) -> Stats {
         self.decoder.stats()
@@ -589,7 +589,7 @@ impl View {
             aok_period: s.aok_debug_period_ms,
             outputs,
             counters: [
-                stats.messages_ok,
+                stats.frames_ok,
                 stats.checksum_errors,
                 stats.length_errors,
                 stats.bytes_discarded,

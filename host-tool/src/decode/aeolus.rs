@@ -12,7 +12,7 @@ pub const AEOLUS_CAPACITY: usize = 8192;
 /// AEOLUS: the byte-at-a-time deframer, with datagram boundaries honoured.
 #[derive(Debug)]
 pub struct AeolusDecoder {
-    deframer: Box<aeolus_proto::Deframer<AEOLUS_CAPACITY>>,
+    deframer: Box<aeolus_proto::Decoder<AEOLUS_CAPACITY>>,
     /// Offset of the latest flag: the opening flag of the frame being collected.
     opened_at: u64,
     malformed: u32,
@@ -29,7 +29,7 @@ impl AeolusDecoder {
     /// A decoder that accepts frames without CRC (as the spec allows).
     pub fn new() -> Self {
         AeolusDecoder {
-            deframer: Box::new(aeolus_proto::Deframer::new()),
+            deframer: Box::new(aeolus_proto::Decoder::new()),
             opened_at: 0,
             malformed: 0,
             truncated: 0,

@@ -27,7 +27,7 @@ impl AokDecoder {
         }
     }
 
-    fn stats(&self) -> aok_proto::DecoderStats {
+    fn stats(&self) -> aok_proto::Stats {
         match self {
             AokDecoder::FromDevice(d) => *d.stats(),
             AokDecoder::FromPc(d) => *d.stats(),
@@ -153,22 +153,29 @@ impl StreamDecoder for AokDecoder {
         let mut lens = Vec::new();
         for (i, &b) in bytes.iter().enumerate() {
             let at = offset + i as u64;
-            let before = self.stats();
             let first = out.len();
             lens.clear();
             match self {
                 AokDecoder::FromDevice(d) => {
-                    for m in d.push(b) {
-                        let (name, fields) = aok_message_fields(&m);
-                        let len = m.buffer_len(aok_proto::ReplyForm::Headed);
-                        let mut meta = Map::new();
-                        meta.insert("len".into(), json!(len));
-                        out.push(Event::message(at, name, meta, fields));
-                        lens.push(len as u64);
-                    }
+                    d.feed(&[b], |item| match item {
+                        Ok(m) => {
+                            let (name, fields) = aok_message_fields(&m);
+                            let len = m.buffer_len(aok_proto::ReplyForm::Headed);
+                            let mut meta = Map::new();
+                            meta.insert("len".into(), json!(len));
+                            out.push(Event::message(at, name, meta, fields));
+                            lens.push(len as u64);
+                        }
+                        Err(e) => {
+                            out.push(Event::error(at, e.to_string()));
+                            lens.push(0);
+                        }
+                    });
                 }
                 AokDecoder::FromPc(d) => {
-                    for item in d.push(b) {
+                    let mut items = Vec::new();
+                    d.feed(&[b], |item| items.push(item));
+                    for item in items {
                         match item {
                             Ok(c) => {
                                 let (name, fields) = aok_command_fields(&c);
@@ -189,72 +196,45 @@ impl StreamDecoder for AokDecoder {
             if let Some(events) = out.get_mut(first..) {
                 place_backwards(events, &lens, end);
             }
-            if let AokDecoder::FromDevice(_) = self {
-                // The PC decoder only counts its failures: report them from the counters.
-                let after = self.stats();
-                for _ in before.checksum_errors..after.checksum_errors {
-                    out.push(Event::error(at, aok_proto::Error::Checksum.to_string()));
-                }
-                for _ in before.invalid..after.invalid {
-                    out.push(Event::error(at, "intact frame with an out-of-range field"));
-                }
-            }
         }
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
         let at = offset.saturating_sub(1);
-        let mut lens = Vec::new();
         loop {
-            let before = self.stats();
             let first = out.len();
-            lens.clear();
-            match self {
-                AokDecoder::FromDevice(d) => {
-                    if d.buffered() == 0 {
-                        break;
-                    }
-                    for m in d.idle() {
+            let mut len = 0;
+            let item = match self {
+                AokDecoder::FromDevice(d) => d.idle_next().map(|item| {
+                    item.map(|m| {
                         let (name, fields) = aok_message_fields(&m);
-                        let len = m.buffer_len(aok_proto::ReplyForm::Headed);
+                        len = m.buffer_len(aok_proto::ReplyForm::Headed);
                         let mut meta = Map::new();
                         meta.insert("len".into(), json!(len));
-                        out.push(Event::message(at, name, meta, fields));
-                        lens.push(len as u64);
-                    }
+                        Event::message(at, name, meta, fields)
+                    })
+                }),
+                AokDecoder::FromPc(d) => d.idle_next().map(|item| {
+                    item.map(|c| {
+                        let (name, fields) = aok_command_fields(&c);
+                        len = c.buffer_len();
+                        let mut meta = Map::new();
+                        meta.insert("len".into(), json!(len));
+                        Event::message(at, name, meta, fields)
+                    })
+                }),
+            };
+            match item {
+                None => break,
+                Some(Ok(event)) => out.push(event),
+                Some(Err(aok_proto::Error::Truncated)) => {
+                    out.push(Event::error(at, "input ends inside a frame"));
                 }
-                AokDecoder::FromPc(d) => {
-                    if d.buffered() == 0 {
-                        break;
-                    }
-                    for item in d.idle() {
-                        match item {
-                            Ok(c) => {
-                                let (name, fields) = aok_command_fields(&c);
-                                let mut meta = Map::new();
-                                meta.insert("len".into(), json!(c.buffer_len()));
-                                out.push(Event::message(at, name, meta, fields));
-                                lens.push(c.buffer_len() as u64);
-                            }
-                            Err(e) => {
-                                out.push(Event::error(at, e.to_string()));
-                                lens.push(0);
-                            }
-                        }
-                    }
-                }
+                Some(Err(e)) => out.push(Event::error(at, e.to_string())),
             }
-            let got = out.len() > first;
             let end = offset.saturating_sub(self.buffered());
             if let Some(events) = out.get_mut(first..) {
-                place_backwards(events, &lens, end);
-            }
-            let after = self.stats();
-            if after.abandoned > before.abandoned {
-                out.push(Event::error(at, "input ends inside a frame"));
-            }
-            if !got && after == before {
-                break;
+                place_backwards(events, &[len as u64], end);
             }
         }
     }

@@ -28,7 +28,7 @@
 #![allow(dead_code)]
 
 use aeolus_proto::message::{Message, Text};
-use aeolus_proto::{CrcMode, Deframer, max_encoded_len};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
 use std::fs::File;
 use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
@@ -421,7 +421,7 @@ impl Frame {
 #[derive(Default)]
 pub struct Aeolus {
     stream: Option<TcpStream>,
-    deframer: Deframer<{ aeolus_proto::MAX_FIXED_FRAME }>,
+    deframer: Decoder<{ aeolus_proto::MAX_FIXED_FRAME }>,
     /// Every frame received, in order.
     pub frames: Vec<Frame>,
     /// Every byte received.
@@ -436,7 +436,7 @@ impl Aeolus {
             .expect("set a read timeout");
         Aeolus {
             stream: Some(stream),
-            deframer: Deframer::strict(),
+            deframer: Decoder::strict(),
             ..Aeolus::default()
         }
     }

@@ -1,11 +1,11 @@
-//! The byte-at-a-time deframer (spec section 4.2).
+//! The byte-at-a-time decoder of a UART stream (spec section 4.2): [`Decoder`] and its [`Stats`].
 
 use crate::{ESCAPE, Error, FLAG, Frame, scan::is_special};
 
-/// Counters kept by a [`Deframer`], MAVLink style. They wrap on overflow.
+/// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
 ///
 /// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
-/// or is still pending in the deframer ([`Deframer::pending_bytes`]).
+/// or is still pending in the decoder ([`Decoder::pending_bytes`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -15,7 +15,7 @@ pub struct Stats {
     /// Frames delivered without a CRC (`00 00`, not in strict mode).
     pub frames_no_crc: u32,
     /// Frames dropped for a CRC mismatch.
-    pub crc_errors: u32,
+    pub checksum_errors: u32,
     /// Frames dropped in strict mode because they carried no CRC.
     pub missing_crc: u32,
     /// Frames dropped because they outgrew the capacity.
@@ -40,7 +40,7 @@ impl Stats {
 
     /// Frames dropped for any reason.
     pub const fn frames_dropped(&self) -> u32 {
-        self.crc_errors
+        self.checksum_errors
             .wrapping_add(self.missing_crc)
             .wrapping_add(self.overflows)
             .wrapping_add(self.too_short)
@@ -59,7 +59,7 @@ enum State {
     Escape,
 }
 
-/// A byte-at-a-time AEOLUS deframer holding at most `N` unescaped bytes (ID + data + CRC).
+/// A byte-at-a-time AEOLUS decoder holding at most `N` unescaped bytes (ID + data + CRC).
 ///
 /// Feed it bytes one at a time, from an ISR queue or a slice. Each byte gives at most one
 /// event: `None` (nothing yet), `Some(Ok(frame))` or `Some(Err(error))`. After any error it
@@ -71,7 +71,7 @@ enum State {
 /// - `7D 7E` aborts the frame ([`Error::EscapedFlag`]) and the flag opens the next one;
 /// - `7D` followed by anything but `5D`/`5E` drops the frame at once ([`Error::InvalidEscape`]);
 /// - a frame longer than `N` gives [`Error::Overflow`] at the byte that does not fit, then the
-///   deframer hunts for the next flag.
+///   decoder hunts for the next flag.
 ///
 /// A capacity of [`crate::MAX_FIXED_FRAME`] holds every fixed-size message; use more for long
 /// LOG messages.
@@ -79,14 +79,14 @@ enum State {
 /// Decoding a UART byte stream:
 ///
 /// ```
-/// use aeolus_proto::{Deframer, message::Message};
+/// use aeolus_proto::{Decoder, message::Message};
 ///
 /// // Noise, then a TOAST "hi" frame, as it might arrive from a UART RX queue.
 /// let rx = [0x00, 0x13, 0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
-/// let mut deframer = Deframer::<64>::new();
+/// let mut decoder = Decoder::<64>::new();
 /// let mut texts = 0;
 /// for &byte in &rx {
-///     match deframer.push(byte) {
+///     match decoder.push(byte) {
 ///         Some(Ok(frame)) => {
 ///             if let Ok(Message::Toast(text)) = frame.message() {
 ///                 assert_eq!(text.as_str(), Some("hi"));
@@ -98,10 +98,10 @@ enum State {
 ///     }
 /// }
 /// assert_eq!(texts, 1);
-/// assert_eq!(deframer.stats().bytes_discarded, 2);
+/// assert_eq!(decoder.stats().bytes_discarded, 2);
 /// ```
 #[derive(Debug, Clone)]
-pub struct Deframer<const N: usize> {
+pub struct Decoder<const N: usize> {
     buf: [u8; N],
     /// The fast path's write index. In the `Frame` state it is the number of bytes held; in the
     /// other states it is that number plus [`Self::PARKED`], past the end of `buf`, so that the
@@ -113,19 +113,19 @@ pub struct Deframer<const N: usize> {
     stats: Stats,
 }
 
-impl<const N: usize> Default for Deframer<N> {
+impl<const N: usize> Default for Decoder<N> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize> Deframer<N> {
+impl<const N: usize> Decoder<N> {
     /// Added to the length outside the `Frame` state (see `at`): never a valid index.
     const PARKED: usize = N + 1;
 
-    /// A deframer that accepts frames without CRC (`00 00`), as the spec allows.
+    /// A decoder that accepts frames without CRC (`00 00`), as the spec allows.
     pub const fn new() -> Self {
-        Deframer {
+        Decoder {
             buf: [0; N],
             at: Self::PARKED,
             escapes: 0,
@@ -135,11 +135,11 @@ impl<const N: usize> Deframer<N> {
         }
     }
 
-    /// A deframer in strict mode: frames without CRC are rejected with [`Error::MissingCrc`].
+    /// A decoder in strict mode: frames without CRC are rejected with [`Error::MissingCrc`].
     ///
     /// ```
-    /// use aeolus_proto::{Deframer, Error};
-    /// let mut d = Deframer::<16>::strict();
+    /// use aeolus_proto::{Decoder, Error};
+    /// let mut d = Decoder::<16>::strict();
     /// let mut last = None;
     /// for &b in &[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E] {
     ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|f| f.id())); }
@@ -265,19 +265,15 @@ impl<const N: usize> Deframer<N> {
     /// in bulk, so this is the fastest way to feed a DMA buffer or a datagram.
     ///
     /// ```
-    /// use aeolus_proto::Deframer;
-    /// let mut d = Deframer::<64>::new();
+    /// use aeolus_proto::Decoder;
+    /// let mut d = Decoder::<64>::new();
     /// let mut ids = Vec::new();
-    /// d.push_slice(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |ev| {
+    /// d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |ev| {
     ///     ids.push(ev.map(|f| f.id()))
     /// });
     /// assert_eq!(ids, [Ok(82)]);
     /// ```
-    pub fn push_slice(
-        &mut self,
-        mut bytes: &[u8],
-        mut on_event: impl FnMut(Result<Frame<'_>, Error>),
-    ) {
+    pub fn feed(&mut self, mut bytes: &[u8], mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
         loop {
             bytes = self.copy_run(bytes);
             let Some((&b, rest)) = bytes.split_first() else {
@@ -287,6 +283,35 @@ impl<const N: usize> Deframer<N> {
             if let Some(ev) = self.push_slow(b) {
                 on_event(ev);
             }
+        }
+    }
+
+    /// The former name of [`Decoder::feed`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `feed`, the slice method of every protocol crate"
+    )]
+    pub fn push_slice(&mut self, bytes: &[u8], on_event: impl FnMut(Result<Frame<'_>, Error>)) {
+        self.feed(bytes, on_event);
+    }
+
+    /// The end of the stream: a frame still in progress (no closing flag yet) is dropped, its
+    /// bytes counted as discarded, and reported to `on_event` as [`Error::Truncated`]. The
+    /// decoder then hunts for a flag, as after any error. Between frames it does nothing.
+    ///
+    /// ```
+    /// use aeolus_proto::{Decoder, Error};
+    /// let mut d = Decoder::<64>::new();
+    /// let mut events = Vec::new();
+    /// d.feed(&[0x7E, 0x52, b'h'], |ev| events.push(ev.map(|f| f.id())));
+    /// d.flush(|ev| events.push(ev.map(|f| f.id())));
+    /// assert_eq!(events, [Err(Error::Truncated)]);
+    /// assert_eq!(d.stats().bytes_discarded, 2);
+    /// ```
+    pub fn flush(&mut self, mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
+        if self.pending_bytes() != 0 {
+            self.reset();
+            on_event(Err(Error::Truncated));
         }
     }
 
@@ -308,9 +333,9 @@ impl<const N: usize> Deframer<N> {
     }
 
     /// Feeds `bytes` up to and including the first byte that gives an event, with the fast
-    /// path of [`Deframer::push_slice`]. Returns how many bytes were consumed and what the
-    /// last of them gave, as a [`Found`] that does not borrow the deframer: a reader keeps
-    /// looping over reads and asks for the frame ([`Deframer::found_frame`]) afterwards.
+    /// path of [`Decoder::feed`]. Returns how many bytes were consumed and what the
+    /// last of them gave, as a [`Found`] that does not borrow the decoder: a reader keeps
+    /// looping over reads and asks for the frame ([`Decoder::found_frame`]) afterwards.
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) fn push_until(&mut self, bytes: &[u8]) -> (usize, Found) {
         let total = bytes.len();
@@ -333,7 +358,7 @@ impl<const N: usize> Deframer<N> {
         }
     }
 
-    /// The frame a [`Found::Frame`] from the last [`Deframer::push_until`] stands for: it is
+    /// The frame a [`Found::Frame`] from the last [`Decoder::push_until`] stands for: it is
     /// still in the buffer until the next byte is pushed.
     #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) fn found_frame(&self, len: usize, has_crc: bool) -> Frame<'_> {
@@ -377,7 +402,7 @@ impl<const N: usize> Deframer<N> {
         let counter = match result {
             Ok(frame) if frame.has_crc() => &mut stats.frames_ok,
             Ok(_) => &mut stats.frames_no_crc,
-            Err(Error::CrcMismatch { .. }) => &mut stats.crc_errors,
+            Err(Error::ChecksumMismatch { .. }) => &mut stats.checksum_errors,
             Err(Error::MissingCrc { .. }) => &mut stats.missing_crc,
             Err(_) => &mut stats.too_short,
         };
@@ -391,10 +416,17 @@ impl<const N: usize> Deframer<N> {
     }
 }
 
+/// The former name of [`Decoder`].
+#[deprecated(
+    since = "0.1.0",
+    note = "renamed `Decoder`, the decoder's name in every protocol crate"
+)]
+pub type Deframer<const N: usize> = Decoder<N>;
+
 const STATS0: Stats = Stats {
     frames_ok: 0,
     frames_no_crc: 0,
-    crc_errors: 0,
+    checksum_errors: 0,
     missing_crc: 0,
     overflows: 0,
     too_short: 0,
@@ -404,7 +436,7 @@ const STATS0: Stats = Stats {
     flags: 0,
 };
 
-/// What [`Deframer::push_until`] stopped at.
+/// What [`Decoder::push_until`] stopped at.
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Found {
