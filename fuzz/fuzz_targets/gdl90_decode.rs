@@ -24,7 +24,7 @@ fuzz_target!(|data: &[u8]| {
     let mut bulk = Decoder::<64>::new();
     let mut got = Vec::new();
     for piece in stream.chunks(1 + chunk as usize % 61) {
-        bulk.push_slice(piece, |ev| got.push(show(ev)));
+        bulk.feed(piece, |ev| got.push(show(ev)));
     }
     assert_eq!(got, want);
     assert_eq!(bulk.stats(), bytewise.stats());

@@ -1,11 +1,11 @@
 //! The stream decoder: bytes in, typed messages or errors out.
 //!
-//! It is AEOLUS's [`Deframer`] (GDL90 framing is identical: 0x7E flags, 0x7D escapes, the
+//! It is AEOLUS's [`Decoder`] (GDL90 framing is identical: 0x7E flags, 0x7D escapes, the
 //! same CRC sent LSB first) plus two GDL90 rules: a frame whose CRC field is `00 00` is
 //! checked like any other (AEOLUS alone reads `00 00` as "no CRC"), and every good frame is
 //! parsed into a [`Message`] before it is handed over.
 
-use aeolus_proto::{Deframer, Frame};
+use aeolus_proto::{Decoder as Framing, Frame};
 
 use crate::message::Message;
 use crate::{ESCAPE, Error, FLAG};
@@ -25,7 +25,7 @@ pub struct Stats {
     /// [`Error::OutOfRange`]).
     pub invalid: u32,
     /// Frames dropped for a CRC mismatch (a received `00 00` included).
-    pub crc_errors: u32,
+    pub checksum_errors: u32,
     /// Frames dropped because they outgrew the capacity.
     pub overflows: u32,
     /// Frames dropped because they were too short for an ID and a CRC.
@@ -80,7 +80,7 @@ struct Extra {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Decoder<const N: usize> {
-    deframer: Deframer<N>,
+    deframer: Framing<N>,
     extra: Extra,
 }
 
@@ -96,7 +96,7 @@ impl<const N: usize> Decoder<N> {
         Decoder {
             // Lenient mode, so that a `00 00` frame reaches `accept` whole and its real CRC
             // can be reported; `accept` rejects it.
-            deframer: Deframer::new(),
+            deframer: Framing::new(),
             extra: Extra {
                 invalid: 0,
                 zero_crc_bytes: 0,
@@ -114,7 +114,7 @@ impl<const N: usize> Decoder<N> {
     /// for &b in &[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0x00, 0x00, 0x7E] {
     ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|m| m.id())); }
     /// }
-    /// assert_eq!(last, Some(Err(Error::CrcMismatch { id: 0, computed: 0x8BB3, received: 0 })));
+    /// assert_eq!(last, Some(Err(Error::ChecksumMismatch { id: 0, computed: 0x8BB3, received: 0 })));
     /// ```
     #[inline]
     pub fn push(&mut self, byte: u8) -> Option<Result<Message<'_>, Error>> {
@@ -130,17 +130,13 @@ impl<const N: usize> Decoder<N> {
     /// let mut d = Decoder::<64>::new();
     /// let mut ids = Vec::new();
     /// let wire = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
-    /// d.push_slice(&wire, |ev| ids.push(ev.map(|m| m.id())));
+    /// d.feed(&wire, |ev| ids.push(ev.map(|m| m.id())));
     /// assert_eq!(ids, [Ok(0)]);
     /// ```
-    pub fn push_slice(
-        &mut self,
-        bytes: &[u8],
-        mut on_event: impl FnMut(Result<Message<'_>, Error>),
-    ) {
+    pub fn feed(&mut self, bytes: &[u8], mut on_event: impl FnMut(Result<Message<'_>, Error>)) {
         let extra = &mut self.extra;
         self.deframer
-            .push_slice(bytes, |event| on_event(accept(extra, event)));
+            .feed(bytes, |event| on_event(accept(extra, event)));
     }
 
     /// The counters so far.
@@ -148,7 +144,7 @@ impl<const N: usize> Decoder<N> {
     /// ```
     /// use gdl90_proto::Decoder;
     /// let mut d = Decoder::<64>::new();
-    /// d.push_slice(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
+    /// d.feed(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
     /// assert_eq!((d.stats().frames_ok, d.stats().frame_bytes, d.stats().flags), (1, 9, 2));
     /// ```
     pub fn stats(&self) -> Stats {
@@ -158,7 +154,7 @@ impl<const N: usize> Decoder<N> {
             frames_ok: s.frames_ok.wrapping_sub(self.extra.invalid),
             invalid: self.extra.invalid,
             // Every frame the lenient deframer delivered without CRC was rejected here.
-            crc_errors: s.crc_errors.wrapping_add(s.frames_no_crc),
+            checksum_errors: s.checksum_errors.wrapping_add(s.frames_no_crc),
             overflows: s.overflows,
             too_short: s.too_short,
             bad_escapes: s.bad_escapes,
@@ -199,7 +195,7 @@ fn accept<'a>(
         let escapes = raw.iter().filter(|&&b| b == FLAG || b == ESCAPE).count();
         let wire = raw.len().wrapping_add(escapes) as u32;
         extra.zero_crc_bytes = extra.zero_crc_bytes.wrapping_add(wire);
-        return Err(Error::CrcMismatch {
+        return Err(Error::ChecksumMismatch {
             id: frame.id(),
             computed: aeolus_proto::crc::checksum(body),
             received: 0,

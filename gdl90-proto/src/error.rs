@@ -16,7 +16,7 @@ pub enum Error {
     Overflow,
     /// The received CRC does not match the CRC of the ID and data. GDL90 has no "no CRC"
     /// value: a received `00 00` is checked like any other CRC.
-    CrcMismatch {
+    ChecksumMismatch {
         /// The message ID as received (it may itself be corrupted).
         id: u8,
         /// The CRC computed over the received ID and data.
@@ -54,7 +54,7 @@ pub enum Error {
 impl Error {
     /// The errors of the AEOLUS framing layer this crate reuses. The deframer runs in its
     /// lenient mode and never reports `MissingCrc` (this crate turns an unchecked `00 00`
-    /// into [`Error::CrcMismatch`] itself); `Truncated`, `WrongLength` and `TextTooLong`
+    /// into [`Error::ChecksumMismatch`] itself); `Truncated`, `WrongLength` and `TextTooLong`
     /// belong to AEOLUS datagrams and messages, which this crate does not use. They map to
     /// the nearest GDL90 error only to keep the conversion total.
     pub(crate) fn from_framing(e: aeolus_proto::Error) -> Self {
@@ -62,16 +62,16 @@ impl Error {
         match e {
             A::BufferTooSmall => Error::BufferTooSmall,
             A::Overflow => Error::Overflow,
-            A::CrcMismatch {
+            A::ChecksumMismatch {
                 id,
                 computed,
                 received,
-            } => Error::CrcMismatch {
+            } => Error::ChecksumMismatch {
                 id,
                 computed,
                 received,
             },
-            A::MissingCrc { id } => Error::CrcMismatch {
+            A::MissingCrc { id } => Error::ChecksumMismatch {
                 id,
                 computed: 0,
                 received: 0,
@@ -102,7 +102,7 @@ impl fmt::Display for Error {
         match *self {
             Error::BufferTooSmall => f.write_str("output buffer too small"),
             Error::Overflow => f.write_str("frame longer than the decoder capacity"),
-            Error::CrcMismatch {
+            Error::ChecksumMismatch {
                 id,
                 computed,
                 received,

@@ -11,7 +11,7 @@
 //! is checked like any other.
 //!
 //! - [`Decoder`]: byte-at-a-time ([`Decoder::push`]) or slice-at-a-time
-//!   ([`Decoder::push_slice`]) decoding into events, `Ok(Message)` or `Err(Error)`, bounded by
+//!   ([`Decoder::feed`]) decoding into events, `Ok(Message)` or `Err(Error)`, bounded by
 //!   a const-generic capacity, resynchronising after any error, with [`Stats`] counters.
 //! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
 //!   [`encode_foreflight_id`], [`encode_ahrs`] and [`message::Message::encode`]: a whole
@@ -45,7 +45,7 @@
 //!     }
 //! }
 //! assert_eq!((heartbeats, errors), (2, 1));
-//! assert_eq!(decoder.stats().crc_errors, 1);
+//! assert_eq!(decoder.stats().checksum_errors, 1);
 //! ```
 //!
 //! ## Encoding an AHRS message

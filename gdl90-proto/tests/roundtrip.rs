@@ -187,7 +187,7 @@ fn through_the_wire(msg: &Message<'_>) -> String {
     assert!(n <= max_encoded_len(msg.buffer_len()));
     let mut d = Decoder::<TYPED_FRAME>::new();
     let mut seen = Vec::new();
-    d.push_slice(&wire[..n], |ev| seen.push(format!("{:?}", ev.unwrap())));
+    d.feed(&wire[..n], |ev| seen.push(format!("{:?}", ev.unwrap())));
     assert_eq!(seen.len(), 1);
     seen.remove(0)
 }

@@ -1,5 +1,5 @@
 //! The decoder on streams: every split point, garbage between frames, a bad CRC followed by a
-//! good frame, the byte accounting, and `push_slice` against `push` on hostile input.
+//! good frame, the byte accounting, and `feed` against `push` on hostile input.
 
 use gdl90_proto::{Decoder, Error, Stats, TYPED_FRAME};
 use proptest::prelude::*;
@@ -42,7 +42,7 @@ fn push_all<const N: usize>(d: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev>)
 }
 
 fn slice_all<const N: usize>(d: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev>) {
-    d.push_slice(bytes, |ev| out.push(ev.map(|m| format!("{m:?}"))));
+    d.feed(bytes, |ev| out.push(ev.map(|m| format!("{m:?}"))));
 }
 
 fn by_bytes(bytes: &[u8]) -> (Vec<Ev>, Stats) {
@@ -113,7 +113,7 @@ fn garbage_between_frames_costs_nothing_but_itself() {
     assert!(
         errors
             .iter()
-            .any(|e| matches!(e, Error::CrcMismatch { id: 0x01, .. })),
+            .any(|e| matches!(e, Error::ChecksumMismatch { id: 0x01, .. })),
         "{errors:?}"
     );
     assert_eq!(stats.bad_escapes, 2);
@@ -132,11 +132,11 @@ fn a_bad_crc_is_an_error_and_the_next_frame_is_delivered() {
         let (events, stats) = by_bytes(&wire);
         assert_eq!(events.len(), 2, "{events:?}");
         assert!(
-            matches!(events[0], Err(Error::CrcMismatch { .. })),
+            matches!(events[0], Err(Error::ChecksumMismatch { .. })),
             "{events:?}"
         );
         assert!(events[1].is_ok(), "{events:?}");
-        assert_eq!((stats.crc_errors, stats.frames_ok), (1, 1));
+        assert_eq!((stats.checksum_errors, stats.frames_ok), (1, 1));
     }
 }
 
@@ -210,7 +210,7 @@ proptest! {
         }
         // Every event is counted exactly once.
         let s = d.stats();
-        let counted = s.frames_ok + s.invalid + s.crc_errors + s.overflows + s.too_short + s.bad_escapes;
+        let counted = s.frames_ok + s.invalid + s.checksum_errors + s.overflows + s.too_short + s.bad_escapes;
         prop_assert_eq!(counted, events);
     }
 }

@@ -121,14 +121,14 @@ fn a_zeroed_crc_field_is_a_crc_error_not_an_unchecked_frame() {
         .collect();
     assert_eq!(
         events,
-        [Err(Error::CrcMismatch {
+        [Err(Error::ChecksumMismatch {
             id: 0,
             computed: 0x8BB3,
             received: 0
         })]
     );
     let s = d.stats();
-    assert_eq!((s.frames_ok, s.crc_errors), (0, 1));
+    assert_eq!((s.frames_ok, s.checksum_errors), (0, 1));
     assert_eq!((s.bytes_discarded, s.frame_bytes, s.flags), (9, 0, 2));
 }
 

@@ -7,7 +7,7 @@ mod common;
 use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::Deframer;
+use aeolus_proto::Decoder;
 use aeolus_proto::message::Message;
 use common::*;
 
@@ -73,7 +73,7 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
         "--seconds",
         "7",
     ]);
-    let mut deframer = Box::new(Deframer::<1024>::new());
+    let mut deframer = Box::new(Decoder::<1024>::new());
     let mut fixes: Vec<(f64, f64)> = Vec::new();
     let (mut ahrs_roll, mut heartbeats, mut ownship_checked) = (Vec::new(), 0, 0);
     let mut buf = [0u8; 2048];

@@ -537,7 +537,7 @@ mod gdl90 {
         while at < total {
             let step = 1 + input_byte(at) as usize % 53;
             let end = if at + step < total { at + step } else { total };
-            b.push_slice(bulk.get(at..end).unwrap_or(&[]), |ev| {
+            b.feed(bulk.get(at..end).unwrap_or(&[]), |ev| {
                 if let Ok(msg) = ev {
                     use_message(&msg);
                 }
