@@ -14,7 +14,7 @@
 //! Only the RX side differs in shape: the protocol crates' async `FrameReader`s deframe what
 //! the DMA ring holds, and each frame is handed to the link's per-frame entry point.
 
-use core::cell::{Cell, RefCell};
+use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use aeolus_proto::IoError;
@@ -37,6 +37,15 @@ pub const REBOOT_FLUSH_MS: u64 = 20;
 pub const TX_CHUNK: usize = 128;
 /// Read buffer of the async frame readers: the most bytes one `read` takes from the ring.
 pub const READ_BUF: usize = 64;
+
+/// Room the AYDP TX queue must have before the link may write to it, bytes: the longest
+/// reply (a normal system value update of a `char[40]`, 70 bytes) and the three 1 Hz messages
+/// (7 + 43 + 31 bytes) each fit. The link's own policy for a full queue is to retry a byte
+/// (it waits for the UART interrupt on the blocking boards); here nothing drains the queue
+/// while the link runs, so the tasks wait for this room instead, and that policy never fires.
+pub const AYDP_ROOM: usize = 128;
+/// How long a task waits before it looks at the AYDP TX queue's room again, µs.
+const ROOM_POLL_US: u64 = 500;
 
 /// A wake-up for a TX pump: set by the port's `kick` whenever a link queues a byte.
 pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
@@ -144,6 +153,11 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
         let stats = reader.decoder().stats();
         match reader.read_frame().await {
             Ok(frame) => {
+                // Back-pressure: a flood of requests waits here (the DMA ring goes on
+                // filling) rather than in the link's retry loop.
+                while shared.with(|a| a.aydp_tx.tx_space()).unwrap_or(0) < AYDP_ROOM {
+                    Timer::after_micros(ROOM_POLL_US).await;
+                }
                 let now = now_ms();
                 shared.with(|a| {
                     let Application { app, aydp_tx, .. } = a;
@@ -194,7 +208,7 @@ pub async fn pump_tx<W: Write>(mut isr: SerialIsr<'static>, mut uart: W, ready: 
 /// answer to leave; the board resets.
 pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErrors; 2]) {
     let mut ticker = Ticker::every(Duration::from_millis(TICK_MS));
-    let next_report = Cell::new(now_ms().saturating_add(REPORT_MS));
+    let mut next_report = now_ms().saturating_add(REPORT_MS);
     loop {
         let now = now_ms();
         let control = shared.with(|a| {
@@ -205,7 +219,10 @@ pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErr
                 ..
             } = a;
             app.aeolus.poll_tx(now, aeolus_tx, &app.shared);
-            app.aydp.poll_tx(now, aydp_tx, &app.shared);
+            // Without room the 1 Hz messages wait for a later tick (their grid is kept).
+            if aydp_tx.tx_space() >= AYDP_ROOM {
+                app.aydp.poll_tx(now, aydp_tx, &app.shared);
+            }
             app.service_requests(store)
         });
         if control == Some(Control::Reboot) {
@@ -213,8 +230,8 @@ pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErr
             Timer::after_millis(REBOOT_FLUSH_MS).await;
             return;
         }
-        if now >= next_report.get() {
-            next_report.set(now.saturating_add(REPORT_MS));
+        if now >= next_report {
+            next_report = now.saturating_add(REPORT_MS);
             shared.with(|a| report(now, a, rx_errors));
         }
         ticker.next().await;
