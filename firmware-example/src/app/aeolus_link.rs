@@ -189,7 +189,7 @@ impl AeolusLink {
 
     /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless
     /// paused) and hands queued frames to the port, without reading it. For a board whose
-    /// own reader deframes (an async [`aeolus_proto::embedded_io_async::FrameReader`]) and
+    /// own reader deframes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
     /// passes each frame to [`AeolusLink::handle_frame`].
     ///
     /// ```

@@ -289,7 +289,7 @@ impl AydpLink {
 
 impl AydpLink {
     /// Acts on one message from a decoder the caller runs, the per-message half of
-    /// [`AydpLink::poll`]'s RX (an async [`aydp_proto::embedded_io_async::FrameReader`], say):
+    /// [`AydpLink::poll`]'s RX (an async `aydp_proto::embedded_io_async::FrameReader`, say):
     /// updates, requests, store configuration, direct outputs. Replies go to `port` at once.
     /// `stats` is what 0x0300 reports for the decoder counters (the caller's decoder: the
     /// link's own, and so [`AydpLink::decoder_stats`], is not used on this path).
