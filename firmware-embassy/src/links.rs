@@ -141,8 +141,9 @@ pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> 
 
 /// AYDP RX: decodes what `uart` delivers and hands every message to
 /// [`aydp_link::AydpLink::handle_frame`], whose replies go straight into the AYDP TX queue.
-/// Register 0x0300 reports the decoder counters as of before the read that completed the
-/// request (the blocking boards: before its last byte).
+/// Register 0x0300 reports the decoder counters as of just after the message before the
+/// request (the blocking boards: just before the request's last byte; the two differ only by
+/// errors and discarded bytes between the two messages).
 pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
     let mut reader = aydp_proto::embedded_io_async::FrameReader::<
         R,
