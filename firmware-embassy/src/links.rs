@@ -20,7 +20,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use aeolus_proto::IoError;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
-use embassy_time::{Duration, Instant, Ticker, Timer};
+use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
 use embedded_storage::nor_flash::NorFlash;
 use firmware_example::app::{App, Control, aeolus_link, aydp_link};
@@ -208,7 +208,7 @@ pub async fn pump_tx<W: Write>(mut isr: SerialIsr<'static>, mut uart: W, ready: 
 /// asked for one. Returns when a link asked for a reboot, after [`REBOOT_FLUSH_MS`] for the
 /// answer to leave; the board resets.
 pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErrors; 2]) {
-    let mut ticker = Ticker::every(Duration::from_millis(TICK_MS));
+    let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
     loop {
         let now = now_ms();
@@ -235,7 +235,13 @@ pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErr
             next_report = now.saturating_add(REPORT_MS);
             shared.with(|a| report(now, a, rx_errors));
         }
-        ticker.next().await;
+        // The next tick; after a stall (a flash erase blocks the executor for a second or
+        // two) one tick at once, not a burst of the missed ones (the schedule catches up by
+        // its own rules).
+        tick = tick
+            .saturating_add(Duration::from_millis(TICK_MS))
+            .max(Instant::now());
+        Timer::at(tick).await;
     }
 }
 
