@@ -86,6 +86,7 @@ bash scripts/setup.sh qemu defmt-print
 
 step "format"
 cargo fmt --all -- --check
+(cd firmware-embassy && cargo fmt -- --check)
 
 step "clippy (all targets, warnings denied)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
@@ -132,6 +133,11 @@ cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --f
 # ELF at target/thumbv7em-none-eabihf/release/sensor-box when the tests run.
 cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features qemu-stm32 --lib --bins -- -D warnings
 cargo stm32-qemu-build -q
+
+# Its own workspace (embassy-stm32, its own Cargo.lock and target/): built, not run (no board;
+# QEMU has no model of the F411's DMA and RCC, see firmware-embassy/README.md).
+step "firmware-embassy: STM32F411 embassy board, release build and clippy (warnings denied)"
+(cd firmware-embassy && cargo build -q --release && cargo clippy -q --release -- -D warnings)
 
 step "rustdoc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features

@@ -66,7 +66,7 @@
 use super::Shared;
 use super::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, SetTime, Text, id};
-use aeolus_proto::{CrcMode, Decoder, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
+use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use embedded_hal_nb::serial::{Read, Write};
 use heapless::Deque;
 
@@ -184,6 +184,27 @@ impl AeolusLink {
         shared: &mut Shared,
     ) {
         self.receive(now_ms, port, shared);
+        self.poll_tx(now_ms, port, shared);
+    }
+
+    /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless
+    /// paused) and hands queued frames to the port, without reading it. For a board whose
+    /// own reader deframes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
+    /// passes each frame to [`AeolusLink::handle_frame`].
+    ///
+    /// ```
+    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// use firmware_example::{PortStats, QueuedSerial};
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 1024>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, _isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AeolusLink::new(0);
+    /// link.poll_tx(0, &mut port, &shared);
+    /// assert_eq!(link.tx_pending(), 0); // the boot TOAST and every kind went to the port
+    /// assert_eq!(link.counters().telemetry_total(), 10);
+    /// ```
+    pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         if shared.paused {
             self.was_paused = true;
         } else {
@@ -193,6 +214,40 @@ impl AeolusLink {
             self.send_due(now_ms, port, shared);
         }
         drain(&mut self.tx, port, &mut self.counters);
+    }
+
+    /// Acts on one frame from a deframer the caller runs, the per-frame half of
+    /// [`AeolusLink::poll`]'s RX: `Ok` is a received frame (COMMAND and SETTIME are obeyed,
+    /// anything else counted), `Err` a frame the deframer dropped (counted in
+    /// [`LinkCounters::rx_errors`]). Answers are queued and go out with the next
+    /// [`AeolusLink::poll_tx`]. The link's own deframer (and so [`AeolusLink::rx_stats`]) is
+    /// not used on this path: the caller's deframer has the counters.
+    ///
+    /// ```
+    /// use aeolus_proto::{CrcMode, Decoder, message::{Message, Text}};
+    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// let mut shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AeolusLink::new(0);
+    /// let mut wire = [0u8; 64];
+    /// let n = Message::Command(Text::new("a pause").unwrap()).encode(&mut wire, CrcMode::Compute).unwrap();
+    /// let mut deframer = Decoder::<64>::new();
+    /// for &b in &wire[..n] {
+    ///     if let Some(frame) = deframer.push(b) {
+    ///         link.handle_frame(frame.as_ref().map_err(|e| *e), 5, &mut shared);
+    ///     }
+    /// }
+    /// assert!(shared.paused);
+    /// link.handle_frame(Err(aeolus_proto::Error::TooShort), 6, &mut shared);
+    /// assert_eq!(link.counters().rx_errors, 1);
+    /// ```
+    pub fn handle_frame(
+        &mut self,
+        frame: Result<&Frame<'_>, aeolus_proto::Error>,
+        now_ms: u64,
+        shared: &mut Shared,
+    ) {
+        let incoming = frame.map_or(Incoming::Error, incoming);
+        self.handle(Some(incoming), now_ms, shared);
     }
 
     /// The link's counters.
@@ -239,12 +294,7 @@ impl AeolusLink {
         let Ok(frame) = self.deframer.push(byte)? else {
             return Some(Incoming::Error);
         };
-        let parsed = match frame.id() {
-            id::COMMAND => Text::parse(id::COMMAND, frame.data()).map(Incoming::Command),
-            id::SETTIME => SetTime::parse(frame.data()).map(Incoming::SetTime),
-            _ => Ok(Incoming::Ignored),
-        };
-        Some(parsed.unwrap_or(Incoming::Error))
+        Some(incoming(&frame))
     }
 
     fn handle(&mut self, incoming: Option<Incoming>, now_ms: u64, shared: &mut Shared) {
@@ -342,6 +392,16 @@ impl AeolusLink {
             bump(&mut self.counters.tx_dropped);
         }
     }
+}
+
+/// What a good frame asks for. Only the two messages the box acts on are parsed.
+fn incoming(frame: &Frame<'_>) -> Incoming {
+    let parsed = match frame.id() {
+        id::COMMAND => Text::parse(id::COMMAND, frame.data()).map(Incoming::Command),
+        id::SETTIME => SetTime::parse(frame.data()).map(Incoming::SetTime),
+        _ => Ok(Incoming::Ignored),
+    };
+    parsed.unwrap_or(Incoming::Error)
 }
 
 /// Moves queued bytes into the port until it would block.

@@ -145,7 +145,7 @@ pub const SYSTEM_ID: [u8; TEXT_LEN] = text("SBX-0001");
 /// 0x0003 hardware version: the board the firmware was built for (board features only take
 /// effect on the target, like the rest of the board support).
 pub const HARDWARE_VERSION: [u8; TEXT_LEN] = text(
-    if cfg!(all(target_os = "none", feature = "board-stm32f411")) {
+    if cfg!(all(target_os = "none", feature = "hardware-stm32f411")) {
         "STM32F411"
     } else if cfg!(all(target_os = "none", feature = "board-qemu")) {
         "QEMU lm3s6965evb"
@@ -283,6 +283,64 @@ impl AydpLink {
                 event = self.decoder.poll();
             }
         }
+        self.ctx.send_due(now_ms, port, shared);
+    }
+}
+
+impl AydpLink {
+    /// Acts on one message from a decoder the caller runs, the per-message half of
+    /// [`AydpLink::poll`]'s RX (an async `aydp_proto::embedded_io_async::FrameReader`, say):
+    /// updates, requests, store configuration, direct outputs. Replies go to `port` at once.
+    /// `stats` is what 0x0300 reports for the decoder counters (the caller's decoder: the
+    /// link's own, and so [`AydpLink::decoder_stats`], is not used on this path).
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile, Stats};
+    /// use firmware_example::app::{aydp_link::AydpLink, Persisted, Shared};
+    /// use firmware_example::{PortStats, QueuedSerial};
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let mut shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AydpLink::new(0);
+    /// // Expedited request data at 0x0110 (airspeed).
+    /// let request = [0xFF, 0x89, 0x0A, 0, 0, 0, 0x01, 0x10, 0x01, 0x6C];
+    /// let mut decoder = Decoder::<128>::new(Profile::Spec);
+    /// for &b in &request {
+    ///     if let Some(Ok(frame)) = decoder.push(b) {
+    ///         link.handle_frame(&frame, &Stats::default(), 5, &mut port, &mut shared);
+    ///     }
+    /// }
+    /// assert_eq!(link.counters().requests_answered, 1);
+    /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
+    /// ```
+    pub fn handle_frame<P: Write<u8>>(
+        &mut self,
+        frame: &Frame<'_>,
+        stats: &Stats,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
+        self.ctx.handle(frame, stats, now_ms, port, shared);
+    }
+
+    /// The TX half of [`AydpLink::poll`]: sends the heartbeat, position and fix quality due at
+    /// `now_ms`, without reading the port.
+    ///
+    /// ```
+    /// use firmware_example::app::{aydp_link::AydpLink, Persisted, Shared};
+    /// use firmware_example::{PortStats, QueuedSerial};
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AydpLink::new(0);
+    /// link.poll_tx(0, &mut port, &shared);
+    /// let sent = core::iter::from_fn(|| isr.next_to_send()).count();
+    /// assert_eq!(sent, 7 + 43 + 31); // heartbeat, position, fix quality
+    /// ```
+    pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         self.ctx.send_due(now_ms, port, shared);
     }
 }

@@ -82,6 +82,24 @@ impl App {
         self.aeolus.poll(now_ms, uart0, &mut self.shared);
         self.aydp.poll(now_ms, uart1, &mut self.shared);
         self.aok.poll(now_ms, uart2, &mut self.shared);
+        self.service_requests(flash)
+    }
+
+    /// What the links asked the main loop for, done after they ran: writes the flash when a
+    /// link asked for a store (a failure is logged and counted), and says whether to reboot.
+    /// [`App::poll`] ends with it; a board that runs the links itself (one task per link, as
+    /// `firmware-embassy` does) calls it after them.
+    ///
+    /// ```
+    /// use firmware_example::{MemFlash, app::{App, Control}};
+    /// let mut mem = [0xFFu8; 4096];
+    /// let mut flash = MemFlash::new(&mut mem);
+    /// let mut app = App::new(&mut flash, 0);
+    /// app.shared.requests.reboot = true;
+    /// assert_eq!(app.service_requests(&mut flash), Control::Reboot);
+    /// assert_eq!(app.service_requests(&mut flash), Control::Run);
+    /// ```
+    pub fn service_requests<F: NorFlash>(&mut self, flash: &mut F) -> Control {
         if core::mem::take(&mut self.shared.requests.store)
             && persist::store(flash, &self.shared.persisted).is_err()
         {

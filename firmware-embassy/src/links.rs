@@ -1,0 +1,283 @@
+//! The async glue between UARTs and the application: board-independent (any
+//! `embedded_io_async` reader and writer, `embassy-time` for the clock).
+//!
+//! ```text
+//!   UART RX (DMA ring) --> FrameReader --> AeolusLink::handle_frame / AydpLink::handle_frame
+//!   ticker (1 ms)  --> AeolusLink::poll_tx, AydpLink::poll_tx, App::service_requests
+//!   links --> QueuedSerial (TX queue) --kick--> pump_tx --> UART TX (DMA)
+//! ```
+//!
+//! The protocol logic is `firmware_example::app`, unchanged: the links decide what is sent
+//! and when, and encode it into a TX queue exactly as on the blocking boards
+//! ([`QueuedSerial`], with the same drop policies when it is full); here an async task moves
+//! the queue to the UART in DMA chunks instead of a TXE interrupt moving it a byte at a time.
+//! Only the RX side differs in shape: the protocol crates' async `FrameReader`s deframe what
+//! the DMA ring holds, and each frame is handed to the link's per-frame entry point.
+
+use core::cell::RefCell;
+use core::sync::atomic::{AtomicU32, Ordering};
+
+use aeolus_proto::IoError;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use embassy_sync::signal::Signal;
+use embassy_time::{Duration, Instant, Timer};
+use embedded_io_async::{Read, Write};
+use embedded_storage::nor_flash::NorFlash;
+use firmware_example::app::{App, Control, aeolus_link, aydp_link};
+use firmware_example::{QueuedSerial, SerialIsr};
+
+/// How often the links' TX halves run (the telemetry schedule's resolution), ms. The
+/// blocking boards poll at least this often (SysTick at 1 kHz).
+pub const TICK_MS: u64 = 1;
+/// Period of the status log lines, ms.
+pub const REPORT_MS: u64 = 5_000;
+/// How long a reboot waits for the answer TOAST to leave UART0, ms (as the blocking boards).
+pub const REBOOT_FLUSH_MS: u64 = 20;
+/// Bytes the TX pump hands to one DMA transfer.
+pub const TX_CHUNK: usize = 128;
+/// Read buffer of the async frame readers: the most bytes one `read` takes from the ring.
+pub const READ_BUF: usize = 64;
+
+/// Room the AYDP TX queue must have before the link may write to it, bytes: the longest
+/// reply (a normal system value update of a `char[40]`, 70 bytes) and the three 1 Hz messages
+/// (7 + 43 + 31 bytes) each fit. The link's own policy for a full queue is to retry a byte
+/// (it waits for the UART interrupt on the blocking boards); here nothing drains the queue
+/// while the link runs, so the tasks wait for this room instead, and that policy never fires.
+pub const AYDP_ROOM: usize = 128;
+/// How long a task waits before it looks at the AYDP TX queue's room again, µs.
+const ROOM_POLL_US: u64 = 500;
+
+/// A wake-up for a TX pump: set by the port's `kick` whenever a link queues a byte.
+pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
+
+/// What the tasks share: the application and the TX halves of its two ports.
+pub struct Application {
+    /// The sensor-box application (settings, the links, the simulated flight).
+    pub app: App,
+    /// Where the AEOLUS link queues its frames (drained by [`pump_tx`] on USART2).
+    pub aeolus_tx: QueuedSerial<'static>,
+    /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
+    pub aydp_tx: QueuedSerial<'static>,
+    /// The AEOLUS reader's deframer counters as of its last frame.
+    pub aeolus_rx: aeolus_proto::Stats,
+    /// The AYDP reader's decoder counters as of its last message.
+    pub aydp_rx: aydp_proto::Stats,
+}
+
+/// The [`Application`], shared by the tasks of one executor. Every access is a short
+/// synchronous closure, never held across an `await`.
+pub struct Shared(RefCell<Application>);
+
+impl Shared {
+    /// Wraps the application.
+    pub const fn new(app: Application) -> Self {
+        Shared(RefCell::new(app))
+    }
+
+    /// Runs `f` on the application. `None` only if called from inside another `with`
+    /// (nothing does; it is not a panic path).
+    pub fn with<R>(&self, f: impl FnOnce(&mut Application) -> R) -> Option<R> {
+        self.0.try_borrow_mut().ok().map(|mut a| f(&mut a))
+    }
+}
+
+/// Receive errors a UART reported to a reader (overrun, framing, noise, parity), wrapping.
+pub struct RxErrors(AtomicU32);
+
+impl RxErrors {
+    /// Zero.
+    pub const fn new() -> Self {
+        RxErrors(AtomicU32::new(0))
+    }
+
+    fn bump(&self) {
+        self.0.store(
+            self.0.load(Ordering::Relaxed).wrapping_add(1),
+            Ordering::Relaxed,
+        );
+    }
+
+    /// The count.
+    pub fn get(&self) -> u32 {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Milliseconds since boot (the application's clock).
+pub fn now_ms() -> u64 {
+    Instant::now().as_millis()
+}
+
+/// AEOLUS RX: deframes what `uart` delivers and hands every frame, or every frame the
+/// deframer dropped, to [`aeolus_link::AeolusLink::handle_frame`]. Answers go out with the
+/// next tick. A UART error is counted in `errors` and reading goes on (the driver restarts
+/// its DMA ring on the next read).
+pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
+    let mut reader = aeolus_proto::embedded_io_async::FrameReader::<
+        R,
+        { aeolus_link::RX_FRAME },
+        READ_BUF,
+    >::new(uart);
+    loop {
+        let result = reader.read_frame().await;
+        let now = now_ms();
+        let frame = match result {
+            Ok(ref frame) => Ok(frame),
+            Err(IoError::Protocol(e)) => Err(e),
+            Err(IoError::Transport(_)) => {
+                errors.bump();
+                defmt::warn!("AEOLUS: UART receive error");
+                continue;
+            }
+            // A UART never ends; these cannot come.
+            Err(_) => continue,
+        };
+        shared.with(|a| a.app.aeolus.handle_frame(frame, now, &mut a.app.shared));
+        drop(result);
+        let stats = *reader.decoder().stats();
+        shared.with(|a| a.aeolus_rx = stats);
+    }
+}
+
+/// AYDP RX: decodes what `uart` delivers and hands every message to
+/// [`aydp_link::AydpLink::handle_frame`], whose replies go straight into the AYDP TX queue.
+/// Register 0x0300 reports the decoder counters as of just after the message before the
+/// request (the blocking boards: just before the request's last byte; the two differ only by
+/// errors and discarded bytes between the two messages).
+pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
+    let mut reader = aydp_proto::embedded_io_async::FrameReader::<
+        R,
+        { aydp_link::DECODER_CAPACITY },
+        READ_BUF,
+    >::new(uart, aydp_proto::Profile::Spec);
+    loop {
+        let stats = reader.decoder().stats();
+        match reader.read_frame().await {
+            Ok(frame) => {
+                // Back-pressure: a flood of requests waits here (the DMA ring goes on
+                // filling) rather than in the link's retry loop.
+                while shared.with(|a| a.aydp_tx.tx_space()).unwrap_or(0) < AYDP_ROOM {
+                    Timer::after_micros(ROOM_POLL_US).await;
+                }
+                let now = now_ms();
+                shared.with(|a| {
+                    let Application { app, aydp_tx, .. } = a;
+                    app.aydp
+                        .handle_frame(&frame, &stats, now, aydp_tx, &mut app.shared);
+                });
+            }
+            Err(aydp_proto::IoError::Protocol(e)) => {
+                defmt::debug!("AYDP: dropped a candidate: {}", e)
+            }
+            Err(aydp_proto::IoError::Transport(_)) => {
+                errors.bump();
+                defmt::warn!("AYDP: UART receive error");
+            }
+            Err(_) => {}
+        }
+        let stats = reader.decoder().stats();
+        shared.with(|a| a.aydp_rx = stats);
+    }
+}
+
+/// Moves what the links queued on one port to `uart`, [`TX_CHUNK`] bytes per write (one DMA
+/// transfer each); sleeps on `ready` while the queue is empty.
+pub async fn pump_tx<W: Write>(mut isr: SerialIsr<'static>, mut uart: W, ready: &TxReady) -> ! {
+    let mut chunk = [0u8; TX_CHUNK];
+    loop {
+        let mut n = 0;
+        for slot in chunk.iter_mut() {
+            let Some(byte) = isr.next_to_send() else {
+                break;
+            };
+            *slot = byte;
+            n += 1;
+        }
+        if n == 0 {
+            ready.wait().await;
+            continue;
+        }
+        if uart.write_all(chunk.get(..n).unwrap_or(&[])).await.is_err() {
+            defmt::warn!("UART transmit error: {=usize} bytes lost", n);
+        }
+    }
+}
+
+/// The telemetry schedule and the links' TX halves, every [`TICK_MS`]: AEOLUS telemetry and
+/// answers, the AYDP heartbeat, position and fix quality; then the flash store when a link
+/// asked for one. Returns when a link asked for a reboot, after [`REBOOT_FLUSH_MS`] for the
+/// answer to leave; the board resets.
+pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErrors; 2]) {
+    let mut tick = Instant::now();
+    let mut next_report = now_ms().saturating_add(REPORT_MS);
+    loop {
+        let now = now_ms();
+        let control = shared.with(|a| {
+            let Application {
+                app,
+                aeolus_tx,
+                aydp_tx,
+                ..
+            } = a;
+            app.aeolus.poll_tx(now, aeolus_tx, &app.shared);
+            // Without room the 1 Hz messages wait for a later tick (their grid is kept).
+            if aydp_tx.tx_space() >= AYDP_ROOM {
+                app.aydp.poll_tx(now, aydp_tx, &app.shared);
+            }
+            app.service_requests(store)
+        });
+        if control == Some(Control::Reboot) {
+            defmt::info!("reboot requested: warm reset");
+            Timer::after_millis(REBOOT_FLUSH_MS).await;
+            return;
+        }
+        if now >= next_report {
+            next_report = now.saturating_add(REPORT_MS);
+            shared.with(|a| report(now, a, rx_errors));
+        }
+        // The next tick; after a stall (a flash erase blocks the executor for a second or
+        // two) one tick at once, not a burst of the missed ones (the schedule catches up by
+        // its own rules).
+        tick = tick
+            .saturating_add(Duration::from_millis(TICK_MS))
+            .max(Instant::now());
+        Timer::at(tick).await;
+    }
+}
+
+/// The periodic status lines.
+fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 2]) {
+    defmt::info!("uptime {=u64} ms", now);
+    let [aeolus_errors, aydp_errors] = rx_errors;
+    let (t0, t1) = (a.aeolus_tx.counters(), a.aydp_tx.counters());
+    let c = a.app.aeolus.counters();
+    let rx = &a.aeolus_rx;
+    defmt::info!(
+        "AEOLUS (USART2): tx {=u32} bytes, telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; rx ok {=u32} crc errors {=u32} uart errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
+        t0.tx_bytes,
+        c.telemetry_total(),
+        c.toasts,
+        c.tx_dropped,
+        a.app.aeolus.telemetry().skipped(),
+        rx.frames_delivered(),
+        rx.checksum_errors,
+        aeolus_errors.get(),
+        c.commands,
+        c.unknown_commands,
+        c.settime,
+        a.app.shared.paused
+    );
+    let y = a.app.aydp.counters();
+    let s = &a.aydp_rx;
+    defmt::info!(
+        "AYDP (USART1): tx {=u32} bytes, tx dropped {=u32}; rx ok {=u32} checksum errors {=u32} uart errors {=u32}; applied {=u32} rejected {=u32} answered {=u32}",
+        t1.tx_bytes,
+        y.tx_dropped,
+        s.frames_ok,
+        s.checksum_errors,
+        aydp_errors.get(),
+        y.updates_applied,
+        y.rejected,
+        y.requests_answered
+    );
+}

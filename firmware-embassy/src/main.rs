@@ -1,0 +1,190 @@
+//! `sensor-box-embassy`: the sensor box on an STM32F411 (Black Pill F411CE / Nucleo-F411RE)
+//! with `embassy-stm32`. This file is the board: clocks, pins, DMA streams, interrupts, the
+//! flash store, and one task per job; the application is `firmware_example::app` and the
+//! async glue is [`links`].
+//!
+//! | job | UART | pins (TX, RX) | baud | DMA (RX ring, TX) |
+//! |---|---|---|---|---|
+//! | AEOLUS | USART2 | PA2, PA3 | 921 600 | DMA1 stream 5, stream 6 |
+//! | AYDP | USART1 | PA9, PA10 | 115 200 | DMA2 stream 2, stream 7 |
+//!
+//! AOK (USART6 on the blocking board) is not wired here.
+#![no_std]
+#![no_main]
+
+mod links;
+
+use defmt_rtt as _;
+use embassy_executor::{SpawnError, SpawnToken, Spawner};
+use embassy_stm32::flash::Flash;
+use embassy_stm32::mode::Async;
+use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
+use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
+use embedded_storage::nor_flash::ReadNorFlash;
+use firmware_example::app::App;
+use firmware_example::{FlashWindow, PortStats, QueuedSerial, SerialIsr};
+use heapless::spsc::Queue;
+use links::{Application, RxErrors, Shared, TxReady};
+use panic_probe as _;
+use static_cell::{ConstStaticCell, StaticCell};
+
+/// USART2 (AEOLUS) baud rate: the spec schedule needs about 453 kbit/s (see
+/// `firmware-example/README.md`).
+const AEOLUS_BAUD: u32 = 921_600;
+/// USART1 (AYDP) baud rate.
+const AYDP_BAUD: u32 = 115_200;
+/// Bytes of each DMA receive ring. The links receive little (commands, requests); the ring
+/// bridges the time between two reads, and the idle line ends a read early.
+const RX_RING: usize = 256;
+/// Bytes of each TX queue between a link and its pump (it holds one less), as on the
+/// blocking boards.
+const TX_QUEUE: usize = 512;
+/// The settings store: flash sector 7 (128 KiB at 0x0806_0000), outside the program
+/// (`memory.x` gives the program sectors 0-6), as on the blocking STM32 board.
+const STORE_OFFSET: u32 = 0x6_0000;
+/// Size of the store (all of sector 7).
+const STORE_LEN: u32 = 0x2_0000;
+
+bind_interrupts!(struct Irqs {
+    USART1 => usart::InterruptHandler<peripherals::USART1>;
+    USART2 => usart::InterruptHandler<peripherals::USART2>;
+    DMA1_STREAM5 => dma::InterruptHandler<peripherals::DMA1_CH5>;
+    DMA1_STREAM6 => dma::InterruptHandler<peripherals::DMA1_CH6>;
+    DMA2_STREAM2 => dma::InterruptHandler<peripherals::DMA2_CH2>;
+    DMA2_STREAM7 => dma::InterruptHandler<peripherals::DMA2_CH7>;
+});
+
+static AEOLUS_READY: TxReady = TxReady::new();
+static AYDP_READY: TxReady = TxReady::new();
+static AEOLUS_RX_ERRORS: RxErrors = RxErrors::new();
+static AYDP_RX_ERRORS: RxErrors = RxErrors::new();
+static STATS: [PortStats; 2] = [const { PortStats::new() }; 2];
+static AEOLUS_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
+static AYDP_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
+static AEOLUS_QUEUE: ConstStaticCell<Queue<u8, TX_QUEUE>> = ConstStaticCell::new(Queue::new());
+static AYDP_QUEUE: ConstStaticCell<Queue<u8, TX_QUEUE>> = ConstStaticCell::new(Queue::new());
+/// The ports' RX queues are unused: the readers take the UARTs' bytes directly.
+static UNUSED_RX: ConstStaticCell<[Queue<u8, 2>; 2]> =
+    ConstStaticCell::new([const { Queue::new() }; 2]);
+static SHARED: StaticCell<Shared> = StaticCell::new();
+
+/// HSI (16 MHz) / 8 * 100 / 2 = 100 MHz, the F411's maximum; APB1 (USART2) at 50 MHz, APB2
+/// (USART1) at 100 MHz. The blocking board runs the same clocks.
+fn clocks() -> embassy_stm32::Config {
+    let mut config = embassy_stm32::Config::default();
+    config.rcc.hsi = true;
+    config.rcc.pll_src = rcc::PllSource::HSI;
+    config.rcc.pll = Some(rcc::Pll {
+        prediv: rcc::PllPreDiv::DIV8,
+        mul: rcc::PllMul::MUL100,
+        divp: Some(rcc::PllPDiv::DIV2),
+        divq: None,
+        divr: None,
+    });
+    config.rcc.sys = rcc::Sysclk::PLL1_P;
+    config.rcc.ahb_pre = rcc::AHBPrescaler::DIV1;
+    config.rcc.apb1_pre = rcc::APBPrescaler::DIV2;
+    config.rcc.apb2_pre = rcc::APBPrescaler::DIV1;
+    config
+}
+
+fn uart_config(baud: u32) -> usart::Config {
+    let mut config = usart::Config::default();
+    config.baudrate = baud;
+    config
+}
+
+#[embassy_executor::main]
+async fn main(spawner: Spawner) {
+    let p = embassy_stm32::init(clocks());
+    defmt::info!(
+        "sensor-box-embassy {=str} on stm32f411 (embassy): booting",
+        env!("CARGO_PKG_VERSION")
+    );
+
+    let (Ok(aeolus), Ok(aydp)) = (
+        Uart::new(
+            p.USART2,
+            p.PA3,
+            p.PA2,
+            p.DMA1_CH6,
+            p.DMA1_CH5,
+            Irqs,
+            uart_config(AEOLUS_BAUD),
+        ),
+        Uart::new(
+            p.USART1,
+            p.PA10,
+            p.PA9,
+            p.DMA2_CH7,
+            p.DMA2_CH2,
+            Irqs,
+            uart_config(AYDP_BAUD),
+        ),
+    ) else {
+        defmt::error!("UART set-up failed (baud rate out of range): resetting");
+        cortex_m::peripheral::SCB::sys_reset();
+    };
+    let (aeolus_tx, aeolus_rx) = aeolus.split();
+    let (aydp_tx, aydp_rx) = aydp.split();
+    let aeolus_rx = aeolus_rx.into_ring_buffered(AEOLUS_RING.take());
+    let aydp_rx = aydp_rx.into_ring_buffered(AYDP_RING.take());
+
+    let Ok(mut store) = FlashWindow::new(Flash::new_blocking(p.FLASH), STORE_OFFSET, STORE_LEN)
+    else {
+        defmt::error!("flash store outside the flash: resetting");
+        cortex_m::peripheral::SCB::sys_reset();
+    };
+    defmt::info!("flash store {=usize} bytes", store.capacity());
+
+    let [rx0, rx1] = UNUSED_RX.take();
+    let [st0, st1] = &STATS;
+    let (aeolus_port, aeolus_isr) =
+        QueuedSerial::split(rx0, AEOLUS_QUEUE.take(), st0, || AEOLUS_READY.signal(()));
+    let (aydp_port, aydp_isr) =
+        QueuedSerial::split(rx1, AYDP_QUEUE.take(), st1, || AYDP_READY.signal(()));
+
+    let app = App::new(&mut store, links::now_ms());
+    defmt::info!("booted: App {=usize} bytes", core::mem::size_of::<App>());
+    let shared: &'static Shared = SHARED.init(Shared::new(Application {
+        app,
+        aeolus_tx: aeolus_port,
+        aydp_tx: aydp_port,
+        aeolus_rx: aeolus_proto::Stats::default(),
+        aydp_rx: aydp_proto::Stats::default(),
+    }));
+
+    spawn(&spawner, aeolus_rx_task(aeolus_rx, shared));
+    spawn(&spawner, aydp_rx_task(aydp_rx, shared));
+    spawn(&spawner, tx_task(aeolus_isr, aeolus_tx, &AEOLUS_READY));
+    spawn(&spawner, tx_task(aydp_isr, aydp_tx, &AYDP_READY));
+    links::run(shared, &mut store, [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS]).await;
+    cortex_m::peripheral::SCB::sys_reset();
+}
+
+/// Starts a task; a task that is already running (none is spawned twice beyond its pool) is
+/// logged, not a panic.
+fn spawn<S>(spawner: &Spawner, token: Result<SpawnToken<S>, SpawnError>) {
+    match token {
+        Ok(token) => spawner.spawn(token),
+        Err(_) => defmt::error!("task pool exhausted: a task did not start"),
+    }
+}
+
+/// AEOLUS receive: the USART2 DMA ring into the AEOLUS link ([`links::aeolus_rx`]).
+#[embassy_executor::task]
+async fn aeolus_rx_task(uart: RingBufferedUartRx<'static>, shared: &'static Shared) {
+    links::aeolus_rx(uart, shared, &AEOLUS_RX_ERRORS).await
+}
+
+/// AYDP receive: the USART1 DMA ring into the AYDP link ([`links::aydp_rx`]).
+#[embassy_executor::task]
+async fn aydp_rx_task(uart: RingBufferedUartRx<'static>, shared: &'static Shared) {
+    links::aydp_rx(uart, shared, &AYDP_RX_ERRORS).await
+}
+
+/// Transmit: one port's TX queue to its UART by DMA ([`links::pump_tx`]); one per UART.
+#[embassy_executor::task(pool_size = 2)]
+async fn tx_task(isr: SerialIsr<'static>, uart: UartTx<'static, Async>, ready: &'static TxReady) {
+    links::pump_tx(isr, uart, ready).await
+}
