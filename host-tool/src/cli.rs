@@ -9,6 +9,8 @@ use crate::bridge::BridgeArgs;
 use crate::decode::DecodeArgs;
 use crate::error::Result;
 use crate::gdl90_cmd::Gdl90Args;
+use crate::record::RecordArgs;
+use crate::replay::ReplayArgs;
 use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
 
@@ -75,6 +77,17 @@ pub enum Command {
   protolink watch --from tcp:127.0.0.1:7000
   protolink watch --from udp:5001 --seconds 10")]
     Watch(WatchArgs),
+    /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.
+    #[command(after_help = "Examples:
+  protolink record --from udp:5001 --out flight.pcapng --seconds 60
+  protolink record --from tcp:127.0.0.1:7000 --proto aeolus --out uart.pcapng
+  protolink record --from tcp:127.0.0.1:7002 --proto aok --side device --out aok.pcapng")]
+    Record(RecordArgs),
+    /// Send a capture's payloads to an endpoint with their original timing (or faster).
+    #[command(after_help = "Examples:
+  protolink replay flight.pcapng --to udp:127.0.0.1:5001
+  protolink replay flight.pcapng --to udp:127.0.0.1:5001 --speed 4 --loop --seconds 60")]
+    Replay(ReplayArgs),
 }
 
 impl Cli {
@@ -92,6 +105,8 @@ impl Cli {
             Command::Sim(a) => crate::sim::run(a),
             Command::Watch(a) => crate::watch::run(a),
             Command::Gdl90(a) => crate::gdl90_cmd::run(a),
+            Command::Record(a) => crate::record::run(a),
+            Command::Replay(a) => crate::replay::run(a),
         }
     }
 }

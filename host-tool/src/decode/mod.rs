@@ -16,6 +16,7 @@ use serde_json::{Map, Value, json};
 mod aeolus;
 mod aok;
 mod aydp;
+pub mod capture;
 mod gdl90;
 
 pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
@@ -75,16 +76,16 @@ pub enum Side {
 /// Arguments of `protolink decode`.
 #[derive(Debug, Clone, Args)]
 pub struct DecodeArgs {
-    /// The protocol of the stream.
+    /// The protocol of the stream (a capture: found by port or link type; --proto picks one).
     #[arg(long, value_enum)]
-    pub proto: Proto,
+    pub proto: Option<Proto>,
     /// AYDP profile.
     #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
     pub profile: ProfileArg,
     /// AOK: who sent the bytes (pc: commands; device: debug values, acks, replies).
     #[arg(long, value_enum, default_value_t = Side::Device)]
     pub side: Side,
-    /// Where the bytes come from (serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH, -).
+    /// Where the bytes come from (serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH, -); a pcapng or pcap file is read as a capture.
     #[arg(long, value_name = "ENDPOINT")]
     pub from: Endpoint,
     /// One JSON object per line instead of text.
@@ -236,11 +237,22 @@ pub fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
 /// # Errors
 /// Opening or reading the endpoint, or writing the output.
 pub fn run(args: &DecodeArgs) -> Result<()> {
-    let mut link = args.from.open()?;
-    let mut decoder = decoder_for(args.proto, args.profile, args.side);
     // Ctrl-C ends the input: the counters are still printed.
     crate::stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
+    if let Endpoint::File(path) = &args.from
+        && crate::capture::file_is_capture(path)
+    {
+        return capture::run(path, args, deadline);
+    }
+    let Some(proto) = args.proto else {
+        return Err(crate::Error::Usage(format!(
+            "--proto is needed for {}: only a pcapng or pcap capture names its protocols",
+            args.from
+        )));
+    };
+    let mut link = args.from.open()?;
+    let mut decoder = decoder_for(proto, args.profile, args.side);
     let mut out = Out::new();
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
         for e in events {
