@@ -81,8 +81,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm and defmt-print (the QEMU tests must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print
+step "setup: qemu-system-arm, defmt-print and tshark (the QEMU and tshark tests must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark
 
 step "format"
 cargo fmt --all -- --check

@@ -13,6 +13,7 @@ use crate::record::RecordArgs;
 use crate::replay::ReplayArgs;
 use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
+use crate::wireshark::WiresharkArgs;
 
 const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
   serial:/dev/ttyUSB0@921600   a serial port at that baud rate (115200 if @BAUD is left out)
@@ -88,6 +89,11 @@ pub enum Command {
   protolink replay flight.pcapng --to udp:127.0.0.1:5001
   protolink replay flight.pcapng --to udp:127.0.0.1:5001 --speed 4 --loop --seconds 60")]
     Replay(ReplayArgs),
+    /// Print the Wireshark Lua dissector for AEOLUS, generated from the protocol crates' layouts.
+    #[command(after_help = "Examples:
+  protolink wireshark    (save it as ~/.local/lib/wireshark/plugins/protolink.lua)
+  tshark -X lua_script:tools/wireshark/protolink.lua -r capture.pcapng")]
+    Wireshark(WiresharkArgs),
 }
 
 impl Cli {
@@ -107,6 +113,7 @@ impl Cli {
             Command::Gdl90(a) => crate::gdl90_cmd::run(a),
             Command::Record(a) => crate::record::run(a),
             Command::Replay(a) => crate::replay::run(a),
+            Command::Wireshark(a) => crate::wireshark::run(a),
         }
     }
 }

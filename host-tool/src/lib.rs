@@ -15,6 +15,7 @@
 //! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
 //! | [`gdl90_cmd`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
 //! | [`capture`], [`record`], [`replay`] | pcapng/pcap captures: `record`, `replay`, `decode` of a capture |
+//! | [`wireshark`] | `wireshark`: the Lua dissector generated from the layout tables |
 //! | [`watch`] | `watch`: the live telemetry view |
 //! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
 //! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
@@ -55,5 +56,6 @@ pub mod sim;
 pub mod stop;
 pub mod value_type;
 pub mod watch;
+pub mod wireshark;
 
 pub use error::{Error, Result};
