@@ -458,3 +458,71 @@ fn replay_loop_stops_at_seconds_and_file_output_keeps_every_byte() {
     let _ = std::fs::remove_file(cap);
     let _ = std::fs::remove_file(raw);
 }
+
+#[test]
+fn decode_udp_json_streams_flat_objects_with_the_capture_time() {
+    let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+    rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let to = rx.local_addr().unwrap().to_string();
+    let path = temp("plot.pcap");
+    let mut w = PcapWriter::with_header(
+        std::fs::File::create(&path).unwrap(),
+        PcapHeader {
+            datalink: DataLink::ETHERNET,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // A GYRO frame: valid, timestamp 7 ms, x 0.5, y -1.25, z 2.
+    let mut data = [0u8; 32];
+    data[0] = 1;
+    data[8..16].copy_from_slice(&7.0f64.to_le_bytes());
+    for (i, v) in [0.5f32, -1.25, 2.0].iter().enumerate() {
+        data[16 + 4 * i..20 + 4 * i].copy_from_slice(&v.to_le_bytes());
+    }
+    let mut frame = vec![0u8; 128];
+    let n = aeolus_proto::encode_frame(62, &data, &[], aeolus_proto::CrcMode::Compute, &mut frame)
+        .unwrap();
+    let mut payload = frame[..n].to_vec();
+    payload.extend_from_slice(&GOOD); // a TOAST: no numbers, nothing sent
+    let f = ethernet_udp(
+        "127.0.0.1:40000".parse().unwrap(),
+        "127.0.0.1:5001".parse().unwrap(),
+        &payload,
+    );
+    w.write_packet(&PcapPacket {
+        timestamp: Duration::from_millis(1_700_000_000_250),
+        orig_len: f.len() as u32,
+        data: Cow::Borrowed(&f),
+    })
+    .unwrap();
+    drop(w);
+    let o = run(&[
+        "decode",
+        "--from",
+        path.to_str().unwrap(),
+        "--udp-json",
+        &to,
+    ]);
+    ok(&o);
+    assert!(
+        stderr(&o).contains("1 datagrams sent, 0 dropped"),
+        "{}",
+        stderr(&o)
+    );
+    let mut buf = [0u8; 2048];
+    let n = rx.recv(&mut buf).unwrap();
+    assert_eq!(
+        std::str::from_utf8(&buf[..n]).unwrap(),
+        r#"{"timestamp":1700000000.25,"GYRO/valid":1,"GYRO/timestamp_ms":7.0,"GYRO/x":0.5,"GYRO/y":-1.25,"GYRO/z":2.0}"#
+    );
+    let err = usage_failed(&run(&[
+        "decode",
+        "--from",
+        path.to_str().unwrap(),
+        "--udp-json",
+        "nowhere",
+    ]));
+    assert!(err.contains("nowhere"), "{err}");
+    let _ = std::fs::remove_file(path);
+}

@@ -8,3 +8,4 @@ pub mod naive;
 pub mod protocols;
 pub mod rng;
 pub mod score;
+pub mod tshark;

@@ -83,6 +83,10 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
     let mut counters = CaptureCounters::default();
     let mut events = Vec::new();
     let mut last_time = 0.0;
+    let mut plot = args
+        .udp_json
+        .map(super::plot::PlotSender::new)
+        .transpose()?;
     while !deadline.reached() {
         let Some(rec) = reader.next_record()? else {
             break;
@@ -159,6 +163,9 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
         }
         let time = rec.time.as_secs_f64();
         last_time = time;
+        if let Some(p) = plot.as_mut() {
+            p.send(&events, time);
+        }
         for e in events.drain(..) {
             out.line(&line(&e, rec.frame, time, flow, args.json))?;
         }
@@ -183,6 +190,9 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
         } else {
             format!("{} ({}) {s}", flow.name, proto_name(flow.proto))
         })?;
+    }
+    if let Some(p) = &plot {
+        eprintln!("{}", p.report());
     }
     let c = counters;
     out.line(&if args.json {

@@ -18,6 +18,7 @@ mod aok;
 mod aydp;
 pub mod capture;
 mod gdl90;
+pub mod plot;
 
 pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
 pub use aok::{
@@ -91,6 +92,9 @@ pub struct DecodeArgs {
     /// One JSON object per line instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Also send one flat JSON object per message (timestamp, numeric fields) to this UDP address, as PlotJuggler's UDP server reads them.
+    #[arg(long, value_name = "ADDR:PORT", value_parser = crate::endpoint::parse_local_addr)]
+    pub udp_json: Option<std::net::SocketAddr>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the input, or on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<std::time::Duration>,
@@ -254,7 +258,11 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
     let mut link = args.from.open()?;
     let mut decoder = decoder_for(proto, args.profile, args.side);
     let mut out = Out::new();
+    let mut plot = args.udp_json.map(plot::PlotSender::new).transpose()?;
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
+        if let Some(p) = plot.as_mut() {
+            p.send(events, plot::now());
+        }
         for e in events {
             let line = if args.json {
                 e.to_json().to_string()
@@ -266,6 +274,9 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
         out.flush()
     })?;
     out.line(&summary(offset, &decoder.counters(), args.json))?;
+    if let Some(p) = &plot {
+        eprintln!("{}", p.report());
+    }
     out.flush()
 }
 
