@@ -203,7 +203,8 @@ local function message(ft, wire, tree, pinfo)
   return name
 end
 
-function aeolus.dissector(tvb, pinfo, tree)
+-- Dissects every frame between flags in `tvb`; returns the offset of the last flag (nil: none).
+local function frames(tvb, pinfo, tree)
   local n = tvb:len()
   pinfo.cols.protocol = "AEOLUS"
   local names = {}
@@ -250,7 +251,44 @@ function aeolus.dissector(tvb, pinfo, tree)
     end
   end
   pinfo.cols.info = table.concat(names, ", ")
-  return n
+  return open
+end
+
+function aeolus.dissector(tvb, pinfo, tree)
+  frames(tvb, pinfo, tree)
+  return tvb:len()
+end
+
+-- A byte stream (link type USER0): a frame may span chunks. The bytes after a chunk's last flag
+-- are carried into the next chunk of the same interface, so a frame is dissected in the packet
+-- that closes it (as `protolink decode` reports it).
+local aeolus_stream = Proto("aeolus_stream", "AEOLUS byte stream")
+local interface_id = Field.new("frame.interface_id")
+local CARRY_MAX = 2 * 8200
+local carry = {}
+local carry_in = {}
+function aeolus_stream.dissector(tvb, pinfo, tree)
+  local iface = 0
+  local f = interface_id()
+  if f then iface = f.value end
+  if not pinfo.visited then carry_in[pinfo.number] = carry[iface] or "" end
+  local prefix = carry_in[pinfo.number] or ""
+  local t = tvb
+  if #prefix > 0 then
+    t = (ByteArray.new(prefix) .. tvb:bytes()):tvb("AEOLUS stream (this chunk after the previous one's open frame)")
+  end
+  local last = frames(t, pinfo, tree)
+  if not pinfo.visited then
+    local tail = ""
+    if last then
+      tail = t:bytes():subset(last, t:len() - last):tohex()
+    elseif #prefix > 0 then
+      tail = t:bytes():tohex()
+    end
+    if #tail > CARRY_MAX then tail = "" end
+    carry[iface] = tail
+  end
+  return tvb:len()
 end
 
 local udp = DissectorTable.get("udp.port")
@@ -258,4 +296,4 @@ udp:add(5001, aeolus)
 udp:add(5002, aeolus)
 local encap = DissectorTable.get("wtap_encap")
 -- USER0 is wtap encapsulation 45 (WTAP_ENCAP_USER0) in Wireshark.
-encap:add((wtap_encaps and wtap_encaps.USER0) or 45, aeolus)
+encap:add((wtap_encaps and wtap_encaps.USER0) or 45, aeolus_stream)
