@@ -609,8 +609,9 @@ fn parse_ipv4(ip: &[u8]) -> Option<Payload> {
     let (src_port, dst_port) = (port(0)?, port(2)?);
     let (transport, bytes) = match proto {
         17 => {
-            let len = usize::from(port(4)?);
-            (Transport::Udp, body.get(8..len.clamp(8, body.len()))?)
+            // The UDP length, never past the captured bytes (a cut packet keeps what it has).
+            let end = usize::from(port(4)?).min(body.len()).max(8);
+            (Transport::Udp, body.get(8..end)?)
         }
         6 => {
             let off = usize::from(*body.get(12)? >> 4) * 4;

@@ -526,3 +526,82 @@ fn decode_udp_json_streams_flat_objects_with_the_capture_time() {
     assert!(err.contains("nowhere"), "{err}");
     let _ = std::fs::remove_file(path);
 }
+
+/// Every record of a capture (or the error that stopped the reading), read in-process.
+fn read_all_records(path: &std::path::Path) -> Result<usize, String> {
+    let mut r = protolink::capture::CaptureReader::open(path).map_err(|e| e.to_string())?;
+    let mut n = 0;
+    while r.next_record().map_err(|e| e.to_string())?.is_some() {
+        n += 1;
+    }
+    Ok(n)
+}
+
+#[test]
+fn damaged_captures_end_in_one_sentence_never_a_panic() {
+    // A real capture: UDP datagrams, then cut, flipped and overwritten in seeded places.
+    let port = free_udp_port();
+    let cap = temp("good.pcapng");
+    let from = format!("udp:{port}");
+    let rec = spawn(&[
+        "record",
+        "--from",
+        &from,
+        "--out",
+        cap.to_str().unwrap(),
+        "--seconds",
+        "1",
+    ]);
+    std::thread::sleep(Duration::from_millis(300));
+    let tx = UdpSocket::bind("127.0.0.1:0").unwrap();
+    for i in 0..20u8 {
+        let mut d = GOOD.to_vec();
+        d.extend(std::iter::repeat_n(i, usize::from(i)));
+        tx.send_to(&d, ("127.0.0.1", port)).unwrap();
+    }
+    ok(&finish(rec));
+    let good = std::fs::read(&cap).unwrap();
+    assert_eq!(read_all_records(&cap), Ok(20));
+
+    let bad = temp("bad.pcapng");
+    let noise = random_bytes(12, 4096);
+    let mut tried = 0;
+    for i in 0..600usize {
+        let mut b = good.clone();
+        match i % 3 {
+            0 => b.truncate(i * 7 % good.len()),
+            1 => {
+                let at = (i * 131) % b.len();
+                b[at] ^= noise[i % noise.len()] | 1;
+            }
+            _ => {
+                let at = (i * 53) % b.len();
+                let end = (at + 8).min(b.len());
+                b[at..end].copy_from_slice(&noise[i..i + (end - at)]);
+            }
+        }
+        std::fs::write(&bad, &b).unwrap();
+        let result = std::panic::catch_unwind(|| read_all_records(&bad));
+        let outcome = result.unwrap_or_else(|_| panic!("reading mutation {i} panicked"));
+        if let Err(e) = outcome {
+            assert!(!e.is_empty() && !e.contains('\n'), "mutation {i}: {e:?}");
+        }
+        tried += 1;
+    }
+    assert_eq!(tried, 600);
+    // And through the binary: exit 0 or 1, one sentence, no panic.
+    let mut b = good.clone();
+    b.truncate(good.len() - 5);
+    std::fs::write(&bad, &b).unwrap();
+    let o = run(&[
+        "decode",
+        "--from",
+        bad.to_str().unwrap(),
+        "--proto",
+        "aeolus",
+    ]);
+    let err = failed(&o);
+    assert!(err.contains("reading the capture"), "{err}");
+    let _ = std::fs::remove_file(cap);
+    let _ = std::fs::remove_file(bad);
+}
