@@ -1,7 +1,7 @@
 //! A capture of the firmware in QEMU: `protolink bridge` carries UART0 to UDP, `protolink
 //! record` writes it to pcapng, tshark with the generated dissector prints every field equal to
 //! `protolink decode --json`, frame by frame; `replay` of the capture into a live `decode`
-//! gives the same messages (the same flight). Skipped without QEMU; without tshark only
+//! gives the same messages, and into `watch` the same flight with the box's intervals. Skipped without QEMU; without tshark only
 //! outside CI (`CI=true` makes a missing tshark a failure).
 
 mod harness;
@@ -11,7 +11,7 @@ use protolink_tests::tshark::{compare, tshark};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
-/// This test's own port range (UARTs, then UDP at +5..+7); clear of the harness's constants.
+/// This test's own port range (UARTs, then UDP at +5..+8); clear of the harness's constants.
 const PORTS: Ports = Ports(17_480);
 
 fn spawn(args: &[&str]) -> Child {
@@ -126,6 +126,42 @@ fn a_capture_of_the_firmware_dissects_in_tshark_as_decode_reads_it_and_replays()
         replayed == recorded,
         "replayed messages differ from the capture's"
     );
+
+    // And into `watch` at the recorded speed: the same message counts as the capture, and the
+    // intervals on the host's clock those on the box's (the timing is kept).
+    let watch_port = PORTS.uart(0) + 8;
+    let view = std::env::temp_dir().join(format!("protolink-qemu-{}.txt", std::process::id()));
+    let mut watch = Command::new(protolink())
+        .args(["watch", "--plain", "--seconds", "5", "--from"])
+        .arg(format!("udp:{watch_port}"))
+        .stdout(std::fs::File::create(&view).expect("view file"))
+        .spawn()
+        .expect("watch");
+    std::thread::sleep(Duration::from_millis(300));
+    finish(spawn(&[
+        "replay",
+        cap.to_str().unwrap(),
+        "--to",
+        &format!("udp:127.0.0.1:{watch_port}"),
+    ]));
+    assert!(watch.wait().expect("watch").success());
+    let text = std::fs::read_to_string(&view).expect("the view");
+    let last = &text[text.rfind("protolink watch").expect("a view")..];
+    for name in ["GYRO", "ATTITUDE", "PRESSURE", "GPS"] {
+        let line = last
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("no {name} in the view:\n{last}"));
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let count: usize = w[2].parse().expect("a count");
+        let (box_ms, host_ms): (f64, f64) = (w[3].parse().unwrap(), w[5].parse().unwrap());
+        let quoted = format!("\"{name}\"");
+        let recorded_count = recorded.iter().filter(|(n, _)| *n == quoted).count();
+        assert_eq!(count, recorded_count, "{name}: {line}");
+        assert!((host_ms - box_ms).abs() <= 0.1 * box_ms, "{name}: {line}");
+    }
+    println!("watch after replay:\n{last}");
+    let _ = std::fs::remove_file(view);
     let _ = std::fs::remove_file(cap);
     let _ = std::fs::remove_file(out);
 }
