@@ -5,6 +5,7 @@
 #                               thumbv6m target, and the libraries' MSRV toolchain (1.87)
 #   scripts/setup.sh qemu       + qemu-system-arm (Debian package)
 #   scripts/setup.sh defmt-print + defmt-print (decodes the firmware's defmt log)
+#   scripts/setup.sh tshark     + tshark (Debian package; the dissector test runs it on captures)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,11 +27,14 @@ for want in "$@"; do
   case "$want" in
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
     defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
+    tshark) command -v tshark >/dev/null || need_apt+=(tshark) ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done
 if [ ${#need_apt[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
   $SUDO apt-get update -qq
+  # tshark's package asks whether non-root users may capture: answer no, never prompt.
+  echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections 2>/dev/null || true
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
 fi

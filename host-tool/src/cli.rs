@@ -9,8 +9,11 @@ use crate::bridge::BridgeArgs;
 use crate::decode::DecodeArgs;
 use crate::error::Result;
 use crate::gdl90_cmd::Gdl90Args;
+use crate::record::RecordArgs;
+use crate::replay::ReplayArgs;
 use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
+use crate::wireshark::WiresharkArgs;
 
 const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
   serial:/dev/ttyUSB0@921600   a serial port at that baud rate (115200 if @BAUD is left out)
@@ -75,6 +78,22 @@ pub enum Command {
   protolink watch --from tcp:127.0.0.1:7000
   protolink watch --from udp:5001 --seconds 10")]
     Watch(WatchArgs),
+    /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.
+    #[command(after_help = "Examples:
+  protolink record --from udp:5001 --out flight.pcapng --seconds 60
+  protolink record --from tcp:127.0.0.1:7000 --proto aeolus --out uart.pcapng
+  protolink record --from tcp:127.0.0.1:7002 --proto aok --side device --out aok.pcapng")]
+    Record(RecordArgs),
+    /// Send a capture's payloads to an endpoint with their original timing (or faster).
+    #[command(after_help = "Examples:
+  protolink replay flight.pcapng --to udp:127.0.0.1:5001
+  protolink replay flight.pcapng --to udp:127.0.0.1:5001 --speed 4 --loop --seconds 60")]
+    Replay(ReplayArgs),
+    /// Print the Wireshark Lua dissector for AEOLUS, generated from the protocol crates' layouts.
+    #[command(after_help = "Examples:
+  protolink wireshark    (save it as ~/.local/lib/wireshark/plugins/protolink.lua)
+  tshark -X lua_script:tools/wireshark/protolink.lua -r capture.pcapng")]
+    Wireshark(WiresharkArgs),
 }
 
 impl Cli {
@@ -92,6 +111,9 @@ impl Cli {
             Command::Sim(a) => crate::sim::run(a),
             Command::Watch(a) => crate::watch::run(a),
             Command::Gdl90(a) => crate::gdl90_cmd::run(a),
+            Command::Record(a) => crate::record::run(a),
+            Command::Replay(a) => crate::replay::run(a),
+            Command::Wireshark(a) => crate::wireshark::run(a),
         }
     }
 }

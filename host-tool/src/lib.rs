@@ -14,6 +14,8 @@
 //! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
 //! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
 //! | [`gdl90_cmd`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
+//! | [`capture`], [`record`], [`replay`] | pcapng/pcap captures: `record`, `replay`, `decode` of a capture |
+//! | [`wireshark`] | `wireshark`: the Lua dissector generated from the layout tables |
 //! | [`watch`] | `watch`: the live telemetry view |
 //! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
 //! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
@@ -39,6 +41,7 @@ pub mod aok_cmd;
 pub mod args;
 pub mod aydp_cmd;
 pub mod bridge;
+pub mod capture;
 pub mod cli;
 pub mod decode;
 pub mod endpoint;
@@ -46,10 +49,13 @@ pub mod error;
 pub mod gdl90_cmd;
 pub mod nb_serial;
 pub mod progress;
+pub mod record;
 pub mod render;
+pub mod replay;
 pub mod sim;
 pub mod stop;
 pub mod value_type;
 pub mod watch;
+pub mod wireshark;
 
 pub use error::{Error, Result};

@@ -9,3 +9,4 @@ pub mod protocols;
 pub mod resync;
 pub mod rng;
 pub mod score;
+pub mod tshark;

@@ -131,10 +131,30 @@ fn every_help_example_runs_against_the_firmware() {
                 *a = capture(&proto);
             }
         }
+        // The capture examples' files live in the temp directory; a replay gets one recorded
+        // from the sample UART capture first.
+        for a in w.iter_mut() {
+            if a.ends_with(".pcapng") {
+                *a = std::env::temp_dir()
+                    .join(format!("protolink-help-{}-{a}", std::process::id()))
+                    .display()
+                    .to_string();
+            }
+        }
+        if w.first().is_some_and(|s| s == "replay") && !std::path::Path::new(&w[1]).exists() {
+            let rec = run(&[
+                "record".into(),
+                "--from".into(),
+                capture("aeolus"),
+                "--out".into(),
+                w[1].clone(),
+            ]);
+            assert!(rec.status.success(), "recording {} for `{line}`", w[1]);
+        }
         let sub = w.first().cloned().unwrap_or_default();
         let runs_on = matches!(
             sub.as_str(),
-            "decode" | "watch" | "bridge" | "sim" | "gdl90"
+            "decode" | "watch" | "bridge" | "sim" | "gdl90" | "record" | "replay"
         );
         match w.iter().position(|a| a == "--seconds") {
             Some(i) => w[i + 1] = "1".into(),

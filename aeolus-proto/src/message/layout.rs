@@ -26,6 +26,10 @@ macro_rules! fixed_message {
             pub const ID: u8 = $id;
             /// The data length in bytes (after the ID, before the CRC).
             pub const LEN: usize = $len;
+            /// The layout as declared: `(field, type, data offset)` per field, for tools that
+            /// describe the wire format (the Wireshark dissector `protolink wireshark` writes).
+            pub const FIELDS: &'static [(&'static str, &'static str, usize)] =
+                &[ $( (stringify!($field), stringify!($ty), $off), )* ];
             // Every field must fit inside the data: checked at compile time.
             #[allow(clippy::int_plus_one)]
             const _FITS: () = { $( assert!($off + <$ty as Field>::SIZE <= $len); )* };

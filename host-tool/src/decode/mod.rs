@@ -16,7 +16,9 @@ use serde_json::{Map, Value, json};
 mod aeolus;
 mod aok;
 mod aydp;
+pub mod capture;
 mod gdl90;
+pub mod plot;
 
 pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
 pub use aok::{
@@ -75,21 +77,24 @@ pub enum Side {
 /// Arguments of `protolink decode`.
 #[derive(Debug, Clone, Args)]
 pub struct DecodeArgs {
-    /// The protocol of the stream.
+    /// The protocol of the stream (a capture: found by port or link type; --proto picks one).
     #[arg(long, value_enum)]
-    pub proto: Proto,
+    pub proto: Option<Proto>,
     /// AYDP profile.
     #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
     pub profile: ProfileArg,
     /// AOK: who sent the bytes (pc: commands; device: debug values, acks, replies).
     #[arg(long, value_enum, default_value_t = Side::Device)]
     pub side: Side,
-    /// Where the bytes come from (serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH, -).
+    /// Where the bytes come from (serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, file:PATH, -); a pcapng or pcap file is read as a capture.
     #[arg(long, value_name = "ENDPOINT")]
     pub from: Endpoint,
     /// One JSON object per line instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Also send one flat JSON object per message (timestamp, numeric fields) to this UDP address, as PlotJuggler's UDP server reads them.
+    #[arg(long, value_name = "ADDR:PORT", value_parser = crate::endpoint::parse_local_addr)]
+    pub udp_json: Option<std::net::SocketAddr>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the input, or on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<std::time::Duration>,
@@ -236,13 +241,28 @@ pub fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
 /// # Errors
 /// Opening or reading the endpoint, or writing the output.
 pub fn run(args: &DecodeArgs) -> Result<()> {
-    let mut link = args.from.open()?;
-    let mut decoder = decoder_for(args.proto, args.profile, args.side);
     // Ctrl-C ends the input: the counters are still printed.
     crate::stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
+    if let Endpoint::File(path) = &args.from
+        && crate::capture::file_is_capture(path)
+    {
+        return capture::run(path, args, deadline);
+    }
+    let Some(proto) = args.proto else {
+        return Err(crate::Error::Usage(format!(
+            "--proto is needed for {}: only a pcapng or pcap capture names its protocols",
+            args.from
+        )));
+    };
+    let mut link = args.from.open()?;
+    let mut decoder = decoder_for(proto, args.profile, args.side);
     let mut out = Out::new();
+    let mut plot = args.udp_json.map(plot::PlotSender::new).transpose()?;
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
+        if let Some(p) = plot.as_mut() {
+            p.send(events, plot::now());
+        }
         for e in events {
             let line = if args.json {
                 e.to_json().to_string()
@@ -254,6 +274,9 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
         out.flush()
     })?;
     out.line(&summary(offset, &decoder.counters(), args.json))?;
+    if let Some(p) = &plot {
+        eprintln!("{}", p.report());
+    }
     out.flush()
 }
 

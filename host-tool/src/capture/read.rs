@@ -1,0 +1,299 @@
+//! Reading pcapng and classic pcap, told apart by the magic number, one record at a time, and
+//! finding the UDP or TCP payload (or a stream chunk) in each.
+
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::net::{Ipv4Addr, SocketAddrV4};
+use std::path::Path;
+use std::time::Duration;
+
+use pcap_file::pcap::PcapReader;
+use pcap_file::pcapng::PcapNgReader;
+use pcap_file::pcapng::blocks::Block;
+use pcap_file::pcapng::blocks::interface_description::InterfaceDescriptionOption;
+
+use super::{Payload, Record, StreamKind, Transport, pcap_err};
+use crate::error::{Error, Result};
+
+/// Whether the first bytes of a file are a pcapng or classic pcap magic number.
+///
+/// ```
+/// use protolink::capture::is_capture;
+/// assert!(is_capture(&[0x0A, 0x0D, 0x0D, 0x0A]));
+/// assert!(is_capture(&[0xD4, 0xC3, 0xB2, 0xA1]));
+/// assert!(!is_capture(&[0x7E, 0x52, 0x68, 0x69]));
+/// ```
+pub fn is_capture(head: &[u8]) -> bool {
+    magic(head).is_some()
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Format {
+    PcapNg,
+    Pcap,
+}
+
+fn magic(head: &[u8]) -> Option<Format> {
+    match head.get(..4)? {
+        [0x0A, 0x0D, 0x0D, 0x0A] => Some(Format::PcapNg),
+        [0xD4, 0xC3, 0xB2, 0xA1]
+        | [0xA1, 0xB2, 0xC3, 0xD4]
+        | [0x4D, 0x3C, 0xB2, 0xA1]
+        | [0xA1, 0xB2, 0x3C, 0x4D] => Some(Format::Pcap),
+        _ => None,
+    }
+}
+
+/// Whether the file at `path` is a capture (by its magic number, never its name).
+pub fn file_is_capture(path: &Path) -> bool {
+    let mut head = [0u8; 4];
+    File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok()
+        && is_capture(&head)
+}
+
+enum Inner {
+    PcapNg {
+        reader: PcapNgReader<BufReader<File>>,
+        /// Per interface: link type and the factor from the stored units to nanoseconds.
+        interfaces: Vec<(u32, TsUnit)>,
+    },
+    Pcap {
+        reader: PcapReader<BufReader<File>>,
+        link: u32,
+    },
+}
+
+#[derive(Debug, Clone, Copy)]
+enum TsUnit {
+    /// 10^-n seconds.
+    Decimal(u8),
+    /// 2^-n seconds.
+    Binary(u8),
+}
+
+impl TsUnit {
+    fn from_option(v: Option<u8>) -> Self {
+        match v {
+            None => TsUnit::Decimal(6),
+            Some(b) if b & 0x80 != 0 => TsUnit::Binary(b & 0x7F),
+            Some(b) => TsUnit::Decimal(b),
+        }
+    }
+
+    /// `raw` stored units (pcap-file 2 hands them over as "nanoseconds") as a duration.
+    fn to_duration(self, raw: u128) -> Duration {
+        let raw = raw.min(u128::from(u64::MAX)) as u64;
+        match self {
+            TsUnit::Decimal(n) if n <= 9 => {
+                Duration::from_nanos(raw.saturating_mul(10u64.pow(9 - u32::from(n))))
+            }
+            TsUnit::Decimal(n) => {
+                let div = 10u128.saturating_pow(u32::from(n) - 9);
+                Duration::from_nanos((u128::from(raw) / div) as u64)
+            }
+            TsUnit::Binary(n) => {
+                let secs = raw as f64 / 2f64.powi(i32::from(n));
+                Duration::try_from_secs_f64(secs).unwrap_or(Duration::ZERO)
+            }
+        }
+    }
+}
+
+/// A capture being read, record by record (bounded memory: one record at a time).
+pub struct CaptureReader {
+    inner: Inner,
+    frame: u64,
+    path: String,
+}
+
+impl std::fmt::Debug for CaptureReader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CaptureReader")
+            .field("path", &self.path)
+            .finish()
+    }
+}
+
+impl CaptureReader {
+    /// Opens a pcapng or classic pcap file, told apart by its magic number.
+    ///
+    /// # Errors
+    /// Opening the file, or a file that is neither format.
+    pub fn open(path: &Path) -> Result<Self> {
+        let shown = path.display().to_string();
+        let open_err = |source| Error::Open {
+            endpoint: shown.clone(),
+            source,
+        };
+        let mut file = File::open(path).map_err(open_err)?;
+        let mut head = [0u8; 4];
+        let n = file.read(&mut head).map_err(open_err)?;
+        file.seek(SeekFrom::Start(0)).map_err(open_err)?;
+        let what = format!("reading the capture {shown}");
+        let inner = match magic(&head[..n]) {
+            Some(Format::PcapNg) => Inner::PcapNg {
+                reader: PcapNgReader::new(BufReader::new(file)).map_err(pcap_err(what))?,
+                interfaces: Vec::new(),
+            },
+            Some(Format::Pcap) => {
+                let reader = PcapReader::new(BufReader::new(file)).map_err(pcap_err(what))?;
+                let link = u32::from(reader.header().datalink);
+                Inner::Pcap { reader, link }
+            }
+            None => {
+                return Err(Error::Unsupported(format!(
+                    "{shown} is neither a pcapng nor a pcap capture (its first bytes are no capture magic number)"
+                )));
+            }
+        };
+        Ok(CaptureReader {
+            inner,
+            frame: 0,
+            path: shown,
+        })
+    }
+
+    /// The next packet record, or `None` at the end of the file.
+    ///
+    /// # Errors
+    /// A damaged or cut file.
+    pub fn next_record(&mut self) -> Result<Option<Record>> {
+        let what = format!(
+            "reading the capture {} after frame {}",
+            self.path, self.frame
+        );
+        loop {
+            let (time, link, interface, data) = match &mut self.inner {
+                Inner::Pcap { reader, link } => match reader.next_packet() {
+                    None => return Ok(None),
+                    Some(Err(e)) => return Err(pcap_err(what)(e)),
+                    Some(Ok(p)) => (p.timestamp, *link, 0, p.data.into_owned()),
+                },
+                Inner::PcapNg { reader, interfaces } => match reader.next_block() {
+                    None => return Ok(None),
+                    Some(Err(e)) => return Err(pcap_err(what)(e)),
+                    Some(Ok(Block::SectionHeader(_))) => {
+                        interfaces.clear();
+                        continue;
+                    }
+                    Some(Ok(Block::InterfaceDescription(idb))) => {
+                        let tsresol = idb.options.iter().find_map(|o| match o {
+                            InterfaceDescriptionOption::IfTsResol(r) => Some(*r),
+                            _ => None,
+                        });
+                        interfaces.push((u32::from(idb.linktype), TsUnit::from_option(tsresol)));
+                        continue;
+                    }
+                    Some(Ok(Block::EnhancedPacket(epb))) => {
+                        let Some(&(link, unit)) = interfaces.get(epb.interface_id as usize) else {
+                            return Err(Error::Unsupported(format!(
+                                "{what} failed: a packet names interface {} which the file never describes",
+                                epb.interface_id
+                            )));
+                        };
+                        (
+                            unit.to_duration(epb.timestamp.as_nanos()),
+                            link,
+                            epb.interface_id,
+                            epb.data.into_owned(),
+                        )
+                    }
+                    Some(Ok(Block::SimplePacket(spb))) => {
+                        let link = interfaces.first().map_or(1, |i| i.0);
+                        (Duration::ZERO, link, 0, spb.data.into_owned())
+                    }
+                    Some(Ok(_)) => continue,
+                },
+            };
+            self.frame += 1;
+            let payload = parse_payload(link, interface, &data);
+            return Ok(Some(Record {
+                frame: self.frame,
+                time,
+                payload,
+            }));
+        }
+    }
+}
+
+/// Finds the UDP or TCP payload (or our stream chunk) in a packet of link type `link`.
+///
+/// ```
+/// use protolink::capture::{ethernet_udp, parse_payload, Payload, Transport};
+/// let src = "127.0.0.1:40000".parse().unwrap();
+/// let dst = "127.0.0.1:5001".parse().unwrap();
+/// let p = parse_payload(1, 0, &ethernet_udp(src, dst, b"hi"));
+/// assert_eq!(p, Payload::Ip { transport: Transport::Udp, src, dst, bytes: b"hi".to_vec() });
+/// ```
+pub fn parse_payload(link: u32, interface: u32, data: &[u8]) -> Payload {
+    if let Some(kind) = StreamKind::from_link_type(link) {
+        return Payload::Stream {
+            interface,
+            kind,
+            bytes: data.to_vec(),
+        };
+    }
+    let ip = match link {
+        // Ethernet, with one optional 802.1Q tag.
+        1 => match data.get(12..14) {
+            Some([0x08, 0x00]) => data.get(14..),
+            Some([0x81, 0x00]) if data.get(16..18) == Some(&[0x08, 0x00]) => data.get(18..),
+            _ => None,
+        },
+        // BSD loopback: a 4-byte address family (2 = IPv4) in either byte order.
+        0 | 108 => match data.get(..4) {
+            Some([2, 0, 0, 0] | [0, 0, 0, 2]) => data.get(4..),
+            _ => None,
+        },
+        // Raw IP, IPv4.
+        12 | 14 | 101 | 228 => Some(data),
+        // Linux cooked capture.
+        113 => match data.get(14..16) {
+            Some([0x08, 0x00]) => data.get(16..),
+            _ => None,
+        },
+        _ => None,
+    };
+    ip.and_then(parse_ipv4).unwrap_or(Payload::Other)
+}
+
+fn parse_ipv4(ip: &[u8]) -> Option<Payload> {
+    let first = *ip.first()?;
+    if first >> 4 != 4 {
+        return None;
+    }
+    let ihl = usize::from(first & 0x0F) * 4;
+    let total = usize::from(u16::from_be_bytes([*ip.get(2)?, *ip.get(3)?]));
+    // Fragments other than a whole datagram are not reassembled.
+    let frag = u16::from_be_bytes([*ip.get(6)?, *ip.get(7)?]);
+    if frag & 0x3FFF != 0 {
+        return None;
+    }
+    let proto = *ip.get(9)?;
+    let a = ip.get(12..20)?;
+    let src_ip = Ipv4Addr::new(a[0], a[1], a[2], a[3]);
+    let dst_ip = Ipv4Addr::new(a[4], a[5], a[6], a[7]);
+    let body = ip.get(ihl..total.max(ihl).min(ip.len()))?;
+    let port = |at: usize| Some(u16::from_be_bytes([*body.get(at)?, *body.get(at + 1)?]));
+    let (src_port, dst_port) = (port(0)?, port(2)?);
+    let (transport, bytes) = match proto {
+        17 => {
+            // The UDP length, never past the captured bytes (a cut packet keeps what it has).
+            let end = usize::from(port(4)?).min(body.len()).max(8);
+            (Transport::Udp, body.get(8..end)?)
+        }
+        6 => {
+            let off = usize::from(*body.get(12)? >> 4) * 4;
+            (Transport::Tcp, body.get(off..)?)
+        }
+        _ => return None,
+    };
+    Some(Payload::Ip {
+        transport,
+        src: SocketAddrV4::new(src_ip, src_port),
+        dst: SocketAddrV4::new(dst_ip, dst_port),
+        bytes: bytes.to_vec(),
+    })
+}
