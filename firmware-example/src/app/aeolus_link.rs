@@ -22,7 +22,9 @@
 //!
 //! A frame that does not fit in the queue is dropped whole (counted in
 //! [`LinkCounters::tx_dropped`]), never cut; telemetry leaves [`TX_RESERVE`] bytes free so
-//! that answers (TOASTs) still fit when the UART cannot keep up.
+//! that answers (TOASTs) still fit when the UART cannot keep up, and RX reads a byte only
+//! while one longest answer still fits, so a burst of COMMANDs is answered in full however
+//! slowly the other side reads (the bytes wait in the port instead).
 //!
 //! [`Requests::reboot`]: super::state::Requests::reboot
 //!
@@ -277,6 +279,12 @@ impl AeolusLink {
 
     fn receive<P: Read<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
         for _ in 0..RX_BUDGET {
+            // A byte is read only while the longest answer it could complete still fits: when
+            // the host reads slowly and TX backs up, received bytes wait in the port (and the
+            // UART) instead of their answers being dropped.
+            if TX_QUEUE - self.tx.len() < FRAME_BUF {
+                break;
+            }
             match port.read() {
                 Ok(byte) => {
                     let incoming = self.deframe(byte);
