@@ -233,6 +233,7 @@ end
     }
     let _ = writeln!(w, " }}");
     w.push_str(DISSECT);
+    crate::wireshark_aydp::lua(w);
     Ok(s)
 }
 

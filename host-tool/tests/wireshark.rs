@@ -206,3 +206,169 @@ fn tshark_joins_frames_split_across_uart_chunks_as_decode_does() {
     assert_eq!(messages, 1614);
     let _ = std::fs::remove_file(cap);
 }
+
+/// An AYDP message on the wire (Y1-Y4): normal with time `(5, 250)`, or expedited.
+fn aydp(t: u8, data: &[u8], spec: bool, expedited: bool) -> Vec<u8> {
+    let header = if expedited { 6 } else { 22 };
+    let len = if spec {
+        data.len() + header + 1
+    } else {
+        data.len()
+    };
+    let mut f = vec![0xFF, t | if expedited { 0x80 } else { 0 }];
+    f.extend((len as u32).to_le_bytes());
+    if !expedited {
+        f.extend(5i64.to_le_bytes());
+        f.extend(250i64.to_le_bytes());
+    }
+    f.extend(data);
+    f.push(f.iter().fold(0, |a, b| a ^ b));
+    f
+}
+
+fn half(v: f32) -> [u8; 2] {
+    // Exact binary16 of the small values used here.
+    let bits = v.to_bits();
+    let exp = ((bits >> 23) & 0xFF) as i32 - 127 + 15;
+    let mant = (bits >> 13) & 0x3FF;
+    (((exp as u32) << 10 | mant) as u16).to_le_bytes()
+}
+
+/// Every AYDP message `aydp-proto` types, raw ones, a malformed one, a bad checksum and a good
+/// message behind a false start, in one profile's byte stream.
+fn aydp_stream(spec: bool) -> Vec<u8> {
+    let f = |t, d: &[u8]| aydp(t, d, spec, false);
+    let mut s = aydp(0, &[], spec, true);
+    s.extend(f(0, &[]));
+    let mut pos = 48.5f64.to_le_bytes().to_vec();
+    pos.extend(11.25f64.to_le_bytes());
+    pos.extend(512.5f32.to_le_bytes());
+    s.extend(f(3, &pos));
+    let mut q = vec![3];
+    for v in [1.25, 0.875, 1.5] {
+        q.extend(half(v));
+    }
+    q.push(9);
+    s.extend(f(4, &q));
+    let mut sats = vec![2];
+    for (id, a, e, n) in [(7, 10.0, 20.0, 30.0), (8, 40.0, 50.0, 60.0)] {
+        sats.push(id);
+        for v in [a, e, n] {
+            sats.extend(half(v));
+        }
+    }
+    s.extend(f(5, &sats));
+    s.extend(f(5, &[0]));
+    let mut out = 2u16.to_le_bytes().to_vec();
+    for (d, c, v) in [(1, 2, 0.5f32), (3, 4, -1.5)] {
+        out.extend([d, c]);
+        out.extend(v.to_le_bytes());
+    }
+    s.extend(f(7, &out));
+    s.extend(f(8, &[1, 0, 0, 0, 0, 0, 0, 1]));
+    s.extend(f(8, &[2, 5, 0, 2, 0, 0, 0, 1, 2, 3, 4]));
+    s.extend(f(8, &[3, 6, 0, 1, 0, 0, 0, 9]));
+    s.extend(aydp(9, &[1, 8, 0], spec, true));
+    s.extend(aydp(9, &[2], spec, true));
+    s.extend(f(1, &12.5f32.to_le_bytes()));
+    s.extend(f(2, &270.0f32.to_le_bytes()));
+    let mut vessel = Vec::new();
+    for v in [1.0f32, -2.0, 3.0, 4.0, 5.0, 6.0] {
+        vessel.extend(v.to_le_bytes());
+    }
+    vessel.extend(48.1f64.to_le_bytes());
+    vessel.extend(11.2f64.to_le_bytes());
+    vessel.extend(90.0f32.to_le_bytes());
+    vessel.extend(5.5f32.to_le_bytes());
+    vessel.extend(3i32.to_le_bytes());
+    vessel.extend(11i32.to_le_bytes());
+    for v in [1.1f32, 1.2, 1.3] {
+        vessel.extend(v.to_le_bytes());
+    }
+    s.extend(f(17, &vessel));
+    s.extend(f(6, &[1, 2]));
+    s.extend(f(100, &[0xAA, 0xBB]));
+    s.extend(f(50, &[0xCC]));
+    // Malformed: a uflt16 with its sign bit set.
+    s.extend(f(4, &[3, 0, 0x80, 0, 0, 0, 0, 1]));
+    // A bad checksum, after noise and a run of 0xFF.
+    let mut bad = f(3, &pos);
+    *bad.last_mut().unwrap() ^= 0x55;
+    s.extend(b"\x00\x12noise\xff");
+    s.extend(bad);
+    // A false start (its length field is absurd) in front of a good message.
+    s.extend([0xFF, 0x05]);
+    s.extend(aydp(9, &[2], spec, true));
+    s.extend(f(3, &pos));
+    s
+}
+
+fn stream_capture(tag: &str, link: u32, bytes: &[u8], chunk: usize) -> PathBuf {
+    let cap = temp(tag);
+    let mut w = CaptureWriter::create(&cap, link, tag).unwrap();
+    let t0 = Duration::from_secs(1_700_000_000);
+    for (i, c) in bytes.chunks(chunk).enumerate() {
+        w.chunk(t0 + Duration::from_millis(i as u64), c).unwrap();
+    }
+    w.flush().unwrap();
+    cap
+}
+
+fn check_aydp(cap: &Path) -> protolink_tests::tshark::Compared {
+    let tshark = tshark().expect("checked by the caller");
+    protolink_tests::tshark::compare_aydp(
+        tshark,
+        Path::new(env!("CARGO_BIN_EXE_protolink")),
+        &dissector(),
+        cap,
+    )
+}
+
+#[test]
+fn tshark_dissects_aydp_streams_of_both_profiles_as_decode_does() {
+    if tshark().is_none() {
+        return;
+    }
+    for (spec, link) in [(true, 148), (false, 149)] {
+        let bytes = aydp_stream(spec);
+        // Whole, and cut into 37-byte chunks (messages span packets).
+        for chunk in [bytes.len(), 37] {
+            let cap = stream_capture(&format!("aydp-{link}-{chunk}.pcapng"), link, &bytes, chunk);
+            let c = check_aydp(&cap);
+            println!("AYDP link type {link}, {chunk}-byte chunks: {c:?}");
+            assert_eq!(c.messages, 23, "{c:?}");
+            assert_eq!(c.checksum_errors, 1);
+            // The malformed fix quality and the false start's bad length.
+            assert_eq!(c.other_errors, 2);
+            assert_eq!(c.fields, if spec { 168 } else { 179 });
+            let _ = std::fs::remove_file(cap);
+        }
+    }
+}
+
+#[test]
+fn tshark_dissects_a_recorded_aydp_uart_as_decode_does() {
+    if tshark().is_none() {
+        return;
+    }
+    let cap = temp("aydp-uart1.pcapng");
+    let from = format!(
+        "file:{}",
+        root().join("testdata/qemu-uart1-aydp.bin").display()
+    );
+    ok(&run(&[
+        "record",
+        "--from",
+        &from,
+        "--proto",
+        "aydp",
+        "--profile",
+        "spec",
+        "--out",
+        cap.to_str().unwrap(),
+    ]));
+    let c = check_aydp(&cap);
+    println!("AYDP UART capture: {c:?}");
+    assert_eq!(c.messages, 15, "{c:?}");
+    let _ = std::fs::remove_file(cap);
+}

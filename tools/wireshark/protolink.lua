@@ -297,3 +297,349 @@ udp:add(5002, aeolus)
 local encap = DissectorTable.get("wtap_encap")
 -- USER0 is wtap encapsulation 45 (WTAP_ENCAP_USER0) in Wireshark.
 encap:add((wtap_encaps and wtap_encaps.USER0) or 45, aeolus_stream)
+
+-- AYDP ---------------------------------------------------------------------------------------
+-- From aydp_proto::layout. Profiles (DECISIONS Y1, Y2): spec (USER1, 148): the length counts
+-- the whole message, sub-seconds in ms; reference (USER2, 149, and TCP/UDP 6321 as in the AYDP
+-- reference software): the length counts data only, sub-seconds in µs.
+local aydp = Proto("aydp", "AYDP yacht protocol")
+local FY = {}
+FY.status = ProtoField.string("aydp.status", "Status")
+FY.error = ProtoField.string("aydp.error", "Error")
+FY.profile = ProtoField.string("aydp.profile", "Profile")
+FY.name = ProtoField.string("aydp.name", "Message")
+FY.start = ProtoField.uint8("aydp.start", "Start", base.HEX)
+FY.type_byte = ProtoField.uint8("aydp.type_byte", "Type byte", base.HEX)
+FY.type = ProtoField.uint8("aydp.type", "Type", base.DEC, nil, 0x7F)
+FY.expedited = ProtoField.bool("aydp.expedited", "Expedited", 8, nil, 128)
+FY.length = ProtoField.uint32("aydp.length", "Length field", base.DEC)
+FY.len = ProtoField.uint32("aydp.len", "Length on the wire", base.DEC)
+FY.seconds = ProtoField.int64("aydp.seconds", "Seconds", base.DEC)
+FY.subsec = ProtoField.int64("aydp.subsec", "Sub-seconds", base.DEC)
+FY.checksum = ProtoField.uint8("aydp.checksum", "Checksum", base.HEX)
+FY.checksum_computed = ProtoField.uint8("aydp.checksum_computed", "Checksum computed", base.HEX)
+FY.checksum_status = ProtoField.string("aydp.checksum_status", "Checksum status")
+FY.msg_type = ProtoField.uint8("aydp.msg_type", "Type (raw message)", base.DEC)
+FY.data = ProtoField.bytes("aydp.data", "Data")
+FY.data_len = ProtoField.uint32("aydp.data_len", "Data length", base.DEC)
+FY["aydp.system_value_update.data"] = ProtoField.bytes("aydp.system_value_update.data", "data")
+FY["aydp.system_control.command"] = ProtoField.uint8("aydp.system_control.command", "command", base.DEC, { [1] = "RequestData", [2] = "StoreConfiguration" })
+FY["aydp.system_control.address"] = ProtoField.uint16("aydp.system_control.address", "address", base.DEC)
+FY["aydp.position.latitude"] = ProtoField.double("aydp.position.latitude", "latitude")
+FY["aydp.position.longitude"] = ProtoField.double("aydp.position.longitude", "longitude")
+FY["aydp.position.altitude"] = ProtoField.float("aydp.position.altitude", "altitude")
+FY["aydp.fix_quality.fix_type"] = ProtoField.uint8("aydp.fix_quality.fix_type", "fix_type", base.DEC)
+FY["aydp.fix_quality.mean_dop"] = ProtoField.float("aydp.fix_quality.mean_dop", "mean_dop")
+FY["aydp.fix_quality.hdop"] = ProtoField.float("aydp.fix_quality.hdop", "hdop")
+FY["aydp.fix_quality.vdop"] = ProtoField.float("aydp.fix_quality.vdop", "vdop")
+FY["aydp.fix_quality.satellites"] = ProtoField.uint8("aydp.fix_quality.satellites", "satellites", base.DEC)
+FY["aydp.wind_speed.value"] = ProtoField.float("aydp.wind_speed.value", "value")
+FY["aydp.wind_direction.value"] = ProtoField.float("aydp.wind_direction.value", "value")
+FY["aydp.vessel_data.roll"] = ProtoField.float("aydp.vessel_data.roll", "roll")
+FY["aydp.vessel_data.pitch"] = ProtoField.float("aydp.vessel_data.pitch", "pitch")
+FY["aydp.vessel_data.heading"] = ProtoField.float("aydp.vessel_data.heading", "heading")
+FY["aydp.vessel_data.roll_rate"] = ProtoField.float("aydp.vessel_data.roll_rate", "roll_rate")
+FY["aydp.vessel_data.pitch_rate"] = ProtoField.float("aydp.vessel_data.pitch_rate", "pitch_rate")
+FY["aydp.vessel_data.heading_rate"] = ProtoField.float("aydp.vessel_data.heading_rate", "heading_rate")
+FY["aydp.vessel_data.latitude"] = ProtoField.double("aydp.vessel_data.latitude", "latitude")
+FY["aydp.vessel_data.longitude"] = ProtoField.double("aydp.vessel_data.longitude", "longitude")
+FY["aydp.vessel_data.track"] = ProtoField.float("aydp.vessel_data.track", "track")
+FY["aydp.vessel_data.speed_over_ground"] = ProtoField.float("aydp.vessel_data.speed_over_ground", "speed_over_ground")
+FY["aydp.vessel_data.fix_type"] = ProtoField.int32("aydp.vessel_data.fix_type", "fix_type", base.DEC)
+FY["aydp.vessel_data.satellites"] = ProtoField.int32("aydp.vessel_data.satellites", "satellites", base.DEC)
+FY["aydp.vessel_data.mean_dop"] = ProtoField.float("aydp.vessel_data.mean_dop", "mean_dop")
+FY["aydp.vessel_data.hdop"] = ProtoField.float("aydp.vessel_data.hdop", "hdop")
+FY["aydp.vessel_data.vdop"] = ProtoField.float("aydp.vessel_data.vdop", "vdop")
+FY["aydp.fix_detail.count"] = ProtoField.uint8("aydp.fix_detail.count", "count", base.DEC)
+FY["aydp.fix_detail.id"] = ProtoField.uint8("aydp.fix_detail.id", "id", base.DEC)
+FY["aydp.fix_detail.azimuth"] = ProtoField.float("aydp.fix_detail.azimuth", "azimuth")
+FY["aydp.fix_detail.elevation"] = ProtoField.float("aydp.fix_detail.elevation", "elevation")
+FY["aydp.fix_detail.snr"] = ProtoField.float("aydp.fix_detail.snr", "snr")
+FY["aydp.direct_output.count"] = ProtoField.uint16("aydp.direct_output.count", "count", base.DEC)
+FY["aydp.direct_output.device"] = ProtoField.uint8("aydp.direct_output.device", "device", base.DEC)
+FY["aydp.direct_output.channel"] = ProtoField.uint8("aydp.direct_output.channel", "channel", base.DEC)
+FY["aydp.direct_output.value"] = ProtoField.float("aydp.direct_output.value", "value")
+FY["aydp.system_value_update.mode"] = ProtoField.uint8("aydp.system_value_update.mode", "mode", base.DEC)
+FY["aydp.system_value_update.address"] = ProtoField.uint16("aydp.system_value_update.address", "address", base.DEC)
+FY["aydp.system_value_update.field"] = ProtoField.uint32("aydp.system_value_update.field", "field", base.DEC)
+aydp.fields = {}
+for _, v in pairs(FY) do table.insert(aydp.fields, v) end
+local EY = {
+  checksum_bad = ProtoExpert.new("aydp.checksum_bad", "XOR checksum mismatch", expert.group.CHECKSUM, expert.severity.ERROR),
+  bad_length = ProtoExpert.new("aydp.bad_length", "Bad length field (a false start: one byte dropped, scanning resumes)", expert.group.MALFORMED, expert.severity.ERROR),
+  malformed = ProtoExpert.new("aydp.malformed", "The message's data does not parse", expert.group.MALFORMED, expert.severity.ERROR),
+  truncated = ProtoExpert.new("aydp.truncated", "A message is still open at the end of this packet", expert.group.SEQUENCE, expert.severity.NOTE),
+}
+aydp.experts = { EY.checksum_bad, EY.bad_length, EY.malformed, EY.truncated }
+local AYDP = { START = 255, EXPEDITED = 128, TYPE = 1, LENGTH = 2, SECONDS = 6, SUBSEC = 14,
+  EXPEDITED_LEN = 6, NORMAL_LEN = 22, CAPACITY = 16384, USER_FIRST = 100, USER_LAST = 126,
+  SVU_VALUE = 7, CONTROL_ADDRESS = 1, REQUEST_DATA_LEN = 3, STORE_CONFIGURATION_LEN = 1 }
+local AYDP_FIXED = {
+  { type = 3, profile = nil, name = "POSITION", len = 20, fields = { { "aydp.position.latitude", "f64", 0, 8 }, { "aydp.position.longitude", "f64", 8, 8 }, { "aydp.position.altitude", "f32", 16, 4 }, } },
+  { type = 4, profile = nil, name = "FIX_QUALITY", len = 8, fields = { { "aydp.fix_quality.fix_type", "u8", 0, 1 }, { "aydp.fix_quality.mean_dop", "uflt16", 1, 2 }, { "aydp.fix_quality.hdop", "uflt16", 3, 2 }, { "aydp.fix_quality.vdop", "uflt16", 5, 2 }, { "aydp.fix_quality.satellites", "u8", 7, 1 }, } },
+  { type = 1, profile = "reference", name = "WIND_SPEED", len = 4, fields = { { "aydp.wind_speed.value", "f32", 0, 4 }, } },
+  { type = 2, profile = "reference", name = "WIND_DIRECTION", len = 4, fields = { { "aydp.wind_direction.value", "f32", 0, 4 }, } },
+  { type = 17, profile = "reference", name = "VESSEL_DATA", len = 68, fields = { { "aydp.vessel_data.roll", "f32", 0, 4 }, { "aydp.vessel_data.pitch", "f32", 4, 4 }, { "aydp.vessel_data.heading", "f32", 8, 4 }, { "aydp.vessel_data.roll_rate", "f32", 12, 4 }, { "aydp.vessel_data.pitch_rate", "f32", 16, 4 }, { "aydp.vessel_data.heading_rate", "f32", 20, 4 }, { "aydp.vessel_data.latitude", "f64", 24, 8 }, { "aydp.vessel_data.longitude", "f64", 32, 8 }, { "aydp.vessel_data.track", "f32", 40, 4 }, { "aydp.vessel_data.speed_over_ground", "f32", 44, 4 }, { "aydp.vessel_data.fix_type", "i32", 48, 4 }, { "aydp.vessel_data.satellites", "i32", 52, 4 }, { "aydp.vessel_data.mean_dop", "f32", 56, 4 }, { "aydp.vessel_data.hdop", "f32", 60, 4 }, { "aydp.vessel_data.vdop", "f32", 64, 4 }, } },
+}
+local AYDP_LISTS = {
+  [5] = { name = "FIX_DETAIL", count = { "aydp.fix_detail.count", "u8", 0, 1 }, entries = 1, entry_len = 7, fields = { { "aydp.fix_detail.id", "u8", 0, 1 }, { "aydp.fix_detail.azimuth", "uflt16", 1, 2 }, { "aydp.fix_detail.elevation", "uflt16", 3, 2 }, { "aydp.fix_detail.snr", "uflt16", 5, 2 }, } },
+  [7] = { name = "DIRECT_OUTPUT", count = { "aydp.direct_output.count", "u16", 0, 2 }, entries = 2, entry_len = 6, fields = { { "aydp.direct_output.device", "u8", 0, 1 }, { "aydp.direct_output.channel", "u8", 1, 1 }, { "aydp.direct_output.value", "f32", 2, 4 }, } },
+}
+local AYDP_SVU = { { "aydp.system_value_update.mode", "u8", 0, 1 }, { "aydp.system_value_update.address", "u16", 1, 2 }, { "aydp.system_value_update.field", "u32", 3, 4 }, }
+
+local function xor8(a, b)
+  local r, p = 0, 1
+  for _ = 1, 8 do
+    local x, y = a % 2, b % 2
+    if x ~= y then r = r + p end
+    a = (a - x) / 2; b = (b - y) / 2; p = p * 2
+  end
+  return math.floor(r)
+end
+-- uflt16 (Y7): binary16 without a sign; nil for a set sign bit.
+local function uflt16(v)
+  if v >= 0x8000 then return nil end
+  local e, m = math.floor(v / 1024), v % 1024
+  if e == 0 then return m * 2 ^ -24 end
+  if e == 31 then if m == 0 then return math.huge end return 0 / 0 end
+  return (1 + m / 1024) * 2 ^ (e - 15)
+end
+-- Adds one table field at `base` in `d`; false for a malformed value.
+local function add_field(sub, d, base, f)
+  local key, ty, off, size = f[1], f[2], f[3], f[4]
+  local r = d(base + off, size)
+  if ty == "uflt16" then
+    local v = uflt16(r:le_uint())
+    if v == nil then return false end
+    sub:add(FY[key], r, v)
+  else
+    sub:add_le(FY[key], r)
+  end
+  return true
+end
+local function fixed_for(t, profile)
+  for _, m in ipairs(AYDP_FIXED) do
+    if m.type == t and (m.profile == nil or m.profile == profile) then return m end
+  end
+  return nil
+end
+
+-- The typed data of one good frame (crate: Message::parse). Returns the name, or nil and why.
+local function typed(sub, d, dlen, t, expedited, profile)
+  local function raw(name)
+    sub:add(FY.msg_type, d(0, 0), t)
+    sub:add(FY.data_len, d(0, 0), dlen)
+    if dlen > 0 then sub:add(FY.data, d(0, dlen)) end
+    return name
+  end
+  if t > AYDP.USER_LAST then return nil, "bad type " .. t end
+  if t == 0 then
+    if dlen ~= 0 then return nil, "type 0 carries no data" end
+    if profile == "reference" then return "NO_OP" end
+    return expedited and "HEARTBEAT" or "TIME_SYNC"
+  end
+  if profile == "spec" and (t == 1 or t == 2 or t == 6) then return raw("TBD") end
+  local m = fixed_for(t, profile)
+  if m then
+    if dlen ~= m.len then return nil, "wrong data length " .. dlen .. " (" .. m.len .. ")" end
+    for _, f in ipairs(m.fields) do
+      if not add_field(sub, d, 0, f) then return nil, "uflt16 field has its sign bit set" end
+    end
+    return m.name
+  end
+  local l = AYDP_LISTS[t]
+  if l then
+    local c = l.count
+    if dlen < c[3] + c[4] then return nil, "too short" end
+    local n = d(c[3], c[4]):le_uint()
+    if dlen ~= l.entries + n * l.entry_len then return nil, "count " .. n .. " does not match the length" end
+    sub:add_le(FY[c[1]], d(c[3], c[4]))
+    for k = 0, n - 1 do
+      for _, f in ipairs(l.fields) do
+        if not add_field(sub, d, l.entries + k * l.entry_len, f) then return nil, "uflt16 field has its sign bit set" end
+      end
+    end
+    return l.name
+  end
+  if t == 8 then
+    if dlen < AYDP.SVU_VALUE then return nil, "too short" end
+    local mode = d(AYDP_SVU[1][3], 1):uint()
+    local field = d(AYDP_SVU[3][3], 4):le_uint()
+    if mode < 1 or mode > 3 then return nil, "unknown update mode " .. mode end
+    if mode == 1 and field ~= 0 then return nil, "single update with a non-zero index" end
+    for _, f in ipairs(AYDP_SVU) do add_field(sub, d, 0, f) end
+    local key = "aydp.system_value_update.data"
+    if dlen > AYDP.SVU_VALUE then sub:add(FY[key], d(AYDP.SVU_VALUE, dlen - AYDP.SVU_VALUE))
+    else sub:add(FY[key], d(0, 0), ByteArray.new()) end
+    return "SYSTEM_VALUE_UPDATE"
+  end
+  if t == 9 then
+    if dlen == 0 then return nil, "too short" end
+    local c = d(0, 1):uint()
+    if c == 1 and dlen == AYDP.REQUEST_DATA_LEN then
+      sub:add(FY["aydp.system_control.command"], d(0, 1))
+      sub:add_le(FY["aydp.system_control.address"], d(AYDP.CONTROL_ADDRESS, 2))
+      return "SYSTEM_CONTROL"
+    end
+    if c == 2 and dlen == AYDP.STORE_CONFIGURATION_LEN then
+      sub:add(FY["aydp.system_control.command"], d(0, 1))
+      return "SYSTEM_CONTROL"
+    end
+    return nil, "bad system control"
+  end
+  if t >= AYDP.USER_FIRST then return raw("USER_DEFINED") end
+  return raw("UNKNOWN")
+end
+
+local function frame_len(field, expedited, profile)
+  local over = (expedited and AYDP.EXPEDITED_LEN or AYDP.NORMAL_LEN) + 1
+  if profile == "spec" then
+    if field < over then return nil end
+    return field
+  end
+  return field + over
+end
+
+-- One good-checksum frame `fr` (start through checksum).
+local function aydp_frame(fr, tree, profile)
+  local n = fr:len()
+  local sub = tree:add(aydp, fr)
+  local tb = fr(AYDP.TYPE, 1)
+  local expedited = tb:uint() >= AYDP.EXPEDITED
+  local t = tb:uint() % AYDP.EXPEDITED
+  local hl = expedited and AYDP.EXPEDITED_LEN or AYDP.NORMAL_LEN
+  sub:add(FY.profile, fr(0, 0), profile)
+  sub:add(FY.start, fr(0, 1))
+  sub:add(FY.type, tb)
+  sub:add(FY.expedited, tb)
+  sub:add_le(FY.length, fr(AYDP.LENGTH, 4))
+  sub:add(FY.len, fr, n)
+  if not expedited then
+    sub:add_le(FY.seconds, fr(AYDP.SECONDS, 8))
+    sub:add_le(FY.subsec, fr(AYDP.SUBSEC, 8))
+  end
+  local cs = fr(n - 1, 1)
+  sub:add(FY.checksum, cs)
+  sub:add(FY.checksum_computed, cs, cs:uint())
+  sub:add(FY.checksum_status, cs, "ok")
+  local dlen = n - 1 - hl
+  local function d(o, l) return fr(hl + o, l) end
+  local name, why = typed(sub, d, dlen, t, expedited, profile)
+  if name then
+    sub:add(FY.status, fr(0, 0), "ok")
+    sub:add(FY.name, tb, name)
+    sub:append_text(", " .. name .. " (" .. t .. (expedited and ", expedited" or "") .. ")")
+    return name
+  end
+  local st = sub:add(FY.status, fr(0, 0), "malformed")
+  sub:add(FY.error, fr(0, 0), why)
+  st:add_proto_expert_info(EY.malformed)
+  sub:append_text(", type " .. t .. " malformed: " .. why)
+  return "[malformed " .. t .. "]"
+end
+
+-- Scans `t` as the crate's decoder does (Y5): noise before a start is dropped, in a run of 0xFF
+-- only the last is the start, a failed candidate (bad length, bad checksum) drops its start byte
+-- and scanning resumes at the next byte. Returns the offset of an incomplete candidate (nil: none).
+local function aydp_scan(t, pinfo, tree, profile)
+  local n = t:len()
+  local names = {}
+  local p = 0
+  local open = nil
+  while p < n do
+    if t(p, 1):uint() ~= AYDP.START then
+      p = p + 1
+    elseif p + 1 < n and t(p + 1, 1):uint() == AYDP.START then
+      p = p + 1
+    elseif n - p < AYDP.EXPEDITED_LEN then
+      open = p; break
+    else
+      local field = t(p + AYDP.LENGTH, 4):le_uint()
+      local expedited = t(p + AYDP.TYPE, 1):uint() >= AYDP.EXPEDITED
+      local total = frame_len(field, expedited, profile)
+      if total == nil or total > AYDP.CAPACITY then
+        local sub = tree:add(aydp, t(p, AYDP.EXPEDITED_LEN))
+        sub:add(FY.profile, t(p, 0), profile)
+        sub:add_le(FY.length, t(p + AYDP.LENGTH, 4))
+        local st = sub:add(FY.status, t(p, 0), "bad_length")
+        st:add_proto_expert_info(EY.bad_length)
+        sub:append_text(": bad length field " .. field .. ", one byte dropped")
+        table.insert(names, "[bad length]")
+        p = p + 1
+      elseif n - p < total then
+        open = p; break
+      else
+        local x = 0
+        for i = p, p + total - 2 do x = xor8(x, t(i, 1):uint()) end
+        local got = t(p + total - 1, 1):uint()
+        if x == got then
+          table.insert(names, aydp_frame(t(p, total), tree, profile))
+          p = p + total
+        else
+          local sub = tree:add(aydp, t(p, total))
+          sub:add(FY.profile, t(p, 0), profile)
+          sub:add(FY.type, t(p + AYDP.TYPE, 1))
+          sub:add_le(FY.length, t(p + AYDP.LENGTH, 4))
+          sub:add(FY.checksum, t(p + total - 1, 1))
+          sub:add(FY.checksum_computed, t(p + total - 1, 1), x)
+          local cst = sub:add(FY.checksum_status, t(p + total - 1, 1), "bad")
+          cst:add_proto_expert_info(EY.checksum_bad)
+          sub:add(FY.status, t(p, 0), "bad_checksum")
+          sub:append_text(": checksum mismatch, one byte dropped")
+          table.insert(names, "[bad checksum]")
+          p = p + 1
+        end
+      end
+    end
+  end
+  pinfo.cols.protocol = "AYDP"
+  pinfo.cols.info = table.concat(names, ", ")
+  return open
+end
+
+function aydp.dissector(tvb, pinfo, tree)
+  aydp_scan(tvb, pinfo, tree, "reference")
+  return tvb:len()
+end
+
+-- A byte stream: the bytes of an open candidate are carried into the next packet of the same
+-- stream, so a message is dissected in the packet that completes it (as `protolink decode`
+-- reports it).
+local aydp_carry, aydp_carry_in = {}, {}
+local function aydp_stream(name, desc, profile, key_of)
+  local p = Proto(name, desc)
+  function p.dissector(tvb, pinfo, tree)
+    local key = key_of(pinfo)
+    if not pinfo.visited then aydp_carry_in[pinfo.number .. key] = aydp_carry[key] or "" end
+    local prefix = aydp_carry_in[pinfo.number .. key] or ""
+    local t = tvb
+    if #prefix > 0 then
+      t = (ByteArray.new(prefix) .. tvb:bytes()):tvb("AYDP stream (this packet after the previous one's open message)")
+    end
+    local open = aydp_scan(t, pinfo, tree, profile)
+    if not pinfo.visited then
+      local tail = ""
+      if open then tail = t:bytes():subset(open, t:len() - open):tohex() end
+      if #tail > 2 * AYDP.CAPACITY then tail = "" end
+      aydp_carry[key] = tail
+    end
+    return tvb:len()
+  end
+  return p
+end
+local aydp_interface_id = Field.new("frame.interface_id")
+local function iface_key(pinfo)
+  local f = aydp_interface_id()
+  return "if" .. (f and f.value or 0)
+end
+local function tcp_key(pinfo)
+  return tostring(pinfo.src) .. ":" .. pinfo.src_port .. ">" .. tostring(pinfo.dst) .. ":" .. pinfo.dst_port
+end
+local aydp_spec = aydp_stream("aydp_spec", "AYDP byte stream (Spec profile)", "spec", iface_key)
+local aydp_ref = aydp_stream("aydp_reference", "AYDP byte stream (Reference profile)", "reference", iface_key)
+local aydp_tcp = aydp_stream("aydp_tcp", "AYDP over TCP (Reference profile)", "reference", tcp_key)
+-- USER1 and USER2 are wtap encapsulations 46 and 47.
+encap:add((wtap_encaps and wtap_encaps.USER1) or 46, aydp_spec)
+encap:add((wtap_encaps and wtap_encaps.USER2) or 47, aydp_ref)
+DissectorTable.get("tcp.port"):add(6321, aydp_tcp)
+udp:add(6321, aydp)
