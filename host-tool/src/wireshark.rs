@@ -234,6 +234,7 @@ end
     let _ = writeln!(w, " }}");
     w.push_str(DISSECT);
     crate::wireshark_aydp::lua(w);
+    crate::wireshark_aok::lua(w);
     Ok(s)
 }
 

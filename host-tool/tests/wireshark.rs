@@ -372,3 +372,147 @@ fn tshark_dissects_a_recorded_aydp_uart_as_decode_does() {
     assert_eq!(c.messages, 15, "{c:?}");
     let _ = std::fs::remove_file(cap);
 }
+
+fn xor(bytes: &[u8]) -> u8 {
+    bytes.iter().fold(0, |a, b| a ^ b)
+}
+
+fn aok_waypoint(slot: u8, lon: i32, lat: i32, a1: u32, a2: u32) -> Vec<u8> {
+    let mut b = vec![slot];
+    b.extend(lon.to_be_bytes());
+    b.extend(lat.to_be_bytes());
+    b.extend(a1.to_be_bytes());
+    b.extend(a2.to_be_bytes());
+    let mut f = vec![0x77];
+    f.extend(&b);
+    f.push(xor(&b));
+    f
+}
+
+/// What the device sends: debug values, headed parameter replies, waypoint replies, lone acks
+/// (not decodable passively), a bad checksum, a waypoint with a bad slot.
+fn aok_device_stream() -> Vec<u8> {
+    let debug = |n: u8, v: i32| {
+        let mut b = vec![n];
+        b.extend(v.to_be_bytes());
+        let mut f = vec![0x1C];
+        f.extend(&b);
+        f.push(xor(&b));
+        f
+    };
+    let reply = |n: u8, v: i32| {
+        let v = v.to_be_bytes();
+        let mut f = vec![0xFF, n];
+        f.extend(v);
+        f.push(xor(&v));
+        f
+    };
+    let mut s = debug(86, 3);
+    s.extend(debug(1, -123_456));
+    s.extend(reply(12, 700));
+    s.extend(aok_waypoint(
+        0,
+        11_786_100,
+        48_353_801,
+        (2 << 16) | (32768 + 15),
+        (9 << 16) | 5,
+    ));
+    s.push(b'O');
+    s.extend(aok_waypoint(31, -1, -1, 32768, 32768));
+    let mut bad = debug(5, 99);
+    *bad.last_mut().unwrap() ^= 1;
+    s.extend(bad);
+    s.extend(debug(7, 7));
+    s.extend(aok_waypoint(100, 1, 2, 3, 4));
+    s.extend(b"E");
+    s.extend(aok_waypoint(254, 5, 6, (6 << 16) | (32768 - 100), 32768));
+    s.extend(reply(255, -1));
+    s
+}
+
+/// What the PC sends: every command, a bad checksum, an out-of-range stick, noise.
+fn aok_pc_stream() -> Vec<u8> {
+    let ext = |v: [i16; 4], e: u16| {
+        let mut b = Vec::new();
+        for x in v {
+            b.extend(x.to_le_bytes());
+        }
+        b.extend(e.to_le_bytes());
+        let mut f = vec![0x53];
+        f.extend(&b);
+        f.push(xor(&b));
+        f
+    };
+    let mut s = vec![0x63, 0x02, 0x63, 0x01, 0x63, 0x07, 0x63, 0x08, 0x63, 0x09];
+    s.extend([0x63, 0x03, 0x02, 0x63, 0x04, 0x01, 0x63, 0x05, 0x03]);
+    let p = [12u8, 0xFF, 0xFF, 0xFF, 0xFB];
+    s.push(0x73);
+    s.extend(p);
+    s.push(xor(&p));
+    s.extend([
+        0x67, 0x0C, 0x47, 0x10, 0x78, 0x00, 0x78, 0x1F, 0x78, 0xFE, 0x78, 0xFF,
+    ]);
+    s.extend([0x31, 100, 0x31 ^ 100, 0x39, 1, 0x39 ^ 1, 0x43, 5, 0x43 ^ 5]);
+    s.extend(aok_waypoint(3, 1000, 2000, (1 << 16) | (32768 + 10), 32768));
+    s.extend(ext([10, -200, 0, -300], 500));
+    let mut bad = ext([1, 2, 3, 4], 5);
+    *bad.last_mut().unwrap() ^= 0xFF;
+    s.extend(bad);
+    s.extend(ext([300, 0, 0, 0], 1));
+    s.extend([0x99, 0x63, 0x02]);
+    s
+}
+
+#[test]
+fn tshark_dissects_aok_in_both_directions_as_decode_does() {
+    let Some(tshark) = tshark() else { return };
+    for (link, bytes, messages, fields) in [
+        (151, aok_device_stream(), 10, 41),
+        (150, aok_pc_stream(), 23, 69),
+    ] {
+        for chunk in [bytes.len(), 5] {
+            let cap = stream_capture(&format!("aok-{link}-{chunk}.pcapng"), link, &bytes, chunk);
+            let c = protolink_tests::tshark::compare_aok(
+                tshark,
+                Path::new(env!("CARGO_BIN_EXE_protolink")),
+                &dissector(),
+                &cap,
+            );
+            println!("AOK link type {link}, {chunk}-byte chunks: {c:?}");
+            assert_eq!(c.checksum_errors, 1, "{c:?}");
+            assert_eq!(c.other_errors, 1, "{c:?}");
+            assert_eq!((c.messages, c.fields), (messages, fields), "{c:?}");
+            let _ = std::fs::remove_file(cap);
+        }
+    }
+}
+
+#[test]
+fn tshark_dissects_a_recorded_aok_uart_as_decode_does() {
+    let Some(tshark) = tshark() else { return };
+    let cap = temp("aok-uart2.pcapng");
+    let from = format!(
+        "file:{}",
+        root().join("testdata/qemu-uart2-aok.bin").display()
+    );
+    ok(&run(&[
+        "record",
+        "--from",
+        &from,
+        "--proto",
+        "aok",
+        "--side",
+        "device",
+        "--out",
+        cap.to_str().unwrap(),
+    ]));
+    let c = protolink_tests::tshark::compare_aok(
+        tshark,
+        Path::new(env!("CARGO_BIN_EXE_protolink")),
+        &dissector(),
+        &cap,
+    );
+    println!("AOK UART capture: {c:?}");
+    assert_eq!(c.messages, 234, "{c:?}");
+    let _ = std::fs::remove_file(cap);
+}

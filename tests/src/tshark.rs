@@ -367,3 +367,62 @@ pub fn compare_aydp(tshark: &str, protolink: &Path, dissector: &Path, cap: &Path
     }
     c
 }
+
+/// AOK: every frame of every packet, as `protolink decode --proto aok --json` prints it and as
+/// tshark shows it: the same events in the same packets, names, lengths and every field equal,
+/// checksum failures and out-of-range frames flagged in both.
+pub fn compare_aok(tshark: &str, protolink: &Path, dissector: &Path, cap: &Path) -> Compared {
+    let shown = tshark_layer(tshark, dissector, cap, None, "aok");
+    let decoded = decode_proto(protolink, cap, shown.len(), "aok");
+    let mut c = Compared::default();
+    for (i, (t, d)) in shown.iter().zip(&decoded).enumerate() {
+        let frame = i + 1;
+        assert_eq!(
+            t.len(),
+            d.len(),
+            "frame {frame}: tshark {t:?}\ndecode {d:?}"
+        );
+        for (t, d) in t.iter().zip(d) {
+            c.messages += 1;
+            let status = t["aok.status"].as_str().unwrap_or("");
+            if d["kind"] == "error" {
+                let e = d["error"].as_str().unwrap();
+                if e == "checksum mismatch" {
+                    assert_eq!(status, "bad_checksum", "frame {frame}: {t}");
+                    assert_eq!(t["aok.checksum_status"], "bad", "frame {frame}");
+                    c.checksum_errors += 1;
+                } else {
+                    assert_eq!(status, "invalid", "frame {frame}: {e} / {t}");
+                    assert_eq!(t["aok.error"], e, "frame {frame}");
+                    c.other_errors += 1;
+                }
+                continue;
+            }
+            assert_eq!(status, "ok", "frame {frame}: {t}\n{d}");
+            let name = d["name"].as_str().unwrap();
+            assert_eq!(t["aok.name"], name, "frame {frame}");
+            assert_eq!(t["aok.len"], d["len"].to_string(), "frame {frame}");
+            assert_ne!(t["aok.checksum_status"], "bad", "frame {frame}");
+            c.fields += 2;
+            let df = d["fields"].as_object().unwrap();
+            let prefix = format!("aok.{}.", name.to_lowercase());
+            let shown_keys = t
+                .as_object()
+                .unwrap()
+                .keys()
+                .filter(|k| k.starts_with(&prefix))
+                .count();
+            assert_eq!(shown_keys, df.len(), "frame {frame} {name}: {t}\n{d}");
+            for (k, v) in df {
+                let s = &t[format!("{prefix}{k}")];
+                let what = format!("frame {frame} {name}.{k}");
+                match v {
+                    Value::String(v) => assert_eq!(s.as_str(), Some(v.as_str()), "{what}"),
+                    v => assert_eq!(s.as_str(), Some(v.to_string().as_str()), "{what}"),
+                }
+                c.fields += 1;
+            }
+        }
+    }
+    c
+}

@@ -643,3 +643,242 @@ encap:add((wtap_encaps and wtap_encaps.USER1) or 46, aydp_spec)
 encap:add((wtap_encaps and wtap_encaps.USER2) or 47, aydp_ref)
 DissectorTable.get("tcp.port"):add(6321, aydp_tcp)
 udp:add(6321, aydp)
+
+-- AOK ----------------------------------------------------------------------------------------
+-- From aok_proto::layout. USER3 (150): what the PC sends, read as the device reads it; USER4
+-- (151): what the device sends, read as the PC reads it (firmware >= 0.31: headed replies).
+-- A lone O/E/I ack is not decodable passively (only a PC that sent a command expects one):
+-- such bytes are skipped, as `protolink decode` skips them, and shown as not decoded.
+local aok = Proto("aok", "AOK copter serial protocol")
+local FK = {}
+FK.status = ProtoField.string("aok.status", "Status")
+FK.error = ProtoField.string("aok.error", "Error")
+FK.direction = ProtoField.string("aok.direction", "Sent by")
+FK.name = ProtoField.string("aok.name", "Message")
+FK.start = ProtoField.uint8("aok.start", "Start byte", base.HEX)
+FK.len = ProtoField.uint32("aok.len", "Length on the wire", base.DEC)
+FK.checksum = ProtoField.uint8("aok.checksum", "Checksum", base.HEX)
+FK.checksum_computed = ProtoField.uint8("aok.checksum_computed", "Checksum computed", base.HEX)
+FK.checksum_status = ProtoField.string("aok.checksum_status", "Checksum status")
+FK.skipped = ProtoField.bytes("aok.skipped", "Bytes not decoded")
+FK["aok.motor_test.motor"] = ProtoField.uint8("aok.motor_test.motor", "motor", base.DEC)
+FK["aok.motor_test.value"] = ProtoField.uint8("aok.motor_test.value", "value", base.DEC)
+FK["aok.debug.number"] = ProtoField.uint8("aok.debug.number", "number", base.DEC)
+FK["aok.debug.value"] = ProtoField.int32("aok.debug.value", "value", base.DEC)
+FK["aok.parameter.number"] = ProtoField.uint8("aok.parameter.number", "number", base.DEC)
+FK["aok.parameter.value"] = ProtoField.int32("aok.parameter.value", "value", base.DEC)
+FK["aok.waypoint.slot"] = ProtoField.string("aok.waypoint.slot", "slot")
+FK["aok.waypoint.longitude"] = ProtoField.int32("aok.waypoint.longitude", "longitude", base.DEC)
+FK["aok.waypoint.latitude"] = ProtoField.int32("aok.waypoint.latitude", "latitude", base.DEC)
+FK["aok.waypoint.action1"] = ProtoField.string("aok.waypoint.action1", "action1")
+FK["aok.waypoint.action2"] = ProtoField.string("aok.waypoint.action2", "action2")
+FK["aok.set_parameter.number"] = ProtoField.uint8("aok.set_parameter.number", "number", base.DEC)
+FK["aok.set_parameter.value"] = ProtoField.int32("aok.set_parameter.value", "value", base.DEC)
+FK["aok.read_parameter.number"] = ProtoField.uint8("aok.read_parameter.number", "number", base.DEC)
+FK["aok.bulk_read.first"] = ProtoField.uint8("aok.bulk_read.first", "first", base.DEC)
+FK["aok.read_waypoint.slot"] = ProtoField.string("aok.read_waypoint.slot", "slot")
+FK["aok.set_waypoint.slot"] = ProtoField.string("aok.set_waypoint.slot", "slot")
+FK["aok.set_waypoint.longitude"] = ProtoField.int32("aok.set_waypoint.longitude", "longitude", base.DEC)
+FK["aok.set_waypoint.latitude"] = ProtoField.int32("aok.set_waypoint.latitude", "latitude", base.DEC)
+FK["aok.set_waypoint.action1"] = ProtoField.string("aok.set_waypoint.action1", "action1")
+FK["aok.set_waypoint.action2"] = ProtoField.string("aok.set_waypoint.action2", "action2")
+FK["aok.external_control.roll"] = ProtoField.int16("aok.external_control.roll", "roll", base.DEC)
+FK["aok.external_control.nick"] = ProtoField.int16("aok.external_control.nick", "nick", base.DEC)
+FK["aok.external_control.yaw"] = ProtoField.int16("aok.external_control.yaw", "yaw", base.DEC)
+FK["aok.external_control.pitch"] = ProtoField.int16("aok.external_control.pitch", "pitch", base.DEC)
+FK["aok.external_control.expiry_ms"] = ProtoField.uint16("aok.external_control.expiry_ms", "expiry_ms", base.DEC)
+FK["aok.load_set.set"] = ProtoField.uint8("aok.load_set.set", "set", base.DEC)
+FK["aok.save_set.set"] = ProtoField.uint8("aok.save_set.set", "set", base.DEC)
+FK["aok.start_set.set"] = ProtoField.uint8("aok.start_set.set", "set", base.DEC)
+aok.fields = {}
+for _, v in pairs(FK) do table.insert(aok.fields, v) end
+local EK = {
+  checksum_bad = ProtoExpert.new("aok.checksum_bad", "XOR checksum mismatch (one byte dropped, scanning resumes)", expert.group.CHECKSUM, expert.severity.ERROR),
+  invalid = ProtoExpert.new("aok.invalid", "An intact frame with a value out of range (dropped whole)", expert.group.MALFORMED, expert.severity.ERROR),
+  skipped = ProtoExpert.new("aok.skipped", "Not decodable passively (noise, or a lone O/E/I ack)", expert.group.UNDECODED, expert.severity.NOTE),
+}
+aok.experts = { EK.checksum_bad, EK.invalid, EK.skipped }
+local AOK_CONTROL = 99
+local AOK_CONTROL_SUB = {
+  [1] = { name = "DEBUG_OFF", len = 2, set = nil },
+  [2] = { name = "DEBUG_ON", len = 2, set = nil },
+  [3] = { name = "LOAD_SET", len = 3, set = "aok.load_set.set" },
+  [4] = { name = "SAVE_SET", len = 3, set = "aok.save_set.set" },
+  [5] = { name = "START_SET", len = 3, set = "aok.start_set.set" },
+  [7] = { name = "RESET", len = 2, set = nil },
+  [8] = { name = "SAVE_WAYPOINTS", len = 2, set = nil },
+  [9] = { name = "LOAD_WAYPOINTS", len = 2, set = nil },
+}
+local AOK_CONTROL_SET = 2
+local AOK_MOTOR = { [49] = 1, [50] = 2, [51] = 3, [52] = 4, [53] = 5, [54] = 6, [55] = 7, [56] = 8, [57] = 9, [65] = 10, [66] = 11, [67] = 12, }
+local AOK_MOTOR_VALUE, AOK_MOTOR_LEN, AOK_MOTOR_CHECK = 1, 3, { 0, 2, 2 }
+local AOK_DEVICE = {
+  [28] = { name = "DEBUG", len = 7, check = { 1, 6, 6 }, fields = { { "aok.debug.number", "u8", 1, 1 }, { "aok.debug.value", "i32be", 2, 4 }, } },
+  [255] = { name = "PARAMETER", len = 7, check = { 2, 6, 6 }, fields = { { "aok.parameter.number", "u8", 1, 1 }, { "aok.parameter.value", "i32be", 2, 4 }, } },
+  [119] = { name = "WAYPOINT", len = 19, check = { 1, 18, 18 }, fields = { { "aok.waypoint.slot", "slot", 1, 1 }, { "aok.waypoint.longitude", "i32be", 2, 4 }, { "aok.waypoint.latitude", "i32be", 6, 4 }, { "aok.waypoint.action1", "action", 10, 4 }, { "aok.waypoint.action2", "action", 14, 4 }, } },
+}
+local AOK_PC = {
+  [115] = { name = "SET_PARAMETER", len = 7, check = { 1, 6, 6 }, fields = { { "aok.set_parameter.number", "u8", 1, 1 }, { "aok.set_parameter.value", "i32be", 2, 4 }, } },
+  [103] = { name = "READ_PARAMETER", len = 2, check = nil, fields = { { "aok.read_parameter.number", "u8", 1, 1 }, } },
+  [71] = { name = "BULK_READ", len = 2, check = nil, fields = { { "aok.bulk_read.first", "u8", 1, 1 }, } },
+  [120] = { name = "READ_WAYPOINT", len = 2, check = nil, fields = { { "aok.read_waypoint.slot", "slot", 1, 1 }, } },
+  [119] = { name = "SET_WAYPOINT", len = 19, check = { 1, 18, 18 }, fields = { { "aok.set_waypoint.slot", "slot", 1, 1 }, { "aok.set_waypoint.longitude", "i32be", 2, 4 }, { "aok.set_waypoint.latitude", "i32be", 6, 4 }, { "aok.set_waypoint.action1", "action", 10, 4 }, { "aok.set_waypoint.action2", "action", 14, 4 }, } },
+  [83] = { name = "EXTERNAL_CONTROL", len = 12, check = { 1, 11, 11 }, fields = { { "aok.external_control.roll", "stick", 1, 2 }, { "aok.external_control.nick", "stick", 3, 2 }, { "aok.external_control.yaw", "stick", 5, 2 }, { "aok.external_control.pitch", "i16le", 7, 2 }, { "aok.external_control.expiry_ms", "u16le", 9, 2 }, } },
+}
+
+local function aok_slot(b)
+  if b <= 30 then return tostring(b + 1) end
+  if b == 31 then return "poi" end
+  if b == 254 then return "ram-poi" end
+  if b == 255 then return "fbc" end
+  return nil
+end
+local AOK_ACTIONS = { [0] = "none", "pause", "hold-and-climb", "hold-and-sink", "fly-and-climb", "fly-and-sink", "set-fly-speed" }
+local function aok_action(word)
+  local a, low = math.floor(word / 65536), word % 65536
+  if AOK_ACTIONS[a] then return AOK_ACTIONS[a] .. ":" .. (low - 32768) end
+  return string.format("raw:0x%08x", word)
+end
+
+-- The result of a candidate at `p` of `t`: nil (more bytes needed), or a frame description.
+local function aok_candidate(t, p, dir)
+  local n = t:len() - p
+  local b = t(p, 1):uint()
+  local f
+  if dir == "device" then
+    f = AOK_DEVICE[b]
+  elseif b == AOK_CONTROL then
+    if n < 2 then return "more" end
+    local sub = AOK_CONTROL_SUB[t(p + 1, 1):uint()]
+    if not sub then return nil end
+    return { name = sub.name, len = sub.len, fields = sub.set and { { sub.set, "u8", AOK_CONTROL_SET, 1 } } or {} }
+  elseif AOK_MOTOR[b] then
+    return { name = "MOTOR_TEST", len = AOK_MOTOR_LEN, check = AOK_MOTOR_CHECK, motor = AOK_MOTOR[b],
+      fields = { { "aok.motor_test.value", "u8", AOK_MOTOR_VALUE, 1 } } }
+  else
+    f = AOK_PC[b]
+  end
+  return f
+end
+
+local function aok_scan(t, pinfo, tree, dir, stream_proto)
+  local n = t:len()
+  local names = {}
+  local p = 0
+  local open = nil
+  local skip_from = nil
+  local function flush_skip(to)
+    if skip_from then
+      local it = tree:add(stream_proto, t(skip_from, to - skip_from), "AOK: bytes not decoded (noise, or a lone O/E/I ack: not decodable passively)")
+      it:add(FK.skipped, t(skip_from, to - skip_from))
+      it:add_proto_expert_info(EK.skipped)
+      skip_from = nil
+    end
+  end
+  while p < n do
+    local f = aok_candidate(t, p, dir)
+    if f == "more" then
+      flush_skip(p); open = p; break
+    elseif f == nil then
+      skip_from = skip_from or p
+      p = p + 1
+    elseif n - p < f.len then
+      flush_skip(p); open = p; break
+    else
+      flush_skip(p)
+      local fr = t(p, f.len)
+      local ok = true
+      local computed, got
+      if f.check then
+        computed = 0
+        for i = f.check[1], f.check[2] - 1 do computed = xor8(computed, fr(i, 1):uint()) end
+        got = fr(f.check[3], 1):uint()
+        ok = computed == got
+      end
+      local sub = tree:add(aok, fr)
+      sub:add(FK.direction, fr(0, 0), dir)
+      sub:add(FK.start, fr(0, 1))
+      sub:add(FK.len, fr, f.len)
+      if f.check then
+        sub:add(FK.checksum, fr(f.check[3], 1))
+        sub:add(FK.checksum_computed, fr(f.check[3], 1), computed)
+        local cst = sub:add(FK.checksum_status, fr(f.check[3], 1), ok and "ok" or "bad")
+        if not ok then cst:add_proto_expert_info(EK.checksum_bad) end
+      else
+        sub:add(FK.checksum_status, fr(0, 0), "none")
+      end
+      if not ok then
+        sub:add(FK.status, fr(0, 0), "bad_checksum")
+        sub:append_text(": " .. f.name .. "?, checksum mismatch, one byte dropped")
+        table.insert(names, "[bad checksum]")
+        p = p + 1
+      else
+        local why = nil
+        for _, fd in ipairs(f.fields) do
+          local key, ty, off, size = fd[1], fd[2], fd[3], fd[4]
+          local r = fr(off, size)
+          if ty == "slot" then
+            local s = aok_slot(r:uint())
+            if s then sub:add(FK[key], r, s) else why = "invalid waypoint slot " .. r:uint() end
+          elseif ty == "action" then
+            sub:add(FK[key], r, aok_action(r:uint()))
+          elseif ty == "i32be" then
+            sub:add(FK[key], r, r:int())
+          elseif ty == "stick" then
+            local v = r:le_int()
+            if v < -200 or v > 200 then why = "stick value " .. v .. " outside -200..=200" end
+            sub:add_le(FK[key], r)
+          elseif ty == "i16le" or ty == "u16le" then
+            sub:add_le(FK[key], r)
+          else
+            sub:add(FK[key], r)
+          end
+          if why then break end
+        end
+        if f.motor then sub:add(FK["aok.motor_test.motor"], fr(0, 1), f.motor) end
+        if why then
+          local st = sub:add(FK.status, fr(0, 0), "invalid")
+          sub:add(FK.error, fr(0, 0), why)
+          st:add_proto_expert_info(EK.invalid)
+          sub:append_text(": " .. why)
+          table.insert(names, "[invalid]")
+        else
+          sub:add(FK.status, fr(0, 0), "ok")
+          sub:add(FK.name, fr(0, 1), f.name)
+          sub:append_text(", " .. f.name)
+          table.insert(names, f.name)
+        end
+        p = p + f.len
+      end
+    end
+  end
+  flush_skip(p)
+  pinfo.cols.protocol = "AOK"
+  pinfo.cols.info = (dir == "pc" and "PC->device: " or "device->PC: ") .. table.concat(names, ", ")
+  return open
+end
+
+local aok_carry, aok_carry_in = {}, {}
+local function aok_stream(name, desc, dir)
+  local p = Proto(name, desc)
+  function p.dissector(tvb, pinfo, tree)
+    local key = dir .. iface_key(pinfo)
+    if not pinfo.visited then aok_carry_in[pinfo.number .. key] = aok_carry[key] or "" end
+    local prefix = aok_carry_in[pinfo.number .. key] or ""
+    local t = tvb
+    if #prefix > 0 then
+      t = (ByteArray.new(prefix) .. tvb:bytes()):tvb("AOK stream (this packet after the previous one's open frame)")
+    end
+    local open = aok_scan(t, pinfo, tree, dir, p)
+    if not pinfo.visited then
+      local tail = ""
+      if open then tail = t:bytes():subset(open, t:len() - open):tohex() end
+      aok_carry[key] = tail
+    end
+    return tvb:len()
+  end
+  return p
+end
+-- USER3 and USER4 are wtap encapsulations 48 and 49.
+encap:add((wtap_encaps and wtap_encaps.USER3) or 48, aok_stream("aok_pc", "AOK byte stream, PC to device", "pc"))
+encap:add((wtap_encaps and wtap_encaps.USER4) or 49, aok_stream("aok_device", "AOK byte stream, device to PC", "device"))
