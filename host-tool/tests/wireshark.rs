@@ -516,3 +516,62 @@ fn tshark_dissects_a_recorded_aok_uart_as_decode_does() {
     assert_eq!(c.messages, 234, "{c:?}");
     let _ = std::fs::remove_file(cap);
 }
+
+/// One Ethernet/IPv4/TCP segment (checksums left 0: Wireshark does not check them by default).
+fn tcp_segment(src: SocketAddrV4, dst: SocketAddrV4, seq: u32, payload: &[u8]) -> Vec<u8> {
+    let mut f = vec![2, 0, 0, 0, 0, 2, 2, 0, 0, 0, 0, 1, 0x08, 0x00];
+    let total = (20 + 20 + payload.len()) as u16;
+    f.extend([0x45, 0]);
+    f.extend(total.to_be_bytes());
+    f.extend([0, 1, 0x40, 0, 64, 6, 0, 0]);
+    f.extend(src.ip().octets());
+    f.extend(dst.ip().octets());
+    f.extend(src.port().to_be_bytes());
+    f.extend(dst.port().to_be_bytes());
+    f.extend(seq.to_be_bytes());
+    f.extend(1u32.to_be_bytes());
+    f.extend([0x50, 0x18, 0xFF, 0xFF, 0, 0, 0, 0]);
+    f.extend(payload);
+    f
+}
+
+#[test]
+fn tshark_dissects_aydp_over_tcp_6321_as_the_reference_profile() {
+    let Some(tshark) = tshark() else { return };
+    let cap = temp("aydp-tcp.pcapng");
+    let mut w = CaptureWriter::create(&cap, 1, "tcp").unwrap();
+    let boat: SocketAddrV4 = "10.0.0.2:6321".parse().unwrap();
+    let app: SocketAddrV4 = "10.0.0.1:40000".parse().unwrap();
+    let t0 = Duration::from_secs(1_700_000_000);
+    let down = aydp_stream(false);
+    let up = [aydp(9, &[1, 8, 0], false, true), aydp(9, &[2], false, true)].concat();
+    let (mut seq_down, mut seq_up) = (1000u32, 5000u32);
+    for (i, c) in down.chunks(50).enumerate() {
+        let t = t0 + Duration::from_millis(i as u64 * 10);
+        w.chunk(t, &tcp_segment(boat, app, seq_down, c)).unwrap();
+        seq_down += c.len() as u32;
+        if let Some(u) = up.get(i * 4..(i * 4 + 4).min(up.len())) {
+            if !u.is_empty() {
+                w.chunk(
+                    t + Duration::from_millis(1),
+                    &tcp_segment(app, boat, seq_up, u),
+                )
+                .unwrap();
+                seq_up += u.len() as u32;
+            }
+        }
+    }
+    w.flush().unwrap();
+    drop(w);
+    let c = protolink_tests::tshark::compare_aydp_profile(
+        tshark,
+        Path::new(env!("CARGO_BIN_EXE_protolink")),
+        &dissector(),
+        &cap,
+        "reference",
+    );
+    println!("AYDP over TCP 6321: {c:?}");
+    assert_eq!(c.messages, 23 + 2, "{c:?}");
+    assert_eq!(c.checksum_errors, 1);
+    let _ = std::fs::remove_file(cap);
+}

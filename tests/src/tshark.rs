@@ -84,8 +84,20 @@ fn decode_messages(protolink: &Path, cap: &Path, frames: usize) -> Vec<Vec<Value
 
 /// `decode --proto PROTO --json` events per frame.
 fn decode_proto(protolink: &Path, cap: &Path, frames: usize, proto: &str) -> Vec<Vec<Value>> {
+    decode_proto_with(protolink, cap, frames, proto, &[])
+}
+
+fn decode_proto_with(
+    protolink: &Path,
+    cap: &Path,
+    frames: usize,
+    proto: &str,
+    extra: &[&str],
+) -> Vec<Vec<Value>> {
     let out = Command::new(protolink)
-        .args(["decode", "--proto", proto, "--json", "--from"])
+        .args(["decode", "--proto", proto, "--json"])
+        .args(extra)
+        .arg("--from")
         .arg(cap)
         .output()
         .expect("protolink decode runs");
@@ -233,8 +245,20 @@ pub struct Compared {
 /// --json` prints it and as tshark shows it with the dissector: the same events in the same
 /// frames, the header (type, expedited, wire length, time) and every typed field equal.
 pub fn compare_aydp(tshark: &str, protolink: &Path, dissector: &Path, cap: &Path) -> Compared {
+    compare_aydp_profile(tshark, protolink, dissector, cap, "spec")
+}
+
+/// [`compare_aydp`] with decode's `--profile` (which reads TCP and UDP port 6321; the link
+/// types carry their own profile): the dissector reads port 6321 as `reference`.
+pub fn compare_aydp_profile(
+    tshark: &str,
+    protolink: &Path,
+    dissector: &Path,
+    cap: &Path,
+    profile: &str,
+) -> Compared {
     let shown = tshark_layer(tshark, dissector, cap, None, "aydp");
-    let decoded = decode_proto(protolink, cap, shown.len(), "aydp");
+    let decoded = decode_proto_with(protolink, cap, shown.len(), "aydp", &["--profile", profile]);
     let mut c = Compared::default();
     for (i, (t, d)) in shown.iter().zip(&decoded).enumerate() {
         let frame = i + 1;
