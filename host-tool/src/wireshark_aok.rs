@@ -440,3 +440,95 @@ end
 encap:add((wtap_encaps and wtap_encaps.USER3) or 48, aok_stream("aok_pc", "AOK byte stream, PC to device", "pc"))
 encap:add((wtap_encaps and wtap_encaps.USER4) or 49, aok_stream("aok_device", "AOK byte stream, device to PC", "device"))
 "#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::Value;
+
+    /// A frame of `f` with pattern fields (slots and sticks in range) and a good checksum.
+    fn build(f: &AokFrame, seed: u8) -> Vec<u8> {
+        let (start, _, len, check, fields) = f;
+        let mut b: Vec<u8> = (0..*len)
+            .map(|i| (i as u8).wrapping_mul(29).wrapping_add(seed))
+            .collect();
+        b[0] = *start;
+        for (_, ty, off) in fields.iter() {
+            match *ty {
+                "slot" => b[*off] = 7,
+                "stick" => b[*off..*off + 2].copy_from_slice(&(-150i16).to_le_bytes()),
+                _ => {}
+            }
+        }
+        if let Some((r, at)) = check {
+            b[*at] = b[r.clone()].iter().fold(0, |a, x| a ^ x);
+        }
+        b
+    }
+
+    fn expected(b: &[u8], ty: &str, off: usize) -> Value {
+        let arr = |n: usize| &b[off..off + n];
+        match ty {
+            "u8" => Value::from(b[off]),
+            "i32be" => Value::from(i32::from_be_bytes(arr(4).try_into().unwrap())),
+            "i16le" | "stick" => Value::from(i16::from_le_bytes(arr(2).try_into().unwrap())),
+            "u16le" => Value::from(u16::from_le_bytes(arr(2).try_into().unwrap())),
+            "slot" => Value::from(crate::decode::slot_name(
+                aok_proto::WaypointSlot::from_wire(b[off]).unwrap(),
+            )),
+            "action" => Value::from(crate::decode::action_name(aok_proto::ActionWord(
+                u32::from_be_bytes(arr(4).try_into().unwrap()),
+            ))),
+            other => panic!("type {other}"),
+        }
+    }
+
+    fn check(name: &str, fields: &[Field], b: &[u8], got: &Value) {
+        assert_eq!(
+            got.as_object().unwrap().len(),
+            fields.len(),
+            "{name}: {got}"
+        );
+        for (f, ty, off) in fields {
+            assert_eq!(got[*f], expected(b, ty, *off), "{name}.{f}");
+        }
+    }
+
+    #[test]
+    fn the_device_tables_read_what_the_pcs_parse_reads() {
+        for f in device_frames() {
+            let b = build(&f, 3);
+            let (m, n) = aok_proto::Message::parse(&b).unwrap();
+            assert_eq!(n, f.2);
+            let (name, fields) = crate::decode::aok_message_fields(&m);
+            assert_eq!(name, f.1);
+            check(f.1, f.4, &b, &fields);
+            // A flipped checksum is refused by the crate too.
+            if let Some((_, at)) = &f.3 {
+                let mut bad = b.clone();
+                bad[*at] ^= 1;
+                assert!(aok_proto::Message::parse(&bad).is_err(), "{}", f.1);
+            }
+        }
+    }
+
+    #[test]
+    fn the_pc_tables_read_what_the_devices_parse_reads() {
+        for f in pc_frames() {
+            let b = build(&f, 5);
+            let (c, n) = Command::parse(&b).unwrap();
+            assert_eq!(n, f.2);
+            let (name, fields) = aok_command_fields(&c);
+            assert_eq!(name, f.1);
+            check(f.1, f.4, &b, &fields);
+        }
+        // The control sub-commands and motor bytes the generator found (K5, K7).
+        assert_eq!(control_subs().len(), 8);
+        assert_eq!(motor_bytes().len(), 12);
+        let b = [0x33, 9, 0x33 ^ 9];
+        let (c, n) = Command::parse(&b).unwrap();
+        assert_eq!((n, motor_test::LEN), (3, 3));
+        let (_, fields) = aok_command_fields(&c);
+        assert_eq!(fields["value"], b[motor_test::VALUE]);
+    }
+}

@@ -543,3 +543,138 @@ encap:add((wtap_encaps and wtap_encaps.USER2) or 47, aydp_ref)
 DissectorTable.get("tcp.port"):add(6321, aydp_tcp)
 udp:add(6321, aydp)
 "#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use aydp_proto::{Message, Profile};
+    use serde_json::Value;
+
+    /// A value of `ty` at `off` of `data`, as f64 (uflt16 through the crate's own decoder).
+    fn read(data: &[u8], ty: &str, off: usize) -> f64 {
+        let b = |n: usize| &data[off..off + n];
+        match ty {
+            "u8" => f64::from(data[off]),
+            "u16" => f64::from(u16::from_le_bytes(b(2).try_into().unwrap())),
+            "u32" => f64::from(u32::from_le_bytes(b(4).try_into().unwrap())),
+            "i32" => f64::from(i32::from_le_bytes(b(4).try_into().unwrap())),
+            "f32" => f64::from(f32::from_le_bytes(b(4).try_into().unwrap())),
+            "f64" => f64::from_le_bytes(b(8).try_into().unwrap()),
+            "uflt16" => f64::from(
+                aydp_proto::uflt16::decode(u16::from_le_bytes(b(2).try_into().unwrap())).unwrap(),
+            ),
+            other => panic!("type {other}"),
+        }
+    }
+
+    fn same(json: &Value, ty: &str, v: f64, what: &str) {
+        let j = json.as_f64().unwrap();
+        if ty == "f32" || ty == "uflt16" {
+            assert_eq!(j as f32, v as f32, "{what}");
+        } else {
+            assert_eq!(j, v, "{what}");
+        }
+    }
+
+    /// Bytes with every uflt16 of `fields` (at `base + k * step`) a finite positive value.
+    fn pattern(len: usize, seed: u8) -> Vec<u8> {
+        (0..len)
+            .map(|i| (i as u8).wrapping_mul(37).wrapping_add(seed))
+            .collect()
+    }
+
+    fn tame(data: &mut [u8], fields: &[Field], base: usize) {
+        for (_, ty, off) in fields {
+            if *ty == "uflt16" {
+                data[base + off + 1] &= 0x3F;
+            }
+        }
+    }
+
+    #[test]
+    fn every_fixed_table_reads_what_the_crates_parse_reads() {
+        for (ty, profile, name, len, fields) in AYDP_FIXED {
+            let profile = match profile {
+                Some("reference") => Profile::Reference,
+                _ => Profile::Spec,
+            };
+            let mut data = pattern(len, ty);
+            tame(&mut data, fields, 0);
+            let m = Message::parse(ty, false, &data, profile).unwrap();
+            let json = crate::render::to_json(&m);
+            let (_, obj) = crate::render::variant(json);
+            let obj = match obj {
+                Value::Number(_) => serde_json::json!({ "value": obj }),
+                o => o,
+            };
+            assert_eq!(obj.as_object().unwrap().len(), fields.len(), "{name}");
+            for (f, fty, off) in fields {
+                same(
+                    &obj[*f],
+                    fty,
+                    read(&data, fty, *off),
+                    &format!("{name}.{f}"),
+                );
+            }
+            // Every byte is a field's: the table covers the layout.
+            let covered: usize = fields.iter().map(|(_, t, _)| lua_kind(t).unwrap().1).sum();
+            assert_eq!(covered, len, "{name}");
+        }
+    }
+
+    #[test]
+    fn the_list_tables_read_what_the_crates_parse_reads() {
+        for (ty, name, key, count_ty, count_off, entries, entry_len, fields) in AYDP_LISTS {
+            let n = 3usize;
+            let mut data = pattern(entries + n * entry_len, ty);
+            let count_size = lua_kind(count_ty).unwrap().1;
+            data[count_off..count_off + count_size].fill(0);
+            data[count_off] = n as u8;
+            for k in 0..n {
+                tame(&mut data, fields, entries + k * entry_len);
+            }
+            let m = Message::parse(ty, false, &data, Profile::Spec).unwrap();
+            let json = crate::render::to_json(&m);
+            let (_, obj) = crate::render::variant(json);
+            let list: Vec<Value> = match &m {
+                Message::FixDetail(d) => {
+                    d.satellites().map(|s| crate::render::to_json(&s)).collect()
+                }
+                Message::DirectOutput(d) => {
+                    d.entries().map(|e| crate::render::to_json(&e)).collect()
+                }
+                _ => panic!("{name}: {obj}"),
+            };
+            assert_eq!(list.len(), n, "{name} {key}");
+            for (k, e) in list.iter().enumerate() {
+                assert_eq!(e.as_object().unwrap().len(), fields.len(), "{name}");
+                for (f, fty, off) in fields {
+                    let v = read(&data, fty, entries + k * entry_len + off);
+                    same(&e[*f], fty, v, &format!("{name}[{k}].{f}"));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_system_value_update_table_reads_what_the_crates_parse_reads() {
+        let data = [3, 0x34, 0x12, 7, 0, 0, 0, 0xAA, 0xBB];
+        let Message::SystemValueUpdate(u) = Message::parse(8, false, &data, Profile::Spec).unwrap()
+        else {
+            panic!("not an update")
+        };
+        assert_eq!(
+            read(&data, AYDP_SVU[0].1, AYDP_SVU[0].2),
+            f64::from(u.mode.code())
+        );
+        assert_eq!(
+            read(&data, AYDP_SVU[1].1, AYDP_SVU[1].2),
+            f64::from(u.address)
+        );
+        assert_eq!(
+            read(&data, AYDP_SVU[2].1, AYDP_SVU[2].2),
+            f64::from(u.mode.field())
+        );
+        assert_eq!(&data[system_value_update::VALUE..], u.data);
+    }
+}

@@ -550,15 +550,14 @@ fn tshark_dissects_aydp_over_tcp_6321_as_the_reference_profile() {
         let t = t0 + Duration::from_millis(i as u64 * 10);
         w.chunk(t, &tcp_segment(boat, app, seq_down, c)).unwrap();
         seq_down += c.len() as u32;
-        if let Some(u) = up.get(i * 4..(i * 4 + 4).min(up.len())) {
-            if !u.is_empty() {
-                w.chunk(
-                    t + Duration::from_millis(1),
-                    &tcp_segment(app, boat, seq_up, u),
-                )
-                .unwrap();
-                seq_up += u.len() as u32;
-            }
+        let u = up.get(i * 4..(i * 4 + 4).min(up.len())).unwrap_or(&[]);
+        if !u.is_empty() {
+            w.chunk(
+                t + Duration::from_millis(1),
+                &tcp_segment(app, boat, seq_up, u),
+            )
+            .unwrap();
+            seq_up += u.len() as u32;
         }
     }
     w.flush().unwrap();
