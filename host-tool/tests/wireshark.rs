@@ -574,3 +574,51 @@ fn tshark_dissects_aydp_over_tcp_6321_as_the_reference_profile() {
     assert_eq!(c.checksum_errors, 1);
     let _ = std::fs::remove_file(cap);
 }
+
+#[test]
+fn tshark_dissects_aydp_datagrams_on_udp_6321_as_the_reference_profile() {
+    let Some(tshark) = tshark() else { return };
+    let cap = temp("aydp-udp.pcapng");
+    let mut w = CaptureWriter::create(&cap, 1, "udp").unwrap();
+    let boat: SocketAddrV4 = "127.0.0.1:6321".parse().unwrap();
+    let app: SocketAddrV4 = "127.0.0.1:40001".parse().unwrap();
+    let t0 = Duration::from_secs(1_700_000_000);
+    let stream = aydp_stream(false);
+    // Cut at message boundaries: a UDP datagram ends a message (A9, PL28).
+    let mut datagrams: Vec<Vec<u8>> = Vec::new();
+    let mut rest = &stream[..];
+    let mut one = Vec::new();
+    while !rest.is_empty() {
+        let expedited = rest[1] & 0x80 != 0;
+        let field = u32::from_le_bytes(rest[2..6].try_into().unwrap()) as usize;
+        let len = field + if expedited { 7 } else { 23 };
+        if rest[0] != 0xFF || len > rest.len() {
+            // The noise, bad checksum and false start at the end: one datagram.
+            one.extend(rest);
+            break;
+        }
+        one.extend(&rest[..len]);
+        rest = &rest[len..];
+        if one.len() > 60 {
+            datagrams.push(std::mem::take(&mut one));
+        }
+    }
+    datagrams.push(one);
+    for (i, d) in datagrams.iter().enumerate() {
+        w.udp(t0 + Duration::from_millis(i as u64), boat, app, d)
+            .unwrap();
+    }
+    w.flush().unwrap();
+    drop(w);
+    let c = protolink_tests::tshark::compare_aydp_profile(
+        tshark,
+        Path::new(env!("CARGO_BIN_EXE_protolink")),
+        &dissector(),
+        &cap,
+        "reference",
+    );
+    println!("AYDP over UDP 6321, {} datagrams: {c:?}", datagrams.len());
+    assert_eq!(c.messages, 23, "{c:?}");
+    assert_eq!(c.checksum_errors, 1);
+    let _ = std::fs::remove_file(cap);
+}
