@@ -57,5 +57,7 @@ pub mod stop;
 pub mod value_type;
 pub mod watch;
 pub mod wireshark;
+pub mod wireshark_aok;
+pub mod wireshark_aydp;
 
 pub use error::{Error, Result};
