@@ -107,8 +107,10 @@ fn record_udp_writes_ethernet_ipv4_udp_with_the_real_ports() {
     assert_eq!(events[2]["frame"], 2);
     assert_eq!(events[2]["kind"], "error");
     assert_eq!(events[2]["offset"], 16);
-    assert!(events[1]["time"].as_f64().unwrap() >= events[0]["time"].as_f64().unwrap());
-    assert!(events[0]["time"].as_f64().unwrap() > 1.7e9);
+    assert!(
+        events[1]["capture_time"].as_f64().unwrap() >= events[0]["capture_time"].as_f64().unwrap()
+    );
+    assert!(events[0]["capture_time"].as_f64().unwrap() > 1.7e9);
     let _ = std::fs::remove_file(out);
 }
 
@@ -192,7 +194,7 @@ fn decode_of_a_stream_capture_equals_decode_of_the_raw_bytes() {
     let strip = |v: &Value| {
         let mut v = v.clone();
         if let Value::Object(m) = &mut v {
-            for k in ["frame", "time", "flow", "proto"] {
+            for k in ["frame", "capture_time", "flow", "proto"] {
                 m.remove(k);
             }
         }
@@ -253,11 +255,11 @@ fn decode_reads_classic_pcap_by_its_magic_and_finds_aeolus_by_port() {
         "--json",
     ])));
     assert_eq!(lines[0]["frame"], 1);
-    assert_eq!(lines[0]["time"], 1_700_000_001.5);
+    assert_eq!(lines[0]["capture_time"], 1_700_000_001.5);
     assert_eq!(lines[0]["name"], "TOAST");
     assert_eq!(lines[0]["flow"], "udp 127.0.0.1:40000 > 127.0.0.1:5001");
     assert_eq!(lines[1]["frame"], 3);
-    assert_eq!(lines[1]["time"], 1_700_000_003.0);
+    assert_eq!(lines[1]["capture_time"], 1_700_000_003.0);
     assert_eq!(lines[1]["kind"], "error");
     assert!(lines[1]["error"].as_str().unwrap().contains("CRC"));
     let cap = lines.iter().find(|v| v["kind"] == "capture").unwrap();

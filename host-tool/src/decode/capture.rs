@@ -45,14 +45,14 @@ fn proto_name(p: Proto) -> &'static str {
     }
 }
 
-/// One event of a capture as a JSON object: the live decoder's object with `frame`, `time`
+/// One event of a capture as a JSON object: the live decoder's object with `frame`, `capture_time`
 /// (seconds since the Unix epoch), `flow` and `proto` added after `offset`.
 pub fn capture_json(event: &Event, frame: u64, time: f64, flow: &str, proto: Proto) -> Value {
     let mut v = event.to_json();
     if let Value::Object(m) = &mut v {
         let rest = std::mem::take(m);
         m.insert("frame".into(), json!(frame));
-        m.insert("time".into(), json!(time));
+        m.insert("capture_time".into(), json!(time));
         m.insert("flow".into(), json!(flow));
         m.insert("proto".into(), json!(proto_name(proto)));
         m.extend(rest);
