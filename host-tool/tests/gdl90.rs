@@ -180,15 +180,15 @@ fn discover_follows_the_foreflight_announcement() {
         &format!("127.0.0.1:{unused_port}"),
         "--discover",
         "--seconds",
-        "3",
+        "8",
     ]);
-    std::thread::sleep(Duration::from_millis(500));
     let announce = UdpSocket::bind("127.0.0.1:0").unwrap();
     let text = format!(r#"{{"App":"ForeFlight","GDL90":{{"port":{app_port}}}}}"#);
     let mut buf = [0u8; 512];
     let mut heard = 0;
     let started = Instant::now();
-    while started.elapsed() < Duration::from_millis(2000) {
+    // Announce every 100 ms (the tool may still be starting) until 5 datagrams came.
+    while heard < 5 && started.elapsed() < Duration::from_secs(7) {
         let _ = announce.send_to(text.as_bytes(), ("127.0.0.1", 63093));
         while let Ok(n) = app.recv(&mut buf) {
             assert!(unframe(&buf[..n]).is_some());
@@ -199,10 +199,10 @@ fn discover_follows_the_foreflight_announcement() {
     let out = finish(gdl90);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(heard >= 5, "{heard} datagrams reached the announced app");
-    // Before the announcement, datagrams went to --to; none after it.
-    let mut after = 0;
+    // Before the announcement datagrams went to --to: at most the first second's worth.
+    let mut before = 0;
     while unused.recv(&mut buf).is_ok() {
-        after += 1;
+        before += 1;
     }
-    assert!(after <= 10, "{after} datagrams still went to --to");
+    assert!(before <= 40, "{before} datagrams went to --to");
 }
