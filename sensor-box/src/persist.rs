@@ -40,7 +40,7 @@
 //!
 //! ```
 //! use firmware_example::MemFlash;
-//! use firmware_example::app::{Persisted, persist};
+//! use sensor_box::{Persisted, persist};
 //!
 //! let mut mem = [0u8; 4096];
 //! let mut flash = MemFlash::new(&mut mem);
@@ -165,7 +165,7 @@ impl SettingsV1 {
     /// The current settings: these values, and the default for what version 1 lacked.
     ///
     /// ```
-    /// use firmware_example::app::{Settings, persist::SettingsV1, state::Intervals};
+    /// use sensor_box::{Settings, persist::SettingsV1, state::Intervals};
     /// let old = SettingsV1 { intervals: Intervals::SPEC, airspeed_mps: 40.0, bank_deg: -15.0, altitude_m: 300.0 };
     /// assert_eq!(old.migrate().aok_debug_period_ms, Settings::default().aok_debug_period_ms);
     /// ```
@@ -194,8 +194,8 @@ impl PersistedV1 {
     /// not hold (`aok_debug_period_ms`).
     ///
     /// ```
-    /// use firmware_example::app::persist::{PersistedV1, SettingsV1};
-    /// use firmware_example::app::{Settings, state::{AokFlash, Intervals}};
+    /// use sensor_box::persist::{PersistedV1, SettingsV1};
+    /// use sensor_box::{Settings, state::{AokFlash, Intervals}};
     /// let old = PersistedV1 {
     ///     settings: SettingsV1 { intervals: Intervals::SPEC, airspeed_mps: 40.0, bank_deg: -15.0, altitude_m: 300.0 },
     ///     aok: AokFlash::default(),
@@ -461,7 +461,7 @@ fn decode<F: ReadNorFlash>(
 ///
 /// ```
 /// use firmware_example::MemFlash;
-/// use firmware_example::app::{Persisted, persist};
+/// use sensor_box::{Persisted, persist};
 /// let mut mem = [0xFFu8; 2048];
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut stored = Persisted::default();
@@ -489,7 +489,7 @@ pub fn load_into<F: ReadNorFlash>(
 ///
 /// ```
 /// use firmware_example::MemFlash;
-/// use firmware_example::app::{Persisted, persist};
+/// use sensor_box::{Persisted, persist};
 /// let mut mem = [0xFFu8; 2048];
 /// let mut flash = MemFlash::new(&mut mem);
 /// persist::store(&mut flash, &Persisted::default())?;
@@ -508,7 +508,7 @@ pub fn load<F: ReadNorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
 ///
 /// ```
 /// use firmware_example::MemFlash;
-/// use firmware_example::app::{Persisted, persist};
+/// use sensor_box::{Persisted, persist};
 /// let mut mem = [0x5Au8; 1024]; // garbage
 /// assert_eq!(persist::load_or_default(&mut MemFlash::new(&mut mem)), Persisted::default());
 /// ```
@@ -621,7 +621,7 @@ impl<F: NorFlash> Flavor for Writer<'_, F> {
 ///
 /// ```
 /// use firmware_example::MemFlash;
-/// use firmware_example::app::{Persisted, persist};
+/// use sensor_box::{Persisted, persist};
 /// let mut mem = [0u8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut record = Persisted::default();
@@ -642,8 +642,8 @@ pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<(), Store
 ///
 /// ```
 /// use firmware_example::MemFlash;
-/// use firmware_example::app::persist::{self, PersistedV1, SettingsV1};
-/// use firmware_example::app::state::{AokFlash, Intervals};
+/// use sensor_box::persist::{self, PersistedV1, SettingsV1};
+/// use sensor_box::state::{AokFlash, Intervals};
 /// let mut mem = [0u8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
 /// let old = PersistedV1 {

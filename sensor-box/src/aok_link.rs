@@ -18,7 +18,7 @@
 //! the flash. The firmware README (section "UART2: AOK") lists every protocol decision.
 //!
 //! ```
-//! use firmware_example::app::{Persisted, Shared, aok_link::{AokLink, DebugId}};
+//! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
 //! use firmware_example::{PortStats, QueuedSerial};
 //! use heapless::spsc::Queue;
 //!

@@ -50,7 +50,7 @@
 //!
 //! ```
 //! use aydp_proto::{Decoder, Message, Profile};
-//! use firmware_example::app::{Persisted, Shared, aydp_link::AydpLink};
+//! use sensor_box::{Persisted, Shared, aydp_link::AydpLink};
 //!
 //! /// A port that takes nothing in and keeps what goes out.
 //! struct Wire(Vec<u8>);
@@ -147,7 +147,7 @@ pub const SYSTEM_ID: [u8; TEXT_LEN] = text("SBX-0001");
 pub const HARDWARE_VERSION: [u8; TEXT_LEN] = text(
     if cfg!(all(target_os = "none", feature = "hardware-stm32f411")) {
         "STM32F411"
-    } else if cfg!(all(target_os = "none", feature = "board-qemu")) {
+    } else if cfg!(all(target_os = "none", feature = "hardware-lm3s6965evb")) {
         "QEMU lm3s6965evb"
     } else {
         "host"
@@ -226,7 +226,7 @@ impl AydpLink {
     /// The link at boot: the first heartbeat, position and fix quality are due at `now_ms`.
     ///
     /// ```
-    /// let link = firmware_example::app::aydp_link::AydpLink::new(0);
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
     /// assert_eq!(link.counters().updates_applied, 0);
     /// ```
     pub fn new(now_ms: u64) -> Self {
@@ -244,7 +244,7 @@ impl AydpLink {
     /// What the link counted.
     ///
     /// ```
-    /// let link = firmware_example::app::aydp_link::AydpLink::new(0);
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
     /// assert_eq!(link.counters().rejected, 0);
     /// ```
     pub fn counters(&self) -> LinkCounters {
@@ -254,7 +254,7 @@ impl AydpLink {
     /// The decoder's counters (messages ok, checksum and length errors, bytes discarded).
     ///
     /// ```
-    /// let link = firmware_example::app::aydp_link::AydpLink::new(0);
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
     /// assert_eq!(link.decoder_stats().frames_ok, 0);
     /// ```
     pub fn decoder_stats(&self) -> Stats {
@@ -296,7 +296,7 @@ impl AydpLink {
     ///
     /// ```
     /// use aydp_proto::{Decoder, Profile, Stats};
-    /// use firmware_example::app::{aydp_link::AydpLink, Persisted, Shared};
+    /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
     /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
     /// let stats = PortStats::new();
@@ -329,7 +329,7 @@ impl AydpLink {
     /// `now_ms`, without reading the port.
     ///
     /// ```
-    /// use firmware_example::app::{aydp_link::AydpLink, Persisted, Shared};
+    /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
     /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
     /// let stats = PortStats::new();
@@ -542,7 +542,7 @@ fn write_byte<P: Write<u8>>(port: &mut P, byte: u8) -> bool {
 /// ```
 /// use aeolus_proto::message::SetTime;
 /// use aydp_proto::Timestamp;
-/// use firmware_example::app::{Persisted, Shared, aydp_link::timestamp};
+/// use sensor_box::{Persisted, Shared, aydp_link::timestamp};
 /// let mut shared = Shared::new(Persisted::default(), 0);
 /// assert_eq!(timestamp(&shared, 12_345), Timestamp::new(12, 345));
 /// // 2024-03-01 12:00:00 arrived at 10 s; 2.5 s later:
@@ -568,7 +568,7 @@ pub fn timestamp(shared: &Shared, now_ms: u64) -> Timestamp {
 ///
 /// ```
 /// use aeolus_proto::message::SetTime;
-/// use firmware_example::app::aydp_link::unix_seconds;
+/// use sensor_box::aydp_link::unix_seconds;
 /// let t = SetTime { year_since_1900: 70, month0: 0, day: 1, hour: 0, minute: 0, second: 1 };
 /// assert_eq!(unix_seconds(&t), Some(1));
 /// let feb29 = SetTime { year_since_1900: 123, month0: 1, day: 29, ..t };

@@ -8,8 +8,8 @@
 //! * [`build`]: one AEOLUS [`Message`] of a [`Kind`] from a [`flight_sim::State`].
 //!
 //! ```
-//! use firmware_example::app::state::Intervals;
-//! use firmware_example::app::telemetry::{Kind, Telemetry, build};
+//! use sensor_box::state::Intervals;
+//! use sensor_box::telemetry::{Kind, Telemetry, build};
 //! use aeolus_proto::{CrcMode, message::Message};
 //!
 //! let flight = flight_sim::Flight::default();
@@ -99,7 +99,7 @@ impl Kind {
     /// The kind's position in [`Kind::ALL`] (for per-kind arrays).
     ///
     /// ```
-    /// use firmware_example::app::telemetry::Kind;
+    /// use sensor_box::telemetry::Kind;
     /// assert_eq!(Kind::ALL[Kind::Gps.index()], Kind::Gps);
     /// ```
     pub const fn index(self) -> usize {
@@ -109,7 +109,7 @@ impl Kind {
     /// The AEOLUS message ID.
     ///
     /// ```
-    /// use firmware_example::app::telemetry::Kind;
+    /// use sensor_box::telemetry::Kind;
     /// assert_eq!(Kind::Compass.id(), 72);
     /// ```
     pub const fn id(self) -> u8 {
@@ -130,7 +130,7 @@ impl Kind {
     /// The kind of a message ID, if it is one the box sends periodically.
     ///
     /// ```
-    /// use firmware_example::app::telemetry::Kind;
+    /// use sensor_box::telemetry::Kind;
     /// assert_eq!(Kind::from_id(61), Some(Kind::Pressure));
     /// assert_eq!(Kind::from_id(82), None); // TOAST is not periodic
     /// ```
@@ -148,7 +148,7 @@ impl Kind {
     /// The spec's name of the message.
     ///
     /// ```
-    /// use firmware_example::app::telemetry::Kind;
+    /// use sensor_box::telemetry::Kind;
     /// assert_eq!(Kind::AeolusInfo.name(), "AEOLUSINFO");
     /// ```
     pub const fn name(self) -> &'static str {
@@ -169,7 +169,7 @@ impl Kind {
     /// The data length of the message (the spec's table 6 size).
     ///
     /// ```
-    /// use firmware_example::app::telemetry::Kind;
+    /// use sensor_box::telemetry::Kind;
     /// assert_eq!(Kind::Attitude.data_len(), 52);
     /// ```
     pub const fn data_len(self) -> usize {
@@ -190,7 +190,7 @@ impl Kind {
     /// The kind's interval in `intervals`, ms (0 = off).
     ///
     /// ```
-    /// use firmware_example::app::{state::Intervals, telemetry::Kind};
+    /// use sensor_box::{state::Intervals, telemetry::Kind};
     /// assert_eq!(Kind::Temp.interval_ms(&Intervals::SPEC), 829);
     /// ```
     pub const fn interval_ms(self, intervals: &Intervals) -> u32 {
@@ -217,7 +217,7 @@ const fn frame_len(data_len: usize) -> u32 {
 /// float bytes add about 0.8 % of `7D` escapes on top).
 ///
 /// ```
-/// use firmware_example::app::{state::Intervals, telemetry::nominal_byte_rate};
+/// use sensor_box::{state::Intervals, telemetry::nominal_byte_rate};
 /// // GYRO 37 + ACCEL 45 + MAGNET 37 + ATTITUDE 57 + COMPASS 85 bytes every 7 ms, ...
 /// assert_eq!(nominal_byte_rate(&Intervals::SPEC), 45_207);
 /// ```
@@ -242,7 +242,7 @@ const OFF: u64 = u64::MAX;
 /// The telemetry schedule: when each [`Kind`] is next due.
 ///
 /// ```
-/// use firmware_example::app::{state::Intervals, telemetry::{Kind, Telemetry}};
+/// use sensor_box::{state::Intervals, telemetry::{Kind, Telemetry}};
 ///
 /// let mut t = Telemetry::new(1_000);
 /// // At boot everything is due once.
@@ -275,7 +275,7 @@ impl Telemetry {
     /// nothing missed meanwhile is sent or counted.
     ///
     /// ```
-    /// use firmware_example::app::{state::Intervals, telemetry::Telemetry};
+    /// use sensor_box::{state::Intervals, telemetry::Telemetry};
     /// let mut t = Telemetry::new(0);
     /// t.restart(60_000);
     /// assert_eq!(t.due(60_000, &Intervals::SPEC).count(), 10);
@@ -293,7 +293,7 @@ impl Telemetry {
     /// Due instants dropped after stalls (wrapping).
     ///
     /// ```
-    /// use firmware_example::app::{state::Intervals, telemetry::{Kind, Telemetry}};
+    /// use sensor_box::{state::Intervals, telemetry::{Kind, Telemetry}};
     /// let mut t = Telemetry::new(0);
     /// let _ = t.due(0, &Intervals::SPEC).count();
     /// // A 50 ms stall: PRESSURE had 10 due instants (5, 10, ..., 50), keeps 2 and sends one.
@@ -428,7 +428,7 @@ const fn parse_u8(s: &str) -> u8 {
 /// | AEOLUSINFO | [`MODEL`], [`FIRMWARE_VERSION`], [`MAC`] |
 ///
 /// ```
-/// use firmware_example::app::telemetry::{Kind, build};
+/// use sensor_box::telemetry::{Kind, build};
 /// use aeolus_proto::message::Message;
 ///
 /// let state = flight_sim::Flight::default().state(2_000);

@@ -29,7 +29,7 @@
 //! ```
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use embedded_hal_nb::serial::Write;
-//! use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+//! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
 //! use heapless::spsc::Queue;
 //!
@@ -129,7 +129,7 @@ impl LinkCounters {
     /// All telemetry frames queued.
     ///
     /// ```
-    /// let c = firmware_example::app::aeolus_link::LinkCounters::default();
+    /// let c = sensor_box::aeolus_link::LinkCounters::default();
     /// assert_eq!(c.telemetry_total(), 0);
     /// ```
     pub fn telemetry_total(&self) -> u32 {
@@ -160,7 +160,7 @@ impl AeolusLink {
     /// `now_ms`.
     ///
     /// ```
-    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// let link = sensor_box::aeolus_link::AeolusLink::new(0);
     /// assert_eq!(link.counters().toasts, 1);
     /// assert_eq!(link.tx_pending(), 15); // 7E 52 "AEOLUS on" 00 CRC CRC 7E
     /// ```
@@ -193,7 +193,7 @@ impl AeolusLink {
     /// passes each frame to [`AeolusLink::handle_frame`].
     ///
     /// ```
-    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
     /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 1024>::new());
     /// let stats = PortStats::new();
@@ -225,7 +225,7 @@ impl AeolusLink {
     ///
     /// ```
     /// use aeolus_proto::{CrcMode, Decoder, message::{Message, Text}};
-    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// let mut shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AeolusLink::new(0);
     /// let mut wire = [0u8; 64];
@@ -258,7 +258,7 @@ impl AeolusLink {
     /// The RX deframer's counters (frames, CRC errors, bytes discarded, ...).
     ///
     /// ```
-    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// let link = sensor_box::aeolus_link::AeolusLink::new(0);
     /// assert_eq!(link.rx_stats().frames_ok, 0);
     /// ```
     pub fn rx_stats(&self) -> &aeolus_proto::Stats {
