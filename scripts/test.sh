@@ -124,7 +124,13 @@ step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 s
     --features aeolus-decode,aeolus-encode,aydp-decode,aydp-encode,aok-decode,aok-encode,aeolus-read,aydp-read,aok-read
 done)
 
-step "firmware: release builds for both boards (and the simulated STM32), clippy on thumb"
+step "firmware: sensor-box and the boards: release builds for both boards (and the simulated STM32), clippy on thumb"
+# The box's behaviour on its own, as each board builds it (no features, defmt + the hardware name).
+for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
+  cargo build -q -p sensor-box --target "$t" --release
+  cargo build -q -p sensor-box --target "$t" --release --features defmt,hardware-stm32f411
+  cargo clippy -q -p sensor-box --release --target "$t" --features defmt -- -D warnings
+done
 cargo qemu-build -q
 cargo stm32-build -q
 cargo clippy -q -p firmware-example --release --target thumbv7m-none-eabi --features board-qemu --lib --bins -- -D warnings

@@ -7,7 +7,7 @@
 //!   links --> QueuedSerial (TX queue) --kick--> pump_tx --> UART TX (DMA)
 //! ```
 //!
-//! The protocol logic is `firmware_example::app`, unchanged: the links decide what is sent
+//! The protocol logic is the `sensor-box` crate, unchanged: the links decide what is sent
 //! and when, and encode it into a TX queue exactly as on the blocking boards
 //! ([`QueuedSerial`], with the same drop policies when it is full); here an async task moves
 //! the queue to the UART in DMA chunks instead of a TXE interrupt moving it a byte at a time.
@@ -23,8 +23,8 @@ use embassy_sync::signal::Signal;
 use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
 use embedded_storage::nor_flash::NorFlash;
-use firmware_example::app::{App, Control, aeolus_link, aydp_link};
 use firmware_example::{QueuedSerial, SerialIsr};
+use sensor_box::{App, Control, aeolus_link, aydp_link};
 
 /// How often the links' TX halves run (the telemetry schedule's resolution), ms. The
 /// blocking boards poll at least this often (SysTick at 1 kHz).

@@ -1,6 +1,6 @@
 //! `sensor-box-embassy`: the sensor box on an STM32F411 (Black Pill F411CE / Nucleo-F411RE)
 //! with `embassy-stm32`. This file is the board: clocks, pins, DMA streams, interrupts, the
-//! flash store, and one task per job; the application is `firmware_example::app` and the
+//! flash store, and one task per job; the application is the `sensor-box` crate and the
 //! async glue is [`links`].
 //!
 //! | job | UART | pins (TX, RX) | baud | DMA (RX ring, TX) |
@@ -21,11 +21,11 @@ use embassy_stm32::mode::Async;
 use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
 use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
 use embedded_storage::nor_flash::ReadNorFlash;
-use firmware_example::app::App;
 use firmware_example::{FlashWindow, PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
 use links::{Application, RxErrors, Shared, TxReady};
 use panic_probe as _;
+use sensor_box::App;
 use static_cell::{ConstStaticCell, StaticCell};
 
 /// USART2 (AEOLUS) baud rate: the spec schedule needs about 453 kbit/s (see

@@ -1,7 +1,9 @@
-//! The sensor-box firmware example: the board-independent part.
+//! The sensor-box firmware example: the boards' board-independent glue.
 //!
-//! This library holds what the application needs and what can be tested on
-//! the host, with no `unsafe` and no board crate:
+//! The application (the box's behaviour: telemetry, the three links, the
+//! flash record) is the `sensor-box` crate ([`sensor_box`]). This library
+//! holds what the boards put around it and what can be tested on the host,
+//! with no `unsafe` and no board crate:
 //!
 //! * [`clock`]: the [`Clock`] trait (a monotonic millisecond clock) and a
 //!   [`ManualClock`] for host tests and simulations;
@@ -11,9 +13,7 @@
 //!   board's UART interrupt handler;
 //! * [`storage`]: `embedded-storage` NOR flash over a byte slice ([`MemFlash`],
 //!   the QEMU board's flash store and the host tests' store) and a
-//!   [`FlashWindow`] that gives a sub-range of a bigger flash;
-//! * [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the
-//!   target (feature `defmt`) and compile to nothing on the host.
+//!   [`FlashWindow`] that gives a sub-range of a bigger flash.
 //!
 //! The boards themselves (`src/board/qemu.rs`, `src/board/stm32f411.rs`) and
 //! the `sensor-box` binary live in the binary target: all `unsafe` of the
@@ -36,10 +36,8 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-pub mod app;
 pub mod clock;
 mod error;
-pub mod log;
 pub mod serial;
 pub mod storage;
 
@@ -47,8 +45,3 @@ pub use clock::{Clock, ManualClock};
 pub use error::Error;
 pub use serial::{PortStats, QueuedSerial, SerialIsr};
 pub use storage::{FlashWindow, MemFlash};
-
-/// Re-exported for the logging macros; not part of the API.
-#[doc(hidden)]
-#[cfg(all(feature = "defmt", target_os = "none"))]
-pub use defmt as __defmt;

@@ -3,7 +3,7 @@
 //! The board is chosen by feature (`board-qemu` or `board-stm32f411`); the
 //! `.cargo/config.toml` aliases `cargo qemu` and `cargo stm32` pick the
 //! target and feature. The binary is only the glue between the board and the
-//! application (`firmware_example::app`):
+//! application (the `sensor-box` crate):
 //!
 //! 1. `board::init()`: clocks, SysTick, three interrupt-driven UARTs, the
 //!    flash store;
@@ -38,8 +38,8 @@ mod run {
     use cortex_m as _;
     use embedded_hal_nb::serial::Write;
     use embedded_storage::nor_flash::ReadNorFlash;
-    use firmware_example::app::{App, Control};
-    use firmware_example::{Clock, QueuedSerial, info};
+    use firmware_example::{Clock, QueuedSerial};
+    use sensor_box::{App, Control, info};
 
     #[cortex_m_rt::entry]
     fn main() -> ! {

@@ -19,12 +19,3 @@ fn manual_clock_moves_only_forward() {
     c.advance(u64::MAX);
     assert_eq!(c.now_ms(), u64::MAX);
 }
-
-#[test]
-fn log_macros_compile_to_nothing_on_the_host() {
-    let x = 5u32;
-    firmware_example::info!("x = {=u32}", x);
-    firmware_example::warn!("warn");
-    firmware_example::error!("e {} {}", x, x + 1);
-    firmware_example::debug!("d {=u32}", x,);
-}

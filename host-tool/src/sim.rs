@@ -1,7 +1,7 @@
 //! `protolink sim`: a virtual AEOLUS-SENSE box on UDP, for app developers without hardware.
 //!
 //! It is not a second implementation of the box: [`Sim`] runs the firmware's own AEOLUS link
-//! ([`firmware_example::app::aeolus_link::AeolusLink`]), with the same telemetry schedule, the
+//! ([`sensor_box::aeolus_link::AeolusLink`]), with the same telemetry schedule, the
 //! same simulated flight ([`flight_sim`]) and the same command handling, over a port whose
 //! output is cut into datagrams at the frame flags and whose input is the datagrams received
 //! on the in-port. So the rates (spec figure 1c), the messages, the answers to COMMAND
@@ -20,9 +20,9 @@ use std::time::{Duration, Instant};
 use aeolus_proto::FLAG;
 use clap::Args;
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
-use firmware_example::app::aeolus_link::{AeolusLink, LinkCounters};
-use firmware_example::app::telemetry::Kind;
-use firmware_example::app::{Persisted, Settings, Shared};
+use sensor_box::aeolus_link::{AeolusLink, LinkCounters};
+use sensor_box::telemetry::Kind;
+use sensor_box::{Persisted, Settings, Shared};
 use serde_json::{Map, Value, json};
 
 use crate::bridge::{Packer, UdpArgs, receive_some};
@@ -122,7 +122,7 @@ impl Write<u8> for DatagramPort {
 ///
 /// ```
 /// use aeolus_proto::{decode_datagram, message::{Message, Text}, CrcMode};
-/// use firmware_example::app::Settings;
+/// use sensor_box::Settings;
 /// use protolink::sim::Sim;
 ///
 /// let mut sim = Sim::new(Settings::default(), 0);
@@ -162,7 +162,7 @@ pub struct Sim {
 
 /// Bytes the virtual box holds for its link to read (the link reads up to
 /// `aeolus_link::RX_BUDGET` per millisecond poll).
-pub const RX_QUEUE: usize = 4 * firmware_example::app::aeolus_link::RX_BUDGET;
+pub const RX_QUEUE: usize = 4 * sensor_box::aeolus_link::RX_BUDGET;
 
 impl Sim {
     /// A box booting at `now_ms` with `settings` (its TOAST "AEOLUS on" goes out first).

@@ -6,10 +6,10 @@ use aydp_proto::{
     Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
     Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::app::aydp_link::{self, addr};
-use firmware_example::app::{App, Control, Persisted, Settings};
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
+use sensor_box::aydp_link::{self, addr};
+use sensor_box::{App, Control, Persisted, Settings};
 
 /// One UART: the application's half and the interrupt half the test plays.
 struct Port {
@@ -744,7 +744,7 @@ fn heartbeats_from_the_peer_are_counted_and_other_types_ignored() {
 
 #[test]
 fn a_full_tx_queue_drops_the_message_and_never_blocks() {
-    use firmware_example::app::{Shared, aydp_link::AydpLink};
+    use sensor_box::{Shared, aydp_link::AydpLink};
     // A TX queue with room for 4 bytes that nobody drains: the 7-byte heartbeat cannot go.
     let mut rxq = Queue::<u8, 8>::new();
     let mut txq = Queue::<u8, 5>::new();

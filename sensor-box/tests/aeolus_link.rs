@@ -4,12 +4,12 @@
 
 use aeolus_proto::message::{Message, SetTime, Text};
 use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
-use firmware_example::app::aeolus_link::{AeolusLink, TX_QUEUE};
-use firmware_example::app::state::Intervals;
-use firmware_example::app::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
-use firmware_example::app::{App, Control, Persisted, Shared};
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
+use sensor_box::aeolus_link::{AeolusLink, TX_QUEUE};
+use sensor_box::state::Intervals;
+use sensor_box::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
+use sensor_box::{App, Control, Persisted, Shared};
 
 // ------------------------------------------------------------------ rig
 

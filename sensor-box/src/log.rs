@@ -9,8 +9,8 @@
 //!
 //! ```
 //! let answer = 42u32;
-//! firmware_example::info!("booted, answer = {=u32}", answer);
-//! firmware_example::warn!("store missing, using defaults");
+//! sensor_box::info!("booted, answer = {=u32}", answer);
+//! sensor_box::warn!("store missing, using defaults");
 //! ```
 
 /// Logs at info level (`defmt::info!` on the target, nothing on the host).

@@ -26,12 +26,15 @@
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
 //! slowly the other side reads (the bytes wait in the port instead).
 //!
+//! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
+//! UART0 receives (deframing, COMMAND, SETTIME).
+//!
 //! [`Requests::reboot`]: super::state::Requests::reboot
 //!
 //! ```
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use embedded_hal_nb::serial::Write;
-//! use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+//! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
 //! use heapless::spsc::Queue;
 //!
@@ -65,10 +68,13 @@
 //! assert_eq!(toasts, ["AEOLUS on", "AEOLUS paused"]);
 //! ```
 
-use super::Shared;
-use super::telemetry::{Kind, Telemetry, build};
-use aeolus_proto::message::{Message, SetTime, Text, id};
+mod commands;
+
+use crate::Shared;
+use crate::telemetry::{Kind, Telemetry, build};
+use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
+use commands::{Incoming, incoming};
 use embedded_hal_nb::serial::{Read, Write};
 use heapless::Deque;
 
@@ -131,20 +137,12 @@ impl LinkCounters {
     /// All telemetry frames queued.
     ///
     /// ```
-    /// let c = firmware_example::app::aeolus_link::LinkCounters::default();
+    /// let c = sensor_box::aeolus_link::LinkCounters::default();
     /// assert_eq!(c.telemetry_total(), 0);
     /// ```
     pub fn telemetry_total(&self) -> u32 {
         self.sent.iter().fold(0u32, |a, &n| a.wrapping_add(n))
     }
-}
-
-/// What a received frame asks for, copied out of the deframer's buffer.
-enum Incoming {
-    Command(Text),
-    SetTime(SetTime),
-    Ignored,
-    Error,
 }
 
 /// The AEOLUS link.
@@ -162,7 +160,7 @@ impl AeolusLink {
     /// `now_ms`.
     ///
     /// ```
-    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// let link = sensor_box::aeolus_link::AeolusLink::new(0);
     /// assert_eq!(link.counters().toasts, 1);
     /// assert_eq!(link.tx_pending(), 15); // 7E 52 "AEOLUS on" 00 CRC CRC 7E
     /// ```
@@ -195,7 +193,7 @@ impl AeolusLink {
     /// passes each frame to [`AeolusLink::handle_frame`].
     ///
     /// ```
-    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
     /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 1024>::new());
     /// let stats = PortStats::new();
@@ -227,7 +225,7 @@ impl AeolusLink {
     ///
     /// ```
     /// use aeolus_proto::{CrcMode, Decoder, message::{Message, Text}};
-    /// use firmware_example::app::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// let mut shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AeolusLink::new(0);
     /// let mut wire = [0u8; 64];
@@ -260,7 +258,7 @@ impl AeolusLink {
     /// The RX deframer's counters (frames, CRC errors, bytes discarded, ...).
     ///
     /// ```
-    /// let link = firmware_example::app::aeolus_link::AeolusLink::new(0);
+    /// let link = sensor_box::aeolus_link::AeolusLink::new(0);
     /// assert_eq!(link.rx_stats().frames_ok, 0);
     /// ```
     pub fn rx_stats(&self) -> &aeolus_proto::Stats {
@@ -275,93 +273,6 @@ impl AeolusLink {
     /// Encoded bytes waiting in the TX queue.
     pub fn tx_pending(&self) -> usize {
         self.tx.len()
-    }
-
-    fn receive<P: Read<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
-        for _ in 0..RX_BUDGET {
-            // A byte is read only while the longest answer it could complete still fits: when
-            // the host reads slowly and TX backs up, received bytes wait in the port (and the
-            // UART) instead of their answers being dropped.
-            if TX_QUEUE - self.tx.len() < FRAME_BUF {
-                break;
-            }
-            match port.read() {
-                Ok(byte) => {
-                    let incoming = self.deframe(byte);
-                    self.handle(incoming, now_ms, shared);
-                }
-                Err(nb::Error::WouldBlock) => break,
-                Err(nb::Error::Other(_)) => bump(&mut self.counters.port_errors),
-            }
-        }
-    }
-
-    /// Feeds one byte to the deframer; what a completed frame asks for, if any. Only the two
-    /// messages the box acts on are parsed (the others' parsers stay out of the firmware).
-    fn deframe(&mut self, byte: u8) -> Option<Incoming> {
-        let Ok(frame) = self.deframer.push(byte)? else {
-            return Some(Incoming::Error);
-        };
-        Some(incoming(&frame))
-    }
-
-    fn handle(&mut self, incoming: Option<Incoming>, now_ms: u64, shared: &mut Shared) {
-        match incoming {
-            None => {}
-            Some(Incoming::Command(text)) => self.command(&text, shared),
-            Some(Incoming::SetTime(time)) => self.set_time(time, now_ms, shared),
-            Some(Incoming::Ignored) => bump(&mut self.counters.ignored),
-            Some(Incoming::Error) => bump(&mut self.counters.rx_errors),
-        }
-    }
-
-    fn command(&mut self, text: &Text, shared: &mut Shared) {
-        match text.as_bytes().trim_ascii() {
-            b"a pause" => {
-                crate::info!("AEOLUS: a pause");
-                shared.paused = true;
-                self.toast(b"AEOLUS paused");
-            }
-            b"a resume" => {
-                crate::info!("AEOLUS: a resume");
-                shared.paused = false;
-                self.toast(b"AEOLUS resumed");
-            }
-            b"a reboot" => {
-                crate::info!("AEOLUS: a reboot");
-                self.toast(b"AEOLUS rebooting");
-                shared.requests.reboot = true;
-            }
-            other => {
-                crate::warn!("AEOLUS: unknown command ({=usize} bytes)", other.len());
-                bump(&mut self.counters.unknown_commands);
-                let mut answer = [0u8; TEXT_CAPACITY];
-                let n = join(&mut answer, UNKNOWN_PREFIX, other);
-                self.toast(answer.get(..n).unwrap_or(&[]));
-                return;
-            }
-        }
-        bump(&mut self.counters.commands);
-    }
-
-    fn set_time(&mut self, time: SetTime, now_ms: u64, shared: &mut Shared) {
-        if !settime_in_range(&time) {
-            crate::warn!("AEOLUS: SETTIME out of range, ignored");
-            bump(&mut self.counters.settime_rejected);
-            return;
-        }
-        crate::info!(
-            "AEOLUS: SETTIME {=u16}-{=u8}-{=u8} {=u8}:{=u8}:{=u8} at {=u64} ms",
-            1900 + u16::from(time.year_since_1900),
-            time.month0 + 1,
-            time.day,
-            time.hour,
-            time.minute,
-            time.second,
-            now_ms
-        );
-        shared.wall_clock = Some((time, now_ms));
-        bump(&mut self.counters.settime);
     }
 
     /// Builds and queues the telemetry due at `now_ms` (one flight state for all of them).
@@ -402,16 +313,6 @@ impl AeolusLink {
     }
 }
 
-/// What a good frame asks for. Only the two messages the box acts on are parsed.
-fn incoming(frame: &Frame<'_>) -> Incoming {
-    let parsed = match frame.id() {
-        id::COMMAND => Text::parse(id::COMMAND, frame.data()).map(Incoming::Command),
-        id::SETTIME => SetTime::parse(frame.data()).map(Incoming::SetTime),
-        _ => Ok(Incoming::Ignored),
-    };
-    parsed.unwrap_or(Incoming::Error)
-}
-
 /// Moves queued bytes into the port until it would block.
 fn drain<P: Write<u8>>(tx: &mut Deque<u8, TX_QUEUE>, port: &mut P, counters: &mut LinkCounters) {
     while let Some(&byte) = tx.front() {
@@ -442,21 +343,6 @@ fn enqueue(tx: &mut Deque<u8, TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> b
         .unwrap_or(&[])
         .iter()
         .all(|&b| tx.push_back(b).is_ok())
-}
-
-/// Writes `a` then as much of `b` as fits into `out`; returns the length written.
-fn join(out: &mut [u8], a: &[u8], b: &[u8]) -> usize {
-    let mut n = 0;
-    for (slot, &byte) in out.iter_mut().zip(a.iter().chain(b)) {
-        *slot = byte;
-        n += 1;
-    }
-    n
-}
-
-/// SETTIME fields within the ranges of section 7.16 (DECISIONS.md A8).
-fn settime_in_range(t: &SetTime) -> bool {
-    t.month0 <= 11 && (1..=31).contains(&t.day) && t.hour <= 23 && t.minute <= 59 && t.second <= 59
 }
 
 fn bump(counter: &mut u32) {

@@ -1,8 +1,11 @@
-//! The sensor-box application: AEOLUS telemetry on UART0, AYDP on UART1, AOK on UART2.
+//! The sensor box's behaviour: AEOLUS telemetry on UART0, AYDP on UART1, AOK on UART2.
 //!
-//! It is generic over the serial ports (`embedded_hal_nb::serial::{Read, Write}`), a flash
-//! store (`embedded_storage::nor_flash::NorFlash`) and the time (`now_ms`, passed in), so the
-//! same code runs on both boards and in host tests with in-memory ports and a simulated clock.
+//! This crate is the box, without a board: it is generic over the serial ports
+//! (`embedded_hal_nb::serial::{Read, Write}`), a flash store
+//! (`embedded_storage::nor_flash::NorFlash`) and the time (`now_ms`, passed in), so the same
+//! code runs on every board (`firmware-example`'s QEMU and STM32F411 boards, `firmware-embassy`),
+//! in `protolink sim` on the desk, and in host tests with in-memory ports and a simulated clock.
+//! It has no `unsafe` and no board crate.
 //!
 //! Structure:
 //! - [`state`]: the data the links share ([`Shared`]), the [`Settings`] and the
@@ -11,12 +14,22 @@
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
+//! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
+//!   (feature `defmt`) and compile to nothing on the host.
 //!
 //! The main loop calls [`App::poll`] as often as it can; the flash is written only from there.
+//!
+//! Features: `defmt` (log through defmt on `target_os = "none"`, `defmt::Format` on the
+//! public types); `hardware-lm3s6965evb` and `hardware-stm32f411` name the board in AYDP
+//! 0x0003 (the boards turn them on; on the host the name is `host`).
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
 
 pub mod aeolus_link;
 pub mod aok_link;
 pub mod aydp_link;
+pub mod log;
 pub mod persist;
 pub mod state;
 pub mod telemetry;
@@ -25,6 +38,11 @@ pub use state::{Persisted, Settings, Shared};
 
 use embedded_hal_nb::serial::{Read, Write};
 use embedded_storage::nor_flash::NorFlash;
+
+/// Re-exported for the logging macros; not part of the API.
+#[doc(hidden)]
+#[cfg(all(feature = "defmt", target_os = "none"))]
+pub use defmt as __defmt;
 
 /// What the main loop must do after a poll.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,7 +109,8 @@ impl App {
     /// `firmware-embassy` does) calls it after them.
     ///
     /// ```
-    /// use firmware_example::{MemFlash, app::{App, Control}};
+    /// use firmware_example::MemFlash;
+    /// use sensor_box::{App, Control};
     /// let mut mem = [0xFFu8; 4096];
     /// let mut flash = MemFlash::new(&mut mem);
     /// let mut app = App::new(&mut flash, 0);

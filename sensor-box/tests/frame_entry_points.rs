@@ -8,11 +8,11 @@ use aeolus_proto::message::{Message, SetTime, Text};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::app::aeolus_link::{AeolusLink, RX_FRAME};
-use firmware_example::app::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
-use firmware_example::app::{App, Control, Persisted, Shared};
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
+use sensor_box::aeolus_link::{AeolusLink, RX_FRAME};
+use sensor_box::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
+use sensor_box::{App, Control, Persisted, Shared};
 
 fn port() -> (QueuedSerial<'static>, SerialIsr<'static>) {
     let rx: &'static mut Queue<u8, 4096> = Box::leak(Box::new(Queue::new()));

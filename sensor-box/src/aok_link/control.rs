@@ -1,0 +1,48 @@
+//! Motors and external control: the motor-test outputs and their lapse, the external-control
+//! sticks and their expiry.
+
+use super::{AokLink, MOTOR_LAPSE_MS};
+use aok_proto::MotorTest;
+
+impl AokLink {
+    /// Motor-test values and external control run out.
+    pub(super) fn expire(&mut self, now_ms: u64) {
+        for (i, m) in self.motors.iter_mut().enumerate() {
+            if m.value != 0 && now_ms >= m.until_ms {
+                crate::info!(
+                    "AOK motor test: motor {=usize} {=u8} -> 0 (lapsed)",
+                    i.wrapping_add(1),
+                    m.value
+                );
+                m.value = 0;
+            }
+        }
+        if let Some(e) = self.external
+            && now_ms >= e.until_ms
+        {
+            crate::info!("AOK external control expired: RC has control");
+            self.external = None;
+        }
+    }
+
+    pub(super) fn motor_test(&mut self, m: MotorTest, now_ms: u64, flying: bool) {
+        if flying {
+            crate::warn!("AOK motor test refused: flying");
+            self.counters.refused_in_flight = self.counters.refused_in_flight.wrapping_add(1);
+            return;
+        }
+        let index = usize::from(m.motor.get()).wrapping_sub(1);
+        if let Some(out) = self.motors.get_mut(index) {
+            if out.value != m.value {
+                crate::info!(
+                    "AOK motor test: motor {=u8} {=u8} -> {=u8}",
+                    m.motor.get(),
+                    out.value,
+                    m.value
+                );
+            }
+            out.value = m.value;
+            out.until_ms = now_ms.saturating_add(MOTOR_LAPSE_MS);
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! AOK on UART2: the flight-controller side of the AOK protocol.
+//!
+//! [`AokLink::poll`] reads the commands the PC sends (through `aok_proto`'s [`DeviceDecoder`]),
+//! answers them, and sends the debug value stream. Nothing in it blocks: replies go into a
+//! small TX queue of [`TX_CAPACITY`] bytes which is handed to the port with non-blocking
+//! writes, and a debug frame is only built when that queue is empty, so a reply never waits
+//! behind more than one debug frame.
+//!
+//! What the link holds:
+//! - the RAM parameters ([`AOK_PARAMS`] of them, loaded at boot from the start set in flash);
+//! - the RAM waypoints (slots 0..=30, 254 POI and 255 FBC target; slot 31, the mission POI,
+//!   lives in the flash record [`AokFlash::waypoints`](super::state::AokFlash));
+//! - the motor-test outputs (held [`MOTOR_LAPSE_MS`] after the last frame) and the
+//!   external-control sticks with their expiry.
+//!
+//! The parameter sets, the start set and the flash waypoints are in [`Shared::persisted`];
+//! commands that change them set `shared.requests.store` and the [`App`](super::App) writes
+//! the flash. The crate README (section "UART2: AOK") lists every protocol decision.
+//!
+//! The link is in rooms: this file holds its state, `poll` and the TX queue; `dispatch`
+//! decodes and answers each command (one `match`, the short answers inline); `params` (reading
+//! and setting one parameter), `waypoints` (the slots, loading them from flash) and `control`
+//! (motor test, external control and their expiry) hold the rest of each family; `debug` is
+//! the debug value stream.
+//!
+//! ```
+//! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
+//! use firmware_example::{PortStats, QueuedSerial};
+//! use heapless::spsc::Queue;
+//!
+//! let shared = &mut Shared::new(Persisted::default(), 0);
+//! let mut link = AokLink::new(shared);
+//! let (mut rxq, mut txq) = (Queue::<u8, 64>::new(), Queue::<u8, 64>::new());
+//! let stats = PortStats::new();
+//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! // Debug is on at boot: the first poll sends the first value of the cycle (roll).
+//! link.poll(0, &mut port, shared);
+//! let frame: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
+//! assert_eq!(frame.len(), 7);
+//! assert_eq!(&frame[..2], &[0x1c, DebugId::Roll as u8]);
+//! // Read parameter 3: the >= 0.31 reply `FF 03 B1..B4 CRC`.
+//! for b in [0x63, 0x01, 0x67, 0x03] {
+//!     isr.received(b);
+//! }
+//! link.poll(1, &mut port, shared);
+//! let reply: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
+//! assert_eq!(reply, [0xff, 0x03, 0, 0, 0, 0, 0]);
+//! ```
+
+mod control;
+mod debug;
+mod dispatch;
+mod params;
+mod waypoints;
+
+pub use debug::{DebugId, STATUS_EXTERNAL, STATUS_FLYING, STATUS_MOTOR_TEST};
+
+use crate::Shared;
+use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
+use aok_proto::message::HEADED_REPLY_LEN;
+use aok_proto::{Ack, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
+use embedded_hal_nb::serial::{Read, Write};
+use heapless::Deque;
+
+/// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
+/// (>= 0.31) form `FF NUM B1..B4 CRC` and bulk read (`47`, >= 0.35) is supported.
+pub const FIRMWARE: FirmwareVersion = FirmwareVersion::new(0, 35);
+const _: () = assert!(FIRMWARE.has_bulk_read());
+
+/// A motor-test value lapses (back to 0) this long after the last frame for that motor.
+pub const MOTOR_LAPSE_MS: u64 = 500;
+/// Number of motors the test command addresses (`31..39`, `41..43`).
+pub const MOTORS: usize = 12;
+/// RAM waypoint slots 0..=30 (waypoints 1..=31).
+pub const RAM_WAYPOINTS: usize = 31;
+/// Index of the mission POI (wire slot 31) in the flash waypoints.
+pub const MISSION_POI: usize = AOK_FLASH_WAYPOINTS - 1;
+/// Parameters that may be set while flying: bit `n` set = parameter `n` is "in-flight"
+/// settable. Parameters 0..=15 are (tuning values); 16..=31 are not (configuration).
+pub const IN_FLIGHT_PARAMS: u32 = 0x0000_ffff;
+/// A partial frame is abandoned (the decoder rescans behind it) after this much silence.
+pub const IDLE_MS: u64 = 50;
+/// Capacity of the link's own TX queue, in bytes: one bulk reply (112 bytes) plus room.
+pub const TX_CAPACITY: usize = 128;
+/// The longest reply one command produces: the 16 frames of a bulk read.
+const MAX_REPLY: usize = HEADED_REPLY_LEN * 16;
+/// At most this many received bytes are decoded per poll, so one poll stays short.
+pub const RX_BUDGET: usize = 64;
+
+/// Who steers the (simulated) aircraft.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
+pub enum ControlSource {
+    /// The RC transmitter (the default, and after external control expires).
+    Rc,
+    /// External control (`53` frames) until its expiry runs out.
+    External,
+}
+
+/// "Flying", for the in-flight checks and the flight status: the simulated flight runs and
+/// AEOLUS telemetry is not paused ("a pause" lands the box).
+pub fn flying(shared: &Shared) -> bool {
+    !shared.paused
+}
+
+/// Is parameter `number` settable while flying ([`IN_FLIGHT_PARAMS`])?
+pub const fn in_flight_settable(number: u8) -> bool {
+    match IN_FLIGHT_PARAMS.checked_shr(number as u32) {
+        Some(bits) => bits & 1 == 1,
+        None => false,
+    }
+}
+
+/// The link's own counters (the decoder's are in [`AokLink::decoder_stats`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
+pub struct AokCounters {
+    /// 'E' acks sent (bad checksum, invalid waypoint slot, unknown parameter or set number).
+    pub rejected: u32,
+    /// Commands refused because the box is flying ('I' sent, or motor test ignored).
+    pub refused_in_flight: u32,
+    /// Replies dropped because the TX queue was full.
+    pub replies_dropped: u32,
+    /// Debug frames queued.
+    pub debug_frames: u32,
+    /// Receive errors reported by the port.
+    pub rx_errors: u32,
+    /// Transmit errors reported by the port.
+    pub tx_errors: u32,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct MotorOutput {
+    value: u8,
+    until_ms: u64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct External {
+    control: ExternalControl,
+    until_ms: u64,
+}
+
+/// The AOK link.
+pub struct AokLink {
+    decoder: DeviceDecoder,
+    tx: Deque<u8, TX_CAPACITY>,
+    debug_on: bool,
+    next_debug_ms: u64,
+    debug_index: usize,
+    last_rx_ms: u64,
+    params: [i32; AOK_PARAMS],
+    waypoints: [StoredWaypoint; RAM_WAYPOINTS],
+    ram_poi: StoredWaypoint,
+    fbc_target: StoredWaypoint,
+    motors: [MotorOutput; MOTORS],
+    external: Option<External>,
+    counters: AokCounters,
+}
+
+impl AokLink {
+    /// The link at boot: debug on, the parameters of the start set, the waypoints from flash
+    /// (as `63 09` would load them: flash slot 31 into the RAM POI), FBC target 0/0.
+    pub fn new(shared: &Shared) -> Self {
+        let aok = &shared.persisted.aok;
+        let params = match aok.sets.get(usize::from(aok.start_set)) {
+            Some(set) => *set,
+            None => {
+                crate::warn!(
+                    "AOK: start set {=u8} does not exist, parameters are 0",
+                    aok.start_set
+                );
+                [0; AOK_PARAMS]
+            }
+        };
+        let mut link = AokLink {
+            decoder: DeviceDecoder::new(),
+            tx: Deque::new(),
+            debug_on: true,
+            next_debug_ms: 0,
+            debug_index: 0,
+            last_rx_ms: 0,
+            params,
+            waypoints: [StoredWaypoint::default(); RAM_WAYPOINTS],
+            ram_poi: StoredWaypoint::default(),
+            fbc_target: StoredWaypoint::default(),
+            motors: [MotorOutput::default(); MOTORS],
+            external: None,
+            counters: AokCounters::default(),
+        };
+        link.load_waypoints(shared);
+        link
+    }
+
+    /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
+    pub fn poll<P: Read<u8> + Write<u8>>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
+        self.flush(port);
+        self.receive(now_ms, port, shared);
+        self.expire(now_ms);
+        if self.debug_on && self.tx.is_empty() && now_ms >= self.next_debug_ms {
+            self.send_debug(now_ms, shared);
+        }
+        self.flush(port);
+    }
+
+    /// Is the debug stream on (`63 02`) or off (`63 01`)?
+    pub fn debug_enabled(&self) -> bool {
+        self.debug_on
+    }
+
+    /// The RAM parameters.
+    pub fn parameters(&self) -> &[i32; AOK_PARAMS] {
+        &self.params
+    }
+
+    /// The motor-test outputs, motor 1 first (0 = off).
+    pub fn motor_outputs(&self) -> [u8; MOTORS] {
+        self.motors.map(|m| m.value)
+    }
+
+    /// Who steers now.
+    pub fn control_source(&self) -> ControlSource {
+        if self.external.is_some() {
+            ControlSource::External
+        } else {
+            ControlSource::Rc
+        }
+    }
+
+    /// The external-control sticks while external control has the aircraft.
+    pub fn external_control(&self) -> Option<ExternalControl> {
+        self.external.map(|e| e.control)
+    }
+
+    /// The link's counters.
+    pub fn counters(&self) -> &AokCounters {
+        &self.counters
+    }
+
+    /// The command decoder's counters.
+    pub fn decoder_stats(&self) -> &Stats {
+        self.decoder.stats()
+    }
+
+    /// Bytes waiting in the link's TX queue (not yet accepted by the port).
+    pub fn tx_pending(&self) -> usize {
+        self.tx.len()
+    }
+
+    /// Hands queued bytes to the port until it would block.
+    fn flush<P: Write<u8>>(&mut self, port: &mut P) {
+        while let Some(&byte) = self.tx.front() {
+            match port.write(byte) {
+                Ok(()) => {
+                    let _ = self.tx.pop_front();
+                }
+                Err(nb::Error::WouldBlock) => break,
+                Err(nb::Error::Other(_)) => {
+                    self.counters.tx_errors = self.counters.tx_errors.wrapping_add(1);
+                    break;
+                }
+            }
+        }
+    }
+
+    fn tx_free(&self) -> usize {
+        TX_CAPACITY.saturating_sub(self.tx.len())
+    }
+
+    /// Queues a whole reply, or drops it (counted) when it does not fit.
+    fn queue(&mut self, bytes: &[u8]) {
+        if self.tx_free() < bytes.len() {
+            crate::warn!("AOK: TX queue full, reply dropped");
+            self.counters.replies_dropped = self.counters.replies_dropped.wrapping_add(1);
+            return;
+        }
+        for &b in bytes {
+            let _ = self.tx.push_back(b);
+        }
+    }
+
+    fn ack(&mut self, ack: Ack) {
+        match ack {
+            Ack::Ok => {}
+            Ack::Error => self.counters.rejected = self.counters.rejected.wrapping_add(1),
+            Ack::InFlight => {
+                self.counters.refused_in_flight = self.counters.refused_in_flight.wrapping_add(1)
+            }
+        }
+        self.queue(&[ack.byte()]);
+    }
+}

@@ -1,0 +1,283 @@
+//! AYDP on UART1 (profile `Spec`): the box's system-value registry, direct outputs, and a
+//! heartbeat, position and fix quality at 1 Hz.
+//!
+//! # What arrives
+//!
+//! Every received byte goes through an [`aydp_proto::Decoder`]; every event it yields (a
+//! rescan can yield several per byte) is handled:
+//!
+//! * **System value update** (8), all three modes: applied through an
+//!   [`aydp_proto::registry::Registry`] built over [`Shared`] (the addresses in [`addr`]).
+//!   The registry checks access, mode, size, bounds and range, and either changes exactly what
+//!   the update names or nothing; a rejection is counted ([`LinkCounters::rejected`]) and
+//!   logged. A change of airspeed, bank or altitude rebuilds the simulated flight
+//!   ([`Shared::settings_changed`]).
+//! * **System control** (9): "request data" is answered with a system value update of the
+//!   whole value (scalars in mode 1, arrays and texts in mode 2), in the form the request came
+//!   in (expedited request, expedited reply; normal request, normal reply with a timestamp).
+//!   An unknown address is not answered (AYDP has no negative reply) and counts as rejected.
+//!   "Store configuration" sets [`Shared::requests`]`.store`; the App writes the flash.
+//! * **Direct output control** (7): obeyed only while address 0x0000 is 1, and all or
+//!   nothing: an entry naming a (device, channel) the box does not have, or a non-finite
+//!   value, rejects the whole message. The new values are logged and readable at
+//!   [`addr::OUTPUTS`].
+//! * **Heartbeat** (128) is counted; anything else (time sync, positions, user messages) is
+//!   counted as ignored. A frame whose data does not parse counts as malformed.
+//!
+//! # What is sent
+//!
+//! A heartbeat (expedited type 0) every [`HEARTBEAT_PERIOD_MS`], and a position (3) and fix
+//! quality (4) every [`NAV_PERIOD_MS`] from the simulated flight, all starting at boot.
+//! Normal messages carry the wall-clock time of the last AEOLUS SETTIME when the box has one,
+//! else the time since boot ([`timestamp`]).
+//!
+//! # Registry
+//!
+//! | address | name | type | access | range | default |
+//! |---|---|---|---|---|---|
+//! | 0x0000 | enable direct control | u8 | rw | 0..=1 | 0 |
+//! | 0x0001 | system name | char\[40\] | ro | | [`SYSTEM_NAME`] |
+//! | 0x0002 | system ID | char\[40\] | ro | | [`SYSTEM_ID`] |
+//! | 0x0003 | hardware version | char\[40\] | ro | | [`HARDWARE_VERSION`] |
+//! | 0x0004 | firmware version | char\[40\] | ro | | [`FIRMWARE_VERSION`] |
+//! | 0x0100 | AEOLUS intervals, ms: IMU, pressure, GPS, temp, wind, info | u32\[6\] | rw | 1..=60 000 | 7, 5, 92, 829, 1000, 1000 |
+//! | 0x0110 | simulated airspeed, m/s | f32 | rw | 10..=150 | 50 |
+//! | 0x0111 | simulated bank, deg | f32 | rw | -60..=60 | 20 |
+//! | 0x0112 | simulated altitude, m | f32 | rw | -500..=11 000 | 1000 |
+//! | 0x0120 | AOK debug period, ms | u32 | rw | 0..=60 000 | 20 |
+//! | 0x0200 | direct outputs (device 1, channels 0..=7) | f32\[8\] | ro | | 0 |
+//! | 0x0300 | link counters ([`COUNTER_NAMES`]) | u32\[10\] | ro | | 0 |
+//!
+//! # Files
+//!
+//! This file holds the link's state, `poll` and the per-frame entry points; `dispatch` what
+//! each received message does; `registry` the addresses, the texts and the view of
+//! [`Shared`] the registry works on; `periodic` the 1 Hz messages, their timestamps and
+//! sending into the port.
+//!
+//! ```
+//! use aydp_proto::{Decoder, Message, Profile};
+//! use sensor_box::{Persisted, Shared, aydp_link::AydpLink};
+//!
+//! /// A port that takes nothing in and keeps what goes out.
+//! struct Wire(Vec<u8>);
+//! impl embedded_hal_nb::serial::ErrorType for Wire { type Error = core::convert::Infallible; }
+//! impl embedded_hal_nb::serial::Read<u8> for Wire {
+//!     fn read(&mut self) -> nb::Result<u8, Self::Error> { Err(nb::Error::WouldBlock) }
+//! }
+//! impl embedded_hal_nb::serial::Write<u8> for Wire {
+//!     fn write(&mut self, b: u8) -> nb::Result<(), Self::Error> { self.0.push(b); Ok(()) }
+//!     fn flush(&mut self) -> nb::Result<(), Self::Error> { Ok(()) }
+//! }
+//!
+//! let mut shared = Shared::new(Persisted::default(), 0);
+//! let mut link = AydpLink::new(0);
+//! let mut wire = Wire(Vec::new());
+//! link.poll(0, &mut wire, &mut shared); // at boot: heartbeat, position, fix quality
+//! let mut dec = Decoder::<128>::new(Profile::Spec);
+//! let mut types = Vec::new();
+//! dec.feed(&wire.0, |ev| types.push(ev.unwrap().type_byte()));
+//! assert_eq!(types, [0x80, 3, 4]);
+//! ```
+
+mod dispatch;
+mod periodic;
+mod registry;
+
+pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
+pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
+
+use crate::Shared;
+use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats};
+use embedded_hal_nb::serial::{Read, Write};
+
+/// Longest message the link accepts, bytes. The largest the box expects is a direct output
+/// of 8 channels (22 + 2 + 48 + 1 = 73 bytes, normal); 128 leaves room for 17 entries.
+pub const DECODER_CAPACITY: usize = 128;
+/// Heartbeat period, ms.
+pub const HEARTBEAT_PERIOD_MS: u64 = 1000;
+/// Position and fix quality period, ms.
+pub const NAV_PERIOD_MS: u64 = 1000;
+/// Most received bytes handled per poll (keeps one poll short under a flood).
+pub const RX_BUDGET: usize = 256;
+/// Tries per byte while the TX queue is full before the rest of a message is dropped.
+const TX_SPIN: u32 = 10_000;
+
+/// What the link counted. All counters wrap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LinkCounters {
+    /// System value updates applied.
+    pub updates_applied: u32,
+    /// Updates and requests the registry rejected (unknown address, read-only, wrong mode or
+    /// size, out of bounds or range); nothing changed.
+    pub rejected: u32,
+    /// Frames with a good checksum whose data does not parse as their type.
+    pub malformed: u32,
+    /// Request-data commands answered.
+    pub requests_answered: u32,
+    /// Store-configuration commands (flash writes requested).
+    pub stores_requested: u32,
+    /// Direct output messages obeyed.
+    pub direct_applied: u32,
+    /// Direct output messages refused: direct control off, unknown channel or bad value.
+    pub direct_refused: u32,
+    /// Heartbeats received.
+    pub heartbeats_received: u32,
+    /// Good frames of a type the box does not act on.
+    pub ignored: u32,
+    /// Messages not sent completely because the TX queue stayed full.
+    pub tx_dropped: u32,
+}
+
+/// Names of the u32\[10\] at [`addr::LINK_COUNTERS`], in order: the first four are the
+/// decoder's, the rest [`LinkCounters`].
+pub const COUNTER_NAMES: [&str; 10] = [
+    "messages ok",
+    "checksum errors",
+    "length errors",
+    "bytes discarded",
+    "updates applied",
+    "rejected",
+    "malformed",
+    "requests answered",
+    "direct applied",
+    "direct refused",
+];
+
+/// Everything but the decoder (so a frame can borrow the decoder while this is mutated).
+struct Ctx {
+    encoder: Encoder,
+    counters: LinkCounters,
+    next_heartbeat_ms: u64,
+    next_nav_ms: u64,
+}
+
+/// The AYDP link.
+pub struct AydpLink {
+    decoder: Decoder<DECODER_CAPACITY>,
+    ctx: Ctx,
+}
+
+impl AydpLink {
+    /// The link at boot: the first heartbeat, position and fix quality are due at `now_ms`.
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert_eq!(link.counters().updates_applied, 0);
+    /// ```
+    pub fn new(now_ms: u64) -> Self {
+        AydpLink {
+            decoder: Decoder::new(Profile::Spec),
+            ctx: Ctx {
+                encoder: Encoder::new(Profile::Spec),
+                counters: LinkCounters::default(),
+                next_heartbeat_ms: now_ms,
+                next_nav_ms: now_ms,
+            },
+        }
+    }
+
+    /// What the link counted.
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert_eq!(link.counters().rejected, 0);
+    /// ```
+    pub fn counters(&self) -> LinkCounters {
+        self.ctx.counters
+    }
+
+    /// The decoder's counters (messages ok, checksum and length errors, bytes discarded).
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert_eq!(link.decoder_stats().frames_ok, 0);
+    /// ```
+    pub fn decoder_stats(&self) -> Stats {
+        self.decoder.stats()
+    }
+
+    /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
+    ///
+    /// See the [module documentation](self) for an example.
+    pub fn poll<P: Read<u8> + Write<u8>>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
+        for _ in 0..RX_BUDGET {
+            let Ok(byte) = port.read() else { break };
+            // The counters as of before this byte: what 0x0300 reports to a request it ends.
+            let stats = self.decoder.stats();
+            let mut event = self.decoder.push(byte);
+            while let Some(ev) = event {
+                match ev {
+                    Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, port, shared),
+                    Err(e) => crate::debug!("AYDP: dropped a candidate: {}", e),
+                }
+                event = self.decoder.poll();
+            }
+        }
+        self.ctx.send_due(now_ms, port, shared);
+    }
+}
+
+impl AydpLink {
+    /// Acts on one message from a decoder the caller runs, the per-message half of
+    /// [`AydpLink::poll`]'s RX (an async `aydp_proto::embedded_io_async::FrameReader`, say):
+    /// updates, requests, store configuration, direct outputs. Replies go to `port` at once.
+    /// `stats` is what 0x0300 reports for the decoder counters (the caller's decoder: the
+    /// link's own, and so [`AydpLink::decoder_stats`], is not used on this path).
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile, Stats};
+    /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
+    /// use firmware_example::{PortStats, QueuedSerial};
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let mut shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AydpLink::new(0);
+    /// // Expedited request data at 0x0110 (airspeed).
+    /// let request = [0xFF, 0x89, 0x0A, 0, 0, 0, 0x01, 0x10, 0x01, 0x6C];
+    /// let mut decoder = Decoder::<128>::new(Profile::Spec);
+    /// for &b in &request {
+    ///     if let Some(Ok(frame)) = decoder.push(b) {
+    ///         link.handle_frame(&frame, &Stats::default(), 5, &mut port, &mut shared);
+    ///     }
+    /// }
+    /// assert_eq!(link.counters().requests_answered, 1);
+    /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
+    /// ```
+    pub fn handle_frame<P: Write<u8>>(
+        &mut self,
+        frame: &Frame<'_>,
+        stats: &Stats,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
+        self.ctx.handle(frame, stats, now_ms, port, shared);
+    }
+
+    /// The TX half of [`AydpLink::poll`]: sends the heartbeat, position and fix quality due at
+    /// `now_ms`, without reading the port.
+    ///
+    /// ```
+    /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
+    /// use firmware_example::{PortStats, QueuedSerial};
+    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AydpLink::new(0);
+    /// link.poll_tx(0, &mut port, &shared);
+    /// let sent = core::iter::from_fn(|| isr.next_to_send()).count();
+    /// assert_eq!(sent, 7 + 43 + 31); // heartbeat, position, fix quality
+    /// ```
+    pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+        self.ctx.send_due(now_ms, port, shared);
+    }
+}

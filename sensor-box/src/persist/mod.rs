@@ -1,0 +1,263 @@
+//! Loading and storing the [`Persisted`] record in flash.
+//!
+//! # Image layout
+//!
+//! The record is one image at offset 0 of the store, all fields little-endian:
+//!
+//! | offset | size | field |
+//! |---|---|---|
+//! | 0 | 4 | magic `"SBOX"` ([`MAGIC`]) |
+//! | 4 | 2 | format version ([`VERSION`] = 2; 1 is still read, see below) |
+//! | 6 | 2 | reserved, 0 |
+//! | 8 | 4 | payload length `n`, bytes (1..=[`PAYLOAD_MAX`]) |
+//! | 12 | 4 | CRC-32/ISO-HDLC over bytes 0..12 and the payload |
+//! | 16 | `n` | the record, `postcard`-serialised |
+//!
+//! The image is padded with `0xFF` (the erased value, so padding programs nothing) to a
+//! multiple of the flash's `WRITE_SIZE`, and written in chunks of [`CHUNK`] bytes after
+//! erasing the pages it covers. A write cut short by a reset leaves an image whose CRC fails:
+//! it then loads as the defaults.
+//!
+//! # Small stack
+//!
+//! Neither direction holds the image in RAM. [`store`] serialises the record three times
+//! through small postcard flavors: to count its bytes, to compute the CRC, and to write it
+//! to flash through a [`CHUNK`]-byte buffer; then it reads the image back to check the CRC.
+//! [`load_into`] checks the CRC through a [`WINDOW`]-byte window, then decodes the record in
+//! place, field by field: the settings as one postcard value, the AOK arrays one element at
+//! a time. The bytes are exactly postcard's encoding of [`Persisted`] (a fixed-size array
+//! is its elements in order, a struct its fields in order); decoding the 1.2 KiB record as
+//! one serde value would build several copies of its arrays on the stack.
+//!
+//! # Versions
+//!
+//! * 2 (current): [`Persisted`].
+//! * 1: [`PersistedV1`], the layout before the AOK debug period setting existed. It loads
+//!   with its values and the missing field at its default ([`PersistedV1::migrate`]); the
+//!   next store writes version 2.
+//!
+//! Any other version (a store written by a newer firmware) loads as the defaults.
+//!
+//! # Files
+//!
+//! This file is the record format: the header constants, the versions and their migrations,
+//! the errors. `load.rs` reads an image from flash, `store.rs` writes one.
+//!
+//! ```
+//! use firmware_example::MemFlash;
+//! use sensor_box::{Persisted, persist};
+//!
+//! let mut mem = [0u8; 4096];
+//! let mut flash = MemFlash::new(&mut mem);
+//! assert_eq!(persist::load(&mut flash).map(|l| l.version), Err(persist::StoreError::Empty));
+//!
+//! let mut record = Persisted::default();
+//! record.settings.airspeed_mps = 61.5;
+//! persist::store(&mut flash, &record)?;
+//! assert_eq!(persist::load_or_default(&mut flash), record);
+//! # Ok::<(), persist::StoreError>(())
+//! ```
+
+mod load;
+mod store;
+
+pub use load::{load, load_into, load_or_default};
+pub use store::{store, write_image};
+
+use super::Persisted;
+use super::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, AOK_SETS, AokFlash, Intervals, Settings};
+use core::fmt;
+use crc::{CRC_32_ISO_HDLC, Crc, NoTable};
+use serde::{Deserialize, Serialize};
+
+/// `"SBOX"`: marks a sensor-box settings image.
+pub const MAGIC: u32 = u32::from_le_bytes(*b"SBOX");
+/// The format version [`store`] writes.
+pub const VERSION: u16 = 2;
+/// The oldest format version [`load`] still reads.
+pub const OLDEST_VERSION: u16 = 1;
+/// Bytes before the payload.
+pub const HEADER_LEN: usize = 16;
+
+/// Largest postcard varint of a `u32` / zigzagged `i32`, bytes.
+const VARINT32_MAX: usize = 5;
+/// Largest serialised [`Settings`]: six varint intervals, three `f32`, one varint.
+const SETTINGS_MAX: usize = 6 * VARINT32_MAX + 3 * 4 + VARINT32_MAX;
+/// Largest serialised [`AokFlash`]: the parameter sets, the start set, the waypoints (four
+/// varints each).
+const AOK_MAX: usize =
+    AOK_SETS * AOK_PARAMS * VARINT32_MAX + 1 + AOK_FLASH_WAYPOINTS * 4 * VARINT32_MAX;
+/// Largest payload of either version (version 1 is smaller), bytes.
+pub const PAYLOAD_MAX: usize = SETTINGS_MAX + AOK_MAX;
+/// Largest image (header and payload, before padding), bytes.
+pub const IMAGE_MAX: usize = HEADER_LEN + PAYLOAD_MAX;
+
+/// Write buffer of [`store`], bytes: every write but the last is this long. A multiple of
+/// every power-of-two `WRITE_SIZE` up to 64.
+pub const CHUNK: usize = 64;
+/// Read window of [`load_into`], bytes: holds the largest value decoded at once (the
+/// settings, 47 bytes) from any offset, for a `READ_SIZE` up to 64.
+pub const WINDOW: usize = 128;
+/// Largest `READ_SIZE` / `WRITE_SIZE` the store handles.
+const UNIT_MAX: usize = 64;
+
+/// CRC-32/ISO-HDLC (the zlib / Ethernet CRC-32): 32 bits make a torn or bit-flipped image
+/// pass with odds of 2^-32 and catch every burst up to 32 bits; it is the CRC every host
+/// tool already has (`zlib.crc32`, `binascii.crc32` in Python), so a flash dump can be
+/// checked on a PC. Computed bitwise (`NoTable`): the image is checked once at boot and
+/// twice per store, so the 1 KiB lookup table would cost flash for no useful speed.
+static CRC: Crc<u32, NoTable> = Crc::<u32, NoTable>::new(&CRC_32_ISO_HDLC);
+
+/// Why a load or a store failed (the one error type of the flash store).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum StoreError {
+    /// The flash driver reported an error.
+    Flash,
+    /// The record (padded to the write size, erased by whole pages) does not fit the store,
+    /// or its payload is longer than [`PAYLOAD_MAX`].
+    TooLarge,
+    /// The flash's `READ_SIZE` or `WRITE_SIZE` is above 64 bytes or not a power of two.
+    Unsupported,
+    /// Load: the store holds no image (erased, or zero RAM after power-on on QEMU).
+    Empty,
+    /// Load: the first four bytes are not [`MAGIC`].
+    BadMagic,
+    /// Load: a format version this firmware cannot read.
+    UnsupportedVersion(u16),
+    /// Load: the payload length is 0, above [`PAYLOAD_MAX`] or beyond the store.
+    BadLength(u32),
+    /// Load: the CRC does not match.
+    BadCrc,
+    /// Load: the payload passed the CRC but is not a record of its version.
+    Decode,
+    /// Store: the flash does not read back what was written.
+    Verify,
+}
+
+impl fmt::Display for StoreError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StoreError::Flash => f.write_str("flash driver error"),
+            StoreError::TooLarge => f.write_str("record does not fit the store"),
+            StoreError::Unsupported => f.write_str("flash read or write unit not supported"),
+            StoreError::Empty => f.write_str("store is empty"),
+            StoreError::BadMagic => f.write_str("store holds no settings image (bad magic)"),
+            StoreError::UnsupportedVersion(v) => write!(f, "unsupported store version {v}"),
+            StoreError::BadLength(n) => write!(f, "bad payload length {n}"),
+            StoreError::BadCrc => f.write_str("store CRC mismatch"),
+            StoreError::Decode => f.write_str("store payload does not decode"),
+            StoreError::Verify => f.write_str("flash read-back differs from what was written"),
+        }
+    }
+}
+
+impl core::error::Error for StoreError {}
+
+/// [`Settings`] as format version 1 stored them: without `aok_debug_period_ms`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SettingsV1 {
+    /// AEOLUS telemetry intervals.
+    pub intervals: Intervals,
+    /// Simulated true airspeed, m/s.
+    pub airspeed_mps: f32,
+    /// Simulated bank angle, degrees.
+    pub bank_deg: f32,
+    /// Simulated altitude, m.
+    pub altitude_m: f32,
+}
+
+impl SettingsV1 {
+    /// The current settings: these values, and the default for what version 1 lacked.
+    ///
+    /// ```
+    /// use sensor_box::{Settings, persist::SettingsV1, state::Intervals};
+    /// let old = SettingsV1 { intervals: Intervals::SPEC, airspeed_mps: 40.0, bank_deg: -15.0, altitude_m: 300.0 };
+    /// assert_eq!(old.migrate().aok_debug_period_ms, Settings::default().aok_debug_period_ms);
+    /// ```
+    pub fn migrate(self) -> Settings {
+        Settings {
+            intervals: self.intervals,
+            airspeed_mps: self.airspeed_mps,
+            bank_deg: self.bank_deg,
+            altitude_m: self.altitude_m,
+            ..Settings::default()
+        }
+    }
+}
+
+/// The record of format version 1: [`SettingsV1`], then the AOK data as in version 2.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PersistedV1 {
+    /// The settings, version 1.
+    pub settings: SettingsV1,
+    /// The AOK parameter sets and waypoints (unchanged since version 1).
+    pub aok: AokFlash,
+}
+
+impl PersistedV1 {
+    /// The current record: the version 1 values, and the defaults for what version 1 did
+    /// not hold (`aok_debug_period_ms`).
+    ///
+    /// ```
+    /// use sensor_box::persist::{PersistedV1, SettingsV1};
+    /// use sensor_box::{Settings, state::{AokFlash, Intervals}};
+    /// let old = PersistedV1 {
+    ///     settings: SettingsV1 { intervals: Intervals::SPEC, airspeed_mps: 40.0, bank_deg: -15.0, altitude_m: 300.0 },
+    ///     aok: AokFlash::default(),
+    /// };
+    /// let new = old.migrate();
+    /// assert_eq!(new.settings.bank_deg, -15.0);
+    /// assert_eq!(new.settings.aok_debug_period_ms, Settings::default().aok_debug_period_ms);
+    /// ```
+    pub fn migrate(self) -> Persisted {
+        Persisted {
+            settings: self.settings.migrate(),
+            aok: self.aok,
+        }
+    }
+}
+
+/// A record read from the store, and the format version it was stored in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loaded {
+    /// The record, migrated to the current format.
+    pub record: Persisted,
+    /// The format version found in the store ([`VERSION`], or an older one that was
+    /// migrated).
+    pub version: u16,
+}
+
+/// `n` rounded up to a multiple of `k` (`k == 0` counts as 1); `None` on overflow.
+const fn round_up(n: usize, k: usize) -> Option<usize> {
+    let k = if k == 0 { 1 } else { k };
+    match n.checked_add(k - 1) {
+        Some(m) => Some(m / k * k),
+        None => None,
+    }
+}
+
+/// Whether the store can use a flash with this read or write unit.
+const fn unit_ok(unit: usize) -> bool {
+    unit.is_power_of_two() && unit <= UNIT_MAX
+}
+
+fn le_u16(b: &[u8], at: usize) -> u16 {
+    let mut a = [0u8; 2];
+    if let Some(s) = b.get(at..at.wrapping_add(2)) {
+        a.copy_from_slice(s);
+    }
+    u16::from_le_bytes(a)
+}
+
+fn le_u32(b: &[u8], at: usize) -> u32 {
+    let mut a = [0u8; 4];
+    if let Some(s) = b.get(at..at.wrapping_add(4)) {
+        a.copy_from_slice(s);
+    }
+    u32::from_le_bytes(a)
+}
+
+fn offset(at: usize) -> Result<u32, StoreError> {
+    u32::try_from(at).map_err(|_| StoreError::TooLarge)
+}

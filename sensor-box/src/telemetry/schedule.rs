@@ -1,0 +1,144 @@
+//! The schedule: when each [`Kind`] is next due.
+
+use super::Kind;
+use crate::state::Intervals;
+
+/// The next-due instant of a kind whose interval is 0.
+const OFF: u64 = u64::MAX;
+
+/// The telemetry schedule: when each [`Kind`] is next due.
+///
+/// ```
+/// use sensor_box::{state::Intervals, telemetry::{Kind, Telemetry}};
+///
+/// let mut t = Telemetry::new(1_000);
+/// // At boot everything is due once.
+/// assert_eq!(t.due(1_000, &Intervals::SPEC).count(), Kind::COUNT);
+/// assert_eq!(t.due(1_001, &Intervals::SPEC).count(), 0);
+/// // 5 ms later: PRESSURE; 7 ms later: the five IMU messages.
+/// assert_eq!(t.due(1_005, &Intervals::SPEC).collect::<Vec<_>>(), [Kind::Pressure]);
+/// assert_eq!(t.due(1_007, &Intervals::SPEC).count(), 5);
+/// assert_eq!(t.next_due_ms(Kind::Gps), 1_092);
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Telemetry {
+    next_ms: [u64; Kind::COUNT],
+    skipped: u32,
+}
+
+impl Telemetry {
+    /// Due instants kept per kind after a stall; older ones are dropped.
+    pub const MAX_LATE: u64 = 2;
+
+    /// A schedule starting at `now_ms`: every kind is due at once.
+    pub const fn new(now_ms: u64) -> Self {
+        Telemetry {
+            next_ms: [now_ms; Kind::COUNT],
+            skipped: 0,
+        }
+    }
+
+    /// Starts the schedule over at `now_ms` (after a pause): every kind is due at once and
+    /// nothing missed meanwhile is sent or counted.
+    ///
+    /// ```
+    /// use sensor_box::{state::Intervals, telemetry::Telemetry};
+    /// let mut t = Telemetry::new(0);
+    /// t.restart(60_000);
+    /// assert_eq!(t.due(60_000, &Intervals::SPEC).count(), 10);
+    /// assert_eq!(t.skipped(), 0);
+    /// ```
+    pub fn restart(&mut self, now_ms: u64) {
+        self.next_ms = [now_ms; Kind::COUNT];
+    }
+
+    /// When `kind` is next due, ms (`u64::MAX` while its interval is 0).
+    pub fn next_due_ms(&self, kind: Kind) -> u64 {
+        self.next_ms.get(kind.index()).copied().unwrap_or(u64::MAX)
+    }
+
+    /// Due instants dropped after stalls (wrapping).
+    ///
+    /// ```
+    /// use sensor_box::{state::Intervals, telemetry::{Kind, Telemetry}};
+    /// let mut t = Telemetry::new(0);
+    /// let _ = t.due(0, &Intervals::SPEC).count();
+    /// // A 50 ms stall: PRESSURE had 10 due instants (5, 10, ..., 50), keeps 2 and sends one.
+    /// let late: Vec<Kind> = t.due(50, &Intervals::SPEC).collect();
+    /// assert!(late.contains(&Kind::Pressure));
+    /// assert_eq!(t.next_due_ms(Kind::Pressure), 50); // the second kept instant, sent next poll
+    /// assert_eq!(t.skipped(), 8 + 5 * 5); // PRESSURE 8 of 10, each 7 ms kind 5 of 7
+    /// ```
+    pub const fn skipped(&self) -> u32 {
+        self.skipped
+    }
+
+    /// The kinds due at `now_ms`, each at most once, in [`Kind::ALL`] order. Iterating
+    /// consumes them (their next due instant moves on); kinds not reached because the iterator
+    /// was dropped early stay due.
+    pub fn due(&mut self, now_ms: u64, intervals: &Intervals) -> Due<'_> {
+        Due {
+            telemetry: self,
+            now_ms,
+            intervals: *intervals,
+            index: 0,
+        }
+    }
+
+    /// Whether `kind` is due at `now_ms`; if it is, moves its due instant on.
+    fn take(&mut self, kind: Kind, now_ms: u64, interval_ms: u32) -> bool {
+        let Some(next) = self.next_ms.get_mut(kind.index()) else {
+            return false;
+        };
+        if interval_ms == 0 {
+            *next = OFF;
+            return false;
+        }
+        if *next == OFF {
+            // Turned on again: due at once.
+            *next = now_ms;
+        }
+        let interval = u64::from(interval_ms);
+        let latest = now_ms.saturating_add(interval);
+        if *next > latest {
+            // The interval was shortened: do not wait out the old one.
+            *next = latest;
+        }
+        if now_ms < *next {
+            return false;
+        }
+        let due_instants = (now_ms - *next) / interval + 1;
+        if due_instants > Self::MAX_LATE {
+            let drop = due_instants - Self::MAX_LATE;
+            *next = next.saturating_add(drop.saturating_mul(interval));
+            self.skipped = self
+                .skipped
+                .wrapping_add(u32::try_from(drop).unwrap_or(u32::MAX));
+        }
+        *next = next.saturating_add(interval);
+        true
+    }
+}
+
+/// The iterator of [`Telemetry::due`].
+pub struct Due<'a> {
+    telemetry: &'a mut Telemetry,
+    now_ms: u64,
+    intervals: Intervals,
+    index: usize,
+}
+
+impl Iterator for Due<'_> {
+    type Item = Kind;
+
+    fn next(&mut self) -> Option<Kind> {
+        while let Some(&kind) = Kind::ALL.get(self.index) {
+            self.index += 1;
+            let interval = kind.interval_ms(&self.intervals);
+            if self.telemetry.take(kind, self.now_ms, interval) {
+                return Some(kind);
+            }
+        }
+        None
+    }
+}
