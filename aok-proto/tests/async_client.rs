@@ -2,7 +2,7 @@
 //! delay: the debug-off / drain / request / reply / debug-on sequence, acks, refusals,
 //! timeouts and transport errors.
 
-#[path = "support/transport.rs"]
+#[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
 use std::cell::Cell;

@@ -7,7 +7,7 @@
 mod events;
 use events::{idle_all, push_all};
 
-#[path = "support/transport.rs"]
+#[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
 use aok_proto::pc::{Expect, PcDecoder};

@@ -5,7 +5,7 @@
 
 #[path = "support/streamgen.rs"]
 mod streamgen;
-#[path = "support/transport.rs"]
+#[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
 use aydp_proto::{

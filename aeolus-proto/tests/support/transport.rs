@@ -1,6 +1,7 @@
 //! In-memory `embedded-io` / `embedded-io-async` transports for the reader and writer tests:
 //! reads of chosen sizes, a pending poll before every other async read, transport errors at
 //! chosen offsets; a sink that takes a few bytes per write, fails once, or accepts nothing.
+//! One copy for the three protocol crates: `aydp-proto` and `aok-proto` include this file by path.
 #![allow(dead_code)]
 
 use std::future::Future;
