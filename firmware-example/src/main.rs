@@ -31,6 +31,9 @@ const REPORT_MS: u64 = 5_000;
 #[cfg(target_os = "none")]
 const REBOOT_FLUSH_MS: u64 = 20;
 
+#[cfg(all(target_os = "none", feature = "cpu-budget"))]
+mod budget_run;
+
 #[cfg(target_os = "none")]
 mod run {
     use super::{REBOOT_FLUSH_MS, REPORT_MS};
@@ -60,6 +63,8 @@ mod run {
             board::stack_high_water()
         );
         let mut next_report = clock.now_ms().saturating_add(REPORT_MS);
+        #[cfg(feature = "cpu-budget")]
+        let mut budget = crate::budget_run::Run::new(clock.now_ms());
         loop {
             let now = clock.now_ms();
             let control = app.poll(now, &mut uart0, &mut uart1, &mut uart2, &mut store);
@@ -72,7 +77,9 @@ mod run {
                 next_report = now.saturating_add(REPORT_MS);
                 report(now, &app, [&uart0, &uart1, &uart2]);
             }
-            cortex_m::asm::wfi();
+            #[cfg(feature = "cpu-budget")]
+            budget.poll(now, &app, [&uart0, &uart1, &uart2]);
+            sensor_box::budget::span(sensor_box::budget::Category::Idle, cortex_m::asm::wfi);
         }
     }
 

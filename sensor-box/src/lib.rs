@@ -14,6 +14,7 @@
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
+//! - [`budget`]: where the CPU goes (per-category accounting, feature `cpu-budget`).
 //! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
 //!   (feature `defmt`) and compile to nothing on the host.
 //!
@@ -29,6 +30,7 @@
 pub mod aeolus_link;
 pub mod aok_link;
 pub mod aydp_link;
+pub mod budget;
 pub mod log;
 pub mod persist;
 pub mod state;
@@ -97,9 +99,14 @@ impl App {
         U2: Read<u8> + Write<u8>,
         F: NorFlash,
     {
+        use budget::{Category, span};
         self.aeolus.poll(now_ms, uart0, &mut self.shared);
-        self.aydp.poll(now_ms, uart1, &mut self.shared);
-        self.aok.poll(now_ms, uart2, &mut self.shared);
+        span(Category::Aydp, || {
+            self.aydp.poll(now_ms, uart1, &mut self.shared)
+        });
+        span(Category::Aok, || {
+            self.aok.poll(now_ms, uart2, &mut self.shared)
+        });
         self.service_requests(flash)
     }
 

@@ -85,10 +85,12 @@ fn start_systick(mut syst: cortex_m::peripheral::SYST, core_hz: u32) -> SysTickC
 
 #[cortex_m_rt::exception]
 fn SysTick() {
+    let previous = sensor_box::budget::enter(sensor_box::budget::Category::Tick);
     critical_section::with(|cs| {
         let c = MILLIS.borrow(cs);
         c.set(c.get().wrapping_add(1));
     });
+    sensor_box::budget::leave(previous);
 }
 
 // ---------------------------------------------------------------- stack

@@ -17,6 +17,7 @@ use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use heapless::spsc::Queue;
+use sensor_box::budget::{self, Category};
 
 /// The board's name for the boot log.
 pub const NAME: &str = "qemu-lm3s6965evb";
@@ -26,7 +27,20 @@ pub type Store = MemFlash<'static>;
 
 /// Core clock QEMU gives the lm3s6965 at reset, Hz (measured: see
 /// docs/notes-board.md).
+#[cfg(not(feature = "cpu-budget"))]
 const CORE_HZ: u32 = 12_000_000;
+
+/// The `cpu-budget` build sets RCC's SYSDIV to 0, which QEMU's model turns into a 5 ns core
+/// clock period (200 MHz: its PLL output undivided): one SysTick count is 5 instructions under
+/// `-icount shift=0` instead of 80, the resolution of the account. The millisecond stays a
+/// millisecond (the reload follows). Only QEMU is meant: on a real LM3S6965 this would run the
+/// PLL out of spec.
+#[cfg(feature = "cpu-budget")]
+const CORE_HZ: u32 = 200_000_000;
+
+/// System control: run-mode clock configuration (SYSDIV is bits 26:23).
+#[cfg(feature = "cpu-budget")]
+const SYSCTL_RCC: usize = 0x400F_E060;
 
 const UART_BASE: [usize; 3] = [0x4000_C000, 0x4000_D000, 0x4000_E000];
 const RX_CAP: usize = 256;
@@ -124,6 +138,12 @@ pub fn init() -> Board<Store> {
         super::reset();
     }
     let mut core = cortex_m::Peripherals::take().unwrap_or_else(|| super::reset());
+    #[cfg(feature = "cpu-budget")]
+    // SAFETY: RCC is a valid lm3s6965 system-control register; only SYSDIV changes.
+    unsafe {
+        let rcc = read_volatile(SYSCTL_RCC as *const u32);
+        write_volatile(SYSCTL_RCC as *mut u32, rcc & !(0xF << 23));
+    }
     let clock = start_systick(core.SYST, CORE_HZ);
 
     // SAFETY: RCGC1 is a valid lm3s6965 system-control register.
@@ -206,6 +226,7 @@ fn service(index: usize) {
     let Some(Some(isr)) = slot else {
         return;
     };
+    let previous = budget::enter(Category::RxIrq);
     // SAFETY: valid PL011 registers; reads of DR pop the RX FIFO.
     unsafe {
         write_volatile(reg(base, ICR), INT_RX | INT_RT | INT_TX);
@@ -220,6 +241,8 @@ fn service(index: usize) {
                 isr.received(dr as u8);
             }
         }
+        budget::leave(previous);
+        let previous = budget::enter(Category::TxIrq);
         while read_volatile(reg(base, FR)) & FR_TXFF == 0 {
             match isr.next_to_send() {
                 Some(b) => write_volatile(reg(base, DR), u32::from(b)),
@@ -229,6 +252,7 @@ fn service(index: usize) {
         let tx = if isr.tx_pending() { INT_TX } else { 0 };
         let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
         write_volatile(reg(base, IMSC), rx | tx);
+        budget::leave(previous);
     }
 }
 

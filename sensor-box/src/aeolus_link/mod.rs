@@ -71,6 +71,7 @@
 mod commands;
 
 use crate::Shared;
+use crate::budget::{Category, span};
 use crate::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
@@ -183,7 +184,7 @@ impl AeolusLink {
         port: &mut P,
         shared: &mut Shared,
     ) {
-        self.receive(now_ms, port, shared);
+        span(Category::AeolusRx, || self.receive(now_ms, port, shared));
         self.poll_tx(now_ms, port, shared);
     }
 
@@ -205,6 +206,13 @@ impl AeolusLink {
     /// assert_eq!(link.counters().telemetry_total(), 10);
     /// ```
     pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+        span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
+        span(Category::TxQueue, || {
+            drain(&mut self.tx, port, &mut self.counters)
+        });
+    }
+
+    fn queue_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         if shared.paused {
             self.was_paused = true;
         } else {
@@ -213,7 +221,6 @@ impl AeolusLink {
             }
             self.send_due(now_ms, port, shared);
         }
-        drain(&mut self.tx, port, &mut self.counters);
     }
 
     /// Acts on one frame from a deframer the caller runs, the per-frame half of
@@ -286,7 +293,8 @@ impl AeolusLink {
         } = self;
         let mut state = None;
         for kind in telemetry.due(now_ms, &intervals) {
-            let state = state.get_or_insert_with(|| shared.flight_state(now_ms));
+            let state = state
+                .get_or_insert_with(|| span(Category::FlightSim, || shared.flight_state(now_ms)));
             let msg = build(kind, state, now_ms);
             if enqueue(tx, &msg, TX_RESERVE) {
                 if let Some(n) = counters.sent.get_mut(kind.index()) {
@@ -295,7 +303,7 @@ impl AeolusLink {
             } else {
                 bump(&mut counters.tx_dropped);
             }
-            drain(tx, port, counters);
+            span(Category::TxQueue, || drain(tx, port, counters));
         }
     }
 

@@ -1,0 +1,274 @@
+#!/usr/bin/env python3
+"""The sensor-box firmware's CPU budget, measured in QEMU (lm3s6965evb) with -icount shift=0.
+
+Builds the firmware with the `cpu-budget` feature (firmware-example), which accounts SysTick
+counts per category (sensor-box's `budget` module) over a window of the box's clock and then
+exits through semihosting, and boots it in these scenarios:
+
+  telemetry   figure 1c telemetry on UART0, AYDP and AOK idle (nothing received);
+              -icount shift=0,sleep=off: deterministic, run twice and compared
+  flood       the same, while UART<k> (--flood-uart, default 0) receives random bytes paced
+              at its line rate by this script (host time); -icount shift=0 (sleep on, so the
+              virtual clock follows the host while the CPU sleeps): not deterministic, the
+              bytes' arrival depends on the host
+  realtime    the normal build (`cargo qemu-build`, no icount, as `cargo qemu` runs) under the
+              same flood: telemetry frames and late-skipped slots from its 5 s log lines
+
+Prints a markdown section (the "Firmware CPU budget" section of docs/BENCHMARKS.md) on stdout.
+
+  python3 scripts/budget.py [--seconds N] [--flood-uart K] [--no-flood] [--elf ELF]
+
+python3 stdlib only; QEMU's sockets on 127.0.0.1 (ports 17800.. by default, BUDGET_PORT).
+"""
+import argparse, os, random, re, socket, subprocess, sys, threading, time
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TARGET = "thumbv7m-none-eabi"
+CORE_HZ_REFERENCE = 50_000_000
+BAUD = [921_600, 115_200, 38_400]
+DESCRIPTION = {
+    "flight-sim": "flight simulation (`Shared::flight_state`, soft float)",
+    "telemetry": "schedule, message building and AEOLUS encoding into the link's queue",
+    "tx-queue": "links' writes of encoded bytes into the UART TX queues",
+    "tx-irq": "UART interrupts, TX side",
+    "rx-irq": "UART interrupts, entry and RX side",
+    "aeolus-rx": "AEOLUS link: reading UART0, deframing, handling",
+    "aydp": "AYDP link: reading, decoding, handling, its periodic messages",
+    "aok": "AOK link: reading, decoding, handling, its debug frames",
+    "systick": "SysTick handler (the 1 ms clock)",
+    "other": "main loop glue (poll calls, clock reads, the 5 s log)",
+}
+
+
+def build(features, seconds, target_dir=None):
+    env = dict(os.environ, BUDGET_SECONDS=str(seconds), CARGO_BUILD_JOBS=os.environ.get("CARGO_BUILD_JOBS", "1"))
+    cmd = ["cargo", "build", "-q", "-p", "firmware-example", "--bin", "sensor-box", "--release",
+           "--target", TARGET, "--features", features]
+    if target_dir:
+        env["CARGO_TARGET_DIR"] = target_dir
+    subprocess.run(cmd, cwd=root, env=env, check=True)
+    base = target_dir or os.path.join(root, "target")
+    return os.path.join(base, TARGET, "release", "sensor-box")
+
+
+def boot(elf, icount, port, timeout):
+    env = dict(os.environ, QEMU_UART0_PORT=str(port), QEMU_UART1_PORT=str(port + 1),
+               QEMU_UART2_PORT=str(port + 2), QEMU_WAIT="0")
+    env.pop("QEMU_ICOUNT", None)
+    if icount:
+        env["QEMU_EXTRA"] = "-icount " + icount
+    return subprocess.Popen([os.path.join(root, "scripts", "qemu-run.sh"), elf], cwd=root, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+
+
+def connect(port, deadline):
+    while time.time() < deadline:
+        try:
+            return socket.create_connection(("127.0.0.1", port), timeout=1)
+        except OSError:
+            time.sleep(0.05)
+    raise RuntimeError(f"no QEMU socket on {port}")
+
+
+class Flood:
+    """UART0 read and discarded; UART<k> fed random bytes at its line rate (10 bits a byte)."""
+
+    def __init__(self, port, uart, seconds):
+        self.stop = threading.Event()
+        self.sent = 0
+        deadline = time.time() + 10
+        self.sinks = [connect(port + i, deadline) for i in range(3)]
+        self.threads = [threading.Thread(target=self.drain, args=(s,), daemon=True) for s in self.sinks]
+        self.threads.append(threading.Thread(target=self.feed, args=(self.sinks[uart], BAUD[uart] // 10, seconds),
+                                             daemon=True))
+        for t in self.threads:
+            t.start()
+
+    def drain(self, s):
+        s.settimeout(0.2)
+        while not self.stop.is_set():
+            try:
+                if not s.recv(65536):
+                    return
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+
+    def feed(self, s, rate, seconds):
+        rng = random.Random(14)
+        t0 = time.time()
+        while not self.stop.is_set() and time.time() - t0 < seconds:
+            due = int(rate * (time.time() - t0)) - self.sent
+            if due > 0:
+                try:
+                    s.sendall(rng.randbytes(due))
+                except OSError:
+                    return
+                self.sent += due
+            time.sleep(0.005)
+
+    def close(self):
+        self.stop.set()
+        for s in self.sinks:
+            try:
+                s.close()
+            except OSError:
+                pass
+
+
+def run(elf, icount, port, flood_uart=None, seconds=10, timeout=600):
+    q = boot(elf, icount, port, timeout)
+    flood = None
+    try:
+        if flood_uart is not None:
+            flood = Flood(port, flood_uart, seconds + 30)
+        out, _ = q.communicate(timeout=timeout)
+    finally:
+        if flood:
+            flood.close()
+        if q.poll() is None:
+            q.kill()
+    return out, (flood.sent if flood else 0)
+
+
+def parse(log):
+    r = {"cat": {}, "tel": {}, "uart": {}}
+    for line in log.splitlines():
+        if m := re.search(r"budget: calibration (\d+) instructions = (\d+) counts; (\d+) switches = (\d+) counts", line):
+            r["ipc"] = int(m[1]) / int(m[2])
+            r["switch"] = int(m[4]) * r["ipc"] / int(m[3])
+        elif m := re.search(r"budget: window (\d+) ms, systick period (\d+)", line):
+            r["window_ms"], r["period"] = int(m[1]), int(m[2])
+        elif m := re.search(r"budget: category (\S+) counts (\d+) entries (\d+) nested (\d+)", line):
+            r["cat"][m[1]] = (int(m[2]), int(m[3]), int(m[4]))
+        elif m := re.search(r"budget: telemetry late-skipped (\d+)", line):
+            r["skipped"] = int(m[1])
+        elif m := re.search(r"budget: telemetry (\S+) (\d+)", line):
+            r["tel"][m[1]] = int(m[2])
+        elif m := re.search(r"budget: UART(\d) rx (\d+) dropped (\d+) errors (\d+) tx (\d+)", line):
+            r["uart"][int(m[1])] = tuple(int(x) for x in m.groups()[1:])
+    if "window_ms" not in r:
+        raise RuntimeError("no budget report in the log:\n" + log[-3000:])
+    return r
+
+
+def table(r, label):
+    """Markdown rows: per category, instructions per second of the box's clock, net of the
+    account's own cost (one switch per span charged to the category and one to its parent)."""
+    ipc, sw, secs = r["ipc"], r["switch"], r["window_ms"] / 1000
+    rows, busy, overhead = [], 0.0, 0.0
+    for name, (counts, entries, nested) in r["cat"].items():
+        if name == "idle":
+            continue
+        raw = counts * ipc
+        cost = sw * (entries + nested)
+        net = max(raw - cost, 0.0) / secs
+        overhead += cost / secs
+        busy += net
+        rows.append((name, net, entries / secs))
+    rows.sort(key=lambda x: -x[1])
+    total_counts = sum(c for c, _, _ in r["cat"].values())
+    idle_virtual = r["cat"]["idle"][0] / total_counts
+    out = [f"| {label}: category | what | instructions / s | share of 50 MHz | spans / s |",
+           "| --- | --- | ---: | ---: | ---: |"]
+    for name, net, spans in rows:
+        out.append(f"| {name} | {DESCRIPTION.get(name, '')} | {net:,.0f} | {100 * net / CORE_HZ_REFERENCE:.2f} % | {spans:,.0f} |")
+    out.append(f"| **busy** | sum of the above | **{busy:,.0f}** | **{100 * busy / CORE_HZ_REFERENCE:.2f} %** | |")
+    out.append(f"| idle | 50 MHz minus busy | {CORE_HZ_REFERENCE - busy:,.0f} | {100 - 100 * busy / CORE_HZ_REFERENCE:.2f} % | |")
+    out.append(f"| (account) | the measurement's own switches, subtracted above | {overhead:,.0f} | {100 * overhead / CORE_HZ_REFERENCE:.2f} % | |")
+    notes = (f"Window {r['window_ms']} ms of the box's clock; 1 SysTick count = {ipc:.3f} instructions "
+             f"(calibrated), one switch of the account = {sw:.1f} instructions; in QEMU's virtual time "
+             f"the CPU slept in `wfi` {100 * idle_virtual:.2f} % of the window.")
+    return out, busy, notes
+
+
+def telemetry_line(r, base=None):
+    secs = r["window_ms"] / 1000
+    parts = []
+    for k in ("GYRO", "PRESSURE", "GPS"):
+        n = r["tel"].get(k, 0) / secs
+        share = f" ({100 * r['tel'][k] / base['tel'][k]:.1f} % of the quiet run)" if base and base["tel"].get(k) else ""
+        parts.append(f"{k} {n:.1f}/s{share}")
+    u = r["uart"]
+    rx = ", ".join(f"UART{i} rx {u[i][0] / secs:,.0f} B/s (dropped {u[i][1]}, errors {u[i][2]})" for i in sorted(u) if u[i][0] or u[i][1])
+    return "; ".join(parts) + f"; late-skipped slots {r.get('skipped', 0)}" + (f"; {rx}" if rx else "")
+
+
+def realtime_flood(port, uart, seconds):
+    """The normal build, no icount, same flood: AEOLUS telemetry from its 5 s log lines."""
+    elf = build("board-qemu", seconds, os.path.join(root, "target", "budget-normal"))
+    q = boot(elf, None, port, 60)
+    flood = Flood(port, uart, 12)
+    lines = []
+    t0 = time.time()
+    try:
+        while time.time() - t0 < 14:
+            line = q.stdout.readline()
+            if not line:
+                break
+            lines.append(line)
+            if "uptime 10" in line:
+                # the AEOLUS line follows the UART lines
+                for _ in range(4):
+                    lines.append(q.stdout.readline())
+                break
+    finally:
+        flood.close()
+        q.kill()
+    tel = [(int(m[1]), int(m[2])) for l in lines if (m := re.search(r"AEOLUS: telemetry (\d+) frames.*late skipped (\d+)", l))]
+    rx = [int(m[1]) for l in lines if (m := re.search(rf"UART{uart}: rx (\d+)", l))]
+    return tel, rx, flood.sent
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--seconds", type=int, default=10)
+    ap.add_argument("--flood-uart", type=int, default=0, choices=[0, 1, 2])
+    ap.add_argument("--no-flood", action="store_true")
+    ap.add_argument("--no-realtime", action="store_true")
+    ap.add_argument("--elf", help="a cpu-budget build to run instead of building one")
+    a = ap.parse_args()
+    port = int(os.environ.get("BUDGET_PORT", "17800"))
+    elf = a.elf or build("cpu-budget", a.seconds)
+    quiet = [parse(run(elf, "shift=0,sleep=off", port, seconds=a.seconds)[0]) for _ in range(2)]
+    same = quiet[0] == quiet[1]
+    rows, busy, notes = table(quiet[0], "telemetry")
+    print("## Firmware CPU budget\n")
+    print(f"`python3 scripts/budget.py` (run by `scripts/bench.py`): the `cpu-budget` build of the QEMU board "
+          f"(`cargo build -p firmware-example --release --target {TARGET} --features cpu-budget`) in "
+          f"lm3s6965evb under `-icount shift=0`, {a.seconds} s of the box's clock after 1 s of warm-up. "
+          f"Instructions are a lower bound of the cycles a real Cortex-M3 spends (loads, taken branches "
+          f"and flash wait states add cycles); the share is of 50 MHz.\n")
+    print(f"**Figure 1c telemetry, AYDP and AOK idle** (nothing received; `-icount shift=0,sleep=off`). "
+          f"Two runs: {'identical account' if same else 'the two runs DIFFER'}. "
+          f"Target: at most 5 % of 50 MHz (2,500,000 instructions/s): "
+          f"{'met' if busy <= 2.5e6 else 'missed'} ({100 * busy / CORE_HZ_REFERENCE:.2f} %).\n")
+    print("\n".join(rows))
+    print(f"\n{notes} Telemetry: {telemetry_line(quiet[0])}.\n")
+    if not a.no_flood:
+        u = a.flood_uart
+        out, sent = run(elf, "shift=0", port + 10, flood_uart=u, seconds=a.seconds)
+        fl = parse(out)
+        rows, busy_f, notes = table(fl, "flood")
+        print(f"**The same, while UART{u} receives random bytes at its line rate** ({BAUD[u]} Bd, "
+              f"{BAUD[u] // 10} B/s paced by the script in host time; `-icount shift=0`, so the bytes' "
+              f"arrival follows the host: not deterministic). {sent} bytes sent.\n")
+        print("\n".join(rows))
+        print(f"\n{notes} Telemetry: {telemetry_line(fl, quiet[0])}.\n")
+        if not a.no_realtime:
+            tel, rx, sent = realtime_flood(port + 20, u, a.seconds)
+            if len(tel) >= 2:
+                (f5, s5), (f10, s10) = tel[0], tel[1]
+                nominal = sum(quiet[0]["tel"].values()) / (quiet[0]["window_ms"] / 1000) * 5
+                rxs = f"; UART{u} rx {rx[1] - rx[0]} B in those 5 s" if len(rx) >= 2 else ""
+                print(f"**The normal build in real time** (`cargo qemu-build`, no icount, as `cargo qemu` runs it) "
+                      f"under the same flood: from 5 s to 10 s of the box's clock, {f10 - f5} telemetry frames "
+                      f"({100 * (f10 - f5) / nominal:.1f} % of the quiet run's rate), {s10 - s5} late-skipped "
+                      f"slots{rxs}; {sent} bytes sent.\n")
+            else:
+                print("**The normal build in real time**: no 10 s log line within 14 s of host time.\n")
+
+
+if __name__ == "__main__":
+    main()
