@@ -68,6 +68,11 @@ mod run {
         loop {
             let now = clock.now_ms();
             let control = app.poll(now, &mut uart0, &mut uart1, &mut uart2, &mut store);
+            // The burst of this poll goes to the UARTs in one interrupt each (the ports are
+            // `batched` on the QEMU board; elsewhere the kick is redundant).
+            for port in [&mut uart0, &mut uart1, &mut uart2] {
+                let _ = port.flush();
+            }
             if control == Control::Reboot {
                 info!("reboot requested: warm reset");
                 flush(&mut uart0, &clock, now.saturating_add(REBOOT_FLUSH_MS));

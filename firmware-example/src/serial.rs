@@ -13,8 +13,8 @@
 //!   nothing is lost while the main loop is busy (telemetry at full rate). A
 //!   full queue drops the byte and counts it in [`PortStats`].
 //! * TX: `write` queues the byte and calls the board's `kick`, which pends the
-//!   UART interrupt; the handler moves queued bytes into the UART while it
-//!   has room, and keeps its TX interrupt enabled only while bytes are
+//!   UART interrupt (a [`QueuedSerial::batched`] port kicks once per burst,
+//!   on `flush`); the handler moves queued bytes into the UART while it has room, and keeps its TX interrupt enabled only while bytes are
 //!   waiting. `write` returns `nb::WouldBlock` only when the TX queue is full,
 //!   so the main loop never waits for the wire.
 //!
@@ -94,6 +94,8 @@ pub struct QueuedSerial<'q> {
     tx: Producer<'q, u8>,
     stats: &'q PortStats,
     kick: fn(),
+    /// Kick only on `flush` and when the TX queue is full (see [`QueuedSerial::batched`]).
+    batched: bool,
 }
 
 /// The interrupt handler's half of a UART.
@@ -129,6 +131,7 @@ impl<'q> QueuedSerial<'q> {
                 tx: tx_prod,
                 stats,
                 kick,
+                batched: false,
             },
             SerialIsr {
                 rx: rx_prod,
@@ -136,6 +139,37 @@ impl<'q> QueuedSerial<'q> {
                 stats,
             },
         )
+    }
+
+    /// The same port, kicking the interrupt per burst instead of per byte: `write` only
+    /// queues (it kicks when the TX queue is full, then tries once more), and `flush` kicks.
+    /// The owner must call `flush` after each burst of writes (the firmware's main loop does,
+    /// after every poll), or the bytes wait. One interrupt then moves a whole burst into the
+    /// UART's FIFO instead of one interrupt per byte.
+    ///
+    /// ```
+    /// use embedded_hal_nb::serial::Write;
+    /// use firmware_example::QueuedSerial;
+    /// use core::sync::atomic::{AtomicU32, Ordering};
+    /// static KICKS: AtomicU32 = AtomicU32::new(0);
+    /// let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// let stats = firmware_example::PortStats::new();
+    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {
+    ///     KICKS.fetch_add(1, Ordering::Relaxed);
+    /// });
+    /// let mut port = port.batched();
+    /// for byte in b"hello" {
+    ///     port.write(*byte).unwrap();
+    /// }
+    /// assert_eq!(KICKS.load(Ordering::Relaxed), 0);
+    /// assert!(port.flush().is_err()); // bytes wait: the interrupt is kicked once
+    /// assert_eq!(KICKS.load(Ordering::Relaxed), 1);
+    /// ```
+    pub fn batched(self) -> Self {
+        QueuedSerial {
+            batched: true,
+            ..self
+        }
     }
 
     /// Received bytes waiting to be read.
@@ -200,9 +234,20 @@ impl Read<u8> for QueuedSerial<'_> {
 impl Write<u8> for QueuedSerial<'_> {
     /// Queues a byte; `WouldBlock` when the TX queue is full.
     fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
-        let queued = self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock);
-        (self.kick)();
-        queued
+        if !self.batched {
+            let queued = self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock);
+            (self.kick)();
+            return queued;
+        }
+        match self.tx.enqueue(word) {
+            Ok(()) => Ok(()),
+            Err(word) => {
+                // Full: start the interrupt on what is queued, and try once more (the
+                // handler may have made room at once).
+                (self.kick)();
+                self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock)
+            }
+        }
     }
 
     /// `Ok` once every queued byte has gone to the UART, else `WouldBlock`.

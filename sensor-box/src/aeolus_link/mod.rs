@@ -153,6 +153,10 @@ pub struct AeolusLink {
     tx: Deque<u8, TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
+    /// The millisecond the schedule was last run for: the main loop polls many times a
+    /// millisecond (every interrupt wakes it) and the schedule can only change when the
+    /// millisecond does.
+    scheduled_ms: Option<u64>,
     counters: LinkCounters,
 }
 
@@ -171,6 +175,7 @@ impl AeolusLink {
             deframer: Decoder::new(),
             tx: Deque::new(),
             was_paused: false,
+            scheduled_ms: None,
             counters: LinkCounters::default(),
         };
         link.toast(BOOT_TOAST.as_bytes());
@@ -213,6 +218,9 @@ impl AeolusLink {
     }
 
     fn queue_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+        if self.scheduled_ms.replace(now_ms) == Some(now_ms) && !shared.paused && !self.was_paused {
+            return;
+        }
         if shared.paused {
             self.was_paused = true;
         } else {
