@@ -20,7 +20,7 @@ Prints a markdown section (the "Firmware CPU budget" section of docs/BENCHMARKS.
 
 python3 stdlib only; QEMU's sockets on 127.0.0.1 (ports 17800.. by default, BUDGET_PORT).
 """
-import argparse, os, random, re, socket, subprocess, sys, threading, time
+import argparse, os, random, re, signal, socket, subprocess, threading, time
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TARGET = "thumbv7m-none-eabi"
@@ -57,8 +57,23 @@ def boot(elf, icount, port, timeout):
     env.pop("QEMU_ICOUNT", None)
     if icount:
         env["QEMU_EXTRA"] = "-icount " + icount
+    # Its own process group: stopping it stops QEMU and defmt-print too, not only the script.
     return subprocess.Popen([os.path.join(root, "scripts", "qemu-run.sh"), elf], cwd=root, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                            start_new_session=True)
+
+
+def stop(q):
+    if q.poll() is None:
+        try:
+            os.killpg(q.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
+        try:
+            q.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            os.killpg(q.pid, signal.SIGKILL)
+            q.wait()
 
 
 def connect(port, deadline):
@@ -127,8 +142,7 @@ def run(elf, icount, port, flood_uart=None, seconds=10, timeout=600):
     finally:
         if flood:
             flood.close()
-        if q.poll() is None:
-            q.kill()
+        stop(q)
     return out, (flood.sent if flood else 0)
 
 
@@ -215,7 +229,7 @@ def realtime_flood(port, uart, seconds):
                 break
     finally:
         flood.close()
-        q.kill()
+        stop(q)
     tel = [(int(m[1]), int(m[2])) for l in lines if (m := re.search(r"AEOLUS: telemetry (\d+) frames.*late skipped (\d+)", l))]
     rx = [int(m[1]) for l in lines if (m := re.search(rf"UART{uart}: rx (\d+)", l))]
     return tel, rx, flood.sent

@@ -1,6 +1,7 @@
 //! AEOLUS on UART0: telemetry out, COMMAND and SETTIME in.
 //!
-//! Every [`AeolusLink::poll`] does three things, in this order, and never waits:
+//! Every [`AeolusLink::poll`] does three things, in this order, and never waits (a command
+//! acts on the telemetry of the same millisecond; [`RX_BUDGET`] bounds what RX may cost first):
 //!
 //! 1. **RX**: reads every byte the port has (up to [`RX_BUDGET`]) into an
 //!    [`aeolus_proto::Decoder`] and acts on each complete frame:
@@ -89,9 +90,13 @@ pub const TX_QUEUE: usize = 512;
 /// Queue bytes telemetry leaves free for answers: one longest TOAST.
 pub const TX_RESERVE: usize = FRAME_BUF;
 
-/// The most bytes one poll reads. The boards' RX queues hold 255 bytes, so one poll always
-/// empties them; the bound only keeps a port that never runs dry from starving the others.
-pub const RX_BUDGET: usize = 1024;
+/// The most bytes one poll reads. The boards' RX queues hold 255 bytes, so one poll
+/// empties them; the bound keeps a port that never runs dry (a flood) from starving the
+/// others and the schedule: 256 bytes are about 2.8 ms of UART0 at 921 600 Bd, and decoding
+/// them takes well under a millisecond of a 50 MHz Cortex-M3 (`docs/BENCHMARKS.md`,
+/// "Firmware CPU budget"). What a flood sends beyond that waits in the port, or is dropped
+/// and counted there, never a telemetry slot.
+pub const RX_BUDGET: usize = 256;
 
 /// Capacity of the RX deframer (unescaped ID + data + CRC): every fixed-size message and
 /// every COMMAND of up to [`TEXT_CAPACITY`] characters.
