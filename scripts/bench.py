@@ -140,6 +140,13 @@ def main():
     out += [l for l in r.stdout.splitlines() if l.startswith("|")]
     out += [""]
 
+    # The firmware's CPU budget (scripts/budget.py prints the section), then its before/after.
+    out += sh("python3 scripts/budget.py").splitlines()
+    history = os.path.join(root, "docs", "benchmarks-budget.md")
+    if os.path.exists(history):
+        out += open(history).read().splitlines()
+    out += [""]
+
     out += ["## Panic-never", "",
             "`checks/panic-never` (built by `scripts/test.sh`, so by CI) feeds volatile bytes through every",
             "decoder, typed parse and encoder of the three crates on thumbv7m in release; its panic handler",

@@ -40,6 +40,24 @@ DESCRIPTION = {
 }
 
 
+METHOD = """**Method.** The code marks what it does with `sensor_box::budget::span` (the links, the flight
+simulation, the telemetry, the writes into the UART queues) and the interrupt handlers with
+`enter`/`leave`; the account keeps one current category and charges the SysTick counts since the
+previous switch to it, so nesting charges every instant to exactly one category and the categories
+add up to the whole window. The `cpu-budget` build sets the lm3s6965's RCC SYSDIV to 0, which QEMU's
+model turns into a 200 MHz core clock: with `-icount shift=0` (1 instruction = 1 ns of virtual
+time) one SysTick count is 5 instructions (the log's calibration: `cortex_m::asm::delay`, two
+lengths, their difference), against 80 at the reset clock. Each span costs its category and its
+parent about one switch of the account each (measured at boot over 2000 switches); that cost is
+subtracted and shown as "(account)". **Idle** is not measured from QEMU: under icount the
+virtual clock jumps over `wfi` (with `sleep=off` straight to the next timer), so the virtual time
+spent asleep says nothing about a real part. The table's idle is 50 MHz minus the busy
+instructions (the instructions the firmware needs per second of its own clock on any Cortex-M3);
+the virtual time in `wfi` is given beside it only as a check that the emulated CPU was never
+saturated. Without the feature, `span` is a plain call: the normal build carries none of it.
+"""
+
+
 def build(features, seconds, target_dir=None):
     env = dict(os.environ, BUDGET_SECONDS=str(seconds), CARGO_BUILD_JOBS=os.environ.get("CARGO_BUILD_JOBS", "1"))
     cmd = ["cargo", "build", "-q", "-p", "firmware-example", "--bin", "sensor-box", "--release",
@@ -260,6 +278,7 @@ def main():
           f"{'met' if busy <= 2.5e6 else 'missed'} ({100 * busy / CORE_HZ_REFERENCE:.2f} %).\n")
     print("\n".join(rows))
     print(f"\n{notes} Telemetry: {telemetry_line(quiet[0])}.\n")
+    print(METHOD)
     if not a.no_flood:
         u = a.flood_uart
         out, sent = run(elf, "shift=0", port + 10, flood_uart=u, seconds=a.seconds)

@@ -214,8 +214,10 @@ impl Shared {
 
     /// The simulated state at `now_ms`.
     pub fn flight_state(&self, now_ms: u64) -> flight_sim::State {
-        self.flight
-            .state(now_ms.saturating_sub(self.flight_epoch_ms))
+        crate::budget::span(crate::budget::Category::FlightSim, || {
+            self.flight
+                .state(now_ms.saturating_sub(self.flight_epoch_ms))
+        })
     }
 }
 

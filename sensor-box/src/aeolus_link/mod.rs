@@ -306,8 +306,7 @@ impl AeolusLink {
         } = self;
         let mut state = None;
         for kind in telemetry.due(now_ms, &intervals) {
-            let state = state
-                .get_or_insert_with(|| span(Category::FlightSim, || shared.flight_state(now_ms)));
+            let state = state.get_or_insert_with(|| shared.flight_state(now_ms));
             let msg = build(kind, state, now_ms);
             if enqueue(tx, &msg, TX_RESERVE) {
                 if let Some(n) = counters.sent.get_mut(kind.index()) {
