@@ -157,7 +157,9 @@ pub struct Output {
 pub struct Shared {
     /// The flash record as last loaded or stored; the settings in it are live.
     pub persisted: Persisted,
-    /// The simulated flight built from the settings.
+    /// The simulated flight built from the settings. Replace it through
+    /// [`Shared::settings_changed`] (or call it after writing this and `flight_epoch_ms`):
+    /// [`Shared::flight_state`] keeps its last state until then.
     pub flight: Flight,
     /// When the flight started (ms since boot).
     pub flight_epoch_ms: u64,
@@ -173,11 +175,12 @@ pub struct Shared {
     pub requests: Requests,
     /// Counters.
     pub counters: Counters,
-    /// The last state [`Shared::flight_state`] computed, with the flight and the flight time it
-    /// is for: the links ask for the same millisecond (AEOLUS telemetry and AOK debug frames
-    /// fall on the same millisecond on their grids), and one state costs about 28 000
-    /// instructions on a Cortex-M3 without an FPU.
-    flight_cache: Cell<Option<(Flight, u64, flight_sim::State)>>,
+    /// The last state [`Shared::flight_state`] computed and the time it is for (the flight's
+    /// epoch and the time since it): the links ask for the same millisecond (AEOLUS telemetry
+    /// and AOK debug frames fall on the same millisecond on their grids), and one state costs
+    /// about 28 000 instructions on a Cortex-M3 without an FPU. Cleared when the flight
+    /// changes.
+    flight_cache: Cell<Option<(u64, u64, flight_sim::State)>>,
 }
 
 impl Shared {
@@ -214,6 +217,7 @@ impl Shared {
         if let Ok(f) = Flight::new(self.persisted.settings.flight_params()) {
             self.flight = f;
             self.flight_epoch_ms = now_ms;
+            self.flight_cache.set(None);
         } else {
             crate::warn!("settings: flight parameters out of range, flight unchanged");
         }
@@ -222,7 +226,8 @@ impl Shared {
     /// The simulated state at `now_ms`.
     ///
     /// The last state is kept: asking again for the same time of the same flight returns it
-    /// without recomputing (the same value: the simulation is a pure function of both).
+    /// without recomputing (the same value: the simulation is a pure function of both). A
+    /// new flight (through [`Shared::settings_changed`]) or epoch is computed again.
     ///
     /// ```
     /// use sensor_box::{Persisted, Shared};
@@ -234,15 +239,16 @@ impl Shared {
     /// assert_eq!(shared.flight_state(1_000), shared.flight.state(500));
     /// ```
     pub fn flight_state(&self, now_ms: u64) -> flight_sim::State {
-        let t = now_ms.saturating_sub(self.flight_epoch_ms);
-        if let Some((flight, at, state)) = self.flight_cache.get() {
-            if at == t && flight == self.flight {
+        let epoch = self.flight_epoch_ms;
+        let t = now_ms.saturating_sub(epoch);
+        if let Some((at_epoch, at, state)) = self.flight_cache.get() {
+            if at_epoch == epoch && at == t {
                 return state;
             }
         }
         let state =
             crate::budget::span(crate::budget::Category::FlightSim, || self.flight.state(t));
-        self.flight_cache.set(Some((self.flight, t, state)));
+        self.flight_cache.set(Some((epoch, t, state)));
         state
     }
 }
