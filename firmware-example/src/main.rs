@@ -10,10 +10,10 @@
 //! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
 //!    warning if the store is missing or corrupt) and queues the boot TOAST;
 //! 3. the main loop: `App::poll` with the three ports as often as there is
-//!    something to do, then a `flush` of each port (on the QEMU board that
-//!    starts one TX interrupt per burst instead of one per byte) (the CPU sleeps in `wfi` until the next interrupt: the
-//!    1 ms SysTick or a UART), a warm reset when a link asks for one, and every
-//!    5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
+//!    something to do (the CPU sleeps in `wfi` until the next interrupt: the
+//!    1 ms SysTick or a UART), then a `flush` of each port (on the QEMU board
+//!    that starts one TX interrupt per burst instead of one per byte), a warm
+//!    reset when a link asks for one, and every 5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
 //!    (cortex-m-rt paints the stack before `main`) and the UART counters.
 //!
 //! On the host this file builds a stub `main` that says how to run it.

@@ -241,10 +241,11 @@ impl Shared {
     pub fn flight_state(&self, now_ms: u64) -> flight_sim::State {
         let epoch = self.flight_epoch_ms;
         let t = now_ms.saturating_sub(epoch);
-        if let Some((at_epoch, at, state)) = self.flight_cache.get() {
-            if at_epoch == epoch && at == t {
-                return state;
-            }
+        if let Some((at_epoch, at, state)) = self.flight_cache.get()
+            && at_epoch == epoch
+            && at == t
+        {
+            return state;
         }
         let state =
             crate::budget::span(crate::budget::Category::FlightSim, || self.flight.state(t));
