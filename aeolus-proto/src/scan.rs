@@ -22,6 +22,17 @@ const fn zero_bytes(x: usize) -> usize {
     x.wrapping_sub(ONES) & !x & HIGHS
 }
 
+/// The high bit set in the lowest byte of the little-endian word `x` that is 0x7D or 0x7E
+/// (bits above it may be spurious); zero if no byte of `x` is. Four bytes whatever the
+/// machine word, for the decoder's fused copy-and-CRC loop.
+#[inline(always)]
+pub(crate) const fn special_bytes(x: u32) -> u32 {
+    const ONES32: u32 = 0x0101_0101;
+    let a = x ^ 0x7D7D_7D7D;
+    let b = x ^ 0x7E7E_7E7E;
+    (a.wrapping_sub(ONES32) & !a | b.wrapping_sub(ONES32) & !b) & 0x8080_8080
+}
+
 /// The number of leading bytes of `bytes` that are neither 0x7D nor 0x7E.
 #[inline(always)]
 pub(crate) fn run_len(bytes: &[u8]) -> usize {
