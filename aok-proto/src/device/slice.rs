@@ -1,6 +1,9 @@
 //! The slice path: [`DeviceDecoder::feed`], and the readers' feed-until-the-first-event.
 
 use super::*;
+use crate::checked_value;
+use crate::command::{ParameterValue, SET_PARAMETER};
+use crate::layout::set_parameter as set;
 
 impl DeviceDecoder {
     /// Feed a slice and hand every item to `on_event`, in order.
@@ -43,6 +46,18 @@ impl DeviceDecoder {
             let Some((&first, tail)) = rest.split_first() else {
                 return;
             };
+            // The common command first: an intact parameter set is exactly what
+            // `Command::parse_known` makes of it.
+            if first == SET_PARAMETER {
+                if let Some((frame, after)) = rest.split_first_chunk::<{ set::LEN }>() {
+                    if let Some((number, value)) = checked_value(frame) {
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+                        rest = after;
+                        on_event(Ok(Command::SetParameter(ParameterValue { number, value })));
+                        continue;
+                    }
+                }
+            }
             let need = match command_len(first, tail.first().copied()) {
                 Len::Is(n) => n,
                 Len::More => break,
