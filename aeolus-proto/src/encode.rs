@@ -36,7 +36,12 @@ pub const fn max_encoded_len(data_len: usize) -> usize {
 /// store and two table steps of the CRC); the bytes of a word that holds one go one at a
 /// time. Returns the new write position and the CRC.
 #[inline]
-fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8], crc: u16) -> Result<(usize, u16), Error> {
+fn put_escaped(
+    out: &mut [u8],
+    mut at: usize,
+    mut src: &[u8],
+    crc: u16,
+) -> Result<(usize, u16), Error> {
     let mut c = (crc as u32) << 16;
     loop {
         while let Some((s, rest)) = src.split_first_chunk::<4>() {

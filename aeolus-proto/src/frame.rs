@@ -40,7 +40,11 @@ impl<'a> Frame<'a> {
     /// a decoder keeps it while it stores the bytes: the frame is good when that comes to
     /// [`crc::residue`] of the received CRC. The body's own CRC is only computed again for
     /// the error it reports.
-    pub(crate) const fn check_running(raw: &'a [u8], strict: bool, all: u16) -> Result<Self, Error> {
+    pub(crate) const fn check_running(
+        raw: &'a [u8],
+        strict: bool,
+        all: u16,
+    ) -> Result<Self, Error> {
         let [body @ .., lo, hi] = raw else {
             return Err(Error::TooShort);
         };

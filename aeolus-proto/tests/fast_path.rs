@@ -37,7 +37,11 @@ fn stream() -> impl Strategy<Value = Vec<u8>> {
         .prop_map(|(lead, frames)| {
             let mut out = lead;
             for (id, data, omit, noise) in frames {
-                let mode = if omit { CrcMode::Omit } else { CrcMode::Compute };
+                let mode = if omit {
+                    CrcMode::Omit
+                } else {
+                    CrcMode::Compute
+                };
                 let mut buf = [0u8; 2 + 2 * 43];
                 let n = encode_frame(id, &data, &[], mode, &mut buf).unwrap();
                 out.extend_from_slice(&buf[..n]);

@@ -141,7 +141,8 @@ impl Message {
         let first = *bytes.first().ok_or(Error::Truncated)?;
         match first {
             DEBUG => {
-                let (number, value) = checked_value(fixed7(bytes)?).ok_or(Error::ChecksumMismatch)?;
+                let (number, value) =
+                    checked_value(fixed7(bytes)?).ok_or(Error::ChecksumMismatch)?;
                 Ok((Self::Debug(DebugValue { number, value }), DEBUG_LEN))
             }
             PARAMETER_REPLY => {

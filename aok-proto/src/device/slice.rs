@@ -3,8 +3,8 @@
 use super::*;
 use crate::checked_value;
 use crate::command::{MotorTest, ParameterValue, SET_PARAMETER};
-use crate::values::Motor;
 use crate::layout::{motor_test as motor, set_parameter as set};
+use crate::values::Motor;
 
 impl DeviceDecoder {
     /// Feed a slice and hand every item to `on_event`, in order.
