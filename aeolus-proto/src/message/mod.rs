@@ -211,25 +211,26 @@ impl<'a> Message<'a> {
     /// [`Error::WrongLength`] for a known fixed-size ID with the wrong data length, and
     /// [`Error::TextTooLong`].
     pub fn parse(id: u8, data: &'a [u8]) -> Result<Self, Error> {
-        Ok(match id {
-            AeolusInfo::ID => Self::AeolusInfo(AeolusInfo::parse(data)?),
-            Pressure::ID => Self::Pressure(Pressure::parse(data)?),
-            Gyro::ID => Self::Gyro(Gyro::parse(data)?),
-            Accel::ID => Self::Accel(Accel::parse(data)?),
-            Magnet::ID => Self::Magnet(Magnet::parse(data)?),
-            Temp::ID => Self::Temp(Temp::parse(data)?),
-            Gps::ID => Self::Gps(Gps::parse(data)?),
-            Attitude::ID => Self::Attitude(Attitude::parse(data)?),
-            Compass::ID => Self::Compass(Compass::parse(data)?),
-            Wind::ID => Self::Wind(Wind::parse(data)?),
-            SetTime::ID => Self::SetTime(SetTime::parse(data)?),
-            id::CALIBINFO => Self::CalibInfo(raw_fixed(id, CALIBINFO_LEN, data)?),
-            id::DEBUGINFO => Self::DebugInfo(raw_fixed(id, DEBUGINFO_LEN, data)?),
-            id::LOG => Self::Log(data),
-            id::TOAST => Self::Toast(Text::parse(id, data)?),
-            id::COMMAND => Self::Command(Text::parse(id, data)?),
-            _ => Self::Unknown { id, data },
-        })
+        // Each fixed layout returns its own variant (`parse_message`, out of line).
+        match id {
+            AeolusInfo::ID => AeolusInfo::parse_message(data),
+            Pressure::ID => Pressure::parse_message(data),
+            Gyro::ID => Gyro::parse_message(data),
+            Accel::ID => Accel::parse_message(data),
+            Magnet::ID => Magnet::parse_message(data),
+            Temp::ID => Temp::parse_message(data),
+            Gps::ID => Gps::parse_message(data),
+            Attitude::ID => Attitude::parse_message(data),
+            Compass::ID => Compass::parse_message(data),
+            Wind::ID => Wind::parse_message(data),
+            SetTime::ID => SetTime::parse_message(data),
+            id::CALIBINFO => raw_fixed(id, CALIBINFO_LEN, data).map(Self::CalibInfo),
+            id::DEBUGINFO => raw_fixed(id, DEBUGINFO_LEN, data).map(Self::DebugInfo),
+            id::LOG => Ok(Self::Log(data)),
+            id::TOAST => Text::parse(id, data).map(Self::Toast),
+            id::COMMAND => Text::parse(id, data).map(Self::Command),
+            _ => Ok(Self::Unknown { id, data }),
+        }
     }
 
     /// The message ID.
