@@ -44,16 +44,22 @@ fn put_escaped(
 ) -> Result<(usize, u16), Error> {
     let mut c = (crc as u32) << 16;
     loop {
-        while let Some((s, rest)) = src.split_first_chunk::<4>() {
+        // Slice patterns on both sides: a plain pointer loop at opt-level "s".
+        let mut dst = out.get_mut(at..).unwrap_or(&mut []);
+        while let (Some((s, s_rest)), Some((d, d_rest))) = (
+            src.split_first_chunk::<4>(),
+            core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
+        ) {
+            // Stored before the test: a word with a byte to escape is written again below.
+            *d = *s;
             let w = u32::from_le_bytes(*s);
             if special_bytes(w) != 0 {
                 break;
             }
-            let dst = out.get_mut(at..).and_then(|o| o.first_chunk_mut::<4>());
-            *dst.ok_or(Error::BufferTooSmall)? = *s;
             c = crc::update_word(c, w.swap_bytes());
             at += 4;
-            src = rest;
+            src = s_rest;
+            dst = d_rest;
         }
         let Some((&byte, rest)) = src.split_first() else {
             return Ok((at, (c >> 16) as u16));
