@@ -44,14 +44,12 @@ fn put_escaped(
 ) -> Result<(usize, u16), Error> {
     let mut c = (crc as u32) << 16;
     loop {
-        // Slice patterns on both sides: a plain pointer loop at opt-level "s".
-        let mut dst = out.get_mut(at..).unwrap_or(&mut []);
-        while let (Some((s, s_rest)), Some((d, d_rest))) = (
-            src.split_first_chunk::<4>(),
-            core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
-        ) {
+        while let Some((s, s_rest)) = src.split_first_chunk::<4>() {
+            let Some(d) = out.get_mut(at..at.wrapping_add(4)) else {
+                break;
+            };
             // Stored before the test: a word with a byte to escape is written again below.
-            *d = *s;
+            d.copy_from_slice(s);
             let w = u32::from_le_bytes(*s);
             if special_bytes(w) != 0 {
                 break;
@@ -59,7 +57,6 @@ fn put_escaped(
             c = crc::update_word(c, w.swap_bytes());
             at += 4;
             src = s_rest;
-            dst = d_rest;
         }
         let Some((&byte, rest)) = src.split_first() else {
             return Ok((at, (c >> 16) as u16));
