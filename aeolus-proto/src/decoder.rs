@@ -2,7 +2,7 @@
 
 use crate::{
     ESCAPE, Error, FLAG, Frame, crc,
-    scan::{is_special, special_bytes},
+    scan::{SPECIAL, is_special, special_bytes},
 };
 
 /// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
@@ -217,7 +217,7 @@ impl<const N: usize> Decoder<N> {
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
         // (Nested rather than a let chain: the crate's MSRV is 1.87.)
-        if !is_special(byte) {
+        if !SPECIAL[byte as usize] {
             if let Some(slot) = self.buf.get_mut(self.at) {
                 *slot = byte;
                 self.at += 1;

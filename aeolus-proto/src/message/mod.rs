@@ -227,10 +227,21 @@ impl<'a> Message<'a> {
             id::CALIBINFO => raw_fixed(id, CALIBINFO_LEN, data).map(Self::CalibInfo),
             id::DEBUGINFO => raw_fixed(id, DEBUGINFO_LEN, data).map(Self::DebugInfo),
             id::LOG => Ok(Self::Log(data)),
-            id::TOAST => Text::parse(id, data).map(Self::Toast),
-            id::COMMAND => Text::parse(id, data).map(Self::Command),
+            id::TOAST | id::COMMAND => Self::parse_text(id, data),
             _ => Ok(Self::Unknown { id, data }),
         }
+    }
+
+    /// TOAST and COMMAND, out of line: inlined, the text's copy gives `parse` a large stack
+    /// frame and every register to save, which every message would pay.
+    #[inline(never)]
+    fn parse_text(id: u8, data: &'a [u8]) -> Result<Self, Error> {
+        let text = Text::parse(id, data)?;
+        Ok(if id == id::TOAST {
+            Self::Toast(text)
+        } else {
+            Self::Command(text)
+        })
     }
 
     /// The message ID.
