@@ -55,6 +55,7 @@ macro_rules! fixed_message {
             /// stores every field of the largest variant (about 65 instructions a message,
             /// whatever the message); apart, each writes only its own fields.
             #[inline(never)]
+            #[allow(dead_code)] // the messages sent once a second or less are parsed inline
             pub(super) fn parse_message<'a>(data: &[u8]) -> Result<super::Message<'a>, Error> {
                 Self::parse(data).map(super::Message::$name)
             }
