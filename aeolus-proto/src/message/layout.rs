@@ -50,16 +50,6 @@ macro_rules! fixed_message {
                 Ok(Self { $( $field: <$ty as Field>::read(data, $off), )* })
             }
 
-            /// [`Self::parse`] wrapped in its [`super::Message`] variant. Out of line on
-            /// purpose: inlined into [`super::Message::parse`], the arms share one exit that
-            /// stores every field of the largest variant (about 65 instructions a message,
-            /// whatever the message); apart, each writes only its own fields.
-            #[inline(never)]
-            #[allow(dead_code)] // the messages sent once a second or less are parsed inline
-            pub(super) fn parse_message<'a>(data: &[u8]) -> Result<super::Message<'a>, Error> {
-                Self::parse(data).map(super::Message::$name)
-            }
-
             /// Writes the data bytes into `out`, reserved bytes zeroed; returns [`Self::LEN`].
             ///
             /// # Errors
