@@ -1,8 +1,12 @@
 //! The byte-at-a-time decoder of a UART stream (spec section 4.2): [`Decoder`] and its [`Stats`].
 
+#[cfg(not(target_pointer_width = "64"))]
+use crate::scan::special_bytes;
+#[cfg(target_pointer_width = "64")]
+use crate::scan::{WORD, special_in_word};
 use crate::{
     ESCAPE, Error, FLAG, Frame, crc,
-    scan::{SPECIAL, is_special, special_bytes},
+    scan::{SPECIAL, is_special},
 };
 
 /// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
@@ -352,7 +356,10 @@ impl<const N: usize> Decoder<N> {
         let mut covered = 0;
         let mut run = 0;
         // Slice patterns rather than `chunks_exact().zip()`: at opt-level "s" they compile to
-        // a plain pointer loop with no bounds checks.
+        // a plain pointer loop with no bounds checks. Four bytes a step on 32-bit targets (the
+        // machine-word form of the same loop compiles worse there: 13.2 against 12.7 on
+        // Cortex-M3), a machine word on 64-bit hosts.
+        #[cfg(not(target_pointer_width = "64"))]
         while let (Some((s, s_rest)), Some((d, d_rest))) = (
             src.split_first_chunk::<4>(),
             core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
@@ -366,6 +373,23 @@ impl<const N: usize> Decoder<N> {
             }
             c = crc::update_word(c, w.swap_bytes());
             covered += 4;
+            run = covered;
+            src = s_rest;
+            dst = d_rest;
+        }
+        #[cfg(target_pointer_width = "64")]
+        while let (Some((s, s_rest)), Some((d, d_rest))) = (
+            src.split_first_chunk::<WORD>(),
+            core::mem::take(&mut dst).split_first_chunk_mut::<WORD>(),
+        ) {
+            *d = *s;
+            let hits = special_in_word(usize::from_le_bytes(*s));
+            if hits != 0 {
+                run = covered + (hits.trailing_zeros() / 8) as usize;
+                break;
+            }
+            c = crc::update_words(c, s);
+            covered += WORD;
             run = covered;
             src = s_rest;
             dst = d_rest;

@@ -33,6 +33,21 @@ pub(crate) const fn special_bytes(x: u32) -> u32 {
     (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & 0x8080_8080
 }
 
+/// Bytes in a machine word: the decoder's loop takes one a step on 64-bit hosts.
+#[cfg(target_pointer_width = "64")]
+pub(crate) const WORD: usize = core::mem::size_of::<usize>();
+
+/// [`special_bytes`] over a whole machine word: the same four-byte test on 32-bit targets,
+/// eight bytes at once on 64-bit hosts.
+#[cfg(target_pointer_width = "64")]
+#[inline(always)]
+pub(crate) const fn special_in_word(x: usize) -> usize {
+    const ONES: usize = usize::MAX / 0xFF;
+    let a = x ^ (ONES * 0x7D);
+    let b = x ^ (ONES * 0x7E);
+    (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & (ONES << 7)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,9 +70,26 @@ mod tests {
                 Some((hits.trailing_zeros() / 8) as usize)
             };
             assert_eq!(first, got, "{w:08x}");
+            // The machine-word test on the same bytes, repeated to fill a word.
+            #[cfg(target_pointer_width = "64")]
+            {
+                let mut word = [0u8; WORD];
+                for (i, v) in word.iter_mut().enumerate() {
+                    *v = b[i % 4];
+                }
+                let hits = special_in_word(usize::from_le_bytes(word));
+                let got = if hits == 0 {
+                    None
+                } else {
+                    Some((hits.trailing_zeros() / 8) as usize)
+                };
+                assert_eq!(first, got, "{w:08x}");
+            }
         }
         for v in 0..=255u8 {
             assert_eq!(special_bytes(u32::from(v)) != 0, is_special(v));
+            #[cfg(target_pointer_width = "64")]
+            assert_eq!(special_in_word(usize::from(v)) != 0, is_special(v));
             assert_eq!(SPECIAL[usize::from(v)], is_special(v));
         }
     }
