@@ -79,10 +79,8 @@ pub const fn update_slice(crc: u16, bytes: &[u8]) -> u16 {
     let mut c = (crc as u32) << 16;
     let mut rest = bytes;
     while let [b0, b1, b2, b3, tail @ ..] = rest {
-        let word = u32::from_be_bytes([*b0, *b1, *b2, *b3]);
         // `b0 b1` land in the upper half; `b2 b3` in the ignored lower half.
-        c = step2(c) ^ word;
-        c = step2(c) ^ (word << 16);
+        c = update_word(c, u32::from_be_bytes([*b0, *b1, *b2, *b3]));
         rest = tail;
     }
     if let [b0, b1, tail @ ..] = rest {
@@ -95,6 +93,49 @@ pub const fn update_slice(crc: u16, bytes: &[u8]) -> u16 {
     } else {
         crc
     }
+}
+
+/// Advances a CRC kept in the upper 16 bits of `c` over four bytes, `word` holding them
+/// big-endian (the first byte in the top bits): two [`step2`]s. The lower 16 bits of `c` are
+/// ignored and those of the result are zero.
+#[inline(always)]
+pub(crate) const fn update_word(c: u32, word: u32) -> u32 {
+    let c = step2(c) ^ word;
+    step2(c) ^ (word << 16)
+}
+
+/// [`update_word`] over every four bytes of a machine word's worth of bytes, in order (one
+/// step on 32-bit targets, two on 64-bit hosts).
+#[cfg(target_pointer_width = "64")]
+#[inline(always)]
+pub(crate) fn update_words(mut c: u32, bytes: &[u8; crate::scan::WORD]) -> u32 {
+    let mut rest: &[u8] = bytes;
+    while let Some((q, tail)) = rest.split_first_chunk::<4>() {
+        c = update_word(c, u32::from_be_bytes(*q));
+        rest = tail;
+    }
+    c
+}
+
+/// What the CRC run over a whole frame (ID, data **and** the two received CRC bytes) comes to
+/// when the received CRC is right: the CRC of the body continued over its own two bytes, low
+/// byte first. Two table steps are a linear, invertible map of the CRC (multiplication by
+/// x^16 modulo the polynomial, which has a constant term), so for given received bytes the
+/// running CRC equals this exactly when the body's CRC equals `received`. A decoder can then
+/// keep one running CRC over every byte it stores, without knowing in advance which two bytes
+/// are the CRC.
+///
+/// ```
+/// use aeolus_proto::crc;
+/// let body = b"123456789";
+/// let sent = crc::checksum(body).to_le_bytes();
+/// let all = crc::update_slice(crc::checksum(body), &sent);
+/// assert_eq!(all, crc::residue(u16::from_le_bytes(sent)));
+/// ```
+#[inline]
+pub const fn residue(received: u16) -> u16 {
+    let [lo, hi] = received.to_le_bytes();
+    update(update(received, lo), hi)
 }
 
 /// The CRC of a whole byte slice (the message ID followed by the data).

@@ -1,6 +1,13 @@
 //! The byte-at-a-time decoder of a UART stream (spec section 4.2): [`Decoder`] and its [`Stats`].
 
-use crate::{ESCAPE, Error, FLAG, Frame, scan::is_special};
+#[cfg(not(target_pointer_width = "64"))]
+use crate::scan::special_bytes;
+#[cfg(target_pointer_width = "64")]
+use crate::scan::{WORD, special_in_word};
+use crate::{
+    ESCAPE, Error, FLAG, Frame, crc,
+    scan::{SPECIAL, is_special},
+};
 
 /// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
 ///
@@ -107,6 +114,11 @@ pub struct Decoder<const N: usize> {
     /// other states it is that number plus [`Self::PARKED`], past the end of `buf`, so that the
     /// fast path's single bounds check also sends every byte of those states to the slow path.
     at: usize,
+    /// The CRC run over `buf[..crc_at]` (unescaped bytes of the frame in progress, its two
+    /// CRC bytes included once they arrive). The slice path keeps it up to date as it copies;
+    /// bytes stored one at a time are caught up later, so `push` pays nothing for it.
+    crc: u16,
+    crc_at: usize,
     escapes: usize,
     state: State,
     strict: bool,
@@ -128,6 +140,8 @@ impl<const N: usize> Decoder<N> {
         Decoder {
             buf: [0; N],
             at: Self::PARKED,
+            crc: 0,
+            crc_at: 0,
             escapes: 0,
             state: State::Hunt,
             strict: false,
@@ -207,7 +221,7 @@ impl<const N: usize> Decoder<N> {
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
         // (Nested rather than a let chain: the crate's MSRV is 1.87.)
-        if !is_special(byte) {
+        if !SPECIAL[byte as usize] {
             if let Some(slot) = self.buf.get_mut(self.at) {
                 *slot = byte;
                 self.at += 1;
@@ -316,19 +330,73 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Inside a frame, copies the leading run of ordinary bytes of `bytes` that still fits
-    /// (found a word at a time) and returns the rest; outside a frame returns `bytes` as is.
+    /// and returns the rest; outside a frame returns `bytes` as is.
+    ///
+    /// One pass, four bytes a step: a word is loaded, tested for 0x7D/0x7E, stored, and run
+    /// through the CRC. The word holding the first special byte is stored whole (the bytes
+    /// from the special on lie past the new length and mean nothing); its leading ordinary
+    /// bytes are left for the CRC to catch up with later. Fewer than four bytes of input or of
+    /// room are left to the byte-at-a-time step.
     #[inline(always)]
     fn copy_run<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
         if self.state != State::Frame {
             return bytes;
         }
-        let room = self.buf.get_mut(self.at..).unwrap_or(&mut []);
-        let window = bytes.get(..room.len()).unwrap_or(bytes);
-        let run = crate::scan::run_len(window);
-        if let (Some(dst), Some(src)) = (room.get_mut(..run), bytes.get(..run)) {
-            dst.copy_from_slice(src);
-            self.at += run;
+        let at = self.at;
+        let Some((held, room)) = self.buf.split_at_mut_checked(at) else {
+            return bytes;
+        };
+        let mut c = self.crc;
+        if self.crc_at != at {
+            c = crc::update_slice(c, held.get(self.crc_at..).unwrap_or(&[]));
         }
+        let mut c = (c as u32) << 16;
+        let mut src = bytes;
+        let mut dst = room;
+        let mut covered = 0;
+        let mut run = 0;
+        // Slice patterns rather than `chunks_exact().zip()`: at opt-level "s" they compile to
+        // a plain pointer loop with no bounds checks. Four bytes a step on 32-bit targets (the
+        // machine-word form of the same loop compiles worse there: 13.2 against 12.7 on
+        // Cortex-M3), a machine word on 64-bit hosts.
+        #[cfg(not(target_pointer_width = "64"))]
+        while let (Some((s, s_rest)), Some((d, d_rest))) = (
+            src.split_first_chunk::<4>(),
+            core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
+        ) {
+            *d = *s;
+            let w = u32::from_le_bytes(*s);
+            let hits = special_bytes(w);
+            if hits != 0 {
+                run = covered + (hits.trailing_zeros() / 8) as usize;
+                break;
+            }
+            c = crc::update_word(c, w.swap_bytes());
+            covered += 4;
+            run = covered;
+            src = s_rest;
+            dst = d_rest;
+        }
+        #[cfg(target_pointer_width = "64")]
+        while let (Some((s, s_rest)), Some((d, d_rest))) = (
+            src.split_first_chunk::<WORD>(),
+            core::mem::take(&mut dst).split_first_chunk_mut::<WORD>(),
+        ) {
+            *d = *s;
+            let hits = special_in_word(usize::from_le_bytes(*s));
+            if hits != 0 {
+                run = covered + (hits.trailing_zeros() / 8) as usize;
+                break;
+            }
+            c = crc::update_words(c, s);
+            covered += WORD;
+            run = covered;
+            src = s_rest;
+            dst = d_rest;
+        }
+        self.crc = (c >> 16) as u16;
+        self.crc_at = at + covered;
+        self.at = at + run;
         bytes.get(run..).unwrap_or(&[])
     }
 
@@ -385,6 +453,8 @@ impl<const N: usize> Decoder<N> {
         let wire = self.pending_bytes().wrapping_add(extra);
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(wire as u32);
         self.escapes = 0;
+        self.crc = 0;
+        self.crc_at = 0;
         self.enter(next, 0);
     }
 
@@ -398,7 +468,10 @@ impl<const N: usize> Decoder<N> {
             return None;
         }
         let raw = self.buf.get(..len).unwrap_or(&[]);
-        let result = Frame::check(raw, self.strict);
+        // The running CRC, caught up over the bytes stored since it last advanced.
+        let rest = raw.get(core::mem::take(&mut self.crc_at)..).unwrap_or(&[]);
+        let all = crc::update_slice(core::mem::take(&mut self.crc), rest);
+        let result = Frame::check_running(raw, self.strict, all);
         let counter = match result {
             Ok(frame) if frame.has_crc() => &mut stats.frames_ok,
             Ok(_) => &mut stats.frames_no_crc,

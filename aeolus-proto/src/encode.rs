@@ -1,6 +1,9 @@
 //! Building frames: flag, ID, data and CRC, escaped, flag (spec section 4.1).
 
-use crate::{ESCAPE, Error, FLAG, crc, scan::is_special};
+use crate::{
+    ESCAPE, Error, FLAG, crc,
+    scan::{is_special, special_bytes},
+};
 
 /// Whether an encoded frame carries a real CRC.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -28,27 +31,40 @@ pub const fn max_encoded_len(data_len: usize) -> usize {
     2 + 2 * (1 + data_len + 2)
 }
 
-/// Copies `src` into `out` at `at`, escaping 0x7D and 0x7E; runs of ordinary bytes are copied
-/// in bulk. Returns the new write position.
+/// Copies `src` into `out` at `at`, escaping 0x7D and 0x7E, and runs the CRC `crc` over it:
+/// one pass. Four bytes a step while a word holds no byte to escape (one load, one test, one
+/// store and two table steps of the CRC); the bytes of a word that holds one go one at a
+/// time. Returns the new write position and the CRC.
 #[inline]
-fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8]) -> Result<usize, Error> {
-    while !src.is_empty() {
-        let run = crate::scan::run_len(src);
-        let (plain, rest) = src.split_at_checked(run).unwrap_or((src, &[]));
-        // Two-step slicing: the destination has exactly `plain.len()` bytes by construction.
-        let dst = out.get_mut(at..).and_then(|o| o.get_mut(..plain.len()));
-        dst.ok_or(Error::BufferTooSmall)?.copy_from_slice(plain);
-        at += plain.len();
-        let Some((&special, rest)) = rest.split_first() else {
-            break;
+fn put_escaped(
+    out: &mut [u8],
+    mut at: usize,
+    mut src: &[u8],
+    crc: u16,
+) -> Result<(usize, u16), Error> {
+    let mut c = (crc as u32) << 16;
+    loop {
+        while let Some((s, s_rest)) = src.split_first_chunk::<4>() {
+            let Some(d) = out.get_mut(at..at.wrapping_add(4)) else {
+                break;
+            };
+            // Stored before the test: a word with a byte to escape is written again below.
+            d.copy_from_slice(s);
+            let w = u32::from_le_bytes(*s);
+            if special_bytes(w) != 0 {
+                break;
+            }
+            c = crc::update_word(c, w.swap_bytes());
+            at += 4;
+            src = s_rest;
+        }
+        let Some((&byte, rest)) = src.split_first() else {
+            return Ok((at, (c >> 16) as u16));
         };
-        let pair = out.get_mut(at..).and_then(|o| o.get_mut(..2));
-        pair.ok_or(Error::BufferTooSmall)?
-            .copy_from_slice(&[ESCAPE, special ^ 0x20]);
-        at += 2;
+        c = (crc::update((c >> 16) as u16, byte) as u32) << 16;
+        at = put_escaped_byte(out, at, byte)?;
         src = rest;
     }
-    Ok(at)
 }
 
 /// Writes one byte into `out` at `at`, escaped if it is 0x7D or 0x7E. Returns the new write
@@ -89,17 +105,14 @@ pub fn encode_frame(
     crc_mode: CrcMode,
     out: &mut [u8],
 ) -> Result<usize, Error> {
+    *out.first_mut().ok_or(Error::BufferTooSmall)? = FLAG;
+    let at = put_escaped_byte(out, 1, id)?;
+    let (at, crc) = put_escaped(out, at, head, crc::update(0, id))?;
+    let (mut at, crc) = put_escaped(out, at, tail, crc)?;
     let crc = match crc_mode {
-        CrcMode::Compute => {
-            let c = crc::update(0, id);
-            crc::update_slice(crc::update_slice(c, head), tail)
-        }
+        CrcMode::Compute => crc,
         CrcMode::Omit => 0,
     };
-    *out.first_mut().ok_or(Error::BufferTooSmall)? = FLAG;
-    let mut at = put_escaped_byte(out, 1, id)?;
-    at = put_escaped(out, at, head)?;
-    at = put_escaped(out, at, tail)?;
     let [lo, hi] = crc.to_le_bytes();
     at = put_escaped_byte(out, at, lo)?;
     at = put_escaped_byte(out, at, hi)?;

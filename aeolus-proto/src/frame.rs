@@ -33,6 +33,18 @@ impl<'a> Frame<'a> {
     /// # Errors
     /// [`Error::TooShort`], [`Error::ChecksumMismatch`], or [`Error::MissingCrc`] in strict mode.
     pub const fn check(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
+        Self::check_running(raw, strict, crc::checksum(raw))
+    }
+
+    /// [`Frame::check`], given the CRC run over all of `raw` (its two CRC bytes included), as
+    /// a decoder keeps it while it stores the bytes: the frame is good when that comes to
+    /// [`crc::residue`] of the received CRC. The body's own CRC is only computed again for
+    /// the error it reports.
+    pub(crate) const fn check_running(
+        raw: &'a [u8],
+        strict: bool,
+        all: u16,
+    ) -> Result<Self, Error> {
         let [body @ .., lo, hi] = raw else {
             return Err(Error::TooShort);
         };
@@ -40,13 +52,12 @@ impl<'a> Frame<'a> {
             return Err(Error::TooShort);
         };
         let received = u16::from_le_bytes([*lo, *hi]);
-        let computed = crc::checksum(body);
-        if received == computed {
+        if all == crc::residue(received) {
             Ok(Frame { raw, has_crc: true })
         } else if received != 0 {
             Err(Error::ChecksumMismatch {
                 id: *id,
-                computed,
+                computed: crc::checksum(body),
                 received,
             })
         } else if strict {

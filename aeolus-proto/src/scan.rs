@@ -1,12 +1,6 @@
-//! Finding the next byte that needs escaping (0x7D or 0x7E), a machine word at a time.
+//! Finding the bytes that need escaping (0x7D or 0x7E), four bytes at a time.
 
 use crate::ESCAPE;
-
-const WORD: usize = core::mem::size_of::<usize>();
-/// 0x01 in every byte of a word.
-const ONES: usize = usize::MAX / 0xFF;
-/// 0x80 in every byte of a word.
-const HIGHS: usize = ONES << 7;
 
 /// Whether `byte` is the flag or the escape byte.
 #[inline(always)]
@@ -15,55 +9,88 @@ pub(crate) const fn is_special(byte: u8) -> bool {
     (byte as u32).wrapping_sub(ESCAPE as u32) < 2
 }
 
-/// A word with the high bit set in (at least) the lowest byte of `x` that is zero. The lowest
-/// set bit is exact; bits above it may be spurious, which is all [`run_len`] needs.
+/// `SPECIAL[b]` is whether `b` is the flag or the escape byte: the test of [`is_special`] as
+/// one load. `Decoder::push` uses it: at opt-level "s" the arithmetic test compiles to three
+/// instructions (the subtraction is narrowed to a byte and zero-extended again) where the
+/// table takes one load, two instructions a byte fewer for 256 bytes of flash.
+pub(crate) static SPECIAL: [bool; 256] = {
+    let mut t = [false; 256];
+    t[ESCAPE as usize] = true;
+    t[crate::FLAG as usize] = true;
+    t
+};
+
+/// The high bit set in the lowest byte of the little-endian word `x` that is 0x7D or 0x7E
+/// (bits above it may be spurious); zero if no byte of `x` is one. `(v - 0x01..) & !v & 0x80..`
+/// marks the lowest zero byte of `v` exactly, so the lowest mark of the two tests is the first
+/// special byte. Four bytes whatever the machine word: the decoder's and the encoder's loops
+/// copy and run the CRC a 32-bit word at a time.
 #[inline(always)]
-const fn zero_bytes(x: usize) -> usize {
-    x.wrapping_sub(ONES) & !x & HIGHS
+pub(crate) const fn special_bytes(x: u32) -> u32 {
+    const ONES: u32 = 0x0101_0101;
+    let a = x ^ 0x7D7D_7D7D;
+    let b = x ^ 0x7E7E_7E7E;
+    (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & 0x8080_8080
 }
 
-/// The number of leading bytes of `bytes` that are neither 0x7D nor 0x7E.
+/// Bytes in a machine word: the decoder's loop takes one a step on 64-bit hosts.
+#[cfg(target_pointer_width = "64")]
+pub(crate) const WORD: usize = core::mem::size_of::<usize>();
+
+/// [`special_bytes`] over a whole machine word: the same four-byte test on 32-bit targets,
+/// eight bytes at once on 64-bit hosts.
+#[cfg(target_pointer_width = "64")]
 #[inline(always)]
-pub(crate) fn run_len(bytes: &[u8]) -> usize {
-    let mut words = bytes.chunks_exact(WORD);
-    let mut n = 0;
-    for w in &mut words {
-        // `chunks_exact` guarantees the length; the fallback only keeps panics out.
-        let x = usize::from_le_bytes(<[u8; WORD]>::try_from(w).unwrap_or([0x7E; WORD]));
-        let hits = zero_bytes(x ^ (ONES * 0x7D)) | zero_bytes(x ^ (ONES * 0x7E));
-        if hits != 0 {
-            return n + (hits.trailing_zeros() / 8) as usize;
-        }
-        n += WORD;
-    }
-    let tail = words.remainder();
-    n + tail
-        .iter()
-        .position(|&b| is_special(b))
-        .unwrap_or(tail.len())
+pub(crate) const fn special_in_word(x: usize) -> usize {
+    const ONES: usize = usize::MAX / 0xFF;
+    let a = x ^ (ONES * 0x7D);
+    let b = x ^ (ONES * 0x7E);
+    (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & (ONES << 7)
 }
 
 #[cfg(test)]
 mod tests {
-    extern crate std;
     use super::*;
 
     #[test]
-    fn run_len_agrees_with_a_plain_scan_everywhere() {
-        let mut x = 0x1234_5678_9ABC_DEF1u64;
-        for len in 0..70 {
-            for _ in 0..300 {
-                let bytes: std::vec::Vec<u8> = (0..len)
-                    .map(|_| {
-                        x ^= x << 13;
-                        x ^= x >> 7;
-                        x ^= x << 17;
-                        [0x7D, 0x7E, 0x7C, 0x7F, 0xFD, 0xFE, 0x00, x as u8][(x >> 40) as usize % 8]
-                    })
-                    .collect();
-                let plain = bytes.iter().position(|&b| is_special(b)).unwrap_or(len);
-                assert_eq!(run_len(&bytes), plain, "{bytes:02x?}");
+    fn the_word_test_finds_the_first_special_byte() {
+        let mut x = 0x2545_F491u32;
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            // Bias the bytes towards 0x7C..=0x7F.
+            let w = x & !(((x >> 3) & 0x0303_0303) * 0x20);
+            let b = w.to_le_bytes();
+            let first = b.iter().position(|&v| is_special(v));
+            let hits = special_bytes(w);
+            let got = if hits == 0 {
+                None
+            } else {
+                Some((hits.trailing_zeros() / 8) as usize)
+            };
+            assert_eq!(first, got, "{w:08x}");
+            // The machine-word test on the same bytes, repeated to fill a word.
+            #[cfg(target_pointer_width = "64")]
+            {
+                let mut word = [0u8; WORD];
+                for (i, v) in word.iter_mut().enumerate() {
+                    *v = b[i % 4];
+                }
+                let hits = special_in_word(usize::from_le_bytes(word));
+                let got = if hits == 0 {
+                    None
+                } else {
+                    Some((hits.trailing_zeros() / 8) as usize)
+                };
+                assert_eq!(first, got, "{w:08x}");
             }
+        }
+        for v in 0..=255u8 {
+            assert_eq!(special_bytes(u32::from(v)) != 0, is_special(v));
+            #[cfg(target_pointer_width = "64")]
+            assert_eq!(special_in_word(usize::from(v)) != 0, is_special(v));
+            assert_eq!(SPECIAL[usize::from(v)], is_special(v));
         }
     }
 }

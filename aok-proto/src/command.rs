@@ -7,7 +7,7 @@ use crate::layout::{
 };
 use crate::layout::{bytes, put};
 use crate::values::{ActionWord, Motor, Stick, WaypointSlot};
-use crate::{Error, xor};
+use crate::{Error, checked_value, xor};
 
 /// `63`: the two- and three-byte control commands (no checksum, K5).
 pub const CONTROL: u8 = control::START;
@@ -251,14 +251,9 @@ impl Command {
                 }
             }
             SET_PARAMETER => {
-                let f = fixed::<{ set::LEN }>(bytes)?;
-                if xor(&f[set::CHECKED]) != f[set::CHECKSUM] {
-                    return Err(Error::ChecksumMismatch);
-                }
-                Ok(Self::SetParameter(ParameterValue {
-                    number: f[set::NUMBER],
-                    value: i32::from_be_bytes(bytes!(f, set::VALUE, 4)),
-                }))
+                let (number, value) =
+                    checked_value(fixed::<{ set::LEN }>(bytes)?).ok_or(Error::ChecksumMismatch)?;
+                Ok(Self::SetParameter(ParameterValue { number, value }))
             }
             READ_PARAMETER => Ok(Self::ReadParameter(
                 fixed::<{ read_parameter::LEN }>(bytes)?[read_parameter::NUMBER],

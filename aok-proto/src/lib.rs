@@ -85,6 +85,32 @@ pub(crate) fn xor(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0, |a, &b| a ^ b)
 }
 
+/// The value of a `HEAD NUM B1..B4 CRC` frame (a debug value, a parameter set) whose checksum
+/// covers `NUM..B4`, if the checksum is right: [`xor`] of those bytes, the four value bytes
+/// folded as one word (a few instructions instead of a loop; the frames are 7 bytes, so the
+/// check weighs on every byte). `number`, `value` and `checksum` at the offsets of
+/// [`layout::debug`], which [`layout::set_parameter`] shares.
+#[inline(always)]
+pub(crate) fn checked_value(frame: &[u8; layout::debug::LEN]) -> Option<(u8, i32)> {
+    use layout::debug::{CHECKSUM, NUMBER, VALUE};
+    let value = u32::from_be_bytes(layout::bytes!(frame, VALUE, 4));
+    let folded = value ^ (value >> 16);
+    let folded = (folded ^ (folded >> 8)) as u8;
+    if folded ^ frame[NUMBER] == frame[CHECKSUM] {
+        Some((frame[NUMBER], value as i32))
+    } else {
+        None
+    }
+}
+
+// `checked_value` reads a parameter set with the debug frame's offsets: they must agree.
+const _: () = {
+    use layout::{debug, set_parameter as set};
+    assert!(debug::LEN == set::LEN && debug::NUMBER == set::NUMBER);
+    assert!(debug::VALUE == set::VALUE && debug::CHECKSUM == set::CHECKSUM);
+    assert!(debug::CHECKED.start == set::CHECKED.start && debug::CHECKED.end == set::CHECKED.end);
+};
+
 /// Drop the first `n` of the `len` buffered bytes; returns the new length.
 #[inline]
 pub(crate) fn shift_left<const N: usize>(buf: &mut [u8; N], len: usize, n: usize) -> usize {

@@ -6,7 +6,7 @@ use crate::layout::{
     ack, bytes, debug, headerless_reply as headerless, parameter_reply as reply, put, waypoint,
 };
 use crate::values::{Ack, ReplyForm};
-use crate::{Error, xor};
+use crate::{Error, checked_value, xor};
 
 /// `1C`: the start of a debug-value frame.
 pub const DEBUG: u8 = debug::START;
@@ -141,17 +141,9 @@ impl Message {
         let first = *bytes.first().ok_or(Error::Truncated)?;
         match first {
             DEBUG => {
-                let f = fixed7(bytes)?;
-                if xor(&f[debug::CHECKED]) != f[debug::CHECKSUM] {
-                    return Err(Error::ChecksumMismatch);
-                }
-                Ok((
-                    Self::Debug(DebugValue {
-                        number: f[debug::NUMBER],
-                        value: i32::from_be_bytes(bytes!(f, debug::VALUE, 4)),
-                    }),
-                    DEBUG_LEN,
-                ))
+                let (number, value) =
+                    checked_value(fixed7(bytes)?).ok_or(Error::ChecksumMismatch)?;
+                Ok((Self::Debug(DebugValue { number, value }), DEBUG_LEN))
             }
             PARAMETER_REPLY => {
                 let f = fixed7(bytes)?;

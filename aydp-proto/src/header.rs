@@ -12,11 +12,15 @@ use crate::profile::{EXPEDITED, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START
 /// Read `K` bytes at a constant offset; zeros if the buffer is short (never panics).
 #[inline]
 pub(crate) fn array_at<const K: usize>(buf: &[u8], at: usize) -> [u8; K] {
+    let src = buf.get(at..).unwrap_or(&[]);
+    // The whole field as one array when it is there (the case of every caller that has
+    // checked the length: a few loads once inlined); a byte loop only for a short buffer.
+    if let Some(field) = src.first_chunk::<K>() {
+        return *field;
+    }
     let mut out = [0u8; K];
-    if let Some(src) = buf.get(at..) {
-        for (d, s) in out.iter_mut().zip(src) {
-            *d = *s;
-        }
+    for (d, s) in out.iter_mut().zip(src) {
+        *d = *s;
     }
     out
 }

@@ -75,11 +75,8 @@ impl<T: Field + Copy + Default, const K: usize> Field for [T; K] {
     const SIZE: usize = T::SIZE * K;
     #[inline(always)]
     fn read(data: &[u8], off: usize) -> Self {
-        let mut out = [T::default(); K];
-        for (i, v) in out.iter_mut().enumerate() {
-            *v = T::read(data, off + i * T::SIZE);
-        }
-        out
+        // Built element by element: no zeroed array to fill afterwards.
+        core::array::from_fn(|i| T::read(data, off + i * T::SIZE))
     }
     #[inline(always)]
     fn write(&self, out: &mut [u8], off: usize) {

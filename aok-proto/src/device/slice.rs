@@ -1,6 +1,10 @@
 //! The slice path: [`DeviceDecoder::feed`], and the readers' feed-until-the-first-event.
 
 use super::*;
+use crate::checked_value;
+use crate::command::{MotorTest, ParameterValue, SET_PARAMETER};
+use crate::layout::{motor_test as motor, set_parameter as set};
+use crate::values::Motor;
 
 impl DeviceDecoder {
     /// Feed a slice and hand every item to `on_event`, in order.
@@ -43,6 +47,29 @@ impl DeviceDecoder {
             let Some((&first, tail)) = rest.split_first() else {
                 return;
             };
+            // The common commands first: an intact parameter set or motor test is exactly
+            // what `Command::parse_known` makes of it.
+            if let Some(motor) = Motor::from_command_byte(first) {
+                if let Some((f, after)) = rest.split_first_chunk::<{ motor::LEN }>() {
+                    // The checksum covers the start byte and the value (`motor::CHECKED`).
+                    if first ^ f[motor::VALUE] == f[motor::CHECKSUM] {
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+                        rest = after;
+                        let value = f[motor::VALUE];
+                        on_event(Ok(Command::MotorTest(MotorTest { motor, value })));
+                        continue;
+                    }
+                }
+            } else if first == SET_PARAMETER {
+                if let Some((frame, after)) = rest.split_first_chunk::<{ set::LEN }>() {
+                    if let Some((number, value)) = checked_value(frame) {
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+                        rest = after;
+                        on_event(Ok(Command::SetParameter(ParameterValue { number, value })));
+                        continue;
+                    }
+                }
+            }
             let need = match command_len(first, tail.first().copied()) {
                 Len::Is(n) => n,
                 Len::More => break,

@@ -1,6 +1,8 @@
 //! The slice path: [`PcDecoder::feed`], and the readers' feed-until-the-first-event.
 
 use super::*;
+use crate::checked_value;
+use crate::message::DebugValue;
 
 impl PcDecoder {
     /// Feed a slice and hand every event (messages and failures) to `on_event`, in order.
@@ -52,6 +54,18 @@ impl PcDecoder {
                 Expect::Parameter(n) if self.form == ReplyForm::Headerless => Some(n),
                 _ => None,
             };
+            // The common frame first: an intact debug frame, where no headerless reply is
+            // pending, is exactly what `Message::parse` makes of it, and settles nothing.
+            if first == DEBUG && headerless.is_none() {
+                if let Some((frame, after)) = rest.split_first_chunk::<DEBUG_LEN>() {
+                    if let Some((number, value)) = checked_value(frame) {
+                        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+                        rest = after;
+                        on_event(Ok(Message::Debug(DebugValue { number, value })));
+                        continue;
+                    }
+                }
+            }
             if let Some(number) = headerless {
                 let Some(reply) = rest.get(..HEADERLESS_REPLY_LEN) else {
                     break;
