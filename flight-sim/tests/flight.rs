@@ -441,3 +441,39 @@ fn any_time_gives_finite_values() {
         assert!((0.0..360.0).contains(&s.heading_deg));
     }
 }
+
+/// The values the box sends without a new state (`sensor_box`'s steady kinds: PRESSURE, TEMP,
+/// WIND) are the same at every time of one flight, exactly, bit for bit.
+#[test]
+fn air_data_and_wind_are_constant_over_a_flight() {
+    for p in [
+        FlightParams::DEFAULT,
+        calm(0.0),
+        calm(-45.0),
+        FlightParams {
+            altitude_m: 3_000.0,
+            airspeed_mps: 80.0,
+            wind_speed_mps: 20.0,
+            wind_from_deg: 270.0,
+            ..FlightParams::DEFAULT
+        },
+    ] {
+        let f = flight(p);
+        let at0 = f.state(0);
+        for t in TIMES {
+            let s = f.state(t);
+            let steady = |s: &State| {
+                [
+                    s.static_pressure_mbar,
+                    s.pitot_pressure_mbar,
+                    s.airspeed_mps,
+                    s.oat_celsius,
+                    s.wind_speed_mps,
+                    s.wind_from_deg,
+                ]
+                .map(f32::to_bits)
+            };
+            assert_eq!(steady(&s), steady(&at0), "at {t} ms, {p:?}");
+        }
+    }
+}

@@ -295,7 +295,8 @@ impl AeolusLink {
         self.tx.len()
     }
 
-    /// Builds and queues the telemetry due at `now_ms` (one flight state for all of them).
+    /// Builds and queues the telemetry due at `now_ms`: one flight state for the messages that
+    /// move with time, the flight's steady values for the others ([`Shared::steady_state`]).
     fn send_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         let intervals = shared.settings().intervals;
         let AeolusLink {
@@ -306,8 +307,15 @@ impl AeolusLink {
         } = self;
         let mut state = None;
         for kind in telemetry.due(now_ms, &intervals) {
-            let state = state.get_or_insert_with(|| shared.flight_state(now_ms));
-            let msg = build(kind, state, now_ms);
+            let msg = if kind.moves_with_time() {
+                build(
+                    kind,
+                    state.get_or_insert_with(|| shared.flight_state(now_ms)),
+                    now_ms,
+                )
+            } else {
+                build(kind, &shared.steady_state(now_ms), now_ms)
+            };
             if enqueue(tx, &msg, TX_RESERVE) {
                 if let Some(n) = counters.sent.get_mut(kind.index()) {
                     bump(n);

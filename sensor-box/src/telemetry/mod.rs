@@ -114,6 +114,23 @@ impl Kind {
         self as usize
     }
 
+    /// Whether the message carries values that change with the flight's time (attitude,
+    /// motion, heading, position). PRESSURE, TEMP, WIND and AEOLUSINFO carry only values
+    /// that are constant over one simulated flight (a coordinated turn at constant altitude
+    /// and airspeed in a steady wind), so they need no new flight state.
+    ///
+    /// ```
+    /// use sensor_box::telemetry::Kind;
+    /// assert!(Kind::Gyro.moves_with_time());
+    /// assert!(!Kind::Pressure.moves_with_time());
+    /// ```
+    pub const fn moves_with_time(self) -> bool {
+        matches!(
+            self,
+            Kind::Gyro | Kind::Accel | Kind::Magnet | Kind::Attitude | Kind::Compass | Kind::Gps
+        )
+    }
+
     /// The AEOLUS message ID.
     ///
     /// ```
