@@ -10,7 +10,7 @@ const efis = {
   frames: 0, roll_deg: null, pitch_deg: null, attitude_time_ms: null, heading_deg: null,
   heading_time_ms: null, airspeed_mps: null, gps_altitude_m: null, pressure_altitude_m: null,
   slip_ball: null, turn_coordinator: null, track_points: 0, wind_from_deg: null,
-  wind_speed_mps: null, stale_types: [], live_types: [], connected: false,
+  wind_speed_mps: null, stale_types: [], live_types: [], connected: false, // live_types: scheduled types only (not TOAST, LOG)
 };
 window.efis = efis;
 
@@ -439,7 +439,8 @@ function drawTypes(types) {
     tr.cells[6].textContent = t.stale ? `STALE ${fmt(t.age_s, 1)} s` : t.periodic ? 'live' : `event, ${fmt(t.age_s, 1)} s ago`;
     tr.cells[6].className = 'state';
     tr.className = t.stale ? 'stale' : '';
-    (t.stale ? stale : live).push(t.name);
+    if (t.stale) stale.push(t.name);
+    else if (t.periodic) live.push(t.name);
   }
   for (const r of rows.values()) r.remove();
   efis.stale_types = stale;
