@@ -80,11 +80,13 @@ pub enum Command {
   protolink watch --from udp:5001 --seconds 10")]
     Watch(WatchArgs),
     /// A glass cockpit in the browser: horizon, tapes, heading, ground track, rates, errors.
-    #[command(after_help = "The page is built in (no network needed); GET /api/state returns its state as JSON.
+    #[command(
+        after_help = "The page is built in (no network needed); GET /api/state returns its state as JSON.
 
 Examples:
   protolink web --from tcp:127.0.0.1:7000      (then open http://127.0.0.1:8080/)
-  protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600")]
+  protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600"
+    )]
     Web(WebArgs),
     /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.
     #[command(after_help = "Examples:

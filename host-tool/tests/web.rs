@@ -128,7 +128,9 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
 
     // Live: attitude, heading and a GPS fix drawn.
     page.wait_for("the first drawn attitude", Duration::from_secs(20), |e| {
-        e["roll_deg"].is_number() && e["heading_deg"].is_number() && e["track_points"].as_u64() > Some(0)
+        e["roll_deg"].is_number()
+            && e["heading_deg"].is_number()
+            && e["track_points"].as_u64() > Some(0)
     });
 
     // The horizon, measured from the pixels and as drawn, at the simulated bank.
@@ -146,7 +148,9 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
     let track_first = first["track_points"].as_u64().unwrap_or(0);
     std::thread::sleep(Duration::from_secs(3));
     let second = page.efis();
-    let dt_s = (second["heading_time_ms"].as_f64().unwrap() - first["heading_time_ms"].as_f64().unwrap()) / 1000.0;
+    let dt_s = (second["heading_time_ms"].as_f64().unwrap()
+        - first["heading_time_ms"].as_f64().unwrap())
+        / 1000.0;
     let mut dh = second["heading_deg"].as_f64().unwrap() - first["heading_deg"].as_f64().unwrap();
     if dh < -180.0 {
         dh += 360.0;
@@ -158,28 +162,45 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
     );
     println!("heading: {dh:.2} degrees in {dt_s:.3} s = {rate:.3} °/s, expected {expected:.3} °/s");
     assert!(dt_s >= 2.0, "{first} then {second}");
-    assert!((rate - expected).abs() <= expected * 0.02, "{rate} °/s, expected {expected} °/s");
+    assert!(
+        (rate - expected).abs() <= expected * 0.02,
+        "{rate} °/s, expected {expected} °/s"
+    );
     // 30 degrees of bank at 50 m/s: 6.5 °/s.
     assert!((expected - 6.49).abs() < 0.05, "{expected}");
 
     // The track grows.
     let track_second = second["track_points"].as_u64().unwrap_or(0);
-    assert!(track_second > track_first, "track {track_first} -> {track_second}");
+    assert!(
+        track_second > track_first,
+        "track {track_first} -> {track_second}"
+    );
 
     // Everything else is on the page: identity, error counters, message rows.
     let text = page.eval("document.body.innerText");
     let text = text.as_str().unwrap_or_default();
-    for want in ["AEOLUS-SENSE", "ATTITUDE", "PRESSURE", "GPS", "CRC errors", "AEOLUS on"] {
+    for want in [
+        "AEOLUS-SENSE",
+        "ATTITUDE",
+        "PRESSURE",
+        "GPS",
+        "CRC errors",
+        "AEOLUS on",
+    ] {
         assert!(text.contains(want), "{want:?} not on the page:\n{text}");
     }
     page.screenshot(&target_dir().join("web-sim.png"));
 
     // "a pause": the box stops sending; every telemetry rate turns stale.
     command(cmd, "a pause");
-    let paused = page.wait_for("every rate stale after a pause", Duration::from_secs(10), |e| {
-        e["live_types"].as_array().is_some_and(Vec::is_empty)
-            && e["stale_types"].as_array().is_some_and(|s| s.len() >= 8)
-    });
+    let paused = page.wait_for(
+        "every rate stale after a pause",
+        Duration::from_secs(10),
+        |e| {
+            e["live_types"].as_array().is_some_and(Vec::is_empty)
+                && e["stale_types"].as_array().is_some_and(|s| s.len() >= 8)
+        },
+    );
     println!("paused: {paused}");
     let stale_rows = page.eval("document.querySelectorAll('#types tr.stale').length");
     assert!(stale_rows.as_u64() >= Some(8), "{stale_rows}");
@@ -202,7 +223,10 @@ fn api_state_has_every_field() {
     for field in STATE_FIELDS {
         assert!(v.get(field).is_some(), "no {field} in {v}");
     }
-    assert!((v["attitude"]["roll_deg"].as_f64().unwrap() - 30.0).abs() < 0.01, "{v}");
+    assert!(
+        (v["attitude"]["roll_deg"].as_f64().unwrap() - 30.0).abs() < 0.01,
+        "{v}"
+    );
     assert_eq!(v["info"]["model"], "AEOLUS-SENSE");
     assert_eq!(v["toast"], "AEOLUS on");
     assert!(v["air"]["pressure_altitude_m"].is_number());
@@ -214,12 +238,26 @@ fn api_state_has_every_field() {
         .iter()
         .find(|t| t["name"] == "ATTITUDE")
         .expect("an ATTITUDE row");
-    for field in ["id", "count", "rate_hz", "interval_box_ms", "intervals_ms", "stale", "periodic", "age_s"] {
+    for field in [
+        "id",
+        "count",
+        "rate_hz",
+        "interval_box_ms",
+        "intervals_ms",
+        "stale",
+        "periodic",
+        "age_s",
+    ] {
         assert!(attitude.get(field).is_some(), "no {field} in {attitude}");
     }
     assert_eq!(attitude["stale"], false);
     assert!(attitude["rate_hz"].as_f64().unwrap() > 50.0, "{attitude}");
-    for field in ["checksum_errors", "bytes_discarded", "malformed", "truncated"] {
+    for field in [
+        "checksum_errors",
+        "bytes_discarded",
+        "malformed",
+        "truncated",
+    ] {
         assert_eq!(v["errors"][field], 0, "{field}: {v}");
     }
 }
@@ -228,7 +266,13 @@ fn api_state_has_every_field() {
 fn nothing_on_the_endpoint_says_no_data() {
     let (_web, addr) = web("udp:17495");
     let v = state_when(addr, "NO DATA", |v| v["no_data"].is_string());
-    assert!(v["no_data"].as_str().unwrap().contains("udp:127.0.0.1:17495"), "{v}");
+    assert!(
+        v["no_data"]
+            .as_str()
+            .unwrap()
+            .contains("udp:127.0.0.1:17495"),
+        "{v}"
+    );
     assert_eq!(v["bytes"], 0);
 }
 
@@ -239,7 +283,11 @@ fn status_of(addr: SocketAddr, raw: &[u8]) -> String {
     let _ = s.write_all(raw);
     let mut answer = Vec::new();
     let _ = s.read_to_end(&mut answer);
-    String::from_utf8_lossy(&answer).lines().next().unwrap_or_default().to_owned()
+    String::from_utf8_lossy(&answer)
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .to_owned()
 }
 
 #[test]
@@ -250,7 +298,13 @@ fn the_server_is_read_only_and_bounded() {
     assert_eq!(http_get(addr, "/style.css").0, 200);
     assert_eq!(http_get(addr, "/nope").0, 404);
     assert_eq!(http_get(addr, "/../../etc/passwd").0, 404);
-    assert!(status_of(addr, b"POST /api/state HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi").contains(" 405 "));
+    assert!(
+        status_of(
+            addr,
+            b"POST /api/state HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi"
+        )
+        .contains(" 405 ")
+    );
     assert!(status_of(addr, b"garbage\r\n\r\n").contains(" 400 "));
     // A request head past the limit: refused, never read on without bound.
     let mut long = b"GET / HTTP/1.1\r\nX-Long: ".to_vec();
@@ -296,20 +350,41 @@ fn the_server_is_read_only_and_bounded() {
     let mut text = String::from_utf8_lossy(&got[..n]).into_owned();
     let started = Instant::now();
     while !text.contains("\n\ndata: {") || !text.trim_end().ends_with('}') {
-        assert!(started.elapsed() < Duration::from_secs(10), "no event in {text}");
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "no event in {text}"
+        );
         let n = s.read(&mut got).unwrap();
         text.push_str(&String::from_utf8_lossy(&got[..n]));
     }
-    let event = text.split("data: ").nth(1).unwrap().split("\n\n").next().unwrap();
+    let event = text
+        .split("data: ")
+        .nth(1)
+        .unwrap()
+        .split("\n\n")
+        .next()
+        .unwrap();
     let v: Value = serde_json::from_str(event).expect("an event is one JSON state");
     assert!(v.get("server").is_some());
 }
 
 #[test]
 fn listen_is_checked_and_errors_are_one_sentence() {
-    let err = usage_failed(&run(&["web", "--from", "udp:17497", "--listen", "localhost:8080"]));
+    let err = usage_failed(&run(&[
+        "web",
+        "--from",
+        "udp:17497",
+        "--listen",
+        "localhost:8080",
+    ]));
     assert!(err.contains("IP:PORT"), "{err}");
-    usage_failed(&run(&["web", "--from", "udp:17497", "--listen", "127.0.0.1:99999"]));
+    usage_failed(&run(&[
+        "web",
+        "--from",
+        "udp:17497",
+        "--listen",
+        "127.0.0.1:99999",
+    ]));
     // The address is taken.
     let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let port = taken.local_addr().unwrap().port();
@@ -327,7 +402,15 @@ fn listen_is_checked_and_errors_are_one_sentence() {
 
 #[test]
 fn seconds_ends_it_with_the_counters() {
-    let out = ok(&run(&["web", "--from", "udp:17498", "--listen", "127.0.0.1:0", "--seconds", "1"]));
+    let out = ok(&run(&[
+        "web",
+        "--from",
+        "udp:17498",
+        "--listen",
+        "127.0.0.1:0",
+        "--seconds",
+        "1",
+    ]));
     assert!(out.starts_with("web: "), "{out}");
     assert!(out.contains("refused=0"), "{out}");
 }

@@ -208,7 +208,12 @@ impl Drop for Server {
     }
 }
 
-fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, counters: &Arc<Counters>, stop: &AtomicBool) {
+fn accept_loop(
+    listener: &TcpListener,
+    hub: &Arc<Hub>,
+    counters: &Arc<Counters>,
+    stop: &AtomicBool,
+) {
     while !stop.load(Ordering::SeqCst) {
         match listener.accept() {
             Ok((mut stream, _)) => {
@@ -307,7 +312,13 @@ fn serve(mut stream: TcpStream, hub: &Hub, counters: &Counters) {
     let _ = stream.set_nodelay(true);
     let bad = |stream: &mut TcpStream, status: &str| {
         counters.bad_requests.fetch_add(1, Ordering::Relaxed);
-        let _ = respond(stream, false, status, "text/plain; charset=utf-8", status.as_bytes());
+        let _ = respond(
+            stream,
+            false,
+            status,
+            "text/plain; charset=utf-8",
+            status.as_bytes(),
+        );
     };
     let head = match read_head(&mut stream) {
         Ok(Some(head)) => head,
@@ -343,7 +354,13 @@ fn serve(mut stream: TcpStream, hub: &Hub, counters: &Counters) {
         "/events" => return stream_events(stream, head_only, hub, counters),
         "/api/state" => {
             let (_, json) = hub.latest();
-            respond(&mut stream, head_only, "200 OK", "application/json", json.as_bytes())
+            respond(
+                &mut stream,
+                head_only,
+                "200 OK",
+                "application/json",
+                json.as_bytes(),
+            )
         }
         _ => match assets::find(path) {
             Some((content_type, body)) => {

@@ -109,9 +109,7 @@ impl Cockpit {
                 && g.longitude_deg.is_finite()
             {
                 let due = match *last_track_ms {
-                    Some(prev) => {
-                        !(g.timestamp_ms > prev && g.timestamp_ms < prev + TRACK_STEP_MS)
-                    }
+                    Some(prev) => !(g.timestamp_ms > prev && g.timestamp_ms < prev + TRACK_STEP_MS),
                     None => true,
                 };
                 if due {

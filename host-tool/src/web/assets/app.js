@@ -44,6 +44,16 @@ function invalidCross({ g, w, h }, label) {
   text(g, label, w / 2, h / 2, '#ff5050', 'bold 14px system-ui, sans-serif');
 }
 
+// An amber flag across the top of an instrument whose message type went stale: the needles
+// show the last value, and the flag says it is old.
+function staleFlag(id, label) {
+  const { g, w } = ctx2d(id);
+  const bw = Math.min(w - 8, 150);
+  g.fillStyle = 'rgba(0,0,0,0.75)';
+  g.fillRect(w / 2 - bw / 2, 30, bw, 22);
+  text(g, `${label} STALE`, w / 2, 41, '#ffb020', 'bold 13px system-ui, sans-serif');
+}
+
 // ------------------------------------------------------------------ attitude
 
 function drawAttitude(a) {
@@ -423,7 +433,7 @@ function drawTypes(types) {
       tr.dataset.id = key;
       for (let i = 0; i < 7; i++) cell(tr, '');
       const c = document.createElement('canvas');
-      c.width = 120;
+      c.width = 96;
       c.height = 18;
       tr.cells[5].appendChild(c);
       body.appendChild(tr);
@@ -434,9 +444,9 @@ function drawTypes(types) {
     tr.cells[1].textContent = t.id;
     tr.cells[2].textContent = t.count;
     tr.cells[3].textContent = t.stale || !t.periodic ? '-' : `${fmt(t.rate_hz, 1)} Hz`;
-    tr.cells[4].textContent = `${fmt(interval, 1)} ms`;
-    sparkline(tr.cells[5].firstChild, t.intervals_ms);
-    tr.cells[6].textContent = t.stale ? `STALE ${fmt(t.age_s, 1)} s` : t.periodic ? 'live' : `event, ${fmt(t.age_s, 1)} s ago`;
+    tr.cells[4].textContent = t.periodic ? `${fmt(interval, 1)} ms` : '-';
+    sparkline(tr.cells[5].firstChild, t.periodic ? t.intervals_ms : []);
+    tr.cells[6].textContent = t.stale ? `STALE ${fmt(t.age_s, 1)} s` : t.periodic ? 'live' : `event ${fmt(t.age_s, 0)} s ago`;
     tr.cells[6].className = 'state';
     tr.className = t.stale ? 'stale' : '';
     if (t.stale) stale.push(t.name);
@@ -496,6 +506,15 @@ function draw(s) {
   drawTapes(s);
   drawTrack(s);
   drawTypes(s.types);
+  const stale = new Set(efis.stale_types);
+  if (s.attitude && stale.has('ATTITUDE')) {
+    staleFlag('attitude', 'ATTITUDE');
+    staleFlag('turn', 'ATTITUDE');
+  }
+  if (s.heading && stale.has('COMPASS')) staleFlag('heading', 'COMPASS');
+  if (s.air && stale.has('PRESSURE')) staleFlag('speed', 'AIR');
+  if (s.gps && stale.has('GPS')) staleFlag('altitude', 'GPS');
+  if (s.gps && stale.has('GPS')) staleFlag('track', 'GPS');
   drawErrors(s.errors);
   drawBox(s);
   efis.frames += 1;
