@@ -285,12 +285,20 @@ fn respond(
     stream.flush()
 }
 
-/// Reads the request head: up to and including the blank line, at most [`MAX_HEAD`] bytes.
-/// `Ok(None)` when it is too long.
+/// Reads the request head: up to and including the blank line, at most [`MAX_HEAD`] bytes,
+/// all within [`READ_TIMEOUT`]. `Ok(None)` when it is too long.
 fn read_head(stream: &mut TcpStream) -> std::io::Result<Option<Vec<u8>>> {
+    let started = std::time::Instant::now();
     let mut head = Vec::with_capacity(1024);
     let mut chunk = [0u8; 1024];
     loop {
+        // The whole head within READ_TIMEOUT, not each read: a client that trickles bytes
+        // cannot hold a connection slot for long.
+        let left = READ_TIMEOUT.saturating_sub(started.elapsed());
+        if left.is_zero() {
+            return Err(std::io::ErrorKind::TimedOut.into());
+        }
+        stream.set_read_timeout(Some(left))?;
         let n = stream.read(&mut chunk)?;
         if n == 0 {
             return Err(std::io::ErrorKind::UnexpectedEof.into());
@@ -352,16 +360,23 @@ fn serve(mut stream: TcpStream, hub: &Hub, counters: &Counters) {
     let path = path.split(['?', '#']).next().unwrap_or_default();
     let _ = match path {
         "/events" => return stream_events(stream, head_only, hub, counters),
-        "/api/state" => {
-            let (_, json) = hub.latest();
-            respond(
+        "/api/state" => match hub.latest() {
+            // Before the first snapshot (the first moments after the start).
+            (0, _) => respond(
+                &mut stream,
+                head_only,
+                "503 Service Unavailable",
+                "text/plain; charset=utf-8",
+                b"starting: no state yet",
+            ),
+            (_, json) => respond(
                 &mut stream,
                 head_only,
                 "200 OK",
                 "application/json",
                 json.as_bytes(),
-            )
-        }
+            ),
+        },
         _ => match assets::find(path) {
             Some((content_type, body)) => {
                 respond(&mut stream, head_only, "200 OK", content_type, body)
@@ -423,5 +438,34 @@ fn stream_events(mut stream: TcpStream, head_only: bool, hub: &Hub, counters: &C
             }
             Err(()) => return,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_hub_keeps_only_the_latest_snapshot() {
+        let hub = Hub::default();
+        assert_eq!(hub.newer(0, Duration::ZERO), Ok(None));
+        for i in 1..=1000 {
+            hub.publish(format!("{{\"n\":{i}}}"));
+        }
+        // A reader that was away gets the newest, never a backlog.
+        let (seq, json) = hub.newer(0, Duration::ZERO).unwrap().unwrap();
+        assert_eq!((seq, &*json), (1000, "{\"n\":1000}"));
+        assert_eq!(hub.newer(seq, Duration::from_millis(10)), Ok(None));
+        hub.close();
+        assert_eq!(hub.newer(seq, Duration::from_secs(60)), Err(()));
+    }
+
+    #[test]
+    fn slots_never_exceed_their_limit() {
+        let counter = AtomicU64::new(0);
+        let taken: Vec<_> = (0..10).filter_map(|_| Slot::take(&counter, 3)).collect();
+        assert_eq!(taken.len(), 3);
+        drop(taken);
+        assert_eq!(counter.load(Ordering::SeqCst), 0);
     }
 }

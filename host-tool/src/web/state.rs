@@ -409,3 +409,57 @@ pub struct ServerState {
     /// Snapshots a slow client never got (it got a newer one instead).
     pub frames_dropped: u64,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use aeolus_proto::CrcMode;
+    use aeolus_proto::message::Gps;
+
+    fn gps(ms: f64, lat: f32) -> Vec<u8> {
+        let mut buf = vec![0u8; 128];
+        let n = Message::Gps(Gps {
+            valid: true,
+            has_fix: true,
+            satellites: 9,
+            timestamp_ms: ms,
+            latitude_deg: lat,
+            longitude_deg: 11.0,
+            altitude_m: 1000.0,
+            ground_speed_mps: 50.0,
+        })
+        .encode(&mut buf, CrcMode::Compute)
+        .unwrap();
+        buf.truncate(n);
+        buf
+    }
+
+    #[test]
+    fn the_track_is_thinned_and_bounded() {
+        let t0 = Instant::now();
+        let mut c = Cockpit::new("test", t0);
+        // Ten fixes a second for twenty minutes: a point every 500 ms, the last 600 kept.
+        for i in 0..12_000u32 {
+            let ms = f64::from(i) * 100.0;
+            c.feed(&gps(ms, 48.0 + i as f32 * 1e-5), false, t0);
+        }
+        let s = c.state(t0, ServerState::default());
+        assert_eq!(s.track.len(), TRACK_POINTS);
+        let types = &s.types[0];
+        assert_eq!(types.name, "GPS");
+        assert_eq!(types.intervals_ms.as_ref().unwrap().len(), JITTER_INTERVALS);
+        assert!((types.rate_hz.unwrap() - 10.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn garbage_and_nan_never_break_the_json() {
+        let t0 = Instant::now();
+        let mut c = Cockpit::new("test", t0);
+        c.feed(&gps(0.0, f32::NAN), false, t0);
+        c.feed(&[0x7E, 0x41, 0x00, 0x7E, 0x7D, 0x7D, 0x7E], true, t0);
+        let json = serde_json::to_string(&c.state(t0, ServerState::default())).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert!(v["gps"]["latitude_deg"].is_null(), "{v}");
+        assert!(v["track"].as_array().unwrap().is_empty());
+    }
+}
