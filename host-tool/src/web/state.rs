@@ -13,7 +13,7 @@ use serde::Serialize;
 use crate::decode::AEOLUS_CAPACITY;
 use crate::watch::{NO_DATA_AFTER, View, isa_altitude_m};
 
-/// How many track points the page keeps: five minutes at [`TRACK_STEP`].
+/// How many track points the page keeps: five minutes at [`TRACK_STEP_MS`].
 pub const TRACK_POINTS: usize = 600;
 /// The box time between two track points (GPS fixes closer together are skipped).
 pub const TRACK_STEP_MS: f64 = 500.0;
