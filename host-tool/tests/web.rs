@@ -11,16 +11,16 @@
 mod common;
 
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{SocketAddr, TcpStream, UdpSocket};
+use std::net::{SocketAddr, TcpStream};
 use std::path::PathBuf;
 use std::process::Child;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::CrcMode;
-use aeolus_proto::message::{Message, Text};
 use common::*;
-use protolink_tests::browser::{Page, STATE_FIELDS, chromium, http_get};
+use protolink_tests::browser::{
+    Page, STATE_FIELDS, check_a_pause_turns_the_rates_stale, check_the_turn, chromium, http_get,
+};
 use serde_json::Value;
 
 /// Kills a started process when the test ends, passed or not.
@@ -104,20 +104,6 @@ fn target_dir() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target"))
 }
 
-/// The heading turns at g·tan(bank)/TAS: the rate a coordinated turn has, in degrees a second.
-fn turn_rate_deg_s(bank_deg: f64, tas_mps: f64) -> f64 {
-    (9.806_65 * bank_deg.to_radians().tan() / tas_mps).to_degrees()
-}
-
-fn command(to: u16, text: &str) {
-    let mut buf = [0u8; 64];
-    let n = Message::Command(Text::new(text).expect("short"))
-        .encode(&mut buf, CrcMode::Compute)
-        .expect("fits");
-    let s = UdpSocket::bind("127.0.0.1:0").expect("a socket");
-    s.send_to(&buf[..n], ("127.0.0.1", to)).expect("send");
-}
-
 #[test]
 fn the_page_flies_the_simulated_turn_in_chromium() {
     let Some(chromium) = chromium() else { return };
@@ -126,55 +112,9 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
     let _sim = sim(out, cmd);
     let page = Page::open(&chromium, &format!("http://{addr}/"));
 
-    // Live: attitude, heading and a GPS fix drawn.
-    page.wait_for("the first drawn attitude", Duration::from_secs(20), |e| {
-        e["roll_deg"].is_number()
-            && e["heading_deg"].is_number()
-            && e["track_points"].as_u64() > Some(0)
-    });
-
-    // The horizon, measured from the pixels and as drawn, at the simulated bank.
-    for _ in 0..3 {
-        let h = page.horizon().expect("a sky/ground edge in both columns");
-        println!("horizon: {h:?}");
-        assert!((h.measured_deg - 30.0).abs() <= 1.0, "pixels show {h:?}");
-        assert!((h.drawn_deg - 30.0).abs() <= 1.0, "drawn {h:?}");
-        std::thread::sleep(Duration::from_millis(300));
-    }
-
-    // The heading turns right at the rate of a coordinated turn at this bank and airspeed,
-    // measured on the box's clock between two drawn headings.
-    let first = page.efis();
-    let track_first = first["track_points"].as_u64().unwrap_or(0);
-    std::thread::sleep(Duration::from_secs(3));
-    let second = page.efis();
-    let dt_s = (second["heading_time_ms"].as_f64().unwrap()
-        - first["heading_time_ms"].as_f64().unwrap())
-        / 1000.0;
-    let mut dh = second["heading_deg"].as_f64().unwrap() - first["heading_deg"].as_f64().unwrap();
-    if dh < -180.0 {
-        dh += 360.0;
-    }
-    let rate = dh / dt_s;
-    let expected = turn_rate_deg_s(
-        second["roll_deg"].as_f64().unwrap(),
-        second["airspeed_mps"].as_f64().unwrap(),
-    );
-    println!("heading: {dh:.2} degrees in {dt_s:.3} s = {rate:.3} °/s, expected {expected:.3} °/s");
-    assert!(dt_s >= 2.0, "{first} then {second}");
-    assert!(
-        (rate - expected).abs() <= expected * 0.02,
-        "{rate} °/s, expected {expected} °/s"
-    );
-    // 30 degrees of bank at 50 m/s: 6.5 °/s.
-    assert!((expected - 6.49).abs() < 0.05, "{expected}");
-
-    // The track grows.
-    let track_second = second["track_points"].as_u64().unwrap_or(0);
-    assert!(
-        track_second > track_first,
-        "track {track_first} -> {track_second}"
-    );
+    // 30 degrees of bank at the sim's default airspeed (the firmware's, 50 m/s): 6.5 °/s.
+    let tas = f64::from(flight_sim::FlightParams::DEFAULT.airspeed_mps);
+    check_the_turn(&page, 30.0, tas);
 
     // Everything else is on the page: identity, error counters, message rows.
     let text = page.eval("document.body.innerText");
@@ -192,20 +132,7 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
     page.screenshot(&target_dir().join("web-sim.png"));
 
     // "a pause": the box stops sending; every telemetry rate turns stale.
-    command(cmd, "a pause");
-    let paused = page.wait_for(
-        "every rate stale after a pause",
-        Duration::from_secs(10),
-        |e| {
-            e["live_types"].as_array().is_some_and(Vec::is_empty)
-                && e["stale_types"].as_array().is_some_and(|s| s.len() >= 8)
-        },
-    );
-    println!("paused: {paused}");
-    let stale_rows = page.eval("document.querySelectorAll('#types tr.stale').length");
-    assert!(stale_rows.as_u64() >= Some(8), "{stale_rows}");
-    let toast = page.eval("document.getElementById('toast').textContent");
-    assert_eq!(toast, "AEOLUS paused");
+    check_a_pause_turns_the_rates_stale(&page, cmd);
     page.screenshot(&target_dir().join("web-sim-paused.png"));
 
     let errors = page.errors();

@@ -294,3 +294,86 @@ pub const STATE_FIELDS: [&str; 16] = [
     "source", "uptime_s", "bytes", "no_data", "attitude", "air", "heading", "gps", "wind",
     "temp_c", "info", "toast", "types", "errors", "track", "server",
 ];
+
+/// The heading rate of a coordinated turn, g·tan(bank)/TAS, in degrees a second.
+///
+/// ```
+/// let rate = protolink_tests::browser::turn_rate_deg_s(30.0, 50.0);
+/// assert!((rate - 6.488).abs() < 0.001);
+/// ```
+pub fn turn_rate_deg_s(bank_deg: f64, tas_mps: f64) -> f64 {
+    (9.806_65 * bank_deg.to_radians().tan() / tas_mps).to_degrees()
+}
+
+/// The checks both browser tests make on a box flying a steady turn at `bank_deg` and
+/// `tas_mps`: the page draws an attitude, a heading and a track; the horizon's pixels and the
+/// drawn roll show the bank within 1 degree (three frames); the drawn heading turns at
+/// [`turn_rate_deg_s`] within 2 % on the box's clock over about 3 s; the track grows.
+pub fn check_the_turn(page: &Page, bank_deg: f64, tas_mps: f64) {
+    page.wait_for("the first drawn attitude", Duration::from_secs(20), |e| {
+        e["roll_deg"].is_number()
+            && e["heading_deg"].is_number()
+            && e["track_points"].as_u64() > Some(0)
+    });
+    for _ in 0..3 {
+        let h = page.horizon().expect("a sky/ground edge in both columns");
+        println!("horizon: {h:?}, bank {bank_deg}");
+        assert!(
+            (h.measured_deg - bank_deg).abs() <= 1.0,
+            "pixels show {h:?}"
+        );
+        assert!((h.drawn_deg - bank_deg).abs() <= 1.0, "drawn {h:?}");
+        std::thread::sleep(Duration::from_millis(300));
+    }
+    let first = page.efis();
+    std::thread::sleep(Duration::from_secs(3));
+    let second = page.efis();
+    let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    let dt_s = (num(&second, "heading_time_ms") - num(&first, "heading_time_ms")) / 1000.0;
+    let mut dh = num(&second, "heading_deg") - num(&first, "heading_deg");
+    if dh < -180.0 {
+        dh += 360.0;
+    }
+    let rate = dh / dt_s;
+    let expected = turn_rate_deg_s(bank_deg, tas_mps);
+    println!("heading: {dh:.2} degrees in {dt_s:.3} s = {rate:.3} °/s, expected {expected:.3} °/s");
+    assert!(dt_s >= 2.0, "{first} then {second}");
+    assert!(
+        (rate - expected).abs() <= expected * 0.02,
+        "{rate} °/s, expected {expected} °/s"
+    );
+    assert!(
+        num(&second, "track_points") > num(&first, "track_points"),
+        "the track did not grow: {first} then {second}"
+    );
+}
+
+/// Sends the box "a pause" as a datagram to `box_in` on 127.0.0.1, then checks that the page
+/// turns every scheduled type stale (at least 8 rows) within 10 s and shows the box's answer.
+pub fn check_a_pause_turns_the_rates_stale(page: &Page, box_in: u16) {
+    use aeolus_proto::CrcMode;
+    use aeolus_proto::message::{Message, Text};
+    let mut datagram = [0u8; 64];
+    let n = Message::Command(Text::new("a pause").expect("short"))
+        .encode(&mut datagram, CrcMode::Compute)
+        .expect("fits");
+    std::net::UdpSocket::bind("127.0.0.1:0")
+        .expect("a socket")
+        .send_to(&datagram[..n], ("127.0.0.1", box_in))
+        .expect("send");
+    let paused = page.wait_for(
+        "every rate stale after a pause",
+        Duration::from_secs(10),
+        |e| {
+            e["live_types"].as_array().is_some_and(Vec::is_empty)
+                && e["stale_types"].as_array().is_some_and(|s| s.len() >= 8)
+        },
+    );
+    println!("paused: {paused}");
+    let stale_rows = page.eval("document.querySelectorAll('#types tr.stale').length");
+    assert!(stale_rows.as_u64() >= Some(8), "{stale_rows}");
+    assert_eq!(
+        page.eval("document.getElementById('toast').textContent"),
+        "AEOLUS paused"
+    );
+}

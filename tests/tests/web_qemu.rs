@@ -12,15 +12,14 @@
 
 mod harness;
 
-use std::net::UdpSocket;
 use std::process::Child;
 use std::time::Duration;
 
-use aeolus_proto::CrcMode;
-use aeolus_proto::message::{Message, Text};
 use flight_sim::FlightParams;
 use harness::*;
-use protolink_tests::browser::{Page, chromium};
+use protolink_tests::browser::{
+    Page, check_a_pause_turns_the_rates_stale, check_the_turn, chromium,
+};
 
 /// Kills a started process when the test ends, passed or not.
 struct Running(Child);
@@ -71,67 +70,13 @@ fn the_page_flies_the_firmwares_turn() {
         std::thread::sleep(Duration::from_millis(50));
     }
     let page = Page::open(&chromium, &url);
-    page.wait_for("the first drawn attitude", Duration::from_secs(20), |e| {
-        e["roll_deg"].is_number()
-            && e["heading_deg"].is_number()
-            && e["track_points"].as_u64() > Some(0)
-    });
-
-    let bank = f64::from(FlightParams::DEFAULT.bank_deg);
-    for _ in 0..3 {
-        let h = page.horizon().expect("a sky/ground edge in both columns");
-        println!("horizon: {h:?}, firmware bank {bank}");
-        assert!((h.measured_deg - bank).abs() <= 1.0, "pixels show {h:?}");
-        assert!((h.drawn_deg - bank).abs() <= 1.0, "drawn {h:?}");
-        std::thread::sleep(Duration::from_millis(300));
-    }
-
-    let first = page.efis();
-    std::thread::sleep(Duration::from_secs(3));
-    let second = page.efis();
-    let num = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-    let dt_s = (num(&second, "heading_time_ms") - num(&first, "heading_time_ms")) / 1000.0;
-    let mut dh = num(&second, "heading_deg") - num(&first, "heading_deg");
-    if dh < -180.0 {
-        dh += 360.0;
-    }
-    let rate = dh / dt_s;
-    let tas = f64::from(FlightParams::DEFAULT.airspeed_mps);
-    let expected = (9.806_65 * bank.to_radians().tan() / tas).to_degrees();
-    println!("heading: {dh:.2} degrees in {dt_s:.3} s = {rate:.3} °/s, expected {expected:.3} °/s");
-    assert!(dt_s >= 2.0, "{first} then {second}");
-    assert!(
-        (rate - expected).abs() <= expected * 0.02,
-        "{rate} °/s, expected {expected} °/s"
-    );
-    assert!(
-        num(&second, "track_points") > num(&first, "track_points"),
-        "the track did not grow: {first} then {second}"
-    );
+    // The firmware's default flight (sensor_box::Settings::default()).
+    let p = FlightParams::DEFAULT;
+    check_the_turn(&page, f64::from(p.bank_deg), f64::from(p.airspeed_mps));
     page.screenshot(&target_dir().join("web-qemu.png"));
 
     // "a pause" to the box through the bridge: every rate turns stale.
-    let mut datagram = [0u8; 64];
-    let n = Message::Command(Text::new("a pause").expect("short"))
-        .encode(&mut datagram, CrcMode::Compute)
-        .expect("fits");
-    UdpSocket::bind("127.0.0.1:0")
-        .expect("a socket")
-        .send_to(&datagram[..n], ("127.0.0.1", box_in))
-        .expect("send");
-    let paused = page.wait_for(
-        "every rate stale after a pause",
-        Duration::from_secs(10),
-        |e| {
-            e["live_types"].as_array().is_some_and(Vec::is_empty)
-                && e["stale_types"].as_array().is_some_and(|s| s.len() >= 8)
-        },
-    );
-    println!("paused: {paused}");
-    assert_eq!(
-        page.eval("document.getElementById('toast').textContent"),
-        "AEOLUS paused"
-    );
+    check_a_pause_turns_the_rates_stale(&page, box_in);
     let errors = page.errors();
     assert!(errors.is_empty(), "the page logged errors: {errors:#?}");
     drop(page);
