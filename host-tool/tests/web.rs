@@ -233,6 +233,15 @@ fn the_server_is_read_only_and_bounded() {
         .contains(" 405 ")
     );
     assert!(status_of(addr, b"garbage\r\n\r\n").contains(" 400 "));
+    // DNS rebinding: another name for 127.0.0.1 is refused; an address or localhost is not.
+    assert!(
+        status_of(
+            addr,
+            b"GET /api/state HTTP/1.1\r\nHost: evil.example:8080\r\n\r\n"
+        )
+        .contains(" 421 ")
+    );
+    assert!(status_of(addr, b"GET / HTTP/1.1\r\nHost: localhost:8080\r\n\r\n").contains(" 200 "));
     // A request head past the limit: refused, never read on without bound.
     let mut long = b"GET / HTTP/1.1\r\nX-Long: ".to_vec();
     long.extend(std::iter::repeat_n(b'a', 64 * 1024));

@@ -12,6 +12,9 @@
 //!   (`431` otherwise), parsed by `httparse`; it must arrive within [`READ_TIMEOUT`]. A write
 //!   that cannot go out within [`WRITE_TIMEOUT`] ends the connection.
 //! * Only `GET` and `HEAD` (`405` otherwise); every response closes its connection.
+//! * Bound to a loopback address, it answers only requests whose `Host` is an address or
+//!   `localhost` (`421` otherwise), so a web page that points its own name at 127.0.0.1 (DNS
+//!   rebinding) cannot read the state.
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -164,6 +167,7 @@ impl Server {
         let listener = TcpListener::bind(addr).map_err(open_err)?;
         let addr = listener.local_addr().map_err(open_err)?;
         listener.set_nonblocking(true).map_err(open_err)?;
+        let loopback = addr.ip().is_loopback();
         let server = Server {
             addr,
             hub: Arc::new(Hub::default()),
@@ -177,7 +181,7 @@ impl Server {
         );
         thread::Builder::new()
             .name("web-accept".into())
-            .spawn(move || accept_loop(&listener, &hub, &counters, &stop))
+            .spawn(move || accept_loop(&listener, loopback, &hub, &counters, &stop))
             .map_err(|source| Error::Io {
                 what: "starting the web server".into(),
                 source,
@@ -210,6 +214,7 @@ impl Drop for Server {
 
 fn accept_loop(
     listener: &TcpListener,
+    loopback: bool,
     hub: &Arc<Hub>,
     counters: &Arc<Counters>,
     stop: &AtomicBool,
@@ -235,7 +240,7 @@ fn accept_loop(
                 // If the thread cannot start, the closure (and with it the slot) is dropped.
                 let _ = thread::Builder::new()
                     .name("web-conn".into())
-                    .spawn(move || serve(stream, &hub, &conn.0));
+                    .spawn(move || serve(stream, loopback, &hub, &conn.0));
             }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 thread::sleep(Duration::from_millis(20));
@@ -313,8 +318,22 @@ fn read_head(stream: &mut TcpStream) -> std::io::Result<Option<Vec<u8>>> {
     }
 }
 
+/// Whether a `Host` header names this machine by address (`127.0.0.1:8080`, `[::1]:8080`) or
+/// as `localhost`.
+fn local_host(value: &[u8]) -> bool {
+    let Ok(host) = std::str::from_utf8(value) else {
+        return false;
+    };
+    let host = host.trim();
+    let name = match host.strip_prefix('[') {
+        Some(v6) => v6.split(']').next().unwrap_or_default(),
+        None => host.split(':').next().unwrap_or_default(),
+    };
+    name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::IpAddr>().is_ok()
+}
+
 /// One connection: read one request, answer it, close.
-fn serve(mut stream: TcpStream, hub: &Hub, counters: &Counters) {
+fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) {
     let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
     let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
     let _ = stream.set_nodelay(true);
@@ -335,16 +354,25 @@ fn serve(mut stream: TcpStream, hub: &Hub, counters: &Counters) {
     };
     let mut headers = [httparse::EMPTY_HEADER; MAX_HEADERS];
     let mut req = httparse::Request::new(&mut headers);
-    let (method, path) = match req.parse(&head) {
+    let (method, path, host_ok) = match req.parse(&head) {
         Ok(httparse::Status::Complete(_)) => (
             req.method.unwrap_or_default().to_owned(),
             req.path.unwrap_or_default().to_owned(),
+            req.headers
+                .iter()
+                .find(|h| h.name.eq_ignore_ascii_case("host"))
+                .is_none_or(|h| local_host(h.value)),
         ),
         Err(httparse::Error::TooManyHeaders) => {
             return bad(&mut stream, "431 Request Header Fields Too Large");
         }
         _ => return bad(&mut stream, "400 Bad Request"),
     };
+    // A page elsewhere that points its own name at 127.0.0.1 (DNS rebinding) must not read
+    // the state: a loopback server answers only to an address or `localhost`.
+    if loopback && !host_ok {
+        return bad(&mut stream, "421 Misdirected Request");
+    }
     let head_only = match method.as_str() {
         "GET" => false,
         "HEAD" => true,
@@ -458,6 +486,23 @@ mod tests {
         assert_eq!(hub.newer(seq, Duration::from_millis(10)), Ok(None));
         hub.close();
         assert_eq!(hub.newer(seq, Duration::from_secs(60)), Err(()));
+    }
+
+    #[test]
+    fn only_local_host_names_pass() {
+        for ok in [
+            "127.0.0.1:8080",
+            "localhost",
+            "LOCALHOST:1",
+            "[::1]:8080",
+            "10.0.0.2",
+        ] {
+            assert!(local_host(ok.as_bytes()), "{ok}");
+        }
+        for bad in ["evil.example:8080", "127.0.0.1.evil.example", ""] {
+            assert!(!local_host(bad.as_bytes()), "{bad}");
+        }
+        assert!(!local_host(&[0xff, 0xfe]));
     }
 
     #[test]
