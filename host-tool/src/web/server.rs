@@ -272,7 +272,7 @@ impl Drop for Connection {
 
 /// A response without a body beyond `body`.
 fn respond(
-    stream: &mut TcpStream,
+    stream: &mut impl Write,
     head_only: bool,
     status: &str,
     content_type: &str,
@@ -415,7 +415,7 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) 
 }
 
 /// `GET /events`: the latest snapshot as a server-sent event whenever there is a newer one.
-fn stream_events(mut stream: TcpStream, head_only: bool, hub: &Hub, counters: &Counters) {
+fn stream_events(mut stream: impl Write, head_only: bool, hub: &Hub, counters: &Counters) {
     let Some(_stream_slot) = Slot::take(&counters.streams, MAX_STREAMS) else {
         counters.refused.fetch_add(1, Ordering::Relaxed);
         let _ = respond(
@@ -434,15 +434,18 @@ fn stream_events(mut stream: TcpStream, head_only: bool, hub: &Hub, counters: &C
     }
     let (mut seen, json) = hub.latest();
     let mut message = Vec::with_capacity(json.len() + 16);
-    let send = |stream: &mut TcpStream, message: &mut Vec<u8>, json: &str| {
+    let send = |stream: &mut dyn Write, message: &mut Vec<u8>, json: &str| {
         message.clear();
         message.extend_from_slice(b"data: ");
         message.extend_from_slice(json.as_bytes());
         message.extend_from_slice(b"\n\n");
         stream.write_all(message).and_then(|()| stream.flush())
     };
-    if seen != 0 && send(&mut stream, &mut message, &json).is_err() {
-        return;
+    if seen != 0 {
+        if send(&mut stream, &mut message, &json).is_err() {
+            return;
+        }
+        counters.frames_sent.fetch_add(1, Ordering::Relaxed);
     }
     loop {
         match hub.newer(seen, KEEPALIVE) {
@@ -503,6 +506,73 @@ mod tests {
             assert!(!local_host(bad.as_bytes()), "{bad}");
         }
         assert!(!local_host(&[0xff, 0xfe]));
+    }
+
+    /// A client that takes 20 ms for every write.
+    struct Slow(Arc<Mutex<Vec<u8>>>);
+
+    impl Write for Slow {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            thread::sleep(Duration::from_millis(20));
+            self.0.lock().unwrap().extend_from_slice(buf);
+            Ok(buf.len())
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_slow_client_gets_the_newest_snapshots_and_the_rest_are_counted_as_dropped() {
+        let hub = Arc::new(Hub::default());
+        let counters = Arc::new(Counters::default());
+        let written = Arc::new(Mutex::new(Vec::new()));
+        hub.publish("{\"n\":0}".into());
+        let stream = {
+            let (hub, counters, out) = (hub.clone(), counters.clone(), Slow(written.clone()));
+            thread::spawn(move || stream_events(out, false, &hub, &counters))
+        };
+        // The publisher never waits for the client: 2,000 snapshots, one every 0.1 ms.
+        for n in 1..=2000 {
+            hub.publish(format!("{{\"n\":{n}}}"));
+            thread::sleep(Duration::from_micros(100));
+        }
+        // Let it take the last one, then end the stream.
+        let c = Counters::state;
+        for _ in 0..500 {
+            if written.lock().unwrap().ends_with(b"{\"n\":2000}\n\n") {
+                break;
+            }
+            thread::sleep(Duration::from_millis(10));
+        }
+        hub.close();
+        stream.join().unwrap();
+        let text = String::from_utf8(written.lock().unwrap().clone()).unwrap();
+        let events: Vec<u64> = text
+            .split("data: ")
+            .skip(1)
+            .map(|e| {
+                e.trim_end()
+                    .trim_start_matches("{\"n\":")
+                    .trim_end_matches('}')
+            })
+            .map(|n| n.parse().unwrap())
+            .collect();
+        let s = c(&counters);
+        // Every event is a whole snapshot, newer than the one before; the last is the newest.
+        assert!(events.windows(2).all(|w| w[0] < w[1]), "{events:?}");
+        assert_eq!(events.last(), Some(&2000));
+        assert_eq!(s.frames_sent, events.len() as u64, "{s:?}");
+        // The ones it never got were counted: sent + dropped covers every snapshot from the
+        // first it was sent to the last.
+        assert!(s.frames_dropped > 0, "{s:?}");
+        assert_eq!(
+            s.frames_sent + s.frames_dropped,
+            2000 - events[0] + 1,
+            "{s:?}"
+        );
+        assert_eq!(s.clients, 0, "the stream gave its place back");
     }
 
     #[test]
