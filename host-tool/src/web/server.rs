@@ -553,7 +553,9 @@ mod tests {
             .split("data: ")
             .skip(1)
             .map(|e| {
-                e.trim_end()
+                e.split("\n\n")
+                    .next()
+                    .unwrap_or_default()
                     .trim_start_matches("{\"n\":")
                     .trim_end_matches('}')
             })
