@@ -433,7 +433,7 @@ function drawTypes(types) {
       tr.dataset.id = key;
       for (let i = 0; i < 7; i++) cell(tr, '');
       const c = document.createElement('canvas');
-      c.width = 96;
+      c.width = 80;
       c.height = 18;
       tr.cells[5].appendChild(c);
       body.appendChild(tr);
