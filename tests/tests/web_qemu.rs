@@ -1,4 +1,4 @@
-//! `protolink web` on the release firmware in QEMU (lm3s6965evb), in headless Chromium: the
+//! `protolink web` on the release firmware in QEMU (both boards), in headless Chromium: the
 //! firmware's UART0 goes through `protolink bridge` to UDP on 127.0.0.1 (as the box's WiFi
 //! side would send it), `protolink web` shows it, and "a pause" goes back to the box through
 //! the bridge. The page loads without a console error, its horizon's pixels show the
@@ -6,9 +6,7 @@
 //! coordinated turn, the track grows, and the paused box turns every rate stale.
 //!
 //! Skipped when QEMU is missing (the harness says so), and when chromium is missing outside
-//! CI (`CI=true` fails instead). A screenshot is kept in `target/web-qemu.png`.
-//! One board: the firmware's telemetry on both boards is the QEMU tests' business
-//! (`qemu_firmware.rs`); this test is about the page.
+//! CI (`CI=true` fails instead). A screenshot is kept in `target/web-qemu-BOARD.png`.
 
 mod harness;
 
@@ -31,10 +29,10 @@ impl Drop for Running {
     }
 }
 
-#[test]
-fn the_page_flies_the_firmwares_turn() {
+on_both_boards!(the_page_flies_the_firmwares_turn);
+
+fn the_page_flies_the_firmwares_turn(board: Board) {
     let Some(chromium) = chromium() else { return };
-    let board = Board::Lm3s6965evb;
     let ports = Ports::WEB.on(board);
     let Some(mut q) = boot(board, ports) else {
         return;
@@ -73,7 +71,7 @@ fn the_page_flies_the_firmwares_turn() {
     // The firmware's default flight (sensor_box::Settings::default()).
     let p = FlightParams::DEFAULT;
     check_the_turn(&page, f64::from(p.bank_deg), f64::from(p.airspeed_mps));
-    page.screenshot(&target_dir().join("web-qemu.png"));
+    page.screenshot(&target_dir().join(format!("web-qemu-{}.png", board.machine())));
 
     // "a pause" to the box through the bridge: every rate turns stale.
     check_a_pause_turns_the_rates_stale(&page, box_in);
