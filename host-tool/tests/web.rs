@@ -258,7 +258,8 @@ fn the_server_is_read_only_and_bounded() {
     let _silent = TcpStream::connect(addr).unwrap();
     assert_eq!(http_get(addr, "/api/state").0, 200);
 
-    // Eight live clients (that never read) are served; the ninth is refused and counted.
+    // Eight live clients are served (each read to its end by a thread of its own); the ninth
+    // is refused and counted.
     let mut streams = Vec::new();
     for _ in 0..8 {
         let mut s = TcpStream::connect(addr).unwrap();
@@ -267,6 +268,8 @@ fn the_server_is_read_only_and_bounded() {
         let mut head = [0u8; 15];
         s.read_exact(&mut head).unwrap();
         assert_eq!(&head, b"HTTP/1.1 200 OK");
+        let mut reader = s.try_clone().unwrap();
+        std::thread::spawn(move || std::io::copy(&mut reader, &mut std::io::sink()));
         streams.push(s);
     }
     let ninth = status_of(addr, b"GET /events HTTP/1.1\r\n\r\n");
@@ -274,7 +277,8 @@ fn the_server_is_read_only_and_bounded() {
     let v = state_when(addr, "the counters", |v| v["server"]["refused"] == 1);
     assert_eq!(v["server"]["clients"], 8, "{v}");
     // The others are still served; a closed stream frees its place.
-    drop(streams.pop());
+    let closed = streams.pop().unwrap();
+    closed.shutdown(std::net::Shutdown::Both).unwrap();
     state_when(addr, "a freed place", |v| v["server"]["clients"] == 7);
     let mut s = TcpStream::connect(addr).unwrap();
     s.write_all(b"GET /events HTTP/1.1\r\n\r\n").unwrap();
