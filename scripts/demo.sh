@@ -1,18 +1,23 @@
 #!/usr/bin/env bash
 # The main job: boots the sensor-box firmware in QEMU (lm3s6965evb) and shows its live AEOLUS
-# telemetry with `protolink watch`, while the firmware's defmt log goes to a file.
+# telemetry with `protolink watch` (or `protolink web` with --web), while the firmware's defmt
+# log goes to a file.
 #
 #   scripts/demo.sh                  runs until Ctrl-C
 #   scripts/demo.sh --seconds 20     stops by itself after 20 s (or DEMO_SECONDS=20)
+#   scripts/demo.sh --web            the same run in the browser: `protolink web` on
+#                                    http://127.0.0.1:8080/ (DEMO_LISTEN=IP:PORT for another)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${DEMO_SECONDS:-}
+view=watch
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) [ $# -ge 2 ] || { echo "demo.sh: --seconds needs a number" >&2; exit 2; }
                seconds=$2; shift 2 ;;
     --seconds=*) seconds=${1#--seconds=}; shift ;;
-    -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --web) view=web; shift ;;
+    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "demo.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -46,8 +51,13 @@ for i in $(seq 200); do
   [ "$i" = 200 ] && up="QEMU is not listening after 10 s (see $log)"
   sleep 0.05
 done
-note "$up; protolink watch on UART0 (127.0.0.1:$port)${seconds:+ for $seconds s}"
+note "$up; protolink $view on UART0 (127.0.0.1:$port)${seconds:+ for $seconds s}"
 echo "firmware log (defmt): $log; AYDP on 127.0.0.1:${QEMU_UART1_PORT:-7001}, AOK on 127.0.0.1:${QEMU_UART2_PORT:-7002}" >&2
-args=(watch --from "tcp:127.0.0.1:$port")
+args=("$view" --from "tcp:127.0.0.1:$port")
+if [ "$view" = web ]; then
+  listen=${DEMO_LISTEN:-127.0.0.1:8080}
+  args+=(--listen "$listen")
+  echo "open http://$listen/ in a browser: the simulated turn flies there (Ctrl-C to stop)" >&2
+fi
 [ -n "$seconds" ] && args+=(--seconds "$seconds")
 target/release/protolink "${args[@]}"

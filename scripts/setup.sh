@@ -6,6 +6,8 @@
 #   scripts/setup.sh qemu       + qemu-system-arm (Debian package)
 #   scripts/setup.sh defmt-print + defmt-print (decodes the firmware's defmt log)
 #   scripts/setup.sh tshark     + tshark (Debian package; the dissector test runs it on captures)
+#   scripts/setup.sh chromium   + chromium and chromium-driver (Debian packages; the browser tests of
+#                               `protolink web` drive it headless)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,6 +30,7 @@ for want in "$@"; do
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
     defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
     tshark) command -v tshark >/dev/null || need_apt+=(tshark) ;;
+    chromium) [ -x /usr/bin/chromium ] && command -v chromedriver >/dev/null || need_apt+=(chromium chromium-driver) ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done

@@ -13,6 +13,7 @@ use crate::record::RecordArgs;
 use crate::replay::ReplayArgs;
 use crate::sim::SimArgs;
 use crate::watch::WatchArgs;
+use crate::web::WebArgs;
 use crate::wireshark::WiresharkArgs;
 
 const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
@@ -78,6 +79,15 @@ pub enum Command {
   protolink watch --from tcp:127.0.0.1:7000
   protolink watch --from udp:5001 --seconds 10")]
     Watch(WatchArgs),
+    /// A glass cockpit in the browser: horizon, tapes, heading, ground track, rates, errors.
+    #[command(
+        after_help = "The page is built in (no network needed); GET /api/state returns its state as JSON.
+
+Examples:
+  protolink web --from tcp:127.0.0.1:7000      (then open http://127.0.0.1:8080/)
+  protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600"
+    )]
+    Web(WebArgs),
     /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.
     #[command(after_help = "Examples:
   protolink record --from udp:5001 --out flight.pcapng --seconds 60
@@ -110,6 +120,7 @@ impl Cli {
             Command::Aok(a) => crate::aok_cmd::run(a),
             Command::Sim(a) => crate::sim::run(a),
             Command::Watch(a) => crate::watch::run(a),
+            Command::Web(a) => crate::web::run(a),
             Command::Gdl90(a) => crate::gdl90_cmd::run(a),
             Command::Record(a) => crate::record::run(a),
             Command::Replay(a) => crate::replay::run(a),

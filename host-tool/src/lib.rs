@@ -17,6 +17,7 @@
 //! | [`capture`], [`record`], [`replay`] | pcapng/pcap captures: `record`, `replay`, `decode` of a capture |
 //! | [`wireshark`] | `wireshark`: the Lua dissector generated from the layout tables |
 //! | [`watch`] | `watch`: the live telemetry view |
+//! | [`web`] | `web`: the glass cockpit in the browser (server-sent events, `/api/state`) |
 //! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
 //! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
 //! | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
@@ -56,6 +57,7 @@ pub mod sim;
 pub mod stop;
 pub mod value_type;
 pub mod watch;
+pub mod web;
 pub mod wireshark;
 pub mod wireshark_aok;
 pub mod wireshark_aydp;

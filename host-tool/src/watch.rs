@@ -41,11 +41,11 @@ pub const NO_DATA_AFTER: Duration = Duration::from_secs(2);
 
 /// Arrivals of one message type.
 #[derive(Debug, Clone, Copy)]
-struct Arrivals {
-    count: u64,
+pub(crate) struct Arrivals {
+    pub(crate) count: u64,
     first_host: Instant,
-    last_host: Instant,
-    last_box_ms: Option<f64>,
+    pub(crate) last_host: Instant,
+    pub(crate) last_box_ms: Option<f64>,
     /// Sum and number of the forward steps of the box clock (a reboot's step back is skipped).
     box_sum_ms: f64,
     box_steps: u64,
@@ -53,13 +53,13 @@ struct Arrivals {
 
 impl Arrivals {
     /// Mean interval on the box's clock (message timestamps), ms.
-    fn box_interval_ms(&self) -> Option<f64> {
+    pub(crate) fn box_interval_ms(&self) -> Option<f64> {
         (self.box_steps > 0).then(|| self.box_sum_ms / self.box_steps as f64)
     }
 
     /// Whether this type has missed three of its intervals (measured on the host, or 1 s
     /// when only one has arrived), and how long ago the last one came.
-    fn stale(&self, now: Instant) -> Option<Duration> {
+    pub(crate) fn stale(&self, now: Instant) -> Option<Duration> {
         let age = now.saturating_duration_since(self.last_host);
         let interval = self
             .host_interval_ms()
@@ -70,7 +70,7 @@ impl Arrivals {
     }
 
     /// Mean interval of arrival on the host, ms.
-    fn host_interval_ms(&self) -> Option<f64> {
+    pub(crate) fn host_interval_ms(&self) -> Option<f64> {
         let span = self.last_host.duration_since(self.first_host).as_secs_f64() * 1000.0;
         (self.count > 1).then(|| span / (self.count - 1) as f64)
     }
@@ -78,19 +78,21 @@ impl Arrivals {
 
 /// Everything the view shows, updated message by message.
 #[derive(Debug, Default)]
+///
+/// `protolink web` shows the same model in the browser ([`crate::web::state`]).
 pub struct View {
-    attitude: Option<Attitude>,
-    pressure: Option<Pressure>,
-    gps: Option<Gps>,
-    compass: Option<Compass>,
-    wind: Option<Wind>,
-    temp: Option<Temp>,
-    info: Option<AeolusInfo>,
-    toast: Option<String>,
-    types: BTreeMap<u8, (&'static str, Arrivals)>,
-    malformed: u32,
-    truncated: u32,
-    bytes: u64,
+    pub(crate) attitude: Option<Attitude>,
+    pub(crate) pressure: Option<Pressure>,
+    pub(crate) gps: Option<Gps>,
+    pub(crate) compass: Option<Compass>,
+    pub(crate) wind: Option<Wind>,
+    pub(crate) temp: Option<Temp>,
+    pub(crate) info: Option<AeolusInfo>,
+    pub(crate) toast: Option<String>,
+    pub(crate) types: BTreeMap<u8, (&'static str, Arrivals)>,
+    pub(crate) malformed: u32,
+    pub(crate) truncated: u32,
+    pub(crate) bytes: u64,
 }
 
 /// Pressure altitude in the ISA, m, from static pressure in mbar.
@@ -140,6 +142,37 @@ impl View {
             Message::AeolusInfo(v) => self.info = Some(*v),
             Message::Toast(t) => self.toast = Some(crate::render::escape_text(t.as_bytes())),
             _ => {}
+        }
+    }
+
+    /// Decodes `bytes` (one read of the endpoint; a whole datagram when `datagram`) with
+    /// `deframer` and takes every message into the view, handing each to `also` as well.
+    /// Bytes, malformed messages and datagrams that end inside a frame are counted.
+    pub fn feed(
+        &mut self,
+        deframer: &mut Decoder<AEOLUS_CAPACITY>,
+        bytes: &[u8],
+        datagram: bool,
+        now: Instant,
+        mut also: impl FnMut(&Message<'_>),
+    ) {
+        self.bytes += bytes.len() as u64;
+        for &b in bytes {
+            if let Some(Ok(frame)) = deframer.push(b) {
+                match frame.message() {
+                    Ok(m) => {
+                        self.take(&m, now);
+                        also(&m);
+                    }
+                    Err(_) => self.malformed = self.malformed.wrapping_add(1),
+                }
+            }
+        }
+        if datagram {
+            if deframer.pending_bytes() > 0 {
+                self.truncated = self.truncated.wrapping_add(1);
+            }
+            deframer.reset();
         }
     }
 
@@ -337,22 +370,13 @@ pub fn run(args: &WatchArgs) -> Result<()> {
         let wait = deadline.left(next_draw.saturating_duration_since(Instant::now()));
         match link.read(&mut buf, wait)? {
             Input::Data(n) => {
-                view.bytes += n as u64;
-                let now = Instant::now();
-                for &b in &buf[..n] {
-                    if let Some(Ok(frame)) = deframer.push(b) {
-                        match frame.message() {
-                            Ok(m) => view.take(&m, now),
-                            Err(_) => view.malformed += 1,
-                        }
-                    }
-                }
-                if link.is_datagram() {
-                    if deframer.pending_bytes() > 0 {
-                        view.truncated += 1;
-                    }
-                    deframer.reset();
-                }
+                view.feed(
+                    &mut deframer,
+                    &buf[..n],
+                    link.is_datagram(),
+                    Instant::now(),
+                    |_| {},
+                );
             }
             Input::Idle => {}
             Input::End => break,

@@ -1,8 +1,10 @@
 //! Shared pieces of the cross-crate tests and of the corruption-figures program:
 //! a seeded RNG, the noisy channels, naive decoders, and the scoring of what a decoder
-//! delivered against what was sent; and the app's side of an AEOLUS box on UDP.
+//! delivered against what was sent; and the app's side of an AEOLUS box on UDP; headless
+//! Chromium for the browser tests of `protolink web`.
 
 pub mod aeolus_udp;
+pub mod browser;
 pub mod channel;
 pub mod naive;
 pub mod protocols;

@@ -3,7 +3,8 @@
 //!
 //! The examples' addresses are the demo's (UARTs on 7000..7002, the box's UDP on 5001/5002,
 //! EFB apps on 4000) and are moved to this test's own ports; `file:capture.bin` becomes the
-//! matching capture in `testdata/`; a long-running example gets `--seconds 1`. Examples on a
+//! matching capture in `testdata/`; a long-running example gets `--seconds 1`, and `web` its own
+//! `--listen` port. Examples on a
 //! `serial:` port cannot run here (there is no serial device) and are listed as skipped.
 //! Run on one board: the other board's end-to-end tests cover the firmware; this one is about
 //! the help text.
@@ -154,7 +155,7 @@ fn every_help_example_runs_against_the_firmware() {
         let sub = w.first().cloned().unwrap_or_default();
         let runs_on = matches!(
             sub.as_str(),
-            "decode" | "watch" | "bridge" | "sim" | "gdl90" | "record" | "replay"
+            "decode" | "watch" | "web" | "bridge" | "sim" | "gdl90" | "record" | "replay"
         );
         match w.iter().position(|a| a == "--seconds") {
             Some(i) => w[i + 1] = "1".into(),
@@ -162,6 +163,14 @@ fn every_help_example_runs_against_the_firmware() {
                 w.extend(["--seconds".into(), "1".into()]);
             }
             None => {}
+        }
+        // The page of `web` on this test's own port (TCP UART0 + 8), never the demo's 8080.
+        if sub == "web" {
+            let listen = format!("127.0.0.1:{}", ports.uart(0) + 8);
+            match w.iter().position(|a| a == "--listen") {
+                Some(i) if i + 1 < w.len() => w[i + 1] = listen,
+                _ => w.extend(["--listen".into(), listen]),
+            }
         }
         if sub == "sim" {
             for (flag, value) in [

@@ -136,6 +136,9 @@ impl Ports {
     pub const CLI_HELP: Ports = Ports(17_460);
     /// `soak::hostile_soak`.
     pub const SOAK: Ports = Ports(17_470);
+    /// `web_qemu::the_page_flies_the_firmwares_turn` (UART ports, then the bridge's UDP ports
+    /// at +5 and +6 and the page at +7).
+    pub const WEB: Ports = Ports(17_480);
 }
 
 impl Ports {
