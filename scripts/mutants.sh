@@ -67,9 +67,9 @@ if [ -n "$report" ]; then
   exit $?
 fi
 
-args=(--sharding round-robin -j "$jobs" -o "$out")
+args=(-j "$jobs" -o "$out")
 for c in "${crates[@]}"; do args+=(-p "$c"); done
-[ -z "$shard" ] || args+=(--shard "$shard")
+[ -z "$shard" ] || args+=(--shard "$shard" --sharding round-robin)
 if [ -n "$in_diff" ]; then
   if ! git rev-parse -q --verify "$in_diff^{commit}" >/dev/null; then
     echo "mutants: skipped: no commit '$in_diff' in this checkout (a shallow clone?)"
@@ -83,7 +83,8 @@ if [ -n "$in_diff" ]; then
     exit 0
   fi
   args+=(--in-diff "$diff_file")
-  n=$(cargo mutants --list "${args[@]}" 2>/dev/null | grep -c . || true)
+  list=$(cargo mutants --list "${args[@]}") || { echo "mutants: cargo mutants --list failed"; exit 2; }
+  n=$(grep -c . <<<"$list" || true)
   if [ "$n" -eq 0 ]; then
     echo "mutants: skipped: the library lines $in_diff..HEAD changes hold no mutant"
     exit 0
