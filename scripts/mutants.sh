@@ -13,10 +13,13 @@
 #     --jobs N         cargo-mutants jobs (default 2)
 #     --out DIR        where mutants.out goes (default target/mutants)
 #     --report DIR     only print the table of an earlier run's DIR/mutants.out
+#     -- ARGS          pass ARGS on to cargo mutants (e.g. --shuffle, --timeout 60)
 #
 # Exit status: 0 when no mutant was missed, 1 when one was (they are listed), 2 on a usage
-# error or when cargo-mutants itself fails. Runs under `nice -n 19`. Debug info is off for
-# the mutant builds (CARGO_PROFILE_*_DEBUG=0): it changes no behaviour, only build time.
+# error or when cargo-mutants itself fails. Runs under `nice -n 19`. The mutant builds have no
+# debug info and no optimisation (CARGO_PROFILE_{DEV,TEST}_{DEBUG,OPT_LEVEL}=0): the same
+# checks (debug assertions, overflow checks) in less build time; tests run slower,
+# which can only turn a caught mutant into a timeout, never into a missed one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +30,7 @@ max=""
 jobs=2
 out=target/mutants
 report=""
+extra=()
 while [ $# -gt 0 ]; do
   case $1 in
     --crate) crates+=("$2"); shift 2 ;;
@@ -36,6 +40,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --report) report=$2; shift 2 ;;
+    --) shift; extra=("$@"); break ;;
     *) echo "mutants.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
@@ -70,6 +75,7 @@ fi
 args=(-j "$jobs" -o "$out")
 for c in "${crates[@]}"; do args+=(-p "$c"); done
 [ -z "$shard" ] || args+=(--shard "$shard" --sharding round-robin)
+args+=("${extra[@]}")
 if [ -n "$in_diff" ]; then
   if ! git rev-parse -q --verify "$in_diff^{commit}" >/dev/null; then
     echo "mutants: skipped: no commit '$in_diff' in this checkout (a shallow clone?)"
@@ -99,7 +105,8 @@ fi
 
 echo "cargo-mutants $(cargo mutants --version | awk '{ print $2 }'), $(date -u '+%Y-%m-%d %H:%M UTC')"
 status=0
-CARGO_PROFILE_DEV_DEBUG=0 CARGO_PROFILE_TEST_DEBUG=0 nice -n 19 cargo mutants "${args[@]}" || status=$?
+CARGO_PROFILE_DEV_DEBUG=0 CARGO_PROFILE_TEST_DEBUG=0 \
+  CARGO_PROFILE_DEV_OPT_LEVEL=0 CARGO_PROFILE_TEST_OPT_LEVEL=0 nice -n 19 cargo mutants "${args[@]}" || status=$?
 # cargo-mutants: 0 all caught, 2 missed, 3 timeouts, 4 the baseline failed, 1 a usage error.
 case $status in
   0 | 2 | 3) ;;
