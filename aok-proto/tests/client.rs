@@ -231,6 +231,37 @@ fn late_debug_frame_after_the_request_is_tolerated() {
 }
 
 #[test]
+fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
+    // A stray 0x77 (a waypoint frame's start, 19 bytes) right before the reply: the decoder
+    // waits for 19 bytes that never come; once the line is quiet it gives the false start up
+    // and finds the reply behind it, long before the timeout.
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let quiet = cfg.quiet_ms;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(40)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let dev = c.serial_mut();
+    dev.to_pc.push_back(0x77);
+    dev.send(Message::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    }));
+    for _ in 0..8 {
+        assert_eq!(c.poll(1), Err(nb::Error::WouldBlock));
+    }
+    assert_eq!(c.poll(quiet), Err(nb::Error::WouldBlock));
+    let want = Outcome::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    });
+    assert_eq!(c.poll(1 + quiet), Ok(want));
+}
+
+#[test]
 fn device_that_never_answers_times_out_and_debug_is_restored() {
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
