@@ -70,5 +70,7 @@ fn every_io_error_has_its_sentence() {
     ];
     for (e, want) in cases {
         assert_eq!(e.to_string(), want, "{e:?}");
+        // Only a protocol error leaves the stream usable.
+        assert_eq!(e.is_protocol(), matches!(e, IoError::Protocol(_)), "{e:?}");
     }
 }
