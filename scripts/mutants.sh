@@ -72,6 +72,11 @@ if [ -n "$report" ]; then
   exit $?
 fi
 
+# The version the figures in docs/RELIABILITY.md were measured with.
+need_cargo_mutants() {
+  command -v cargo-mutants >/dev/null || cargo install --locked cargo-mutants --version 27.1.0
+}
+
 args=(-j "$jobs" -o "$out")
 for c in "${crates[@]}"; do args+=(-p "$c"); done
 [ -z "$shard" ] || args+=(--shard "$shard" --sharding round-robin)
@@ -89,6 +94,7 @@ if [ -n "$in_diff" ]; then
     exit 0
   fi
   args+=(--in-diff "$diff_file")
+  need_cargo_mutants
   list=$(cargo mutants --list "${args[@]}") || { echo "mutants: cargo mutants --list failed"; exit 2; }
   n=$(grep -c . <<<"$list" || true)
   if [ "$n" -eq 0 ]; then
@@ -103,6 +109,7 @@ if [ -n "$in_diff" ]; then
   echo "mutants: $n mutants in the lines $in_diff..HEAD changes"
 fi
 
+need_cargo_mutants
 echo "cargo-mutants $(cargo mutants --version | awk '{ print $2 }'), $(date -u '+%Y-%m-%d %H:%M UTC')"
 status=0
 CARGO_PROFILE_DEV_DEBUG=0 CARGO_PROFILE_TEST_DEBUG=0 \
