@@ -2,7 +2,7 @@
 //! (escapes included), strict or not, and counters that `reset_stats` zeroes without touching
 //! the frame in progress, while `reset` drops that frame as discarded bytes.
 
-use aeolus_proto::{Decoder, Stats};
+use aeolus_proto::{Decoder, Error, Stats};
 
 const HI: [u8; 8] = [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
 
@@ -57,4 +57,22 @@ fn reset_drops_the_frame_in_progress_as_discarded_bytes() {
     d.feed(&HI, |ev| ids.push(ev.map(|f| f.id())));
     assert_eq!(ids, [Ok(0x52)]);
     assert_eq!(d.stats().bytes_discarded, 6);
+}
+
+#[test]
+fn flush_gives_up_a_frame_in_progress_and_nothing_else() {
+    let mut d = Decoder::<16>::new();
+    let mut events = Vec::new();
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.feed(&HI, |ev| events.push(ev.map(|f| f.id())));
+    // Between frames (the closing flag may open the next one): nothing to give up.
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events, [Ok(0x52)]);
+    d.feed(&[0x52, 0x7D, 0x5E], |_| {});
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events, [Ok(0x52), Err(Error::Truncated)]);
+    assert_eq!((d.pending_bytes(), d.stats().bytes_discarded), (0, 3));
+    // Only once.
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events.len(), 2);
 }
