@@ -262,6 +262,27 @@ fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
 }
 
 #[test]
+fn a_waypoint_of_another_slot_is_not_the_answer() {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    let asked = WaypointSlot::Waypoint(WaypointNumber::new(3).unwrap());
+    c.start(Command::ReadWaypoint(asked)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let other = Waypoint {
+        slot: WaypointSlot::Waypoint(WaypointNumber::new(4).unwrap()),
+        longitude: 1,
+        latitude: 2,
+        action1: ActionWord::NONE,
+        action2: ActionWord::NONE,
+    };
+    c.serial_mut().send(Message::Waypoint(other));
+    assert_eq!(c.wait(clock()), Err(Error::Timeout));
+}
+
+#[test]
 fn device_that_never_answers_times_out_and_debug_is_restored() {
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
