@@ -283,6 +283,27 @@ fn a_waypoint_of_another_slot_is_not_the_answer() {
 }
 
 #[test]
+fn the_first_answer_counts_and_a_second_one_is_ignored() {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(40)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    for value in [77, 88] {
+        c.serial_mut()
+            .send(Message::Parameter(ParameterValue { number: 40, value }));
+    }
+    let want = Outcome::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    });
+    assert_eq!(c.wait(clock()), Ok(want));
+}
+
+#[test]
 fn device_that_never_answers_times_out_and_debug_is_restored() {
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
