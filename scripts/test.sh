@@ -151,5 +151,13 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 step "host tests"
 cargo test --workspace --all-features 2>&1 | tee "$test_log"
 
+# CI only: the mutants in the library lines the last commit changed; a missed one fails the
+# step and is listed. Skipped, with the reason, when the commit changes no library source or
+# touches more than 40 mutants (then scripts/mutants.sh runs before the release instead).
+if [ "${CI:-}" = true ]; then
+  step "mutants of the last commit's library changes (scripts/mutants.sh --in-diff HEAD~1, at most 40)"
+  scripts/mutants.sh --in-diff HEAD~1 --max 40 --out target/mutants-ci
+fi
+
 step "fuzz smoke run: every cargo-fuzz target for ${FUZZ_SECONDS:-20} s"
 FUZZ_JOBS="${FUZZ_JOBS:-$(nproc)}" scripts/fuzz.sh "${FUZZ_SECONDS:-20}" 2>&1 | tee "$fuzz_log"

@@ -28,6 +28,9 @@ struct Device {
     answer: bool,
     refuse: bool,
     fail_writes: bool,
+    /// The line is closed: a read with nothing to say returns 0 (end of stream) at once.
+    eof: bool,
+    reads: usize,
 }
 
 impl Device {
@@ -41,6 +44,8 @@ impl Device {
             answer: true,
             refuse: false,
             fail_writes: false,
+            eof: false,
+            reads: 0,
         }
     }
 
@@ -64,6 +69,14 @@ impl embedded_io_async::Read for Device {
                 number: 7,
                 value: 42,
             }));
+        }
+        self.reads += 1;
+        assert!(
+            self.reads < 100_000,
+            "the client reads without letting the clock run"
+        );
+        if self.to_pc.is_empty() && self.eof {
+            return Ok(0);
         }
         if self.to_pc.is_empty() {
             // Nothing to say: wait (the client's tick cancels this read).
@@ -211,6 +224,25 @@ fn a_silent_device_times_out_and_debug_is_restored() {
             Command::DebugOn
         ]
     );
+}
+
+#[test]
+fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
+    let mut device = Device::new();
+    device.answer = false;
+    device.debug = false;
+    device.eof = true;
+    let (mut c, t) = client(device);
+    c.state_mut().assume_debug(false);
+    assert_eq!(
+        block_on(c.read_parameter(1, || t.get())),
+        Err(Error::Timeout)
+    );
+    // Each read of 0 bytes waits one tick: the reply timeout (1000 ms), to a tick.
+    let waited = t.get();
+    assert!((1000..1050).contains(&waited), "waited {waited} ms");
+    let (device, _) = c.release();
+    assert_eq!(device.commands, [Command::ReadParameter(1)]);
 }
 
 #[test]

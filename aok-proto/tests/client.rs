@@ -231,6 +231,79 @@ fn late_debug_frame_after_the_request_is_tolerated() {
 }
 
 #[test]
+fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
+    // A stray 0x77 (a waypoint frame's start, 19 bytes) right before the reply: the decoder
+    // waits for 19 bytes that never come; once the line is quiet it gives the false start up
+    // and finds the reply behind it, long before the timeout.
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let quiet = cfg.quiet_ms;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(40)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let dev = c.serial_mut();
+    dev.to_pc.push_back(0x77);
+    dev.send(Message::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    }));
+    for _ in 0..8 {
+        assert_eq!(c.poll(1), Err(nb::Error::WouldBlock));
+    }
+    assert_eq!(c.poll(quiet), Err(nb::Error::WouldBlock));
+    let want = Outcome::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    });
+    assert_eq!(c.poll(1 + quiet), Ok(want));
+}
+
+#[test]
+fn a_waypoint_of_another_slot_is_not_the_answer() {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    let asked = WaypointSlot::Waypoint(WaypointNumber::new(3).unwrap());
+    c.start(Command::ReadWaypoint(asked)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let other = Waypoint {
+        slot: WaypointSlot::Waypoint(WaypointNumber::new(4).unwrap()),
+        longitude: 1,
+        latitude: 2,
+        action1: ActionWord::NONE,
+        action2: ActionWord::NONE,
+    };
+    c.serial_mut().send(Message::Waypoint(other));
+    assert_eq!(c.wait(clock()), Err(Error::Timeout));
+}
+
+#[test]
+fn the_first_answer_counts_and_a_second_one_is_ignored() {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(40)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    for value in [77, 88] {
+        c.serial_mut()
+            .send(Message::Parameter(ParameterValue { number: 40, value }));
+    }
+    let want = Outcome::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    });
+    assert_eq!(c.wait(clock()), Ok(want));
+}
+
+#[test]
 fn device_that_never_answers_times_out_and_debug_is_restored() {
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;

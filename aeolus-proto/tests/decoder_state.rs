@@ -1,0 +1,78 @@
+//! What a decoder tells of itself between frames: the wire bytes of the frame in progress
+//! (escapes included), strict or not, and counters that `reset_stats` zeroes without touching
+//! the frame in progress, while `reset` drops that frame as discarded bytes.
+
+use aeolus_proto::{Decoder, Error, Stats};
+
+const HI: [u8; 8] = [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
+
+#[test]
+fn pending_bytes_counts_the_wire_bytes_since_the_flag() {
+    let mut d = Decoder::<16>::new();
+    let mut pending = Vec::new();
+    for b in [0x01, 0x7E, 0x52, 0x7D, 0x5E, b'h', 0x7D] {
+        assert!(d.push(b).is_none());
+        pending.push(d.pending_bytes());
+    }
+    // Noise before the flag is not pending; an escape pair is two wire bytes.
+    assert_eq!(pending, [0, 0, 1, 2, 3, 4, 5]);
+}
+
+#[test]
+fn strict_is_only_what_it_was_built_as() {
+    assert!(Decoder::<8>::strict().is_strict());
+    assert!(!Decoder::<8>::new().is_strict());
+}
+
+#[test]
+fn reset_stats_zeroes_the_counters_and_keeps_the_frame_in_progress() {
+    let mut d = Decoder::<16>::new();
+    d.feed(&[0x00, 0x00], |_| {});
+    d.feed(&HI, |_| {});
+    d.feed(&HI[1..4], |_| {});
+    assert_eq!(d.stats().frames_ok, 1);
+    assert_eq!(d.stats().bytes_discarded, 2);
+    d.reset_stats();
+    assert_eq!(*d.stats(), Stats::default());
+    assert_eq!(d.pending_bytes(), 3);
+    let mut ids = Vec::new();
+    d.feed(&HI[4..], |ev| ids.push(ev.map(|f| f.id())));
+    assert_eq!(ids, [Ok(0x52)]);
+    assert_eq!(
+        (d.stats().frames_ok, d.stats().frame_bytes, d.stats().flags),
+        (1, 6, 1)
+    );
+}
+
+#[test]
+fn reset_drops_the_frame_in_progress_as_discarded_bytes() {
+    let mut d = Decoder::<16>::new();
+    d.feed(&[0x7E, 0x52, 0x7D, 0x5E, b'h'], |_| {});
+    d.reset();
+    assert_eq!(d.pending_bytes(), 0);
+    assert_eq!(d.stats().bytes_discarded, 4);
+    // It hunts for a flag: the rest of the frame is noise, the next frame arrives whole.
+    let mut ids = Vec::new();
+    d.feed(&[b'i', 0x00], |ev| ids.push(ev.map(|f| f.id())));
+    d.feed(&HI, |ev| ids.push(ev.map(|f| f.id())));
+    assert_eq!(ids, [Ok(0x52)]);
+    assert_eq!(d.stats().bytes_discarded, 6);
+}
+
+#[test]
+fn flush_gives_up_a_frame_in_progress_and_nothing_else() {
+    let mut d = Decoder::<16>::new();
+    let mut events = Vec::new();
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.feed(&HI, |ev| events.push(ev.map(|f| f.id())));
+    // Between frames (the closing flag may open the next one): nothing to give up.
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events, [Ok(0x52)]);
+    d.feed(&[0x52, 0x7D, 0x5E], |_| {});
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events, [Ok(0x52), Err(Error::Truncated)]);
+    assert_eq!((d.pending_bytes(), d.stats().bytes_discarded), (0, 3));
+    // Only once.
+    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    assert_eq!(events.len(), 2);
+}

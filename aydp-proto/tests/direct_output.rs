@@ -1,0 +1,18 @@
+//! A direct-output message counts its entries: `len` is the count field, and the entries are
+//! the 6-byte records after it (device, channel, f32 value).
+
+use aydp_proto::DirectOutput;
+
+#[test]
+fn len_is_the_count_and_entries_follow_it() {
+    let data = [2, 0, 1, 2, 0, 0, 0x20, 0x41, 3, 4, 0, 0, 0x80, 0x3F];
+    let d = DirectOutput::parse(&data).unwrap();
+    assert_eq!((d.len(), d.is_empty()), (2, false));
+    assert_eq!(d.entries().size_hint(), (2, Some(2)));
+    let entries: Vec<(u8, u8, f32)> = d
+        .entries()
+        .map(|e| (e.device, e.channel, e.value))
+        .collect();
+    assert_eq!(entries, [(1, 2, 10.0), (3, 4, 1.0)]);
+    assert_eq!(d.as_bytes(), &data);
+}

@@ -1,0 +1,102 @@
+//! What an application shows of an error: the `Display` text of every `Error` and `IoError`.
+
+use aydp_proto::Error;
+
+#[test]
+fn every_error_has_its_sentence() {
+    let cases = [
+        (
+            Error::BufferTooSmall { needed: 9 },
+            "buffer too small: 9 bytes needed",
+        ),
+        (Error::Truncated, "input truncated"),
+        (Error::BadStart, "missing 0xFF start byte"),
+        (Error::ReservedType, "type byte 0xFF is reserved"),
+        (Error::BadType(127), "base type 127 is outside 0..=126"),
+        (Error::BadLength(3), "bad length field 3"),
+        (Error::ChecksumMismatch, "checksum mismatch"),
+        (Error::TooLong, "message too long for the length field"),
+        (
+            Error::PayloadTooShort {
+                msg_type: 4,
+                expected: 10,
+                actual: 2,
+            },
+            "type 4: data too short (2 bytes, needs 10)",
+        ),
+        (
+            Error::PayloadTooLong {
+                msg_type: 4,
+                expected: 10,
+                actual: 12,
+            },
+            "type 4: data too long (12 bytes, allows 10)",
+        ),
+        (
+            Error::CountMismatch {
+                msg_type: 5,
+                count: 7,
+            },
+            "type 5: count 7 does not match the length",
+        ),
+        (Error::NegativeUflt16, "uflt16 field has its sign bit set"),
+        (Error::UnknownUpdateMode(9), "unknown update type 9"),
+        (
+            Error::NonZeroSingleIndex(2),
+            "single-value update with non-zero element field 2",
+        ),
+        (Error::UnknownCommand(8), "unknown system control command 8"),
+        (
+            Error::TooManySatellites(40),
+            "40 satellites do not fit the list",
+        ),
+        (
+            Error::UnknownAddress(0x1234),
+            "no system value at address 0x1234",
+        ),
+        (Error::ReadOnly(0x0001), "address 0x0001 is read-only"),
+        (
+            Error::WrongMode(0x0200),
+            "update mode does not fit address 0x0200",
+        ),
+        (
+            Error::WrongSize(0x0200),
+            "data size does not fit address 0x0200",
+        ),
+        (
+            Error::OutOfBounds(0x0200),
+            "index or count out of bounds at 0x0200",
+        ),
+        (
+            Error::OutOfRange(0x0000),
+            "value out of range for address 0x0000",
+        ),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+    }
+}
+
+#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
+#[test]
+fn every_io_error_has_its_sentence() {
+    use aydp_proto::IoError;
+    let cases: [(IoError<&str>, &str); 5] = [
+        (IoError::Transport("reset"), "transport error: \"reset\""),
+        (
+            IoError::Protocol(Error::BadStart),
+            "protocol error: missing 0xFF start byte",
+        ),
+        (
+            IoError::UnexpectedEof { pending: 5 },
+            "end of stream inside a message (5 bytes given up)",
+        ),
+        (IoError::Eof, "end of stream"),
+        (IoError::WriteZero, "the transport accepted no bytes"),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+        // Only a protocol error leaves the stream usable.
+        assert_eq!(e.is_protocol(), matches!(e, IoError::Protocol(_)), "{e:?}");
+    }
+}

@@ -1,0 +1,21 @@
+//! `Encoder::frame_len` is the length `encode_normal` / `encode_expedited` write, in both
+//! profiles.
+
+use aydp_proto::{Encoder, Profile, Raw, Timestamp};
+
+#[test]
+fn frame_len_is_what_the_encoder_writes() {
+    let payload = Raw {
+        msg_type: 9,
+        data: &[1, 2, 3],
+    };
+    for profile in [Profile::Spec, Profile::Reference] {
+        let e = Encoder::new(profile);
+        let mut out = [0u8; 64];
+        let normal = e.encode_normal(&payload, Timestamp::new(1, 2), &mut out);
+        let expedited = e.encode_expedited(&payload, &mut out);
+        let lens = (e.frame_len(&payload, false), e.frame_len(&payload, true));
+        assert_eq!((normal, expedited), (Ok(26), Ok(10)), "{profile:?}");
+        assert_eq!(lens, (26, 10), "{profile:?}");
+    }
+}

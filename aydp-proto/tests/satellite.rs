@@ -1,0 +1,26 @@
+//! One satellite of a fix detail is 7 bytes: its ID, then azimuth, elevation and SNR as
+//! unsigned uflt16; `parse` reads exactly what `to_bytes` writes, and refuses a sign bit.
+
+use aydp_proto::{Error, Satellite};
+
+#[test]
+fn parse_reads_back_the_seven_bytes() {
+    let b = [7, 0x34, 0x12, 0x00, 0x3C, 0x21, 0x43];
+    let s = Satellite::parse(&b).unwrap();
+    assert_eq!(s.id, 7);
+    assert_eq!(s.to_bytes(), b);
+    assert!(s.azimuth > 0.0 && s.elevation > 0.0 && s.snr > 0.0, "{s:?}");
+}
+
+#[test]
+fn a_sign_bit_in_any_field_is_refused() {
+    for at in [2, 4, 6] {
+        let mut b = [7, 0x34, 0x12, 0x00, 0x3C, 0x21, 0x43];
+        b[at] |= 0x80;
+        assert_eq!(
+            Satellite::parse(&b),
+            Err(Error::NegativeUflt16),
+            "byte {at}"
+        );
+    }
+}
