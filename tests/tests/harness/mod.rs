@@ -258,6 +258,16 @@ struct Process {
 /// QEMU runs in wait mode (`QEMU_WAIT=1`): the CPU starts only once UART0 is connected, so
 /// the first bytes read from it are the boot TOAST.
 pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
+    boot_with(board, ports, false)
+}
+
+/// [`boot`], with `-icount shift=0` when `icount` (`QEMU_ICOUNT=1`): the virtual clock then
+/// advances by 1 ns per executed instruction while the CPU runs and with the host's clock
+/// while it sleeps, so the box's own clock is never late however slowly the host emulates it.
+/// The simulated STM32 takes about a whole host core on a slow host and then falls behind real
+/// time (SysTick ticks coalesce and the schedule skips late slots, as it must on a late CPU);
+/// a test that judges the schedule in the box's clock boots it this way.
+pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
     if !qemu_installed() {
         eprintln!(
             "SKIPPED: qemu-system-arm is not installed, so the firmware cannot be booted \
@@ -290,6 +300,7 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
         .env("QEMU_UART1_PORT", ports.uart(1).to_string())
         .env("QEMU_UART2_PORT", ports.uart(2).to_string())
         .env("QEMU_WAIT", "1")
+        .env("QEMU_ICOUNT", if icount { "1" } else { "0" })
         .env("QEMU_DEFMT", if defmt_print { "1" } else { "0" })
         .stdin(Stdio::null())
         .stdout(out)
