@@ -1,6 +1,6 @@
 //! In-memory `embedded-io` / `embedded-io-async` transports for the reader and writer tests:
 //! reads of chosen sizes, a pending poll before every other async read, transport errors at
-//! chosen offsets; a sink that takes a few bytes per write, fails once, or accepts nothing.
+//! chosen offsets; a sink that takes a few bytes per write, fails once, or accepts nothing; a sink that counts its flushes.
 //! One copy for the three protocol crates: `aydp-proto` and `aok-proto` include this file by path.
 #![allow(dead_code)]
 
@@ -149,5 +149,44 @@ pub fn sink(max: usize) -> Sink {
         max,
         fail_at: None,
         zero: false,
+    }
+}
+
+/// A sink that counts flushes and fails every flush after the first `ok`.
+pub struct Flushes {
+    pub count: usize,
+    pub ok: usize,
+}
+
+impl embedded_io::ErrorType for Flushes {
+    type Error = ErrorKind;
+}
+
+impl Flushes {
+    fn flush_now(&mut self) -> Result<(), ErrorKind> {
+        self.count += 1;
+        if self.count > self.ok {
+            Err(ErrorKind::TimedOut)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+impl embedded_io::Write for Flushes {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> Result<(), ErrorKind> {
+        self.flush_now()
+    }
+}
+
+impl embedded_io_async::Write for Flushes {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        Ok(buf.len())
+    }
+    async fn flush(&mut self) -> Result<(), ErrorKind> {
+        self.flush_now()
     }
 }
