@@ -567,7 +567,7 @@ fn tshark_dissects_aydp_over_tcp_6321_as_the_reference_profile() {
         Path::new(env!("CARGO_BIN_EXE_protolink")),
         &dissector(),
         &cap,
-        "reference",
+        None,
     );
     println!("AYDP over TCP 6321: {c:?}");
     assert_eq!(c.messages, 23 + 2, "{c:?}");
@@ -615,7 +615,7 @@ fn tshark_dissects_aydp_datagrams_on_udp_6321_as_the_reference_profile() {
         Path::new(env!("CARGO_BIN_EXE_protolink")),
         &dissector(),
         &cap,
-        "reference",
+        None,
     );
     println!("AYDP over UDP 6321, {} datagrams: {c:?}", datagrams.len());
     assert_eq!(c.messages, 23, "{c:?}");

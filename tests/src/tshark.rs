@@ -245,20 +245,25 @@ pub struct Compared {
 /// --json` prints it and as tshark shows it with the dissector: the same events in the same
 /// frames, the header (type, expedited, wire length, time) and every typed field equal.
 pub fn compare_aydp(tshark: &str, protolink: &Path, dissector: &Path, cap: &Path) -> Compared {
-    compare_aydp_profile(tshark, protolink, dissector, cap, "spec")
+    compare_aydp_profile(tshark, protolink, dissector, cap, Some("spec"))
 }
 
-/// [`compare_aydp`] with decode's `--profile` (which reads TCP and UDP port 6321; the link
-/// types carry their own profile): the dissector reads port 6321 as `reference`.
+/// [`compare_aydp`] with decode's `--profile` given, or (`None`) left to decode's default:
+/// `--profile` applies to TCP and UDP port 6321 (the link types carry their own profile), which
+/// decode reads as `reference` by default, as the dissector does.
 pub fn compare_aydp_profile(
     tshark: &str,
     protolink: &Path,
     dissector: &Path,
     cap: &Path,
-    profile: &str,
+    profile: Option<&str>,
 ) -> Compared {
     let shown = tshark_layer(tshark, dissector, cap, None, "aydp");
-    let decoded = decode_proto_with(protolink, cap, shown.len(), "aydp", &["--profile", profile]);
+    let flag = match profile {
+        Some(p) => vec!["--profile", p],
+        None => Vec::new(),
+    };
+    let decoded = decode_proto_with(protolink, cap, shown.len(), "aydp", &flag);
     let mut c = Compared::default();
     for (i, (t, d)) in shown.iter().zip(&decoded).enumerate() {
         let frame = i + 1;

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use super::{DecodeArgs, Event, Proto, StreamDecoder, decoder_for, summary};
+use super::{DecodeArgs, Event, ProfileArg, Proto, StreamDecoder, decoder_for, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
 use crate::error::Result;
 use crate::render::Out;
@@ -110,9 +110,15 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
                     counters.skipped += 1;
                     continue;
                 };
+                // The AYDP reference software's port carries its profile; --profile overrides.
+                let port_profile = if by_port == Some(Proto::Aydp) {
+                    ProfileArg::Reference
+                } else {
+                    ProfileArg::Spec
+                };
                 let kind = StreamKind {
                     proto,
-                    profile: args.profile,
+                    profile: args.profile.unwrap_or(port_profile),
                     side: args.side,
                 };
                 (FlowKey::Ip(transport, src, dst), kind, bytes)

@@ -80,9 +80,9 @@ pub struct DecodeArgs {
     /// The protocol of the stream (a capture: found by port or link type; --proto picks one).
     #[arg(long, value_enum)]
     pub proto: Option<Proto>,
-    /// AYDP profile.
-    #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
-    pub profile: ProfileArg,
+    /// AYDP profile (default: spec; in a capture, AYDP on TCP/UDP 6321 is read as reference, as the reference software sends it and the dissector reads it).
+    #[arg(long, value_enum)]
+    pub profile: Option<ProfileArg>,
     /// AOK: who sent the bytes (pc: commands; device: debug values, acks, replies).
     #[arg(long, value_enum, default_value_t = Side::Device)]
     pub side: Side,
@@ -256,7 +256,7 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
         )));
     };
     let mut link = args.from.open()?;
-    let mut decoder = decoder_for(proto, args.profile, args.side);
+    let mut decoder = decoder_for(proto, args.profile.unwrap_or_default(), args.side);
     let mut out = Out::new();
     let mut plot = args.udp_json.map(plot::PlotSender::new).transpose()?;
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
