@@ -8,6 +8,8 @@
 #   scripts/setup.sh tshark     + tshark (Debian package; the dissector test runs it on captures)
 #   scripts/setup.sh chromium   + chromium and chromium-driver (Debian packages; the browser tests of
 #                               `protolink web` drive it headless)
+#   scripts/setup.sh i686       + the i686 target and gcc-multilib (Debian): the protocol
+#                               libraries' tests also run with 32-bit words, as on the firmware
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,6 +33,9 @@ for want in "$@"; do
     defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
     tshark) command -v tshark >/dev/null || need_apt+=(tshark) ;;
     chromium) [ -x /usr/bin/chromium ] && command -v chromedriver >/dev/null || need_apt+=(chromium chromium-driver) ;;
+    i686)
+      rustup target list --installed | grep -q '^i686-unknown-linux-gnu$' || rustup target add i686-unknown-linux-gnu
+      dpkg -s gcc-multilib >/dev/null 2>&1 || need_apt+=(gcc-multilib) ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done

@@ -81,8 +81,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark and chromium (the QEMU, tshark and browser tests must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium
+step "setup: qemu-system-arm, defmt-print, tshark, chromium and i686 (the QEMU, tshark, browser and 32-bit tests must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark chromium i686
 
 step "format"
 cargo fmt --all -- --check
@@ -150,6 +150,11 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 
 step "host tests"
 cargo test --workspace --all-features 2>&1 | tee "$test_log"
+
+# The word-at-a-time paths of the decoders and the CRC have a 32-bit form (the firmware's
+# Cortex-M) and a 64-bit one (the host): x86-64 tests alone never run the firmware's.
+step "the protocol libraries' tests on i686 (32-bit words, as on the firmware)"
+cargo test --target i686-unknown-linux-gnu -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto --all-features 2>&1 | tee -a "$test_log"
 
 # CI only: the mutants in the library lines the last commit changed; a missed one fails the
 # step and is listed. Skipped, with the reason, when the commit changes no library source or

@@ -28,7 +28,10 @@ fn the_length_field_counts_the_whole_message_in_spec_and_the_data_in_reference()
         Reference.length_field(u32::MAX as usize, false),
         Some(u32::MAX)
     );
-    assert_eq!(Reference.length_field(u32::MAX as usize + 1, false), None);
+    // Past u32 (only where usize is wider: on 32-bit targets no length gets there).
+    if let Some(past) = (u32::MAX as usize).checked_add(1) {
+        assert_eq!(Reference.length_field(past, false), None);
+    }
     assert_eq!(Spec.length_field(usize::MAX, false), None);
 
     assert_eq!(Spec.frame_len(27, false), Some(27));

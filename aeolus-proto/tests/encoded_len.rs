@@ -1,0 +1,30 @@
+//! `max_encoded_len` is the exact worst case: two flags plus the ID, the data and the CRC,
+//! every one of them escaped; a frame that escapes all of them fills it to the byte.
+
+use aeolus_proto::{CrcMode, Error, encode_frame, max_encoded_len};
+
+#[test]
+fn max_encoded_len_is_two_flags_and_everything_else_doubled() {
+    assert_eq!(max_encoded_len(0), 8);
+    assert_eq!(max_encoded_len(1), 10);
+    assert_eq!(max_encoded_len(32), 72);
+    assert_eq!(max_encoded_len(208), 424);
+}
+
+/// ID 0x7D and one data byte 0x7D: the CRC (section 4.3) of `7D 7D` is 0x7D7D, so every
+/// byte between the flags is escaped.
+#[test]
+fn a_frame_that_escapes_every_byte_fills_max_encoded_len_exactly() {
+    let mut out = [0u8; max_encoded_len(1)];
+    let n = encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut out).unwrap();
+    assert_eq!(n, max_encoded_len(1));
+    assert_eq!(
+        out,
+        [0x7E, 0x7D, 0x5D, 0x7D, 0x5D, 0x7D, 0x5D, 0x7D, 0x5D, 0x7E]
+    );
+    let mut short = [0u8; max_encoded_len(1) - 1];
+    assert_eq!(
+        encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut short),
+        Err(Error::BufferTooSmall)
+    );
+}
