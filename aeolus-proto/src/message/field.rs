@@ -85,3 +85,18 @@ impl<T: Field + Copy + Default, const K: usize> Field for [T; K] {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Field;
+
+    /// The layouts' compile-time check (`_FITS`) adds each field's offset and `SIZE`: an
+    /// array's size must be its elements' sizes summed.
+    #[test]
+    fn an_array_field_is_its_elements_long() {
+        assert_eq!(<[u8; 6] as Field>::SIZE, 6);
+        assert_eq!(<[f32; 3] as Field>::SIZE, 12);
+        assert_eq!(<[f32; 9] as Field>::SIZE, 36);
+        assert_eq!(<[f64; 2] as Field>::SIZE, 16);
+    }
+}
