@@ -457,6 +457,38 @@ impl SerialIsr<'_> {
         byte
     }
 
+    /// Moves queued bytes into `buf` (as many as are queued and fit), for a UART that takes a
+    /// block at a time (a DMA transfer); the count. The bytes are counted as handed to the
+    /// UART.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// port.write(b"hello").unwrap();
+    /// let mut block = [0u8; 4];
+    /// assert_eq!(isr.take_to_send(&mut block), 4);
+    /// assert_eq!(&block, b"hell");
+    /// assert_eq!(port.counters().tx_bytes, 4);
+    /// ```
+    pub fn take_to_send(&mut self, buf: &mut [u8]) -> usize {
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            let Some(byte) = self.tx.dequeue() else { break };
+            *slot = byte;
+            n += 1;
+        }
+        let sent = &self.stats.tx_bytes;
+        sent.store(
+            sent.load(Ordering::Relaxed)
+                .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
+            Ordering::Relaxed,
+        );
+        n
+    }
+
     /// Whether the RX queue has room for another byte. A board whose UART can hold bytes back
     /// (a FIFO, and a peer that waits for it, as QEMU's sockets do) stops reading the UART
     /// while this is false instead of dropping bytes; the application's next read kicks the

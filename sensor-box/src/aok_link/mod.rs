@@ -84,7 +84,7 @@ pub const IDLE_MS: u64 = 50;
 pub const TX_CAPACITY: usize = 128;
 /// The longest reply one command produces: the 16 frames of a bulk read.
 const MAX_REPLY: usize = HEADED_REPLY_LEN * 16;
-/// At most this many received bytes are decoded per poll, so one poll stays short.
+/// At most this many received bytes are read from the port per poll, so one poll stays short.
 pub const RX_BUDGET: usize = 64;
 
 /// Who steers the (simulated) aircraft.
