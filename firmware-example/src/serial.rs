@@ -457,6 +457,42 @@ impl SerialIsr<'_> {
         byte
     }
 
+    /// Hands queued bytes to `put` one by one while `room()` says the UART takes another (its
+    /// FIFO is not full), for an interrupt handler that fills the FIFO; the count. The bytes
+    /// are counted as handed to the UART once, at the end.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// port.write(b"hello").unwrap();
+    /// let mut fifo = Vec::new();
+    /// assert_eq!(isr.send_while(|| fifo.len() < 3, |b| fifo.push(b)), 3);
+    /// assert_eq!(fifo, b"hel");
+    /// assert_eq!(port.counters().tx_bytes, 3);
+    /// ```
+    pub fn send_while(&mut self, mut room: impl FnMut() -> bool, mut put: impl FnMut(u8)) -> usize {
+        let mut n = 0;
+        while room() {
+            let Some(byte) = self.tx.dequeue() else { break };
+            put(byte);
+            n += 1;
+        }
+        self.count_sent(n);
+        n
+    }
+
+    fn count_sent(&self, n: usize) {
+        let sent = &self.stats.tx_bytes;
+        sent.store(
+            sent.load(Ordering::Relaxed)
+                .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
+            Ordering::Relaxed,
+        );
+    }
+
     /// Moves queued bytes into `buf` (as many as are queued and fit), for a UART that takes a
     /// block at a time (a DMA transfer); the count. The bytes are counted as handed to the
     /// UART.
@@ -480,12 +516,7 @@ impl SerialIsr<'_> {
             *slot = byte;
             n += 1;
         }
-        let sent = &self.stats.tx_bytes;
-        sent.store(
-            sent.load(Ordering::Relaxed)
-                .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
-            Ordering::Relaxed,
-        );
+        self.count_sent(n);
         n
     }
 
