@@ -468,8 +468,12 @@ impl SerialIsr<'_> {
     /// # let stats = firmware_example::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
     /// port.write(b"hello").unwrap();
-    /// let mut fifo = Vec::new();
-    /// assert_eq!(isr.send_while(|| fifo.len() < 3, |b| fifo.push(b)), 3);
+    /// let (room, mut fifo) = (core::cell::Cell::new(3), Vec::new()); // a FIFO with room for 3
+    /// let put = |b| {
+    ///     room.set(room.get() - 1);
+    ///     fifo.push(b);
+    /// };
+    /// assert_eq!(isr.send_while(|| room.get() > 0, put), 3);
     /// assert_eq!(fifo, b"hel");
     /// assert_eq!(port.counters().tx_bytes, 3);
     /// ```
