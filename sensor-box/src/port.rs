@@ -23,15 +23,6 @@ use embedded_io::{Read, ReadReady, Write, WriteReady};
 /// The most bytes one read takes from a port (a stack buffer's worth).
 pub const RX_CHUNK: usize = 64;
 
-/// Reads what `port` has already received into `buf`, without waiting: 0 when nothing has
-/// arrived (or `buf` is empty).
-pub fn read_received<P: Read + ReadReady>(port: &mut P, buf: &mut [u8]) -> Result<usize, P::Error> {
-    if buf.is_empty() || !port.read_ready()? {
-        return Ok(0);
-    }
-    port.read(buf)
-}
-
 /// Bytes read from a port and not yet decoded (at most [`RX_CHUNK`]).
 #[derive(Debug, Clone)]
 pub struct Received {
@@ -79,11 +70,11 @@ impl Received {
         port: &mut P,
         max: usize,
     ) -> Result<usize, P::Error> {
-        if self.at < self.end {
+        if self.at < self.end || max == 0 || !port.read_ready()? {
             return Ok(0);
         }
         let buf = self.buf.get_mut(..max.min(RX_CHUNK)).unwrap_or(&mut []);
-        let n = read_received(port, buf)?.min(buf.len());
+        let n = port.read(buf)?.min(buf.len());
         self.at = 0;
         self.end = n;
         Ok(n)

@@ -97,7 +97,7 @@ pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
 pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
 
 use crate::Shared;
-use crate::port::{RX_CHUNK, read_received};
+use crate::port::RX_CHUNK;
 use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats};
 use embedded_io::{Read, ReadReady, Write, WriteReady};
 
@@ -218,13 +218,14 @@ impl AydpLink {
         shared: &mut Shared,
     ) {
         let mut budget = RX_BUDGET;
-        let mut buf = [0u8; RX_CHUNK];
-        while budget > 0 {
+        // Asked first, so an idle poll does not clear the buffer.
+        while budget > 0 && port.read_ready().unwrap_or(false) {
+            let mut buf = [0u8; RX_CHUNK];
             let chunk = buf.get_mut(..budget.min(RX_CHUNK)).unwrap_or(&mut []);
-            let n = read_received(port, chunk).unwrap_or(0);
-            if n == 0 {
-                break;
-            }
+            let n = match port.read(chunk) {
+                Ok(n) if n > 0 => n.min(chunk.len()),
+                _ => break,
+            };
             budget = budget.saturating_sub(n);
             for &byte in chunk.get(..n).unwrap_or(&[]) {
                 // The counters as of before this byte: what 0x0300 reports to a request it ends.
