@@ -185,14 +185,7 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
 pub async fn pump_tx<W: Write>(mut isr: SerialIsr<'static>, mut uart: W, ready: &TxReady) -> ! {
     let mut chunk = [0u8; TX_CHUNK];
     loop {
-        let mut n = 0;
-        for slot in chunk.iter_mut() {
-            let Some(byte) = isr.next_to_send() else {
-                break;
-            };
-            *slot = byte;
-            n += 1;
-        }
+        let n = isr.take_to_send(&mut chunk);
         if n == 0 {
             ready.wait().await;
             continue;

@@ -8,8 +8,9 @@
 //! * [`clock`]: the [`Clock`] trait (a monotonic millisecond clock) and a
 //!   [`ManualClock`] for host tests and simulations;
 //! * [`serial`]: [`QueuedSerial`], the serial port type the application sees on
-//!   every board. It implements `embedded_hal_nb::serial::{Read, Write}` over
-//!   two `heapless::spsc` queues; the other ends ([`SerialIsr`]) belong to the
+//!   every board. It implements `embedded_io`'s `Read`, `ReadReady`, `Write`
+//!   and `WriteReady` (slices: what the links use) and
+//!   `embedded_hal_nb::serial::{Read, Write}` (bytes) over two `heapless::spsc` queues; the other ends ([`SerialIsr`]) belong to the
 //!   board's UART interrupt handler;
 //! * [`storage`]: `embedded-storage` NOR flash over a byte slice ([`MemFlash`],
 //!   the QEMU board's flash store and the host tests' store) and a

@@ -4,22 +4,30 @@
 //!
 //! ```text
 //!   application (main loop)                      UART interrupt handler
-//!   QueuedSerial::read()   <-- RX queue <--      SerialIsr::received(byte)
-//!   QueuedSerial::write(b) --> TX queue -->      SerialIsr::next_to_send()
-//!                          --> kick() (pends the interrupt)
+//!   QueuedSerial::read(&mut buf) <-- RX queue <--  SerialIsr::received(byte)
+//!   QueuedSerial::write(&frame)  --> TX queue -->  SerialIsr::next_to_send()
+//!                                --> kick() (pends the interrupt)
 //! ```
+//!
+//! The application's half speaks two interfaces: `embedded_io`'s `Read`, `ReadReady`,
+//! `Write` and `WriteReady` (slices: what the `sensor-box` links use, so the main loop drains
+//! the RX queue in bursts and hands whole frames to the TX queue), and `embedded_hal_nb`'s
+//! byte-at-a-time `serial::Read<u8>` / `Write<u8>` (whose non-blocking `flush` the main
+//! loop calls after every poll).
 //!
 //! * RX: the interrupt moves every received byte into the RX queue at once, so
 //!   nothing is lost while the main loop is busy (telemetry at full rate). A
 //!   full queue drops the byte and counts it in [`PortStats`].
-//! * TX: `write` queues the byte and calls the board's `kick`, which pends the
+//! * TX: `write` queues the bytes and calls the board's `kick`, which pends the
 //!   UART interrupt (a [`QueuedSerial::batched`] port kicks once per burst,
 //!   on `flush`); the handler moves queued bytes into the UART while it has room, and keeps its TX interrupt enabled only while bytes are
-//!   waiting. `write` returns `nb::WouldBlock` only when the TX queue is full,
-//!   so the main loop never waits for the wire.
+//!   waiting. The TX queue being full is the only thing a writer waits for: `write_ready`
+//!   says so (and the `nb` `write` returns `nb::WouldBlock`), so the main loop never waits
+//!   for the wire.
 //!
 //! The same type runs in host tests: the test plays the interrupt handler.
 
+use core::convert::Infallible;
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
 use heapless::spsc::{Consumer, Producer, Queue};
@@ -88,7 +96,8 @@ fn bump(counter: &AtomicU32) {
     );
 }
 
-/// The application's half of a UART: `embedded_hal_nb` `Read<u8>` and `Write<u8>`.
+/// The application's half of a UART: `embedded_io` `Read`, `ReadReady`, `Write` and
+/// `WriteReady` (slices), and `embedded_hal_nb` `Read<u8>` and `Write<u8>` (bytes).
 pub struct QueuedSerial<'q> {
     rx: Consumer<'q, u8>,
     tx: Producer<'q, u8>,
@@ -214,7 +223,137 @@ impl<'q> QueuedSerial<'q> {
 }
 
 impl ErrorType for QueuedSerial<'_> {
-    type Error = core::convert::Infallible;
+    type Error = Infallible;
+}
+
+impl QueuedSerial<'_> {
+    /// Moves received bytes into `buf` in one pass, as many as are waiting and fit; the
+    /// count. Kicks the interrupt when the queue was full (see [`SerialIsr::rx_room`]).
+    fn take_received(&mut self, buf: &mut [u8]) -> usize {
+        let was_full = self.rx.len() >= self.rx.capacity();
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            let Some(byte) = self.rx.dequeue() else { break };
+            *slot = byte;
+            n += 1;
+        }
+        if was_full && n > 0 {
+            (self.kick)();
+        }
+        n
+    }
+
+    /// Copies as much of `bytes` into the TX queue as it has room for, in one pass; the count.
+    fn queue_to_send(&mut self, bytes: &[u8]) -> usize {
+        let mut n = 0;
+        for &byte in bytes {
+            if self.tx.enqueue(byte).is_err() {
+                break;
+            }
+            n += 1;
+        }
+        n
+    }
+}
+
+impl embedded_io::ErrorType for QueuedSerial<'_> {
+    type Error = Infallible;
+}
+
+impl embedded_io::ReadReady for QueuedSerial<'_> {
+    /// Whether received bytes are waiting: then [`embedded_io::Read::read`] does not wait.
+    fn read_ready(&mut self) -> Result<bool, Infallible> {
+        Ok(self.rx.ready())
+    }
+}
+
+impl embedded_io::Read for QueuedSerial<'_> {
+    /// Moves the received bytes waiting in the RX queue into `buf` (as many as fit) in one
+    /// pass. With nothing waiting it waits for the interrupt to receive a byte, as
+    /// `embedded_io` asks: a caller that must not wait asks
+    /// [`read_ready`](embedded_io::ReadReady::read_ready) first.
+    ///
+    /// ```
+    /// use embedded_io::{Read, ReadReady};
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 8>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// for byte in b"hello" {
+    ///     isr.received(*byte);
+    /// }
+    /// let mut buf = [0u8; 4];
+    /// assert_eq!(port.read(&mut buf), Ok(4));
+    /// assert_eq!(&buf, b"hell");
+    /// assert_eq!(port.read(&mut buf), Ok(1));
+    /// assert_eq!(port.read_ready(), Ok(false));
+    /// ```
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        loop {
+            let n = self.take_received(buf);
+            if n > 0 {
+                return Ok(n);
+            }
+        }
+    }
+}
+
+impl embedded_io::WriteReady for QueuedSerial<'_> {
+    /// Whether the TX queue has room for a byte: then [`embedded_io::Write::write`] does not
+    /// wait. When it is full the interrupt is kicked first (a batched port's bytes are
+    /// otherwise only kicked on `flush`) and the room checked once more.
+    fn write_ready(&mut self) -> Result<bool, Infallible> {
+        if self.tx.ready() {
+            return Ok(true);
+        }
+        (self.kick)();
+        Ok(self.tx.ready())
+    }
+}
+
+impl embedded_io::Write for QueuedSerial<'_> {
+    /// Copies as much of `buf` as the TX queue has room for, in one pass, and kicks the
+    /// interrupt (a [`QueuedSerial::batched`] port only when the queue is full: its owner's
+    /// `flush` kicks). With the queue full it kicks and waits for room, as `embedded_io`
+    /// asks: a caller that must not wait asks
+    /// [`write_ready`](embedded_io::WriteReady::write_ready) first.
+    ///
+    /// ```
+    /// use embedded_io::{Write, WriteReady};
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// assert_eq!(port.write(b"hello"), Ok(3)); // a heapless queue of 4 holds 3
+    /// assert_eq!(port.write_ready(), Ok(false));
+    /// assert_eq!(isr.next_to_send(), Some(b'h'));
+    /// assert_eq!(port.write(b"lo"), Ok(1));
+    /// ```
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let mut n = self.queue_to_send(buf);
+        while n == 0 {
+            (self.kick)();
+            n = self.queue_to_send(buf);
+        }
+        if !self.batched {
+            (self.kick)();
+        }
+        Ok(n)
+    }
+
+    /// Kicks the interrupt and waits until every queued byte has gone to the UART. The main
+    /// loop, which must not wait, uses the `embedded_hal_nb` `flush` instead.
+    fn flush(&mut self) -> Result<(), Infallible> {
+        (self.kick)();
+        while !self.tx.is_empty() {}
+        Ok(())
+    }
 }
 
 impl Read<u8> for QueuedSerial<'_> {
@@ -316,6 +455,73 @@ impl SerialIsr<'_> {
             bump(&self.stats.tx_bytes);
         }
         byte
+    }
+
+    /// Hands queued bytes to `put` one by one while `room()` says the UART takes another (its
+    /// FIFO is not full), for an interrupt handler that fills the FIFO; the count. The bytes
+    /// are counted as handed to the UART once, at the end.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// port.write(b"hello").unwrap();
+    /// let (room, mut fifo) = (core::cell::Cell::new(3), Vec::new()); // a FIFO with room for 3
+    /// let put = |b| {
+    ///     room.set(room.get() - 1);
+    ///     fifo.push(b);
+    /// };
+    /// assert_eq!(isr.send_while(|| room.get() > 0, put), 3);
+    /// assert_eq!(fifo, b"hel");
+    /// assert_eq!(port.counters().tx_bytes, 3);
+    /// ```
+    pub fn send_while(&mut self, mut room: impl FnMut() -> bool, mut put: impl FnMut(u8)) -> usize {
+        let mut n = 0;
+        while room() {
+            let Some(byte) = self.tx.dequeue() else { break };
+            put(byte);
+            n += 1;
+        }
+        self.count_sent(n);
+        n
+    }
+
+    fn count_sent(&self, n: usize) {
+        let sent = &self.stats.tx_bytes;
+        sent.store(
+            sent.load(Ordering::Relaxed)
+                .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
+            Ordering::Relaxed,
+        );
+    }
+
+    /// Moves queued bytes into `buf` (as many as are queued and fit), for a UART that takes a
+    /// block at a time (a DMA transfer); the count. The bytes are counted as handed to the
+    /// UART.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::QueuedSerial;
+    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// port.write(b"hello").unwrap();
+    /// let mut block = [0u8; 4];
+    /// assert_eq!(isr.take_to_send(&mut block), 4);
+    /// assert_eq!(&block, b"hell");
+    /// assert_eq!(port.counters().tx_bytes, 4);
+    /// ```
+    pub fn take_to_send(&mut self, buf: &mut [u8]) -> usize {
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            let Some(byte) = self.tx.dequeue() else { break };
+            *slot = byte;
+            n += 1;
+        }
+        self.count_sent(n);
+        n
     }
 
     /// Whether the RX queue has room for another byte. A board whose UART can hold bytes back

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use aeolus_proto::FLAG;
 use clap::Args;
-use embedded_hal_nb::serial::{ErrorType, Read, Write};
+use embedded_io::{ErrorType, Read, ReadReady, Write, WriteReady};
 use sensor_box::aeolus_link::{AeolusLink, LinkCounters};
 use sensor_box::telemetry::Kind;
 use sensor_box::{Persisted, Settings, Shared};
@@ -88,14 +88,46 @@ impl ErrorType for DatagramPort {
     type Error = Infallible;
 }
 
-impl Read<u8> for DatagramPort {
-    fn read(&mut self) -> nb::Result<u8, Infallible> {
-        self.rx.pop_front().ok_or(nb::Error::WouldBlock)
+impl ReadReady for DatagramPort {
+    fn read_ready(&mut self) -> std::result::Result<bool, Infallible> {
+        Ok(!self.rx.is_empty())
     }
 }
 
-impl Write<u8> for DatagramPort {
-    fn write(&mut self, byte: u8) -> nb::Result<(), Infallible> {
+impl Read for DatagramPort {
+    /// What was received, as much as fits; the link only reads when [`ReadReady`] said so
+    /// (with nothing received this returns 0 rather than wait: nothing more would come).
+    fn read(&mut self, buf: &mut [u8]) -> std::result::Result<usize, Infallible> {
+        let n = buf.len().min(self.rx.len());
+        for (slot, byte) in buf.iter_mut().zip(self.rx.drain(..n)) {
+            *slot = byte;
+        }
+        Ok(n)
+    }
+}
+
+impl WriteReady for DatagramPort {
+    fn write_ready(&mut self) -> std::result::Result<bool, Infallible> {
+        Ok(true)
+    }
+}
+
+impl Write for DatagramPort {
+    fn write(&mut self, bytes: &[u8]) -> std::result::Result<usize, Infallible> {
+        for &byte in bytes {
+            self.push(byte);
+        }
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::result::Result<(), Infallible> {
+        Ok(())
+    }
+}
+
+impl DatagramPort {
+    /// Cuts the output into frames at the flags.
+    fn push(&mut self, byte: u8) {
         // The link writes whole frames, each with its opening and closing flag, and escapes
         // every 0x7E inside: so flags alternate between opening and closing.
         if byte == FLAG {
@@ -110,11 +142,6 @@ impl Write<u8> for DatagramPort {
         } else if self.in_frame {
             self.frame.push(byte);
         }
-        Ok(())
-    }
-
-    fn flush(&mut self) -> nb::Result<(), Infallible> {
-        Ok(())
     }
 }
 

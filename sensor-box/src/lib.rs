@@ -1,7 +1,8 @@
 //! The sensor box's behaviour: AEOLUS telemetry on UART0, AYDP on UART1, AOK on UART2.
 //!
 //! This crate is the box, without a board: it is generic over the serial ports
-//! (`embedded_hal_nb::serial::{Read, Write}`), a flash store
+//! (`embedded_io::{Read, ReadReady, Write, WriteReady}`, used without waiting: see [`port`]),
+//! a flash store
 //! (`embedded_storage::nor_flash::NorFlash`) and the time (`now_ms`, passed in), so the same
 //! code runs on every board (`firmware-example`'s QEMU and STM32F411 boards, `firmware-embassy`),
 //! in `protolink sim` on the desk, and in host tests with in-memory ports and a simulated clock.
@@ -14,6 +15,8 @@
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
+//! - [`port`]: reading received bytes in slices and queueing whole frames for transmit, the
+//!   same way on every link.
 //! - [`budget`]: where the CPU goes (per-category accounting, feature `cpu-budget`).
 //! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
 //!   (feature `defmt`) and compile to nothing on the host.
@@ -33,12 +36,13 @@ pub mod aydp_link;
 pub mod budget;
 pub mod log;
 pub mod persist;
+pub mod port;
 pub mod state;
 pub mod telemetry;
 
 pub use state::{Persisted, Settings, Shared};
 
-use embedded_hal_nb::serial::{Read, Write};
+use embedded_io::{Read, ReadReady, Write, WriteReady};
 use embedded_storage::nor_flash::NorFlash;
 
 /// Re-exported for the logging macros; not part of the API.
@@ -94,9 +98,9 @@ impl App {
         flash: &mut F,
     ) -> Control
     where
-        U0: Read<u8> + Write<u8>,
-        U1: Read<u8> + Write<u8>,
-        U2: Read<u8> + Write<u8>,
+        U0: Read + ReadReady + Write + WriteReady,
+        U1: Read + ReadReady + Write + WriteReady,
+        U2: Read + ReadReady + Write + WriteReady,
         F: NorFlash,
     {
         use budget::{Category, span};

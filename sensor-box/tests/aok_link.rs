@@ -1012,8 +1012,8 @@ fn sets_and_waypoints_survive_a_reboot() {
     assert!(!app.shared.requests.store);
     // 63 07: the App asks the main loop for a reset.
     assert_eq!(run(&mut app, &mut uarts, &[0x63, 0x07]).0, Control::Reboot);
-    drop(app);
 
+    // The warm reset: a new App from the same flash.
     let app = App::new(&mut flash, 0);
     assert_eq!(app.shared.persisted.aok.start_set, 3);
     assert_eq!(app.aok.parameters()[17], 1234);

@@ -528,7 +528,6 @@ fn settings_stored_by_the_app_come_back_after_a_reboot() {
     poll_app(&mut app, &mut flash);
     assert!(!app.shared.requests.store);
     assert_eq!(app.shared.counters.store_failures, 0);
-    drop(app);
 
     // Warm reset: the flash survives, the App starts again.
     let app = App::new(&mut flash, 0);

@@ -251,12 +251,10 @@ fn service(index: usize) {
         }
         budget::leave(previous);
         let previous = budget::enter(Category::TxIrq);
-        while read_volatile(reg(base, FR)) & FR_TXFF == 0 {
-            match isr.next_to_send() {
-                Some(b) => write_volatile(reg(base, DR), u32::from(b)),
-                None => break,
-            }
-        }
+        isr.send_while(
+            || read_volatile(reg(base, FR)) & FR_TXFF == 0,
+            |b| write_volatile(reg(base, DR), u32::from(b)),
+        );
         let tx = if isr.tx_pending() { INT_TX } else { 0 };
         let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
         write_volatile(reg(base, IMSC), rx | tx);

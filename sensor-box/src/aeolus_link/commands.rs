@@ -4,8 +4,8 @@
 use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
 use aeolus_proto::message::{SetTime, Text, id};
-use aeolus_proto::{Frame, TEXT_CAPACITY};
-use embedded_hal_nb::serial::Read;
+use aeolus_proto::{FLAG, Frame, TEXT_CAPACITY};
+use embedded_io::{Read, ReadReady};
 
 /// What a received frame asks for, copied out of the deframer's buffer.
 pub(super) enum Incoming {
@@ -16,32 +16,49 @@ pub(super) enum Incoming {
 }
 
 impl AeolusLink {
-    pub(super) fn receive<P: Read<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
-        for _ in 0..RX_BUDGET {
-            // A byte is read only while the longest answer it could complete still fits: when
-            // the host reads slowly and TX backs up, received bytes wait in the port (and the
-            // UART) instead of their answers being dropped.
+    /// Reads what the port has received (at most [`RX_BUDGET`] bytes, a slice per read) and
+    /// acts on every frame it completes.
+    pub(super) fn receive<P: Read + ReadReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
+        let mut budget = RX_BUDGET;
+        loop {
+            // A byte is decoded only while the longest answer it could complete still fits:
+            // when the host reads slowly and TX backs up, received bytes wait in the port (and
+            // the UART) instead of their answers being dropped; the rest of a read waits in
+            // `self.rx`.
             if TX_QUEUE - self.tx.len() < FRAME_BUF {
                 break;
             }
-            match port.read() {
-                Ok(byte) => {
-                    let incoming = self.deframe(byte);
-                    self.handle(incoming, now_ms, shared);
+            match self.rx.refill(port, budget) {
+                Ok(n) => budget = budget.saturating_sub(n),
+                Err(_) => {
+                    bump(&mut self.counters.port_errors);
+                    break;
                 }
-                Err(nb::Error::WouldBlock) => break,
-                Err(nb::Error::Other(_)) => bump(&mut self.counters.port_errors),
             }
+            // Up to and including the next flag: only a flag ends a frame (and so queues an
+            // answer), so the room is checked again before every frame's last byte, exactly as
+            // if the bytes came one at a time. A piece holds at most one flag, so it completes
+            // at most one frame; the deframer's other events are errors, only counted.
+            let pending = self.rx.pending();
+            let Some(len) = piece_len(pending) else {
+                break;
+            };
+            let mut incoming_frame = None;
+            let mut errors = 0u32;
+            self.deframer
+                .feed(pending.get(..len).unwrap_or(&[]), |event| match event {
+                    Ok(frame) => incoming_frame = Some(incoming(&frame)),
+                    Err(_) => errors = errors.wrapping_add(1),
+                });
+            self.rx.consume(len);
+            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(errors);
+            self.handle(incoming_frame, now_ms, shared);
         }
-    }
-
-    /// Feeds one byte to the deframer; what a completed frame asks for, if any. Only the two
-    /// messages the box acts on are parsed (the others' parsers stay out of the firmware).
-    fn deframe(&mut self, byte: u8) -> Option<Incoming> {
-        let Ok(frame) = self.deframer.push(byte)? else {
-            return Some(Incoming::Error);
-        };
-        Some(incoming(&frame))
     }
 
     pub(super) fn handle(&mut self, incoming: Option<Incoming>, now_ms: u64, shared: &mut Shared) {
@@ -102,6 +119,20 @@ impl AeolusLink {
         shared.wall_clock = Some((time, now_ms));
         bump(&mut self.counters.settime);
     }
+}
+
+/// The length of the first piece of `pending`: up to and including its first flag, or all of
+/// it; `None` when nothing is pending.
+fn piece_len(pending: &[u8]) -> Option<usize> {
+    if pending.is_empty() {
+        return None;
+    }
+    Some(
+        pending
+            .iter()
+            .position(|&b| b == FLAG)
+            .map_or(pending.len(), |i| i + 1),
+    )
 }
 
 /// What a good frame asks for. Only the two messages the box acts on are parsed.

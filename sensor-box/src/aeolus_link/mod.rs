@@ -3,8 +3,9 @@
 //! Every [`AeolusLink::poll`] does three things, in this order, and never waits (a command
 //! acts on the telemetry of the same millisecond; [`RX_BUDGET`] bounds what RX may cost first):
 //!
-//! 1. **RX**: reads every byte the port has (up to [`RX_BUDGET`]) into an
-//!    [`aeolus_proto::Decoder`] and acts on each complete frame:
+//! 1. **RX**: reads what the port has received (up to [`RX_BUDGET`] bytes, in reads of up to
+//!    [`RX_CHUNK`](crate::port::RX_CHUNK)), feeds it to an [`aeolus_proto::Decoder`] by
+//!    slice (`feed`), and acts on each complete frame:
 //!    * COMMAND `"a pause"`: telemetry stops ([`Shared::paused`]), TOAST `"AEOLUS paused"`;
 //!    * COMMAND `"a resume"`: telemetry starts over, TOAST `"AEOLUS resumed"`;
 //!    * COMMAND `"a reboot"`: TOAST `"AEOLUS rebooting"`, then [`Requests::reboot`] asks the
@@ -16,16 +17,17 @@
 //! 2. **Telemetry**: unless paused, the [`Kind`]s the [`Telemetry`] schedule says are due are
 //!    built from the simulated flight at `now_ms` and encoded into the TX queue.
 //! 3. **TX**: the TX queue (whole encoded frames, [`TX_QUEUE`] bytes) is drained into the port
-//!    with non-blocking writes, after each frame queued and at the end of the poll, until the
-//!    port says `WouldBlock`; the rest waits for the next poll. So a slow UART never stalls
+//!    with non-blocking writes of slices, after each frame queued and at the end of the poll,
+//!    until the port has no room (`write_ready()` is `false`); the rest waits for the next poll. So a slow UART never stalls
 //!    the decoders: one poll costs at most the encoding of the frames due now and the copy of
 //!    what the port accepts.
 //!
 //! A frame that does not fit in the queue is dropped whole (counted in
 //! [`LinkCounters::tx_dropped`]), never cut; telemetry leaves [`TX_RESERVE`] bytes free so
-//! that answers (TOASTs) still fit when the UART cannot keep up, and RX reads a byte only
+//! that answers (TOASTs) still fit when the UART cannot keep up, and RX decodes a byte only
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
-//! slowly the other side reads (the bytes wait in the port instead).
+//! slowly the other side reads (the bytes wait in the port instead, and the rest of a read
+//! that was cut short waits in the link, see [`Received`](crate::port::Received)).
 //!
 //! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
 //! UART0 receives (deframing, COMMAND, SETTIME).
@@ -34,7 +36,6 @@
 //!
 //! ```
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
-//! use embedded_hal_nb::serial::Write;
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
 //! use heapless::spsc::Queue;
@@ -73,12 +74,12 @@ mod commands;
 
 use crate::Shared;
 use crate::budget::{Category, span};
+use crate::port::{Received, TxQueue};
 use crate::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use commands::{Incoming, incoming};
-use embedded_hal_nb::serial::{Read, Write};
-use heapless::Deque;
+use embedded_io::{Read, ReadReady, Write, WriteReady};
 
 /// Bytes of encoded frames the link queues for TX, in front of the port's own queue (512
 /// bytes on both boards). Each frame is handed to the port as soon as it is queued, so this
@@ -90,8 +91,8 @@ pub const TX_QUEUE: usize = 512;
 /// Queue bytes telemetry leaves free for answers: one longest TOAST.
 pub const TX_RESERVE: usize = FRAME_BUF;
 
-/// The most bytes one poll reads. The boards' RX queues hold 255 bytes, so one poll
-/// empties them; the bound keeps a port that never runs dry (a flood) from starving the
+/// The most bytes one poll reads from the port. The boards' RX queues hold 255 bytes, so one
+/// poll empties them (bytes of an earlier read that were held back are decoded first, on top); the bound keeps a port that never runs dry (a flood) from starving the
 /// others and the schedule: 256 bytes are about 2.8 ms of UART0 at 921 600 Bd, and decoding
 /// them takes well under a millisecond of a 50 MHz Cortex-M3 (`docs/BENCHMARKS.md`,
 /// "Firmware CPU budget"). What a flood sends beyond that waits in the port, or is dropped
@@ -155,7 +156,9 @@ impl LinkCounters {
 pub struct AeolusLink {
     telemetry: Telemetry,
     deframer: Decoder<RX_FRAME>,
-    tx: Deque<u8, TX_QUEUE>,
+    /// Read from the port, not yet decoded (the TX queue had no room for one more answer).
+    rx: Received,
+    tx: TxQueue<TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
     /// The millisecond the schedule was last run for: the main loop polls many times a
@@ -178,7 +181,8 @@ impl AeolusLink {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
             deframer: Decoder::new(),
-            tx: Deque::new(),
+            rx: Received::new(),
+            tx: TxQueue::new(),
             was_paused: false,
             scheduled_ms: None,
             counters: LinkCounters::default(),
@@ -188,7 +192,7 @@ impl AeolusLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Read<u8> + Write<u8>>(
+    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -215,14 +219,14 @@ impl AeolusLink {
     /// assert_eq!(link.tx_pending(), 0); // the boot TOAST and every kind went to the port
     /// assert_eq!(link.counters().telemetry_total(), 10);
     /// ```
-    pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
         span(Category::TxQueue, || {
             drain(&mut self.tx, port, &mut self.counters)
         });
     }
 
-    fn queue_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    fn queue_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         if self.scheduled_ms.replace(now_ms) == Some(now_ms) && !shared.paused && !self.was_paused {
             return;
         }
@@ -297,7 +301,7 @@ impl AeolusLink {
 
     /// Builds and queues the telemetry due at `now_ms`: one flight state for the messages that
     /// move with time, the flight's steady values for the others ([`Shared::steady_state`]).
-    fn send_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    fn send_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         let intervals = shared.settings().intervals;
         let AeolusLink {
             telemetry,
@@ -341,36 +345,27 @@ impl AeolusLink {
     }
 }
 
-/// Moves queued bytes into the port until it would block.
-fn drain<P: Write<u8>>(tx: &mut Deque<u8, TX_QUEUE>, port: &mut P, counters: &mut LinkCounters) {
-    while let Some(&byte) = tx.front() {
-        match port.write(byte) {
-            Ok(()) => {
-                tx.pop_front();
-            }
-            Err(nb::Error::WouldBlock) => break,
-            Err(nb::Error::Other(_)) => {
-                bump(&mut counters.port_errors);
-                break;
-            }
-        }
+/// Moves queued bytes into the port, a slice per write, until it has no room.
+fn drain<P: Write + WriteReady>(
+    tx: &mut TxQueue<TX_QUEUE>,
+    port: &mut P,
+    counters: &mut LinkCounters,
+) {
+    if tx.drain(port).is_err() {
+        bump(&mut counters.port_errors);
     }
 }
 
 /// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare.
-fn enqueue(tx: &mut Deque<u8, TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> bool {
+fn enqueue(tx: &mut TxQueue<TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> bool {
     let mut buf = [0u8; FRAME_BUF];
     let Ok(n) = msg.encode(&mut buf, CrcMode::Compute) else {
         return false;
     };
-    let free = TX_QUEUE.saturating_sub(tx.len());
-    if free < n.saturating_add(reserve) {
+    if tx.free() < n.saturating_add(reserve) {
         return false;
     }
-    buf.get(..n)
-        .unwrap_or(&[])
-        .iter()
-        .all(|&b| tx.push_back(b).is_ok())
+    tx.push(buf.get(..n).unwrap_or(&[]))
 }
 
 fn bump(counter: &mut u32) {

@@ -10,32 +10,41 @@ use aok_proto::message::HEADED_REPLY_LEN;
 use aok_proto::{
     Ack, ActionWord, Command, Error as AokError, ParameterValue, Waypoint, WaypointSlot, device,
 };
-use embedded_hal_nb::serial::Read;
+use embedded_io::{Read, ReadReady};
 
 impl AokLink {
     /// Decodes received bytes while the TX queue has room for the longest reply (otherwise
-    /// the bytes wait in the port's RX queue: back-pressure instead of lost replies).
-    pub(super) fn receive<P: Read<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
+    /// the bytes wait in the port's RX queue, and the rest of a read in `self.rx`:
+    /// back-pressure instead of lost replies). The port is read a slice at a time (at most
+    /// [`RX_BUDGET`] bytes a poll); the decoder is fed byte by byte (`push`), because the
+    /// link's TX queue holds one longest reply (a bulk read's 112 bytes from a 2-byte command),
+    /// so the room must be checked after every byte, which the slice path (`feed`) cannot do.
+    pub(super) fn receive<P: Read + ReadReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+    ) {
         let mut budget = RX_BUDGET;
         let mut port_empty = false;
-        while budget > 0 && self.tx_free() >= MAX_REPLY {
-            budget = budget.saturating_sub(1);
-            match port.read() {
-                Ok(byte) => {
-                    self.last_rx_ms = now_ms;
-                    let mut event = self.decoder.push(byte);
-                    while let Some(item) = event {
-                        self.handle(item, now_ms, shared);
-                        event = self.decoder.poll();
-                    }
-                }
-                Err(nb::Error::WouldBlock) => {
-                    port_empty = true;
+        while self.tx_free() >= MAX_REPLY {
+            match self.rx.refill(port, budget) {
+                Ok(n) => budget = budget.saturating_sub(n),
+                Err(_) => {
+                    self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
                     break;
                 }
-                Err(nb::Error::Other(_)) => {
-                    self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
-                }
+            }
+            let Some(&byte) = self.rx.pending().first() else {
+                port_empty = budget > 0;
+                break;
+            };
+            self.rx.consume(1);
+            self.last_rx_ms = now_ms;
+            let mut event = self.decoder.push(byte);
+            while let Some(item) = event {
+                self.handle(item, now_ms, shared);
+                event = self.decoder.poll();
             }
         }
         // Silence only counts when the port has nothing more: bytes held back in its RX queue

@@ -3,7 +3,7 @@
 //! [`AokLink::poll`] reads the commands the PC sends (through `aok_proto`'s [`DeviceDecoder`]),
 //! answers them, and sends the debug value stream. Nothing in it blocks: replies go into a
 //! small TX queue of [`TX_CAPACITY`] bytes which is handed to the port with non-blocking
-//! writes, and a debug frame is only built when that queue is empty, so a reply never waits
+//! writes of slices, and a debug frame is only built when that queue is empty, so a reply never waits
 //! behind more than one debug frame.
 //!
 //! What the link holds:
@@ -56,11 +56,11 @@ mod waypoints;
 pub use debug::{DebugId, STATUS_EXTERNAL, STATUS_FLYING, STATUS_MOTOR_TEST};
 
 use crate::Shared;
+use crate::port::{Received, TxQueue};
 use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::HEADED_REPLY_LEN;
 use aok_proto::{Ack, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
-use embedded_hal_nb::serial::{Read, Write};
-use heapless::Deque;
+use embedded_io::{Read, ReadReady, Write, WriteReady};
 
 /// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
 /// (>= 0.31) form `FF NUM B1..B4 CRC` and bulk read (`47`, >= 0.35) is supported.
@@ -84,7 +84,7 @@ pub const IDLE_MS: u64 = 50;
 pub const TX_CAPACITY: usize = 128;
 /// The longest reply one command produces: the 16 frames of a bulk read.
 const MAX_REPLY: usize = HEADED_REPLY_LEN * 16;
-/// At most this many received bytes are decoded per poll, so one poll stays short.
+/// At most this many received bytes are read from the port per poll, so one poll stays short.
 pub const RX_BUDGET: usize = 64;
 
 /// Who steers the (simulated) aircraft.
@@ -144,7 +144,9 @@ struct External {
 /// The AOK link.
 pub struct AokLink {
     decoder: DeviceDecoder,
-    tx: Deque<u8, TX_CAPACITY>,
+    /// Read from the port, not yet decoded (the TX queue had no room for one more reply).
+    rx: Received,
+    tx: TxQueue<TX_CAPACITY>,
     debug_on: bool,
     next_debug_ms: u64,
     debug_index: usize,
@@ -175,7 +177,8 @@ impl AokLink {
         };
         let mut link = AokLink {
             decoder: DeviceDecoder::new(),
-            tx: Deque::new(),
+            rx: Received::new(),
+            tx: TxQueue::new(),
             debug_on: true,
             next_debug_ms: 0,
             debug_index: 0,
@@ -193,7 +196,7 @@ impl AokLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Read<u8> + Write<u8>>(
+    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -252,35 +255,22 @@ impl AokLink {
         self.tx.len()
     }
 
-    /// Hands queued bytes to the port until it would block.
-    fn flush<P: Write<u8>>(&mut self, port: &mut P) {
-        while let Some(&byte) = self.tx.front() {
-            match port.write(byte) {
-                Ok(()) => {
-                    let _ = self.tx.pop_front();
-                }
-                Err(nb::Error::WouldBlock) => break,
-                Err(nb::Error::Other(_)) => {
-                    self.counters.tx_errors = self.counters.tx_errors.wrapping_add(1);
-                    break;
-                }
-            }
+    /// Hands queued bytes to the port, a slice per write, until it has no room.
+    fn flush<P: Write + WriteReady>(&mut self, port: &mut P) {
+        if self.tx.drain(port).is_err() {
+            self.counters.tx_errors = self.counters.tx_errors.wrapping_add(1);
         }
     }
 
     fn tx_free(&self) -> usize {
-        TX_CAPACITY.saturating_sub(self.tx.len())
+        self.tx.free()
     }
 
     /// Queues a whole reply, or drops it (counted) when it does not fit.
     fn queue(&mut self, bytes: &[u8]) {
-        if self.tx_free() < bytes.len() {
+        if !self.tx.push(bytes) {
             crate::warn!("AOK: TX queue full, reply dropped");
             self.counters.replies_dropped = self.counters.replies_dropped.wrapping_add(1);
-            return;
-        }
-        for &b in bytes {
-            let _ = self.tx.push_back(b);
         }
     }
 

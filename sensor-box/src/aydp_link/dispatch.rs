@@ -7,10 +7,10 @@ use super::registry::View;
 use crate::Shared;
 use aydp_proto::registry::Registry;
 use aydp_proto::{Frame, Message, Stats, SystemControl, SystemValueUpdate, Timestamp};
-use embedded_hal_nb::serial::Write;
+use embedded_io::{Write, WriteReady};
 
 impl Ctx {
-    pub(super) fn handle<P: Write<u8>>(
+    pub(super) fn handle<P: Write + WriteReady>(
         &mut self,
         frame: &Frame<'_>,
         stats: &Stats,
@@ -71,7 +71,7 @@ impl Ctx {
         }
     }
 
-    fn request<P: Write<u8>>(
+    fn request<P: Write + WriteReady>(
         &mut self,
         address: u16,
         ts: Option<Timestamp>,

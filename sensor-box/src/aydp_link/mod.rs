@@ -3,8 +3,11 @@
 //!
 //! # What arrives
 //!
-//! Every received byte goes through an [`aydp_proto::Decoder`]; every event it yields (a
-//! rescan can yield several per byte) is handled:
+//! The port is read a slice at a time (up to [`RX_CHUNK`](crate::port::RX_CHUNK) bytes, at
+//! most [`RX_BUDGET`] a poll). Every received byte goes through an [`aydp_proto::Decoder`]
+//! by `push`, not the slice path `feed`: a request for [`addr::LINK_COUNTERS`] reports the
+//! decoder's counters as of before the byte that completed it, which only the per-byte path
+//! can read. Every event it yields (a rescan can yield several per byte) is handled:
 //!
 //! * **System value update** (8), all three modes: applied through an
 //!   [`aydp_proto::registry::Registry`] built over [`Shared`] (the addresses in [`addr`]).
@@ -61,13 +64,19 @@
 //!
 //! /// A port that takes nothing in and keeps what goes out.
 //! struct Wire(Vec<u8>);
-//! impl embedded_hal_nb::serial::ErrorType for Wire { type Error = core::convert::Infallible; }
-//! impl embedded_hal_nb::serial::Read<u8> for Wire {
-//!     fn read(&mut self) -> nb::Result<u8, Self::Error> { Err(nb::Error::WouldBlock) }
+//! impl embedded_io::ErrorType for Wire { type Error = core::convert::Infallible; }
+//! impl embedded_io::ReadReady for Wire {
+//!     fn read_ready(&mut self) -> Result<bool, Self::Error> { Ok(false) }
 //! }
-//! impl embedded_hal_nb::serial::Write<u8> for Wire {
-//!     fn write(&mut self, b: u8) -> nb::Result<(), Self::Error> { self.0.push(b); Ok(()) }
-//!     fn flush(&mut self) -> nb::Result<(), Self::Error> { Ok(()) }
+//! impl embedded_io::Read for Wire {
+//!     fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> { Ok(0) }
+//! }
+//! impl embedded_io::WriteReady for Wire {
+//!     fn write_ready(&mut self) -> Result<bool, Self::Error> { Ok(true) }
+//! }
+//! impl embedded_io::Write for Wire {
+//!     fn write(&mut self, b: &[u8]) -> Result<usize, Self::Error> { self.0.extend_from_slice(b); Ok(b.len()) }
+//!     fn flush(&mut self) -> Result<(), Self::Error> { Ok(()) }
 //! }
 //!
 //! let mut shared = Shared::new(Persisted::default(), 0);
@@ -88,8 +97,9 @@ pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
 pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
 
 use crate::Shared;
+use crate::port::RX_CHUNK;
 use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats};
-use embedded_hal_nb::serial::{Read, Write};
+use embedded_io::{Read, ReadReady, Write, WriteReady};
 
 /// Longest message the link accepts, bytes. The largest the box expects is a direct output
 /// of 8 channels (22 + 2 + 48 + 1 = 73 bytes, normal); 128 leaves room for 17 entries.
@@ -100,7 +110,7 @@ pub const HEARTBEAT_PERIOD_MS: u64 = 1000;
 pub const NAV_PERIOD_MS: u64 = 1000;
 /// Most received bytes handled per poll (keeps one poll short under a flood).
 pub const RX_BUDGET: usize = 256;
-/// Tries per byte while the TX queue is full before the rest of a message is dropped.
+/// Tries while the TX queue is full (no byte taken) before the rest of a message is dropped.
 const TX_SPIN: u32 = 10_000;
 
 /// What the link counted. All counters wrap.
@@ -201,23 +211,33 @@ impl AydpLink {
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
     ///
     /// See the [module documentation](self) for an example.
-    pub fn poll<P: Read<u8> + Write<u8>>(
+    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
         shared: &mut Shared,
     ) {
-        for _ in 0..RX_BUDGET {
-            let Ok(byte) = port.read() else { break };
-            // The counters as of before this byte: what 0x0300 reports to a request it ends.
-            let stats = self.decoder.stats();
-            let mut event = self.decoder.push(byte);
-            while let Some(ev) = event {
-                match ev {
-                    Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, port, shared),
-                    Err(e) => crate::debug!("AYDP: dropped a candidate: {}", e),
+        let mut budget = RX_BUDGET;
+        // Asked first, so an idle poll does not clear the buffer.
+        while budget > 0 && port.read_ready().unwrap_or(false) {
+            let mut buf = [0u8; RX_CHUNK];
+            let chunk = buf.get_mut(..budget.min(RX_CHUNK)).unwrap_or(&mut []);
+            let n = match port.read(chunk) {
+                Ok(n) if n > 0 => n.min(chunk.len()),
+                _ => break,
+            };
+            budget = budget.saturating_sub(n);
+            for &byte in chunk.get(..n).unwrap_or(&[]) {
+                // The counters as of before this byte: what 0x0300 reports to a request it ends.
+                let stats = self.decoder.stats();
+                let mut event = self.decoder.push(byte);
+                while let Some(ev) = event {
+                    match ev {
+                        Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, port, shared),
+                        Err(e) => crate::debug!("AYDP: dropped a candidate: {}", e),
+                    }
+                    event = self.decoder.poll();
                 }
-                event = self.decoder.poll();
             }
         }
         self.ctx.send_due(now_ms, port, shared);
@@ -251,7 +271,7 @@ impl AydpLink {
     /// assert_eq!(link.counters().requests_answered, 1);
     /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
     /// ```
-    pub fn handle_frame<P: Write<u8>>(
+    pub fn handle_frame<P: Write + WriteReady>(
         &mut self,
         frame: &Frame<'_>,
         stats: &Stats,
@@ -277,7 +297,7 @@ impl AydpLink {
     /// let sent = core::iter::from_fn(|| isr.next_to_send()).count();
     /// assert_eq!(sent, 7 + 43 + 31); // heartbeat, position, fix quality
     /// ```
-    pub fn poll_tx<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
         self.ctx.send_due(now_ms, port, shared);
     }
 }

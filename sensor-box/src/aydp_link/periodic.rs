@@ -4,7 +4,7 @@
 use super::{Ctx, HEARTBEAT_PERIOD_MS, LinkCounters, NAV_PERIOD_MS, TX_SPIN};
 use crate::Shared;
 use aydp_proto::{Encoder, FixQuality, Message, Payload, Position, Timestamp};
-use embedded_hal_nb::serial::Write;
+use embedded_io::{Write, WriteReady};
 
 /// The fix quality the simulated GPS reports (3D fix, 10 satellites).
 pub const FIX_QUALITY: FixQuality = FixQuality {
@@ -24,7 +24,12 @@ fn next_due(due: u64, now: u64, period: u64) -> u64 {
 }
 
 impl Ctx {
-    pub(super) fn send_due<P: Write<u8>>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    pub(super) fn send_due<P: Write + WriteReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &Shared,
+    ) {
         if now_ms >= self.next_heartbeat_ms {
             self.next_heartbeat_ms = next_due(self.next_heartbeat_ms, now_ms, HEARTBEAT_PERIOD_MS);
             send(
@@ -50,36 +55,55 @@ impl Ctx {
     }
 }
 
-/// Sends one message (normal with `Some(timestamp)`, expedited with `None`) byte by byte.
-/// While the TX queue is full it retries; if it stays full the rest is dropped and counted.
-pub(super) fn send<P: Write<u8>, M: Payload + ?Sized>(
+/// The longest message the link sends: a registry reply of 64 bytes of value, its address and
+/// mode, in a normal (22-byte header) message, with room to spare.
+const SEND_BUF: usize = 128;
+
+/// Sends one message (normal with `Some(timestamp)`, expedited with `None`): encoded whole,
+/// then handed to the port in slices. While the TX queue is full it retries; if it stays full
+/// the rest is dropped and counted.
+pub(super) fn send<P: Write + WriteReady, M: Payload + ?Sized>(
     encoder: &Encoder,
     counters: &mut LinkCounters,
     port: &mut P,
     message: &M,
     timestamp: Option<Timestamp>,
 ) {
-    let Ok(bytes) = encoder.iter(message, timestamp) else {
+    let mut buf = [0u8; SEND_BUF];
+    let Ok(n) = encoder.encode(message, timestamp, &mut buf) else {
         return;
     };
-    for b in bytes {
-        if !write_byte(port, b) {
-            counters.tx_dropped = counters.tx_dropped.wrapping_add(1);
-            crate::warn!("AYDP: TX queue full, message dropped");
-            return;
-        }
+    if !write_all(port, buf.get(..n).unwrap_or(&[])) {
+        counters.tx_dropped = counters.tx_dropped.wrapping_add(1);
+        crate::warn!("AYDP: TX queue full, message dropped");
     }
 }
 
-fn write_byte<P: Write<u8>>(port: &mut P, byte: u8) -> bool {
-    for _ in 0..TX_SPIN {
-        match port.write(byte) {
-            Ok(()) => return true,
-            Err(nb::Error::WouldBlock) => {}
-            Err(nb::Error::Other(_)) => return false,
+/// Writes all of `bytes`, trying [`TX_SPIN`] times for room each time the port has none;
+/// `false` when it stayed full or reported an error.
+fn write_all<P: Write + WriteReady>(port: &mut P, mut bytes: &[u8]) -> bool {
+    let mut tries = 0;
+    while !bytes.is_empty() {
+        match port.write_ready() {
+            Ok(true) => {
+                let Ok(n) = port.write(bytes) else {
+                    return false;
+                };
+                if n > 0 {
+                    bytes = bytes.get(n..).unwrap_or(&[]);
+                    tries = 0;
+                    continue;
+                }
+            }
+            Ok(false) => {}
+            Err(_) => return false,
+        }
+        tries += 1;
+        if tries >= TX_SPIN {
+            return false;
         }
     }
-    false
+    true
 }
 
 /// The header time of a normal message at `now_ms`: the wall clock of the last SETTIME plus
