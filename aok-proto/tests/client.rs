@@ -495,3 +495,23 @@ fn serial_errors_are_reported() {
     assert!(c.is_idle());
     assert!(c.stats().read_errors > 0);
 }
+
+#[test]
+fn the_client_is_busy_from_start_to_outcome_and_idle_after() {
+    let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
+    assert!(c.is_idle());
+    c.start(Command::ReadParameter(12)).unwrap();
+    assert!(!c.is_idle());
+    // A second operation is refused while the first runs.
+    assert!(c.start(Command::ReadParameter(13)).is_err());
+    let mut now = clock();
+    let outcome = loop {
+        match c.poll(now()) {
+            Ok(o) => break o,
+            Err(nb::Error::WouldBlock) => assert!(!c.is_idle()),
+            Err(nb::Error::Other(e)) => panic!("{e:?}"),
+        }
+    };
+    assert!(matches!(outcome, Outcome::Parameter(p) if p.number == 12));
+    assert!(c.is_idle());
+}
