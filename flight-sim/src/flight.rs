@@ -221,8 +221,9 @@ pub struct Flight {
     /// Body rates and specific force: constant in a coordinated turn.
     gyro: [f32; 3],
     accel: [f32; 3],
-    /// Start heading, angle units (2^32 = one turn).
+    /// Start heading, angle units (2^32 = one turn), and its sine and cosine, Q30.
     heading0: u32,
+    heading0_sin_cos: (i32, i32),
     /// Heading change per millisecond, 2^-64 turn (two's complement: negative turns left).
     turn_per_ms: u64,
     /// Until this time (ms) the turn has not reached half a circle: the chord is computed
@@ -332,6 +333,7 @@ impl Flight {
             // Centripetal V·ω = g·tan φ plus gravity, in body axes: (0, 0, -g / cos φ).
             accel: [0.0, 0.0, -G / cos_bank],
             heading0,
+            heading0_sin_cos: turn::sin_cos(heading0),
             turn_per_ms,
             first_half_turn_ms,
             bank_sin_cos,
@@ -409,10 +411,12 @@ impl Flight {
         let yaw = self.heading0.wrapping_add((turned >> 32) as u32);
         // α = Δψ/2 in quarter turns, Q30 (which is also angle units).
         let half = (turned >> 33) as i32;
-        let (sin_yaw, cos_yaw) = turn::sin_cos(yaw);
+        // The yaw's half angle (for the quaternion), and the yaw from it.
+        let (sin_half_yaw, cos_half_yaw) = turn::sin_cos(yaw >> 1);
+        let sin_yaw = 2 * mul(sin_half_yaw, cos_half_yaw);
+        let cos_yaw = turn::dot(cos_half_yaw, cos_half_yaw, -sin_half_yaw, sin_half_yaw);
 
         // q = qz(ψ) ⊗ qx(φ) (pitch 0), w >= 0.
-        let (sin_half_yaw, cos_half_yaw) = turn::sin_cos(yaw >> 1);
         let (sr, cr) = self.half_bank_sin_cos;
         let sign = if cos_half_yaw < 0 { -1 } else { 1 };
         let [x, y, z, w] = [
@@ -437,8 +441,11 @@ impl Flight {
 
         // Position: the chord of the arc, 2·r·sin α along the mean heading ψ0 + α, plus the
         // drift.
-        let (sinc, _) = turn::poly(half);
-        let (sin_dir, cos_dir) = turn::sin_cos(self.heading0.wrapping_add(half as u32));
+        let (sinc, cos_half) = turn::poly(half);
+        let sin_half = mul(half, sinc);
+        let (sin_h0, cos_h0) = self.heading0_sin_cos;
+        let sin_dir = turn::dot(sin_h0, cos_half, cos_h0, sin_half);
+        let cos_dir = turn::dot(cos_h0, cos_half, -sin_h0, sin_half);
         let (along, k) = if t_ms < self.first_half_turn_ms {
             (turn::to_f32(t_ms as i64, 0), &self.chord_by_time)
         } else {

@@ -130,12 +130,14 @@ pub(crate) fn atan2_hypot(y: i32, x: i32, frac_bits: i32) -> (u32, f32) {
         return (0, 0.0);
     }
     // Scale so that the larger component is in [2^28, 2^29): the steps grow the vector by
-    // at most √2 · 1.65, which stays below 2^31, and the rounding of the shifts stays small.
+    // at most √2 · 1.65, which stays below 2^31 (i32 arithmetic: on a 32-bit core a 64-bit
+    // shift by a variable amount costs ten instructions), and the shifts' rounding stays
+    // small.
     let shift = largest.leading_zeros() as i32 - 3;
     let (mut x, mut y) = if shift >= 0 {
-        (i64::from(x) << shift, i64::from(y) << shift)
+        (x << shift, y << shift)
     } else {
-        (i64::from(x) >> -shift, i64::from(y) >> -shift)
+        (x >> -shift, y >> -shift)
     };
     // Into the right half-plane by a quarter turn, then rotate y to zero.
     let mut angle: u32 = 0;
@@ -154,7 +156,10 @@ pub(crate) fn atan2_hypot(y: i32, x: i32, frac_bits: i32) -> (u32, f32) {
             (x, y, angle) = (x - dx, y + dy, angle.wrapping_sub(step));
         }
     }
-    (angle, to_f32(x * INV_GAIN, 30 + shift + frac_bits))
+    (
+        angle,
+        to_f32(i64::from(x) * INV_GAIN, 30 + shift + frac_bits),
+    )
 }
 
 /// The `f32` nearest to `v · 2^-frac_bits` (ties to even; below the normal range 0,
