@@ -7,6 +7,8 @@ use crate::{Error, G, STANDARD_RATE_RAD_S, atmosphere, geo};
 const DEG: f32 = core::f32::consts::PI / 180.0;
 const DEG_F64: f64 = core::f64::consts::PI / 180.0;
 const TAU_F64: f64 = core::f64::consts::TAU;
+/// 2^64 / 360: longitude units (2^-64 turn) per degree.
+const LON_UNITS_PER_DEG: f64 = 18_446_744_073_709_551_616.0 / 360.0;
 
 /// The Earth's magnetic field at the flight's location, NED components, Gauss.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -238,14 +240,19 @@ pub struct Flight {
     declination: u32,
     /// Airspeed and the wind's north and east components, one fixed-point scale.
     speeds: Fixed3,
-    /// Degrees of latitude and longitude per Q30 unit of `sin α · cos` / `sin` of the chord's
-    /// direction, times the time in ms (before the first half turn) or times `α` in quarter
-    /// turns (after it).
+    /// Degrees of latitude and longitude units (below) per Q30 unit of `sin α · cos` / `sin`
+    /// of the chord's direction, times the time in ms (before the first half turn) or times
+    /// `α` in quarter turns (after it).
     chord_by_time: [f32; 2],
     chord_by_angle: [f32; 2],
-    /// Degrees of latitude and longitude per ms of drift (the wind; and the airspeed when
-    /// the wings are level).
-    drift_deg_per_ms: [f64; 2],
+    /// Degrees of latitude per ms of drift (the wind; and the airspeed when the wings are
+    /// level).
+    lat_drift_deg_per_ms: f64,
+    /// The start longitude and the longitude's drift per ms in 2^-64 turn: the sum wraps
+    /// into [-180°, 180°) by itself, in integers (two `f64` additions and a multiplication
+    /// are about 400 Cortex-M3 instructions).
+    lon0: i64,
+    lon_drift_per_ms: i64,
 }
 
 /// The flight of [`FlightParams::DEFAULT`] (valid by construction; pinned by a test).
@@ -300,6 +307,8 @@ impl Flight {
             1.0 / (geo::EARTH_RADIUS_M * DEG_F64),
             1.0 / (geo::EARTH_RADIUS_M * geo::lon_scale(params.start_lat_deg) * DEG_F64),
         ];
+        // Per metre in the units the state sums: degrees of latitude, 2^-64 turn of longitude.
+        let per_m = [deg_per_m[0], deg_per_m[1] * LON_UNITS_PER_DEG];
         let mut velocity_ne = [f64::from(wind_ne[0]), f64::from(wind_ne[1])];
         let (chord_by_time, chord_by_angle) = if turning {
             // Chord of the arc: 2·r·sin α along the mean heading, α = Δψ/2 = ω·t/2.
@@ -308,8 +317,8 @@ impl Flight {
             let by_time = f64::from(v) / (1000.0 * core::f64::consts::FRAC_PI_2);
             let by_angle = 2.0 * f64::from(v) / f64::from(omega);
             (
-                deg_per_m.map(|k| (by_time * k) as f32),
-                deg_per_m.map(|k| (by_angle * k) as f32),
+                per_m.map(|k| (by_time * k) as f32),
+                per_m.map(|k| (by_angle * k) as f32),
             )
         } else {
             // Wings level: a straight line at the airspeed, along the start heading.
@@ -343,10 +352,12 @@ impl Flight {
             speeds: Fixed3::new([v, wind_ne[0], wind_ne[1]]),
             chord_by_time,
             chord_by_angle,
-            drift_deg_per_ms: [
-                velocity_ne[0] * deg_per_m[0] / 1000.0,
-                velocity_ne[1] * deg_per_m[1] / 1000.0,
-            ],
+            lat_drift_deg_per_ms: velocity_ne[0] * per_m[0] / 1000.0,
+            lon0: {
+                let turns = params.start_lon_deg / 360.0; // [-0.5, 0.5]
+                turn::from_f64(if turns >= 0.5 { turns - 1.0 } else { turns }, 64)
+            },
+            lon_drift_per_ms: turn::from_f64(velocity_ne[1] * per_m[1] / 1000.0, 0),
         }
     }
 
@@ -452,10 +463,13 @@ impl Flight {
             (turn::to_f32(turned, 63), &self.chord_by_angle)
         };
         let north_deg = along * k[0] * q30(mul(sinc, cos_dir));
-        let east_deg = along * k[1] * q30(mul(sinc, sin_dir));
+        let east = (along * k[1] * q30(mul(sinc, sin_dir))) as i64; // 2^-64 turn, saturating
         let time_ms = t_ms as f64;
-        let lat = p.start_lat_deg + f64::from(north_deg) + time_ms * self.drift_deg_per_ms[0];
-        let lon = p.start_lon_deg + f64::from(east_deg) + time_ms * self.drift_deg_per_ms[1];
+        let lat = p.start_lat_deg + f64::from(north_deg) + time_ms * self.lat_drift_deg_per_ms;
+        let lon = self
+            .lon0
+            .wrapping_add(t_ms.wrapping_mul(self.lon_drift_per_ms as u64) as i64)
+            .wrapping_add(east);
 
         // Ground velocity = air velocity + wind.
         let [speed, wind_n, wind_e] = self.speeds.q;
@@ -481,7 +495,8 @@ impl Flight {
             airspeed_mps: p.airspeed_mps,
             oat_celsius: self.oat_c,
             latitude_deg: lat.clamp(-90.0, 90.0),
-            longitude_deg: geo::wrap_lon(lon),
+            // (lon >> 9) · 360 < 2^63: degrees · 2^55.
+            longitude_deg: turn::to_f64((lon >> 9) * 360, 55),
             gps_altitude_m: p.altitude_m,
             ground_speed_mps: ground_speed,
             track_deg: turn::to_deg(track),

@@ -188,6 +188,24 @@ pub(crate) fn to_f32(v: i64, frac_bits: i32) -> f32 {
     f32::from_bits(sign | (((exponent as u32) << 23) + mantissa - (1 << 23)))
 }
 
+/// The `f64` nearest to `v · 2^-frac_bits` (ties to even), for results in the normal range.
+pub(crate) fn to_f64(v: i64, frac_bits: i32) -> f64 {
+    if v == 0 {
+        return 0.0;
+    }
+    let sign = if v < 0 { 1 << 63 } else { 0 };
+    let magnitude = v.unsigned_abs();
+    let zeros = magnitude.leading_zeros();
+    let normalised = magnitude << zeros; // the leading 1 at bit 63
+    let mut mantissa = normalised >> 11; // 53 bits, the leading 1 at bit 52
+    let rest = normalised & 0x7FF;
+    if rest > 0x400 || (rest == 0x400 && mantissa & 1 == 1) {
+        mantissa += 1; // 2^53 carries into the exponent below
+    }
+    let exponent = (63 - zeros as i32 - frac_bits + 1023).clamp(1, 2046) as u64;
+    f64::from_bits(sign | ((exponent << 52) + mantissa - (1 << 52)))
+}
+
 /// 2^k as an `f64`, for |k| < 1000.
 fn pow2(k: i32) -> f64 {
     f64::from_bits(((1023 + k) as u64) << 52)
@@ -346,6 +364,17 @@ mod tests {
         assert_eq!(to_f32((1 << 24) + 1, 0), 16_777_216.0); // tie to even
         assert_eq!(to_f32((1 << 24) + 3, 0), 16_777_220.0);
         assert_eq!(to_f32(1, 200), 0.0);
+        for v in [
+            1i64,
+            -7,
+            360 << 40,
+            (1 << 53) + 1,
+            (1 << 54) + 3,
+            i64::MAX,
+            i64::MIN,
+        ] {
+            assert_eq!(to_f64(v, 55), v as f64 / 36_028_797_018_963_968.0, "{v}");
+        }
         assert_eq!(to_f32(-1, -200), f32::NEG_INFINITY);
     }
 
