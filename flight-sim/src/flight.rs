@@ -201,7 +201,7 @@ pub struct State {
 
 /// A validated flight with its constant quantities precomputed, so that
 /// [`Flight::state`] is cheap: no `libm` call and little floating point per state (the angles
-/// and rotations in fixed point, see below), about 2 000 instructions on a Cortex-M3 without
+/// and rotations in fixed point, README "Cost"), about 3 100 instructions on a Cortex-M3 without
 /// an FPU.
 ///
 /// Roll and pitch are constant in the turn, so everything that depends on them (the gyro,
