@@ -290,11 +290,10 @@ impl Flight {
         let (sin_bank, cos_bank) = (sin_bank as f32, cos_bank as f32);
         let turn_per_ms = turn::from_f64(f64::from(omega) / (TAU_F64 * 1000.0), 64) as u64;
         let turning = turn_per_ms != 0;
-        let first_half_turn_ms = if turning {
-            ((1u64 << 63) / (turn_per_ms as i64).unsigned_abs()).min(1 << 62)
-        } else {
-            1 << 62
-        };
+        // Half a turn is 2^63 units; capped so that the time converts as a positive i64.
+        let first_half_turn_ms = (1u64 << 63)
+            .checked_div((turn_per_ms as i64).unsigned_abs())
+            .map_or(1 << 62, |t| t.min(1 << 62));
 
         let (sin_from, cos_from) = turn::sin_cos(turn::from_deg(f64::from(params.wind_from_deg)));
         let w = params.wind_speed_mps;
