@@ -1,11 +1,14 @@
 //! The coordinated turn: parameters, the precomputed flight and its state.
 
 use crate::attitude::{Euler, Quaternion};
+use crate::turn::{self, Fixed3, mul};
 use crate::{Error, G, STANDARD_RATE_RAD_S, atmosphere, geo};
-use core::f32::consts::PI;
-use libm::{atan2f, cosf, sinf, sqrtf, tanf};
 
-const DEG: f32 = PI / 180.0;
+const DEG: f32 = core::f32::consts::PI / 180.0;
+const DEG_F64: f64 = core::f64::consts::PI / 180.0;
+const TAU_F64: f64 = core::f64::consts::TAU;
+/// 2^64 / 360: longitude units (2^-64 turn) per degree.
+const LON_UNITS_PER_DEG: f64 = 18_446_744_073_709_551_616.0 / 360.0;
 
 /// The Earth's magnetic field at the flight's location, NED components, Gauss.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,7 +39,8 @@ impl EarthField {
     /// assert!((d - 2.726).abs() < 0.01);
     /// ```
     pub fn declination_deg(&self) -> f32 {
-        atan2f(self.east_gauss, self.north_gauss) / DEG
+        let field = Fixed3::new([self.north_gauss, self.east_gauss, self.down_gauss]);
+        turn::to_deg_signed(field_declination(field))
     }
 }
 
@@ -196,21 +200,59 @@ pub struct State {
 }
 
 /// A validated flight with its constant quantities precomputed, so that
-/// [`Flight::state`] is cheap (a few `sinf`/`cosf`, no `powf`).
+/// [`Flight::state`] is cheap: no `libm` call and little floating point per state (the angles
+/// and rotations in fixed point, README "Cost"), about 3 100 instructions on a Cortex-M3 without
+/// an FPU.
+///
+/// Roll and pitch are constant in the turn, so everything that depends on them (the gyro,
+/// the accelerometer, the half-bank quaternion factors) is computed here once; a state
+/// rotates by the yaw alone. The heading advances by a fixed fraction of a turn per
+/// millisecond ([`Flight::state`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Flight {
     params: FlightParams,
     bank_rad: f32,
-    heading0_rad: f32,
     /// Turn rate, rad/s.
     omega: f32,
-    /// Wind velocity (towards), north/east, m/s.
-    wind_ne: [f32; 2],
     static_mbar: f32,
     pitot_mbar: f32,
     oat_c: f32,
+    wind_from_deg: f32,
+    /// Body rates and specific force: constant in a coordinated turn.
+    gyro: [f32; 3],
+    accel: [f32; 3],
+    /// Start heading, angle units (2^32 = one turn), and its sine and cosine, Q30.
+    heading0: u32,
+    heading0_sin_cos: (i32, i32),
+    /// Heading change per millisecond, 2^-64 turn (two's complement: negative turns left).
+    turn_per_ms: u64,
+    /// Until this time (ms) the turn has not reached half a circle: the chord is computed
+    /// from the time, which keeps its precision however slow the turn.
+    first_half_turn_ms: u64,
+    /// sin and cos of the bank angle φ and of φ/2, Q30.
+    bank_sin_cos: (i32, i32),
+    half_bank_sin_cos: (i32, i32),
+    /// The Earth field, NED.
+    field: Fixed3,
+    /// Magnetic declination, angle units.
+    declination: u32,
+    /// Airspeed and the wind's north and east components, one fixed-point scale.
+    speeds: Fixed3,
+    /// Degrees of latitude and longitude units (below) per Q30 unit of `sin α · cos` / `sin`
+    /// of the chord's direction, times the time in ms (before the first half turn) or times
+    /// `α` in quarter turns (after it).
+    chord_by_time: [f32; 2],
+    chord_by_angle: [f32; 2],
+    /// Degrees of latitude per ms of drift (the wind; and the airspeed when the wings are
+    /// level).
+    lat_drift_deg_per_ms: f64,
+    /// The start longitude and the longitude's drift per ms in 2^-64 turn: the sum wraps
+    /// into [-180°, 180°) by itself, in integers (two `f64` additions and a multiplication
+    /// are about 400 Cortex-M3 instructions).
+    lon0: i64,
+    lon_drift_per_ms: i64,
 }
 
 /// The flight of [`FlightParams::DEFAULT`] (valid by construction; pinned by a test).
@@ -235,20 +277,86 @@ impl Flight {
 
     /// Precomputes the turn for parameters already validated.
     fn build(params: FlightParams) -> Flight {
-        let bank_rad = params.bank_deg * DEG;
-        let omega = G * tanf(bank_rad) / params.airspeed_mps;
-        let from = params.wind_from_deg * DEG;
+        let v = params.airspeed_mps;
+        let bank = turn::from_deg(f64::from(params.bank_deg));
+        let bank_sin_cos = turn::sin_cos(bank);
+        // sin φ = x · S with x = φ in quarter turns, taken from the degrees rather than the
+        // angle units (1.5e-9 rad would be a 1e-5 relative error of a bank of 0.01°).
+        let one = f64::from(turn::ONE);
+        let (s, c) = turn::poly(bank as i32);
+        let sin_bank = f64::from(params.bank_deg) / 90.0 * f64::from(s) / one;
+        let cos_bank = f64::from(c) / one;
+        let omega = G * ((sin_bank / cos_bank) as f32) / v;
+        let (sin_bank, cos_bank) = (sin_bank as f32, cos_bank as f32);
+        let turn_per_ms = turn::from_f64(f64::from(omega) / (TAU_F64 * 1000.0), 64) as u64;
+        let turning = turn_per_ms != 0;
+        // Half a turn is 2^63 units; capped so that the time converts as a positive i64.
+        let first_half_turn_ms = (1u64 << 63)
+            .checked_div((turn_per_ms as i64).unsigned_abs())
+            .map_or(1 << 62, |t| t.min(1 << 62));
+
+        let (sin_from, cos_from) = turn::sin_cos(turn::from_deg(f64::from(params.wind_from_deg)));
         let w = params.wind_speed_mps;
+        let wind_ne = [-w * q30(cos_from), -w * q30(sin_from)];
+        let heading0 = turn::from_deg(f64::from(params.start_heading_deg));
+
+        // Latitude and longitude per metre north and east (spherical Earth, the tangent
+        // plane at the start point, as `geo::offset`).
+        let deg_per_m = [
+            1.0 / (geo::EARTH_RADIUS_M * DEG_F64),
+            1.0 / (geo::EARTH_RADIUS_M * geo::lon_scale(params.start_lat_deg) * DEG_F64),
+        ];
+        // Per metre in the units the state sums: degrees of latitude, 2^-64 turn of longitude.
+        let per_m = [deg_per_m[0], deg_per_m[1] * LON_UNITS_PER_DEG];
+        let mut velocity_ne = [f64::from(wind_ne[0]), f64::from(wind_ne[1])];
+        let (chord_by_time, chord_by_angle) = if turning {
+            // Chord of the arc: 2·r·sin α along the mean heading, α = Δψ/2 = ω·t/2.
+            // sin α = x · S (turn::poly) with x = α in quarter turns: before the first half
+            // turn x = ω·t/π exactly, so 2·r·sin α = V·t·S / (π/2).
+            let by_time = f64::from(v) / (1000.0 * core::f64::consts::FRAC_PI_2);
+            let by_angle = 2.0 * f64::from(v) / f64::from(omega);
+            (
+                per_m.map(|k| (by_time * k) as f32),
+                per_m.map(|k| (by_angle * k) as f32),
+            )
+        } else {
+            // Wings level: a straight line at the airspeed, along the start heading.
+            let (s, c) = turn::sin_cos(heading0);
+            velocity_ne[0] += f64::from(v) * f64::from(q30(c));
+            velocity_ne[1] += f64::from(v) * f64::from(q30(s));
+            ([0.0; 2], [0.0; 2])
+        };
+        let field = params.earth_field;
+        let field = Fixed3::new([field.north_gauss, field.east_gauss, field.down_gauss]);
         Flight {
             params,
-            bank_rad,
-            heading0_rad: params.start_heading_deg * DEG,
+            bank_rad: params.bank_deg * DEG,
             omega,
-            wind_ne: [-w * cosf(from), -w * sinf(from)],
             static_mbar: atmosphere::pressure_pa(params.altitude_m) / 100.0,
-            pitot_mbar: atmosphere::dynamic_pressure_pa(params.altitude_m, params.airspeed_mps)
-                / 100.0,
+            pitot_mbar: atmosphere::dynamic_pressure_pa(params.altitude_m, v) / 100.0,
             oat_c: atmosphere::temperature_k(params.altitude_m) - 273.15,
+            wind_from_deg: turn::to_deg(turn::from_deg(f64::from(params.wind_from_deg))),
+            // The turn rate about NED down, in body axes: (0, ω·sin φ, ω·cos φ).
+            gyro: [0.0, omega * sin_bank, omega * cos_bank],
+            // Centripetal V·ω = g·tan φ plus gravity, in body axes: (0, 0, -g / cos φ).
+            accel: [0.0, 0.0, -G / cos_bank],
+            heading0,
+            heading0_sin_cos: turn::sin_cos(heading0),
+            turn_per_ms,
+            first_half_turn_ms,
+            bank_sin_cos,
+            half_bank_sin_cos: turn::sin_cos(((bank as i32) >> 1) as u32),
+            declination: field_declination(field),
+            field,
+            speeds: Fixed3::new([v, wind_ne[0], wind_ne[1]]),
+            chord_by_time,
+            chord_by_angle,
+            lat_drift_deg_per_ms: velocity_ne[0] * per_m[0] / 1000.0,
+            lon0: {
+                let turns = params.start_lon_deg / 360.0; // [-0.5, 0.5]
+                turn::from_f64(if turns >= 0.5 { turns - 1.0 } else { turns }, 64)
+            },
+            lon_drift_per_ms: turn::from_f64(velocity_ne[1] * per_m[1] / 1000.0, 0),
         }
     }
 
@@ -292,102 +400,123 @@ impl Flight {
 
     /// The state `t_ms` milliseconds after boot (t = 0 is the start point).
     ///
+    /// The heading change since t = 0 is `t_ms` times a fixed fraction of a turn per
+    /// millisecond, in integers that wrap at one turn: exact for any `t_ms`, no drift. The
+    /// attitude, the magnetometer and the ground velocity are rotations by that heading in
+    /// fixed point; the position is the chord of the arc plus the drift, in `f64` degrees.
+    ///
     /// ```
     /// let f = flight_sim::Flight::new(Default::default())?;
     /// let s = f.state(1_000);
     /// assert_eq!(s.time_ms, 1_000.0);
     /// assert!((s.static_pressure_mbar - 898.75).abs() < 0.05);
+    /// // One second of a 20° bank at 50 m/s: the heading has advanced by ω · 1 s.
+    /// assert!((s.heading_deg - f.turn_rate_rad_s().to_degrees()).abs() < 1e-4);
     /// # Ok::<(), flight_sim::Error>(())
     /// ```
     pub fn state(&self, t_ms: u64) -> State {
         let p = &self.params;
-        let v = p.airspeed_mps;
-        let t_s = t_ms as f64 / 1000.0;
-        // Heading change since t = 0, reduced to one turn in f64 so that f32
-        // keeps its precision however long the box has been running.
-        let turned =
-            crate::geo::remainder(f64::from(self.omega) * t_s, core::f64::consts::TAU) as f32;
-        let yaw = wrap_pi(self.heading0_rad + turned);
-        let (sin_yaw, cos_yaw) = (sinf(yaw), cosf(yaw));
+        // Heading change Δψ since t = 0 in 2^-64 turn, in [-π, π).
+        let turned = t_ms.wrapping_mul(self.turn_per_ms) as i64;
+        let yaw = self.heading0.wrapping_add((turned >> 32) as u32);
+        // α = Δψ/2 in quarter turns, Q30 (which is also angle units).
+        let half = (turned >> 33) as i32;
+        // The yaw's half angle (for the quaternion), and the yaw from it.
+        let (sin_half_yaw, cos_half_yaw) = turn::sin_cos(yaw >> 1);
+        let sin_yaw = 2 * mul(sin_half_yaw, cos_half_yaw);
+        let cos_yaw = turn::dot(cos_half_yaw, cos_half_yaw, -sin_half_yaw, sin_half_yaw);
 
-        let euler = Euler {
-            roll: self.bank_rad,
-            pitch: 0.0,
-            yaw,
-        };
-        let q = euler.to_quaternion();
-        let gyro = q.ned_to_body([0.0, 0.0, self.omega]);
-        // Acceleration of the aircraft: centripetal, V·ω to the right of the
-        // air-relative velocity (a steady wind adds none).
-        let a_lat = v * self.omega;
-        let specific_force_ned = [-a_lat * sin_yaw, a_lat * cos_yaw, -G];
-        let accel = q.ned_to_body(specific_force_ned);
-        let field = p.earth_field;
-        let mag = q.ned_to_body([field.north_gauss, field.east_gauss, field.down_gauss]);
+        // q = qz(ψ) ⊗ qx(φ) (pitch 0), w >= 0.
+        let (sr, cr) = self.half_bank_sin_cos;
+        let sign = if cos_half_yaw < 0 { -1 } else { 1 };
+        let [x, y, z, w] = [
+            mul(sr, cos_half_yaw),
+            mul(sr, sin_half_yaw),
+            mul(cr, sin_half_yaw),
+            mul(cr, cos_half_yaw),
+        ]
+        .map(|c| q30(sign * c));
 
-        // Position: the air-relative circle plus the wind drift.
-        let (air_n, air_e) = if self.omega == 0.0 {
-            let d = f64::from(v) * t_s;
-            (
-                d * f64::from(cosf(self.heading0_rad)),
-                d * f64::from(sinf(self.heading0_rad)),
-            )
+        // The Earth field rotated into body axes: Rx(φ)ᵀ · Rz(ψ)ᵀ · m.
+        let [mn, me, md] = self.field.q;
+        let (sb, cb) = self.bank_sin_cos;
+        let heading_x = turn::dot(mn, cos_yaw, me, sin_yaw);
+        let heading_y = turn::dot(me, cos_yaw, -mn, sin_yaw);
+        let mag = [
+            heading_x,
+            turn::dot(cb, heading_y, sb, md),
+            turn::dot(cb, md, -sb, heading_y),
+        ]
+        .map(|c| turn::to_f32(i64::from(c), self.field.frac_bits));
+
+        // Position: the chord of the arc, 2·r·sin α along the mean heading ψ0 + α, plus the
+        // drift.
+        let (sinc, cos_half) = turn::poly(half);
+        let sin_half = mul(half, sinc);
+        let (sin_h0, cos_h0) = self.heading0_sin_cos;
+        let sin_dir = turn::dot(sin_h0, cos_half, cos_h0, sin_half);
+        let cos_dir = turn::dot(cos_h0, cos_half, -sin_h0, sin_half);
+        let (along, k) = if t_ms < self.first_half_turn_ms {
+            (turn::to_f32(t_ms as i64, 0), &self.chord_by_time)
         } else {
-            // Chord of the arc: 2·r·sin(Δψ/2) along the mean heading.
-            let chord = 2.0 * (v / self.omega) * sinf(turned * 0.5);
-            let dir = self.heading0_rad + turned * 0.5;
-            (f64::from(chord * cosf(dir)), f64::from(chord * sinf(dir)))
+            (turn::to_f32(turned, 63), &self.chord_by_angle)
         };
-        let north = air_n + f64::from(self.wind_ne[0]) * t_s;
-        let east = air_e + f64::from(self.wind_ne[1]) * t_s;
-        let (lat, lon) = geo::offset(p.start_lat_deg, p.start_lon_deg, north, east);
+        let north_deg = along * k[0] * q30(mul(sinc, cos_dir));
+        let east = (along * k[1] * q30(mul(sinc, sin_dir))) as i64; // 2^-64 turn, saturating
+        let time_ms = t_ms as f64;
+        let lat = p.start_lat_deg + f64::from(north_deg) + time_ms * self.lat_drift_deg_per_ms;
+        let lon = self
+            .lon0
+            .wrapping_add(t_ms.wrapping_mul(self.lon_drift_per_ms as u64) as i64)
+            .wrapping_add(east);
 
-        let ground_n = v * cos_yaw + self.wind_ne[0];
-        let ground_e = v * sin_yaw + self.wind_ne[1];
-        let heading_deg = wrap_360(yaw / DEG);
-        let slip_ball = if accel[2] == 0.0 {
-            0.0
-        } else {
-            -accel[1] / accel[2]
-        };
+        // Ground velocity = air velocity + wind.
+        let [speed, wind_n, wind_e] = self.speeds.q;
+        let (track, ground_speed) = turn::atan2_hypot(
+            mul(speed, sin_yaw) + wind_e,
+            mul(speed, cos_yaw) + wind_n,
+            self.speeds.frac_bits,
+        );
 
         State {
-            time_ms: t_ms as f64,
-            euler,
-            quaternion: q,
-            gyro_rad_s: gyro,
-            accel_mps2: accel,
+            time_ms,
+            euler: Euler {
+                roll: self.bank_rad,
+                pitch: 0.0,
+                yaw: turn::to_rad(yaw),
+            },
+            quaternion: Quaternion { x, y, z, w },
+            gyro_rad_s: self.gyro,
+            accel_mps2: self.accel,
             mag_gauss: mag,
             static_pressure_mbar: self.static_mbar,
             pitot_pressure_mbar: self.pitot_mbar,
-            airspeed_mps: v,
+            airspeed_mps: p.airspeed_mps,
             oat_celsius: self.oat_c,
-            latitude_deg: lat,
-            longitude_deg: lon,
+            latitude_deg: lat.clamp(-90.0, 90.0),
+            // (lon >> 9) · 360 < 2^63: degrees · 2^55.
+            longitude_deg: turn::to_f64((lon >> 9) * 360, 55),
             gps_altitude_m: p.altitude_m,
-            ground_speed_mps: sqrtf(ground_n * ground_n + ground_e * ground_e),
-            track_deg: wrap_360(atan2f(ground_e, ground_n) / DEG),
-            heading_deg,
-            magnetic_heading_deg: wrap_360(heading_deg - field.declination_deg()),
-            slip_ball,
+            ground_speed_mps: ground_speed,
+            track_deg: turn::to_deg(track),
+            heading_deg: turn::to_deg(yaw),
+            magnetic_heading_deg: turn::to_deg(yaw.wrapping_sub(self.declination)),
+            // -ay / az with ay = 0: the turn is exactly coordinated.
+            slip_ball: 0.0,
             turn_rate_rad_s: self.omega,
             turn_coordinator: self.omega / STANDARD_RATE_RAD_S,
             wind_speed_mps: p.wind_speed_mps,
-            wind_from_deg: wrap_360(p.wind_from_deg),
+            wind_from_deg: self.wind_from_deg,
         }
     }
 }
 
-/// Wraps an angle into `(-π, π]`.
-fn wrap_pi(a: f32) -> f32 {
-    let w = crate::geo::remainder(f64::from(a + PI), core::f64::consts::TAU) as f32;
-    let w = if w <= 0.0 { w + 2.0 * PI } else { w };
-    w - PI
+/// A Q30 value as `f32`.
+fn q30(v: i32) -> f32 {
+    turn::to_f32(i64::from(v), 30)
 }
 
-/// Wraps degrees into `[0, 360)`.
-fn wrap_360(d: f32) -> f32 {
-    let w = crate::geo::remainder(f64::from(d), 360.0) as f32;
-    let w = if w < 0.0 { w + 360.0 } else { w };
-    if w >= 360.0 { 0.0 } else { w }
+/// The declination of a field (its horizontal direction east of north), angle units.
+fn field_declination(field: Fixed3) -> u32 {
+    turn::atan2_hypot(field.q[1], field.q[0], field.frac_bits).0
 }

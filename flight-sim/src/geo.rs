@@ -11,7 +11,7 @@
 //! assert!((geo::distance_m(48.0, 11.0, lat, lon) - 1000.0).abs() < 0.01);
 //! ```
 
-use libm::{asin, cos, cosf, sin, sqrt};
+use libm::{asin, cos, sin, sqrt};
 
 /// Mean Earth radius (IUGG), m.
 pub const EARTH_RADIUS_M: f64 = 6_371_008.8;
@@ -29,10 +29,7 @@ const DEG: f64 = core::f64::consts::PI / 180.0;
 /// ```
 pub fn offset(lat_deg: f64, lon_deg: f64, north_m: f64, east_m: f64) -> (f64, f64) {
     let lat = lat_deg + north_m / EARTH_RADIUS_M / DEG;
-    // f32 is plenty for the scale factor (1e-7 relative) and keeps f64
-    // trigonometry out of the firmware.
-    let scale = f64::from(cosf((lat_deg * DEG) as f32)).max(1e-6);
-    let lon = lon_deg + east_m / (EARTH_RADIUS_M * scale) / DEG;
+    let lon = lon_deg + east_m / (EARTH_RADIUS_M * lon_scale(lat_deg)) / DEG;
     (lat.clamp(-90.0, 90.0), wrap_lon(lon))
 }
 
@@ -50,7 +47,19 @@ pub fn distance_m(lat1_deg: f64, lon1_deg: f64, lat2_deg: f64, lon2_deg: f64) ->
     2.0 * EARTH_RADIUS_M * asin(sqrt(h.clamp(0.0, 1.0)))
 }
 
-fn wrap_lon(lon: f64) -> f64 {
+/// The length of a degree of longitude over that of latitude at `lat_deg`: cos(latitude),
+/// at least 10⁻⁶. Fixed-point cosine (`crate::turn`, 4·10⁻⁹): plenty for a scale factor, and
+/// it keeps trigonometry out of the firmware.
+pub(crate) fn lon_scale(lat_deg: f64) -> f64 {
+    let (_, cos) = crate::turn::sin_cos(crate::turn::from_deg(lat_deg));
+    (f64::from(cos) / f64::from(crate::turn::ONE)).max(1e-6)
+}
+
+/// Wraps a longitude into `[-180, 180)`.
+pub(crate) fn wrap_lon(lon: f64) -> f64 {
+    if (-180.0..180.0).contains(&lon) {
+        return lon;
+    }
     let w = remainder(lon + 180.0, 360.0);
     if w < 0.0 { w + 180.0 } else { w - 180.0 }
 }

@@ -38,6 +38,7 @@ pub mod attitude;
 mod error;
 mod flight;
 pub mod geo;
+mod turn;
 
 pub use attitude::{Euler, Quaternion};
 pub use error::Error;

@@ -178,7 +178,7 @@ pub struct Shared {
     /// The last state [`Shared::flight_state`] computed and the time it is for (the flight's
     /// epoch and the time since it): the links ask for the same millisecond (AEOLUS telemetry
     /// and AOK debug frames fall on the same millisecond on their grids), and one state costs
-    /// about 28 000 instructions on a Cortex-M3 without an FPU. Cleared when the flight
+    /// about 3 100 instructions on a Cortex-M3 without an FPU. Cleared when the flight
     /// changes.
     flight_cache: Cell<Option<(u64, u64, flight_sim::State)>>,
 }
@@ -256,7 +256,7 @@ impl Shared {
     /// (pressures, airspeed, temperature, wind: see
     /// [`Kind::moves_with_time`](crate::telemetry::Kind::moves_with_time)): the last state
     /// computed for this flight, whatever its time, or the state at `now_ms` if there is none.
-    /// PRESSURE alone is due 200 times a second, and a state costs about 28 000 instructions
+    /// PRESSURE alone is due 200 times a second, and a state costs about 3 100 instructions
     /// on a Cortex-M3 without an FPU.
     ///
     /// ```
