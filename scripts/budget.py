@@ -27,7 +27,7 @@ TARGET = "thumbv7m-none-eabi"
 CORE_HZ_REFERENCE = 50_000_000
 BAUD = [921_600, 115_200, 38_400]
 DESCRIPTION = {
-    "flight-sim": "flight simulation (`Shared::flight_state`, soft float)",
+    "flight-sim": "flight simulation (`Shared::flight_state`, fixed point)",
     "telemetry": "schedule, message building and AEOLUS encoding into the link's queue",
     "tx-queue": "links' writes of encoded bytes into the UART TX queues",
     "tx-irq": "UART interrupts, TX side",
