@@ -1,0 +1,77 @@
+//! The free encoders of the `pc` and `device` modules and the decoders' `idle`: the bytes
+//! each writes and the events each delivers, as their callers (the desk tool, the sensor box)
+//! rely on them.
+
+use aok_proto::pc::Expect;
+use aok_proto::{
+    Ack, ActionWord, Command, DeviceDecoder, Error, FirmwareVersion, Message, ParameterValue,
+    PcDecoder, Waypoint, WaypointSlot, device, pc,
+};
+
+#[test]
+fn pc_encode_writes_the_commands_bytes() {
+    let mut buf = [0u8; 19];
+    let set = Command::SetParameter(ParameterValue {
+        number: 12,
+        value: 1500,
+    });
+    let n = pc::encode(&set, &mut buf).unwrap();
+    assert_eq!(&buf[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
+    let n = pc::encode(&Command::DebugOff, &mut buf).unwrap();
+    assert_eq!(&buf[..n], &pc::DEBUG_OFF);
+    assert_eq!(pc::DEBUG_OFF, [0x63, 0x01]);
+}
+
+#[test]
+fn device_encode_ack_writes_its_letter() {
+    for (ack, letter) in [(Ack::Ok, b'O'), (Ack::Error, b'E'), (Ack::InFlight, b'I')] {
+        let mut buf = [0u8; 4];
+        assert_eq!(device::encode_ack(ack, &mut buf), Ok(1));
+        assert_eq!(buf, [letter, 0, 0, 0]);
+    }
+}
+
+#[test]
+fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
+    let w = Waypoint {
+        slot: WaypointSlot::FbcTarget,
+        longitude: 1,
+        latitude: 2,
+        action1: ActionWord::NONE,
+        action2: ActionWord::NONE,
+    };
+    let mut buf = [0u8; 19];
+    assert_eq!(device::encode_waypoint(&w, &mut buf), Ok(19));
+    assert_eq!(&buf[..2], &[0x77, 0xff]);
+    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut got = Vec::new();
+    dec.feed(&buf, |ev| got.push(ev));
+    assert_eq!(got, [Ok(Message::Waypoint(w))]);
+}
+
+#[test]
+fn device_idle_gives_up_a_cut_command_and_rescans_what_it_hid() {
+    let mut dec = DeviceDecoder::new();
+    // 73 (set parameter) waits for 6 more bytes; the line goes quiet after two.
+    dec.feed(&[0x73, 0x63, 0x02], |_| {
+        panic!("no event before the line is quiet")
+    });
+    let mut got = Vec::new();
+    dec.idle(|ev| got.push(ev));
+    assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
+    assert_eq!(dec.stats().abandoned, 1);
+    assert_eq!(dec.buffered(), 0);
+}
+
+#[test]
+fn pc_idle_gives_up_a_cut_debug_frame_and_finds_the_ack_inside() {
+    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    dec.expect(Expect::Ack);
+    for b in [0x1c, 0x56, b'O'] {
+        assert_eq!(dec.push(b), None);
+    }
+    let mut got = Vec::new();
+    dec.idle(|ev| got.push(ev));
+    assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
+    assert_eq!(dec.buffered(), 0);
+}
