@@ -515,3 +515,60 @@ fn the_client_is_busy_from_start_to_outcome_and_idle_after() {
     assert!(matches!(outcome, Outcome::Parameter(p) if p.number == 12));
     assert!(c.is_idle());
 }
+
+#[test]
+fn a_full_debug_queue_drops_the_oldest_and_keeps_the_order() {
+    use aok_proto::client::DEBUG_QUEUE;
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false; // only the frames queued below
+    let mut c = client(dev, FirmwareVersion::LATEST);
+    let extra = 3;
+    for _ in 0..DEBUG_QUEUE + extra {
+        c.serial_mut().send_debug(); // values 1, 2, 3, ...
+    }
+    // Idle, the client still reads the line (at most MAX_READS_PER_POLL bytes a poll).
+    for t in 0..20 {
+        assert_eq!(c.poll(t), Err(nb::Error::WouldBlock));
+    }
+    assert!(c.serial_mut().to_pc.is_empty());
+    let got: Vec<i32> = std::iter::from_fn(|| c.next_debug())
+        .map(|d| d.value)
+        .collect();
+    let want: Vec<i32> = (1 + extra as i32..=(DEBUG_QUEUE + extra) as i32).collect();
+    assert_eq!(got, want);
+    assert_eq!(c.stats().debug_values, (DEBUG_QUEUE + extra) as u32);
+    assert_eq!(c.stats().debug_dropped, extra as u32);
+    // The ring goes on from where it wrapped: two more come out in order.
+    c.serial_mut().send_debug();
+    c.serial_mut().send_debug();
+    assert_eq!(c.poll(20), Err(nb::Error::WouldBlock));
+    assert_eq!(c.next_debug().map(|d| d.value), Some(20));
+    assert_eq!(c.next_debug().map(|d| d.value), Some(21));
+    assert_eq!(c.next_debug(), None);
+}
+
+#[test]
+fn a_parameter_reply_of_another_number_is_not_the_answer() {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(40)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let dev = c.serial_mut();
+    dev.send(Message::Parameter(ParameterValue {
+        number: 41,
+        value: -1,
+    }));
+    dev.send(Message::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    }));
+    let want = Outcome::Parameter(ParameterValue {
+        number: 40,
+        value: 77,
+    });
+    assert_eq!(c.poll(1), Ok(want));
+    assert_eq!(c.stats().stray, 1);
+}

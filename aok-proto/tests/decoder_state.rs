@@ -67,3 +67,69 @@ fn the_pc_decoder_reset_forgets_the_bytes_held() {
     assert_eq!(d.buffered(), 0);
     assert_eq!(*d.stats(), Stats::default());
 }
+
+/// The reply each request awaits, as the device sends it (headed form).
+fn reply(m: aok_proto::Message) -> Vec<u8> {
+    let mut buf = [0u8; 19];
+    let n = m.emit(ReplyForm::Headed, &mut buf).unwrap();
+    buf[..n].to_vec()
+}
+
+#[test]
+fn the_awaited_reply_settles_the_pc_decoder_by_push_and_by_feed() {
+    use aok_proto::{Ack, Message, ParameterValue};
+    let p = |number| Message::Parameter(ParameterValue { number, value: 5 });
+    let cases = [
+        (Expect::Ack, reply(Message::Ack(Ack::Ok))),
+        (Expect::Parameter(40), reply(p(40))),
+        (Expect::Bulk(32), reply(p(32 + 15))),
+    ];
+    for (expect, bytes) in cases {
+        // Byte by byte.
+        let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+        d.expect(expect);
+        let events: Vec<_> = bytes.iter().filter_map(|&b| d.push(b)).collect();
+        assert_eq!(events.len(), 1, "{expect:?}");
+        assert!(events[0].is_ok(), "{expect:?}");
+        assert_eq!(d.expecting(), Expect::Nothing, "{expect:?} by push");
+        // In one slice.
+        let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+        d.expect(expect);
+        let mut got = Vec::new();
+        d.feed(&bytes, |ev| got.push(ev));
+        assert_eq!(got.len(), 1, "{expect:?}");
+        assert_eq!(d.expecting(), Expect::Nothing, "{expect:?} by feed");
+    }
+    // A parameter of another number, or a bulk reply's earlier entry, settles nothing.
+    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    d.expect(Expect::Parameter(40));
+    let mut got = Vec::new();
+    d.feed(&reply(p(41)), |ev| got.push(ev));
+    assert_eq!(got.len(), 1);
+    assert_eq!(d.expecting(), Expect::Parameter(40));
+    d.expect(Expect::Bulk(32));
+    d.feed(&reply(p(33)), |ev| got.push(ev));
+    assert_eq!(d.expecting(), Expect::Bulk(32));
+}
+
+#[test]
+fn once_the_ack_came_an_ack_letter_is_an_unknown_byte() {
+    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    d.expect(Expect::Ack);
+    assert!(matches!(d.push(b'O'), Some(Ok(_))));
+    assert_eq!(d.push(b'O'), None);
+    assert_eq!(d.poll(), None);
+    assert_eq!(d.stats().frames_ok, 1);
+}
+
+#[test]
+fn a_lone_first_byte_is_given_up_when_the_line_goes_quiet() {
+    // 73 (set parameter) announces 7 bytes; only it arrives.
+    let mut d = DeviceDecoder::new();
+    assert_eq!(d.push(0x73), None);
+    assert_eq!(d.buffered(), 1);
+    let mut got = Vec::new();
+    d.idle(|ev| got.push(ev));
+    assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
+    assert_eq!((d.buffered(), d.stats().abandoned), (0, 1));
+}
