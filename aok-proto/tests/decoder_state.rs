@@ -133,3 +133,37 @@ fn a_lone_first_byte_is_given_up_when_the_line_goes_quiet() {
     assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
     assert_eq!((d.buffered(), d.stats().abandoned), (0, 1));
 }
+
+#[test]
+fn the_pc_decoder_gives_up_a_lone_first_byte_when_the_line_goes_quiet() {
+    // 1C (a debug frame) announces 7 bytes; only it arrives.
+    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    assert_eq!(d.push(0x1c), None);
+    let mut got = Vec::new();
+    d.idle(|ev| got.push(ev));
+    assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
+    assert_eq!(d.buffered(), 0);
+}
+
+#[test]
+fn a_waypoint_reply_settles_only_the_slot_asked_for() {
+    use aok_proto::{ActionWord, Message, Waypoint, WaypointSlot};
+    let w = |slot| {
+        reply(Message::Waypoint(Waypoint {
+            slot,
+            longitude: 1,
+            latitude: 2,
+            action1: ActionWord::NONE,
+            action2: ActionWord::NONE,
+        }))
+    };
+    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    d.expect(Expect::Waypoint(WaypointSlot::FbcTarget));
+    let mut got = Vec::new();
+    d.feed(&w(WaypointSlot::MissionPoi), |ev| got.push(ev));
+    assert_eq!(got.len(), 1);
+    assert_eq!(d.expecting(), Expect::Waypoint(WaypointSlot::FbcTarget));
+    d.feed(&w(WaypointSlot::FbcTarget), |ev| got.push(ev));
+    assert_eq!(got.len(), 2);
+    assert_eq!(d.expecting(), Expect::Nothing);
+}
