@@ -243,6 +243,10 @@ fn encoder_and_header_errors() {
         Header::new_checked(&[0xFF, 0x00, 0, 0, 0, 0][..]),
         Err(Error::Truncated)
     );
+    // Fewer than two bytes are too short to judge, whatever the first one is.
+    assert_eq!(Header::new_checked(&[][..]), Err(Error::Truncated));
+    assert_eq!(Header::new_checked(&[0xFE][..]), Err(Error::Truncated));
+    assert_eq!(Header::new_checked(&[0xFF][..]), Err(Error::Truncated));
     let h = Header::new_checked(&[0xFF, 0x80, 6, 0, 0, 0][..]).unwrap();
     assert_eq!(
         HeaderRepr::parse(&h, Profile::Spec),
