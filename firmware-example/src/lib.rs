@@ -23,9 +23,9 @@
 //! ```
 //! use embedded_hal_nb::serial::{Read, Write};
 //! use firmware_example::serial::{PortStats, QueuedSerial};
-//! use heapless::spsc::Queue;
+//! use firmware_example::serial::Ring;
 //!
-//! let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+//! let (mut rxq, mut txq) = (Ring::<8>::new(), Ring::<8>::new());
 //! let stats = PortStats::new();
 //! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
 //! isr.received(0x7E); // what the UART interrupt does for each byte

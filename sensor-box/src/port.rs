@@ -147,7 +147,7 @@ impl<const N: usize> TxQueue<N> {
     ///
     /// ```
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
     /// let mut q = sensor_box::port::TxQueue::<8>::new();

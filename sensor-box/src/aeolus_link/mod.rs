@@ -38,9 +38,9 @@
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
-//! use heapless::spsc::Queue;
+//! use firmware_example::serial::Ring;
 //!
-//! let (mut rxq, mut txq) = (Queue::<u8, 256>::new(), Queue::<u8, 4096>::new());
+//! let (mut rxq, mut txq) = (Ring::<256>::new(), Ring::<4096>::new());
 //! let stats = PortStats::new();
 //! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
 //! let mut shared = Shared::new(Persisted::default(), 0);
@@ -210,7 +210,7 @@ impl AeolusLink {
     /// ```
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 1024>::new());
+    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
     /// let stats = PortStats::new();
     /// let (mut port, _isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);

@@ -255,7 +255,7 @@ impl AydpLink {
     /// use aydp_proto::{Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
     /// let mut shared = Shared::new(Persisted::default(), 0);
@@ -288,7 +288,7 @@ impl AydpLink {
     /// ```
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
