@@ -9,9 +9,9 @@
 //! known number of instructions (`cortex_m::asm::delay`, two lengths, their difference), and
 //! the cost of one switch of the account, so a reader can convert and correct.
 
+use crate::board;
 use cortex_m::interrupt::free;
 use cortex_m::peripheral::SYST;
-use crate::board;
 use firmware_example::serial::PortCounters;
 use sensor_box::budget::{self, Category};
 use sensor_box::telemetry::Kind;

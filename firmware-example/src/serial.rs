@@ -32,7 +32,9 @@
 //! plays the interrupt handler.
 
 use bbqueue::prod_cons::stream::{StreamConsumer, StreamProducer};
-use bbqueue::traits::{coordination::cas::AtomicCoord, notifier::polling::Polling, storage::Inline};
+use bbqueue::traits::{
+    coordination::cas::AtomicCoord, notifier::polling::Polling, storage::Inline,
+};
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embedded_hal_nb::serial::{ErrorType, Read, Write};

@@ -2,8 +2,8 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_hal_nb::serial::{Read, Write};
-use firmware_example::{PortStats, QueuedSerial};
 use firmware_example::serial::Ring;
+use firmware_example::{PortStats, QueuedSerial};
 
 static KICKS: AtomicU32 = AtomicU32::new(0);
 fn kick() {
@@ -12,9 +12,9 @@ fn kick() {
 
 #[test]
 fn rx_bytes_arrive_in_order_and_empty_is_would_block() {
-    let (mut rxq, mut txq) = (Ring::<64>::new(), Ring::<64>::new());
+    let (rxq, txq) = (Ring::<64>::new(), Ring::<64>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     assert_eq!(port.read(), Err(nb::Error::WouldBlock));
     for b in 0..50u8 {
         assert!(isr.received(b));
@@ -28,9 +28,9 @@ fn rx_bytes_arrive_in_order_and_empty_is_would_block() {
 
 #[test]
 fn full_rx_queue_drops_and_counts() {
-    let (mut rxq, mut txq) = (Ring::<8>::new(), Ring::<8>::new());
+    let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let stored = (0..10u8).filter(|b| isr.received(*b)).count();
     assert_eq!(stored, 8); // an empty ring of N holds N
     let c = port.counters();
@@ -45,9 +45,9 @@ fn full_rx_queue_drops_and_counts() {
 #[test]
 fn tx_queues_kicks_and_would_block_when_full() {
     KICKS.store(0, Ordering::Relaxed);
-    let (mut rxq, mut txq) = (Ring::<4>::new(), Ring::<4>::new());
+    let (rxq, txq) = (Ring::<4>::new(), Ring::<4>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, kick);
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, kick);
     assert_eq!(port.tx_space(), 4);
     assert_eq!(port.flush(), Ok(()));
     for b in [10u8, 11, 12, 13] {
@@ -77,9 +77,9 @@ fn tx_queues_kicks_and_would_block_when_full() {
 /// echoes; nothing is lost or reordered while the queues have room.
 #[test]
 fn echo_loop_keeps_every_byte() {
-    let (mut rxq, mut txq) = (Ring::<32>::new(), Ring::<32>::new());
+    let (rxq, txq) = (Ring::<32>::new(), Ring::<32>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let input: Vec<u8> = (0..5000u32).map(|i| (i * 7 + 3) as u8).collect();
     let mut wire = Vec::new();
     for chunk in input.chunks(13) {
@@ -108,9 +108,9 @@ fn rx_kick() {
 fn reading_from_a_full_rx_queue_kicks_the_interrupt() {
     // A board that holds bytes in its UART FIFO while the queue is full (QEMU) must be told
     // when there is room again; reading from a queue that is not near full costs no kick.
-    let (mut rxq, mut txq) = (Ring::<8>::new(), Ring::<8>::new());
+    let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, rx_kick);
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, rx_kick);
     while isr.rx_room() {
         assert!(isr.received(1));
     }

@@ -3,15 +3,15 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_io::{Read, ReadReady, Write, WriteReady};
-use firmware_example::{PortStats, QueuedSerial};
 use firmware_example::serial::Ring;
+use firmware_example::{PortStats, QueuedSerial};
 
 #[test]
 fn a_read_drains_what_is_queued_in_order_and_a_full_queue_kicks_once() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Ring::<7>::new(), Ring::<4>::new());
+    let (rxq, txq) = (Ring::<7>::new(), Ring::<4>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     assert_eq!(port.read_ready(), Ok(false));
@@ -44,9 +44,9 @@ fn a_read_drains_what_is_queued_in_order_and_a_full_queue_kicks_once() {
 #[test]
 fn a_write_queues_what_fits_and_kicks_once_per_write() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Ring::<2>::new(), Ring::<7>::new());
+    let (rxq, txq) = (Ring::<2>::new(), Ring::<7>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     assert_eq!(port.write(b"abcde"), Ok(5));
@@ -67,9 +67,9 @@ fn a_write_queues_what_fits_and_kicks_once_per_write() {
 #[test]
 fn a_batched_port_kicks_only_when_full_and_on_flush() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Ring::<2>::new(), Ring::<7>::new());
+    let (rxq, txq) = (Ring::<2>::new(), Ring::<7>::new());
     let stats = PortStats::new();
-    let (port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     let mut port = port.batched();
@@ -107,10 +107,9 @@ fn every_split_through_a_wrapping_ring_keeps_every_byte_in_order() {
                 let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
                 let (mut at, mut out) = (0, Vec::new());
                 while out.len() < input.len() {
-                    if let Some(chunk) = input.get(at..(at + write_len).min(input.len())) {
-                        if !chunk.is_empty() && port.write_ready() == Ok(true) {
-                            at += port.write(chunk).unwrap();
-                        }
+                    let chunk = &input[at..(at + write_len).min(input.len())];
+                    if !chunk.is_empty() && port.write_ready() == Ok(true) {
+                        at += port.write(chunk).unwrap();
                     }
                     if fifo {
                         let room = core::cell::Cell::new(take_len);

@@ -147,9 +147,9 @@ impl<const N: usize> TxQueue<N> {
     ///
     /// ```
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut q = sensor_box::port::TxQueue::<8>::new();
     /// q.push(b"hello");
     /// q.drain(&mut port).unwrap(); // the port holds 3

@@ -4,8 +4,8 @@
 
 use aeolus_proto::message::{Message, SetTime, Text};
 use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use firmware_example::serial::Ring;
+use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aeolus_link::{AeolusLink, TX_QUEUE};
 use sensor_box::state::Intervals;
 use sensor_box::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
@@ -14,7 +14,10 @@ use sensor_box::{App, Control, Persisted, Shared};
 // ------------------------------------------------------------------ rig
 
 /// A serial port whose other end the test plays. Leaked: tests are short-lived processes.
-fn port<const TX: usize>() -> (QueuedSerial<'static, 4096, TX>, SerialIsr<'static, 4096, TX>) {
+fn port<const TX: usize>() -> (
+    QueuedSerial<'static, 4096, TX>,
+    SerialIsr<'static, 4096, TX>,
+) {
     let rxq = Box::leak(Box::new(Ring::<4096>::new()));
     let txq = Box::leak(Box::new(Ring::<TX>::new()));
     let stats = Box::leak(Box::new(PortStats::new()));
@@ -121,7 +124,12 @@ impl SensorBox {
 
 impl<const TX: usize> SensorBox<TX> {
     /// Boots on a port whose TX queue holds `TX` bytes.
-    fn boot_with((port, isr): (QueuedSerial<'static, 4096, TX>, SerialIsr<'static, 4096, TX>)) -> Self {
+    fn boot_with(
+        (port, isr): (
+            QueuedSerial<'static, 4096, TX>,
+            SerialIsr<'static, 4096, TX>,
+        ),
+    ) -> Self {
         SensorBox {
             link: AeolusLink::new(0),
             shared: Shared::new(Persisted::default(), 0),

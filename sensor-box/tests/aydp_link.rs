@@ -6,8 +6,8 @@ use aydp_proto::{
     Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
     Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use firmware_example::serial::Ring;
+use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aydp_link::{self, addr};
 use sensor_box::{App, Control, Persisted, Settings};
 
@@ -746,10 +746,10 @@ fn heartbeats_from_the_peer_are_counted_and_other_types_ignored() {
 fn a_full_tx_queue_drops_the_message_and_never_blocks() {
     use sensor_box::{Shared, aydp_link::AydpLink};
     // A TX queue with room for 4 bytes that nobody drains: the 7-byte heartbeat cannot go.
-    let mut rxq = Ring::<8>::new();
-    let mut txq = Ring::<4>::new();
+    let rxq = Ring::<8>::new();
+    let txq = Ring::<4>::new();
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AydpLink::new(0);
     link.poll(0, &mut port, &mut shared);

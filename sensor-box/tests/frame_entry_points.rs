@@ -8,13 +8,16 @@ use aeolus_proto::message::{Message, SetTime, Text};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use firmware_example::serial::Ring;
+use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aeolus_link::{AeolusLink, RX_FRAME};
 use sensor_box::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
 use sensor_box::{App, Control, Persisted, Shared};
 
-fn port() -> (QueuedSerial<'static, 4096, 16384>, SerialIsr<'static, 4096, 16384>) {
+fn port() -> (
+    QueuedSerial<'static, 4096, 16384>,
+    SerialIsr<'static, 4096, 16384>,
+) {
     let rx: &'static mut Ring<4096> = Box::leak(Box::new(Ring::new()));
     let tx: &'static mut Ring<16384> = Box::leak(Box::new(Ring::new()));
     let stats: &'static PortStats = Box::leak(Box::new(PortStats::new()));

@@ -2,8 +2,8 @@
 //! migration, write alignment, and settings surviving a reboot of the App.
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
-use firmware_example::{Error, MemFlash, PortStats, QueuedSerial};
 use firmware_example::serial::Ring;
+use firmware_example::{Error, MemFlash, PortStats, QueuedSerial};
 use sensor_box::persist::{
     self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, PersistedV1, SettingsV1, StoreError,
     VERSION,

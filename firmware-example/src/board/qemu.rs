@@ -245,7 +245,11 @@ fn service(index: usize) {
                     return None;
                 }
                 let dr = read_volatile(reg(base, DR));
-                Some(if dr & DR_ERRORS != 0 { Err(()) } else { Ok(dr as u8) })
+                Some(if dr & DR_ERRORS != 0 {
+                    Err(())
+                } else {
+                    Ok(dr as u8)
+                })
             });
         }
         budget::leave(previous);

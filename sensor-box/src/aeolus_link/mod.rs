@@ -40,9 +40,9 @@
 //! use firmware_example::{PortStats, QueuedSerial};
 //! use firmware_example::serial::Ring;
 //!
-//! let (mut rxq, mut txq) = (Ring::<256>::new(), Ring::<4096>::new());
+//! let (rxq, txq) = (Ring::<256>::new(), Ring::<4096>::new());
 //! let stats = PortStats::new();
-//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
 //! let mut shared = Shared::new(Persisted::default(), 0);
 //! let mut link = AeolusLink::new(0);
 //!
@@ -210,9 +210,9 @@ impl AeolusLink {
     /// ```
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, _isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, _isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AeolusLink::new(0);
     /// link.poll_tx(0, &mut port, &shared);

@@ -255,9 +255,9 @@ impl AydpLink {
     /// use aydp_proto::{Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AydpLink::new(0);
     /// // Expedited request data at 0x0110 (airspeed).
@@ -288,9 +288,9 @@ impl AydpLink {
     /// ```
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AydpLink::new(0);
     /// link.poll_tx(0, &mut port, &shared);
