@@ -356,16 +356,10 @@ fn drain<P: Write + WriteReady>(
     }
 }
 
-/// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare.
+/// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare: straight
+/// into the queue's free bytes (no buffer to clear, no copy), unless the frame would wrap.
 fn enqueue(tx: &mut TxQueue<TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> bool {
-    let mut buf = [0u8; FRAME_BUF];
-    let Ok(n) = msg.encode(&mut buf, CrcMode::Compute) else {
-        return false;
-    };
-    if tx.free() < n.saturating_add(reserve) {
-        return false;
-    }
-    tx.push(buf.get(..n).unwrap_or(&[]))
+    tx.push_with::<FRAME_BUF>(reserve, |out| msg.encode(out, CrcMode::Compute).ok())
 }
 
 fn bump(counter: &mut u32) {
