@@ -619,6 +619,52 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
         total
     }
 
+    /// Hands queued bytes to `put` a block of `block` bytes at a time while `empty()` says the
+    /// UART takes a whole block (its FIFO is empty: one register read per block instead of
+    /// one per byte), for an interrupt handler that fills the FIFO; the count. The last block
+    /// may be shorter (the queue ran dry). One release per contiguous run of the ring, one
+    /// counter update at the end. A FIFO that is neither empty nor full is left to
+    /// [`SerialIsr::send_while`].
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<64>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// port.write(&[7; 40]).unwrap();
+    /// let (mut fifo, empties) = (Vec::new(), core::cell::Cell::new(2u32)); // empties twice
+    /// let empty = || empties.replace(empties.get().saturating_sub(1)) > 0;
+    /// assert_eq!(isr.send_blocks(16, empty, |b| fifo.push(b)), 32);
+    /// assert_eq!(port.counters().tx_bytes, 32);
+    /// ```
+    pub fn send_blocks(
+        &mut self,
+        block: usize,
+        mut empty: impl FnMut() -> bool,
+        mut put: impl FnMut(u8),
+    ) -> usize {
+        let mut total = 0;
+        'runs: while let Ok(grant) = self.tx.read() {
+            let mut n = 0;
+            for chunk in grant.chunks(block.max(1)) {
+                if !empty() {
+                    grant.release(n);
+                    total += n;
+                    break 'runs;
+                }
+                for &byte in chunk {
+                    put(byte);
+                }
+                n += chunk.len();
+            }
+            grant.release(n);
+            total += n;
+        }
+        add(&self.stats.tx_bytes, total);
+        total
+    }
+
     /// Moves queued bytes into `buf` (as many as are queued and fit), a slice copy per
     /// contiguous run, for a UART that takes a block at a time (a DMA transfer); the count.
     /// The bytes are counted as handed to the UART.

@@ -65,6 +65,9 @@ const IFLS: usize = 0x034;
 const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
 const FR_RXFE: u32 = 1 << 4;
 const FR_TXFF: u32 = 1 << 5;
+const FR_TXFE: u32 = 1 << 7;
+/// Bytes the PL011's TX FIFO holds.
+const TX_FIFO: usize = 16;
 const DR_ERRORS: u32 = 0xF00; // OE | BE | PE | FE
 const INT_RX: u32 = 1 << 4;
 const INT_TX: u32 = 1 << 5;
@@ -254,10 +257,11 @@ fn service(index: usize) {
         }
         budget::leave(previous);
         let previous = budget::enter(Category::TxIrq);
-        isr.send_while(
-            || read_volatile(reg(base, FR)) & FR_TXFF == 0,
-            |b| write_volatile(reg(base, DR), u32::from(b)),
-        );
+        // A FIFO's worth per empty FIFO (one flag read per 16 bytes), then byte by byte
+        // while a part-full FIFO has room.
+        let put = |b| write_volatile(reg(base, DR), u32::from(b));
+        isr.send_blocks(TX_FIFO, || read_volatile(reg(base, FR)) & FR_TXFE != 0, put);
+        isr.send_while(|| read_volatile(reg(base, FR)) & FR_TXFF == 0, put);
         let tx = if isr.tx_pending() { INT_TX } else { 0 };
         let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
         write_volatile(reg(base, IMSC), rx | tx);
