@@ -87,7 +87,7 @@ fn the_quiet_shortcut_changes_nothing() {
                 _ => {}
             }
             // Mostly a full pass; sometimes the caller stops early.
-            let take = if rng(&mut r) % 50 == 0 {
+            let take = if rng(&mut r).is_multiple_of(50) {
                 (rng(&mut r) % 3) as usize
             } else {
                 usize::MAX
