@@ -91,7 +91,7 @@ pub const TX_QUEUE: usize = 512;
 /// Queue bytes telemetry leaves free for answers: one longest TOAST.
 pub const TX_RESERVE: usize = FRAME_BUF;
 
-/// The most bytes one poll reads from the port. The boards' RX queues hold 255 bytes, so one
+/// The most bytes one poll reads from the port. The boards' RX rings hold 256 bytes (255 once wrapped), so one
 /// poll empties them (bytes of an earlier read that were held back are decoded first, on top); the bound keeps a port that never runs dry (a flood) from starving the
 /// others and the schedule: 256 bytes are about 2.8 ms of UART0 at 921 600 Bd, and decoding
 /// them takes well under a millisecond of a 50 MHz Cortex-M3 (`docs/BENCHMARKS.md`,
