@@ -27,7 +27,7 @@
 //! that answers (TOASTs) still fit when the UART cannot keep up, and RX decodes a byte only
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
 //! slowly the other side reads (the bytes wait in the port instead, and the rest of a read
-//! that was cut short waits in the link, see [`Received`](crate::port::Received)).
+//! that was cut short waits in the link, see [`Received`]).
 //!
 //! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
 //! UART0 receives (deframing, COMMAND, SETTIME).

@@ -3,7 +3,7 @@
 //!
 //! # What arrives
 //!
-//! The port is read a slice at a time (up to [`RX_CHUNK`](crate::port::RX_CHUNK) bytes, at
+//! The port is read a slice at a time (up to [`RX_CHUNK`] bytes, at
 //! most [`RX_BUDGET`] a poll). Every received byte goes through an [`aydp_proto::Decoder`]
 //! by `push`, not the slice path `feed`: a request for [`addr::LINK_COUNTERS`] reports the
 //! decoder's counters as of before the byte that completed it, which only the per-byte path
