@@ -47,6 +47,15 @@ pub const AYDP_ROOM: usize = 128;
 /// How long a task waits before it looks at the AYDP TX queue's room again, µs.
 const ROOM_POLL_US: u64 = 500;
 
+/// Bytes of each TX ring between a link and its pump, as on the blocking boards.
+pub const TX_QUEUE: usize = 512;
+/// Bytes of each port's RX ring: unused (the readers take the UARTs' bytes directly).
+pub const UNUSED_RX_LEN: usize = 1;
+/// A link's port: the TX ring its pump drains.
+pub type Port = QueuedSerial<'static, UNUSED_RX_LEN, TX_QUEUE>;
+/// The pump's half of a port.
+pub type PortIsr = SerialIsr<'static, UNUSED_RX_LEN, TX_QUEUE>;
+
 /// A wake-up for a TX pump: set by the port's `kick` whenever a link queues a byte.
 pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
 
@@ -55,9 +64,9 @@ pub struct Application {
     /// The sensor-box application (settings, the links, the simulated flight).
     pub app: App,
     /// Where the AEOLUS link queues its frames (drained by [`pump_tx`] on USART2).
-    pub aeolus_tx: QueuedSerial<'static>,
+    pub aeolus_tx: Port,
     /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
-    pub aydp_tx: QueuedSerial<'static>,
+    pub aydp_tx: Port,
     /// The AEOLUS reader's deframer counters as of its last frame.
     pub aeolus_rx: aeolus_proto::Stats,
     /// The AYDP reader's decoder counters as of its last message.
@@ -182,7 +191,7 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
 
 /// Moves what the links queued on one port to `uart`, [`TX_CHUNK`] bytes per write (one DMA
 /// transfer each); sleeps on `ready` while the queue is empty.
-pub async fn pump_tx<W: Write>(mut isr: SerialIsr<'static>, mut uart: W, ready: &TxReady) -> ! {
+pub async fn pump_tx<W: Write>(mut isr: PortIsr, mut uart: W, ready: &TxReady) -> ! {
     let mut chunk = [0u8; TX_CHUNK];
     loop {
         let n = isr.take_to_send(&mut chunk);

@@ -21,9 +21,9 @@ use embassy_stm32::mode::Async;
 use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
 use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
 use embedded_storage::nor_flash::ReadNorFlash;
-use firmware_example::{FlashWindow, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
-use links::{Application, RxErrors, Shared, TxReady};
+use firmware_example::serial::Ring;
+use firmware_example::{FlashWindow, PortStats, QueuedSerial};
+use links::{Application, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
 use panic_probe as _;
 use sensor_box::App;
 use static_cell::{ConstStaticCell, StaticCell};
@@ -36,9 +36,6 @@ const AYDP_BAUD: u32 = 115_200;
 /// Bytes of each DMA receive ring. The links receive little (commands, requests); the ring
 /// bridges the time between two reads, and the idle line ends a read early.
 const RX_RING: usize = 256;
-/// Bytes of each TX queue between a link and its pump (it holds one less), as on the
-/// blocking boards.
-const TX_QUEUE: usize = 512;
 /// The settings store: flash sector 7 (128 KiB at 0x0806_0000), outside the program
 /// (`memory.x` gives the program sectors 0-6), as on the blocking STM32 board.
 const STORE_OFFSET: u32 = 0x6_0000;
@@ -61,11 +58,11 @@ static AYDP_RX_ERRORS: RxErrors = RxErrors::new();
 static STATS: [PortStats; 2] = [const { PortStats::new() }; 2];
 static AEOLUS_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
 static AYDP_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
-static AEOLUS_QUEUE: ConstStaticCell<Queue<u8, TX_QUEUE>> = ConstStaticCell::new(Queue::new());
-static AYDP_QUEUE: ConstStaticCell<Queue<u8, TX_QUEUE>> = ConstStaticCell::new(Queue::new());
-/// The ports' RX queues are unused: the readers take the UARTs' bytes directly.
-static UNUSED_RX: ConstStaticCell<[Queue<u8, 2>; 2]> =
-    ConstStaticCell::new([const { Queue::new() }; 2]);
+static AEOLUS_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
+static AYDP_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
+/// The ports' RX rings are unused: the readers take the UARTs' bytes directly.
+static UNUSED_RX: ConstStaticCell<[Ring<UNUSED_RX_LEN>; 2]> =
+    ConstStaticCell::new([const { Ring::new() }; 2]);
 static SHARED: StaticCell<Shared> = StaticCell::new();
 
 /// HSI (16 MHz) / 8 * 100 / 2 = 100 MHz, the F411's maximum; APB1 (USART2) at 50 MHz, APB2
@@ -185,6 +182,6 @@ async fn aydp_rx_task(uart: RingBufferedUartRx<'static>, shared: &'static Shared
 
 /// Transmit: one port's TX queue to its UART by DMA ([`links::pump_tx`]); one per UART.
 #[embassy_executor::task(pool_size = 2)]
-async fn tx_task(isr: SerialIsr<'static>, uart: UartTx<'static, Async>, ready: &'static TxReady) {
+async fn tx_task(isr: PortIsr, uart: UartTx<'static, Async>, ready: &'static TxReady) {
     links::pump_tx(isr, uart, ready).await
 }

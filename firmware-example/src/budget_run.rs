@@ -9,9 +9,9 @@
 //! known number of instructions (`cortex_m::asm::delay`, two lengths, their difference), and
 //! the cost of one switch of the account, so a reader can convert and correct.
 
+use crate::board;
 use cortex_m::interrupt::free;
 use cortex_m::peripheral::SYST;
-use firmware_example::QueuedSerial;
 use firmware_example::serial::PortCounters;
 use sensor_box::budget::{self, Category};
 use sensor_box::telemetry::Kind;
@@ -67,7 +67,7 @@ impl Run {
     }
 
     /// Called once per main-loop turn.
-    pub fn poll(&mut self, now_ms: u64, app: &App, ports: [&QueuedSerial<'static>; 3]) {
+    pub fn poll(&mut self, now_ms: u64, app: &App, ports: [&board::Port; 3]) {
         if !self.started {
             if now_ms >= self.start_ms {
                 calibrate();

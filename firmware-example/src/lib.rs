@@ -10,7 +10,7 @@
 //! * [`serial`]: [`QueuedSerial`], the serial port type the application sees on
 //!   every board. It implements `embedded_io`'s `Read`, `ReadReady`, `Write`
 //!   and `WriteReady` (slices: what the links use) and
-//!   `embedded_hal_nb::serial::{Read, Write}` (bytes) over two `heapless::spsc` queues; the other ends ([`SerialIsr`]) belong to the
+//!   `embedded_hal_nb::serial::{Read, Write}` (bytes) over two `bbqueue` rings ([`serial::Ring`]); the other ends ([`SerialIsr`]) belong to the
 //!   board's UART interrupt handler;
 //! * [`storage`]: `embedded-storage` NOR flash over a byte slice ([`MemFlash`],
 //!   the QEMU board's flash store and the host tests' store) and a
@@ -23,11 +23,11 @@
 //! ```
 //! use embedded_hal_nb::serial::{Read, Write};
 //! use firmware_example::serial::{PortStats, QueuedSerial};
-//! use heapless::spsc::Queue;
+//! use firmware_example::serial::Ring;
 //!
-//! let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+//! let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
 //! let stats = PortStats::new();
-//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
 //! isr.received(0x7E); // what the UART interrupt does for each byte
 //! assert_eq!(port.read(), Ok(0x7E));
 //! port.write(0x55).unwrap();

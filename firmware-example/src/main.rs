@@ -42,7 +42,7 @@ mod run {
     use cortex_m as _;
     use embedded_hal_nb::serial::Write;
     use embedded_storage::nor_flash::ReadNorFlash;
-    use firmware_example::{Clock, QueuedSerial};
+    use firmware_example::Clock;
     use sensor_box::{App, Control, info};
 
     #[cortex_m_rt::entry]
@@ -91,12 +91,12 @@ mod run {
 
     /// Waits until `port` has handed its queued bytes to the UART, or until
     /// `deadline` (ms since boot).
-    fn flush(port: &mut QueuedSerial<'static>, clock: &impl Clock, deadline: u64) {
+    fn flush(port: &mut board::Port, clock: &impl Clock, deadline: u64) {
         while port.flush().is_err() && clock.now_ms() < deadline {}
     }
 
     /// The periodic status lines.
-    fn report(now: u64, app: &App, ports: [&QueuedSerial<'static>; 3]) {
+    fn report(now: u64, app: &App, ports: [&board::Port; 3]) {
         info!(
             "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
             now,

@@ -1,44 +1,59 @@
 //! The serial port the application sees on every board.
 //!
-//! A UART is split in two halves joined by two `heapless::spsc` queues:
+//! A UART is split in two halves joined by two [`Ring`]s (`bbqueue` byte queues, which lend
+//! contiguous slices of their storage, so every path copies slices, not bytes):
 //!
 //! ```text
 //!   application (main loop)                      UART interrupt handler
-//!   QueuedSerial::read(&mut buf) <-- RX queue <--  SerialIsr::received(byte)
-//!   QueuedSerial::write(&frame)  --> TX queue -->  SerialIsr::next_to_send()
+//!   QueuedSerial::read(&mut buf) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!   QueuedSerial::write(&frame)  --> TX ring -->  SerialIsr::send_while(room, put) / take_to_send
 //!                                --> kick() (pends the interrupt)
 //! ```
 //!
 //! The application's half speaks two interfaces: `embedded_io`'s `Read`, `ReadReady`,
 //! `Write` and `WriteReady` (slices: what the `sensor-box` links use, so the main loop drains
-//! the RX queue in bursts and hands whole frames to the TX queue), and `embedded_hal_nb`'s
+//! the RX ring in bursts and hands whole frames to the TX ring), and `embedded_hal_nb`'s
 //! byte-at-a-time `serial::Read<u8>` / `Write<u8>` (whose non-blocking `flush` the main
 //! loop calls after every poll).
 //!
-//! * RX: the interrupt moves every received byte into the RX queue at once, so
+//! * RX: the interrupt moves every received byte into the RX ring at once, so
 //!   nothing is lost while the main loop is busy (telemetry at full rate). A
-//!   full queue drops the byte and counts it in [`PortStats`].
+//!   full ring drops the byte and counts it in [`PortStats`] ([`SerialIsr::received`]), or
+//!   leaves it in the UART ([`SerialIsr::receive_while`]: back-pressure).
 //! * TX: `write` queues the bytes and calls the board's `kick`, which pends the
 //!   UART interrupt (a [`QueuedSerial::batched`] port kicks once per burst,
 //!   on `flush`); the handler moves queued bytes into the UART while it has room, and keeps its TX interrupt enabled only while bytes are
-//!   waiting. The TX queue being full is the only thing a writer waits for: `write_ready`
+//!   waiting. The TX ring being full is the only thing a writer waits for: `write_ready`
 //!   says so (and the `nb` `write` returns `nb::WouldBlock`), so the main loop never waits
 //!   for the wire.
 //!
-//! The same type runs in host tests: the test plays the interrupt handler.
+//! A [`Ring`] of `N` bytes holds `N - 1` to `N` bytes (a bip buffer: which one depends on
+//! where its read and write positions stand). The same types run in host tests: the test
+//! plays the interrupt handler.
 
+use bbqueue::prod_cons::stream::{StreamConsumer, StreamProducer};
+use bbqueue::traits::{
+    coordination::cas::AtomicCoord, notifier::polling::Polling, storage::Inline,
+};
 use core::convert::Infallible;
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
-use heapless::spsc::{Consumer, Producer, Queue};
 
-/// Counters shared by both halves of a port. Wrapping `u32`s.
+/// A byte queue of `N` bytes between the main loop and an interrupt handler: `bbqueue`'s
+/// inline storage, atomic coordination, no async notifier. `Ring::new()` is `const`, so a board
+/// keeps its rings in `static`s.
+pub type Ring<const N: usize> = bbqueue::BBQueue<Inline<N>, AtomicCoord, Polling>;
+
+/// Counters shared by both halves of a port (wrapping `u32`s), and whether the handler holds
+/// received bytes back in the UART.
 #[derive(Debug, Default)]
 pub struct PortStats {
     rx_bytes: AtomicU32,
     rx_dropped: AtomicU32,
     rx_errors: AtomicU32,
     tx_bytes: AtomicU32,
+    /// The handler found the RX ring full and left bytes in the UART: the next read kicks it.
+    rx_held: AtomicBool,
 }
 
 /// A copy of the counters at one instant.
@@ -68,6 +83,7 @@ impl PortStats {
             rx_dropped: AtomicU32::new(0),
             rx_errors: AtomicU32::new(0),
             tx_bytes: AtomicU32::new(0),
+            rx_held: AtomicBool::new(false),
         }
     }
 
@@ -88,69 +104,81 @@ impl PortStats {
 }
 
 fn bump(counter: &AtomicU32) {
-    // Single-core targets: load/store is enough and works on every Cortex-M;
-    // only the interrupt handler writes the counters it bumps.
+    add(counter, 1);
+}
+
+/// Adds `n` to a counter only one side writes. Single-core targets: load/store is enough and
+/// works on every Cortex-M.
+fn add(counter: &AtomicU32, n: usize) {
     counter.store(
-        counter.load(Ordering::Relaxed).wrapping_add(1),
+        counter
+            .load(Ordering::Relaxed)
+            .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
         Ordering::Relaxed,
     );
 }
 
-/// The application's half of a UART: `embedded_io` `Read`, `ReadReady`, `Write` and
-/// `WriteReady` (slices), and `embedded_hal_nb` `Read<u8>` and `Write<u8>` (bytes).
-pub struct QueuedSerial<'q> {
-    rx: Consumer<'q, u8>,
-    tx: Producer<'q, u8>,
+/// The application's half of a UART with an `RX`-byte and a `TX`-byte [`Ring`]: `embedded_io`
+/// `Read`, `ReadReady`, `Write` and `WriteReady` (slices), and `embedded_hal_nb` `Read<u8>`
+/// and `Write<u8>` (bytes).
+pub struct QueuedSerial<'q, const RX: usize, const TX: usize> {
+    rx: StreamConsumer<&'q Ring<RX>>,
+    tx: StreamProducer<&'q Ring<TX>>,
     stats: &'q PortStats,
     kick: fn(),
     /// Kick only on `flush` and when the TX queue is full (see [`QueuedSerial::batched`]).
     batched: bool,
+    /// Bytes read from the RX ring since the split (wrapping; against `stats.rx_bytes`).
+    rx_taken: u32,
+    /// Bytes queued into the TX ring since the split (wrapping; against `stats.tx_bytes`).
+    tx_queued: u32,
 }
 
 /// The interrupt handler's half of a UART.
-pub struct SerialIsr<'q> {
-    rx: Producer<'q, u8>,
-    tx: Consumer<'q, u8>,
+pub struct SerialIsr<'q, const RX: usize, const TX: usize> {
+    rx: StreamProducer<&'q Ring<RX>>,
+    tx: StreamConsumer<&'q Ring<TX>>,
     stats: &'q PortStats,
 }
 
-impl<'q> QueuedSerial<'q> {
-    /// Splits an RX and a TX queue into the application's port and the
-    /// interrupt handler's half. `kick` is called after every queued TX byte;
-    /// a board makes it pend the UART interrupt.
+impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
+    /// Splits an RX and a TX ring into the application's port and the interrupt handler's
+    /// half. `kick` is called after every write (see [`QueuedSerial::batched`]); a board makes
+    /// it pend the UART interrupt. Split each ring once: a second split would make a second
+    /// writer (whose grants then fail while the first holds one).
     ///
     /// ```
-    /// use firmware_example::QueuedSerial;
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 16>::new(), heapless::spsc::Queue::<u8, 16>::new());
+    /// use firmware_example::{QueuedSerial, serial::Ring};
+    /// let (rxq, txq) = (Ring::<16>::new(), Ring::<16>::new());
     /// let stats = firmware_example::PortStats::new();
-    /// let (port, isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (port, isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// # let _ = (port, isr);
     /// ```
-    pub fn split<const RX: usize, const TX: usize>(
-        rx_queue: &'q mut Queue<u8, RX>,
-        tx_queue: &'q mut Queue<u8, TX>,
+    pub fn split(
+        rx_queue: &'q Ring<RX>,
+        tx_queue: &'q Ring<TX>,
         stats: &'q PortStats,
         kick: fn(),
-    ) -> (QueuedSerial<'q>, SerialIsr<'q>) {
-        let (rx_prod, rx_cons) = rx_queue.split();
-        let (tx_prod, tx_cons) = tx_queue.split();
+    ) -> (QueuedSerial<'q, RX, TX>, SerialIsr<'q, RX, TX>) {
         (
             QueuedSerial {
-                rx: rx_cons,
-                tx: tx_prod,
+                rx: rx_queue.stream_consumer(),
+                tx: tx_queue.stream_producer(),
                 stats,
                 kick,
                 batched: false,
+                rx_taken: 0,
+                tx_queued: 0,
             },
             SerialIsr {
-                rx: rx_prod,
-                tx: tx_cons,
+                rx: rx_queue.stream_producer(),
+                tx: tx_queue.stream_consumer(),
                 stats,
             },
         )
     }
 
-    /// The same port, kicking the interrupt per burst instead of per byte: `write` only
+    /// The same port, kicking the interrupt per burst instead of per write: `write` only
     /// queues (it kicks when the TX queue is full, then tries once more), and `flush` kicks.
     /// The owner must call `flush` after each burst of writes (the firmware's main loop does,
     /// after every poll), or the bytes wait. One interrupt then moves a whole burst into the
@@ -158,12 +186,12 @@ impl<'q> QueuedSerial<'q> {
     ///
     /// ```
     /// use embedded_hal_nb::serial::Write;
-    /// use firmware_example::QueuedSerial;
+    /// use firmware_example::{QueuedSerial, serial::Ring};
     /// use core::sync::atomic::{AtomicU32, Ordering};
     /// static KICKS: AtomicU32 = AtomicU32::new(0);
-    /// let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// let (a, b) = (Ring::<4>::new(), Ring::<8>::new());
     /// let stats = firmware_example::PortStats::new();
-    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {
+    /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {
     ///     KICKS.fetch_add(1, Ordering::Relaxed);
     /// });
     /// let mut port = port.batched();
@@ -184,101 +212,144 @@ impl<'q> QueuedSerial<'q> {
     /// Received bytes waiting to be read.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// isr.received(1);
     /// assert_eq!(port.rx_pending(), 1);
     /// ```
     pub fn rx_pending(&self) -> usize {
-        self.rx.len()
+        let received = self.stats.rx_bytes.load(Ordering::Relaxed);
+        received.wrapping_sub(self.rx_taken) as usize
     }
 
-    /// Room left in the TX queue, bytes.
+    /// Room left in the TX ring, bytes (at most `TX`; one byte less may fit, see [`Ring`]).
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
-    /// assert_eq!(port.tx_space(), 3); // a heapless queue of N holds N - 1
+    /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// assert_eq!(port.tx_space(), 4);
     /// ```
     pub fn tx_space(&self) -> usize {
-        self.tx.capacity().saturating_sub(self.tx.len())
+        TX.saturating_sub(self.tx_waiting())
     }
 
     /// The port's counters.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 4>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (port, _isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(port.counters().rx_dropped, 0);
     /// ```
     pub fn counters(&self) -> PortCounters {
         self.stats.snapshot()
     }
-}
 
-impl ErrorType for QueuedSerial<'_> {
-    type Error = Infallible;
-}
+    /// Bytes queued and not yet handed to the UART.
+    fn tx_waiting(&self) -> usize {
+        let sent = self.stats.tx_bytes.load(Ordering::Relaxed);
+        self.tx_queued.wrapping_sub(sent) as usize
+    }
 
-impl QueuedSerial<'_> {
-    /// Moves received bytes into `buf` in one pass, as many as are waiting and fit; the
-    /// count. Kicks the interrupt when the queue was full (see [`SerialIsr::rx_room`]).
+    /// Moves received bytes into `buf`, a slice copy per contiguous run of the ring (two at
+    /// most), as many as are waiting and fit; the count. Kicks the interrupt when it had left
+    /// bytes in the UART for want of room (see [`SerialIsr::receive_while`]).
     fn take_received(&mut self, buf: &mut [u8]) -> usize {
-        let was_full = self.rx.len() >= self.rx.capacity();
         let mut n = 0;
-        for slot in buf.iter_mut() {
-            let Some(byte) = self.rx.dequeue() else { break };
-            *slot = byte;
-            n += 1;
+        while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
+            let Ok(grant) = self.rx.read() else { break };
+            let k = grant.len().min(rest.len());
+            copy(rest, grant.get(..k).unwrap_or(&[]));
+            let whole = k == grant.len();
+            grant.release(k);
+            n += k;
+            if !whole {
+                break;
+            }
         }
-        if was_full && n > 0 {
+        add_local(&mut self.rx_taken, n);
+        if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
             (self.kick)();
         }
         n
     }
 
-    /// Copies as much of `bytes` into the TX queue as it has room for, in one pass; the count.
+    /// Copies as much of `bytes` into the TX ring as it has room for, a slice copy per
+    /// contiguous run (two at most); the count.
     fn queue_to_send(&mut self, bytes: &[u8]) -> usize {
         let mut n = 0;
-        for &byte in bytes {
-            if self.tx.enqueue(byte).is_err() {
+        while let Some(rest) = bytes.get(n..).filter(|r| !r.is_empty()) {
+            let Ok(mut grant) = self.tx.grant_max_remaining(rest.len()) else {
                 break;
-            }
-            n += 1;
+            };
+            let k = grant.len().min(rest.len());
+            copy(&mut grant, rest.get(..k).unwrap_or(&[]));
+            grant.commit(k);
+            n += k;
         }
+        add_local(&mut self.tx_queued, n);
         n
+    }
+
+    /// Whether the TX ring has room for one more byte.
+    fn tx_room(&self) -> bool {
+        // The count first: the TX ring only ever wraps when its write position is at the end
+        // (`queue_to_send` asks for what remains up to the end), so it always has room while
+        // two bytes are free. `tx_waiting` can only be too high (the handler counts the bytes
+        // after releasing them), never too low.
+        if self.tx_waiting().saturating_add(2) <= TX {
+            return true;
+        }
+        // Near full: ask the ring (a grant of one byte, dropped at once: nothing committed).
+        self.tx.grant_max_remaining(1).is_ok()
     }
 }
 
-impl embedded_io::ErrorType for QueuedSerial<'_> {
+/// Adds `n` to a wrapping count one side keeps to itself.
+fn add_local(counter: &mut u32, n: usize) {
+    *counter = counter.wrapping_add(u32::try_from(n).unwrap_or(u32::MAX));
+}
+
+/// Copies `src` to the start of `dst` (both are cut to the shorter).
+fn copy(dst: &mut [u8], src: &[u8]) {
+    let k = dst.len().min(src.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..k), src.get(..k)) {
+        d.copy_from_slice(s);
+    }
+}
+
+impl<const RX: usize, const TX: usize> ErrorType for QueuedSerial<'_, RX, TX> {
     type Error = Infallible;
 }
 
-impl embedded_io::ReadReady for QueuedSerial<'_> {
+impl<const RX: usize, const TX: usize> embedded_io::ErrorType for QueuedSerial<'_, RX, TX> {
+    type Error = Infallible;
+}
+
+impl<const RX: usize, const TX: usize> embedded_io::ReadReady for QueuedSerial<'_, RX, TX> {
     /// Whether received bytes are waiting: then [`embedded_io::Read::read`] does not wait.
     fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(self.rx.ready())
+        Ok(self.rx_pending() > 0)
     }
 }
 
-impl embedded_io::Read for QueuedSerial<'_> {
-    /// Moves the received bytes waiting in the RX queue into `buf` (as many as fit) in one
-    /// pass. With nothing waiting it waits for the interrupt to receive a byte, as
-    /// `embedded_io` asks: a caller that must not wait asks
+impl<const RX: usize, const TX: usize> embedded_io::Read for QueuedSerial<'_, RX, TX> {
+    /// Moves the received bytes waiting in the RX ring into `buf` (as many as fit), a slice
+    /// copy per contiguous run. With nothing waiting it waits for the interrupt to receive a
+    /// byte, as `embedded_io` asks: a caller that must not wait asks
     /// [`read_ready`](embedded_io::ReadReady::read_ready) first.
     ///
     /// ```
     /// use embedded_io::{Read, ReadReady};
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 8>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<8>::new(), Ring::<4>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// for byte in b"hello" {
     ///     isr.received(*byte);
     /// }
@@ -301,36 +372,37 @@ impl embedded_io::Read for QueuedSerial<'_> {
     }
 }
 
-impl embedded_io::WriteReady for QueuedSerial<'_> {
-    /// Whether the TX queue has room for a byte: then [`embedded_io::Write::write`] does not
+impl<const RX: usize, const TX: usize> embedded_io::WriteReady for QueuedSerial<'_, RX, TX> {
+    /// Whether the TX ring has room for a byte: then [`embedded_io::Write::write`] does not
     /// wait. When it is full the interrupt is kicked first (a batched port's bytes are
     /// otherwise only kicked on `flush`) and the room checked once more.
     fn write_ready(&mut self) -> Result<bool, Infallible> {
-        if self.tx.ready() {
+        if self.tx_room() {
             return Ok(true);
         }
         (self.kick)();
-        Ok(self.tx.ready())
+        Ok(self.tx_room())
     }
 }
 
-impl embedded_io::Write for QueuedSerial<'_> {
-    /// Copies as much of `buf` as the TX queue has room for, in one pass, and kicks the
-    /// interrupt (a [`QueuedSerial::batched`] port only when the queue is full: its owner's
-    /// `flush` kicks). With the queue full it kicks and waits for room, as `embedded_io`
-    /// asks: a caller that must not wait asks
+impl<const RX: usize, const TX: usize> embedded_io::Write for QueuedSerial<'_, RX, TX> {
+    /// Copies as much of `buf` as the TX ring has room for, a slice copy per contiguous run,
+    /// and kicks the interrupt (a [`QueuedSerial::batched`] port only when the ring is full:
+    /// its owner's `flush` kicks). With the ring full it kicks and waits for room, as
+    /// `embedded_io` asks: a caller that must not wait asks
     /// [`write_ready`](embedded_io::WriteReady::write_ready) first.
     ///
     /// ```
     /// use embedded_io::{Write, WriteReady};
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<4>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
-    /// assert_eq!(port.write(b"hello"), Ok(3)); // a heapless queue of 4 holds 3
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// assert_eq!(port.write(b"hello"), Ok(4)); // a ring of 4, empty, holds 4
     /// assert_eq!(port.write_ready(), Ok(false));
     /// assert_eq!(isr.next_to_send(), Some(b'h'));
-    /// assert_eq!(port.write(b"lo"), Ok(1));
+    /// assert_eq!(isr.next_to_send(), Some(b'e'));
+    /// assert_eq!(port.write(b"o!"), Ok(1)); // wrapped: the ring keeps one byte free
     /// ```
     fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
         if buf.is_empty() {
@@ -351,47 +423,47 @@ impl embedded_io::Write for QueuedSerial<'_> {
     /// loop, which must not wait, uses the `embedded_hal_nb` `flush` instead.
     fn flush(&mut self) -> Result<(), Infallible> {
         (self.kick)();
-        while !self.tx.is_empty() {}
+        while self.tx_waiting() > 0 {}
         Ok(())
     }
 }
 
-impl Read<u8> for QueuedSerial<'_> {
+impl<const RX: usize, const TX: usize> Read<u8> for QueuedSerial<'_, RX, TX> {
     /// The next received byte, or `WouldBlock` when none is waiting.
     ///
-    /// When the queue was full, the board's interrupt may have stopped taking bytes from the
-    /// UART (see [`SerialIsr::rx_room`]); reading then kicks it, so it takes them again.
+    /// When the ring was full, the board's interrupt may have stopped taking bytes from the
+    /// UART (see [`SerialIsr::receive_while`]); reading then kicks it, so it takes them again.
     fn read(&mut self) -> nb::Result<u8, Self::Error> {
-        let byte = self.rx.dequeue().ok_or(nb::Error::WouldBlock)?;
-        if self.rx.len() + 1 >= self.rx.capacity() {
-            (self.kick)();
+        let mut byte = [0u8];
+        if self.take_received(&mut byte) == 0 {
+            return Err(nb::Error::WouldBlock);
         }
-        Ok(byte)
+        Ok(byte[0])
     }
 }
 
-impl Write<u8> for QueuedSerial<'_> {
-    /// Queues a byte; `WouldBlock` when the TX queue is full.
+impl<const RX: usize, const TX: usize> Write<u8> for QueuedSerial<'_, RX, TX> {
+    /// Queues a byte; `WouldBlock` when the TX ring is full.
     fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
-        if !self.batched {
-            let queued = self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock);
+        let mut queued = self.queue_to_send(&[word]) == 1;
+        if !queued && self.batched {
+            // Full: start the interrupt on what is queued, and try once more (the
+            // handler may have made room at once).
             (self.kick)();
-            return queued;
+            queued = self.queue_to_send(&[word]) == 1;
+        } else if !self.batched {
+            (self.kick)();
         }
-        match self.tx.enqueue(word) {
-            Ok(()) => Ok(()),
-            Err(word) => {
-                // Full: start the interrupt on what is queued, and try once more (the
-                // handler may have made room at once).
-                (self.kick)();
-                self.tx.enqueue(word).map_err(|_| nb::Error::WouldBlock)
-            }
+        if queued {
+            Ok(())
+        } else {
+            Err(nb::Error::WouldBlock)
         }
     }
 
     /// `Ok` once every queued byte has gone to the UART, else `WouldBlock`.
     fn flush(&mut self) -> nb::Result<(), Self::Error> {
-        if self.tx.is_empty() {
+        if self.tx_waiting() == 0 {
             Ok(())
         } else {
             (self.kick)();
@@ -400,22 +472,25 @@ impl Write<u8> for QueuedSerial<'_> {
     }
 }
 
-impl SerialIsr<'_> {
-    /// Stores a received byte; when the RX queue is full the byte is dropped
-    /// and counted. Returns whether it was stored.
+impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
+    /// Stores a received byte; when the RX ring is full the byte is dropped
+    /// and counted. Returns whether it was stored. For a UART that cannot hold bytes back;
+    /// [`SerialIsr::receive_while`] takes a FIFO's worth at once.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<1>::new(), Ring::<2>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(isr.received(1));
-    /// assert!(!isr.received(2)); // the queue holds one byte
+    /// assert!(!isr.received(2)); // the ring holds one byte
     /// assert_eq!(port.counters().rx_dropped, 1);
     /// ```
     pub fn received(&mut self, byte: u8) -> bool {
-        match self.rx.enqueue(byte) {
-            Ok(()) => {
+        match self.rx.grant_exact(1) {
+            Ok(mut grant) => {
+                copy(&mut grant, &[byte]);
+                grant.commit(1);
                 bump(&self.stats.rx_bytes);
                 true
             }
@@ -426,13 +501,60 @@ impl SerialIsr<'_> {
         }
     }
 
+    /// Moves received bytes from the UART into the RX ring while the ring has room: `next`
+    /// gives the UART's next byte (`Some(Ok(byte))`), a receive error (`Some(Err(()))`,
+    /// counted) or `None` when the UART has nothing more; the bytes stored. Each contiguous
+    /// run of free ring is filled in place and committed once, and the count updated once.
+    /// When the ring is full `next` is not called again and the bytes stay in the UART (a
+    /// FIFO, and a peer that waits for it, as QEMU's sockets do): the application's next
+    /// read kicks the interrupt, which takes them then.
+    ///
+    /// ```
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<4>::new(), Ring::<2>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// let mut uart = [Ok(1), Err(()), Ok(2), Ok(3), Ok(4), Ok(5)].into_iter();
+    /// assert_eq!(isr.receive_while(|| uart.next()), 4); // the ring is full
+    /// assert_eq!(uart.next(), Some(Ok(5))); // still in the UART
+    /// assert_eq!((port.rx_pending(), port.counters().rx_errors), (4, 1));
+    /// ```
+    pub fn receive_while(&mut self, mut next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
+        let mut total = 0;
+        'runs: loop {
+            let Ok(mut grant) = self.rx.grant_max_remaining(usize::MAX) else {
+                self.stats.rx_held.store(true, Ordering::Relaxed);
+                break;
+            };
+            let mut n = 0;
+            while let Some(slot) = grant.get_mut(n) {
+                match next() {
+                    Some(Ok(byte)) => {
+                        *slot = byte;
+                        n += 1;
+                    }
+                    Some(Err(())) => bump(&self.stats.rx_errors),
+                    None => {
+                        grant.commit(n);
+                        total += n;
+                        break 'runs;
+                    }
+                }
+            }
+            grant.commit(n);
+            total += n;
+        }
+        add(&self.stats.rx_bytes, total);
+        total
+    }
+
     /// Counts a receive error reported by the UART hardware.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// isr.receive_error();
     /// assert_eq!(port.counters().rx_errors, 1);
     /// ```
@@ -443,30 +565,28 @@ impl SerialIsr<'_> {
     /// The next byte to hand to the UART, if any.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (_port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(isr.next_to_send(), None);
     /// ```
     pub fn next_to_send(&mut self) -> Option<u8> {
-        let byte = self.tx.dequeue();
-        if byte.is_some() {
-            bump(&self.stats.tx_bytes);
-        }
-        byte
+        let mut byte = [0u8];
+        (self.take_to_send(&mut byte) == 1).then_some(byte[0])
     }
 
     /// Hands queued bytes to `put` one by one while `room()` says the UART takes another (its
     /// FIFO is not full), for an interrupt handler that fills the FIFO; the count. The bytes
-    /// are counted as handed to the UART once, at the end.
+    /// come from the ring's contiguous runs (one slice each, released once) and are counted as
+    /// handed to the UART once, at the end.
     ///
     /// ```
     /// use embedded_io::Write;
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<8>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// port.write(b"hello").unwrap();
     /// let (room, mut fifo) = (core::cell::Cell::new(3), Vec::new()); // a FIFO with room for 3
     /// let put = |b| {
@@ -478,35 +598,83 @@ impl SerialIsr<'_> {
     /// assert_eq!(port.counters().tx_bytes, 3);
     /// ```
     pub fn send_while(&mut self, mut room: impl FnMut() -> bool, mut put: impl FnMut(u8)) -> usize {
-        let mut n = 0;
-        while room() {
-            let Some(byte) = self.tx.dequeue() else { break };
-            put(byte);
-            n += 1;
+        let mut total = 0;
+        while let Ok(grant) = self.tx.read() {
+            let mut n = 0;
+            for &byte in grant.iter() {
+                if !room() {
+                    break;
+                }
+                put(byte);
+                n += 1;
+            }
+            let whole = n == grant.len();
+            grant.release(n);
+            total += n;
+            if !whole {
+                break;
+            }
         }
-        self.count_sent(n);
-        n
+        add(&self.stats.tx_bytes, total);
+        total
     }
 
-    fn count_sent(&self, n: usize) {
-        let sent = &self.stats.tx_bytes;
-        sent.store(
-            sent.load(Ordering::Relaxed)
-                .wrapping_add(u32::try_from(n).unwrap_or(u32::MAX)),
-            Ordering::Relaxed,
-        );
-    }
-
-    /// Moves queued bytes into `buf` (as many as are queued and fit), for a UART that takes a
-    /// block at a time (a DMA transfer); the count. The bytes are counted as handed to the
-    /// UART.
+    /// Hands queued bytes to `put` a block of `block` bytes at a time while `empty()` says the
+    /// UART takes a whole block (its FIFO is empty: one register read per block instead of
+    /// one per byte), for an interrupt handler that fills the FIFO; the count. The last block
+    /// may be shorter (the queue ran dry). One release per contiguous run of the ring, one
+    /// counter update at the end. A FIFO that is neither empty nor full is left to
+    /// [`SerialIsr::send_while`].
     ///
     /// ```
     /// use embedded_io::Write;
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 8>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<64>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// port.write(&[7; 40]).unwrap();
+    /// let (mut fifo, empties) = (Vec::new(), core::cell::Cell::new(2u32)); // empties twice
+    /// let empty = || empties.replace(empties.get().saturating_sub(1)) > 0;
+    /// assert_eq!(isr.send_blocks(16, empty, |b| fifo.push(b)), 32);
+    /// assert_eq!(port.counters().tx_bytes, 32);
+    /// ```
+    pub fn send_blocks(
+        &mut self,
+        block: usize,
+        mut empty: impl FnMut() -> bool,
+        mut put: impl FnMut(u8),
+    ) -> usize {
+        let mut total = 0;
+        'runs: while let Ok(grant) = self.tx.read() {
+            let mut n = 0;
+            for chunk in grant.chunks(block.max(1)) {
+                if !empty() {
+                    grant.release(n);
+                    total += n;
+                    break 'runs;
+                }
+                for &byte in chunk {
+                    put(byte);
+                }
+                n += chunk.len();
+            }
+            grant.release(n);
+            total += n;
+        }
+        add(&self.stats.tx_bytes, total);
+        total
+    }
+
+    /// Moves queued bytes into `buf` (as many as are queued and fit), a slice copy per
+    /// contiguous run, for a UART that takes a block at a time (a DMA transfer); the count.
+    /// The bytes are counted as handed to the UART.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<8>::new());
+    /// # let stats = firmware_example::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// port.write(b"hello").unwrap();
     /// let mut block = [0u8; 4];
     /// assert_eq!(isr.take_to_send(&mut block), 4);
@@ -515,43 +683,55 @@ impl SerialIsr<'_> {
     /// ```
     pub fn take_to_send(&mut self, buf: &mut [u8]) -> usize {
         let mut n = 0;
-        for slot in buf.iter_mut() {
-            let Some(byte) = self.tx.dequeue() else { break };
-            *slot = byte;
-            n += 1;
+        while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
+            let Ok(grant) = self.tx.read() else { break };
+            let k = grant.len().min(rest.len());
+            copy(rest, grant.get(..k).unwrap_or(&[]));
+            let whole = k == grant.len();
+            grant.release(k);
+            n += k;
+            if !whole {
+                break;
+            }
         }
-        self.count_sent(n);
+        add(&self.stats.tx_bytes, n);
         n
     }
 
-    /// Whether the RX queue has room for another byte. A board whose UART can hold bytes back
-    /// (a FIFO, and a peer that waits for it, as QEMU's sockets do) stops reading the UART
-    /// while this is false instead of dropping bytes; the application's next read kicks the
-    /// interrupt again.
+    /// Whether the RX ring has room for another byte. A board whose UART can hold bytes back
+    /// stops taking them while this is false ([`SerialIsr::receive_while`] does so itself);
+    /// the application's next read then kicks the interrupt.
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<1>::new(), Ring::<2>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (_port, mut isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(isr.rx_room());
-    /// isr.received(7); // the queue holds one byte
+    /// isr.received(7); // the ring holds one byte
     /// assert!(!isr.rx_room());
     /// ```
     pub fn rx_room(&self) -> bool {
-        self.rx.ready()
+        // A grant of one byte, dropped at once: nothing is committed.
+        let room = self.rx.grant_max_remaining(1).is_ok();
+        if !room {
+            // The board holds bytes back from here on: the next read kicks it.
+            self.stats.rx_held.store(true, Ordering::Relaxed);
+        }
+        room
     }
 
     /// Whether bytes are waiting to be sent (keep the TX interrupt enabled).
     ///
     /// ```
-    /// # use firmware_example::QueuedSerial;
-    /// # let (mut a, mut b) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 2>::new());
+    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
     /// # let stats = firmware_example::PortStats::new();
-    /// let (_port, isr) = QueuedSerial::split(&mut a, &mut b, &stats, || {});
+    /// let (_port, isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(!isr.tx_pending());
     /// ```
     pub fn tx_pending(&self) -> bool {
-        self.tx.ready()
+        // A read grant, dropped at once: nothing is released.
+        self.tx.read().is_ok()
     }
 }

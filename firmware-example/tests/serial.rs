@@ -2,8 +2,8 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_hal_nb::serial::{Read, Write};
+use firmware_example::serial::Ring;
 use firmware_example::{PortStats, QueuedSerial};
-use heapless::spsc::Queue;
 
 static KICKS: AtomicU32 = AtomicU32::new(0);
 fn kick() {
@@ -12,9 +12,9 @@ fn kick() {
 
 #[test]
 fn rx_bytes_arrive_in_order_and_empty_is_would_block() {
-    let (mut rxq, mut txq) = (Queue::<u8, 64>::new(), Queue::<u8, 64>::new());
+    let (rxq, txq) = (Ring::<64>::new(), Ring::<64>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     assert_eq!(port.read(), Err(nb::Error::WouldBlock));
     for b in 0..50u8 {
         assert!(isr.received(b));
@@ -28,16 +28,16 @@ fn rx_bytes_arrive_in_order_and_empty_is_would_block() {
 
 #[test]
 fn full_rx_queue_drops_and_counts() {
-    let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+    let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let stored = (0..10u8).filter(|b| isr.received(*b)).count();
-    assert_eq!(stored, 7); // capacity N - 1
+    assert_eq!(stored, 8); // an empty ring of N holds N
     let c = port.counters();
-    assert_eq!((c.rx_bytes, c.rx_dropped), (7, 3));
-    // The stored bytes are the first seven, untouched.
+    assert_eq!((c.rx_bytes, c.rx_dropped), (8, 2));
+    // The stored bytes are the first eight, untouched.
     let got: Vec<u8> = core::iter::from_fn(|| port.read().ok()).collect();
-    assert_eq!(got, vec![0, 1, 2, 3, 4, 5, 6]);
+    assert_eq!(got, vec![0, 1, 2, 3, 4, 5, 6, 7]);
     isr.receive_error();
     assert_eq!(port.counters().rx_errors, 1);
 }
@@ -45,38 +45,41 @@ fn full_rx_queue_drops_and_counts() {
 #[test]
 fn tx_queues_kicks_and_would_block_when_full() {
     KICKS.store(0, Ordering::Relaxed);
-    let (mut rxq, mut txq) = (Queue::<u8, 4>::new(), Queue::<u8, 4>::new());
+    let (rxq, txq) = (Ring::<4>::new(), Ring::<4>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, kick);
-    assert_eq!(port.tx_space(), 3);
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, kick);
+    assert_eq!(port.tx_space(), 4);
     assert_eq!(port.flush(), Ok(()));
-    for b in [10u8, 11, 12] {
+    for b in [10u8, 11, 12, 13] {
         assert_eq!(port.write(b), Ok(()));
     }
-    assert_eq!(port.write(13), Err(nb::Error::WouldBlock));
+    assert_eq!(port.write(14), Err(nb::Error::WouldBlock));
     assert_eq!(
         KICKS.load(Ordering::Relaxed),
-        4,
+        5,
         "every write pends the interrupt"
     );
     assert_eq!(port.flush(), Err(nb::Error::WouldBlock));
     assert!(isr.tx_pending());
     assert_eq!(isr.next_to_send(), Some(10));
-    assert_eq!(port.write(13), Ok(()));
+    // Wrapping around keeps one byte free between the write and the read position.
+    assert_eq!(port.write(14), Err(nb::Error::WouldBlock));
+    assert_eq!(isr.next_to_send(), Some(11));
+    assert_eq!(port.write(14), Ok(()));
     let sent: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
-    assert_eq!(sent, vec![11, 12, 13]);
+    assert_eq!(sent, vec![12, 13, 14]);
     assert!(!isr.tx_pending());
     assert_eq!(port.flush(), Ok(()));
-    assert_eq!(port.counters().tx_bytes, 4);
+    assert_eq!(port.counters().tx_bytes, 5);
 }
 
 /// Interleaved traffic: the "interrupt" receives while the application
 /// echoes; nothing is lost or reordered while the queues have room.
 #[test]
 fn echo_loop_keeps_every_byte() {
-    let (mut rxq, mut txq) = (Queue::<u8, 32>::new(), Queue::<u8, 32>::new());
+    let (rxq, txq) = (Ring::<32>::new(), Ring::<32>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let input: Vec<u8> = (0..5000u32).map(|i| (i * 7 + 3) as u8).collect();
     let mut wire = Vec::new();
     for chunk in input.chunks(13) {
@@ -105,22 +108,22 @@ fn rx_kick() {
 fn reading_from_a_full_rx_queue_kicks_the_interrupt() {
     // A board that holds bytes in its UART FIFO while the queue is full (QEMU) must be told
     // when there is room again; reading from a queue that is not near full costs no kick.
-    let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 8>::new());
+    let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, rx_kick);
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, rx_kick);
     while isr.rx_room() {
         assert!(isr.received(1));
     }
-    assert_eq!(port.rx_pending(), 7);
+    assert_eq!(port.rx_pending(), 8);
     assert_eq!(port.read(), Ok(1));
     assert_eq!(RX_KICKS.load(Ordering::Relaxed), 1, "room again: kicked");
-    assert!(isr.rx_room());
     assert_eq!(port.read(), Ok(1));
+    assert!(isr.rx_room());
     assert_eq!(port.read(), Ok(1));
     assert_eq!(
         RX_KICKS.load(Ordering::Relaxed),
         1,
-        "not near full: no kick"
+        "the handler found room since: no kick"
     );
     assert_eq!(port.counters().rx_dropped, 0);
 }

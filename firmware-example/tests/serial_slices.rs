@@ -3,15 +3,15 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_io::{Read, ReadReady, Write, WriteReady};
+use firmware_example::serial::Ring;
 use firmware_example::{PortStats, QueuedSerial};
-use heapless::spsc::Queue;
 
 #[test]
 fn a_read_drains_what_is_queued_in_order_and_a_full_queue_kicks_once() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Queue::<u8, 8>::new(), Queue::<u8, 4>::new());
+    let (rxq, txq) = (Ring::<7>::new(), Ring::<4>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     assert_eq!(port.read_ready(), Ok(false));
@@ -44,9 +44,9 @@ fn a_read_drains_what_is_queued_in_order_and_a_full_queue_kicks_once() {
 #[test]
 fn a_write_queues_what_fits_and_kicks_once_per_write() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Queue::<u8, 2>::new(), Queue::<u8, 8>::new());
+    let (rxq, txq) = (Ring::<2>::new(), Ring::<7>::new());
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     assert_eq!(port.write(b"abcde"), Ok(5));
@@ -67,9 +67,9 @@ fn a_write_queues_what_fits_and_kicks_once_per_write() {
 #[test]
 fn a_batched_port_kicks_only_when_full_and_on_flush() {
     static KICKS: AtomicU32 = AtomicU32::new(0);
-    let (mut rxq, mut txq) = (Queue::<u8, 2>::new(), Queue::<u8, 8>::new());
+    let (rxq, txq) = (Ring::<2>::new(), Ring::<7>::new());
     let stats = PortStats::new();
-    let (port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {
+    let (port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
         KICKS.fetch_add(1, Ordering::Relaxed);
     });
     let mut port = port.batched();
@@ -91,4 +91,107 @@ fn a_batched_port_kicks_only_when_full_and_on_flush() {
     assert_eq!(fifo, b"abcdefg");
     assert_eq!(port.counters().tx_bytes, 7);
     assert!(embedded_hal_nb::serial::Write::flush(&mut port).is_ok());
+}
+
+/// Every way of cutting a stream into writes, and of taking it out (FIFO fills of every size,
+/// DMA blocks of every size), through a small ring that wraps around many times: the bytes
+/// come out whole and in order, and the counters agree.
+#[test]
+fn every_split_through_a_wrapping_ring_keeps_every_byte_in_order() {
+    let input: Vec<u8> = (0..600u32).map(|i| (i * 31 + 7) as u8).collect();
+    for write_len in 1..=9usize {
+        for take_len in 1..=9usize {
+            for fifo in [false, true] {
+                let (rxq, txq) = (Ring::<2>::new(), Ring::<8>::new());
+                let stats = PortStats::new();
+                let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+                let (mut at, mut out) = (0, Vec::new());
+                while out.len() < input.len() {
+                    let chunk = &input[at..(at + write_len).min(input.len())];
+                    if !chunk.is_empty() && port.write_ready() == Ok(true) {
+                        at += port.write(chunk).unwrap();
+                    }
+                    if fifo {
+                        let room = core::cell::Cell::new(take_len);
+                        isr.send_while(
+                            || room.get() > 0,
+                            |b| {
+                                room.set(room.get() - 1);
+                                out.push(b);
+                            },
+                        );
+                    } else {
+                        let mut block = vec![0u8; take_len];
+                        let n = isr.take_to_send(&mut block);
+                        out.extend_from_slice(&block[..n]);
+                    }
+                    assert!(port.tx_space() <= 8);
+                }
+                assert_eq!(out, input, "writes of {write_len}, takes of {take_len}");
+                assert_eq!(port.counters().tx_bytes, 600);
+                assert!(!isr.tx_pending());
+                assert_eq!(embedded_hal_nb::serial::Write::flush(&mut port), Ok(()));
+            }
+        }
+    }
+}
+
+/// The receive side the same way: FIFO bursts of every size into a small ring, reads of every
+/// size out; a full ring leaves the rest of a burst in the "UART" (nothing dropped) and the
+/// next read kicks the handler.
+#[test]
+fn every_split_through_a_wrapping_rx_ring_keeps_every_byte_and_drops_none() {
+    static KICKS: AtomicU32 = AtomicU32::new(0);
+    let input: Vec<u8> = (0..500u32).map(|i| (i * 13 + 1) as u8).collect();
+    for burst in 1..=12usize {
+        for read_len in 1..=9usize {
+            KICKS.store(0, Ordering::Relaxed);
+            let (rxq, txq) = (Ring::<8>::new(), Ring::<2>::new());
+            let stats = PortStats::new();
+            let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {
+                KICKS.fetch_add(1, Ordering::Relaxed);
+            });
+            let (mut uart, mut out) = (input.iter().copied().peekable(), Vec::new());
+            let mut buf = vec![0u8; read_len];
+            while out.len() < input.len() {
+                let mut left = burst;
+                isr.receive_while(|| {
+                    if left == 0 {
+                        return None;
+                    }
+                    left -= 1;
+                    uart.next().map(Ok)
+                });
+                if port.read_ready() == Ok(true) {
+                    let n = port.read(&mut buf).unwrap();
+                    out.extend_from_slice(&buf[..n]);
+                }
+            }
+            assert_eq!(out, input, "bursts of {burst}, reads of {read_len}");
+            let c = port.counters();
+            assert_eq!((c.rx_bytes, c.rx_dropped), (500, 0));
+            assert_eq!(port.rx_pending(), 0);
+            if burst > 8 {
+                assert!(KICKS.load(Ordering::Relaxed) > 0, "a full ring: kicked");
+            }
+        }
+    }
+}
+
+/// A receive error takes no room in the ring and is counted; a full ring stops the handler
+/// before it takes the next byte from the UART.
+#[test]
+fn receive_while_counts_errors_and_stops_when_full() {
+    let (rxq, txq) = (Ring::<3>::new(), Ring::<2>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    let mut uart = [Ok(1), Err(()), Ok(2), Err(()), Ok(3), Ok(4)].into_iter();
+    assert_eq!(isr.receive_while(|| uart.next()), 3);
+    assert_eq!(uart.next(), Some(Ok(4)), "left in the UART");
+    assert!(!isr.rx_room());
+    let mut buf = [0u8; 8];
+    assert_eq!(port.read(&mut buf), Ok(3));
+    assert_eq!(buf[..3], [1, 2, 3]);
+    let c = port.counters();
+    assert_eq!((c.rx_bytes, c.rx_errors, c.rx_dropped), (3, 2, 0));
 }

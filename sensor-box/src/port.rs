@@ -142,14 +142,58 @@ impl<const N: usize> TxQueue<N> {
         true
     }
 
+    /// Queues the frame `encode` writes, whole, if it fits with `reserve` bytes to spare;
+    /// whether it was queued. `encode` writes into the slice it is given and returns the
+    /// frame's length, or `None` when the slice is too short. The frame is encoded straight
+    /// into the ring's free bytes when they are contiguous; only a frame that would wrap
+    /// around the ring's end goes through a stack buffer of `M` bytes (at most `M` bytes
+    /// then).
+    ///
+    /// ```
+    /// let mut q = sensor_box::port::TxQueue::<8>::new();
+    /// let frame = |out: &mut [u8]| {
+    ///     out.get_mut(..3)?.copy_from_slice(b"abc");
+    ///     Some(3)
+    /// };
+    /// assert!(q.push_with::<8>(0, frame));
+    /// assert!(!q.push_with::<8>(3, frame)); // 5 free, 3 of them kept
+    /// assert_eq!(q.len(), 3);
+    /// ```
+    pub fn push_with<const M: usize>(
+        &mut self,
+        reserve: usize,
+        mut encode: impl FnMut(&mut [u8]) -> Option<usize>,
+    ) -> bool {
+        let room = self.free().saturating_sub(reserve);
+        let tail = self.head.saturating_add(self.len) % N.max(1);
+        let contiguous = N.saturating_sub(tail).min(room);
+        let end = tail.saturating_add(contiguous);
+        if let Some(slot) = self.buf.get_mut(tail..end)
+            && let Some(n) = encode(slot).filter(|&n| n <= contiguous)
+        {
+            self.len = self.len.saturating_add(n);
+            return true;
+        }
+        if contiguous >= room {
+            // Nothing more past the ring's end: it does not fit.
+            return false;
+        }
+        let mut scratch = [0u8; M];
+        let limit = room.min(M);
+        match scratch.get_mut(..limit).and_then(&mut encode) {
+            Some(n) if n <= limit => self.push(scratch.get(..n).unwrap_or(&[])),
+            _ => false,
+        }
+    }
+
     /// Hands queued bytes to `port` until the queue is empty or the port has no room; the
     /// port's error, if it reported one (the bytes stay queued).
     ///
     /// ```
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 4>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut q = sensor_box::port::TxQueue::<8>::new();
     /// q.push(b"hello");
     /// q.drain(&mut port).unwrap(); // the port holds 3

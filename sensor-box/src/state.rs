@@ -5,7 +5,7 @@ use flight_sim::{Flight, FlightParams};
 use serde::{Deserialize, Serialize};
 
 /// AEOLUS telemetry intervals in ms (spec figure 1c), settable over AYDP.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Intervals {
     /// GYRO, ACCEL, MAGNET, ATTITUDE and COMPASS.
     pub imu_ms: u32,

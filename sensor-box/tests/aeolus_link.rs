@@ -4,8 +4,8 @@
 
 use aeolus_proto::message::{Message, SetTime, Text};
 use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
+use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use sensor_box::aeolus_link::{AeolusLink, TX_QUEUE};
 use sensor_box::state::Intervals;
 use sensor_box::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
@@ -14,9 +14,12 @@ use sensor_box::{App, Control, Persisted, Shared};
 // ------------------------------------------------------------------ rig
 
 /// A serial port whose other end the test plays. Leaked: tests are short-lived processes.
-fn port<const TX: usize>() -> (QueuedSerial<'static>, SerialIsr<'static>) {
-    let rxq = Box::leak(Box::new(Queue::<u8, 4096>::new()));
-    let txq = Box::leak(Box::new(Queue::<u8, TX>::new()));
+fn port<const TX: usize>() -> (
+    QueuedSerial<'static, 4096, TX>,
+    SerialIsr<'static, 4096, TX>,
+) {
+    let rxq = Box::leak(Box::new(Ring::<4096>::new()));
+    let txq = Box::leak(Box::new(Ring::<TX>::new()));
     let stats = Box::leak(Box::new(PortStats::new()));
     QueuedSerial::split(rxq, txq, stats, || {})
 }
@@ -50,13 +53,13 @@ impl Sent {
 }
 
 /// The peer on the other end of UART0: a strict deframer (every frame must carry a good CRC).
-struct Peer {
-    isr: SerialIsr<'static>,
+struct Peer<const TX: usize = 8192> {
+    isr: SerialIsr<'static, 4096, TX>,
     deframer: Decoder<512>,
     frames: Vec<Sent>,
 }
 
-impl Peer {
+impl<const TX: usize> Peer<TX> {
     /// Takes up to `max` bytes the box sent, as a UART of that speed would.
     fn drain(&mut self, max: usize) {
         for _ in 0..max {
@@ -103,11 +106,11 @@ fn command(text: &str) -> Vec<u8> {
 }
 
 /// The link, its shared state, UART0 and the peer, at simulated time `now`.
-struct SensorBox {
+struct SensorBox<const TX: usize = 8192> {
     link: AeolusLink,
     shared: Shared,
-    port: QueuedSerial<'static>,
-    peer: Peer,
+    port: QueuedSerial<'static, 4096, TX>,
+    peer: Peer<TX>,
     now: u64,
     /// Bytes the peer's UART takes per millisecond (usize::MAX: as fast as the box sends).
     uart_bytes_per_ms: usize,
@@ -115,7 +118,18 @@ struct SensorBox {
 
 impl SensorBox {
     fn boot() -> Self {
-        let (port, isr) = port::<8192>();
+        Self::boot_with(port::<8192>())
+    }
+}
+
+impl<const TX: usize> SensorBox<TX> {
+    /// Boots on a port whose TX queue holds `TX` bytes.
+    fn boot_with(
+        (port, isr): (
+            QueuedSerial<'static, 4096, TX>,
+            SerialIsr<'static, 4096, TX>,
+        ),
+    ) -> Self {
         SensorBox {
             link: AeolusLink::new(0),
             shared: Shared::new(Persisted::default(), 0),
@@ -768,16 +782,7 @@ fn a_slow_uart_drops_whole_frames_but_still_answers() {
     // A 115 200 Bd UART (11 bytes/ms) cannot carry 45 kB/s: the link queue fills, whole
     // telemetry frames are dropped (the peer's strict deframer sees no damage), RX keeps
     // working and the answer TOAST still goes out (the queue keeps room for it).
-    let (port, isr) = port::<64>();
-    let mut b = SensorBox {
-        port,
-        peer: Peer {
-            isr,
-            deframer: Decoder::strict(),
-            frames: Vec::new(),
-        },
-        ..SensorBox::boot()
-    };
+    let mut b = SensorBox::boot_with(port::<64>());
     b.uart_bytes_per_ms = 11;
     b.run_until(1_000);
     // Every due frame was either queued or dropped: 5 x 143 + 200 + 11 + 2 + 1 + 1 in 1 s.

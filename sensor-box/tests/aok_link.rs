@@ -12,8 +12,8 @@ use aok_proto::{
     Motor, MotorTest, ParameterValue, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
+use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use sensor_box::aok_link::{
     AokLink, ControlSource, DebugId, FIRMWARE, IDLE_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
     STATUS_FLYING, STATUS_MOTOR_TEST,
@@ -22,19 +22,22 @@ use sensor_box::state::StoredWaypoint;
 use sensor_box::{App, Control, Persisted, Shared};
 
 /// A port pair over queues that live for the whole test binary (leaked: a few KiB per test).
-fn ports<const TX: usize>() -> (QueuedSerial<'static>, SerialIsr<'static>) {
-    let rx = Box::leak(Box::new(Queue::<u8, 1024>::new()));
-    let tx = Box::leak(Box::new(Queue::<u8, TX>::new()));
+fn ports<const TX: usize>() -> (
+    QueuedSerial<'static, 1024, TX>,
+    SerialIsr<'static, 1024, TX>,
+) {
+    let rx = Box::leak(Box::new(Ring::<1024>::new()));
+    let tx = Box::leak(Box::new(Ring::<TX>::new()));
     let stats = Box::leak(Box::new(PortStats::new()));
     QueuedSerial::split(rx, tx, stats, || {})
 }
 
 /// The link, its shared state, its port and a simulated clock.
-struct Rig {
+struct Rig<const TX: usize = 1024> {
     shared: Shared,
     link: AokLink,
-    port: QueuedSerial<'static>,
-    isr: SerialIsr<'static>,
+    port: QueuedSerial<'static, 1024, TX>,
+    isr: SerialIsr<'static, 1024, TX>,
     now: u64,
     /// Whether `step` hands the device's output to the PC (false: the port's TX queue fills).
     draining: bool,
@@ -45,10 +48,15 @@ impl Rig {
     fn new() -> Self {
         Self::with(Persisted::default(), ports::<1024>())
     }
+}
 
+impl<const TX: usize> Rig<TX> {
     fn with(
         persisted: Persisted,
-        (port, isr): (QueuedSerial<'static>, SerialIsr<'static>),
+        (port, isr): (
+            QueuedSerial<'static, 1024, TX>,
+            SerialIsr<'static, 1024, TX>,
+        ),
     ) -> Self {
         let shared = Shared::new(persisted, 0);
         let link = AokLink::new(&shared);
@@ -152,7 +160,7 @@ fn value_of(frames: &[DebugValue], id: DebugId) -> i32 {
         .value
 }
 
-fn land(rig: &mut Rig) {
+fn land<const TX: usize>(rig: &mut Rig<TX>) {
     rig.shared.paused = true;
 }
 
@@ -961,7 +969,10 @@ fn client_reads_and_sets_through_the_debug_stream() {
 // ---------------------------------------------------------------------------------------------
 // Through the App: reset, and sets and waypoints surviving a reboot
 
-type Port = (QueuedSerial<'static>, SerialIsr<'static>);
+type Port = (
+    QueuedSerial<'static, 1024, 1024>,
+    SerialIsr<'static, 1024, 1024>,
+);
 
 fn app_poll(app: &mut App, now: u64, uarts: &mut [Port; 3], flash: &mut MemFlash<'_>) -> Control {
     let [(u0, i0), (u1, i1), (u2, _)] = uarts;

@@ -6,20 +6,20 @@ use aydp_proto::{
     Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
     Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
+use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use sensor_box::aydp_link::{self, addr};
 use sensor_box::{App, Control, Persisted, Settings};
 
 /// One UART: the application's half and the interrupt half the test plays.
 struct Port {
-    app: QueuedSerial<'static>,
-    isr: SerialIsr<'static>,
+    app: QueuedSerial<'static, 4096, 8192>,
+    isr: SerialIsr<'static, 4096, 8192>,
 }
 
 fn port() -> Port {
-    let rx: &'static mut Queue<u8, 4096> = Box::leak(Box::new(Queue::new()));
-    let tx: &'static mut Queue<u8, 8192> = Box::leak(Box::new(Queue::new()));
+    let rx: &'static mut Ring<4096> = Box::leak(Box::new(Ring::new()));
+    let tx: &'static mut Ring<8192> = Box::leak(Box::new(Ring::new()));
     let stats: &'static PortStats = Box::leak(Box::new(PortStats::new()));
     let (app, isr) = QueuedSerial::split(rx, tx, stats, || {});
     Port { app, isr }
@@ -746,10 +746,10 @@ fn heartbeats_from_the_peer_are_counted_and_other_types_ignored() {
 fn a_full_tx_queue_drops_the_message_and_never_blocks() {
     use sensor_box::{Shared, aydp_link::AydpLink};
     // A TX queue with room for 4 bytes that nobody drains: the 7-byte heartbeat cannot go.
-    let mut rxq = Queue::<u8, 8>::new();
-    let mut txq = Queue::<u8, 5>::new();
+    let rxq = Ring::<8>::new();
+    let txq = Ring::<4>::new();
     let stats = PortStats::new();
-    let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AydpLink::new(0);
     link.poll(0, &mut port, &mut shared);

@@ -8,20 +8,23 @@ use aeolus_proto::message::{Message, SetTime, Text};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
+use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use sensor_box::aeolus_link::{AeolusLink, RX_FRAME};
 use sensor_box::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
 use sensor_box::{App, Control, Persisted, Shared};
 
-fn port() -> (QueuedSerial<'static>, SerialIsr<'static>) {
-    let rx: &'static mut Queue<u8, 4096> = Box::leak(Box::new(Queue::new()));
-    let tx: &'static mut Queue<u8, 16384> = Box::leak(Box::new(Queue::new()));
+fn port() -> (
+    QueuedSerial<'static, 4096, 16384>,
+    SerialIsr<'static, 4096, 16384>,
+) {
+    let rx: &'static mut Ring<4096> = Box::leak(Box::new(Ring::new()));
+    let tx: &'static mut Ring<16384> = Box::leak(Box::new(Ring::new()));
     let stats: &'static PortStats = Box::leak(Box::new(PortStats::new()));
     QueuedSerial::split(rx, tx, stats, || {})
 }
 
-fn sent(isr: &mut SerialIsr<'_>) -> Vec<u8> {
+fn sent<const RX: usize, const TX: usize>(isr: &mut SerialIsr<'_, RX, TX>) -> Vec<u8> {
     std::iter::from_fn(|| isr.next_to_send()).collect()
 }
 

@@ -2,8 +2,8 @@
 //! migration, write alignment, and settings surviving a reboot of the App.
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
+use firmware_example::serial::Ring;
 use firmware_example::{Error, MemFlash, PortStats, QueuedSerial};
-use heapless::spsc::Queue;
 use sensor_box::persist::{
     self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, PersistedV1, SettingsV1, StoreError,
     VERSION,
@@ -502,7 +502,7 @@ fn a_flash_that_does_not_program_fails_verification() {
 
 /// One App poll with idle ports.
 fn poll_app<F: NorFlash>(app: &mut App, flash: &mut F) {
-    let mut q: Vec<Queue<u8, 8192>> = (0..6).map(|_| Queue::new()).collect();
+    let mut q: Vec<Ring<8192>> = (0..6).map(|_| Ring::new()).collect();
     let stats = [PortStats::new(), PortStats::new(), PortStats::new()];
     let [q0, q1, q2, q3, q4, q5] = &mut q[..] else {
         unreachable!()

@@ -3,11 +3,12 @@
 //! Every board module has the same shape:
 //!
 //! * `NAME`: the board's name, for the boot log;
+//! * `Port`: its [`QueuedSerial`](firmware_example::QueuedSerial) (the sizes of its RX and TX rings);
 //! * `Store`: its flash store type (`embedded-storage` `NorFlash`);
 //! * `init() -> Board<Store>`: clocks, SysTick, three interrupt-driven UARTs
 //!   and the flash store;
 //! * the UART interrupt handlers, which move bytes between the UARTs and the
-//!   queues behind [`QueuedSerial`].
+//!   queues behind [`QueuedSerial`](firmware_example::QueuedSerial).
 //!
 //! What is the same on every Cortex-M (the millisecond clock, the painted
 //! stack, the warm reset) is in this file.
@@ -19,7 +20,7 @@
 
 use core::cell::Cell;
 use critical_section::Mutex;
-use firmware_example::{Clock, QueuedSerial};
+use firmware_example::Clock;
 
 #[cfg(all(feature = "board-qemu", feature = "board-stm32f411"))]
 compile_error!("choose one board: `board-qemu` or `board-stm32f411`, not both");
@@ -31,21 +32,21 @@ compile_error!(
 #[cfg(feature = "board-qemu")]
 mod qemu;
 #[cfg(feature = "board-qemu")]
-pub use qemu::{NAME, init};
+pub use qemu::{NAME, Port, init};
 
 #[cfg(feature = "board-stm32f411")]
 mod stm32f411;
 #[cfg(feature = "board-stm32f411")]
-pub use stm32f411::{NAME, init};
+pub use stm32f411::{NAME, Port, init};
 
 /// What `init` hands to the application.
 pub struct Board<S> {
     /// UART0: AEOLUS.
-    pub uart0: QueuedSerial<'static>,
+    pub uart0: Port,
     /// UART1: AYDP.
-    pub uart1: QueuedSerial<'static>,
+    pub uart1: Port,
     /// UART2: AOK.
-    pub uart2: QueuedSerial<'static>,
+    pub uart2: Port,
     /// Milliseconds since boot.
     pub clock: SysTickClock,
     /// The settings store.

@@ -15,9 +15,12 @@ use core::ptr::{addr_of_mut, read_volatile, write_volatile};
 use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
+use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use sensor_box::budget::{self, Category};
+
+/// The port type the application sees.
+pub type Port = QueuedSerial<'static, RX_CAP, TX_CAP>;
 
 /// The board's name for the boot log.
 pub const NAME: &str = "qemu-lm3s6965evb";
@@ -62,6 +65,9 @@ const IFLS: usize = 0x034;
 const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
 const FR_RXFE: u32 = 1 << 4;
 const FR_TXFF: u32 = 1 << 5;
+const FR_TXFE: u32 = 1 << 7;
+/// Bytes the PL011's TX FIFO holds.
+const TX_FIFO: usize = 16;
 const DR_ERRORS: u32 = 0xF00; // OE | BE | PE | FE
 const INT_RX: u32 = 1 << 4;
 const INT_TX: u32 = 1 << 5;
@@ -119,12 +125,12 @@ pub static __INTERRUPTS: [Vector; 34] = {
 
 // ------------------------------------------------------------- statics
 
-static mut RX_QUEUES: [Queue<u8, RX_CAP>; 3] = [const { Queue::new() }; 3];
-static mut TX_QUEUES: [Queue<u8, TX_CAP>; 3] = [const { Queue::new() }; 3];
+static RX_QUEUES: [Ring<RX_CAP>; 3] = [const { Ring::new() }; 3];
+static TX_QUEUES: [Ring<TX_CAP>; 3] = [const { Ring::new() }; 3];
 static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
 /// The interrupt handlers' halves; written once in `init` before the UART
 /// interrupts are unmasked, used only by the handlers afterwards.
-static mut ISR: [Option<SerialIsr<'static>>; 3] = [const { None }; 3];
+static mut ISR: [Option<SerialIsr<'static, RX_CAP, TX_CAP>>; 3] = [const { None }; 3];
 
 /// The emulated flash: never initialised by the startup code.
 #[unsafe(link_section = ".flash_emu")]
@@ -159,19 +165,13 @@ pub fn init() -> Board<Store> {
         || NVIC::pend(Irq::Uart1),
         || NVIC::pend(Irq::Uart2),
     ];
-    // SAFETY: `TAKEN` makes this run once, so these are the only references
-    // to the queues; the ISR halves are stored before the interrupts are
-    // unmasked below.
-    let (rxq, txq, isr) = unsafe {
-        (
-            &mut *addr_of_mut!(RX_QUEUES),
-            &mut *addr_of_mut!(TX_QUEUES),
-            &mut *addr_of_mut!(ISR),
-        )
-    };
-    let mut ports = rxq
-        .iter_mut()
-        .zip(txq.iter_mut())
+    // SAFETY: `TAKEN` makes this run once, so this is the only reference to the ISR halves
+    // (and the rings are split once); they are stored before the interrupts are unmasked
+    // below.
+    let isr = unsafe { &mut *addr_of_mut!(ISR) };
+    let mut ports = RX_QUEUES
+        .iter()
+        .zip(TX_QUEUES.iter())
         .zip(STATS.iter())
         .zip(kicks)
         .zip(isr.iter_mut())
@@ -241,20 +241,27 @@ fn service(index: usize) {
         // Bytes stay in the PL011 FIFO while the RX queue is full: QEMU then stops reading
         // the socket, and nothing is dropped. The application's next read pends this
         // interrupt again (see `SerialIsr::rx_room`).
-        while isr.rx_room() && read_volatile(reg(base, FR)) & FR_RXFE == 0 {
-            let dr = read_volatile(reg(base, DR));
-            if dr & DR_ERRORS != 0 {
-                isr.receive_error();
-            } else {
-                isr.received(dr as u8);
-            }
+        // A TX interrupt finds the RX FIFO empty: no RX ring grant then.
+        if read_volatile(reg(base, FR)) & FR_RXFE == 0 {
+            isr.receive_while(|| {
+                if read_volatile(reg(base, FR)) & FR_RXFE != 0 {
+                    return None;
+                }
+                let dr = read_volatile(reg(base, DR));
+                Some(if dr & DR_ERRORS != 0 {
+                    Err(())
+                } else {
+                    Ok(dr as u8)
+                })
+            });
         }
         budget::leave(previous);
         let previous = budget::enter(Category::TxIrq);
-        isr.send_while(
-            || read_volatile(reg(base, FR)) & FR_TXFF == 0,
-            |b| write_volatile(reg(base, DR), u32::from(b)),
-        );
+        // A FIFO's worth per empty FIFO (one flag read per 16 bytes), then byte by byte
+        // while a part-full FIFO has room.
+        let put = |b| write_volatile(reg(base, DR), u32::from(b));
+        isr.send_blocks(TX_FIFO, || read_volatile(reg(base, FR)) & FR_TXFE != 0, put);
+        isr.send_while(|| read_volatile(reg(base, FR)) & FR_TXFF == 0, put);
         let tx = if isr.tx_pending() { INT_TX } else { 0 };
         let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
         write_volatile(reg(base, IMSC), rx | tx);

@@ -47,8 +47,8 @@ use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_rtt as _;
 use embedded_hal_nb::serial::{Read, Write};
+use firmware_example::serial::Ring;
 use firmware_example::{PortStats, QueuedSerial, SerialIsr};
-use heapless::spsc::Queue;
 use panic_probe as _;
 use stm32f4xx_hal::pac::{self, Interrupt, USART1, USART2, USART6, interrupt};
 use stm32f4xx_hal::prelude::*;
@@ -60,6 +60,9 @@ use {
     firmware_example::FlashWindow,
     stm32f4xx_hal::flash::{self, FlashExt, LockedFlash},
 };
+
+/// The port type the application sees.
+pub type Port = QueuedSerial<'static, RX_CAP, TX_CAP>;
 
 /// The board's name for the boot log.
 #[cfg(not(feature = "qemu-stm32"))]
@@ -144,11 +147,11 @@ impl NorFlash for Stm32Flash {
 struct IsrPort<U: Instance> {
     tx: Tx<U>,
     rx: Rx<U>,
-    half: SerialIsr<'static>,
+    half: SerialIsr<'static, RX_CAP, TX_CAP>,
 }
 
-static mut RX_QUEUES: [Queue<u8, RX_CAP>; 3] = [const { Queue::new() }; 3];
-static mut TX_QUEUES: [Queue<u8, TX_CAP>; 3] = [const { Queue::new() }; 3];
+static RX_QUEUES: [Ring<RX_CAP>; 3] = [const { Ring::new() }; 3];
+static TX_QUEUES: [Ring<TX_CAP>; 3] = [const { Ring::new() }; 3];
 static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
 /// Written once in `init` before the USART interrupts are unmasked, used
 /// only by the interrupt handlers afterwards.
@@ -191,17 +194,16 @@ pub fn init() -> Board<Store> {
         super::reset();
     };
 
-    // SAFETY: `TAKEN` makes this run once, so these are the only references
-    // to the queues; the handlers' halves are stored before the interrupts
-    // are unmasked below.
-    let (rxq, txq) = unsafe { (&mut *addr_of_mut!(RX_QUEUES), &mut *addr_of_mut!(TX_QUEUES)) };
-    let [rx0, rx1, rx2] = rxq;
-    let [tx0, tx1, tx2] = txq;
+    // `TAKEN` makes this run once, so each ring is split once; the handlers' halves are
+    // stored before the interrupts are unmasked below.
+    let [rx0, rx1, rx2] = &RX_QUEUES;
+    let [tx0, tx1, tx2] = &TX_QUEUES;
     let [st0, st1, st2] = &STATS;
     let (uart0, h0) = QueuedSerial::split(rx0, tx0, st0, || NVIC::pend(Interrupt::USART2));
     let (uart1, h1) = QueuedSerial::split(rx1, tx1, st1, || NVIC::pend(Interrupt::USART1));
     let (uart2, h2) = QueuedSerial::split(rx2, tx2, st2, || NVIC::pend(Interrupt::USART6));
-    // SAFETY: as above; the interrupts are still masked.
+    // SAFETY: `TAKEN` makes this the only writer of the handlers' statics; the interrupts
+    // are still masked.
     unsafe {
         *addr_of_mut!(PORT0) = Some(isr_port(s0, h0));
         *addr_of_mut!(PORT1) = Some(isr_port(s1, h1));
@@ -237,7 +239,10 @@ pub fn init() -> Board<Store> {
     }
 }
 
-fn isr_port<U: Instance>(serial: serial::Serial<U>, half: SerialIsr<'static>) -> IsrPort<U> {
+fn isr_port<U: Instance>(
+    serial: serial::Serial<U>,
+    half: SerialIsr<'static, RX_CAP, TX_CAP>,
+) -> IsrPort<U> {
     let (tx, mut rx) = serial.split();
     rx.listen();
     IsrPort { tx, rx, half }

@@ -27,7 +27,7 @@
 //! that answers (TOASTs) still fit when the UART cannot keep up, and RX decodes a byte only
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
 //! slowly the other side reads (the bytes wait in the port instead, and the rest of a read
-//! that was cut short waits in the link, see [`Received`](crate::port::Received)).
+//! that was cut short waits in the link, see [`Received`]).
 //!
 //! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
 //! UART0 receives (deframing, COMMAND, SETTIME).
@@ -38,11 +38,11 @@
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use firmware_example::{PortStats, QueuedSerial};
-//! use heapless::spsc::Queue;
+//! use firmware_example::serial::Ring;
 //!
-//! let (mut rxq, mut txq) = (Queue::<u8, 256>::new(), Queue::<u8, 4096>::new());
+//! let (rxq, txq) = (Ring::<256>::new(), Ring::<4096>::new());
 //! let stats = PortStats::new();
-//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
 //! let mut shared = Shared::new(Persisted::default(), 0);
 //! let mut link = AeolusLink::new(0);
 //!
@@ -91,7 +91,7 @@ pub const TX_QUEUE: usize = 512;
 /// Queue bytes telemetry leaves free for answers: one longest TOAST.
 pub const TX_RESERVE: usize = FRAME_BUF;
 
-/// The most bytes one poll reads from the port. The boards' RX queues hold 255 bytes, so one
+/// The most bytes one poll reads from the port. The boards' RX rings hold 256 bytes (255 once wrapped), so one
 /// poll empties them (bytes of an earlier read that were held back are decoded first, on top); the bound keeps a port that never runs dry (a flood) from starving the
 /// others and the schedule: 256 bytes are about 2.8 ms of UART0 at 921 600 Bd, and decoding
 /// them takes well under a millisecond of a 50 MHz Cortex-M3 (`docs/BENCHMARKS.md`,
@@ -210,9 +210,9 @@ impl AeolusLink {
     /// ```
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 1024>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, _isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, _isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AeolusLink::new(0);
     /// link.poll_tx(0, &mut port, &shared);
@@ -356,16 +356,10 @@ fn drain<P: Write + WriteReady>(
     }
 }
 
-/// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare.
+/// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare: straight
+/// into the queue's free bytes (no buffer to clear, no copy), unless the frame would wrap.
 fn enqueue(tx: &mut TxQueue<TX_QUEUE>, msg: &Message<'_>, reserve: usize) -> bool {
-    let mut buf = [0u8; FRAME_BUF];
-    let Ok(n) = msg.encode(&mut buf, CrcMode::Compute) else {
-        return false;
-    };
-    if tx.free() < n.saturating_add(reserve) {
-        return false;
-    }
-    tx.push(buf.get(..n).unwrap_or(&[]))
+    tx.push_with::<FRAME_BUF>(reserve, |out| msg.encode(out, CrcMode::Compute).ok())
 }
 
 fn bump(counter: &mut u32) {

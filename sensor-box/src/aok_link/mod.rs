@@ -26,13 +26,13 @@
 //! ```
 //! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
 //! use firmware_example::{PortStats, QueuedSerial};
-//! use heapless::spsc::Queue;
+//! use firmware_example::serial::Ring;
 //!
 //! let shared = &mut Shared::new(Persisted::default(), 0);
 //! let mut link = AokLink::new(shared);
-//! let (mut rxq, mut txq) = (Queue::<u8, 64>::new(), Queue::<u8, 64>::new());
+//! let (rxq, txq) = (Ring::<64>::new(), Ring::<64>::new());
 //! let stats = PortStats::new();
-//! let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+//! let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
 //! // Debug is on at boot: the first poll sends the first value of the cycle (roll).
 //! link.poll(0, &mut port, shared);
 //! let frame: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();

@@ -3,7 +3,7 @@
 //!
 //! # What arrives
 //!
-//! The port is read a slice at a time (up to [`RX_CHUNK`](crate::port::RX_CHUNK) bytes, at
+//! The port is read a slice at a time (up to [`RX_CHUNK`] bytes, at
 //! most [`RX_BUDGET`] a poll). Every received byte goes through an [`aydp_proto::Decoder`]
 //! by `push`, not the slice path `feed`: a request for [`addr::LINK_COUNTERS`] reports the
 //! decoder's counters as of before the byte that completed it, which only the per-byte path
@@ -255,9 +255,9 @@ impl AydpLink {
     /// use aydp_proto::{Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AydpLink::new(0);
     /// // Expedited request data at 0x0110 (airspeed).
@@ -288,9 +288,9 @@ impl AydpLink {
     /// ```
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (mut rxq, mut txq) = (heapless::spsc::Queue::<u8, 2>::new(), heapless::spsc::Queue::<u8, 256>::new());
+    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
-    /// let (mut port, mut isr) = QueuedSerial::split(&mut rxq, &mut txq, &stats, || {});
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AydpLink::new(0);
     /// link.poll_tx(0, &mut port, &shared);

@@ -24,6 +24,11 @@ const OFF: u64 = u64::MAX;
 pub struct Telemetry {
     next_ms: [u64; Kind::COUNT],
     skipped: u32,
+    /// After a complete [`Telemetry::due`] pass: its instant, the earliest next due instant
+    /// and the intervals of that pass. While the intervals stay the same nothing is due before it, so
+    /// a millisecond with nothing due costs one comparison instead of a pass over every kind
+    /// (a changed interval, or a kind turned on or off, takes the full pass again).
+    quiet: Option<(u64, u64, Intervals)>,
 }
 
 impl Telemetry {
@@ -35,6 +40,7 @@ impl Telemetry {
         Telemetry {
             next_ms: [now_ms; Kind::COUNT],
             skipped: 0,
+            quiet: None,
         }
     }
 
@@ -50,6 +56,7 @@ impl Telemetry {
     /// ```
     pub fn restart(&mut self, now_ms: u64) {
         self.next_ms = [now_ms; Kind::COUNT];
+        self.quiet = None;
     }
 
     /// When `kind` is next due, ms (`u64::MAX` while its interval is 0).
@@ -77,12 +84,24 @@ impl Telemetry {
     /// consumes them (their next due instant moves on); kinds not reached because the iterator
     /// was dropped early stay due.
     pub fn due(&mut self, now_ms: u64, intervals: &Intervals) -> Due<'_> {
+        let quiet = matches!(self.quiet, Some((from, until, seen))
+            if from <= now_ms && now_ms < until && seen == *intervals);
+        if !quiet {
+            self.quiet = None;
+        }
         Due {
             telemetry: self,
             now_ms,
             intervals: *intervals,
-            index: 0,
+            // Nothing can be due: an iterator that is already at its end.
+            index: if quiet { Kind::COUNT } else { 0 },
         }
+    }
+
+    /// Notes the end of a complete pass at `now_ms` (see the `quiet` field).
+    fn settle(&mut self, now_ms: u64, intervals: Intervals) {
+        let until = self.next_ms.iter().copied().min().unwrap_or(OFF);
+        self.quiet = Some((now_ms, until, intervals));
     }
 
     /// Whether `kind` is due at `now_ms`; if it is, moves its due instant on.
@@ -107,7 +126,13 @@ impl Telemetry {
         if now_ms < *next {
             return false;
         }
-        let due_instants = (now_ms - *next) / interval + 1;
+        let late = now_ms - *next;
+        // On time (the usual case) without a 64-bit division.
+        let due_instants = if late < interval {
+            1
+        } else {
+            late / interval + 1
+        };
         if due_instants > Self::MAX_LATE {
             let drop = due_instants - Self::MAX_LATE;
             *next = next.saturating_add(drop.saturating_mul(interval));
@@ -135,7 +160,11 @@ impl Iterator for Due<'_> {
         while let Some(&kind) = Kind::ALL.get(self.index) {
             self.index += 1;
             let interval = kind.interval_ms(&self.intervals);
-            if self.telemetry.take(kind, self.now_ms, interval) {
+            let due = self.telemetry.take(kind, self.now_ms, interval);
+            if self.index == Kind::COUNT {
+                self.telemetry.settle(self.now_ms, self.intervals);
+            }
+            if due {
                 return Some(kind);
             }
         }
