@@ -16,3 +16,34 @@ fn len_is_the_count_and_entries_follow_it() {
     assert_eq!(entries, [(1, 2, 10.0), (3, 4, 1.0)]);
     assert_eq!(d.as_bytes(), &data);
 }
+
+#[test]
+fn the_builder_writes_the_same_bytes_that_parse_reads() {
+    use aydp_proto::{DirectOutputBuilder, Error, OutputEntry};
+    let a = OutputEntry {
+        device: 1,
+        channel: 2,
+        value: 10.0,
+    };
+    let b = OutputEntry {
+        device: 3,
+        channel: 4,
+        value: 1.0,
+    };
+    assert_eq!(a.to_bytes(), [1, 2, 0, 0, 0x20, 0x41]);
+    let mut buf = [0u8; 2 + 2 * 6 + 5];
+    let mut builder = DirectOutputBuilder::new(&mut buf);
+    assert_eq!(builder.push(a), Ok(()));
+    assert_eq!(builder.push(b), Ok(()));
+    // A third entry needs 6 more bytes; 5 are left.
+    assert_eq!(
+        builder.push(a),
+        Err(Error::BufferTooSmall { needed: 2 + 3 * 6 })
+    );
+    let out = builder.finish();
+    assert_eq!(
+        out.as_bytes(),
+        [2, 0, 1, 2, 0, 0, 0x20, 0x41, 3, 4, 0, 0, 0x80, 0x3F]
+    );
+    assert_eq!(out.entries().collect::<Vec<_>>(), [a, b]);
+}
