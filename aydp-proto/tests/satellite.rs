@@ -24,3 +24,14 @@ fn a_sign_bit_in_any_field_is_refused() {
         );
     }
 }
+
+#[test]
+fn f16_bits_to_f32_keeps_the_sign_and_the_special_values() {
+    use aydp_proto::uflt16::f16_bits_to_f32;
+    assert_eq!(f16_bits_to_f32(0xC000), -2.0);
+    assert_eq!(f16_bits_to_f32(0x3C00), 1.0);
+    assert_eq!(f16_bits_to_f32(0x8001), -(2f32.powi(-24)));
+    assert_eq!(f16_bits_to_f32(0x7C00), f32::INFINITY);
+    assert_eq!(f16_bits_to_f32(0xFC00), f32::NEG_INFINITY);
+    assert!(f16_bits_to_f32(0x7E00).is_nan());
+}
