@@ -85,7 +85,6 @@ fn apply_takes_a_text_up_to_its_full_length_and_a_whole_array_only() {
         Err(Error::OutOfBounds(0x0010))
     );
     assert_eq!(reg.apply(&array(2, &whole)), Ok(()));
-    drop(reg);
     assert_eq!(name, *b"abcd");
     assert_eq!(gains, [1.0, 2.0]);
 }
