@@ -15,14 +15,15 @@ fn max_encoded_len_is_two_flags_and_everything_else_doubled() {
 /// byte between the flags is escaped.
 #[test]
 fn a_frame_that_escapes_every_byte_fills_max_encoded_len_exactly() {
-    let mut out = [0u8; max_encoded_len(1)];
+    // Sized at run time (a `Vec`), so a wrong length fails this test rather than its build.
+    let mut out = vec![0u8; max_encoded_len(1)];
     let n = encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut out).unwrap();
     assert_eq!(n, max_encoded_len(1));
     assert_eq!(
         out,
         [0x7E, 0x7D, 0x5D, 0x7D, 0x5D, 0x7D, 0x5D, 0x7D, 0x5D, 0x7E]
     );
-    let mut short = [0u8; max_encoded_len(1) - 1];
+    let mut short = vec![0u8; max_encoded_len(1) - 1];
     assert_eq!(
         encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut short),
         Err(Error::BufferTooSmall)
