@@ -260,18 +260,7 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     /// most), as many as are waiting and fit; the count. Kicks the interrupt when it had left
     /// bytes in the UART for want of room (see [`SerialIsr::receive_while`]).
     fn take_received(&mut self, buf: &mut [u8]) -> usize {
-        let mut n = 0;
-        while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
-            let Ok(grant) = self.rx.read() else { break };
-            let k = grant.len().min(rest.len());
-            copy(rest, grant.get(..k).unwrap_or(&[]));
-            let whole = k == grant.len();
-            grant.release(k);
-            n += k;
-            if !whole {
-                break;
-            }
-        }
+        let n = drain(&self.rx, buf);
         add_local(&mut self.rx_taken, n);
         if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
             (self.kick)();
@@ -313,6 +302,24 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
 /// Adds `n` to a wrapping count one side keeps to itself.
 fn add_local(counter: &mut u32, n: usize) {
     *counter = counter.wrapping_add(u32::try_from(n).unwrap_or(u32::MAX));
+}
+
+/// Moves bytes from `ring` into `buf`, a slice copy per contiguous run (two at most), as
+/// many as are waiting and fit; the count.
+fn drain<const N: usize>(ring: &StreamConsumer<&Ring<N>>, buf: &mut [u8]) -> usize {
+    let mut n = 0;
+    while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
+        let Ok(grant) = ring.read() else { break };
+        let k = grant.len().min(rest.len());
+        copy(rest, grant.get(..k).unwrap_or(&[]));
+        let whole = k == grant.len();
+        grant.release(k);
+        n += k;
+        if !whole {
+            break;
+        }
+    }
+    n
 }
 
 /// Copies `src` to the start of `dst` (both are cut to the shorter).
@@ -682,18 +689,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert_eq!(port.counters().tx_bytes, 4);
     /// ```
     pub fn take_to_send(&mut self, buf: &mut [u8]) -> usize {
-        let mut n = 0;
-        while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
-            let Ok(grant) = self.tx.read() else { break };
-            let k = grant.len().min(rest.len());
-            copy(rest, grant.get(..k).unwrap_or(&[]));
-            let whole = k == grant.len();
-            grant.release(k);
-            n += k;
-            if !whole {
-                break;
-            }
-        }
+        let n = drain(&self.tx, buf);
         add(&self.stats.tx_bytes, n);
         n
     }
