@@ -160,6 +160,20 @@ fn client(dev: Device, fw: FirmwareVersion) -> Client<Device> {
     Client::new(dev, Config::new(fw))
 }
 
+/// A client that has written `ReadParameter(number)` to a device that sends nothing by itself
+/// (no debug values, no answers): the test scripts what comes back.
+fn asking_a_scripted_device(number: u8) -> Client<Device> {
+    let mut dev = Device::new(ReplyForm::Headed);
+    dev.debug_on = false;
+    dev.answers = false;
+    let mut cfg = Config::new(FirmwareVersion::LATEST);
+    cfg.debug_on = false;
+    let mut c = Client::new(dev, cfg);
+    c.start(Command::ReadParameter(number)).unwrap();
+    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    c
+}
+
 #[test]
 fn read_parameter_with_late_debug_frames() {
     let mut dev = Device::new(ReplyForm::Headed);
@@ -235,15 +249,8 @@ fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
     // A stray 0x77 (a waypoint frame's start, 19 bytes) right before the reply: the decoder
     // waits for 19 bytes that never come; once the line is quiet it gives the false start up
     // and finds the reply behind it, long before the timeout.
-    let mut dev = Device::new(ReplyForm::Headed);
-    dev.debug_on = false;
-    dev.answers = false;
-    let mut cfg = Config::new(FirmwareVersion::LATEST);
-    cfg.debug_on = false;
-    let quiet = cfg.quiet_ms;
-    let mut c = Client::new(dev, cfg);
-    c.start(Command::ReadParameter(40)).unwrap();
-    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let quiet = Config::new(FirmwareVersion::LATEST).quiet_ms;
+    let mut c = asking_a_scripted_device(40);
     let dev = c.serial_mut();
     dev.to_pc.push_back(0x77);
     dev.send(Message::Parameter(ParameterValue {
@@ -549,13 +556,7 @@ fn a_full_debug_queue_drops_the_oldest_and_keeps_the_order() {
 
 #[test]
 fn a_parameter_reply_of_another_number_is_not_the_answer() {
-    let mut dev = Device::new(ReplyForm::Headed);
-    dev.answers = false;
-    let mut cfg = Config::new(FirmwareVersion::LATEST);
-    cfg.debug_on = false;
-    let mut c = Client::new(dev, cfg);
-    c.start(Command::ReadParameter(40)).unwrap();
-    assert_eq!(c.poll(0), Err(nb::Error::WouldBlock)); // request written
+    let mut c = asking_a_scripted_device(40);
     let dev = c.serial_mut();
     dev.send(Message::Parameter(ParameterValue {
         number: 41,
