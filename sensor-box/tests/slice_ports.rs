@@ -31,6 +31,31 @@ struct SlicePort {
 }
 
 impl SlicePort {
+    /// Polls once a millisecond for `ms` milliseconds, handing the port each piece of `input`
+    /// at its millisecond and, with `rate`, letting the UART take that many bytes each
+    /// millisecond; the most bytes one poll read.
+    fn drive(
+        &mut self,
+        ms: u64,
+        input: &[(u64, Vec<u8>)],
+        rate: Option<usize>,
+        mut poll: impl FnMut(u64, &mut Self),
+    ) -> usize {
+        let mut most = 0;
+        for now in 0..ms {
+            for (_, bytes) in input.iter().filter(|(at, _)| *at == now) {
+                self.rx.extend(bytes);
+            }
+            if let Some(rate) = rate {
+                self.tx_room = rate;
+            }
+            let before = self.read;
+            poll(now, self);
+            most = most.max(self.read - before);
+        }
+        most
+    }
+
     fn new(rx_piece: usize, tx_piece: usize) -> Self {
         SlicePort {
             rx: VecDeque::new(),
@@ -156,17 +181,9 @@ fn run_aeolus(rx_piece: usize, tx_piece: usize, rate: usize) -> (Vec<u8>, String
     let mut port = SlicePort::new(rx_piece, tx_piece);
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AeolusLink::new(0);
-    let input = aeolus_input();
-    let mut most = 0;
-    for now in 0..200 {
-        for (_, bytes) in input.iter().filter(|(at, _)| *at == now) {
-            port.rx.extend(bytes);
-        }
-        port.tx_room = rate;
-        let before = port.read;
-        link.poll(now, &mut port, &mut shared);
-        most = most.max(port.read - before);
-    }
+    let most = port.drive(200, &aeolus_input(), Some(rate), |now, p| {
+        link.poll(now, p, &mut shared)
+    });
     let state = format!(
         "{:?} {:?} paused {} clock {:?}",
         link.counters(),
@@ -266,16 +283,9 @@ fn run_aok(
     let mut port = SlicePort::new(rx_piece, tx_piece);
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AokLink::new(&shared);
-    let mut most = 0;
-    for now in 0..300 {
-        for (_, bytes) in input.iter().filter(|(at, _)| *at == now) {
-            port.rx.extend(bytes);
-        }
-        port.tx_room = rate;
-        let before = port.read;
-        link.poll(now, &mut port, &mut shared);
-        most = most.max(port.read - before);
-    }
+    let most = port.drive(300, input, Some(rate), |now, p| {
+        link.poll(now, p, &mut shared)
+    });
     let state = format!(
         "{:?} {:?} {:?} debug {}",
         link.counters(),
@@ -332,15 +342,7 @@ fn run_aydp(
     let mut port = SlicePort::new(rx_piece, tx_piece);
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AydpLink::new(0);
-    let mut most = 0;
-    for now in 0..100 {
-        for (_, bytes) in input.iter().filter(|(at, _)| *at == now) {
-            port.rx.extend(bytes);
-        }
-        let before = port.read;
-        link.poll(now, &mut port, &mut shared);
-        most = most.max(port.read - before);
-    }
+    let most = port.drive(100, input, None, |now, p| link.poll(now, p, &mut shared));
     let state = format!("{:?} {:?}", link.counters(), link.decoder_stats());
     (port.sent, state, most)
 }
