@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
 # The mutation score of the three protocol libraries: runs cargo-mutants (settings in
 # .cargo/mutants.toml) and prints, per crate, the mutants caught, missed, unviable and timed
-# out, and the score = caught / (caught + missed). Timeouts (a mutant that makes a test hang)
-# are counted apart, in neither term: the score would only be higher with them as caught.
+# out, and the score = caught / (caught + missed + timeout). A timeout (a mutant with which a
+# test hangs, cargo-mutants' status 3) is not counted as caught: no test failed, and the
+# hang may be the harness's rather than a test's finding. It is listed, and fails the run,
+# like a missed mutant.
 #
 #   scripts/mutants.sh [options]
 #     --crate NAME     only this crate (repeatable; default aeolus-proto, aydp-proto, aok-proto)
 #     --shard K/N      only mutant i with i % N == K (round-robin: an unbiased sample)
 #     --in-diff REV    only the mutants in lines that REV..HEAD changed in the crates' src/
 #                      (CI: HEAD~1); nothing to do, and status 0, when there are none
-#     --max N          with --in-diff: skip, with status 0 and a message, if more than N mutants
+#     --max N          with --in-diff: do not run more than N mutants (status 0 and a message;
+#                      under CI=true, status 1: CI never passes a run it could not make)
+#     --check-exclusions  only check that every pattern of exclude_re in .cargo/mutants.toml
+#                      matches exactly one mutant (status 1, and the patterns listed, if not)
 #     --jobs N         cargo-mutants jobs (default 2)
 #     --out DIR        where mutants.out goes (default target/mutants)
 #     --report DIR     only print the table of an earlier run's DIR/mutants.out
@@ -21,8 +26,9 @@
 # mutant caught there counts as caught; missed.txt then lists the mutants missed by both, and
 # missed-x86_64.txt the first run's list.
 #
-# Exit status: 0 when no mutant was missed, 1 when one was (they are listed), 2 on a usage
-# error or when cargo-mutants itself fails. Runs under `nice -n 19`. The mutant builds have no
+# Exit status: 0 when no mutant was missed or timed out, 1 when one was (they are listed) or
+# when, under CI=true, the run could not be made (no REV in a shallow clone, more than --max
+# mutants), 2 on a usage error or when cargo-mutants itself fails. Runs under `nice -n 19`. The mutant builds have no
 # debug info and opt-level 1, the workspace's test profile (CARGO_PROFILE_{DEV,TEST}_DEBUG=0,
 # _OPT_LEVEL=1): the same checks (debug assertions, overflow checks) as `cargo test`; at
 # opt-level 0 the property tests ran 5-10 times slower and cost more than the builds saved.
@@ -36,6 +42,7 @@ max=""
 jobs=2
 out=target/mutants
 report=""
+check_exclusions=""
 extra=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -46,35 +53,80 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --report) report=$2; shift 2 ;;
+    --check-exclusions) check_exclusions=1; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "mutants.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
 [ ${#crates[@]} -gt 0 ] || crates=(aeolus-proto aydp-proto aok-proto)
 
-# Prints the table of DIR/mutants.out; status 1 if a mutant was missed.
+# Prints the table of DIR/mutants.out; status 1 if a mutant was missed or timed out.
 table() {
   local dir=$1/mutants.out
-  local c caught missed unviable timeout all_missed=0
+  local c caught missed unviable timeout all_missed=0 all_timeout=0 status=0
   printf '%-14s %7s %7s %9s %8s %7s\n' crate caught missed unviable timeout score
   for c in "${crates[@]}"; do
-    caught=$(grep -c "^$c/" "$dir/caught.txt" || true)
-    missed=$(grep -c "^$c/" "$dir/missed.txt" || true)
-    unviable=$(grep -c "^$c/" "$dir/unviable.txt" || true)
-    timeout=$(grep -c "^$c/" "$dir/timeout.txt" || true)
+    caught=$(grep -c "^$c/" "$dir/caught.txt" 2>/dev/null || true)
+    missed=$(grep -c "^$c/" "$dir/missed.txt" 2>/dev/null || true)
+    unviable=$(grep -c "^$c/" "$dir/unviable.txt" 2>/dev/null || true)
+    timeout=$(grep -c "^$c/" "$dir/timeout.txt" 2>/dev/null || true)
     all_missed=$((all_missed + missed))
+    all_timeout=$((all_timeout + timeout))
     printf '%-14s %7d %7d %9d %8d %7s\n' "$c" "$caught" "$missed" "$unviable" "$timeout" \
-      "$(awk -v c="$caught" -v m="$missed" 'BEGIN { if (c + m) printf "%.1f %%", 100 * c / (c + m); else print "-" }')"
+      "$(awk -v c="$caught" -v m="$missed" -v t="$timeout" 'BEGIN { if (c + m + t) printf "%.1f %%", 100 * c / (c + m + t); else print "-" }')"
   done
   if [ "$all_missed" -gt 0 ]; then
     echo "missed (no test failed with these mutations):"
     sed 's/^/  /' "$dir/missed.txt"
-    return 1
+    status=1
   fi
+  if [ "$all_timeout" -gt 0 ]; then
+    echo "timed out (not counted as caught: no test failed, one hung):"
+    sed 's/^/  /' "$dir/timeout.txt"
+    status=1
+  fi
+  return $status
+}
+
+# Under CI=true a run that could not be made fails; elsewhere it is skipped with the reason.
+cannot_run() {
+  echo "mutants: $*"
+  if [ "${CI:-}" = true ]; then
+    echo "mutants: FAILED: under CI a mutation run that cannot be made is a failure, not a skip"
+    exit 1
+  fi
+  exit 0
 }
 
 if [ -n "$report" ]; then
   table "$report"
+  exit $?
+fi
+
+# Every exclusion must name one mutant, so that it can neither hide a second one nor go stale
+# unnoticed: list every mutant without the config's exclusions, and match each pattern.
+if [ -n "$check_exclusions" ]; then
+  command -v cargo-mutants >/dev/null || cargo install --locked cargo-mutants --version 27.1.0
+  all=$(mktemp)
+  trap 'rm -f "$all"' EXIT
+  list_args=(--list --no-config --all-features)
+  for c in "${crates[@]}"; do list_args+=(-p "$c"); done
+  cargo mutants "${list_args[@]}" >"$all" || { echo "mutants: cargo mutants --list failed"; exit 2; }
+  python3 - "$all" <<'PY'
+import re, sys, tomllib
+mutants = open(sys.argv[1]).read().splitlines()
+patterns = tomllib.load(open(".cargo/mutants.toml", "rb"))["exclude_re"]
+bad = 0
+for p in patterns:
+    hits = [m for m in mutants if re.search(p, m)]
+    if len(hits) != 1:
+        bad += 1
+        print(f"exclusion {p!r} matches {len(hits)} mutants (it must match exactly one):")
+        for m in hits:
+            print(f"  {m}")
+print(f"mutants: {len(patterns)} exclusions checked against {len(mutants)} mutants, {bad} not matching exactly one")
+sys.exit(1 if bad else 0)
+PY
   exit $?
 fi
 
@@ -89,8 +141,7 @@ for c in "${crates[@]}"; do args+=(-p "$c"); done
 args+=("${extra[@]}")
 if [ -n "$in_diff" ]; then
   if ! git rev-parse -q --verify "$in_diff^{commit}" >/dev/null; then
-    echo "mutants: skipped: no commit '$in_diff' in this checkout (a shallow clone?)"
-    exit 0
+    cannot_run "not run: no commit '$in_diff' in this checkout (a shallow clone?)"
   fi
   mkdir -p "$out"
   diff_file=$out/in-diff.patch
@@ -108,9 +159,8 @@ if [ -n "$in_diff" ]; then
     exit 0
   fi
   if [ -n "$max" ] && [ "$n" -gt "$max" ]; then
-    echo "mutants: skipped: $in_diff..HEAD changes lines with $n mutants, more than $max;"
-    echo "run scripts/mutants.sh before the release (docs/RELIABILITY.md, \"Mutation score\")"
-    exit 0
+    cannot_run "not run: $in_diff..HEAD changes lines with $n mutants, more than $max" \
+      "(run scripts/mutants.sh --in-diff $in_diff without --max; docs/RELIABILITY.md, \"Mutation score\")"
   fi
   echo "mutants: $n mutants in the lines $in_diff..HEAD changes"
 fi

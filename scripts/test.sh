@@ -4,8 +4,9 @@
 #
 # Each step prints how long it took. The run ends with one summary: the time of
 # every step, the QEMU tests run, the fuzz executions and crashes, and as the
-# very last line `tests: N passed, M failed` (the sum of every `cargo test`
-# "test result:" line), which CI reads. The summary is printed on failure too,
+# very last line `tests: N passed, M failed, K skipped` (the sums of every `cargo test`
+# "test result:" line, less the tests that skipped for a missing tool, counted apart), which
+# CI reads. Under CI=true a missing tool fails its tests instead of skipping them. The summary is printed on failure too,
 # and the exit status is then the failing step's. The outputs it is computed
 # from are kept in target/test-logs/.
 set -euo pipefail
@@ -16,8 +17,13 @@ logs=target/test-logs
 mkdir -p "$logs"
 test_log=$logs/cargo-test.log
 fuzz_log=$logs/fuzz.log
+# One line per test that returned early because a tool was missing (tests/src/skip.rs writes
+# it; under CI=true such a test fails instead). Cargo counts those tests as passed: the
+# summary takes them out and shows them on a line of their own.
+skip_log=$logs/skipped.log
 : >"$test_log"
 : >"$fuzz_log"
+: >"$skip_log"
 # The teed steps keep cargo's colours on a terminal (the summary strips them).
 [ -t 1 ] && [ -z "${CARGO_TERM_COLOR:-}" ] && export CARGO_TERM_COLOR=always
 
@@ -58,10 +64,13 @@ summary() {
   trap - EXIT
   set +e
   end_step
-  local passed failed qemu fuzz_targets fuzz_execs fuzz_crashes
-  passed=$(count passed)
+  local passed failed qemu qemu_skipped skipped fuzz_targets fuzz_execs fuzz_crashes
+  local qemu_files='qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu'
+  skipped=$(grep -c . "$skip_log" || true)
+  qemu_skipped=$(grep -cE "^($qemu_files)::" "$skip_log" || true)
+  passed=$(($(count passed) - skipped))
   failed=$(count failed)
-  qemu=$(count passed 'qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu')
+  qemu=$(($(count passed "$qemu_files") - qemu_skipped))
   # fuzz.sh's table: "target executions crashes", one line per target.
   read -r fuzz_targets fuzz_execs fuzz_crashes < <(awk '
     $1 == "target" && $2 == "executions" { t = 1; next }
@@ -69,20 +78,27 @@ summary() {
     END { printf "%d %d%s %d\n", n, e, (u ? "+" : ""), c }' "$fuzz_log")
   printf '\n==> summary (%s in all)\n' "$(secs $(($(now_ms) - run_start)))"
   printf '%s\n' "${timings[@]}"
-  echo "QEMU tests run: $qemu passed (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs)"
+  echo "QEMU tests run: $qemu passed, $qemu_skipped skipped (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs)"
+  if [ "$skipped" -gt 0 ]; then
+    echo "SKIPPED: $skipped tests did not run, for a missing tool ($skip_log):"
+    sed 's/^/  /' "$skip_log"
+  fi
   if [ "$fuzz_targets" -gt 0 ]; then
     echo "fuzz: $fuzz_execs executions over $fuzz_targets targets, $fuzz_crashes crashes"
   else
     echo "fuzz: not run"
   fi
   [ "$status" = 0 ] || echo "FAILED: step '$failed_step' (exit status $status)"
-  echo "tests: $passed passed, $failed failed"
+  echo "tests: $passed passed, $failed failed, $skipped skipped"
   exit "$status"
 }
 trap summary EXIT
 
 step "setup: qemu-system-arm, defmt-print, tshark, chromium and i686 (the QEMU, tshark, browser and 32-bit tests must run, never skip, in CI)"
 bash scripts/setup.sh qemu defmt-print tshark chromium i686
+
+step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
+python3 scripts/check-paths.py
 
 step "format"
 cargo fmt --all -- --check

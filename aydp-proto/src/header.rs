@@ -170,13 +170,25 @@ impl HeaderRepr {
         self.timestamp.is_none()
     }
 
-    /// The type byte on the wire.
+    /// The type byte on the wire, or `None` for a base type over 126, which has no type byte
+    /// (Y3; [`HeaderRepr::to_bytes`] refuses it with [`Error::BadType`]).
+    ///
+    /// ```
+    /// use aydp_proto::{HeaderRepr, Timestamp};
+    /// let expedited = HeaderRepr { base_type: 9, timestamp: None, data_len: 1 };
+    /// assert_eq!(expedited.type_byte(), Some(0x89));
+    /// let normal = HeaderRepr { timestamp: Some(Timestamp::new(0, 0)), ..expedited };
+    /// assert_eq!(normal.type_byte(), Some(0x09));
+    /// assert_eq!(HeaderRepr { base_type: 0x85, ..expedited }.type_byte(), None);
+    /// ```
     #[inline]
-    pub const fn type_byte(&self) -> u8 {
-        if self.is_expedited() {
-            self.base_type | EXPEDITED
+    pub const fn type_byte(&self) -> Option<u8> {
+        if self.base_type > MAX_BASE_TYPE {
+            None
+        } else if self.is_expedited() {
+            Some(self.base_type | EXPEDITED)
         } else {
-            self.base_type
+            Some(self.base_type)
         }
     }
 
@@ -195,15 +207,13 @@ impl HeaderRepr {
 
     /// The header bytes; only the first [`HeaderRepr::buffer_len`] are meaningful.
     pub fn to_bytes(&self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
-        if self.base_type > MAX_BASE_TYPE {
-            return Err(Error::BadType(self.base_type));
-        }
+        let type_byte = self.type_byte().ok_or(Error::BadType(self.base_type))?;
         let length = profile
             .length_field(self.data_len, self.is_expedited())
             .ok_or(Error::TooLong)?;
         let mut out = [0u8; NORMAL_HEADER_LEN];
         out[layout::START] = START;
-        out[layout::TYPE] = self.type_byte();
+        out[layout::TYPE] = type_byte;
         put(&mut out, layout::LENGTH, &length.to_le_bytes());
         if let Some(t) = self.timestamp {
             put(&mut out, layout::SECONDS, &t.seconds.to_le_bytes());

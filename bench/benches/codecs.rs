@@ -1,5 +1,5 @@
 //! Instruction counts of decode and encode per protocol, with peers on the same run.
-//! `scripts/bench.sh` divides each count by the input bytes.
+//! `scripts/bench.py` divides each count by the input bytes.
 
 use gungraun::{library_benchmark, library_benchmark_group, main};
 use protolink_bench::*;

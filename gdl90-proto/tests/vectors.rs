@@ -298,8 +298,8 @@ fn ahrs_invalid_markers_and_rejected_attitudes() {
     assert_eq!(out[1..7], [0x7F, 0xFF, 0x7F, 0xFF, 0x00, 0x64]);
 }
 
-/// A real ForeFlight ID frame captured from a SkyEcho (jakkaj/skyecho-controller-app,
-/// `docs/research/foreflight-extensions.md`): serial 0x270FAE2D, name and long name
+/// A real ForeFlight ID frame captured from a SkyEcho (published in the repository
+/// jakkaj/skyecho-controller-app, in its file docs/research/foreflight-extensions.md): serial 0x270FAE2D, name and long name
 /// "SkyEcho", no capabilities. Its CRC `2D F0` checks out with the ICD's CRC.
 const SKYECHO_ID: [u8; 43] = [
     0x7E, 0x65, 0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x27, 0x0F, 0xAE, 0x2D, 0x53, 0x6B, 0x79, 0x45,

@@ -1,6 +1,8 @@
 //! `protolink sim --bank 30` through `protolink gdl90`, with the GDL90 datagrams decoded here
-//! by hand from the ICD's byte layout (not by `gdl90-proto`): AHRS roll, the rates, and the
-//! ownship position against the GPS messages that went in.
+//! by hand from the ICD's byte layout and checked with a CRC computed here bit by bit from the
+//! ICD's polynomial (not by `gdl90-proto` or `aeolus-proto`): AHRS roll, pitch and heading, the
+//! rates, and the ownship position, pressure altitude and geometric altitude against the
+//! AEOLUS messages that went in.
 
 mod common;
 
@@ -18,8 +20,33 @@ fn udp() -> (UdpSocket, u16) {
     (s, port)
 }
 
-/// One GDL90 frame's ID and data, unescaped, with its CRC checked by the AEOLUS CRC (the
-/// same algorithm, GDL90 section 2.2.3), or `None` for a bad frame.
+/// The GDL90 frame check (ICD section 2.2.3), computed bit by bit: the ICD's table entry for a
+/// byte is that byte shifted up 8 and divided by the polynomial 0x1021, and each data byte is
+/// folded in as `table[crc >> 8] ^ (crc << 8) ^ byte`, from 0.
+fn icd_crc(bytes: &[u8]) -> u16 {
+    bytes.iter().fold(0u16, |crc, &b| {
+        let mut entry = crc & 0xFF00;
+        for _ in 0..8 {
+            entry = if entry & 0x8000 != 0 {
+                (entry << 1) ^ 0x1021
+            } else {
+                entry << 1
+            };
+        }
+        entry ^ (crc << 8) ^ u16::from(b)
+    })
+}
+
+#[test]
+fn the_independent_crc_gives_the_icd_heartbeat_check() {
+    // ICD section 2.2.4: the heartbeat 00 81 41 DB D0 08 02 has the check B3 8B, LSB first.
+    assert_eq!(icd_crc(&[0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]), 0x8BB3);
+    // The check value of the GDL90 CRC (DECISIONS A2): not CRC-16/XMODEM's 0x31C3.
+    assert_eq!(icd_crc(b"123456789"), 0xBEEF);
+}
+
+/// One GDL90 frame's ID and data, unescaped, with its CRC checked by [`icd_crc`], or `None`
+/// for a bad frame.
 fn unframe(datagram: &[u8]) -> Option<(u8, Vec<u8>)> {
     let inner = datagram.strip_prefix(&[0x7E])?.strip_suffix(&[0x7E])?;
     let mut raw = Vec::new();
@@ -36,7 +63,7 @@ fn unframe(datagram: &[u8]) -> Option<(u8, Vec<u8>)> {
     }
     let (body, crc) = raw.split_at(raw.len().checked_sub(2)?);
     let want = u16::from_le_bytes([crc[0], crc[1]]);
-    (aeolus_proto::crc::checksum(body) == want).then(|| (body[0], body[1..].to_vec()))
+    (icd_crc(body) == want).then(|| (body[0], body[1..].to_vec()))
 }
 
 fn i24(b: &[u8]) -> f64 {
@@ -74,8 +101,8 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
         "7",
     ]);
     let mut deframer = Box::new(Decoder::<1024>::new());
-    let mut fixes: Vec<(f64, f64)> = Vec::new();
-    let (mut ahrs_roll, mut heartbeats, mut ownship_checked) = (Vec::new(), 0, 0);
+    let mut went_in = Inputs::default();
+    let mut got = Outputs::default();
     let mut buf = [0u8; 2048];
     let started = Instant::now();
     // The first 1.5 s let the picture fill; the next 5 s are counted.
@@ -85,36 +112,17 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
             deframer.reset();
             for &b in &buf[..n] {
                 if let Some(Ok(f)) = deframer.push(b)
-                    && let Ok(Message::Gps(g)) = f.message()
-                    && g.has_fix
+                    && let Ok(m) = f.message()
                 {
-                    fixes.push((f64::from(g.latitude_deg), f64::from(g.longitude_deg)));
+                    went_in.take(&m);
                 }
             }
             let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
         }
         while let Ok(n) = efb.recv(&mut buf) {
-            let counted = started.elapsed() >= window.0;
             let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
-            match (id, data.first()) {
-                (0x00, _) if counted => heartbeats += 1,
-                (0x65, Some(0x01)) if counted => {
-                    let roll = i16::from_be_bytes([data[1], data[2]]);
-                    ahrs_roll.push(f64::from(roll) / 10.0);
-                }
-                (0x0A, _) if counted => {
-                    // Latitude at data bytes 4..7, longitude 7..10: 24-bit semicircles.
-                    let (lat, lon) = (i24(&data[4..7]), i24(&data[7..10]));
-                    let lsb = 180.0 / f64::from(1 << 23);
-                    let near = fixes
-                        .iter()
-                        .rev()
-                        .take(30)
-                        .any(|(la, lo)| (la - lat).abs() <= lsb && (lo - lon).abs() <= lsb);
-                    assert!(near, "ownship {lat},{lon} is not one of the last GPS fixes");
-                    ownship_checked += 1;
-                }
-                _ => {}
+            if started.elapsed() >= window.0 {
+                got.check(id, &data, &went_in);
             }
         }
         std::thread::sleep(Duration::from_millis(1));
@@ -123,18 +131,150 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
     let _ = finish(sim);
     assert!(gdl90_out.status.success(), "{}", stderr(&gdl90_out));
     let seconds = (window.1 - window.0).as_secs_f64();
-    let ahrs_rate = ahrs_roll.len() as f64 / seconds;
+    let ahrs_rate = got.ahrs_roll.len() as f64 / seconds;
     assert!((4.4..=5.6).contains(&ahrs_rate), "AHRS at {ahrs_rate}/s");
     assert!(
-        (4..=6).contains(&heartbeats),
-        "{heartbeats} heartbeats in {seconds} s"
+        (4..=6).contains(&got.heartbeats),
+        "{} heartbeats in {seconds} s",
+        got.heartbeats
     );
-    assert!(
-        (4..=6).contains(&ownship_checked),
-        "{ownship_checked} ownship reports"
-    );
-    for roll in &ahrs_roll {
+    for (what, n) in [
+        ("ownship", got.ownship),
+        ("geometric altitude", got.geo_altitude),
+    ] {
+        assert!((4..=6).contains(&n), "{n} {what} reports in {seconds} s");
+    }
+    for roll in &got.ahrs_roll {
         assert!((roll - 30.0).abs() <= 0.2, "AHRS roll {roll}");
+    }
+}
+
+/// The recent values of the AEOLUS messages that went into `gdl90`, in GDL90's units.
+#[derive(Default)]
+struct Inputs {
+    /// GPS fixes: latitude, longitude (degrees), altitude (feet).
+    fixes: Vec<(f64, f64, f64)>,
+    /// ATTITUDE pitch, degrees.
+    pitch: Vec<f64>,
+    /// COMPASS heading (magnetic), degrees.
+    heading: Vec<f64>,
+    /// Pressure altitude from PRESSURE's static pressure, feet.
+    pressure_altitude: Vec<f64>,
+}
+
+/// The last values to match an output against: the outputs lag the inputs by at most a
+/// second, and every input comes at 10 Hz or more.
+const RECENT: usize = 30;
+
+impl Inputs {
+    fn take(&mut self, m: &Message<'_>) {
+        match m {
+            Message::Gps(g) if g.has_fix => self.fixes.push((
+                f64::from(g.latitude_deg),
+                f64::from(g.longitude_deg),
+                f64::from(g.altitude_m) / 0.3048,
+            )),
+            Message::Attitude(a) => self.pitch.push(f64::from(a.pitch_rad).to_degrees()),
+            Message::Compass(c) if c.has_value => self.heading.push(f64::from(c.heading_deg)),
+            // The standard atmosphere's pressure altitude (1013.25 hPa datum), written here
+            // from the ISA formula rather than taken from the tool.
+            Message::Pressure(p) => self
+                .pressure_altitude
+                .push(145_366.45 * (1.0 - (f64::from(p.static_mbar) / 1013.25).powf(0.190_284))),
+            _ => {}
+        }
+    }
+}
+
+/// Whether `got` is within `tolerance` of one of the last [`RECENT`] of `values` (`distance`
+/// measures the difference).
+fn near(values: &[f64], got: f64, tolerance: f64, distance: impl Fn(f64, f64) -> f64) -> bool {
+    values
+        .iter()
+        .rev()
+        .take(RECENT)
+        .any(|&v| distance(v, got) <= tolerance)
+}
+
+fn linear(a: f64, b: f64) -> f64 {
+    (a - b).abs()
+}
+
+fn angular(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
+/// What came out of `gdl90`, each field checked against the inputs as it arrives.
+#[derive(Default)]
+struct Outputs {
+    heartbeats: usize,
+    ownship: usize,
+    geo_altitude: usize,
+    ahrs_roll: Vec<f64>,
+}
+
+impl Outputs {
+    fn check(&mut self, id: u8, data: &[u8], went_in: &Inputs) {
+        match (id, data.first()) {
+            (0x00, _) => self.heartbeats += 1,
+            (0x65, Some(0x01)) => {
+                // ForeFlight AHRS: roll, pitch (signed tenths of a degree), heading word
+                // (bit 15 magnetic, bits 14-0 signed tenths), all most significant byte first.
+                let tenths =
+                    |at: usize| f64::from(i16::from_be_bytes([data[at], data[at + 1]])) / 10.0;
+                self.ahrs_roll.push(tenths(1));
+                let pitch = tenths(3);
+                assert!(
+                    near(&went_in.pitch, pitch, 0.1, linear),
+                    "AHRS pitch {pitch} is not one of the last ATTITUDE pitches"
+                );
+                let word = u16::from_be_bytes([data[5], data[6]]);
+                assert_ne!(word, 0xFFFF, "the heading is marked invalid");
+                assert_eq!(word >> 15, 1, "COMPASS is a magnetic heading");
+                let heading = f64::from(((word << 1) as i16) >> 1) / 10.0;
+                assert!(
+                    near(&went_in.heading, heading, 0.1, angular),
+                    "AHRS heading {heading} is not one of the last COMPASS headings"
+                );
+            }
+            (0x0A, _) => {
+                // Latitude at data bytes 4..7, longitude 7..10: 24-bit semicircles.
+                let (lat, lon) = (i24(&data[4..7]), i24(&data[7..10]));
+                let lsb = 180.0 / f64::from(1 << 23);
+                let near_fix = went_in
+                    .fixes
+                    .iter()
+                    .rev()
+                    .take(RECENT)
+                    .any(|(la, lo, _)| (la - lat).abs() <= lsb && (lo - lon).abs() <= lsb);
+                assert!(
+                    near_fix,
+                    "ownship {lat},{lon} is not one of the last GPS fixes"
+                );
+                // Pressure altitude: the 12 bits at data bytes 10..12, 25 ft steps from
+                // -1000 ft; rounding to a step is 12.5 ft at most.
+                let raw = u16::from(data[10]) << 4 | u16::from(data[11]) >> 4;
+                assert_ne!(raw, 0xFFF, "the pressure altitude is marked invalid");
+                let altitude = f64::from(raw) * 25.0 - 1000.0;
+                assert!(
+                    near(&went_in.pressure_altitude, altitude, 12.5 + 0.5, linear),
+                    "ownship pressure altitude {altitude} ft is not that of a recent PRESSURE"
+                );
+                self.ownship += 1;
+            }
+            (0x0B, _) => {
+                // Geometric altitude: a signed 16-bit count of 5 ft at data bytes 0..2.
+                let altitude = f64::from(i16::from_be_bytes([data[0], data[1]])) * 5.0;
+                let fixes: Vec<f64> = went_in.fixes.iter().map(|f| f.2).collect();
+                assert!(
+                    near(&fixes, altitude, 2.5 + 0.5, linear),
+                    "geometric altitude {altitude} ft is not that of a recent GPS fix"
+                );
+                self.geo_altitude += 1;
+            }
+            _ => {}
+        }
     }
 }
 

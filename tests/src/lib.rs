@@ -1,7 +1,7 @@
 //! Shared pieces of the cross-crate tests and of the corruption-figures program:
 //! a seeded RNG, the noisy channels, naive decoders, and the scoring of what a decoder
 //! delivered against what was sent; and the app's side of an AEOLUS box on UDP; headless
-//! Chromium for the browser tests of `protolink web`.
+//! Chromium for the browser tests of `protolink web`; skips that are never silent.
 
 pub mod aeolus_udp;
 pub mod browser;
@@ -11,4 +11,5 @@ pub mod protocols;
 pub mod resync;
 pub mod rng;
 pub mod score;
+pub mod skip;
 pub mod tshark;

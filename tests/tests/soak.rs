@@ -3,9 +3,11 @@
 //! parameter reads, for `SOAK_SECONDS` (60 by default: CI's short form; `SOAK_SECONDS=600
 //! cargo test --release -p protolink-tests --test soak -- --nocapture` is the 10-minute one).
 //!
-//! Checked and printed: every valid command answered, the telemetry intervals on the box's
-//! clock, no reset (one boot TOAST) and no fault, the stack high-water and the UART counters
-//! from the firmware's log, the read-only system name unchanged, and no direct output obeyed
+//! Checked: every valid command answered, the telemetry intervals on the box's clock, no reset
+//! (one boot TOAST, one boot line in the log) and no fault (neither the HardFault handler's
+//! line nor the panic handler's in the log), the stack high-water below half the stack, the
+//! UART counters of the firmware's last report (every byte the test sent counted as received,
+//! none dropped, no error), the read-only system name unchanged, and no direct output obeyed
 //! (direct control stays off).
 
 mod harness;
@@ -13,7 +15,89 @@ mod harness;
 use aok_proto::{Client, Config, FirmwareVersion};
 use harness::*;
 use std::io::Write;
+use std::net::TcpStream;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
+
+/// What the firmware logs when it faults: its HardFault handler's fixed line
+/// (`firmware-example/src/board/mod.rs`), the QEMU board's panic handler (`panic at FILE:LINE`)
+/// and panic-probe's on the STM32 (`panicked at`).
+const FAULT_LINES: [&str; 3] = ["HardFault: resetting", "panic at", "panicked at"];
+
+/// The stack may reach at most this share of its size: the margin left for a deeper path than
+/// the soak found.
+const STACK_SHARE_MAX: f64 = 0.5;
+
+/// The firmware's report period (`REPORT_MS` in `firmware-example/src/main.rs`), and how long
+/// the test waits after its last byte so that a report counts everything.
+const REPORT_WAIT: Duration = Duration::from_millis(5_000 + 1_500);
+
+/// The UART counters of the firmware's last report: `UART{n}: rx R dropped D errors E tx T`.
+fn last_uart_counters(log: &str, uart: usize) -> Option<[u64; 4]> {
+    let line = log
+        .lines()
+        .rev()
+        .find(|l| l.contains(&format!("UART{uart}: rx ")))?;
+    let rest = line.split(&format!("UART{uart}: ")).nth(1)?;
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    let value = |name: &str| -> Option<u64> {
+        let i = words.iter().position(|w| *w == name)?;
+        words.get(i + 1)?.parse().ok()
+    };
+    Some([
+        value("rx")?,
+        value("dropped")?,
+        value("errors")?,
+        value("tx")?,
+    ])
+}
+
+/// The last `stack high-water N of M bytes` of the firmware's log: (N, M).
+fn last_stack_report(log: &str) -> Option<(usize, usize)> {
+    let line = log
+        .lines()
+        .rev()
+        .find(|l| l.contains(" of ") && l.contains("stack high-water"))?;
+    let rest = line.split("stack high-water ").nth(1)?;
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    Some((words.first()?.parse().ok()?, words.get(2)?.parse().ok()?))
+}
+
+/// UART2 for `aok_proto::Client`, counting every byte written.
+struct CountingSerial(NbSerial, Arc<AtomicUsize>);
+
+impl embedded_hal_nb::serial::ErrorType for CountingSerial {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal_nb::serial::Read<u8> for CountingSerial {
+    fn read(&mut self) -> nb::Result<u8, Self::Error> {
+        self.0.read()
+    }
+}
+
+impl embedded_hal_nb::serial::Write<u8> for CountingSerial {
+    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
+        self.0.write(word)?;
+        self.1.fetch_add(1, Ordering::Relaxed);
+        Ok(())
+    }
+    fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        self.0.flush()
+    }
+}
+
+/// An AYDP request on UART1, counting its bytes into `sent`.
+fn counted_request(port: &mut TcpStream, address: u16, sent: &mut usize) -> Option<Vec<u8>> {
+    let req =
+        aydp_proto::Message::SystemControl(aydp_proto::SystemControl::RequestData { address });
+    let mut buf = [0u8; 128];
+    *sent += aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
+        .encode_expedited(&req, &mut buf)
+        .expect("encode");
+    request(port, address)
+}
 
 /// Garbage per UART per second, bytes.
 const GARBAGE_RATE: usize = 2_000;
@@ -55,10 +139,15 @@ fn hostile_soak() {
     };
     let first = q.uart0.read_until(Duration::from_secs(10), |_| true);
     assert_eq!(q.uart0.frames[first].toast().as_deref(), Some("AEOLUS on"));
-    let name_before = request(&mut q.uart1, 0x0001).expect("system name");
+    let mut uart1_sent = 0usize;
+    let name_before = counted_request(&mut q.uart1, 0x0001, &mut uart1_sent).expect("system name");
     let aok_port = q.uart2.try_clone().expect("clone UART2");
     aok_port.set_nonblocking(true).expect("nonblocking");
-    let mut aok = Client::new(NbSerial(aok_port), Config::new(FirmwareVersion::new(0, 35)));
+    let uart2_sent = Arc::new(AtomicUsize::new(0));
+    let mut aok = Client::new(
+        CountingSerial(NbSerial(aok_port), uart2_sent.clone()),
+        Config::new(FirmwareVersion::new(0, 35)),
+    );
     let t0 = Instant::now();
     let mut rng = Rng(0x50A4_0000_0000_0001);
     let mut per_uart = 0usize;
@@ -78,6 +167,8 @@ fn hostile_soak() {
         q.uart2
             .write_all(&rng.bytes(chunk, &[0x63]))
             .expect("UART2");
+        uart1_sent += chunk;
+        uart2_sent.fetch_add(chunk, Ordering::Relaxed);
         garbage += 3 * chunk;
         q.uart0.read_for(Duration::from_millis(10));
         if Instant::now() < next_commands {
@@ -90,7 +181,7 @@ fn hostile_soak() {
         q.uart0.read_for(Duration::from_millis(100));
         q.uart0.command(&format!("a soak {aeolus_sent}"));
         aeolus_sent += 1;
-        if request(&mut q.uart1, 0x0001).is_some() {
+        if counted_request(&mut q.uart1, 0x0001, &mut uart1_sent).is_some() {
             aydp_answered += 1;
         }
         aydp_sent += 1;
@@ -101,10 +192,15 @@ fn hostile_soak() {
         aok_sent += 1;
     }
     q.uart0.read_for(Duration::from_millis(500));
-    let name_after = request(&mut q.uart1, 0x0001).expect("system name after the soak");
-    let direct = request(&mut q.uart1, 0x0000).expect("direct control after the soak");
-    let outputs = request(&mut q.uart1, 0x0200).expect("outputs after the soak");
-    let frames = &q.uart0.frames;
+    let name_after =
+        counted_request(&mut q.uart1, 0x0001, &mut uart1_sent).expect("system name after the soak");
+    let direct = counted_request(&mut q.uart1, 0x0000, &mut uart1_sent)
+        .expect("direct control after the soak");
+    let outputs =
+        counted_request(&mut q.uart1, 0x0200, &mut uart1_sent).expect("outputs after the soak");
+    // Nothing more is sent: the firmware's next report counts every byte.
+    q.uart0.read_for(REPORT_WAIT);
+    let frames = std::mem::take(&mut q.uart0.frames);
     let toasts: Vec<String> = frames.iter().filter_map(Frame::toast).collect();
     let answered = toasts
         .iter()
@@ -117,6 +213,21 @@ fn hostile_soak() {
          {} frames, {boots} boot TOAST(s)",
         frames.len()
     );
+    let uart0_sent = q.uart0.sent;
+    let log = q.stop();
+    for fault in FAULT_LINES {
+        assert!(
+            !log.contains(fault),
+            "the firmware logged {fault:?}:\n{log}"
+        );
+    }
+    // The log is decoded (defmt-print) and the box booted once in it.
+    assert_eq!(
+        log.matches("booted: App").count(),
+        1,
+        "one boot line expected in the firmware's log (is defmt-print installed?):\n{log}"
+    );
+    assert_eq!(boots, 1, "the box reset during the soak");
     for p in TELEMETRY.iter().filter(|p| p.id != 51) {
         let ts: Vec<f64> = frames
             .iter()
@@ -136,18 +247,24 @@ fn hostile_soak() {
             p.interval_ms
         );
     }
-    let log = q.stop();
-    for line in log
-        .lines()
-        .filter(|l| l.contains("stack high-water") || l.contains("UART"))
-    {
-        println!("log: {line}");
-    }
-    assert_eq!(boots, 1, "the box reset during the soak");
+    let (high_water, stack) = last_stack_report(&log).expect("a stack report in the log");
+    println!("stack high-water {high_water} of {stack} bytes");
     assert!(
-        !log.contains("HardFault") && !log.contains("panicked"),
-        "{log}"
+        (high_water as f64) < STACK_SHARE_MAX * stack as f64,
+        "the stack reached {high_water} of {stack} bytes, more than {STACK_SHARE_MAX} of it"
     );
+    let sent = [uart0_sent, uart1_sent, uart2_sent.load(Ordering::Relaxed)];
+    for (uart, sent) in sent.into_iter().enumerate() {
+        let [rx, dropped, errors, tx] =
+            last_uart_counters(&log, uart).expect("a UART report in the log");
+        println!("UART{uart}: sent {sent}, rx {rx} dropped {dropped} errors {errors} tx {tx}");
+        assert_eq!(
+            rx, sent as u64,
+            "UART{uart}: bytes received against bytes sent"
+        );
+        assert_eq!((dropped, errors), (0, 0), "UART{uart}: dropped, errors");
+        assert!(tx > 0, "UART{uart} sent nothing");
+    }
     assert_eq!(answered as u32, aeolus_sent, "AEOLUS commands answered");
     assert_eq!(aydp_answered, aydp_sent, "AYDP requests answered");
     assert_eq!(aok_answered, aok_sent, "AOK reads answered");

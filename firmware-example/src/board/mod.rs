@@ -11,7 +11,7 @@
 //!   queues behind [`QueuedSerial`](firmware_example::QueuedSerial).
 //!
 //! What is the same on every Cortex-M (the millisecond clock, the painted
-//! stack, the warm reset) is in this file.
+//! stack, the warm reset, the HardFault handler) is in this file.
 //!
 //! | board feature     | target                 | module           | memory map                |
 //! |-------------------|------------------------|------------------|---------------------------|
@@ -57,6 +57,16 @@ pub struct Board<S> {
 /// flash survives; the STM32's real flash survives anyway.
 pub fn reset() -> ! {
     cortex_m::peripheral::SCB::sys_reset()
+}
+
+/// A HardFault (a bad memory access, an undefined instruction, an escalated fault): one fixed
+/// line in the log, `HardFault: resetting` with the faulting PC, then a warm reset, so a box
+/// in the field comes back instead of hanging, and a test that reads the log sees it (the
+/// soak, `tests/tests/soak.rs`, fails on that line).
+#[cortex_m_rt::exception]
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    defmt::error!("HardFault: resetting (pc {=u32:#010x})", frame.pc());
+    reset()
 }
 
 // ---------------------------------------------------------------- clock

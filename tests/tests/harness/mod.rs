@@ -3,8 +3,9 @@
 //! both boards ([`Board`], [`on_both_boards!`]): the default `lm3s6965evb`, and the STM32F411
 //! board built with `qemu-stm32` in `netduinoplus2` (an STM32F405 model).
 //!
-//! * Skipped, with a message saying so, only when `qemu-system-arm` is not installed
-//!   (`scripts/setup.sh qemu` installs it; `.ci/run` does).
+//! * Skipped only when `qemu-system-arm` is not installed (`scripts/setup.sh qemu` installs
+//!   it; `.ci/run` does), through `protolink_tests::skip`: a failure under CI (`CI=true`), and
+//!   outside CI a line in the skipped count of `scripts/test.sh`'s summary.
 //! * The firmware is built by the harness itself (`cargo qemu-build` / `cargo
 //!   stm32-qemu-build`, a no-op when `scripts/test.sh` has built it already), into
 //!   `$CARGO_TARGET_DIR` (default `target/`). `SENSOR_BOX_ELF=path` (lm3s) and
@@ -253,7 +254,8 @@ struct Process {
 }
 
 /// Boots `board`'s release firmware in QEMU on `ports` and connects to its three UARTs;
-/// `None` (after saying why) when `qemu-system-arm` is missing.
+/// `None` when `qemu-system-arm` is missing: the test is then skipped through
+/// `protolink_tests::skip::skip`, which fails it under CI.
 ///
 /// QEMU runs in wait mode (`QEMU_WAIT=1`): the CPU starts only once UART0 is connected, so
 /// the first bytes read from it are the boot TOAST.
@@ -269,9 +271,9 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
 /// a test that judges the schedule in the box's clock boots it this way.
 pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
     if !qemu_installed() {
-        eprintln!(
-            "SKIPPED: qemu-system-arm is not installed, so the firmware cannot be booted \
-             (install it with `scripts/setup.sh qemu`)"
+        protolink_tests::skip::skip(
+            "qemu-system-arm is not installed, so the firmware cannot be booted \
+             (scripts/setup.sh qemu installs it)",
         );
         return None;
     }
@@ -440,6 +442,8 @@ pub struct Aeolus {
     pub frames: Vec<Frame>,
     /// Every byte received.
     pub bytes: usize,
+    /// Every byte sent (commands and raw bytes, once flushed).
+    pub sent: usize,
     outgoing: Vec<u8>,
 }
 
@@ -521,6 +525,7 @@ impl Aeolus {
     pub fn flush_commands(&mut self) {
         let stream = self.stream.as_mut().expect("connected");
         stream.write_all(&self.outgoing).expect("send to UART0");
+        self.sent += self.outgoing.len();
         self.outgoing.clear();
     }
 
