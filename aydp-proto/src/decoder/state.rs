@@ -154,14 +154,15 @@ impl<const N: usize> Decoder<N> {
         }
         match len {
             0 => {
-                if byte == START {
-                    if let Some(slot) = self.buf.get_mut(0) {
+                match self.buf.get_mut(0) {
+                    Some(slot) if byte == START => {
                         *slot = START;
                         self.len = 1;
                         self.xor = START;
                     }
-                } else {
-                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+                    // Noise, or a start that a decoder of capacity 0 cannot hold: either
+                    // way the byte is dropped, and counted.
+                    _ => self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1),
                 }
                 Outcome::More
             }
