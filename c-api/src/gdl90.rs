@@ -667,8 +667,9 @@ unsafe fn from_c<'a>(msg: &pl_gdl90_message, data: &'a [u8]) -> Result<Message<'
 }
 
 /// Encodes `*msg` as one whole frame into `out[..cap]`. Returns its length, or `PL_E_NULL`,
-/// `PL_E_BAD_TAG`, `PL_E_BUFFER_TOO_SMALL` (`PL_GDL90_MAX_FRAME_LEN` is enough for every
-/// typed message) or `PL_E_OUT_OF_RANGE` (a value the message cannot carry).
+/// `PL_E_BAD_TAG` (kind), `PL_E_INVALID` (a track, heading or datum kind outside its list) or
+/// `PL_E_BUFFER_TOO_SMALL` (`PL_GDL90_MAX_FRAME_LEN` is enough for every typed message).
+/// Values beyond a field's range are clamped or sent as "invalid", as each GDL90 field says.
 ///
 /// ```c
 /// pl_gdl90_message m = { .kind = PL_GDL90_GEO_ALTITUDE };
