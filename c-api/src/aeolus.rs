@@ -644,7 +644,7 @@ pub unsafe extern "C" fn pl_aeolus_get_stats(
     stats: *mut pl_aeolus_stats,
 ) -> i32 {
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state::<_, Inner>(dec.cast_mut()) }, unsafe {
+    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
         stats.as_mut()
     }) else {
         return PL_E_NULL;

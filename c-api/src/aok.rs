@@ -493,10 +493,9 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
     stats: *mut pl_aok_stats,
 ) -> i32 {
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (
-        unsafe { ffi::state::<_, DeviceDecoder>(dec.cast_mut()) },
-        unsafe { stats.as_mut() },
-    ) else {
+    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, DeviceDecoder>(dec) }, unsafe {
+        stats.as_mut()
+    }) else {
         return PL_E_NULL;
     };
     *out = stats_c(d.stats());
@@ -676,10 +675,9 @@ pub unsafe extern "C" fn pl_aok_pc_get_stats(
     stats: *mut pl_aok_stats,
 ) -> i32 {
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (
-        unsafe { ffi::state::<_, PcDecoder>(dec.cast_mut()) },
-        unsafe { stats.as_mut() },
-    ) else {
+    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, PcDecoder>(dec) }, unsafe {
+        stats.as_mut()
+    }) else {
         return PL_E_NULL;
     };
     *out = stats_c(d.stats());

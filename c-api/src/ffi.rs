@@ -91,6 +91,15 @@ pub(crate) unsafe fn state<'a, S, D>(state: *mut S) -> Option<&'a mut D> {
     unsafe { state.cast::<D>().as_mut() }
 }
 
+/// The decoder state behind a `const pl_*_decoder *`, read only, or `None` for NULL.
+///
+/// # Safety
+/// As [`state`], but nothing writes to it for `'a`.
+pub(crate) unsafe fn state_ref<'a, S, D>(state: *const S) -> Option<&'a D> {
+    // SAFETY: as in `state`; shared access only.
+    unsafe { state.cast::<D>().as_ref() }
+}
+
 /// Writes a fresh decoder `value` into the C state.
 ///
 /// # Safety
