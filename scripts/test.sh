@@ -119,7 +119,7 @@ if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --rele
 fi
 
 # The C library (c-api/): one archive for C firmware, its cbindgen header, and its tests.
-step "C library: libprotolink.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; Miri"
+step "C library: libprotolink.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   cargo build -q -p protolink-c --release --target "$t"
 done
@@ -130,6 +130,7 @@ if ! diff -u c-api/include/protolink.h target/protolink.h.fresh; then
   exit 1
 fi
 bash c-api/tests/host.sh
+bash c-api/tests/firmware.sh
 cargo +nightly miri test -q -p protolink-c
 
 step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 scripts/footprint.py)"
