@@ -1022,9 +1022,6 @@ typedef struct {
 extern "C" {
 #endif // __cplusplus
 
-// Deliberately never defined.
-extern void PANIC_PATH_REACHABLE_in_libprotolink(void);
-
 // Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
 // allows). Returns 0, or `PL_E_NULL`.
 //

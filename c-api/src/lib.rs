@@ -37,6 +37,8 @@ extern crate std;
 pub mod aeolus;
 pub mod aok;
 pub mod aydp;
+#[cfg(feature = "bench")]
+pub mod bench;
 mod ffi;
 pub mod gdl90;
 
