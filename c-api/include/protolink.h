@@ -565,6 +565,14 @@ typedef struct {
   uint32_t actual;
 } pl_error;
 
+// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
+// or `PL_ERROR` (`*err` holds the error; for a good frame whose typed parse failed, `*msg`
+// holds its ID and raw data). Both pointers are valid only during the call.
+typedef void (*pl_aeolus_callback)(void *ctx,
+                                   int32_t status,
+                                   const pl_aeolus_message *msg,
+                                   const pl_error *err);
+
 // The counters of an AEOLUS decoder (wrapping `uint32_t`, the Rust `Stats`).
 typedef struct {
   // Frames delivered with a good CRC.
@@ -665,6 +673,14 @@ typedef struct {
   // Opaque.
   uint64_t opaque[PL_AOK_DECODER_WORDS];
 } pl_aok_pc_decoder;
+
+// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
+// (`*item` holds the command or message) or `PL_ERROR` (`*err`). Both pointers are valid
+// only during the call.
+typedef void (*pl_aok_callback)(void *ctx,
+                                int32_t status,
+                                const pl_aok_item *item,
+                                const pl_error *err);
 
 // An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
 typedef struct {
@@ -794,6 +810,12 @@ typedef struct {
   // The typed fields.
   pl_aydp_body body;
 } pl_aydp_message;
+
+// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
+typedef void (*pl_aydp_callback)(void *ctx,
+                                 int32_t status,
+                                 const pl_aydp_message *msg,
+                                 const pl_error *err);
 
 // The counters of an AYDP decoder.
 typedef struct {
@@ -996,6 +1018,12 @@ typedef struct {
   pl_gdl90_body body;
 } pl_gdl90_message;
 
+// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
+typedef void (*pl_gdl90_callback)(void *ctx,
+                                  int32_t status,
+                                  const pl_gdl90_message *msg,
+                                  const pl_error *err);
+
 // The counters of a GDL90 decoder.
 typedef struct {
   // Messages delivered.
@@ -1088,6 +1116,28 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
                         size_t *used,
                         pl_aeolus_message *msg,
                         pl_error *err);
+
+// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
+// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
+// message.
+//
+// ```c
+// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
+//     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+// }
+// pl_aeolus_feed(&dec, dma_buf, n, on_event, &app);
+// ```
+//
+// # Safety
+// `dec` was set up by `pl_aeolus_init*`; `bytes` is NULL (with `len` 0) or readable for
+// `len` bytes; `on_event` is a function that may be called with `ctx` and does not use `dec`.
+int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
+                       const uint8_t *bytes,
+                       size_t len,
+                       pl_aeolus_callback on_event,
+                       void *ctx);
 
 // End of stream (or of a datagram): a partial frame still held is given up. Returns
 // `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, or `PL_E_NULL`.
@@ -1308,6 +1358,40 @@ int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
 // `dec` was set up by `pl_aok_pc_init`; `stats` is NULL or writable.
 int32_t pl_aok_pc_get_stats(const pl_aok_pc_decoder *dec, pl_aok_stats *stats);
 
+// Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
+// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
+// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+//
+// ```c
+// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
+// ```
+//
+// # Safety
+// `dec` was set up by `pl_aok_device_init`; `bytes` is NULL (with `len` 0) or readable for
+// `len` bytes; `on_event` may be called with `ctx` and does not use `dec`.
+int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
+                           const uint8_t *bytes,
+                           size_t len,
+                           pl_aok_callback on_event,
+                           void *ctx);
+
+// PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
+// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
+// `pl_aok_pc_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+//
+// ```c
+// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
+// ```
+//
+// # Safety
+// `dec` was set up by `pl_aok_pc_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+int32_t pl_aok_pc_feed(pl_aok_pc_decoder *dec,
+                       const uint8_t *bytes,
+                       size_t len,
+                       pl_aok_callback on_event,
+                       void *ctx);
+
 // Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
 // `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
 // range) or `PL_E_BUFFER_TOO_SMALL` (`PL_AOK_MAX_FRAME_LEN` is always enough).
@@ -1402,6 +1486,23 @@ int32_t pl_aydp_parse(pl_aydp_decoder *dec,
                       size_t *used,
                       pl_aydp_message *msg,
                       pl_error *err);
+
+// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
+// `on_event(ctx, ...)` for every event, in order: exactly the events of
+// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+//
+// ```c
+// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
+// ```
+//
+// # Safety
+// `dec` was set up by `pl_aydp_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+int32_t pl_aydp_feed(pl_aydp_decoder *dec,
+                     const uint8_t *bytes,
+                     size_t len,
+                     pl_aydp_callback on_event,
+                     void *ctx);
 
 // End of stream: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. Returns
 // one event per call (as `pl_aydp_parse_byte`); call until `PL_NOTHING`.
@@ -1512,6 +1613,23 @@ int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
                        size_t *used,
                        pl_gdl90_message *msg,
                        pl_error *err);
+
+// The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
+// for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
+// or `PL_E_NULL`.
+//
+// ```c
+// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
+// ```
+//
+// # Safety
+// `dec` was set up by `pl_gdl90_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+int32_t pl_gdl90_feed(pl_gdl90_decoder *dec,
+                      const uint8_t *bytes,
+                      size_t len,
+                      pl_gdl90_callback on_event,
+                      void *ctx);
 
 // Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
 //

@@ -589,6 +589,69 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     PL_NOTHING
 }
 
+/// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
+/// or `PL_ERROR` (`*err` holds the error; for a good frame whose typed parse failed, `*msg`
+/// holds its ID and raw data). Both pointers are valid only during the call.
+pub type pl_aeolus_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        msg: *const pl_aeolus_message,
+        err: *const pl_error,
+    ),
+>;
+
+/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
+/// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
+/// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
+/// message.
+///
+/// ```c
+/// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
+///     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+/// }
+/// pl_aeolus_feed(&dec, dma_buf, n, on_event, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aeolus_init*`; `bytes` is NULL (with `len` 0) or readable for
+/// `len` bytes; `on_event` is a function that may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_feed(
+    dec: *mut pl_aeolus_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aeolus_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    let mut msg = pl_aeolus_message {
+        id: 0,
+        no_crc: 0,
+        data: core::ptr::null(),
+        data_len: 0,
+        body: pl_aeolus_body {
+            settime: pl_aeolus_settime::default(),
+        },
+    };
+    let mut err = pl_error::default();
+    d.feed(input, |event| {
+        let status = deliver(event, &mut msg, &mut err);
+        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
+        // live locals for the duration of the call.
+        unsafe { call(ctx, status, &msg, &err) };
+    });
+    PL_NOTHING
+}
+
 /// End of stream (or of a datagram): a partial frame still held is given up. Returns
 /// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, or `PL_E_NULL`.
 ///

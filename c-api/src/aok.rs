@@ -684,6 +684,103 @@ pub unsafe extern "C" fn pl_aok_pc_get_stats(
     0
 }
 
+/// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
+/// (`*item` holds the command or message) or `PL_ERROR` (`*err`). Both pointers are valid
+/// only during the call.
+pub type pl_aok_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        item: *const pl_aok_item,
+        err: *const pl_error,
+    ),
+>;
+
+/// Calls `call` for one event of a `feed`.
+///
+/// # Safety
+/// `call` may be called with `ctx`.
+unsafe fn callback<T>(
+    call: unsafe extern "C" fn(*mut core::ffi::c_void, i32, *const pl_aok_item, *const pl_error),
+    ctx: *mut core::ffi::c_void,
+    event: Result<T, Error>,
+    to_c: impl FnOnce(&T) -> pl_aok_item,
+) {
+    let mut item = pl_aok_item::default();
+    let mut err = pl_error::default();
+    let status = deliver(Some(event), to_c, &mut item, &mut err);
+    // SAFETY: the caller's promise; both pointers are to live locals during the call.
+    unsafe { call(ctx, status, &item, &err) };
+}
+
+/// Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
+/// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
+/// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aok_device_init`; `bytes` is NULL (with `len` 0) or readable for
+/// `len` bytes; `on_event` may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_device_feed(
+    dec: *mut pl_aok_device_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aok_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, DeviceDecoder>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `on_event`.
+    d.feed(input, |event| unsafe {
+        callback(call, ctx, event, command_c)
+    });
+    PL_NOTHING
+}
+
+/// PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
+/// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
+/// `pl_aok_pc_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aok_pc_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_pc_feed(
+    dec: *mut pl_aok_pc_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aok_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, PcDecoder>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `on_event`.
+    d.feed(input, |event| unsafe {
+        callback(call, ctx, event, message_c)
+    });
+    PL_NOTHING
+}
+
 /// Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
 /// `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
 /// range) or `PL_E_BUFFER_TOO_SMALL` (`PL_AOK_MAX_FRAME_LEN` is always enough).

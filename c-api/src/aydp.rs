@@ -566,6 +566,63 @@ pub unsafe extern "C" fn pl_aydp_parse(
     PL_NOTHING
 }
 
+/// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
+pub type pl_aydp_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        msg: *const pl_aydp_message,
+        err: *const pl_error,
+    ),
+>;
+
+/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
+/// `on_event(ctx, ...)` for every event, in order: exactly the events of
+/// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aydp_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_feed(
+    dec: *mut pl_aydp_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aydp_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    let mut msg = pl_aydp_message {
+        kind: PL_AYDP_UNKNOWN,
+        msg_type: 0,
+        expedited: 0,
+        seconds: 0,
+        subsec: 0,
+        data: core::ptr::null(),
+        data_len: 0,
+        body: NO_BODY,
+    };
+    let mut err = pl_error::default();
+    d.feed(input, |event| {
+        let status = deliver(event, &mut msg, &mut err);
+        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
+        // live locals for the duration of the call.
+        unsafe { call(ctx, status, &msg, &err) };
+    });
+    PL_NOTHING
+}
+
 /// End of stream: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. Returns
 /// one event per call (as `pl_aydp_parse_byte`); call until `PL_NOTHING`.
 ///

@@ -553,6 +553,62 @@ pub unsafe extern "C" fn pl_gdl90_parse(
     PL_NOTHING
 }
 
+/// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
+pub type pl_gdl90_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        msg: *const pl_gdl90_message,
+        err: *const pl_error,
+    ),
+>;
+
+/// The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
+/// for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
+/// or `PL_E_NULL`.
+///
+/// ```c
+/// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_gdl90_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_gdl90_feed(
+    dec: *mut pl_gdl90_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_gdl90_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    let mut msg = pl_gdl90_message {
+        kind: PL_GDL90_UNKNOWN,
+        id: 0,
+        data: core::ptr::null(),
+        data_len: 0,
+        body: pl_gdl90_body {
+            geo_altitude: pl_gdl90_geo_altitude::default(),
+        },
+    };
+    let mut err = pl_error::default();
+    d.feed(input, |event| {
+        let status = deliver(event, &mut msg, &mut err);
+        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
+        // live locals for the duration of the call.
+        unsafe { call(ctx, status, &msg, &err) };
+    });
+    PL_NOTHING
+}
+
 /// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
 ///
 /// ```c

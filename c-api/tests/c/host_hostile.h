@@ -17,7 +17,12 @@ static uint64_t rng(void) {
 static long all_decoders(const uint8_t *buf, size_t len) {
     static const char *protos[] = {"aeolus", "aydp-spec", "aydp-reference", "aok-pc", "aok-device", "gdl90"};
     long events = 0;
-    for (int p = 0; p < 6; p++) events += dump(protos[p], buf, len, (size_t)(rng() % 300), 0);
+    for (int p = 0; p < 6; p++) {
+        long slices = dump(protos[p], buf, len, (size_t)(rng() % 300), 0);
+        /* The feed calls (other chunking) give exactly the events of the slice calls. */
+        CHECK(count_feed(protos[p], buf, len, (size_t)(rng() % 4096)) == slices);
+        events += slices;
+    }
     return events;
 }
 
@@ -52,6 +57,9 @@ static void null_checks(void) {
     CHECK(pl_aeolus_encode(&am, buf, sizeof buf) == PL_E_NULL);
     CHECK(pl_aeolus_max_encoded_len(SIZE_MAX) == SIZE_MAX);
     CHECK(pl_aeolus_max_encoded_len(32) == 72);
+    CHECK(pl_aeolus_feed(&ad, buf, 1, NULL, NULL) == PL_E_NULL);
+    CHECK(pl_aeolus_feed(NULL, buf, 1, count_aeolus, NULL) == PL_E_NULL);
+    CHECK(pl_aeolus_feed(&ad, NULL, 1, count_aeolus, NULL) == PL_E_NULL);
 
     pl_aydp_decoder yd;
     pl_aydp_message ym;
@@ -63,6 +71,7 @@ static void null_checks(void) {
     CHECK(pl_aydp_flush(NULL, &ym, &err) == PL_E_NULL);
     CHECK(pl_aydp_parse(&yd, NULL, 3, &used, &ym, &err) == PL_E_NULL);
     CHECK(pl_aydp_get_stats(&yd, NULL) == PL_E_NULL);
+    CHECK(pl_aydp_feed(&yd, buf, 1, NULL, NULL) == PL_E_NULL);
     CHECK(pl_aydp_encode(PL_AYDP_SPEC, NULL, buf, sizeof buf) == PL_E_NULL);
     memset(&ym, 0, sizeof ym);
     ym.kind = PL_AYDP_FIX_DETAIL;
@@ -96,6 +105,8 @@ static void null_checks(void) {
     CHECK(pl_aok_pc_parse(&kp, NULL, 2, &used, &it, &err) == PL_E_NULL);
     CHECK(pl_aok_pc_get_stats(&kp, NULL) == PL_E_NULL);
     CHECK(pl_aok_pc_expect_reply(&kp, NULL) == PL_E_NULL);
+    CHECK(pl_aok_pc_feed(&kp, buf, 1, NULL, NULL) == PL_E_NULL);
+    CHECK(pl_aok_device_feed(&kd, NULL, 3, count_aok, NULL) == PL_E_NULL);
     CHECK(pl_aok_encode_command(NULL, buf, sizeof buf) == PL_E_NULL);
     CHECK(pl_aok_encode_message(NULL, 1, buf, sizeof buf) == PL_E_NULL);
     memset(&it, 0, sizeof it);
@@ -109,6 +120,7 @@ static void null_checks(void) {
     CHECK(pl_gdl90_parse(&gd, NULL, 1, &used, &gm, &err) == PL_E_NULL);
     CHECK(pl_gdl90_get_stats(NULL, NULL) == PL_E_NULL);
     CHECK(pl_gdl90_encode(NULL, buf, sizeof buf) == PL_E_NULL);
+    CHECK(pl_gdl90_feed(&gd, buf, 1, NULL, NULL) == PL_E_NULL);
     memset(&gm, 0, sizeof gm);
     gm.kind = 77;
     CHECK(pl_gdl90_encode(&gm, buf, sizeof buf) == PL_E_BAD_TAG);

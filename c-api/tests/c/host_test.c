@@ -606,6 +606,73 @@ static int count_bytewise(const char *proto, const uint8_t *buf, size_t len) {
     return events;
 }
 
+/* The feed calls: every event through a callback that counts it (and checks its status). */
+struct counter {
+    int events;
+};
+static void count_aeolus(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
+    CHECK((st == PL_MESSAGE || st == PL_ERROR) && m && e);
+    ((struct counter *)ctx)->events++;
+}
+static void count_aydp(void *ctx, int32_t st, const pl_aydp_message *m, const pl_error *e) {
+    CHECK((st == PL_MESSAGE || st == PL_ERROR) && m && e);
+    ((struct counter *)ctx)->events++;
+}
+static void count_aok(void *ctx, int32_t st, const pl_aok_item *m, const pl_error *e) {
+    CHECK((st == PL_MESSAGE || st == PL_ERROR) && m && e);
+    ((struct counter *)ctx)->events++;
+}
+static void count_gdl90(void *ctx, int32_t st, const pl_gdl90_message *m, const pl_error *e) {
+    CHECK((st == PL_MESSAGE || st == PL_ERROR) && m && e);
+    ((struct counter *)ctx)->events++;
+}
+
+/* Events of the feed calls over buf in chunks of `chunk` bytes (0: all at once), end of input
+ * included as in dump(). */
+static int count_feed(const char *proto, const uint8_t *buf, size_t len, size_t chunk) {
+    struct counter c = {0};
+    pl_error err;
+    size_t off = 0;
+#define FEED_LOOP(FEED, DEC, CB)                                                   \
+    do {                                                                           \
+        do {                                                                       \
+            size_t n = chunk && len - off > chunk ? chunk : len - off;             \
+            CHECK(FEED(&DEC, len ? buf + off : NULL, n, CB, &c) == PL_NOTHING);    \
+            off += n;                                                              \
+        } while (off < len);                                                       \
+    } while (0)
+    if (!strcmp(proto, "aeolus")) {
+        pl_aeolus_decoder d;
+        pl_aeolus_init(&d);
+        FEED_LOOP(pl_aeolus_feed, d, count_aeolus);
+        c.events += pl_aeolus_flush(&d, &err) > 0;
+    } else if (!strncmp(proto, "aydp-", 5)) {
+        pl_aydp_decoder d;
+        pl_aydp_message m;
+        pl_aydp_init(&d, strcmp(proto, "aydp-reference") ? PL_AYDP_SPEC : PL_AYDP_REFERENCE);
+        FEED_LOOP(pl_aydp_feed, d, count_aydp);
+        while (pl_aydp_flush(&d, &m, &err) > 0) c.events++;
+    } else if (!strcmp(proto, "aok-pc")) {
+        pl_aok_device_decoder d;
+        pl_aok_item it;
+        pl_aok_device_init(&d);
+        FEED_LOOP(pl_aok_device_feed, d, count_aok);
+        while (pl_aok_device_idle(&d, &it, &err) > 0) c.events++;
+    } else if (!strcmp(proto, "aok-device")) {
+        pl_aok_pc_decoder d;
+        pl_aok_item it;
+        pl_aok_pc_init(&d, 0, 35);
+        FEED_LOOP(pl_aok_pc_feed, d, count_aok);
+        while (pl_aok_pc_idle(&d, &it, &err) > 0) c.events++;
+    } else {
+        pl_gdl90_decoder d;
+        pl_gdl90_init(&d);
+        FEED_LOOP(pl_gdl90_feed, d, count_gdl90);
+    }
+#undef FEED_LOOP
+    return c.events;
+}
+
 static int cmd_dump(const char *proto, const char *path) {
     size_t len = 0;
     uint8_t *buf = read_file(path, &len);
@@ -618,6 +685,7 @@ static int cmd_dump(const char *proto, const char *path) {
     /* Every chunk size gives the same events as the whole buffer, and as the byte calls. */
     for (chunk = 1; chunk <= 64; chunk = chunk * 2 + 1) CHECK(dump(proto, buf, len, chunk, 0) == events);
     CHECK(count_bytewise(proto, buf, len) == events);
+    for (chunk = 0; chunk <= 64; chunk = chunk * 2 + 1) CHECK(count_feed(proto, buf, len, chunk) == events);
     free(buf);
     return failures != 0;
 }
