@@ -117,18 +117,16 @@ for line in open(sys.argv[1]):
         if t1 != t2:
             sys.exit(f"{name}: the two runs differ ({t1} and {t2} ticks)")
         rows[name] = (int(nbytes), int(instr), int(msgs))
-print("| protocol (capture) | bytes | messages | C byte call | C slice call | Rust `push` | Rust `feed` | C byte / Rust push | C slice / Rust push | C slice / Rust feed |")
+print("| protocol (capture) | bytes | messages | C `parse_byte` | Rust `push` | C / Rust | C `parse` (stops at each event) | C `feed` (callback) | Rust `feed` | C feed / Rust feed |")
 print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-for proto, c_byte, c_slice, push, feed, label in [
-    ("aeolus", "aeolus_parse_byte", "aeolus_parse", "rust_aeolus_push", "rust_aeolus_feed", "AEOLUS (qemu-uart0-aeolus.bin)"),
-    ("aydp", "aydp_parse_byte", "aydp_parse", "rust_aydp_push", "rust_aydp_feed", "AYDP Spec (qemu-uart1-aydp.bin)"),
-    ("aok", "aok_pc_parse_byte", "aok_pc_parse", "rust_aok_pc_push", "rust_aok_pc_feed", "AOK PC side (qemu-uart2-aok.bin)"),
-]:
-    r = [rows[k] for k in (c_byte, c_slice, push, feed)]
+for proto, label in [("aeolus", "AEOLUS (qemu-uart0-aeolus.bin)"), ("aydp", "AYDP Spec (qemu-uart1-aydp.bin)"),
+                     ("aok_pc", "AOK PC side (qemu-uart2-aok.bin)")]:
+    names = [f"{proto}_parse_byte", f"rust_{proto}_push", f"{proto}_parse", f"{proto}_feed", f"rust_{proto}_feed"]
+    r = [rows[k] for k in names]
     if len({x[2] for x in r}) != 1:
-        sys.exit(f"{proto}: the four paths decoded different message counts {[x[2] for x in r]}")
+        sys.exit(f"{proto}: the paths decoded different message counts {[x[2] for x in r]}")
     n = r[0][0]
-    per = [x[1] / n for x in r]
-    print(f"| {label} | {n} | {r[0][2]} | {per[0]:.1f} | {per[1]:.1f} | {per[2]:.1f} | {per[3]:.1f} | "
-          f"{per[0] / per[2]:.2f} | {per[1] / per[2]:.2f} | {per[1] / per[3]:.2f} |")
+    byte, push, parse, feed, rfeed = (x[1] / n for x in r)
+    print(f"| {label} | {n} | {r[0][2]} | {byte:.1f} | {push:.1f} | {byte / push:.2f} | {parse:.1f} | "
+          f"{feed:.1f} | {rfeed:.1f} | {feed / rfeed:.2f} |")
 PY

@@ -56,6 +56,12 @@ static size_t in_len;
 #define RUST_ROW(fn) \
     static void rust_##fn(void) { messages = events = pl_bench_rust_##fn(in, in_len); }
 
+/* The feed calls' callbacks: count, as the other rows do. */
+static void count_event(int32_t st) {
+    events++;
+    messages += st == PL_MESSAGE;
+}
+
 #if PROTO == 1
 RUST_ROW(aeolus_push)
 RUST_ROW(aeolus_feed)
@@ -69,6 +75,14 @@ static void aeolus_bytes(void) {
         events += st > 0;
         messages += st == PL_MESSAGE;
     }
+}
+static void on_aeolus(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
+    (void)ctx, (void)m, (void)e;
+    count_event(st);
+}
+static void aeolus_feed(void) {
+    pl_aeolus_init(&aeolus);
+    pl_aeolus_feed(&aeolus, in, in_len, on_aeolus, NULL);
 }
 static void aeolus_slices(void) {
     pl_aeolus_message m;
@@ -96,6 +110,14 @@ static void aydp_bytes(void) {
             messages += st == PL_MESSAGE;
         }
 }
+static void on_aydp(void *ctx, int32_t st, const pl_aydp_message *m, const pl_error *e) {
+    (void)ctx, (void)m, (void)e;
+    count_event(st);
+}
+static void aydp_feed(void) {
+    pl_aydp_init(&aydp, PL_AYDP_SPEC);
+    pl_aydp_feed(&aydp, in, in_len, on_aydp, NULL);
+}
 static void aydp_slices(void) {
     pl_aydp_message m;
     pl_error e;
@@ -122,6 +144,14 @@ static void pc_bytes(void) {
             events++;
             messages += st == PL_MESSAGE;
         }
+}
+static void on_aok(void *ctx, int32_t st, const pl_aok_item *m, const pl_error *e) {
+    (void)ctx, (void)m, (void)e;
+    count_event(st);
+}
+static void pc_feed(void) {
+    pl_aok_pc_init(&pc, 0, 35);
+    pl_aok_pc_feed(&pc, in, in_len, on_aok, NULL);
 }
 static void pc_slices(void) {
     pl_aok_item m;
@@ -169,16 +199,19 @@ int main(void) {
 #if PROTO == 1
     row("aeolus_parse_byte", aeolus_bytes, stream_a, stream_a_end, per_tick);
     row("aeolus_parse", aeolus_slices, stream_a, stream_a_end, per_tick);
+    row("aeolus_feed", aeolus_feed, stream_a, stream_a_end, per_tick);
     row("rust_aeolus_push", rust_aeolus_push, stream_a, stream_a_end, per_tick);
     row("rust_aeolus_feed", rust_aeolus_feed, stream_a, stream_a_end, per_tick);
 #elif PROTO == 2
     row("aydp_parse_byte", aydp_bytes, stream_a, stream_a_end, per_tick);
     row("aydp_parse", aydp_slices, stream_a, stream_a_end, per_tick);
+    row("aydp_feed", aydp_feed, stream_a, stream_a_end, per_tick);
     row("rust_aydp_push", rust_aydp_push, stream_a, stream_a_end, per_tick);
     row("rust_aydp_feed", rust_aydp_feed, stream_a, stream_a_end, per_tick);
 #else
     row("aok_pc_parse_byte", pc_bytes, stream_a, stream_a_end, per_tick);
     row("aok_pc_parse", pc_slices, stream_a, stream_a_end, per_tick);
+    row("aok_pc_feed", pc_feed, stream_a, stream_a_end, per_tick);
     row("rust_aok_pc_push", rust_aok_pc_push, stream_a, stream_a_end, per_tick);
     row("rust_aok_pc_feed", rust_aok_pc_feed, stream_a, stream_a_end, per_tick);
 #endif
