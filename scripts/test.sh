@@ -119,7 +119,7 @@ if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --rele
 fi
 
 # The C library (c-api/): one archive for C firmware, its cbindgen header, and its tests.
-step "C library: libprotolink.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri"
+step "C library: libprotolink_c.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   cargo build -q -p protolink-c --release --target "$t"
 done

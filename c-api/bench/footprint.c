@@ -2,7 +2,7 @@
  * Flash and RAM of one AEOLUS decoder from C, beside MAVLink C's mavlink_parse_char: the same
  * receive loop, built three ways with the same arm-none-eabi-gcc flags (scripts/c-bench.sh):
  *   -DDECODER=0  the loop alone (baseline: bytes read from UART0's data register, a sink)
- *   -DDECODER=1  + one pl_aeolus_decoder (libprotolink.a, thumbv7m): parse_byte, typed parse
+ *   -DDECODER=1  + one pl_aeolus_decoder (libprotolink_c.a, thumbv7m): parse_byte, typed parse
  *   -DDECODER=2  + MAVLink common dialect, mavlink_parse_char on channel 0 (headers generated
  *                by pymavlink's mavgen; MAVLINK_COMM_NUM_BUFFERS as the build sets it)
  * The figures are each build's size minus the baseline's.

@@ -1,6 +1,6 @@
 /*
  * protolink.h: AEOLUS, AYDP (both profiles), AOK (both sides) and GDL90 for C.
- * C11 and C++17; link with libprotolink.a (one archive, all four protocols).
+ * C11 and C++17; link with libprotolink_c.a (one archive, all four protocols).
  *
  * Every function checks its pointers for NULL and bounds its lengths: bad input gets a
  * negative PL_E_* code, never undefined behaviour. Nothing allocates, nothing panics

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The C firmware test and the C link-time no-panic proof of libprotolink.a (run by
+# The C firmware test and the C link-time no-panic proof of libprotolink_c.a (run by
 # scripts/test.sh). Needs arm-none-eabi-gcc, picolibc and qemu-system-arm (setup.sh c qemu).
 #
 # 1. c-api/tests/firmware/main.c, built with Debian's arm-none-eabi-gcc and picolibc for the
@@ -24,7 +24,7 @@ cflags=(-std=c11 -Wall -Wextra -Werror -pedantic -Os -mthumb --specs=picolibc.sp
 src=(c-api/tests/firmware/main.c c-api/tests/firmware/capture.S)
 
 arm-none-eabi-gcc -mcpu=cortex-m3 "${cflags[@]}" "${src[@]}" \
-  target/thumbv7m-none-eabi/release/libprotolink.a -o "$out/c-firmware.elf"
+  target/thumbv7m-none-eabi/release/libprotolink_c.a -o "$out/c-firmware.elf"
 arm-none-eabi-size "$out/c-firmware.elf"
 timeout 120 qemu-system-arm -M lm3s6965evb -nographic -monitor none -serial none \
   -semihosting-config enable=on,target=native -kernel "$out/c-firmware.elf" >"$out/qemu.log" 2>&1
@@ -70,7 +70,7 @@ for target in thumbv7m-none-eabi:cortex-m3 thumbv6m-none-eabi:cortex-m0; do
     --target-dir target/c-api-panic-never
   # shellcheck disable=SC2086
   if ! arm-none-eabi-gcc -mcpu="$cpu" "${cflags[@]}" $roots "${src[@]}" \
-    "target/c-api-panic-never/$t/release/libprotolink.a" -o "$out/panic-never-$t.elf"; then
+    "target/c-api-panic-never/$t/release/libprotolink_c.a" -o "$out/panic-never-$t.elf"; then
     echo "FAILED: a panic path is reachable from a C API function on $t: the link names"
     echo "PANIC_PATH_REACHABLE_in_libprotolink; see c-api/tests/firmware.sh."
     exit 1

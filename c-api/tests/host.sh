@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The host C test of libprotolink.a (run by scripts/test.sh): builds the archive for the host,
+# The host C test of libprotolink_c.a (run by scripts/test.sh): builds the archive for the host,
 # checks the header compiles as C11 and C++17 under gcc and clang with warnings as errors,
 # builds c-api/tests/c/host_test.c with AddressSanitizer and UndefinedBehaviorSanitizer (any
 # report aborts), then:
@@ -14,7 +14,7 @@ out=target/c-api-host
 mkdir -p "$out/rt" "$out/vectors"
 cargo build -q -p protolink-c --release
 cargo build -q -p protolink --release
-lib=target/release/libprotolink.a
+lib=target/release/libprotolink_c.a
 
 flags=(-Wall -Wextra -Werror -pedantic -Ic-api/include)
 printf '#include "protolink.h"\nint main(void) { pl_aeolus_decoder d; return pl_aeolus_init(&d); }\n' >"$out/header.c"

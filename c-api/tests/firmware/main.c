@@ -1,6 +1,6 @@
 /*
  * The C firmware test: a Cortex-M3 program for QEMU lm3s6965evb, built with Debian's
- * arm-none-eabi-gcc and picolibc and linked with libprotolink.a (thumbv7m). It decodes the
+ * arm-none-eabi-gcc and picolibc and linked with libprotolink_c.a (thumbv7m). It decodes the
  * three UART captures of testdata/ (built into the image by capture.S) through the C API,
  * AEOLUS byte by byte, AYDP and AOK with the slice calls, and prints the decoders' counters
  * over semihosting; c-api/tests/firmware.sh compares them with the Rust decoder's
