@@ -286,3 +286,56 @@ fn gdl90_geo_altitude_round_trip() {
         m.body.geo_altitude
     });
 }
+
+/// What the feed test's callback saw: message IDs, and error kinds.
+#[derive(Default)]
+struct Seen {
+    ids: Vec<u8>,
+    errors: Vec<u32>,
+}
+
+unsafe extern "C" fn record(
+    ctx: *mut core::ffi::c_void,
+    status: i32,
+    msg: *const pl_aeolus_message,
+    err: *const pl_error,
+) {
+    // SAFETY: `ctx` is the test's `Seen`, and the pointers are valid during the call
+    // (pl_aeolus_feed's promise).
+    let (seen, msg, err) = unsafe { (&mut *ctx.cast::<Seen>(), &*msg, &*err) };
+    match status {
+        PL_MESSAGE => seen.ids.push(msg.id),
+        PL_ERROR => seen.errors.push(err.kind),
+        other => panic!("status {other}"),
+    }
+}
+
+#[test]
+fn aeolus_feed_gives_every_event_to_the_callback_in_order() {
+    let gyro = unhex(GYRO);
+    let mut stream = gyro.clone();
+    let mut bad = gyro.clone();
+    let last = bad.len() - 2;
+    bad[last] ^= 0xFF; // a CRC mismatch between two good frames
+    stream.extend_from_slice(&bad);
+    stream.extend_from_slice(&gyro);
+    let mut d = aeolus_decoder();
+    let mut seen = Seen::default();
+    let ctx = (&mut seen as *mut Seen).cast();
+    // SAFETY: a set-up decoder, a live input, a callback that reads its arguments as promised.
+    let st = unsafe {
+        pl_aeolus_feed(
+            d.as_mut_ptr(),
+            stream.as_ptr(),
+            stream.len(),
+            Some(record),
+            ctx,
+        )
+    };
+    assert_eq!(st, PL_NOTHING);
+    assert_eq!(seen.ids, [PL_AEOLUS_ID_GYRO, PL_AEOLUS_ID_GYRO]);
+    assert_eq!(seen.errors, [PL_ERR_CHECKSUM_MISMATCH]);
+    // SAFETY: no callback: refused before anything is read.
+    let st = unsafe { pl_aeolus_feed(d.as_mut_ptr(), stream.as_ptr(), 1, None, ctx) };
+    assert_eq!(st, PL_E_NULL);
+}
