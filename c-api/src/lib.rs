@@ -12,7 +12,8 @@
 //!   with `pl_*_init`;
 //! - `pl_*_parse_byte` takes one byte and answers [`PL_NOTHING`], [`PL_MESSAGE`] or
 //!   [`PL_ERROR`] (the kind in a [`pl_error`]); `pl_*_parse` takes a slice, stops after the
-//!   byte that completed the next event and says how many bytes it used;
+//!   byte that completed the next event and says how many bytes it used; `pl_*_feed` hands a
+//!   whole buffer to the crate's fast `feed` and every event to a C callback;
 //! - messages are plain C structs, a tag plus a union over the message types, fields in the
 //!   units of the Rust types; pointers in a decoded message point into the decoder and stay
 //!   valid until the next call on that decoder;
