@@ -64,7 +64,7 @@ for name, size in symbols(sys.argv[2]):
         continue
     if name.startswith(("aeolus_proto", "heapless")):
         rust += size
-    elif name.startswith(("protolink::", "pl_")):
+    elif name.startswith(("protolink_c::", "pl_")):
         face += size
     else:
         rt += size
@@ -84,10 +84,11 @@ echo "| one AEOLUS decoder, \`pl_aeolus_parse_byte\` (libprotolink_c.a) | $((pl_
 echo "| MAVLink C \`mavlink_parse_char\`, common dialect, \`MAVLINK_COMM_NUM_BUFFERS\` 1 | $((mav1_flash - base_flash)) | $((mav1_ram - base_ram)) |"
 echo "| MAVLink C \`mavlink_parse_char\`, common dialect, default channel count | $((mav_flash - base_flash)) | $((mav_ram - base_ram)) |"
 echo
-echo "Of the AEOLUS build's added code: $rust_part B are the Rust decoder and typed parse"
-echo "(aeolus_proto), $face_part B the C face (pl_*, the struct conversion), $rt_part B runtime"
-echo "that the archive brings (compiler_builtins' memcpy/memset and 64-bit division, which take"
-echo "over from picolibc's and libgcc's). MAVLink headers: pymavlink ${pymavlink_version:-?} mavgen, wire protocol 2.0."
+echo "The AEOLUS build's added code by symbol: $rust_part B in aeolus_proto's own functions,"
+echo "$face_part B in the C face's (pl_*, deliver, fill; LTO inlines the typed parse into deliver, so"
+echo "this line between the two is the optimiser's), $rt_part B runtime that the archive brings"
+echo "(compiler_builtins' memcpy and 64-bit division, which the linker takes from the archive"
+echo "instead of picolibc's and libgcc's). MAVLink headers: pymavlink ${pymavlink_version:-?} mavgen, wire protocol 2.0."
 echo
 
 cflags=(-std=c11 -Wall -Wextra -Werror -Os -mcpu=cortex-m3 -mthumb --specs=picolibc.specs

@@ -696,19 +696,22 @@ pub type pl_aok_callback = Option<
     ),
 >;
 
-/// Calls `call` for one event of a `feed`.
+/// Calls `call` for one event of a `feed`. Inlined into the crate's `feed` and reading the
+/// event in place (no copy of it to pass on): the per-event cost is what the C face adds.
 ///
 /// # Safety
 /// `call` may be called with `ctx`.
+#[inline(always)]
 unsafe fn callback<T>(
     call: unsafe extern "C" fn(*mut core::ffi::c_void, i32, *const pl_aok_item, *const pl_error),
     ctx: *mut core::ffi::c_void,
-    event: Result<T, Error>,
+    event: &Result<T, Error>,
     to_c: impl FnOnce(&T) -> pl_aok_item,
 ) {
-    let mut item = pl_aok_item::default();
-    let mut err = pl_error::default();
-    let status = deliver(Some(event), to_c, &mut item, &mut err);
+    let (status, item, err) = match event {
+        Ok(v) => (PL_MESSAGE, to_c(v), pl_error::default()),
+        Err(e) => (PL_ERROR, pl_aok_item::default(), error(*e)),
+    };
     // SAFETY: the caller's promise; both pointers are to live locals during the call.
     unsafe { call(ctx, status, &item, &err) };
 }
@@ -742,7 +745,7 @@ pub unsafe extern "C" fn pl_aok_device_feed(
     };
     // SAFETY: the caller's promise for `on_event`.
     d.feed(input, |event| unsafe {
-        callback(call, ctx, event, command_c)
+        callback(call, ctx, &event, command_c)
     });
     PL_NOTHING
 }
@@ -776,7 +779,7 @@ pub unsafe extern "C" fn pl_aok_pc_feed(
     };
     // SAFETY: the caller's promise for `on_event`.
     d.feed(input, |event| unsafe {
-        callback(call, ctx, event, message_c)
+        callback(call, ctx, &event, message_c)
     });
     PL_NOTHING
 }
