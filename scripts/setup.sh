@@ -10,6 +10,10 @@
 #                               `protolink web` drive it headless)
 #   scripts/setup.sh i686       + the i686 target and gcc-multilib (Debian): the protocol
 #                               libraries' tests also run with 32-bit words, as on the firmware
+#   scripts/setup.sh c          + what the C library's tests need: gcc-arm-none-eabi,
+#                               picolibc-arm-none-eabi and clang (Debian), cbindgen (crates.io,
+#                               it generates c-api/include/protolink.h), and the nightly
+#                               toolchain's miri component (the C API's Rust tests under Miri)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,6 +40,16 @@ for want in "$@"; do
     i686)
       rustup target list --installed | grep -q '^i686-unknown-linux-gnu$' || rustup target add i686-unknown-linux-gnu
       dpkg -s gcc-multilib >/dev/null 2>&1 || need_apt+=(gcc-multilib) ;;
+    c)
+      command -v arm-none-eabi-gcc >/dev/null || need_apt+=(gcc-arm-none-eabi)
+      [ -f /usr/lib/picolibc/arm-none-eabi/picolibc.specs ] || need_apt+=(picolibc-arm-none-eabi)
+      command -v clang >/dev/null || need_apt+=(clang)
+      # 0.28 is the first cbindgen that reads edition-2024 `#[unsafe(no_mangle)]`.
+      cbindgen --version 2>/dev/null | grep -qE ' 0\.(2[89]|[3-9][0-9])' \
+        || cargo install --locked cbindgen --version 0.29.4
+      rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
+      rustup +nightly component list --installed | grep -q '^miri' \
+        || rustup +nightly component add miri rust-src ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done

@@ -94,8 +94,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium and i686 (the QEMU, tshark, browser and 32-bit tests must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium i686
+step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686 and the C tools (the QEMU, tshark, browser, 32-bit and C tests must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark chromium i686 c
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py
@@ -133,6 +133,21 @@ if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --rele
   echo "see checks/panic-never/src/main.rs for what it exercises."
   exit 1
 fi
+
+# The C library (c-api/): one archive for C firmware, its cbindgen header, and its tests.
+step "C library: libprotolink_c.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri"
+for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
+  cargo build -q -p protolink-c --release --target "$t"
+done
+cbindgen -q --config c-api/cbindgen.toml --crate protolink-c --output target/protolink.h.fresh
+if ! diff -u c-api/include/protolink.h target/protolink.h.fresh; then
+  echo "FAILED: c-api/include/protolink.h differs from what cbindgen generates from c-api/src."
+  echo "Regenerate it: cbindgen --config c-api/cbindgen.toml --crate protolink-c --output c-api/include/protolink.h"
+  exit 1
+fi
+bash c-api/tests/host.sh
+bash c-api/tests/firmware.sh
+cargo +nightly miri test -q -p protolink-c
 
 step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 scripts/footprint.py)"
 (cd checks/footprint && for t in thumbv7m-none-eabi thumbv6m-none-eabi; do

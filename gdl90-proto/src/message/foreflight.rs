@@ -88,8 +88,9 @@ impl ForeFlightId {
         let mut name = [0u8; 8];
         let mut long_name = [0u8; 16];
         if let (Some(n), Some(l)) = (data.get(f::NAME), data.get(f::LONG_NAME)) {
-            name.copy_from_slice(n);
-            long_name.copy_from_slice(l);
+            // Zipped copies: no length check left to a panic when the copy is not inlined.
+            name.iter_mut().zip(n).for_each(|(d, s)| *d = *s);
+            long_name.iter_mut().zip(l).for_each(|(d, s)| *d = *s);
         }
         let caps = f::CAPABILITIES.get(data) as u32;
         Ok(ForeFlightId {
@@ -116,10 +117,14 @@ impl ForeFlightId {
             f::VERSION.put(d, self.version as u64);
             f::SERIAL.put(d, self.serial.map_or(u64::MAX, |s| s.min(u64::MAX - 1)));
             if let Some(dst) = d.get_mut(f::NAME) {
-                dst.copy_from_slice(self.name.as_bytes());
+                dst.iter_mut()
+                    .zip(self.name.as_bytes())
+                    .for_each(|(d, s)| *d = *s);
             }
             if let Some(dst) = d.get_mut(f::LONG_NAME) {
-                dst.copy_from_slice(self.long_name.as_bytes());
+                dst.iter_mut()
+                    .zip(self.long_name.as_bytes())
+                    .for_each(|(d, s)| *d = *s);
             }
             f::CAPABILITIES.put(d, (self.other_capabilities & !1) as u64);
             f::ALTITUDE_DATUM.put_flag(d, self.altitude_datum == AltitudeDatum::Msl);

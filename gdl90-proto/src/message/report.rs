@@ -285,7 +285,8 @@ impl Report {
         };
         let mut call_sign = [b' '; 8];
         if let Some(src) = data.get(f::CALL_SIGN) {
-            call_sign.copy_from_slice(src);
+            // Zipped copies: no length check left to a panic when the copy is not inlined.
+            call_sign.iter_mut().zip(src).for_each(|(d, s)| *d = *s);
         }
         Ok(Report {
             traffic_alert: f::ALERT_STATUS.get(data) != 0,
@@ -371,7 +372,9 @@ impl Report {
             f::VERTICAL_RATE.put(d, vrate as u64);
             f::EMITTER.put(d, self.emitter as u64);
             if let Some(dst) = d.get_mut(f::CALL_SIGN) {
-                dst.copy_from_slice(self.call_sign.as_bytes());
+                dst.iter_mut()
+                    .zip(self.call_sign.as_bytes())
+                    .for_each(|(d, s)| *d = *s);
             }
             f::EMERGENCY.put(d, self.emergency.to_nibble() as u64);
         })

@@ -1,0 +1,946 @@
+//! AEOLUS from C: `pl_aeolus_*`. The decoder is `aeolus_proto::Decoder<PL_AEOLUS_CAPACITY>`.
+
+use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
+use aeolus_proto::{CrcMode, Decoder, Error, Frame};
+
+use crate::ffi::{self, pl_error};
+use crate::*;
+
+/// Unescaped bytes (ID + data + CRC) one AEOLUS decoder holds: every fixed-size message,
+/// every TOAST and COMMAND text, LOG messages up to 253 data bytes.
+pub const PL_AEOLUS_CAPACITY: usize = 256;
+/// 64-bit words in a `pl_aeolus_decoder`.
+pub const PL_AEOLUS_DECODER_WORDS: usize = 41;
+/// Size of `pl_aeolus_decoder` in bytes (an upper bound over the supported targets).
+pub const PL_AEOLUS_DECODER_SIZE: usize = 328;
+/// Alignment of `pl_aeolus_decoder` in bytes.
+pub const PL_AEOLUS_DECODER_ALIGN: usize = 8;
+/// The longest TOAST or COMMAND text (without its NUL).
+pub const PL_AEOLUS_TEXT_CAPACITY: usize = 120;
+/// Bytes on the wire of the longest fixed-size message (DEBUGINFO, 208 data bytes), every byte
+/// escaped: a buffer this long holds any frame but LOG or unknown ones with more data.
+pub const PL_AEOLUS_MAX_FRAME_LEN: usize = 424;
+
+type Inner = Decoder<PL_AEOLUS_CAPACITY>;
+
+/// An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
+/// call; copy it only as a whole.
+#[repr(C)]
+pub struct pl_aeolus_decoder {
+    /// Opaque.
+    pub opaque: [u64; PL_AEOLUS_DECODER_WORDS],
+}
+
+const _: () = assert!(ffi::fits::<pl_aeolus_decoder, Inner>());
+const _: () = assert!(PL_AEOLUS_DECODER_SIZE == core::mem::size_of::<pl_aeolus_decoder>());
+const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AEOLUS_DECODER_ALIGN);
+const _: () = assert!(PL_AEOLUS_TEXT_CAPACITY == aeolus_proto::TEXT_CAPACITY);
+const _: () = assert!(
+    PL_AEOLUS_MAX_FRAME_LEN == aeolus_proto::max_encoded_len(aeolus_proto::message::DEBUGINFO_LEN)
+);
+
+/// PRESSURE, GYRO, ACCEL and MAGNET (61..=64): one layout.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_motion {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// PRESSURE: static pressure (mbar); GYRO: rate about X (rad/s); ACCEL: X (m/s²);
+    /// MAGNET: X (Gauss).
+    pub x: f32,
+    /// PRESSURE: pitot pressure (mbar); the others: Y.
+    pub y: f32,
+    /// PRESSURE: airspeed (m/s); the others: Z.
+    pub z: f32,
+}
+
+/// AEOLUSINFO (51).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_info {
+    /// Model: 83 ('S') AEOLUS-SENSE, 65 ('A') AEOLUS.
+    pub model: u8,
+    /// Firmware version, large/middle/small.
+    pub firmware: [u8; 3],
+    /// MAC address, byte 0 first.
+    pub mac: [u8; 6],
+}
+
+/// TEMP (65).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_temp {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// Temperature, °C.
+    pub celsius: f32,
+}
+
+/// GPS (66).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_gps {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// The receiver has a fix (0 or 1).
+    pub has_fix: u8,
+    /// Satellites in use.
+    pub satellites: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// Latitude, degrees.
+    pub latitude_deg: f32,
+    /// Longitude, degrees.
+    pub longitude_deg: f32,
+    /// Altitude, m.
+    pub altitude_m: f32,
+    /// Ground speed, m/s.
+    pub ground_speed_mps: f32,
+}
+
+/// ATTITUDE (71).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_attitude {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// Roll, rad.
+    pub roll_rad: f32,
+    /// Pitch, rad.
+    pub pitch_rad: f32,
+    /// Yaw, rad.
+    pub yaw_rad: f32,
+    /// Slip ball indication.
+    pub slip_ball: f32,
+    /// Turn coordinator indication.
+    pub turn_coordinator: f32,
+    /// Quaternion x.
+    pub qx: f32,
+    /// Quaternion y.
+    pub qy: f32,
+    /// Quaternion z.
+    pub qz: f32,
+    /// Quaternion w.
+    pub qw: f32,
+}
+
+/// COMPASS (72).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_compass {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// Calibration status byte: 1, 2, 3, 4, -1, -2, -3, -4 (other values kept as received).
+    pub calibration: i8,
+    /// The heading field holds a value (0 or 1).
+    pub has_value: u8,
+    /// Calibration progress, percent.
+    pub calibration_percent: u8,
+    /// Calibration remaining time (raw).
+    pub calibration_remaining: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// Heading, degrees.
+    pub heading_deg: f32,
+    /// Soft-iron calibration parameters.
+    pub soft_iron: [f32; 3],
+    /// Hard-iron calibration parameters.
+    pub hard_iron: [f32; 9],
+}
+
+/// WIND (73).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_wind {
+    /// Data valid (0 or 1).
+    pub valid: u8,
+    /// Milliseconds since boot.
+    pub timestamp_ms: f64,
+    /// Wind magnitude, m/s.
+    pub speed_mps: f32,
+    /// Wind direction, degrees.
+    pub direction_deg: f32,
+}
+
+/// SETTIME (12).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aeolus_settime {
+    /// Year minus 1900.
+    pub year_since_1900: u8,
+    /// Month, January = 0.
+    pub month0: u8,
+    /// Day of the month.
+    pub day: u8,
+    /// Hour.
+    pub hour: u8,
+    /// Minute.
+    pub minute: u8,
+    /// Second.
+    pub second: u8,
+}
+
+/// The typed content of a message; the member is chosen by `pl_aeolus_message.id`.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub union pl_aeolus_body {
+    /// AEOLUSINFO (51).
+    pub info: pl_aeolus_info,
+    /// PRESSURE, GYRO, ACCEL, MAGNET (61..=64).
+    pub motion: pl_aeolus_motion,
+    /// TEMP (65).
+    pub temp: pl_aeolus_temp,
+    /// GPS (66).
+    pub gps: pl_aeolus_gps,
+    /// ATTITUDE (71).
+    pub attitude: pl_aeolus_attitude,
+    /// COMPASS (72).
+    pub compass: pl_aeolus_compass,
+    /// WIND (73).
+    pub wind: pl_aeolus_wind,
+    /// SETTIME (12).
+    pub settime: pl_aeolus_settime,
+}
+
+/// One AEOLUS message: the ID selects the member of `body`.
+///
+/// IDs 51, 61..=66, 71..=73 and 12 are typed (`body`). TOAST (82) and COMMAND (11) carry
+/// their text (without the NUL) in `data`/`data_len`; CALIBINFO (75), DEBUGINFO (76), LOG
+/// (81) and unknown IDs carry their raw data there. Decoded, `data` points into the decoder
+/// and stays valid until the next call on it; to encode, point it at your bytes.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct pl_aeolus_message {
+    /// The message ID (`PL_AEOLUS_ID_*` or any other byte).
+    pub id: u8,
+    /// Decoded: 1 if the frame carried `00 00` instead of a CRC. Encode: 1 sends `00 00`
+    /// (the spec's "no CRC"), 0 computes the CRC (the default).
+    pub no_crc: u8,
+    /// Raw data, or the text (see above); may be NULL when `data_len` is 0.
+    pub data: *const u8,
+    /// Bytes at `data`.
+    pub data_len: usize,
+    /// The typed fields.
+    pub body: pl_aeolus_body,
+}
+
+/// AEOLUSINFO.
+pub const PL_AEOLUS_ID_AEOLUSINFO: u8 = 51;
+/// PRESSURE (`body.motion`: x static, y pitot in mbar, z airspeed in m/s).
+pub const PL_AEOLUS_ID_PRESSURE: u8 = 61;
+/// GYRO (`body.motion`, rad/s).
+pub const PL_AEOLUS_ID_GYRO: u8 = 62;
+/// ACCEL (`body.motion`, m/s²).
+pub const PL_AEOLUS_ID_ACCEL: u8 = 63;
+/// MAGNET (`body.motion`, Gauss).
+pub const PL_AEOLUS_ID_MAGNET: u8 = 64;
+/// TEMP.
+pub const PL_AEOLUS_ID_TEMP: u8 = 65;
+/// GPS.
+pub const PL_AEOLUS_ID_GPS: u8 = 66;
+/// ATTITUDE.
+pub const PL_AEOLUS_ID_ATTITUDE: u8 = 71;
+/// COMPASS.
+pub const PL_AEOLUS_ID_COMPASS: u8 = 72;
+/// WIND.
+pub const PL_AEOLUS_ID_WIND: u8 = 73;
+/// CALIBINFO (raw, 32 bytes).
+pub const PL_AEOLUS_ID_CALIBINFO: u8 = 75;
+/// DEBUGINFO (raw, 208 bytes).
+pub const PL_AEOLUS_ID_DEBUGINFO: u8 = 76;
+/// LOG (raw, any length).
+pub const PL_AEOLUS_ID_LOG: u8 = 81;
+/// TOAST (text).
+pub const PL_AEOLUS_ID_TOAST: u8 = 82;
+/// COMMAND (text).
+pub const PL_AEOLUS_ID_COMMAND: u8 = 11;
+/// SETTIME.
+pub const PL_AEOLUS_ID_SETTIME: u8 = 12;
+
+/// The counters of an AEOLUS decoder (wrapping `uint32_t`, the Rust `Stats`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct pl_aeolus_stats {
+    /// Frames delivered with a good CRC.
+    pub frames_ok: u32,
+    /// Frames delivered without a CRC (`00 00`).
+    pub frames_no_crc: u32,
+    /// Frames whose CRC did not match.
+    pub checksum_errors: u32,
+    /// Strict mode: frames rejected for carrying no CRC.
+    pub missing_crc: u32,
+    /// Frames longer than the capacity.
+    pub overflows: u32,
+    /// Frames too short to hold an ID and a CRC.
+    pub too_short: u32,
+    /// Invalid escapes and escaped flags.
+    pub bad_escapes: u32,
+    /// Bytes thrown away.
+    pub bytes_discarded: u32,
+    /// Bytes of delivered frames.
+    pub frame_bytes: u32,
+    /// Flag bytes seen.
+    pub flags: u32,
+}
+
+fn motion(valid: bool, timestamp_ms: f64, x: f32, y: f32, z: f32) -> pl_aeolus_motion {
+    pl_aeolus_motion {
+        valid: valid.into(),
+        timestamp_ms,
+        x,
+        y,
+        z,
+    }
+}
+
+/// Writes the Rust message into the caller's C struct, field by field in place (no whole
+/// struct built and copied: a message costs a few hundred instructions less on Cortex-M3).
+/// Raw data points into `msg`'s bytes; writing a union member is safe, reading one is not.
+fn fill(out: &mut pl_aeolus_message, msg: &Message<'_>, no_crc: bool) {
+    out.id = msg.id();
+    out.no_crc = no_crc.into();
+    let mut data: &[u8] = &[];
+    let b = &mut out.body;
+    match msg {
+        Message::AeolusInfo(v) => {
+            b.info = pl_aeolus_info {
+                model: v.model,
+                firmware: v.firmware,
+                mac: v.mac,
+            }
+        }
+        Message::Pressure(v) => {
+            b.motion = motion(
+                v.valid,
+                v.timestamp_ms,
+                v.static_mbar,
+                v.pitot_mbar,
+                v.airspeed_mps,
+            )
+        }
+        Message::Gyro(v) => b.motion = motion(v.valid, v.timestamp_ms, v.x, v.y, v.z),
+        Message::Accel(v) => b.motion = motion(v.valid, v.timestamp_ms, v.x, v.y, v.z),
+        Message::Magnet(v) => b.motion = motion(v.valid, v.timestamp_ms, v.x, v.y, v.z),
+        Message::Temp(v) => {
+            b.temp = pl_aeolus_temp {
+                valid: v.valid.into(),
+                timestamp_ms: v.timestamp_ms,
+                celsius: v.celsius,
+            }
+        }
+        Message::Gps(v) => {
+            b.gps = pl_aeolus_gps {
+                valid: v.valid.into(),
+                has_fix: v.has_fix.into(),
+                satellites: v.satellites,
+                timestamp_ms: v.timestamp_ms,
+                latitude_deg: v.latitude_deg,
+                longitude_deg: v.longitude_deg,
+                altitude_m: v.altitude_m,
+                ground_speed_mps: v.ground_speed_mps,
+            }
+        }
+        Message::Attitude(v) => {
+            b.attitude = pl_aeolus_attitude {
+                valid: v.valid.into(),
+                timestamp_ms: v.timestamp_ms,
+                roll_rad: v.roll_rad,
+                pitch_rad: v.pitch_rad,
+                yaw_rad: v.yaw_rad,
+                slip_ball: v.slip_ball,
+                turn_coordinator: v.turn_coordinator,
+                qx: v.qx,
+                qy: v.qy,
+                qz: v.qz,
+                qw: v.qw,
+            }
+        }
+        Message::Compass(v) => {
+            b.compass = pl_aeolus_compass {
+                valid: v.valid.into(),
+                calibration: v.calibration.to_i8(),
+                has_value: v.has_value.into(),
+                calibration_percent: v.calibration_percent,
+                calibration_remaining: v.calibration_remaining,
+                timestamp_ms: v.timestamp_ms,
+                heading_deg: v.heading_deg,
+                soft_iron: v.soft_iron,
+                hard_iron: v.hard_iron,
+            }
+        }
+        Message::Wind(v) => {
+            b.wind = pl_aeolus_wind {
+                valid: v.valid.into(),
+                timestamp_ms: v.timestamp_ms,
+                speed_mps: v.speed_mps,
+                direction_deg: v.direction_deg,
+            }
+        }
+        Message::SetTime(v) => {
+            b.settime = pl_aeolus_settime {
+                year_since_1900: v.year_since_1900,
+                month0: v.month0,
+                day: v.day,
+                hour: v.hour,
+                minute: v.minute,
+                second: v.second,
+            }
+        }
+        // The caller points `data` at the text inside the frame.
+        Message::Toast(_) | Message::Command(_) => {}
+        Message::CalibInfo(d)
+        | Message::DebugInfo(d)
+        | Message::Log(d)
+        | Message::Unknown { data: d, .. } => data = d,
+    }
+    out.data = data.as_ptr();
+    out.data_len = data.len();
+}
+
+/// An error as the C struct.
+fn error(e: Error) -> pl_error {
+    match e {
+        Error::BufferTooSmall => pl_error::kind(PL_ERR_OTHER),
+        Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
+        Error::ChecksumMismatch {
+            id,
+            computed,
+            received,
+        } => pl_error::new(
+            PL_ERR_CHECKSUM_MISMATCH,
+            id.into(),
+            computed.into(),
+            received.into(),
+        ),
+        Error::MissingCrc { id } => pl_error::new(PL_ERR_MISSING_CRC, id.into(), 0, 0),
+        Error::TooShort => pl_error::kind(PL_ERR_TOO_SHORT),
+        Error::InvalidEscape => pl_error::kind(PL_ERR_INVALID_ESCAPE),
+        Error::EscapedFlag => pl_error::kind(PL_ERR_ESCAPED_FLAG),
+        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
+        Error::WrongLength {
+            id,
+            expected,
+            actual,
+        } => pl_error::new(
+            PL_ERR_WRONG_LENGTH,
+            id.into(),
+            expected.into(),
+            actual.into(),
+        ),
+        Error::TextTooLong { id, len } => {
+            pl_error::new(PL_ERR_TEXT_TOO_LONG, id.into(), 0, len.into())
+        }
+    }
+}
+
+/// Hands one decoder event to the caller's structs; returns the status.
+fn deliver(
+    event: Result<Frame<'_>, Error>,
+    msg: &mut pl_aeolus_message,
+    err: &mut pl_error,
+) -> i32 {
+    match event {
+        Ok(frame) => match frame.message() {
+            Ok(m) => {
+                fill(msg, &m, !frame.has_crc());
+                if let Message::Toast(t) | Message::Command(t) = &m {
+                    // The text is the start of the frame's data (up to the NUL): point there.
+                    let text = frame.data().get(..t.as_bytes().len()).unwrap_or(&[]);
+                    msg.data = text.as_ptr();
+                    msg.data_len = text.len();
+                }
+                PL_MESSAGE
+            }
+            Err(e) => {
+                // The raw frame stays available (DECISIONS.md A4).
+                let raw = Message::Unknown {
+                    id: frame.id(),
+                    data: frame.data(),
+                };
+                fill(msg, &raw, !frame.has_crc());
+                *err = error(e);
+                PL_ERROR
+            }
+        },
+        Err(e) => {
+            *err = error(e);
+            PL_ERROR
+        }
+    }
+}
+
+/// Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
+/// allows). Returns 0, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aeolus_decoder dec;
+/// pl_aeolus_init(&dec);
+/// ```
+///
+/// # Safety
+/// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
+    // SAFETY: the caller's promise; `fits` is asserted above.
+    unsafe { ffi::init(dec, Inner::new()) }
+}
+
+/// Sets up `dec` as a fresh strict decoder: frames without a CRC are errors
+/// (`PL_ERR_MISSING_CRC`). Returns 0, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aeolus_decoder dec;
+/// pl_aeolus_init_strict(&dec);
+/// ```
+///
+/// # Safety
+/// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i32 {
+    // SAFETY: the caller's promise; `fits` is asserted above.
+    unsafe { ffi::init(dec, Inner::strict()) }
+}
+
+/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg` filled), `PL_ERROR` (`*err`
+/// filled; for a good frame whose typed parse failed, `*msg` also holds its ID and raw data),
+/// or `PL_E_NULL`. At most one event per byte.
+///
+/// ```c
+/// pl_aeolus_message msg;
+/// pl_error err;
+/// if (pl_aeolus_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) {
+///     use_rates(msg.body.motion.x, msg.body.motion.y, msg.body.motion.z);
+/// }
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aeolus_init*`; `msg` and `err` are NULL or writable; nothing else
+/// uses `dec` during the call.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_parse_byte(
+    dec: *mut pl_aeolus_decoder,
+    byte: u8,
+    msg: *mut pl_aeolus_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises: `dec` holds a decoder, `msg` and `err` are writable,
+    // and none of them alias.
+    let (Some(d), Some(msg), Some(err)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    match d.push(byte) {
+        None => PL_NOTHING,
+        Some(event) => deliver(event, msg, err),
+    }
+}
+
+/// Feeds bytes up to the next event: stops after the byte that completed a message or an
+/// error. `*used` is the number of bytes consumed (all of `len` when it returns
+/// `PL_NOTHING`); call again with the rest. Returns as `pl_aeolus_parse_byte`.
+///
+/// ```c
+/// size_t off = 0, used;
+/// while (off < len) {
+///     int st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err);
+///     off += used;
+///     if (st == PL_MESSAGE) handle(&msg);
+/// }
+/// ```
+///
+/// # Safety
+/// As `pl_aeolus_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+/// `used` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_parse(
+    dec: *mut pl_aeolus_decoder,
+    bytes: *const u8,
+    len: usize,
+    used: *mut usize,
+    msg: *mut pl_aeolus_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises, as in `pl_aeolus_parse_byte` and for `bytes[..len]`.
+    let (Some(d), Some(msg), Some(err), Some(input), Some(used)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+        unsafe { ffi::bytes(bytes, len) },
+        unsafe { used.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    for (i, &b) in input.iter().enumerate() {
+        if let Some(event) = d.push(b) {
+            *used = i + 1;
+            return deliver(event, msg, err);
+        }
+    }
+    *used = input.len();
+    PL_NOTHING
+}
+
+/// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
+/// or `PL_ERROR` (`*err` holds the error; for a good frame whose typed parse failed, `*msg`
+/// holds its ID and raw data). Both pointers are valid only during the call.
+pub type pl_aeolus_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        msg: *const pl_aeolus_message,
+        err: *const pl_error,
+    ),
+>;
+
+/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
+/// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
+/// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
+/// message.
+///
+/// ```c
+/// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
+///     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+/// }
+/// pl_aeolus_feed(&dec, dma_buf, n, on_event, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aeolus_init*`; `bytes` is NULL (with `len` 0) or readable for
+/// `len` bytes; `on_event` is a function that may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_feed(
+    dec: *mut pl_aeolus_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aeolus_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    let mut msg = pl_aeolus_message {
+        id: 0,
+        no_crc: 0,
+        data: core::ptr::null(),
+        data_len: 0,
+        body: pl_aeolus_body {
+            settime: pl_aeolus_settime::default(),
+        },
+    };
+    let mut err = pl_error::default();
+    d.feed(input, |event| {
+        let status = deliver(event, &mut msg, &mut err);
+        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
+        // live locals for the duration of the call.
+        unsafe { call(ctx, status, &msg, &err) };
+    });
+    PL_NOTHING
+}
+
+/// End of stream (or of a datagram): a partial frame still held is given up. Returns
+/// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, or `PL_E_NULL`.
+///
+/// ```c
+/// if (pl_aeolus_flush(&dec, &err) == PL_ERROR) count_truncated();
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aeolus_init*`; `err` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut pl_error) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(err)) = (unsafe { ffi::state::<_, Inner>(dec) }, unsafe {
+        err.as_mut()
+    }) else {
+        return PL_E_NULL;
+    };
+    let mut status = PL_NOTHING;
+    d.flush(|e| {
+        if let Err(e) = e {
+            *err = error(e);
+            status = PL_ERROR;
+        }
+    });
+    status
+}
+
+/// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aeolus_stats st;
+/// pl_aeolus_get_stats(&dec, &st);
+/// printf("%u frames, %u CRC errors\n", st.frames_ok, st.checksum_errors);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aeolus_init*`; `stats` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_get_stats(
+    dec: *const pl_aeolus_decoder,
+    stats: *mut pl_aeolus_stats,
+) -> i32 {
+    // SAFETY: the caller's promises (the decoder is only read).
+    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
+        stats.as_mut()
+    }) else {
+        return PL_E_NULL;
+    };
+    let s = d.stats();
+    *out = pl_aeolus_stats {
+        frames_ok: s.frames_ok,
+        frames_no_crc: s.frames_no_crc,
+        checksum_errors: s.checksum_errors,
+        missing_crc: s.missing_crc,
+        overflows: s.overflows,
+        too_short: s.too_short,
+        bad_escapes: s.bad_escapes,
+        bytes_discarded: s.bytes_discarded,
+        frame_bytes: s.frame_bytes,
+        flags: s.flags,
+    };
+    0
+}
+
+fn text(data: &[u8]) -> Result<Text, i32> {
+    Text::from_bytes(data).map_err(|_| PL_E_INVALID)
+}
+
+fn motion_of<T>(b: &pl_aeolus_motion, f: impl FnOnce(bool, f64, f32, f32, f32) -> T) -> T {
+    f(b.valid != 0, b.timestamp_ms, b.x, b.y, b.z)
+}
+
+/// The C struct as a Rust message; `data` is the struct's raw data.
+///
+/// # Safety
+/// `msg.body` holds the member `msg.id` selects (every member is plain numbers: any bytes
+/// are a valid value, so a wrong member gives wrong numbers, never undefined behaviour).
+unsafe fn from_c<'a>(msg: &pl_aeolus_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
+    // SAFETY (every union read below): the union's members are all made of integers and
+    // floats, for which every bit pattern is valid, and `body` is as large as its largest
+    // member, so any read is defined.
+    let b = &msg.body;
+    Ok(match msg.id {
+        PL_AEOLUS_ID_AEOLUSINFO => {
+            // SAFETY: see above.
+            let v = unsafe { b.info };
+            Message::AeolusInfo(m::AeolusInfo {
+                model: v.model,
+                firmware: v.firmware,
+                mac: v.mac,
+            })
+        }
+        PL_AEOLUS_ID_PRESSURE => {
+            // SAFETY: see above.
+            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
+                Message::Pressure(m::Pressure {
+                    valid,
+                    timestamp_ms,
+                    static_mbar: x,
+                    pitot_mbar: y,
+                    airspeed_mps: z,
+                })
+            })
+        }
+        PL_AEOLUS_ID_GYRO => {
+            // SAFETY: see above.
+            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
+                Message::Gyro(m::Gyro {
+                    valid,
+                    timestamp_ms,
+                    x,
+                    y,
+                    z,
+                })
+            })
+        }
+        PL_AEOLUS_ID_ACCEL => {
+            // SAFETY: see above.
+            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
+                Message::Accel(m::Accel {
+                    valid,
+                    timestamp_ms,
+                    x,
+                    y,
+                    z,
+                })
+            })
+        }
+        PL_AEOLUS_ID_MAGNET => {
+            // SAFETY: see above.
+            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
+                Message::Magnet(m::Magnet {
+                    valid,
+                    timestamp_ms,
+                    x,
+                    y,
+                    z,
+                })
+            })
+        }
+        PL_AEOLUS_ID_TEMP => {
+            // SAFETY: see above.
+            let v = unsafe { b.temp };
+            Message::Temp(m::Temp {
+                valid: v.valid != 0,
+                timestamp_ms: v.timestamp_ms,
+                celsius: v.celsius,
+            })
+        }
+        PL_AEOLUS_ID_GPS => {
+            // SAFETY: see above.
+            let v = unsafe { b.gps };
+            Message::Gps(m::Gps {
+                valid: v.valid != 0,
+                has_fix: v.has_fix != 0,
+                satellites: v.satellites,
+                timestamp_ms: v.timestamp_ms,
+                latitude_deg: v.latitude_deg,
+                longitude_deg: v.longitude_deg,
+                altitude_m: v.altitude_m,
+                ground_speed_mps: v.ground_speed_mps,
+            })
+        }
+        PL_AEOLUS_ID_ATTITUDE => {
+            // SAFETY: see above.
+            let v = unsafe { b.attitude };
+            Message::Attitude(m::Attitude {
+                valid: v.valid != 0,
+                timestamp_ms: v.timestamp_ms,
+                roll_rad: v.roll_rad,
+                pitch_rad: v.pitch_rad,
+                yaw_rad: v.yaw_rad,
+                slip_ball: v.slip_ball,
+                turn_coordinator: v.turn_coordinator,
+                qx: v.qx,
+                qy: v.qy,
+                qz: v.qz,
+                qw: v.qw,
+            })
+        }
+        PL_AEOLUS_ID_COMPASS => {
+            // SAFETY: see above.
+            let v = unsafe { b.compass };
+            Message::Compass(m::Compass {
+                valid: v.valid != 0,
+                calibration: CalibrationStatus::from_i8(v.calibration),
+                has_value: v.has_value != 0,
+                calibration_percent: v.calibration_percent,
+                calibration_remaining: v.calibration_remaining,
+                timestamp_ms: v.timestamp_ms,
+                heading_deg: v.heading_deg,
+                soft_iron: v.soft_iron,
+                hard_iron: v.hard_iron,
+            })
+        }
+        PL_AEOLUS_ID_WIND => {
+            // SAFETY: see above.
+            let v = unsafe { b.wind };
+            Message::Wind(m::Wind {
+                valid: v.valid != 0,
+                timestamp_ms: v.timestamp_ms,
+                speed_mps: v.speed_mps,
+                direction_deg: v.direction_deg,
+            })
+        }
+        PL_AEOLUS_ID_SETTIME => {
+            // SAFETY: see above.
+            let v = unsafe { b.settime };
+            Message::SetTime(m::SetTime {
+                year_since_1900: v.year_since_1900,
+                month0: v.month0,
+                day: v.day,
+                hour: v.hour,
+                minute: v.minute,
+                second: v.second,
+            })
+        }
+        PL_AEOLUS_ID_TOAST => Message::Toast(text(data)?),
+        PL_AEOLUS_ID_COMMAND => Message::Command(text(data)?),
+        PL_AEOLUS_ID_CALIBINFO => Message::CalibInfo(data),
+        PL_AEOLUS_ID_DEBUGINFO => Message::DebugInfo(data),
+        PL_AEOLUS_ID_LOG => Message::Log(data),
+        id => Message::Unknown { id, data },
+    })
+}
+
+/// Encodes `*msg` as one whole frame (flags, escapes, CRC) into `out[..cap]`. Returns the
+/// frame's length, or `PL_E_NULL`, `PL_E_BUFFER_TOO_SMALL` (`PL_AEOLUS_MAX_FRAME_LEN` bytes
+/// are always enough but for LOG and unknown IDs), `PL_E_INVALID` (a text longer than
+/// `PL_AEOLUS_TEXT_CAPACITY`).
+///
+/// ```c
+/// pl_aeolus_message m = { .id = PL_AEOLUS_ID_GYRO };
+/// m.body.motion = (pl_aeolus_motion){ .valid = 1, .timestamp_ms = 1000.0, .x = 0.5f };
+/// uint8_t frame[PL_AEOLUS_MAX_FRAME_LEN];
+/// int32_t n = pl_aeolus_encode(&m, frame, sizeof frame);
+/// if (n > 0) uart_write(frame, (size_t)n);
+/// ```
+///
+/// # Safety
+/// `msg` is NULL or readable with `data` readable for `data_len` bytes (or NULL when 0);
+/// `out` is NULL or writable for `cap` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aeolus_encode(
+    msg: *const pl_aeolus_message,
+    out: *mut u8,
+    cap: usize,
+) -> i32 {
+    // SAFETY: the caller's promise: NULL or readable.
+    let Some(msg) = (unsafe { msg.as_ref() }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `data[..data_len]`.
+    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `out[..cap]`.
+    let out = match unsafe { ffi::buffer(out, cap) } {
+        Ok(out) => out,
+        Err(code) => return code,
+    };
+    // SAFETY: the body is read as plain numbers (see `from_c`).
+    let m = match unsafe { from_c(msg, data) } {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let mode = if msg.no_crc != 0 {
+        CrcMode::Omit
+    } else {
+        CrcMode::Compute
+    };
+    match m.encode(out, mode) {
+        Ok(n) => ffi::length(n),
+        Err(Error::BufferTooSmall) => PL_E_BUFFER_TOO_SMALL,
+        Err(_) => PL_E_INVALID,
+    }
+}
+
+/// Bytes on the wire, worst case, of an AEOLUS frame with `data_len` data bytes (every byte
+/// escaped): size a buffer for LOG messages with it.
+///
+/// ```c
+/// uint8_t buf[64];
+/// assert(pl_aeolus_max_encoded_len(28) <= sizeof buf);
+/// ```
+#[unsafe(no_mangle)]
+pub extern "C" fn pl_aeolus_max_encoded_len(data_len: usize) -> usize {
+    if data_len > (usize::MAX - 8) / 2 {
+        return usize::MAX;
+    }
+    aeolus_proto::max_encoded_len(data_len)
+}

@@ -1,0 +1,931 @@
+//! AYDP from C: `pl_aydp_*`, both profiles. The decoder is
+//! `aydp_proto::Decoder<PL_AYDP_CAPACITY>`.
+
+use aydp_proto::messages::{OutputEntry, Satellite};
+use aydp_proto::{
+    Decoder, DirectOutput, Encoder, Error, FixDetail, FixQuality, Frame, Message, Position,
+    Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
+    WindDirection, WindSpeed,
+};
+
+use crate::ffi::{self, pl_error, sat32};
+use crate::*;
+
+/// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
+pub const PL_AYDP_CAPACITY: usize = 512;
+/// 64-bit words in a `pl_aydp_decoder`.
+pub const PL_AYDP_DECODER_WORDS: usize = 71;
+/// Size of `pl_aydp_decoder` in bytes (an upper bound over the supported targets).
+pub const PL_AYDP_DECODER_SIZE: usize = 568;
+/// Alignment of `pl_aydp_decoder` in bytes.
+pub const PL_AYDP_DECODER_ALIGN: usize = 8;
+/// Bytes of the longest message the decoder accepts: a buffer this long holds any frame
+/// `pl_aydp_encode` writes for it.
+pub const PL_AYDP_MAX_FRAME_LEN: usize = PL_AYDP_CAPACITY;
+
+/// Profile `Spec` (the 2016 document, DECISIONS.md Y1): the length counts the whole message,
+/// sub-seconds in milliseconds.
+pub const PL_AYDP_SPEC: u32 = 0;
+/// Profile `Reference` (the released AYDP software, Y2): the length counts data bytes,
+/// sub-seconds in microseconds.
+pub const PL_AYDP_REFERENCE: u32 = 1;
+
+type Inner = Decoder<PL_AYDP_CAPACITY>;
+
+/// An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
+#[repr(C)]
+pub struct pl_aydp_decoder {
+    /// Opaque.
+    pub opaque: [u64; PL_AYDP_DECODER_WORDS],
+}
+
+const _: () = assert!(ffi::fits::<pl_aydp_decoder, Inner>());
+const _: () = assert!(PL_AYDP_DECODER_SIZE == core::mem::size_of::<pl_aydp_decoder>());
+const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AYDP_DECODER_ALIGN);
+
+/// `kind`: time sync (Spec, type 0, normal).
+pub const PL_AYDP_TIME_SYNC: u8 = 0;
+/// `kind`: heartbeat (Spec, type 0, expedited).
+pub const PL_AYDP_HEARTBEAT: u8 = 1;
+/// `kind`: no-op (Reference, type 0).
+pub const PL_AYDP_NO_OP: u8 = 2;
+/// `kind`: position (3), `body.position`.
+pub const PL_AYDP_POSITION: u8 = 3;
+/// `kind`: fix quality (4), `body.fix_quality`.
+pub const PL_AYDP_FIX_QUALITY: u8 = 4;
+/// `kind`: fix detail (5): `body.count` satellites, read each with `pl_aydp_satellite`;
+/// `data` holds the whole data (count byte first).
+pub const PL_AYDP_FIX_DETAIL: u8 = 5;
+/// `kind`: direct output (7): `body.count` entries, read each with `pl_aydp_output_entry`;
+/// `data` holds the whole data (u16 count first).
+pub const PL_AYDP_DIRECT_OUTPUT: u8 = 6;
+/// `kind`: system value update (8), `body.update`.
+pub const PL_AYDP_SYSTEM_VALUE_UPDATE: u8 = 7;
+/// `kind`: system control (9), `body.control`.
+pub const PL_AYDP_SYSTEM_CONTROL: u8 = 8;
+/// `kind`: wind speed (Reference, 1), `body.value` (mph).
+pub const PL_AYDP_WIND_SPEED: u8 = 9;
+/// `kind`: wind direction (Reference, 2), `body.value` (degrees).
+pub const PL_AYDP_WIND_DIRECTION: u8 = 10;
+/// `kind`: vessel data (Reference, 17), `body.vessel`.
+pub const PL_AYDP_VESSEL_DATA: u8 = 11;
+/// `kind`: a type the document leaves "TBD" (Spec 1, 2, 6): raw `data`.
+pub const PL_AYDP_TBD: u8 = 12;
+/// `kind`: user-defined (100..=126): raw `data`.
+pub const PL_AYDP_USER_DEFINED: u8 = 13;
+/// `kind`: any other type: raw `data`.
+pub const PL_AYDP_UNKNOWN: u8 = 14;
+
+/// Position (3).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_position {
+    /// Latitude, degrees.
+    pub latitude: f64,
+    /// Longitude, degrees.
+    pub longitude: f64,
+    /// Altitude, m.
+    pub altitude: f32,
+}
+
+/// Fix quality (4).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_fix_quality {
+    /// Fix type.
+    pub fix_type: u8,
+    /// Mean dilution of precision.
+    pub mean_dop: f32,
+    /// Horizontal DOP.
+    pub hdop: f32,
+    /// Vertical DOP.
+    pub vdop: f32,
+    /// Satellites.
+    pub satellites: u8,
+}
+
+/// One satellite of a fix detail message.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_satellite {
+    /// Satellite ID.
+    pub id: u8,
+    /// Azimuth.
+    pub azimuth: f32,
+    /// Elevation.
+    pub elevation: f32,
+    /// Signal to noise ratio.
+    pub snr: f32,
+}
+
+/// One entry of a direct output message.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_output_entry {
+    /// Device.
+    pub device: u8,
+    /// Channel.
+    pub channel: u8,
+    /// Value.
+    pub value: f32,
+}
+
+/// System value update (8).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct pl_aydp_update {
+    /// Address.
+    pub address: u16,
+    /// Update type: 1 single value, 2 whole array, 3 one element.
+    pub mode: u8,
+    /// 0 (single), the element count (array) or the element index (element).
+    pub field: u32,
+    /// The value bytes (little-endian), NULL when `value_len` is 0.
+    pub value: *const u8,
+    /// Bytes at `value`.
+    pub value_len: usize,
+}
+
+/// System control (9).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_control {
+    /// 1 request data (at `address`), 2 store configuration.
+    pub command: u8,
+    /// The address of a data request.
+    pub address: u16,
+}
+
+/// Vessel data (Reference, 17).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct pl_aydp_vessel {
+    /// Roll.
+    pub roll: f32,
+    /// Pitch.
+    pub pitch: f32,
+    /// Heading.
+    pub heading: f32,
+    /// Roll rate.
+    pub roll_rate: f32,
+    /// Pitch rate.
+    pub pitch_rate: f32,
+    /// Heading rate.
+    pub heading_rate: f32,
+    /// Latitude.
+    pub latitude: f64,
+    /// Longitude.
+    pub longitude: f64,
+    /// Track.
+    pub track: f32,
+    /// Speed over ground.
+    pub speed_over_ground: f32,
+    /// Fix type.
+    pub fix_type: i32,
+    /// Satellites.
+    pub satellites: i32,
+    /// Mean DOP.
+    pub mean_dop: f32,
+    /// Horizontal DOP.
+    pub hdop: f32,
+    /// Vertical DOP.
+    pub vdop: f32,
+}
+
+/// The typed content of an AYDP message; the member is chosen by `pl_aydp_message.kind`.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub union pl_aydp_body {
+    /// `PL_AYDP_POSITION`.
+    pub position: pl_aydp_position,
+    /// `PL_AYDP_FIX_QUALITY`.
+    pub fix_quality: pl_aydp_fix_quality,
+    /// `PL_AYDP_FIX_DETAIL` (satellites) and `PL_AYDP_DIRECT_OUTPUT` (entries); decoded only.
+    pub count: u32,
+    /// `PL_AYDP_SYSTEM_VALUE_UPDATE`.
+    pub update: pl_aydp_update,
+    /// `PL_AYDP_SYSTEM_CONTROL`.
+    pub control: pl_aydp_control,
+    /// `PL_AYDP_WIND_SPEED` (mph), `PL_AYDP_WIND_DIRECTION` (degrees).
+    pub value: f32,
+    /// `PL_AYDP_VESSEL_DATA`.
+    pub vessel: pl_aydp_vessel,
+}
+
+/// One AYDP message.
+///
+/// Decoded, `data` points at the message's data inside the decoder (valid until the next
+/// call on it). To encode, `kind` selects the member of `body`; the raw kinds (TBD,
+/// user-defined, unknown), fix detail and direct output take their data from `data` (fix
+/// detail and direct output: the whole data, count first, validated).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct pl_aydp_message {
+    /// `PL_AYDP_*` kind: which member of `body` holds the fields.
+    pub kind: u8,
+    /// The base type (0..=126). Encode: used by the raw kinds only.
+    pub msg_type: u8,
+    /// 1 for an expedited message (6-byte header, no time), 0 for a normal one.
+    pub expedited: u8,
+    /// Normal messages: seconds of the header's time.
+    pub seconds: i64,
+    /// Normal messages: sub-seconds (milliseconds in Spec, microseconds in Reference).
+    pub subsec: i64,
+    /// The data bytes, NULL when `data_len` is 0.
+    pub data: *const u8,
+    /// Bytes at `data`.
+    pub data_len: usize,
+    /// The typed fields.
+    pub body: pl_aydp_body,
+}
+
+/// The counters of an AYDP decoder.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct pl_aydp_stats {
+    /// Messages delivered with a good checksum.
+    pub frames_ok: u32,
+    /// Checksum failures.
+    pub checksum_errors: u32,
+    /// Length fields out of bounds.
+    pub length_errors: u32,
+    /// Bytes thrown away.
+    pub bytes_discarded: u32,
+}
+
+fn profile(p: u32) -> Option<Profile> {
+    match p {
+        PL_AYDP_SPEC => Some(Profile::Spec),
+        PL_AYDP_REFERENCE => Some(Profile::Reference),
+        _ => None,
+    }
+}
+
+const NO_BODY: pl_aydp_body = pl_aydp_body { count: 0 };
+
+fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
+    match m {
+        Message::TimeSync => (PL_AYDP_TIME_SYNC, NO_BODY),
+        Message::Heartbeat => (PL_AYDP_HEARTBEAT, NO_BODY),
+        Message::NoOp => (PL_AYDP_NO_OP, NO_BODY),
+        Message::Position(p) => (
+            PL_AYDP_POSITION,
+            pl_aydp_body {
+                position: pl_aydp_position {
+                    latitude: p.latitude,
+                    longitude: p.longitude,
+                    altitude: p.altitude,
+                },
+            },
+        ),
+        Message::FixQuality(q) => (
+            PL_AYDP_FIX_QUALITY,
+            pl_aydp_body {
+                fix_quality: pl_aydp_fix_quality {
+                    fix_type: q.fix_type,
+                    mean_dop: q.mean_dop,
+                    hdop: q.hdop,
+                    vdop: q.vdop,
+                    satellites: q.satellites,
+                },
+            },
+        ),
+        Message::FixDetail(d) => (
+            PL_AYDP_FIX_DETAIL,
+            pl_aydp_body {
+                count: sat32(d.len()),
+            },
+        ),
+        Message::DirectOutput(d) => (
+            PL_AYDP_DIRECT_OUTPUT,
+            pl_aydp_body {
+                count: sat32(d.len()),
+            },
+        ),
+        Message::SystemValueUpdate(u) => (
+            PL_AYDP_SYSTEM_VALUE_UPDATE,
+            pl_aydp_body {
+                update: pl_aydp_update {
+                    address: u.address,
+                    mode: u.mode.code(),
+                    field: u.mode.field(),
+                    value: u.data.as_ptr(),
+                    value_len: u.data.len(),
+                },
+            },
+        ),
+        Message::SystemControl(c) => (
+            PL_AYDP_SYSTEM_CONTROL,
+            pl_aydp_body {
+                control: match *c {
+                    SystemControl::RequestData { address } => pl_aydp_control {
+                        command: 1,
+                        address,
+                    },
+                    SystemControl::StoreConfiguration => pl_aydp_control {
+                        command: 2,
+                        address: 0,
+                    },
+                },
+            },
+        ),
+        Message::WindSpeed(w) => (PL_AYDP_WIND_SPEED, pl_aydp_body { value: w.0 }),
+        Message::WindDirection(w) => (PL_AYDP_WIND_DIRECTION, pl_aydp_body { value: w.0 }),
+        Message::VesselData(v) => (
+            PL_AYDP_VESSEL_DATA,
+            pl_aydp_body {
+                vessel: pl_aydp_vessel {
+                    roll: v.roll,
+                    pitch: v.pitch,
+                    heading: v.heading,
+                    roll_rate: v.roll_rate,
+                    pitch_rate: v.pitch_rate,
+                    heading_rate: v.heading_rate,
+                    latitude: v.latitude,
+                    longitude: v.longitude,
+                    track: v.track,
+                    speed_over_ground: v.speed_over_ground,
+                    fix_type: v.fix_type,
+                    satellites: v.satellites,
+                    mean_dop: v.mean_dop,
+                    hdop: v.hdop,
+                    vdop: v.vdop,
+                },
+            },
+        ),
+        Message::Tbd(_) => (PL_AYDP_TBD, NO_BODY),
+        Message::UserDefined(_) => (PL_AYDP_USER_DEFINED, NO_BODY),
+        Message::Unknown(_) => (PL_AYDP_UNKNOWN, NO_BODY),
+    }
+}
+
+fn error(e: Error) -> pl_error {
+    match e {
+        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
+        Error::ChecksumMismatch => pl_error::kind(PL_ERR_CHECKSUM_MISMATCH),
+        Error::ReservedType => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, 0xFF),
+        Error::BadType(t) => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, t.into()),
+        Error::BadLength(l) => pl_error::new(PL_ERR_BAD_LENGTH, 0, 0, l),
+        Error::PayloadTooShort {
+            msg_type,
+            expected,
+            actual,
+        }
+        | Error::PayloadTooLong {
+            msg_type,
+            expected,
+            actual,
+        } => pl_error::new(
+            PL_ERR_WRONG_LENGTH,
+            msg_type.into(),
+            sat32(expected),
+            sat32(actual),
+        ),
+        Error::CountMismatch { msg_type, count } => {
+            pl_error::new(PL_ERR_COUNT_MISMATCH, msg_type.into(), 0, sat32(count))
+        }
+        Error::NegativeUflt16 => pl_error::kind(PL_ERR_NEGATIVE_UFLT16),
+        Error::UnknownUpdateMode(b) | Error::UnknownCommand(b) => {
+            pl_error::new(PL_ERR_UNKNOWN_COMMAND, 0, 0, b.into())
+        }
+        Error::NonZeroSingleIndex(i) => pl_error::new(PL_ERR_NON_ZERO_SINGLE_INDEX, 0, 0, i),
+        _ => pl_error::kind(PL_ERR_OTHER),
+    }
+}
+
+fn deliver(event: Result<Frame<'_>, Error>, msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
+    let frame = match event {
+        Ok(frame) => frame,
+        Err(e) => {
+            *err = error(e);
+            return PL_ERROR;
+        }
+    };
+    let t = frame.timestamp().unwrap_or_default();
+    let data = frame.data();
+    let mut c = pl_aydp_message {
+        kind: PL_AYDP_UNKNOWN,
+        msg_type: frame.base_type(),
+        expedited: frame.is_expedited().into(),
+        seconds: t.seconds,
+        subsec: t.subsec,
+        data: data.as_ptr(),
+        data_len: data.len(),
+        body: NO_BODY,
+    };
+    let status = match frame.message() {
+        Ok(m) => {
+            (c.kind, c.body) = body_of(&m);
+            PL_MESSAGE
+        }
+        Err(e) => {
+            // The frame's checksum was good; its typed parse failed. `*msg` keeps the raw
+            // data (kind unknown).
+            *err = error(e);
+            PL_ERROR
+        }
+    };
+    *msg = c;
+    status
+}
+
+/// Sets up `dec` as a fresh decoder for `profile` (`PL_AYDP_SPEC` or `PL_AYDP_REFERENCE`).
+/// Returns 0, `PL_E_NULL` or `PL_E_BAD_TAG` (another profile).
+///
+/// ```c
+/// pl_aydp_decoder dec;
+/// pl_aydp_init(&dec, PL_AYDP_REFERENCE);
+/// ```
+///
+/// # Safety
+/// `dec` is NULL or points to writable memory for a `pl_aydp_decoder`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -> i32 {
+    let Some(p) = self::profile(profile) else {
+        return PL_E_BAD_TAG;
+    };
+    // SAFETY: the caller's promise; `fits` is asserted above.
+    unsafe { ffi::init(dec, Inner::new(p)) }
+}
+
+/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`; for a
+/// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data), or
+/// `PL_E_NULL`. After any event, call `pl_aydp_poll` until it returns `PL_NOTHING`: a rescan
+/// after an error can uncover further messages among bytes already held.
+///
+/// ```c
+/// int st = pl_aydp_parse_byte(&dec, byte, &msg, &err);
+/// while (st > 0) {
+///     if (st == PL_MESSAGE) handle(&msg);
+///     st = pl_aydp_poll(&dec, &msg, &err);
+/// }
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aydp_init`; `msg` and `err` are NULL or writable; nothing else
+/// uses `dec` during the call.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_parse_byte(
+    dec: *mut pl_aydp_decoder,
+    byte: u8,
+    msg: *mut pl_aydp_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(msg), Some(err)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    match d.push(byte) {
+        None => PL_NOTHING,
+        Some(event) => deliver(event, msg, err),
+    }
+}
+
+/// The next further event among bytes already held (after a rescan). Returns as
+/// `pl_aydp_parse_byte`.
+///
+/// ```c
+/// while (pl_aydp_poll(&dec, &msg, &err) > 0) { /* ... */ }
+/// ```
+///
+/// # Safety
+/// As `pl_aydp_parse_byte`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_poll(
+    dec: *mut pl_aydp_decoder,
+    msg: *mut pl_aydp_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(msg), Some(err)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    match d.poll() {
+        None => PL_NOTHING,
+        Some(event) => deliver(event, msg, err),
+    }
+}
+
+/// Feeds bytes up to the next event: first any event still held (then `*used` is 0), else
+/// bytes until one completes an event. `*used` is the number of bytes consumed (all of `len`
+/// with `PL_NOTHING`). Call again with the rest; the events are exactly those of
+/// `pl_aydp_parse_byte` plus `pl_aydp_poll`.
+///
+/// ```c
+/// size_t off = 0, used;
+/// while (off < len) {
+///     int st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err);
+///     off += used;
+///     if (st == PL_MESSAGE) handle(&msg);
+/// }
+/// ```
+///
+/// # Safety
+/// As `pl_aydp_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+/// `used` is writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_parse(
+    dec: *mut pl_aydp_decoder,
+    bytes: *const u8,
+    len: usize,
+    used: *mut usize,
+    msg: *mut pl_aydp_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(msg), Some(err), Some(input), Some(used)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+        unsafe { ffi::bytes(bytes, len) },
+        unsafe { used.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    *used = 0;
+    if d.has_pending()
+        && let Some(event) = d.poll()
+    {
+        return deliver(event, msg, err);
+    }
+    for (i, &b) in input.iter().enumerate() {
+        if let Some(event) = d.push(b) {
+            *used = i + 1;
+            return deliver(event, msg, err);
+        }
+    }
+    *used = input.len();
+    PL_NOTHING
+}
+
+/// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
+pub type pl_aydp_callback = Option<
+    unsafe extern "C" fn(
+        ctx: *mut core::ffi::c_void,
+        status: i32,
+        msg: *const pl_aydp_message,
+        err: *const pl_error,
+    ),
+>;
+
+/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
+/// `on_event(ctx, ...)` for every event, in order: exactly the events of
+/// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aydp_init`; `bytes` is NULL (with `len` 0) or readable for `len`
+/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_feed(
+    dec: *mut pl_aydp_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aydp_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(input), Some(call)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { ffi::bytes(bytes, len) },
+        on_event,
+    ) else {
+        return PL_E_NULL;
+    };
+    let mut msg = pl_aydp_message {
+        kind: PL_AYDP_UNKNOWN,
+        msg_type: 0,
+        expedited: 0,
+        seconds: 0,
+        subsec: 0,
+        data: core::ptr::null(),
+        data_len: 0,
+        body: NO_BODY,
+    };
+    let mut err = pl_error::default();
+    d.feed(input, |event| {
+        let status = deliver(event, &mut msg, &mut err);
+        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
+        // live locals for the duration of the call.
+        unsafe { call(ctx, status, &msg, &err) };
+    });
+    PL_NOTHING
+}
+
+/// End of stream: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. Returns
+/// one event per call (as `pl_aydp_parse_byte`); call until `PL_NOTHING`.
+///
+/// ```c
+/// while (pl_aydp_flush(&dec, &msg, &err) > 0) { /* ... */ }
+/// ```
+///
+/// # Safety
+/// As `pl_aydp_parse_byte`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_flush(
+    dec: *mut pl_aydp_decoder,
+    msg: *mut pl_aydp_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(d), Some(msg), Some(err)) = (
+        unsafe { ffi::state::<_, Inner>(dec) },
+        unsafe { msg.as_mut() },
+        unsafe { err.as_mut() },
+    ) else {
+        return PL_E_NULL;
+    };
+    match d.flush_next() {
+        None => PL_NOTHING,
+        Some(event) => deliver(event, msg, err),
+    }
+}
+
+/// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+///
+/// ```c
+/// pl_aydp_stats st;
+/// pl_aydp_get_stats(&dec, &st);
+/// ```
+///
+/// # Safety
+/// `dec` was set up by `pl_aydp_init`; `stats` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_get_stats(
+    dec: *const pl_aydp_decoder,
+    stats: *mut pl_aydp_stats,
+) -> i32 {
+    // SAFETY: the caller's promises (the decoder is only read).
+    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
+        stats.as_mut()
+    }) else {
+        return PL_E_NULL;
+    };
+    let s = d.stats();
+    *out = pl_aydp_stats {
+        frames_ok: s.frames_ok,
+        checksum_errors: s.checksum_errors,
+        length_errors: s.length_errors,
+        bytes_discarded: s.bytes_discarded,
+    };
+    0
+}
+
+/// The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
+/// `PL_E_BAD_TAG` (not a fix detail message, or `index` beyond its count).
+///
+/// ```c
+/// pl_aydp_satellite sat;
+/// for (uint32_t i = 0; pl_aydp_satellite_at(&msg, i, &sat) == 0; i++) show(&sat);
+/// ```
+///
+/// # Safety
+/// `msg` is NULL or a message whose `data` is readable for `data_len` bytes; `sat` is NULL or
+/// writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_satellite_at(
+    msg: *const pl_aydp_message,
+    index: u32,
+    sat: *mut pl_aydp_satellite,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(msg), Some(out)) = (unsafe { msg.as_ref() }, unsafe { sat.as_mut() }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `data[..data_len]`.
+    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
+        return PL_E_NULL;
+    };
+    if msg.kind != PL_AYDP_FIX_DETAIL {
+        return PL_E_BAD_TAG;
+    }
+    let Ok(detail) = FixDetail::parse(data) else {
+        return PL_E_BAD_TAG;
+    };
+    match detail.satellites().nth(index as usize) {
+        Some(Satellite {
+            id,
+            azimuth,
+            elevation,
+            snr,
+        }) => {
+            *out = pl_aydp_satellite {
+                id,
+                azimuth,
+                elevation,
+                snr,
+            };
+            0
+        }
+        None => PL_E_BAD_TAG,
+    }
+}
+
+/// The `index`-th entry of a decoded direct output message. Returns 0, `PL_E_NULL`, or
+/// `PL_E_BAD_TAG` (not a direct output message, or `index` beyond its count).
+///
+/// ```c
+/// pl_aydp_output_entry e;
+/// for (uint32_t i = 0; pl_aydp_output_entry_at(&msg, i, &e) == 0; i++) set_output(&e);
+/// ```
+///
+/// # Safety
+/// As `pl_aydp_satellite_at`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_output_entry_at(
+    msg: *const pl_aydp_message,
+    index: u32,
+    entry: *mut pl_aydp_output_entry,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    let (Some(msg), Some(out)) = (unsafe { msg.as_ref() }, unsafe { entry.as_mut() }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `data[..data_len]`.
+    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
+        return PL_E_NULL;
+    };
+    if msg.kind != PL_AYDP_DIRECT_OUTPUT {
+        return PL_E_BAD_TAG;
+    }
+    let Ok(output) = DirectOutput::parse(data) else {
+        return PL_E_BAD_TAG;
+    };
+    match output.entries().nth(index as usize) {
+        Some(OutputEntry {
+            device,
+            channel,
+            value,
+        }) => {
+            *out = pl_aydp_output_entry {
+                device,
+                channel,
+                value,
+            };
+            0
+        }
+        None => PL_E_BAD_TAG,
+    }
+}
+
+/// The C struct as a Rust message.
+///
+/// # Safety
+/// `msg.body` is read as the member `msg.kind` selects: every member but `update` is plain
+/// numbers (any bytes are valid); `update.value` must be readable for `update.value_len`
+/// bytes when `kind` is a system value update.
+unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
+    let raw = Raw {
+        msg_type: msg.msg_type,
+        data,
+    };
+    let b = &msg.body;
+    Ok(match msg.kind {
+        PL_AYDP_TIME_SYNC => Message::TimeSync,
+        PL_AYDP_HEARTBEAT => Message::Heartbeat,
+        PL_AYDP_NO_OP => Message::NoOp,
+        PL_AYDP_POSITION => {
+            // SAFETY: plain numbers, any bytes valid.
+            let p = unsafe { b.position };
+            Message::Position(Position {
+                latitude: p.latitude,
+                longitude: p.longitude,
+                altitude: p.altitude,
+            })
+        }
+        PL_AYDP_FIX_QUALITY => {
+            // SAFETY: plain numbers, any bytes valid.
+            let q = unsafe { b.fix_quality };
+            Message::FixQuality(FixQuality {
+                fix_type: q.fix_type,
+                mean_dop: q.mean_dop,
+                hdop: q.hdop,
+                vdop: q.vdop,
+                satellites: q.satellites,
+            })
+        }
+        PL_AYDP_FIX_DETAIL => Message::FixDetail(FixDetail::parse(data).map_err(|_| PL_E_INVALID)?),
+        PL_AYDP_DIRECT_OUTPUT => {
+            Message::DirectOutput(DirectOutput::parse(data).map_err(|_| PL_E_INVALID)?)
+        }
+        PL_AYDP_SYSTEM_VALUE_UPDATE => {
+            // SAFETY: integers and a pointer, any bytes valid as values.
+            let u = unsafe { b.update };
+            // SAFETY: the caller's promise for `value[..value_len]`.
+            let value = unsafe { ffi::bytes(u.value, u.value_len) }.ok_or(PL_E_NULL)?;
+            let mode = match u.mode {
+                1 => UpdateMode::Single,
+                2 => UpdateMode::Array { count: u.field },
+                3 => UpdateMode::Element { index: u.field },
+                _ => return Err(PL_E_INVALID),
+            };
+            Message::SystemValueUpdate(SystemValueUpdate {
+                address: u.address,
+                mode,
+                data: value,
+            })
+        }
+        PL_AYDP_SYSTEM_CONTROL => {
+            // SAFETY: plain numbers, any bytes valid.
+            let c = unsafe { b.control };
+            Message::SystemControl(match c.command {
+                1 => SystemControl::RequestData { address: c.address },
+                2 => SystemControl::StoreConfiguration,
+                _ => return Err(PL_E_INVALID),
+            })
+        }
+        // SAFETY: plain numbers, any bytes valid.
+        PL_AYDP_WIND_SPEED => Message::WindSpeed(WindSpeed(unsafe { b.value })),
+        // SAFETY: plain numbers, any bytes valid.
+        PL_AYDP_WIND_DIRECTION => Message::WindDirection(WindDirection(unsafe { b.value })),
+        PL_AYDP_VESSEL_DATA => {
+            // SAFETY: plain numbers, any bytes valid.
+            let v = unsafe { b.vessel };
+            Message::VesselData(VesselData {
+                roll: v.roll,
+                pitch: v.pitch,
+                heading: v.heading,
+                roll_rate: v.roll_rate,
+                pitch_rate: v.pitch_rate,
+                heading_rate: v.heading_rate,
+                latitude: v.latitude,
+                longitude: v.longitude,
+                track: v.track,
+                speed_over_ground: v.speed_over_ground,
+                fix_type: v.fix_type,
+                satellites: v.satellites,
+                mean_dop: v.mean_dop,
+                hdop: v.hdop,
+                vdop: v.vdop,
+            })
+        }
+        PL_AYDP_TBD => Message::Tbd(raw),
+        PL_AYDP_USER_DEFINED => Message::UserDefined(raw),
+        PL_AYDP_UNKNOWN => Message::Unknown(raw),
+        _ => return Err(PL_E_BAD_TAG),
+    })
+}
+
+/// Encodes `*msg` in `profile` as one whole message (header, data, checksum) into
+/// `out[..cap]`: expedited if `msg->expedited`, else normal with `seconds`/`subsec`. Returns
+/// its length, or `PL_E_NULL`, `PL_E_BAD_TAG` (kind or profile), `PL_E_BUFFER_TOO_SMALL`,
+/// `PL_E_OUT_OF_RANGE` (a base type above 126) or `PL_E_INVALID` (fix detail or direct output
+/// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2).
+///
+/// ```c
+/// pl_aydp_message m = { .kind = PL_AYDP_WIND_SPEED, .seconds = 42, .subsec = 500000 };
+/// m.body.value = 3.5f;
+/// uint8_t buf[64];
+/// int32_t n = pl_aydp_encode(PL_AYDP_REFERENCE, &m, buf, sizeof buf);   /* 27 */
+/// ```
+///
+/// # Safety
+/// `msg` is NULL or readable, with `data` (and `body.update.value` for an update) readable
+/// for their lengths; `out` is NULL or writable for `cap` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aydp_encode(
+    profile: u32,
+    msg: *const pl_aydp_message,
+    out: *mut u8,
+    cap: usize,
+) -> i32 {
+    let Some(p) = self::profile(profile) else {
+        return PL_E_BAD_TAG;
+    };
+    // SAFETY: the caller's promise.
+    let Some(msg) = (unsafe { msg.as_ref() }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `data[..data_len]`.
+    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
+        return PL_E_NULL;
+    };
+    // SAFETY: the caller's promise for `out[..cap]`.
+    let out = match unsafe { ffi::buffer(out, cap) } {
+        Ok(out) => out,
+        Err(code) => return code,
+    };
+    // SAFETY: the caller's promises, passed on.
+    let m = match unsafe { from_c(msg, data) } {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let time = (msg.expedited == 0).then_some(Timestamp::new(msg.seconds, msg.subsec));
+    match Encoder::new(p).encode(&m, time, out) {
+        Ok(n) => ffi::length(n),
+        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
+        Err(Error::BadType(_)) => PL_E_OUT_OF_RANGE,
+        Err(_) => PL_E_INVALID,
+    }
+}

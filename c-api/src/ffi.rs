@@ -1,0 +1,123 @@
+//! What every protocol file shares: the error struct, and the checked conversions from C
+//! pointers to Rust references and slices. All of the crate's pointer checks live here.
+
+use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
+
+/// An error event: its kind (`PL_ERR_*`) and, where the kind has them, the message ID and two
+/// values (see each `PL_ERR_*` for their meaning; 0 otherwise).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct pl_error {
+    /// `PL_ERR_*`.
+    pub kind: u32,
+    /// The message ID or type the error concerns, 0 if none.
+    pub id: u32,
+    /// The expected value (a length, a computed checksum), 0 if none.
+    pub expected: u32,
+    /// The value received (a length, a received checksum, a byte), 0 if none.
+    pub actual: u32,
+}
+
+impl pl_error {
+    /// An error of `kind` with its details.
+    pub(crate) const fn new(kind: u32, id: u32, expected: u32, actual: u32) -> Self {
+        Self {
+            kind,
+            id,
+            expected,
+            actual,
+        }
+    }
+
+    /// An error of `kind` without details.
+    pub(crate) const fn kind(kind: u32) -> Self {
+        Self::new(kind, 0, 0, 0)
+    }
+}
+
+/// A count as a `u32` field, saturating.
+pub(crate) fn sat32(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
+}
+
+/// The input bytes `ptr[..len]`: `None` when `ptr` is NULL with a non-zero length or `len` is
+/// more than a slice may hold; an empty slice for `len == 0`.
+///
+/// # Safety
+/// When `ptr` is not NULL it must point to `len` readable bytes that stay unchanged for `'a`.
+pub(crate) unsafe fn bytes<'a>(ptr: *const u8, len: usize) -> Option<&'a [u8]> {
+    if len == 0 {
+        return Some(&[]);
+    }
+    if ptr.is_null() || len > isize::MAX as usize {
+        return None;
+    }
+    // SAFETY: not NULL, at most isize::MAX bytes, readable for `len` bytes (the caller's
+    // promise); u8 has alignment 1 and every bit pattern is valid.
+    Some(unsafe { core::slice::from_raw_parts(ptr, len) })
+}
+
+/// The output buffer `ptr[..len]`, or the negative return code to give back.
+///
+/// # Safety
+/// When `ptr` is not NULL it must point to `len` writable bytes that nothing else accesses
+/// for `'a`.
+pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8], i32> {
+    if ptr.is_null() {
+        return Err(PL_E_NULL);
+    }
+    if len > isize::MAX as usize {
+        return Err(PL_E_BUFFER_TOO_SMALL);
+    }
+    // SAFETY: not NULL, at most isize::MAX bytes, writable and unaliased for `len` bytes (the
+    // caller's promise); every bit pattern is a valid u8.
+    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, len) })
+}
+
+/// A frame length as the encoders' `int32_t` return value.
+pub(crate) fn length(n: usize) -> i32 {
+    i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
+}
+
+/// The decoder state behind a C `pl_*_decoder` pointer, or `None` for NULL.
+///
+/// # Safety
+/// `state` is NULL or points to a `pl_*_decoder` that `init` set up as a `D`, that nothing
+/// else accesses for `'a`. `S` is at least as large and as aligned as `D` (each protocol file
+/// checks this at compile time).
+pub(crate) unsafe fn state<'a, S, D>(state: *mut S) -> Option<&'a mut D> {
+    // SAFETY: a `D` was written at this address by `init` (the caller's promise), and `S`
+    // is large and aligned enough to hold it.
+    unsafe { state.cast::<D>().as_mut() }
+}
+
+/// The decoder state behind a `const pl_*_decoder *`, read only, or `None` for NULL.
+///
+/// # Safety
+/// As [`state`], but nothing writes to it for `'a`.
+pub(crate) unsafe fn state_ref<'a, S, D>(state: *const S) -> Option<&'a D> {
+    // SAFETY: as in `state`; shared access only.
+    unsafe { state.cast::<D>().as_ref() }
+}
+
+/// Writes a fresh decoder `value` into the C state.
+///
+/// # Safety
+/// `state` is NULL or valid for writes of `S`, and `S` is at least as large and aligned as
+/// `D`.
+pub(crate) unsafe fn init<S, D>(state: *mut S, value: D) -> i32 {
+    if state.is_null() {
+        return PL_E_NULL;
+    }
+    // SAFETY: not NULL, valid for writes of `S` (the caller's promise), which holds a `D`
+    // (size and alignment checked at compile time by the caller's const assertion). Whatever
+    // was there before is plain bytes: nothing to drop.
+    unsafe { state.cast::<D>().write(value) };
+    0
+}
+
+/// Compile-time check that the C storage `S` can hold `D`.
+pub(crate) const fn fits<S, D>() -> bool {
+    core::mem::size_of::<D>() <= core::mem::size_of::<S>()
+        && core::mem::align_of::<D>() <= core::mem::align_of::<S>()
+}

@@ -1,0 +1,341 @@
+//! The C functions called from Rust, as a C program calls them: these also run under Miri
+//! (`cargo +nightly miri test -p protolink-c`), which checks every `unsafe` block they reach.
+
+use core::mem::MaybeUninit;
+use core::ptr::{null, null_mut};
+use std::vec::Vec;
+
+use crate::aeolus::*;
+use crate::aok::*;
+use crate::aydp::*;
+use crate::gdl90::*;
+use crate::*;
+
+/// The "gyro" vector of ../shared/vectors/aeolus-frames.json.
+const GYRO: &str = "7e3e0100000000000000000000000824fe400000003f0000a0bf0000003c00000000bf267e";
+
+fn unhex(s: &str) -> Vec<u8> {
+    (0..s.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
+        .collect()
+}
+
+/// A decoder set up as C sets one up: uninitialised storage, then `init`. (The storage stays a
+/// `MaybeUninit`: the decoder's padding is not a valid `[u64; N]`, and only C sees the words.)
+fn aeolus_decoder() -> MaybeUninit<pl_aeolus_decoder> {
+    let mut d = MaybeUninit::<pl_aeolus_decoder>::uninit();
+    // SAFETY: a writable pl_aeolus_decoder.
+    assert_eq!(unsafe { pl_aeolus_init(d.as_mut_ptr()) }, 0);
+    d
+}
+
+fn zeroed<T>() -> T {
+    // SAFETY: every type used here is plain numbers and pointers, for which zero is valid.
+    unsafe { MaybeUninit::zeroed().assume_init() }
+}
+
+#[test]
+fn aeolus_gyro_vector_decodes_at_every_split() {
+    let frame = unhex(GYRO);
+    for split in 0..=frame.len() {
+        let mut d = aeolus_decoder();
+        let mut msg: pl_aeolus_message = zeroed();
+        let mut err = pl_error::default();
+        let mut found = 0;
+        for part in [&frame[..split], &frame[split..]] {
+            let mut off = 0;
+            while off < part.len() {
+                let mut used = 0;
+                // SAFETY: valid pointers to live locals and to `part`.
+                let st = unsafe {
+                    pl_aeolus_parse(
+                        d.as_mut_ptr(),
+                        part[off..].as_ptr(),
+                        part.len() - off,
+                        &mut used,
+                        &mut msg,
+                        &mut err,
+                    )
+                };
+                assert!(used > 0 && used <= part.len() - off);
+                off += used;
+                if st == PL_MESSAGE {
+                    found += 1;
+                    assert_eq!(msg.id, PL_AEOLUS_ID_GYRO);
+                    // SAFETY: GYRO fills `motion`.
+                    let m = unsafe { msg.body.motion };
+                    assert_eq!(
+                        (m.valid, m.timestamp_ms, m.x, m.y, m.z),
+                        (1, 123456.5, 0.5, -1.25, 0.0078125)
+                    );
+                }
+                assert_ne!(st, PL_ERROR);
+            }
+        }
+        assert_eq!(found, 1, "split at {split}");
+        let mut stats = pl_aeolus_stats::default();
+        // SAFETY: valid pointers.
+        assert_eq!(unsafe { pl_aeolus_get_stats(d.as_ptr(), &mut stats) }, 0);
+        assert_eq!((stats.frames_ok, stats.flags), (1, 2));
+    }
+}
+
+#[test]
+fn aeolus_encode_writes_the_vector_and_reports_a_short_buffer() {
+    let mut m: pl_aeolus_message = zeroed();
+    m.id = PL_AEOLUS_ID_GYRO;
+    m.body.motion = pl_aeolus_motion {
+        valid: 1,
+        timestamp_ms: 123456.5,
+        x: 0.5,
+        y: -1.25,
+        z: 0.0078125,
+    };
+    let mut out = [0u8; PL_AEOLUS_MAX_FRAME_LEN];
+    // SAFETY: valid pointers and lengths.
+    let n = unsafe { pl_aeolus_encode(&m, out.as_mut_ptr(), out.len()) };
+    assert_eq!(out[..n as usize], unhex(GYRO)[..]);
+    // SAFETY: as above, a shorter length.
+    let short = unsafe { pl_aeolus_encode(&m, out.as_mut_ptr(), n as usize - 1) };
+    assert_eq!(short, PL_E_BUFFER_TOO_SMALL);
+}
+
+#[test]
+fn aeolus_bad_crc_is_an_error_event_with_its_details() {
+    let mut frame = unhex(GYRO);
+    let last = frame.len() - 2;
+    frame[last] ^= 1; // the CRC's high byte
+    let mut d = aeolus_decoder();
+    let mut msg: pl_aeolus_message = zeroed();
+    let mut err = pl_error::default();
+    let mut statuses = Vec::new();
+    for &b in &frame {
+        // SAFETY: valid pointers.
+        statuses.push(unsafe { pl_aeolus_parse_byte(d.as_mut_ptr(), b, &mut msg, &mut err) });
+    }
+    assert_eq!(statuses.iter().filter(|&&s| s != PL_NOTHING).count(), 1);
+    assert_eq!(*statuses.last().unwrap(), PL_ERROR);
+    assert_eq!(
+        (err.kind, err.id, err.expected),
+        (PL_ERR_CHECKSUM_MISMATCH, 62, 0x26BF)
+    );
+    assert_eq!(err.actual, 0x27BF);
+}
+
+#[test]
+fn every_function_refuses_null() {
+    let mut err = pl_error::default();
+    let mut used = 0usize;
+    // SAFETY: NULL pointers are what is being tested; nothing is dereferenced.
+    unsafe {
+        assert_eq!(pl_aeolus_init(null_mut()), PL_E_NULL);
+        assert_eq!(
+            pl_aeolus_parse_byte(null_mut(), 0, null_mut(), &mut err),
+            PL_E_NULL
+        );
+        assert_eq!(pl_aydp_init(null_mut(), PL_AYDP_SPEC), PL_E_NULL);
+        assert_eq!(pl_aok_pc_init(null_mut(), 0, 35), PL_E_NULL);
+        assert_eq!(pl_gdl90_init(null_mut()), PL_E_NULL);
+        assert_eq!(pl_aeolus_encode(null(), null_mut(), 0), PL_E_NULL);
+        assert_eq!(pl_aok_encode_command(null(), null_mut(), 0), PL_E_NULL);
+        assert_eq!(
+            pl_gdl90_parse(null_mut(), null(), 0, &mut used, null_mut(), &mut err),
+            PL_E_NULL
+        );
+    }
+    let mut d = aeolus_decoder();
+    let mut msg: pl_aeolus_message = zeroed();
+    // SAFETY: a NULL input with a non-zero length is refused before any read.
+    let st = unsafe { pl_aeolus_parse(d.as_mut_ptr(), null(), 4, &mut used, &mut msg, &mut err) };
+    assert_eq!(st, PL_E_NULL);
+}
+
+#[test]
+fn aydp_round_trips_in_both_profiles_and_polls_after_a_rescan() {
+    for profile in [PL_AYDP_SPEC, PL_AYDP_REFERENCE] {
+        let mut m: pl_aydp_message = zeroed();
+        m.kind = PL_AYDP_POSITION;
+        m.seconds = 42;
+        m.subsec = 500;
+        m.body.position = pl_aydp_position {
+            latitude: 50.5,
+            longitude: -1.25,
+            altitude: 12.5,
+        };
+        let mut buf = [0u8; 64];
+        // SAFETY: valid pointers and lengths.
+        let n = unsafe { pl_aydp_encode(profile, &m, buf.as_mut_ptr(), buf.len()) };
+        assert_eq!(n, 43);
+        // A false start (FF then the real message) makes the decoder rescan.
+        let mut stream = std::vec![0xFF, 0x03, 0xFF];
+        stream.extend_from_slice(&buf[..n as usize]);
+        let mut d = MaybeUninit::<pl_aydp_decoder>::uninit();
+        // SAFETY: writable storage.
+        assert_eq!(unsafe { pl_aydp_init(d.as_mut_ptr(), profile) }, 0);
+        let d = d.as_mut_ptr();
+        let mut got: pl_aydp_message = zeroed();
+        let mut err = pl_error::default();
+        let mut positions = 0;
+        for &b in &stream {
+            // SAFETY: `d` was set up by init; valid pointers.
+            let mut st = unsafe { pl_aydp_parse_byte(d, b, &mut got, &mut err) };
+            while st > 0 {
+                if st == PL_MESSAGE {
+                    positions += 1;
+                    assert_eq!(got.kind, PL_AYDP_POSITION);
+                    // SAFETY: a position fills `position`.
+                    assert_eq!(unsafe { got.body.position }, unsafe { m.body.position });
+                    assert_eq!((got.seconds, got.subsec), (42, 500));
+                }
+                // SAFETY: as above.
+                st = unsafe { pl_aydp_poll(d, &mut got, &mut err) };
+            }
+        }
+        // SAFETY: as above.
+        while unsafe { pl_aydp_flush(d, &mut got, &mut err) } > 0 {
+            positions += (got.kind == PL_AYDP_POSITION) as i32;
+        }
+        assert_eq!(positions, 1, "profile {profile}");
+    }
+}
+
+#[test]
+fn aok_command_round_trip_and_expected_reply() {
+    let cmd = pl_aok_item {
+        kind: PL_AOK_SET_PARAMETER,
+        number: 12,
+        value: 1500,
+        ..Default::default()
+    };
+    let mut buf = [0u8; PL_AOK_MAX_FRAME_LEN];
+    // SAFETY: valid pointers and lengths.
+    let n = unsafe { pl_aok_encode_command(&cmd, buf.as_mut_ptr(), buf.len()) };
+    assert_eq!(
+        buf[..n as usize],
+        [0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]
+    );
+    let mut d = MaybeUninit::<pl_aok_device_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_aok_device_init(d.as_mut_ptr()) }, 0);
+    let mut got = pl_aok_item::default();
+    let mut err = pl_error::default();
+    let mut used = 0;
+    // SAFETY: set up by init; valid pointers.
+    let st = unsafe {
+        pl_aok_device_parse(
+            d.as_mut_ptr(),
+            buf.as_ptr(),
+            n as usize,
+            &mut used,
+            &mut got,
+            &mut err,
+        )
+    };
+    assert_eq!((st, used, got), (PL_MESSAGE, n as usize, cmd));
+
+    // The PC side reads an ack only once told one is expected.
+    let mut pc = MaybeUninit::<pl_aok_pc_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_aok_pc_init(pc.as_mut_ptr(), 0, 35) }, 0);
+    // SAFETY: set up by init; valid pointers.
+    unsafe {
+        assert_eq!(pl_aok_pc_expect_reply(pc.as_mut_ptr(), &cmd), 0);
+        let st = pl_aok_pc_parse_byte(pc.as_mut_ptr(), b'O', &mut got, &mut err);
+        assert_eq!((st, got.kind, got.ack), (PL_MESSAGE, PL_AOK_ACK, b'O'));
+    }
+}
+
+#[test]
+fn gdl90_geo_altitude_round_trip() {
+    let mut m: pl_gdl90_message = zeroed();
+    m.kind = PL_GDL90_GEO_ALTITUDE;
+    m.body.geo_altitude = pl_gdl90_geo_altitude {
+        altitude_ft: 1500,
+        vertical_warning: 0,
+        has_vfom: 0,
+        vfom_m: 0,
+    };
+    let mut buf = [0u8; PL_GDL90_MAX_FRAME_LEN];
+    // SAFETY: valid pointers and lengths.
+    let n = unsafe { pl_gdl90_encode(&m, buf.as_mut_ptr(), buf.len()) };
+    assert_eq!(buf[..4], [0x7E, 11, 0x01, 0x2C]);
+    let mut d = MaybeUninit::<pl_gdl90_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_gdl90_init(d.as_mut_ptr()) }, 0);
+    let mut got: pl_gdl90_message = zeroed();
+    let mut err = pl_error::default();
+    let mut used = 0;
+    // SAFETY: set up by init; valid pointers.
+    let st = unsafe {
+        pl_gdl90_parse(
+            d.as_mut_ptr(),
+            buf.as_ptr(),
+            n as usize,
+            &mut used,
+            &mut got,
+            &mut err,
+        )
+    };
+    assert_eq!(
+        (st, used, got.kind),
+        (PL_MESSAGE, n as usize, PL_GDL90_GEO_ALTITUDE)
+    );
+    // SAFETY: a geo altitude fills `geo_altitude`.
+    assert_eq!(unsafe { got.body.geo_altitude }, unsafe {
+        m.body.geo_altitude
+    });
+}
+
+/// What the feed test's callback saw: message IDs, and error kinds.
+#[derive(Default)]
+struct Seen {
+    ids: Vec<u8>,
+    errors: Vec<u32>,
+}
+
+unsafe extern "C" fn record(
+    ctx: *mut core::ffi::c_void,
+    status: i32,
+    msg: *const pl_aeolus_message,
+    err: *const pl_error,
+) {
+    // SAFETY: `ctx` is the test's `Seen`, and the pointers are valid during the call
+    // (pl_aeolus_feed's promise).
+    let (seen, msg, err) = unsafe { (&mut *ctx.cast::<Seen>(), &*msg, &*err) };
+    match status {
+        PL_MESSAGE => seen.ids.push(msg.id),
+        PL_ERROR => seen.errors.push(err.kind),
+        other => panic!("status {other}"),
+    }
+}
+
+#[test]
+fn aeolus_feed_gives_every_event_to_the_callback_in_order() {
+    let gyro = unhex(GYRO);
+    let mut stream = gyro.clone();
+    let mut bad = gyro.clone();
+    let last = bad.len() - 2;
+    bad[last] ^= 0xFF; // a CRC mismatch between two good frames
+    stream.extend_from_slice(&bad);
+    stream.extend_from_slice(&gyro);
+    let mut d = aeolus_decoder();
+    let mut seen = Seen::default();
+    let ctx = (&mut seen as *mut Seen).cast();
+    // SAFETY: a set-up decoder, a live input, a callback that reads its arguments as promised.
+    let st = unsafe {
+        pl_aeolus_feed(
+            d.as_mut_ptr(),
+            stream.as_ptr(),
+            stream.len(),
+            Some(record),
+            ctx,
+        )
+    };
+    assert_eq!(st, PL_NOTHING);
+    assert_eq!(seen.ids, [PL_AEOLUS_ID_GYRO, PL_AEOLUS_ID_GYRO]);
+    assert_eq!(seen.errors, [PL_ERR_CHECKSUM_MISMATCH]);
+    // SAFETY: no callback: refused before anything is read.
+    let st = unsafe { pl_aeolus_feed(d.as_mut_ptr(), stream.as_ptr(), 1, None, ctx) };
+    assert_eq!(st, PL_E_NULL);
+}
