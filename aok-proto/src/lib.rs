@@ -57,6 +57,7 @@ pub mod layout;
 pub mod message;
 pub mod pc;
 pub mod stats;
+mod step;
 pub mod values;
 
 pub use client::{Client, Config, Outcome};
@@ -67,8 +68,6 @@ pub use error::{Error, SerialError};
 pub use io::IoError;
 pub use message::{DebugValue, Message};
 pub use pc::PcDecoder;
-#[allow(deprecated)]
-pub use stats::DecoderStats;
 pub use stats::Stats;
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
