@@ -20,7 +20,8 @@ pub struct Stats {
     pub checksum_errors: u32,
     /// Bytes that cannot start any frame in the current state.
     pub unknown_bytes: u32,
-    /// Frames with a good checksum but an out-of-range field (slot, stick); consumed whole.
+    /// Frames with a good checksum but an out-of-range field (slot, stick); only their first
+    /// byte is dropped (and counted in `bytes_discarded`), the rest rescanned.
     pub invalid: u32,
     /// Partial frames abandoned by `idle` (the line went quiet mid-frame).
     pub abandoned: u32,

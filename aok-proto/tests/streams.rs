@@ -298,7 +298,8 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     }
     assert_eq!(items.first(), Some(&Err(Error::ChecksumMismatch)));
     assert_eq!(items.last(), Some(&Ok(Command::ReadParameter(5))));
-    // A waypoint read of slot 100: intact, invalid, consumed whole.
+    // A waypoint read of slot 100: a good checksum, invalid; its first byte dropped, the
+    // rest (0x64) unknown.
     let items: Vec<_> = [0x78, 100, 0x63, 0x02]
         .iter()
         .flat_map(|&b| push_all(&mut dec, b))

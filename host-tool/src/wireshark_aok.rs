@@ -243,7 +243,7 @@ FK[\"aok.motor_test.value\"] = ProtoField.uint8(\"aok.motor_test.value\", \"valu
 for _, v in pairs(FK) do table.insert(aok.fields, v) end
 local EK = {{
   checksum_bad = ProtoExpert.new(\"aok.checksum_bad\", \"XOR checksum mismatch (one byte dropped, scanning resumes)\", expert.group.CHECKSUM, expert.severity.ERROR),
-  invalid = ProtoExpert.new(\"aok.invalid\", \"An intact frame with a value out of range (dropped whole)\", expert.group.MALFORMED, expert.severity.ERROR),
+  invalid = ProtoExpert.new(\"aok.invalid\", \"A frame with a good checksum and a value out of range (one byte dropped)\", expert.group.MALFORMED, expert.severity.ERROR),
   skipped = ProtoExpert.new(\"aok.skipped\", \"Not decodable passively (noise, or a lone O/E/I ack)\", expert.group.UNDECODED, expert.severity.NOTE),
 }}
 aok.experts = {{ EK.checksum_bad, EK.invalid, EK.skipped }}
@@ -397,15 +397,16 @@ local function aok_scan(t, pinfo, tree, dir, stream_proto)
           local st = sub:add(FK.status, fr(0, 0), "invalid")
           sub:add(FK.error, fr(0, 0), why)
           st:add_proto_expert_info(EK.invalid)
-          sub:append_text(": " .. why)
+          sub:append_text(": " .. why .. ", one byte dropped")
           table.insert(names, "[invalid]")
+          p = p + 1
         else
           sub:add(FK.status, fr(0, 0), "ok")
           sub:add(FK.name, fr(0, 1), f.name)
           sub:append_text(", " .. f.name)
           table.insert(names, f.name)
+          p = p + f.len
         end
-        p = p + f.len
       end
     end
   end

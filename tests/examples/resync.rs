@@ -3,7 +3,7 @@
 //! case, and the cases that delivered a frame nobody sent.
 
 use protolink_tests::protocols::{Aeolus, Aok, Aydp, Protocol};
-use protolink_tests::resync::run;
+use protolink_tests::resync::{CONTRACT_STREAM, run};
 
 fn main() {
     let rows: [(&dyn Protocol, u8); 5] = [
@@ -28,7 +28,7 @@ fn main() {
     );
     println!("| --- | ---: | --- | ---: | --- | ---: |");
     for (p, start) in rows {
-        let c = run(p, start, 20, 5);
+        let c = run(p, start, 20, CONTRACT_STREAM);
         let dist = c
             .lost
             .iter()

@@ -17,8 +17,13 @@ pub trait Protocol {
     fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>);
     /// `n` bytes of garbage that look like this protocol's bytes.
     fn garbage(&self, rng: &mut Rng, n: usize) -> Vec<u8>;
+    /// The crate's decoder: what it reports, in order: the key of each frame it delivers,
+    /// `None` for each error.
+    fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>>;
     /// The crate's decoder: keys of the frames it delivers.
-    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>>;
+    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        self.decode_events(stream).into_iter().flatten().collect()
+    }
     /// The naive decoder: keys of the frames it delivers.
     fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>>;
 }
@@ -160,18 +165,14 @@ impl Protocol for Aeolus {
             .collect()
     }
 
-    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+    fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>> {
         let mut d = if self.strict {
             Decoder::<256>::strict()
         } else {
             Decoder::<256>::new()
         };
         let mut out = Vec::new();
-        d.feed(stream, |ev| {
-            if let Ok(f) = ev {
-                out.push(f.raw().to_vec());
-            }
-        });
+        d.feed(stream, |ev| out.push(ev.ok().map(|f| f.raw().to_vec())));
         out
     }
 
@@ -230,19 +231,13 @@ impl Protocol for Aydp {
         out
     }
 
-    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+    fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>> {
         let mut d = aydp_proto::Decoder::<AYDP_CAPACITY>::new(self.profile);
         let mut out = Vec::new();
         d.feed(stream, |ev| {
-            if let Ok(f) = ev {
-                out.push(f.as_bytes().to_vec());
-            }
+            out.push(ev.ok().map(|f| f.as_bytes().to_vec()))
         });
-        d.flush(|ev| {
-            if let Ok(f) = ev {
-                out.push(f.as_bytes().to_vec());
-            }
-        });
+        d.flush(|ev| out.push(ev.ok().map(|f| f.as_bytes().to_vec())));
         out
     }
 
@@ -326,14 +321,14 @@ impl Protocol for Aok {
             .collect()
     }
 
-    fn decode(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+    fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>> {
         let mut d = aok_proto::DeviceDecoder::new();
         let mut out = Vec::new();
         let mut keep = |ev: Result<aok_proto::Command, aok_proto::Error>| {
-            if let Ok(c) = ev {
+            out.push(ev.ok().map(|c| {
                 let (bytes, n) = c.to_bytes();
-                out.push(bytes[..n].to_vec());
-            }
+                bytes[..n].to_vec()
+            }));
         };
         for &b in stream {
             let mut event = d.push(b);

@@ -80,14 +80,35 @@ impl Contract {
     }
 }
 
-/// Runs the contract: `seeds` streams of `frames` random frames, the middle one corrupted at
-/// every position by every fault of [`Fault::all`].
-pub fn run(p: &dyn Protocol, start: u8, seeds: u64, frames: usize) -> Contract {
+/// The shape of each stream: intact frames before the corrupted one, and after it.
+///
+/// Frames before the victim are delivered before the fault whatever the decoder does after
+/// it, so only the frames after it can show a decoder that fails to resynchronise: a bound
+/// of "at most K lost" says something only with more than K of them.
+#[derive(Debug, Clone, Copy)]
+pub struct Stream {
+    /// Intact frames before the corrupted one.
+    pub before: usize,
+    /// Intact frames after the corrupted one.
+    pub after: usize,
+}
+
+/// The streams of the pinned contract: two frames before the victim, eight after it (more
+/// than any protocol's bound, so a decoder that never resynchronises breaks every bound).
+pub const CONTRACT_STREAM: Stream = Stream {
+    before: 2,
+    after: 8,
+};
+
+/// Runs the contract: `seeds` streams of `shape.before` random frames, the corrupted one
+/// (at every position, by every fault of [`Fault::all`]) and `shape.after` random frames.
+pub fn run(p: &dyn Protocol, start: u8, seeds: u64, shape: Stream) -> Contract {
     let mut c = Contract::default();
+    let frames = shape.before + 1 + shape.after;
     for seed in 0..seeds {
         let mut rng = Rng::new(0x5EED_0000 + seed);
         let sent: Vec<(Vec<u8>, Vec<u8>)> = (0..frames).map(|_| p.frame(&mut rng)).collect();
-        let victim = frames / 2;
+        let victim = shape.before;
         let victim_wire = &sent[victim].0;
         for at in 0..victim_wire.len() {
             for fault in Fault::all(start) {
@@ -129,4 +150,35 @@ pub fn run(p: &dyn Protocol, start: u8, seeds: u64, frames: usize) -> Contract {
         }
     }
     c
+}
+
+/// A deliberately broken decoder, to show that the contract's bounds can fail: `inner`'s
+/// decoder, except that after its first error it delivers nothing more (as if it dropped
+/// every byte after the first bad one and never resynchronised).
+pub struct NeverResync<'a>(pub &'a dyn Protocol);
+
+impl Protocol for NeverResync<'_> {
+    fn name(&self) -> String {
+        format!("{} (never resynchronising)", self.0.name())
+    }
+
+    fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>) {
+        self.0.frame(rng)
+    }
+
+    fn garbage(&self, rng: &mut Rng, n: usize) -> Vec<u8> {
+        self.0.garbage(rng, n)
+    }
+
+    fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>> {
+        self.0
+            .decode_events(stream)
+            .into_iter()
+            .take_while(Option::is_some)
+            .collect()
+    }
+
+    fn decode_naive(&self, stream: &[u8]) -> Vec<Vec<u8>> {
+        self.0.decode_naive(stream)
+    }
 }

@@ -10,11 +10,18 @@
 //!   creates passes the 8-bit XOR checksum one time in 256 and takes the next frame's bytes.
 //! - AOK loses at most two: its frames have no start byte and no length field.
 
-use protolink_tests::protocols::{Aeolus, Aok, Aydp};
-use protolink_tests::resync::{Fault, run};
+use protolink_tests::protocols::{Aeolus, Aok, Aydp, Protocol};
+use protolink_tests::resync::{CONTRACT_STREAM, Contract, Fault, NeverResync, run};
 
 const SEEDS: u64 = 20;
-const FRAMES: usize = 5;
+
+/// Each bound below must hold with room to fail: more intact frames follow the corrupted one
+/// than any bound allows to be lost.
+const _: () = assert!(CONTRACT_STREAM.after >= 8);
+
+fn contract(p: &dyn Protocol, start: u8) -> Contract {
+    run(p, start, SEEDS, CONTRACT_STREAM)
+}
 
 #[test]
 fn faults_are_what_they_say() {
@@ -31,10 +38,10 @@ fn faults_are_what_they_say() {
 
 #[test]
 fn aeolus_loses_no_intact_frame_and_strict_mode_no_phantom() {
-    let c = run(&Aeolus { strict: false }, 0x7E, SEEDS, FRAMES);
+    let c = contract(&Aeolus { strict: false }, 0x7E);
     assert!(c.cases > 5_000, "{} cases", c.cases);
     assert_eq!(c.worst_lost(), 0, "{c:?}");
-    let strict = run(&Aeolus { strict: true }, 0x7E, SEEDS, FRAMES);
+    let strict = contract(&Aeolus { strict: true }, 0x7E);
     assert_eq!(strict.worst_lost(), 0, "{strict:?}");
     assert_eq!(strict.phantoms, SEEDS as usize, "{strict:?}");
     assert!(
@@ -46,7 +53,7 @@ fn aeolus_loses_no_intact_frame_and_strict_mode_no_phantom() {
 #[test]
 fn aydp_loses_at_most_one_intact_frame_in_either_profile() {
     for profile in [aydp_proto::Profile::Spec, aydp_proto::Profile::Reference] {
-        let c = run(&Aydp { profile }, 0xFF, SEEDS, FRAMES);
+        let c = contract(&Aydp { profile }, 0xFF);
         assert!(c.cases > 5_000, "{profile:?}: {} cases", c.cases);
         assert!(c.worst_lost() <= 1, "{profile:?}: {c:?}");
         // Losing a frame needs a phantom: a false candidate that passed the checksum.
@@ -57,7 +64,31 @@ fn aydp_loses_at_most_one_intact_frame_in_either_profile() {
 
 #[test]
 fn aok_loses_at_most_two_intact_frames() {
-    let c = run(&Aok, 0x73, SEEDS, FRAMES);
+    let c = contract(&Aok, 0x73);
     assert!(c.cases > 1_000, "{} cases", c.cases);
     assert!(c.worst_lost() <= 2, "{c:?}");
+}
+
+/// The bounds above can fail: a decoder that stops at its first error and never
+/// resynchronises loses every frame after the corrupted one, far past each bound.
+#[test]
+fn a_decoder_that_never_resynchronises_breaks_every_bound() {
+    let aydp_spec = Aydp {
+        profile: aydp_proto::Profile::Spec,
+    };
+    let aydp_reference = Aydp {
+        profile: aydp_proto::Profile::Reference,
+    };
+    let cases: [(&dyn Protocol, u8, usize); 5] = [
+        (&Aeolus { strict: false }, 0x7E, 0),
+        (&Aeolus { strict: true }, 0x7E, 0),
+        (&aydp_spec, 0xFF, 1),
+        (&aydp_reference, 0xFF, 1),
+        (&Aok, 0x73, 2),
+    ];
+    for (p, start, bound) in cases {
+        let c = contract(&NeverResync(p), start);
+        assert_eq!(c.worst_lost(), CONTRACT_STREAM.after, "{}: {c:?}", p.name());
+        assert!(c.worst_lost() > bound, "{}: {c:?}", p.name());
+    }
 }

@@ -18,7 +18,8 @@ use crate::{Error, shift_left};
 /// skipped; a checksum failure is counted, reported as `Err(Error::ChecksumMismatch)` (the device
 /// may answer 'E') and the bytes after the false start are rescanned, so a command hidden behind
 /// garbage is still found. A frame with a good checksum but an out-of-range field (waypoint slot,
-/// stick value) is consumed whole and reported as that error.
+/// stick value) is reported as that error and rescanned the same way (a false candidate
+/// passes the 8-bit checksum one time in 256).
 ///
 /// The buffer is fixed at the longest command (19 bytes, the waypoint frame), so no capacity parameter
 /// is needed: every command fits.

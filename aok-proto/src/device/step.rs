@@ -16,7 +16,7 @@ impl DeviceDecoder {
     /// - A byte that starts no command is unknown: counted and dropped.
     /// - A command's length follows from its first byte (its first two for `63`).
     /// - A whole command is checked: a bad checksum drops only its first byte (the bytes after
-    ///   it are rescanned); a good checksum with an out-of-range field consumes it whole.
+    ///   it are rescanned), and so does a good checksum with an out-of-range field.
     ///
     /// Each decision depends on a fixed prefix of the window only, so it is the same whether
     /// the window holds more bytes or not.
@@ -76,9 +76,13 @@ impl DeviceDecoder {
                 Step::Used(1)
             }
             Err(e) => {
+                // As a checksum failure: only the first byte goes. A false candidate passes
+                // the 8-bit checksum one time in 256; dropped whole, it would take the
+                // intact frames inside it along (`tests/tests/resync.rs`).
                 stats.invalid = stats.invalid.wrapping_add(1);
+                stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));
-                Step::Used(need)
+                Step::Used(1)
             }
         }
     }

@@ -42,8 +42,8 @@ pub fn encode(command: &Command, buf: &mut [u8]) -> Result<usize, Error> {
 ///   checksum over B1..B4) and, if that checksum fails, as a debug frame.
 /// * A byte inside a frame is never an ack; a failed checksum is reported as
 ///   [`Error::ChecksumMismatch`] and rescans from the byte after the false start, so an ack or
-///   frame hidden there is still found. An intact frame with an out-of-range field (a waypoint
-///   reply with a bad slot) is consumed whole and reported as that error.
+///   frame hidden there is still found. A frame with a good checksum but an out-of-range field (a
+///   waypoint reply with a bad slot) is reported as that error and rescanned the same way.
 ///
 /// [`PcDecoder::push`] returns at most one event; call [`PcDecoder::poll`] until `None` for any
 /// further events a rescan uncovered. [`PcDecoder::feed`] does both for a slice.

@@ -17,7 +17,7 @@ use crate::step::Step;
 /// - Otherwise a frame's length follows from its first byte; 'O'/'E'/'I' are acks only while
 ///   one is expected; any other byte is unknown: counted and dropped.
 /// - A whole frame is checked: a bad checksum drops only its first byte (the bytes after it
-///   are rescanned); a good checksum with an out-of-range field consumes it whole. A message
+///   are rescanned), and so does a good checksum with an out-of-range field. A message
 ///   that matches the pending request clears it.
 ///
 /// Each decision depends on a fixed prefix of the window only, so it is the same whether the
@@ -81,10 +81,12 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
         Ok((m, n)) => accept(stats, expect, n, m, on_event),
         Err(Error::ChecksumMismatch) => checksum_failed(stats, on_event),
         Err(e) => {
-            // Intact but out of range (a waypoint reply with a bad slot): dropped whole.
+            // A good checksum but a value out of range (a waypoint reply with a bad slot): as
+            // a checksum failure, only the first byte goes and the rest is rescanned.
             stats.invalid = stats.invalid.wrapping_add(1);
+            stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
             on_event(Err(e));
-            Step::Used(need)
+            Step::Used(1)
         }
     }
 }
