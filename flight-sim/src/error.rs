@@ -19,6 +19,8 @@ pub enum Error {
     Position,
     /// Wind speed negative or not below the airspeed.
     Wind,
+    /// Climb (or descent) rate above half the airspeed (a flight path steeper than 30°).
+    Climb,
 }
 
 impl fmt::Display for Error {
@@ -30,6 +32,7 @@ impl fmt::Display for Error {
             Error::Altitude => "altitude out of the ISA troposphere range",
             Error::Position => "start position out of range",
             Error::Wind => "wind speed negative or not below the airspeed",
+            Error::Climb => "climb rate above half the airspeed",
         })
     }
 }
