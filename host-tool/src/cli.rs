@@ -38,7 +38,7 @@ pub enum Command {
     /// Decode a stream: one line per message, errors with their byte offset, counters at the end.
     #[command(after_help = "Examples:
   protolink decode --proto aeolus --from tcp:127.0.0.1:7000 --seconds 5
-  protolink decode --proto aydp --profile reference --from file:capture.bin --json
+  protolink decode --proto aydp --profile spec --from file:capture.bin --json
   protolink decode --proto aok --side device --from serial:/dev/ttyUSB0@38400")]
     Decode(DecodeArgs),
     /// The AEOLUS box's WiFi side: UART frames out as UDP datagrams, datagrams in to the UART.
@@ -62,7 +62,7 @@ pub enum Command {
     #[command(after_help = "Examples:
   protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
   protolink aydp --to tcp:127.0.0.1:7001 set 0x0110 64.5 --as f32
-  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable")]
+  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable --verify")]
     Aydp(AydpArgs),
     /// Drive an AOK flight controller: debug, parameters, waypoints, motors, external control.
     #[command(after_help = "Examples:
