@@ -139,7 +139,9 @@ impl FlightParams {
         if self.wind_speed_mps < 0.0 || self.wind_speed_mps >= self.airspeed_mps {
             return Err(Error::Wind);
         }
-        if self.climb_mps.abs() > self.airspeed_mps / 2.0 {
+        if self.climb_mps.abs() > self.airspeed_mps / 2.0
+            || (self.climb_mps != 0.0 && !cfg!(feature = "climb"))
+        {
             return Err(Error::Climb);
         }
         Ok(())
@@ -414,7 +416,7 @@ impl Flight {
         (sb2, cb2): (i32, i32),
     ) -> Option<Climb> {
         let rate = params.climb_mps;
-        if rate == 0.0 {
+        if rate == 0.0 || !cfg!(feature = "climb") {
             return None;
         }
         let v = params.airspeed_mps;
@@ -442,18 +444,30 @@ impl Flight {
         })
     }
 
-    /// The altitude `t_ms` after the start, m: the start altitude plus the climb, up to the
-    /// edge of the troposphere.
+    /// The climb, if any: always `None` without the `climb` feature, so that none of its
+    /// code is linked then.
+    fn climb(&self) -> Option<Climb> {
+        if cfg!(feature = "climb") {
+            self.climb
+        } else {
+            None
+        }
+    }
+
+    /// The altitude `t_ms` after the start, m: the start altitude plus the climb (feature
+    /// `climb`), up to the edge of the troposphere.
     ///
     /// ```
     /// use flight_sim::{Flight, FlightParams};
+    /// # if cfg!(feature = "climb") {
     /// let f = Flight::new(FlightParams { climb_mps: 2.5, ..FlightParams::DEFAULT })?;
     /// assert_eq!(f.altitude_m(10_000), 1025.0);
     /// assert_eq!(f.altitude_m(u64::MAX), 11_000.0); // the tropopause, then level
+    /// # }
     /// # Ok::<(), flight_sim::Error>(())
     /// ```
     pub fn altitude_m(&self, t_ms: u64) -> f32 {
-        match self.climb {
+        match self.climb() {
             Some(c) if t_ms < c.until_ms => self.params.altitude_m + c.m_per_ms * t_ms as f32,
             Some(c) if c.m_per_ms > 0.0 => atmosphere::MAX_ALTITUDE_M,
             Some(_) => atmosphere::MIN_ALTITUDE_M,
@@ -495,7 +509,7 @@ impl Flight {
         if self.omega == 0.0 {
             f32::INFINITY
         } else {
-            let v = match self.climb {
+            let v = match self.climb() {
                 Some(c) => self.params.airspeed_mps * q30(c.pitch_sin_cos.1),
                 None => self.params.airspeed_mps,
             };
@@ -532,7 +546,7 @@ impl Flight {
         let cos_yaw = turn::dot(cos_half_yaw, cos_half_yaw, -sin_half_yaw, sin_half_yaw);
 
         // While climbing or descending, the nose is up (down) by γ.
-        let climbing = self.climb.filter(|c| t_ms < c.until_ms);
+        let climbing = self.climb().filter(|c| t_ms < c.until_ms);
         let sign = if cos_half_yaw < 0 { -1 } else { 1 };
         let [x, y, z, w] = match climbing {
             // q = qz(ψ) ⊗ qx(φ) (pitch 0), w >= 0.
@@ -582,7 +596,7 @@ impl Flight {
 
         // The altitude and what the atmosphere makes of it.
         let altitude = self.altitude_m(t_ms);
-        let (static_mbar, pitot_mbar, oat_c) = match self.climb {
+        let (static_mbar, pitot_mbar, oat_c) = match self.climb() {
             None => (self.static_mbar, self.pitot_mbar, self.oat_c),
             Some(_) => (
                 atmosphere::pressure_pa(altitude) / 100.0,
