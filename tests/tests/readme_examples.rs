@@ -31,7 +31,7 @@ const READMES: [&str; 5] = [
 ];
 
 /// Lines that are not run here, by how they start, and why.
-const NOT_RUN: [(&str, &str); 15] = [
+const NOT_RUN: [(&str, &str); 16] = [
     (
         "scripts/demo.sh",
         "the demo runs until Ctrl-C (scripts/test.sh runs its parts)",
@@ -40,6 +40,10 @@ const NOT_RUN: [(&str, &str); 15] = [
     (
         "scripts/setup.sh",
         "installs packages (scripts/test.sh runs it first)",
+    ),
+    (
+        "cargo qemu-build",
+        "a build (scripts/test.sh builds it; this test boots it)",
     ),
     (
         "cargo qemu",
