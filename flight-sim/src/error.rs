@@ -19,6 +19,9 @@ pub enum Error {
     Position,
     /// Wind speed negative or not below the airspeed.
     Wind,
+    /// Climb (or descent) rate above half the airspeed (a flight path steeper than 30°), or
+    /// any climb when the crate is built without its `climb` feature.
+    Climb,
 }
 
 impl fmt::Display for Error {
@@ -30,6 +33,8 @@ impl fmt::Display for Error {
             Error::Altitude => "altitude out of the ISA troposphere range",
             Error::Position => "start position out of range",
             Error::Wind => "wind speed negative or not below the airspeed",
+            Error::Climb if cfg!(feature = "climb") => "climb rate above half the airspeed",
+            Error::Climb => "climbs need flight-sim's `climb` feature",
         })
     }
 }

@@ -86,7 +86,7 @@ pub enum AydpAction {
     Store,
     /// Set outputs directly (direct output control).
     #[command(
-        after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 1:3=-5 --enable"
+        after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 1:3=-5 --enable --verify"
     )]
     Output {
         /// Outputs as DEVICE:CHANNEL=VALUE.

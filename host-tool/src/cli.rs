@@ -38,7 +38,7 @@ pub enum Command {
     /// Decode a stream: one line per message, errors with their byte offset, counters at the end.
     #[command(after_help = "Examples:
   protolink decode --proto aeolus --from tcp:127.0.0.1:7000 --seconds 5
-  protolink decode --proto aydp --profile reference --from file:capture.bin --json
+  protolink decode --proto aydp --profile spec --from file:capture.bin --json
   protolink decode --proto aok --side device --from serial:/dev/ttyUSB0@38400")]
     Decode(DecodeArgs),
     /// The AEOLUS box's WiFi side: UART frames out as UDP datagrams, datagrams in to the UART.
@@ -50,6 +50,7 @@ pub enum Command {
     #[command(after_help = "Examples:
   protolink sim --udp-out 127.0.0.1:5001 --udp-in 5002
   protolink sim --pack 8 --airspeed 35 --bank -15 --seconds 60
+  protolink sim --climb 2.5 --bank 20
   protolink watch --from udp:5001      (in a second terminal: watch what it sends)")]
     Sim(SimArgs),
     /// Send an AEOLUS box a COMMAND or SETTIME, and report its TOAST answer.
@@ -61,7 +62,7 @@ pub enum Command {
     #[command(after_help = "Examples:
   protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]
   protolink aydp --to tcp:127.0.0.1:7001 set 0x0110 64.5 --as f32
-  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable")]
+  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 --enable --verify")]
     Aydp(AydpArgs),
     /// Drive an AOK flight controller: debug, parameters, waypoints, motors, external control.
     #[command(after_help = "Examples:
@@ -77,7 +78,8 @@ pub enum Command {
     /// A live view of AEOLUS telemetry: attitude, airspeed, altitude, heading, GPS, wind, rates.
     #[command(after_help = "Examples:
   protolink watch --from tcp:127.0.0.1:7000
-  protolink watch --from udp:5001 --seconds 10")]
+  protolink watch --from udp:5001 --seconds 10
+  protolink watch --from udp:5001 --units aviation")]
     Watch(WatchArgs),
     /// A glass cockpit in the browser: horizon, tapes, heading, ground track, rates, errors.
     #[command(
@@ -85,7 +87,8 @@ pub enum Command {
 
 Examples:
   protolink web --from tcp:127.0.0.1:7000      (then open http://127.0.0.1:8080/)
-  protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600"
+  protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600
+  protolink web --from udp:5001 --units aviation"
     )]
     Web(WebArgs),
     /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.

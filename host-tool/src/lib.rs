@@ -55,6 +55,7 @@ pub mod render;
 pub mod replay;
 pub mod sim;
 pub mod stop;
+pub mod units;
 pub mod value_type;
 pub mod watch;
 pub mod web;

@@ -47,6 +47,12 @@ pub struct SimArgs {
     #[arg(long, value_name = "M", allow_negative_numbers = true,
           value_parser = |t: &str| crate::args::number_in(t, -500.0, 11000.0, "m"))]
     pub altitude: Option<f32>,
+    /// Simulated vertical speed, m/s, positive up (at most half the airspeed): the box climbs
+    /// or descends at this rate to the edge of the ISA troposphere (11000 m, -500 m), then
+    /// flies level (default 0: level).
+    #[arg(long, value_name = "M/S", allow_negative_numbers = true,
+          value_parser = |t: &str| crate::args::number_in(t, -75.0, 75.0, "m/s"))]
+    pub climb: Option<f32>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<std::time::Duration>,
@@ -68,7 +74,11 @@ impl SimArgs {
         if let Some(v) = self.altitude {
             s.altitude_m = v;
         }
-        flight_sim::Flight::new(s.flight_params())
+        let climb = flight_sim::FlightParams {
+            climb_mps: self.climb.unwrap_or(0.0),
+            ..s.flight_params()
+        };
+        flight_sim::Flight::new(climb)
             .map_err(|e| Error::Usage(format!("cannot simulate that flight: {e}")))?;
         Ok(s)
     }
@@ -185,6 +195,8 @@ pub struct Sim {
     before_reboots: LinkCounters,
     reboots: u32,
     dropped: u64,
+    /// The vertical speed the flight adds to the settings' level turn, m/s.
+    climb_mps: f32,
 }
 
 /// Bytes the virtual box holds for its link to read (the link reads up to
@@ -205,7 +217,45 @@ impl Sim {
             before_reboots: LinkCounters::default(),
             reboots: 0,
             dropped: 0,
+            climb_mps: 0.0,
         }
+    }
+
+    /// The same box climbing (or descending, `climb_mps` < 0) from its settings' altitude at
+    /// `climb_mps` m/s; a reboot starts the climb again. The box's settings (and AYDP) know
+    /// no climb: only the simulated flight changes.
+    ///
+    /// # Errors
+    /// The climb is steeper than the flight allows (more than half the airspeed).
+    ///
+    /// ```
+    /// use protolink::sim::Sim;
+    /// let sim = Sim::new(sensor_box::Settings::default(), 0).climbing(2.5)?;
+    /// assert_eq!(sim.flight().altitude_m(60_000), 1150.0);
+    /// # Ok::<(), protolink::error::Error>(())
+    /// ```
+    pub fn climbing(mut self, climb_mps: f32) -> Result<Self> {
+        self.climb_mps = climb_mps;
+        self.apply_climb()?;
+        Ok(self)
+    }
+
+    /// The flight the box simulates.
+    pub fn flight(&self) -> &flight_sim::Flight {
+        &self.shared.flight
+    }
+
+    fn apply_climb(&mut self) -> Result<()> {
+        if self.climb_mps == 0.0 {
+            return Ok(());
+        }
+        let params = flight_sim::FlightParams {
+            climb_mps: self.climb_mps,
+            ..self.shared.settings().flight_params()
+        };
+        self.shared.flight = flight_sim::Flight::new(params)
+            .map_err(|e| Error::Usage(format!("cannot simulate that flight: {e}")))?;
+        Ok(())
     }
 
     /// Hands the box one received datagram (one or more frames; anything else is counted by
@@ -239,6 +289,8 @@ impl Sim {
             self.reboots += 1;
             let persisted = self.shared.persisted.clone();
             self.shared = Shared::new(persisted, now_ms);
+            // Valid when the sim was built, and a reboot keeps the settings.
+            let _ = self.apply_climb();
             self.link = AeolusLink::new(now_ms);
             self.port.rx.clear();
         }
@@ -324,7 +376,7 @@ pub fn run(args: &SimArgs) -> Result<()> {
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
     let start = Instant::now();
-    let mut sim = Sim::new(settings, 0);
+    let mut sim = Sim::new(settings, 0).climbing(args.climb.unwrap_or(0.0))?;
     let mut datagram = vec![0u8; 65_536];
     let mut received = 0u64;
     let mut status = Status::new();

@@ -1,7 +1,7 @@
 //! `protolink watch`: a live view of AEOLUS telemetry. On a terminal it redraws in place (ANSI
 //! escapes); otherwise it prints a plain summary every second, so it reads well in CI logs.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
@@ -14,6 +14,7 @@ use crate::endpoint::{Endpoint, Input};
 use crate::error::Result;
 use crate::render::Out;
 use crate::stop::{self, Deadline};
+use crate::units::Units;
 
 /// How often the terminal view redraws.
 pub const TTY_REFRESH: Duration = Duration::from_millis(250);
@@ -32,6 +33,61 @@ pub struct WatchArgs {
     /// Print the plain summary even on a terminal.
     #[arg(long)]
     pub plain: bool,
+    /// Display units: `si` (m/s, m, mbar, as the box sends them) or `aviation` (knots, feet,
+    /// feet per minute, hPa and inHg).
+    #[arg(long, value_enum, default_value_t = Units::Si)]
+    pub units: Units,
+}
+
+/// The message IDs the box sends as events, not on a schedule: LOG, TOAST, COMMAND, SETTIME.
+/// They are shown as "event N s ago", never as stale.
+pub const EVENTS: [u8; 4] = [
+    aeolus_proto::message::id::LOG,
+    aeolus_proto::message::id::TOAST,
+    aeolus_proto::message::id::COMMAND,
+    aeolus_proto::message::id::SETTIME,
+];
+
+/// The vertical speed is the change of the pressure altitude over this much of the box's
+/// clock (at most; the first estimate needs half of it).
+pub const VERTICAL_SPEED_WINDOW_MS: f64 = 1000.0;
+/// Pressure altitudes closer together than this (box clock) are not kept.
+const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
+
+/// The vertical speed from the pressure altitude: samples at least
+/// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
+#[derive(Debug, Default)]
+pub(crate) struct VerticalSpeed {
+    samples: VecDeque<(f64, f64)>,
+}
+
+impl VerticalSpeed {
+    const SAMPLES: usize = (VERTICAL_SPEED_WINDOW_MS / VERTICAL_SPEED_STEP_MS) as usize + 1;
+
+    /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
+    /// starts again; values that are not finite are ignored.
+    fn take(&mut self, box_ms: f64, altitude_m: f64) {
+        if !(box_ms.is_finite() && altitude_m.is_finite()) {
+            return;
+        }
+        if let Some(&(last, _)) = self.samples.back() {
+            if box_ms < last {
+                self.samples.clear();
+            } else if box_ms - last < VERTICAL_SPEED_STEP_MS {
+                return;
+            }
+        }
+        if self.samples.len() == Self::SAMPLES {
+            self.samples.pop_front();
+        }
+        self.samples.push_back((box_ms, altitude_m));
+    }
+
+    /// m/s, positive up, once the samples span half the window.
+    pub(crate) fn mps(&self) -> Option<f64> {
+        let (&(t0, a0), &(t1, a1)) = (self.samples.front()?, self.samples.back()?);
+        (t1 - t0 >= VERTICAL_SPEED_WINDOW_MS / 2.0).then(|| (a1 - a0) / (t1 - t0) * 1000.0)
+    }
 }
 
 /// A type is never called stale sooner than this after its last message (host jitter).
@@ -93,6 +149,9 @@ pub struct View {
     pub(crate) malformed: u32,
     pub(crate) truncated: u32,
     pub(crate) bytes: u64,
+    pub(crate) vertical: VerticalSpeed,
+    /// The units [`View::lines`] prints.
+    pub units: Units,
 }
 
 /// Pressure altitude in the ISA, m, from static pressure in mbar.
@@ -134,7 +193,11 @@ impl View {
         }
         match m {
             Message::Attitude(v) => self.attitude = Some(*v),
-            Message::Pressure(v) => self.pressure = Some(*v),
+            Message::Pressure(v) => {
+                self.pressure = Some(*v);
+                self.vertical
+                    .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
+            }
             Message::Gps(v) => self.gps = Some(*v),
             Message::Compass(v) => self.compass = Some(*v),
             Message::Wind(v) => self.wind = Some(*v),
@@ -211,25 +274,46 @@ impl View {
             ),
             None => format!("attitude   {}", dash()),
         });
+        let u = self.units;
+        let (speed, alt, vs) = (u.speed(), u.altitude(), u.vertical_speed());
+        let pitot_unit = match u {
+            Units::Si => "mbar",
+            Units::Aviation => "hPa",
+        };
         l.push(match &self.pressure {
             Some(p) => format!(
-                "airspeed   {:6.2} m/s  static {:8.2} mbar  pitot {:6.2} mbar{}",
-                p.airspeed_mps,
-                p.static_mbar,
+                "airspeed   {:6.2} {}  static {}  pitot {:.2} {pitot_unit}{}",
+                speed.of(f64::from(p.airspeed_mps)),
+                speed.unit,
+                u.pressure(p.static_mbar),
                 p.pitot_mbar,
                 valid(p.valid)
             ),
             None => format!("airspeed   {}", dash()),
         });
-        let gps_alt = self.gps.map(|g| format!("gps {:.1} m", g.altitude_m));
-        let baro_alt = self
-            .pressure
-            .map(|p| format!("pressure {:.1} m (ISA)", isa_altitude_m(p.static_mbar)));
+        let gps_alt = self
+            .gps
+            .map(|g| format!("gps {:.1} {}", alt.of(f64::from(g.altitude_m)), alt.unit));
+        let baro_alt = self.pressure.map(|p| {
+            format!(
+                "pressure {:.1} {} (ISA)",
+                alt.of(isa_altitude_m(p.static_mbar)),
+                alt.unit
+            )
+        });
+        let vertical = self.vertical.mps().map(|v| {
+            let digits = if u == Units::Si { 2 } else { 0 };
+            format!("vertical speed {:+.digits$} {}", vs.of(v), vs.unit)
+        });
         l.push(format!(
             "altitude   {}",
-            match (gps_alt, baro_alt) {
-                (None, None) => dash(),
-                (a, b) => [a, b].into_iter().flatten().collect::<Vec<_>>().join("  "),
+            match (gps_alt, baro_alt, vertical) {
+                (None, None, None) => dash(),
+                (a, b, c) => [a, b, c]
+                    .into_iter()
+                    .flatten()
+                    .collect::<Vec<_>>()
+                    .join("  "),
             }
         ));
         l.push(match &self.compass {
@@ -243,20 +327,22 @@ impl View {
         });
         l.push(match &self.gps {
             Some(g) => format!(
-                "gps        lat {:.6}  lon {:.6}  fix {}  sats {}  ground speed {:.2} m/s{}",
+                "gps        lat {:.6}  lon {:.6}  fix {}  sats {}  ground speed {:.2} {}{}",
                 g.latitude_deg,
                 g.longitude_deg,
                 if g.has_fix { "yes" } else { "no" },
                 g.satellites,
-                g.ground_speed_mps,
+                speed.of(f64::from(g.ground_speed_mps)),
+                speed.unit,
                 valid(g.valid)
             ),
             None => format!("gps        {}", dash()),
         });
         l.push(match &self.wind {
             Some(w) => format!(
-                "wind       {:.2} m/s  direction {:.1}°{}",
-                w.speed_mps,
+                "wind       {:.2} {}  direction {:.1}°{}",
+                speed.of(f64::from(w.speed_mps)),
+                speed.unit,
                 w.direction_deg,
                 valid(w.valid)
             ),
@@ -291,9 +377,14 @@ impl View {
         ));
         let ms = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |v| format!("{v:.1} ms"));
         for (id, (name, a)) in &self.types {
-            let state = match a.stale(now) {
-                Some(age) => format!("STALE, last {:.1} s ago", age.as_secs_f64()),
-                None => "live".to_string(),
+            let state = if EVENTS.contains(id) {
+                let age = now.saturating_duration_since(a.last_host);
+                format!("event {:.0} s ago", age.as_secs_f64())
+            } else {
+                match a.stale(now) {
+                    Some(age) => format!("STALE, last {:.1} s ago", age.as_secs_f64()),
+                    None => "live".to_string(),
+                }
             };
             l.push(format!(
                 "           {:<12} {:>4} {:>8} {:>15} {:>15}  {state}",
@@ -335,7 +426,10 @@ pub fn run(args: &WatchArgs) -> Result<()> {
     let tty = !args.plain && std::io::stdout().is_terminal();
     let refresh = if tty { TTY_REFRESH } else { PLAIN_REFRESH };
     let mut out = Out::new();
-    let mut view = View::default();
+    let mut view = View {
+        units: args.units,
+        ..View::default()
+    };
     let mut decoder = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let started = Instant::now();

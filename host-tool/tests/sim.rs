@@ -155,4 +155,13 @@ fn sim_refuses_an_impossible_flight_in_one_sentence() {
         err.contains("expected a number from -60 to 60 degrees"),
         "{err}"
     );
+    // A climb steeper than half the airspeed (30° of flight path) at the default 50 m/s.
+    let out = run(&["sim", "--climb", "30", "--seconds", "1"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.trim(),
+        "error: cannot simulate that flight: climb rate above half the airspeed",
+        "{err}"
+    );
 }

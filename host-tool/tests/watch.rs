@@ -178,7 +178,99 @@ fn plain_summary_shows_the_flight_and_the_box_intervals() {
         row("PRESSURE")
     );
     assert!(row("GPS").contains("92.0 ms"), "{}", row("GPS"));
+    // TOAST is an event, never stale: "event N s ago".
+    assert!(
+        row("TOAST").ends_with(" s ago") && row("TOAST").contains("event "),
+        "{}",
+        row("TOAST")
+    );
     assert!(line("errors").contains("crc 1 "), "{}", line("errors"));
+}
+
+/// Two seconds of a box climbing at 2.5 m/s (its static pressure falling as the ISA says),
+/// after a TOAST and a LOG.
+fn climbing() -> Vec<u8> {
+    let mut out = frame(&Message::Toast(Text::new("AEOLUS on").unwrap()));
+    out.extend(frame(&Message::Log(b"boot")));
+    for ms in (0..2000u32).step_by(5) {
+        let t = f64::from(ms);
+        let altitude = 1000.0 + 2.5 * t as f32 / 1000.0;
+        out.extend(frame(&Message::Pressure(Pressure {
+            valid: true,
+            timestamp_ms: t,
+            static_mbar: flight_sim::atmosphere::pressure_pa(altitude) / 100.0,
+            pitot_mbar: 6.1,
+            airspeed_mps: 31.25,
+        })));
+        if ms % 100 == 0 {
+            out.extend(frame(&Message::Gps(Gps {
+                valid: true,
+                has_fix: true,
+                satellites: 9,
+                timestamp_ms: t,
+                latitude_deg: 37.9375,
+                longitude_deg: 23.75,
+                altitude_m: altitude,
+                ground_speed_mps: 33.0,
+            })));
+        }
+    }
+    out
+}
+
+#[test]
+fn aviation_units_vertical_speed_and_events() {
+    let (listener, ep) = listener();
+    let stream = climbing();
+    let server = std::thread::spawn(move || {
+        let Some(mut s) = accept(&listener) else {
+            return;
+        };
+        let _ = s.write_all(&stream);
+    });
+    let out = run(&[
+        "watch",
+        "--from",
+        &ep,
+        "--units",
+        "aviation",
+        "--seconds",
+        "30",
+    ]);
+    server.join().unwrap();
+    let text = ok(&out);
+    let last = text.split("protolink watch").last().unwrap();
+    let line = |key: &str| {
+        last.lines()
+            .find(|l| l.split_whitespace().next() == Some(key))
+            .unwrap_or_else(|| panic!("no '{key}' line in:\n{last}"))
+            .to_string()
+    };
+    // 31.25 m/s = 60.75 kt; 33 m/s = 64.15 kt.
+    let air = line("airspeed");
+    assert!(air.contains(" 60.75 kt "), "{air}");
+    assert!(air.contains(" hPa (") && air.contains(" inHg)"), "{air}");
+    assert!(
+        line("gps").contains("ground speed 64.15 kt"),
+        "{}",
+        line("gps")
+    );
+    // The last GPS: 1000 m + 2.5 m/s x 1.9 s = 1004.75 m = 3296.4 ft.
+    let alt = line("altitude");
+    assert!(alt.contains("gps 3296.4 ft"), "{alt}");
+    // 2.5 m/s = 492.1 ft/min, from the pressure altitude over the last second.
+    let vs: f64 = alt
+        .split("vertical speed ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no vertical speed in {alt}"));
+    assert!((vs - 492.0).abs() <= 3.0, "{alt}");
+    assert!(alt.ends_with(" ft/min"), "{alt}");
+    for event in ["TOAST", "LOG"] {
+        let row = line(event);
+        assert!(row.contains("event ") && !row.contains("STALE"), "{row}");
+    }
 }
 
 #[test]

@@ -51,7 +51,12 @@ fn sim(out: u16, cmd: u16) -> Running {
 /// Starts `protolink web --from FROM --listen 127.0.0.1:0` and returns it with the address it
 /// printed.
 fn web(from: &str) -> (Running, SocketAddr) {
-    let mut child = spawn(&[
+    web_with(from, &[])
+}
+
+/// [`web`] with more arguments.
+fn web_with(from: &str, more: &[&str]) -> (Running, SocketAddr) {
+    let mut args = vec![
         "web",
         "--from",
         from,
@@ -59,7 +64,9 @@ fn web(from: &str) -> (Running, SocketAddr) {
         "127.0.0.1:0",
         "--seconds",
         "120",
-    ]);
+    ];
+    args.extend_from_slice(more);
+    let mut child = spawn(&args);
     let stderr = child.stderr.take().expect("stderr");
     let (tx, rx) = mpsc::channel();
     std::thread::spawn(move || {
@@ -135,6 +142,73 @@ fn the_page_flies_the_simulated_turn_in_chromium() {
     check_a_pause_turns_the_rates_stale(&page, cmd);
     page.screenshot(&target_dir().join("web-sim-paused.png"));
 
+    let errors = page.errors();
+    assert!(errors.is_empty(), "the page logged errors: {errors:#?}");
+}
+
+/// `protolink web --units aviation` on `protolink sim --climb 2.5 --bank 20`: the tapes show
+/// knots and feet, the vertical speed indicator about 490 ft/min (2.5 m/s is 492.1 ft/min),
+/// the pitch ladder the climb's flight path angle, and the altitude tape climbs.
+#[test]
+fn aviation_units_on_a_climbing_turn_in_chromium() {
+    let Some(chromium) = chromium() else { return };
+    let (out, cmd) = (17_731, 17_732);
+    let (_web, addr) = web_with(&format!("udp:{out}"), &["--units", "aviation"]);
+    let _sim = Running(spawn(&[
+        "sim",
+        "--udp-out",
+        &format!("127.0.0.1:{out}"),
+        "--udp-in",
+        &cmd.to_string(),
+        "--climb",
+        "2.5",
+        "--bank",
+        "20",
+        "--seconds",
+        "120",
+    ]));
+    let page = Page::open(&chromium, &format!("http://{addr}/"));
+    let number = |e: &Value, k: &str| e[k].as_f64();
+    let first = page.wait_for(
+        "a vertical speed on the page",
+        Duration::from_secs(20),
+        |e| number(e, "vertical_speed_shown").is_some() && number(e, "altitude_shown").is_some(),
+    );
+    for (key, unit) in [
+        ("units", "aviation"),
+        ("speed_unit", "kt"),
+        ("altitude_unit", "ft"),
+        ("vertical_speed_unit", "ft/min"),
+    ] {
+        assert_eq!(first[key], unit, "{key}: {first}");
+    }
+    // 50 m/s is 97.19 kt.
+    let kt = number(&first, "airspeed_shown").expect("airspeed drawn");
+    assert!((kt - 97.19).abs() < 0.05, "airspeed {kt} kt");
+    // Feet on the tape: the GPS altitude (m) over 0.3048.
+    let m = number(&first, "gps_altitude_m").expect("GPS altitude");
+    let ft = number(&first, "altitude_shown").expect("altitude drawn");
+    assert!((ft - m / 0.3048).abs() < 0.01, "{ft} ft for {m} m");
+    let caption = page.eval("document.querySelector('.pfd').innerText");
+    let caption = caption.as_str().unwrap_or_default();
+    for want in ["airspeed kt", "altitude ft", "vertical speed ft/min"] {
+        assert!(caption.contains(want), "{want:?} not in {caption:?}");
+    }
+    // About 490 ft/min, over several frames.
+    for _ in 0..5 {
+        let vs = number(&page.efis(), "vertical_speed_shown").expect("vertical speed drawn");
+        assert!((vs - 492.1).abs() < 10.0, "vertical speed {vs} ft/min");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    // The nose is up by the flight path angle, asin(2.5 / 50) = 2.87°.
+    let pitch = number(&page.efis(), "pitch_deg").expect("pitch drawn");
+    assert!((pitch - 2.866).abs() < 0.05, "pitch {pitch}°");
+    // The tape climbs: 2.5 m/s for 2 s of the box's clock is 16.4 ft.
+    let climbed = page.wait_for("the altitude tape climbs", Duration::from_secs(10), |e| {
+        number(e, "altitude_shown").is_some_and(|a| a > ft + 16.0)
+    });
+    assert!(number(&climbed, "altitude_shown").unwrap_or(0.0) < ft + 400.0);
+    page.screenshot(&target_dir().join("web-sim-aviation.png"));
     let errors = page.errors();
     assert!(errors.is_empty(), "the page logged errors: {errors:#?}");
 }

@@ -284,9 +284,9 @@ pub fn http_get(addr: SocketAddr, path: &str) -> (u16, String) {
 }
 
 /// The fields every `GET /api/state` (and every live update) carries.
-pub const STATE_FIELDS: [&str; 16] = [
+pub const STATE_FIELDS: [&str; 17] = [
     "source", "uptime_s", "bytes", "no_data", "attitude", "air", "heading", "gps", "wind",
-    "temp_c", "info", "toast", "types", "errors", "track", "server",
+    "temp_c", "info", "toast", "types", "errors", "track", "server", "units",
 ];
 
 /// The heading rate of a coordinated turn, g·tan(bank)/TAS, in degrees a second.

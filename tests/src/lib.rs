@@ -6,6 +6,7 @@
 pub mod aeolus_udp;
 pub mod browser;
 pub mod channel;
+pub mod examples;
 pub mod naive;
 pub mod protocols;
 pub mod resync;

@@ -1,5 +1,7 @@
 //! Every example that `protolink --help` and its subcommands' `--help` show, run against the
-//! release firmware in QEMU (lm3s6965evb) or `protolink sim`, as a newcomer would paste it.
+//! release firmware in QEMU (lm3s6965evb) or `protolink sim`, as a newcomer would paste it, and
+//! judged by what it did (`protolink_tests::examples::check_outcome`: frames decoded, bytes
+//! watched, a capture with frames in it, the value read), not by its exit status alone.
 //!
 //! The examples' addresses are the demo's (UARTs on 7000..7002, the box's UDP on 5001/5002,
 //! EFB apps on 4000) and are moved to this test's own ports; `file:capture.bin` becomes the
@@ -12,6 +14,9 @@
 mod harness;
 
 use harness::*;
+use protolink_tests::examples::{
+    Env, adapt, check_outcome, flag, needs_udp_box, subcommand, words,
+};
 use std::net::Shutdown;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
@@ -60,29 +65,6 @@ fn examples() -> Vec<String> {
     found
 }
 
-/// Splits at spaces, honouring double quotes, and drops a trailing `(in a second terminal...)`.
-fn words(line: &str) -> Vec<String> {
-    let line = line.split("  (").next().unwrap_or(line);
-    let mut words = Vec::new();
-    let mut word = String::new();
-    let mut quoted = false;
-    for c in line.chars() {
-        match c {
-            '"' => quoted = !quoted,
-            ' ' if !quoted => {
-                if !word.is_empty() {
-                    words.push(std::mem::take(&mut word));
-                }
-            }
-            c => word.push(c),
-        }
-    }
-    if !word.is_empty() {
-        words.push(word);
-    }
-    words
-}
-
 #[test]
 fn every_help_example_runs_against_the_firmware() {
     let board = Board::Lm3s6965evb;
@@ -95,16 +77,17 @@ fn every_help_example_runs_against_the_firmware() {
     let _ = q.uart1.shutdown(Shutdown::Both);
     let _ = q.uart2.shutdown(Shutdown::Both);
     std::thread::sleep(Duration::from_millis(200));
-    let root = workspace_root();
-    let capture = |proto: &str| {
-        let name = match proto {
-            "aydp" => "qemu-uart1-aydp.bin",
-            "aok" => "qemu-uart2-aok.bin",
-            _ => "qemu-uart0-aeolus.bin",
-        };
-        format!("file:{}", root.join("testdata").join(name).display())
+    let tmp = std::env::temp_dir().join(format!("protolink-help-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).expect("a temporary directory");
+    let env = Env {
+        uart: [ports.uart(0), ports.uart(1), ports.uart(2)],
+        box_out: ports.uart(0) + 5,
+        box_in: ports.uart(0) + 6,
+        efb: ports.uart(0) + 7,
+        page: ports.uart(0) + 8,
+        tmp: tmp.clone(),
+        root: workspace_root(),
     };
-    let (box_out, box_in, efb) = (ports.uart(0) + 5, ports.uart(0) + 6, ports.uart(0) + 7);
     let mut all = examples();
     // The reset reboots the box: last.
     all.sort_by_key(|l| l.ends_with(" reset"));
@@ -114,114 +97,78 @@ fn every_help_example_runs_against_the_firmware() {
             skipped.push(format!("{line}  (no serial port on this machine)"));
             continue;
         }
-        let mut w: Vec<String> = words(line).into_iter().skip(1).collect();
-        let proto = w
-            .iter()
-            .position(|a| a == "--proto")
-            .and_then(|i| w.get(i + 1).cloned())
-            .unwrap_or_default();
-        for a in w.iter_mut() {
-            *a = a
-                .replace("127.0.0.1:7000", &format!("127.0.0.1:{}", ports.uart(0)))
-                .replace("127.0.0.1:7001", &format!("127.0.0.1:{}", ports.uart(1)))
-                .replace("127.0.0.1:7002", &format!("127.0.0.1:{}", ports.uart(2)))
-                .replace("5001", &box_out.to_string())
-                .replace("5002", &box_in.to_string())
-                .replace("127.0.0.1:4000", &format!("127.0.0.1:{efb}"));
-            if a == "file:capture.bin" {
-                *a = capture(&proto);
-            }
-        }
-        // The capture examples' files live in the temp directory; a replay gets one recorded
-        // from the sample UART capture first.
-        for a in w.iter_mut() {
-            if a.ends_with(".pcapng") {
-                *a = std::env::temp_dir()
-                    .join(format!("protolink-help-{}-{a}", std::process::id()))
-                    .display()
-                    .to_string();
-            }
-        }
-        if w.first().is_some_and(|s| s == "replay") && !std::path::Path::new(&w[1]).exists() {
+        let given: Vec<String> = words(line).into_iter().skip(1).collect();
+        let w = adapt(&given, &env, "1");
+        // A replay gets a capture recorded from the sample UART capture first.
+        if subcommand(&w) == "replay" && !std::path::Path::new(&w[1]).exists() {
             let rec = run(&[
                 "record".into(),
                 "--from".into(),
-                capture("aeolus"),
+                format!(
+                    "file:{}",
+                    env.root.join("testdata/qemu-uart0-aeolus.bin").display()
+                ),
                 "--out".into(),
                 w[1].clone(),
             ]);
             assert!(rec.status.success(), "recording {} for `{line}`", w[1]);
         }
-        let sub = w.first().cloned().unwrap_or_default();
-        let runs_on = matches!(
-            sub.as_str(),
-            "decode" | "watch" | "web" | "bridge" | "sim" | "gdl90" | "record" | "replay"
-        );
-        match w.iter().position(|a| a == "--seconds") {
-            Some(i) => w[i + 1] = "1".into(),
-            None if runs_on && !w.iter().any(|a| a.starts_with("file:")) => {
-                w.extend(["--seconds".into(), "1".into()]);
-            }
-            None => {}
-        }
-        // The page of `web` on this test's own port (TCP UART0 + 8), never the demo's 8080.
-        if sub == "web" {
-            let listen = format!("127.0.0.1:{}", ports.uart(0) + 8);
-            match w.iter().position(|a| a == "--listen") {
-                Some(i) if i + 1 < w.len() => w[i + 1] = listen,
-                _ => w.extend(["--listen".into(), listen]),
-            }
-        }
-        if sub == "sim" {
-            for (flag, value) in [
-                ("--udp-out", format!("127.0.0.1:{box_out}")),
-                ("--udp-in", box_in.to_string()),
-            ] {
-                if !w.iter().any(|a| a == flag) {
-                    w.extend([flag.to_string(), value]);
-                }
-            }
-        }
-        // The AEOLUS-over-UDP examples talk to a box on UDP: `protolink sim`.
-        let sim = line.contains("udp:127.0.0.1:5002").then(|| {
-            let child = Command::new(protolink())
-                .args([
-                    "sim",
-                    "--udp-out",
-                    &format!("127.0.0.1:{box_out}"),
-                    "--udp-in",
-                ])
-                .arg(box_in.to_string())
-                .args(["--seconds", "10"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .expect("start sim");
-            std::thread::sleep(Duration::from_millis(300));
-            child
-        });
+        // The examples that talk to a box on UDP get `protolink sim` as that box.
+        let sim = needs_udp_box(&w, &env).then(|| start_sim(&env));
+        // A replay is checked by a listener on its destination.
         let out = run(&w);
         if let Some(mut s) = sim {
             let _ = s.kill();
             let _ = s.wait();
         }
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        let refused_in_flight = stderr.contains("in flight ('I')");
-        // The simulated box is flying: it refuses set changes in flight, as a real one does.
-        if line.contains("save-set") || line.contains("load-set") {
-            assert!(refused_in_flight, "`{line}` (ran as {w:?}): {stderr}");
-        } else {
-            assert!(
-                out.status.success(),
-                "`{line}` (ran as {w:?}) failed: {stderr}\n{}",
-                String::from_utf8_lossy(&out.stdout)
+        if let Err(why) = check_outcome(&w, &out, |file| decode_summary(file, &w)) {
+            panic!(
+                "`{line}` (ran as {w:?}): {why}\nstdout:\n{}\nstderr:\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
             );
         }
         ran += 1;
     }
+    let _ = std::fs::remove_dir_all(&tmp);
     for s in &skipped {
         println!("skipped: {s}");
     }
-    println!("{ran} help examples ran, {} skipped", skipped.len());
+    println!(
+        "{ran} help examples ran and did what they are for, {} skipped",
+        skipped.len()
+    );
     assert!(ran >= 25, "only {ran} examples ran");
+}
+
+/// `protolink sim` playing the box on `env`'s UDP ports for 10 s.
+fn start_sim(env: &Env) -> std::process::Child {
+    let child = Command::new(protolink())
+        .args(["sim", "--udp-out", &format!("127.0.0.1:{}", env.box_out)])
+        .args(["--udp-in", &env.box_in.to_string(), "--seconds", "10"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start sim");
+    std::thread::sleep(Duration::from_millis(300));
+    child
+}
+
+/// `protolink decode --from FILE`'s output for a capture `record` made: with the recording's
+/// `--proto` (and `--side`), since this test's moved UDP ports do not name the protocol.
+fn decode_summary(file: &std::path::Path, record: &[String]) -> String {
+    let mut args = vec![
+        "decode".to_owned(),
+        "--from".into(),
+        file.display().to_string(),
+    ];
+    args.extend([
+        "--proto".into(),
+        flag(record, "--proto").unwrap_or("aeolus").into(),
+    ]);
+    if let Some(side) = flag(record, "--side") {
+        args.extend(["--side".into(), side.into()]);
+    }
+    let out = run(&args);
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }

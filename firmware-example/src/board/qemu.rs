@@ -6,8 +6,9 @@
 //!   host by `defmt-print`.
 //! * Flash store: the last 4 KiB of RAM (`.flash_emu`, a NOLOAD section of
 //!   `memory.x`), which a warm reset leaves alone.
-//! * Clock: SysTick from the core clock. QEMU without `-icount` follows the
-//!   host's clock.
+//! * Clock: the PLL divided by 16 (12.5 MHz, the reset's divisor, set explicitly in
+//!   `set_core_clock`); SysTick counts it. QEMU without `-icount` follows the host's clock,
+//!   so the box's millisecond is the host's (`tests/tests/box_clock.rs` checks it).
 
 use super::{Board, start_systick};
 use core::mem::MaybeUninit;
@@ -28,22 +29,70 @@ pub const NAME: &str = "qemu-lm3s6965evb";
 /// The flash store: NOR flash emulated in the `.flash_emu` RAM region.
 pub type Store = MemFlash<'static>;
 
-/// Core clock QEMU gives the lm3s6965 at reset, Hz (measured: see
-/// docs/notes-board.md).
-#[cfg(not(feature = "cpu-budget"))]
-const CORE_HZ: u32 = 12_000_000;
+/// The PLL's output that SYSDIV divides, Hz: the LM3S6965 data sheet's 400 MHz PLL after its
+/// fixed divide-by-two ("RCC", SYSDIV: "/(SYSDIV + 1)", 12.5 MHz at 0xF). QEMU's model
+/// (`hw/arm/stellaris.c`, `ssys_calculate_system_clock`) uses the same formula, a 5 ns period
+/// times (SYSDIV + 1), and ignores BYPASS, so only SYSDIV sets the emulated core clock.
+const PLL_HZ: u32 = 200_000_000;
 
-/// The `cpu-budget` build sets RCC's SYSDIV to 0, which QEMU's model turns into a 5 ns core
-/// clock period (200 MHz: its PLL output undivided): one SysTick count is 5 instructions under
+/// The system clock divisor `init` writes into RCC. 15 is the reset value's
+/// (RCC = 0x078E_3AC0 at reset: SYSDIV 15, so 12.5 MHz, not 12 MHz).
+#[cfg(not(feature = "cpu-budget"))]
+const SYSDIV: u32 = 15;
+
+/// The `cpu-budget` build sets SYSDIV to 0, which QEMU's model turns into a 5 ns core clock
+/// period (200 MHz: its PLL output undivided): one SysTick count is 5 instructions under
 /// `-icount shift=0` instead of 80, the resolution of the account. The millisecond stays a
 /// millisecond (the reload follows). Only QEMU is meant: on a real LM3S6965 this would run the
 /// PLL out of spec.
 #[cfg(feature = "cpu-budget")]
-const CORE_HZ: u32 = 200_000_000;
+const SYSDIV: u32 = 0;
 
-/// System control: run-mode clock configuration (SYSDIV is bits 26:23).
-#[cfg(feature = "cpu-budget")]
+/// The core clock, Hz: what SysTick counts. It follows from the RCC value `init` writes, never
+/// from a separate guess (a 12 MHz guess made the box's millisecond 4 % short of the host's).
+const CORE_HZ: u32 = PLL_HZ / (SYSDIV + 1);
+
+// The reset configuration gives the 12.5 MHz `scripts/cm3-bench.sh` measures (80 ns a tick).
+#[cfg(not(feature = "cpu-budget"))]
+const _: () = assert!(CORE_HZ == 12_500_000);
+
+/// System control: run-mode clock configuration.
 const SYSCTL_RCC: usize = 0x400F_E060;
+/// System control: raw interrupt status (PLLLRIS, bit 6: the PLL has locked).
+const SYSCTL_RIS: usize = 0x400F_E050;
+const RCC_SYSDIV_SHIFT: u32 = 23;
+const RCC_SYSDIV_MASK: u32 = 0xF << RCC_SYSDIV_SHIFT;
+const RCC_USESYSDIV: u32 = 1 << 22;
+const RCC_PWRDN: u32 = 1 << 13;
+const RCC_BYPASS: u32 = 1 << 11;
+const RIS_PLLLRIS: u32 = 1 << 6;
+/// How many RIS reads `set_core_clock` waits for the PLL to lock (the data sheet gives at
+/// most 0.5 ms; QEMU sets the bit on the write that powers the PLL up).
+const PLL_LOCK_POLLS: u32 = 100_000;
+
+/// Puts the core on the PLL divided by `SYSDIV + 1`, the configuration `CORE_HZ` describes:
+/// the PLL is powered up, locked (bounded wait), then BYPASS cleared with the divisor in use.
+fn set_core_clock() {
+    // SAFETY: RCC and RIS are valid lm3s6965 system-control registers; nothing else uses
+    // them, and this runs before SysTick and the UARTs are started.
+    unsafe {
+        let rcc = read_volatile(SYSCTL_RCC as *const u32);
+        write_volatile(SYSCTL_RCC as *mut u32, rcc & !RCC_PWRDN);
+        let mut polls = 0;
+        while read_volatile(SYSCTL_RIS as *const u32) & RIS_PLLLRIS == 0 && polls < PLL_LOCK_POLLS {
+            polls += 1;
+        }
+        let run = (rcc & !(RCC_PWRDN | RCC_BYPASS | RCC_SYSDIV_MASK))
+            | RCC_USESYSDIV
+            | (SYSDIV << RCC_SYSDIV_SHIFT);
+        write_volatile(SYSCTL_RCC as *mut u32, run);
+    }
+}
+
+/// The UARTs' baud rate (QEMU's PL011 ignores it; a real part needs it).
+const BAUD: u32 = 115_200;
+/// The PL011 baud divisor in 64ths: core clock / (16 x baud), rounded.
+const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
 
 const UART_BASE: [usize; 3] = [0x4000_C000, 0x4000_D000, 0x4000_E000];
 const RX_CAP: usize = 256;
@@ -149,12 +198,7 @@ pub fn init() -> Board<Store> {
         super::reset();
     }
     let mut core = cortex_m::Peripherals::take().unwrap_or_else(|| super::reset());
-    #[cfg(feature = "cpu-budget")]
-    // SAFETY: RCC is a valid lm3s6965 system-control register; only SYSDIV changes.
-    unsafe {
-        let rcc = read_volatile(SYSCTL_RCC as *const u32);
-        write_volatile(SYSCTL_RCC as *mut u32, rcc & !(0xF << 23));
-    }
+    set_core_clock();
     let clock = start_systick(core.SYST, CORE_HZ);
 
     // SAFETY: RCGC1 is a valid lm3s6965 system-control register.
@@ -191,9 +235,9 @@ pub fn init() -> Board<Store> {
         // disabled while it is configured.
         unsafe {
             write_volatile(reg(*base, CTL), 0);
-            // 115200 Bd at 12 MHz: 12e6 / (16 * 115200) = 6.5104 -> 6 + 33/64.
-            write_volatile(reg(*base, IBRD), 6);
-            write_volatile(reg(*base, FBRD), 33);
+            // 115200 Bd at 12.5 MHz: 12.5e6 / (16 * 115200) = 6.78 -> 6 + 50/64.
+            write_volatile(reg(*base, IBRD), BAUD_DIV_64THS / 64);
+            write_volatile(reg(*base, FBRD), BAUD_DIV_64THS % 64);
             write_volatile(reg(*base, LCRH), LCRH_WLEN8_FEN);
             write_volatile(reg(*base, IFLS), IFLS_RX_HALF_TX_EIGHTH);
             write_volatile(reg(*base, ICR), 0x7FF);

@@ -46,6 +46,10 @@ pub struct WebArgs {
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<Duration>,
+    /// Display units: `si` (m/s, m, as the box sends them) or `aviation` (knots, feet, feet
+    /// per minute).
+    #[arg(long, value_enum, default_value_t = crate::units::Units::Si)]
+    pub units: crate::units::Units,
 }
 
 /// Parses `--listen`: an IP address and a port, such as `127.0.0.1:8080` or `[::1]:8080`.
@@ -101,7 +105,7 @@ pub fn run(args: &WebArgs) -> Result<()> {
     }
     let frame = Duration::from_secs(1) / DISPLAY_RATE_HZ;
     let started = Instant::now();
-    let mut cockpit = Cockpit::new(&source, started);
+    let mut cockpit = Cockpit::new(&source, started).with_units(args.units);
     let mut buf = vec![0u8; 65_536];
     let mut next_frame = started;
     let mut ended = false;

@@ -11,7 +11,8 @@ use aeolus_proto::message::{CalibrationStatus, Message};
 use serde::Serialize;
 
 use crate::decode::AEOLUS_CAPACITY;
-use crate::watch::{NO_DATA_AFTER, View, isa_altitude_m};
+use crate::units::{UnitScales, Units};
+use crate::watch::{EVENTS, NO_DATA_AFTER, View, isa_altitude_m};
 
 /// How many track points the page keeps: five minutes at [`TRACK_STEP_MS`].
 pub const TRACK_POINTS: usize = 600;
@@ -19,14 +20,6 @@ pub const TRACK_POINTS: usize = 600;
 pub const TRACK_STEP_MS: f64 = 500.0;
 /// How many recent intervals of each message type the jitter sparkline shows.
 pub const JITTER_INTERVALS: usize = 48;
-
-/// The message IDs the box sends as events, not on a schedule: LOG, TOAST, COMMAND, SETTIME.
-const EVENTS: [u8; 4] = [
-    aeolus_proto::message::id::LOG,
-    aeolus_proto::message::id::TOAST,
-    aeolus_proto::message::id::COMMAND,
-    aeolus_proto::message::id::SETTIME,
-];
 
 /// The live model behind the page: `watch`'s [`View`], the decoder that feeds it, the
 /// ground track and the recent intervals. Every part is bounded.
@@ -86,6 +79,20 @@ impl Cockpit {
             last_track_ms: None,
             intervals: BTreeMap::new(),
         }
+    }
+
+    /// The same cockpit showing `units` on the page (SI unless told).
+    ///
+    /// ```
+    /// use protolink::units::Units;
+    /// use protolink::web::state::Cockpit;
+    /// let now = std::time::Instant::now();
+    /// let c = Cockpit::new("udp:5001", now).with_units(Units::Aviation);
+    /// assert_eq!(c.state(now, Default::default()).units.altitude.unit, "ft");
+    /// ```
+    pub fn with_units(mut self, units: Units) -> Self {
+        self.view.units = units;
+        self
     }
 
     /// Takes one read of the endpoint (a whole datagram when `datagram`).
@@ -182,6 +189,7 @@ impl Cockpit {
                 static_mbar: p.static_mbar,
                 pitot_mbar: p.pitot_mbar,
                 pressure_altitude_m: isa_altitude_m(p.static_mbar),
+                vertical_speed_mps: v.vertical.mps(),
             }),
             heading: v.compass.map(|c| HeadingState {
                 valid: c.valid && c.has_value,
@@ -233,6 +241,7 @@ impl Cockpit {
             },
             track: self.track.iter().copied().collect(),
             server,
+            units: v.units.scales(),
         }
     }
 
@@ -282,6 +291,8 @@ pub struct State {
     pub track: Vec<[f64; 2]>,
     /// The web server's own counters.
     pub server: ServerState,
+    /// The units the page shows, and the factors from the SI values above.
+    pub units: UnitScales,
 }
 
 /// The last ATTITUDE, in degrees.
@@ -308,6 +319,9 @@ pub struct AirState {
     pub pitot_mbar: f32,
     /// The ISA altitude of the static pressure, m.
     pub pressure_altitude_m: f64,
+    /// The vertical speed: the pressure altitude's change over the last second of the box's
+    /// clock, m/s, positive up (`null` until half a second of PRESSURE has arrived).
+    pub vertical_speed_mps: Option<f64>,
 }
 
 /// The last COMPASS.

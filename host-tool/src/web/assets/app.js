@@ -11,6 +11,14 @@ const efis = {
   heading_time_ms: null, airspeed_mps: null, gps_altitude_m: null, pressure_altitude_m: null,
   slip_ball: null, turn_coordinator: null, track_points: 0, wind_from_deg: null,
   wind_speed_mps: null, stale_types: [], live_types: [], connected: false, // live_types: scheduled types only (not TOAST, LOG)
+  // What the tapes and the vertical speed indicator show, in the units shown (`--units`).
+  units: null, speed_unit: null, altitude_unit: null, vertical_speed_unit: null,
+  airspeed_shown: null, altitude_shown: null, vertical_speed_shown: null,
+};
+// The SI scales, until the server says otherwise (the same shape as `units` in the state).
+const SI = {
+  name: 'si', speed: { unit: 'm/s', per_si: 1 }, altitude: { unit: 'm', per_si: 1 },
+  vertical_speed: { unit: 'm/s', per_si: 1 },
 };
 window.efis = efis;
 
@@ -294,17 +302,30 @@ function drawTape(id, value, unitsPerTick, labelEvery, pxPerUnit, extra) {
   return true;
 }
 
-function drawTapes(s) {
+// A value in the shown units, or null.
+const scaled = (v, scale) => (num(v) ? v * scale.per_si : null);
+
+function drawTapes(s, u) {
   const air = s.air;
   const speed = air ? air.airspeed_mps : null;
-  efis.airspeed_mps = drawTape('speed', speed, 1, 5, 6) ? speed : null;
+  const knots = u.speed.unit !== 'm/s';
+  // m/s: a tick a unit, 6 px each; knots: a tick every 2 kt at the same pixels per m/s.
+  const speedPx = 6 / u.speed.per_si;
+  const speedShown = scaled(speed, u.speed);
+  const speedDrawn = drawTape('speed', speedShown, knots ? 2 : 1, 5, speedPx);
+  efis.airspeed_mps = speedDrawn ? speed : null;
+  efis.airspeed_shown = speedDrawn ? speedShown : null;
   const gpsAlt = s.gps ? s.gps.altitude_m : null;
-  const baro = air ? air.pressure_altitude_m : null;
-  const shown = num(gpsAlt) ? gpsAlt : baro;
-  const drawn = drawTape('altitude', shown, 10, 5, 1.5, (g, w, h, cy) => {
+  const baroM = air ? air.pressure_altitude_m : null;
+  const baro = scaled(baroM, u.altitude);
+  const shown = num(gpsAlt) ? scaled(gpsAlt, u.altitude) : baro;
+  // 1.5 px a metre in either unit; ticks every 10 m or every 20 ft.
+  const altPx = 1.5 / u.altitude.per_si;
+  const feet = u.altitude.unit !== 'm';
+  const drawn = drawTape('altitude', shown, feet ? 20 : 10, 5, altPx, (g, w, h, cy) => {
     // The pressure altitude as a cyan mark and readout beside the GPS tape.
     if (num(baro) && num(shown)) {
-      const y = Math.max(8, Math.min(h - 8, cy - (baro - shown) * 1.5));
+      const y = Math.max(8, Math.min(h - 8, cy - (baro - shown) * altPx));
       g.fillStyle = '#7fd4ff';
       g.beginPath();
       g.moveTo(4, y); g.lineTo(14, y - 6); g.lineTo(14, y + 6);
@@ -314,12 +335,61 @@ function drawTapes(s) {
     }
   });
   efis.gps_altitude_m = drawn && num(gpsAlt) ? gpsAlt : null;
-  efis.pressure_altitude_m = num(baro) ? baro : null;
+  efis.pressure_altitude_m = num(baroM) ? baroM : null;
+  efis.altitude_shown = drawn ? shown : null;
+  drawVsi(air ? air.vertical_speed_mps : null, u.vertical_speed);
+}
+
+// ------------------------------------------------------------------ vertical speed
+
+// A vertical scale from -FULL to +FULL (6 m/s or 1200 ft/min), a needle from the zero mark,
+// and the value in the box below.
+function drawVsi(mps, scale) {
+  const k = ctx2d('vsi');
+  const { g, w, h } = k;
+  const v = scaled(mps, scale);
+  if (!num(v)) {
+    efis.vertical_speed_shown = null;
+    invalidCross(k, 'NO V/S');
+    return;
+  }
+  const fpm = scale.unit === 'ft/min';
+  const full = fpm ? 1200 : 6;
+  const step = fpm ? 200 : 1;
+  g.fillStyle = '#1a1f26';
+  g.fillRect(0, 0, w, h);
+  const cy = h / 2 - 14;
+  const half = cy - 16;
+  const yOf = (x) => cy - Math.max(-1, Math.min(1, x / full)) * half;
+  g.strokeStyle = '#fff';
+  g.lineWidth = 1;
+  for (let m = -full; m <= full + 1e-9; m += step) {
+    const y = yOf(m);
+    const major = Math.round(m / step) % 2 === 0;
+    g.beginPath();
+    g.moveTo(6, y);
+    g.lineTo(major ? 20 : 14, y);
+    g.stroke();
+    if (major) text(g, String(Math.abs(fpm ? m / 100 : m)), 34, y, '#fff', '11px system-ui, sans-serif');
+  }
+  g.strokeStyle = '#3ccf6e';
+  g.lineWidth = 4;
+  g.beginPath();
+  g.moveTo(w - 8, cy);
+  g.lineTo(22, yOf(v));
+  g.stroke();
+  g.fillStyle = '#000';
+  g.strokeStyle = '#ffd400';
+  g.lineWidth = 2;
+  g.fillRect(2, h - 26, w - 4, 22);
+  g.strokeRect(2, h - 26, w - 4, 22);
+  text(g, `${v >= 0 ? '+' : ''}${v.toFixed(fpm ? 0 : 1)}`, w / 2, h - 15, '#fff', 'bold 14px system-ui, sans-serif');
+  efis.vertical_speed_shown = v;
 }
 
 // ------------------------------------------------------------------ ground track and wind
 
-function drawTrack(s) {
+function drawTrack(s, u) {
   const { g, w, h } = ctx2d('track');
   g.fillStyle = '#0b1a10';
   g.fillRect(0, 0, w, h);
@@ -381,7 +451,7 @@ function drawTrack(s) {
     g.closePath();
     g.fill();
     g.restore();
-    text(g, `${wind.speed_mps.toFixed(1)} m/s from ${wind.direction_deg.toFixed(0)}°`, cx - 40, h - 10, '#7fd4ff', '11px system-ui, sans-serif');
+    text(g, `${scaled(wind.speed_mps, u.speed).toFixed(1)} ${u.speed.unit} from ${wind.direction_deg.toFixed(0)}°`, cx - 40, h - 10, '#7fd4ff', '11px system-ui, sans-serif');
     efis.wind_from_deg = wind.direction_deg;
     efis.wind_speed_mps = wind.speed_mps;
   } else {
@@ -486,8 +556,9 @@ function drawBox(s) {
   $('toast').textContent = typeof s.toast === 'string' ? s.toast : '-';
   $('temp').textContent = num(s.temp_c) ? `${s.temp_c.toFixed(1)} °C` : '-';
   const p = s.gps;
+  const u = s.units || SI;
   $('gps').textContent = p
-    ? `${fmt(p.latitude_deg, 6)}, ${fmt(p.longitude_deg, 6)}  fix ${p.fix ? 'yes' : 'no'}  ${p.satellites} sats  ${fmt(p.ground_speed_mps, 1)} m/s`
+    ? `${fmt(p.latitude_deg, 6)}, ${fmt(p.longitude_deg, 6)}  fix ${p.fix ? 'yes' : 'no'}  ${p.satellites} sats  ${fmt(scaled(p.ground_speed_mps, u.speed), 1)} ${u.speed.unit}`
     : '-';
   const v = s.server || {};
   $('server').textContent = `${v.clients} live clients, ${v.refused} refused, ${v.frames_sent} updates sent, ${v.frames_dropped} dropped for slow clients, ${v.bad_requests} bad requests; ${s.bytes} bytes from ${s.source} in ${fmt(s.uptime_s, 0)} s`;
@@ -503,8 +574,16 @@ function draw(s) {
   drawAttitude(s.attitude);
   drawTurn(s.attitude);
   drawHeading(s.heading);
-  drawTapes(s);
-  drawTrack(s);
+  const u = s.units || SI;
+  $('speed-unit').textContent = u.speed.unit;
+  $('altitude-unit').textContent = u.altitude.unit;
+  $('vsi-unit').textContent = u.vertical_speed.unit;
+  efis.units = u.name;
+  efis.speed_unit = u.speed.unit;
+  efis.altitude_unit = u.altitude.unit;
+  efis.vertical_speed_unit = u.vertical_speed.unit;
+  drawTapes(s, u);
+  drawTrack(s, u);
   drawTypes(s.types);
   const stale = new Set(efis.stale_types);
   if (s.attitude && stale.has('ATTITUDE')) {
@@ -513,6 +592,7 @@ function draw(s) {
   }
   if (s.heading && stale.has('COMPASS')) staleFlag('heading', 'COMPASS');
   if (s.air && stale.has('PRESSURE')) staleFlag('speed', 'AIR');
+  if (s.air && stale.has('PRESSURE')) staleFlag('vsi', 'AIR');
   if (s.gps && stale.has('GPS')) staleFlag('altitude', 'GPS');
   if (s.gps && stale.has('GPS')) staleFlag('track', 'GPS');
   drawErrors(s.errors);
