@@ -31,7 +31,7 @@ pub type Store = MemFlash<'static>;
 
 /// The PLL's output that SYSDIV divides, Hz: the LM3S6965 data sheet's 400 MHz PLL after its
 /// fixed divide-by-two ("RCC", SYSDIV: "/(SYSDIV + 1)", 12.5 MHz at 0xF). QEMU's model
-/// (`hw/arm/stellaris.c`, `ssys_calculate_system_clock`) uses the same formula, a 5 ns period
+/// (in its source file hw/arm/stellaris.c, `ssys_calculate_system_clock`) uses the same formula, a 5 ns period
 /// times (SYSDIV + 1), and ignores BYPASS, so only SYSDIV sets the emulated core clock.
 const PLL_HZ: u32 = 200_000_000;
 
