@@ -17,6 +17,9 @@
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
 //! - [`port`]: reading received bytes in slices and queueing whole frames for transmit, the
 //!   same way on every link.
+//! - [`serial`] (feature `bbqueue`, on by default): `QueuedSerial`, the interrupt-driven port
+//!   of the blocking boards, and [`storage`]: `MemFlash`, NOR flash over a byte slice. The
+//!   boards use them, and so do this crate's tests and examples.
 //! - [`budget`]: where the CPU goes (per-category accounting, feature `cpu-budget`).
 //! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
 //!   (feature `defmt`) and compile to nothing on the host.
@@ -37,7 +40,10 @@ pub mod budget;
 pub mod log;
 pub mod persist;
 pub mod port;
+#[cfg(feature = "bbqueue")]
+pub mod serial;
 pub mod state;
+pub mod storage;
 pub mod telemetry;
 
 pub use state::{Persisted, Settings, Shared};
@@ -120,7 +126,7 @@ impl App {
     /// `firmware-embassy` does) calls it after them.
     ///
     /// ```
-    /// use firmware_example::MemFlash;
+    /// use sensor_box::storage::MemFlash;
     /// use sensor_box::{App, Control};
     /// let mut mem = [0xFFu8; 4096];
     /// let mut flash = MemFlash::new(&mut mem);

@@ -190,8 +190,8 @@ impl<const N: usize> TxQueue<N> {
     /// port's error, if it reported one (the bytes stay queued).
     ///
     /// ```
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<3>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut q = sensor_box::port::TxQueue::<8>::new();

@@ -6,9 +6,10 @@ use aydp_proto::{
     Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
     Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aydp_link::{self, addr};
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::storage::MemFlash;
 use sensor_box::{App, Control, Persisted, Settings};
 
 /// One UART: the application's half and the interrupt half the test plays.

@@ -8,10 +8,11 @@ use aeolus_proto::message::{Message, SetTime, Text};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aeolus_link::{AeolusLink, RX_FRAME};
 use sensor_box::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::storage::MemFlash;
 use sensor_box::{App, Control, Persisted, Shared};
 
 fn port() -> (

@@ -37,8 +37,8 @@
 //! ```
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
-//! use firmware_example::{PortStats, QueuedSerial};
-//! use firmware_example::serial::Ring;
+//! use sensor_box::serial::{PortStats, QueuedSerial};
+//! use sensor_box::serial::Ring;
 //!
 //! let (rxq, txq) = (Ring::<256>::new(), Ring::<4096>::new());
 //! let stats = PortStats::new();
@@ -209,8 +209,8 @@ impl AeolusLink {
     ///
     /// ```
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<1024>::new());
     /// let stats = PortStats::new();
     /// let (mut port, _isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);

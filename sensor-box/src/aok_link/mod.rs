@@ -25,8 +25,8 @@
 //!
 //! ```
 //! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
-//! use firmware_example::{PortStats, QueuedSerial};
-//! use firmware_example::serial::Ring;
+//! use sensor_box::serial::{PortStats, QueuedSerial};
+//! use sensor_box::serial::Ring;
 //!
 //! let shared = &mut Shared::new(Persisted::default(), 0);
 //! let mut link = AokLink::new(shared);

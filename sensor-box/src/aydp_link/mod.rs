@@ -254,8 +254,8 @@ impl AydpLink {
     /// ```
     /// use aydp_proto::{Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut shared = Shared::new(Persisted::default(), 0);
@@ -287,8 +287,8 @@ impl AydpLink {
     ///
     /// ```
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
