@@ -5,14 +5,16 @@
 //!
 //! ```text
 //!   application (main loop)                      UART interrupt handler
-//!   QueuedSerial::read(&mut buf) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!   QueuedSerial::receive(|bytes| ..) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!   (or read(&mut buf), a copy)
 //!   QueuedSerial::write(&frame)  --> TX ring -->  SerialIsr::send_while(room, put) / take_to_send
 //!                                --> kick() (pends the interrupt)
 //! ```
 //!
-//! The application's half speaks two interfaces: `embedded_io`'s `Read`, `ReadReady`,
-//! `Write` and `WriteReady` (slices: what the `sensor-box` links use, so the main loop drains
-//! the RX ring in bursts and hands whole frames to the TX ring), and `embedded_hal_nb`'s
+//! The application's half speaks three interfaces: [`Receive`](crate::port::Receive) (the
+//! links' RX: the received bytes lent in place, a run of the ring at a time, straight to the
+//! decoders), `embedded_io`'s `Read`, `ReadReady`, `Write` and `WriteReady` (slices: the links
+//! hand whole frames to the TX ring), and `embedded_hal_nb`'s
 //! byte-at-a-time `serial::Read<u8>` / `Write<u8>` (whose non-blocking `flush` the main
 //! loop calls after every poll).
 //!
@@ -379,6 +381,24 @@ impl<const RX: usize, const TX: usize> embedded_io::Read for QueuedSerial<'_, RX
     }
 }
 
+impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_, RX, TX> {
+    /// Lends `take` the oldest run of received bytes in the RX ring, in place (a read grant
+    /// up to the ring's end), and releases what it took. Kicks the interrupt when it had left
+    /// bytes in the UART for want of room (see [`SerialIsr::receive_while`]).
+    fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Infallible> {
+        let Ok(grant) = self.rx.read() else {
+            return Ok(0);
+        };
+        let n = take(&grant).min(grant.len());
+        grant.release(n);
+        add_local(&mut self.rx_taken, n);
+        if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
+            (self.kick)();
+        }
+        Ok(n)
+    }
+}
+
 impl<const RX: usize, const TX: usize> embedded_io::WriteReady for QueuedSerial<'_, RX, TX> {
     /// Whether the TX ring has room for a byte: then [`embedded_io::Write::write`] does not
     /// wait. When it is full the interrupt is kicked first (a batched port's bytes are
@@ -715,6 +735,23 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
             self.stats.rx_held.store(true, Ordering::Relaxed);
         }
         room
+    }
+
+    /// Whether the RX ring was found full and bytes were left in the UART, until the
+    /// application's next read takes some (and kicks the interrupt): a board stops its RX
+    /// interrupts meanwhile. One load, for the interrupt's RX-only path.
+    ///
+    /// ```
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// let mut uart = [1, 2, 3].into_iter().map(Ok);
+    /// isr.receive_while(|| uart.next());
+    /// assert!(isr.rx_held()); // the third byte is still in the UART
+    /// ```
+    pub fn rx_held(&self) -> bool {
+        self.stats.rx_held.load(Ordering::Relaxed)
     }
 
     /// Whether bytes are waiting to be sent (keep the TX interrupt enabled).

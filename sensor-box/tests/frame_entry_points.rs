@@ -201,9 +201,13 @@ fn aydp_frame_by_frame_equals_poll() {
         let stats = decoder.stats();
         let mut event = decoder.push(byte);
         while let Some(ev) = event {
-            if let Ok(frame) = ev {
-                b.handle_frame(&frame, &stats, 2, &mut b_port, &mut b_shared);
-            }
+            b.handle_frame(
+                ev.as_ref().map_err(|e| *e),
+                &stats,
+                2,
+                &mut b_port,
+                &mut b_shared,
+            );
             event = decoder.poll();
         }
     }

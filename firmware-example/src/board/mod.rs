@@ -19,6 +19,7 @@
 //! | `board-stm32f411` | `thumbv7em-none-eabihf`| `stm32f411.rs`   | `board/stm32f411.x`       |
 
 use core::cell::Cell;
+use core::sync::atomic::{AtomicBool, Ordering};
 use critical_section::Mutex;
 use firmware_example::Clock;
 
@@ -57,6 +58,33 @@ pub struct Board<S> {
 /// flash survives; the STM32's real flash survives anyway.
 pub fn reset() -> ! {
     cortex_m::peripheral::SCB::sys_reset()
+}
+
+// ------------------------------------------------------------ pending
+
+/// Per UART: its interrupt moved received bytes into the port since the main loop last looked
+/// (`sensor_box::App::poll_pending` runs that port's link only then, or when the link's own
+/// timer says so).
+static RECEIVED: [AtomicBool; 3] = [const { AtomicBool::new(false) }; 3];
+
+/// Called by UART `index`'s interrupt after it queued received bytes.
+pub fn mark_received(index: usize) {
+    if let Some(flag) = RECEIVED.get(index) {
+        flag.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Which UARTs received bytes since the last call (and clears the flags).
+pub fn take_received() -> [bool; 3] {
+    RECEIVED
+        .each_ref()
+        .map(|flag| flag.swap(false, Ordering::Relaxed))
+}
+
+/// Whether a UART received bytes the main loop has not looked at (the loop sleeps only when
+/// none did; call with interrupts off, so none can slip in before the `wfi`).
+pub fn any_received() -> bool {
+    RECEIVED.iter().any(|flag| flag.load(Ordering::Relaxed))
 }
 
 // ---------------------------------------------------------------- clock

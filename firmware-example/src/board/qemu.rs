@@ -57,6 +57,7 @@ const FBRD: usize = 0x028;
 const LCRH: usize = 0x02C;
 const CTL: usize = 0x030;
 const IMSC: usize = 0x038;
+const MIS: usize = 0x040;
 const ICR: usize = 0x044;
 const IFLS: usize = 0x034;
 /// FIFO interrupt levels: RX at 1/2 full (8 bytes; the receive-timeout interrupt takes the
@@ -237,13 +238,16 @@ fn service(index: usize) {
     let previous = budget::enter(Category::RxIrq);
     // SAFETY: valid PL011 registers; reads of DR pop the RX FIFO.
     unsafe {
+        // What raised the interrupt: nothing (the application pended it: a kick to send, or
+        // to take bytes it had left in the UART), RX / RX timeout, or TX FIFO room.
+        let mis = read_volatile(reg(base, MIS));
         write_volatile(reg(base, ICR), INT_RX | INT_RT | INT_TX);
         // Bytes stay in the PL011 FIFO while the RX queue is full: QEMU then stops reading
         // the socket, and nothing is dropped. The application's next read pends this
         // interrupt again (see `SerialIsr::rx_room`).
         // A TX interrupt finds the RX FIFO empty: no RX ring grant then.
         if read_volatile(reg(base, FR)) & FR_RXFE == 0 {
-            isr.receive_while(|| {
+            let n = isr.receive_while(|| {
                 if read_volatile(reg(base, FR)) & FR_RXFE != 0 {
                     return None;
                 }
@@ -254,6 +258,18 @@ fn service(index: usize) {
                     Ok(dr as u8)
                 })
             });
+            if n > 0 {
+                super::mark_received(index);
+            }
+        }
+        if mis & INT_TX == 0 && mis != 0 {
+            // RX only: the TX side has nothing new to do. A full RX queue stops RX
+            // interrupts until the application's next read kicks this handler.
+            if isr.rx_held() {
+                write_volatile(reg(base, IMSC), read_volatile(reg(base, IMSC)) & INT_TX);
+            }
+            budget::leave(previous);
+            return;
         }
         budget::leave(previous);
         let previous = budget::enter(Category::TxIrq);

@@ -260,13 +260,14 @@ fn isr_port<U: Instance>(
 /// moment DR is written and raises no TXE/TC interrupt, so in the simulated
 /// build (`qemu-stm32`) only the kick path runs: each queued byte pends the
 /// interrupt, and this handler finds TXE set and sends it at once.
-fn service<U: Instance>(port: &mut IsrPort<U>) {
+fn service<U: Instance>(index: usize, port: &mut IsrPort<U>) {
     // A few rounds at most: each read either returns a byte, clears an error
     // (the HAL reads DR), or says the register is empty.
     for _ in 0..4 {
         match port.rx.read() {
             Ok(b) => {
                 port.half.received(b);
+                super::mark_received(index);
             }
             Err(nb::Error::Other(_)) => port.half.receive_error(),
             Err(nb::Error::WouldBlock) => break,
@@ -288,7 +289,7 @@ fn service<U: Instance>(port: &mut IsrPort<U>) {
 fn USART2() {
     // SAFETY: only this handler touches PORT0 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT0)).as_mut() } {
-        service(p);
+        service(0, p);
     }
 }
 
@@ -296,7 +297,7 @@ fn USART2() {
 fn USART1() {
     // SAFETY: only this handler touches PORT1 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT1)).as_mut() } {
-        service(p);
+        service(1, p);
     }
 }
 
@@ -304,6 +305,6 @@ fn USART1() {
 fn USART6() {
     // SAFETY: only this handler touches PORT2 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT2)).as_mut() } {
-        service(p);
+        service(2, p);
     }
 }

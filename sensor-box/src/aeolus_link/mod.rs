@@ -74,12 +74,12 @@ mod commands;
 
 use crate::Shared;
 use crate::budget::{Category, span};
-use crate::port::{Received, TxQueue};
+use crate::port::{Receive, TxQueue};
 use crate::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use commands::{Incoming, incoming};
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{Write, WriteReady};
 
 /// Bytes of encoded frames the link queues for TX, in front of the port's own queue (512
 /// bytes on both boards). Each frame is handed to the port as soon as it is queued, so this
@@ -134,9 +134,12 @@ pub struct LinkCounters {
     pub settime_rejected: u32,
     /// Good frames of a type the box does not act on (TOAST, telemetry, LOG, ...).
     pub ignored: u32,
-    /// Frames the deframer rejected, or whose data did not parse.
+    /// Good frames whose data does not parse as their type (a COMMAND or SETTIME of the
+    /// wrong length, ...).
+    pub malformed: u32,
+    /// Frames the deframer dropped: every `Err` event (see [`crate::port`], "Receive errors").
     pub rx_errors: u32,
-    /// Errors reported by the port itself.
+    /// Errors reported by the port itself, on either side.
     pub port_errors: u32,
 }
 
@@ -156,8 +159,6 @@ impl LinkCounters {
 pub struct AeolusLink {
     telemetry: Telemetry,
     deframer: Decoder<RX_FRAME>,
-    /// Read from the port, not yet decoded (the TX queue had no room for one more answer).
-    rx: Received,
     tx: TxQueue<TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
@@ -165,6 +166,8 @@ pub struct AeolusLink {
     /// millisecond (every interrupt wakes it) and the schedule can only change when the
     /// millisecond does.
     scheduled_ms: Option<u64>,
+    /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
+    rx_more: bool,
     counters: LinkCounters,
 }
 
@@ -181,10 +184,10 @@ impl AeolusLink {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
             deframer: Decoder::new(),
-            rx: Received::new(),
             tx: TxQueue::new(),
             was_paused: false,
             scheduled_ms: None,
+            rx_more: false,
             counters: LinkCounters::default(),
         };
         link.toast(BOOT_TOAST.as_bytes());
@@ -192,7 +195,7 @@ impl AeolusLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
+    pub fn poll<P: Receive + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -200,6 +203,19 @@ impl AeolusLink {
     ) {
         span(Category::AeolusRx, || self.receive(now_ms, port, shared));
         self.poll_tx(now_ms, port, shared);
+    }
+
+    /// Whether a poll at `now_ms` has anything to do besides what the port received since the
+    /// last one: the schedule's first poll in a millisecond, TX bytes waiting for room in the
+    /// port, or received bytes left in the port by the last poll's [`RX_BUDGET`]. What
+    /// [`App::poll_pending`](crate::App::poll_pending) asks before it runs the link.
+    ///
+    /// ```
+    /// let mut link = sensor_box::aeolus_link::AeolusLink::new(0);
+    /// assert!(link.has_work(0)); // the boot TOAST waits
+    /// ```
+    pub fn has_work(&self, now_ms: u64) -> bool {
+        self.scheduled_ms != Some(now_ms) || self.rx_more || !self.tx.is_empty()
     }
 
     /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless
@@ -271,7 +287,7 @@ impl AeolusLink {
         shared: &mut Shared,
     ) {
         let incoming = frame.map_or(Incoming::Error, incoming);
-        self.handle(Some(incoming), now_ms, shared);
+        self.handle(incoming, now_ms, shared);
     }
 
     /// The link's counters.
