@@ -386,6 +386,10 @@ impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_,
     /// up to the ring's end), and releases what it took. Kicks the interrupt when it had left
     /// bytes in the UART for want of room (see [`SerialIsr::receive_while`]).
     fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Infallible> {
+        // Two loads say whether anything waits; the grant (atomics) only when it does.
+        if self.rx_pending() == 0 {
+            return Ok(0);
+        }
         let Ok(grant) = self.rx.read() else {
             return Ok(0);
         };

@@ -19,7 +19,7 @@
 //! | `board-stm32f411` | `thumbv7em-none-eabihf`| `stm32f411.rs`   | `board/stm32f411.x`       |
 
 use core::cell::Cell;
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicU8, Ordering};
 use critical_section::Mutex;
 use firmware_example::Clock;
 
@@ -62,29 +62,26 @@ pub fn reset() -> ! {
 
 // ------------------------------------------------------------ pending
 
-/// Per UART: its interrupt moved received bytes into the port since the main loop last looked
-/// (`sensor_box::App::poll_pending` runs that port's link only then, or when the link's own
-/// timer says so).
-static RECEIVED: [AtomicBool; 3] = [const { AtomicBool::new(false) }; 3];
+/// Bit `n` set: UART `n`'s interrupt moved received bytes into the port since the main loop
+/// last looked (`sensor_box::App::poll_pending` runs that port's link only then, or when the
+/// link's own timer says so). One byte, so the main loop takes all three flags in one swap.
+static RECEIVED: AtomicU8 = AtomicU8::new(0);
 
 /// Called by UART `index`'s interrupt after it queued received bytes.
 pub fn mark_received(index: usize) {
-    if let Some(flag) = RECEIVED.get(index) {
-        flag.store(true, Ordering::Relaxed);
-    }
+    RECEIVED.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
 }
 
 /// Which UARTs received bytes since the last call (and clears the flags).
 pub fn take_received() -> [bool; 3] {
-    RECEIVED
-        .each_ref()
-        .map(|flag| flag.swap(false, Ordering::Relaxed))
+    let bits = RECEIVED.swap(0, Ordering::Relaxed);
+    [bits & 1 != 0, bits & 2 != 0, bits & 4 != 0]
 }
 
 /// Whether a UART received bytes the main loop has not looked at (the loop sleeps only when
 /// none did; call with interrupts off, so none can slip in before the `wfi`).
 pub fn any_received() -> bool {
-    RECEIVED.iter().any(|flag| flag.load(Ordering::Relaxed))
+    RECEIVED.load(Ordering::Relaxed) != 0
 }
 
 // ---------------------------------------------------------------- clock

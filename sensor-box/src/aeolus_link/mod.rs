@@ -3,9 +3,9 @@
 //! Every [`AeolusLink::poll`] does three things, in this order, and never waits (a command
 //! acts on the telemetry of the same millisecond; [`RX_BUDGET`] bounds what RX may cost first):
 //!
-//! 1. **RX**: reads what the port has received (up to [`RX_BUDGET`] bytes, in reads of up to
-//!    [`RX_CHUNK`](crate::port::RX_CHUNK)), feeds it to an [`aeolus_proto::Decoder`] by
-//!    slice (`feed`), and acts on each complete frame:
+//! 1. **RX**: takes what the port has received (up to [`RX_BUDGET`] bytes, in the contiguous
+//!    slices the port lends: [`Receive`]), feeds them to an [`aeolus_proto::Decoder`] by slice
+//!    (`feed`), and acts on each complete frame:
 //!    * COMMAND `"a pause"`: telemetry stops ([`Shared::paused`]), TOAST `"AEOLUS paused"`;
 //!    * COMMAND `"a resume"`: telemetry starts over, TOAST `"AEOLUS resumed"`;
 //!    * COMMAND `"a reboot"`: TOAST `"AEOLUS rebooting"`, then [`Requests::reboot`] asks the
@@ -13,7 +13,9 @@
 //!    * any other COMMAND: TOAST `"unknown command: <the command>"`;
 //!    * SETTIME: stored in [`Shared::wall_clock`] with the arrival time, and logged (an
 //!      out-of-range date is counted and ignored);
-//!    * anything else is counted and ignored.
+//!    * a frame whose data does not parse is counted as malformed, anything else counted and
+//!      ignored; a frame the decoder drops is counted in `rx_errors` (the policy of
+//!      [`crate::port`]).
 //! 2. **Telemetry**: unless paused, the [`Kind`]s the [`Telemetry`] schedule says are due are
 //!    built from the simulated flight at `now_ms` and encoded into the TX queue.
 //! 3. **TX**: the TX queue (whole encoded frames, [`TX_QUEUE`] bytes) is drained into the port
@@ -26,8 +28,7 @@
 //! [`LinkCounters::tx_dropped`]), never cut; telemetry leaves [`TX_RESERVE`] bytes free so
 //! that answers (TOASTs) still fit when the UART cannot keep up, and RX decodes a byte only
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
-//! slowly the other side reads (the bytes wait in the port instead, and the rest of a read
-//! that was cut short waits in the link, see [`Received`]).
+//! slowly the other side reads (the bytes wait in the port instead).
 //!
 //! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
 //! UART0 receives (deframing, COMMAND, SETTIME).
@@ -236,16 +237,20 @@ impl AeolusLink {
     /// assert_eq!(link.counters().telemetry_total(), 10);
     /// ```
     pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
-        span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
-        span(Category::TxQueue, || {
-            drain(&mut self.tx, port, &mut self.counters)
-        });
+        // Within a millisecond already scheduled, and with nothing queued, there is nothing
+        // to do: a wake for received bytes costs the TX half two comparisons.
+        if self.scheduled_ms != Some(now_ms) || shared.paused != self.was_paused {
+            span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
+        }
+        if !self.tx.is_empty() {
+            span(Category::TxQueue, || {
+                drain(&mut self.tx, port, &mut self.counters)
+            });
+        }
     }
 
     fn queue_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
-        if self.scheduled_ms.replace(now_ms) == Some(now_ms) && !shared.paused && !self.was_paused {
-            return;
-        }
+        self.scheduled_ms = Some(now_ms);
         if shared.paused {
             self.was_paused = true;
         } else {
