@@ -67,9 +67,31 @@ pub fn reset() -> ! {
 /// link's own timer says so). One byte, so the main loop takes all three flags in one swap.
 static RECEIVED: AtomicU8 = AtomicU8::new(0);
 
+/// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
+/// [`WAKE_BYTES`] since its last wake); the next SysTick wakes it.
+static HELD: AtomicU8 = AtomicU8::new(0);
+
+/// Received bytes that wake a link at once; fewer wait for the next millisecond's SysTick, so a
+/// link takes a flood in runs of at least this many bytes (its cost per wake spread over them)
+/// and a lone command waits at most 1 ms.
+pub const WAKE_BYTES: usize = 64;
+
 /// Called by UART `index`'s interrupt after it queued received bytes.
 pub fn mark_received(index: usize) {
     RECEIVED.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
+}
+
+/// Called by UART `index`'s interrupt after it queued `n` received bytes, `since` of them
+/// (`n` included) since it last woke the link: wakes the link when they reach [`WAKE_BYTES`]
+/// (and returns 0, the new count), else leaves it to the next SysTick (and returns `since`).
+pub fn received(index: usize, since: usize) -> usize {
+    if since >= WAKE_BYTES {
+        mark_received(index);
+        0
+    } else {
+        HELD.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
+        since
+    }
 }
 
 /// Which UARTs received bytes since the last call (and clears the flags).
@@ -116,6 +138,11 @@ fn SysTick() {
         let c = MILLIS.borrow(cs);
         c.set(c.get().wrapping_add(1));
     });
+    // The links of UARTs with bytes below the wake threshold run in this millisecond.
+    let held = HELD.swap(0, Ordering::Relaxed);
+    if held != 0 {
+        RECEIVED.fetch_or(held, Ordering::Relaxed);
+    }
     sensor_box::budget::leave(previous);
 }
 

@@ -12,7 +12,7 @@
 use super::{Board, start_systick};
 use core::mem::MaybeUninit;
 use core::ptr::{addr_of_mut, read_volatile, write_volatile};
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
 use firmware_example::serial::Ring;
@@ -139,6 +139,10 @@ static mut FLASH_EMU: MaybeUninit<[u8; 4096]> = MaybeUninit::uninit();
 
 static TAKEN: AtomicBool = AtomicBool::new(false);
 
+/// Per UART: bytes received since the interrupt last woke the link (see `board::received`).
+/// Only that UART's interrupt touches its entry.
+static UNWOKEN: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
+
 fn reg(base: usize, offset: usize) -> *mut u32 {
     (base + offset) as *mut u32
 }
@@ -258,8 +262,11 @@ fn service(index: usize) {
                     Ok(dr as u8)
                 })
             });
-            if n > 0 {
-                super::mark_received(index);
+            if n > 0
+                && let Some(since) = UNWOKEN.get(index)
+            {
+                let total = since.load(Ordering::Relaxed).saturating_add(n);
+                since.store(super::received(index, total), Ordering::Relaxed);
             }
         }
         if mis & INT_TX == 0 && mis != 0 {
