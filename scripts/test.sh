@@ -61,7 +61,7 @@ summary() {
   local passed failed qemu fuzz_targets fuzz_execs fuzz_crashes
   passed=$(count passed)
   failed=$(count failed)
-  qemu=$(count passed 'qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu')
+  qemu=$(count passed 'qemu_firmware|protolink_e2e|protolink_help|soak|realtime_flood|capture_qemu|web_qemu')
   # fuzz.sh's table: "target executions crashes", one line per target.
   read -r fuzz_targets fuzz_execs fuzz_crashes < <(awk '
     $1 == "target" && $2 == "executions" { t = 1; next }
@@ -69,7 +69,7 @@ summary() {
     END { printf "%d %d%s %d\n", n, e, (u ? "+" : ""), c }' "$fuzz_log")
   printf '\n==> summary (%s in all)\n' "$(secs $(($(now_ms) - run_start)))"
   printf '%s\n' "${timings[@]}"
-  echo "QEMU tests run: $qemu passed (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs)"
+  echo "QEMU tests run: $qemu passed (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, realtime_flood.rs, capture_qemu.rs, web_qemu.rs)"
   if [ "$fuzz_targets" -gt 0 ]; then
     echo "fuzz: $fuzz_execs executions over $fuzz_targets targets, $fuzz_crashes crashes"
   else

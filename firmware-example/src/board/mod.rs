@@ -76,8 +76,8 @@ static HELD: AtomicU8 = AtomicU8::new(0);
 /// and a lone command waits at most 1 ms.
 pub const WAKE_BYTES: usize = 64;
 
-/// Called by UART `index`'s interrupt after it queued received bytes.
-pub fn mark_received(index: usize) {
+/// Marks UART `index`'s link to run at the next main-loop pass.
+fn mark_received(index: usize) {
     RECEIVED.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
 }
 

@@ -3,7 +3,7 @@
 //!
 //! # What arrives
 //!
-//! The port lends its received bytes a slice at a time ([`Receive`](crate::port::Receive), at
+//! The port lends its received bytes a slice at a time ([`crate::port::Receive`], at
 //! most [`RX_BUDGET`] a poll), and a byte is decoded only while the TX queue has room for one
 //! longest reply (the rest waits in the port). Every received byte goes through an [`aydp_proto::Decoder`]
 //! by `push`, not the slice path `feed`: a request for [`addr::LINK_COUNTERS`] reports the
