@@ -206,7 +206,9 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
     let aok_commands = aok_writer.join().expect("UART2 writer");
     let flood_to = q.uart0.frames.len();
     // The answers to the last commands: what the box had not yet taken waits in QEMU's
-    // sockets (back-pressure), so it keeps coming for a while after the flood.
+    // sockets (back-pressure), so it keeps coming for a while after the flood (on a shared
+    // 2-core host the box took about 35 KB/s of each UART's 92 KB/s: the backlog of a flood
+    // takes about twice its length).
     let answered = |q: &Qemu| {
         q.uart0
             .frames
@@ -219,7 +221,7 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
     while (answered(&q) < aeolus_commands
         || aydp_replies.load(Ordering::Relaxed) < aydp_commands
         || aok_replies.load(Ordering::Relaxed) < aok_commands)
-        && backlog.elapsed() < Duration::from_secs(60)
+        && backlog.elapsed() < Duration::from_secs(30 + 3 * seconds)
     {
         q.uart0.read_for(Duration::from_millis(100));
     }
@@ -246,13 +248,19 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
         frames.len()
     );
     let mut gaps = Vec::new();
-    // AEOLUSINFO carries no timestamp: its frames are counted instead (one a second).
-    let info = frames.iter().filter(|f| f.id == 51).count() as u64;
-    println!("AEOLUSINFO: {info:5} frames");
-    assert!(
-        info + 1 >= seconds,
-        "AEOLUSINFO: {info} frames in {seconds} s"
-    );
+    // AEOLUSINFO carries no timestamp: its frames are counted against the span of the box's
+    // clock the GYRO timestamps cover (one a second).
+    let gyro: Vec<f64> = frames
+        .iter()
+        .filter(|f| f.id == 62)
+        .filter_map(Frame::timestamp)
+        .collect();
+    let span_s = (gyro.last().unwrap_or(&0.0) - gyro.first().unwrap_or(&0.0)) / 1000.0;
+    let info = frames.iter().filter(|f| f.id == 51).count() as f64;
+    println!("AEOLUSINFO: {info:5} frames in {span_s:.1} s of the box's clock");
+    if info + 1.0 < span_s.floor() {
+        gaps.push(("AEOLUSINFO", info));
+    }
     for p in TELEMETRY.iter().filter(|p| p.id != 51) {
         let ts: Vec<f64> = frames
             .iter()
