@@ -215,6 +215,89 @@ def table(r, label):
     return out, busy, notes
 
 
+def net_rates(r):
+    """Per category: (instructions / s net of the account's switches, spans / s)."""
+    ipc, sw, secs = r["ipc"], r["switch"], r["window_ms"] / 1000
+    return {name: (max(counts * ipc - sw * (entries + nested), 0.0) / secs, entries / secs)
+            for name, (counts, entries, nested) in r["cat"].items()}
+
+
+# Instructions of the QEMU board's RX interrupt per received byte inside `receive_while`'s
+# loop (FR read and test, DR read, error test, store, count, bound check, branch), counted in
+# `arm-none-eabi-objdump -d` of the cpu-budget build's `service`; see docs/BENCHMARKS.md.
+IRQ_LOOP = 15
+
+# Issue 29's targets, per received byte in the flood scenario and per wake of an idle link.
+TARGET_LINK, TARGET_BOX, TARGET_IRQ, TARGET_IDLE_WAKE = 20, 40, 10, 20
+# The real part's RX FIFO interrupt level (IFLS: 1/2 full, 8 of 16 bytes; QEMU ignores it).
+FIFO_LEVEL = 8
+
+
+def per_byte(r, u, irq_loop):
+    """The flood's figures per received byte and per wake, against the targets. `irq_loop`:
+    instructions of the RX interrupt's per-byte loop (from the disassembly), to split its
+    cost into a fixed part per interrupt and a part per byte."""
+    secs = r["window_ms"] / 1000
+    rate = net_rates(r)
+    rx = r["uart"][u][0] / secs
+    if rx <= 0:
+        return ["No byte was received in the window."]
+    busy = sum(v for k, (v, _) in rate.items() if k != "idle")
+    link = rate.get("aeolus-rx", (0, 0))[0] if u == 0 else rate.get(["", "aydp", "aok"][u], (0, 0))[0]
+    irq, irqs = rate.get("rx-irq", (0, 0))
+    wakes = rate.get("idle", (0, 0))[1]
+    fixed = max(irq - irq_loop * rx, 0.0) / irqs if irqs else 0.0
+    amortised = fixed / FIFO_LEVEL + irq_loop
+    verdict = lambda v, t: f"{'met' if v <= t else 'missed'} (target at most {t})"
+    name = ["the AEOLUS link (read, decode, handle)", "the AYDP link", "the AOK link"][u]
+    out = [f"Per received byte ({rx:,.0f} B/s of the box's clock; {irqs:,.0f} RX interrupts/s, "
+           f"{rx / irqs if irqs else 0:.1f} bytes each; {wakes:,.0f} main-loop wakes/s, "
+           f"{rx / wakes if wakes else 0:.1f} bytes each):", ""]
+    out.append(f"- {name}: **{link / rx:.1f}** instructions per byte: {verdict(link / rx, TARGET_LINK)}.")
+    out.append(f"- the whole box: **{busy / rx:.1f}** per byte (busy {busy:,.0f}/s, telemetry included): "
+               f"{verdict(busy / rx, TARGET_BOX)}; without the quiet load (the same categories "
+               f"less the quiet run's busy) see the table below.")
+    out.append(f"- the RX interrupt: **{irq / rx:.1f}** per byte as QEMU raises it ({rx / irqs if irqs else 0:.1f} "
+               f"bytes per interrupt; QEMU's PL011 ignores the FIFO level); split with the per-byte loop of "
+               f"{irq_loop} instructions (disassembly of `service`): {fixed:.0f} per interrupt plus {irq_loop} "
+               f"per byte, so **{amortised:.1f}** per byte amortised at the real part's level of "
+               f"{FIFO_LEVEL} bytes per interrupt: {verdict(amortised, TARGET_IRQ)}.")
+    for other in ("aeolus-rx", "aydp", "aok"):
+        if other == ("aeolus-rx", "aydp", "aok")[u]:
+            continue
+        v, spans = rate.get(other, (0, 0))
+        out.append(f"- {other} (no byte received): ran {spans:,.0f} times/s for its own timer, "
+                   f"{v / spans if spans else 0:,.0f} instructions a run; on the other "
+                   f"{max(wakes - spans, 0):,.0f} wakes/s it is not run (its `has_work` test, in "
+                   f"\"other\")")
+    return out
+
+
+def real_part(quiet, r, u, irq_loop):
+    """What the flood would cost a real 50 MHz Cortex-M3 at the true line rate, from this run's
+    per-byte and per-interrupt figures (the real PL011 interrupts once per FIFO_LEVEL bytes)."""
+    secs = r["window_ms"] / 1000
+    rate, q = net_rates(r), net_rates(quiet)
+    rx = r["uart"][u][0] / secs
+    line = BAUD[u] / 10
+    irq, irqs = rate.get("rx-irq", (0, 0))
+    fixed = max(irq - irq_loop * rx, 0.0) / irqs if irqs else 0.0
+    link_cat = ("aeolus-rx", "aydp", "aok")[u]
+    link = (rate.get(link_cat, (0, 0))[0] - q.get(link_cat, (0, 0))[0]) / rx
+    other_wake = (rate.get("other", (0, 0))[0] - q.get("other", (0, 0))[0]) / max(
+        rate.get("idle", (0, 0))[1] - q.get("idle", (0, 0))[1], 1)
+    interrupts = line / FIFO_LEVEL
+    flood = line * (link + irq_loop) + interrupts * (fixed + other_wake)
+    quiet_busy = sum(v for k, (v, _) in q.items() if k != "idle")
+    total = flood + quiet_busy
+    return (f"**On a real part** (50 MHz Cortex-M3, UART{u} flooded at its true line rate, {line:,.0f} B/s, "
+            f"an RX interrupt and a main-loop wake per {FIFO_LEVEL} bytes: {interrupts:,.0f}/s), from this run's "
+            f"figures: {line:,.0f} x ({link:.1f} link + {irq_loop} interrupt loop) + {interrupts:,.0f} x "
+            f"({fixed:.0f} interrupt entry + {other_wake:.0f} main-loop glue per wake) = {flood / 1e6:.2f} M "
+            f"instructions/s for the flood, plus {quiet_busy / 1e6:.2f} M for the quiet load: "
+            f"{100 * total / CORE_HZ_REFERENCE:.1f} % of 50 MHz.")
+
+
 def telemetry_line(r, base=None):
     secs = r["window_ms"] / 1000
     parts = []
@@ -260,6 +343,8 @@ def main():
     ap.add_argument("--no-flood", action="store_true")
     ap.add_argument("--no-realtime", action="store_true")
     ap.add_argument("--elf", help="a cpu-budget build to run instead of building one")
+    ap.add_argument("--irq-loop", type=int, default=IRQ_LOOP,
+                    help="instructions of the RX interrupt's per-byte loop (disassembly)")
     a = ap.parse_args()
     port = int(os.environ.get("BUDGET_PORT", "17800"))
     elf = a.elf or build("cpu-budget", a.seconds)
@@ -289,6 +374,8 @@ def main():
               f"arrival follows the host: not deterministic). {sent} bytes sent.\n")
         print("\n".join(rows))
         print(f"\n{notes} Telemetry: {telemetry_line(fl, quiet[0])}.\n")
+        print("\n".join(per_byte(fl, u, a.irq_loop)) + "\n")
+        print(real_part(quiet[0], fl, u, a.irq_loop) + "\n")
         if not a.no_realtime:
             tel, rx, sent = realtime_flood(port + 20, u, a.seconds)
             if len(tel) >= 2:

@@ -498,7 +498,7 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
     }) else {
         return PL_E_NULL;
     };
-    *out = stats_c(d.stats());
+    *out = stats_c(&d.stats());
     0
 }
 
@@ -680,7 +680,7 @@ pub unsafe extern "C" fn pl_aok_pc_get_stats(
     }) else {
         return PL_E_NULL;
     };
-    *out = stats_c(d.stats());
+    *out = stats_c(&d.stats());
     0
 }
 

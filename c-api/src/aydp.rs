@@ -551,7 +551,7 @@ pub unsafe extern "C" fn pl_aydp_parse(
         return PL_E_NULL;
     };
     *used = 0;
-    if d.has_pending()
+    if d.held_bytes() > 0
         && let Some(event) = d.poll()
     {
         return deliver(event, msg, err);

@@ -412,6 +412,7 @@ fn body_of(m: &Message<'_>) -> (u8, pl_gdl90_body) {
 fn error(e: Error) -> pl_error {
     match e {
         Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
+        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
         Error::ChecksumMismatch {
             id,
             computed,

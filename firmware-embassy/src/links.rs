@@ -164,7 +164,7 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
         match reader.read_frame().await {
             Ok(frame) => {
                 // Back-pressure: a flood of requests waits here (the DMA ring goes on
-                // filling) rather than in the link's retry loop.
+                // filling) rather than its replies being dropped by the link's TX queue.
                 while shared.with(|a| a.aydp_tx.tx_space()).unwrap_or(0) < AYDP_ROOM {
                     Timer::after_micros(ROOM_POLL_US).await;
                 }
@@ -172,11 +172,16 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
                 shared.with(|a| {
                     let Application { app, aydp_tx, .. } = a;
                     app.aydp
-                        .handle_frame(&frame, &stats, now, aydp_tx, &mut app.shared);
+                        .handle_frame(Ok(&frame), &stats, now, aydp_tx, &mut app.shared);
                 });
             }
             Err(aydp_proto::IoError::Protocol(e)) => {
-                defmt::debug!("AYDP: dropped a candidate: {}", e)
+                let now = now_ms();
+                shared.with(|a| {
+                    let Application { app, aydp_tx, .. } = a;
+                    app.aydp
+                        .handle_frame(Err(e), &stats, now, aydp_tx, &mut app.shared);
+                });
             }
             Err(aydp_proto::IoError::Transport(_)) => {
                 errors.bump();

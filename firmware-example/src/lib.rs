@@ -7,14 +7,12 @@
 //!
 //! * [`clock`]: the [`Clock`] trait (a monotonic millisecond clock) and a
 //!   [`ManualClock`] for host tests and simulations;
-//! * [`serial`]: [`QueuedSerial`], the serial port type the application sees on
-//!   every board. It implements `embedded_io`'s `Read`, `ReadReady`, `Write`
-//!   and `WriteReady` (slices: what the links use) and
-//!   `embedded_hal_nb::serial::{Read, Write}` (bytes) over two `bbqueue` rings ([`serial::Ring`]); the other ends ([`SerialIsr`]) belong to the
-//!   board's UART interrupt handler;
-//! * [`storage`]: `embedded-storage` NOR flash over a byte slice ([`MemFlash`],
-//!   the QEMU board's flash store and the host tests' store) and a
-//!   [`FlashWindow`] that gives a sub-range of a bigger flash.
+//! * [`serial`] and [`storage`], re-exported from `sensor-box` (where they live, so that
+//!   the box's own tests use them without depending on this crate): [`QueuedSerial`],
+//!   the serial port type the application sees on every board (two `bbqueue` rings; the
+//!   other ends, [`SerialIsr`], belong to the board's UART interrupt handler), and
+//!   [`MemFlash`] / [`FlashWindow`], NOR flash over a byte slice and a sub-range of a
+//!   bigger flash.
 //!
 //! The boards themselves (`src/board/qemu.rs`, `src/board/stm32f411.rs`) and
 //! the `sensor-box` binary live in the binary target: all `unsafe` of the
@@ -38,11 +36,8 @@
 #![deny(missing_docs)]
 
 pub mod clock;
-mod error;
-pub mod serial;
-pub mod storage;
+pub use sensor_box::{serial, storage};
 
 pub use clock::{Clock, ManualClock};
-pub use error::Error;
 pub use serial::{PortStats, QueuedSerial, SerialIsr};
-pub use storage::{FlashWindow, MemFlash};
+pub use storage::{Error, FlashWindow, MemFlash};

@@ -9,9 +9,10 @@
 //!    flash store;
 //! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
 //!    warning if the store is missing or corrupt) and queues the boot TOAST;
-//! 3. the main loop: `App::poll` with the three ports as often as there is
-//!    something to do (the CPU sleeps in `wfi` until the next interrupt: the
-//!    1 ms SysTick or a UART), then a `flush` of each port (on the QEMU board
+//! 3. the main loop: `App::poll_pending` with the three ports after every
+//!    wake (the CPU sleeps in `wfi` until the next interrupt: the 1 ms SysTick
+//!    or a UART); only the links whose UART received, or whose own timer is
+//!    due, run; then a `flush` of each port (on the QEMU board
 //!    that starts one TX interrupt per burst instead of one per byte), a warm
 //!    reset when a link asks for one, and every 5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
 //!    (cortex-m-rt paints the stack before `main`) and the UART counters.
@@ -68,7 +69,11 @@ mod run {
         let mut budget = crate::budget_run::Run::new(clock.now_ms());
         loop {
             let now = clock.now_ms();
-            let control = app.poll(now, &mut uart0, &mut uart1, &mut uart2, &mut store);
+            // Only the links with work run: the UARTs that received, and the timers due.
+            let received = board::take_received();
+            let control = app.poll_pending(
+                now, received, &mut uart0, &mut uart1, &mut uart2, &mut store,
+            );
             // The burst of this poll goes to the UARTs in one interrupt each (the ports are
             // `batched` on the QEMU board; elsewhere the kick is redundant).
             for port in [&mut uart0, &mut uart1, &mut uart2] {
@@ -85,7 +90,16 @@ mod run {
             }
             #[cfg(feature = "cpu-budget")]
             budget.poll(now, &app, [&uart0, &uart1, &uart2]);
-            sensor_box::budget::span(sensor_box::budget::Category::Idle, cortex_m::asm::wfi);
+            // Sleep unless a UART received while the links ran (interrupts off for the check:
+            // one that arrives after it still ends the `wfi`, and runs when they are back on).
+            cortex_m::interrupt::free(|_| {
+                if !board::any_received() {
+                    sensor_box::budget::span(
+                        sensor_box::budget::Category::Idle,
+                        cortex_m::asm::wfi,
+                    );
+                }
+            });
         }
     }
 

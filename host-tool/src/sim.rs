@@ -19,8 +19,9 @@ use std::time::{Duration, Instant};
 
 use aeolus_proto::FLAG;
 use clap::Args;
-use embedded_io::{ErrorType, Read, ReadReady, Write, WriteReady};
+use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{AeolusLink, LinkCounters};
+use sensor_box::port::Receive;
 use sensor_box::telemetry::Kind;
 use sensor_box::{Persisted, Settings, Shared};
 use serde_json::{Map, Value, json};
@@ -98,20 +99,18 @@ impl ErrorType for DatagramPort {
     type Error = Infallible;
 }
 
-impl ReadReady for DatagramPort {
-    fn read_ready(&mut self) -> std::result::Result<bool, Infallible> {
-        Ok(!self.rx.is_empty())
-    }
-}
-
-impl Read for DatagramPort {
-    /// What was received, as much as fits; the link only reads when [`ReadReady`] said so
-    /// (with nothing received this returns 0 rather than wait: nothing more would come).
-    fn read(&mut self, buf: &mut [u8]) -> std::result::Result<usize, Infallible> {
-        let n = buf.len().min(self.rx.len());
-        for (slot, byte) in buf.iter_mut().zip(self.rx.drain(..n)) {
-            *slot = byte;
+impl Receive for DatagramPort {
+    /// What was received, lent in place (the queue made contiguous first).
+    fn receive(
+        &mut self,
+        take: impl FnOnce(&[u8]) -> usize,
+    ) -> std::result::Result<usize, Infallible> {
+        if self.rx.is_empty() {
+            return Ok(0);
         }
+        let bytes = self.rx.make_contiguous();
+        let n = take(bytes).min(bytes.len());
+        self.rx.drain(..n);
         Ok(n)
     }
 }
@@ -330,6 +329,7 @@ impl Sim {
             "settime": c.settime,
             "settime_rejected": c.settime_rejected,
             "rx_errors": c.rx_errors,
+            "malformed": c.malformed,
             "reboots": self.reboots,
             "datagrams_dropped": self.dropped,
         })
@@ -348,6 +348,7 @@ fn add_counters(into: &mut LinkCounters, c: &LinkCounters) {
         (&mut into.settime, c.settime),
         (&mut into.settime_rejected, c.settime_rejected),
         (&mut into.ignored, c.ignored),
+        (&mut into.malformed, c.malformed),
         (&mut into.rx_errors, c.rx_errors),
         (&mut into.port_errors, c.port_errors),
     ];

@@ -1,7 +1,7 @@
 //! The sensor box's behaviour: AEOLUS telemetry on UART0, AYDP on UART1, AOK on UART2.
 //!
 //! This crate is the box, without a board: it is generic over the serial ports
-//! (`embedded_io::{Read, ReadReady, Write, WriteReady}`, used without waiting: see [`port`]),
+//! ([`port::Receive`] and `embedded_io::{Write, WriteReady}`, used without waiting: see [`port`]),
 //! a flash store
 //! (`embedded_storage::nor_flash::NorFlash`) and the time (`now_ms`, passed in), so the same
 //! code runs on every board (`firmware-example`'s QEMU and STM32F411 boards, `firmware-embassy`),
@@ -17,11 +17,15 @@
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
 //! - [`port`]: reading received bytes in slices and queueing whole frames for transmit, the
 //!   same way on every link.
+//! - [`serial`] (feature `bbqueue`, on by default): `QueuedSerial`, the interrupt-driven port
+//!   of the blocking boards, and [`storage`]: `MemFlash`, NOR flash over a byte slice. The
+//!   boards use them, and so do this crate's tests and examples.
 //! - [`budget`]: where the CPU goes (per-category accounting, feature `cpu-budget`).
 //! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
 //!   (feature `defmt`) and compile to nothing on the host.
 //!
-//! The main loop calls [`App::poll`] as often as it can; the flash is written only from there.
+//! The main loop calls [`App::poll_pending`] (or [`App::poll`]) after every wake; the flash is
+//! written only from there.
 //!
 //! Features: `defmt` (log through defmt on `target_os = "none"`, `defmt::Format` on the
 //! public types); `hardware-lm3s6965evb` and `hardware-stm32f411` name the board in AYDP
@@ -37,13 +41,17 @@ pub mod budget;
 pub mod log;
 pub mod persist;
 pub mod port;
+#[cfg(feature = "bbqueue")]
+pub mod serial;
 pub mod state;
+pub mod storage;
 pub mod telemetry;
 
 pub use state::{Persisted, Settings, Shared};
 
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{Write, WriteReady};
 use embedded_storage::nor_flash::NorFlash;
+use port::Receive;
 
 /// Re-exported for the logging macros; not part of the API.
 #[doc(hidden)]
@@ -87,8 +95,9 @@ impl App {
         }
     }
 
-    /// Runs every link once: reads what arrived, answers, and sends what is due at `now_ms`.
-    /// Writes the flash when a link asked for it.
+    /// Runs every link once: decodes what arrived, answers, and sends what is due at
+    /// `now_ms`. Writes the flash when a link asked for it. [`App::poll_pending`] with every
+    /// port marked as having received.
     pub fn poll<U0, U1, U2, F>(
         &mut self,
         now_ms: u64,
@@ -98,20 +107,73 @@ impl App {
         flash: &mut F,
     ) -> Control
     where
-        U0: Read + ReadReady + Write + WriteReady,
-        U1: Read + ReadReady + Write + WriteReady,
-        U2: Read + ReadReady + Write + WriteReady,
+        U0: Receive + Write + WriteReady,
+        U1: Receive + Write + WriteReady,
+        U2: Receive + Write + WriteReady,
+        F: NorFlash,
+    {
+        self.poll_pending(now_ms, [true; 3], uart0, uart1, uart2, flash)
+    }
+
+    /// Runs only the links that have work: the link of each port whose `received` flag is set
+    /// (the board's UART interrupt sets it when it moved bytes into the port), and any link
+    /// whose own timer is due, whose TX queue is waiting for room, or that left received bytes
+    /// in its port ([`AeolusLink::has_work`](aeolus_link::AeolusLink::has_work) and its
+    /// twins). A wake caused by one UART costs the other links a few comparisons. Writes the
+    /// flash when a link asked for it.
+    ///
+    /// ```
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// use sensor_box::storage::MemFlash;
+    /// use sensor_box::App;
+    /// let (r, t) = ([const { Ring::<64>::new() }; 3], [const { Ring::<512>::new() }; 3]);
+    /// let s = [const { PortStats::new() }; 3];
+    /// let (mut u0, _i0) = QueuedSerial::split(&r[0], &t[0], &s[0], || {});
+    /// let (mut u1, _i1) = QueuedSerial::split(&r[1], &t[1], &s[1], || {});
+    /// let (mut u2, _i2) = QueuedSerial::split(&r[2], &t[2], &s[2], || {});
+    /// let mut mem = [0xFFu8; 4096];
+    /// let mut flash = MemFlash::new(&mut mem);
+    /// let mut app = App::new(&mut flash, 0);
+    /// app.poll_pending(0, [false; 3], &mut u0, &mut u1, &mut u2, &mut flash); // boot: all due
+    /// assert!(!app.aydp.has_work(1)); // the next heartbeat is due at 1000
+    /// assert!(!app.aok.has_work(1)); // the next debug value at 20
+    /// assert!(app.aeolus.has_work(1)); // the schedule runs every millisecond
+    /// ```
+    pub fn poll_pending<U0, U1, U2, F>(
+        &mut self,
+        now_ms: u64,
+        received: [bool; 3],
+        uart0: &mut U0,
+        uart1: &mut U1,
+        uart2: &mut U2,
+        flash: &mut F,
+    ) -> Control
+    where
+        U0: Receive + Write + WriteReady,
+        U1: Receive + Write + WriteReady,
+        U2: Receive + Write + WriteReady,
         F: NorFlash,
     {
         use budget::{Category, span};
-        self.aeolus.poll(now_ms, uart0, &mut self.shared);
-        span(Category::Aydp, || {
-            self.aydp.poll(now_ms, uart1, &mut self.shared)
-        });
-        span(Category::Aok, || {
-            self.aok.poll(now_ms, uart2, &mut self.shared)
-        });
-        self.service_requests(flash)
+        let [rx0, rx1, rx2] = received;
+        if rx0 || self.aeolus.has_work(now_ms) {
+            self.aeolus.poll(now_ms, uart0, &mut self.shared);
+        }
+        if rx1 || self.aydp.has_work(now_ms) {
+            span(Category::Aydp, || {
+                self.aydp.poll(now_ms, uart1, &mut self.shared)
+            });
+        }
+        if rx2 || self.aok.has_work(now_ms) {
+            span(Category::Aok, || {
+                self.aok.poll(now_ms, uart2, &mut self.shared)
+            });
+        }
+        if self.shared.requests.store || self.shared.requests.reboot {
+            self.service_requests(flash)
+        } else {
+            Control::Run
+        }
     }
 
     /// What the links asked the main loop for, done after they ran: writes the flash when a
@@ -120,7 +182,7 @@ impl App {
     /// `firmware-embassy` does) calls it after them.
     ///
     /// ```
-    /// use firmware_example::MemFlash;
+    /// use sensor_box::storage::MemFlash;
     /// use sensor_box::{App, Control};
     /// let mut mem = [0xFFu8; 4096];
     /// let mut flash = MemFlash::new(&mut mem);

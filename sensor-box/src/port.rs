@@ -1,84 +1,108 @@
-//! What every link does with its serial port: read what has arrived in slices, and queue whole
-//! frames for transmit.
+//! What every link does with its serial port: decode what has arrived in place, a contiguous
+//! slice at a time, and queue whole frames for transmit.
 //!
-//! The links take their ports through `embedded_io`'s non-blocking pair of traits:
-//! [`ReadReady`] + [`Read`] to receive and [`WriteReady`] + [`Write`] to send. `read` and
-//! `write` may wait in `embedded_io` (until one byte has arrived, or there is room for one);
-//! the links never let them: they call `read` only after `read_ready()` said `true`, and
-//! `write` only after `write_ready()` did. A port that has bytes hands them over as one slice
-//! (a `QueuedSerial` drains its RX queue in one pass), and a frame goes to the port in one
-//! `write` of the whole frame.
+//! The links take their ports through two traits: [`Receive`] to take received bytes in
+//! place (a ring-buffered port lends the run of its ring that holds them: no copy, no call
+//! per byte), and `embedded_io`'s [`WriteReady`] + [`Write`] to send. `write` may wait in
+//! `embedded_io` (until there is room for one byte); the links never let it: they call `write`
+//! only after `write_ready()` said `true`. A frame goes to the port in one `write` of the
+//! whole frame, from the link's [`TxQueue`] (encoded frames waiting for room in the port;
+//! whole frames in, any number of bytes out), the one TX path of every link.
 //!
-//! * [`Received`]: the bytes of one read, held by the link until it has decoded them. A link
-//!   that stops decoding in the middle of a read (its TX queue cannot take one more longest
-//!   answer) keeps the rest here and decodes it first on the next poll, so no byte is lost
-//!   and the port keeps the bytes after them (back-pressure).
-//! * [`TxQueue`]: encoded frames waiting for room in the port; whole frames in, any number
-//!   of bytes out.
+//! **Back-pressure.** A link decodes received bytes only while its TX queue has room for the
+//! longest answer they could complete; the bytes it did not decode stay in the port (which
+//! holds them in its ring, and then in the UART), so no answer is dropped for want of room and
+//! no received byte is lost in the link.
 //!
-//! A port error on either side is counted by the link and ends that side of the poll.
+//! **Receive errors, one policy for the three links.** Every link counts, under the same
+//! names in its counters:
+//! * `rx_errors`: every `Err` event its decoder delivers (a candidate frame dropped: bad
+//!   check, bad length, bad escape, a frame cut short, ...). The decoder's own `Stats` say
+//!   which; the link counts events, never differences of counters.
+//! * `port_errors`: every error the port itself reports, on either side. A port error ends
+//!   that side of the poll; the next poll tries again.
+//!
+//! A frame whose check is good but whose data does not parse as its type is not a receive
+//! error: the AEOLUS and AYDP links count it as `malformed`.
 
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{ErrorType, Write, WriteReady};
 
-/// The most bytes one read takes from a port (a stack buffer's worth).
-pub const RX_CHUNK: usize = 64;
-
-/// Bytes read from a port and not yet decoded (at most [`RX_CHUNK`]).
-#[derive(Debug, Clone)]
-pub struct Received {
-    buf: [u8; RX_CHUNK],
-    at: usize,
-    end: usize,
-}
-
-impl Default for Received {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl Received {
-    /// Nothing held.
-    pub const fn new() -> Self {
-        Received {
-            buf: [0; RX_CHUNK],
-            at: 0,
-            end: 0,
-        }
-    }
-
-    /// The bytes read and not yet decoded.
+/// A port that lends the bytes it has received, in place: the receive side of every link.
+///
+/// A ring-buffered port (`serial::QueuedSerial`) lends the contiguous run of its ring that
+/// holds the oldest received bytes; the bytes after a wrap of the ring come with the next call.
+pub trait Receive: ErrorType {
+    /// Calls `take` with the oldest received bytes not yet taken (one contiguous slice, not
+    /// empty) and drops from the port as many of them as `take` returns; the count dropped.
+    /// When nothing has arrived, `take` is not called and the count is 0. Never waits.
     ///
     /// ```
-    /// let r = sensor_box::port::Received::new();
-    /// assert!(r.pending().is_empty());
+    /// use sensor_box::port::Receive;
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    /// for b in *b"abc" {
+    ///     isr.received(b);
+    /// }
+    /// assert_eq!(port.receive(|bytes| {
+    ///     assert_eq!(bytes, b"abc");
+    ///     2 // "c" stays in the port
+    /// }), Ok(2));
+    /// assert_eq!(port.receive(|bytes| bytes.len()), Ok(1));
+    /// assert_eq!(port.receive(|_| unreachable!()), Ok(0));
     /// ```
-    pub fn pending(&self) -> &[u8] {
-        self.buf.get(self.at..self.end).unwrap_or(&[])
-    }
+    fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error>;
+}
 
-    /// Marks the first `n` pending bytes decoded.
-    pub fn consume(&mut self, n: usize) {
-        self.at = self.at.saturating_add(n).min(self.end);
+impl<P: Receive> Receive for &mut P {
+    fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error> {
+        (**self).receive(take)
     }
+}
 
-    /// When nothing is pending, reads what `port` has received (at most `max` bytes, and
-    /// [`RX_CHUNK`]) without waiting; the count read (0: something was still pending, or
-    /// nothing had arrived).
-    pub fn refill<P: Read + ReadReady>(
-        &mut self,
-        port: &mut P,
-        max: usize,
-    ) -> Result<usize, P::Error> {
-        if self.at < self.end || max == 0 || !port.read_ready()? {
-            return Ok(0);
+/// Takes received bytes from `port` in slices, at most `budget` of them, handing each slice
+/// to `decode`, which returns how many it decoded (fewer than it was given when the link
+/// cannot take on more: the loop stops and the rest stays in the port); the count taken, or
+/// the port's error. The RX loop of every link.
+///
+/// ```
+/// use sensor_box::port::receive_slices;
+/// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+/// let (rxq, txq) = (Ring::<8>::new(), Ring::<8>::new());
+/// let stats = PortStats::new();
+/// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+/// for b in 1..=6 {
+///     isr.received(b);
+/// }
+/// let mut seen = Vec::new();
+/// let taken = receive_slices(&mut port, 4, |bytes| {
+///     seen.extend_from_slice(bytes);
+///     bytes.len()
+/// });
+/// assert_eq!((taken, seen), (Ok(4), vec![1, 2, 3, 4])); // the budget
+/// ```
+pub fn receive_slices<P: Receive>(
+    port: &mut P,
+    mut budget: usize,
+    mut decode: impl FnMut(&[u8]) -> usize,
+) -> Result<usize, P::Error> {
+    let mut total = 0;
+    while budget > 0 {
+        let mut whole = false;
+        let n = port.receive(|bytes| {
+            let piece = bytes.get(..budget).unwrap_or(bytes);
+            let n = decode(piece).min(piece.len());
+            whole = n == piece.len();
+            n
+        })?;
+        total += n;
+        budget = budget.saturating_sub(n);
+        if n == 0 || !whole {
+            break;
         }
-        let buf = self.buf.get_mut(..max.min(RX_CHUNK)).unwrap_or(&mut []);
-        let n = port.read(buf)?.min(buf.len());
-        self.at = 0;
-        self.end = n;
-        Ok(n)
     }
+    Ok(total)
 }
 
 /// Encoded frames waiting for room in a port: a ring of `N` bytes. Frames go in whole or not
@@ -190,8 +214,8 @@ impl<const N: usize> TxQueue<N> {
     /// port's error, if it reported one (the bytes stay queued).
     ///
     /// ```
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<3>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// let (rxq, txq) = (Ring::<2>::new(), Ring::<3>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut q = sensor_box::port::TxQueue::<8>::new();

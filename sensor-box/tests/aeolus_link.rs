@@ -4,10 +4,11 @@
 
 use aeolus_proto::message::{Message, SetTime, Text};
 use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aeolus_link::{AeolusLink, TX_QUEUE};
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
 use sensor_box::state::Intervals;
+use sensor_box::storage::MemFlash;
 use sensor_box::telemetry::{Kind, Telemetry, build, nominal_byte_rate};
 use sensor_box::{App, Control, Persisted, Shared};
 

@@ -12,13 +12,14 @@ use aok_proto::{
     Motor, MotorTest, ParameterValue, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aok_link::{
     AokLink, ControlSource, DebugId, FIRMWARE, IDLE_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
     STATUS_FLYING, STATUS_MOTOR_TEST,
 };
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
 use sensor_box::state::StoredWaypoint;
+use sensor_box::storage::MemFlash;
 use sensor_box::{App, Control, Persisted, Shared};
 
 /// A port pair over queues that live for the whole test binary (leaked: a few KiB per test).

@@ -6,9 +6,10 @@ use aydp_proto::{
     Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
     Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aydp_link::{self, addr};
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::storage::MemFlash;
 use sensor_box::{App, Control, Persisted, Settings};
 
 /// One UART: the application's half and the interrupt half the test plays.
@@ -743,9 +744,11 @@ fn heartbeats_from_the_peer_are_counted_and_other_types_ignored() {
 }
 
 #[test]
-fn a_full_tx_queue_drops_the_message_and_never_blocks() {
+fn a_port_that_stops_taking_bytes_keeps_messages_whole_and_never_blocks() {
     use sensor_box::{Shared, aydp_link::AydpLink};
-    // A TX queue with room for 4 bytes that nobody drains: the 7-byte heartbeat cannot go.
+    // A port ring with room for 4 bytes that nobody drains: the link keeps the rest of its
+    // messages in its own TX queue, whole, and drops (and counts) whole messages only when
+    // that queue has no room; a poll never waits.
     let rxq = Ring::<8>::new();
     let txq = Ring::<4>::new();
     let stats = PortStats::new();
@@ -753,12 +756,35 @@ fn a_full_tx_queue_drops_the_message_and_never_blocks() {
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AydpLink::new(0);
     link.poll(0, &mut port, &mut shared);
-    // Heartbeat, position and fix quality: each cut short and counted.
-    assert_eq!(link.counters().tx_dropped, 3);
-    // What did go out is the start of the heartbeat.
-    let mut out = Vec::new();
-    while let Some(b) = isr.next_to_send() {
-        out.push(b);
+    // Heartbeat, position and fix quality: 81 bytes, 4 of them in the port.
+    assert_eq!(link.counters().tx_dropped, 0);
+    assert_eq!(link.tx_pending(), 81 - 4);
+    let mut polls = 0;
+    while link.counters().tx_dropped == 0 {
+        polls += 1;
+        link.poll(polls * 1000, &mut port, &mut shared);
+        // The 1 Hz messages leave room for one longest reply.
+        assert!(link.tx_pending() <= aydp_link::TX_QUEUE - 128);
     }
-    assert_eq!(out, [0xFF, 0x80, 0x07, 0x00]);
+    // 77 bytes wait; 256 - 77 - 128 = 51 bytes of room: the heartbeat (7) and the position
+    // (43) of the next second fit, its fix quality (31) does not.
+    assert_eq!(polls, 1);
+    assert_eq!(link.counters().tx_dropped, 1);
+    // Now the UART drains: every byte that goes out is part of a whole message.
+    let mut out = Vec::new();
+    for now in 1001..1100 {
+        out.extend(core::iter::from_fn(|| isr.next_to_send()));
+        link.poll(now, &mut port, &mut shared);
+    }
+    assert_eq!(link.tx_pending(), 0);
+    assert_eq!(&out[..4], [0xFF, 0x80, 0x07, 0x00]);
+    let mut decoder = Decoder::<256>::new(Profile::Spec);
+    let mut types = Vec::new();
+    decoder.feed(&out, |ev| {
+        types.push(ev.expect("a whole message").type_byte())
+    });
+    let dropped = link.counters().tx_dropped as usize;
+    assert_eq!(types, [0x80, 3, 4, 0x80, 3]);
+    assert_eq!(dropped, 1);
+    assert_eq!(decoder.stats().bytes_discarded, 0);
 }

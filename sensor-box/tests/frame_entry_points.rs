@@ -8,10 +8,11 @@ use aeolus_proto::message::{Message, SetTime, Text};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
-use firmware_example::serial::Ring;
-use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::aeolus_link::{AeolusLink, RX_FRAME};
 use sensor_box::aydp_link::{AydpLink, DECODER_CAPACITY, addr};
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::storage::MemFlash;
 use sensor_box::{App, Control, Persisted, Shared};
 
 fn port() -> (
@@ -200,9 +201,13 @@ fn aydp_frame_by_frame_equals_poll() {
         let stats = decoder.stats();
         let mut event = decoder.push(byte);
         while let Some(ev) = event {
-            if let Ok(frame) = ev {
-                b.handle_frame(&frame, &stats, 2, &mut b_port, &mut b_shared);
-            }
+            b.handle_frame(
+                ev.as_ref().map_err(|e| *e),
+                &stats,
+                2,
+                &mut b_port,
+                &mut b_shared,
+            );
             event = decoder.poll();
         }
     }

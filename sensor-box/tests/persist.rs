@@ -2,13 +2,14 @@
 //! migration, write alignment, and settings surviving a reboot of the App.
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
-use firmware_example::serial::Ring;
-use firmware_example::{Error, MemFlash, PortStats, QueuedSerial};
 use sensor_box::persist::{
     self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, PersistedV1, SettingsV1, StoreError,
     VERSION,
 };
+use sensor_box::serial::Ring;
+use sensor_box::serial::{PortStats, QueuedSerial};
 use sensor_box::state::{AOK_PARAMS, AokFlash, Intervals, StoredWaypoint};
+use sensor_box::storage::{Error, MemFlash};
 use sensor_box::{App, Persisted, Settings};
 
 /// A record with every field away from its default.

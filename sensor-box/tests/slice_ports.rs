@@ -11,10 +11,11 @@ use std::convert::Infallible;
 
 use aeolus_proto::message::{Message, SetTime, Text};
 use aeolus_proto::{CrcMode, Decoder};
-use embedded_io::{ErrorType, Read, ReadReady, Write, WriteReady};
+use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{self, AeolusLink};
 use sensor_box::aok_link::{self, AokLink};
 use sensor_box::aydp_link::{self, AydpLink};
+use sensor_box::port::Receive;
 use sensor_box::{Persisted, Shared};
 
 /// An in-memory port: hands over at most `rx_piece` received bytes per read and takes at most
@@ -72,22 +73,16 @@ impl ErrorType for SlicePort {
     type Error = Infallible;
 }
 
-impl ReadReady for SlicePort {
-    fn read_ready(&mut self) -> Result<bool, Infallible> {
-        Ok(!self.rx.is_empty())
-    }
-}
-
-impl Read for SlicePort {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Infallible> {
-        assert!(
-            !self.rx.is_empty(),
-            "read without read_ready: it would block"
-        );
-        let n = buf.len().min(self.rx_piece).min(self.rx.len());
-        for (slot, b) in buf.iter_mut().zip(self.rx.drain(..n)) {
-            *slot = b;
+impl Receive for SlicePort {
+    fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Infallible> {
+        if self.rx.is_empty() {
+            return Ok(0);
         }
+        let piece = self.rx_piece.min(self.rx.len());
+        let bytes = &self.rx.make_contiguous()[..piece];
+        let n = take(bytes);
+        assert!(n <= piece, "took more than it was lent");
+        self.rx.drain(..n);
         self.read += n;
         Ok(n)
     }

@@ -19,6 +19,7 @@
 //! | `board-stm32f411` | `thumbv7em-none-eabihf`| `stm32f411.rs`   | `board/stm32f411.x`       |
 
 use core::cell::Cell;
+use core::sync::atomic::{AtomicU8, Ordering};
 use critical_section::Mutex;
 use firmware_example::Clock;
 
@@ -67,6 +68,51 @@ pub fn reset() -> ! {
 unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
     defmt::error!("HardFault: resetting (pc {=u32:#010x})", frame.pc());
     reset()
+
+// ------------------------------------------------------------ pending
+
+/// Bit `n` set: UART `n`'s interrupt moved received bytes into the port since the main loop
+/// last looked (`sensor_box::App::poll_pending` runs that port's link only then, or when the
+/// link's own timer says so). One byte, so the main loop takes all three flags in one swap.
+static RECEIVED: AtomicU8 = AtomicU8::new(0);
+
+/// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
+/// [`WAKE_BYTES`] since its last wake); the next SysTick wakes it.
+static HELD: AtomicU8 = AtomicU8::new(0);
+
+/// Received bytes that wake a link at once; fewer wait for the next millisecond's SysTick, so a
+/// link takes a flood in runs of at least this many bytes (its cost per wake spread over them)
+/// and a lone command waits at most 1 ms.
+pub const WAKE_BYTES: usize = 64;
+
+/// Marks UART `index`'s link to run at the next main-loop pass.
+fn mark_received(index: usize) {
+    RECEIVED.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
+}
+
+/// Called by UART `index`'s interrupt after it queued `n` received bytes, `since` of them
+/// (`n` included) since it last woke the link: wakes the link when they reach [`WAKE_BYTES`]
+/// (and returns 0, the new count), else leaves it to the next SysTick (and returns `since`).
+pub fn received(index: usize, since: usize) -> usize {
+    if since >= WAKE_BYTES {
+        mark_received(index);
+        0
+    } else {
+        HELD.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
+        since
+    }
+}
+
+/// Which UARTs received bytes since the last call (and clears the flags).
+pub fn take_received() -> [bool; 3] {
+    let bits = RECEIVED.swap(0, Ordering::Relaxed);
+    [bits & 1 != 0, bits & 2 != 0, bits & 4 != 0]
+}
+
+/// Whether a UART received bytes the main loop has not looked at (the loop sleeps only when
+/// none did; call with interrupts off, so none can slip in before the `wfi`).
+pub fn any_received() -> bool {
+    RECEIVED.load(Ordering::Relaxed) != 0
 }
 
 // ---------------------------------------------------------------- clock
@@ -101,6 +147,11 @@ fn SysTick() {
         let c = MILLIS.borrow(cs);
         c.set(c.get().wrapping_add(1));
     });
+    // The links of UARTs with bytes below the wake threshold run in this millisecond.
+    let held = HELD.swap(0, Ordering::Relaxed);
+    if held != 0 {
+        RECEIVED.fetch_or(held, Ordering::Relaxed);
+    }
     sensor_box::budget::leave(previous);
 }
 

@@ -13,7 +13,7 @@
 use super::{Board, start_systick};
 use core::mem::MaybeUninit;
 use core::ptr::{addr_of_mut, read_volatile, write_volatile};
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
 use firmware_example::serial::Ring;
@@ -106,6 +106,7 @@ const FBRD: usize = 0x028;
 const LCRH: usize = 0x02C;
 const CTL: usize = 0x030;
 const IMSC: usize = 0x038;
+const MIS: usize = 0x040;
 const ICR: usize = 0x044;
 const IFLS: usize = 0x034;
 /// FIFO interrupt levels: RX at 1/2 full (8 bytes; the receive-timeout interrupt takes the
@@ -186,6 +187,10 @@ static mut ISR: [Option<SerialIsr<'static, RX_CAP, TX_CAP>>; 3] = [const { None 
 static mut FLASH_EMU: MaybeUninit<[u8; 4096]> = MaybeUninit::uninit();
 
 static TAKEN: AtomicBool = AtomicBool::new(false);
+
+/// Per UART: bytes received since the interrupt last woke the link (see `board::received`).
+/// Only that UART's interrupt touches its entry.
+static UNWOKEN: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
 
 fn reg(base: usize, offset: usize) -> *mut u32 {
     (base + offset) as *mut u32
@@ -281,13 +286,16 @@ fn service(index: usize) {
     let previous = budget::enter(Category::RxIrq);
     // SAFETY: valid PL011 registers; reads of DR pop the RX FIFO.
     unsafe {
+        // What raised the interrupt: nothing (the application pended it: a kick to send, or
+        // to take bytes it had left in the UART), RX / RX timeout, or TX FIFO room.
+        let mis = read_volatile(reg(base, MIS));
         write_volatile(reg(base, ICR), INT_RX | INT_RT | INT_TX);
         // Bytes stay in the PL011 FIFO while the RX queue is full: QEMU then stops reading
         // the socket, and nothing is dropped. The application's next read pends this
         // interrupt again (see `SerialIsr::rx_room`).
         // A TX interrupt finds the RX FIFO empty: no RX ring grant then.
         if read_volatile(reg(base, FR)) & FR_RXFE == 0 {
-            isr.receive_while(|| {
+            let n = isr.receive_while(|| {
                 if read_volatile(reg(base, FR)) & FR_RXFE != 0 {
                     return None;
                 }
@@ -298,6 +306,21 @@ fn service(index: usize) {
                     Ok(dr as u8)
                 })
             });
+            if n > 0
+                && let Some(since) = UNWOKEN.get(index)
+            {
+                let total = since.load(Ordering::Relaxed).saturating_add(n);
+                since.store(super::received(index, total), Ordering::Relaxed);
+            }
+        }
+        if mis & INT_TX == 0 && mis != 0 {
+            // RX only: the TX side has nothing new to do. A full RX queue stops RX
+            // interrupts until the application's next read kicks this handler.
+            if isr.rx_held() {
+                write_volatile(reg(base, IMSC), read_volatile(reg(base, IMSC)) & INT_TX);
+            }
+            budget::leave(previous);
+            return;
         }
         budget::leave(previous);
         let previous = budget::enter(Category::TxIrq);

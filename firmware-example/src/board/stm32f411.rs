@@ -43,7 +43,7 @@
 
 use super::{Board, start_systick};
 use core::ptr::addr_of_mut;
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_rtt as _;
 use embedded_hal_nb::serial::{Read, Write};
@@ -153,6 +153,9 @@ struct IsrPort<U: Instance> {
 static RX_QUEUES: [Ring<RX_CAP>; 3] = [const { Ring::new() }; 3];
 static TX_QUEUES: [Ring<TX_CAP>; 3] = [const { Ring::new() }; 3];
 static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
+/// Per USART: bytes received since the interrupt last woke the link (see `board::received`).
+/// Only that USART's interrupt touches its entry.
+static UNWOKEN: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
 /// Written once in `init` before the USART interrupts are unmasked, used
 /// only by the interrupt handlers afterwards.
 static mut PORT0: Option<IsrPort<USART2>> = None;
@@ -260,17 +263,25 @@ fn isr_port<U: Instance>(
 /// moment DR is written and raises no TXE/TC interrupt, so in the simulated
 /// build (`qemu-stm32`) only the kick path runs: each queued byte pends the
 /// interrupt, and this handler finds TXE set and sends it at once.
-fn service<U: Instance>(port: &mut IsrPort<U>) {
+fn service<U: Instance>(index: usize, port: &mut IsrPort<U>) {
     // A few rounds at most: each read either returns a byte, clears an error
     // (the HAL reads DR), or says the register is empty.
+    let mut n = 0;
     for _ in 0..4 {
         match port.rx.read() {
             Ok(b) => {
                 port.half.received(b);
+                n += 1;
             }
             Err(nb::Error::Other(_)) => port.half.receive_error(),
             Err(nb::Error::WouldBlock) => break,
         }
+    }
+    if n > 0
+        && let Some(since) = UNWOKEN.get(index)
+    {
+        let total = since.load(Ordering::Relaxed).saturating_add(n);
+        since.store(super::received(index, total), Ordering::Relaxed);
     }
     if port.tx.is_tx_empty()
         && let Some(b) = port.half.next_to_send()
@@ -288,7 +299,7 @@ fn service<U: Instance>(port: &mut IsrPort<U>) {
 fn USART2() {
     // SAFETY: only this handler touches PORT0 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT0)).as_mut() } {
-        service(p);
+        service(0, p);
     }
 }
 
@@ -296,7 +307,7 @@ fn USART2() {
 fn USART1() {
     // SAFETY: only this handler touches PORT1 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT1)).as_mut() } {
-        service(p);
+        service(1, p);
     }
 }
 
@@ -304,6 +315,6 @@ fn USART1() {
 fn USART6() {
     // SAFETY: only this handler touches PORT2 after `init`.
     if let Some(p) = unsafe { (*addr_of_mut!(PORT2)).as_mut() } {
-        service(p);
+        service(2, p);
     }
 }

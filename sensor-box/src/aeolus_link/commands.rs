@@ -3,71 +3,69 @@
 
 use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
+use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
 use aeolus_proto::{FLAG, Frame, TEXT_CAPACITY};
-use embedded_io::{Read, ReadReady};
 
 /// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
     Command(Text),
     SetTime(SetTime),
     Ignored,
+    /// A good frame whose data does not parse as its type.
+    Malformed,
+    /// A frame the decoder dropped.
     Error,
 }
 
 impl AeolusLink {
-    /// Reads what the port has received (at most [`RX_BUDGET`] bytes, a slice per read) and
-    /// acts on every frame it completes.
-    pub(super) fn receive<P: Read + ReadReady>(
-        &mut self,
-        now_ms: u64,
-        port: &mut P,
-        shared: &mut Shared,
-    ) {
-        let mut budget = RX_BUDGET;
-        loop {
-            // A byte is decoded only while the longest answer it could complete still fits:
-            // when the host reads slowly and TX backs up, received bytes wait in the port (and
-            // the UART) instead of their answers being dropped; the rest of a read waits in
-            // `self.rx`.
-            if TX_QUEUE - self.tx.len() < FRAME_BUF {
-                break;
-            }
-            match self.rx.refill(port, budget) {
-                Ok(n) => budget = budget.saturating_sub(n),
-                Err(_) => {
-                    bump(&mut self.counters.port_errors);
-                    break;
-                }
-            }
-            // Up to and including the next flag: only a flag ends a frame (and so queues an
-            // answer), so the room is checked again before every frame's last byte, exactly as
-            // if the bytes came one at a time. A piece holds at most one flag, so it completes
-            // at most one frame; the decoder's other events are errors, only counted.
-            let pending = self.rx.pending();
-            let Some(len) = piece_len(pending) else {
-                break;
-            };
-            let mut incoming_frame = None;
-            let mut errors = 0u32;
-            self.decoder
-                .feed(pending.get(..len).unwrap_or(&[]), |event| match event {
-                    Ok(frame) => incoming_frame = Some(incoming(&frame)),
-                    Err(_) => errors = errors.wrapping_add(1),
-                });
-            self.rx.consume(len);
-            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(errors);
-            self.handle(incoming_frame, now_ms, shared);
+    /// Decodes what the port has received (at most [`RX_BUDGET`] bytes, in the slices the
+    /// port lends) and acts on every frame it completes.
+    pub(super) fn receive<P: Receive>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
+        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms, shared));
+        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
+        if taken.is_err() {
+            bump(&mut self.counters.port_errors);
         }
     }
 
-    pub(super) fn handle(&mut self, incoming: Option<Incoming>, now_ms: u64, shared: &mut Shared) {
+    /// Decodes a slice piece by piece, each up to and including the next flag: only a flag
+    /// ends a frame (and so queues an answer), so the room is checked again before every
+    /// frame's last byte, exactly as if the bytes came one at a time. A byte is decoded only
+    /// while the longest answer it could complete still fits: when the host reads slowly and
+    /// TX backs up, received bytes wait in the port instead of their answers being dropped.
+    /// The count decoded.
+    fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
+        let mut done = 0;
+        while let Some(rest) = bytes.get(done..).filter(|r| !r.is_empty()) {
+            if TX_QUEUE - self.tx.len() < FRAME_BUF {
+                break;
+            }
+            let len = piece_len(rest);
+            // A piece holds at most one flag, so it completes at most one frame.
+            let mut incoming_frame = None;
+            let mut errors = 0u32;
+            self.decoder
+                .feed(rest.get(..len).unwrap_or(&[]), |event| match event {
+                    Ok(frame) => incoming_frame = Some(incoming(&frame)),
+                    Err(_) => errors = errors.wrapping_add(1),
+                });
+            done += len;
+            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(errors);
+            if let Some(frame) = incoming_frame {
+                self.handle(frame, now_ms, shared);
+            }
+        }
+        done
+    }
+
+    pub(super) fn handle(&mut self, incoming: Incoming, now_ms: u64, shared: &mut Shared) {
         match incoming {
-            None => {}
-            Some(Incoming::Command(text)) => self.command(&text, shared),
-            Some(Incoming::SetTime(time)) => self.set_time(time, now_ms, shared),
-            Some(Incoming::Ignored) => bump(&mut self.counters.ignored),
-            Some(Incoming::Error) => bump(&mut self.counters.rx_errors),
+            Incoming::Command(text) => self.command(&text, shared),
+            Incoming::SetTime(time) => self.set_time(time, now_ms, shared),
+            Incoming::Ignored => bump(&mut self.counters.ignored),
+            Incoming::Malformed => bump(&mut self.counters.malformed),
+            Incoming::Error => bump(&mut self.counters.rx_errors),
         }
     }
 
@@ -121,18 +119,12 @@ impl AeolusLink {
     }
 }
 
-/// The length of the first piece of `pending`: up to and including its first flag, or all of
-/// it; `None` when nothing is pending.
-fn piece_len(pending: &[u8]) -> Option<usize> {
-    if pending.is_empty() {
-        return None;
-    }
-    Some(
-        pending
-            .iter()
-            .position(|&b| b == FLAG)
-            .map_or(pending.len(), |i| i + 1),
-    )
+/// The length of the first piece of `bytes`: up to and including its first flag, or all of it.
+fn piece_len(bytes: &[u8]) -> usize {
+    bytes
+        .iter()
+        .position(|&b| b == FLAG)
+        .map_or(bytes.len(), |i| i + 1)
 }
 
 /// What a good frame asks for. Only the two messages the box acts on are parsed.
@@ -142,7 +134,7 @@ pub(super) fn incoming(frame: &Frame<'_>) -> Incoming {
         id::SETTIME => SetTime::parse(frame.data()).map(Incoming::SetTime),
         _ => Ok(Incoming::Ignored),
     };
-    parsed.unwrap_or(Incoming::Error)
+    parsed.unwrap_or(Incoming::Malformed)
 }
 
 /// Writes `a` then as much of `b` as fits into `out`; returns the length written.

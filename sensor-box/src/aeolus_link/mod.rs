@@ -3,9 +3,9 @@
 //! Every [`AeolusLink::poll`] does three things, in this order, and never waits (a command
 //! acts on the telemetry of the same millisecond; [`RX_BUDGET`] bounds what RX may cost first):
 //!
-//! 1. **RX**: reads what the port has received (up to [`RX_BUDGET`] bytes, in reads of up to
-//!    [`RX_CHUNK`](crate::port::RX_CHUNK)), feeds it to an [`aeolus_proto::Decoder`] by
-//!    slice (`feed`), and acts on each complete frame:
+//! 1. **RX**: takes what the port has received (up to [`RX_BUDGET`] bytes, in the contiguous
+//!    slices the port lends: [`Receive`]), feeds them to an [`aeolus_proto::Decoder`] by slice
+//!    (`feed`), and acts on each complete frame:
 //!    * COMMAND `"a pause"`: telemetry stops ([`Shared::paused`]), TOAST `"AEOLUS paused"`;
 //!    * COMMAND `"a resume"`: telemetry starts over, TOAST `"AEOLUS resumed"`;
 //!    * COMMAND `"a reboot"`: TOAST `"AEOLUS rebooting"`, then [`Requests::reboot`] asks the
@@ -13,7 +13,9 @@
 //!    * any other COMMAND: TOAST `"unknown command: <the command>"`;
 //!    * SETTIME: stored in [`Shared::wall_clock`] with the arrival time, and logged (an
 //!      out-of-range date is counted and ignored);
-//!    * anything else is counted and ignored.
+//!    * a frame whose data does not parse is counted as malformed, anything else counted and
+//!      ignored; a frame the decoder drops is counted in `rx_errors` (the policy of
+//!      [`crate::port`]).
 //! 2. **Telemetry**: unless paused, the [`Kind`]s the [`Telemetry`] schedule says are due are
 //!    built from the simulated flight at `now_ms` and encoded into the TX queue.
 //! 3. **TX**: the TX queue (whole encoded frames, [`TX_QUEUE`] bytes) is drained into the port
@@ -26,8 +28,7 @@
 //! [`LinkCounters::tx_dropped`]), never cut; telemetry leaves [`TX_RESERVE`] bytes free so
 //! that answers (TOASTs) still fit when the UART cannot keep up, and RX decodes a byte only
 //! while one longest answer still fits, so a burst of COMMANDs is answered in full however
-//! slowly the other side reads (the bytes wait in the port instead, and the rest of a read
-//! that was cut short waits in the link, see [`Received`]).
+//! slowly the other side reads (the bytes wait in the port instead).
 //!
 //! This file holds the link's state, the poll halves and the TX queue; `commands.rs` what
 //! UART0 receives (deframing, COMMAND, SETTIME).
@@ -37,8 +38,8 @@
 //! ```
 //! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
-//! use firmware_example::{PortStats, QueuedSerial};
-//! use firmware_example::serial::Ring;
+//! use sensor_box::serial::{PortStats, QueuedSerial};
+//! use sensor_box::serial::Ring;
 //!
 //! let (rxq, txq) = (Ring::<256>::new(), Ring::<4096>::new());
 //! let stats = PortStats::new();
@@ -74,12 +75,12 @@ mod commands;
 
 use crate::Shared;
 use crate::budget::{Category, span};
-use crate::port::{Received, TxQueue};
+use crate::port::{Receive, TxQueue};
 use crate::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use commands::{Incoming, incoming};
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{Write, WriteReady};
 
 /// Bytes of encoded frames the link queues for TX, in front of the port's own queue (512
 /// bytes on both boards). Each frame is handed to the port as soon as it is queued, so this
@@ -134,9 +135,12 @@ pub struct LinkCounters {
     pub settime_rejected: u32,
     /// Good frames of a type the box does not act on (TOAST, telemetry, LOG, ...).
     pub ignored: u32,
-    /// Frames the decoder rejected, or whose data did not parse.
+    /// Good frames whose data does not parse as their type (a COMMAND or SETTIME of the
+    /// wrong length, ...).
+    pub malformed: u32,
+    /// Frames the decoder dropped: every `Err` event (see [`crate::port`], "Receive errors").
     pub rx_errors: u32,
-    /// Errors reported by the port itself.
+    /// Errors reported by the port itself, on either side.
     pub port_errors: u32,
 }
 
@@ -156,8 +160,6 @@ impl LinkCounters {
 pub struct AeolusLink {
     telemetry: Telemetry,
     decoder: Decoder<RX_FRAME>,
-    /// Read from the port, not yet decoded (the TX queue had no room for one more answer).
-    rx: Received,
     tx: TxQueue<TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
@@ -165,6 +167,8 @@ pub struct AeolusLink {
     /// millisecond (every interrupt wakes it) and the schedule can only change when the
     /// millisecond does.
     scheduled_ms: Option<u64>,
+    /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
+    rx_more: bool,
     counters: LinkCounters,
 }
 
@@ -181,10 +185,10 @@ impl AeolusLink {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
             decoder: Decoder::new(),
-            rx: Received::new(),
             tx: TxQueue::new(),
             was_paused: false,
             scheduled_ms: None,
+            rx_more: false,
             counters: LinkCounters::default(),
         };
         link.toast(BOOT_TOAST.as_bytes());
@@ -192,7 +196,7 @@ impl AeolusLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
+    pub fn poll<P: Receive + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -202,15 +206,28 @@ impl AeolusLink {
         self.poll_tx(now_ms, port, shared);
     }
 
+    /// Whether a poll at `now_ms` has anything to do besides what the port received since the
+    /// last one: the schedule's first poll in a millisecond, TX bytes waiting for room in the
+    /// port, or received bytes left in the port by the last poll's [`RX_BUDGET`]. What
+    /// [`App::poll_pending`](crate::App::poll_pending) asks before it runs the link.
+    ///
+    /// ```
+    /// let mut link = sensor_box::aeolus_link::AeolusLink::new(0);
+    /// assert!(link.has_work(0)); // the boot TOAST waits
+    /// ```
+    pub fn has_work(&self, now_ms: u64) -> bool {
+        self.scheduled_ms != Some(now_ms) || self.rx_more || !self.tx.is_empty()
+    }
+
     /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless
     /// paused) and hands queued frames to the port, without reading it. For a board whose
-    /// own reader decodes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
+    /// own reader deframes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
     /// passes each frame to [`AeolusLink::handle_frame`].
     ///
     /// ```
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<1024>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<1024>::new());
     /// let stats = PortStats::new();
     /// let (mut port, _isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
@@ -220,16 +237,20 @@ impl AeolusLink {
     /// assert_eq!(link.counters().telemetry_total(), 10);
     /// ```
     pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
-        span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
-        span(Category::TxQueue, || {
-            drain(&mut self.tx, port, &mut self.counters)
-        });
+        // Within a millisecond already scheduled, and with nothing queued, there is nothing
+        // to do: a wake for received bytes costs the TX half two comparisons.
+        if self.scheduled_ms != Some(now_ms) || shared.paused != self.was_paused {
+            span(Category::Telemetry, || self.queue_due(now_ms, port, shared));
+        }
+        if !self.tx.is_empty() {
+            span(Category::TxQueue, || {
+                drain(&mut self.tx, port, &mut self.counters)
+            });
+        }
     }
 
     fn queue_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
-        if self.scheduled_ms.replace(now_ms) == Some(now_ms) && !shared.paused && !self.was_paused {
-            return;
-        }
+        self.scheduled_ms = Some(now_ms);
         if shared.paused {
             self.was_paused = true;
         } else {
@@ -271,7 +292,7 @@ impl AeolusLink {
         shared: &mut Shared,
     ) {
         let incoming = frame.map_or(Incoming::Error, incoming);
-        self.handle(Some(incoming), now_ms, shared);
+        self.handle(incoming, now_ms, shared);
     }
 
     /// The link's counters.

@@ -1,8 +1,8 @@
 //! Motors and external control: the motor-test outputs and their lapse, the external-control
 //! sticks and their expiry.
 
-use super::{AokLink, MOTOR_LAPSE_MS};
-use aok_proto::MotorTest;
+use super::{AokLink, External, MOTOR_LAPSE_MS};
+use aok_proto::{ExternalControl, MotorTest};
 
 impl AokLink {
     /// Motor-test values and external control run out.
@@ -44,5 +44,16 @@ impl AokLink {
             out.value = m.value;
             out.until_ms = now_ms.saturating_add(MOTOR_LAPSE_MS);
         }
+    }
+
+    /// `53`: external control takes over (or goes on) until `expiry_ms` from now.
+    pub(super) fn take_external(&mut self, e: ExternalControl, now_ms: u64) {
+        if self.external.is_none() {
+            crate::info!("AOK external control takes over from RC");
+        }
+        self.external = Some(External {
+            control: e,
+            until_ms: now_ms.saturating_add(u64::from(e.expiry_ms)),
+        });
     }
 }

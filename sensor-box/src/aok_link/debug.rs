@@ -3,7 +3,7 @@
 use super::{AokLink, ControlSource, flying};
 use crate::Shared;
 use aok_proto::message::DEBUG_LEN;
-use aok_proto::{DebugValue, device};
+use aok_proto::{Command, DebugValue, device};
 
 /// The debug values the box sends, with their numbers on the wire. One value per frame,
 /// cycling through [`DebugId::CYCLE`].
@@ -73,6 +73,18 @@ pub const STATUS_EXTERNAL: i32 = 2;
 pub const STATUS_MOTOR_TEST: i32 = 4;
 
 impl AokLink {
+    /// `63 01` (off) and `63 02` (on: the next value goes out at once).
+    pub(super) fn switch_debug(&mut self, command: Command, now_ms: u64) {
+        if command == Command::DebugOn {
+            crate::info!("AOK debug on");
+            self.debug_on = true;
+            self.next_debug_ms = now_ms;
+        } else {
+            crate::info!("AOK debug off");
+            self.debug_on = false;
+        }
+    }
+
     pub(super) fn send_debug(&mut self, now_ms: u64, shared: &Shared) {
         let id = DebugId::CYCLE
             .get(self.debug_index)

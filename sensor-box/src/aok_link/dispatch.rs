@@ -1,53 +1,30 @@
 //! Decode and dispatch: received bytes through the [`DeviceDecoder`](aok_proto::DeviceDecoder)
-//! (with back-pressure and the idle timeout), then one `match` over the commands: the short
-//! answers (parameter reads, set and waypoint moves) inline, the rest in their rooms.
+//! (with back-pressure and the idle timeout), then one `match` over the commands that hands
+//! each family to its room (`params`, `waypoints`, `control`, `debug`).
 
-use super::MISSION_POI;
-use super::{AokLink, External, FIRMWARE, IDLE_MS, MAX_REPLY, RX_BUDGET, flying};
+use super::{AokLink, IDLE_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
-use crate::state::StoredWaypoint;
-use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{
-    Ack, ActionWord, Command, Error as AokError, ParameterValue, Waypoint, WaypointSlot, device,
-};
-use embedded_io::{Read, ReadReady};
+use crate::port::{Receive, receive_slices};
+use aok_proto::{Ack, Command, Error as AokError};
 
 impl AokLink {
     /// Decodes received bytes while the TX queue has room for the longest reply (otherwise
-    /// the bytes wait in the port's RX queue, and the rest of a read in `self.rx`:
-    /// back-pressure instead of lost replies). The port is read a slice at a time (at most
-    /// [`RX_BUDGET`] bytes a poll); the decoder is fed byte by byte (`push`), because the
-    /// link's TX queue holds one longest reply (a bulk read's 112 bytes from a 2-byte command),
-    /// so the room must be checked after every byte, which the slice path (`feed`) cannot do.
-    pub(super) fn receive<P: Read + ReadReady>(
-        &mut self,
-        now_ms: u64,
-        port: &mut P,
-        shared: &mut Shared,
-    ) {
-        let mut budget = RX_BUDGET;
-        let mut port_empty = false;
-        while self.tx_free() >= MAX_REPLY {
-            match self.rx.refill(port, budget) {
-                Ok(n) => budget = budget.saturating_sub(n),
-                Err(_) => {
-                    self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
-                    break;
-                }
+    /// the bytes wait in the port: back-pressure instead of lost replies). The port lends its
+    /// bytes a slice at a time (at most [`RX_BUDGET`] a poll); the decoder takes them byte by
+    /// byte (`push`), because the link's TX queue holds one longest reply (a bulk read's 112
+    /// bytes from a 2-byte command), so the room must be checked after every byte, which the
+    /// slice path (`feed`) cannot do. AOK runs at 38 400 Bd: 3 840 bytes a second at most.
+    pub(super) fn receive<P: Receive>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
+        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms, shared));
+        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
+        let port_empty = match taken {
+            Ok(n) => n < RX_BUDGET && self.tx_free() >= MAX_REPLY,
+            Err(_) => {
+                self.counters.port_errors = self.counters.port_errors.wrapping_add(1);
+                false
             }
-            let Some(&byte) = self.rx.pending().first() else {
-                port_empty = budget > 0;
-                break;
-            };
-            self.rx.consume(1);
-            self.last_rx_ms = now_ms;
-            let mut event = self.decoder.push(byte);
-            while let Some(item) = event {
-                self.handle(item, now_ms, shared);
-                event = self.decoder.poll();
-            }
-        }
-        // Silence only counts when the port has nothing more: bytes held back in its RX queue
+        };
+        // Silence only counts when the port has nothing more: bytes held back in it
         // (back-pressure, budget) may be the rest of the partial frame.
         if port_empty
             && self.decoder.held_bytes() > 0
@@ -59,12 +36,34 @@ impl AokLink {
         }
     }
 
+    /// Pushes `bytes` into the decoder one at a time while one longest reply still fits, and
+    /// handles every event; the count decoded.
+    fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
+        let mut done = 0;
+        for &byte in bytes {
+            if self.tx_free() < MAX_REPLY {
+                break;
+            }
+            done += 1;
+            self.last_rx_ms = now_ms;
+            let mut event = self.decoder.push(byte);
+            while let Some(item) = event {
+                self.handle(item, now_ms, shared);
+                event = self.decoder.poll();
+            }
+        }
+        done
+    }
+
     pub(super) fn handle(
         &mut self,
         item: Result<Command, AokError>,
         now_ms: u64,
         shared: &mut Shared,
     ) {
+        if item.is_err() {
+            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
+        }
         let command = match item {
             Ok(c) => c,
             // A frame cut by a quiet line: counted by the decoder, nothing to answer.
@@ -83,164 +82,27 @@ impl AokLink {
         };
         let flying = flying(shared);
         match command {
-            Command::DebugOff => {
-                crate::info!("AOK debug off");
-                self.debug_on = false;
-            }
-            Command::DebugOn => {
-                crate::info!("AOK debug on");
-                self.debug_on = true;
-                self.next_debug_ms = now_ms;
-            }
+            Command::DebugOff | Command::DebugOn => self.switch_debug(command, now_ms),
             Command::Reset => {
                 crate::info!("AOK reset requested");
                 shared.requests.reboot = true;
             }
             Command::SetParameter(p) => self.set_parameter(p, flying),
-            Command::ReadParameter(number) => {
-                let value = self.parameter(number);
-                let mut buf = [0u8; HEADED_REPLY_LEN];
-                let reply = ParameterValue { number, value };
-                if let Ok(n) = device::encode_parameter(reply, FIRMWARE.reply_form(), &mut buf) {
-                    self.queue(buf.get(..n).unwrap_or_default());
-                }
-            }
-            Command::BulkRead(first) => {
-                let mut values = [0i32; 16];
-                let mut number = first;
-                for v in values.iter_mut() {
-                    *v = self.parameter(number);
-                    number = number.wrapping_add(1);
-                }
-                let mut buf = [0u8; MAX_REPLY];
-                if let Ok(n) = device::encode_bulk(first, &values, &mut buf) {
-                    self.queue(buf.get(..n).unwrap_or_default());
-                }
-            }
-            Command::LoadSet(n) => {
-                let ack = match shared.persisted.aok.sets.get(usize::from(n)) {
-                    None => Ack::Error,
-                    Some(_) if flying => Ack::InFlight,
-                    Some(set) => {
-                        crate::info!("AOK parameters loaded from set {=u8}", n);
-                        self.params = *set;
-                        Ack::Ok
-                    }
-                };
-                self.ack(ack);
-            }
-            Command::SaveSet(n) => {
-                let params = self.params;
-                let ack = match shared.persisted.aok.sets.get_mut(usize::from(n)) {
-                    None => Ack::Error,
-                    Some(_) if flying => Ack::InFlight,
-                    Some(set) => {
-                        crate::info!("AOK parameters saved to set {=u8}", n);
-                        *set = params;
-                        shared.requests.store = true;
-                        Ack::Ok
-                    }
-                };
-                self.ack(ack);
-            }
-            Command::StartSet(n) => {
-                let ack = if usize::from(n) >= shared.persisted.aok.sets.len() {
-                    Ack::Error
-                } else if flying {
-                    Ack::InFlight
-                } else {
-                    crate::info!("AOK start set {=u8}", n);
-                    shared.persisted.aok.start_set = n;
-                    shared.requests.store = true;
-                    Ack::Ok
-                };
-                self.ack(ack);
-            }
-            Command::SaveWaypoints => {
-                let ack = if flying {
-                    Ack::InFlight
-                } else {
-                    crate::info!("AOK waypoints saved to flash");
-                    let flash = &mut shared.persisted.aok.waypoints;
-                    for (f, r) in flash.iter_mut().zip(self.waypoints.iter()) {
-                        *f = *r;
-                    }
-                    if let Some(poi) = flash.get_mut(MISSION_POI) {
-                        *poi = self.ram_poi;
-                    }
-                    shared.requests.store = true;
-                    Ack::Ok
-                };
-                self.ack(ack);
-            }
+            Command::ReadParameter(number) => self.read_parameter(number),
+            Command::BulkRead(first) => self.bulk_read(first),
+            Command::LoadSet(n) => self.load_set(n, flying, shared),
+            Command::SaveSet(n) => self.save_set(n, flying, shared),
+            Command::StartSet(n) => self.start_set(n, flying, shared),
+            Command::SaveWaypoints => self.save_waypoints(flying, shared),
             Command::LoadWaypoints => {
                 crate::info!("AOK waypoints loaded from flash");
                 self.load_waypoints(shared);
                 self.ack(Ack::Ok);
             }
-            Command::SetWaypoint(w) => {
-                let stored = StoredWaypoint {
-                    lon: w.longitude,
-                    lat: w.latitude,
-                    action1: w.action1.raw(),
-                    action2: w.action2.raw(),
-                };
-                let ack = match w.slot {
-                    WaypointSlot::Waypoint(n) => {
-                        match self.waypoints.get_mut(usize::from(n.wire())) {
-                            Some(slot) => {
-                                *slot = stored;
-                                Ack::Ok
-                            }
-                            None => Ack::Error,
-                        }
-                    }
-                    WaypointSlot::MissionPoi if flying => Ack::InFlight,
-                    WaypointSlot::MissionPoi => {
-                        match shared.persisted.aok.waypoints.get_mut(MISSION_POI) {
-                            Some(slot) => {
-                                *slot = stored;
-                                shared.requests.store = true;
-                                Ack::Ok
-                            }
-                            None => Ack::Error,
-                        }
-                    }
-                    WaypointSlot::RamPoi => {
-                        self.ram_poi = stored;
-                        Ack::Ok
-                    }
-                    WaypointSlot::FbcTarget => {
-                        self.fbc_target = stored;
-                        Ack::Ok
-                    }
-                };
-                self.ack(ack);
-            }
-            Command::ReadWaypoint(slot) => {
-                let s = self.waypoint(slot, shared);
-                let w = Waypoint {
-                    slot,
-                    longitude: s.lon,
-                    latitude: s.lat,
-                    action1: ActionWord(s.action1),
-                    action2: ActionWord(s.action2),
-                };
-                let mut buf = [0u8; 19];
-                if let Ok(n) = device::encode_waypoint(&w, &mut buf) {
-                    self.queue(buf.get(..n).unwrap_or_default());
-                }
-            }
+            Command::SetWaypoint(w) => self.set_waypoint(&w, flying, shared),
+            Command::ReadWaypoint(slot) => self.read_waypoint(slot, shared),
             Command::MotorTest(m) => self.motor_test(m, now_ms, flying),
-            Command::ExternalControl(e) => {
-                if self.external.is_none() {
-                    crate::info!("AOK external control takes over from RC");
-                }
-                self.external = Some(External {
-                    control: e,
-                    until_ms: now_ms.saturating_add(u64::from(e.expiry_ms)),
-                });
-            }
+            Command::ExternalControl(e) => self.take_external(e, now_ms),
         }
     }
 }

@@ -25,8 +25,8 @@
 //!
 //! ```
 //! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
-//! use firmware_example::{PortStats, QueuedSerial};
-//! use firmware_example::serial::Ring;
+//! use sensor_box::serial::{PortStats, QueuedSerial};
+//! use sensor_box::serial::Ring;
 //!
 //! let shared = &mut Shared::new(Persisted::default(), 0);
 //! let mut link = AokLink::new(shared);
@@ -56,11 +56,11 @@ mod waypoints;
 pub use debug::{DebugId, STATUS_EXTERNAL, STATUS_FLYING, STATUS_MOTOR_TEST};
 
 use crate::Shared;
-use crate::port::{Received, TxQueue};
+use crate::port::{Receive, TxQueue};
 use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::HEADED_REPLY_LEN;
 use aok_proto::{Ack, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{Write, WriteReady};
 
 /// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
 /// (>= 0.31) form `FF NUM B1..B4 CRC` and bulk read (`47`, >= 0.35) is supported.
@@ -123,10 +123,11 @@ pub struct AokCounters {
     pub replies_dropped: u32,
     /// Debug frames queued.
     pub debug_frames: u32,
-    /// Receive errors reported by the port.
+    /// Frames the decoder dropped: every `Err` event (bad checksum, invalid slot or stick
+    /// value, a frame cut by a quiet line; see [`crate::port`], "Receive errors").
     pub rx_errors: u32,
-    /// Transmit errors reported by the port.
-    pub tx_errors: u32,
+    /// Errors reported by the port itself, on either side.
+    pub port_errors: u32,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -144,8 +145,6 @@ struct External {
 /// The AOK link.
 pub struct AokLink {
     decoder: DeviceDecoder,
-    /// Read from the port, not yet decoded (the TX queue had no room for one more reply).
-    rx: Received,
     tx: TxQueue<TX_CAPACITY>,
     debug_on: bool,
     next_debug_ms: u64,
@@ -157,6 +156,11 @@ pub struct AokLink {
     fbc_target: StoredWaypoint,
     motors: [MotorOutput; MOTORS],
     external: Option<External>,
+    /// When the next poll has something to do by the clock (a debug value, a motor-test
+    /// lapse, external control's expiry, a partial frame's idle timeout), from the last poll.
+    wake_ms: u64,
+    /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
+    rx_more: bool,
     counters: AokCounters,
 }
 
@@ -177,7 +181,6 @@ impl AokLink {
         };
         let mut link = AokLink {
             decoder: DeviceDecoder::new(),
-            rx: Received::new(),
             tx: TxQueue::new(),
             debug_on: true,
             next_debug_ms: 0,
@@ -189,6 +192,8 @@ impl AokLink {
             fbc_target: StoredWaypoint::default(),
             motors: [MotorOutput::default(); MOTORS],
             external: None,
+            wake_ms: 0,
+            rx_more: false,
             counters: AokCounters::default(),
         };
         link.load_waypoints(shared);
@@ -196,7 +201,7 @@ impl AokLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
+    pub fn poll<P: Receive + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -209,6 +214,38 @@ impl AokLink {
             self.send_debug(now_ms, shared);
         }
         self.flush(port);
+        self.wake_ms = self.next_wake_ms();
+    }
+
+    /// Whether a poll at `now_ms` has anything to do besides what the port received since the
+    /// last one: something due by the clock, TX bytes waiting for room in the port, or
+    /// received bytes left in the port by the last poll's [`RX_BUDGET`].
+    ///
+    /// ```
+    /// use sensor_box::{Persisted, Shared, aok_link::AokLink};
+    /// let link = AokLink::new(&Shared::new(Persisted::default(), 0));
+    /// assert!(link.has_work(0)); // the first debug value
+    /// ```
+    pub fn has_work(&self, now_ms: u64) -> bool {
+        now_ms >= self.wake_ms || self.rx_more || !self.tx.is_empty()
+    }
+
+    /// The earliest instant something is due by the clock.
+    fn next_wake_ms(&self) -> u64 {
+        let mut at = u64::MAX;
+        if self.debug_on {
+            at = at.min(self.next_debug_ms);
+        }
+        if self.decoder.held_bytes() > 0 {
+            at = at.min(self.last_rx_ms.saturating_add(IDLE_MS));
+        }
+        for m in self.motors.iter().filter(|m| m.value != 0) {
+            at = at.min(m.until_ms);
+        }
+        if let Some(e) = self.external {
+            at = at.min(e.until_ms);
+        }
+        at
     }
 
     /// Is the debug stream on (`63 02`) or off (`63 01`)?
@@ -258,7 +295,7 @@ impl AokLink {
     /// Hands queued bytes to the port, a slice per write, until it has no room.
     fn flush<P: Write + WriteReady>(&mut self, port: &mut P) {
         if self.tx.drain(port).is_err() {
-            self.counters.tx_errors = self.counters.tx_errors.wrapping_add(1);
+            self.counters.port_errors = self.counters.port_errors.wrapping_add(1);
         }
     }
 

@@ -1,13 +1,17 @@
-//! Parameters: reading one and setting one in RAM, with the in-flight rule.
+//! Parameters: reading one or sixteen, setting one in RAM with the in-flight rule, and the
+//! parameter sets in flash (load, save, choose the start set).
 
-use super::{AokLink, in_flight_settable};
-use aok_proto::{Ack, ParameterValue};
+use super::{AokLink, FIRMWARE, MAX_REPLY, in_flight_settable};
+use crate::Shared;
+use aok_proto::message::HEADED_REPLY_LEN;
+use aok_proto::{Ack, ParameterValue, device};
 
 impl AokLink {
     pub(super) fn parameter(&self, number: u8) -> i32 {
         self.params.get(usize::from(number)).copied().unwrap_or(0)
     }
 
+    /// `73`: one parameter into RAM ('I' while flying unless it is in-flight settable).
     pub(super) fn set_parameter(&mut self, p: ParameterValue, flying: bool) {
         let settable = in_flight_settable(p.number);
         let ack = match self.params.get_mut(usize::from(p.number)) {
@@ -17,6 +21,75 @@ impl AokLink {
                 *slot = p.value;
                 Ack::Ok
             }
+        };
+        self.ack(ack);
+    }
+
+    /// `67`: one parameter, in the reply form of [`FIRMWARE`].
+    pub(super) fn read_parameter(&mut self, number: u8) {
+        let value = self.parameter(number);
+        let mut buf = [0u8; HEADED_REPLY_LEN];
+        let reply = ParameterValue { number, value };
+        if let Ok(n) = device::encode_parameter(reply, FIRMWARE.reply_form(), &mut buf) {
+            self.queue(buf.get(..n).unwrap_or_default());
+        }
+    }
+
+    /// `47`: sixteen parameters from `first` (numbers wrap at 255).
+    pub(super) fn bulk_read(&mut self, first: u8) {
+        let mut values = [0i32; 16];
+        let mut number = first;
+        for v in values.iter_mut() {
+            *v = self.parameter(number);
+            number = number.wrapping_add(1);
+        }
+        let mut buf = [0u8; MAX_REPLY];
+        if let Ok(n) = device::encode_bulk(first, &values, &mut buf) {
+            self.queue(buf.get(..n).unwrap_or_default());
+        }
+    }
+
+    /// `63 03 NUM`: the RAM parameters from set `n` (not while flying).
+    pub(super) fn load_set(&mut self, n: u8, flying: bool, shared: &Shared) {
+        let ack = match shared.persisted.aok.sets.get(usize::from(n)) {
+            None => Ack::Error,
+            Some(_) if flying => Ack::InFlight,
+            Some(set) => {
+                crate::info!("AOK parameters loaded from set {=u8}", n);
+                self.params = *set;
+                Ack::Ok
+            }
+        };
+        self.ack(ack);
+    }
+
+    /// `63 04 NUM`: the RAM parameters into set `n` and the flash (not while flying).
+    pub(super) fn save_set(&mut self, n: u8, flying: bool, shared: &mut Shared) {
+        let params = self.params;
+        let ack = match shared.persisted.aok.sets.get_mut(usize::from(n)) {
+            None => Ack::Error,
+            Some(_) if flying => Ack::InFlight,
+            Some(set) => {
+                crate::info!("AOK parameters saved to set {=u8}", n);
+                *set = params;
+                shared.requests.store = true;
+                Ack::Ok
+            }
+        };
+        self.ack(ack);
+    }
+
+    /// `63 05 NUM`: the set loaded at boot (not while flying).
+    pub(super) fn start_set(&mut self, n: u8, flying: bool, shared: &mut Shared) {
+        let ack = if usize::from(n) >= shared.persisted.aok.sets.len() {
+            Ack::Error
+        } else if flying {
+            Ack::InFlight
+        } else {
+            crate::info!("AOK start set {=u8}", n);
+            shared.persisted.aok.start_set = n;
+            shared.requests.store = true;
+            Ack::Ok
         };
         self.ack(ack);
     }

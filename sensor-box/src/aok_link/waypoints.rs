@@ -1,10 +1,11 @@
 //! Waypoints: the RAM slots (0..=30, the RAM POI 254, the FBC target 255), the flash
-//! waypoints with the mission POI (31), and loading them from flash into RAM.
+//! waypoints with the mission POI (31), reading and setting one, and moving them between
+//! flash and RAM.
 
 use super::{AokLink, MISSION_POI};
 use crate::Shared;
 use crate::state::StoredWaypoint;
-use aok_proto::WaypointSlot;
+use aok_proto::{Ack, ActionWord, Waypoint, WaypointSlot, device};
 
 impl AokLink {
     /// The RAM value of a waypoint slot; the mission POI (31) is read from the flash record.
@@ -34,5 +35,68 @@ impl AokLink {
             *r = *f;
         }
         self.ram_poi = flash.get(MISSION_POI).copied().unwrap_or_default();
+    }
+
+    /// `63 08`: RAM slots 0..=30 and the RAM POI into the flash record (not while flying).
+    pub(super) fn save_waypoints(&mut self, flying: bool, shared: &mut Shared) {
+        let ack = if flying {
+            Ack::InFlight
+        } else {
+            crate::info!("AOK waypoints saved to flash");
+            let flash = &mut shared.persisted.aok.waypoints;
+            for (f, r) in flash.iter_mut().zip(self.waypoints.iter()) {
+                *f = *r;
+            }
+            if let Some(poi) = flash.get_mut(MISSION_POI) {
+                *poi = self.ram_poi;
+            }
+            shared.requests.store = true;
+            Ack::Ok
+        };
+        self.ack(ack);
+    }
+
+    /// `77`: one slot (the mission POI goes to flash, not while flying).
+    pub(super) fn set_waypoint(&mut self, w: &Waypoint, flying: bool, shared: &mut Shared) {
+        let stored = StoredWaypoint {
+            lon: w.longitude,
+            lat: w.latitude,
+            action1: w.action1.raw(),
+            action2: w.action2.raw(),
+        };
+        let slot = match w.slot {
+            WaypointSlot::Waypoint(n) => self.waypoints.get_mut(usize::from(n.wire())),
+            WaypointSlot::MissionPoi if flying => return self.ack(Ack::InFlight),
+            WaypointSlot::MissionPoi => {
+                shared.requests.store = true;
+                shared.persisted.aok.waypoints.get_mut(MISSION_POI)
+            }
+            WaypointSlot::RamPoi => Some(&mut self.ram_poi),
+            WaypointSlot::FbcTarget => Some(&mut self.fbc_target),
+        };
+        let ack = match slot {
+            Some(slot) => {
+                *slot = stored;
+                Ack::Ok
+            }
+            None => Ack::Error,
+        };
+        self.ack(ack);
+    }
+
+    /// `78`: one slot, answered with its `77` frame.
+    pub(super) fn read_waypoint(&mut self, slot: WaypointSlot, shared: &Shared) {
+        let s = self.waypoint(slot, shared);
+        let w = Waypoint {
+            slot,
+            longitude: s.lon,
+            latitude: s.lat,
+            action1: ActionWord(s.action1),
+            action2: ActionWord(s.action2),
+        };
+        let mut buf = [0u8; 19];
+        if let Ok(n) = device::encode_waypoint(&w, &mut buf) {
+            self.queue(buf.get(..n).unwrap_or_default());
+        }
     }
 }

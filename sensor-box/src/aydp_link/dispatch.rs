@@ -2,20 +2,19 @@
 //! configuration, direct output).
 
 use super::Ctx;
-use super::periodic::{send, timestamp};
+use super::periodic::timestamp;
 use super::registry::View;
 use crate::Shared;
 use aydp_proto::registry::Registry;
 use aydp_proto::{Frame, Message, Stats, SystemControl, SystemValueUpdate, Timestamp};
-use embedded_io::{Write, WriteReady};
 
 impl Ctx {
-    pub(super) fn handle<P: Write + WriteReady>(
+    /// Acts on one received message; a reply goes into the TX queue.
+    pub(super) fn handle(
         &mut self,
         frame: &Frame<'_>,
         stats: &Stats,
         now_ms: u64,
-        port: &mut P,
         shared: &mut Shared,
     ) {
         let message = match frame.message() {
@@ -30,7 +29,7 @@ impl Ctx {
             Message::SystemValueUpdate(update) => self.update(&update, stats, now_ms, shared),
             Message::SystemControl(SystemControl::RequestData { address }) => {
                 let ts = (!frame.is_expedited()).then(|| timestamp(shared, now_ms));
-                self.request(address, ts, stats, port, shared);
+                self.request(address, ts, stats, shared);
             }
             Message::SystemControl(SystemControl::StoreConfiguration) => {
                 shared.requests.store = true;
@@ -47,6 +46,12 @@ impl Ctx {
                 crate::debug!("AYDP: ignored type {=u8}", frame.base_type());
             }
         }
+    }
+
+    /// A candidate the decoder dropped: counted (see [`crate::port`], "Receive errors").
+    pub(super) fn rx_error(&mut self, e: aydp_proto::Error) {
+        self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
+        crate::debug!("AYDP: dropped a candidate: {}", e);
     }
 
     fn update(
@@ -71,14 +76,7 @@ impl Ctx {
         }
     }
 
-    fn request<P: Write + WriteReady>(
-        &mut self,
-        address: u16,
-        ts: Option<Timestamp>,
-        stats: &Stats,
-        port: &mut P,
-        shared: &Shared,
-    ) {
+    fn request(&mut self, address: u16, ts: Option<Timestamp>, stats: &Stats, shared: &Shared) {
         let mut view = View::new(shared, stats, &self.counters);
         let mut slots = view.slots();
         let registry = Registry::new(&mut slots);
@@ -86,7 +84,7 @@ impl Ctx {
         match registry.read(address, &mut out) {
             Ok(reply) => {
                 self.counters.requests_answered = self.counters.requests_answered.wrapping_add(1);
-                send(&self.encoder, &mut self.counters, port, &reply, ts);
+                self.send(&reply, ts, 0);
             }
             Err(e) => {
                 self.counters.rejected = self.counters.rejected.wrapping_add(1);

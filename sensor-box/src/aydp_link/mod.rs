@@ -3,8 +3,9 @@
 //!
 //! # What arrives
 //!
-//! The port is read a slice at a time (up to [`RX_CHUNK`] bytes, at
-//! most [`RX_BUDGET`] a poll). Every received byte goes through an [`aydp_proto::Decoder`]
+//! The port lends its received bytes a slice at a time ([`crate::port::Receive`], at
+//! most [`RX_BUDGET`] a poll), and a byte is decoded only while the TX queue has room for one
+//! longest reply (the rest waits in the port). Every received byte goes through an [`aydp_proto::Decoder`]
 //! by `push`, not the slice path `feed`: a request for [`addr::LINK_COUNTERS`] reports the
 //! decoder's counters as of before the byte that completed it, which only the per-byte path
 //! can read. Every event it yields (a rescan can yield several per byte) is handled:
@@ -65,11 +66,8 @@
 //! /// A port that takes nothing in and keeps what goes out.
 //! struct Wire(Vec<u8>);
 //! impl embedded_io::ErrorType for Wire { type Error = core::convert::Infallible; }
-//! impl embedded_io::ReadReady for Wire {
-//!     fn read_ready(&mut self) -> Result<bool, Self::Error> { Ok(false) }
-//! }
-//! impl embedded_io::Read for Wire {
-//!     fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> { Ok(0) }
+//! impl sensor_box::port::Receive for Wire {
+//!     fn receive(&mut self, _: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error> { Ok(0) }
 //! }
 //! impl embedded_io::WriteReady for Wire {
 //!     fn write_ready(&mut self) -> Result<bool, Self::Error> { Ok(true) }
@@ -97,9 +95,10 @@ pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
 pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
 
 use crate::Shared;
-use crate::port::RX_CHUNK;
+use crate::port::{Receive, TxQueue, receive_slices};
 use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats};
-use embedded_io::{Read, ReadReady, Write, WriteReady};
+use embedded_io::{Write, WriteReady};
+use periodic::SEND_BUF;
 
 /// Longest message the link accepts, bytes. The largest the box expects is a direct output
 /// of 8 channels (22 + 2 + 48 + 1 = 73 bytes, normal); 128 leaves room for 17 entries.
@@ -110,8 +109,9 @@ pub const HEARTBEAT_PERIOD_MS: u64 = 1000;
 pub const NAV_PERIOD_MS: u64 = 1000;
 /// Most received bytes handled per poll (keeps one poll short under a flood).
 pub const RX_BUDGET: usize = 256;
-/// Tries while the TX queue is full (no byte taken) before the rest of a message is dropped.
-const TX_SPIN: u32 = 10_000;
+/// Bytes of encoded messages the link queues for TX, in front of the port: the 1 Hz messages
+/// (81 bytes) and one longest reply, twice over.
+pub const TX_QUEUE: usize = 256;
 
 /// What the link counted. All counters wrap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -136,8 +136,12 @@ pub struct LinkCounters {
     pub heartbeats_received: u32,
     /// Good frames of a type the box does not act on.
     pub ignored: u32,
-    /// Messages not sent completely because the TX queue stayed full.
+    /// Messages dropped whole because the TX queue had no room for them.
     pub tx_dropped: u32,
+    /// Frames the decoder dropped: every `Err` event (see [`crate::port`], "Receive errors").
+    pub rx_errors: u32,
+    /// Errors reported by the port itself, on either side.
+    pub port_errors: u32,
 }
 
 /// Names of the u32\[10\] at [`addr::LINK_COUNTERS`], in order: the first four are the
@@ -158,6 +162,7 @@ pub const COUNTER_NAMES: [&str; 10] = [
 /// Everything but the decoder (so a frame can borrow the decoder while this is mutated).
 struct Ctx {
     encoder: Encoder,
+    tx: TxQueue<TX_QUEUE>,
     counters: LinkCounters,
     next_heartbeat_ms: u64,
     next_nav_ms: u64,
@@ -167,6 +172,8 @@ struct Ctx {
 pub struct AydpLink {
     decoder: Decoder<DECODER_CAPACITY>,
     ctx: Ctx,
+    /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
+    rx_more: bool,
 }
 
 impl AydpLink {
@@ -181,10 +188,12 @@ impl AydpLink {
             decoder: Decoder::new(Profile::Spec),
             ctx: Ctx {
                 encoder: Encoder::new(Profile::Spec),
+                tx: TxQueue::new(),
                 counters: LinkCounters::default(),
                 next_heartbeat_ms: now_ms,
                 next_nav_ms: now_ms,
             },
+            rx_more: false,
         }
     }
 
@@ -211,51 +220,88 @@ impl AydpLink {
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
     ///
     /// See the [module documentation](self) for an example.
-    pub fn poll<P: Read + ReadReady + Write + WriteReady>(
+    pub fn poll<P: Receive + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
         shared: &mut Shared,
     ) {
-        let mut budget = RX_BUDGET;
-        // Asked first, so an idle poll does not clear the buffer.
-        while budget > 0 && port.read_ready().unwrap_or(false) {
-            let mut buf = [0u8; RX_CHUNK];
-            let chunk = buf.get_mut(..budget.min(RX_CHUNK)).unwrap_or(&mut []);
-            let n = match port.read(chunk) {
-                Ok(n) if n > 0 => n.min(chunk.len()),
-                _ => break,
-            };
-            budget = budget.saturating_sub(n);
-            for &byte in chunk.get(..n).unwrap_or(&[]) {
-                // The counters as of before this byte: what 0x0300 reports to a request it ends.
-                let stats = self.decoder.stats();
-                let mut event = self.decoder.push(byte);
-                while let Some(ev) = event {
-                    match ev {
-                        Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, port, shared),
-                        Err(e) => crate::debug!("AYDP: dropped a candidate: {}", e),
-                    }
-                    event = self.decoder.poll();
+        self.ctx.drain(port);
+        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms, shared));
+        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
+        if taken.is_err() {
+            self.ctx.counters.port_errors = self.ctx.counters.port_errors.wrapping_add(1);
+        }
+        // The replies first, so the 1 Hz messages find the room they leave in the port.
+        self.ctx.drain(port);
+        self.ctx.queue_due(now_ms, shared);
+        self.ctx.drain(port);
+    }
+
+    /// Whether a poll at `now_ms` has anything to do besides what the port received since the
+    /// last one: a 1 Hz message due, TX bytes waiting for room in the port, or received bytes
+    /// left in the port by the last poll's [`RX_BUDGET`].
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert!(link.has_work(0)); // the first heartbeat
+    /// ```
+    pub fn has_work(&self, now_ms: u64) -> bool {
+        now_ms >= self.ctx.next_heartbeat_ms
+            || now_ms >= self.ctx.next_nav_ms
+            || self.rx_more
+            || !self.ctx.tx.is_empty()
+    }
+
+    /// What the TX queue is still waiting to hand to the port, bytes.
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert_eq!(link.tx_pending(), 0);
+    /// ```
+    pub fn tx_pending(&self) -> usize {
+        self.ctx.tx.len()
+    }
+
+    /// Pushes `bytes` into the decoder one at a time while one longest reply still fits in the
+    /// TX queue, and handles every event; the count decoded. Byte by byte (`push`), not by
+    /// slice (`feed`): a request for [`addr::LINK_COUNTERS`] reports the decoder's counters as
+    /// of before the byte that completed it, which only the per-byte path can read.
+    fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
+        let mut done = 0;
+        for &byte in bytes {
+            if self.ctx.tx.free() < SEND_BUF {
+                break;
+            }
+            done += 1;
+            let stats = self.decoder.stats();
+            let mut event = self.decoder.push(byte);
+            while let Some(ev) = event {
+                match ev {
+                    Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, shared),
+                    Err(e) => self.ctx.rx_error(e),
                 }
+                event = self.decoder.poll();
             }
         }
-        self.ctx.send_due(now_ms, port, shared);
+        done
     }
 }
 
 impl AydpLink {
     /// Acts on one message from a decoder the caller runs, the per-message half of
     /// [`AydpLink::poll`]'s RX (an async `aydp_proto::embedded_io_async::FrameReader`, say):
-    /// updates, requests, store configuration, direct outputs. Replies go to `port` at once.
+    /// `Ok` is a received message (updates, requests, store configuration, direct outputs),
+    /// `Err` a candidate the decoder dropped (counted in [`LinkCounters::rx_errors`], as on
+    /// the link's own path). Replies go into the TX queue and on to `port` at once.
     /// `stats` is what 0x0300 reports for the decoder counters (the caller's decoder: the
     /// link's own, and so [`AydpLink::decoder_stats`], is not used on this path).
     ///
     /// ```
     /// use aydp_proto::{Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let mut shared = Shared::new(Persisted::default(), 0);
@@ -264,22 +310,28 @@ impl AydpLink {
     /// let request = [0xFF, 0x89, 0x0A, 0, 0, 0, 0x01, 0x10, 0x01, 0x6C];
     /// let mut decoder = Decoder::<128>::new(Profile::Spec);
     /// for &b in &request {
-    ///     if let Some(Ok(frame)) = decoder.push(b) {
-    ///         link.handle_frame(&frame, &Stats::default(), 5, &mut port, &mut shared);
+    ///     if let Some(frame) = decoder.push(b) {
+    ///         link.handle_frame(frame.as_ref().map_err(|e| *e), &Stats::default(), 5, &mut port, &mut shared);
     ///     }
     /// }
     /// assert_eq!(link.counters().requests_answered, 1);
     /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
+    /// link.handle_frame(Err(aydp_proto::Error::ChecksumMismatch), &Stats::default(), 6, &mut port, &mut shared);
+    /// assert_eq!(link.counters().rx_errors, 1);
     /// ```
     pub fn handle_frame<P: Write + WriteReady>(
         &mut self,
-        frame: &Frame<'_>,
+        frame: Result<&Frame<'_>, aydp_proto::Error>,
         stats: &Stats,
         now_ms: u64,
         port: &mut P,
         shared: &mut Shared,
     ) {
-        self.ctx.handle(frame, stats, now_ms, port, shared);
+        match frame {
+            Ok(frame) => self.ctx.handle(frame, stats, now_ms, shared),
+            Err(e) => self.ctx.rx_error(e),
+        }
+        self.ctx.drain(port);
     }
 
     /// The TX half of [`AydpLink::poll`]: sends the heartbeat, position and fix quality due at
@@ -287,8 +339,8 @@ impl AydpLink {
     ///
     /// ```
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
-    /// use firmware_example::{PortStats, QueuedSerial};
-    /// let (rxq, txq) = (firmware_example::serial::Ring::<2>::new(), firmware_example::serial::Ring::<256>::new());
+    /// use sensor_box::serial::{PortStats, QueuedSerial};
+    /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<256>::new());
     /// let stats = PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// let shared = Shared::new(Persisted::default(), 0);
@@ -298,6 +350,8 @@ impl AydpLink {
     /// assert_eq!(sent, 7 + 43 + 31); // heartbeat, position, fix quality
     /// ```
     pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
-        self.ctx.send_due(now_ms, port, shared);
+        self.ctx.drain(port);
+        self.ctx.queue_due(now_ms, shared);
+        self.ctx.drain(port);
     }
 }

@@ -1,10 +1,17 @@
 //! What the box sends by itself: the heartbeat, the position and the fix quality on a 1 s
-//! grid, the timestamps they carry, and sending a message into the port.
+//! grid, the timestamps they carry, and the TX path: every message is encoded into the
+//! link's [`TxQueue`](crate::port::TxQueue), which is drained into the port without waiting.
 
-use super::{Ctx, HEARTBEAT_PERIOD_MS, LinkCounters, NAV_PERIOD_MS, TX_SPIN};
+use super::{Ctx, HEARTBEAT_PERIOD_MS, NAV_PERIOD_MS};
 use crate::Shared;
-use aydp_proto::{Encoder, FixQuality, Message, Payload, Position, Timestamp};
+use aydp_proto::{FixQuality, Payload, Position, Raw, Timestamp};
 use embedded_io::{Write, WriteReady};
+
+/// The heartbeat's payload (sent expedited: type 0x80, no data).
+const HEARTBEAT: Raw<'static> = Raw {
+    msg_type: 0,
+    data: &[],
+};
 
 /// The fix quality the simulated GPS reports (3D fix, 10 satellites).
 pub const FIX_QUALITY: FixQuality = FixQuality {
@@ -24,21 +31,14 @@ fn next_due(due: u64, now: u64, period: u64) -> u64 {
 }
 
 impl Ctx {
-    pub(super) fn send_due<P: Write + WriteReady>(
-        &mut self,
-        now_ms: u64,
-        port: &mut P,
-        shared: &Shared,
-    ) {
+    /// Queues the heartbeat, position and fix quality due at `now_ms`, each leaving room for
+    /// one longest reply in the TX queue.
+    pub(super) fn queue_due(&mut self, now_ms: u64, shared: &Shared) {
         if now_ms >= self.next_heartbeat_ms {
             self.next_heartbeat_ms = next_due(self.next_heartbeat_ms, now_ms, HEARTBEAT_PERIOD_MS);
-            send(
-                &self.encoder,
-                &mut self.counters,
-                port,
-                &Message::Heartbeat,
-                None,
-            );
+            // Expedited type 0 with no data: `Message::Heartbeat`, without linking the
+            // encoder of every message type behind the `Message` enum.
+            self.send(&HEARTBEAT, None, SEND_BUF);
         }
         if now_ms >= self.next_nav_ms {
             self.next_nav_ms = next_due(self.next_nav_ms, now_ms, NAV_PERIOD_MS);
@@ -49,62 +49,42 @@ impl Ctx {
                 longitude: s.longitude_deg,
                 altitude: s.gps_altitude_m,
             };
-            send(&self.encoder, &mut self.counters, port, &position, ts);
-            send(&self.encoder, &mut self.counters, port, &FIX_QUALITY, ts);
+            self.send(&position, ts, SEND_BUF);
+            self.send(&FIX_QUALITY, ts, SEND_BUF);
+        }
+    }
+
+    /// Queues one message (normal with `Some(timestamp)`, expedited with `None`), encoded
+    /// straight into the TX queue, whole, if it fits with `reserve` bytes to spare; otherwise
+    /// it is dropped and counted.
+    pub(super) fn send<M: Payload + ?Sized>(
+        &mut self,
+        message: &M,
+        timestamp: Option<Timestamp>,
+        reserve: usize,
+    ) {
+        let encoder = &self.encoder;
+        let queued = self
+            .tx
+            .push_with::<SEND_BUF>(reserve, |out| encoder.encode(message, timestamp, out).ok());
+        if !queued {
+            self.counters.tx_dropped = self.counters.tx_dropped.wrapping_add(1);
+            crate::warn!("AYDP: TX queue full, message dropped");
+        }
+    }
+
+    /// Hands queued bytes to the port until it has no room.
+    pub(super) fn drain<P: Write + WriteReady>(&mut self, port: &mut P) {
+        if self.tx.drain(port).is_err() {
+            self.counters.port_errors = self.counters.port_errors.wrapping_add(1);
         }
     }
 }
 
 /// The longest message the link sends: a registry reply of 64 bytes of value, its address and
-/// mode, in a normal (22-byte header) message, with room to spare.
-const SEND_BUF: usize = 128;
-
-/// Sends one message (normal with `Some(timestamp)`, expedited with `None`): encoded whole,
-/// then handed to the port in slices. While the TX queue is full it retries; if it stays full
-/// the rest is dropped and counted.
-pub(super) fn send<P: Write + WriteReady, M: Payload + ?Sized>(
-    encoder: &Encoder,
-    counters: &mut LinkCounters,
-    port: &mut P,
-    message: &M,
-    timestamp: Option<Timestamp>,
-) {
-    let mut buf = [0u8; SEND_BUF];
-    let Ok(n) = encoder.encode(message, timestamp, &mut buf) else {
-        return;
-    };
-    if !write_all(port, buf.get(..n).unwrap_or(&[])) {
-        counters.tx_dropped = counters.tx_dropped.wrapping_add(1);
-        crate::warn!("AYDP: TX queue full, message dropped");
-    }
-}
-
-/// Writes all of `bytes`, trying [`TX_SPIN`] times for room each time the port has none;
-/// `false` when it stayed full or reported an error.
-fn write_all<P: Write + WriteReady>(port: &mut P, mut bytes: &[u8]) -> bool {
-    let mut tries = 0;
-    while !bytes.is_empty() {
-        match port.write_ready() {
-            Ok(true) => {
-                let Ok(n) = port.write(bytes) else {
-                    return false;
-                };
-                if n > 0 {
-                    bytes = bytes.get(n..).unwrap_or(&[]);
-                    tries = 0;
-                    continue;
-                }
-            }
-            Ok(false) => {}
-            Err(_) => return false,
-        }
-        tries += 1;
-        if tries >= TX_SPIN {
-            return false;
-        }
-    }
-    true
-}
+/// mode, in a normal (22-byte header) message, with room to spare. Periodic messages leave
+/// this much of the TX queue free, and RX decodes a byte only while this much is free.
+pub(super) const SEND_BUF: usize = 128;
 
 /// The header time of a normal message at `now_ms`: the wall clock of the last SETTIME plus
 /// the time since it arrived, or, without a (valid) SETTIME, the time since boot.

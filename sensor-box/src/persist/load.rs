@@ -212,7 +212,7 @@ fn decode<F: ReadNorFlash>(
 /// [`StoreError::Unsupported`] for a read unit above 64 bytes.
 ///
 /// ```
-/// use firmware_example::MemFlash;
+/// use sensor_box::storage::MemFlash;
 /// use sensor_box::{Persisted, persist};
 /// let mut mem = [0xFFu8; 2048];
 /// let mut flash = MemFlash::new(&mut mem);
@@ -240,7 +240,7 @@ pub fn load_into<F: ReadNorFlash>(
 /// As [`load_into`].
 ///
 /// ```
-/// use firmware_example::MemFlash;
+/// use sensor_box::storage::MemFlash;
 /// use sensor_box::{Persisted, persist};
 /// let mut mem = [0xFFu8; 2048];
 /// let mut flash = MemFlash::new(&mut mem);
@@ -259,7 +259,7 @@ pub fn load<F: ReadNorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
 /// corrupt. Never panics, whatever the flash holds.
 ///
 /// ```
-/// use firmware_example::MemFlash;
+/// use sensor_box::storage::MemFlash;
 /// use sensor_box::{Persisted, persist};
 /// let mut mem = [0x5Au8; 1024]; // garbage
 /// assert_eq!(persist::load_or_default(&mut MemFlash::new(&mut mem)), Persisted::default());

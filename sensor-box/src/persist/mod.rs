@@ -44,7 +44,7 @@
 //! the errors. `load.rs` reads an image from flash, `store.rs` writes one.
 //!
 //! ```
-//! use firmware_example::MemFlash;
+//! use sensor_box::storage::MemFlash;
 //! use sensor_box::{Persisted, persist};
 //!
 //! let mut mem = [0u8; 4096];

@@ -91,7 +91,7 @@ impl<F: NorFlash> Flavor for Writer<'_, F> {
 /// [`StoreError::Unsupported`] for a read or write unit above 64 bytes.
 ///
 /// ```
-/// use firmware_example::MemFlash;
+/// use sensor_box::storage::MemFlash;
 /// use sensor_box::{Persisted, persist};
 /// let mut mem = [0u8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
@@ -112,7 +112,7 @@ pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<(), Store
 /// As [`store`].
 ///
 /// ```
-/// use firmware_example::MemFlash;
+/// use sensor_box::storage::MemFlash;
 /// use sensor_box::persist::{self, PersistedV1, SettingsV1};
 /// use sensor_box::state::{AokFlash, Intervals};
 /// let mut mem = [0u8; 4096];

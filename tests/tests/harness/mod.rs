@@ -140,6 +140,8 @@ impl Ports {
     /// `web_qemu::the_page_flies_the_firmwares_turn` (UART ports, then the bridge's UDP ports
     /// at +5 and +6 and the page at +7).
     pub const WEB: Ports = Ports(17_480);
+    /// `realtime_flood::every_rate_and_every_answer_under_a_flood_on_all_three_uarts`.
+    pub const REALTIME: Ports = Ports(17_490);
 }
 
 impl Ports {

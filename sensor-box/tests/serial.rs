@@ -2,8 +2,7 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_hal_nb::serial::{Read, Write};
-use firmware_example::serial::Ring;
-use firmware_example::{PortStats, QueuedSerial};
+use sensor_box::serial::{PortStats, QueuedSerial, Ring};
 
 static KICKS: AtomicU32 = AtomicU32::new(0);
 fn kick() {

@@ -5,14 +5,16 @@
 //!
 //! ```text
 //!   application (main loop)                      UART interrupt handler
-//!   QueuedSerial::read(&mut buf) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!   QueuedSerial::receive(|bytes| ..) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!   (or read(&mut buf), a copy)
 //!   QueuedSerial::write(&frame)  --> TX ring -->  SerialIsr::send_while(room, put) / take_to_send
 //!                                --> kick() (pends the interrupt)
 //! ```
 //!
-//! The application's half speaks two interfaces: `embedded_io`'s `Read`, `ReadReady`,
-//! `Write` and `WriteReady` (slices: what the `sensor-box` links use, so the main loop drains
-//! the RX ring in bursts and hands whole frames to the TX ring), and `embedded_hal_nb`'s
+//! The application's half speaks three interfaces: [`Receive`](crate::port::Receive) (the
+//! links' RX: the received bytes lent in place, a run of the ring at a time, straight to the
+//! decoders), `embedded_io`'s `Read`, `ReadReady`, `Write` and `WriteReady` (slices: the links
+//! hand whole frames to the TX ring), and `embedded_hal_nb`'s
 //! byte-at-a-time `serial::Read<u8>` / `Write<u8>` (whose non-blocking `flush` the main
 //! loop calls after every poll).
 //!
@@ -58,7 +60,7 @@ pub struct PortStats {
 
 /// A copy of the counters at one instant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
 pub struct PortCounters {
     /// Bytes received and queued.
     pub rx_bytes: u32,
@@ -74,7 +76,7 @@ impl PortStats {
     /// All counters at zero (usable in a `static`).
     ///
     /// ```
-    /// static STATS: firmware_example::PortStats = firmware_example::PortStats::new();
+    /// static STATS: sensor_box::serial::PortStats = sensor_box::serial::PortStats::new();
     /// assert_eq!(STATS.snapshot().rx_bytes, 0);
     /// ```
     pub const fn new() -> Self {
@@ -90,7 +92,7 @@ impl PortStats {
     /// Reads all counters.
     ///
     /// ```
-    /// let s = firmware_example::PortStats::new();
+    /// let s = sensor_box::serial::PortStats::new();
     /// assert_eq!(s.snapshot(), Default::default());
     /// ```
     pub fn snapshot(&self) -> PortCounters {
@@ -148,9 +150,9 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     /// writer (whose grants then fail while the first holds one).
     ///
     /// ```
-    /// use firmware_example::{QueuedSerial, serial::Ring};
+    /// use sensor_box::serial::{QueuedSerial, Ring};
     /// let (rxq, txq) = (Ring::<16>::new(), Ring::<16>::new());
-    /// let stats = firmware_example::PortStats::new();
+    /// let stats = sensor_box::serial::PortStats::new();
     /// let (port, isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
     /// # let _ = (port, isr);
     /// ```
@@ -186,11 +188,11 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     ///
     /// ```
     /// use embedded_hal_nb::serial::Write;
-    /// use firmware_example::{QueuedSerial, serial::Ring};
+    /// use sensor_box::serial::{QueuedSerial, Ring};
     /// use core::sync::atomic::{AtomicU32, Ordering};
     /// static KICKS: AtomicU32 = AtomicU32::new(0);
     /// let (a, b) = (Ring::<4>::new(), Ring::<8>::new());
-    /// let stats = firmware_example::PortStats::new();
+    /// let stats = sensor_box::serial::PortStats::new();
     /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {
     ///     KICKS.fetch_add(1, Ordering::Relaxed);
     /// });
@@ -212,9 +214,9 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     /// Received bytes waiting to be read.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// isr.received(1);
     /// assert_eq!(port.rx_pending(), 1);
@@ -227,9 +229,9 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     /// Room left in the TX ring, bytes (at most `TX`; one byte less may fit, see [`Ring`]).
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(port.tx_space(), 4);
     /// ```
@@ -240,9 +242,9 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     /// The port's counters.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<4>::new(), Ring::<4>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, _isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(port.counters().rx_dropped, 0);
     /// ```
@@ -353,9 +355,9 @@ impl<const RX: usize, const TX: usize> embedded_io::Read for QueuedSerial<'_, RX
     ///
     /// ```
     /// use embedded_io::{Read, ReadReady};
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<8>::new(), Ring::<4>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// for byte in b"hello" {
     ///     isr.received(*byte);
@@ -376,6 +378,28 @@ impl<const RX: usize, const TX: usize> embedded_io::Read for QueuedSerial<'_, RX
                 return Ok(n);
             }
         }
+    }
+}
+
+impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_, RX, TX> {
+    /// Lends `take` the oldest run of received bytes in the RX ring, in place (a read grant
+    /// up to the ring's end), and releases what it took. Kicks the interrupt when it had left
+    /// bytes in the UART for want of room (see [`SerialIsr::receive_while`]).
+    fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Infallible> {
+        // Two loads say whether anything waits; the grant (atomics) only when it does.
+        if self.rx_pending() == 0 {
+            return Ok(0);
+        }
+        let Ok(grant) = self.rx.read() else {
+            return Ok(0);
+        };
+        let n = take(&grant).min(grant.len());
+        grant.release(n);
+        add_local(&mut self.rx_taken, n);
+        if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
+            (self.kick)();
+        }
+        Ok(n)
     }
 }
 
@@ -401,9 +425,9 @@ impl<const RX: usize, const TX: usize> embedded_io::Write for QueuedSerial<'_, R
     ///
     /// ```
     /// use embedded_io::{Write, WriteReady};
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<4>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(port.write(b"hello"), Ok(4)); // a ring of 4, empty, holds 4
     /// assert_eq!(port.write_ready(), Ok(false));
@@ -485,9 +509,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// [`SerialIsr::receive_while`] takes a FIFO's worth at once.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<1>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(isr.received(1));
     /// assert!(!isr.received(2)); // the ring holds one byte
@@ -517,9 +541,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// read kicks the interrupt, which takes them then.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<4>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// let mut uart = [Ok(1), Err(()), Ok(2), Ok(3), Ok(4), Ok(5)].into_iter();
     /// assert_eq!(isr.receive_while(|| uart.next()), 4); // the ring is full
@@ -558,9 +582,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// Counts a receive error reported by the UART hardware.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// isr.receive_error();
     /// assert_eq!(port.counters().rx_errors, 1);
@@ -572,9 +596,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// The next byte to hand to the UART, if any.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert_eq!(isr.next_to_send(), None);
     /// ```
@@ -590,9 +614,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     ///
     /// ```
     /// use embedded_io::Write;
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<8>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// port.write(b"hello").unwrap();
     /// let (room, mut fifo) = (core::cell::Cell::new(3), Vec::new()); // a FIFO with room for 3
@@ -635,9 +659,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     ///
     /// ```
     /// use embedded_io::Write;
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<64>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// port.write(&[7; 40]).unwrap();
     /// let (mut fifo, empties) = (Vec::new(), core::cell::Cell::new(2u32)); // empties twice
@@ -678,9 +702,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     ///
     /// ```
     /// use embedded_io::Write;
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<8>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// port.write(b"hello").unwrap();
     /// let mut block = [0u8; 4];
@@ -699,9 +723,9 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// the application's next read then kicks the interrupt.
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<1>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(isr.rx_room());
     /// isr.received(7); // the ring holds one byte
@@ -717,12 +741,29 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
         room
     }
 
+    /// Whether the RX ring was found full and bytes were left in the UART, until the
+    /// application's next read takes some (and kicks the interrupt): a board stops its RX
+    /// interrupts meanwhile. One load, for the interrupt's RX-only path.
+    ///
+    /// ```
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// let mut uart = [1, 2, 3].into_iter().map(Ok);
+    /// isr.receive_while(|| uart.next());
+    /// assert!(isr.rx_held()); // the third byte is still in the UART
+    /// ```
+    pub fn rx_held(&self) -> bool {
+        self.stats.rx_held.load(Ordering::Relaxed)
+    }
+
     /// Whether bytes are waiting to be sent (keep the TX interrupt enabled).
     ///
     /// ```
-    /// # use firmware_example::{QueuedSerial, serial::Ring};
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
     /// # let (a, b) = (Ring::<2>::new(), Ring::<2>::new());
-    /// # let stats = firmware_example::PortStats::new();
+    /// # let stats = sensor_box::serial::PortStats::new();
     /// let (_port, isr) = QueuedSerial::split(&a, &b, &stats, || {});
     /// assert!(!isr.tx_pending());
     /// ```

@@ -3,8 +3,7 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use embedded_io::{Read, ReadReady, Write, WriteReady};
-use firmware_example::serial::Ring;
-use firmware_example::{PortStats, QueuedSerial};
+use sensor_box::serial::{PortStats, QueuedSerial, Ring};
 
 #[test]
 fn a_read_drains_what_is_queued_in_order_and_a_full_queue_kicks_once() {

@@ -9,7 +9,7 @@
 //!
 //! ```
 //! use embedded_storage::nor_flash::{NorFlash, ReadNorFlash};
-//! use firmware_example::MemFlash;
+//! use sensor_box::storage::MemFlash;
 //!
 //! let mut mem = [0u8; 2048];
 //! let mut flash = MemFlash::new(&mut mem);
@@ -20,8 +20,9 @@
 //! assert_eq!(buf, [1, 2, 3, 4]);
 //! ```
 
-use crate::Error;
-use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
+use embedded_storage::nor_flash::{
+    ErrorType, NorFlash, NorFlashError, NorFlashErrorKind, ReadNorFlash,
+};
 
 /// NOR flash emulated in a byte slice (1 KiB erase pages, 4-byte writes).
 #[derive(Debug)]
@@ -40,7 +41,7 @@ impl<'a> MemFlash<'a> {
     /// ```
     /// use embedded_storage::nor_flash::ReadNorFlash;
     /// let mut mem = [0u8; 1500];
-    /// assert_eq!(firmware_example::MemFlash::new(&mut mem).capacity(), 1024);
+    /// assert_eq!(sensor_box::storage::MemFlash::new(&mut mem).capacity(), 1024);
     /// ```
     pub fn new(mem: &'a mut [u8]) -> Self {
         let len = mem.len() - mem.len() % Self::PAGE;
@@ -121,14 +122,14 @@ impl<F: NorFlash> FlashWindow<F> {
     ///
     /// ```
     /// use embedded_storage::nor_flash::{NorFlash, ReadNorFlash};
-    /// use firmware_example::{FlashWindow, MemFlash};
+    /// use sensor_box::storage::{FlashWindow, MemFlash};
     /// let mut mem = [0xFFu8; 4096];
     /// let mut w = FlashWindow::new(MemFlash::new(&mut mem), 2048, 1024)?;
     /// w.write(0, &[0, 0, 0, 0])?;
     /// assert_eq!(w.capacity(), 1024);
     /// drop(w);
     /// assert_eq!(&mem[2048..2052], &[0, 0, 0, 0]);
-    /// # Ok::<(), firmware_example::Error>(())
+    /// # Ok::<(), sensor_box::storage::Error>(())
     /// ```
     pub fn new(inner: F, base: u32, len: u32) -> Result<Self, Error> {
         let page = u32::try_from(F::ERASE_SIZE).map_err(|_| Error::NotAligned)?;
@@ -145,11 +146,11 @@ impl<F: NorFlash> FlashWindow<F> {
     /// Gives the flash back.
     ///
     /// ```
-    /// # use firmware_example::{FlashWindow, MemFlash};
+    /// # use sensor_box::storage::{FlashWindow, MemFlash};
     /// let mut mem = [0u8; 1024];
     /// let w = FlashWindow::new(MemFlash::new(&mut mem), 0, 1024)?;
     /// let _flash: MemFlash = w.into_inner();
-    /// # Ok::<(), firmware_example::Error>(())
+    /// # Ok::<(), sensor_box::storage::Error>(())
     /// ```
     pub fn into_inner(self) -> F {
         self.inner
@@ -202,5 +203,56 @@ impl<F: NorFlash> NorFlash for FlashWindow<F> {
         self.inner
             .write(at, bytes)
             .map_err(|e| Error::from_flash(&e))
+    }
+}
+
+/// Errors of the flash stores in this module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
+pub enum Error {
+    /// A flash access outside the store.
+    OutOfBounds,
+    /// A flash offset or length that is not a multiple of the write or erase size.
+    NotAligned,
+    /// The flash hardware reported a failure (programming, erase, protection).
+    Device,
+}
+
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Error::OutOfBounds => "flash access out of bounds",
+            Error::NotAligned => "flash access not aligned",
+            Error::Device => "flash device failure",
+        })
+    }
+}
+
+impl core::error::Error for Error {}
+
+impl NorFlashError for Error {
+    fn kind(&self) -> NorFlashErrorKind {
+        match self {
+            Error::OutOfBounds => NorFlashErrorKind::OutOfBounds,
+            Error::NotAligned => NorFlashErrorKind::NotAligned,
+            Error::Device => NorFlashErrorKind::Other,
+        }
+    }
+}
+
+impl Error {
+    /// Maps any NOR flash error onto this crate's error.
+    ///
+    /// ```
+    /// use embedded_storage::nor_flash::NorFlashErrorKind;
+    /// use sensor_box::storage::Error;
+    /// assert_eq!(Error::from_flash(&NorFlashErrorKind::Other), Error::Device);
+    /// ```
+    pub fn from_flash<E: NorFlashError>(e: &E) -> Error {
+        match e.kind() {
+            NorFlashErrorKind::OutOfBounds => Error::OutOfBounds,
+            NorFlashErrorKind::NotAligned => Error::NotAligned,
+            _ => Error::Device,
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The NOR flash stores: NOR semantics, bounds and alignment, windows.
 
 use embedded_storage::nor_flash::{NorFlash, ReadNorFlash};
-use firmware_example::{Error, FlashWindow, MemFlash};
+use sensor_box::storage::{Error, FlashWindow, MemFlash};
 
 #[test]
 fn erase_sets_ff_and_write_only_clears_bits() {
