@@ -68,6 +68,7 @@ pub fn reset() -> ! {
 unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
     defmt::error!("HardFault: resetting (pc {=u32:#010x})", frame.pc());
     reset()
+}
 
 // ------------------------------------------------------------ pending
 
