@@ -57,6 +57,7 @@ pub mod layout;
 pub mod message;
 pub mod pc;
 pub mod stats;
+mod step;
 pub mod values;
 
 pub use client::{Client, Config, Outcome};

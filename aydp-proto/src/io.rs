@@ -76,8 +76,12 @@ impl<E: fmt::Debug> core::error::Error for IoError<E> {}
 /// What the reader found, without borrowing it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Token {
-    Held,
-    InPlace { from: usize, len: usize },
+    /// A frame of this many bytes in the decoder's buffer.
+    Held(usize),
+    InPlace {
+        from: usize,
+        len: usize,
+    },
     Error(Error),
     UnexpectedEof(usize),
     Eof,
@@ -117,7 +121,7 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
         self.start = self.start.saturating_add(used);
         Some(match found {
             Found::Nothing => return None,
-            Found::Held => Token::Held,
+            Found::Held(len) => Token::Held(len),
             Found::InPlace { at, len } => Token::InPlace {
                 from: base.saturating_add(at),
                 len,
@@ -135,7 +139,9 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
             }
             Some(Found::Truncated(n)) => Token::UnexpectedEof(n),
             Some(Found::Error(e)) => Token::Error(e),
-            Some(_) => Token::Held,
+            Some(Found::Held(len)) => Token::Held(len),
+            // `flush_until` never reports these (nothing is fed).
+            Some(Found::Nothing | Found::InPlace { .. }) => Token::Eof,
         }
     }
 
@@ -159,7 +165,7 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
     /// Turns a token into what the reader returns.
     pub(crate) fn take<E>(&self, token: Token) -> Result<Frame<'_>, IoError<E>> {
         match token {
-            Token::Held => Ok(self.decoder.held_frame()),
+            Token::Held(len) => Ok(self.decoder.held_frame(len)),
             Token::InPlace { from, len } => {
                 let end = from.saturating_add(len);
                 let bytes = self.buf.get(from..end).unwrap_or(&[]);

@@ -1,77 +1,145 @@
-//! The per-byte state machine: a command's length from its first bytes, the checksum, rescans.
+//! The step: every rule of the device's decoder, once (a command's length from its first
+//! bytes, the checksum, what is dropped after a failure), applied to a window of bytes.
 
 use super::*;
+use crate::checked_value;
+use crate::command::{MotorTest, SET_PARAMETER};
+use crate::layout::{motor_test as motor, set_parameter as set};
+use crate::step::Step;
+use crate::values::Motor;
 
 impl DeviceDecoder {
+    /// The rules, applied to the bytes at the front of `window` (the first byte not decided on
+    /// yet comes first). `push`, `poll`, `idle` run it over the buffer, `feed` over the input
+    /// itself: every path decides through this function.
+    ///
+    /// - A byte that starts no command is unknown: counted and dropped.
+    /// - A command's length follows from its first byte (its first two for `63`).
+    /// - A whole command is checked: a bad checksum drops only its first byte (the bytes after
+    ///   it are rescanned); a good checksum with an out-of-range field consumes it whole.
+    ///
+    /// Each decision depends on a fixed prefix of the window only, so it is the same whether
+    /// the window holds more bytes or not.
+    #[inline(always)]
+    pub(super) fn judge<F: FnMut(Result<Command, Error>)>(
+        stats: &mut Stats,
+        window: &[u8],
+        on_event: &mut F,
+    ) -> Step {
+        let Some((&first, tail)) = window.split_first() else {
+            return Step::Need(1);
+        };
+        // The common commands first, without `Command::parse_known`: an intact motor test or
+        // parameter set is exactly what it makes of them (a failed check falls through to it).
+        if let Some(motor) = Motor::from_command_byte(first) {
+            if let Some(f) = window.first_chunk::<{ motor::LEN }>() {
+                // The checksum covers the start byte and the value (`motor::CHECKED`).
+                if first ^ f[motor::VALUE] == f[motor::CHECKSUM] {
+                    let value = f[motor::VALUE];
+                    stats.frames_ok = stats.frames_ok.wrapping_add(1);
+                    on_event(Ok(Command::MotorTest(MotorTest { motor, value })));
+                    return Step::Used(motor::LEN);
+                }
+            }
+        } else if first == SET_PARAMETER {
+            if let Some(frame) = window.first_chunk::<{ set::LEN }>() {
+                if let Some((number, value)) = checked_value(frame) {
+                    stats.frames_ok = stats.frames_ok.wrapping_add(1);
+                    on_event(Ok(Command::SetParameter(ParameterValue { number, value })));
+                    return Step::Used(set::LEN);
+                }
+            }
+        }
+        let need = match command_len(first, tail.first().copied()) {
+            Len::Is(n) => n,
+            Len::More => return Step::Need(2),
+            Len::Unknown => {
+                stats.unknown_bytes = stats.unknown_bytes.wrapping_add(1);
+                stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
+                return Step::Used(1);
+            }
+        };
+        let Some(frame) = window.get(..need) else {
+            return Step::Need(need);
+        };
+        match Command::parse_known(first, frame) {
+            Ok(cmd) => {
+                stats.frames_ok = stats.frames_ok.wrapping_add(1);
+                on_event(Ok(cmd));
+                Step::Used(need)
+            }
+            Err(Error::ChecksumMismatch) => {
+                // The false start is dropped; the rescan starts at the next byte.
+                stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
+                stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
+                on_event(Err(Error::ChecksumMismatch));
+                Step::Used(1)
+            }
+            Err(e) => {
+                stats.invalid = stats.invalid.wrapping_add(1);
+                on_event(Err(e));
+                Step::Used(need)
+            }
+        }
+    }
+
+    /// Runs the step over the buffer until it gives an event or needs more bytes. With
+    /// `flush` (the line went quiet), an undecided front is given up: its first byte is
+    /// dropped and reported as [`Error::Truncated`].
     #[inline]
     pub(super) fn step(&mut self, flush: bool) -> Option<Result<Command, Error>> {
-        // Nothing buffered gives nothing (the usual last call to `poll`); a frame still
-        // short of its known length gives nothing until the line goes quiet.
-        if self.len == 0 || (self.len < self.need && !flush) {
+        if self.len == 0 {
+            // Nothing held: nothing to decide (the usual last call to `poll`).
             return None;
         }
-        // The first byte of a command only tells its length (every command has two or more).
-        if self.len == 1 && !flush {
-            let need = match self.buf.first().map(|&b| command_len(b, None)) {
-                Some(Len::Is(n)) if n > 1 => n,
-                Some(Len::More) => 2,
-                _ => 0,
-            };
-            if need != 0 {
-                self.need = need;
+        if !flush {
+            // The step's last answer: a frame still short of its known length stays
+            // undecided until the line goes quiet.
+            if self.len < self.need {
                 return None;
+            }
+            // A lone first byte: only its length is known (the rule `judge` applies, asked
+            // here without the call).
+            if self.len == 1 {
+                let need = match self.buf.first().map(|&b| command_len(b, None)) {
+                    Some(Len::Is(n)) if n > 1 => n,
+                    Some(Len::More) => 2,
+                    _ => 0,
+                };
+                if need != 0 {
+                    self.need = need;
+                    return None;
+                }
             }
         }
         self.step_slow(flush)
     }
 
-    pub(super) fn step_slow(&mut self, flush: bool) -> Option<Result<Command, Error>> {
+    fn step_slow(&mut self, flush: bool) -> Option<Result<Command, Error>> {
         loop {
-            let len = if self.len < MAX_COMMAND_LEN {
-                self.len
-            } else {
-                MAX_COMMAND_LEN
-            };
-            let bytes = self.buf.get(..len)?;
-            let (&first, rest) = bytes.split_first()?;
-            let need = match command_len(first, rest.first().copied()) {
-                Len::Is(n) => n,
-                Len::More => 2,
-                Len::Unknown => {
-                    self.stats.unknown_bytes = self.stats.unknown_bytes.wrapping_add(1);
-                    self.drop_front();
-                    continue;
-                }
-            };
-            if len < need {
-                if flush {
-                    self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
-                    self.drop_front();
-                    return Some(Err(Error::Truncated));
-                }
-                self.need = need;
+            let mut event = None;
+            let window = self.buf.get(..self.len).unwrap_or(&self.buf);
+            if window.is_empty() {
                 return None;
             }
-            let parsed = Command::parse_known(first, bytes);
-            return Some(match parsed {
-                Ok(cmd) => {
-                    self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+            match Self::judge(&mut self.stats, window, &mut |e| event = Some(e)) {
+                Step::Need(need) => {
+                    if flush {
+                        self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
+                        self.drop_front();
+                        return Some(Err(Error::Truncated));
+                    }
+                    self.need = need;
+                    return None;
+                }
+                Step::Used(used) => {
                     self.need = 0;
-                    self.len = shift_left(&mut self.buf, self.len, need);
-                    Ok(cmd)
+                    self.len = shift_left(&mut self.buf, self.len, used);
+                    if event.is_some() {
+                        return event;
+                    }
                 }
-                Err(Error::ChecksumMismatch) => {
-                    self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-                    self.drop_front();
-                    Err(Error::ChecksumMismatch)
-                }
-                Err(e) => {
-                    self.stats.invalid = self.stats.invalid.wrapping_add(1);
-                    self.need = 0;
-                    self.len = shift_left(&mut self.buf, self.len, need);
-                    Err(e)
-                }
-            });
+            }
         }
     }
 
@@ -79,5 +147,15 @@ impl DeviceDecoder {
         self.need = 0;
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
         self.len = shift_left(&mut self.buf, self.len, 1);
+    }
+
+    /// Keeps `bytes`, which the step left undecided until it holds `need` bytes, for the next
+    /// call (the slice path ends with them).
+    pub(super) fn hold(&mut self, bytes: &[u8], need: usize) {
+        if let Some(dst) = self.buf.get_mut(..bytes.len()) {
+            dst.copy_from_slice(bytes);
+            self.len = bytes.len();
+            self.need = need;
+        }
     }
 }

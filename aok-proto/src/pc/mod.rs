@@ -302,6 +302,7 @@ mod iter {
 
 /// The length of the frame that `first` starts while `expect` is pending (with a header: the
 /// headerless reply is read before this), or `None` for a byte that starts no frame.
+#[inline(always)]
 const fn frame_len(first: u8, expect: Expect) -> Option<usize> {
     match first {
         DEBUG => Some(DEBUG_LEN),

@@ -57,8 +57,8 @@ pub(crate) use until::Found;
 use crate::checksum::{ff_run, find_ff, xor};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
-use crate::header::array_at;
 use crate::profile::{EXPEDITED, EXPEDITED_HEADER_LEN, Profile, START};
+use state::discard;
 
 /// Decoder counters (MAVLink style). Every counter wraps.
 ///
@@ -80,13 +80,18 @@ pub struct Stats {
     pub bytes_discarded: u32,
 }
 
-/// What one step produced (small, so it travels in registers).
+/// What the rules make of the bytes at the front of a window (see [`Decoder::step`]).
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Outcome {
-    More,
-    Frame,
-    BadLength(u32),
-    ChecksumMismatch,
+pub(super) enum Step {
+    /// Undecided until the window holds this many bytes: they all belong to one candidate.
+    Need(usize),
+    /// This many bytes of noise were dropped (counted); nothing to report.
+    Noise(usize),
+    /// A frame of this many bytes, checksum good, is at the front of the window.
+    Frame(usize),
+    /// The candidate at the front failed: its start byte was dropped (counted), and the
+    /// rescan resumes at the byte after it.
+    Failed(Error),
 }
 
 /// AYDP stream decoder holding at most `N` bytes (the longest message it accepts).
@@ -113,17 +118,14 @@ enum Outcome {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Decoder<const N: usize> {
     buf: [u8; N],
-    /// Bytes of the current candidate, at `buf[..len]`.
+    /// The bytes held are `buf[start..len]`, in stream order.
+    start: usize,
     len: usize,
-    /// Announced frame length once the length field is complete, else 0.
-    need: usize,
-    /// Bytes waiting to be (re)scanned, at `buf[head..head + pending]` (`head >= len`).
-    pending: usize,
-    /// Start of the bytes waiting to be rescanned.
-    head: usize,
-    /// `buf[..len]` is a frame handed out last call; drop it before doing anything else.
-    delivered: bool,
-    xor: u8,
+    /// 0: the bytes held have not all been examined. Otherwise every byte held belongs to one
+    /// candidate that [`Decoder::step`] can decide only once the bytes held reach
+    /// `buf[decide_at - 1]`: a cache of its last answer (`Need`), so that bytes before that
+    /// point are only stored.
+    decide_at: usize,
     profile: Profile,
     stats: Stats,
 }
@@ -139,12 +141,9 @@ impl<const N: usize> Decoder<N> {
     pub const fn new(profile: Profile) -> Self {
         Self {
             buf: [0; N],
+            start: 0,
             len: 0,
-            need: 0,
-            pending: 0,
-            head: 0,
-            delivered: false,
-            xor: 0,
+            decide_at: 0,
             profile,
             stats: Stats {
                 frames_ok: 0,
@@ -177,7 +176,7 @@ impl<const N: usize> Decoder<N> {
 
     /// Whether bytes are queued for a rescan, i.e. [`Decoder::poll`] may still produce events.
     pub const fn has_pending(&self) -> bool {
-        self.pending != 0
+        self.unscanned_bytes() != 0
     }
 
     /// Bytes received that the decoder has not examined yet: queued behind a failed candidate
@@ -198,17 +197,18 @@ impl<const N: usize> Decoder<N> {
     /// assert_eq!(dec.unscanned_bytes(), 6); // the candidate started at 7 - 6 - 1 = 0
     /// ```
     pub const fn unscanned_bytes(&self) -> usize {
-        self.pending
+        if self.decide_at != 0 {
+            0
+        } else {
+            self.len.saturating_sub(self.start)
+        }
     }
 
     /// Forget everything held (counters are kept).
     pub fn reset(&mut self) {
+        self.start = 0;
         self.len = 0;
-        self.need = 0;
-        self.pending = 0;
-        self.head = 0;
-        self.delivered = false;
-        self.xor = 0;
+        self.decide_at = 0;
     }
 
     /// Feed one byte. Returns the first event it causes; call [`Decoder::poll`] until `None`
@@ -225,41 +225,14 @@ impl<const N: usize> Decoder<N> {
     /// ```
     #[inline]
     pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>>> {
-        // The common case, inlined: nothing queued, a byte that is only stored and XORed
-        // because the candidate stays incomplete after it: inside the body once the length
-        // is known (`need >= 7`), or the third to fifth header byte (the length field is not
-        // complete yet, and only the second byte has a rule of its own). A frame handed out
-        // last call has `len == need`, so it never takes this path.
+        // The common case, inlined: the step said it cannot decide before more than one
+        // further byte is held, so this byte is only stored.
         let len = self.len;
-        let limit = if self.need > EXPEDITED_HEADER_LEN {
-            self.need
-        } else {
-            EXPEDITED_HEADER_LEN
-        };
-        if self.pending == 0 {
-            // (Nested rather than a let chain: the crate's MSRV is 1.87.)
-            if len >= 2 && len.wrapping_add(1) < limit {
-                if let Some(slot) = self.buf.get_mut(len) {
-                    *slot = byte;
-                    self.len = len + 1;
-                    self.xor ^= byte;
-                    return None;
-                }
-            }
-            // Hunting (`len == 0` also means no frame is lent out): a start, or noise.
-            if len == 0 {
-                if byte == START {
-                    if let Some(slot) = self.buf.first_mut() {
-                        *slot = START;
-                        self.len = 1;
-                        self.xor = START;
-                        return None;
-                    }
-                }
-                if byte != START {
-                    self.discard(1);
-                    return None;
-                }
+        if len.wrapping_add(1) < self.decide_at {
+            if let Some(slot) = self.buf.get_mut(len) {
+                *slot = byte;
+                self.len = len + 1;
+                return None;
             }
         }
         self.push_slow(byte)
@@ -267,13 +240,20 @@ impl<const N: usize> Decoder<N> {
 
     #[inline(never)]
     fn push_slow(&mut self, byte: u8) -> Option<Result<Frame<'_>>> {
-        self.release();
-        if self.pending != 0 {
-            self.enqueue(byte);
-            return self.poll();
+        if self.start == self.len {
+            self.start = 0;
+            self.len = 0;
+        } else if self.len >= N {
+            self.compact();
         }
-        let outcome = self.step(byte);
-        self.event(outcome)
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = byte;
+            self.len += 1;
+        } else {
+            // Unreachable by construction, as in `append`.
+            discard(&mut self.stats, 1);
+        }
+        self.poll()
     }
 
     /// Take the next event from bytes already held (after a rescan), or `None`.
@@ -284,23 +264,7 @@ impl<const N: usize> Decoder<N> {
     /// assert!(dec.poll().is_none());
     /// ```
     pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
-        self.release();
-        let outcome = self.rescan_queued();
-        self.event(outcome)
-    }
-
-    /// Steps through the queued bytes until one completes or fails a candidate (`More`: none
-    /// did, and the queue is empty).
-    fn rescan_queued(&mut self) -> Outcome {
-        while self.pending != 0 {
-            let byte = self.buf.get(self.head).copied().unwrap_or(0);
-            self.head = self.head.wrapping_add(1);
-            self.pending -= 1;
-            match self.step(byte) {
-                Outcome::More => {}
-                other => return other,
-            }
-        }
-        Outcome::More
+        let step = self.examine();
+        self.event(step)
     }
 }

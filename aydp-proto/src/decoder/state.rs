@@ -1,8 +1,117 @@
-//! The candidate's state machine: one byte step, completion, rescans, end of stream.
+//! The step: every rule of the decoder, once, applied to a window of bytes (the decoder's
+//! buffer, or on the slice path the input itself); and the buffer it keeps between calls.
 
 use super::*;
 
 impl<const N: usize> Decoder<N> {
+    /// The rules, applied to the bytes at the front of `window` (the next byte not yet decided
+    /// on comes first). Every path (`push`, `poll`, `feed`, `flush`, the readers) decides
+    /// through this function; they differ only in where the window lies.
+    ///
+    /// - Bytes before a 0xFF start are noise, dropped and counted.
+    /// - Y5: a 0xFF followed by 0xFF is dropped; the last of a run is the start.
+    /// - The length field is checked the moment it is complete, against the profile's minimum
+    ///   and the capacity `N` (Y5).
+    /// - Once the announced number of bytes is there, the XOR checksum decides (Y4).
+    /// - After a failure only the start byte is dropped: the caller resumes at the byte after
+    ///   it (the rescan), so a message hidden behind a false start is still found.
+    ///
+    /// Each decision depends on a fixed prefix of the window only (one byte, two, six, the
+    /// announced length), so it is the same whether the window holds more bytes or not.
+    #[inline(always)]
+    pub(super) fn step(profile: Profile, stats: &mut Stats, window: &[u8]) -> Step {
+        let Some(&first) = window.first() else {
+            return Step::Need(1);
+        };
+        if first != START {
+            // `find_ff` only skips work: it counts the bytes before the next start a word
+            // at a time.
+            let noise = find_ff(window);
+            discard(stats, noise);
+            return Step::Noise(noise);
+        }
+        let Some(&second) = window.get(1) else {
+            return Step::Need(2);
+        };
+        if second == START {
+            // Y5: in a run of 0xFF only the last can be a start.
+            let dropped = ff_run(window).saturating_sub(1);
+            discard(stats, dropped);
+            return Step::Noise(dropped);
+        }
+        let Some(header) = window.first_chunk::<EXPEDITED_HEADER_LEN>() else {
+            return Step::Need(EXPEDITED_HEADER_LEN);
+        };
+        let field = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
+        let total = match profile.frame_len(field, second & EXPEDITED != 0) {
+            Some(total) if total <= N => total,
+            _ => {
+                stats.length_errors = stats.length_errors.wrapping_add(1);
+                discard(stats, 1);
+                return Step::Failed(Error::BadLength(field));
+            }
+        };
+        let Some(frame) = window.get(..total) else {
+            return Step::Need(total);
+        };
+        if xor(frame) == 0 {
+            stats.frames_ok = stats.frames_ok.wrapping_add(1);
+            Step::Frame(total)
+        } else {
+            stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
+            discard(stats, 1);
+            Step::Failed(Error::ChecksumMismatch)
+        }
+    }
+
+    /// Runs the step over the bytes held until it reports a frame or a failure, or needs more
+    /// bytes (`Need`; also when nothing is held). A frame reported is at
+    /// `buf[start - total..start]` until the next call.
+    pub(super) fn examine(&mut self) -> Step {
+        loop {
+            let held = self.buf.get(self.start..self.len).unwrap_or(&[]);
+            if held.is_empty() {
+                self.reset();
+                return Step::Need(1);
+            }
+            if self.len < self.decide_at {
+                // Already examined: undecided until `decide_at` is reached.
+                return Step::Need(self.decide_at.wrapping_sub(self.start));
+            }
+            let step = Self::step(self.profile, &mut self.stats, held);
+            self.decide_at = 0;
+            match step {
+                Step::Need(n) => {
+                    self.decide_at = self.start.wrapping_add(n);
+                    return step;
+                }
+                Step::Noise(n) => self.start = self.start.wrapping_add(n),
+                Step::Frame(n) => {
+                    self.start = self.start.wrapping_add(n);
+                    return step;
+                }
+                Step::Failed(_) => {
+                    self.start = self.start.wrapping_add(1);
+                    return step;
+                }
+            }
+        }
+    }
+
+    /// The event of a step's report on the bytes held (see [`Decoder::examine`]).
+    #[inline]
+    pub(super) fn event(&self, step: Step) -> Option<Result<Frame<'_>>> {
+        match step {
+            Step::Frame(total) => {
+                let at = self.start.wrapping_sub(total);
+                let frame = self.buf.get(at..self.start).unwrap_or(&[]);
+                Some(Ok(Frame::new_unchecked(frame, self.profile)))
+            }
+            Step::Failed(e) => Some(Err(e)),
+            Step::Need(_) | Step::Noise(_) => None,
+        }
+    }
+
     /// End of stream: fail the incomplete candidate (if any), rescan what it held, and hand
     /// every resulting event to `on_event`. Afterwards the decoder is empty. An incomplete
     /// candidate is reported as [`Error::Truncated`] and is not counted as a checksum or
@@ -34,166 +143,75 @@ impl<const N: usize> Decoder<N> {
     /// assert!(dec.flush_next().is_none());
     /// ```
     pub fn flush_next(&mut self) -> Option<Result<Frame<'_>>> {
-        self.release();
-        let outcome = self.rescan_queued();
-        if outcome != Outcome::More {
-            return self.event(outcome);
+        let step = self.examine();
+        if let Step::Need(_) = step {
+            return self.give_up().map(Err);
         }
-        if self.len == 0 {
-            self.reset();
+        self.event(step)
+    }
+
+    /// The stream ended inside the candidate held (if any): its start byte is dropped and the
+    /// rest waits for the rescan, as after any failure.
+    pub(super) fn give_up(&mut self) -> Option<Error> {
+        if self.start == self.len {
             return None;
         }
-        self.rescan();
-        Some(Err(Error::Truncated))
+        discard(&mut self.stats, 1);
+        self.start = self.start.wrapping_add(1);
+        self.decide_at = 0;
+        Some(Error::Truncated)
     }
 
-    /// Drop a frame handed out on the previous call. Queued bytes stay where they are.
-    #[inline]
-    pub(super) fn release(&mut self) {
-        if self.delivered {
-            self.delivered = false;
-            self.len = 0;
-            self.need = 0;
-            self.xor = 0;
+    /// Moves the bytes held to the front of the buffer.
+    pub(super) fn compact(&mut self) {
+        if self.start == 0 {
+            return;
         }
-    }
-
-    /// Copy `count` bytes from `buf[from..]` to `buf[to..]` (`to <= from`).
-    pub(super) fn move_down(&mut self, from: usize, to: usize, count: usize) {
+        let held = self.len.saturating_sub(self.start);
         let mut i = 0;
-        while i < count {
-            let v = self.buf.get(from.wrapping_add(i)).copied().unwrap_or(0);
-            if let Some(d) = self.buf.get_mut(to.wrapping_add(i)) {
+        while i < held {
+            let v = self
+                .buf
+                .get(self.start.wrapping_add(i))
+                .copied()
+                .unwrap_or(0);
+            if let Some(d) = self.buf.get_mut(i) {
                 *d = v;
             }
             i += 1;
         }
-    }
-
-    /// Close the gap of consumed bytes between the candidate and the queued bytes.
-    pub(super) fn compact(&mut self) {
-        if self.head != self.len {
-            self.move_down(self.head, self.len, self.pending);
-            self.head = self.len;
+        if self.decide_at != 0 {
+            self.decide_at = self.decide_at.wrapping_sub(self.start);
         }
+        self.len = held;
+        self.start = 0;
     }
 
-    /// The current candidate failed: drop its start byte and queue the rest for a rescan,
-    /// ahead of the bytes already queued.
-    pub(super) fn rescan(&mut self) {
-        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-        self.compact();
-        let count = self.len.saturating_sub(1).saturating_add(self.pending);
-        self.move_down(1, 0, count);
-        self.pending = count;
-        self.head = 0;
-        self.len = 0;
-        self.need = 0;
-        self.xor = 0;
-    }
-
-    /// Queue a byte behind bytes waiting for a rescan.
-    pub(super) fn enqueue(&mut self, byte: u8) {
-        if self.pending == 0 {
-            self.head = self.len;
+    /// Stores `bytes` behind the bytes held, moving those to the front of the buffer first
+    /// if there is no room behind them. Only the step decides what the bytes are.
+    pub(super) fn append(&mut self, bytes: &[u8]) {
+        if self.start == self.len {
+            self.start = 0;
+            self.len = 0;
         }
-        if self.head.saturating_add(self.pending) >= N {
+        if self.len.saturating_add(bytes.len()) > N {
             self.compact();
         }
-        let at = self.head.saturating_add(self.pending);
-        if let Some(slot) = self.buf.get_mut(at) {
-            *slot = byte;
-            self.pending += 1;
+        let room = self.buf.get_mut(self.len..).unwrap_or(&mut []);
+        if let Some(dst) = room.get_mut(..bytes.len()) {
+            dst.copy_from_slice(bytes);
+            self.len = self.len.wrapping_add(bytes.len());
         } else {
-            // Unreachable by construction (a failure or a delivery always frees a byte);
-            // count it rather than panic.
-            self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
+            // Unreachable by construction (the bytes held never exceed one candidate of at
+            // most `N` bytes, and callers append at most what the step still needs); count
+            // the bytes rather than panic.
+            discard(&mut self.stats, bytes.len());
         }
     }
+}
 
-    /// The candidate holds all its announced bytes: the checksum decides.
-    pub(super) fn complete(&mut self) -> Outcome {
-        if self.xor == 0 {
-            self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
-            self.delivered = true;
-            return Outcome::Frame;
-        }
-        self.stats.checksum_errors = self.stats.checksum_errors.wrapping_add(1);
-        self.rescan();
-        Outcome::ChecksumMismatch
-    }
-
-    #[inline]
-    pub(super) fn event(&self, outcome: Outcome) -> Option<Result<Frame<'_>>> {
-        match outcome {
-            Outcome::More => None,
-            Outcome::Frame => Some(Ok(Frame::new_unchecked(
-                self.buf.get(..self.len).unwrap_or(&[]),
-                self.profile,
-            ))),
-            Outcome::BadLength(field) => Some(Err(Error::BadLength(field))),
-            Outcome::ChecksumMismatch => Some(Err(Error::ChecksumMismatch)),
-        }
-    }
-
-    /// Process the byte that belongs at `buf[len]`.
-    #[inline]
-    pub(super) fn step(&mut self, byte: u8) -> Outcome {
-        let len = self.len;
-        if self.need != 0 {
-            if let Some(slot) = self.buf.get_mut(len) {
-                *slot = byte;
-            }
-            let len = len.wrapping_add(1);
-            self.len = len;
-            self.xor ^= byte;
-            if len < self.need {
-                return Outcome::More;
-            }
-            return self.complete();
-        }
-        match len {
-            0 => {
-                if byte == START {
-                    if let Some(slot) = self.buf.get_mut(0) {
-                        *slot = START;
-                        self.len = 1;
-                        self.xor = START;
-                    }
-                } else {
-                    self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-                }
-                Outcome::More
-            }
-            1 if byte == START => {
-                // Y5: FF FF - the first start is dropped, the second becomes the start.
-                self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-                Outcome::More
-            }
-            _ => {
-                if let Some(slot) = self.buf.get_mut(len) {
-                    *slot = byte;
-                }
-                let len = len.wrapping_add(1);
-                self.len = len;
-                self.xor ^= byte;
-                if len < EXPEDITED_HEADER_LEN {
-                    return Outcome::More;
-                }
-                let field = u32::from_le_bytes(array_at(&self.buf, 2));
-                let expedited = self.buf.get(1).copied().unwrap_or(0) & EXPEDITED != 0;
-                match self.profile.frame_len(field, expedited) {
-                    Some(total) if total <= N => {
-                        self.need = total;
-                        Outcome::More
-                    }
-                    _ => {
-                        self.stats.length_errors = self.stats.length_errors.wrapping_add(1);
-                        self.rescan();
-                        Outcome::BadLength(field)
-                    }
-                }
-            }
-        }
-    }
+/// Counts `count` bytes as discarded (at once: it wraps exactly like counting one at a time).
+#[inline]
+pub(super) fn discard(stats: &mut Stats, count: usize) {
+    stats.bytes_discarded = stats.bytes_discarded.wrapping_add(count as u32);
 }
