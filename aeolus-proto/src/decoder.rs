@@ -12,7 +12,7 @@ use crate::{
 /// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
 ///
 /// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
-/// or is still pending in the decoder ([`Decoder::pending_bytes`]).
+/// or is still held by the decoder ([`Decoder::held_bytes`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -172,8 +172,8 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// The counters so far.
-    pub const fn stats(&self) -> &Stats {
-        &self.stats
+    pub const fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// Zeroes the counters.
@@ -181,8 +181,15 @@ impl<const N: usize> Decoder<N> {
         self.stats = Stats::default();
     }
 
-    /// Wire bytes of the frame in progress (received, not yet delivered nor dropped).
-    pub const fn pending_bytes(&self) -> usize {
+    /// Bytes held: the wire bytes of the frame in progress (received, not yet delivered nor
+    /// dropped).
+    ///
+    /// ```
+    /// let mut d = aeolus_proto::Decoder::<16>::new();
+    /// d.feed(&[0x7E, 0x52, 0x7D, 0x5E], |_| {});
+    /// assert_eq!(d.held_bytes(), 3);
+    /// ```
+    pub const fn held_bytes(&self) -> usize {
         match self.state {
             State::Hunt => 0,
             State::Frame | State::Escape => self.len().wrapping_add(self.escapes),
@@ -300,15 +307,6 @@ impl<const N: usize> Decoder<N> {
         }
     }
 
-    /// The former name of [`Decoder::feed`].
-    #[deprecated(
-        since = "0.1.0",
-        note = "renamed `feed`, the slice method of every protocol crate"
-    )]
-    pub fn push_slice(&mut self, bytes: &[u8], on_event: impl FnMut(Result<Frame<'_>, Error>)) {
-        self.feed(bytes, on_event);
-    }
-
     /// The end of the stream: a frame still in progress (no closing flag yet) is dropped, its
     /// bytes counted as discarded, and reported to `on_event` as [`Error::Truncated`]. The
     /// decoder then hunts for a flag, as after any error. Between frames it does nothing.
@@ -323,7 +321,7 @@ impl<const N: usize> Decoder<N> {
     /// assert_eq!(d.stats().bytes_discarded, 2);
     /// ```
     pub fn flush(&mut self, mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
-        if self.pending_bytes() != 0 {
+        if self.held_bytes() != 0 {
             self.reset();
             on_event(Err(Error::Truncated));
         }
@@ -450,7 +448,7 @@ impl<const N: usize> Decoder<N> {
     /// Counts the frame in progress (plus `extra` bytes) as discarded, empties the buffer and
     /// moves to `next`.
     fn drop_frame(&mut self, extra: usize, next: State) {
-        let wire = self.pending_bytes().wrapping_add(extra);
+        let wire = self.held_bytes().wrapping_add(extra);
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(wire as u32);
         self.escapes = 0;
         self.crc = 0;
@@ -488,13 +486,6 @@ impl<const N: usize> Decoder<N> {
         Some(result)
     }
 }
-
-/// The former name of [`Decoder`].
-#[deprecated(
-    since = "0.1.0",
-    note = "renamed `Decoder`, the decoder's name in every protocol crate"
-)]
-pub type Deframer<const N: usize> = Decoder<N>;
 
 const STATS0: Stats = Stats {
     frames_ok: 0,

@@ -130,18 +130,6 @@ impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
         &self.core.decoder
     }
 
-    /// The former name of [`FrameReader::decoder`].
-    #[deprecated(since = "0.1.0", note = "renamed `decoder`")]
-    pub const fn deframer(&self) -> &Decoder<N> {
-        &self.core.decoder
-    }
-
-    /// The former name of [`FrameReader::with_decoder`].
-    #[deprecated(since = "0.1.0", note = "renamed `with_decoder`")]
-    pub const fn with_deframer(inner: T, decoder: Decoder<N>) -> Self {
-        Self::with_decoder(inner, decoder)
-    }
-
     /// Bytes read from the transport and not decoded yet.
     ///
     /// ```

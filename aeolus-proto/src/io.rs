@@ -125,7 +125,7 @@ impl<const N: usize, const R: usize> ReaderCore<N, R> {
             self.end = n.min(R);
             return None;
         }
-        let pending = self.decoder.pending_bytes();
+        let pending = self.decoder.held_bytes();
         if pending == 0 {
             return Some(Token::Eof);
         }

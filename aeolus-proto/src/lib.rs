@@ -75,8 +75,6 @@ pub mod message;
 mod scan;
 
 pub use datagram::{DatagramFrames, decode_datagram};
-#[allow(deprecated)]
-pub use decoder::Deframer;
 pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::Error;

@@ -63,7 +63,7 @@ fn by_byte<const N: usize>(bytes: &[u8]) -> (Events, Stats) {
             ev.push(record(e));
         }
     }
-    (ev, *d.stats())
+    (ev, d.stats())
 }
 
 /// Feeds the pieces between the split points in turn; a piece whose index is in `pushed` is
@@ -87,7 +87,7 @@ fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events
             d.feed(piece, |e| ev.push(record(e)));
         }
     }
-    (ev, *d.stats())
+    (ev, d.stats())
 }
 
 proptest! {

@@ -36,12 +36,12 @@ fn reference<const N: usize>(stream: &[u8]) -> (Vec<Event>, aeolus_proto::Stats)
             None => {}
         }
     }
-    if d.pending_bytes() > 0 {
-        out.push(Event::UnexpectedEof(d.pending_bytes()));
+    if d.held_bytes() > 0 {
+        out.push(Event::UnexpectedEof(d.held_bytes()));
         d.reset();
     }
     out.push(Event::Eof);
-    (out, *d.stats())
+    (out, d.stats())
 }
 
 fn event(r: Result<aeolus_proto::Frame<'_>, IoError<ErrorKind>>) -> Result<Event, ErrorKind> {
@@ -77,7 +77,7 @@ fn blocking<const N: usize, const R: usize>(
         }
     }
     assert_eq!(r.get_ref().errors_given, transport);
-    (out, *r.decoder().stats(), transport)
+    (out, r.decoder().stats(), transport)
 }
 
 fn asynchronous<const N: usize, const R: usize>(
@@ -99,7 +99,7 @@ fn asynchronous<const N: usize, const R: usize>(
             Err(_) => transport += 1,
         }
     }
-    (out, *r.decoder().stats(), transport)
+    (out, r.decoder().stats(), transport)
 }
 
 fn check<const N: usize, const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]) {

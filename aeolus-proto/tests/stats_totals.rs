@@ -23,7 +23,7 @@ const MISMATCH: Error = Error::ChecksumMismatch {
 fn run(mut d: Decoder<8>) -> (Vec<Result<u8, Error>>, Stats) {
     let mut events = Vec::new();
     d.feed(STREAM, |ev| events.push(ev.map(|f| f.id())));
-    (events, *d.stats())
+    (events, d.stats())
 }
 
 #[test]

@@ -212,7 +212,7 @@ impl<T: Read, const R: usize> CommandReader<T, R> {
     ///
     /// ```
     /// let reader = aok_proto::embedded_io_async::CommandReader::<_, 8>::new(&[][..]);
-    /// assert_eq!(reader.decoder().buffered(), 0);
+    /// assert_eq!(reader.decoder().held_bytes(), 0);
     /// ```
     pub const fn new(inner: T) -> Self {
         Self {

@@ -76,16 +76,6 @@ impl SerialError {
     }
 }
 
-impl Error {
-    /// The former name of [`Error::ChecksumMismatch`]; usable in patterns too.
-    #[deprecated(
-        since = "0.1.0",
-        note = "renamed `ChecksumMismatch`, the name every protocol crate gives a failed check"
-    )]
-    #[allow(non_upper_case_globals)]
-    pub const Checksum: Error = Error::ChecksumMismatch;
-}
-
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -81,7 +81,7 @@ pub(crate) trait Stream {
     /// The next item of `idle`, without the `Truncated` of frames cut by the end.
     fn idle_next(&mut self) -> Option<Result<Self::Item, Error>>;
     /// Bytes buffered.
-    fn buffered(&self) -> usize;
+    fn held_bytes(&self) -> usize;
 }
 
 impl Stream for PcDecoder {
@@ -98,8 +98,8 @@ impl Stream for PcDecoder {
             }
         }
     }
-    fn buffered(&self) -> usize {
-        PcDecoder::buffered(self)
+    fn held_bytes(&self) -> usize {
+        PcDecoder::held_bytes(self)
     }
 }
 
@@ -117,8 +117,8 @@ impl Stream for DeviceDecoder {
             }
         }
     }
-    fn buffered(&self) -> usize {
-        DeviceDecoder::buffered(self)
+    fn held_bytes(&self) -> usize {
+        DeviceDecoder::held_bytes(self)
     }
 }
 
@@ -183,7 +183,7 @@ impl<D: Stream, const R: usize> ReaderCore<D, R> {
             return None;
         }
         self.ending = true;
-        let pending = self.decoder.buffered();
+        let pending = self.decoder.held_bytes();
         if pending == 0 {
             return Some(self.end_step());
         }

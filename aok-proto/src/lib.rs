@@ -68,8 +68,6 @@ pub use error::{Error, SerialError};
 pub use io::IoError;
 pub use message::{DebugValue, Message};
 pub use pc::PcDecoder;
-#[allow(deprecated)]
-pub use stats::DecoderStats;
 pub use stats::Stats;
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,

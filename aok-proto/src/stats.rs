@@ -39,10 +39,3 @@ impl Stats {
         bytes_discarded: 0,
     };
 }
-
-/// The former name of [`Stats`].
-#[deprecated(
-    since = "0.1.0",
-    note = "renamed `Stats`, the counters' name in every protocol crate"
-)]
-pub type DecoderStats = Stats;

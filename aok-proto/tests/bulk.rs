@@ -197,7 +197,7 @@ fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], 
         assert_eq!(got, want, "chunk {i}");
         assert_eq!(fast.stats(), slow.stats(), "chunk {i}");
         assert_eq!(fast.expecting(), slow.expecting(), "chunk {i}");
-        assert_eq!(fast.buffered(), slow.buffered(), "chunk {i}");
+        assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
         match steps.next() {
             Some(Between::Expect(e)) => {
                 slow.expect(*e);
@@ -226,7 +226,7 @@ fn check_device(stream: &[u8], sizes: &[usize]) {
         fast.feed(chunk, |c| got.push(c));
         assert_eq!(got, want, "chunk {i}");
         assert_eq!(fast.stats(), slow.stats(), "chunk {i}");
-        assert_eq!(fast.buffered(), slow.buffered(), "chunk {i}");
+        assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
     }
     let want = idle_all(&mut slow);
     let got = idle_all(&mut fast);
@@ -277,7 +277,7 @@ proptest! {
             }
             prop_assert_eq!(&got, &want);
             prop_assert_eq!(fast.stats(), slow.stats());
-            prop_assert_eq!(fast.buffered(), slow.buffered());
+            prop_assert_eq!(fast.held_bytes(), slow.held_bytes());
         }
     }
 
@@ -306,7 +306,7 @@ proptest! {
             }
             prop_assert_eq!(&got, &want);
             prop_assert_eq!(fast.stats(), slow.stats());
-            prop_assert_eq!(fast.buffered(), slow.buffered());
+            prop_assert_eq!(fast.held_bytes(), slow.held_bytes());
             prop_assert_eq!(fast.expecting(), slow.expecting());
         }
     }

@@ -16,7 +16,7 @@ fn the_device_decoder_holds_a_command_until_it_is_whole() {
     let mut held = Vec::new();
     for b in [0x63, 0x04, 0x02] {
         let ev = d.push(b);
-        held.push((ev, d.buffered()));
+        held.push((ev, d.held_bytes()));
     }
     assert_eq!(
         held,
@@ -30,7 +30,7 @@ fn reset_forgets_the_bytes_held_and_keeps_the_counters() {
     assert_eq!(commands(&mut d, &[0x63, 0x01]), [Ok(Command::DebugOff)]);
     assert_eq!(commands(&mut d, &[0x63, 0x04]), []);
     d.reset();
-    assert_eq!(d.buffered(), 0);
+    assert_eq!(d.held_bytes(), 0);
     // What follows is read afresh: 0x02 is no command.
     assert_eq!(
         commands(&mut d, &[0x02, 0x63, 0x02]),
@@ -42,7 +42,7 @@ fn reset_forgets_the_bytes_held_and_keeps_the_counters() {
         bytes_discarded: 1,
         ..Stats::default()
     };
-    assert_eq!(*d.stats(), want);
+    assert_eq!(d.stats(), want);
 }
 
 #[test]
@@ -62,10 +62,10 @@ fn the_pc_decoder_reset_forgets_the_bytes_held() {
     let mut d = PcDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();
     d.feed(&[0x1c, 0x56, 0xff], |ev| got.push(ev));
-    assert_eq!((got.len(), d.buffered()), (0, 3));
+    assert_eq!((got.len(), d.held_bytes()), (0, 3));
     d.reset();
-    assert_eq!(d.buffered(), 0);
-    assert_eq!(*d.stats(), Stats::default());
+    assert_eq!(d.held_bytes(), 0);
+    assert_eq!(d.stats(), Stats::default());
 }
 
 /// The reply each request awaits, as the device sends it (headed form).
@@ -127,11 +127,11 @@ fn a_lone_first_byte_is_given_up_when_the_line_goes_quiet() {
     // 73 (set parameter) announces 7 bytes; only it arrives.
     let mut d = DeviceDecoder::new();
     assert_eq!(d.push(0x73), None);
-    assert_eq!(d.buffered(), 1);
+    assert_eq!(d.held_bytes(), 1);
     let mut got = Vec::new();
     d.idle(|ev| got.push(ev));
     assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
-    assert_eq!((d.buffered(), d.stats().abandoned), (0, 1));
+    assert_eq!((d.held_bytes(), d.stats().abandoned), (0, 1));
 }
 
 #[test]
@@ -142,7 +142,7 @@ fn the_pc_decoder_gives_up_a_lone_first_byte_when_the_line_goes_quiet() {
     let mut got = Vec::new();
     d.idle(|ev| got.push(ev));
     assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
-    assert_eq!(d.buffered(), 0);
+    assert_eq!(d.held_bytes(), 0);
 }
 
 #[test]

@@ -46,14 +46,14 @@ fn pc_reference(
     for &b in stream {
         out.extend(push_all(&mut d, b).into_iter().map(conv));
     }
-    if d.buffered() > 0 {
-        out.push(Event::UnexpectedEof(d.buffered()));
+    if d.held_bytes() > 0 {
+        out.push(Event::UnexpectedEof(d.held_bytes()));
         // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
         let rest = idle_all(&mut d).into_iter();
         out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
-    (out, *d.stats())
+    (out, d.stats())
 }
 
 fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, Stats) {
@@ -66,14 +66,14 @@ fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, Stats) {
     for &b in stream {
         out.extend(push_all(&mut d, b).into_iter().map(conv));
     }
-    if d.buffered() > 0 {
-        out.push(Event::UnexpectedEof(d.buffered()));
+    if d.held_bytes() > 0 {
+        out.push(Event::UnexpectedEof(d.held_bytes()));
         // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
         let rest = idle_all(&mut d).into_iter();
         out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
-    (out, *d.stats())
+    (out, d.stats())
 }
 
 /// Collects a reader's results until EOF; counts transport errors apart.
@@ -111,14 +111,14 @@ fn check_pc<const R: usize>(
         got, want,
         "blocking R={R}, sizes {sizes:?}, errors {errors:?}"
     );
-    assert_eq!(*r.decoder().stats(), want_stats);
+    assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 
     let mut r = aio::MessageReader::<_, R>::new(Wire::new(stream, sizes, errors), fw);
     r.decoder_mut().expect(expect);
     let (got, transport) = collect(|| block_on(r.read_message()));
     assert_eq!(got, want, "async R={R}, sizes {sizes:?}, errors {errors:?}");
-    assert_eq!(*r.decoder().stats(), want_stats);
+    assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 }
 
@@ -132,13 +132,13 @@ fn check_device<const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]
         got, want,
         "blocking R={R}, sizes {sizes:?}, errors {errors:?}"
     );
-    assert_eq!(*r.decoder().stats(), want_stats);
+    assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 
     let mut r = aio::CommandReader::<_, R>::new(Wire::new(stream, sizes, errors));
     let (got, transport) = collect(|| block_on(r.read_command()));
     assert_eq!(got, want, "async R={R}, sizes {sizes:?}, errors {errors:?}");
-    assert_eq!(*r.decoder().stats(), want_stats);
+    assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 }
 

@@ -113,7 +113,7 @@ fn commands_round_trip() {
                 .flat_map(|&b| push_all(&mut dec, b))
                 .collect();
             prop_assert_eq!(items, vec![Ok(cmd)]);
-            prop_assert_eq!(dec.buffered(), 0);
+            prop_assert_eq!(dec.held_bytes(), 0);
             Ok(())
         })
         .unwrap();

@@ -60,7 +60,7 @@ fn device_idle_gives_up_a_cut_command_and_rescans_what_it_hid() {
     dec.idle(|ev| got.push(ev));
     assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
     assert_eq!(dec.stats().abandoned, 1);
-    assert_eq!(dec.buffered(), 0);
+    assert_eq!(dec.held_bytes(), 0);
 }
 
 #[test]
@@ -73,5 +73,5 @@ fn pc_idle_gives_up_a_cut_debug_frame_and_finds_the_ack_inside() {
     let mut got = Vec::new();
     dec.idle(|ev| got.push(ev));
     assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
-    assert_eq!(dec.buffered(), 0);
+    assert_eq!(dec.held_bytes(), 0);
 }

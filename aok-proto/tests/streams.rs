@@ -204,7 +204,7 @@ fn pc_idle_releases_a_stuck_ack() {
         vec![Err(Error::Truncated), Ok(Message::Ack(Ack::Error))]
     );
     assert_eq!(dec.stats().abandoned, 1);
-    assert_eq!(dec.buffered(), 0);
+    assert_eq!(dec.held_bytes(), 0);
 }
 
 fn all_commands() -> Vec<Command> {
@@ -313,7 +313,7 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     let items: Vec<_> = f.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
     assert_eq!(items, vec![Err(Error::StickOutOfRange(201))]);
     assert_eq!(dec.stats().invalid, 2);
-    assert_eq!(dec.buffered(), 0);
+    assert_eq!(dec.held_bytes(), 0);
 }
 
 #[test]

@@ -53,7 +53,7 @@ fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]
             slow.stats(),
             "N={N} {profile:?}: stats at {at}"
         );
-        assert_eq!(fast.has_pending(), slow.has_pending());
+        assert_eq!(fast.held_bytes(), slow.held_bytes());
         all.extend(got);
         rest = tail;
         if rest.is_empty() {

@@ -11,7 +11,7 @@
 //! and when, and encode it into a TX queue exactly as on the blocking boards
 //! ([`QueuedSerial`], with the same drop policies when it is full); here an async task moves
 //! the queue to the UART in DMA chunks instead of a TXE interrupt moving it a byte at a time.
-//! Only the RX side differs in shape: the protocol crates' async `FrameReader`s deframe what
+//! Only the RX side differs in shape: the protocol crates' async `FrameReader`s decode what
 //! the DMA ring holds, and each frame is handed to the link's per-frame entry point.
 
 use core::cell::RefCell;
@@ -67,7 +67,7 @@ pub struct Application {
     pub aeolus_tx: Port,
     /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
     pub aydp_tx: Port,
-    /// The AEOLUS reader's deframer counters as of its last frame.
+    /// The AEOLUS reader's decoder counters as of its last frame.
     pub aeolus_rx: aeolus_proto::Stats,
     /// The AYDP reader's decoder counters as of its last message.
     pub aydp_rx: aydp_proto::Stats,
@@ -117,8 +117,8 @@ pub fn now_ms() -> u64 {
     Instant::now().as_millis()
 }
 
-/// AEOLUS RX: deframes what `uart` delivers and hands every frame, or every frame the
-/// deframer dropped, to [`aeolus_link::AeolusLink::handle_frame`]. Answers go out with the
+/// AEOLUS RX: decodes what `uart` delivers and hands every frame, or every frame the
+/// decoder dropped, to [`aeolus_link::AeolusLink::handle_frame`]. Answers go out with the
 /// next tick. A UART error is counted in `errors` and reading goes on (the driver restarts
 /// its DMA ring on the next read).
 pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
@@ -143,7 +143,7 @@ pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> 
         };
         shared.with(|a| a.app.aeolus.handle_frame(frame, now, &mut a.app.shared));
         drop(result);
-        let stats = *reader.decoder().stats();
+        let stats = reader.decoder().stats();
         shared.with(|a| a.aeolus_rx = stats);
     }
 }

@@ -18,7 +18,7 @@ fuzz_target!(|data: &[u8]| {
         for d in [&normal, &strict] {
             let s = d.stats();
             let accounted = s.flags as usize + s.frame_bytes as usize + s.bytes_discarded as usize;
-            assert_eq!(accounted + d.pending_bytes(), i + 1);
+            assert_eq!(accounted + d.held_bytes(), i + 1);
         }
     }
 });

@@ -43,7 +43,7 @@ fuzz_target!(|input: &[u8]| {
         fast.feed(chunk, |c| got.push(c));
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
-        assert_eq!(fast.buffered(), slow.buffered());
+        assert_eq!(fast.held_bytes(), slow.held_bytes());
     }
     let (mut want, mut got) = (Vec::new(), Vec::new());
     slow.idle(|ev| want.push(ev));
@@ -71,7 +71,7 @@ fuzz_target!(|input: &[u8]| {
         fast.feed(chunk, |m| got.push(m));
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
-        assert_eq!(fast.buffered(), slow.buffered());
+        assert_eq!(fast.held_bytes(), slow.held_bytes());
         assert_eq!(fast.expecting(), slow.expecting());
         // The chunk-size byte also picks the next pending request.
         let e = match c >> 5 {

@@ -19,7 +19,7 @@ fuzz_target!(|data: &[u8]| {
         }
         let s = bytewise.stats();
         let accounted = s.flags as usize + s.frame_bytes as usize + s.bytes_discarded as usize;
-        assert_eq!(accounted + bytewise.pending_bytes(), i + 1);
+        assert_eq!(accounted + bytewise.held_bytes(), i + 1);
     }
     let mut bulk = Decoder::<64>::new();
     let mut got = Vec::new();

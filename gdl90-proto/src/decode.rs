@@ -13,7 +13,7 @@ use crate::{ESCAPE, Error, FLAG};
 /// Counters kept by a [`Decoder`], MAVLink style. They wrap on overflow.
 ///
 /// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
-/// or is still pending in the decoder ([`Decoder::pending_bytes`]). Each counted frame was
+/// or is still held by the decoder ([`Decoder::held_bytes`]). Each counted frame was
 /// also reported as exactly one event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -41,13 +41,13 @@ pub struct Stats {
     pub flags: u32,
 }
 
-/// What the decoder counts beyond the AEOLUS deframer's own counters.
+/// What the decoder counts beyond the AEOLUS decoder's own counters.
 #[derive(Debug, Clone, Copy, Default)]
 struct Extra {
     /// Good-CRC frames whose typed parse failed.
     invalid: u32,
-    /// Wire bytes of the `00 00` frames the deframer delivered unchecked and this decoder
-    /// rejected: the deframer counted them as frame bytes.
+    /// Wire bytes of the `00 00` frames the AEOLUS decoder delivered unchecked and this
+    /// decoder rejected: the AEOLUS decoder counted them as frame bytes.
     zero_crc_bytes: u32,
 }
 
@@ -80,7 +80,7 @@ struct Extra {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Decoder<const N: usize> {
-    deframer: Framing<N>,
+    framing: Framing<N>,
     extra: Extra,
 }
 
@@ -96,7 +96,7 @@ impl<const N: usize> Decoder<N> {
         Decoder {
             // Lenient mode, so that a `00 00` frame reaches `accept` whole and its real CRC
             // can be reported; `accept` rejects it.
-            deframer: Framing::new(),
+            framing: Framing::new(),
             extra: Extra {
                 invalid: 0,
                 zero_crc_bytes: 0,
@@ -118,7 +118,7 @@ impl<const N: usize> Decoder<N> {
     /// ```
     #[inline]
     pub fn push(&mut self, byte: u8) -> Option<Result<Message<'_>, Error>> {
-        let event = self.deframer.push(byte)?;
+        let event = self.framing.push(byte)?;
         Some(accept(&mut self.extra, event))
     }
 
@@ -135,7 +135,7 @@ impl<const N: usize> Decoder<N> {
     /// ```
     pub fn feed(&mut self, bytes: &[u8], mut on_event: impl FnMut(Result<Message<'_>, Error>)) {
         let extra = &mut self.extra;
-        self.deframer
+        self.framing
             .feed(bytes, |event| on_event(accept(extra, event)));
     }
 
@@ -148,12 +148,12 @@ impl<const N: usize> Decoder<N> {
     /// assert_eq!((d.stats().frames_ok, d.stats().frame_bytes, d.stats().flags), (1, 9, 2));
     /// ```
     pub fn stats(&self) -> Stats {
-        let s = self.deframer.stats();
+        let s = self.framing.stats();
         let zero = self.extra.zero_crc_bytes;
         Stats {
             frames_ok: s.frames_ok.wrapping_sub(self.extra.invalid),
             invalid: self.extra.invalid,
-            // Every frame the lenient deframer delivered without CRC was rejected here.
+            // Every frame the lenient AEOLUS decoder delivered without CRC was rejected here.
             checksum_errors: s.checksum_errors.wrapping_add(s.frames_no_crc),
             overflows: s.overflows,
             too_short: s.too_short,
@@ -166,29 +166,54 @@ impl<const N: usize> Decoder<N> {
 
     /// Zeroes the counters.
     pub fn reset_stats(&mut self) {
-        self.deframer.reset_stats();
+        self.framing.reset_stats();
         self.extra = Extra::default();
     }
 
     /// Drops the frame in progress (counting its bytes as discarded) and waits for a flag.
     pub fn reset(&mut self) {
-        self.deframer.reset();
+        self.framing.reset();
     }
 
-    /// Wire bytes of the frame in progress (received, not yet delivered nor dropped).
-    pub const fn pending_bytes(&self) -> usize {
-        self.deframer.pending_bytes()
+    /// Bytes held: the wire bytes of the frame in progress (received, not yet delivered nor
+    /// dropped).
+    ///
+    /// ```
+    /// let mut d = gdl90_proto::Decoder::<16>::new();
+    /// d.feed(&[0x7E, 0x00, 0x81], |_| {});
+    /// assert_eq!(d.held_bytes(), 2);
+    /// ```
+    pub const fn held_bytes(&self) -> usize {
+        self.framing.held_bytes()
+    }
+
+    /// The end of the stream: a frame still in progress (no closing flag yet) is dropped, its
+    /// bytes counted as discarded, and reported to `on_event` as [`Error::Truncated`]. The
+    /// decoder then waits for a flag, as after any error. Between frames it does nothing.
+    ///
+    /// ```
+    /// use gdl90_proto::{Decoder, Error};
+    /// let mut d = Decoder::<64>::new();
+    /// let mut events = Vec::new();
+    /// d.feed(&[0x7E, 0x00, 0x81], |ev| events.push(ev.map(|m| m.id())));
+    /// d.flush(|ev| events.push(ev.map(|m| m.id())));
+    /// assert_eq!(events, [Err(Error::Truncated)]);
+    /// assert_eq!(d.stats().bytes_discarded, 2);
+    /// ```
+    pub fn flush(&mut self, mut on_event: impl FnMut(Result<Message<'_>, Error>)) {
+        let extra = &mut self.extra;
+        self.framing.flush(|event| on_event(accept(extra, event)));
     }
 }
 
-/// Turns one deframer event into a decoder event, counting what the deframer cannot.
+/// Turns one event of the AEOLUS decoder into a GDL90 event, counting what it cannot.
 fn accept<'a>(
     extra: &mut Extra,
     event: Result<Frame<'a>, aeolus_proto::Error>,
 ) -> Result<Message<'a>, Error> {
     let frame = event.map_err(Error::from_framing)?;
     if !frame.has_crc() {
-        // The lenient deframer passes `00 00` unchecked; a real CRC of 0 would have been
+        // The lenient AEOLUS decoder passes `00 00` unchecked; a real CRC of 0 would have been
         // recognised as checked, so this CRC is wrong.
         let raw = frame.raw();
         let body = raw.get(..raw.len().saturating_sub(2)).unwrap_or(&[]);

@@ -26,6 +26,8 @@ pub enum Error {
     },
     /// A frame too short to hold an ID and a CRC (1 or 2 bytes between the flags).
     TooShort,
+    /// The input ended inside a frame ([`crate::Decoder::flush`]).
+    Truncated,
     /// An escape byte (0x7D) followed by something other than 0x5D or 0x5E.
     InvalidEscape,
     /// An escape byte (0x7D) right before a flag: the frame was aborted.
@@ -52,11 +54,11 @@ pub enum Error {
 }
 
 impl Error {
-    /// The errors of the AEOLUS framing layer this crate reuses. The deframer runs in its
+    /// The errors of the AEOLUS framing layer this crate reuses. Its decoder runs in its
     /// lenient mode and never reports `MissingCrc` (this crate turns an unchecked `00 00`
-    /// into [`Error::ChecksumMismatch`] itself); `Truncated`, `WrongLength` and `TextTooLong`
-    /// belong to AEOLUS datagrams and messages, which this crate does not use. They map to
-    /// the nearest GDL90 error only to keep the conversion total.
+    /// into [`Error::ChecksumMismatch`] itself); `WrongLength` and `TextTooLong` belong to
+    /// AEOLUS messages, which this crate does not use. They map to the nearest GDL90 error
+    /// only to keep the conversion total.
     pub(crate) fn from_framing(e: aeolus_proto::Error) -> Self {
         use aeolus_proto::Error as A;
         match e {
@@ -76,7 +78,8 @@ impl Error {
                 computed: 0,
                 received: 0,
             },
-            A::TooShort | A::Truncated => Error::TooShort,
+            A::TooShort => Error::TooShort,
+            A::Truncated => Error::Truncated,
             A::InvalidEscape => Error::InvalidEscape,
             A::EscapedFlag => Error::EscapedFlag,
             A::WrongLength {
@@ -111,6 +114,7 @@ impl fmt::Display for Error {
                 "CRC mismatch on message {id:#04x}: computed {computed:#06x}, received {received:#06x}"
             ),
             Error::TooShort => f.write_str("frame too short to hold an ID and a CRC"),
+            Error::Truncated => f.write_str("input ended inside a frame"),
             Error::InvalidEscape => f.write_str("escape byte followed by an invalid byte"),
             Error::EscapedFlag => f.write_str("escape byte right before a flag (frame aborted)"),
             Error::WrongLength {

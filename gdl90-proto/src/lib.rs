@@ -6,7 +6,7 @@
 //! other ID delivered raw.
 //!
 //! GDL90 framing is AEOLUS framing (`0x7E` flags, `0x7D` escapes, the same CRC-16 sent LSB
-//! first), so this crate reuses `aeolus-proto`'s deframer, frame encoder and CRC. The one
+//! first), so this crate reuses `aeolus-proto`'s decoder, frame encoder and CRC. The one
 //! difference is handled here: GDL90 has no "CRC `00 00` means no CRC" rule, so such a frame
 //! is checked like any other.
 //!

@@ -151,7 +151,7 @@ fn overflow_then_resync() {
     assert_eq!(events[0], Err(Error::Overflow));
     assert!(events[1].is_ok(), "{events:?}");
     assert_eq!(d.stats().overflows, 1);
-    check_accounting(&d.stats(), d.pending_bytes(), wire.len());
+    check_accounting(&d.stats(), d.held_bytes(), wire.len());
 }
 
 /// Hostile streams: real frames, corrupted frames and noise (flags and escapes included).
@@ -195,7 +195,7 @@ proptest! {
         }
         prop_assert_eq!(got, want);
         prop_assert_eq!(d.stats(), want_stats);
-        check_accounting(&d.stats(), d.pending_bytes(), wire.len());
+        check_accounting(&d.stats(), d.held_bytes(), wire.len());
     }
 
     #[test]
@@ -206,7 +206,7 @@ proptest! {
             if d.push(b).is_some() {
                 events += 1;
             }
-            check_accounting(&d.stats(), d.pending_bytes(), i + 1);
+            check_accounting(&d.stats(), d.held_bytes(), i + 1);
         }
         // Every event is counted exactly once.
         let s = d.stats();

@@ -241,13 +241,13 @@ pub fn run(args: &AeolusArgs) -> Result<()> {
 fn wait_for_toast(link: &mut Link, timeout: Duration, what: &str) -> Result<Option<String>> {
     let _spinner = Spinner::start(&format!("waiting for the answer to {what}"));
     let started = Instant::now();
-    let mut deframer = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
+    let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     while let Some(left) = timeout.checked_sub(started.elapsed()) {
         match link.read(&mut buf, left.min(Duration::from_millis(50)))? {
             Input::Data(n) => {
                 let mut toast = None;
-                deframer.feed(buf.get(..n).unwrap_or(&[]), |ev| {
+                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
                     if let Ok(frame) = ev
                         && let Ok(Message::Toast(t)) = frame.message()
                     {
@@ -258,7 +258,7 @@ fn wait_for_toast(link: &mut Link, timeout: Duration, what: &str) -> Result<Opti
                     return Ok(toast);
                 }
                 if link.is_datagram() {
-                    deframer.reset();
+                    decoder.reset();
                 }
             }
             Input::Idle => {}

@@ -1,7 +1,7 @@
 //! `protolink bridge`: the AEOLUS box's WiFi side. AEOLUS frames from a UART go out as UDP
 //! datagrams; datagrams arriving on the in-port go to the UART.
 //!
-//! Only frames the deframer accepts are forwarded (good CRC, or no CRC as the spec allows), each
+//! Only frames the decoder accepts are forwarded (good CRC, or no CRC as the spec allows), each
 //! re-escaped byte for byte as it arrived. The destination defaults to 127.0.0.1; a broadcast
 //! address is used only when `--broadcast` names it (DECISIONS.md A9).
 
@@ -438,7 +438,7 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
     let mut counters = Counters::default();
-    let mut deframer = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
+    let mut decoder = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let mut datagram = vec![0u8; 65_536];
     let mut wire = Vec::with_capacity(2 * AEOLUS_CAPACITY + 2);
@@ -447,7 +447,7 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         let input = uart.read(&mut buf, deadline.left(Duration::from_millis(5)))?;
         if let Input::Data(n) = input {
             counters.uart_bytes += n as u64;
-            deframer.feed(&buf[..n], |event| {
+            decoder.feed(&buf[..n], |event| {
                 if let Ok(frame) = event {
                     wire.clear();
                     push_frame(frame.raw(), &mut wire);
@@ -477,8 +477,8 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
     let mut out = Out::new();
     out.line(&format!("bridge: {}", text(&to_json(&counters))))?;
     out.line(&format!(
-        "uart deframer: {}",
-        text(&json!(to_json(deframer.stats())))
+        "uart decoder: {}",
+        text(&json!(to_json(&decoder.stats())))
     ))?;
     out.flush()?;
     if let Some(e) = write_error {

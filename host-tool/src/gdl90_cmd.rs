@@ -332,7 +332,7 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
     let deadline = Deadline::after(args.seconds);
     let mut picture = Picture::default();
     let mut counters = Counters::default();
-    let mut deframer = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
+    let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let mut sender = Sender {
         socket,
@@ -349,7 +349,7 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
         match link.read(&mut buf, deadline.left(wait.max(Duration::from_millis(1))))? {
             Input::Data(n) => {
                 let now = Instant::now();
-                deframer.feed(buf.get(..n).unwrap_or(&[]), |ev| {
+                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
                     if let Ok(frame) = ev
                         && let Ok(m) = frame.message()
                     {
@@ -358,7 +358,7 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
                     }
                 });
                 if link.is_datagram() {
-                    deframer.reset();
+                    decoder.reset();
                 }
             }
             Input::Idle => {}

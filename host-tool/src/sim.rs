@@ -209,7 +209,7 @@ impl Sim {
     }
 
     /// Hands the box one received datagram (one or more frames; anything else is counted by
-    /// its deframer and ignored). A datagram that does not fit whole into the box's receive
+    /// its decoder and ignored). A datagram that does not fit whole into the box's receive
     /// queue ([`RX_QUEUE`] bytes, about four of the box's polls) is dropped and counted, as a
     /// real box's full UART FIFO would drop it; returns whether it was taken.
     pub fn receive(&mut self, datagram: &[u8]) -> bool {
@@ -357,8 +357,8 @@ pub fn run(args: &SimArgs) -> Result<()> {
     }
     out.line(&format!("sim: {}", text(&summary)))?;
     out.line(&format!(
-        "sim deframer: {}",
-        text(&to_json(sim.link.rx_stats()))
+        "sim decoder: {}",
+        text(&to_json(&sim.link.rx_stats()))
     ))?;
     out.flush()
 }

@@ -146,11 +146,11 @@ impl View {
     }
 
     /// Decodes `bytes` (one read of the endpoint; a whole datagram when `datagram`) with
-    /// `deframer` and takes every message into the view, handing each to `also` as well.
+    /// `decoder` and takes every message into the view, handing each to `also` as well.
     /// Bytes, malformed messages and datagrams that end inside a frame are counted.
     pub fn feed(
         &mut self,
-        deframer: &mut Decoder<AEOLUS_CAPACITY>,
+        decoder: &mut Decoder<AEOLUS_CAPACITY>,
         bytes: &[u8],
         datagram: bool,
         now: Instant,
@@ -158,7 +158,7 @@ impl View {
     ) {
         self.bytes += bytes.len() as u64;
         for &b in bytes {
-            if let Some(Ok(frame)) = deframer.push(b) {
+            if let Some(Ok(frame)) = decoder.push(b) {
                 match frame.message() {
                     Ok(m) => {
                         self.take(&m, now);
@@ -169,10 +169,10 @@ impl View {
             }
         }
         if datagram {
-            if deframer.pending_bytes() > 0 {
+            if decoder.held_bytes() > 0 {
                 self.truncated = self.truncated.wrapping_add(1);
             }
-            deframer.reset();
+            decoder.reset();
         }
     }
 
@@ -336,7 +336,7 @@ pub fn run(args: &WatchArgs) -> Result<()> {
     let refresh = if tty { TTY_REFRESH } else { PLAIN_REFRESH };
     let mut out = Out::new();
     let mut view = View::default();
-    let mut deframer = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
+    let mut decoder = Box::new(Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let started = Instant::now();
     let mut next_draw = started + refresh;
@@ -371,7 +371,7 @@ pub fn run(args: &WatchArgs) -> Result<()> {
         match link.read(&mut buf, wait)? {
             Input::Data(n) => {
                 view.feed(
-                    &mut deframer,
+                    &mut decoder,
                     &buf[..n],
                     link.is_datagram(),
                     Instant::now(),
@@ -382,12 +382,12 @@ pub fn run(args: &WatchArgs) -> Result<()> {
             Input::End => break,
         }
         if Instant::now() >= next_draw {
-            draw(&mut out, &view, deframer.stats(), false)?;
+            draw(&mut out, &view, &decoder.stats(), false)?;
             next_draw += refresh;
             if next_draw < Instant::now() {
                 next_draw = Instant::now() + refresh;
             }
         }
     }
-    draw(&mut out, &view, deframer.stats(), true)
+    draw(&mut out, &view, &decoder.stats(), true)
 }

@@ -138,7 +138,11 @@ fn decode(bytes: &[u8], expect: Expect) -> Vec<Message> {
     }
     assert_eq!(pc.stats().unknown_bytes, 0, "stray bytes in {bytes:02x?}");
     assert_eq!(pc.stats().checksum_errors, 0, "bad frames in {bytes:02x?}");
-    assert_eq!(pc.buffered(), 0, "partial frame at the end of {bytes:02x?}");
+    assert_eq!(
+        pc.held_bytes(),
+        0,
+        "partial frame at the end of {bytes:02x?}"
+    );
     got
 }
 

@@ -132,7 +132,7 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
     }
     let deframer = stdout
         .lines()
-        .find(|l| l.starts_with("uart deframer: "))
+        .find(|l| l.starts_with("uart decoder: "))
         .expect("the deframer's counters");
     assert!(deframer.contains("checksum_errors=0 "), "{deframer}");
 

@@ -47,7 +47,7 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     let pace = (3_000.0 / host_start.elapsed().as_secs_f64() / 1_000.0).min(1.0);
 
     // Every frame's CRC checked (strict deframer): nothing rejected, nothing skipped.
-    let s = *u0.stats();
+    let s = u0.stats();
     println!(
         "3 s of UART0: {} bytes, {} frames, {s:?}",
         u0.bytes,
@@ -191,7 +191,7 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
         "the pause lasted at least 0.7 s of host time (box pace {pace:.2}): {last_before} -> {first_after}"
     );
     assert!(resumed.iter().all(|f| f.is_telemetry()));
-    let s = *u0.stats();
+    let s = u0.stats();
     assert_eq!((s.checksum_errors, s.bytes_discarded), (0, 0));
 
     // The firmware's own view (its log: boot, commands, and the 5 s status lines with the

@@ -305,7 +305,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
                         self.conclude_pending();
                     } else if now_ms.wrapping_sub(self.phase_since) >= self.config.timeout_ms {
                         self.conclude(Err(Error::Timeout));
-                    } else if self.decoder.buffered() > 0
+                    } else if self.decoder.held_bytes() > 0
                         && now_ms.wrapping_sub(self.last_rx) >= self.config.quiet_ms
                     {
                         // A partial frame with nothing after it: rescan what it hides.
@@ -359,12 +359,12 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     /// The client's counters.
-    pub const fn stats(&self) -> &ClientStats {
-        &self.stats
+    pub const fn stats(&self) -> ClientStats {
+        self.stats
     }
 
     /// The stream decoder's counters.
-    pub const fn decoder_stats(&self) -> &Stats {
+    pub const fn decoder_stats(&self) -> Stats {
         self.decoder.stats()
     }
 

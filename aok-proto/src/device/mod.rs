@@ -57,7 +57,7 @@ impl DeviceDecoder {
     /// An empty decoder.
     ///
     /// ```
-    /// assert_eq!(aok_proto::DeviceDecoder::new().buffered(), 0);
+    /// assert_eq!(aok_proto::DeviceDecoder::new().held_bytes(), 0);
     /// ```
     pub const fn new() -> Self {
         Self {
@@ -111,13 +111,6 @@ impl DeviceDecoder {
         self.step(false)
     }
 
-    /// The former iterator over [`DeviceDecoder::poll`].
-    #[deprecated(since = "0.1.0", note = "call `poll` until it returns `None`")]
-    #[allow(deprecated)]
-    pub fn drain(&mut self) -> Commands<'_> {
-        Commands { dec: self }
-    }
-
     /// The line went quiet: give up on the partial frame at the front (its first byte is dropped,
     /// counted as abandoned and reported as [`Error::Truncated`]) and rescan what followed it,
     /// handing every event to `on_event` until nothing is buffered. AOK's end of a stream.
@@ -156,21 +149,22 @@ impl DeviceDecoder {
     /// let mut dec = aok_proto::DeviceDecoder::new();
     /// dec.push(0x73);
     /// dec.reset();
-    /// assert_eq!(dec.buffered(), 0);
+    /// assert_eq!(dec.held_bytes(), 0);
     /// ```
     pub fn reset(&mut self) {
         self.len = 0;
         self.need = 0;
     }
 
-    /// Bytes waiting for the rest of their frame.
+    /// Bytes held: received, and not yet decoded nor dropped (a frame waiting for the rest of
+    /// its bytes, and any bytes behind it).
     ///
     /// ```
     /// let mut dec = aok_proto::DeviceDecoder::new();
     /// dec.push(0x53);
-    /// assert_eq!(dec.buffered(), 1);
+    /// assert_eq!(dec.held_bytes(), 1);
     /// ```
-    pub const fn buffered(&self) -> usize {
+    pub const fn held_bytes(&self) -> usize {
         self.len
     }
 
@@ -179,38 +173,8 @@ impl DeviceDecoder {
     /// ```
     /// assert_eq!(aok_proto::DeviceDecoder::new().stats().frames_ok, 0);
     /// ```
-    pub const fn stats(&self) -> &Stats {
-        &self.stats
-    }
-}
-
-#[allow(deprecated)]
-pub use iter::Commands;
-
-/// The deprecated iterator, apart so that its derives may use it.
-mod iter {
-    #![allow(deprecated)]
-    use super::*;
-
-    /// The former iterator of the events still buffered ([`DeviceDecoder::drain`]): each `next` is a
-    /// [`DeviceDecoder::poll`].
-    #[deprecated(
-        since = "0.1.0",
-        note = "call `DeviceDecoder::poll` until it returns `None`"
-    )]
-    #[derive(Debug)]
-    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-    pub struct Commands<'a> {
-        pub(super) dec: &'a mut DeviceDecoder,
-    }
-
-    #[allow(deprecated)]
-    impl Iterator for Commands<'_> {
-        type Item = Result<Command, Error>;
-
-        fn next(&mut self) -> Option<Self::Item> {
-            self.dec.poll()
-        }
+    pub const fn stats(&self) -> Stats {
+        self.stats
     }
 }
 

@@ -22,7 +22,7 @@ impl DeviceDecoder {
     /// // Noise, a motor-test start whose checksum fails, a read, and half a read.
     /// dec.feed(&[0x00, 0x31, 0x67, 0x0c, 0x67], |item| got.push(item));
     /// assert_eq!(got, [Err(Error::ChecksumMismatch), Ok(Command::ReadParameter(12))]);
-    /// assert_eq!(dec.buffered(), 1);
+    /// assert_eq!(dec.held_bytes(), 1);
     /// dec.feed(&[0x0d], |item| got.push(item));
     /// assert_eq!(got[2], Ok(Command::ReadParameter(13)));
     /// assert_eq!(dec.stats().unknown_bytes, 1);

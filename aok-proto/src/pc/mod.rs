@@ -187,14 +187,6 @@ impl PcDecoder {
         self.step(false)
     }
 
-    /// The former iterator over [`PcDecoder::poll`] (messages only: failures are skipped, as the
-    /// decoder did before it reported them).
-    #[deprecated(since = "0.1.0", note = "call `poll` until it returns `None`")]
-    #[allow(deprecated)]
-    pub fn drain(&mut self) -> Messages<'_> {
-        Messages { dec: self }
-    }
-
     /// The line went quiet: abandon the partial frame at the front (its first byte is dropped,
     /// counted as abandoned and reported as [`Error::Truncated`]) and rescan what followed it,
     /// handing every event to `on_event` until nothing is buffered. AOK's end of a stream.
@@ -235,7 +227,7 @@ impl PcDecoder {
     /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     /// dec.push(0x1c);
     /// dec.reset();
-    /// assert_eq!(dec.buffered(), 0);
+    /// assert_eq!(dec.held_bytes(), 0);
     /// ```
     pub fn reset(&mut self) {
         self.len = 0;
@@ -243,14 +235,15 @@ impl PcDecoder {
         self.front_not_reply = false;
     }
 
-    /// Bytes waiting for the rest of their frame.
+    /// Bytes held: received, and not yet decoded nor dropped (a frame waiting for the rest of
+    /// its bytes, and any bytes behind it).
     ///
     /// ```
     /// let mut dec = aok_proto::pc::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     /// dec.push(0xff);
-    /// assert_eq!(dec.buffered(), 1);
+    /// assert_eq!(dec.held_bytes(), 1);
     /// ```
-    pub const fn buffered(&self) -> usize {
+    pub const fn held_bytes(&self) -> usize {
         self.len
     }
 
@@ -261,42 +254,8 @@ impl PcDecoder {
     /// dec.push(0x00);
     /// assert_eq!(dec.stats().unknown_bytes, 1);
     /// ```
-    pub const fn stats(&self) -> &Stats {
-        &self.stats
-    }
-}
-
-#[allow(deprecated)]
-pub use iter::Messages;
-
-/// The deprecated iterator, apart so that its derives may use it.
-mod iter {
-    #![allow(deprecated)]
-    use super::*;
-
-    /// The former iterator of the messages still buffered ([`PcDecoder::drain`]): each `next` is a
-    /// [`PcDecoder::poll`], failures skipped.
-    #[deprecated(
-        since = "0.1.0",
-        note = "call `PcDecoder::poll` until it returns `None`"
-    )]
-    #[derive(Debug)]
-    #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-    pub struct Messages<'a> {
-        pub(super) dec: &'a mut PcDecoder,
-    }
-
-    #[allow(deprecated)]
-    impl Iterator for Messages<'_> {
-        type Item = Message;
-
-        fn next(&mut self) -> Option<Message> {
-            loop {
-                if let Ok(m) = self.dec.poll()? {
-                    return Some(m);
-                }
-            }
-        }
+    pub const fn stats(&self) -> Stats {
+        self.stats
     }
 }
 

@@ -26,7 +26,7 @@ impl PcDecoder {
     ///     Ok(Message::Ack(Ack::Ok)),
     /// ]);
     /// assert_eq!(dec.expecting(), Expect::Nothing);
-    /// assert_eq!(dec.buffered(), 2);
+    /// assert_eq!(dec.held_bytes(), 2);
     /// dec.feed(&[0, 0, 0, 1, 0x57], |ev| got.push(ev));
     /// assert_eq!(got[2], Ok(Message::Debug(DebugValue { number: 86, value: 1 })));
     /// ```

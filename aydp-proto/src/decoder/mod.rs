@@ -174,16 +174,12 @@ impl<const N: usize> Decoder<N> {
         self.stats = Stats::default();
     }
 
-    /// Whether bytes are queued for a rescan, i.e. [`Decoder::poll`] may still produce events.
-    pub const fn has_pending(&self) -> bool {
-        self.unscanned_bytes() != 0
-    }
-
-    /// Bytes received that the decoder has not examined yet: queued behind a failed candidate
-    /// for a rescan. A caller that counts the bytes it pushed finds where an event's bytes
-    /// are: a frame just handed out ends that many bytes before the end of the input pushed so
-    /// far, and a failed candidate (length, checksum, truncation) started one byte before
-    /// those.
+    /// Bytes held: received, and not yet delivered nor dropped (the candidate in progress and
+    /// any bytes behind a failed candidate waiting for the rescan). Right after an event they
+    /// are the bytes after it, so a caller that counts the bytes it pushed finds where each
+    /// event's bytes are: a frame just handed out ends that many bytes before the end of the
+    /// input pushed so far, and a failed candidate (length, checksum, truncation) started one
+    /// byte before those.
     ///
     /// ```
     /// use aydp_proto::{Decoder, Profile};
@@ -193,15 +189,12 @@ impl<const N: usize> Decoder<N> {
     /// for &b in &[0xFF, 0x80, 0x07, 0, 0, 0] {
     ///     assert!(dec.push(b).is_none());
     /// }
+    /// assert_eq!(dec.held_bytes(), 6);
     /// assert!(dec.push(0xFF).unwrap().is_err());
-    /// assert_eq!(dec.unscanned_bytes(), 6); // the candidate started at 7 - 6 - 1 = 0
+    /// assert_eq!(dec.held_bytes(), 6); // the candidate started at 7 - 6 - 1 = 0
     /// ```
-    pub const fn unscanned_bytes(&self) -> usize {
-        if self.decide_at != 0 {
-            0
-        } else {
-            self.len.saturating_sub(self.start)
-        }
+    pub const fn held_bytes(&self) -> usize {
+        self.len.saturating_sub(self.start)
     }
 
     /// Forget everything held (counters are kept).

@@ -133,7 +133,7 @@ impl<const N: usize> Decoder<N> {
 
     /// End of stream, one event at a time: the next event [`Decoder::flush`] would hand over,
     /// or `None` once the decoder is empty (it is then reset). Between calls the caller may
-    /// read [`Decoder::unscanned_bytes`] to place each event in the input.
+    /// read [`Decoder::held_bytes`] to place each event in the input.
     ///
     /// ```
     /// use aydp_proto::{Decoder, Error, Profile};

@@ -544,7 +544,7 @@ mod gdl90 {
             });
             at = end;
         }
-        sink(b.stats().frames_ok ^ b.pending_bytes() as u32);
+        sink(b.stats().frames_ok ^ b.held_bytes() as u32);
 
         // Every typed parse on opaque data; emit and encode what parsed.
         let data: [u8; 64] = input();

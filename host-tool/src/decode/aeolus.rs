@@ -1,4 +1,4 @@
-//! AEOLUS in `decode`: the deframer, each frame placed at its opening flag, datagram
+//! AEOLUS in `decode`: the decoder, each frame placed at its opening flag, datagram
 //! boundaries honoured.
 
 use serde_json::{Map, Value, json};
@@ -6,13 +6,13 @@ use serde_json::{Map, Value, json};
 use super::{Event, StreamDecoder};
 use crate::render::{self, hex, to_json, variant};
 
-/// Capacity of the AEOLUS deframer: every message, long LOG messages included.
+/// Capacity of the AEOLUS decoder: every message, long LOG messages included.
 pub const AEOLUS_CAPACITY: usize = 8192;
 
-/// AEOLUS: the byte-at-a-time deframer, with datagram boundaries honoured.
+/// AEOLUS: the byte-at-a-time decoder, with datagram boundaries honoured.
 #[derive(Debug)]
 pub struct AeolusDecoder {
-    deframer: Box<aeolus_proto::Decoder<AEOLUS_CAPACITY>>,
+    decoder: Box<aeolus_proto::Decoder<AEOLUS_CAPACITY>>,
     /// Offset of the latest flag: the opening flag of the frame being collected.
     opened_at: u64,
     malformed: u32,
@@ -29,16 +29,16 @@ impl AeolusDecoder {
     /// A decoder that accepts frames without CRC (as the spec allows).
     pub fn new() -> Self {
         AeolusDecoder {
-            deframer: Box::new(aeolus_proto::Decoder::new()),
+            decoder: Box::new(aeolus_proto::Decoder::new()),
             opened_at: 0,
             malformed: 0,
             truncated: 0,
         }
     }
 
-    /// The deframer's counters.
-    pub fn stats(&self) -> &aeolus_proto::Stats {
-        self.deframer.stats()
+    /// The decoder's counters.
+    pub fn stats(&self) -> aeolus_proto::Stats {
+        self.decoder.stats()
     }
 }
 
@@ -86,7 +86,7 @@ impl StreamDecoder for AeolusDecoder {
             if b == aeolus_proto::FLAG {
                 self.opened_at = at;
             }
-            let Some(event) = self.deframer.push(b) else {
+            let Some(event) = self.decoder.push(b) else {
                 continue;
             };
             match event {
@@ -118,7 +118,7 @@ impl StreamDecoder for AeolusDecoder {
     }
 
     fn end_of_datagram(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.deframer.pending_bytes() > 0 {
+        if self.decoder.held_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
                 self.opened_at,
@@ -127,22 +127,22 @@ impl StreamDecoder for AeolusDecoder {
         }
         self.opened_at = offset;
         // A frame never spans two datagrams (DECISIONS.md A9): start afresh.
-        self.deframer.reset();
+        self.decoder.reset();
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.deframer.pending_bytes() > 0 {
+        if self.decoder.held_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
                 self.opened_at.min(offset.saturating_sub(1)),
                 "input ends inside a frame".to_string(),
             ));
-            self.deframer.reset();
+            self.decoder.reset();
         }
     }
 
     fn counters(&self) -> Value {
-        let mut v = to_json(self.deframer.stats());
+        let mut v = to_json(&self.decoder.stats());
         if let Value::Object(m) = &mut v {
             m.insert("malformed".into(), json!(self.malformed));
             m.insert("truncated".into(), json!(self.truncated));

@@ -29,8 +29,8 @@ impl AokDecoder {
 
     fn stats(&self) -> aok_proto::Stats {
         match self {
-            AokDecoder::FromDevice(d) => *d.stats(),
-            AokDecoder::FromPc(d) => *d.stats(),
+            AokDecoder::FromDevice(d) => d.stats(),
+            AokDecoder::FromPc(d) => d.stats(),
         }
     }
 }
@@ -128,10 +128,10 @@ pub fn waypoint_fields(w: &aok_proto::Waypoint) -> Value {
 }
 
 impl AokDecoder {
-    fn buffered(&self) -> u64 {
+    fn held_bytes(&self) -> u64 {
         match self {
-            AokDecoder::FromDevice(d) => d.buffered() as u64,
-            AokDecoder::FromPc(d) => d.buffered() as u64,
+            AokDecoder::FromDevice(d) => d.held_bytes() as u64,
+            AokDecoder::FromPc(d) => d.held_bytes() as u64,
         }
     }
 }
@@ -192,7 +192,7 @@ impl StreamDecoder for AokDecoder {
                     }
                 }
             }
-            let end = at + 1 - self.buffered();
+            let end = at + 1 - self.held_bytes();
             if let Some(events) = out.get_mut(first..) {
                 place_backwards(events, &lens, end);
             }
@@ -232,7 +232,7 @@ impl StreamDecoder for AokDecoder {
                 }
                 Some(Err(e)) => out.push(Event::error(at, e.to_string())),
             }
-            let end = offset.saturating_sub(self.buffered());
+            let end = offset.saturating_sub(self.held_bytes());
             if let Some(events) = out.get_mut(first..) {
                 place_backwards(events, &[len as u64], end);
             }

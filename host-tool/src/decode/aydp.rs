@@ -100,9 +100,9 @@ fn aydp_outcome(ev: aydp_proto::Result<aydp_proto::Frame<'_>>) -> AydpOutcome {
 
 impl AydpDecoder {
     /// Places one event in the input: `fed` bytes have been pushed, and the decoder has not
-    /// yet examined its last `unscanned_bytes()`.
+    /// yet examined its last `held_bytes()`.
     fn place(&mut self, (result, len): AydpOutcome, fed: u64, out: &mut Vec<Event>) {
-        let end = fed.saturating_sub(self.decoder.unscanned_bytes() as u64);
+        let end = fed.saturating_sub(self.decoder.held_bytes() as u64);
         match result {
             Ok((name, meta, fields)) => {
                 out.push(Event::message(end.saturating_sub(len), name, meta, fields));

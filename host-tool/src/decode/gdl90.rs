@@ -63,7 +63,7 @@ impl StreamDecoder for Gdl90Decoder {
     }
 
     fn end_of_datagram(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.decoder.pending_bytes() > 0 {
+        if self.decoder.held_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(self.opened_at, "datagram ends inside a frame"));
         }
@@ -72,7 +72,7 @@ impl StreamDecoder for Gdl90Decoder {
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.decoder.pending_bytes() > 0 {
+        if self.decoder.held_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
                 self.opened_at.min(offset.saturating_sub(1)),

@@ -1,4 +1,4 @@
-//! What UART0 receives: the deframer, COMMAND (`a pause`, `a resume`, `a reboot`, anything
+//! What UART0 receives: the decoder, COMMAND (`a pause`, `a resume`, `a reboot`, anything
 //! else answered as unknown) and SETTIME.
 
 use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
@@ -7,7 +7,7 @@ use aeolus_proto::message::{SetTime, Text, id};
 use aeolus_proto::{FLAG, Frame, TEXT_CAPACITY};
 use embedded_io::{Read, ReadReady};
 
-/// What a received frame asks for, copied out of the deframer's buffer.
+/// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
     Command(Text),
     SetTime(SetTime),
@@ -43,14 +43,14 @@ impl AeolusLink {
             // Up to and including the next flag: only a flag ends a frame (and so queues an
             // answer), so the room is checked again before every frame's last byte, exactly as
             // if the bytes came one at a time. A piece holds at most one flag, so it completes
-            // at most one frame; the deframer's other events are errors, only counted.
+            // at most one frame; the decoder's other events are errors, only counted.
             let pending = self.rx.pending();
             let Some(len) = piece_len(pending) else {
                 break;
             };
             let mut incoming_frame = None;
             let mut errors = 0u32;
-            self.deframer
+            self.decoder
                 .feed(pending.get(..len).unwrap_or(&[]), |event| match event {
                     Ok(frame) => incoming_frame = Some(incoming(&frame)),
                     Err(_) => errors = errors.wrapping_add(1),

@@ -59,9 +59,9 @@
 //!
 //! // On the wire: the boot TOAST, no telemetry (paused before it was due), the answer.
 //! let mut toasts = Vec::new();
-//! let mut deframer = Decoder::<256>::new();
+//! let mut decoder = Decoder::<256>::new();
 //! while let Some(b) = isr.next_to_send() {
-//!     if let Some(Ok(f)) = deframer.push(b) {
+//!     if let Some(Ok(f)) = decoder.push(b) {
 //!         if let Ok(Message::Toast(t)) = f.message() {
 //!             toasts.push(t.as_str().unwrap_or("").to_owned());
 //!         }
@@ -99,7 +99,7 @@ pub const TX_RESERVE: usize = FRAME_BUF;
 /// and counted there, never a telemetry slot.
 pub const RX_BUDGET: usize = 256;
 
-/// Capacity of the RX deframer (unescaped ID + data + CRC): every fixed-size message and
+/// Capacity of the RX decoder (unescaped ID + data + CRC): every fixed-size message and
 /// every COMMAND of up to [`TEXT_CAPACITY`] characters.
 pub const RX_FRAME: usize = MAX_FIXED_FRAME;
 
@@ -113,7 +113,7 @@ pub const BOOT_TOAST: &str = "AEOLUS on";
 /// Prefix of the answer to a COMMAND the box does not know.
 pub const UNKNOWN_PREFIX: &[u8] = b"unknown command: ";
 
-/// What the link has done since boot (wrapping counters). The deframer keeps its own
+/// What the link has done since boot (wrapping counters). The decoder keeps its own
 /// ([`AeolusLink::rx_stats`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(all(feature = "defmt", target_os = "none"), derive(defmt::Format))]
@@ -134,7 +134,7 @@ pub struct LinkCounters {
     pub settime_rejected: u32,
     /// Good frames of a type the box does not act on (TOAST, telemetry, LOG, ...).
     pub ignored: u32,
-    /// Frames the deframer rejected, or whose data did not parse.
+    /// Frames the decoder rejected, or whose data did not parse.
     pub rx_errors: u32,
     /// Errors reported by the port itself.
     pub port_errors: u32,
@@ -155,7 +155,7 @@ impl LinkCounters {
 /// The AEOLUS link.
 pub struct AeolusLink {
     telemetry: Telemetry,
-    deframer: Decoder<RX_FRAME>,
+    decoder: Decoder<RX_FRAME>,
     /// Read from the port, not yet decoded (the TX queue had no room for one more answer).
     rx: Received,
     tx: TxQueue<TX_QUEUE>,
@@ -180,7 +180,7 @@ impl AeolusLink {
     pub fn new(now_ms: u64) -> Self {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
-            deframer: Decoder::new(),
+            decoder: Decoder::new(),
             rx: Received::new(),
             tx: TxQueue::new(),
             was_paused: false,
@@ -204,7 +204,7 @@ impl AeolusLink {
 
     /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless
     /// paused) and hands queued frames to the port, without reading it. For a board whose
-    /// own reader deframes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
+    /// own reader decodes (an async `aeolus_proto::embedded_io_async::FrameReader`) and
     /// passes each frame to [`AeolusLink::handle_frame`].
     ///
     /// ```
@@ -240,12 +240,12 @@ impl AeolusLink {
         }
     }
 
-    /// Acts on one frame from a deframer the caller runs, the per-frame half of
+    /// Acts on one frame from a decoder the caller runs, the per-frame half of
     /// [`AeolusLink::poll`]'s RX: `Ok` is a received frame (COMMAND and SETTIME are obeyed,
-    /// anything else counted), `Err` a frame the deframer dropped (counted in
+    /// anything else counted), `Err` a frame the decoder dropped (counted in
     /// [`LinkCounters::rx_errors`]). Answers are queued and go out with the next
-    /// [`AeolusLink::poll_tx`]. The link's own deframer (and so [`AeolusLink::rx_stats`]) is
-    /// not used on this path: the caller's deframer has the counters.
+    /// [`AeolusLink::poll_tx`]. The link's own decoder (and so [`AeolusLink::rx_stats`]) is
+    /// not used on this path: the caller's decoder has the counters.
     ///
     /// ```
     /// use aeolus_proto::{CrcMode, Decoder, message::{Message, Text}};
@@ -254,9 +254,9 @@ impl AeolusLink {
     /// let mut link = AeolusLink::new(0);
     /// let mut wire = [0u8; 64];
     /// let n = Message::Command(Text::new("a pause").unwrap()).encode(&mut wire, CrcMode::Compute).unwrap();
-    /// let mut deframer = Decoder::<64>::new();
+    /// let mut decoder = Decoder::<64>::new();
     /// for &b in &wire[..n] {
-    ///     if let Some(frame) = deframer.push(b) {
+    ///     if let Some(frame) = decoder.push(b) {
     ///         link.handle_frame(frame.as_ref().map_err(|e| *e), 5, &mut shared);
     ///     }
     /// }
@@ -279,14 +279,14 @@ impl AeolusLink {
         &self.counters
     }
 
-    /// The RX deframer's counters (frames, CRC errors, bytes discarded, ...).
+    /// The RX decoder's counters (frames, CRC errors, bytes discarded, ...).
     ///
     /// ```
     /// let link = sensor_box::aeolus_link::AeolusLink::new(0);
     /// assert_eq!(link.rx_stats().frames_ok, 0);
     /// ```
-    pub fn rx_stats(&self) -> &aeolus_proto::Stats {
-        self.deframer.stats()
+    pub fn rx_stats(&self) -> aeolus_proto::Stats {
+        self.decoder.stats()
     }
 
     /// The telemetry schedule.

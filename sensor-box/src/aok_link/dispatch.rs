@@ -50,7 +50,7 @@ impl AokLink {
         // Silence only counts when the port has nothing more: bytes held back in its RX queue
         // (back-pressure, budget) may be the rest of the partial frame.
         if port_empty
-            && self.decoder.buffered() > 0
+            && self.decoder.held_bytes() > 0
             && now_ms.saturating_sub(self.last_rx_ms) >= IDLE_MS
         {
             while let Some(item) = self.decoder.idle_next() {

@@ -246,7 +246,7 @@ impl AokLink {
     }
 
     /// The command decoder's counters.
-    pub fn decoder_stats(&self) -> &Stats {
+    pub fn decoder_stats(&self) -> Stats {
         self.decoder.stats()
     }
 

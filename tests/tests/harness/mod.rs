@@ -536,7 +536,7 @@ impl Aeolus {
     }
 
     /// The deframer's counters.
-    pub fn stats(&self) -> &aeolus_proto::Stats {
+    pub fn stats(&self) -> aeolus_proto::Stats {
         self.deframer.stats()
     }
 }
