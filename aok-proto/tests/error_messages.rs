@@ -10,7 +10,14 @@ fn every_error_has_its_sentence() {
         (Error::Truncated, "frame truncated"),
         (Error::BufferTooSmall, "output buffer too small"),
         (Error::UnknownCommand(0x0c), "unknown command byte 0x0c"),
-        (Error::ChecksumMismatch, "checksum mismatch"),
+        (
+            Error::ChecksumMismatch {
+                id: 0x31,
+                computed: 0x56,
+                received: 0x0c,
+            },
+            "checksum mismatch",
+        ),
         (Error::InvalidSlot(9), "invalid waypoint slot 9"),
         (
             Error::InvalidWaypoint(32),
