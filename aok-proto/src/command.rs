@@ -449,8 +449,10 @@ fn control_n(f: &mut [u8; MAX_COMMAND_LEN], sub: u8, n: u8) {
 
 /// Copy the first `n` bytes of `src` into `buf`.
 pub(crate) fn copy_out(src: &[u8], n: usize, buf: &mut [u8]) -> Result<usize, Error> {
-    let src = src.get(..n).ok_or(Error::BufferTooSmall)?;
-    let dst = buf.get_mut(..src.len()).ok_or(Error::BufferTooSmall)?;
+    let src = src.get(..n).ok_or(Error::BufferTooSmall { needed: n })?;
+    let dst = buf
+        .get_mut(..src.len())
+        .ok_or(Error::BufferTooSmall { needed: n })?;
     dst.copy_from_slice(src);
     Ok(src.len())
 }

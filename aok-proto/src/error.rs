@@ -10,7 +10,10 @@ pub enum Error {
     /// The input ends before the frame does (also: a partial frame abandoned by `idle`).
     Truncated,
     /// The output buffer is too small for the frame.
-    BufferTooSmall,
+    BufferTooSmall {
+        /// Bytes the output needs.
+        needed: usize,
+    },
     /// The first byte is not the start of any frame this side understands.
     UnknownCommand(u8),
     /// The frame's XOR checksum does not match. The same fields as in every protocol crate.
@@ -107,7 +110,9 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Truncated => f.write_str("frame truncated"),
-            Self::BufferTooSmall => f.write_str("output buffer too small"),
+            Self::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
             Self::UnknownCommand(b) => write!(f, "unknown command byte 0x{b:02x}"),
             Self::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
             Self::InvalidSlot(s) => write!(f, "invalid waypoint slot {s}"),

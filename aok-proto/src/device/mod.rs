@@ -238,7 +238,9 @@ pub fn encode_parameter(
 pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usize, Error> {
     let out = buf
         .get_mut(..HEADED_REPLY_LEN * 16)
-        .ok_or(Error::BufferTooSmall)?;
+        .ok_or(Error::BufferTooSmall {
+            needed: HEADED_REPLY_LEN * 16,
+        })?;
     let mut number = first;
     for (chunk, &value) in out.chunks_exact_mut(HEADED_REPLY_LEN).zip(values) {
         Message::Parameter(ParameterValue { number, value }).emit(ReplyForm::Headed, chunk)?;
