@@ -113,7 +113,7 @@ for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
     cargo build -q -p "$l" --target "$t" --release
     cargo build -q -p "$l" --target "$t" --release --features defmt,embedded-io,embedded-io-async
   done
-  # gdl90-proto (Rust 1.95, no embedded-io features yet): default and defmt.
+  # gdl90-proto (no embedded-io features yet): default and defmt.
   cargo build -q -p gdl90-proto --target "$t" --release
   cargo build -q -p gdl90-proto --target "$t" --release --features defmt
 done
@@ -125,6 +125,15 @@ for l in "${LIBS[@]}"; do
   cargo +"$MSRV" check -q -p "$l" --no-default-features
   cargo +"$MSRV" build -q -p "$l" --target thumbv6m-none-eabi --release --features embedded-io,embedded-io-async
 done
+# gdl90-proto has the same MSRV (no embedded-io features yet).
+cargo +"$MSRV" check -q -p gdl90-proto --all-features
+cargo +"$MSRV" check -q -p gdl90-proto --no-default-features
+cargo +"$MSRV" build -q -p gdl90-proto --target thumbv6m-none-eabi --release
+
+step "publish dry run: every library packages and builds as crates.io would see it"
+# gdl90-proto depends on aeolus-proto, which is not on crates.io: cargo resolves it from the
+# packages of this same run (cargo >= 1.90 packages workspace members together).
+cargo publish --dry-run -q --allow-dirty -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
 
 step "panic-never: link-time proof that no panic path survives (checks/panic-never, thumbv7m and thumbv6m)"
 if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --release --target thumbv6m-none-eabi); then

@@ -95,7 +95,7 @@ impl Waypoint {
     /// Parse a complete `77` frame (checksum first, then the slot).
     pub(crate) fn from_frame(f: &[u8; wp::LEN]) -> Result<Self, Error> {
         if xor(&f[wp::CHECKED]) != f[wp::CHECKSUM] {
-            return Err(Error::ChecksumMismatch);
+            return Err(Error::mismatch(f, wp::CHECKED, wp::CHECKSUM));
         }
         Ok(Self {
             slot: WaypointSlot::from_wire(f[wp::SLOT])?,
@@ -217,7 +217,8 @@ impl Command {
     /// ```
     /// use aok_proto::{Command, Error};
     /// assert_eq!(Command::parse(&[0x63, 0x04, 2]), Ok((Command::SaveSet(2), 3)));
-    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(Error::ChecksumMismatch));
+    /// let mismatch = Error::ChecksumMismatch { id: 0x33, computed: 0x33 ^ 0x28, received: 0 };
+    /// assert_eq!(Command::parse(&[0x33, 0x28, 0x00]), Err(mismatch));
     /// assert_eq!(Command::parse(&[0x73, 0x0c]), Err(Error::Truncated));
     /// ```
     pub fn parse(bytes: &[u8]) -> Result<(Self, usize), Error> {
@@ -251,8 +252,9 @@ impl Command {
                 }
             }
             SET_PARAMETER => {
-                let (number, value) =
-                    checked_value(fixed::<{ set::LEN }>(bytes)?).ok_or(Error::ChecksumMismatch)?;
+                let f = fixed::<{ set::LEN }>(bytes)?;
+                let (number, value) = checked_value(f)
+                    .ok_or_else(|| Error::mismatch(f, set::CHECKED, set::CHECKSUM))?;
                 Ok(Self::SetParameter(ParameterValue { number, value }))
             }
             READ_PARAMETER => Ok(Self::ReadParameter(
@@ -272,7 +274,7 @@ impl Command {
             EXTERNAL_CONTROL => {
                 let f = fixed::<{ ext::LEN }>(bytes)?;
                 if xor(&f[ext::CHECKED]) != f[ext::CHECKSUM] {
-                    return Err(Error::ChecksumMismatch);
+                    return Err(Error::mismatch(f, ext::CHECKED, ext::CHECKSUM));
                 }
                 Ok(Self::ExternalControl(ExternalControl {
                     roll: Stick::new(i16::from_le_bytes(bytes!(f, ext::ROLL, 2)))?,
@@ -286,7 +288,11 @@ impl Command {
                 Some(motor) => {
                     let f = fixed::<{ motor_test::LEN }>(bytes)?;
                     if xor(&f[motor_test::CHECKED]) != f[motor_test::CHECKSUM] {
-                        return Err(Error::ChecksumMismatch);
+                        return Err(Error::mismatch(
+                            f,
+                            motor_test::CHECKED,
+                            motor_test::CHECKSUM,
+                        ));
                     }
                     Ok(Self::MotorTest(MotorTest {
                         motor,
@@ -443,8 +449,10 @@ fn control_n(f: &mut [u8; MAX_COMMAND_LEN], sub: u8, n: u8) {
 
 /// Copy the first `n` bytes of `src` into `buf`.
 pub(crate) fn copy_out(src: &[u8], n: usize, buf: &mut [u8]) -> Result<usize, Error> {
-    let src = src.get(..n).ok_or(Error::BufferTooSmall)?;
-    let dst = buf.get_mut(..src.len()).ok_or(Error::BufferTooSmall)?;
+    let src = src.get(..n).ok_or(Error::BufferTooSmall { needed: n })?;
+    let dst = buf
+        .get_mut(..src.len())
+        .ok_or(Error::BufferTooSmall { needed: n })?;
     // Zipped: no length check left to a panic when the copy is not inlined (libprotolink.a
     // roots every entry point, and at opt-level "z" this copy stays out of line).
     dst.iter_mut().zip(src).for_each(|(d, s)| *d = *s);

@@ -197,7 +197,8 @@ impl<T: Read, const R: usize> MessageReader<T, R> {
 /// // A motor-test start whose checksum fails, then "read parameter 12".
 /// let wire: &[u8] = &[0x31, 0x67, 0x0c];
 /// let mut reader = CommandReader::<_>::new(wire);
-/// assert_eq!(block_on(reader.read_command()), Err(IoError::Protocol(Error::ChecksumMismatch)));
+/// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
+/// assert_eq!(block_on(reader.read_command()), Err(IoError::Protocol(mismatch)));
 /// assert_eq!(block_on(reader.read_command()), Ok(Command::ReadParameter(12)));
 /// assert_eq!(block_on(reader.read_command()), Err(IoError::Eof));
 /// ```

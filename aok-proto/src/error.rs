@@ -10,11 +10,22 @@ pub enum Error {
     /// The input ends before the frame does (also: a partial frame abandoned by `idle`).
     Truncated,
     /// The output buffer is too small for the frame.
-    BufferTooSmall,
+    BufferTooSmall {
+        /// Bytes the output needs.
+        needed: usize,
+    },
     /// The first byte is not the start of any frame this side understands.
     UnknownCommand(u8),
-    /// The frame's XOR checksum does not match.
-    ChecksumMismatch,
+    /// The frame's XOR checksum does not match. The same fields as in every protocol crate.
+    ChecksumMismatch {
+        /// The frame's first byte as received (its type: `1C`, `FF`, `77`, `73`, ...; for a
+        /// headerless reply, which has none, its first value byte).
+        id: u8,
+        /// The XOR of the bytes the checksum covers.
+        computed: u16,
+        /// The checksum byte carried by the frame.
+        received: u16,
+    },
     /// A waypoint slot byte outside 0..=31, 254 and 255.
     InvalidSlot(u8),
     /// A waypoint number outside 1..=31.
@@ -76,13 +87,34 @@ impl SerialError {
     }
 }
 
+impl Error {
+    /// The checksum failure of `frame`, whose bytes `checked` do not XOR to its byte at
+    /// `checksum` (the frame's first byte is its `id`). Cold and out of line: the decoders'
+    /// hot paths only pass the frame along.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn mismatch(
+        frame: &[u8],
+        checked: core::ops::Range<usize>,
+        checksum: usize,
+    ) -> Self {
+        Error::ChecksumMismatch {
+            id: frame.first().copied().unwrap_or(0),
+            computed: u16::from(crate::xor(frame.get(checked).unwrap_or(&[]))),
+            received: u16::from(frame.get(checksum).copied().unwrap_or(0)),
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Truncated => f.write_str("frame truncated"),
-            Self::BufferTooSmall => f.write_str("output buffer too small"),
+            Self::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
             Self::UnknownCommand(b) => write!(f, "unknown command byte 0x{b:02x}"),
-            Self::ChecksumMismatch => f.write_str("checksum mismatch"),
+            Self::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
             Self::InvalidSlot(s) => write!(f, "invalid waypoint slot {s}"),
             Self::InvalidWaypoint(n) => write!(f, "waypoint number {n} outside 1..=31"),
             Self::InvalidMotor(m) => write!(f, "motor number {m} outside 1..=12"),

@@ -20,7 +20,11 @@ use crate::values::ReplyForm;
 ///
 /// ```
 /// use aok_proto::{Error, IoError};
-/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch);
+/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch {
+///     id: 0x31,
+///     computed: 0x56,
+///     received: 0x0c,
+/// });
 /// assert!(e.is_protocol());
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```

@@ -141,14 +141,17 @@ impl Message {
         let first = *bytes.first().ok_or(Error::Truncated)?;
         match first {
             DEBUG => {
-                let (number, value) =
-                    checked_value(fixed7(bytes)?).ok_or(Error::ChecksumMismatch)?;
+                let f = fixed7(bytes)?;
+                let (number, value) = checked_value(f).ok_or_else(|| {
+                    use crate::layout::debug::{CHECKED, CHECKSUM};
+                    Error::mismatch(f, CHECKED, CHECKSUM)
+                })?;
                 Ok((Self::Debug(DebugValue { number, value }), DEBUG_LEN))
             }
             PARAMETER_REPLY => {
                 let f = fixed7(bytes)?;
                 if xor(&f[reply::CHECKED]) != f[reply::CHECKSUM] {
-                    return Err(Error::ChecksumMismatch);
+                    return Err(Error::mismatch(f, reply::CHECKED, reply::CHECKSUM));
                 }
                 Ok((
                     Self::Parameter(ParameterValue {
@@ -195,7 +198,11 @@ impl ParameterValue {
             .and_then(|s| <&[u8; HEADERLESS_REPLY_LEN]>::try_from(s).ok())
             .ok_or(Error::Truncated)?;
         if xor(&f[headerless::CHECKED]) != f[headerless::CHECKSUM] {
-            return Err(Error::ChecksumMismatch);
+            return Err(Error::mismatch(
+                f,
+                headerless::CHECKED,
+                headerless::CHECKSUM,
+            ));
         }
         Ok(Self {
             number,

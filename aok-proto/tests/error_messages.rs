@@ -8,9 +8,19 @@ use embedded_hal_nb::serial::ErrorKind;
 fn every_error_has_its_sentence() {
     let cases = [
         (Error::Truncated, "frame truncated"),
-        (Error::BufferTooSmall, "output buffer too small"),
+        (
+            Error::BufferTooSmall { needed: 7 },
+            "output buffer too small: 7 bytes needed",
+        ),
         (Error::UnknownCommand(0x0c), "unknown command byte 0x0c"),
-        (Error::ChecksumMismatch, "checksum mismatch"),
+        (
+            Error::ChecksumMismatch {
+                id: 0x31,
+                computed: 0x56,
+                received: 0x0c,
+            },
+            "checksum mismatch",
+        ),
         (Error::InvalidSlot(9), "invalid waypoint slot 9"),
         (
             Error::InvalidWaypoint(32),

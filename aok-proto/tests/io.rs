@@ -376,7 +376,11 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
             })),
             Event::Item(Message::Ack(Ack::Ok)),
             // The waypoint reply with a bad checksum: the PC decoder reports its failures too.
-            Event::Protocol(Error::ChecksumMismatch),
+            Event::Protocol(Error::ChecksumMismatch {
+                id: 0x77,
+                computed: 0x05,
+                received: 0
+            }),
             Event::UnexpectedEof(2),
             Event::Eof,
         ]

@@ -184,7 +184,12 @@ fn pc_corrupted_debug_frame_hides_an_ack() {
     assert_eq!(
         got,
         vec![
-            Err(Error::ChecksumMismatch),
+            // NUM 'O' and value 1 XOR to 0x4E; the checksum byte became 0x4E ^ 0x55.
+            Err(Error::ChecksumMismatch {
+                id: 0x1c,
+                computed: 0x4E,
+                received: 0x1B
+            }),
             Ok(Message::Ack(Ack::Ok)),
             Ok(debug(86, 9))
         ]
@@ -296,7 +301,12 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     for &b in bad.iter().chain(&[0x67, 0x05]) {
         items.extend(push_all(&mut dec, b));
     }
-    assert_eq!(items.first(), Some(&Err(Error::ChecksumMismatch)));
+    let mismatch = Error::ChecksumMismatch {
+        id: 0x73,
+        computed: 0x03,
+        received: 0x02,
+    };
+    assert_eq!(items.first(), Some(&Err(mismatch)));
     assert_eq!(items.last(), Some(&Ok(Command::ReadParameter(5))));
     // A waypoint read of slot 100: a good checksum, invalid; its first byte dropped, the
     // rest (0x64) unknown.

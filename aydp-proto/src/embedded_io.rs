@@ -74,7 +74,9 @@ impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
     /// // A heartbeat with a bad checksum, then a good one, read 3 bytes at a time.
     /// let wire: &[u8] = &[0xFF, 0x80, 0x07, 0, 0, 0, 0x00, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78];
     /// let mut reader = FrameReader::<_, 32, 3>::new(wire, Profile::Spec);
-    /// assert_eq!(reader.read_frame().err(), Some(IoError::Protocol(Error::ChecksumMismatch)));
+    /// assert_eq!(reader.read_frame().err(), Some(IoError::Protocol(
+    ///     Error::ChecksumMismatch { id: 0x80, computed: 0x78, received: 0 }
+    /// )));
     /// assert_eq!(reader.read_frame().map(|f| f.as_bytes().len()), Ok(7));
     /// ```
     pub fn read_frame(&mut self) -> Result<Frame<'_>, IoError<T::Error>> {

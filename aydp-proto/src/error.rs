@@ -24,8 +24,15 @@ pub enum Error {
     /// The length field is below the profile minimum, beyond the decoder capacity, or does not
     /// match the bytes present.
     BadLength(u32),
-    /// The XOR checksum does not match (Y4).
-    ChecksumMismatch,
+    /// The XOR checksum does not match (Y4). The same fields as in every protocol crate.
+    ChecksumMismatch {
+        /// The type byte as received (it may itself be corrupted).
+        id: u8,
+        /// The XOR of the bytes from the start through the last data byte.
+        computed: u16,
+        /// The checksum byte carried by the message.
+        received: u16,
+    },
     /// The message data is too long to be described by the 32-bit length field.
     TooLong,
     /// The data is shorter than the message type needs.
@@ -77,6 +84,20 @@ pub enum Error {
     OutOfRange(u16),
 }
 
+impl Error {
+    /// The checksum failure of `frame` (start byte through checksum byte, whose XOR is not 0).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn mismatch(frame: &[u8]) -> Self {
+        let received = frame.last().copied().unwrap_or(0);
+        Error::ChecksumMismatch {
+            id: frame.get(1).copied().unwrap_or(0),
+            computed: u16::from(crate::checksum::xor(frame) ^ received),
+            received: u16::from(received),
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
@@ -88,7 +109,7 @@ impl fmt::Display for Error {
             Error::ReservedType => f.write_str("type byte 0xFF is reserved"),
             Error::BadType(t) => write!(f, "base type {t} is outside 0..=126"),
             Error::BadLength(l) => write!(f, "bad length field {l}"),
-            Error::ChecksumMismatch => f.write_str("checksum mismatch"),
+            Error::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
             Error::TooLong => f.write_str("message too long for the length field"),
             Error::PayloadTooShort {
                 msg_type,

@@ -38,7 +38,7 @@ impl<'a> Frame<'a> {
             return Err(Error::BadLength(field));
         }
         if xor(bytes) != 0 {
-            return Err(Error::ChecksumMismatch);
+            return Err(Error::mismatch(bytes));
         }
         Ok(Self { bytes, profile })
     }

@@ -18,7 +18,11 @@ use crate::frame::Frame;
 ///
 /// ```
 /// use aydp_proto::{Error, IoError};
-/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch);
+/// let e: IoError<core::convert::Infallible> = IoError::Protocol(Error::ChecksumMismatch {
+///     id: 3,
+///     computed: 0xE2,
+///     received: 0x55,
+/// });
 /// assert!(e.is_protocol());
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```

@@ -32,7 +32,11 @@ fn bytes_behind_a_failed_candidate_wait_for_the_rescan() {
     }
     assert_eq!(
         d.push(0xFF).map(|e| e.map(|f| f.data().to_vec())),
-        Some(Err(Error::ChecksumMismatch))
+        Some(Err(Error::ChecksumMismatch {
+            id: 0x80,
+            computed: 0x78,
+            received: 0xFF
+        }))
     );
     assert_eq!(d.held_bytes(), 6);
     // The rescan drops the five bytes before the last 0xFF, which waits for its type byte.

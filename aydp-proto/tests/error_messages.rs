@@ -14,7 +14,14 @@ fn every_error_has_its_sentence() {
         (Error::ReservedType, "type byte 0xFF is reserved"),
         (Error::BadType(127), "base type 127 is outside 0..=126"),
         (Error::BadLength(3), "bad length field 3"),
-        (Error::ChecksumMismatch, "checksum mismatch"),
+        (
+            Error::ChecksumMismatch {
+                id: 3,
+                computed: 0xE2,
+                received: 0x55,
+            },
+            "checksum mismatch",
+        ),
         (Error::TooLong, "message too long for the length field"),
         (
             Error::PayloadTooShort {

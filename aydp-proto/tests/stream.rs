@@ -250,7 +250,14 @@ fn a_false_start_hides_a_good_message_and_the_rescan_finds_it() {
     stream.extend_from_slice(&hb);
     stream.extend(std::iter::repeat_n(0x55, 17));
     let (events, stats) = run_lib(&stream, Profile::Spec);
-    assert_eq!(events, vec![Err(Error::ChecksumMismatch), Ok(hb.to_vec())]);
+    // The false candidate's 30 bytes: its header, the heartbeat (XOR 0) and sixteen 0x55 (XOR
+    // 0) before the seventeenth, read as its checksum.
+    let mismatch = Error::ChecksumMismatch {
+        id: 0x03,
+        computed: 0xFF ^ 0x03 ^ 30,
+        received: 0x55,
+    };
+    assert_eq!(events, vec![Err(mismatch), Ok(hb.to_vec())]);
     assert_eq!(stats.checksum_errors, 1);
     assert_eq!(stats.bytes_discarded as usize, stream.len() - hb.len());
     // The naive decoder loses it.

@@ -294,7 +294,16 @@ fn message_c(m: &Message) -> pl_aok_item {
 fn error(e: Error) -> pl_error {
     match e {
         Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
-        Error::ChecksumMismatch => pl_error::kind(PL_ERR_CHECKSUM_MISMATCH),
+        Error::ChecksumMismatch {
+            id,
+            computed,
+            received,
+        } => pl_error::new(
+            PL_ERR_CHECKSUM_MISMATCH,
+            id.into(),
+            computed.into(),
+            received.into(),
+        ),
         Error::UnknownCommand(b) => pl_error::new(PL_ERR_UNKNOWN_COMMAND, 0, 0, b.into()),
         Error::InvalidSlot(v) | Error::InvalidWaypoint(v) | Error::InvalidMotor(v) => {
             pl_error::new(PL_ERR_INVALID_VALUE, 0, 0, v.into())
@@ -817,7 +826,7 @@ pub unsafe extern "C" fn pl_aok_encode_command(
     };
     match pc::encode(&c, out) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall) => PL_E_BUFFER_TOO_SMALL,
+        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
     }
 }
@@ -885,7 +894,7 @@ pub unsafe extern "C" fn pl_aok_encode_message(
     };
     match result {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall) => PL_E_BUFFER_TOO_SMALL,
+        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
     }
 }

@@ -362,7 +362,16 @@ fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
 fn error(e: Error) -> pl_error {
     match e {
         Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
-        Error::ChecksumMismatch => pl_error::kind(PL_ERR_CHECKSUM_MISMATCH),
+        Error::ChecksumMismatch {
+            id,
+            computed,
+            received,
+        } => pl_error::new(
+            PL_ERR_CHECKSUM_MISMATCH,
+            id.into(),
+            computed.into(),
+            received.into(),
+        ),
         Error::ReservedType => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, 0xFF),
         Error::BadType(t) => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, t.into()),
         Error::BadLength(l) => pl_error::new(PL_ERR_BAD_LENGTH, 0, 0, l),

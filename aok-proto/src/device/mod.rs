@@ -15,7 +15,7 @@ use crate::{Error, shift_left};
 /// Feed it one byte at a time with [`DeviceDecoder::push`], which returns at most one event, then
 /// call [`DeviceDecoder::poll`] until `None` for any further events a rescan uncovered; or a slice
 /// at a time with [`DeviceDecoder::feed`]. Checksums are verified. An unknown byte is counted and
-/// skipped; a checksum failure is counted, reported as `Err(Error::ChecksumMismatch)` (the device
+/// skipped; a checksum failure is counted, reported as `Err(Error::ChecksumMismatch { .. })` (the device
 /// may answer 'E') and the bytes after the false start are rescanned, so a command hidden behind
 /// garbage is still found. A frame with a good checksum but an out-of-range field (waypoint slot,
 /// stick value) is reported as that error and rescanned the same way (a false candidate
@@ -36,7 +36,8 @@ use crate::{Error, shift_left};
 ///         event = dec.poll(); // a rescan can hold more than one event: drain them
 ///     }
 /// }
-/// assert_eq!(got, [Err(Error::ChecksumMismatch), Ok(Command::ReadParameter(12))]);
+/// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
+/// assert_eq!(got, [Err(mismatch), Ok(Command::ReadParameter(12))]);
 /// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -104,7 +105,8 @@ impl DeviceDecoder {
     /// for b in [0x73, 0x67, 0x0c, 0x00, 0x00, 0x00] {
     ///     assert_eq!(dec.push(b), None);
     /// }
-    /// assert_eq!(dec.push(0x00), Some(Err(Error::ChecksumMismatch)));
+    /// let mismatch = Error::ChecksumMismatch { id: 0x73, computed: 0x67 ^ 0x0c, received: 0 };
+    /// assert_eq!(dec.push(0x00), Some(Err(mismatch)));
     /// assert_eq!(dec.poll(), Some(Ok(Command::ReadParameter(12))));
     /// assert_eq!(dec.poll(), None);
     /// ```
@@ -237,7 +239,9 @@ pub fn encode_parameter(
 pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usize, Error> {
     let out = buf
         .get_mut(..HEADED_REPLY_LEN * 16)
-        .ok_or(Error::BufferTooSmall)?;
+        .ok_or(Error::BufferTooSmall {
+            needed: HEADED_REPLY_LEN * 16,
+        })?;
     let mut number = first;
     for (chunk, &value) in out.chunks_exact_mut(HEADED_REPLY_LEN).zip(values) {
         Message::Parameter(ParameterValue { number, value }).emit(ReplyForm::Headed, chunk)?;

@@ -21,7 +21,8 @@ impl DeviceDecoder {
     /// let mut got = Vec::new();
     /// // Noise, a motor-test start whose checksum fails, a read, and half a read.
     /// dec.feed(&[0x00, 0x31, 0x67, 0x0c, 0x67], |item| got.push(item));
-    /// assert_eq!(got, [Err(Error::ChecksumMismatch), Ok(Command::ReadParameter(12))]);
+    /// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
+    /// assert_eq!(got, [Err(mismatch), Ok(Command::ReadParameter(12))]);
     /// assert_eq!(dec.held_bytes(), 1);
     /// dec.feed(&[0x0d], |item| got.push(item));
     /// assert_eq!(got[2], Ok(Command::ReadParameter(13)));

@@ -68,11 +68,11 @@ impl DeviceDecoder {
                 on_event(Ok(cmd));
                 Step::Used(need)
             }
-            Err(Error::ChecksumMismatch) => {
+            Err(e @ Error::ChecksumMismatch { .. }) => {
                 // The false start is dropped; the rescan starts at the next byte.
                 stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
-                on_event(Err(Error::ChecksumMismatch));
+                on_event(Err(e));
                 Step::Used(1)
             }
             Err(e) => {

@@ -179,7 +179,8 @@ impl PcDecoder {
     /// for b in [0x1c, b'O', 0, 0, 0, 0] {
     ///     assert_eq!(dec.push(b), None);
     /// }
-    /// assert_eq!(dec.push(0), Some(Err(Error::ChecksumMismatch)));
+    /// let mismatch = Error::ChecksumMismatch { id: 0x1c, computed: u16::from(b'O'), received: 0 };
+    /// assert_eq!(dec.push(0), Some(Err(mismatch)));
     /// assert_eq!(dec.poll(), Some(Ok(Message::Ack(Ack::Ok))));
     /// assert_eq!(dec.poll(), None);
     /// ```

@@ -64,7 +64,7 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
                 }
                 // Not a reply; maybe a debug frame (the rules below).
                 Err(_) if first == DEBUG => *front_not_reply = true,
-                Err(_) => return checksum_failed(stats, on_event),
+                Err(e) => return checksum_failed(stats, e, on_event),
             }
         }
         Some(_) => {}
@@ -79,7 +79,7 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
     };
     match Message::parse(frame) {
         Ok((m, n)) => accept(stats, expect, n, m, on_event),
-        Err(Error::ChecksumMismatch) => checksum_failed(stats, on_event),
+        Err(e @ Error::ChecksumMismatch { .. }) => checksum_failed(stats, e, on_event),
         Err(e) => {
             // A good checksum but a value out of range (a waypoint reply with a bad slot): as
             // a checksum failure, only the first byte goes and the rest is rescanned.
@@ -107,10 +107,14 @@ fn accept<F: FnMut(Result<Message, Error>)>(
 }
 
 /// A checksum failed: the false start is dropped, the rescan starts at the next byte.
-fn checksum_failed<F: FnMut(Result<Message, Error>)>(stats: &mut Stats, on_event: &mut F) -> Step {
+fn checksum_failed<F: FnMut(Result<Message, Error>)>(
+    stats: &mut Stats,
+    error: Error,
+    on_event: &mut F,
+) -> Step {
     stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
     stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
-    on_event(Err(Error::ChecksumMismatch));
+    on_event(Err(error));
     Step::Used(1)
 }
 

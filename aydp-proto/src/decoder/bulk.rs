@@ -79,34 +79,15 @@ impl<const N: usize> Decoder<N> {
                     on_event(Ok(Frame::new_unchecked(frame, profile)));
                     rest = after;
                 }
+                Step::Mismatch(total) => {
+                    let e = Error::mismatch(rest.get(..total).unwrap_or(&[]));
+                    rest = rest.get(1..).unwrap_or(&[]);
+                    on_event(Err(e));
+                }
                 Step::Failed(e) => {
                     rest = rest.get(1..).unwrap_or(&[]);
                     on_event(Err(e));
                 }
-            }
-        }
-    }
-
-    /// The decoder holds nothing: runs the step over `bytes` itself up to and including the
-    /// first frame or failure, and returns how many bytes that took with the step's report (a
-    /// frame reported ends there). Reaching the end undecided, it holds the undecided bytes
-    /// and reports `Need`. A failed candidate's rescan is simply the next position in `bytes`.
-    #[inline(always)]
-    pub(super) fn scan_in_place(&mut self, bytes: &[u8]) -> (usize, Step) {
-        let mut at = 0;
-        loop {
-            let window = bytes.get(at..).unwrap_or(&[]);
-            if window.is_empty() {
-                return (at, Step::Noise(0));
-            }
-            match Self::step(self.profile, &mut self.stats, window) {
-                Step::Need(n) => {
-                    self.hold(window, n);
-                    return (bytes.len(), Step::Need(n));
-                }
-                Step::Noise(n) => at = at.saturating_add(n),
-                Step::Frame(n) => return (at.saturating_add(n), Step::Frame(n)),
-                Step::Failed(e) => return (at.saturating_add(1), Step::Failed(e)),
             }
         }
     }

@@ -92,6 +92,9 @@ pub(super) enum Step {
     /// The candidate at the front failed: its start byte was dropped (counted), and the
     /// rescan resumes at the byte after it.
     Failed(Error),
+    /// The candidate of this many bytes at the front failed its checksum: as `Failed`; the
+    /// caller builds the [`Error::ChecksumMismatch`] from those bytes, off the hot path.
+    Mismatch(usize),
 }
 
 /// AYDP stream decoder holding at most `N` bytes (the longest message it accepts).

@@ -41,6 +41,11 @@ impl<const N: usize> Decoder<N> {
                         len,
                     },
                     Step::Failed(e) => Found::Error(e),
+                    Step::Mismatch(total) => {
+                        let at = used.saturating_add(n).saturating_sub(1);
+                        let end = at.saturating_add(total);
+                        Found::Error(Error::mismatch(bytes.get(at..end).unwrap_or(&[])))
+                    }
                     Step::Need(_) | Step::Noise(_) => Found::Nothing,
                 };
                 return (end, found);
@@ -52,11 +57,37 @@ impl<const N: usize> Decoder<N> {
         }
     }
 
+    /// The decoder holds nothing: runs the step over `bytes` itself up to and including the
+    /// first frame or failure, and returns how many bytes that took with the step's report (a
+    /// frame reported ends there). Reaching the end undecided, it holds the undecided bytes
+    /// and reports `Need`. A failed candidate's rescan is simply the next position in `bytes`.
+    #[inline(always)]
+    pub(super) fn scan_in_place(&mut self, bytes: &[u8]) -> (usize, Step) {
+        let mut at = 0;
+        loop {
+            let window = bytes.get(at..).unwrap_or(&[]);
+            if window.is_empty() {
+                return (at, Step::Noise(0));
+            }
+            match Self::step(self.profile, &mut self.stats, window) {
+                Step::Need(n) => {
+                    self.hold(window, n);
+                    return (bytes.len(), Step::Need(n));
+                }
+                Step::Noise(n) => at = at.saturating_add(n),
+                Step::Frame(n) => return (at.saturating_add(n), Step::Frame(n)),
+                Step::Failed(e) => return (at.saturating_add(1), Step::Failed(e)),
+                Step::Mismatch(total) => return (at.saturating_add(1), Step::Mismatch(total)),
+            }
+        }
+    }
+
     /// [`Decoder::poll`], as a [`Found`].
     pub(super) fn poll_found(&mut self) -> Option<Found> {
         match self.examine() {
             Step::Frame(total) => Some(Found::Held(total)),
             Step::Failed(e) => Some(Found::Error(e)),
+            Step::Mismatch(total) => Some(Found::Error(self.mismatch_held(total))),
             Step::Need(_) | Step::Noise(_) => None,
         }
     }

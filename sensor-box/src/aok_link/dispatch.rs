@@ -68,7 +68,7 @@ impl AokLink {
             Ok(c) => c,
             // A frame cut by a quiet line: counted by the decoder, nothing to answer.
             Err(AokError::Truncated) => return,
-            Err(AokError::ChecksumMismatch) | Err(AokError::InvalidSlot(_)) => {
+            Err(AokError::ChecksumMismatch { .. }) | Err(AokError::InvalidSlot(_)) => {
                 // A faulty `73`/`77` is answered 'E' (the spec); the decoder cannot say which
                 // command a bad checksum belonged to, so every one is answered.
                 self.ack(Ack::Error);
