@@ -196,11 +196,13 @@ cargo test --workspace --all-features 2>&1 | tee "$test_log"
 step "the protocol libraries' tests on i686 (32-bit words, as on the firmware)"
 cargo test --target i686-unknown-linux-gnu -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto --all-features 2>&1 | tee -a "$test_log"
 
-# CI only: the mutants in the library lines the last commit changed; a missed one fails the
-# step and is listed. Skipped, with the reason, when the commit changes no library source or
-# touches more than 40 mutants (then scripts/mutants.sh runs before the release instead).
+# CI only: every exclusion of .cargo/mutants.toml names exactly one mutant; the mutants in the
+# library lines the last commit changed are run, and a missed or timed-out one fails the step
+# and is listed. Nothing to run when the commit changes no library source; a commit touching
+# more than 40 mutants, or a checkout without HEAD~1, fails (scripts/mutants.sh, CI=true).
 if [ "${CI:-}" = true ]; then
-  step "mutants of the last commit's library changes (scripts/mutants.sh --in-diff HEAD~1, at most 40)"
+  step "mutants: every exclusion names exactly one mutant; the last commit's library changes (scripts/mutants.sh --in-diff HEAD~1, at most 40)"
+  scripts/mutants.sh --check-exclusions
   scripts/mutants.sh --in-diff HEAD~1 --max 40 --out target/mutants-ci
 fi
 
