@@ -31,7 +31,7 @@ const READMES: [&str; 5] = [
 ];
 
 /// Lines that are not run here, by how they start, and why.
-const NOT_RUN: [(&str, &str); 16] = [
+const NOT_RUN: [(&str, &str); 17] = [
     (
         "scripts/demo.sh",
         "the demo runs until Ctrl-C (scripts/test.sh runs its parts)",
@@ -68,6 +68,11 @@ const NOT_RUN: [(&str, &str); 16] = [
     (
         "cargo run --release",
         "flashes the embassy firmware onto a board",
+    ),
+    (
+        "arm-none-eabi-gcc",
+        "builds your own app.c with the archive (c-api/tests/firmware.sh builds and boots a C \
+         program against it the same way)",
     ),
 ];
 
