@@ -189,7 +189,8 @@ step "rustdoc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 
 step "host tests"
-cargo test --workspace --all-features 2>&1 | tee "$test_log"
+# --no-fail-fast: every test binary runs, so the summary counts every failure, not the first.
+cargo test --workspace --all-features --no-fail-fast 2>&1 | tee "$test_log"
 
 # The word-at-a-time paths of the decoders and the CRC have a 32-bit form (the firmware's
 # Cortex-M) and a 64-bit one (the host): x86-64 tests alone never run the firmware's.
