@@ -316,7 +316,7 @@ impl AydpLink {
     /// }
     /// assert_eq!(link.counters().requests_answered, 1);
     /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
-    /// link.handle_frame(Err(aydp_proto::Error::ChecksumMismatch), &Stats::default(), 6, &mut port, &mut shared);
+    /// link.handle_frame(Err(aydp_proto::Error::ChecksumMismatch { id: 0x80, computed: 0x12, received: 0x13 }), &Stats::default(), 6, &mut port, &mut shared);
     /// assert_eq!(link.counters().rx_errors, 1);
     /// ```
     pub fn handle_frame<P: Write + WriteReady>(
