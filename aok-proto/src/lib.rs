@@ -54,6 +54,8 @@ mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
 pub mod layout;
+#[cfg(test)]
+mod liveness;
 pub mod message;
 pub mod pc;
 pub mod stats;

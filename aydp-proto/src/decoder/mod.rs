@@ -47,6 +47,8 @@
 //! ```
 
 mod bulk;
+#[cfg(test)]
+mod liveness;
 mod state;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod until;

@@ -1,0 +1,148 @@
+//! Every entry point of both decoders returns, whatever the stream: each of their loops
+//! consumes a byte or hands out an event per turn. A unit test rather than an integration
+//! test because the library's unit tests run first: a rule that stops consuming (a loop that
+//! makes no progress) fails here, at a deadline far above the microseconds the work takes,
+//! instead of hanging the integration tests behind it.
+
+extern crate std;
+
+use crate::{Command, DebugValue, DeviceDecoder, Error, FirmwareVersion, Message, PcDecoder};
+use crate::{ParameterValue, device, pc};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
+use std::vec::Vec;
+
+/// Far above the work (microseconds): only a loop that never ends reaches it.
+const DEADLINE: Duration = Duration::from_secs(10);
+
+/// Runs `work` on its own thread and returns its result, or fails the test if it has not
+/// returned by the deadline (the thread is left spinning; the test binary ends anyway).
+fn returns<T: Send + 'static>(what: &'static str, work: fn() -> T) -> T {
+    let (tx, rx) = mpsc::sync_channel(1);
+    std::thread::spawn(move || tx.send(work()));
+    match rx.recv_timeout(DEADLINE) {
+        Ok(v) => v,
+        Err(RecvTimeoutError::Timeout) => {
+            panic!("{what} did not return within {DEADLINE:?}: a loop makes no progress")
+        }
+        Err(RecvTimeoutError::Disconnected) => panic!("{what} panicked"),
+    }
+}
+
+/// The PC's commands: noise, a motor test, a parameter set, a motor test with a bad checksum,
+/// and a parameter set cut short by the end of the stream.
+fn to_device() -> Vec<u8> {
+    let mut s = std::vec![0x00, 0x31, 0x05, 0x31 ^ 0x05];
+    let mut buf = [0u8; 7];
+    let set = Command::SetParameter(ParameterValue {
+        number: 12,
+        value: 1500,
+    });
+    let n = pc::encode(&set, &mut buf).unwrap_or(0);
+    s.extend_from_slice(&buf[..n]);
+    s.extend_from_slice(&[0x32, 0x01, 0x00]);
+    s.extend_from_slice(&buf[..3]);
+    s
+}
+
+/// The device's messages: noise, a debug frame, a copy with a bad checksum, another debug
+/// frame, and one cut short by the end of the stream.
+fn to_pc() -> Vec<u8> {
+    let mut buf = [0u8; 7];
+    let v = DebugValue {
+        number: 86,
+        value: -2,
+    };
+    let n = device::encode_debug(v, &mut buf).unwrap_or(0);
+    let mut s = std::vec![0x00];
+    s.extend_from_slice(&buf[..n]);
+    let mut bad = buf;
+    bad[6] ^= 0x01;
+    s.extend_from_slice(&bad);
+    s.extend_from_slice(&buf[..n]);
+    s.extend_from_slice(&buf[..3]);
+    s
+}
+
+fn device_by_push() -> Vec<Result<Command, Error>> {
+    let mut dec = DeviceDecoder::new();
+    let mut got = Vec::new();
+    for b in to_device() {
+        got.extend(dec.push(b));
+        while let Some(ev) = dec.poll() {
+            got.push(ev);
+        }
+    }
+    dec.idle(|ev| got.push(ev));
+    got
+}
+
+fn device_by_feed_at_every_cut() -> Vec<Vec<Result<Command, Error>>> {
+    let s = to_device();
+    (0..=s.len())
+        .map(|cut| {
+            let (a, b) = s.split_at(cut);
+            let mut dec = DeviceDecoder::new();
+            let mut got = Vec::new();
+            dec.feed(a, |ev| got.push(ev));
+            dec.feed(b, |ev| got.push(ev));
+            while let Some(ev) = dec.idle_next() {
+                got.push(ev);
+            }
+            got
+        })
+        .collect()
+}
+
+fn pc_by_push() -> Vec<Result<Message, Error>> {
+    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut got = Vec::new();
+    for b in to_pc() {
+        got.extend(dec.push(b));
+        while let Some(ev) = dec.poll() {
+            got.push(ev);
+        }
+    }
+    dec.idle(|ev| got.push(ev));
+    got
+}
+
+fn pc_by_feed_at_every_cut() -> Vec<Vec<Result<Message, Error>>> {
+    let s = to_pc();
+    (0..=s.len())
+        .map(|cut| {
+            let (a, b) = s.split_at(cut);
+            let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+            let mut got = Vec::new();
+            dec.feed(a, |ev| got.push(ev));
+            dec.feed(b, |ev| got.push(ev));
+            while let Some(ev) = dec.idle_next() {
+                got.push(ev);
+            }
+            got
+        })
+        .collect()
+}
+
+#[test]
+fn the_device_decoder_returns_with_the_streams_events() {
+    let push = returns("push, poll and idle", device_by_push);
+    assert_eq!(push.iter().filter(|e| e.is_ok()).count(), 2, "{push:?}");
+    assert!(push.contains(&Err(Error::Truncated)), "{push:?}");
+    for (cut, got) in returns("feed", device_by_feed_at_every_cut)
+        .iter()
+        .enumerate()
+    {
+        assert_eq!(got, &push, "cut at {cut}");
+    }
+}
+
+#[test]
+fn the_pc_decoder_returns_with_the_streams_events() {
+    let push = returns("push, poll and idle", pc_by_push);
+    assert_eq!(push.iter().filter(|e| e.is_ok()).count(), 2, "{push:?}");
+    assert!(push.contains(&Err(Error::Truncated)), "{push:?}");
+    for (cut, got) in returns("feed", pc_by_feed_at_every_cut).iter().enumerate() {
+        assert_eq!(got, &push, "cut at {cut}");
+    }
+}

@@ -1,0 +1,103 @@
+//! Every entry point of the decoder returns, whatever the stream: each of its loops consumes
+//! a byte or hands out an event per turn. A unit test rather than an integration test because
+//! the library's unit tests run first: a rule that stops consuming (a loop that makes no
+//! progress) fails here, at a deadline far above the microseconds the work takes, instead of
+//! hanging the integration tests behind it.
+
+extern crate std;
+
+use super::*;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
+use std::vec::Vec;
+
+/// Far above the work (microseconds): only a loop that never ends reaches it.
+const DEADLINE: Duration = Duration::from_secs(10);
+
+/// Runs `work` on its own thread and returns its result, or fails the test if it has not
+/// returned by the deadline (the thread is left spinning; the test binary ends anyway).
+fn returns<T: Send + 'static>(what: &'static str, work: fn() -> T) -> T {
+    let (tx, rx) = mpsc::sync_channel(1);
+    std::thread::spawn(move || tx.send(work()));
+    match rx.recv_timeout(DEADLINE) {
+        Ok(v) => v,
+        Err(RecvTimeoutError::Timeout) => {
+            panic!("{what} did not return within {DEADLINE:?}: a loop makes no progress")
+        }
+        Err(RecvTimeoutError::Disconnected) => panic!("{what} panicked"),
+    }
+}
+
+/// Noise; a false candidate as long as the decoder, whose last two bytes start a heartbeat
+/// (held at the end of the buffer, so the decoder moves them to its front); a run of starts,
+/// a heartbeat, a copy with its checksum broken, a message with one data byte, and a
+/// candidate cut short by the end of the stream.
+const STREAM: &[u8] = &[
+    0x00, 0x12, 0xFF, 0x80, 0x10, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78,
+    0xFF, 0xFF, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78, 0xFF, 0x80, 0x07, 0, 0, 0, 0x79, 0xFF, 0x89, 0x08,
+    0, 0, 0, 0x02, 0x7C, 0xFF, 0x89, 0x08, 0,
+];
+
+/// What an event is, without the borrow: the frame's bytes, or the error.
+type Seen = Result<Vec<u8>>;
+
+fn seen(ev: Result<Frame<'_>>) -> Seen {
+    ev.map(|f| f.as_bytes().to_vec())
+}
+
+/// A decoder of 16 bytes: the held candidates are moved to the front (`compact`) on the way.
+type Small = Decoder<16>;
+
+fn by_push() -> Vec<Seen> {
+    let mut dec = Small::new(Profile::Spec);
+    let mut got = Vec::new();
+    for &b in STREAM {
+        if let Some(ev) = dec.push(b) {
+            got.push(seen(ev));
+            while let Some(ev) = dec.poll() {
+                got.push(seen(ev));
+            }
+        }
+    }
+    dec.flush(|ev| got.push(seen(ev)));
+    got
+}
+
+fn by_feed_at_every_cut() -> Vec<Vec<Seen>> {
+    (0..=STREAM.len())
+        .map(|cut| {
+            let (a, b) = STREAM.split_at(cut);
+            let mut dec = Small::new(Profile::Spec);
+            let mut got = Vec::new();
+            dec.feed(a, |ev| got.push(seen(ev)));
+            dec.feed(b, |ev| got.push(seen(ev)));
+            while let Some(ev) = dec.flush_next() {
+                got.push(seen(ev));
+            }
+            got
+        })
+        .collect()
+}
+
+#[test]
+fn push_poll_and_flush_return_with_the_streams_events() {
+    let got = returns("push, poll and flush", by_push);
+    let frames: Vec<_> = got.iter().filter_map(|e| e.as_ref().ok()).collect();
+    assert_eq!(
+        frames,
+        [
+            &[0xFF, 0x80, 0x07, 0, 0, 0, 0x78][..],
+            &[0xFF, 0x80, 0x07, 0, 0, 0, 0x78][..],
+            &[0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C][..],
+        ]
+    );
+    assert!(got.contains(&Err(Error::Truncated)), "{got:?}");
+}
+
+#[test]
+fn feed_at_every_cut_returns_with_the_same_events() {
+    let push = returns("push, poll and flush", by_push);
+    for (cut, got) in returns("feed", by_feed_at_every_cut).iter().enumerate() {
+        assert_eq!(got, &push, "cut at {cut}");
+    }
+}
