@@ -9,8 +9,12 @@ use core::fmt;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
-    /// The output buffer cannot hold what was asked for.
-    BufferTooSmall,
+    /// The output buffer cannot hold what was asked for; a buffer of `needed` bytes does.
+    BufferTooSmall {
+        /// Bytes that hold the output: exactly the data's length for `emit`, the worst case
+        /// ([`crate::max_encoded_len`]) for an escaped frame.
+        needed: usize,
+    },
     /// A frame grew past the decoder's capacity. Its bytes were dropped and the decoder
     /// waits for the next flag.
     Overflow,
@@ -58,7 +62,9 @@ pub enum Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::BufferTooSmall => f.write_str("output buffer too small"),
+            Error::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
             Error::Overflow => f.write_str("frame longer than the decoder capacity"),
             Error::ChecksumMismatch {
                 id,

@@ -2,6 +2,7 @@
 //! every one of them escaped; a frame that escapes all of them fills it to the byte.
 
 use aeolus_proto::{CrcMode, Error, encode_frame, max_encoded_len};
+use proptest::prelude::Just;
 
 #[test]
 fn max_encoded_len_is_two_flags_and_everything_else_doubled() {
@@ -26,6 +27,39 @@ fn a_frame_that_escapes_every_byte_fills_max_encoded_len_exactly() {
     let mut short = vec![0u8; max_encoded_len(1) - 1];
     assert_eq!(
         encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut short),
-        Err(Error::BufferTooSmall)
+        Err(Error::BufferTooSmall {
+            needed: max_encoded_len(1),
+        })
     );
+}
+
+proptest::proptest! {
+    /// A buffer short of a frame is refused with `needed` = the worst case of its data, which
+    /// then always takes it, whatever the ID, the data (split anywhere into head and tail,
+    /// escapes included) and the CRC mode.
+    #[test]
+    fn buffer_too_small_names_a_length_that_holds_the_frame(
+        id in proptest::prelude::any::<u8>(),
+        data in proptest::collection::vec(
+            proptest::prop_oneof![Just(0x7D_u8), Just(0x7E_u8), proptest::prelude::any::<u8>()],
+            0..40,
+        ),
+        cut in 0usize..40,
+        omit in proptest::prelude::any::<bool>(),
+        short_by in 1usize..4,
+    ) {
+        let (head, tail) = data.split_at(cut.min(data.len()));
+        let mode = if omit { CrcMode::Omit } else { CrcMode::Compute };
+        let worst = max_encoded_len(data.len());
+        let mut big = vec![0u8; worst];
+        let len = encode_frame(id, head, tail, mode, &mut big).unwrap();
+        let mut short = vec![0u8; len.saturating_sub(short_by)];
+        proptest::prop_assert_eq!(
+            encode_frame(id, head, tail, mode, &mut short),
+            Err(Error::BufferTooSmall { needed: worst })
+        );
+        let mut exact = vec![0u8; len];
+        proptest::prop_assert_eq!(encode_frame(id, head, tail, mode, &mut exact), Ok(len));
+        proptest::prop_assert_eq!(&exact[..], &big[..len]);
+    }
 }

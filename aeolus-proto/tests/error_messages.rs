@@ -6,7 +6,10 @@ use aeolus_proto::{Error, TEXT_CAPACITY, message::Text};
 #[test]
 fn every_error_has_its_sentence() {
     let cases = [
-        (Error::BufferTooSmall, "output buffer too small".to_string()),
+        (
+            Error::BufferTooSmall { needed: 9 },
+            "output buffer too small: 9 bytes needed".to_string(),
+        ),
         (
             Error::Overflow,
             "frame longer than the decoder capacity".into(),

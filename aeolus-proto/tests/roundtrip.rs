@@ -193,7 +193,9 @@ fn encode_reports_buffer_too_small() {
         let mut out = vec![0u8; len];
         assert_eq!(
             msg.encode(&mut out, CrcMode::Compute),
-            Err(Error::BufferTooSmall),
+            Err(Error::BufferTooSmall {
+                needed: max_encoded_len(10)
+            }),
             "len {len}"
         );
     }
@@ -201,6 +203,6 @@ fn encode_reports_buffer_too_small() {
     assert_eq!(msg.encode(&mut out, CrcMode::Compute), Ok(15));
     assert_eq!(
         Gyro::default().emit(&mut [0u8; 31]),
-        Err(Error::BufferTooSmall)
+        Err(Error::BufferTooSmall { needed: Gyro::LEN })
     );
 }

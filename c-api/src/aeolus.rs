@@ -406,7 +406,7 @@ fn fill(out: &mut pl_aeolus_message, msg: &Message<'_>, no_crc: bool) {
 /// An error as the C struct.
 fn error(e: Error) -> pl_error {
     match e {
-        Error::BufferTooSmall => pl_error::kind(PL_ERR_OTHER),
+        Error::BufferTooSmall { .. } => pl_error::kind(PL_ERR_OTHER),
         Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
         Error::ChecksumMismatch {
             id,
@@ -925,7 +925,7 @@ pub unsafe extern "C" fn pl_aeolus_encode(
     };
     match m.encode(out, mode) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall) => PL_E_BUFFER_TOO_SMALL,
+        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_INVALID,
     }
 }

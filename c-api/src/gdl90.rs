@@ -437,7 +437,7 @@ fn error(e: Error) -> pl_error {
             actual.into(),
         ),
         Error::OutOfRange { id, .. } => pl_error::new(PL_ERR_OUT_OF_RANGE, id.into(), 0, 0),
-        Error::BufferTooSmall => pl_error::kind(PL_ERR_OTHER),
+        Error::BufferTooSmall { .. } => pl_error::kind(PL_ERR_OTHER),
     }
 }
 
@@ -764,7 +764,7 @@ pub unsafe extern "C" fn pl_gdl90_encode(
     };
     match m.encode(out) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall) => PL_E_BUFFER_TOO_SMALL,
+        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
     }
 }

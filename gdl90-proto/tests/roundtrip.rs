@@ -6,7 +6,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading, Heartbeat, LatLon,
     Message, Name, Report, Track,
 };
-use gdl90_proto::{Decoder, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
+use gdl90_proto::{Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
 use proptest::prelude::*;
 
 const DEG_PER_LSB: f64 = 180.0 / 8_388_608.0;
@@ -303,5 +303,22 @@ proptest! {
         prop_assert!(dlon <= DEG_PER_LSB || 360.0 - dlon <= DEG_PER_LSB, "{lon} -> {}", p.lon_deg);
         prop_assert!((-180.0..180.0).contains(&p.lon_deg));
         prop_assert!(matches!(back.track, Some(Track::TrueHeading(_))));
+    }
+}
+
+proptest! {
+    /// A buffer short of a message's data is refused with the data's exact length, one short
+    /// of its frame with the frame's worst case (`max_encoded_len`), which holds it.
+    #[test]
+    fn a_short_buffer_is_refused_with_the_length_needed(msg in message(), short_by in 1usize..4) {
+        let mut wire = [0u8; MAX_ENCODED_LEN];
+        let n = msg.encode(&mut wire).unwrap();
+        let mut short = vec![0u8; n.saturating_sub(short_by)];
+        let worst = max_encoded_len(msg.buffer_len());
+        prop_assert!(n <= worst);
+        prop_assert_eq!(msg.encode(&mut short), Err(Error::BufferTooSmall { needed: worst }));
+        let len = msg.buffer_len();
+        let mut data = vec![0u8; len.saturating_sub(short_by)];
+        prop_assert_eq!(msg.emit(&mut data), Err(Error::BufferTooSmall { needed: len }));
     }
 }

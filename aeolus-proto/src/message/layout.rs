@@ -55,7 +55,9 @@ macro_rules! fixed_message {
             /// # Errors
             /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
             pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
-                let out = out.get_mut(..Self::LEN).ok_or(Error::BufferTooSmall)?;
+                let Some(out) = out.get_mut(..Self::LEN) else {
+                    return Err(Error::BufferTooSmall { needed: Self::LEN });
+                };
                 out.fill(0);
                 $( <$ty as Field>::write(&self.$field, out, $off); )*
                 Ok(Self::LEN)

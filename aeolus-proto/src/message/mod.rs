@@ -333,7 +333,10 @@ impl<'a> Message<'a> {
             | Self::DebugInfo(d)
             | Self::Log(d)
             | Self::Unknown { data: d, .. } => {
-                let dst = out.get_mut(..d.len()).ok_or(Error::BufferTooSmall)?;
+                let needed = d.len();
+                let dst = out
+                    .get_mut(..needed)
+                    .ok_or(Error::BufferTooSmall { needed })?;
                 dst.copy_from_slice(d);
                 Ok(d.len())
             }

@@ -78,7 +78,9 @@ impl Text {
     /// [`Error::BufferTooSmall`].
     pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
         let n = self.0.len();
-        let out = out.get_mut(..=n).ok_or(Error::BufferTooSmall)?;
+        let out = out
+            .get_mut(..=n)
+            .ok_or(Error::BufferTooSmall { needed: n + 1 })?;
         let (text, nul) = out.split_at_mut(n);
         text.copy_from_slice(&self.0);
         nul.fill(0);

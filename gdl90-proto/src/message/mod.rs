@@ -163,7 +163,10 @@ impl<'a> Message<'a> {
             Self::ForeFlightId(m) => m.emit(out),
             Self::Ahrs(m) => m.emit(out),
             Self::Unknown { data, .. } => {
-                let dst = out.get_mut(..data.len()).ok_or(Error::BufferTooSmall)?;
+                let needed = data.len();
+                let dst = out
+                    .get_mut(..needed)
+                    .ok_or(Error::BufferTooSmall { needed })?;
                 // Zipped: no length check left to a panic when the copy is not inlined.
                 dst.iter_mut().zip(*data).for_each(|(d, s)| *d = *s);
                 Ok(data.len())
@@ -207,7 +210,9 @@ fn check_len(id: u8, len: usize, data: &[u8]) -> Result<(), Error> {
 
 /// Zeroes `out[..len]`, lets `fill` write the fields, returns `len`.
 fn emit_into(out: &mut [u8], len: usize, fill: impl FnOnce(&mut [u8])) -> Result<usize, Error> {
-    let d = out.get_mut(..len).ok_or(Error::BufferTooSmall)?;
+    let d = out
+        .get_mut(..len)
+        .ok_or(Error::BufferTooSmall { needed: len })?;
     d.fill(0);
     fill(d);
     Ok(len)
