@@ -720,10 +720,6 @@ fn text(data: &[u8]) -> Result<Text, i32> {
     Text::from_bytes(data).map_err(|_| PL_E_INVALID)
 }
 
-fn motion_of<T>(b: &pl_aeolus_motion, f: impl FnOnce(bool, f64, f32, f32, f32) -> T) -> T {
-    f(b.valid != 0, b.timestamp_ms, b.x, b.y, b.z)
-}
-
 /// The C struct as a Rust message; `data` is the struct's raw data.
 ///
 /// # Safety
@@ -735,146 +731,147 @@ unsafe fn from_c<'a>(msg: &pl_aeolus_message, data: &'a [u8]) -> Result<Message<
     // member, so any read is defined.
     let b = &msg.body;
     Ok(match msg.id {
-        PL_AEOLUS_ID_AEOLUSINFO => {
+        // SAFETY: see above.
+        PL_AEOLUS_ID_AEOLUSINFO => info_message(unsafe { b.info }),
+        id @ (PL_AEOLUS_ID_PRESSURE
+        | PL_AEOLUS_ID_GYRO
+        | PL_AEOLUS_ID_ACCEL
+        | PL_AEOLUS_ID_MAGNET) => {
             // SAFETY: see above.
-            let v = unsafe { b.info };
-            Message::AeolusInfo(m::AeolusInfo {
-                model: v.model,
-                firmware: v.firmware,
-                mac: v.mac,
-            })
+            motion_message(id, unsafe { b.motion })
         }
-        PL_AEOLUS_ID_PRESSURE => {
-            // SAFETY: see above.
-            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
-                Message::Pressure(m::Pressure {
-                    valid,
-                    timestamp_ms,
-                    static_mbar: x,
-                    pitot_mbar: y,
-                    airspeed_mps: z,
-                })
-            })
-        }
-        PL_AEOLUS_ID_GYRO => {
-            // SAFETY: see above.
-            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
-                Message::Gyro(m::Gyro {
-                    valid,
-                    timestamp_ms,
-                    x,
-                    y,
-                    z,
-                })
-            })
-        }
-        PL_AEOLUS_ID_ACCEL => {
-            // SAFETY: see above.
-            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
-                Message::Accel(m::Accel {
-                    valid,
-                    timestamp_ms,
-                    x,
-                    y,
-                    z,
-                })
-            })
-        }
-        PL_AEOLUS_ID_MAGNET => {
-            // SAFETY: see above.
-            motion_of(unsafe { &b.motion }, |valid, timestamp_ms, x, y, z| {
-                Message::Magnet(m::Magnet {
-                    valid,
-                    timestamp_ms,
-                    x,
-                    y,
-                    z,
-                })
-            })
-        }
-        PL_AEOLUS_ID_TEMP => {
-            // SAFETY: see above.
-            let v = unsafe { b.temp };
-            Message::Temp(m::Temp {
-                valid: v.valid != 0,
-                timestamp_ms: v.timestamp_ms,
-                celsius: v.celsius,
-            })
-        }
-        PL_AEOLUS_ID_GPS => {
-            // SAFETY: see above.
-            let v = unsafe { b.gps };
-            Message::Gps(m::Gps {
-                valid: v.valid != 0,
-                has_fix: v.has_fix != 0,
-                satellites: v.satellites,
-                timestamp_ms: v.timestamp_ms,
-                latitude_deg: v.latitude_deg,
-                longitude_deg: v.longitude_deg,
-                altitude_m: v.altitude_m,
-                ground_speed_mps: v.ground_speed_mps,
-            })
-        }
-        PL_AEOLUS_ID_ATTITUDE => {
-            // SAFETY: see above.
-            let v = unsafe { b.attitude };
-            Message::Attitude(m::Attitude {
-                valid: v.valid != 0,
-                timestamp_ms: v.timestamp_ms,
-                roll_rad: v.roll_rad,
-                pitch_rad: v.pitch_rad,
-                yaw_rad: v.yaw_rad,
-                slip_ball: v.slip_ball,
-                turn_coordinator: v.turn_coordinator,
-                qx: v.qx,
-                qy: v.qy,
-                qz: v.qz,
-                qw: v.qw,
-            })
-        }
-        PL_AEOLUS_ID_COMPASS => {
-            // SAFETY: see above.
-            let v = unsafe { b.compass };
-            Message::Compass(m::Compass {
-                valid: v.valid != 0,
-                calibration: CalibrationStatus::from_i8(v.calibration),
-                has_value: v.has_value != 0,
-                calibration_percent: v.calibration_percent,
-                calibration_remaining: v.calibration_remaining,
-                timestamp_ms: v.timestamp_ms,
-                heading_deg: v.heading_deg,
-                soft_iron: v.soft_iron,
-                hard_iron: v.hard_iron,
-            })
-        }
-        PL_AEOLUS_ID_WIND => {
-            // SAFETY: see above.
-            let v = unsafe { b.wind };
-            Message::Wind(m::Wind {
-                valid: v.valid != 0,
-                timestamp_ms: v.timestamp_ms,
-                speed_mps: v.speed_mps,
-                direction_deg: v.direction_deg,
-            })
-        }
-        PL_AEOLUS_ID_SETTIME => {
-            // SAFETY: see above.
-            let v = unsafe { b.settime };
-            Message::SetTime(m::SetTime {
-                year_since_1900: v.year_since_1900,
-                month0: v.month0,
-                day: v.day,
-                hour: v.hour,
-                minute: v.minute,
-                second: v.second,
-            })
-        }
+        // SAFETY: see above.
+        PL_AEOLUS_ID_TEMP => temp_message(unsafe { b.temp }),
+        // SAFETY: see above.
+        PL_AEOLUS_ID_GPS => gps_message(unsafe { b.gps }),
+        // SAFETY: see above.
+        PL_AEOLUS_ID_ATTITUDE => attitude_message(unsafe { b.attitude }),
+        // SAFETY: see above.
+        PL_AEOLUS_ID_COMPASS => compass_message(unsafe { b.compass }),
+        // SAFETY: see above.
+        PL_AEOLUS_ID_WIND => wind_message(unsafe { b.wind }),
+        // SAFETY: see above.
+        PL_AEOLUS_ID_SETTIME => settime_message(unsafe { b.settime }),
         PL_AEOLUS_ID_TOAST => Message::Toast(text(data)?),
         PL_AEOLUS_ID_COMMAND => Message::Command(text(data)?),
         PL_AEOLUS_ID_CALIBINFO => Message::CalibInfo(data),
         PL_AEOLUS_ID_DEBUGINFO => Message::DebugInfo(data),
         PL_AEOLUS_ID_LOG => Message::Log(data),
         id => Message::Unknown { id, data },
+    })
+}
+
+fn info_message(v: pl_aeolus_info) -> Message<'static> {
+    Message::AeolusInfo(m::AeolusInfo {
+        model: v.model,
+        firmware: v.firmware,
+        mac: v.mac,
+    })
+}
+
+/// The four messages of three floats (`id` is one of their IDs).
+fn motion_message(id: u8, v: pl_aeolus_motion) -> Message<'static> {
+    let (valid, timestamp_ms, x, y, z) = (v.valid != 0, v.timestamp_ms, v.x, v.y, v.z);
+    match id {
+        PL_AEOLUS_ID_PRESSURE => Message::Pressure(m::Pressure {
+            valid,
+            timestamp_ms,
+            static_mbar: x,
+            pitot_mbar: y,
+            airspeed_mps: z,
+        }),
+        PL_AEOLUS_ID_GYRO => Message::Gyro(m::Gyro {
+            valid,
+            timestamp_ms,
+            x,
+            y,
+            z,
+        }),
+        PL_AEOLUS_ID_ACCEL => Message::Accel(m::Accel {
+            valid,
+            timestamp_ms,
+            x,
+            y,
+            z,
+        }),
+        _ => Message::Magnet(m::Magnet {
+            valid,
+            timestamp_ms,
+            x,
+            y,
+            z,
+        }),
+    }
+}
+
+fn temp_message(v: pl_aeolus_temp) -> Message<'static> {
+    Message::Temp(m::Temp {
+        valid: v.valid != 0,
+        timestamp_ms: v.timestamp_ms,
+        celsius: v.celsius,
+    })
+}
+
+fn gps_message(v: pl_aeolus_gps) -> Message<'static> {
+    Message::Gps(m::Gps {
+        valid: v.valid != 0,
+        has_fix: v.has_fix != 0,
+        satellites: v.satellites,
+        timestamp_ms: v.timestamp_ms,
+        latitude_deg: v.latitude_deg,
+        longitude_deg: v.longitude_deg,
+        altitude_m: v.altitude_m,
+        ground_speed_mps: v.ground_speed_mps,
+    })
+}
+
+fn attitude_message(v: pl_aeolus_attitude) -> Message<'static> {
+    Message::Attitude(m::Attitude {
+        valid: v.valid != 0,
+        timestamp_ms: v.timestamp_ms,
+        roll_rad: v.roll_rad,
+        pitch_rad: v.pitch_rad,
+        yaw_rad: v.yaw_rad,
+        slip_ball: v.slip_ball,
+        turn_coordinator: v.turn_coordinator,
+        qx: v.qx,
+        qy: v.qy,
+        qz: v.qz,
+        qw: v.qw,
+    })
+}
+
+fn compass_message(v: pl_aeolus_compass) -> Message<'static> {
+    Message::Compass(m::Compass {
+        valid: v.valid != 0,
+        calibration: CalibrationStatus::from_i8(v.calibration),
+        has_value: v.has_value != 0,
+        calibration_percent: v.calibration_percent,
+        calibration_remaining: v.calibration_remaining,
+        timestamp_ms: v.timestamp_ms,
+        heading_deg: v.heading_deg,
+        soft_iron: v.soft_iron,
+        hard_iron: v.hard_iron,
+    })
+}
+
+fn wind_message(v: pl_aeolus_wind) -> Message<'static> {
+    Message::Wind(m::Wind {
+        valid: v.valid != 0,
+        timestamp_ms: v.timestamp_ms,
+        speed_mps: v.speed_mps,
+        direction_deg: v.direction_deg,
+    })
+}
+
+fn settime_message(v: pl_aeolus_settime) -> Message<'static> {
+    Message::SetTime(m::SetTime {
+        year_since_1900: v.year_since_1900,
+        month0: v.month0,
+        day: v.day,
+        hour: v.hour,
+        minute: v.minute,
+        second: v.second,
     })
 }
 
