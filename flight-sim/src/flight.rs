@@ -538,8 +538,6 @@ impl Flight {
         // Heading change Δψ since t = 0 in 2^-64 turn, in [-π, π).
         let turned = t_ms.wrapping_mul(self.turn_per_ms) as i64;
         let yaw = self.heading0.wrapping_add((turned >> 32) as u32);
-        // α = Δψ/2 in quarter turns, Q30 (which is also angle units).
-        let half = (turned >> 33) as i32;
         // The yaw's half angle (for the quaternion), and the yaw from it.
         let (sin_half_yaw, cos_half_yaw) = turn::sin_cos(yaw >> 1);
         let sin_yaw = 2 * mul(sin_half_yaw, cos_half_yaw);
@@ -547,52 +545,9 @@ impl Flight {
 
         // While climbing or descending, the nose is up (down) by γ.
         let climbing = self.climb().filter(|c| t_ms < c.until_ms);
-        let sign = if cos_half_yaw < 0 { -1 } else { 1 };
-        let [x, y, z, w] = match climbing {
-            // q = qz(ψ) ⊗ qx(φ) (pitch 0), w >= 0.
-            None => {
-                let (sr, cr) = self.half_bank_sin_cos;
-                [
-                    mul(sr, cos_half_yaw),
-                    mul(sr, sin_half_yaw),
-                    mul(cr, sin_half_yaw),
-                    mul(cr, cos_half_yaw),
-                ]
-            }
-            // q = qz(ψ) ⊗ (qy(γ) ⊗ qx(φ)).
-            Some(c) => {
-                let [px, py, pz, pw] = c.pitch_bank_q;
-                [
-                    turn::dot(cos_half_yaw, px, -sin_half_yaw, py),
-                    turn::dot(cos_half_yaw, py, sin_half_yaw, px),
-                    turn::dot(cos_half_yaw, pz, sin_half_yaw, pw),
-                    turn::dot(cos_half_yaw, pw, -sin_half_yaw, pz),
-                ]
-            }
-        }
-        .map(|c| q30(sign * c));
+        let [x, y, z, w] = self.attitude_q(climbing, sin_half_yaw, cos_half_yaw);
 
-        // The Earth field rotated into body axes: Rx(φ)ᵀ · Ry(γ)ᵀ · Rz(ψ)ᵀ · m.
-        let [mn, me, md] = self.field.q;
-        let (sb, cb) = self.bank_sin_cos;
-        let heading_x = turn::dot(mn, cos_yaw, me, sin_yaw);
-        let heading_y = turn::dot(me, cos_yaw, -mn, sin_yaw);
-        let (pitched_x, pitched_z) = match climbing {
-            None => (heading_x, md),
-            Some(c) => {
-                let (sg, cg) = c.pitch_sin_cos;
-                (
-                    turn::dot(cg, heading_x, -sg, md),
-                    turn::dot(sg, heading_x, cg, md),
-                )
-            }
-        };
-        let mag = [
-            pitched_x,
-            turn::dot(cb, heading_y, sb, pitched_z),
-            turn::dot(cb, pitched_z, -sb, heading_y),
-        ]
-        .map(|c| turn::to_f32(i64::from(c), self.field.frac_bits));
+        let mag = self.field_in_body_axes(climbing, sin_yaw, cos_yaw);
 
         // The altitude and what the atmosphere makes of it.
         let altitude = self.altitude_m(t_ms);
@@ -609,26 +564,8 @@ impl Flight {
             Some(c) => (c.pitch_rad, c.gyro, c.accel),
         };
 
-        // Position: the chord of the arc, 2·r·sin α along the mean heading ψ0 + α, plus the
-        // drift.
-        let (sinc, cos_half) = turn::poly(half);
-        let sin_half = mul(half, sinc);
-        let (sin_h0, cos_h0) = self.heading0_sin_cos;
-        let sin_dir = turn::dot(sin_h0, cos_half, cos_h0, sin_half);
-        let cos_dir = turn::dot(cos_h0, cos_half, -sin_h0, sin_half);
-        let (along, k) = if t_ms < self.first_half_turn_ms {
-            (turn::to_f32(t_ms as i64, 0), &self.chord_by_time)
-        } else {
-            (turn::to_f32(turned, 63), &self.chord_by_angle)
-        };
-        let north_deg = along * k[0] * q30(mul(sinc, cos_dir));
-        let east = (along * k[1] * q30(mul(sinc, sin_dir))) as i64; // 2^-64 turn, saturating
         let time_ms = t_ms as f64;
-        let lat = p.start_lat_deg + f64::from(north_deg) + time_ms * self.lat_drift_deg_per_ms;
-        let lon = self
-            .lon0
-            .wrapping_add(t_ms.wrapping_mul(self.lon_drift_per_ms as u64) as i64)
-            .wrapping_add(east);
+        let (lat, lon) = self.position(t_ms, turned);
 
         // Ground velocity = air velocity + wind.
         let [speed, wind_n, wind_e] = self.speeds.q;
@@ -668,6 +605,94 @@ impl Flight {
             wind_speed_mps: p.wind_speed_mps,
             wind_from_deg: self.wind_from_deg,
         }
+    }
+
+    /// The attitude quaternion at heading ψ (its half angle's sine and cosine): q = qz(ψ) ⊗
+    /// qx(φ) in a level turn, qz(ψ) ⊗ (qy(γ) ⊗ qx(φ)) while climbing; w >= 0.
+    #[inline(always)]
+    fn attitude_q(
+        &self,
+        climbing: Option<Climb>,
+        sin_half_yaw: i32,
+        cos_half_yaw: i32,
+    ) -> [f32; 4] {
+        let sign = if cos_half_yaw < 0 { -1 } else { 1 };
+        match climbing {
+            // q = qz(ψ) ⊗ qx(φ) (pitch 0), w >= 0.
+            None => {
+                let (sr, cr) = self.half_bank_sin_cos;
+                [
+                    mul(sr, cos_half_yaw),
+                    mul(sr, sin_half_yaw),
+                    mul(cr, sin_half_yaw),
+                    mul(cr, cos_half_yaw),
+                ]
+            }
+            // q = qz(ψ) ⊗ (qy(γ) ⊗ qx(φ)).
+            Some(c) => {
+                let [px, py, pz, pw] = c.pitch_bank_q;
+                [
+                    turn::dot(cos_half_yaw, px, -sin_half_yaw, py),
+                    turn::dot(cos_half_yaw, py, sin_half_yaw, px),
+                    turn::dot(cos_half_yaw, pz, sin_half_yaw, pw),
+                    turn::dot(cos_half_yaw, pw, -sin_half_yaw, pz),
+                ]
+            }
+        }
+        .map(|c| q30(sign * c))
+    }
+
+    /// The Earth field rotated into body axes at heading ψ: Rx(φ)ᵀ · Ry(γ)ᵀ · Rz(ψ)ᵀ · m.
+    #[inline(always)]
+    fn field_in_body_axes(&self, climbing: Option<Climb>, sin_yaw: i32, cos_yaw: i32) -> [f32; 3] {
+        let [mn, me, md] = self.field.q;
+        let (sb, cb) = self.bank_sin_cos;
+        let heading_x = turn::dot(mn, cos_yaw, me, sin_yaw);
+        let heading_y = turn::dot(me, cos_yaw, -mn, sin_yaw);
+        let (pitched_x, pitched_z) = match climbing {
+            None => (heading_x, md),
+            Some(c) => {
+                let (sg, cg) = c.pitch_sin_cos;
+                (
+                    turn::dot(cg, heading_x, -sg, md),
+                    turn::dot(sg, heading_x, cg, md),
+                )
+            }
+        };
+        [
+            pitched_x,
+            turn::dot(cb, heading_y, sb, pitched_z),
+            turn::dot(cb, pitched_z, -sb, heading_y),
+        ]
+        .map(|c| turn::to_f32(i64::from(c), self.field.frac_bits))
+    }
+
+    /// The position at `t_ms` (`turned`: the heading change since t = 0, 2^-64 turn): the chord
+    /// of the arc, 2·r·sin α along the mean heading ψ0 + α, plus the drift. The latitude in
+    /// degrees, the longitude in 2^-64 turn.
+    #[inline(always)]
+    fn position(&self, t_ms: u64, turned: i64) -> (f64, i64) {
+        let p = &self.params;
+        // α = Δψ/2 in quarter turns, Q30 (which is also angle units).
+        let half = (turned >> 33) as i32;
+        let (sinc, cos_half) = turn::poly(half);
+        let sin_half = mul(half, sinc);
+        let (sin_h0, cos_h0) = self.heading0_sin_cos;
+        let sin_dir = turn::dot(sin_h0, cos_half, cos_h0, sin_half);
+        let cos_dir = turn::dot(cos_h0, cos_half, -sin_h0, sin_half);
+        let (along, k) = if t_ms < self.first_half_turn_ms {
+            (turn::to_f32(t_ms as i64, 0), &self.chord_by_time)
+        } else {
+            (turn::to_f32(turned, 63), &self.chord_by_angle)
+        };
+        let north_deg = along * k[0] * q30(mul(sinc, cos_dir));
+        let east = (along * k[1] * q30(mul(sinc, sin_dir))) as i64; // 2^-64 turn, saturating
+        let lat = p.start_lat_deg + f64::from(north_deg) + t_ms as f64 * self.lat_drift_deg_per_ms;
+        let lon = self
+            .lon0
+            .wrapping_add(t_ms.wrapping_mul(self.lon_drift_per_ms as u64) as i64)
+            .wrapping_add(east);
+        (lat, lon)
     }
 }
 
