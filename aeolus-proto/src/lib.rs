@@ -71,6 +71,8 @@ mod error;
 mod frame;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+#[cfg(test)]
+mod liveness;
 pub mod message;
 mod scan;
 

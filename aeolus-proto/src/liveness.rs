@@ -1,0 +1,60 @@
+//! The loops over a datagram and over a frame's bytes end, whatever the input: each turn
+//! consumes input or ends. A unit test rather than an integration test because the library's
+//! unit tests run first: a loop that stops making progress fails here, at a deadline far above
+//! the microseconds the work takes, instead of hanging the integration tests behind it.
+
+extern crate std;
+
+use crate::{CrcMode, FrameBytes, decode_datagram, encode_frame, max_encoded_len};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
+use std::vec::Vec;
+
+/// Far above the work (microseconds): only a loop that never ends reaches it.
+const DEADLINE: Duration = Duration::from_secs(10);
+
+/// Runs `work` on its own thread and returns its result, or fails the test if it has not
+/// returned by the deadline (the thread is left spinning; the test binary ends anyway).
+fn returns<T: Send + 'static>(what: &'static str, work: fn() -> T) -> T {
+    let (tx, rx) = mpsc::sync_channel(1);
+    std::thread::spawn(move || tx.send(work()));
+    match rx.recv_timeout(DEADLINE) {
+        Ok(v) => v,
+        Err(RecvTimeoutError::Timeout) => {
+            panic!("{what} did not return within {DEADLINE:?}: a loop makes no progress")
+        }
+        Err(RecvTimeoutError::Disconnected) => panic!("{what} panicked"),
+    }
+}
+
+/// A frame whose data holds both bytes that are escaped.
+fn frame(id: u8) -> Vec<u8> {
+    let mut out = std::vec![0u8; max_encoded_len(4)];
+    let n = encode_frame(id, &[0x7D, 1, 0x7E, 2], &[], CrcMode::Compute, &mut out).unwrap_or(0);
+    out.truncate(n);
+    out
+}
+
+/// The IDs (or the error) of the frames of a datagram of two frames and a cut one.
+fn datagram_ids() -> Vec<Result<u8, crate::Error>> {
+    let mut datagram = [frame(82), frame(83), std::vec![0x7E, 0x52, 0x01]].concat();
+    decode_datagram(&mut datagram, false)
+        .map(|f| f.map(|f| f.id()))
+        .collect()
+}
+
+/// The bytes `FrameBytes` gives for the frame of ID 82.
+fn frame_bytes() -> Vec<u8> {
+    FrameBytes::new(82, &[0x7D, 1, 0x7E, 2], CrcMode::Compute).collect()
+}
+
+#[test]
+fn a_datagram_is_read_to_its_end() {
+    let got = returns("decode_datagram", datagram_ids);
+    assert_eq!(got, [Ok(82), Ok(83), Err(crate::Error::Truncated)]);
+}
+
+#[test]
+fn frame_bytes_ends_after_the_frame() {
+    assert_eq!(returns("FrameBytes", frame_bytes), frame(82));
+}
