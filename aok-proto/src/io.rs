@@ -145,3 +145,27 @@ pub(crate) fn message_bytes(
     let n = message.emit(form, &mut buf)?;
     Ok((buf, n))
 }
+
+/// Liveness: the end of the stream reports the bytes held once, then rescans. A mutant that
+/// reports them again makes the readers of `tests/io.rs` spin (a hang, not a failure); this
+/// fails at once instead (unit tests run before the integration tests).
+#[cfg(test)]
+mod liveness {
+    use super::*;
+
+    #[test]
+    fn the_end_reports_the_bytes_held_once() {
+        let mut d = DeviceDecoder::new();
+        assert_eq!(Decode::decode(&mut d, &[0x31]), (1, None));
+        assert_eq!(Decode::end(&mut d, true), Some(Event::Truncated(1)));
+        assert_eq!(Decode::end(&mut d, false), None);
+        assert_eq!(Decode::end(&mut d, true), None);
+        let mut p = PcDecoder::new(crate::FirmwareVersion::LATEST);
+        assert_eq!(Decode::decode(&mut p, &[0x1c, 0x56]), (2, None));
+        assert_eq!(Decode::end(&mut p, true), Some(Event::Truncated(2)));
+        assert!(!matches!(
+            Decode::end(&mut p, false),
+            Some(Event::Truncated(_))
+        ));
+    }
+}

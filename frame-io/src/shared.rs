@@ -171,3 +171,62 @@ pub(crate) fn advance<E, P>(buf: &[u8], n: usize) -> Result<&[u8], IoError<E, P>
     }
     Ok(buf.get(n..).unwrap_or(&[]))
 }
+
+/// Liveness: the steps the read and write loops end on. A mutant that breaks one of them makes
+/// a loop of `tests/io.rs` spin (a hang, not a failure); these fail at once instead (unit tests
+/// run before the integration tests).
+#[cfg(test)]
+mod liveness {
+    use super::*;
+
+    /// Holds every byte; the end of the stream reports them once.
+    struct Hold(usize);
+
+    impl Decode for Hold {
+        type Error = ();
+        type Found = ();
+        type Item<'a> = ();
+        fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(), ()>>) {
+            self.0 += bytes.len();
+            (bytes.len(), None)
+        }
+        fn end(&mut self, _first: bool) -> Option<Event<(), ()>> {
+            let held = core::mem::take(&mut self.0);
+            (held > 0).then_some(Event::Truncated(held))
+        }
+        fn item(&self, _input: &[u8], _found: ()) {}
+    }
+
+    #[test]
+    fn a_read_of_zero_bytes_ends_the_stream_and_others_do_not() {
+        let mut core = ReaderCore::<_, 4>::new(Hold(0));
+        core.space();
+        assert!(core.filled(3).is_none());
+        assert_eq!(core.unread(), 3);
+        assert!(core.decode().is_none());
+        core.space();
+        let token = core.filled(0);
+        assert!(matches!(
+            token,
+            Some(Token::Event {
+                event: Event::Truncated(3),
+                ..
+            })
+        ));
+        assert!(matches!(core.decode(), Some(Token::Eof)));
+        // Reading goes on after the end.
+        assert!(core.decode().is_none());
+    }
+
+    #[test]
+    fn a_write_moves_the_chunk_on() {
+        let mut chunks = Chunks::new([1u8, 2, 3].into_iter());
+        assert_eq!(chunks.pending(), Some(&[1u8, 2, 3][..]));
+        assert_eq!(chunks.wrote::<(), ()>(2), Ok(()));
+        assert_eq!(chunks.pending(), Some(&[3u8][..]));
+        assert_eq!(chunks.wrote::<(), ()>(0), Err(IoError::WriteZero));
+        assert_eq!(chunks.wrote::<(), ()>(9), Ok(()));
+        assert_eq!(chunks.pending(), None);
+        assert_eq!(chunks.total(), 3);
+    }
+}
