@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# The mutation score of the three protocol libraries: runs cargo-mutants (settings in
-# .cargo/mutants.toml) and prints, per crate, the mutants caught, missed, unviable and timed
+# The mutation score of the three protocol libraries and frame-io: runs cargo-mutants (settings
+# in .cargo/mutants.toml) and prints, per crate, the mutants caught, missed, unviable and timed
 # out, and the score = caught / (caught + missed + timeout). A timeout (a mutant with which a
 # test hangs, cargo-mutants' status 3) is not counted as caught: no test failed, and the
 # hang may be the harness's rather than a test's finding. It is listed, and fails the run,
 # like a missed mutant.
 #
 #   scripts/mutants.sh [options]
-#     --crate NAME     only this crate (repeatable; default aeolus-proto, aydp-proto, aok-proto)
+#     --crate NAME     only this crate (repeatable; default frame-io, aeolus-proto, aydp-proto,
+#                      aok-proto)
 #     --shard K/N      only mutant i with i % N == K (round-robin: an unbiased sample)
 #     --in-diff REV    only the mutants in lines that REV..HEAD changed in the crates' src/
 #                      (CI: HEAD~1); nothing to do, and status 0, when there are none
@@ -58,7 +59,7 @@ while [ $# -gt 0 ]; do
     *) echo "mutants.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
   esac
 done
-[ ${#crates[@]} -gt 0 ] || crates=(aeolus-proto aydp-proto aok-proto)
+[ ${#crates[@]} -gt 0 ] || crates=(frame-io aeolus-proto aydp-proto aok-proto)
 
 # Prints the table of DIR/mutants.out; status 1 if a mutant was missed or timed out.
 table() {

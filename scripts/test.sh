@@ -12,7 +12,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-LIBS=(aeolus-proto aydp-proto aok-proto)
+# frame-io: the embedded-io readers and writers the three protocol crates share.
+LIBS=(frame-io aeolus-proto aydp-proto aok-proto)
 logs=target/test-logs
 mkdir -p "$logs"
 test_log=$logs/cargo-test.log
@@ -131,9 +132,10 @@ cargo +"$MSRV" check -q -p gdl90-proto --no-default-features
 cargo +"$MSRV" build -q -p gdl90-proto --target thumbv6m-none-eabi --release
 
 step "publish dry run: every library packages and builds as crates.io would see it"
-# gdl90-proto depends on aeolus-proto, which is not on crates.io: cargo resolves it from the
-# packages of this same run (cargo >= 1.90 packages workspace members together).
-cargo publish --dry-run -q --allow-dirty -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
+# gdl90-proto depends on aeolus-proto, and the three protocol crates on frame-io, which are not
+# on crates.io: cargo resolves them from the packages of this same run (cargo >= 1.90 packages
+# workspace members together).
+cargo publish --dry-run -q --allow-dirty -p frame-io -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
 
 step "panic-never: link-time proof that no panic path survives (checks/panic-never, thumbv7m and thumbv6m)"
 if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --release --target thumbv6m-none-eabi); then
@@ -195,7 +197,7 @@ cargo test --workspace --all-features --no-fail-fast 2>&1 | tee "$test_log"
 # The word-at-a-time paths of the decoders and the CRC have a 32-bit form (the firmware's
 # Cortex-M) and a 64-bit one (the host): x86-64 tests alone never run the firmware's.
 step "the protocol libraries' tests on i686 (32-bit words, as on the firmware)"
-cargo test --target i686-unknown-linux-gnu -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto --all-features 2>&1 | tee -a "$test_log"
+cargo test --target i686-unknown-linux-gnu -p frame-io -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto --all-features 2>&1 | tee -a "$test_log"
 
 # CI only: every exclusion of .cargo/mutants.toml names exactly one mutant; the mutants in the
 # library lines the last commit changed are run, and a missed or timed-out one fails the step

@@ -1,153 +1,37 @@
 //! Blocking AEOLUS frames over [`embedded_io`] (feature `embedded-io`).
 //!
-//! - [`FrameReader`] owns a [`Decoder`] and a read buffer of `R` bytes; each
-//!   [`FrameReader::read_frame`] returns the next frame. Every read is decoded with the slice
-//!   fast path of [`Decoder::feed`], and the frames and errors are exactly those of
-//!   [`Decoder::push`] byte by byte.
+//! - [`FrameReader`] is `frame-io`'s reader around a [`Decoder`] and a read buffer of `R`
+//!   bytes; each [`FrameReader::read`] returns the next frame. Every read is decoded
+//!   with the slice fast path of [`Decoder::feed`], and the frames and errors are exactly those
+//!   of [`Decoder::push`] byte by byte.
 //! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
 //!   a time, with no frame buffer.
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
 
-use ::embedded_io::{Read, Write};
+use ::embedded_io::Write;
 
-use crate::io::{CHUNK, ReaderCore, fill, frame_bytes, message_data, scratch};
+use crate::io::{frame_bytes, message_data, scratch};
 use crate::message::Message;
-use crate::{CrcMode, Decoder, Frame, IoError};
+use crate::{CrcMode, Decoder, IoError};
 
-/// Reads AEOLUS frames from a blocking [`Read`]: a [`Decoder<N>`] plus an `R`-byte read
-/// buffer.
+/// Reads AEOLUS frames from a blocking [`Read`](::embedded_io::Read): a [`Decoder<N>`] plus an
+/// `R`-byte read buffer ([`frame_io::embedded_io::Reader`] over a [`Decoder<N>`]: its methods are
+/// there).
 ///
 /// ```
-/// use aeolus_proto::{embedded_io::FrameReader, IoError, message::Message};
+/// use aeolus_proto::{embedded_io::FrameReader, Decoder, IoError, message::Message};
 ///
 /// // TOAST "hi", then half a frame and the end of the stream.
 /// let wire: &[u8] = &[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E, 0x52, b'h'];
-/// let mut reader = FrameReader::<_, 64>::new(wire);
-/// let frame = reader.read_frame().unwrap();
+/// let mut reader = FrameReader::<_, 64>::new(wire, Decoder::new());
+/// let frame = reader.read().unwrap();
 /// assert!(matches!(frame.message(), Ok(Message::Toast(t)) if t.as_str() == Some("hi")));
-/// assert_eq!(reader.read_frame().err(), Some(IoError::UnexpectedEof { pending: 2 }));
-/// assert_eq!(reader.read_frame().err(), Some(IoError::Eof));
+/// assert_eq!(reader.read().err(), Some(IoError::UnexpectedEof { pending: 2 }));
+/// assert_eq!(reader.read().err(), Some(IoError::Eof));
 /// ```
-#[derive(Debug, Clone)]
-pub struct FrameReader<T, const N: usize, const R: usize = 64> {
-    inner: T,
-    core: ReaderCore<N, R>,
-}
-
-impl<T: Read, const N: usize, const R: usize> FrameReader<T, N, R> {
-    /// A reader with a fresh, non-strict [`Decoder`].
-    ///
-    /// ```
-    /// let reader = aeolus_proto::embedded_io::FrameReader::<_, 64, 16>::new(&[][..]);
-    /// assert_eq!(reader.decoder().stats().frames_ok, 0);
-    /// ```
-    pub const fn new(inner: T) -> Self {
-        Self::with_decoder(inner, Decoder::new())
-    }
-
-    /// A reader around a decoder set up by the caller (strict mode, say).
-    ///
-    /// ```
-    /// use aeolus_proto::{embedded_io::FrameReader, Decoder, Error, IoError};
-    /// let wire: &[u8] = &[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E];
-    /// let mut reader = FrameReader::<_, 16>::with_decoder(wire, Decoder::strict());
-    /// assert_eq!(reader.read_frame().err(), Some(IoError::Protocol(Error::MissingCrc { id: 82 })));
-    /// ```
-    pub const fn with_decoder(inner: T, decoder: Decoder<N>) -> Self {
-        Self {
-            inner,
-            core: ReaderCore::new(decoder),
-        }
-    }
-
-    /// Reads until the next frame and returns it; it borrows the reader until the next call.
-    ///
-    /// # Errors
-    /// - [`IoError::Protocol`]: a frame was dropped (its error); call again for the next one.
-    /// - [`IoError::Transport`]: the read failed; bytes already read are kept.
-    /// - [`IoError::UnexpectedEof`]: the stream ended inside a frame (then [`IoError::Eof`]).
-    /// - [`IoError::Eof`]: the stream ended between frames.
-    ///
-    /// ```
-    /// use aeolus_proto::{embedded_io::FrameReader, Error, IoError};
-    /// // A frame with a bad CRC, then a good one: the error comes first, then the frame.
-    /// let wire: &[u8] = &[0x7E, 0x52, b'h', b'i', 0, 0x00, 0xEC, 0x7E,
-    ///                     0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
-    /// let mut reader = FrameReader::<_, 32, 4>::new(wire);
-    /// assert!(matches!(reader.read_frame(), Err(IoError::Protocol(Error::ChecksumMismatch { .. }))));
-    /// assert_eq!(reader.read_frame().map(|f| f.id()), Ok(82));
-    /// ```
-    pub fn read_frame(&mut self) -> Result<Frame<'_>, IoError<T::Error>> {
-        let token = loop {
-            if let Some(token) = self.core.decode() {
-                break token;
-            }
-            let n = self
-                .inner
-                .read(self.core.space())
-                .map_err(IoError::Transport)?;
-            if let Some(token) = self.core.filled(n) {
-                break token;
-            }
-        };
-        self.core.take(token)
-    }
-
-    /// The decoder, for its counters.
-    ///
-    /// ```
-    /// let wire: &[u8] = &[0x00, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
-    /// let mut reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(wire);
-    /// reader.read_frame().unwrap();
-    /// assert_eq!(reader.decoder().stats().bytes_discarded, 1);
-    /// ```
-    pub const fn decoder(&self) -> &Decoder<N> {
-        &self.core.decoder
-    }
-
-    /// Bytes read from the transport and not decoded yet.
-    ///
-    /// ```
-    /// let wire: &[u8] = &[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x7E];
-    /// let mut reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(wire);
-    /// reader.read_frame().unwrap();
-    /// assert_eq!(reader.unread(), 1);
-    /// ```
-    pub fn unread(&self) -> usize {
-        self.core.unread()
-    }
-
-    /// The transport.
-    ///
-    /// ```
-    /// let reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(&[1u8][..]);
-    /// assert_eq!(reader.get_ref().len(), 1);
-    /// ```
-    pub const fn get_ref(&self) -> &T {
-        &self.inner
-    }
-
-    /// The transport, mutably (bytes read around the reader are not decoded).
-    ///
-    /// ```
-    /// let mut reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(&[1u8][..]);
-    /// *reader.get_mut() = &[];
-    /// ```
-    pub fn get_mut(&mut self) -> &mut T {
-        &mut self.inner
-    }
-
-    /// Gives the transport back; bytes read and not decoded are lost.
-    ///
-    /// ```
-    /// let reader = aeolus_proto::embedded_io::FrameReader::<_, 64>::new(&[1u8][..]);
-    /// assert_eq!(reader.into_inner(), &[1]);
-    /// ```
-    pub fn into_inner(self) -> T {
-        self.inner
-    }
-}
+pub type FrameReader<T, const N: usize, const R: usize = 64> =
+    frame_io::embedded_io::Reader<T, Decoder<N>, R>;
 
 /// Writes AEOLUS frames into a blocking [`Write`], encoding on the fly (no frame buffer).
 ///
@@ -194,17 +78,7 @@ impl<W: Write> FrameWriter<W> {
         data: &[u8],
         crc: CrcMode,
     ) -> Result<usize, IoError<W::Error>> {
-        let mut bytes = frame_bytes(id, data, crc);
-        let mut chunk = [0u8; CHUNK];
-        let mut total = 0usize;
-        loop {
-            let n = fill(&mut chunk, &mut bytes);
-            let Some(out) = chunk.get(..n).filter(|c| !c.is_empty()) else {
-                return Ok(total);
-            };
-            write_all(&mut self.inner, out)?;
-            total = total.saturating_add(n);
-        }
+        frame_io::embedded_io::write_iter(&mut self.inner, frame_bytes(id, data, crc))
     }
 
     /// Encodes a typed message; returns the wire bytes written. It does not flush.
@@ -213,12 +87,12 @@ impl<W: Write> FrameWriter<W> {
     /// As [`FrameWriter::write_frame`].
     ///
     /// ```
-    /// use aeolus_proto::{embedded_io::{FrameReader, FrameWriter}, CrcMode, message::{Gyro, Message}};
-    /// let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0, z: -0.2 });
-    /// let mut wire = [0u8; 80];
-    /// let n = FrameWriter::new(&mut wire[..]).write_message(&gyro, CrcMode::Compute).unwrap();
-    /// let mut reader = FrameReader::<_, 64>::new(&wire[..n]);
-    /// assert_eq!(reader.read_frame().unwrap().message(), Ok(gyro));
+    /// use aeolus_proto::{embedded_io::{FrameReader, FrameWriter}, CrcMode, message::{Gyro,
+    /// Message}}; let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0,
+    /// z: -0.2 }); let mut wire = [0u8; 80]; let n = FrameWriter::new(&mut
+    /// wire[..]).write_message(&gyro, CrcMode::Compute).unwrap(); let mut reader = FrameReader::<_,
+    /// 64>::new(&wire[..n], aeolus_proto::Decoder::new());
+    /// assert_eq!(reader.read().unwrap().message(), Ok(gyro));
     /// ```
     pub fn write_message(
         &mut self,
@@ -265,16 +139,4 @@ impl<W: Write> FrameWriter<W> {
     pub fn into_inner(self) -> W {
         self.inner
     }
-}
-
-/// `Write::write_all`, but `Ok(0)` is [`IoError::WriteZero`] instead of a panic.
-fn write_all<W: Write>(w: &mut W, mut buf: &[u8]) -> Result<(), IoError<W::Error>> {
-    while !buf.is_empty() {
-        match w.write(buf) {
-            Ok(0) => return Err(IoError::WriteZero),
-            Ok(n) => buf = buf.get(n..).unwrap_or(&[]),
-            Err(e) => return Err(IoError::Transport(e)),
-        }
-    }
-    Ok(())
 }

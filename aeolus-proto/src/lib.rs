@@ -14,8 +14,9 @@
 //! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`.
 //! - [`crc`]: the frame check exactly as section 4.3 prints it.
 //! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
-//!   `FrameReader` that returns the next frame from a `Read` and a `FrameWriter` that encodes
-//!   into a `Write`, blocking or async, with the error type `IoError`.
+//!   `FrameReader` that returns the next frame from a `Read` (`frame-io`'s reader over a
+//!   [`Decoder`], which implements `frame_io::Decode`) and a `FrameWriter` that encodes into a
+//!   `Write`, blocking or async, with the error type `IoError`.
 //!
 //! Byte order is little-endian (DECISIONS.md A1). Decoders never panic, whatever the input.
 //!

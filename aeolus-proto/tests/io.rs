@@ -62,10 +62,10 @@ fn blocking<const N: usize, const R: usize>(
     sizes: &[usize],
     errors: &[usize],
 ) -> (Vec<Event>, aeolus_proto::Stats, usize) {
-    let mut r = bio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors));
+    let mut r = bio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors), Decoder::new());
     let (mut out, mut transport) = (Vec::new(), 0);
     loop {
-        match event(r.read_frame()) {
+        match event(r.read()) {
             Ok(ev) => {
                 let end = ev == Event::Eof;
                 out.push(ev);
@@ -85,10 +85,10 @@ fn asynchronous<const N: usize, const R: usize>(
     sizes: &[usize],
     errors: &[usize],
 ) -> (Vec<Event>, aeolus_proto::Stats, usize) {
-    let mut r = aio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors));
+    let mut r = aio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors), Decoder::new());
     let (mut out, mut transport) = (Vec::new(), 0);
     loop {
-        match event(block_on(r.read_frame())) {
+        match event(block_on(r.read())) {
             Ok(ev) => {
                 let end = ev == Event::Eof;
                 out.push(ev);

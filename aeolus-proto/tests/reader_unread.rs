@@ -15,20 +15,20 @@ const WIRE: [u8; 16] = [
 
 #[test]
 fn the_blocking_reader_counts_the_bytes_after_each_frame() {
-    let mut r = bio::FrameReader::<_, 64>::new(&WIRE[..]);
+    let mut r = bio::FrameReader::<_, 64>::new(&WIRE[..], aeolus_proto::Decoder::new());
     assert_eq!(r.unread(), 0);
-    assert_eq!(r.read_frame().map(|f| f.id()), Ok(0x52));
+    assert_eq!(r.read().map(|f| f.id()), Ok(0x52));
     assert_eq!(r.unread(), 8);
-    assert_eq!(r.read_frame().map(|f| f.id()), Ok(0x52));
+    assert_eq!(r.read().map(|f| f.id()), Ok(0x52));
     assert_eq!(r.unread(), 1);
 }
 
 #[test]
 fn the_async_reader_counts_the_bytes_after_each_frame() {
-    let mut r = aio::FrameReader::<_, 64>::new(&WIRE[..]);
+    let mut r = aio::FrameReader::<_, 64>::new(&WIRE[..], aeolus_proto::Decoder::new());
     assert_eq!(r.unread(), 0);
-    assert_eq!(block_on(r.read_frame()).map(|f| f.id()), Ok(0x52));
+    assert_eq!(block_on(r.read()).map(|f| f.id()), Ok(0x52));
     assert_eq!(r.unread(), 8);
-    assert_eq!(block_on(r.read_frame()).map(|f| f.id()), Ok(0x52));
+    assert_eq!(block_on(r.read()).map(|f| f.id()), Ok(0x52));
     assert_eq!(r.unread(), 1);
 }

@@ -1,274 +1,52 @@
 //! Blocking AOK over [`embedded_io`] (feature `embedded-io`).
 //!
-//! - [`MessageReader`] (PC side) owns a [`PcDecoder`] and [`CommandReader`] (device side) a
-//!   [`DeviceDecoder`], each with a read buffer of `R` bytes; [`MessageReader::read_message`]
-//!   and [`CommandReader::read_command`] return the next item. Every read is decoded with the
-//!   bulk path of `feed` (frames parsed in place in the read buffer), and the items are
-//!   exactly those of `push` and `poll` byte by byte; at the end of the stream, those of `idle`.
+//! - [`MessageReader`] (PC side) around a [`PcDecoder`] and [`CommandReader`] (device side)
+//!   around a [`DeviceDecoder`] are `frame-io`'s reader, each with a read buffer of `R` bytes;
+//!   [`MessageReader::read`] and [`CommandReader::read`] return the next item. Every read is
+//!   decoded with the bulk path of `feed` (frames parsed in place in the read buffer), and the
+//!   items are exactly those of `push` and `poll` byte by byte; at the end of the stream, those
+//!   of `idle`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
 
-use ::embedded_io::{Read, Write};
+use ::embedded_io::Write;
 
-use crate::io::{ReaderCore, Stream, command_bytes, message_bytes};
-use crate::{Command, DeviceDecoder, FirmwareVersion, IoError, Message, PcDecoder, ReplyForm};
+use crate::io::{command_bytes, message_bytes};
+use crate::{Command, DeviceDecoder, IoError, Message, PcDecoder, ReplyForm};
 
-/// Reads what the device sends (debug frames, replies, acks) from a blocking [`Read`]: a
-/// [`PcDecoder`] plus an `R`-byte read buffer.
+/// Reads what the device sends (debug frames, replies, acks) from a blocking
+/// [`Read`](::embedded_io::Read): a [`PcDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
-/// use aok_proto::{embedded_io::MessageReader, pc::Expect, Ack, DebugValue, FirmwareVersion,
+/// use aok_proto::{embedded_io::MessageReader, pc::{Expect, PcDecoder}, Ack, DebugValue,
+/// FirmwareVersion,
 ///                 IoError, Message};
 ///
 /// // A debug frame and an ack.
 /// let wire: &[u8] = &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O'];
-/// let mut reader = MessageReader::<_>::new(wire, FirmwareVersion::LATEST);
+/// let mut reader = MessageReader::<_>::new(wire, PcDecoder::new(FirmwareVersion::LATEST));
 /// reader.decoder_mut().expect(Expect::Ack);
-/// assert_eq!(reader.read_message(), Ok(Message::Debug(DebugValue { number: 86, value: -2 })));
-/// assert_eq!(reader.read_message(), Ok(Message::Ack(Ack::Ok)));
-/// assert_eq!(reader.read_message(), Err(IoError::Eof));
+/// assert_eq!(reader.read(), Ok(Message::Debug(DebugValue { number: 86, value: -2 })));
+/// assert_eq!(reader.read(), Ok(Message::Ack(Ack::Ok)));
+/// assert_eq!(reader.read(), Err(IoError::Eof));
 /// ```
-#[derive(Debug, Clone)]
-pub struct MessageReader<T, const R: usize = 32> {
-    inner: T,
-    core: ReaderCore<PcDecoder, R>,
-}
+pub type MessageReader<T, const R: usize = 32> = frame_io::embedded_io::Reader<T, PcDecoder, R>;
 
-impl<T: Read, const R: usize> MessageReader<T, R> {
-    /// A reader with a fresh decoder for a device with this firmware.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion, ReplyForm};
-    /// let reader = MessageReader::<_, 16>::new(&[][..], FirmwareVersion::new(0, 30));
-    /// assert_eq!(reader.decoder().reply_form(), ReplyForm::Headerless);
-    /// ```
-    pub const fn new(inner: T, firmware: FirmwareVersion) -> Self {
-        Self::with_decoder(inner, PcDecoder::new(firmware))
-    }
-
-    /// A reader around a decoder the caller already has.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion, PcDecoder};
-    /// let reader = MessageReader::<_>::with_decoder(&[][..], PcDecoder::new(FirmwareVersion::LATEST));
-    /// assert_eq!(reader.unread(), 0);
-    /// ```
-    pub const fn with_decoder(inner: T, decoder: PcDecoder) -> Self {
-        Self {
-            inner,
-            core: ReaderCore::new(decoder),
-        }
-    }
-
-    /// Reads until the next message and returns it.
-    ///
-    /// # Errors
-    /// - [`IoError::Protocol`]: a frame failed its checksum or held an out-of-range field;
-    ///   call again.
-    /// - [`IoError::Transport`]: the read failed; bytes already read are kept.
-    /// - [`IoError::UnexpectedEof`]: the stream ended inside a frame; what the rescan of its
-    ///   bytes finds follows, then [`IoError::Eof`].
-    /// - [`IoError::Eof`]: the stream ended and nothing is buffered.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, pc::Expect, FirmwareVersion, IoError, Message,
-    ///                 ParameterValue};
-    /// // A headerless (<= 0.30) reply to "read 12", read one byte at a time.
-    /// let wire: &[u8] = &[0x00, 0x00, 0x05, 0xdc, 0xd9];
-    /// let mut reader = MessageReader::<_, 1>::new(wire, FirmwareVersion::new(0, 30));
-    /// reader.decoder_mut().expect(Expect::Parameter(12));
-    /// assert_eq!(reader.read_message(),
-    ///            Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 })));
-    /// ```
-    pub fn read_message(&mut self) -> Result<Message, IoError<T::Error>> {
-        next_item(&mut self.inner, &mut self.core)
-    }
-
-    /// The decoder (counters, pending request).
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion};
-    /// let mut reader = MessageReader::<_>::new(&[0x00][..], FirmwareVersion::LATEST);
-    /// let _ = reader.read_message();
-    /// assert_eq!(reader.decoder().stats().unknown_bytes, 1);
-    /// ```
-    pub const fn decoder(&self) -> &PcDecoder {
-        &self.core.decoder
-    }
-
-    /// The decoder, mutably: tell it what the PC waits for ([`PcDecoder::expect`]) right
-    /// before sending a request. See the type's example.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, pc::Expect, FirmwareVersion};
-    /// let mut reader = MessageReader::<_>::new(&[][..], FirmwareVersion::LATEST);
-    /// reader.decoder_mut().expect(Expect::Ack);
-    /// assert_eq!(reader.decoder().expecting(), Expect::Ack);
-    /// ```
-    pub fn decoder_mut(&mut self) -> &mut PcDecoder {
-        &mut self.core.decoder
-    }
-
-    /// Bytes read from the transport and not decoded yet.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion};
-    /// let wire: &[u8] = &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x00];
-    /// let mut reader = MessageReader::<_>::new(wire, FirmwareVersion::LATEST);
-    /// reader.read_message().unwrap();
-    /// assert_eq!(reader.unread(), 1);
-    /// ```
-    pub fn unread(&self) -> usize {
-        self.core.unread()
-    }
-
-    /// The transport.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion};
-    /// let reader = MessageReader::<_>::new(&[1u8][..], FirmwareVersion::LATEST);
-    /// assert_eq!(reader.get_ref().len(), 1);
-    /// ```
-    pub const fn get_ref(&self) -> &T {
-        &self.inner
-    }
-
-    /// The transport, mutably (bytes read around the reader are not decoded).
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion};
-    /// let mut reader = MessageReader::<_>::new(&[1u8][..], FirmwareVersion::LATEST);
-    /// *reader.get_mut() = &[];
-    /// ```
-    pub fn get_mut(&mut self) -> &mut T {
-        &mut self.inner
-    }
-
-    /// Gives the transport back; bytes read and not decoded are lost.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::MessageReader, FirmwareVersion};
-    /// let reader = MessageReader::<_>::new(&[1u8][..], FirmwareVersion::LATEST);
-    /// assert_eq!(reader.into_inner(), &[1]);
-    /// ```
-    pub fn into_inner(self) -> T {
-        self.inner
-    }
-}
-
-/// Reads the PC's commands (device side) from a blocking [`Read`]: a [`DeviceDecoder`] plus
-/// an `R`-byte read buffer.
+/// Reads the PC's commands (device side) from a blocking [`Read`](::embedded_io::Read): a
+/// [`DeviceDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
-/// use aok_proto::{embedded_io::CommandReader, Command, Error, IoError};
+/// use aok_proto::{embedded_io::CommandReader, Command, DeviceDecoder, Error, IoError};
 /// // A motor-test start whose checksum fails, then "read parameter 12".
 /// let wire: &[u8] = &[0x31, 0x67, 0x0c];
-/// let mut reader = CommandReader::<_>::new(wire);
+/// let mut reader = CommandReader::<_>::new(wire, DeviceDecoder::new());
 /// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
-/// assert_eq!(reader.read_command(), Err(IoError::Protocol(mismatch)));
-/// assert_eq!(reader.read_command(), Ok(Command::ReadParameter(12)));
-/// assert_eq!(reader.read_command(), Err(IoError::Eof));
+/// assert_eq!(reader.read(), Err(IoError::Protocol(mismatch)));
+/// assert_eq!(reader.read(), Ok(Command::ReadParameter(12)));
+/// assert_eq!(reader.read(), Err(IoError::Eof));
 /// ```
-#[derive(Debug, Clone)]
-pub struct CommandReader<T, const R: usize = 32> {
-    inner: T,
-    core: ReaderCore<DeviceDecoder, R>,
-}
-
-impl<T: Read, const R: usize> CommandReader<T, R> {
-    /// A reader with a fresh decoder.
-    ///
-    /// ```
-    /// let reader = aok_proto::embedded_io::CommandReader::<_, 8>::new(&[][..]);
-    /// assert_eq!(reader.decoder().held_bytes(), 0);
-    /// ```
-    pub const fn new(inner: T) -> Self {
-        Self {
-            inner,
-            core: ReaderCore::new(DeviceDecoder::new()),
-        }
-    }
-
-    /// Reads until the next command and returns it.
-    ///
-    /// # Errors
-    /// - [`IoError::Protocol`]: a frame failed its checksum (answer 'E' if you like) or held
-    ///   an out-of-range field; call again.
-    /// - [`IoError::Transport`]: the read failed; bytes already read are kept.
-    /// - [`IoError::UnexpectedEof`]: the stream ended inside a command; what the rescan of
-    ///   its bytes finds follows, then [`IoError::Eof`].
-    /// - [`IoError::Eof`]: the stream ended and nothing is buffered.
-    ///
-    /// ```
-    /// use aok_proto::{embedded_io::CommandReader, Command, IoError};
-    /// // "set parameter" cut short by the end of the stream, with "debug on" inside it.
-    /// let mut reader = CommandReader::<_>::new(&[0x73, 0x63, 0x02][..]);
-    /// assert_eq!(reader.read_command(), Err(IoError::UnexpectedEof { pending: 3 }));
-    /// assert_eq!(reader.read_command(), Ok(Command::DebugOn));
-    /// assert_eq!(reader.read_command(), Err(IoError::Eof));
-    /// ```
-    pub fn read_command(&mut self) -> Result<Command, IoError<T::Error>> {
-        next_item(&mut self.inner, &mut self.core)
-    }
-
-    /// The decoder, for its counters.
-    ///
-    /// ```
-    /// let mut reader = aok_proto::embedded_io::CommandReader::<_>::new(&[0x63, 0x01][..]);
-    /// reader.read_command().unwrap();
-    /// assert_eq!(reader.decoder().stats().frames_ok, 1);
-    /// ```
-    pub const fn decoder(&self) -> &DeviceDecoder {
-        &self.core.decoder
-    }
-
-    /// Bytes read from the transport and not decoded yet.
-    ///
-    /// ```
-    /// let mut reader = aok_proto::embedded_io::CommandReader::<_>::new(&[0x63, 0x01, 0x63][..]);
-    /// reader.read_command().unwrap();
-    /// assert_eq!(reader.unread(), 1);
-    /// ```
-    pub fn unread(&self) -> usize {
-        self.core.unread()
-    }
-
-    /// The transport, mutably (bytes read around the reader are not decoded).
-    ///
-    /// ```
-    /// let mut reader = aok_proto::embedded_io::CommandReader::<_>::new(&[1u8][..]);
-    /// *reader.get_mut() = &[];
-    /// ```
-    pub fn get_mut(&mut self) -> &mut T {
-        &mut self.inner
-    }
-
-    /// Gives the transport back; bytes read and not decoded are lost.
-    ///
-    /// ```
-    /// let reader = aok_proto::embedded_io::CommandReader::<_>::new(&[1u8][..]);
-    /// assert_eq!(reader.into_inner(), &[1]);
-    /// ```
-    pub fn into_inner(self) -> T {
-        self.inner
-    }
-}
-
-fn next_item<T: Read, D: Stream, const R: usize>(
-    inner: &mut T,
-    core: &mut ReaderCore<D, R>,
-) -> Result<D::Item, IoError<T::Error>> {
-    loop {
-        if let Some(step) = core.decode() {
-            return step;
-        }
-        let n = inner.read(core.space()).map_err(IoError::Transport)?;
-        if let Some(step) = core.filled(n) {
-            return step;
-        }
-    }
-}
+pub type CommandReader<T, const R: usize = 32> = frame_io::embedded_io::Reader<T, DeviceDecoder, R>;
 
 /// Writes AOK frames into a blocking [`Write`]: commands on the PC side, messages (debug
 /// values, acks, replies) on the device side.
@@ -277,8 +55,8 @@ fn next_item<T: Read, D: Stream, const R: usize>(
 /// use aok_proto::{embedded_io::Writer, Command, ParameterValue};
 /// let mut wire = [0u8; 19];
 /// let mut writer = Writer::new(&mut wire[..]);
-/// let n = writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value: 1500 }))?;
-/// assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
+/// let n = writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value: 1500
+/// }))?; assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
 /// # Ok::<(), aok_proto::IoError<embedded_io::SliceWriteError>>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -311,8 +89,8 @@ impl<W: Write> Writer<W> {
     /// ```
     pub fn write_command(&mut self, command: &Command) -> Result<usize, IoError<W::Error>> {
         let (frame, n) = command_bytes(command);
-        write_all(&mut self.inner, frame.get(..n).unwrap_or(&[]))?;
-        Ok(n)
+        let bytes = frame.get(..n).unwrap_or(&[]);
+        frame_io::embedded_io::write_all(&mut self.inner, bytes).map(|()| n)
     }
 
     /// Writes a device message in the firmware's reply `form` (device side); returns the
@@ -325,8 +103,8 @@ impl<W: Write> Writer<W> {
     /// ```
     /// use aok_proto::{embedded_io::Writer, Ack, Message, ReplyForm};
     /// let mut wire = [0u8; 4];
-    /// assert_eq!(Writer::new(&mut wire[..]).write_message(&Message::Ack(Ack::Ok), ReplyForm::Headed), Ok(1));
-    /// assert_eq!(wire[0], b'O');
+    /// assert_eq!(Writer::new(&mut wire[..]).write_message(&Message::Ack(Ack::Ok),
+    /// ReplyForm::Headed), Ok(1)); assert_eq!(wire[0], b'O');
     /// ```
     pub fn write_message(
         &mut self,
@@ -334,8 +112,8 @@ impl<W: Write> Writer<W> {
         form: ReplyForm,
     ) -> Result<usize, IoError<W::Error>> {
         let (frame, n) = message_bytes(message, form).map_err(IoError::Protocol)?;
-        write_all(&mut self.inner, frame.get(..n).unwrap_or(&[]))?;
-        Ok(n)
+        let bytes = frame.get(..n).unwrap_or(&[]);
+        frame_io::embedded_io::write_all(&mut self.inner, bytes).map(|()| n)
     }
 
     /// Flushes the transport.
@@ -371,16 +149,4 @@ impl<W: Write> Writer<W> {
     pub fn into_inner(self) -> W {
         self.inner
     }
-}
-
-/// `Write::write_all`, but `Ok(0)` is [`IoError::WriteZero`] instead of a panic.
-fn write_all<W: Write>(w: &mut W, mut buf: &[u8]) -> Result<(), IoError<W::Error>> {
-    while !buf.is_empty() {
-        match w.write(buf) {
-            Ok(0) => return Err(IoError::WriteZero),
-            Ok(n) => buf = buf.get(n..).unwrap_or(&[]),
-            Err(e) => return Err(IoError::Transport(e)),
-        }
-    }
-    Ok(())
 }

@@ -1,8 +1,9 @@
 //! What the `embedded-io` and `embedded-io-async` readers and writers share: the error type,
-//! the readers' buffer and decode loop (one for both decoders), and the writers' encoding. The
-//! two feature modules only add the `read`/`write` calls (blocking or `.await`) around these.
+//! the decoders' [`frame_io::Decode`] implementations that the readers of `frame-io` drive,
+//! and the writers' encoding. The two feature modules only name the readers and add the
+//! writers' calls (blocking or `.await`) around `frame-io`'s write loop.
 
-use core::fmt;
+use frame_io::{Decode, Event};
 
 use crate::Error;
 use crate::command::{Command, MAX_COMMAND_LEN};
@@ -11,12 +12,16 @@ use crate::message::Message;
 use crate::pc::PcDecoder;
 use crate::values::ReplyForm;
 
-/// The error of a reader or writer over `embedded-io` or `embedded-io-async`: the transport's
-/// error `E` and the protocol's [`Error`] are kept apart.
+/// The error of a reader or writer over `embedded-io` or `embedded-io-async`
+/// ([`frame_io::IoError`] with this crate's [`Error`]): the transport's error `E` and the
+/// protocol's are kept apart.
 ///
 /// After [`IoError::Protocol`] the reader goes on with the bytes after the failed frame; after
 /// [`IoError::Transport`] it keeps every byte already read, so reading again is fine if the
-/// transport recovers.
+/// transport recovers. At the end of the stream inside a frame,
+/// [`IoError::UnexpectedEof`]`{ pending }` counts the bytes buffered; they are then rescanned
+/// as after [`PcDecoder::idle`], so a message hidden in them still follows, then
+/// [`IoError::Eof`].
 ///
 /// ```
 /// use aok_proto::{Error, IoError};
@@ -28,175 +33,101 @@ use crate::values::ReplyForm;
 /// assert!(e.is_protocol());
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum IoError<E> {
-    /// The transport (the `Read` or `Write` implementation) failed.
-    Transport(E),
-    /// A frame failed (checksum, out-of-range field), or a message could not be encoded.
-    Protocol(Error),
-    /// The stream ended (a read returned 0 bytes) inside a frame: `pending` bytes were
-    /// buffered. They are then rescanned as after [`PcDecoder::idle`], so a message hidden
-    /// in them still follows, then [`IoError::Eof`].
-    UnexpectedEof {
-        /// Bytes buffered when the stream ended.
-        pending: usize,
-    },
-    /// The stream ended and nothing is buffered.
-    Eof,
-    /// A `write` accepted no bytes of a non-empty buffer.
-    WriteZero,
-}
+pub type IoError<E> = frame_io::IoError<E, Error>;
 
-impl<E> IoError<E> {
-    /// Whether this is a protocol error (the stream is still usable).
-    ///
-    /// ```
-    /// use aok_proto::IoError;
-    /// assert!(!IoError::<()>::Eof.is_protocol());
-    /// ```
-    pub const fn is_protocol(&self) -> bool {
-        matches!(self, IoError::Protocol(_))
+/// The end of the stream of either decoder: first the bytes buffered, as `Truncated`; then
+/// what `idle` finds in them, without the `Truncated` of frames it gives up (the reader has
+/// reported the end inside a frame once).
+fn end<T>(
+    first: bool,
+    held: usize,
+    mut idle_next: impl FnMut() -> Option<Result<T, Error>>,
+) -> Option<Event<T, Error>> {
+    if first && held > 0 {
+        return Some(Event::Truncated(held));
     }
-}
-
-impl<E: fmt::Debug> fmt::Display for IoError<E> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            IoError::Transport(e) => write!(f, "transport error: {e:?}"),
-            IoError::Protocol(e) => write!(f, "protocol error: {e}"),
-            IoError::UnexpectedEof { pending } => {
-                write!(f, "end of stream inside a frame ({pending} bytes buffered)")
-            }
-            IoError::Eof => f.write_str("end of stream"),
-            IoError::WriteZero => f.write_str("the transport accepted no bytes"),
+    loop {
+        match idle_next()? {
+            Ok(item) => return Some(Event::Found(item)),
+            Err(Error::Truncated) => {}
+            Err(e) => return Some(Event::Error(e)),
         }
     }
 }
 
-impl<E: fmt::Debug> core::error::Error for IoError<E> {}
-
-/// A decoder a reader can drive: [`PcDecoder`] or [`DeviceDecoder`].
-pub(crate) trait Stream {
-    /// A message or a command.
-    type Item: Copy;
-    /// `feed_until` of the decoder, with protocol errors as `Err`.
-    fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Self::Item, Error>>);
-    /// The next item of `idle`, without the `Truncated` of frames cut by the end.
-    fn idle_next(&mut self) -> Option<Result<Self::Item, Error>>;
-    /// Bytes buffered.
-    fn held_bytes(&self) -> usize;
+#[inline]
+fn event<T>(found: Option<Result<T, Error>>) -> Option<Event<T, Error>> {
+    Some(match found? {
+        Ok(item) => Event::Found(item),
+        Err(e) => Event::Error(e),
+    })
 }
 
-impl Stream for PcDecoder {
-    type Item = Message;
-    fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Message, Error>>) {
-        PcDecoder::feed_until(self, bytes)
-    }
-    fn idle_next(&mut self) -> Option<Result<Message, Error>> {
-        // The reader reports a frame cut by the end of the stream as `UnexpectedEof`.
-        loop {
-            match PcDecoder::idle_next(self)? {
-                Err(Error::Truncated) => {}
-                other => return Some(other),
-            }
-        }
-    }
-    fn held_bytes(&self) -> usize {
-        PcDecoder::held_bytes(self)
-    }
-}
+/// The PC side's reader decoding: [`PcDecoder::feed`]'s bulk path up to the first message;
+/// at the end of the stream, the bytes buffered (`Truncated`), then what [`PcDecoder::idle`]
+/// finds in them. A found message is the [`Message`] itself.
+///
+/// ```
+/// use aok_proto::{pc::PcDecoder, DebugValue, FirmwareVersion, Message};
+/// use frame_io::{Decode, Event};
+/// let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+/// let wire = [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x1c];
+/// let debug = Message::Debug(DebugValue { number: 86, value: -2 });
+/// assert_eq!(d.decode(&wire), (7, Some(Event::Found(debug))));
+/// assert_eq!(d.decode(&wire[7..]), (1, None));
+/// assert_eq!(d.end(true), Some(Event::Truncated(1)));
+/// ```
+impl Decode for PcDecoder {
+    type Error = Error;
+    type Found = Message;
+    type Item<'a> = Message;
 
-impl Stream for DeviceDecoder {
-    type Item = Command;
-    fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Command, Error>>) {
-        DeviceDecoder::feed_until(self, bytes)
+    #[inline]
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Message, Error>>) {
+        let (used, found) = self.feed_until(bytes);
+        (used, event(found))
     }
-    fn idle_next(&mut self) -> Option<Result<Command, Error>> {
-        // The reader reports a frame cut by the end of the stream as `UnexpectedEof`.
-        loop {
-            match DeviceDecoder::idle_next(self)? {
-                Err(Error::Truncated) => {}
-                other => return Some(other),
-            }
-        }
+
+    fn end(&mut self, first: bool) -> Option<Event<Message, Error>> {
+        end(first, self.held_bytes(), || self.idle_next())
     }
-    fn held_bytes(&self) -> usize {
-        DeviceDecoder::held_bytes(self)
+
+    #[inline]
+    fn item<'a>(&'a self, _input: &'a [u8], found: Message) -> Message {
+        found
     }
 }
 
-/// The reader's state: the decoder, the read buffer and the unread part of it.
-#[derive(Debug, Clone)]
-pub(crate) struct ReaderCore<D, const R: usize> {
-    pub(crate) decoder: D,
-    buf: [u8; R],
-    start: usize,
-    end: usize,
-    /// The stream ended: hand out what `idle` finds, then [`IoError::Eof`].
-    ending: bool,
-}
+/// The device side's reader decoding: [`DeviceDecoder::feed`]'s bulk path up to the first
+/// command; at the end of the stream, the bytes buffered (`Truncated`), then what
+/// [`DeviceDecoder::idle`] finds in them. A found command is the [`Command`] itself.
+///
+/// ```
+/// use aok_proto::{Command, DeviceDecoder};
+/// use frame_io::{Decode, Event};
+/// let mut d = DeviceDecoder::new();
+/// assert_eq!(d.decode(&[0x67, 0x0c, 0x31]), (2, Some(Event::Found(Command::ReadParameter(12)))));
+/// assert_eq!(d.decode(&[0x31]), (1, None));
+/// assert_eq!(d.end(true), Some(Event::Truncated(1)));
+/// ```
+impl Decode for DeviceDecoder {
+    type Error = Error;
+    type Found = Command;
+    type Item<'a> = Command;
 
-/// What one step of the reader gives.
-pub(crate) type Step<T, E> = Option<Result<T, IoError<E>>>;
-
-impl<D: Stream, const R: usize> ReaderCore<D, R> {
-    pub(crate) const fn new(decoder: D) -> Self {
-        const { assert!(R > 0, "the read buffer needs at least one byte") };
-        Self {
-            decoder,
-            buf: [0; R],
-            start: 0,
-            end: 0,
-            ending: false,
-        }
+    #[inline]
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Command, Error>>) {
+        let (used, found) = self.feed_until(bytes);
+        (used, event(found))
     }
 
-    /// Decodes the unread bytes (and items left buffered) up to the first item.
-    pub(crate) fn decode<E>(&mut self) -> Step<D::Item, E> {
-        if self.ending {
-            return Some(self.end_step());
-        }
-        let unread = self.buf.get(self.start..self.end).unwrap_or(&[]);
-        let (used, item) = self.decoder.feed_until(unread);
-        self.start = self.start.saturating_add(used);
-        Some(item?.map_err(IoError::Protocol))
+    fn end(&mut self, first: bool) -> Option<Event<Command, Error>> {
+        end(first, self.held_bytes(), || self.idle_next())
     }
 
-    fn end_step<E>(&mut self) -> Result<D::Item, IoError<E>> {
-        match self.decoder.idle_next() {
-            Some(item) => item.map_err(IoError::Protocol),
-            None => {
-                self.ending = false;
-                Err(IoError::Eof)
-            }
-        }
-    }
-
-    /// The buffer to read into; only called once every byte was decoded.
-    pub(crate) fn space(&mut self) -> &mut [u8] {
-        self.start = 0;
-        self.end = 0;
-        &mut self.buf
-    }
-
-    /// `n` bytes were read into [`Self::space`]; 0 is the end of the stream.
-    pub(crate) fn filled<E>(&mut self, n: usize) -> Step<D::Item, E> {
-        if n != 0 {
-            self.end = n.min(R);
-            return None;
-        }
-        self.ending = true;
-        let pending = self.decoder.held_bytes();
-        if pending == 0 {
-            return Some(self.end_step());
-        }
-        Some(Err(IoError::UnexpectedEof { pending }))
-    }
-
-    /// The bytes read from the transport but not decoded yet.
-    pub(crate) fn unread(&self) -> usize {
-        self.end.saturating_sub(self.start)
+    #[inline]
+    fn item<'a>(&'a self, _input: &'a [u8], found: Command) -> Command {
+        found
     }
 }
 
@@ -213,4 +144,28 @@ pub(crate) fn message_bytes(
     let mut buf = [0u8; MAX_COMMAND_LEN];
     let n = message.emit(form, &mut buf)?;
     Ok((buf, n))
+}
+
+/// Liveness: the end of the stream reports the bytes held once, then rescans. A mutant that
+/// reports them again makes the readers of `tests/io.rs` spin (a hang, not a failure); this
+/// fails at once instead (unit tests run before the integration tests).
+#[cfg(test)]
+mod liveness {
+    use super::*;
+
+    #[test]
+    fn the_end_reports_the_bytes_held_once() {
+        let mut d = DeviceDecoder::new();
+        assert_eq!(Decode::decode(&mut d, &[0x31]), (1, None));
+        assert_eq!(Decode::end(&mut d, true), Some(Event::Truncated(1)));
+        assert_eq!(Decode::end(&mut d, false), None);
+        assert_eq!(Decode::end(&mut d, true), None);
+        let mut p = PcDecoder::new(crate::FirmwareVersion::LATEST);
+        assert_eq!(Decode::decode(&mut p, &[0x1c, 0x56]), (2, None));
+        assert_eq!(Decode::end(&mut p, true), Some(Event::Truncated(2)));
+        assert!(!matches!(
+            Decode::end(&mut p, false),
+            Some(Event::Truncated(_))
+        ));
+    }
 }

@@ -8,7 +8,9 @@
 //! * [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits: debug off,
 //!   drain, request, wait (with timeout), debug back on.
 //! * `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): readers
-//!   that return the next message (PC side) or command (device side) from a `Read`, a writer
+//!   that return the next message (PC side) or command (device side) from a `Read`
+//!   (`frame-io`'s reader over [`pc::PcDecoder`] or [`DeviceDecoder`], which implement
+//!   `frame_io::Decode`), a writer
 //!   into a `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
 //!   client's async form.
 //! * [`layout`]: every frame's bytes in one table (start byte, length, field offsets, checksum).

@@ -73,7 +73,7 @@ fn every_io_error_has_its_sentence() {
         ),
         (
             IoError::UnexpectedEof { pending: 5 },
-            "end of stream inside a frame (5 bytes buffered)",
+            "end of stream inside a frame (5 bytes pending)",
         ),
         (IoError::Eof, "end of stream"),
         (IoError::WriteZero, "the transport accepted no bytes"),

@@ -104,9 +104,12 @@ fn check_pc<const R: usize>(
     let (want, want_stats) = pc_reference(fw, expect, stream);
     let injected = errors.iter().filter(|&&e| e <= stream.len()).count();
 
-    let mut r = bio::MessageReader::<_, R>::new(Wire::new(stream, sizes, errors), fw);
+    let mut r = bio::MessageReader::<_, R>::new(
+        Wire::new(stream, sizes, errors),
+        aok_proto::PcDecoder::new(fw),
+    );
     r.decoder_mut().expect(expect);
-    let (got, transport) = collect(|| r.read_message());
+    let (got, transport) = collect(|| r.read());
     assert_eq!(
         got, want,
         "blocking R={R}, sizes {sizes:?}, errors {errors:?}"
@@ -114,9 +117,12 @@ fn check_pc<const R: usize>(
     assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 
-    let mut r = aio::MessageReader::<_, R>::new(Wire::new(stream, sizes, errors), fw);
+    let mut r = aio::MessageReader::<_, R>::new(
+        Wire::new(stream, sizes, errors),
+        aok_proto::PcDecoder::new(fw),
+    );
     r.decoder_mut().expect(expect);
-    let (got, transport) = collect(|| block_on(r.read_message()));
+    let (got, transport) = collect(|| block_on(r.read()));
     assert_eq!(got, want, "async R={R}, sizes {sizes:?}, errors {errors:?}");
     assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
@@ -126,8 +132,11 @@ fn check_device<const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]
     let (want, want_stats) = device_reference(stream);
     let injected = errors.iter().filter(|&&e| e <= stream.len()).count();
 
-    let mut r = bio::CommandReader::<_, R>::new(Wire::new(stream, sizes, errors));
-    let (got, transport) = collect(|| r.read_command());
+    let mut r = bio::CommandReader::<_, R>::new(
+        Wire::new(stream, sizes, errors),
+        aok_proto::DeviceDecoder::new(),
+    );
+    let (got, transport) = collect(|| r.read());
     assert_eq!(
         got, want,
         "blocking R={R}, sizes {sizes:?}, errors {errors:?}"
@@ -135,8 +144,11 @@ fn check_device<const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]
     assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
 
-    let mut r = aio::CommandReader::<_, R>::new(Wire::new(stream, sizes, errors));
-    let (got, transport) = collect(|| block_on(r.read_command()));
+    let mut r = aio::CommandReader::<_, R>::new(
+        Wire::new(stream, sizes, errors),
+        aok_proto::DeviceDecoder::new(),
+    );
+    let (got, transport) = collect(|| block_on(r.read()));
     assert_eq!(got, want, "async R={R}, sizes {sizes:?}, errors {errors:?}");
     assert_eq!(r.decoder().stats(), want_stats);
     assert_eq!(transport, injected);
@@ -360,9 +372,12 @@ fn transport_errors_in_mid_frame_lose_nothing() {
 #[test]
 fn eof_mid_frame_is_reported_then_what_idle_finds() {
     let s = device_stream();
-    let mut r = bio::MessageReader::<_, 16>::new(Wire::new(&s, &[4], &[]), FirmwareVersion::LATEST);
+    let mut r = bio::MessageReader::<_, 16>::new(
+        Wire::new(&s, &[4], &[]),
+        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+    );
     r.decoder_mut().expect(Expect::Ack);
-    let (got, _) = collect(|| r.read_message());
+    let (got, _) = collect(|| r.read());
     assert_eq!(
         got,
         [
@@ -386,8 +401,9 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
         ]
     );
     let s = pc_stream();
-    let mut r = aio::CommandReader::<_, 16>::new(Wire::new(&s, &[4], &[]));
-    let (got, _) = collect(|| block_on(r.read_command()));
+    let mut r =
+        aio::CommandReader::<_, 16>::new(Wire::new(&s, &[4], &[]), aok_proto::DeviceDecoder::new());
+    let (got, _) = collect(|| block_on(r.read()));
     assert_eq!(
         &got[got.len() - 3..],
         [

@@ -18,11 +18,11 @@ const MESSAGES: [u8; 15] = [
 
 #[test]
 fn command_reader_counts_the_bytes_after_each_command() {
-    let mut r = bio::CommandReader::<_>::new(&COMMANDS[..]);
+    let mut r = bio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::DeviceDecoder::new());
     assert_eq!(r.unread(), 0);
     let mut left = Vec::new();
     for _ in 0..3 {
-        r.read_command().unwrap();
+        r.read().unwrap();
         left.push(r.unread());
     }
     assert_eq!(left, [5, 2, 0]);
@@ -30,11 +30,11 @@ fn command_reader_counts_the_bytes_after_each_command() {
 
 #[test]
 fn async_command_reader_counts_the_bytes_after_each_command() {
-    let mut r = aio::CommandReader::<_>::new(&COMMANDS[..]);
+    let mut r = aio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::DeviceDecoder::new());
     assert_eq!(r.unread(), 0);
     let mut got = Vec::new();
     for _ in 0..3 {
-        let c = block_on(r.read_command()).unwrap();
+        let c = block_on(r.read()).unwrap();
         got.push((c, r.unread()));
     }
     assert_eq!(got[1], (Command::SaveSet(2), 2));
@@ -43,20 +43,26 @@ fn async_command_reader_counts_the_bytes_after_each_command() {
 
 #[test]
 fn message_reader_counts_the_bytes_after_each_message() {
-    let mut r = bio::MessageReader::<_>::new(&MESSAGES[..], FirmwareVersion::LATEST);
+    let mut r = bio::MessageReader::<_>::new(
+        &MESSAGES[..],
+        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+    );
     assert_eq!(r.unread(), 0);
-    r.read_message().unwrap();
+    r.read().unwrap();
     assert_eq!(r.unread(), 8);
-    r.read_message().unwrap();
+    r.read().unwrap();
     assert_eq!(r.unread(), 1);
 }
 
 #[test]
 fn async_message_reader_counts_the_bytes_after_each_message() {
-    let mut r = aio::MessageReader::<_>::new(&MESSAGES[..], FirmwareVersion::LATEST);
+    let mut r = aio::MessageReader::<_>::new(
+        &MESSAGES[..],
+        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+    );
     assert_eq!(r.unread(), 0);
-    block_on(r.read_message()).unwrap();
+    block_on(r.read()).unwrap();
     assert_eq!(r.unread(), 8);
-    block_on(r.read_message()).unwrap();
+    block_on(r.read()).unwrap();
     assert_eq!(r.unread(), 1);
 }

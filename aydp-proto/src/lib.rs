@@ -19,7 +19,8 @@
 //! - [`uflt16`]: the binary16 conversions;
 //! - [`registry`]: the system-value registry for devices;
 //! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
-//!   `FrameReader` that returns the next message from a `Read` and a `FrameWriter` that
+//!   `FrameReader` that returns the next message from a `Read` (`frame-io`'s reader over a
+//!   [`Decoder`], which implements `frame_io::Decode`) and a `FrameWriter` that
 //!   encodes into a `Write`, blocking or async, with the error type `IoError`.
 //!
 //! ```

@@ -71,10 +71,13 @@ fn blocking<const N: usize, const R: usize>(
     sizes: &[usize],
     errors: &[usize],
 ) -> (Vec<Event>, Stats, usize) {
-    let mut r = bio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors), profile);
+    let mut r = bio::FrameReader::<_, N, R>::new(
+        Wire::new(stream, sizes, errors),
+        aydp_proto::Decoder::new(profile),
+    );
     let (mut out, mut transport) = (Vec::new(), 0);
     loop {
-        match event(r.read_frame(), N) {
+        match event(r.read(), N) {
             Ok(ev) => {
                 let end = ev == Event::Eof;
                 out.push(ev);
@@ -94,10 +97,13 @@ fn asynchronous<const N: usize, const R: usize>(
     sizes: &[usize],
     errors: &[usize],
 ) -> (Vec<Event>, Stats, usize) {
-    let mut r = aio::FrameReader::<_, N, R>::new(Wire::new(stream, sizes, errors), profile);
+    let mut r = aio::FrameReader::<_, N, R>::new(
+        Wire::new(stream, sizes, errors),
+        aydp_proto::Decoder::new(profile),
+    );
     let (mut out, mut transport) = (Vec::new(), 0);
     loop {
-        match event(block_on(r.read_frame()), N) {
+        match event(block_on(r.read()), N) {
             Ok(ev) => {
                 let end = ev == Event::Eof;
                 out.push(ev);
@@ -243,17 +249,20 @@ fn transport_errors_in_mid_message_lose_nothing() {
 #[test]
 fn eof_mid_message_is_reported_with_its_length() {
     let s = fixed_stream();
-    let mut r = bio::FrameReader::<_, 64, 16>::new(Wire::new(&s, &[16], &[]), Profile::Spec);
+    let mut r = bio::FrameReader::<_, 64, 16>::new(
+        Wire::new(&s, &[16], &[]),
+        aydp_proto::Decoder::new(Profile::Spec),
+    );
     let mut frames = 0;
     let last = loop {
-        match r.read_frame() {
+        match r.read() {
             Ok(_) => frames += 1,
             Err(IoError::Protocol(_)) => {}
             Err(e) => break e,
         }
     };
     assert_eq!(last, IoError::UnexpectedEof { pending: 3 });
-    assert_eq!(r.read_frame().err(), Some(IoError::Eof));
+    assert_eq!(r.read().err(), Some(IoError::Eof));
     // The false start fails when the normal message completes its 40 bytes? No: the false
     // start is 40 bytes long, so it swallows the position message and fails its checksum;
     // the rescan still finds both messages behind it.

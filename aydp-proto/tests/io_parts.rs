@@ -9,12 +9,14 @@ const FRAME: [u8; 8] = [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C];
 
 #[test]
 fn a_reader_decodes_with_the_profile_and_decoder_it_was_given() {
-    let r = bio::FrameReader::<_, 32>::new(&FRAME[..], Profile::Reference);
+    let r =
+        bio::FrameReader::<_, 32>::new(&FRAME[..], aydp_proto::Decoder::new(Profile::Reference));
     assert_eq!(
         (r.decoder().profile(), r.decoder().capacity()),
         (Profile::Reference, 32)
     );
-    let r = aio::FrameReader::<_, 24>::new(&FRAME[..], Profile::Reference);
+    let r =
+        aio::FrameReader::<_, 24>::new(&FRAME[..], aydp_proto::Decoder::new(Profile::Reference));
     assert_eq!(
         (r.decoder().profile(), r.decoder().capacity()),
         (Profile::Reference, 24)
@@ -25,12 +27,12 @@ fn a_reader_decodes_with_the_profile_and_decoder_it_was_given() {
         d.feed(&FRAME, |_| {});
         d
     };
-    let mut r = bio::FrameReader::<_, 32>::with_decoder(&FRAME[..], used());
+    let mut r = bio::FrameReader::<_, 32>::new(&FRAME[..], used());
     assert_eq!(r.decoder().stats().frames_ok, 1);
-    assert_eq!(r.read_frame().map(|f| f.data().to_vec()), Ok(vec![0x02]));
+    assert_eq!(r.read().map(|f| f.data().to_vec()), Ok(vec![0x02]));
     assert_eq!(r.decoder().stats().frames_ok, 2);
     assert_eq!(r.get_ref().len(), 0);
-    let mut r = aio::FrameReader::<_, 32>::with_decoder(&FRAME[..], used());
+    let mut r = aio::FrameReader::<_, 32>::new(&FRAME[..], used());
     assert_eq!(r.decoder().stats().frames_ok, 1);
     assert_eq!(r.get_mut().len(), 8);
 }

@@ -15,20 +15,20 @@ const WIRE: [u8; 17] = [
 
 #[test]
 fn the_blocking_reader_counts_the_bytes_after_each_frame() {
-    let mut r = bio::FrameReader::<_, 32>::new(&WIRE[..], Profile::Spec);
+    let mut r = bio::FrameReader::<_, 32>::new(&WIRE[..], aydp_proto::Decoder::new(Profile::Spec));
     assert_eq!(r.unread(), 0);
-    assert_eq!(r.read_frame().map(|f| f.data().to_vec()), Ok(vec![0x02]));
+    assert_eq!(r.read().map(|f| f.data().to_vec()), Ok(vec![0x02]));
     assert_eq!(r.unread(), 9);
-    assert_eq!(r.read_frame().map(|f| f.data().to_vec()), Ok(vec![0x02]));
+    assert_eq!(r.read().map(|f| f.data().to_vec()), Ok(vec![0x02]));
     assert_eq!(r.unread(), 1);
 }
 
 #[test]
 fn the_async_reader_counts_the_bytes_after_each_frame() {
-    let mut r = aio::FrameReader::<_, 32>::new(&WIRE[..], Profile::Spec);
+    let mut r = aio::FrameReader::<_, 32>::new(&WIRE[..], aydp_proto::Decoder::new(Profile::Spec));
     assert_eq!(r.unread(), 0);
-    let first = block_on(r.read_frame()).map(|f| f.data().to_vec());
+    let first = block_on(r.read()).map(|f| f.data().to_vec());
     assert_eq!((first, r.unread()), (Ok(vec![0x02]), 9));
-    let second = block_on(r.read_frame()).map(|f| f.data().to_vec());
+    let second = block_on(r.read()).map(|f| f.data().to_vec());
     assert_eq!((second, r.unread()), (Ok(vec![0x02]), 1));
 }

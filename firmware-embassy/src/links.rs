@@ -126,9 +126,9 @@ pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> 
         R,
         { aeolus_link::RX_FRAME },
         READ_BUF,
-    >::new(uart);
+    >::new(uart, aeolus_proto::Decoder::new());
     loop {
-        let result = reader.read_frame().await;
+        let result = reader.read().await;
         let now = now_ms();
         let frame = match result {
             Ok(ref frame) => Ok(frame),
@@ -158,10 +158,10 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
         R,
         { aydp_link::DECODER_CAPACITY },
         READ_BUF,
-    >::new(uart, aydp_proto::Profile::Spec);
+    >::new(uart, aydp_proto::Decoder::new(aydp_proto::Profile::Spec));
     loop {
         let stats = reader.decoder().stats();
-        match reader.read_frame().await {
+        match reader.read().await {
             Ok(frame) => {
                 // Back-pressure: a flood of requests waits here (the DMA ring goes on
                 // filling) rather than its replies being dropped by the link's TX queue.

@@ -138,10 +138,11 @@ impl embedded_io::Read for Volatile {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aeolus_read() {
-    use aeolus_proto::{MAX_FIXED_FRAME, embedded_io::FrameReader, message::Message};
-    static mut R: FrameReader<Volatile, MAX_FIXED_FRAME, 64> = FrameReader::new(Volatile);
+    use aeolus_proto::{Decoder, MAX_FIXED_FRAME, embedded_io::FrameReader, message::Message};
+    static mut R: FrameReader<Volatile, MAX_FIXED_FRAME, 64> =
+        FrameReader::new(Volatile, Decoder::new());
     let r = unsafe { &mut *addr_of_mut!(R) };
-    if let Ok(frame) = r.read_frame() {
+    if let Ok(frame) = r.read() {
         if let Ok(Message::Gyro(g)) = frame.message() {
             sink(g.x.to_bits());
         }
@@ -152,10 +153,11 @@ fn fp_aeolus_read() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aydp_read() {
-    use aydp_proto::{Profile, embedded_io::FrameReader};
-    static mut R: FrameReader<Volatile, 128, 64> = FrameReader::new(Volatile, Profile::Spec);
+    use aydp_proto::{Decoder, Profile, embedded_io::FrameReader};
+    static mut R: FrameReader<Volatile, 128, 64> =
+        FrameReader::new(Volatile, Decoder::new(Profile::Spec));
     let r = unsafe { &mut *addr_of_mut!(R) };
-    if let Ok(f) = r.read_frame() {
+    if let Ok(f) = r.read() {
         if let Ok(m) = f.message() {
             sink(f.base_type() as u32);
         }
@@ -166,10 +168,10 @@ fn fp_aydp_read() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_read() {
-    use aok_proto::embedded_io::CommandReader;
-    static mut R: CommandReader<Volatile, 64> = CommandReader::new(Volatile);
+    use aok_proto::{DeviceDecoder, embedded_io::CommandReader};
+    static mut R: CommandReader<Volatile, 64> = CommandReader::new(Volatile, DeviceDecoder::new());
     let r = unsafe { &mut *addr_of_mut!(R) };
-    if let Ok(c) = r.read_command() {
+    if let Ok(c) = r.read() {
         sink(c.buffer_len() as u32);
     }
 }

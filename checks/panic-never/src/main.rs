@@ -7,8 +7,9 @@
 //! entry points, the link fails with
 //! `undefined symbol: PANIC_PATH_REACHABLE_see_checks_panic_never`.
 //!
-//! The `embedded-io` readers and writers of the three crates, the `embedded-io-async` readers
-//! and the AOK async writer are driven too, through a transport whose chunk sizes, errors and
+//! The `embedded-io` readers and writers of the three crates (the readers and write loops are
+//! `frame-io`'s, over each crate's decoders), the `embedded-io-async` readers and the AOK async
+//! writer are driven too, through a transport whose chunk sizes, errors and
 //! end of stream are opaque. Not here: the AEOLUS and AYDP async writers and the AOK
 //! `AsyncClient`. Every `async fn` state machine carries a compiler-inserted panic for being
 //! polled after it completed; LLVM removes it only where it can see the whole state machine,
@@ -433,15 +434,15 @@ mod io {
     }
 
     pub fn run() {
-        use aeolus_proto::{CrcMode, IoError as AeolusIo, MAX_FIXED_FRAME, message::Message};
+        use aeolus_proto::{CrcMode, Decoder, IoError as AeolusIo, MAX_FIXED_FRAME, message::Message};
         let rounds = len() % 64;
 
         // AEOLUS readers and writers.
-        let mut r = aeolus_proto::embedded_io::FrameReader::<_, MAX_FIXED_FRAME, 48>::new(opaque(0));
-        let mut a = aeolus_proto::embedded_io_async::FrameReader::<_, 64, 7>::new(opaque(9));
+        let mut r = aeolus_proto::embedded_io::FrameReader::<_, MAX_FIXED_FRAME, 48>::new(opaque(0), Decoder::new());
+        let mut a = aeolus_proto::embedded_io_async::FrameReader::<_, 64, 7>::new(opaque(9), Decoder::new());
         let mut w = aeolus_proto::embedded_io::FrameWriter::new(opaque(17));
         for _ in 0..rounds {
-            match r.read_frame() {
+            match r.read() {
                 Ok(f) => {
                     if let Ok(m) = f.message() {
                         sink(w.write_message(&m, CrcMode::Compute).is_ok() as u32);
@@ -450,7 +451,7 @@ mod io {
                 Err(AeolusIo::Eof) => break,
                 Err(e) => sink(e.is_protocol() as u32),
             }
-            if let Some(Ok(f)) = block_on(a.read_frame()) {
+            if let Some(Ok(f)) = block_on(a.read()) {
                 if let Ok(m) = Message::parse(f.id(), f.data()) {
                     sink(m.buffer_len() as u32);
                 }
@@ -461,11 +462,11 @@ mod io {
         // AYDP readers and writers.
         use aydp_proto::{Profile, Raw, Timestamp};
         let profile = if input_byte(30) & 1 == 0 { Profile::Spec } else { Profile::Reference };
-        let mut r = aydp_proto::embedded_io::FrameReader::<_, 128, 32>::new(opaque(31), profile);
-        let mut a = aydp_proto::embedded_io_async::FrameReader::<_, 40, 5>::new(opaque(37), profile);
+        let mut r = aydp_proto::embedded_io::FrameReader::<_, 128, 32>::new(opaque(31), aydp_proto::Decoder::new(profile));
+        let mut a = aydp_proto::embedded_io_async::FrameReader::<_, 40, 5>::new(opaque(37), aydp_proto::Decoder::new(profile));
         let mut w = aydp_proto::embedded_io::FrameWriter::new(opaque(41), profile);
         for _ in 0..rounds {
-            if let Ok(f) = r.read_frame() {
+            if let Ok(f) = r.read() {
                 let raw = Raw { msg_type: f.base_type(), data: f.data() };
                 sink(w.write_expedited(&raw).is_ok() as u32);
                 if let Ok(m) = f.message() {
@@ -473,7 +474,7 @@ mod io {
                     sink(w.write_normal(&m, ts).is_ok() as u32);
                 }
             }
-            if let Some(Ok(f)) = block_on(a.read_frame()) {
+            if let Some(Ok(f)) = block_on(a.read()) {
                 sink(f.message().is_ok() as u32);
             }
         }
@@ -482,18 +483,18 @@ mod io {
         // AOK readers and writers.
         use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};
         let fw = FirmwareVersion::new(input_byte(44), input_byte(45));
-        let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(opaque(47), fw);
-        let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(opaque(53));
+        let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(opaque(47), aok_proto::PcDecoder::new(fw));
+        let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(opaque(53), aok_proto::DeviceDecoder::new());
         let mut w = aok_proto::embedded_io::Writer::new(opaque(59));
         let mut aw = aok_proto::embedded_io_async::Writer::new(opaque(61));
         for i in 0..rounds {
             if input_byte(i) == 0x55 {
                 m.decoder_mut().expect(Expect::Parameter(input_byte(i + 1)));
             }
-            if let Ok(msg) = m.read_message() {
+            if let Ok(msg) = m.read() {
                 sink(w.write_message(&msg, ReplyForm::Headerless).is_ok() as u32);
             }
-            if let Some(Ok(cmd)) = block_on(c.read_command()) {
+            if let Some(Ok(cmd)) = block_on(c.read()) {
                 sink(matches!(block_on(aw.write_command(&cmd)), Some(Ok(_))) as u32);
                 sink(w.write_command(&cmd).is_ok() as u32);
             }

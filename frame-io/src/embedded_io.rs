@@ -1,0 +1,225 @@
+//! Blocking frames over [`embedded_io`] (feature `embedded-io`).
+//!
+//! - [`Reader`] owns a [`Decode`]r and a read buffer of `R` bytes; each [`Reader::read`]
+//!   returns the next item, decoding every read with the decoder's slice fast path.
+//! - [`write_all`] writes a slice, [`write_iter`] the bytes of an iterator a chunk of at most
+//!   32 bytes at a time (an encoder's byte iterator: no frame buffer); the protocol crates'
+//!   writers are built on them.
+//!
+//! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
+
+use ::embedded_io::{Read, Write};
+
+use crate::shared::{Chunks, ReaderCore, advance};
+use crate::{Decode, IoError};
+
+/// Reads the items of a [`Decode`]r `D` from a blocking [`Read`], through an `R`-byte read
+/// buffer.
+///
+/// ```
+/// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+/// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+/// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+/// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+/// use frame_io::{embedded_io::Reader, IoError};
+/// // `Bytes`: every non-zero byte is an item, a zero byte an error.
+/// let mut reader = Reader::<_, _, 4>::new(&[7u8, 0, 8][..], Bytes);
+/// assert_eq!(reader.read(), Ok(7));
+/// assert_eq!(reader.read(), Err(IoError::Protocol(0)));
+/// assert_eq!(reader.read(), Ok(8));
+/// assert_eq!(reader.read(), Err(IoError::Eof));
+/// ```
+#[derive(Debug, Clone)]
+pub struct Reader<T, D, const R: usize> {
+    inner: T,
+    core: ReaderCore<D, R>,
+}
+
+impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
+    /// A reader of `inner` through `decoder`.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
+    /// assert_eq!(reader.unread(), 0);
+    /// ```
+    pub const fn new(inner: T, decoder: D) -> Self {
+        Self {
+            inner,
+            core: ReaderCore::new(decoder),
+        }
+    }
+
+    /// Reads until the next item and returns it; it may borrow the reader until the next call.
+    ///
+    /// # Errors
+    /// - [`IoError::Protocol`]: a frame was dropped (its error); call again for the next one.
+    /// - [`IoError::Transport`]: the read failed; bytes already read are kept.
+    /// - [`IoError::UnexpectedEof`]: the stream ended inside a frame; what follows is the
+    ///   protocol's (items rescanned from the held bytes, if it rescans), then
+    ///   [`IoError::Eof`].
+    /// - [`IoError::Eof`]: the stream ended and nothing is held. The next call reads again.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// use frame_io::{embedded_io::Reader, IoError};
+    /// let mut reader = Reader::<_, _, 1>::new(&[5u8][..], Bytes);
+    /// assert_eq!(reader.read(), Ok(5));
+    /// assert_eq!(reader.read(), Err(IoError::Eof));
+    /// ```
+    pub fn read(&mut self) -> Result<D::Item<'_>, IoError<T::Error, D::Error>> {
+        let token = loop {
+            if let Some(token) = self.core.decode() {
+                break token;
+            }
+            let n = self
+                .inner
+                .read(self.core.space())
+                .map_err(IoError::Transport)?;
+            if let Some(token) = self.core.filled(n) {
+                break token;
+            }
+        };
+        self.core.take(token)
+    }
+
+    /// The decoder, for its counters.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
+    /// let _: &Bytes = reader.decoder();
+    /// ```
+    pub const fn decoder(&self) -> &D {
+        &self.core.decoder
+    }
+
+    /// The decoder, mutably (to change what it expects, say).
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
+    /// *reader.decoder_mut() = Bytes;
+    /// ```
+    pub fn decoder_mut(&mut self) -> &mut D {
+        &mut self.core.decoder
+    }
+
+    /// Bytes read from the transport and not decoded yet.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8, 2, 3][..], Bytes);
+    /// assert_eq!(reader.read(), Ok(1));
+    /// assert_eq!(reader.unread(), 2);
+    /// ```
+    pub fn unread(&self) -> usize {
+        self.core.unread()
+    }
+
+    /// The transport.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
+    /// assert_eq!(reader.get_ref().len(), 1);
+    /// ```
+    pub const fn get_ref(&self) -> &T {
+        &self.inner
+    }
+
+    /// The transport, mutably (bytes read around the reader are not decoded).
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
+    /// *reader.get_mut() = &[];
+    /// assert_eq!(reader.read(), Err(frame_io::IoError::Eof));
+    /// ```
+    pub fn get_mut(&mut self) -> &mut T {
+        &mut self.inner
+    }
+
+    /// Gives the transport back; bytes read and not decoded are lost.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
+    /// assert_eq!(reader.into_inner(), &[1]);
+    /// ```
+    pub fn into_inner(self) -> T {
+        self.inner
+    }
+}
+
+/// `Write::write_all`, but `Ok(0)` is [`IoError::WriteZero`] instead of a panic. `P` is the
+/// protocol's error, which this never returns.
+///
+/// # Errors
+/// [`IoError::Transport`] or [`IoError::WriteZero`]; `bytes` may then be partly written.
+///
+/// ```
+/// use embedded_io::SliceWriteError;
+/// use frame_io::{embedded_io::write_all, IoError};
+/// let mut out = [0u8; 4];
+/// let mut w = &mut out[..];
+/// assert_eq!(write_all::<_, ()>(&mut w, &[1, 2]), Ok(()));
+/// assert_eq!(write_all::<_, ()>(&mut w, &[3, 4, 5]),
+/// Err(IoError::Transport(SliceWriteError::Full))); assert_eq!(out, [1, 2, 3, 4]);
+/// ```
+pub fn write_all<W: Write, P>(w: &mut W, mut bytes: &[u8]) -> Result<(), IoError<W::Error, P>> {
+    while !bytes.is_empty() {
+        let n = w.write(bytes).map_err(IoError::Transport)?;
+        bytes = advance(bytes, n)?;
+    }
+    Ok(())
+}
+
+/// Writes the bytes of `bytes`, a chunk of at most 32 at a time; returns how many were
+/// written. `P` is the protocol's error, which this never returns.
+///
+/// # Errors
+/// [`IoError::Transport`] or [`IoError::WriteZero`]; the bytes may then be partly written.
+///
+/// ```
+/// use frame_io::embedded_io::write_iter;
+/// let mut out = [0u8; 40];
+/// let n = write_iter::<_, ()>(&mut &mut out[..], (1..=40).map(|b: u8| b)).unwrap();
+/// assert_eq!(n, 40);
+/// assert_eq!(out[39], 40);
+/// ```
+pub fn write_iter<W: Write, P>(
+    w: &mut W,
+    bytes: impl IntoIterator<Item = u8>,
+) -> Result<usize, IoError<W::Error, P>> {
+    let mut chunks = Chunks::new(bytes.into_iter());
+    while let Some(out) = chunks.pending() {
+        let n = w.write(out).map_err(IoError::Transport)?;
+        chunks.wrote(n)?;
+    }
+    Ok(chunks.total())
+}
