@@ -469,158 +469,190 @@ impl Session {
 /// Opening the endpoint, a timeout, or a refusal.
 pub fn run(args: &AokArgs) -> Result<()> {
     let mut s = Session::open(args)?;
-    let mut out = Out::beside(&args.to);
-    match &args.action {
-        AokAction::Debug { state } => {
-            let on = state == "on";
-            let cmd = if on {
-                Command::DebugOn
-            } else {
-                Command::DebugOff
-            };
-            s.run(cmd, "debug on/off")?;
-            out.line(&format!(
-                "debug output {state}: unconfirmed (AOK defines no answer to 63 0{})",
-                if on { 2 } else { 1 }
-            ))?;
-        }
-        AokAction::Get { number } => {
-            let what = format!("the read of parameter {number}");
-            match s.run(Command::ReadParameter(*number), &what)? {
-                Outcome::Parameter(p) => {
-                    out.line(&format!("parameter {} = {}", p.number, p.value))?;
-                }
-                other => return Err(unexpected(&what, other)),
-            }
-        }
-        AokAction::Set { number, value } => {
-            let cmd = Command::SetParameter(aok_proto::ParameterValue {
-                number: *number,
-                value: *value,
-            });
-            s.run(cmd, &format!("setting parameter {number}"))?;
-            out.line(&format!(
-                "parameter {number} = {value}: confirmed (acked 'O')"
-            ))?;
-        }
-        AokAction::Bulk { first } => {
-            if !args.firmware.has_bulk_read() {
-                return Err(Error::Usage(format!(
-                    "bulk read needs firmware 0.35 or newer, and --firmware says {}.{}",
-                    args.firmware.major, args.firmware.minor
-                )));
-            }
-            let what = format!("the bulk read from parameter {first}");
-            match s.run(Command::BulkRead(*first), &what)? {
-                Outcome::Bulk(b) => {
-                    for (i, v) in b.values.iter().enumerate() {
-                        let n = b.first.wrapping_add(i as u8);
-                        out.line(&format!("parameter {n} = {v}"))?;
-                    }
-                }
-                other => return Err(unexpected(&what, other)),
-            }
-        }
-        AokAction::Waypoint(WaypointAction::Get { slot }) => {
-            let what = format!("the read of waypoint {}", slot_name(*slot));
-            match s.run(Command::ReadWaypoint(*slot), &what)? {
-                Outcome::Waypoint(w) => out.line(&waypoint_line(&w))?,
-                other => return Err(unexpected(&what, other)),
-            }
-        }
+    let lines = match &args.action {
+        AokAction::Debug { state } => vec![debug(&mut s, state)?],
+        AokAction::Get { number } => vec![get(&mut s, *number)?],
+        AokAction::Set { number, value } => vec![set(&mut s, *number, *value)?],
+        AokAction::Bulk { first } => bulk(&mut s, args.firmware, *first)?,
+        AokAction::Waypoint(WaypointAction::Get { slot }) => vec![waypoint_get(&mut s, *slot)?],
         AokAction::Waypoint(WaypointAction::Set {
             slot,
             longitude,
             latitude,
             action1,
             action2,
-        }) => {
-            let w = Waypoint {
+        }) => vec![waypoint_set(
+            &mut s,
+            Waypoint {
                 slot: *slot,
                 longitude: *longitude,
                 latitude: *latitude,
                 action1: *action1,
                 action2: *action2,
-            };
-            s.run(
-                Command::SetWaypoint(w),
-                &format!("setting waypoint {}", slot_name(*slot)),
-            )?;
-            out.line(&format!("{}: confirmed (acked 'O')", waypoint_line(&w)))?;
-        }
+            },
+        )?],
         AokAction::Motor {
             motor,
             value,
             hold_ms,
             verify,
-        } => {
-            let cmd = Command::MotorTest(MotorTest {
-                motor: *motor,
-                value: *value,
-            });
-            let hold = hold_ms.unwrap_or(Duration::ZERO);
-            let started = Instant::now();
-            let mut sent = 0u32;
-            let mut answer = Answer::Unconfirmed(
-                "AOK defines no answer to a motor test; pass --verify to check the debug values"
-                    .into(),
-            );
-            loop {
-                s.run(cmd, "the motor test")?;
-                sent += 1;
-                if *verify && sent == 1 {
-                    answer = s.verify_motor(*motor, *value)?;
-                }
-                if started.elapsed() >= hold {
-                    break;
-                }
-                std::thread::sleep(
-                    Duration::from_millis(200).min(hold.saturating_sub(started.elapsed())),
-                );
-            }
-            out.line(&format!(
-                "motor {} test value {value} ({sent} frame(s)): {}",
-                motor.get(),
-                answer.show()
-            ))?;
-        }
+        } => vec![motor_test(&mut s, *motor, *value, *hold_ms, *verify)?],
         AokAction::Extern {
             roll,
             nick,
             yaw,
             pitch,
             expiry,
-        } => {
-            let cmd = Command::ExternalControl(ExternalControl {
+        } => vec![external_control(
+            &mut s,
+            ExternalControl {
                 roll: *roll,
                 nick: *nick,
                 yaw: *yaw,
                 pitch: *pitch,
                 expiry_ms: *expiry,
-            });
-            s.run(cmd, "external control")?;
-            out.line(&format!(
-                "external control roll={} nick={} yaw={} pitch={pitch} expiry={expiry} ms: \
-                 unconfirmed (AOK defines no answer to 53)",
-                roll.get(),
-                nick.get(),
-                yaw.get()
-            ))?;
-        }
+            },
+        )?],
         AokAction::SaveSet { set } => {
             let answer = s.run_acked(Command::SaveSet(*set), &format!("save-set {set}"))?;
-            out.line(&format!("save parameters to set {set}: {}", answer.show()))?;
+            vec![format!("save parameters to set {set}: {}", answer.show())]
         }
         AokAction::LoadSet { set } => {
             let answer = s.run_acked(Command::LoadSet(*set), &format!("load-set {set}"))?;
-            out.line(&format!("load parameter set {set}: {}", answer.show()))?;
+            vec![format!("load parameter set {set}: {}", answer.show())]
         }
         AokAction::Reset => {
             s.run(Command::Reset, "reset")?;
-            out.line("reset: unconfirmed (AOK defines no answer to 63 07; the device restarts)")?;
+            vec!["reset: unconfirmed (AOK defines no answer to 63 07; the device restarts)".into()]
         }
+    };
+    let mut out = Out::beside(&args.to);
+    for line in &lines {
+        out.line(line)?;
     }
     out.flush()
+}
+
+/// `debug on|off`: no answer is defined.
+fn debug(s: &mut Session, state: &str) -> Result<String> {
+    let on = state == "on";
+    let cmd = if on {
+        Command::DebugOn
+    } else {
+        Command::DebugOff
+    };
+    s.run(cmd, "debug on/off")?;
+    Ok(format!(
+        "debug output {state}: unconfirmed (AOK defines no answer to 63 0{})",
+        if on { 2 } else { 1 }
+    ))
+}
+
+/// `get N`: the parameter's value.
+fn get(s: &mut Session, number: u8) -> Result<String> {
+    let what = format!("the read of parameter {number}");
+    match s.run(Command::ReadParameter(number), &what)? {
+        Outcome::Parameter(p) => Ok(format!("parameter {} = {}", p.number, p.value)),
+        other => Err(unexpected(&what, other)),
+    }
+}
+
+/// `set N VALUE`: the client fails unless the device acks it.
+fn set(s: &mut Session, number: u8, value: i32) -> Result<String> {
+    let cmd = Command::SetParameter(aok_proto::ParameterValue { number, value });
+    s.run(cmd, &format!("setting parameter {number}"))?;
+    Ok(format!(
+        "parameter {number} = {value}: confirmed (acked 'O')"
+    ))
+}
+
+/// `bulk FIRST`: sixteen parameters from `first` (firmware 0.35 and newer).
+fn bulk(s: &mut Session, firmware: FirmwareVersion, first: u8) -> Result<Vec<String>> {
+    if !firmware.has_bulk_read() {
+        return Err(Error::Usage(format!(
+            "bulk read needs firmware 0.35 or newer, and --firmware says {}.{}",
+            firmware.major, firmware.minor
+        )));
+    }
+    let what = format!("the bulk read from parameter {first}");
+    match s.run(Command::BulkRead(first), &what)? {
+        Outcome::Bulk(b) => Ok(b
+            .values
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let n = b.first.wrapping_add(i as u8);
+                format!("parameter {n} = {v}")
+            })
+            .collect()),
+        other => Err(unexpected(&what, other)),
+    }
+}
+
+/// `waypoint get SLOT`.
+fn waypoint_get(s: &mut Session, slot: WaypointSlot) -> Result<String> {
+    let what = format!("the read of waypoint {}", slot_name(slot));
+    match s.run(Command::ReadWaypoint(slot), &what)? {
+        Outcome::Waypoint(w) => Ok(waypoint_line(&w)),
+        other => Err(unexpected(&what, other)),
+    }
+}
+
+/// `waypoint set SLOT ...`: the client fails unless the device acks it.
+fn waypoint_set(s: &mut Session, w: Waypoint) -> Result<String> {
+    s.run(
+        Command::SetWaypoint(w),
+        &format!("setting waypoint {}", slot_name(w.slot)),
+    )?;
+    Ok(format!("{}: confirmed (acked 'O')", waypoint_line(&w)))
+}
+
+/// `motor N VALUE`: sent every 200 ms for `hold` (once without it); with `verify`, the
+/// debug values after the first frame say whether the box took it.
+fn motor_test(
+    s: &mut Session,
+    motor: Motor,
+    value: u8,
+    hold: Option<Duration>,
+    verify: bool,
+) -> Result<String> {
+    let cmd = Command::MotorTest(MotorTest { motor, value });
+    let hold = hold.unwrap_or(Duration::ZERO);
+    let started = Instant::now();
+    let mut sent = 0u32;
+    let mut answer = Answer::Unconfirmed(
+        "AOK defines no answer to a motor test; pass --verify to check the debug values".into(),
+    );
+    loop {
+        s.run(cmd, "the motor test")?;
+        sent += 1;
+        if verify && sent == 1 {
+            answer = s.verify_motor(motor, value)?;
+        }
+        if started.elapsed() >= hold {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(200).min(hold.saturating_sub(started.elapsed())));
+    }
+    Ok(format!(
+        "motor {} test value {value} ({sent} frame(s)): {}",
+        motor.get(),
+        answer.show()
+    ))
+}
+
+/// `extern ROLL NICK YAW PITCH`: no answer is defined.
+fn external_control(s: &mut Session, control: ExternalControl) -> Result<String> {
+    s.run(Command::ExternalControl(control), "external control")?;
+    Ok(format!(
+        "external control roll={} nick={} yaw={} pitch={} expiry={} ms: \
+         unconfirmed (AOK defines no answer to 53)",
+        control.roll.get(),
+        control.nick.get(),
+        control.yaw.get(),
+        control.pitch,
+        control.expiry_ms
+    ))
 }
 
 fn unexpected(what: &str, outcome: Outcome) -> Error {

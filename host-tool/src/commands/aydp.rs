@@ -407,145 +407,174 @@ fn usage(e: String) -> Error {
 /// Opening the endpoint, a bad value, a timeout, or a value the device did not take.
 pub fn run(args: &AydpArgs) -> Result<()> {
     let mut s = Session::open(&args.to, args.profile, args.timeout_ms)?;
-    let mut out = Out::beside(&args.to);
-    match &args.action {
+    let check = !args.no_verify;
+    let lines = match &args.action {
         AydpAction::Get {
             address,
             value_type,
-        } => {
-            let reading = s.read(*address)?;
-            out.line(&describe(&reading, *value_type)?.0)?;
-        }
+        } => vec![describe(&s.read(*address)?, *value_type)?.0],
         AydpAction::Set {
             target,
             value,
             value_type,
-        } => {
-            let (mode, data) = match target.index {
-                Some(index) => (
-                    UpdateMode::Element { index },
-                    value_type.element().encode(value).map_err(usage)?,
-                ),
-                None => {
-                    let data = value_type.encode(value).map_err(usage)?;
-                    let mode = match value_type {
-                        ValueType::Array(_, n) => UpdateMode::Array { count: *n as u32 },
-                        _ => UpdateMode::Single,
-                    };
-                    (mode, data)
-                }
-            };
-            s.send(&SystemValueUpdate {
-                address: target.address,
-                mode,
-                data: &data,
-            })?;
-            if args.no_verify {
-                out.line(&format!(
-                    "{:#06x} set: unconfirmed (--no-verify: not read back)",
-                    target.address
-                ))?;
-            } else {
-                let reading = s.read(target.address)?;
-                verify(&reading, target, *value_type, &data)?;
-                let line = describe(&reading, Some(*value_type))?.0;
-                out.line(&format!("{line}: confirmed (read back)"))?;
-            }
-        }
-        AydpAction::Store => {
-            s.send(&SystemControl::StoreConfiguration)?;
-            if args.no_verify {
-                out.line("store configuration: unconfirmed (AYDP has no acknowledgement)")?;
-            } else {
-                // No ack exists: a request answered after the store shows only that the device
-                // is alive and has read the store before it.
-                s.read(DIRECT_CONTROL)?;
-                out.line(
-                    "store configuration: unconfirmed (AYDP has no acknowledgement; the device \
-                     answered a request sent after it, so it received the store)",
-                )?;
-            }
-        }
+        } => vec![set(&mut s, target, value, *value_type, check)?],
+        AydpAction::Store => vec![store(&mut s, check)?],
         AydpAction::Output {
             outputs,
             enable,
             verify,
             counters,
         } => {
-            if *enable {
-                s.send(&SystemValueUpdate {
-                    address: DIRECT_CONTROL,
-                    mode: UpdateMode::Single,
-                    data: &[1],
-                })?;
-            }
-            if !args.no_verify {
-                let r = s.read(DIRECT_CONTROL)?;
-                if r.data != [1] {
-                    return Err(Error::Refused(if *enable {
-                        format!(
-                            "the device refused to enable direct control: 0x0000 reads {}",
-                            hex(&r.data)
-                        )
-                    } else {
-                        format!(
-                            "the device refuses direct outputs: direct control is off (0x0000 = \
-                             {}); pass --enable to turn it on",
-                            hex(&r.data)
-                        )
-                    }));
-                }
-            }
-            let before = if *verify {
-                Some(s.output_counters(*counters)?)
-            } else {
-                None
-            };
-            let mut buf = vec![0u8; 2 + outputs.len() * OutputEntry::LEN];
-            let mut builder = DirectOutputBuilder::new(&mut buf);
-            for e in outputs {
-                builder.push(*e).map_err(|source| Error::Aydp {
-                    what: "building the output message".into(),
-                    source,
-                })?;
-            }
-            let message = builder.finish();
-            s.send(&message)?;
-            let outcome = match before {
-                Some(before) => {
-                    let after = s.output_counters(*counters)?;
-                    if after.1 != before.1 {
-                        return Err(Error::Refused(format!(
-                            "the device refused the outputs (its direct-refused counter went \
-                             from {} to {}): an unknown device or channel, or direct control off",
-                            before.1, after.1
-                        )));
-                    }
-                    if after.0 == before.0 {
-                        return Err(Error::Refused(format!(
-                            "the device refused the outputs: its direct-applied counter stayed \
-                             at {}",
-                            after.0
-                        )));
-                    }
-                    format!(
-                        "confirmed (the direct-applied counter went from {} to {})",
-                        before.0, after.0
-                    )
-                }
-                None => "unconfirmed (AYDP has no acknowledgement; --verify reads the box's \
-                         counters)"
-                    .to_string(),
-            };
-            for e in outputs {
-                out.line(&format!(
-                    "output {}:{} = {}: {outcome}",
-                    e.device, e.channel, e.value
-                ))?;
-            }
+            let outcome = output(&mut s, outputs, *enable, check, verify.then_some(*counters))?;
+            outputs
+                .iter()
+                .map(|e| format!("output {}:{} = {}: {outcome}", e.device, e.channel, e.value))
+                .collect()
         }
+    };
+    let mut out = Out::beside(&args.to);
+    for line in &lines {
+        out.line(line)?;
     }
     out.flush()
+}
+
+/// `set`: one value, one element or a whole array; read back unless `check` is off.
+fn set(
+    s: &mut Session,
+    target: &Target,
+    value: &str,
+    value_type: ValueType,
+    check: bool,
+) -> Result<String> {
+    let (mode, data) = match target.index {
+        Some(index) => (
+            UpdateMode::Element { index },
+            value_type.element().encode(value).map_err(usage)?,
+        ),
+        None => {
+            let data = value_type.encode(value).map_err(usage)?;
+            let mode = match value_type {
+                ValueType::Array(_, n) => UpdateMode::Array { count: n as u32 },
+                _ => UpdateMode::Single,
+            };
+            (mode, data)
+        }
+    };
+    s.send(&SystemValueUpdate {
+        address: target.address,
+        mode,
+        data: &data,
+    })?;
+    if !check {
+        return Ok(format!(
+            "{:#06x} set: unconfirmed (--no-verify: not read back)",
+            target.address
+        ));
+    }
+    let reading = s.read(target.address)?;
+    verify(&reading, target, value_type, &data)?;
+    let line = describe(&reading, Some(value_type))?.0;
+    Ok(format!("{line}: confirmed (read back)"))
+}
+
+/// `store`: AYDP has no acknowledgement; unless `check` is off, a request answered after the
+/// store shows that the device is alive and has read the store before it.
+fn store(s: &mut Session, check: bool) -> Result<String> {
+    s.send(&SystemControl::StoreConfiguration)?;
+    if !check {
+        return Ok("store configuration: unconfirmed (AYDP has no acknowledgement)".into());
+    }
+    s.read(DIRECT_CONTROL)?;
+    Ok(
+        "store configuration: unconfirmed (AYDP has no acknowledgement; the device \
+         answered a request sent after it, so it received the store)"
+            .into(),
+    )
+}
+
+/// `output`: direct control on (with `enable`) and checked (unless `check` is off), the
+/// outputs sent, and, with the box's counters at `counters`, whether it applied them.
+/// Returns the outcome every output's line ends with.
+fn output(
+    s: &mut Session,
+    outputs: &[OutputEntry],
+    enable: bool,
+    check: bool,
+    counters: Option<u16>,
+) -> Result<String> {
+    if enable {
+        s.send(&SystemValueUpdate {
+            address: DIRECT_CONTROL,
+            mode: UpdateMode::Single,
+            data: &[1],
+        })?;
+    }
+    if check {
+        check_direct_control(s, enable)?;
+    }
+    let before = counters.map(|c| s.output_counters(c)).transpose()?;
+    let mut buf = vec![0u8; 2 + outputs.len() * OutputEntry::LEN];
+    let mut builder = DirectOutputBuilder::new(&mut buf);
+    for e in outputs {
+        builder.push(*e).map_err(|source| Error::Aydp {
+            what: "building the output message".into(),
+            source,
+        })?;
+    }
+    let message = builder.finish();
+    s.send(&message)?;
+    match (before, counters) {
+        (Some(before), Some(address)) => applied(before, s.output_counters(address)?),
+        _ => Ok(
+            "unconfirmed (AYDP has no acknowledgement; --verify reads the box's \
+                 counters)"
+                .to_string(),
+        ),
+    }
+}
+
+/// Direct control (0x0000) must read 1 before outputs are sent.
+fn check_direct_control(s: &mut Session, enabled: bool) -> Result<()> {
+    let r = s.read(DIRECT_CONTROL)?;
+    if r.data == [1] {
+        return Ok(());
+    }
+    Err(Error::Refused(if enabled {
+        format!(
+            "the device refused to enable direct control: 0x0000 reads {}",
+            hex(&r.data)
+        )
+    } else {
+        format!(
+            "the device refuses direct outputs: direct control is off (0x0000 = \
+             {}); pass --enable to turn it on",
+            hex(&r.data)
+        )
+    }))
+}
+
+/// The box's (applied, refused) counters before and after the outputs: confirmed when only
+/// the applied one moved.
+fn applied(before: (u32, u32), after: (u32, u32)) -> Result<String> {
+    if after.1 != before.1 {
+        return Err(Error::Refused(format!(
+            "the device refused the outputs (its direct-refused counter went \
+             from {} to {}): an unknown device or channel, or direct control off",
+            before.1, after.1
+        )));
+    }
+    if after.0 == before.0 {
+        return Err(Error::Refused(format!(
+            "the device refused the outputs: its direct-applied counter stayed \
+             at {}",
+            after.0
+        )));
+    }
+    Ok(format!(
+        "confirmed (the direct-applied counter went from {} to {})",
+        before.0, after.0
+    ))
 }
 
 fn verify(reading: &Reading, target: &Target, value_type: ValueType, sent: &[u8]) -> Result<()> {

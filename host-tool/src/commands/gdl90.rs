@@ -288,36 +288,8 @@ fn seconds_since_midnight() -> u32 {
 /// Opening the endpoints, reading the input, or every send failing.
 pub fn run(args: &Gdl90Args) -> Result<()> {
     let mut link = args.from.open()?;
-    let mut to = match args.broadcast {
-        Some(b) => SocketAddr::new(b, args.to.port()),
-        None => args.to,
-    };
-    let bind: SocketAddr = if to.ip().is_loopback() {
-        ([127, 0, 0, 1], 0).into()
-    } else {
-        ([0, 0, 0, 0], 0).into()
-    };
-    let open_err = |source| Error::Open {
-        endpoint: format!("a UDP socket for {to}"),
-        source,
-    };
-    let socket = UdpSocket::bind(bind).map_err(open_err)?;
-    if args.broadcast.is_some() {
-        socket.set_broadcast(true).map_err(open_err)?;
-    }
-    let discovery = if args.discover {
-        let s = UdpSocket::bind(("0.0.0.0", DISCOVERY_PORT)).map_err(|source| Error::Open {
-            endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT} (ForeFlight discovery)"),
-            source,
-        })?;
-        s.set_nonblocking(true).map_err(|source| Error::Open {
-            endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT}"),
-            source,
-        })?;
-        Some(s)
-    } else {
-        None
-    };
+    let (mut to, mut sender) = Sender::open(args)?;
+    let discovery = args.discover.then(open_discovery).transpose()?;
     let _ = writeln!(
         std::io::stderr(),
         "gdl90: {} -> GDL90 on udp {to}{} (Ctrl-C to stop)",
@@ -334,12 +306,6 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
     let mut counters = Counters::default();
     let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
-    let mut sender = Sender {
-        socket,
-        wire: [0; gdl90_proto::MAX_ENCODED_LEN],
-        errors: 0,
-        last_error: None,
-    };
     let start = Instant::now();
     let (mut next_ahrs, mut next_second) = (start, start);
     while !deadline.reached() {
@@ -364,9 +330,7 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
             Input::Idle => {}
             Input::End => break,
         }
-        if let Some(d) = &discovery
-            && let Some(addr) = announced(d)
-        {
+        if let Some(addr) = discovery.as_ref().and_then(announced) {
             to = addr;
         }
         let now = Instant::now();
@@ -376,35 +340,24 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
             next_ahrs += AHRS_PERIOD;
         }
         if now >= next_second {
-            let hb = picture.heartbeat(now, seconds_since_midnight());
-            counters.heartbeats += sender.send(to, |w| gdl90_proto::encode_heartbeat(&hb, w));
-            let id = picture.foreflight_id();
-            counters.foreflight_id +=
-                sender.send(to, |w| gdl90_proto::encode_foreflight_id(&id, w));
-            let own = picture.ownship(now);
-            counters.ownship += sender.send(to, |w| gdl90_proto::encode_ownship(&own, w));
-            if let Some(geo) = picture.geo_altitude(now) {
-                counters.geo_altitude +=
-                    sender.send(to, |w| gdl90_proto::encode_geo_altitude(&geo, w));
-            }
+            sender.send_each_second(to, &picture, now, &mut counters);
             next_second += SECOND;
         }
     }
-    counters.send_errors = sender.errors;
-    let mut out = Out::new();
-    out.line(&format!("gdl90: {}", text(&json!(counters))))?;
-    out.flush()?;
-    let sent = counters.heartbeats + counters.ahrs;
-    match sender.last_error {
-        Some(source) if sent == 0 => Err(Error::Io {
-            what: format!(
-                "sending every one of {} datagrams to {to}",
-                counters.send_errors
-            ),
-            source,
-        }),
-        _ => Ok(()),
-    }
+    sender.finish(to, counters)
+}
+
+/// The socket ForeFlight's announcements arrive on (UDP 63093, every interface), non-blocking.
+fn open_discovery() -> Result<UdpSocket> {
+    let s = UdpSocket::bind(("0.0.0.0", DISCOVERY_PORT)).map_err(|source| Error::Open {
+        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT} (ForeFlight discovery)"),
+        source,
+    })?;
+    s.set_nonblocking(true).map_err(|source| Error::Open {
+        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT}"),
+        source,
+    })?;
+    Ok(s)
 }
 
 /// Encodes into one buffer and sends it, counting failures.
@@ -416,6 +369,74 @@ struct Sender {
 }
 
 impl Sender {
+    /// The destination (`--to`, or the `--broadcast` address on its port) and a sender bound
+    /// to an ephemeral port (on 127.0.0.1 for a loopback destination, else every interface).
+    fn open(args: &Gdl90Args) -> Result<(SocketAddr, Self)> {
+        let to = match args.broadcast {
+            Some(b) => SocketAddr::new(b, args.to.port()),
+            None => args.to,
+        };
+        let bind: SocketAddr = if to.ip().is_loopback() {
+            ([127, 0, 0, 1], 0).into()
+        } else {
+            ([0, 0, 0, 0], 0).into()
+        };
+        let open_err = |source| Error::Open {
+            endpoint: format!("a UDP socket for {to}"),
+            source,
+        };
+        let socket = UdpSocket::bind(bind).map_err(open_err)?;
+        if args.broadcast.is_some() {
+            socket.set_broadcast(true).map_err(open_err)?;
+        }
+        let sender = Sender {
+            socket,
+            wire: [0; gdl90_proto::MAX_ENCODED_LEN],
+            errors: 0,
+            last_error: None,
+        };
+        Ok((to, sender))
+    }
+
+    /// The messages sent once a second: heartbeat, ForeFlight ID, ownship report and, with
+    /// a GPS fix, geometric altitude.
+    fn send_each_second(
+        &mut self,
+        to: SocketAddr,
+        picture: &Picture,
+        now: Instant,
+        counters: &mut Counters,
+    ) {
+        let hb = picture.heartbeat(now, seconds_since_midnight());
+        counters.heartbeats += self.send(to, |w| gdl90_proto::encode_heartbeat(&hb, w));
+        let id = picture.foreflight_id();
+        counters.foreflight_id += self.send(to, |w| gdl90_proto::encode_foreflight_id(&id, w));
+        let own = picture.ownship(now);
+        counters.ownship += self.send(to, |w| gdl90_proto::encode_ownship(&own, w));
+        if let Some(geo) = picture.geo_altitude(now) {
+            counters.geo_altitude += self.send(to, |w| gdl90_proto::encode_geo_altitude(&geo, w));
+        }
+    }
+
+    /// Prints the counters; fails when datagrams were to go out and not one did.
+    fn finish(self, to: SocketAddr, mut counters: Counters) -> Result<()> {
+        counters.send_errors = self.errors;
+        let mut out = Out::new();
+        out.line(&format!("gdl90: {}", text(&json!(counters))))?;
+        out.flush()?;
+        let sent = counters.heartbeats + counters.ahrs;
+        match self.last_error {
+            Some(source) if sent == 0 => Err(Error::Io {
+                what: format!(
+                    "sending every one of {} datagrams to {to}",
+                    counters.send_errors
+                ),
+                source,
+            }),
+            _ => Ok(()),
+        }
+    }
+
     /// Encodes with `encode` and sends to `to`; 1 when it went out, else 0.
     fn send(
         &mut self,

@@ -80,9 +80,7 @@ pub struct CaptureCounters {
 pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
     let mut reader = CaptureReader::open(path)?;
     let mut out = Out::new();
-    let mut flows: HashMap<FlowKey, Flow> = HashMap::new();
-    let mut order: Vec<FlowKey> = Vec::new();
-    let mut counters = CaptureCounters::default();
+    let mut flows = Flows::default();
     let mut events = Vec::new();
     let mut last_time = 0.0;
     let mut plot = args
@@ -93,82 +91,15 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
         let Some(rec) = reader.next_record()? else {
             break;
         };
-        counters.frames += 1;
-        let (key, kind, bytes) = match rec.payload {
-            Payload::Ip {
-                transport,
-                src,
-                dst,
-                bytes,
-            } => {
-                let by_port = proto_for_port(dst.port()).or_else(|| proto_for_port(src.port()));
-                let proto = match (args.proto, by_port) {
-                    (Some(p), None) => Some(p),
-                    (Some(p), Some(q)) if p == q => Some(p),
-                    (None, q) => q,
-                    _ => None,
-                };
-                let Some(proto) = proto.filter(|_| !bytes.is_empty()) else {
-                    counters.skipped += 1;
-                    continue;
-                };
-                // The AYDP reference software's port carries its profile; --profile overrides.
-                let port_profile = if by_port == Some(Proto::Aydp) {
-                    ProfileArg::Reference
-                } else {
-                    ProfileArg::Spec
-                };
-                let kind = StreamKind {
-                    proto,
-                    profile: args.profile.unwrap_or(port_profile),
-                    side: args.side,
-                };
-                (FlowKey::Ip(transport, src, dst), kind, bytes)
-            }
-            Payload::Stream {
-                interface,
-                kind,
-                bytes,
-            } if args.proto.is_none_or(|p| p == kind.proto) => {
-                (FlowKey::Stream(interface), kind, bytes)
-            }
-            _ => {
-                counters.skipped += 1;
-                continue;
-            }
-        };
-        if !flows.contains_key(&key) {
-            if flows.len() >= MAX_FLOWS {
-                counters.flows_dropped += 1;
-                continue;
-            }
-            let name = match key {
-                FlowKey::Ip(t, s, d) => {
-                    let t = if t == Transport::Udp { "udp" } else { "tcp" };
-                    format!("{t} {s} > {d}")
-                }
-                FlowKey::Stream(i) => format!("stream {i} linktype {}", kind.link_type()),
-            };
-            flows.insert(
-                key,
-                Flow {
-                    name,
-                    proto: kind.proto,
-                    datagrams: matches!(key, FlowKey::Ip(Transport::Udp, ..)),
-                    decoder: decoder_for(kind.proto, kind.profile, kind.side),
-                    offset: 0,
-                },
-            );
-            order.push(key);
-        }
-        let Some(flow) = flows.get_mut(&key) else {
+        flows.counters.frames += 1;
+        let Some((key, kind, bytes)) = classify(rec.payload, args) else {
+            flows.counters.skipped += 1;
             continue;
         };
-        flow.decoder.feed(&bytes, flow.offset, &mut events);
-        flow.offset += bytes.len() as u64;
-        if flow.datagrams {
-            flow.decoder.end_of_datagram(flow.offset, &mut events);
-        }
+        let Some(flow) = flows.open(key, kind) else {
+            continue;
+        };
+        flow.feed(&bytes, &mut events);
         let time = rec.time.as_secs_f64();
         last_time = time;
         if let Some(p) = plot.as_mut() {
@@ -179,42 +110,146 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
         }
         out.flush()?;
     }
-    for key in &order {
-        let Some(flow) = flows.get_mut(key) else {
-            continue;
-        };
+    let frames = flows.counters.frames;
+    for flow in &mut flows.flows {
         flow.decoder.finish(flow.offset, &mut events);
         for e in events.drain(..) {
-            out.line(&line(&e, counters.frames, last_time, flow, args.json))?;
+            out.line(&line(&e, frames, last_time, flow, args.json))?;
         }
-        let s = summary(flow.offset, &flow.decoder.counters(), args.json);
-        out.line(&if args.json {
-            let mut v: Value = serde_json::from_str(&s).unwrap_or(Value::Null);
-            if let Value::Object(m) = &mut v {
-                m.insert("flow".into(), json!(flow.name));
-                m.insert("proto".into(), json!(proto_name(flow.proto)));
-            }
-            v.to_string()
-        } else {
-            format!("{} ({}) {s}", flow.name, proto_name(flow.proto))
-        })?;
+        out.line(&flow_summary(flow, args.json))?;
     }
     if let Some(p) = &plot {
         eprintln!("{}", p.report());
     }
-    let c = counters;
-    out.line(&if args.json {
-        json!({"kind": "capture", "frames": c.frames, "skipped": c.skipped, "flows": order.len(), "flows_dropped": c.flows_dropped}).to_string()
+    out.line(&capture_summary(
+        flows.counters,
+        flows.flows.len(),
+        args.json,
+    ))?;
+    out.flush()
+}
+
+/// The flow a record's payload belongs to, what it carries and its bytes; `None` for a
+/// record that carries none of our protocols (or not the one `--proto` asks for).
+fn classify(payload: Payload, args: &DecodeArgs) -> Option<(FlowKey, StreamKind, Vec<u8>)> {
+    match payload {
+        Payload::Ip {
+            transport,
+            src,
+            dst,
+            bytes,
+        } => {
+            let by_port = proto_for_port(dst.port()).or_else(|| proto_for_port(src.port()));
+            let proto = match (args.proto, by_port) {
+                (Some(p), None) => Some(p),
+                (Some(p), Some(q)) if p == q => Some(p),
+                (None, q) => q,
+                _ => None,
+            };
+            let proto = proto.filter(|_| !bytes.is_empty())?;
+            // The AYDP reference software's port carries its profile; --profile overrides.
+            let port_profile = if by_port == Some(Proto::Aydp) {
+                ProfileArg::Reference
+            } else {
+                ProfileArg::Spec
+            };
+            let kind = StreamKind {
+                proto,
+                profile: args.profile.unwrap_or(port_profile),
+                side: args.side,
+            };
+            Some((FlowKey::Ip(transport, src, dst), kind, bytes))
+        }
+        Payload::Stream {
+            interface,
+            kind,
+            bytes,
+        } if args.proto.is_none_or(|p| p == kind.proto) => {
+            Some((FlowKey::Stream(interface), kind, bytes))
+        }
+        _ => None,
+    }
+}
+
+/// The flows of a capture in the order they appeared, at most [`MAX_FLOWS`], and the
+/// capture's counters.
+#[derive(Default)]
+struct Flows {
+    index: HashMap<FlowKey, usize>,
+    flows: Vec<Flow>,
+    counters: CaptureCounters,
+}
+
+impl Flows {
+    /// The flow `key`, opened with a decoder for `kind` when it is new; `None` (counted as
+    /// dropped) when it is new and [`MAX_FLOWS`] are open.
+    fn open(&mut self, key: FlowKey, kind: StreamKind) -> Option<&mut Flow> {
+        if let Some(&i) = self.index.get(&key) {
+            return self.flows.get_mut(i);
+        }
+        if self.flows.len() >= MAX_FLOWS {
+            self.counters.flows_dropped += 1;
+            return None;
+        }
+        self.index.insert(key, self.flows.len());
+        self.flows.push(Flow::new(key, kind));
+        self.flows.last_mut()
+    }
+}
+
+impl Flow {
+    fn new(key: FlowKey, kind: StreamKind) -> Self {
+        let name = match key {
+            FlowKey::Ip(t, s, d) => {
+                let t = if t == Transport::Udp { "udp" } else { "tcp" };
+                format!("{t} {s} > {d}")
+            }
+            FlowKey::Stream(i) => format!("stream {i} linktype {}", kind.link_type()),
+        };
+        Flow {
+            name,
+            proto: kind.proto,
+            datagrams: matches!(key, FlowKey::Ip(Transport::Udp, ..)),
+            decoder: decoder_for(kind.proto, kind.profile, kind.side),
+            offset: 0,
+        }
+    }
+
+    /// Decodes the next payload of the flow (a whole datagram on UDP).
+    fn feed(&mut self, bytes: &[u8], events: &mut Vec<Event>) {
+        self.decoder.feed(bytes, self.offset, events);
+        self.offset += bytes.len() as u64;
+        if self.datagrams {
+            self.decoder.end_of_datagram(self.offset, events);
+        }
+    }
+}
+
+/// A flow's summary line: the live decoder's, with the flow and its protocol.
+fn flow_summary(flow: &Flow, json_out: bool) -> String {
+    let s = summary(flow.offset, &flow.decoder.counters(), json_out);
+    if json_out {
+        let mut v: Value = serde_json::from_str(&s).unwrap_or(Value::Null);
+        if let Value::Object(m) = &mut v {
+            m.insert("flow".into(), json!(flow.name));
+            m.insert("proto".into(), json!(proto_name(flow.proto)));
+        }
+        v.to_string()
+    } else {
+        format!("{} ({}) {s}", flow.name, proto_name(flow.proto))
+    }
+}
+
+/// The capture's summary line: records read and skipped, flows decoded and dropped.
+fn capture_summary(c: CaptureCounters, flows: usize, json_out: bool) -> String {
+    if json_out {
+        json!({"kind": "capture", "frames": c.frames, "skipped": c.skipped, "flows": flows, "flows_dropped": c.flows_dropped}).to_string()
     } else {
         format!(
             "capture: frames={} skipped={} flows={} flows_dropped={}",
-            c.frames,
-            c.skipped,
-            order.len(),
-            c.flows_dropped
+            c.frames, c.skipped, flows, c.flows_dropped
         )
-    })?;
-    out.flush()
+    }
 }
 
 fn line(e: &Event, frame: u64, time: f64, flow: &Flow, json_out: bool) -> String {

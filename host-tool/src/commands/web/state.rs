@@ -7,7 +7,9 @@ use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant};
 
 use aeolus_proto::Decoder;
-use aeolus_proto::message::{CalibrationStatus, Message};
+use aeolus_proto::message::{
+    AeolusInfo, Attitude, CalibrationStatus, Compass, Gps, Message, Pressure,
+};
 use serde::Serialize;
 
 use crate::decoders::AEOLUS_CAPACITY;
@@ -135,7 +137,6 @@ impl Cockpit {
     pub fn state(&self, now: Instant, server: ServerState) -> State {
         let v = &self.view;
         let elapsed = now.saturating_duration_since(self.started);
-        let stats = self.decoder.stats();
         let no_data = (v.bytes == 0 && elapsed >= NO_DATA_AFTER).then(|| {
             format!(
                 "nothing from {} for {:.1} s: is it the right port, is the box running, or does \
@@ -144,7 +145,34 @@ impl Cockpit {
                 elapsed.as_secs_f64()
             )
         });
-        let types = v
+        State {
+            source: self.source.clone(),
+            uptime_s: elapsed.as_secs_f64(),
+            bytes: v.bytes,
+            no_data,
+            attitude: v.attitude.map(attitude_state),
+            air: v.pressure.map(|p| air_state(p, v.vertical.mps())),
+            heading: v.compass.map(heading_state),
+            gps: v.gps.map(gps_state),
+            wind: v.wind.map(|w| WindState {
+                valid: w.valid,
+                speed_mps: w.speed_mps,
+                direction_deg: w.direction_deg,
+            }),
+            temp_c: v.temp.map(|t| t.celsius),
+            info: v.info.map(info_state),
+            toast: v.toast.clone(),
+            types: self.types(now),
+            errors: error_state(&self.decoder.stats(), v),
+            track: self.track.iter().copied().collect(),
+            server,
+            units: v.units.scales(),
+        }
+    }
+
+    /// Every message type seen, with its rate, intervals and state at `now`.
+    fn types(&self, now: Instant) -> Vec<TypeState> {
+        self.view
             .types
             .iter()
             .map(|(&id, (name, a))| {
@@ -167,87 +195,88 @@ impl Cockpit {
                     age_s: now.saturating_duration_since(a.last_host).as_secs_f64(),
                 }
             })
-            .collect();
-        State {
-            source: self.source.clone(),
-            uptime_s: elapsed.as_secs_f64(),
-            bytes: v.bytes,
-            no_data,
-            attitude: v.attitude.map(|a| AttitudeState {
-                valid: a.valid,
-                timestamp_ms: a.timestamp_ms,
-                roll_deg: a.roll_rad.to_degrees(),
-                pitch_deg: a.pitch_rad.to_degrees(),
-                yaw_deg: a.yaw_rad.to_degrees(),
-                slip_ball: a.slip_ball,
-                turn_coordinator: a.turn_coordinator,
-            }),
-            air: v.pressure.map(|p| AirState {
-                valid: p.valid,
-                timestamp_ms: p.timestamp_ms,
-                airspeed_mps: p.airspeed_mps,
-                static_mbar: p.static_mbar,
-                pitot_mbar: p.pitot_mbar,
-                pressure_altitude_m: isa_altitude_m(p.static_mbar),
-                vertical_speed_mps: v.vertical.mps(),
-            }),
-            heading: v.compass.map(|c| HeadingState {
-                valid: c.valid && c.has_value,
-                timestamp_ms: c.timestamp_ms,
-                heading_deg: c.heading_deg,
-                calibration: calibration(c.calibration),
-            }),
-            gps: v.gps.map(|g| GpsState {
-                valid: g.valid,
-                fix: g.has_fix,
-                satellites: g.satellites,
-                timestamp_ms: g.timestamp_ms,
-                latitude_deg: f64::from(g.latitude_deg),
-                longitude_deg: f64::from(g.longitude_deg),
-                altitude_m: g.altitude_m,
-                ground_speed_mps: g.ground_speed_mps,
-            }),
-            wind: v.wind.map(|w| WindState {
-                valid: w.valid,
-                speed_mps: w.speed_mps,
-                direction_deg: w.direction_deg,
-            }),
-            temp_c: v.temp.map(|t| t.celsius),
-            info: v.info.map(|i| InfoState {
-                model: match i.model {
-                    b'S' => "AEOLUS-SENSE".to_owned(),
-                    b'A' => "AEOLUS".to_owned(),
-                    m => format!("model {m}"),
-                },
-                firmware: format!("{}.{}.{}", i.firmware[0], i.firmware[1], i.firmware[2]),
-                mac: i
-                    .mac
-                    .iter()
-                    .map(|b| format!("{b:02x}"))
-                    .collect::<Vec<_>>()
-                    .join(":"),
-            }),
-            toast: v.toast.clone(),
-            types,
-            errors: ErrorState {
-                checksum_errors: stats.checksum_errors,
-                frames_no_crc: stats.frames_no_crc,
-                overflows: stats.overflows,
-                too_short: stats.too_short,
-                bad_escapes: stats.bad_escapes,
-                bytes_discarded: stats.bytes_discarded,
-                malformed: v.malformed,
-                truncated: v.truncated,
-            },
-            track: self.track.iter().copied().collect(),
-            server,
-            units: v.units.scales(),
-        }
+            .collect()
     }
 
     /// How long ago the cockpit started.
     pub fn uptime(&self, now: Instant) -> Duration {
         now.saturating_duration_since(self.started)
+    }
+}
+
+fn attitude_state(a: Attitude) -> AttitudeState {
+    AttitudeState {
+        valid: a.valid,
+        timestamp_ms: a.timestamp_ms,
+        roll_deg: a.roll_rad.to_degrees(),
+        pitch_deg: a.pitch_rad.to_degrees(),
+        yaw_deg: a.yaw_rad.to_degrees(),
+        slip_ball: a.slip_ball,
+        turn_coordinator: a.turn_coordinator,
+    }
+}
+
+fn air_state(p: Pressure, vertical_speed_mps: Option<f64>) -> AirState {
+    AirState {
+        valid: p.valid,
+        timestamp_ms: p.timestamp_ms,
+        airspeed_mps: p.airspeed_mps,
+        static_mbar: p.static_mbar,
+        pitot_mbar: p.pitot_mbar,
+        pressure_altitude_m: isa_altitude_m(p.static_mbar),
+        vertical_speed_mps,
+    }
+}
+
+fn heading_state(c: Compass) -> HeadingState {
+    HeadingState {
+        valid: c.valid && c.has_value,
+        timestamp_ms: c.timestamp_ms,
+        heading_deg: c.heading_deg,
+        calibration: calibration(c.calibration),
+    }
+}
+
+fn gps_state(g: Gps) -> GpsState {
+    GpsState {
+        valid: g.valid,
+        fix: g.has_fix,
+        satellites: g.satellites,
+        timestamp_ms: g.timestamp_ms,
+        latitude_deg: f64::from(g.latitude_deg),
+        longitude_deg: f64::from(g.longitude_deg),
+        altitude_m: g.altitude_m,
+        ground_speed_mps: g.ground_speed_mps,
+    }
+}
+
+fn info_state(i: AeolusInfo) -> InfoState {
+    InfoState {
+        model: match i.model {
+            b'S' => "AEOLUS-SENSE".to_owned(),
+            b'A' => "AEOLUS".to_owned(),
+            m => format!("model {m}"),
+        },
+        firmware: format!("{}.{}.{}", i.firmware[0], i.firmware[1], i.firmware[2]),
+        mac: i
+            .mac
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<Vec<_>>()
+            .join(":"),
+    }
+}
+
+fn error_state(stats: &aeolus_proto::Stats, v: &View) -> ErrorState {
+    ErrorState {
+        checksum_errors: stats.checksum_errors,
+        frames_no_crc: stats.frames_no_crc,
+        overflows: stats.overflows,
+        too_short: stats.too_short,
+        bad_escapes: stats.bad_escapes,
+        bytes_discarded: stats.bytes_discarded,
+        malformed: v.malformed,
+        truncated: v.truncated,
     }
 }
 
