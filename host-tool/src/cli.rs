@@ -1,20 +1,22 @@
 //! The command line: `protolink <subcommand> ...`, every subcommand with an example in `--help`.
+//! The top floor: each subcommand's arguments and `run` come from its module in
+//! [`commands`](crate::commands).
 
 use clap::{Parser, Subcommand};
 
-use crate::aeolus_cmd::AeolusArgs;
-use crate::aok_cmd::AokArgs;
-use crate::aydp_cmd::AydpArgs;
-use crate::bridge::BridgeArgs;
-use crate::decode::DecodeArgs;
+use crate::commands::aeolus::AeolusArgs;
+use crate::commands::aok::AokArgs;
+use crate::commands::aydp::AydpArgs;
+use crate::commands::bridge::BridgeArgs;
+use crate::commands::decode::DecodeArgs;
+use crate::commands::gdl90::Gdl90Args;
+use crate::commands::record::RecordArgs;
+use crate::commands::replay::ReplayArgs;
+use crate::commands::sim::SimArgs;
+use crate::commands::watch::WatchArgs;
+use crate::commands::web::WebArgs;
+use crate::commands::wireshark::WiresharkArgs;
 use crate::error::Result;
-use crate::gdl90_cmd::Gdl90Args;
-use crate::record::RecordArgs;
-use crate::replay::ReplayArgs;
-use crate::sim::SimArgs;
-use crate::watch::WatchArgs;
-use crate::web::WebArgs;
-use crate::wireshark::WiresharkArgs;
 
 const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
   serial:/dev/ttyUSB0@921600   a serial port at that baud rate (115200 if @BAUD is left out)
@@ -116,18 +118,18 @@ impl Cli {
     /// Whatever the subcommand reports.
     pub fn run(&self) -> Result<()> {
         match &self.command {
-            Command::Decode(a) => crate::decode::run(a),
-            Command::Bridge(a) => crate::bridge::run(a),
-            Command::Aeolus(a) => crate::aeolus_cmd::run(a),
-            Command::Aydp(a) => crate::aydp_cmd::run(a),
-            Command::Aok(a) => crate::aok_cmd::run(a),
-            Command::Sim(a) => crate::sim::run(a),
-            Command::Watch(a) => crate::watch::run(a),
-            Command::Web(a) => crate::web::run(a),
-            Command::Gdl90(a) => crate::gdl90_cmd::run(a),
-            Command::Record(a) => crate::record::run(a),
-            Command::Replay(a) => crate::replay::run(a),
-            Command::Wireshark(a) => crate::wireshark::run(a),
+            Command::Decode(a) => crate::commands::decode::run(a),
+            Command::Bridge(a) => crate::commands::bridge::run(a),
+            Command::Aeolus(a) => crate::commands::aeolus::run(a),
+            Command::Aydp(a) => crate::commands::aydp::run(a),
+            Command::Aok(a) => crate::commands::aok::run(a),
+            Command::Sim(a) => crate::commands::sim::run(a),
+            Command::Watch(a) => crate::commands::watch::run(a),
+            Command::Web(a) => crate::commands::web::run(a),
+            Command::Gdl90(a) => crate::commands::gdl90::run(a),
+            Command::Record(a) => crate::commands::record::run(a),
+            Command::Replay(a) => crate::commands::replay::run(a),
+            Command::Wireshark(a) => crate::commands::wireshark::run(a),
         }
     }
 }

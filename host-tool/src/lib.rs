@@ -3,29 +3,28 @@
 //! The host-side companion of the AEOLUS, AYDP and AOK protocol crates: a `std` command-line
 //! tool (the `protolink` binary) and the library it is built from.
 //!
-//! | module | holds |
-//! | --- | --- |
-//! | [`cli`] | the command line (clap), one subcommand per module below |
-//! | [`endpoint`] | `serial:`, `tcp:`, `udp:`, `file:` and `-` endpoints, opened as byte streams |
-//! | [`decode`] | `decode`: stream decoders for the three protocols, events, text and JSON lines |
-//! | [`bridge`] | `bridge`: AEOLUS UART frames to UDP datagrams and back |
-//! | [`aeolus_cmd`] | `aeolus`: COMMAND and SETTIME to a box, its TOAST as the answer |
-//! | [`args`] | durations with units and range-checked numbers on the command line |
-//! | [`aydp_cmd`] | `aydp`: system values, store, direct outputs |
-//! | [`aok_cmd`] | `aok`: the `aok-proto` client over an endpoint |
-//! | [`gdl90_cmd`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
-//! | [`capture`], [`record`], [`replay`] | pcapng/pcap captures: `record`, `replay`, `decode` of a capture |
-//! | [`wireshark`] | `wireshark`: the Lua dissector generated from the layout tables |
-//! | [`watch`] | `watch`: the live telemetry view |
-//! | [`web`] | `web`: the glass cockpit in the browser (server-sent events, `/api/state`) |
-//! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
-//! | [`value_type`] | AYDP value types such as `f32[3]` and `char[40]` |
-//! | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
-//! | [`render`], [`progress`], [`stop`] | output, progress spinner, Ctrl-C and `--seconds` |
-//! | [`error`] | the crate's one error type |
+//! The modules stand on four floors, and a module uses only modules on floors below its own
+//! (`tests/tests/module_layers.rs` checks it, and that there is no import cycle):
+//!
+//! | floor | module | holds |
+//! | --- | --- | --- |
+//! | top | [`cli`] | the command line (clap): routes each subcommand to its module in [`commands`] |
+//! | subcommands | [`commands`] | one module per subcommand (`decode`, `watch`, `web`, `record`, `replay`, `bridge`, `sim`, `aeolus`, `aydp`, `aok`, `gdl90`, `wireshark`), never using one another |
+//! | generators | [`wireshark`] | the Wireshark Lua dissector, generated from the protocol crates' layout tables |
+//! | shared | [`endpoint`] | `serial:`, `tcp:`, `udp:`, `file:` and `-`: the address syntax and the byte streams they open |
+//! | shared | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
+//! | shared | [`datagrams`] | the UDP side of an AEOLUS box: frames packed into datagrams, the in-port |
+//! | shared | [`capture`] | pcapng/pcap captures: link types and ports, reading and writing |
+//! | shared | [`proto`] | what a stream carries: protocol, AYDP profile, AOK side |
+//! | shared | [`decoders`] | stream decoders for the four protocols: events, fields as JSON, counters |
+//! | shared | [`telemetry`] | the live AEOLUS telemetry model that `watch` and `web` show |
+//! | shared | [`render`] | output lines, text escaping, JSON and `key=value` rendering |
+//! | shared | [`args`], [`units`], [`value_type`] | durations and range-checked numbers, display units, AYDP value types such as `f32[3]` |
+//! | shared | [`progress`], [`stop`] | the progress spinner; Ctrl-C and `--seconds` |
+//! | shared | [`error`] | the crate's one error type |
 //!
 //! ```
-//! use protolink::decode::{AeolusDecoder, StreamDecoder};
+//! use protolink::decoders::{AeolusDecoder, StreamDecoder};
 //! // A TOAST "hi" frame, then one with a flipped bit.
 //! let stream = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x7E, 0x52, b'h', b'j', 0, 0x73, 0xEC, 0x7E];
 //! let mut decoder = AeolusDecoder::new();
@@ -37,30 +36,23 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-pub mod aeolus_cmd;
-pub mod aok_cmd;
-pub mod args;
-pub mod aydp_cmd;
-pub mod bridge;
-pub mod capture;
 pub mod cli;
-pub mod decode;
+pub mod commands;
+pub mod wireshark;
+
+pub mod args;
+pub mod capture;
+pub mod datagrams;
+pub mod decoders;
 pub mod endpoint;
 pub mod error;
-pub mod gdl90_cmd;
 pub mod nb_serial;
 pub mod progress;
-pub mod record;
+pub mod proto;
 pub mod render;
-pub mod replay;
-pub mod sim;
 pub mod stop;
+pub mod telemetry;
 pub mod units;
 pub mod value_type;
-pub mod watch;
-pub mod web;
-pub mod wireshark;
-pub mod wireshark_aok;
-pub mod wireshark_aydp;
 
 pub use error::{Error, Result};

@@ -164,7 +164,7 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
 
 fn with_device(firmware: &str, args: &[&str]) -> (std::process::Output, DeviceLog) {
     let (listener, ep) = listener();
-    let fw = protolink::aok_cmd::parse_firmware(firmware).unwrap();
+    let fw = protolink::commands::aok::parse_firmware(firmware).unwrap();
     let device = fake_device(listener, fw);
     let mut full = vec!["aok", "--to", ep.as_str(), "--firmware", firmware];
     full.extend_from_slice(args);

@@ -40,7 +40,7 @@ fn the_committed_dissector_is_the_generators_output() {
         "tools/wireshark/protolink.lua is stale: run `cargo run -q -p protolink -- wireshark > tools/wireshark/protolink.lua`"
     );
     // Every fixed message and every one of its fields is declared.
-    for (_, name, _, fields) in protolink::wireshark::FIXED {
+    for (_, name, _, fields) in protolink::wireshark::aeolus::FIXED {
         for (field, _, _) in fields {
             let key = format!("\"aeolus.{}.{field}\"", name.to_lowercase());
             assert!(committed.contains(&key), "{key} missing");

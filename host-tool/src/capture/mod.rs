@@ -22,8 +22,8 @@
 use std::net::SocketAddrV4;
 use std::time::Duration;
 
-use crate::decode::{ProfileArg, Proto, Side};
 use crate::error::Error;
+use crate::proto::{ProfileArg, Proto, Side};
 
 mod read;
 mod write;
@@ -70,7 +70,7 @@ impl StreamKind {
     ///
     /// ```
     /// use protolink::capture::StreamKind;
-    /// use protolink::decode::{Proto, ProfileArg, Side};
+    /// use protolink::proto::{Proto, ProfileArg, Side};
     /// let k = StreamKind { proto: Proto::Aok, profile: ProfileArg::Spec, side: Side::Device };
     /// assert_eq!(k.link_type(), 151);
     /// assert_eq!(StreamKind::from_link_type(151), Some(k));
@@ -115,7 +115,7 @@ impl StreamKind {
 ///
 /// ```
 /// use protolink::capture::proto_for_port;
-/// use protolink::decode::Proto;
+/// use protolink::proto::Proto;
 /// assert_eq!(proto_for_port(5001), Some(Proto::Aeolus));
 /// assert_eq!(proto_for_port(53), None);
 /// ```

@@ -1,0 +1,477 @@
+//! `protolink gdl90`: the box's AEOLUS telemetry as GDL90 for EFB apps (ForeFlight, Garmin
+//! Pilot, SkyDemon, Avare...), which listen on UDP port 4000.
+//!
+//! Once a second: heartbeat, ForeFlight ID, ownship report and ownship geometric altitude;
+//! five times a second: ForeFlight AHRS. What goes in ([`Picture`]):
+//!
+//! | GDL90 field | from |
+//! | --- | --- |
+//! | AHRS roll, pitch | ATTITUDE |
+//! | AHRS heading (magnetic) | COMPASS (never the GPS track) |
+//! | AHRS IAS | PRESSURE airspeed, m/s to knots |
+//! | AHRS TAS | IAS corrected by the air density from PRESSURE static pressure and TEMP |
+//! | ownship position, geometric altitude, ground speed | GPS, only with a fix |
+//! | ownship track, vertical rate | the last two GPS fixes (on the box's clock) |
+//! | ownship pressure altitude | PRESSURE static pressure, standard atmosphere (29.92 inHg) |
+//! | heartbeat GPS-valid bit | a fresh GPS fix |
+//!
+//! Anything older than [`FRESH`] or marked invalid by the box goes out as GDL90's invalid
+//! marker, never as a stale value. Datagrams go to one address (`--to`, 127.0.0.1:4000 by
+//! default); to a broadcast address only with `--broadcast`; with `--discover`, to the host
+//! whose ForeFlight announcement arrives on UDP 63093.
+
+use std::io::Write as _;
+use std::net::{IpAddr, SocketAddr, UdpSocket};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use aeolus_proto::message::{Attitude, Compass, Gps, Message, Pressure, Temp};
+use clap::Args;
+use gdl90_proto::message::{
+    AddressType, Ahrs, AltitudeDatum, CallSign, ForeFlightId, GeoAltitude, Heading, Heartbeat,
+    LatLon, Name, Report, Track,
+};
+use serde_json::json;
+
+use crate::decoders::AEOLUS_CAPACITY;
+use crate::endpoint::{Endpoint, Input, parse_local_addr};
+use crate::error::{Error, Result};
+use crate::render::{Out, text};
+use crate::stop::{self, Deadline};
+
+/// A value older than this is not sent; its invalid marker is.
+pub const FRESH: Duration = Duration::from_secs(1);
+/// The AHRS period (5 Hz).
+pub const AHRS_PERIOD: Duration = Duration::from_millis(200);
+/// The heartbeat, ID, ownship and geometric altitude period (1 Hz).
+pub const SECOND: Duration = Duration::from_secs(1);
+/// The port ForeFlight announces itself on.
+pub const DISCOVERY_PORT: u16 = 63093;
+
+const KNOTS_PER_MPS: f64 = 3600.0 / 1852.0;
+const FEET_PER_M: f64 = 1.0 / 0.3048;
+
+/// Arguments of `protolink gdl90`.
+#[derive(Debug, Clone, Args)]
+pub struct Gdl90Args {
+    /// Where the box's AEOLUS telemetry comes from (udp:5001, tcp:127.0.0.1:7000, ...).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub from: Endpoint,
+    /// Where the GDL90 datagrams go: PORT (on 127.0.0.1) or ADDR:PORT.
+    #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:4000", value_parser = parse_local_addr)]
+    pub to: SocketAddr,
+    /// Send to this broadcast address instead (on the --to port). Never a default.
+    #[arg(long, value_name = "ADDR")]
+    pub broadcast: Option<IpAddr>,
+    /// Listen on UDP 63093 for ForeFlight's announcement and send to the host it came from,
+    /// on the port it names.
+    #[arg(long)]
+    pub discover: bool,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
+    /// end of the input).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<Duration>,
+}
+
+/// The latest of each telemetry message, with when it arrived, and the GPS fix before it.
+#[derive(Debug, Default, Clone)]
+pub struct Picture {
+    attitude: Option<(Attitude, Instant)>,
+    pressure: Option<(Pressure, Instant)>,
+    temp: Option<(Temp, Instant)>,
+    compass: Option<(Compass, Instant)>,
+    gps: Option<(Gps, Instant)>,
+    previous_fix: Option<Gps>,
+    /// The low 24 bits of the box's MAC, from AEOLUSINFO: the ownship address.
+    address: Option<u32>,
+}
+
+/// `v` if it arrived within [`FRESH`] of `now`.
+fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
+    v.filter(|(_, at)| now.saturating_duration_since(*at) <= FRESH)
+        .map(|(v, _)| v)
+}
+
+/// Pressure altitude in feet for a static pressure in mbar, in the standard atmosphere
+/// (1013.25 mbar = 29.92 inHg at 0 ft).
+///
+/// ```
+/// use protolink::commands::gdl90::pressure_altitude_ft;
+/// assert!(pressure_altitude_ft(1013.25).abs() < 0.5);
+/// assert!((pressure_altitude_ft(843.07) - 5000.0).abs() < 5.0);
+/// ```
+pub fn pressure_altitude_ft(static_mbar: f32) -> f64 {
+    (1.0 - (f64::from(static_mbar) / 1013.25).powf(0.190_284)) * 145_366.45
+}
+
+/// True airspeed from indicated airspeed and the air's pressure and temperature (density
+/// ratio against the sea-level standard, 1.225 kg/m³).
+///
+/// ```
+/// use protolink::commands::gdl90::true_airspeed_mps;
+/// assert!((true_airspeed_mps(50.0, 1013.25, 15.0) - 50.0).abs() < 0.1);
+/// assert!(true_airspeed_mps(50.0, 700.0, -10.0) > 55.0);
+/// ```
+pub fn true_airspeed_mps(ias_mps: f32, static_mbar: f32, celsius: f32) -> f64 {
+    let rho = f64::from(static_mbar) * 100.0 / (287.05 * (f64::from(celsius) + 273.15));
+    f64::from(ias_mps) * (1.225 / rho).sqrt()
+}
+
+fn knots(mps: f64) -> Option<u16> {
+    let kt = (mps * KNOTS_PER_MPS).round();
+    (kt.is_finite() && kt >= 0.0).then(|| kt.min(f64::from(u16::MAX - 1)) as u16)
+}
+
+impl Picture {
+    /// Takes one telemetry message that arrived at `now`.
+    pub fn take(&mut self, m: &Message<'_>, now: Instant) {
+        match m {
+            Message::Attitude(v) => self.attitude = Some((*v, now)),
+            Message::Pressure(v) => self.pressure = Some((*v, now)),
+            Message::Temp(v) => self.temp = Some((*v, now)),
+            Message::Compass(v) => self.compass = Some((*v, now)),
+            Message::Gps(v) => {
+                if let Some((old, _)) = self.gps
+                    && old.valid
+                    && old.has_fix
+                {
+                    self.previous_fix = Some(old);
+                }
+                self.gps = Some((*v, now));
+            }
+            Message::AeolusInfo(i) => {
+                self.address = Some(
+                    u32::from(i.mac[3]) << 16 | u32::from(i.mac[4]) << 8 | u32::from(i.mac[5]),
+                );
+            }
+            _ => {}
+        }
+    }
+
+    /// A fresh, valid GPS fix.
+    fn fix(&self, now: Instant) -> Option<Gps> {
+        fresh(&self.gps, now).filter(|g| g.valid && g.has_fix)
+    }
+
+    /// The ForeFlight AHRS message for `now`.
+    pub fn ahrs(&self, now: Instant) -> Ahrs {
+        let attitude = fresh(&self.attitude, now).filter(|a| a.valid);
+        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
+        let temp = fresh(&self.temp, now).filter(|t| t.valid);
+        let heading = fresh(&self.compass, now)
+            .filter(|c| c.valid && c.has_value && c.heading_deg.is_finite())
+            .map(|c| Heading::Magnetic(c.heading_deg.rem_euclid(360.0)));
+        Ahrs {
+            roll_deg: attitude.map(|a| a.roll_rad.to_degrees()),
+            pitch_deg: attitude.map(|a| a.pitch_rad.to_degrees()),
+            heading,
+            indicated_airspeed_kt: pressure.and_then(|p| knots(f64::from(p.airspeed_mps))),
+            true_airspeed_kt: pressure.zip(temp).and_then(|(p, t)| {
+                knots(true_airspeed_mps(p.airspeed_mps, p.static_mbar, t.celsius))
+            }),
+        }
+    }
+
+    /// The ownship report for `now`.
+    pub fn ownship(&self, now: Instant) -> Report {
+        let fix = self.fix(now);
+        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
+        let (track, vertical_rate_fpm) = match (fix, self.previous_fix) {
+            (Some(g), Some(p)) if g.timestamp_ms > p.timestamp_ms => {
+                let dt_min = (g.timestamp_ms - p.timestamp_ms) / 60_000.0;
+                let climb = f64::from(g.altitude_m - p.altitude_m) * FEET_PER_M / dt_min;
+                (
+                    bearing_deg(&p, &g).map(Track::TrueTrack),
+                    climb.is_finite().then(|| climb.round() as i32),
+                )
+            }
+            _ => (None, None),
+        };
+        Report {
+            address_type: AddressType::AdsbSelfAssigned,
+            address: self.address.unwrap_or(0),
+            position: fix.map(|g| LatLon {
+                lat_deg: f64::from(g.latitude_deg),
+                lon_deg: f64::from(g.longitude_deg),
+            }),
+            pressure_altitude_ft: pressure
+                .map(|p| pressure_altitude_ft(p.static_mbar))
+                .filter(|ft| ft.is_finite())
+                .map(|ft| ft.round() as i32),
+            airborne: fix.is_some_and(|g| g.ground_speed_mps > 15.0),
+            track,
+            // AEOLUS reports no accuracy: a GPS fix is given typical values.
+            nic: if fix.is_some() { 8 } else { 0 },
+            nacp: if fix.is_some() { 9 } else { 0 },
+            ground_speed_kt: fix.and_then(|g| knots(f64::from(g.ground_speed_mps))),
+            vertical_rate_fpm,
+            emitter: 1,
+            call_sign: CallSign::new("AEOLUS").unwrap_or_default(),
+            ..Report::default()
+        }
+    }
+
+    /// The ownship geometric altitude, only with a fresh fix (the message has no invalid
+    /// marker for the altitude).
+    pub fn geo_altitude(&self, now: Instant) -> Option<GeoAltitude> {
+        self.fix(now).map(|g| GeoAltitude {
+            altitude_ft: (f64::from(g.altitude_m) * FEET_PER_M).round() as i32,
+            vertical_warning: false,
+            vfom_m: None,
+        })
+    }
+
+    /// The heartbeat, with the host's UTC time of day.
+    pub fn heartbeat(&self, now: Instant, seconds_since_midnight: u32) -> Heartbeat {
+        Heartbeat {
+            gps_position_valid: self.fix(now).is_some(),
+            uat_initialized: true,
+            utc_ok: true,
+            seconds_since_midnight,
+            ..Heartbeat::default()
+        }
+    }
+
+    /// The ForeFlight ID of this bridge.
+    pub fn foreflight_id(&self) -> ForeFlightId {
+        ForeFlightId {
+            version: 1,
+            serial: self.address.map(u64::from),
+            name: Name::new("AEOLUS").unwrap_or_default(),
+            long_name: Name::new("AEOLUS protolink").unwrap_or_default(),
+            altitude_datum: AltitudeDatum::Msl,
+            other_capabilities: 0,
+        }
+    }
+}
+
+/// The true course from fix `a` to fix `b`, when they are at least a metre apart.
+fn bearing_deg(a: &Gps, b: &Gps) -> Option<f32> {
+    let (la1, la2) = (
+        f64::from(a.latitude_deg).to_radians(),
+        f64::from(b.latitude_deg).to_radians(),
+    );
+    let dlon = f64::from(b.longitude_deg - a.longitude_deg).to_radians();
+    let y = dlon.sin() * la2.cos();
+    let x = la1.cos() * la2.sin() - la1.sin() * la2.cos() * dlon.cos();
+    let metres = (y.hypot(x)) * 6_371_000.0;
+    (metres >= 1.0).then(|| y.atan2(x).to_degrees().rem_euclid(360.0) as f32)
+}
+
+/// What `gdl90` sent, printed on exit.
+#[derive(Debug, Default, Clone, Copy, serde::Serialize)]
+pub struct Counters {
+    /// AEOLUS messages taken in.
+    pub telemetry_in: u64,
+    /// Heartbeats sent.
+    pub heartbeats: u64,
+    /// ForeFlight AHRS messages sent.
+    pub ahrs: u64,
+    /// Ownship reports sent.
+    pub ownship: u64,
+    /// Geometric altitudes sent.
+    pub geo_altitude: u64,
+    /// ForeFlight IDs sent.
+    pub foreflight_id: u64,
+    /// Datagrams whose send failed.
+    pub send_errors: u64,
+}
+
+fn seconds_since_midnight() -> u32 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| (d.as_secs() % 86_400) as u32)
+}
+
+/// Runs `protolink gdl90`.
+///
+/// # Errors
+/// Opening the endpoints, reading the input, or every send failing.
+pub fn run(args: &Gdl90Args) -> Result<()> {
+    let mut link = args.from.open()?;
+    let (mut to, mut sender) = Sender::open(args)?;
+    let discovery = args.discover.then(open_discovery).transpose()?;
+    let _ = writeln!(
+        std::io::stderr(),
+        "gdl90: {} -> GDL90 on udp {to}{} (Ctrl-C to stop)",
+        link.name(),
+        if args.discover {
+            ", or the ForeFlight that announces itself"
+        } else {
+            ""
+        }
+    );
+    stop::install_ctrl_c();
+    let deadline = Deadline::after(args.seconds);
+    let mut picture = Picture::default();
+    let mut counters = Counters::default();
+    let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
+    let mut buf = vec![0u8; 65_536];
+    let start = Instant::now();
+    let (mut next_ahrs, mut next_second) = (start, start);
+    while !deadline.reached() {
+        let wait = next_ahrs
+            .min(next_second)
+            .saturating_duration_since(Instant::now());
+        match link.read(&mut buf, deadline.left(wait.max(Duration::from_millis(1))))? {
+            Input::Data(n) => {
+                let now = Instant::now();
+                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
+                    if let Ok(frame) = ev
+                        && let Ok(m) = frame.message()
+                    {
+                        counters.telemetry_in += 1;
+                        picture.take(&m, now);
+                    }
+                });
+                if link.is_datagram() {
+                    decoder.reset();
+                }
+            }
+            Input::Idle => {}
+            Input::End => break,
+        }
+        if let Some(addr) = discovery.as_ref().and_then(announced) {
+            to = addr;
+        }
+        let now = Instant::now();
+        if now >= next_ahrs {
+            let ahrs = picture.ahrs(now);
+            counters.ahrs += sender.send(to, |w| gdl90_proto::encode_ahrs(&ahrs, w));
+            next_ahrs += AHRS_PERIOD;
+        }
+        if now >= next_second {
+            sender.send_each_second(to, &picture, now, &mut counters);
+            next_second += SECOND;
+        }
+    }
+    sender.finish(to, counters)
+}
+
+/// The socket ForeFlight's announcements arrive on (UDP 63093, every interface), non-blocking.
+fn open_discovery() -> Result<UdpSocket> {
+    let s = UdpSocket::bind(("0.0.0.0", DISCOVERY_PORT)).map_err(|source| Error::Open {
+        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT} (ForeFlight discovery)"),
+        source,
+    })?;
+    s.set_nonblocking(true).map_err(|source| Error::Open {
+        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT}"),
+        source,
+    })?;
+    Ok(s)
+}
+
+/// Encodes into one buffer and sends it, counting failures.
+struct Sender {
+    socket: UdpSocket,
+    wire: [u8; gdl90_proto::MAX_ENCODED_LEN],
+    errors: u64,
+    last_error: Option<std::io::Error>,
+}
+
+impl Sender {
+    /// The destination (`--to`, or the `--broadcast` address on its port) and a sender bound
+    /// to an ephemeral port (on 127.0.0.1 for a loopback destination, else every interface).
+    fn open(args: &Gdl90Args) -> Result<(SocketAddr, Self)> {
+        let to = match args.broadcast {
+            Some(b) => SocketAddr::new(b, args.to.port()),
+            None => args.to,
+        };
+        let bind: SocketAddr = if to.ip().is_loopback() {
+            ([127, 0, 0, 1], 0).into()
+        } else {
+            ([0, 0, 0, 0], 0).into()
+        };
+        let open_err = |source| Error::Open {
+            endpoint: format!("a UDP socket for {to}"),
+            source,
+        };
+        let socket = UdpSocket::bind(bind).map_err(open_err)?;
+        if args.broadcast.is_some() {
+            socket.set_broadcast(true).map_err(open_err)?;
+        }
+        let sender = Sender {
+            socket,
+            wire: [0; gdl90_proto::MAX_ENCODED_LEN],
+            errors: 0,
+            last_error: None,
+        };
+        Ok((to, sender))
+    }
+
+    /// The messages sent once a second: heartbeat, ForeFlight ID, ownship report and, with
+    /// a GPS fix, geometric altitude.
+    fn send_each_second(
+        &mut self,
+        to: SocketAddr,
+        picture: &Picture,
+        now: Instant,
+        counters: &mut Counters,
+    ) {
+        let hb = picture.heartbeat(now, seconds_since_midnight());
+        counters.heartbeats += self.send(to, |w| gdl90_proto::encode_heartbeat(&hb, w));
+        let id = picture.foreflight_id();
+        counters.foreflight_id += self.send(to, |w| gdl90_proto::encode_foreflight_id(&id, w));
+        let own = picture.ownship(now);
+        counters.ownship += self.send(to, |w| gdl90_proto::encode_ownship(&own, w));
+        if let Some(geo) = picture.geo_altitude(now) {
+            counters.geo_altitude += self.send(to, |w| gdl90_proto::encode_geo_altitude(&geo, w));
+        }
+    }
+
+    /// Prints the counters; fails when datagrams were to go out and not one did.
+    fn finish(self, to: SocketAddr, mut counters: Counters) -> Result<()> {
+        counters.send_errors = self.errors;
+        let mut out = Out::new();
+        out.line(&format!("gdl90: {}", text(&json!(counters))))?;
+        out.flush()?;
+        let sent = counters.heartbeats + counters.ahrs;
+        match self.last_error {
+            Some(source) if sent == 0 => Err(Error::Io {
+                what: format!(
+                    "sending every one of {} datagrams to {to}",
+                    counters.send_errors
+                ),
+                source,
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Encodes with `encode` and sends to `to`; 1 when it went out, else 0.
+    fn send(
+        &mut self,
+        to: SocketAddr,
+        encode: impl FnOnce(&mut [u8]) -> std::result::Result<usize, gdl90_proto::Error>,
+    ) -> u64 {
+        let Ok(n) = encode(&mut self.wire) else {
+            return 0;
+        };
+        match self.socket.send_to(self.wire.get(..n).unwrap_or(&[]), to) {
+            Ok(_) => 1,
+            Err(e) => {
+                self.errors += 1;
+                self.last_error = Some(e);
+                0
+            }
+        }
+    }
+}
+
+/// A ForeFlight announcement waiting on `socket` (`{"App":"ForeFlight","GDL90":{"port":4000}}`):
+/// the sender's address on the port it names.
+fn announced(socket: &UdpSocket) -> Option<SocketAddr> {
+    let mut buf = [0u8; 1024];
+    let mut found = None;
+    while let Ok((n, from)) = socket.recv_from(&mut buf) {
+        let v: serde_json::Value = serde_json::from_slice(buf.get(..n)?).ok()?;
+        let port = v["GDL90"]["port"]
+            .as_u64()
+            .and_then(|p| u16::try_from(p).ok());
+        if v["App"] == "ForeFlight"
+            && let Some(port) = port
+        {
+            found = Some(SocketAddr::new(from.ip(), port));
+        }
+    }
+    found
+}

@@ -1,0 +1,31 @@
+//! The subcommands, one module each: its arguments (a clap `Args` struct) and its `run`.
+//! [`crate::cli`] routes to them. A subcommand builds on the shared modules below it (and
+//! `wireshark` on the generator in [`crate::wireshark`]), never on another subcommand.
+//!
+//! | module | subcommand |
+//! | --- | --- |
+//! | [`decode`] | `decode`: one line per message (text or JSON), live streams and captures |
+//! | [`watch`] | `watch`: the live telemetry view in the terminal |
+//! | [`web`] | `web`: the glass cockpit in the browser (server-sent events, `/api/state`) |
+//! | [`record`] | `record`: an endpoint into a pcapng file |
+//! | [`replay`] | `replay`: a capture's payloads to an endpoint with their timing |
+//! | [`bridge`] | `bridge`: AEOLUS UART frames to UDP datagrams and back |
+//! | [`sim`] | `sim`: a virtual AEOLUS-SENSE box on UDP, running the firmware's own AEOLUS link |
+//! | [`aeolus`] | `aeolus`: COMMAND and SETTIME to a box, its TOAST as the answer |
+//! | [`aydp`] | `aydp`: system values, store, direct outputs |
+//! | [`aok`] | `aok`: the `aok-proto` client over an endpoint |
+//! | [`gdl90`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
+//! | [`wireshark`] | `wireshark`: prints the generated Lua dissector |
+
+pub mod aeolus;
+pub mod aok;
+pub mod aydp;
+pub mod bridge;
+pub mod decode;
+pub mod gdl90;
+pub mod record;
+pub mod replay;
+pub mod sim;
+pub mod watch;
+pub mod web;
+pub mod wireshark;

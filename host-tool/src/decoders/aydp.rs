@@ -1,0 +1,150 @@
+//! AYDP in `decode`: the rescanning decoder, each event placed by the bytes it has not
+//! examined yet.
+
+use aydp_proto::Profile;
+use serde_json::{Map, Value, json};
+
+use super::{Event, StreamDecoder};
+use crate::render::{self, hex, to_json, variant};
+
+/// Capacity of the AYDP decoder: the longest message accepted.
+pub const AYDP_CAPACITY: usize = 16384;
+
+/// AYDP: the rescanning decoder in one profile.
+#[derive(Debug)]
+pub struct AydpDecoder {
+    decoder: Box<aydp_proto::Decoder<AYDP_CAPACITY>>,
+    malformed: u32,
+    truncated: u32,
+}
+
+impl AydpDecoder {
+    /// A decoder for `profile`.
+    pub fn new(profile: Profile) -> Self {
+        AydpDecoder {
+            decoder: Box::new(aydp_proto::Decoder::new(profile)),
+            malformed: 0,
+            truncated: 0,
+        }
+    }
+}
+
+/// Splits a checked AYDP frame into its name, its meta data and its fields; a malformed typed
+/// parse comes back as the error sentence.
+///
+/// ```
+/// use aydp_proto::{Frame, Profile};
+/// let f = Frame::new_checked(&[0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C], Profile::Spec).unwrap();
+/// let (name, meta, fields) = protolink::decoders::aydp_fields(&f).unwrap();
+/// assert_eq!(name, "SYSTEM_CONTROL");
+/// assert_eq!(meta["type"], 9);
+/// assert_eq!(fields.to_string(), r#"{"command":"StoreConfiguration"}"#);
+/// ```
+///
+/// # Errors
+/// The typed parse's error, as a sentence.
+pub fn aydp_fields(
+    frame: &aydp_proto::Frame<'_>,
+) -> std::result::Result<(String, Map<String, Value>, Value), String> {
+    use aydp_proto::Message as M;
+    let mut meta = Map::new();
+    meta.insert("type".into(), json!(frame.base_type()));
+    meta.insert("expedited".into(), json!(frame.is_expedited()));
+    meta.insert("len".into(), json!(frame.as_bytes().len()));
+    if let Some(t) = frame.timestamp() {
+        meta.insert(
+            "time".into(),
+            json!({ "seconds": t.seconds, "subsec": t.subsec }),
+        );
+    }
+    let message = frame.message().map_err(|e| {
+        format!(
+            "type {} message is malformed: {e} (data {})",
+            frame.base_type(),
+            hex(frame.data())
+        )
+    })?;
+    let mut fields = match &message {
+        M::DirectOutput(d) => json!({ "entries": to_json(&d.entries().collect::<Vec<_>>()) }),
+        M::FixDetail(d) => json!({ "satellites": to_json(&d.satellites().collect::<Vec<_>>()) }),
+        M::SystemControl(c) => {
+            let (command, args) = variant(to_json(c));
+            let mut m = Map::new();
+            m.insert("command".into(), json!(command));
+            if let Value::Object(args) = args {
+                m.extend(args);
+            }
+            Value::Object(m)
+        }
+        other => variant(to_json(other)).1,
+    };
+    render::data_as_hex(&mut fields);
+    let name = render::upper_snake(&variant(to_json(&message)).0);
+    Ok((name, meta, fields))
+}
+
+/// What an AYDP event becomes once its frame is let go: the printed parts, and the frame's
+/// length on the wire (0 for a failure).
+type AydpOutcome = (
+    std::result::Result<(String, Map<String, Value>, Value), String>,
+    u64,
+);
+
+fn aydp_outcome(ev: aydp_proto::Result<aydp_proto::Frame<'_>>) -> AydpOutcome {
+    match ev {
+        Ok(frame) => (aydp_fields(&frame), frame.as_bytes().len() as u64),
+        Err(aydp_proto::Error::Truncated) => (Err("input ends inside a message".into()), 0),
+        Err(e) => (Err(e.to_string()), 0),
+    }
+}
+
+impl AydpDecoder {
+    /// Places one event in the input: `fed` bytes have been pushed, and the decoder has not
+    /// yet examined its last `held_bytes()`.
+    fn place(&mut self, (result, len): AydpOutcome, fed: u64, out: &mut Vec<Event>) {
+        let end = fed.saturating_sub(self.decoder.held_bytes() as u64);
+        match result {
+            Ok((name, meta, fields)) => {
+                out.push(Event::message(end.saturating_sub(len), name, meta, fields));
+            }
+            // A good frame whose data does not parse: at its own first byte.
+            Err(e) if len > 0 => {
+                self.malformed = self.malformed.wrapping_add(1);
+                out.push(Event::error(end.saturating_sub(len), e));
+            }
+            // A failed candidate: its start byte was dropped just before the queued bytes.
+            Err(e) => out.push(Event::error(end.saturating_sub(1), e)),
+        }
+    }
+}
+
+impl StreamDecoder for AydpDecoder {
+    fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
+        for (i, &b) in bytes.iter().enumerate() {
+            let fed = offset + i as u64 + 1;
+            let mut event = self.decoder.push(b).map(aydp_outcome);
+            while let Some(ev) = event {
+                self.place(ev, fed, out);
+                event = self.decoder.poll().map(aydp_outcome);
+            }
+        }
+    }
+
+    fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
+        while let Some(ev) = self.decoder.flush_next().map(aydp_outcome) {
+            if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.starts_with("input ends")) {
+                self.truncated = self.truncated.wrapping_add(1);
+            }
+            self.place(ev, offset, out);
+        }
+    }
+
+    fn counters(&self) -> Value {
+        let mut v = to_json(&self.decoder.stats());
+        if let Value::Object(m) = &mut v {
+            m.insert("malformed".into(), json!(self.malformed));
+            m.insert("truncated".into(), json!(self.truncated));
+        }
+        v
+    }
+}

@@ -1,0 +1,148 @@
+//! The stream decoders of the four protocols behind one trait ([`StreamDecoder`]): bytes in,
+//! [`Event`]s out (a message with its fields as JSON, or an error, at its input offset), and
+//! the decoder's counters. `decode` prints them; the field renderers are shared with `aok`
+//! and the Wireshark generators' tests.
+
+use serde_json::{Map, Value, json};
+
+mod aeolus;
+mod aok;
+mod aydp;
+mod gdl90;
+
+pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
+pub use aok::{
+    AokDecoder, action_name, aok_command_fields, aok_message_fields, slot_name, waypoint_fields,
+};
+pub use aydp::{AYDP_CAPACITY, AydpDecoder, aydp_fields};
+pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
+
+use crate::proto::{ProfileArg, Proto, Side};
+use crate::render;
+
+/// One thing a decoder reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    /// Input offset at which it was reported.
+    pub offset: u64,
+    /// What it is.
+    pub body: Body,
+}
+
+/// A message or an error.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Body {
+    /// A decoded message.
+    Message {
+        /// Its name, e.g. `GYRO`.
+        name: String,
+        /// Facts about the frame (id, length, CRC state, header time...).
+        meta: Map<String, Value>,
+        /// The message's fields.
+        fields: Value,
+    },
+    /// An error in the stream.
+    Error {
+        /// One sentence.
+        error: String,
+    },
+}
+
+impl Event {
+    fn message(
+        offset: u64,
+        name: impl Into<String>,
+        meta: Map<String, Value>,
+        fields: Value,
+    ) -> Self {
+        Event {
+            offset,
+            body: Body::Message {
+                name: name.into(),
+                meta,
+                fields,
+            },
+        }
+    }
+
+    fn error(offset: u64, error: impl Into<String>) -> Self {
+        Event {
+            offset,
+            body: Body::Error {
+                error: error.into(),
+            },
+        }
+    }
+
+    /// The event as one JSON object.
+    ///
+    /// ```
+    /// # use protolink::decoders::{Body, Event};
+    /// let e = Event { offset: 7, body: Body::Error { error: "checksum mismatch".into() } };
+    /// assert_eq!(e.to_json().to_string(), r#"{"offset":7,"kind":"error","error":"checksum mismatch"}"#);
+    /// ```
+    pub fn to_json(&self) -> Value {
+        let mut m = Map::new();
+        m.insert("offset".into(), json!(self.offset));
+        match &self.body {
+            Body::Message { name, meta, fields } => {
+                m.insert("kind".into(), json!("message"));
+                m.insert("name".into(), json!(name));
+                m.extend(meta.clone());
+                m.insert("fields".into(), fields.clone());
+            }
+            Body::Error { error } => {
+                m.insert("kind".into(), json!("error"));
+                m.insert("error".into(), json!(error));
+            }
+        }
+        Value::Object(m)
+    }
+
+    /// The event as one readable line.
+    ///
+    /// ```
+    /// # use protolink::decoders::{Body, Event};
+    /// let e = Event { offset: 7, body: Body::Error { error: "checksum mismatch".into() } };
+    /// assert_eq!(e.to_text(), "@7 error: checksum mismatch");
+    /// ```
+    pub fn to_text(&self) -> String {
+        match &self.body {
+            Body::Message { name, meta, fields } => {
+                let meta = render::text(&Value::Object(meta.clone()));
+                let fields = render::text(fields);
+                let mut line = format!("@{} {name}", self.offset);
+                for part in [meta, fields] {
+                    if !part.is_empty() {
+                        line.push(' ');
+                        line.push_str(&part);
+                    }
+                }
+                line
+            }
+            Body::Error { error } => format!("@{} error: {error}", self.offset),
+        }
+    }
+}
+
+/// A stream decoder for one protocol, reporting [`Event`]s.
+pub trait StreamDecoder {
+    /// Feeds bytes that start at input offset `offset`.
+    fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>);
+    /// A datagram ended at `offset` (the next byte starts a new one).
+    fn end_of_datagram(&mut self, _offset: u64, _out: &mut Vec<Event>) {}
+    /// The input ended at `offset` (its length).
+    fn finish(&mut self, _offset: u64, _out: &mut Vec<Event>) {}
+    /// The counters, as a JSON object.
+    fn counters(&self) -> Value;
+}
+
+/// Builds the decoder the arguments ask for.
+pub fn decoder_for(proto: Proto, profile: ProfileArg, side: Side) -> Box<dyn StreamDecoder> {
+    match proto {
+        Proto::Aeolus => Box::new(AeolusDecoder::new()),
+        Proto::Aydp => Box::new(AydpDecoder::new(profile.into())),
+        Proto::Aok => Box::new(AokDecoder::new(side)),
+        Proto::Gdl90 => Box::new(Gdl90Decoder::default()),
+    }
+}

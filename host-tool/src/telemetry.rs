@@ -1,0 +1,214 @@
+//! The live AEOLUS telemetry model that `watch` prints and `web` shows: the latest message of
+//! each kind, the arrivals of every message type (count, intervals on the box's and the
+//! host's clock, staleness), the vertical speed, and the counts of malformed and truncated
+//! frames.
+
+use std::collections::{BTreeMap, VecDeque};
+use std::time::{Duration, Instant};
+
+use aeolus_proto::Decoder;
+use aeolus_proto::message::{AeolusInfo, Attitude, Compass, Gps, Message, Pressure, Temp, Wind};
+
+use crate::decoders::AEOLUS_CAPACITY;
+use crate::units::Units;
+
+/// The message IDs the box sends as events, not on a schedule: LOG, TOAST, COMMAND, SETTIME.
+/// They are shown as "event N s ago", never as stale.
+pub const EVENTS: [u8; 4] = [
+    aeolus_proto::message::id::LOG,
+    aeolus_proto::message::id::TOAST,
+    aeolus_proto::message::id::COMMAND,
+    aeolus_proto::message::id::SETTIME,
+];
+
+/// The vertical speed is the change of the pressure altitude over this much of the box's
+/// clock (at most; the first estimate needs half of it).
+pub const VERTICAL_SPEED_WINDOW_MS: f64 = 1000.0;
+/// Pressure altitudes closer together than this (box clock) are not kept.
+const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
+
+/// The vertical speed from the pressure altitude: samples at least
+/// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
+#[derive(Debug, Default)]
+pub(crate) struct VerticalSpeed {
+    samples: VecDeque<(f64, f64)>,
+}
+
+impl VerticalSpeed {
+    const SAMPLES: usize = (VERTICAL_SPEED_WINDOW_MS / VERTICAL_SPEED_STEP_MS) as usize + 1;
+
+    /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
+    /// starts again; values that are not finite are ignored.
+    fn take(&mut self, box_ms: f64, altitude_m: f64) {
+        if !(box_ms.is_finite() && altitude_m.is_finite()) {
+            return;
+        }
+        if let Some(&(last, _)) = self.samples.back() {
+            if box_ms < last {
+                self.samples.clear();
+            } else if box_ms - last < VERTICAL_SPEED_STEP_MS {
+                return;
+            }
+        }
+        if self.samples.len() == Self::SAMPLES {
+            self.samples.pop_front();
+        }
+        self.samples.push_back((box_ms, altitude_m));
+    }
+
+    /// m/s, positive up, once the samples span half the window.
+    pub(crate) fn mps(&self) -> Option<f64> {
+        let (&(t0, a0), &(t1, a1)) = (self.samples.front()?, self.samples.back()?);
+        (t1 - t0 >= VERTICAL_SPEED_WINDOW_MS / 2.0).then(|| (a1 - a0) / (t1 - t0) * 1000.0)
+    }
+}
+
+/// A type is never called stale sooner than this after its last message (host jitter).
+pub const STALE_FLOOR: Duration = Duration::from_millis(100);
+/// With no byte at all after this long, the view says so and names the likely causes.
+pub const NO_DATA_AFTER: Duration = Duration::from_secs(2);
+
+/// Arrivals of one message type.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Arrivals {
+    pub(crate) count: u64,
+    first_host: Instant,
+    pub(crate) last_host: Instant,
+    pub(crate) last_box_ms: Option<f64>,
+    /// Sum and number of the forward steps of the box clock (a reboot's step back is skipped).
+    box_sum_ms: f64,
+    box_steps: u64,
+}
+
+impl Arrivals {
+    /// Mean interval on the box's clock (message timestamps), ms.
+    pub(crate) fn box_interval_ms(&self) -> Option<f64> {
+        (self.box_steps > 0).then(|| self.box_sum_ms / self.box_steps as f64)
+    }
+
+    /// Whether this type has missed three of its intervals (measured on the host, or 1 s
+    /// when only one has arrived), and how long ago the last one came.
+    pub(crate) fn stale(&self, now: Instant) -> Option<Duration> {
+        let age = now.saturating_duration_since(self.last_host);
+        let interval = self
+            .host_interval_ms()
+            .map_or(Duration::from_secs(1), |ms| {
+                Duration::from_secs_f64(ms / 1000.0)
+            });
+        (age > (interval * 3).max(STALE_FLOOR)).then_some(age)
+    }
+
+    /// Mean interval of arrival on the host, ms.
+    pub(crate) fn host_interval_ms(&self) -> Option<f64> {
+        let span = self.last_host.duration_since(self.first_host).as_secs_f64() * 1000.0;
+        (self.count > 1).then(|| span / (self.count - 1) as f64)
+    }
+}
+
+/// Everything the view shows, updated message by message.
+#[derive(Debug, Default)]
+///
+/// `protolink web` shows the same model in the browser ([`crate::commands::web::state`]).
+pub struct View {
+    pub(crate) attitude: Option<Attitude>,
+    pub(crate) pressure: Option<Pressure>,
+    pub(crate) gps: Option<Gps>,
+    pub(crate) compass: Option<Compass>,
+    pub(crate) wind: Option<Wind>,
+    pub(crate) temp: Option<Temp>,
+    pub(crate) info: Option<AeolusInfo>,
+    pub(crate) toast: Option<String>,
+    pub(crate) types: BTreeMap<u8, (&'static str, Arrivals)>,
+    pub(crate) malformed: u32,
+    pub(crate) truncated: u32,
+    pub(crate) bytes: u64,
+    pub(crate) vertical: VerticalSpeed,
+    /// The units the views show.
+    pub units: Units,
+}
+
+/// Pressure altitude in the ISA, m, from static pressure in mbar.
+///
+/// ```
+/// assert!(protolink::telemetry::isa_altitude_m(1013.25).abs() < 0.01);
+/// assert!((protolink::telemetry::isa_altitude_m(898.76) - 1000.0).abs() < 1.0);
+/// ```
+pub fn isa_altitude_m(static_mbar: f32) -> f64 {
+    44_330.77 * (1.0 - (f64::from(static_mbar) / 1013.25).powf(0.190_263))
+}
+
+impl View {
+    /// Takes one message into the view.
+    pub fn take(&mut self, m: &Message<'_>, now: Instant) {
+        let ts = m.timestamp_ms();
+        let entry = self.types.entry(m.id()).or_insert((
+            m.name(),
+            Arrivals {
+                count: 0,
+                first_host: now,
+                last_host: now,
+                last_box_ms: None,
+                box_sum_ms: 0.0,
+                box_steps: 0,
+            },
+        ));
+        let a = &mut entry.1;
+        a.count += 1;
+        a.last_host = now;
+        if let Some(ts) = ts {
+            if let Some(prev) = a.last_box_ms
+                && ts > prev
+            {
+                a.box_sum_ms += ts - prev;
+                a.box_steps += 1;
+            }
+            a.last_box_ms = Some(ts);
+        }
+        match m {
+            Message::Attitude(v) => self.attitude = Some(*v),
+            Message::Pressure(v) => {
+                self.pressure = Some(*v);
+                self.vertical
+                    .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
+            }
+            Message::Gps(v) => self.gps = Some(*v),
+            Message::Compass(v) => self.compass = Some(*v),
+            Message::Wind(v) => self.wind = Some(*v),
+            Message::Temp(v) => self.temp = Some(*v),
+            Message::AeolusInfo(v) => self.info = Some(*v),
+            Message::Toast(t) => self.toast = Some(crate::render::escape_text(t.as_bytes())),
+            _ => {}
+        }
+    }
+
+    /// Decodes `bytes` (one read of the endpoint; a whole datagram when `datagram`) with
+    /// `decoder` and takes every message into the view, handing each to `also` as well.
+    /// Bytes, malformed messages and datagrams that end inside a frame are counted.
+    pub fn feed(
+        &mut self,
+        decoder: &mut Decoder<AEOLUS_CAPACITY>,
+        bytes: &[u8],
+        datagram: bool,
+        now: Instant,
+        mut also: impl FnMut(&Message<'_>),
+    ) {
+        self.bytes += bytes.len() as u64;
+        for &b in bytes {
+            if let Some(Ok(frame)) = decoder.push(b) {
+                match frame.message() {
+                    Ok(m) => {
+                        self.take(&m, now);
+                        also(&m);
+                    }
+                    Err(_) => self.malformed = self.malformed.wrapping_add(1),
+                }
+            }
+        }
+        if datagram {
+            if decoder.held_bytes() > 0 {
+                self.truncated = self.truncated.wrapping_add(1);
+            }
+            decoder.reset();
+        }
+    }
+}
