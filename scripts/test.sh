@@ -182,6 +182,11 @@ cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --f
 cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features qemu-stm32 --lib --bins -- -D warnings
 cargo stm32-qemu-build -q
 
+# The Cortex-M3 instruction counts are exact (QEMU -icount), so they can guard themselves: a
+# per-byte figure more than 3 % above docs/BENCHMARKS.md's published table fails the run.
+step "per-byte regression check: the Cortex-M3 counts against the published table (scripts/bench-check.py)"
+python3 scripts/bench-check.py
+
 # Its own workspace (embassy-stm32, its own Cargo.lock and target/): built, not run (no board;
 # QEMU has no model of the F411's DMA and RCC, see firmware-embassy/README.md).
 step "firmware-embassy: STM32F411 embassy board, release build and clippy (warnings denied)"
