@@ -87,11 +87,12 @@ impl<W: Write> FrameWriter<W> {
     /// As [`FrameWriter::write_frame`].
     ///
     /// ```
-    /// use aeolus_proto::{embedded_io::{FrameReader, FrameWriter}, CrcMode, message::{Gyro,
-    /// Message}}; let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0,
-    /// z: -0.2 }); let mut wire = [0u8; 80]; let n = FrameWriter::new(&mut
-    /// wire[..]).write_message(&gyro, CrcMode::Compute).unwrap(); let mut reader = FrameReader::<_,
-    /// 64>::new(&wire[..n], aeolus_proto::Decoder::new());
+    /// use aeolus_proto::embedded_io::{FrameReader, FrameWriter};
+    /// use aeolus_proto::{CrcMode, Decoder, message::{Gyro, Message}};
+    /// let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0, z: -0.2 });
+    /// let mut wire = [0u8; 80];
+    /// let n = FrameWriter::new(&mut wire[..]).write_message(&gyro, CrcMode::Compute).unwrap();
+    /// let mut reader = FrameReader::<_, 64>::new(&wire[..n], Decoder::new());
     /// assert_eq!(reader.read().unwrap().message(), Ok(gyro));
     /// ```
     pub fn write_message(

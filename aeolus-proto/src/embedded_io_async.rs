@@ -88,7 +88,8 @@ impl<W: Write> FrameWriter<W> {
     /// let mut wire = [0u8; 16];
     /// // `00 00` instead of a CRC; 0x7E in the data is escaped.
     /// let n = block_on(FrameWriter::new(&mut wire[..]).write_frame(99, &[0x7E],
-    /// CrcMode::Omit)).unwrap(); assert_eq!(&wire[..n], &[0x7E, 99, 0x7D, 0x5E, 0, 0, 0x7E]);
+    ///     CrcMode::Omit)).unwrap();
+    /// assert_eq!(&wire[..n], &[0x7E, 99, 0x7D, 0x5E, 0, 0, 0x7E]);
     /// ```
     pub async fn write_frame(
         &mut self,
@@ -110,11 +111,13 @@ impl<W: Write> FrameWriter<W> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// use aeolus_proto::{embedded_io_async::{FrameReader, FrameWriter}, CrcMode, message::{Gyro,
-    /// Message}}; let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0,
-    /// z: -0.2 }); let mut wire = [0u8; 80]; let n = block_on(FrameWriter::new(&mut
-    /// wire[..]).write_message(&gyro, CrcMode::Compute)).unwrap(); let mut reader =
-    /// FrameReader::<_, 64>::new(&wire[..n], aeolus_proto::Decoder::new());
+    /// use aeolus_proto::embedded_io_async::{FrameReader, FrameWriter};
+    /// use aeolus_proto::{CrcMode, Decoder, message::{Gyro, Message}};
+    /// let gyro = Message::Gyro(Gyro { valid: true, timestamp_ms: 7.0, x: 0.1, y: 0.0, z: -0.2 });
+    /// let mut wire = [0u8; 80];
+    /// let mut writer = FrameWriter::new(&mut wire[..]);
+    /// let n = block_on(writer.write_message(&gyro, CrcMode::Compute)).unwrap();
+    /// let mut reader = FrameReader::<_, 64>::new(&wire[..n], Decoder::new());
     /// assert_eq!(block_on(reader.read()).unwrap().message(), Ok(gyro));
     /// ```
     pub async fn write_message(

@@ -56,7 +56,8 @@ pub type CommandReader<T, const R: usize = 32> = frame_io::embedded_io::Reader<T
 /// let mut wire = [0u8; 19];
 /// let mut writer = Writer::new(&mut wire[..]);
 /// let n = writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value: 1500
-/// }))?; assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
+///     }))?;
+/// assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
 /// # Ok::<(), aok_proto::IoError<embedded_io::SliceWriteError>>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -104,7 +105,8 @@ impl<W: Write> Writer<W> {
     /// use aok_proto::{embedded_io::Writer, Ack, Message, ReplyForm};
     /// let mut wire = [0u8; 4];
     /// assert_eq!(Writer::new(&mut wire[..]).write_message(&Message::Ack(Ack::Ok),
-    /// ReplyForm::Headed), Ok(1)); assert_eq!(wire[0], b'O');
+    ///     ReplyForm::Headed), Ok(1));
+    /// assert_eq!(wire[0], b'O');
     /// ```
     pub fn write_message(
         &mut self,

@@ -80,7 +80,8 @@ pub type CommandReader<T, const R: usize = 32> =
 /// let mut wire = [0u8; 19];
 /// let mut writer = Writer::new(&mut wire[..]);
 /// let n = block_on(writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value:
-/// 1500 })))?; assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
+///     1500 })))?;
+/// assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
 /// # Ok::<(), aok_proto::IoError<embedded_io::SliceWriteError>>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -140,7 +141,8 @@ impl<W: Write> Writer<W> {
     /// use aok_proto::{embedded_io_async::Writer, Ack, Message, ReplyForm};
     /// let mut wire = [0u8; 4];
     /// assert_eq!(block_on(Writer::new(&mut wire[..]).write_message(&Message::Ack(Ack::Ok),
-    /// ReplyForm::Headed)), Ok(1)); assert_eq!(wire[0], b'O');
+    ///     ReplyForm::Headed)), Ok(1));
+    /// assert_eq!(wire[0], b'O');
     /// ```
     pub async fn write_message(
         &mut self,

@@ -81,13 +81,14 @@ impl<W: Write> FrameWriter<W> {
     /// [`IoError::Transport`] or [`IoError::WriteZero`], and the message may be partly sent.
     ///
     /// ```
-    /// use aydp_proto::{Decoder, embedded_io::{FrameReader, FrameWriter}, Message, Position,
-    /// Profile, Timestamp}; let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5
-    /// }; let mut wire = [0u8; 64]; let mut writer = FrameWriter::new(&mut wire[..],
-    /// Profile::Spec); let n = writer.write_message(&pos, Some(Timestamp::new(1_700_000_000,
-    /// 250))).unwrap(); let mut reader = FrameReader::<_, 64>::new(&wire[..n],
-    /// Decoder::new(Profile::Spec)); assert_eq!(reader.read().unwrap().message(),
-    /// Ok(Message::Position(pos)));
+    /// use aydp_proto::embedded_io::{FrameReader, FrameWriter};
+    /// use aydp_proto::{Decoder, Message, Position, Profile, Timestamp};
+    /// let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
+    /// let mut wire = [0u8; 64];
+    /// let mut writer = FrameWriter::new(&mut wire[..], Profile::Spec);
+    /// let n = writer.write_message(&pos, Some(Timestamp::new(1_700_000_000, 250))).unwrap();
+    /// let mut reader = FrameReader::<_, 64>::new(&wire[..n], Decoder::new(Profile::Spec));
+    /// assert_eq!(reader.read().unwrap().message(), Ok(Message::Position(pos)));
     /// ```
     pub fn write_message<P: Payload + ?Sized>(
         &mut self,

@@ -99,12 +99,14 @@ impl<W: Write> FrameWriter<W> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// use aydp_proto::{Decoder, embedded_io_async::{FrameReader, FrameWriter}, Message, Position,
-    /// Profile, Timestamp}; let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5
-    /// }; let mut wire = [0u8; 64]; let mut writer = FrameWriter::new(&mut wire[..],
-    /// Profile::Spec); let n = block_on(writer.write_message(&pos,
-    /// Some(Timestamp::new(1_700_000_000, 250)))).unwrap(); let mut reader = FrameReader::<_,
-    /// 64>::new(&wire[..n], Decoder::new(Profile::Spec));
+    /// use aydp_proto::embedded_io_async::{FrameReader, FrameWriter};
+    /// use aydp_proto::{Decoder, Message, Position, Profile, Timestamp};
+    /// let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
+    /// let mut wire = [0u8; 64];
+    /// let mut writer = FrameWriter::new(&mut wire[..], Profile::Spec);
+    /// let stamp = Some(Timestamp::new(1_700_000_000, 250));
+    /// let n = block_on(writer.write_message(&pos, stamp)).unwrap();
+    /// let mut reader = FrameReader::<_, 64>::new(&wire[..n], Decoder::new(Profile::Spec));
     /// assert_eq!(block_on(reader.read()).unwrap().message(), Ok(Message::Position(pos)));
     /// ```
     pub async fn write_message<P: Payload + ?Sized>(

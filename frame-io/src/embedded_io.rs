@@ -189,7 +189,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
 /// let mut w = &mut out[..];
 /// assert_eq!(write_all::<_, ()>(&mut w, &[1, 2]), Ok(()));
 /// assert_eq!(write_all::<_, ()>(&mut w, &[3, 4, 5]),
-/// Err(IoError::Transport(SliceWriteError::Full))); assert_eq!(out, [1, 2, 3, 4]);
+///     Err(IoError::Transport(SliceWriteError::Full)));
+/// assert_eq!(out, [1, 2, 3, 4]);
 /// ```
 pub fn write_all<W: Write, P>(w: &mut W, mut bytes: &[u8]) -> Result<(), IoError<W::Error, P>> {
     while !bytes.is_empty() {

@@ -145,7 +145,9 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let mut reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[1u8, 2, 3][..],
-    /// Bytes); assert_eq!(block_on(reader.read()), Ok(1)); assert_eq!(reader.unread(), 2);
+    ///     Bytes);
+    /// assert_eq!(block_on(reader.read()), Ok(1));
+    /// assert_eq!(reader.unread(), 2);
     /// ```
     pub fn unread(&self) -> usize {
         self.core.unread()
@@ -218,7 +220,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
 /// let mut w = &mut out[..];
 /// assert_eq!(block_on(write_all::<_, ()>(&mut w, &[1, 2])), Ok(()));
 /// assert_eq!(block_on(write_all::<_, ()>(&mut w, &[3, 4, 5])),
-/// Err(IoError::Transport(SliceWriteError::Full))); assert_eq!(out, [1, 2, 3, 4]);
+///     Err(IoError::Transport(SliceWriteError::Full)));
+/// assert_eq!(out, [1, 2, 3, 4]);
 /// ```
 pub async fn write_all<W: Write, P>(
     w: &mut W,
