@@ -58,3 +58,38 @@ fn a_datagram_is_read_to_its_end() {
 fn frame_bytes_ends_after_the_frame() {
     assert_eq!(returns("FrameBytes", frame_bytes), frame(82));
 }
+
+/// What the blocking reader returns over two frames and a cut one, up to the end of the stream
+/// (at most 8 reads: the test fails rather than spins if the end is never reported).
+#[cfg(feature = "embedded-io")]
+fn reader_results() -> Vec<Result<u8, crate::IoError<core::convert::Infallible>>> {
+    let wire = [frame(82), frame(83), std::vec![0x7E, 0x52, 0x01]].concat();
+    let mut reader =
+        crate::embedded_io::FrameReader::<_, 64>::new(&wire[..], crate::Decoder::new());
+    let mut got = Vec::new();
+    for _ in 0..8 {
+        let r = reader.read().map(|f| f.id());
+        let end = r == Err(crate::IoError::Eof);
+        got.push(r);
+        if end {
+            break;
+        }
+    }
+    got
+}
+
+#[cfg(feature = "embedded-io")]
+#[test]
+fn the_reader_reports_the_end_of_the_stream_once() {
+    use crate::IoError;
+    let got = returns("FrameReader::read", reader_results);
+    assert_eq!(
+        got,
+        [
+            Ok(82),
+            Ok(83),
+            Err(IoError::UnexpectedEof { pending: 2 }),
+            Err(IoError::Eof)
+        ]
+    );
+}

@@ -205,4 +205,9 @@ fn encode_reports_buffer_too_small() {
         Gyro::default().emit(&mut [0u8; 31]),
         Err(Error::BufferTooSmall { needed: Gyro::LEN })
     );
+    // A text's data is the text and its NUL.
+    assert_eq!(
+        Text::new("AEOLUS on").unwrap().emit(&mut [0u8; 9]),
+        Err(Error::BufferTooSmall { needed: 10 })
+    );
 }
