@@ -512,13 +512,19 @@ fn the_client_is_busy_from_start_to_outcome_and_idle_after() {
     // A second operation is refused while the first runs.
     assert!(c.start(Command::ReadParameter(13)).is_err());
     let mut now = clock();
-    let outcome = loop {
+    // Bounded: a client that never concludes fails here instead of hanging the test.
+    let mut outcome = None;
+    for _ in 0..10_000 {
         match c.poll(now()) {
-            Ok(o) => break o,
+            Ok(o) => {
+                outcome = Some(o);
+                break;
+            }
             Err(nb::Error::WouldBlock) => assert!(!c.is_idle()),
             Err(nb::Error::Other(e)) => panic!("{e:?}"),
         }
-    };
+    }
+    let outcome = outcome.expect("no outcome in 10,000 polls");
     assert!(matches!(outcome, Outcome::Parameter(p) if p.number == 12));
     assert!(c.is_idle());
 }

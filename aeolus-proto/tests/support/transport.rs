@@ -90,12 +90,17 @@ impl Future for YieldOnce {
 pub fn block_on<F: Future>(f: F) -> F::Output {
     let mut f = pin!(f);
     let mut cx = Context::from_waker(Waker::noop());
-    loop {
+    // Far more polls than any test's future needs: a future that never completes (a loop of
+    // the code under test that makes no progress) fails the test instead of hanging it.
+    const MAX_POLLS: u32 = 1_000_000;
+    for _ in 0..MAX_POLLS {
         if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
             return v;
         }
     }
+    panic!("the future did not complete in {MAX_POLLS} polls: a loop makes no progress")
 }
+
 
 /// A transport that takes at most `max` bytes per write, and fails once at `fail_at`.
 pub struct Sink {
