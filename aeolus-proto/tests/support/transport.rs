@@ -101,7 +101,6 @@ pub fn block_on<F: Future>(f: F) -> F::Output {
     panic!("the future did not complete in {MAX_POLLS} polls: a loop makes no progress")
 }
 
-
 /// A transport that takes at most `max` bytes per write, and fails once at `fail_at`.
 pub struct Sink {
     pub out: Vec<u8>,
