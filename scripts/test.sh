@@ -134,7 +134,13 @@ cargo +"$MSRV" build -q -p gdl90-proto --target thumbv6m-none-eabi --release
 step "publish dry run: every library packages and builds as crates.io would see it"
 # gdl90-proto depends on aeolus-proto, and the three protocol crates on frame-io, which are not
 # on crates.io: cargo resolves them from the packages of this same run (cargo >= 1.90 packages
-# workspace members together).
+# workspace members together). Cargo extracts those packages under registry/src/-<hash>/ and
+# reuses an extraction of the same name and version on the next run, even when the package has
+# changed since (seen: gdl90-proto verified against an aeolus-proto of an earlier run, without
+# a field added since): the extractions of this workspace's own crates go first.
+for c in frame-io aeolus-proto aydp-proto aok-proto gdl90-proto; do
+  rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/"$c"-0.1.0
+done
 cargo publish --dry-run -q --allow-dirty -p frame-io -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
 
 step "panic-never: link-time proof that no panic path survives (checks/panic-never, thumbv7m and thumbv6m)"
