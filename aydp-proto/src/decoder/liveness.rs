@@ -1,8 +1,8 @@
 //! Every entry point of the decoder returns, whatever the stream: each of its loops consumes
-//! a byte or hands out an event per turn. A unit test rather than an integration test because
-//! the library's unit tests run first: a rule that stops consuming (a loop that makes no
-//! progress) fails here, at a deadline far above the microseconds the work takes, instead of
-//! hanging the integration tests behind it.
+//! a byte or hands out an event per turn; and the encoder's byte iterator ends. Unit tests
+//! rather than integration tests because the library's unit tests run first: a rule that
+//! stops consuming (a loop that makes no progress) fails here, at a deadline far above the
+//! microseconds the work takes, instead of hanging the integration tests behind it.
 
 extern crate std;
 
@@ -100,4 +100,30 @@ fn feed_at_every_cut_returns_with_the_same_events() {
     for (cut, got) in returns("feed", by_feed_at_every_cut).iter().enumerate() {
         assert_eq!(got, &push, "cut at {cut}");
     }
+}
+
+/// A position report as the encoder's byte iterator gives it, and as `encode` writes it.
+fn encoded_both_ways() -> (Vec<u8>, Vec<u8>) {
+    use crate::{Encoder, Position, Timestamp};
+    let pos = Position {
+        latitude: 50.5,
+        longitude: -1.25,
+        altitude: 12.5,
+    };
+    let enc = Encoder::new(Profile::Spec);
+    let stamp = Some(Timestamp::new(1_700_000_000, 250));
+    let by_iter: Vec<u8> = enc
+        .iter(&pos, stamp)
+        .map(|b| b.collect())
+        .unwrap_or_default();
+    let mut buf = [0u8; 64];
+    let n = enc.encode(&pos, stamp, &mut buf).unwrap_or(0);
+    (by_iter, buf[..n].to_vec())
+}
+
+#[test]
+fn the_encoders_byte_iterator_ends_with_the_message() {
+    let (by_iter, by_encode) = returns("Encoder::iter", encoded_both_ways);
+    assert!(!by_encode.is_empty());
+    assert_eq!(by_iter, by_encode);
 }
