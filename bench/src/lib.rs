@@ -5,8 +5,9 @@
 
 pub use bench_kernels::*;
 
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::*};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
 use aydp_proto::{Encoder, Profile, Timestamp};
+use protolink_tests::aeolus_gen::{self, Kind::*, Values};
 use protolink_tests::rng::Rng;
 
 /// Size of every input stream.
@@ -19,62 +20,10 @@ pub fn aeolus_stream() -> Vec<u8> {
     let mut t = 0.0;
     while out.len() < STREAM {
         t += 1.0;
-        let msg = match rng.below(8) {
-            0 => Message::Gyro(Gyro {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            1 => Message::Accel(Accel {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            2 => Message::Magnet(Magnet {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            3 => Message::Pressure(Pressure {
-                valid: true,
-                timestamp_ms: t,
-                static_mbar: rng.f32(),
-                pitot_mbar: rng.f32(),
-                airspeed_mps: rng.f32(),
-            }),
-            4 | 5 => Message::Attitude(Attitude {
-                valid: true,
-                timestamp_ms: t,
-                roll_rad: rng.f32(),
-                pitch_rad: rng.f32(),
-                yaw_rad: rng.f32(),
-                slip_ball: 0.0,
-                turn_coordinator: rng.f32(),
-                qx: rng.f32(),
-                qy: rng.f32(),
-                qz: rng.f32(),
-                qw: rng.f32(),
-            }),
-            6 => Message::Compass(Compass {
-                valid: true,
-                timestamp_ms: t,
-                heading_deg: rng.f32(),
-                ..Compass::default()
-            }),
-            _ => Message::Gps(Gps {
-                valid: true,
-                has_fix: true,
-                satellites: 9,
-                timestamp_ms: t,
-                ..Gps::default()
-            }),
-        };
+        let kind = [
+            Gyro, Accel, Magnet, Pressure, Attitude, Attitude, Compass, Gps,
+        ][rng.below(8) as usize];
+        let msg = aeolus_gen::message(&mut rng, kind, t, Values::Telemetry);
         let mut buf = [0u8; max_encoded_len(80)];
         let n = msg.encode(&mut buf, CrcMode::Compute).unwrap();
         out.extend_from_slice(&buf[..n]);

@@ -3,6 +3,7 @@
 //! delivered against what was sent; and the app's side of an AEOLUS box on UDP; headless
 //! Chromium for the browser tests of `protolink web`; skips that are never silent.
 
+pub mod aeolus_gen;
 pub mod aeolus_udp;
 pub mod browser;
 pub mod channel;

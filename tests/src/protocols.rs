@@ -2,12 +2,13 @@
 //! and naive decoders reduced to the keys of the frames they deliver.
 
 use crate::{
+    aeolus_gen,
     channel::Channel,
     naive,
     rng::Rng,
     score::{Figures, score},
 };
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::*};
+use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
 
 /// A protocol under test.
 pub trait Protocol {
@@ -54,83 +55,14 @@ pub struct Aeolus {
 }
 
 impl Aeolus {
+    /// One of the nine types the generator builds, every field random.
     fn random_message(rng: &mut Rng) -> Message<'static> {
+        use aeolus_gen::Kind::*;
         let t = rng.f64();
-        match rng.below(9) {
-            0 => Message::Gyro(Gyro {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            1 => Message::Accel(Accel {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            2 => Message::Magnet(Magnet {
-                valid: true,
-                timestamp_ms: t,
-                x: rng.f32(),
-                y: rng.f32(),
-                z: rng.f32(),
-            }),
-            3 => Message::Pressure(Pressure {
-                valid: true,
-                timestamp_ms: t,
-                static_mbar: rng.f32(),
-                pitot_mbar: rng.f32(),
-                airspeed_mps: rng.f32(),
-            }),
-            4 => Message::Attitude(Attitude {
-                valid: true,
-                timestamp_ms: t,
-                roll_rad: rng.f32(),
-                pitch_rad: rng.f32(),
-                yaw_rad: rng.f32(),
-                slip_ball: rng.f32(),
-                turn_coordinator: rng.f32(),
-                qx: rng.f32(),
-                qy: rng.f32(),
-                qz: rng.f32(),
-                qw: rng.f32(),
-            }),
-            5 => Message::Compass(Compass {
-                valid: true,
-                calibration: CalibrationStatus::Ok,
-                has_value: true,
-                calibration_percent: 100,
-                calibration_remaining: 0,
-                timestamp_ms: t,
-                heading_deg: rng.f32(),
-                soft_iron: [rng.f32(), rng.f32(), rng.f32()],
-                hard_iron: [rng.f32(); 9],
-            }),
-            6 => Message::Gps(Gps {
-                valid: true,
-                has_fix: true,
-                satellites: rng.byte(),
-                timestamp_ms: t,
-                latitude_deg: rng.f32(),
-                longitude_deg: rng.f32(),
-                altitude_m: rng.f32(),
-                ground_speed_mps: rng.f32(),
-            }),
-            7 => {
-                let n = rng.below(40) as usize;
-                let text: Vec<u8> = (0..n).map(|_| 1 + rng.byte() % 255).collect();
-                Message::Toast(Text::from_bytes(&text).unwrap_or_default())
-            }
-            _ => Message::Wind(Wind {
-                valid: true,
-                timestamp_ms: t,
-                speed_mps: rng.f32(),
-                direction_deg: rng.f32(),
-            }),
-        }
+        let kind = [
+            Gyro, Accel, Magnet, Pressure, Attitude, Compass, Gps, Toast, Wind,
+        ][rng.below(9) as usize];
+        aeolus_gen::message(rng, kind, t, aeolus_gen::Values::All)
     }
 }
 
