@@ -104,19 +104,6 @@ pub(crate) const fn update_word(c: u32, word: u32) -> u32 {
     step2(c) ^ (word << 16)
 }
 
-/// [`update_word`] over every four bytes of a machine word's worth of bytes, in order (one
-/// step on 32-bit targets, two on 64-bit hosts).
-#[cfg(target_pointer_width = "64")]
-#[inline(always)]
-pub(crate) fn update_words(mut c: u32, bytes: &[u8; crate::scan::WORD]) -> u32 {
-    let mut rest: &[u8] = bytes;
-    while let Some((q, tail)) = rest.split_first_chunk::<4>() {
-        c = update_word(c, u32::from_be_bytes(*q));
-        rest = tail;
-    }
-    c
-}
-
 /// What the CRC run over a whole frame (ID, data **and** the two received CRC bytes) comes to
 /// when the received CRC is right: the CRC of the body continued over its own two bytes, low
 /// byte first. Two table steps are a linear, invertible map of the CRC (multiplication by

@@ -330,11 +330,18 @@ impl<const N: usize> Decoder<N> {
     /// Inside a frame, copies the leading run of ordinary bytes of `bytes` that still fits
     /// and returns the rest; outside a frame returns `bytes` as is.
     ///
-    /// One pass, four bytes a step: a word is loaded, tested for 0x7D/0x7E, stored, and run
-    /// through the CRC. The word holding the first special byte is stored whole (the bytes
-    /// from the special on lie past the new length and mean nothing); its leading ordinary
-    /// bytes are left for the CRC to catch up with later. Fewer than four bytes of input or of
-    /// room are left to the byte-at-a-time step.
+    /// On 32-bit targets one pass, four bytes a step: a word is loaded, tested for 0x7D/0x7E,
+    /// stored, and run through the CRC. The word holding the first special byte is stored
+    /// whole (the bytes from the special on lie past the new length and mean nothing); its
+    /// leading ordinary bytes are left for the CRC to catch up with later. Fewer than four
+    /// bytes of input or of room are left to the byte-at-a-time step.
+    ///
+    /// On 64-bit hosts two passes: the run is found a machine word a step, copied with one
+    /// `copy_from_slice`, and the CRC left to catch up over the whole frame at its closing
+    /// flag (`end_frame`). Under callgrind on x86-64 that is 0.75 instructions a byte fewer
+    /// than the fused loop (full decode through `feed` 15.4 -> 14.65): the host's `memcpy`
+    /// copies faster than eight-byte stores interleaved with the CRC, which Cortex-M3 has no
+    /// use for (there the fused loop was measured 12.7 against 16.2 for two passes).
     #[inline(always)]
     fn copy_run<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
         if self.state != State::Frame {
@@ -344,56 +351,51 @@ impl<const N: usize> Decoder<N> {
         let Some((held, room)) = self.buf.split_at_mut_checked(at) else {
             return bytes;
         };
-        let mut c = self.crc;
-        if self.crc_at != at {
-            c = crc::update_slice(c, held.get(self.crc_at..).unwrap_or(&[]));
-        }
-        let mut c = (c as u32) << 16;
-        let mut src = bytes;
-        let mut dst = room;
-        let mut covered = 0;
-        let mut run = 0;
-        // Slice patterns rather than `chunks_exact().zip()`: at opt-level "s" they compile to
-        // a plain pointer loop with no bounds checks. Four bytes a step on 32-bit targets (the
-        // machine-word form of the same loop compiles worse there: 13.2 against 12.7 on
-        // Cortex-M3), a machine word on 64-bit hosts.
-        #[cfg(not(target_pointer_width = "64"))]
-        while let (Some((s, s_rest)), Some((d, d_rest))) = (
-            src.split_first_chunk::<4>(),
-            core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
-        ) {
-            *d = *s;
-            let w = u32::from_le_bytes(*s);
-            let hits = special_bytes(w);
-            if hits != 0 {
-                run = covered + (hits.trailing_zeros() / 8) as usize;
-                break;
-            }
-            c = crc::update_word(c, w.swap_bytes());
-            covered += 4;
-            run = covered;
-            src = s_rest;
-            dst = d_rest;
-        }
         #[cfg(target_pointer_width = "64")]
-        while let (Some((s, s_rest)), Some((d, d_rest))) = (
-            src.split_first_chunk::<WORD>(),
-            core::mem::take(&mut dst).split_first_chunk_mut::<WORD>(),
-        ) {
-            *d = *s;
-            let hits = special_in_word(usize::from_le_bytes(*s));
-            if hits != 0 {
-                run = covered + (hits.trailing_zeros() / 8) as usize;
-                break;
+        let run = {
+            let _ = held;
+            let run = ordinary_run(bytes.get(..room.len()).unwrap_or(bytes));
+            if let (Some(d), Some(s)) = (room.get_mut(..run), bytes.get(..run)) {
+                d.copy_from_slice(s);
             }
-            c = crc::update_words(c, s);
-            covered += WORD;
-            run = covered;
-            src = s_rest;
-            dst = d_rest;
-        }
-        self.crc = (c >> 16) as u16;
-        self.crc_at = at + covered;
+            run
+        };
+        #[cfg(not(target_pointer_width = "64"))]
+        let run = {
+            let mut c = self.crc;
+            if self.crc_at != at {
+                c = crc::update_slice(c, held.get(self.crc_at..).unwrap_or(&[]));
+            }
+            let mut c = (c as u32) << 16;
+            let mut src = bytes;
+            let mut dst = room;
+            let mut covered = 0;
+            let mut run = 0;
+            // Slice patterns rather than `chunks_exact().zip()`: at opt-level "s" they compile
+            // to a plain pointer loop with no bounds checks. Four bytes a step (the
+            // machine-word form of the same loop compiles worse here: 13.2 against 12.7 on
+            // Cortex-M3).
+            while let (Some((s, s_rest)), Some((d, d_rest))) = (
+                src.split_first_chunk::<4>(),
+                core::mem::take(&mut dst).split_first_chunk_mut::<4>(),
+            ) {
+                *d = *s;
+                let w = u32::from_le_bytes(*s);
+                let hits = special_bytes(w);
+                if hits != 0 {
+                    run = covered + (hits.trailing_zeros() / 8) as usize;
+                    break;
+                }
+                c = crc::update_word(c, w.swap_bytes());
+                covered += 4;
+                run = covered;
+                src = s_rest;
+                dst = d_rest;
+            }
+            self.crc = (c >> 16) as u16;
+            self.crc_at = at + covered;
+            run
+        };
         self.at = at + run;
         bytes.get(run..).unwrap_or(&[])
     }
@@ -485,6 +487,24 @@ impl<const N: usize> Decoder<N> {
         }
         Some(result)
     }
+}
+
+/// How many leading bytes of `bytes` are ordinary (neither flag nor escape), a machine word a
+/// step; a tail shorter than a word is left to the byte-at-a-time step.
+#[cfg(target_pointer_width = "64")]
+#[inline(always)]
+fn ordinary_run(bytes: &[u8]) -> usize {
+    let mut run = 0;
+    let mut rest = bytes;
+    while let Some((w, tail)) = rest.split_first_chunk::<WORD>() {
+        let hits = special_in_word(usize::from_le_bytes(*w));
+        if hits != 0 {
+            return run + (hits.trailing_zeros() / 8) as usize;
+        }
+        run += WORD;
+        rest = tail;
+    }
+    run
 }
 
 const STATS0: Stats = Stats {
