@@ -2,6 +2,9 @@
 //! delay: the debug-off / drain / request / reply / debug-on sequence, acks, refusals,
 //! timeouts and transport errors.
 
+#[path = "support/watchdog.rs"]
+mod watchdog;
+
 #[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
@@ -149,6 +152,7 @@ fn client(device: Device) -> (AsyncClient<Device, Clock>, Rc<Cell<u32>>) {
 
 #[test]
 fn read_parameter_turns_debug_off_drains_asks_and_turns_it_on_again() {
+    watchdog::arm();
     let mut device = Device::new();
     device.params[12] = 1500;
     // Debug values still on the line when the client starts: the drain takes them.
@@ -185,6 +189,7 @@ fn read_parameter_turns_debug_off_drains_asks_and_turns_it_on_again() {
 
 #[test]
 fn set_parameter_is_acked_or_refused() {
+    watchdog::arm();
     let (mut c, t) = client(Device::new());
     assert_eq!(block_on(c.set_parameter(3, -7, || t.get())), Ok(()));
     let (mut device, delay) = c.release();
@@ -204,6 +209,7 @@ fn set_parameter_is_acked_or_refused() {
 
 #[test]
 fn a_silent_device_times_out_and_debug_is_restored() {
+    watchdog::arm();
     let mut device = Device::new();
     device.answer = false;
     let (mut c, t) = client(device);
@@ -228,6 +234,7 @@ fn a_silent_device_times_out_and_debug_is_restored() {
 
 #[test]
 fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
+    watchdog::arm();
     let mut device = Device::new();
     device.answer = false;
     device.debug = false;
@@ -247,6 +254,7 @@ fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
 
 #[test]
 fn a_failing_transport_is_a_serial_error() {
+    watchdog::arm();
     let mut device = Device::new();
     device.fail_writes = true;
     let (mut c, t) = client(device);
@@ -259,6 +267,7 @@ fn a_failing_transport_is_a_serial_error() {
 
 #[test]
 fn commands_without_a_reply_are_just_sent() {
+    watchdog::arm();
     let mut device = Device::new();
     device.debug = false;
     let (mut c, t) = client(device);
