@@ -1,27 +1,32 @@
 #!/usr/bin/env python3
-"""Fails when a per-byte figure of the published Cortex-M3 table rises by more than 3 %.
+"""Fails when a per-byte figure of a published instruction-count table rises by more than 3 %.
 
-    python3 scripts/bench-check.py              # runs scripts/cm3-bench.sh, compares
-    python3 scripts/bench-check.py --from FILE  # compares the table in FILE (cm3-bench.sh's output)
-    python3 scripts/bench-check.py --write      # runs it and puts its table into docs/BENCHMARKS.md
+    python3 scripts/bench-check.py                          # measures both tables, compares
+    python3 scripts/bench-check.py --only x86|cm3           # one of them
+    python3 scripts/bench-check.py --only x86|cm3 --from F  # compares F (the measuring script's output)
+    python3 scripts/bench-check.py [--only x86|cm3] --write # measures and puts the tables into the page
 
-The Cortex-M3 counts are executed instructions under QEMU's `-icount shift=0`, exact and
-repeatable for a given binary (cm3-bench.sh runs every build twice and fails if the two runs
-differ), so a rise is a change of the code, never noise. Every row of the section "Cortex-M3
-instruction counts" of docs/BENCHMARKS.md is compared by its label, as instructions divided by
-bytes: a rise above 3 % fails (exit 1), a fall of more than 3 % is reported as a stale table
+The two tables of docs/BENCHMARKS.md it guards:
+- "Instructions per byte (x86-64, callgrind)": the `codecs` bench of bench/ under callgrind
+  (gungraun), measured with scripts/bench.py's own functions (needs valgrind and
+  gungraun-runner 0.20, which it installs if missing: `scripts/setup.sh bench`).
+- "Cortex-M3 instruction counts": scripts/cm3-bench.sh, QEMU's `-icount shift=0`.
+
+Both are counts of executed instructions, exact and repeatable for a given binary, so a rise is
+a change of the code, never noise. Every row is compared by its label, as instructions divided
+by bytes: a rise above 3 % fails (exit 1), a fall of more than 3 % is reported as a stale table
 (regenerate it with --write, or `python3 scripts/bench.py`), a row missing from either side
-fails. `--write` replaces that section by the new output, so the published table is the one the
-next comparison holds the code to.
+fails. `--write` replaces the section by the new output, so the published table is the one the
+next comparison holds the code to; it writes the x86 table first, because the Cortex-M3 table
+shows the x86 figures beside its own.
 """
-import re
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "BENCHMARKS.md"
-HEADING = "## Cortex-M3 instruction counts"
 LIMIT = 0.03
 
 
@@ -35,13 +40,20 @@ def rows(text):
     return out
 
 
-def section(doc):
-    """The Cortex-M3 section of the page: from its heading to the next heading of its level."""
-    start = doc.find(HEADING)
+def section(doc, heading):
+    """The section of the page that starts with `heading`: up to the next heading of its level."""
+    start = doc.find(heading)
     if start < 0:
-        sys.exit(f"bench-check: no section '{HEADING}' in {DOC}")
-    end = doc.find("\n## ", start + len(HEADING))
+        sys.exit(f"bench-check: no section '{heading}' in {DOC}")
+    end = doc.find("\n## ", start + len(heading))
     return start, (len(doc) if end < 0 else end + 1)
+
+
+def run_x86():
+    spec = importlib.util.spec_from_file_location("bench", ROOT / "scripts" / "bench.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return "\n".join(bench.x86_section(bench.instruction_counts())) + "\n"
 
 
 def run_cm3():
@@ -53,47 +65,78 @@ def run_cm3():
     return "\n".join("#" + l if l.startswith("#") else l for l in r.stdout.splitlines()) + "\n"
 
 
-def main(argv):
-    if argv[:1] == ["--from"] and len(argv) == 2:
-        new_text = Path(argv[1]).read_text()
-    elif argv in ([], ["--write"]):
-        new_text = run_cm3()
-    else:
-        sys.exit("usage: bench-check.py [--from FILE | --write]")
+# Name, heading of its section in the page, how it is measured, what its figures are.
+TABLES = {
+    "x86": ("## Instructions per byte (x86-64, callgrind)", run_x86, "x86-64, callgrind"),
+    "cm3": ("## Cortex-M3 instruction counts", run_cm3, "Cortex-M3, -icount"),
+}
+
+
+def compare(name, new_text):
+    """Prints the comparison of one table; returns the failures."""
+    heading, _, what = TABLES[name]
     doc = DOC.read_text()
-    start, end = section(doc)
-    if argv == ["--write"]:
-        DOC.write_text(doc[:start] + new_text.rstrip("\n") + "\n\n" + doc[end:].lstrip("\n"))
-        print(f"bench-check: {DOC.relative_to(ROOT)}'s Cortex-M3 table rewritten")
-        return 0
+    start, end = section(doc, heading)
     published, measured = rows(doc[start:end]), rows(new_text)
     if not published:
-        sys.exit("bench-check: the published Cortex-M3 table has no rows")
+        return [f"the published {what} table has no rows"]
     failed, stale = [], []
-    print(f"{'published':>10} {'now':>10} {'change':>8}  per byte (Cortex-M3, -icount)")
+    print(f"{'published':>10} {'now':>10} {'change':>8}  per byte ({what})")
     for label, (n0, b0) in published.items():
         if label not in measured:
-            failed.append(f"'{label}' is published but was not measured")
+            failed.append(f"'{label}' ({what}) is published but was not measured")
             continue
         n1, b1 = measured[label]
         old, new = n0 / b0, n1 / b1
         change = new / old - 1
         print(f"{old:10.3f} {new:10.3f} {change:+8.2%}  {label}")
         if change > LIMIT:
-            failed.append(f"'{label}' rose from {old:.3f} to {new:.3f} instructions per byte ({change:+.2%})")
+            failed.append(f"'{label}' ({what}) rose from {old:.3f} to {new:.3f} instructions per byte ({change:+.2%})")
         elif change < -LIMIT:
             stale.append(label)
     for label in measured.keys() - published.keys():
-        failed.append(f"'{label}' was measured but is not published")
+        failed.append(f"'{label}' ({what}) was measured but is not published")
     if stale:
-        print(f"bench-check: {len(stale)} figure(s) fell by more than 3 %: the published table is stale "
-              "(python3 scripts/bench-check.py --write)")
-    if failed:
-        for f in failed:
-            print(f"bench-check: {f}", file=sys.stderr)
-        return 1
-    print(f"bench-check: {len(published)} per-byte figures within +3 % of the published table")
-    return 0
+        print(f"bench-check: {len(stale)} {what} figure(s) fell by more than 3 %: the published table is "
+              "stale (python3 scripts/bench-check.py --write)")
+    if not failed:
+        print(f"bench-check: {len(published)} {what} per-byte figures within +3 % of the published table")
+    return failed
+
+
+def write(name, new_text):
+    heading = TABLES[name][0]
+    doc = DOC.read_text()
+    start, end = section(doc, heading)
+    DOC.write_text(doc[:start] + new_text.rstrip("\n") + "\n\n" + doc[end:].lstrip("\n"))
+    print(f"bench-check: {DOC.relative_to(ROOT)}'s {TABLES[name][2]} table rewritten")
+
+
+def main(argv):
+    names, source, mode = list(TABLES), None, "check"
+    args = list(argv)
+    while args:
+        a = args.pop(0)
+        if a == "--only" and args and args[0] in TABLES:
+            names = [args.pop(0)]
+        elif a == "--from" and args:
+            source = Path(args.pop(0))
+        elif a == "--write":
+            mode = "write"
+        else:
+            sys.exit("usage: bench-check.py [--only x86|cm3] [--from FILE | --write]")
+    if source is not None and (len(names) != 1 or mode == "write"):
+        sys.exit("bench-check: --from compares one table: give --only x86 or --only cm3, and no --write")
+    failed = []
+    for name in names:
+        new_text = source.read_text() if source else TABLES[name][1]()
+        if mode == "write":
+            write(name, new_text)
+        else:
+            failed += compare(name, new_text)
+    for f in failed:
+        print(f"bench-check: {f}", file=sys.stderr)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

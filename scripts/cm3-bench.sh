@@ -154,8 +154,8 @@ BEGIN {
   label["crc_crate_xmodem"] = "peer: `crc` crate, CRC-16/XMODEM table"; extra["crc_crate_xmodem"] = "same bytes"
   label["aeolus_deframe"] = "AEOLUS deframe, `push` byte by byte"; target["aeolus_deframe"] = 20
   label["aeolus_decode"] = "AEOLUS full decode (deframe + typed parse), `push` byte by byte"; target["aeolus_decode"] = 20
-  label["aeolus_deframe_slice"] = "AEOLUS deframe, `push_slice`"; target["aeolus_deframe_slice"] = 10
-  label["aeolus_decode_slice"] = "AEOLUS full decode (deframe + typed parse), `push_slice`"; target["aeolus_decode_slice"] = 10
+  label["aeolus_deframe_slice"] = "AEOLUS deframe, `feed`"; target["aeolus_deframe_slice"] = 10
+  label["aeolus_decode_slice"] = "AEOLUS full decode (deframe + typed parse), `feed`"; target["aeolus_decode_slice"] = 10
   label["aydp_decode"] = "AYDP decode (Spec, typed parse), `push` byte by byte"; target["aydp_decode"] = 15
   label["aydp_decode_feed"] = "AYDP decode (Spec, typed parse), `feed`"; target["aydp_decode_feed"] = 5
   label["aok_pc_decode"] = "AOK PC side (device'"'"'s debug frames), `push` byte by byte"; target["aok_pc_decode"] = 15
@@ -228,7 +228,7 @@ END {
   printf "\n"
   if (("aeolus_crc" in value) && ("aeolus_decode_slice" in value)) {
     r = value["aeolus_decode_slice"] / value["aeolus_crc"]
-    printf "AEOLUS full decode (`push_slice`) / CRC alone = %.2f (target 2.2: %s).\n", r, (r <= 2.2 ? "met" : "missed")
+    printf "AEOLUS full decode (`feed`) / CRC alone = %.2f (target 2.2: %s).\n", r, (r <= 2.2 ? "met" : "missed")
   }
   if (("aeolus_crc" in value) && ("aeolus_decode" in value)) {
     r = value["aeolus_decode"] / value["aeolus_crc"]

@@ -10,6 +10,8 @@
 #                               `protolink web` drive it headless)
 #   scripts/setup.sh i686       + the i686 target and gcc-multilib (Debian): the protocol
 #                               libraries' tests also run with 32-bit words, as on the firmware
+#   scripts/setup.sh bench      + valgrind (Debian) and gungraun-runner 0.20 (crates.io): the x86-64
+#                               instruction counts of bench/ under callgrind (scripts/bench-check.py)
 #   scripts/setup.sh c          + what the C library's tests need: gcc-arm-none-eabi,
 #                               picolibc-arm-none-eabi and clang (Debian), cbindgen (crates.io,
 #                               it generates c-api/include/protolink.h), and the nightly
@@ -37,6 +39,10 @@ for want in "$@"; do
     defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
     tshark) command -v tshark >/dev/null || need_apt+=(tshark) ;;
     chromium) [ -x /usr/bin/chromium ] && command -v chromedriver >/dev/null || need_apt+=(chromium chromium-driver) ;;
+    bench)
+      command -v valgrind >/dev/null || need_apt+=(valgrind)
+      gungraun-runner --version 2>/dev/null | grep -q ' 0\.20\.' \
+        || cargo install --locked gungraun-runner --version 0.20.0 ;;
     i686)
       rustup target list --installed | grep -q '^i686-unknown-linux-gnu$' || rustup target add i686-unknown-linux-gnu
       dpkg -s gcc-multilib >/dev/null 2>&1 || need_apt+=(gcc-multilib) ;;

@@ -95,8 +95,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686 and the C tools (the QEMU, tshark, browser, 32-bit and C tests must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium i686 c
+step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools and valgrind (the QEMU, tshark, browser, 32-bit, C and callgrind checks must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py
@@ -190,7 +190,7 @@ cargo stm32-qemu-build -q
 
 # The Cortex-M3 instruction counts are exact (QEMU -icount), so they can guard themselves: a
 # per-byte figure more than 3 % above docs/BENCHMARKS.md's published table fails the run.
-step "per-byte regression check: the Cortex-M3 counts against the published table (scripts/bench-check.py)"
+step "per-byte regression check: the x86-64 (callgrind) and Cortex-M3 (-icount) counts against the published tables (scripts/bench-check.py)"
 python3 scripts/bench-check.py
 
 # Its own workspace (embassy-stm32, its own Cargo.lock and target/): built, not run (no board;

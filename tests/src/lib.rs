@@ -5,6 +5,7 @@
 
 pub mod aeolus_gen;
 pub mod aeolus_udp;
+#[cfg(feature = "browser")]
 pub mod browser;
 pub mod channel;
 pub mod examples;
