@@ -19,6 +19,9 @@
 #     --jobs N         cargo-mutants jobs (default 2)
 #     --out DIR        where mutants.out goes (default target/mutants)
 #     --report DIR     only print the table of an earlier run's DIR/mutants.out
+#     --again FILE     only the mutants named in FILE (one cargo-mutants name a line, e.g. an
+#                      earlier run's missed.txt or timeout.txt), matched by file, function and
+#                      mutation but not line and column: the lines may have moved since
 #     -- ARGS          pass ARGS on to cargo mutants (e.g. --shuffle, --timeout 60)
 #
 # A mutant the x86-64 tests miss is run again with the tests built for i686 (32-bit words, as
@@ -43,6 +46,7 @@ max=""
 jobs=2
 out=target/mutants
 report=""
+again_file=""
 check_exclusions=""
 extra=()
 while [ $# -gt 0 ]; do
@@ -54,6 +58,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --report) report=$2; shift 2 ;;
+    --again) again_file=$2; shift 2 ;;
     --check-exclusions) check_exclusions=1; shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "mutants.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
@@ -139,6 +144,16 @@ need_cargo_mutants() {
 args=(-j "$jobs" -o "$out")
 for c in "${crates[@]}"; do args+=(-p "$c"); done
 [ -z "$shard" ] || args+=(--shard "$shard" --sharding round-robin)
+if [ -n "$again_file" ]; then
+  [ -s "$again_file" ] || { echo "mutants: --again $again_file: no such file, or empty"; exit 2; }
+  while IFS= read -r m; do
+    [ -n "$m" ] || continue
+    # FILE:LINE:COL: MUTATION -> ^FILE:\d+:\d+: MUTATION$ (the rest escaped).
+    file=${m%%:*}
+    rest=${m#*:*:*: }
+    args+=(-F "^$(printf '%s' "$file" | sed 's/[][\\^$.|?*+(){}]/\\&/g'):[0-9]+:[0-9]+: $(printf '%s' "$rest" | sed 's/[][\\^$.|?*+(){}]/\\&/g')\$")
+  done <"$again_file"
+fi
 args+=("${extra[@]}")
 if [ -n "$in_diff" ]; then
   if ! git rev-parse -q --verify "$in_diff^{commit}" >/dev/null; then
