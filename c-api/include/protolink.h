@@ -371,7 +371,8 @@
 // `kind`: ForeFlight AHRS (0x65, sub-ID 1), `body.ahrs`.
 #define PL_GDL90_AHRS 5
 
-// `kind`: any other ID, raw `data`.
+// `kind`: any other ID, raw `data` (a Stratux AHRS report, ID 0x4C, comes as this kind with
+// no data: the C face does not type it yet).
 #define PL_GDL90_UNKNOWN 6
 
 // An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
