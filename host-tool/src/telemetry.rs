@@ -39,7 +39,7 @@ impl VerticalSpeed {
 
     /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
     /// starts again; values that are not finite are ignored.
-    fn take(&mut self, box_ms: f64, altitude_m: f64) {
+    pub(crate) fn take(&mut self, box_ms: f64, altitude_m: f64) {
         if !(box_ms.is_finite() && altitude_m.is_finite()) {
             return;
         }
