@@ -29,7 +29,7 @@ const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
 
 /// The vertical speed from the pressure altitude: samples at least
 /// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct VerticalSpeed {
     samples: VecDeque<(f64, f64)>,
 }
