@@ -142,6 +142,9 @@ impl Ports {
     pub const WEB: Ports = Ports(17_480);
     /// `realtime_flood::every_rate_and_every_answer_under_a_flood_on_all_three_uarts`.
     pub const REALTIME: Ports = Ports(17_490);
+    /// `nmea_qemu::an_app_reads_the_firmwares_flight_as_nmea` (UART ports, then the NMEA
+    /// server at +7).
+    pub const NMEA: Ports = Ports(17_500);
 }
 
 impl Ports {
