@@ -5,7 +5,7 @@
 //! * A `protolink ...` line (or `cargo run -q -p protolink -- ...`) runs on this test's own
 //!   ports (`examples::adapt`); one that talks to a box on UDP gets `protolink sim` as the box.
 //! * A `$ ` line followed by output lines must print those lines: each shown line appears in
-//!   what it printed (the counters of a `summary:` or `gdl90:` line may differ, so digits are
+//!   what it printed (the counters of a `summary:`, `gdl90:` or `nmea:` line may differ, so digits are
 //!   compared as "a number" there). `...` stands for lines left out.
 //! * `curl` of the page runs against a `protolink web` on this test's page port, `tshark` on
 //!   the capture the block recorded, `protolink wireshark > FILE` into a temporary file.
@@ -215,6 +215,7 @@ fn check_shown(ex: &Example, printed: &str, env: &Env) -> Result<(), String> {
         let counters = [
             "summary:",
             "gdl90:",
+            "nmea:",
             "bridge:",
             "sim:",
             "web:",
