@@ -144,7 +144,7 @@ impl Drop for Running {
 
 /// Runs `protolink` in the workspace root, where the READMEs' relative paths start.
 fn run(args: &[String]) -> Output {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(args)
         .current_dir(workspace_root())
         .stdin(Stdio::null())
@@ -157,7 +157,7 @@ fn run(args: &[String]) -> Output {
 
 /// `protolink gdl90` from the simulated box to the EFB port (for an example that reads it).
 fn start_gdl90(env: &Env) -> Running {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(["gdl90", "--from", &format!("udp:{}", env.box_out)])
         .args(["--to", &format!("127.0.0.1:{}", env.efb), "--seconds", "15"])
         .stdout(Stdio::null())
@@ -168,7 +168,7 @@ fn start_gdl90(env: &Env) -> Running {
 }
 
 fn start_sim(env: &Env) -> Running {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(["sim", "--udp-out", &format!("127.0.0.1:{}", env.box_out)])
         .args(["--udp-in", &env.box_in.to_string(), "--seconds", "15"])
         .stdout(Stdio::null())
