@@ -16,6 +16,8 @@
 #                               picolibc-arm-none-eabi and clang (Debian), cbindgen (crates.io,
 #                               it generates c-api/include/protolink.h), and the nightly
 #                               toolchain's miri component (the C API's Rust tests under Miri)
+#   scripts/setup.sh python     + python3 and pip (Debian) and pynmea2 1.19.0 (PyPI): the NMEA
+#                               test has an outside library parse `protolink nmea`'s output
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -33,6 +35,7 @@ rustup +"$MSRV" target list --installed | grep -q thumbv6m-none-eabi \
   || rustup +"$MSRV" target add thumbv6m-none-eabi
 
 need_apt=()
+need_pynmea2=0
 for want in "$@"; do
   case "$want" in
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
@@ -56,6 +59,10 @@ for want in "$@"; do
       rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
       rustup +nightly component list --installed | grep -q '^miri' \
         || rustup +nightly component add miri rust-src ;;
+    python)
+      command -v python3 >/dev/null || need_apt+=(python3)
+      python3 -m pip --version >/dev/null 2>&1 || need_apt+=(python3-pip)
+      python3 -c 'import pynmea2' 2>/dev/null || need_pynmea2=1 ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done
@@ -65,4 +72,11 @@ if [ ${#need_apt[@]} -gt 0 ]; then
   # tshark's package asks whether non-root users may capture: answer no, never prompt.
   echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections 2>/dev/null || true
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
+fi
+# After apt (python3 and pip may have just come from it). A Debian python3 refuses a
+# system-wide pip install (PEP 668) unless told: then the user's site-packages take it.
+if [ "$need_pynmea2" = 1 ]; then
+  python3 -m pip install -q pynmea2==1.19.0 2>/dev/null \
+    || python3 -m pip install -q --user --break-system-packages pynmea2==1.19.0
+  python3 -c 'import pynmea2'
 fi

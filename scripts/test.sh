@@ -95,8 +95,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools and valgrind (the QEMU, tshark, browser, 32-bit, C and callgrind checks must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench
+step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind and python3 with pynmea2 (the QEMU, tshark, browser, 32-bit, C, callgrind and NMEA checks must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py

@@ -114,6 +114,10 @@ impl Encoder {
     }
 
     /// Encode an expedited message (6-byte header, type | 0x80) into `buf`; returns its length.
+    ///
+    /// # Errors
+    /// [`Error::ExpeditedInReference`] in the `Reference` profile, which has no expedited
+    /// header; otherwise as [`Encoder::encode`].
     pub fn encode_expedited<P: Payload + ?Sized>(
         &self,
         payload: &P,
@@ -123,12 +127,19 @@ impl Encoder {
     }
 
     /// Encode into `buf`: normal with `Some(timestamp)`, expedited with `None`.
+    ///
+    /// # Errors
+    /// [`Error::ExpeditedInReference`] for `None` in the `Reference` profile (checked
+    /// first), [`Error::BufferTooSmall`], [`Error::BadType`] and [`Error::TooLong`].
     pub fn encode<P: Payload + ?Sized>(
         &self,
         payload: &P,
         timestamp: Option<Timestamp>,
         buf: &mut [u8],
     ) -> Result<usize> {
+        if timestamp.is_none() && !self.profile.has_expedited() {
+            return Err(Error::ExpeditedInReference);
+        }
         let repr = HeaderRepr {
             base_type: payload.base_type(),
             timestamp,
@@ -159,11 +170,19 @@ impl Encoder {
     }
 
     /// The message as a byte iterator, expedited, without any output buffer.
+    ///
+    /// # Errors
+    /// [`Error::ExpeditedInReference`] in the `Reference` profile; otherwise as
+    /// [`Encoder::iter`].
     pub fn iter_expedited<'p, P: Payload + ?Sized>(&self, payload: &'p P) -> Result<Bytes<'p, P>> {
         self.iter(payload, None)
     }
 
     /// The message as a byte iterator: normal with `Some(timestamp)`, expedited with `None`.
+    ///
+    /// # Errors
+    /// [`Error::ExpeditedInReference`] for `None` in the `Reference` profile,
+    /// [`Error::BadType`] and [`Error::TooLong`].
     pub fn iter<'p, P: Payload + ?Sized>(
         &self,
         payload: &'p P,

@@ -35,6 +35,10 @@ pub enum Error {
     },
     /// The message data is too long to be described by the 32-bit length field.
     TooLong,
+    /// An expedited header was asked of an encoder in the `Reference` profile: the AYDP
+    /// reference software has no expedited header (its receiver loses the frame after one),
+    /// so that profile only encodes normal messages ([`crate::Profile::has_expedited`]).
+    ExpeditedInReference,
     /// The data is shorter than the message type needs.
     PayloadTooShort {
         /// Base message type.
@@ -111,6 +115,9 @@ impl fmt::Display for Error {
             Error::BadLength(l) => write!(f, "bad length field {l}"),
             Error::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
             Error::TooLong => f.write_str("message too long for the length field"),
+            Error::ExpeditedInReference => f.write_str(
+                "the Reference profile has no expedited header: send a normal message with a timestamp",
+            ),
             Error::PayloadTooShort {
                 msg_type,
                 expected,

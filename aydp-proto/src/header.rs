@@ -206,7 +206,15 @@ impl HeaderRepr {
     }
 
     /// The header bytes; only the first [`HeaderRepr::buffer_len`] are meaningful.
+    ///
+    /// # Errors
+    /// [`Error::BadType`] for a base type over 126, [`Error::TooLong`] when the length does
+    /// not fit its field, and [`Error::ExpeditedInReference`] for an expedited header in a
+    /// profile without one ([`Profile::has_expedited`]).
     pub fn to_bytes(&self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
+        if self.is_expedited() && !profile.has_expedited() {
+            return Err(Error::ExpeditedInReference);
+        }
         let type_byte = self.type_byte().ok_or(Error::BadType(self.base_type))?;
         let length = profile
             .length_field(self.data_len, self.is_expedited())
@@ -223,6 +231,9 @@ impl HeaderRepr {
     }
 
     /// Write the header into the start of `buf`; returns the bytes written.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
     pub fn emit(&self, buf: &mut [u8], profile: Profile) -> Result<usize> {
         let n = self.buffer_len();
         if buf.len() < n {

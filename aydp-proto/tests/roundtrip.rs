@@ -175,6 +175,15 @@ fn check(s: &Spec, profile: Profile, ts: Option<Timestamp>) -> Result<(), TestCa
     };
     let enc = Encoder::new(profile);
     let mut buf = [0u8; 1024];
+    if ts.is_none() && !profile.has_expedited() {
+        // The Reference profile has no expedited header: every encoding path refuses it.
+        prop_assert_eq!(
+            enc.encode(&msg, ts, &mut buf),
+            Err(aydp_proto::Error::ExpeditedInReference)
+        );
+        prop_assert!(enc.iter(&msg, ts).is_err());
+        return Ok(());
+    }
     let n = enc.encode(&msg, ts, &mut buf).unwrap();
     let iter: Vec<u8> = enc.iter(&msg, ts).unwrap().collect();
     prop_assert_eq!(&iter[..], &buf[..n]);

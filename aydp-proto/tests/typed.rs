@@ -256,17 +256,71 @@ fn encoder_and_header_errors() {
         HeaderRepr::parse(&h, Profile::Reference).unwrap().data_len,
         6
     );
-    // Reference no-op, expedited: length 0 counts data only.
-    let mut b = [0u8; 8];
-    let n = Encoder::new(Profile::Reference)
-        .encode_expedited(&Message::NoOp, &mut b)
-        .unwrap();
-    assert_eq!(&b[..n], &[0xFF, 0x80, 0, 0, 0, 0, 0x7F]);
+    // Reference vessel data, normal: the length counts data only.
     let v = VesselData::default();
     let n = Encoder::new(Profile::Reference)
-        .encode_expedited(&v, &mut [0u8; 100])
+        .encode_normal(&v, Timestamp::default(), &mut [0u8; 100])
         .unwrap();
-    assert_eq!(n, 68 + 7);
+    assert_eq!(n, 68 + 23);
+}
+
+/// The AYDP reference software has no expedited header: in the `Reference` profile every way
+/// of encoding one is refused with the same error, before the buffer is looked at, and nothing
+/// is written. Decoders still read one (a `Spec` peer may send it).
+#[test]
+fn reference_profile_refuses_expedited_headers() {
+    let enc = Encoder::new(Profile::Reference);
+    let refused = Err(Error::ExpeditedInReference);
+    let mut b = [0xAAu8; 100];
+    assert_eq!(enc.encode_expedited(&Message::NoOp, &mut b), refused);
+    assert_eq!(enc.encode(&VesselData::default(), None, &mut b), refused);
+    // Checked first: a short buffer does not hide it.
+    assert_eq!(enc.encode_expedited(&Message::NoOp, &mut [0u8; 2]), refused);
+    assert!(b.iter().all(|&x| x == 0xAA), "nothing written");
+    assert_eq!(
+        enc.iter_expedited(&Message::NoOp).err(),
+        Some(Error::ExpeditedInReference)
+    );
+    assert_eq!(
+        enc.iter(&Message::NoOp, None).err(),
+        Some(Error::ExpeditedInReference)
+    );
+    let repr = HeaderRepr {
+        base_type: 0,
+        timestamp: None,
+        data_len: 0,
+    };
+    assert_eq!(
+        repr.to_bytes(Profile::Reference),
+        refused.map(|_: usize| [0u8; 22])
+    );
+    assert_eq!(repr.emit(&mut b, Profile::Reference), refused);
+    assert!(!Profile::Reference.has_expedited() && Profile::Spec.has_expedited());
+    // The same message, normal, encodes; and Spec still encodes the expedited form.
+    assert_eq!(
+        enc.encode_normal(&Message::NoOp, Timestamp::new(1, 2), &mut b),
+        Ok(23)
+    );
+    assert_eq!(
+        Encoder::new(Profile::Spec).encode_expedited(&Message::NoOp, &mut b),
+        Ok(7)
+    );
+    assert_eq!(&b[..7], &[0xFF, 0x80, 7, 0, 0, 0, 0x78]);
+    // A Reference decoder still reads an expedited no-op (length 0 counts data only).
+    let mut d = aydp_proto::Decoder::<64>::new(Profile::Reference);
+    let mut got = Vec::new();
+    for &x in &[0xFF, 0x80, 0, 0, 0, 0, 0x7F] {
+        if let Some(Ok(f)) = d.push(x) {
+            got.push((f.base_type(), f.timestamp()));
+        }
+    }
+    assert_eq!(got, [(0, None)]);
+    // The error reads as one sentence.
+    assert!(
+        Error::ExpeditedInReference
+            .to_string()
+            .contains("no expedited header")
+    );
 }
 
 fn registry_fixture<R>(

@@ -371,7 +371,8 @@
 // `kind`: ForeFlight AHRS (0x65, sub-ID 1), `body.ahrs`.
 #define PL_GDL90_AHRS 5
 
-// `kind`: any other ID, raw `data`.
+// `kind`: any other ID, raw `data` (a Stratux AHRS report, ID 0x4C, comes as this kind with
+// no data: the C face does not type it yet).
 #define PL_GDL90_UNKNOWN 6
 
 // An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
@@ -1557,7 +1558,8 @@ int32_t pl_aydp_output_entry_at(const pl_aydp_message *msg,
 // `out[..cap]`: expedited if `msg->expedited`, else normal with `seconds`/`subsec`. Returns
 // its length, or `PL_E_NULL`, `PL_E_BAD_TAG` (kind or profile), `PL_E_BUFFER_TOO_SMALL`,
 // `PL_E_OUT_OF_RANGE` (a base type above 126) or `PL_E_INVALID` (fix detail or direct output
-// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2).
+// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2, or
+// an expedited message in `PL_AYDP_REFERENCE`, which has no expedited header).
 //
 // ```c
 // pl_aydp_message m = { .kind = PL_AYDP_WIND_SPEED, .seconds = 42, .subsec = 500000 };

@@ -890,7 +890,8 @@ unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message
 /// `out[..cap]`: expedited if `msg->expedited`, else normal with `seconds`/`subsec`. Returns
 /// its length, or `PL_E_NULL`, `PL_E_BAD_TAG` (kind or profile), `PL_E_BUFFER_TOO_SMALL`,
 /// `PL_E_OUT_OF_RANGE` (a base type above 126) or `PL_E_INVALID` (fix detail or direct output
-/// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2).
+/// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2, or
+/// an expedited message in `PL_AYDP_REFERENCE`, which has no expedited header).
 ///
 /// ```c
 /// pl_aydp_message m = { .kind = PL_AYDP_WIND_SPEED, .seconds = 42, .subsec = 500000 };

@@ -47,7 +47,8 @@ pub const PL_GDL90_TRAFFIC: u8 = 3;
 pub const PL_GDL90_FOREFLIGHT_ID: u8 = 4;
 /// `kind`: ForeFlight AHRS (0x65, sub-ID 1), `body.ahrs`.
 pub const PL_GDL90_AHRS: u8 = 5;
-/// `kind`: any other ID, raw `data`.
+/// `kind`: any other ID, raw `data` (a Stratux AHRS report, ID 0x4C, comes as this kind with
+/// no data: the C face does not type it yet).
 pub const PL_GDL90_UNKNOWN: u8 = 6;
 
 /// Heartbeat (0).
@@ -400,7 +401,9 @@ fn body_of(m: &Message<'_>) -> (u8, pl_gdl90_body) {
                 },
             )
         }
-        Message::Unknown { .. } => (
+        // The C face has no struct for the Stratux AHRS report (yet): it arrives as an
+        // unknown message with its ID, 0x4C, and no data.
+        Message::StratuxAhrs(_) | Message::Unknown { .. } => (
             PL_GDL90_UNKNOWN,
             pl_gdl90_body {
                 geo_altitude: pl_gdl90_geo_altitude::default(),

@@ -4,7 +4,9 @@
 //! flags, escapes and CRC. GDL90 frames always carry a computed CRC.
 
 use crate::Error;
-use crate::message::{Ahrs, ForeFlightId, GeoAltitude, Heartbeat, MAX_TYPED_DATA, Report};
+use crate::message::{
+    Ahrs, ForeFlightId, GeoAltitude, Heartbeat, MAX_TYPED_DATA, Report, StratuxAhrs,
+};
 
 /// The worst-case length on the wire of a frame carrying `data_len` data bytes: two flags
 /// plus the ID, the data and the CRC, every one of them escaped.
@@ -145,5 +147,24 @@ pub fn encode_foreflight_id(msg: &ForeFlightId, out: &mut [u8]) -> Result<usize,
 /// # Errors
 /// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
 pub fn encode_ahrs(msg: &Ahrs, out: &mut [u8]) -> Result<usize, Error> {
+    msg.encode(out)
+}
+
+/// Encodes a Stratux AHRS report (ID 0x4C, header `45 01 01`) frame into `out`; returns its
+/// length.
+///
+/// ```
+/// use gdl90_proto::{encode_stratux_ahrs, MAX_ENCODED_LEN, message::StratuxAhrs};
+/// let ahrs = StratuxAhrs { roll_deg: Some(30.0), pressure_altitude_ft: Some(0), ..StratuxAhrs::default() };
+/// let mut wire = [0u8; MAX_ENCODED_LEN];
+/// let n = encode_stratux_ahrs(&ahrs, &mut wire).unwrap();
+/// assert_eq!(&wire[1..7], &[0x4C, 0x45, 0x01, 0x01, 0x01, 0x2C]); // roll 300 tenths
+/// assert_eq!(&wire[19..21], &[0x13, 0x88]); // 0 ft + 5000 (flag and ID before data byte 17)
+/// assert_eq!(wire[n - 1], 0x7E);
+/// ```
+///
+/// # Errors
+/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_stratux_ahrs(msg: &StratuxAhrs, out: &mut [u8]) -> Result<usize, Error> {
     msg.encode(out)
 }

@@ -2,8 +2,8 @@
 //!
 //! A zero-allocation, `no_std` encoder and decoder for GDL90 (FAA GDL 90 Public ICD Rev A)
 //! and ForeFlight's GDL 90 extensions: Heartbeat, Ownship and Traffic Reports, Ownship
-//! Geometric Altitude, ForeFlight ID and ForeFlight AHRS, typed with physical units; every
-//! other ID delivered raw.
+//! Geometric Altitude, ForeFlight ID, ForeFlight AHRS and the Stratux AHRS report (0x4C),
+//! typed with physical units; every other ID delivered raw.
 //!
 //! GDL90 framing is AEOLUS framing (`0x7E` flags, `0x7D` escapes, the same CRC-16 sent LSB
 //! first), so this crate reuses `aeolus-proto`'s decoder, frame encoder and CRC. The one
@@ -14,7 +14,8 @@
 //!   ([`Decoder::feed`]) decoding into events, `Ok(Message)` or `Err(Error)`, bounded by
 //!   a const-generic capacity, resynchronising after any error, with [`Stats`] counters.
 //! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
-//!   [`encode_foreflight_id`], [`encode_ahrs`] and [`message::Message::encode`]: a whole
+//!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
+//!   [`message::Message::encode`]: a whole
 //!   frame into a `&mut [u8]`, returning its length; [`MAX_ENCODED_LEN`] bytes always do.
 //! - [`message`]: the typed messages, and their byte tables in [`message::layout`].
 //!
@@ -78,7 +79,7 @@ pub use aeolus_proto::crc;
 pub use decode::{Decoder, Stats};
 pub use encode::{
     MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,
-    encode_heartbeat, encode_ownship, encode_traffic, max_encoded_len,
+    encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic, max_encoded_len,
 };
 pub use error::Error;
 

@@ -4,7 +4,7 @@
 
 use gdl90_proto::message::{
     AddressType, Ahrs, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading, Heartbeat, LatLon,
-    Message, Name, Report, Track,
+    Message, Name, Report, StratuxAhrs, Track,
 };
 use gdl90_proto::{Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
 use proptest::prelude::*;
@@ -146,6 +146,28 @@ fn ahrs() -> impl Strategy<Value = Ahrs> {
         })
 }
 
+fn stratux_ahrs() -> impl Strategy<Value = StratuxAhrs> {
+    let wide = || proptest::option::of(-32768i32..=32766);
+    (
+        (tenths(1800), tenths(1800), tenths(3600)),
+        (wide(), wide(), wide()),
+        (wide(), proptest::option::of(-5000i32..=60534), wide()),
+    )
+        .prop_map(
+            |((roll_deg, pitch_deg, heading_deg), (slip, yaw, g), (ias, alt, vs))| StratuxAhrs {
+                roll_deg,
+                pitch_deg,
+                heading_deg,
+                slip_skid_deg: slip.map(|v| v as f32 / 10.0),
+                yaw_rate_dps: yaw.map(|v| v as f32 / 10.0),
+                g_load: g.map(|v| v as f32 / 10.0),
+                indicated_airspeed_kt: ias.map(|v| v as i16),
+                pressure_altitude_ft: alt,
+                vertical_speed_fpm: vs.map(|v| v as i16),
+            },
+        )
+}
+
 fn foreflight_id() -> impl Strategy<Value = ForeFlightId> {
     (
         any::<u8>(),
@@ -176,6 +198,7 @@ fn message() -> impl Strategy<Value = Message<'static>> {
         report().prop_map(Message::Traffic),
         geo().prop_map(Message::GeoAltitude),
         ahrs().prop_map(Message::Ahrs),
+        stratux_ahrs().prop_map(Message::StratuxAhrs),
         foreflight_id().prop_map(Message::ForeFlightId),
     ]
 }
@@ -206,7 +229,7 @@ proptest! {
 
     #[test]
     fn parse_then_emit_is_the_identity_on_canonical_data(
-        which in 0usize..6,
+        which in 0usize..7,
         bytes in proptest::collection::vec(any::<u8>(), 38),
     ) {
         let (id, data): (u8, Vec<u8>) = match which {
@@ -215,6 +238,7 @@ proptest! {
             2 => (20, bytes[..Report::LEN].to_vec()),
             3 => (11, bytes[..GeoAltitude::LEN].to_vec()),
             4 => (0x65, [&[1u8][..], &bytes[..Ahrs::LEN - 1]].concat()),
+            5 => (0x4C, [&[0x45u8, 1, 1][..], &bytes[..StratuxAhrs::LEN - 3]].concat()),
             _ => (0x65, [&[0u8][..], &bytes[..ForeFlightId::LEN - 1]].concat()),
         };
         if let Ok(msg) = Message::parse(id, &data) {

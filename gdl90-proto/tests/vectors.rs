@@ -4,11 +4,11 @@
 
 use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading,
-    Heartbeat, LatLon, Message, Report, Track,
+    Heartbeat, LatLon, Message, Report, StratuxAhrs, Track,
 };
 use gdl90_proto::{
     Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, encode_ahrs, encode_foreflight_id,
-    encode_geo_altitude, encode_heartbeat, encode_ownship, encode_traffic,
+    encode_geo_altitude, encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic,
 };
 
 /// Decodes `wire` byte by byte and returns the one message it must hold, owned.
@@ -30,6 +30,7 @@ fn decode_one(wire: &[u8]) -> Message<'static> {
                 Message::Traffic(m) => Message::Traffic(m),
                 Message::ForeFlightId(m) => Message::ForeFlightId(m),
                 Message::Ahrs(m) => Message::Ahrs(m),
+                Message::StratuxAhrs(m) => Message::StratuxAhrs(m),
             });
         }
     }
@@ -296,6 +297,137 @@ fn ahrs_invalid_markers_and_rejected_attitudes() {
     .emit(&mut out)
     .unwrap();
     assert_eq!(out[1..7], [0x7F, 0xFF, 0x7F, 0xFF, 0x00, 0x64]);
+}
+
+/// A Stratux AHRS report (0x4C) from outside this project: the `leAHRS` test frame of a
+/// TypeScript GDL90 decoder published on GitHub (found through the code search's exact-string
+/// index, which did not name the repository; see the crate README), given there unescaped
+/// without flags as `4c 45 01 01`, twenty field bytes, then its CRC `b7 49`. Nothing in it needs
+/// escaping. Its CRC checks out with the ICD's CRC (the decoder below verifies it), and it
+/// follows Stratux's layout field for field: roll, pitch, heading, slip/skid, yaw rate and G
+/// all 0, airspeed `7FFF` (Stratux never measures it), pressure altitude `FFFF` and vertical
+/// speed `7FFF` (no pressure sensor), reserved `7FFF`, the bytes `makeAHRSGDL90Report` writes.
+const EXTERNAL_STRATUX_AHRS: [u8; 28] = [
+    0x7E, 0x4C, 0x45, 0x01, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x7F, 0xFF, 0xFF, 0xFF, 0x7F, 0xFF, 0x7F, 0xFF, 0xB7, 0x49, 0x7E,
+];
+
+#[test]
+fn external_stratux_ahrs_frame_decodes_and_encodes_byte_for_byte() {
+    let want = StratuxAhrs {
+        roll_deg: Some(0.0),
+        pitch_deg: Some(0.0),
+        heading_deg: Some(0.0),
+        slip_skid_deg: Some(0.0),
+        yaw_rate_dps: Some(0.0),
+        g_load: Some(0.0),
+        indicated_airspeed_kt: None,
+        pressure_altitude_ft: None,
+        vertical_speed_fpm: None,
+    };
+    assert_eq!(
+        decode_one(&EXTERNAL_STRATUX_AHRS),
+        Message::StratuxAhrs(want)
+    );
+    let mut wire = [0u8; MAX_ENCODED_LEN];
+    let n = encode_stratux_ahrs(&want, &mut wire).unwrap();
+    assert_eq!(&wire[..n], &EXTERNAL_STRATUX_AHRS);
+}
+
+/// Worked by hand from Stratux's layout, big-endian after `4C 45 01 01`: roll 300 (`01 2C`),
+/// pitch -25 (`FF E7`), heading 2713 (`0A 99`), slip/skid -15 (`FF F1`), yaw rate 65
+/// (`00 41`), G 12 (`00 0C`), IAS 98 kt (`00 62`), pressure altitude 1234 + 5000 = 6234
+/// (`18 5A`), vertical speed -500 (`FE 0C`), reserved `7F FF`. CRC 0x705E by the independent
+/// script, sent `5E 70`.
+const STRATUX_AHRS: [u8; 28] = [
+    0x7E, 0x4C, 0x45, 0x01, 0x01, 0x01, 0x2C, 0xFF, 0xE7, 0x0A, 0x99, 0xFF, 0xF1, 0x00, 0x41, 0x00,
+    0x0C, 0x00, 0x62, 0x18, 0x5A, 0xFE, 0x0C, 0x7F, 0xFF, 0x5E, 0x70, 0x7E,
+];
+
+#[test]
+fn stratux_ahrs_worked_by_hand() {
+    let want = StratuxAhrs {
+        roll_deg: Some(30.0),
+        pitch_deg: Some(-2.5),
+        heading_deg: Some(271.3),
+        slip_skid_deg: Some(-1.5),
+        yaw_rate_dps: Some(6.5),
+        g_load: Some(1.2),
+        indicated_airspeed_kt: Some(98),
+        pressure_altitude_ft: Some(1234),
+        vertical_speed_fpm: Some(-500),
+    };
+    assert_eq!(decode_one(&STRATUX_AHRS), Message::StratuxAhrs(want));
+    let mut wire = [0u8; MAX_ENCODED_LEN];
+    let n = encode_stratux_ahrs(&want, &mut wire).unwrap();
+    assert_eq!(&wire[..n], &STRATUX_AHRS);
+}
+
+#[test]
+fn stratux_ahrs_markers_clamps_and_rejections() {
+    let mut invalid = vec![0x45, 0x01, 0x01];
+    invalid.extend([0x7F, 0xFF].repeat(10));
+    invalid[17..19].copy_from_slice(&[0xFF, 0xFF]);
+    assert_eq!(StratuxAhrs::parse(&invalid), Ok(StratuxAhrs::default()));
+    let mut out = [0u8; StratuxAhrs::LEN];
+    StratuxAhrs::default().emit(&mut out).unwrap();
+    assert_eq!(&out[..], &invalid[..], "None is the marker, field by field");
+    // Rejected: attitude beyond ±180, heading beyond ±360, another header.
+    for (at, value, field) in [
+        (3, 1801i16, "roll"),
+        (5, -1801, "pitch"),
+        (7, 3601, "heading"),
+    ] {
+        let mut bad = invalid.clone();
+        bad[at..at + 2].copy_from_slice(&value.to_be_bytes());
+        assert_eq!(
+            StratuxAhrs::parse(&bad),
+            Err(Error::OutOfRange { id: 0x4C, field })
+        );
+    }
+    let mut bad = invalid.clone();
+    bad[2] = 0x02;
+    assert_eq!(
+        StratuxAhrs::parse(&bad),
+        Err(Error::OutOfRange {
+            id: 0x4C,
+            field: "header"
+        })
+    );
+    assert_eq!(
+        StratuxAhrs::parse(&invalid[..22]),
+        Err(Error::WrongLength {
+            id: 0x4C,
+            expected: 23,
+            actual: 22
+        })
+    );
+    // Clamps never land on a marker; NaN is invalid; a heading is reduced into 0..360.
+    StratuxAhrs {
+        roll_deg: Some(500.0),
+        pitch_deg: Some(f32::NAN),
+        heading_deg: Some(725.0),
+        g_load: Some(1e9),
+        indicated_airspeed_kt: Some(i16::MAX),
+        pressure_altitude_ft: Some(i32::MAX),
+        vertical_speed_fpm: Some(i16::MAX),
+        ..StratuxAhrs::default()
+    }
+    .emit(&mut out)
+    .unwrap();
+    assert_eq!(&out[3..9], &[0x07, 0x08, 0x7F, 0xFF, 0x00, 0x32]); // 1800, invalid, 50
+    assert_eq!(&out[13..15], &[0x7F, 0xFE]);
+    assert_eq!(&out[15..21], &[0x7F, 0xFE, 0xFF, 0xFE, 0x7F, 0xFE]);
+    // A 0x4C frame without the 0x45 byte is some other message: raw.
+    let mut wire = [0u8; 32];
+    let n = gdl90_proto::encode_frame(0x4C, &[0x46, 1, 1], &mut wire).unwrap();
+    assert_eq!(
+        decode_one(&wire[..n]),
+        Message::Unknown {
+            id: 0x4C,
+            data: &[0x46, 1, 1]
+        }
+    );
 }
 
 /// A real ForeFlight ID frame captured from a SkyEcho (published in the repository

@@ -10,6 +10,7 @@ use crate::commands::aydp::AydpArgs;
 use crate::commands::bridge::BridgeArgs;
 use crate::commands::decode::DecodeArgs;
 use crate::commands::gdl90::Gdl90Args;
+use crate::commands::nmea::NmeaArgs;
 use crate::commands::record::RecordArgs;
 use crate::commands::replay::ReplayArgs;
 use crate::commands::sim::SimArgs;
@@ -77,6 +78,16 @@ pub enum Command {
   protolink gdl90 --from udp:5001 --to 127.0.0.1:4000
   protolink gdl90 --from tcp:127.0.0.1:7000 --discover")]
     Gdl90(Gdl90Args),
+    /// The box's telemetry as NMEA 0183 for gliding and moving-map apps (XCSoar, LK8000) on TCP 4353.
+    #[command(
+        after_help = "Sentences: $GPRMC, $GPGGA, $PGRMZ (1 Hz), $LXWP0 (1 Hz), $POV (5 Hz).
+
+Examples:
+  protolink nmea --from udp:5001                       (XCSoar: TCP client to 127.0.0.1:4353)
+  protolink nmea --from tcp:127.0.0.1:7000 --listen 0.0.0.0:4353
+  protolink nmea --from udp:5001 --to 127.0.0.1:10110  (UDP datagrams instead)"
+    )]
+    Nmea(NmeaArgs),
     /// A live view of AEOLUS telemetry: attitude, airspeed, altitude, heading, GPS, wind, rates.
     #[command(after_help = "Examples:
   protolink watch --from tcp:127.0.0.1:7000
@@ -127,6 +138,7 @@ impl Cli {
             Command::Watch(a) => crate::commands::watch::run(a),
             Command::Web(a) => crate::commands::web::run(a),
             Command::Gdl90(a) => crate::commands::gdl90::run(a),
+            Command::Nmea(a) => crate::commands::nmea::run(a),
             Command::Record(a) => crate::commands::record::run(a),
             Command::Replay(a) => crate::commands::replay::run(a),
             Command::Wireshark(a) => crate::commands::wireshark::run(a),

@@ -9,7 +9,7 @@
 //! | floor | module | holds |
 //! | --- | --- | --- |
 //! | top | [`cli`] | the command line (clap): routes each subcommand to its module in [`commands`] |
-//! | subcommands | [`commands`] | one module per subcommand (`decode`, `watch`, `web`, `record`, `replay`, `bridge`, `sim`, `aeolus`, `aydp`, `aok`, `gdl90`, `wireshark`), never using one another |
+//! | subcommands | [`commands`] | one module per subcommand (`decode`, `watch`, `web`, `record`, `replay`, `bridge`, `sim`, `aeolus`, `aydp`, `aok`, `gdl90`, `nmea`, `wireshark`), never using one another |
 //! | generators | [`wireshark`] | the Wireshark Lua dissector, generated from the protocol crates' layout tables |
 //! | shared | [`endpoint`] | `serial:`, `tcp:`, `udp:`, `file:` and `-`: the address syntax and the byte streams they open |
 //! | shared | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
@@ -18,6 +18,7 @@
 //! | shared | [`proto`] | what a stream carries: protocol, AYDP profile, AOK side |
 //! | shared | [`decoders`] | stream decoders for the four protocols: events, fields as JSON, counters |
 //! | shared | [`telemetry`] | the live AEOLUS telemetry model that `watch` and `web` show |
+//! | shared | [`nmea`] | NMEA 0183 sentences and their bounded fan-out to TCP clients or UDP |
 //! | shared | [`render`] | output lines, text escaping, JSON and `key=value` rendering |
 //! | shared | [`args`], [`units`], [`value_type`] | durations and range-checked numbers, display units, AYDP value types such as `f32[3]` |
 //! | shared | [`progress`], [`stop`] | the progress spinner; Ctrl-C and `--seconds` |
@@ -47,6 +48,7 @@ pub mod decoders;
 pub mod endpoint;
 pub mod error;
 pub mod nb_serial;
+pub mod nmea;
 pub mod progress;
 pub mod proto;
 pub mod render;

@@ -29,7 +29,7 @@ const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
 
 /// The vertical speed from the pressure altitude: samples at least
 /// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct VerticalSpeed {
     samples: VecDeque<(f64, f64)>,
 }
@@ -39,7 +39,7 @@ impl VerticalSpeed {
 
     /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
     /// starts again; values that are not finite are ignored.
-    fn take(&mut self, box_ms: f64, altitude_m: f64) {
+    pub(crate) fn take(&mut self, box_ms: f64, altitude_m: f64) {
         if !(box_ms.is_finite() && altitude_m.is_finite()) {
             return;
         }

@@ -2,7 +2,9 @@
 //! by hand from the ICD's byte layout and checked with a CRC computed here bit by bit from the
 //! ICD's polynomial (not by `gdl90-proto` or `aeolus-proto`): AHRS roll, pitch and heading, the
 //! rates, and the ownship position, pressure altitude and geometric altitude against the
-//! AEOLUS messages that went in.
+//! AEOLUS messages that went in. The Stratux AHRS report (0x4C) is decoded by hand from
+//! Stratux's layout the same way, fresh and stale, and the ownship identity (`--icao`,
+//! `--callsign`) is checked in the report and across runs.
 
 mod common;
 
@@ -345,4 +347,194 @@ fn discover_follows_the_foreflight_announcement() {
         before += 1;
     }
     assert!(before <= 40, "{before} datagrams went to --to");
+}
+
+/// A Stratux AHRS report (0x4C) decoded here by hand from Stratux's layout
+/// (`makeAHRSGDL90Report`): after `4C 45 01 01`, big-endian signed 16-bit roll, pitch,
+/// heading, slip/skid, yaw rate, G (tenths), IAS (kt), then the pressure altitude unsigned as
+/// feet + 5000, vertical speed (ft/min), and `7F FF` reserved. `0x7FFF` (the altitude:
+/// `0xFFFF`) is invalid.
+struct StratuxReport {
+    words: [i16; 9],
+    altitude_raw: u16,
+}
+
+fn stratux_report(data: &[u8]) -> StratuxReport {
+    assert_eq!(data.len(), 23, "{data:02X?}");
+    assert_eq!(&data[..3], &[0x45, 0x01, 0x01]);
+    assert_eq!(&data[21..], &[0x7F, 0xFF]);
+    let word = |at: usize| i16::from_be_bytes([data[at], data[at + 1]]);
+    StratuxReport {
+        words: [3, 5, 7, 9, 11, 13, 15, 17, 19].map(word),
+        altitude_raw: u16::from_be_bytes([data[17], data[18]]),
+    }
+}
+
+#[test]
+fn the_stratux_ahrs_report_carries_the_bank_and_the_pressure_altitude() {
+    let (from_sim, sim_out) = udp();
+    let (to_gdl90, _) = udp();
+    let (efb, efb_port) = udp();
+    let gdl90_in = free_udp_port();
+    let sim = spawn(&[
+        "sim",
+        "--udp-out",
+        &format!("127.0.0.1:{sim_out}"),
+        "--udp-in",
+        "0",
+        "--bank",
+        "30",
+        "--seconds",
+        "6",
+    ]);
+    let gdl90 = spawn(&[
+        "gdl90",
+        "--from",
+        &format!("udp:{gdl90_in}"),
+        "--to",
+        &format!("127.0.0.1:{efb_port}"),
+        "--ahrs",
+        "stratux",
+        "--seconds",
+        "5",
+    ]);
+    let mut deframer = Box::new(Decoder::<1024>::new());
+    let mut went_in = Inputs::default();
+    let (mut reports, mut foreflight) = (Vec::new(), 0);
+    let mut buf = [0u8; 2048];
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_millis(4500) {
+        while let Ok(n) = from_sim.recv(&mut buf) {
+            deframer.reset();
+            for &b in &buf[..n] {
+                if let Some(Ok(f)) = deframer.push(b)
+                    && let Ok(m) = f.message()
+                {
+                    went_in.take(&m);
+                }
+            }
+            let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
+        }
+        while let Ok(n) = efb.recv(&mut buf) {
+            let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
+            match id {
+                0x4C if started.elapsed() >= Duration::from_millis(1500) => {
+                    let r = stratux_report(&data);
+                    // Against the PRESSURE messages of the last moments, as it arrives.
+                    let feet = f64::from(r.altitude_raw) - 5000.0;
+                    assert!(
+                        near(&went_in.pressure_altitude, feet, 0.5 + 0.5, linear),
+                        "pressure altitude {feet} ft (raw {}) is not a recent one",
+                        r.altitude_raw
+                    );
+                    reports.push(r);
+                }
+                0x65 if data[0] == 0x01 => foreflight += 1,
+                _ => {}
+            }
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let out = finish(gdl90);
+    let _ = finish(sim);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(foreflight, 0, "--ahrs stratux sends no ForeFlight AHRS");
+    assert!(reports.len() >= 12, "{} reports in 3 s", reports.len());
+    for r in &reports {
+        let roll = f64::from(r.words[0]) / 10.0;
+        assert!((roll - 30.0).abs() <= 0.1, "roll {roll}");
+        for (i, w) in r.words.iter().enumerate().take(7) {
+            assert_ne!(*w, 0x7FFF, "field {i} invalid with fresh data");
+        }
+        assert_ne!(r.altitude_raw, 0xFFFF);
+        // Level flight: the vertical speed is about 0 ft/min; G about 1/cos(30°) = 1.15.
+        assert!(r.words[8].abs() <= 20, "vertical speed {}", r.words[8]);
+        let g = f64::from(r.words[5]) / 10.0;
+        assert!((g - 1.0 / 30f64.to_radians().cos()).abs() <= 0.06, "G {g}");
+    }
+}
+
+/// Without telemetry every field of the Stratux report is invalid: `7FFF`, and `FFFF` for
+/// the pressure altitude.
+#[test]
+fn a_silent_box_sends_an_all_invalid_stratux_report() {
+    let (efb, efb_port) = udp();
+    let out = finish(spawn(&[
+        "gdl90",
+        "--from",
+        &format!("udp:{}", free_udp_port()),
+        "--to",
+        &format!("127.0.0.1:{efb_port}"),
+        "--seconds",
+        "1",
+    ]));
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut buf = [0u8; 512];
+    let mut reports = 0;
+    while let Ok(n) = efb.recv(&mut buf) {
+        if let Some((0x4C, data)) = unframe(&buf[..n]) {
+            let r = stratux_report(&data);
+            assert_eq!(r.words[..7], [0x7FFF; 7]);
+            assert_eq!((r.altitude_raw, r.words[8]), (0xFFFF, 0x7FFF));
+            reports += 1;
+        }
+    }
+    assert!(reports >= 4, "{reports} Stratux reports in 1 s");
+}
+
+/// `--icao` and `--callsign` go into the ownship report (address type 0, ICAO) and are kept
+/// for the box: the next run without them sends the same identity.
+#[test]
+fn the_ownship_identity_is_set_and_kept_per_box() {
+    let state = std::env::temp_dir().join(format!("protolink-ownship-{}", std::process::id()));
+    let from = format!("udp:{}", free_udp_port());
+    let run_gdl90 = |extra: &[&str]| {
+        let (efb, efb_port) = udp();
+        let mut args = vec!["gdl90", "--from", from.as_str(), "--seconds", "0.5"];
+        let to = format!("127.0.0.1:{efb_port}");
+        args.extend(["--to", to.as_str()]);
+        args.extend(extra);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_protolink"))
+            .args(&args)
+            .env("XDG_STATE_HOME", &state)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let mut buf = [0u8; 512];
+        let mut ownship = None;
+        while let Ok(n) = efb.recv(&mut buf) {
+            if let Some((0x0A, data)) = unframe(&buf[..n]) {
+                ownship = Some(data);
+            }
+        }
+        ownship.expect("an ownship report")
+    };
+    let first = run_gdl90(&["--icao", "a1b2c3", "--callsign", "n123ab"]);
+    for data in [first, run_gdl90(&[])] {
+        assert_eq!(data[0] & 0x0F, 0, "address type 0: ADS-B with ICAO address");
+        assert_eq!(&data[1..4], &[0xA1, 0xB2, 0xC3]);
+        assert_eq!(&data[18..26], b"N123AB  ");
+    }
+    let kept = std::fs::read_to_string(state.join("protolink/ownship.json")).unwrap();
+    let port = from.trim_start_matches("udp:");
+    assert!(
+        kept.contains(&format!("\"udp:127.0.0.1:{port}\"")),
+        "{kept}"
+    );
+    let _ = std::fs::remove_dir_all(&state);
+    for (bad, says) in [
+        (["--icao", "1234567"], "24-bit"),
+        (["--icao", "000000"], "not assigned"),
+        (["--callsign", "D-EKAB"], "only 0-9 and A-Z"),
+        (["--callsign", "ABCDEFGHI"], "1 to 8"),
+    ] {
+        let mut args = vec!["gdl90", "--from", "udp:0"];
+        args.extend(bad);
+        let err = usage_failed(&run(&args));
+        assert!(err.contains(says), "{err}");
+    }
 }

@@ -112,7 +112,7 @@ pub fn adapt(args: &[String], env: &Env, seconds: &str) -> Vec<String> {
     let sub = subcommand(&w).to_owned();
     let runs_on = matches!(
         sub.as_str(),
-        "decode" | "watch" | "web" | "bridge" | "sim" | "gdl90" | "record" | "replay"
+        "decode" | "watch" | "web" | "bridge" | "sim" | "gdl90" | "nmea" | "record" | "replay"
     );
     match w.iter().position(|a| a == "--seconds") {
         Some(i) if i + 1 < w.len() => w[i + 1] = seconds.to_owned(),
@@ -120,6 +120,19 @@ pub fn adapt(args: &[String], env: &Env, seconds: &str) -> Vec<String> {
             w.extend(["--seconds".into(), seconds.to_owned()]);
         }
         _ => {}
+    }
+    if sub == "nmea" {
+        // The app's UDP port (10110) is the test's EFB port; a server listens on the page port.
+        for a in w.iter_mut() {
+            *a = a.replace("127.0.0.1:10110", &format!("127.0.0.1:{}", env.efb));
+        }
+        if let Some(i) = w.iter().position(|a| a == "--listen") {
+            if i + 1 < w.len() {
+                w[i + 1] = format!("127.0.0.1:{}", env.page);
+            }
+        } else if !w.iter().any(|a| a == "--to") {
+            w.extend(["--listen".into(), format!("127.0.0.1:{}", env.page)]);
+        }
     }
     if sub == "web" {
         let listen = format!("127.0.0.1:{}", env.page);
@@ -238,6 +251,10 @@ pub fn check_outcome(
             } else {
                 positive("ahrs", counter(&stdout, "ahrs"))
             }
+        }
+        "nmea" => {
+            positive("telemetry_in", counter(&stdout, "telemetry_in"))?;
+            positive("rmc", counter(&stdout, "rmc"))
         }
         "record" => {
             positive("packets recorded", number_before(&stderr, "packets"))?;

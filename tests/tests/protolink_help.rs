@@ -18,7 +18,7 @@ use protolink_tests::examples::{
     Env, adapt, check_outcome, flag, needs_udp_box, subcommand, words,
 };
 use std::net::Shutdown;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 use std::time::Duration;
 
 fn run(args: &[String]) -> Output {
@@ -143,7 +143,7 @@ fn every_help_example_runs_against_the_firmware() {
 
 /// `protolink sim` playing the box on `env`'s UDP ports for 10 s.
 fn start_sim(env: &Env) -> std::process::Child {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(["sim", "--udp-out", &format!("127.0.0.1:{}", env.box_out)])
         .args(["--udp-in", &env.box_in.to_string(), "--seconds", "10"])
         .stdout(Stdio::null())

@@ -5,7 +5,7 @@
 //! * A `protolink ...` line (or `cargo run -q -p protolink -- ...`) runs on this test's own
 //!   ports (`examples::adapt`); one that talks to a box on UDP gets `protolink sim` as the box.
 //! * A `$ ` line followed by output lines must print those lines: each shown line appears in
-//!   what it printed (the counters of a `summary:` or `gdl90:` line may differ, so digits are
+//!   what it printed (the counters of a `summary:`, `gdl90:` or `nmea:` line may differ, so digits are
 //!   compared as "a number" there). `...` stands for lines left out.
 //! * `curl` of the page runs against a `protolink web` on this test's page port, `tshark` on
 //!   the capture the block recorded, `protolink wireshark > FILE` into a temporary file.
@@ -144,7 +144,7 @@ impl Drop for Running {
 
 /// Runs `protolink` in the workspace root, where the READMEs' relative paths start.
 fn run(args: &[String]) -> Output {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(args)
         .current_dir(workspace_root())
         .stdin(Stdio::null())
@@ -157,7 +157,7 @@ fn run(args: &[String]) -> Output {
 
 /// `protolink gdl90` from the simulated box to the EFB port (for an example that reads it).
 fn start_gdl90(env: &Env) -> Running {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(["gdl90", "--from", &format!("udp:{}", env.box_out)])
         .args(["--to", &format!("127.0.0.1:{}", env.efb), "--seconds", "15"])
         .stdout(Stdio::null())
@@ -168,7 +168,7 @@ fn start_gdl90(env: &Env) -> Running {
 }
 
 fn start_sim(env: &Env) -> Running {
-    let child = Command::new(protolink())
+    let child = protolink_command()
         .args(["sim", "--udp-out", &format!("127.0.0.1:{}", env.box_out)])
         .args(["--udp-in", &env.box_in.to_string(), "--seconds", "15"])
         .stdout(Stdio::null())
@@ -215,6 +215,7 @@ fn check_shown(ex: &Example, printed: &str, env: &Env) -> Result<(), String> {
         let counters = [
             "summary:",
             "gdl90:",
+            "nmea:",
             "bridge:",
             "sim:",
             "web:",

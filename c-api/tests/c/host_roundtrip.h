@@ -255,8 +255,11 @@ static int cmd_roundtrip(const char *dir) {
             count += aydp_rt(f, profile, &m);
             m.kind = PL_AYDP_WIND_DIRECTION;
             m.body.value = 271.25f;
-            m.expedited = 1;
             count += aydp_rt(f, profile, &m);
+            /* The Reference profile has no expedited header: its encoder refuses one. */
+            m.expedited = 1;
+            uint8_t refused[PL_AYDP_MAX_FRAME_LEN];
+            CHECK(pl_aydp_encode(profile, &m, refused, sizeof refused) == PL_E_INVALID);
             m.expedited = 0;
             m.kind = PL_AYDP_VESSEL_DATA;
             m.body.vessel = (pl_aydp_vessel){0.1f, -0.2f, 181.5f, 0.01f, 0.02f, -0.03f, 50.5, -1.25, 182.0f, 6.5f, 3, 11, 1.25f, 0.875f, 1.5f};
@@ -289,7 +292,8 @@ static int cmd_roundtrip(const char *dir) {
         m.body.update = (pl_aydp_update){0x0120, 3, 2, value, sizeof value};
         count += aydp_rt(f, profile, &m);
         m.kind = PL_AYDP_SYSTEM_CONTROL;
-        m.expedited = 1;
+        /* Expedited where the profile has that header (Spec), normal in Reference. */
+        m.expedited = !p;
         m.body.control = (pl_aydp_control){1, 8};
         count += aydp_rt(f, profile, &m);
         m.body.control = (pl_aydp_control){2, 0};

@@ -249,6 +249,38 @@ pub mod ahrs {
     pub const TAS: Bits = Bits::whole(9..11);
 }
 
+/// Stratux AHRS report, ID 0x4C (the Levil "LE" format Stratux writes in
+/// `makeAHRSGDL90Report`): 23 data bytes after the ID, big-endian. Every field but the
+/// pressure altitude is a signed 16-bit integer whose `0x7FFF` means invalid.
+pub mod stratux_ahrs {
+    use super::Bits;
+
+    /// Data length (the `0x45 0x01 0x01` header included).
+    pub const LEN: usize = 23;
+    /// The header after the ID: `0x45` ('E'), then `0x01 0x01`.
+    pub const HEADER: core::ops::Range<usize> = 0..3;
+    /// Roll, signed 0.1 degree, right wing down positive.
+    pub const ROLL: Bits = Bits::whole(3..5);
+    /// Pitch, signed 0.1 degree, nose up positive.
+    pub const PITCH: Bits = Bits::whole(5..7);
+    /// Heading, signed 0.1 degree.
+    pub const HEADING: Bits = Bits::whole(7..9);
+    /// Slip/skid, signed 0.1 degree.
+    pub const SLIP_SKID: Bits = Bits::whole(9..11);
+    /// Yaw (turn) rate, signed 0.1 degree per second.
+    pub const YAW_RATE: Bits = Bits::whole(11..13);
+    /// Load factor, signed 0.1 G.
+    pub const G: Bits = Bits::whole(13..15);
+    /// Indicated airspeed, signed, knots.
+    pub const IAS: Bits = Bits::whole(15..17);
+    /// Pressure altitude, **unsigned**, feet plus 5000; `0xFFFF` invalid.
+    pub const PRESSURE_ALTITUDE: Bits = Bits::whole(17..19);
+    /// Vertical speed, signed, feet per minute.
+    pub const VERTICAL_SPEED: Bits = Bits::whole(19..21);
+    /// Reserved: Stratux sends `0x7F 0xFF`; ignored on receipt.
+    pub const RESERVED: Bits = Bits::whole(21..23);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,17 +14,19 @@ mod heartbeat;
 pub mod layout;
 mod report;
 mod scale;
+mod stratux;
 mod text;
 
 pub use foreflight::{Ahrs, AltitudeDatum, FOREFLIGHT_ID, ForeFlightId, Heading};
 pub use geo_altitude::GeoAltitude;
 pub use heartbeat::Heartbeat;
 pub use report::{AddressType, Emergency, LatLon, Report, Track};
+pub use stratux::{STRATUX_AHRS_HEADER, STRATUX_AHRS_ID, StratuxAhrs};
 pub use text::{CallSign, Name};
 
 use crate::{Error, encode_frame};
 
-/// Message IDs (ICD table 2, and ForeFlight's 0x65).
+/// Message IDs (ICD table 2, ForeFlight's 0x65 and Stratux's 0x4C).
 pub mod id {
     /// Heartbeat.
     pub const HEARTBEAT: u8 = 0;
@@ -46,6 +48,8 @@ pub mod id {
     pub const LONG_REPORT: u8 = 31;
     /// ForeFlight extensions (sub-ID 0: ID, 1: AHRS).
     pub const FOREFLIGHT: u8 = super::FOREFLIGHT_ID;
+    /// Stratux AHRS report (the Levil "LE" format: `0x4C 0x45 0x01 0x01`).
+    pub const STRATUX_AHRS: u8 = super::STRATUX_AHRS_ID;
 }
 
 /// Any GDL90 message: typed where this crate knows the layout, raw otherwise.
@@ -76,7 +80,10 @@ pub enum Message<'a> {
     ForeFlightId(ForeFlightId),
     /// ForeFlight AHRS (0x65, sub-ID 1).
     Ahrs(Ahrs),
-    /// Any other ID (or a ForeFlight sub-ID other than 0 and 1), kept raw.
+    /// Stratux AHRS report (0x4C with the `45 01 01` header).
+    StratuxAhrs(StratuxAhrs),
+    /// Any other ID (or a ForeFlight sub-ID other than 0 and 1, or a 0x4C without the `0x45`
+    /// byte), kept raw.
     Unknown {
         /// The message ID.
         id: u8,
@@ -98,8 +105,9 @@ impl<'a> Message<'a> {
     ///
     /// # Errors
     /// [`Error::WrongLength`] for a typed ID with the wrong data length, and
-    /// [`Error::OutOfRange`] for an AHRS message with an attitude or heading out of range, or
-    /// a report with a latitude beyond ±90 degrees.
+    /// [`Error::OutOfRange`] for an AHRS message (ForeFlight or Stratux) with an attitude or
+    /// heading out of range, a Stratux AHRS report without the `45 01 01` header, or a report
+    /// with a latitude beyond ±90 degrees.
     pub fn parse(id: u8, data: &'a [u8]) -> Result<Self, Error> {
         Ok(match (id, data.first()) {
             (id::HEARTBEAT, _) => Self::Heartbeat(Heartbeat::parse(data)?),
@@ -110,6 +118,7 @@ impl<'a> Message<'a> {
                 Self::ForeFlightId(ForeFlightId::parse(data)?)
             }
             (id::FOREFLIGHT, Some(&Ahrs::SUB_ID)) => Self::Ahrs(Ahrs::parse(data)?),
+            (id::STRATUX_AHRS, Some(&0x45)) => Self::StratuxAhrs(StratuxAhrs::parse(data)?),
             _ => Self::Unknown { id, data },
         })
     }
@@ -122,6 +131,7 @@ impl<'a> Message<'a> {
             Self::GeoAltitude(_) => id::GEO_ALTITUDE,
             Self::Traffic(_) => id::TRAFFIC,
             Self::ForeFlightId(_) | Self::Ahrs(_) => id::FOREFLIGHT,
+            Self::StratuxAhrs(_) => id::STRATUX_AHRS,
             Self::Unknown { id, .. } => *id,
         }
     }
@@ -135,6 +145,7 @@ impl<'a> Message<'a> {
             Self::Traffic(_) => "TRAFFIC",
             Self::ForeFlightId(_) => "FOREFLIGHT_ID",
             Self::Ahrs(_) => "FOREFLIGHT_AHRS",
+            Self::StratuxAhrs(_) => "STRATUX_AHRS",
             Self::Unknown { .. } => "UNKNOWN",
         }
     }
@@ -147,6 +158,7 @@ impl<'a> Message<'a> {
             Self::GeoAltitude(_) => GeoAltitude::LEN,
             Self::ForeFlightId(_) => ForeFlightId::LEN,
             Self::Ahrs(_) => Ahrs::LEN,
+            Self::StratuxAhrs(_) => StratuxAhrs::LEN,
             Self::Unknown { data, .. } => data.len(),
         }
     }
@@ -162,6 +174,7 @@ impl<'a> Message<'a> {
             Self::GeoAltitude(m) => m.emit(out),
             Self::ForeFlightId(m) => m.emit(out),
             Self::Ahrs(m) => m.emit(out),
+            Self::StratuxAhrs(m) => m.emit(out),
             Self::Unknown { data, .. } => {
                 let needed = data.len();
                 let dst = out
@@ -261,4 +274,8 @@ encode_method!(
 encode_method!(
     Ahrs,
     "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::Ahrs};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = Ahrs::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..5], &[0x7E, 0x65, 1, 0x7F, 0xFF]);\nassert_eq!(wire[n - 1], 0x7E);\n```"
+);
+encode_method!(
+    StratuxAhrs,
+    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::StratuxAhrs};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = StratuxAhrs::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..7], &[0x7E, 0x4C, 0x45, 0x01, 0x01, 0x7F, 0xFF]);\nassert_eq!(wire[n - 1], 0x7E);\n```"
 );

@@ -14,7 +14,8 @@
 //! | [`aeolus`] | `aeolus`: COMMAND and SETTIME to a box, its TOAST as the answer |
 //! | [`aydp`] | `aydp`: system values, store, direct outputs |
 //! | [`aok`] | `aok`: the `aok-proto` client over an endpoint |
-//! | [`gdl90`] | `gdl90`: the box's telemetry as GDL90 and ForeFlight AHRS for EFB apps |
+//! | [`gdl90`] | `gdl90`: the box's telemetry as GDL90, ForeFlight and Stratux AHRS for EFB apps |
+//! | [`nmea`] | `nmea`: the box's telemetry as NMEA 0183 for gliding and moving-map apps |
 //! | [`wireshark`] | `wireshark`: prints the generated Lua dissector |
 
 pub mod aeolus;
@@ -23,6 +24,7 @@ pub mod aydp;
 pub mod bridge;
 pub mod decode;
 pub mod gdl90;
+pub mod nmea;
 pub mod record;
 pub mod replay;
 pub mod sim;

@@ -12,10 +12,16 @@ use serde_json::Value;
 /// The longest any one run of the binary may take before the test fails (never a hang).
 pub const RUN_LIMIT: Duration = Duration::from_secs(60);
 
+/// Where the runs keep their state (`gdl90`'s ownship file): never the user's home.
+pub fn state_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("test-state")
+}
+
 /// Starts `protolink ARGS` with piped stdout and stderr.
 pub fn spawn(args: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_protolink"))
         .args(args)
+        .env("XDG_STATE_HOME", state_dir())
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -61,6 +67,7 @@ pub fn run(args: &[&str]) -> Output {
 pub fn run_with_stdin(args: &[&str], input: &[u8]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_protolink"))
         .args(args)
+        .env("XDG_STATE_HOME", state_dir())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -142,6 +142,9 @@ impl Ports {
     pub const WEB: Ports = Ports(17_480);
     /// `realtime_flood::every_rate_and_every_answer_under_a_flood_on_all_three_uarts`.
     pub const REALTIME: Ports = Ports(17_490);
+    /// `nmea_qemu::an_app_reads_the_firmwares_flight_as_nmea` (UART ports, then the NMEA
+    /// server at +7).
+    pub const NMEA: Ports = Ports(17_500);
 }
 
 impl Ports {
@@ -618,8 +621,16 @@ pub const TELEMETRY: [Periodic; 10] = [
 /// The longest one `protolink` run may take before the test fails (never a hang).
 pub const RUN_LIMIT: Duration = Duration::from_secs(30);
 
+/// A `protolink` command whose state (`gdl90`'s ownship file, `$XDG_STATE_HOME`) stays in
+/// `target/test-state`, never in the user's home.
+pub fn protolink_command() -> Command {
+    let mut c = Command::new(protolink());
+    c.env("XDG_STATE_HOME", target_dir().join("test-state"));
+    c
+}
+
 pub fn spawn_protolink<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Child {
-    Command::new(protolink())
+    protolink_command()
         .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())

@@ -2,7 +2,8 @@
 //! Pilot, SkyDemon, Avare...), which listen on UDP port 4000.
 //!
 //! Once a second: heartbeat, ForeFlight ID, ownship report and ownship geometric altitude;
-//! five times a second: ForeFlight AHRS. What goes in ([`Picture`]):
+//! five times a second: ForeFlight AHRS and the Stratux AHRS report (`--ahrs` chooses). What
+//! goes in ([`Picture`]):
 //!
 //! | GDL90 field | from |
 //! | --- | --- |
@@ -13,7 +14,13 @@
 //! | ownship position, geometric altitude, ground speed | GPS, only with a fix |
 //! | ownship track, vertical rate | the last two GPS fixes (on the box's clock) |
 //! | ownship pressure altitude | PRESSURE static pressure, standard atmosphere (29.92 inHg) |
+//! | ownship address, address type, call sign | `--icao` (ICAO, type 0) or the box's MAC (self-assigned, type 1); `--callsign` or `AEOLUS` ([`ownship`]) |
 //! | heartbeat GPS-valid bit | a fresh GPS fix |
+//! | Stratux roll, pitch, heading, IAS | as the ForeFlight AHRS |
+//! | Stratux slip/skid | ATTITUDE slip ball (the angle of its tangent) |
+//! | Stratux yaw rate | ATTITUDE turn coordinator (1.0 = 3 °/s) |
+//! | Stratux G | ACCEL: minus the body z specific force over g |
+//! | Stratux pressure altitude, vertical speed | PRESSURE static pressure; its rate over the last second (box clock) |
 //!
 //! Anything older than [`FRESH`] or marked invalid by the box goes out as GDL90's invalid
 //! marker, never as a stale value. Datagrams go to one address (`--to`, 127.0.0.1:4000 by
@@ -24,11 +31,11 @@ use std::io::Write as _;
 use std::net::{IpAddr, SocketAddr, UdpSocket};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use aeolus_proto::message::{Attitude, Compass, Gps, Message, Pressure, Temp};
-use clap::Args;
+use aeolus_proto::message::{Accel, Attitude, Compass, Gps, Message, Pressure, Temp};
+use clap::{Args, ValueEnum};
 use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, ForeFlightId, GeoAltitude, Heading, Heartbeat,
-    LatLon, Name, Report, Track,
+    LatLon, Name, Report, StratuxAhrs, Track,
 };
 use serde_json::json;
 
@@ -37,6 +44,9 @@ use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
+use crate::telemetry::{VerticalSpeed, isa_altitude_m};
+
+pub mod ownship;
 
 /// A value older than this is not sent; its invalid marker is.
 pub const FRESH: Duration = Duration::from_secs(1);
@@ -49,6 +59,19 @@ pub const DISCOVERY_PORT: u16 = 63093;
 
 const KNOTS_PER_MPS: f64 = 3600.0 / 1852.0;
 const FEET_PER_M: f64 = 1.0 / 0.3048;
+/// Standard gravity, m/s².
+const G0: f64 = 9.806_65;
+
+/// Which AHRS messages `gdl90` sends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AhrsKind {
+    /// ForeFlight's AHRS (0x65, sub-ID 1): ForeFlight, Garmin Pilot and most EFB apps.
+    Foreflight,
+    /// The Stratux AHRS report (0x4C): WingX, iFly, AvPlan and other apps that read Stratux.
+    Stratux,
+    /// Both, each five times a second.
+    Both,
+}
 
 /// Arguments of `protolink gdl90`.
 #[derive(Debug, Clone, Args)]
@@ -66,6 +89,18 @@ pub struct Gdl90Args {
     /// on the port it names.
     #[arg(long)]
     pub discover: bool,
+    /// Which AHRS messages to send.
+    #[arg(long, value_enum, default_value = "both")]
+    pub ahrs: AhrsKind,
+    /// The aircraft's 24-bit ICAO address (hex, such as A1B2C3): the ownship report then
+    /// carries it as an ICAO address, so apps match it with the aircraft's own transponder
+    /// in traffic. Kept for this --from box for later runs.
+    #[arg(long, value_name = "HEX", value_parser = ownship::parse_icao)]
+    pub icao: Option<u32>,
+    /// The ownship call sign (1 to 8 of 0-9, A-Z), such as the registration without its
+    /// dash. Kept for this --from box for later runs.
+    #[arg(long, value_name = "CALLSIGN", value_parser = ownship::parse_callsign)]
+    pub callsign: Option<String>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
     /// end of the input).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
@@ -79,10 +114,15 @@ pub struct Picture {
     pressure: Option<(Pressure, Instant)>,
     temp: Option<(Temp, Instant)>,
     compass: Option<(Compass, Instant)>,
+    accel: Option<(Accel, Instant)>,
     gps: Option<(Gps, Instant)>,
     previous_fix: Option<Gps>,
-    /// The low 24 bits of the box's MAC, from AEOLUSINFO: the ownship address.
+    /// The low 24 bits of the box's MAC, from AEOLUSINFO: the self-assigned address.
     address: Option<u32>,
+    /// The pressure altitude's rate.
+    vertical: VerticalSpeed,
+    /// `--icao` and `--callsign`, given or kept.
+    pub identity: ownship::Identity,
 }
 
 /// `v` if it arrived within [`FRESH`] of `now`.
@@ -126,7 +166,14 @@ impl Picture {
     pub fn take(&mut self, m: &Message<'_>, now: Instant) {
         match m {
             Message::Attitude(v) => self.attitude = Some((*v, now)),
-            Message::Pressure(v) => self.pressure = Some((*v, now)),
+            Message::Pressure(v) => {
+                self.pressure = Some((*v, now));
+                if v.valid {
+                    self.vertical
+                        .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
+                }
+            }
+            Message::Accel(v) => self.accel = Some((*v, now)),
             Message::Temp(v) => self.temp = Some((*v, now)),
             Message::Compass(v) => self.compass = Some((*v, now)),
             Message::Gps(v) => {
@@ -171,6 +218,37 @@ impl Picture {
         }
     }
 
+    /// The Stratux AHRS report for `now` (its layout in [`StratuxAhrs`]).
+    pub fn stratux_ahrs(&self, now: Instant) -> StratuxAhrs {
+        let ff = self.ahrs(now);
+        let attitude = fresh(&self.attitude, now).filter(|a| a.valid);
+        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
+        let finite = |v: f64| v.is_finite().then_some(v as f32);
+        let whole =
+            |v: f64| (v.is_finite() && v.abs() < f64::from(i16::MAX)).then(|| v.round() as i16);
+        StratuxAhrs {
+            roll_deg: ff.roll_deg,
+            pitch_deg: ff.pitch_deg,
+            heading_deg: ff.heading.map(|h| h.degrees()),
+            slip_skid_deg: attitude
+                .and_then(|a| finite(f64::from(a.slip_ball).atan().to_degrees())),
+            yaw_rate_dps: attitude.and_then(|a| finite(f64::from(a.turn_coordinator) * 3.0)),
+            g_load: fresh(&self.accel, now)
+                .filter(|a| a.valid)
+                .and_then(|a| finite(-f64::from(a.z) / G0)),
+            indicated_airspeed_kt: ff
+                .indicated_airspeed_kt
+                .and_then(|kt| i16::try_from(kt).ok()),
+            pressure_altitude_ft: pressure
+                .map(|p| pressure_altitude_ft(p.static_mbar))
+                .filter(|ft| ft.is_finite())
+                .map(|ft| ft.round() as i32),
+            vertical_speed_fpm: pressure
+                .and_then(|_| self.vertical.mps())
+                .and_then(|mps| whole(mps * FEET_PER_M * 60.0)),
+        }
+    }
+
     /// The ownship report for `now`.
     pub fn ownship(&self, now: Instant) -> Report {
         let fix = self.fix(now);
@@ -186,9 +264,20 @@ impl Picture {
             }
             _ => (None, None),
         };
+        let (address_type, address) = match self.identity.icao {
+            Some(icao) => (AddressType::AdsbIcao, icao),
+            None => (AddressType::AdsbSelfAssigned, self.address.unwrap_or(0)),
+        };
+        let call_sign = self
+            .identity
+            .callsign
+            .as_deref()
+            .and_then(CallSign::new)
+            .or_else(|| CallSign::new("AEOLUS"))
+            .unwrap_or_default();
         Report {
-            address_type: AddressType::AdsbSelfAssigned,
-            address: self.address.unwrap_or(0),
+            address_type,
+            address,
             position: fix.map(|g| LatLon {
                 lat_deg: f64::from(g.latitude_deg),
                 lon_deg: f64::from(g.longitude_deg),
@@ -205,7 +294,7 @@ impl Picture {
             ground_speed_kt: fix.and_then(|g| knots(f64::from(g.ground_speed_mps))),
             vertical_rate_fpm,
             emitter: 1,
-            call_sign: CallSign::new("AEOLUS").unwrap_or_default(),
+            call_sign,
             ..Report::default()
         }
     }
@@ -266,6 +355,8 @@ pub struct Counters {
     pub heartbeats: u64,
     /// ForeFlight AHRS messages sent.
     pub ahrs: u64,
+    /// Stratux AHRS reports sent.
+    pub stratux_ahrs: u64,
     /// Ownship reports sent.
     pub ownship: u64,
     /// Geometric altitudes sent.
@@ -302,7 +393,18 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
     );
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
-    let mut picture = Picture::default();
+    let identity = ownship::Identity {
+        icao: args.icao,
+        callsign: args.callsign.clone(),
+    };
+    let mut picture = Picture {
+        identity: ownship::resolve(
+            &args.from.to_string(),
+            identity,
+            ownship::state_file().as_deref(),
+        )?,
+        ..Picture::default()
+    };
     let mut counters = Counters::default();
     let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
@@ -335,8 +437,7 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
         }
         let now = Instant::now();
         if now >= next_ahrs {
-            let ahrs = picture.ahrs(now);
-            counters.ahrs += sender.send(to, |w| gdl90_proto::encode_ahrs(&ahrs, w));
+            sender.send_ahrs(to, &picture, now, args.ahrs, &mut counters);
             next_ahrs += AHRS_PERIOD;
         }
         if now >= next_second {
@@ -398,6 +499,26 @@ impl Sender {
         Ok((to, sender))
     }
 
+    /// The AHRS messages `kind` asks for.
+    fn send_ahrs(
+        &mut self,
+        to: SocketAddr,
+        picture: &Picture,
+        now: Instant,
+        kind: AhrsKind,
+        counters: &mut Counters,
+    ) {
+        if kind != AhrsKind::Stratux {
+            let ahrs = picture.ahrs(now);
+            counters.ahrs += self.send(to, |w| gdl90_proto::encode_ahrs(&ahrs, w));
+        }
+        if kind != AhrsKind::Foreflight {
+            let report = picture.stratux_ahrs(now);
+            counters.stratux_ahrs +=
+                self.send(to, |w| gdl90_proto::encode_stratux_ahrs(&report, w));
+        }
+    }
+
     /// The messages sent once a second: heartbeat, ForeFlight ID, ownship report and, with
     /// a GPS fix, geometric altitude.
     fn send_each_second(
@@ -424,7 +545,7 @@ impl Sender {
         let mut out = Out::new();
         out.line(&format!("gdl90: {}", text(&json!(counters))))?;
         out.flush()?;
-        let sent = counters.heartbeats + counters.ahrs;
+        let sent = counters.heartbeats + counters.ahrs + counters.stratux_ahrs;
         match self.last_error {
             Some(source) if sent == 0 => Err(Error::Io {
                 what: format!(

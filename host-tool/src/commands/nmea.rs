@@ -1,0 +1,419 @@
+//! `protolink nmea`: the box's AEOLUS telemetry as NMEA 0183 for gliding and moving-map apps
+//! (XCSoar, LK8000, Kobo varios running XCSoar), on a TCP server (127.0.0.1:4353 by default,
+//! XCSoar's default TCP port) or as UDP datagrams (`--to`).
+//!
+//! Once a second `$GPRMC`, `$GPGGA`, `$PGRMZ` and `$LXWP0`; five times a second `$POV`. What
+//! goes in ([`Picture`]; the sentences in [`crate::nmea::sentence`]):
+//!
+//! | field | sentence | from |
+//! | --- | --- | --- |
+//! | position, fix, satellites, altitude | RMC, GGA | GPS, only with a fix |
+//! | ground speed | RMC | GPS, m/s to knots |
+//! | track | RMC | the GPS fixes of the last half second or more (on the box's clock) |
+//! | time, date | RMC, GGA | the host's UTC clock (AEOLUS carries no time of day) |
+//! | pressure altitude | PGRMZ (ft), LXWP0 (m) | PRESSURE static pressure, standard atmosphere |
+//! | static pressure, dynamic pressure | POV `P` (hPa), `Q` (Pa) | PRESSURE static and pitot (differential) pressure |
+//! | temperature | POV `T` | TEMP |
+//! | true airspeed | LXWP0 (km/h) | PRESSURE pitot pressure and the air density from static pressure and TEMP |
+//! | vario | LXWP0 (m/s) | the pressure altitude's rate over the last second (box clock) |
+//! | heading | LXWP0 | COMPASS (magnetic) |
+//! | wind | LXWP0 (from, km/h) | WIND |
+//!
+//! Anything older than [`FRESH`] ([`FRESH_SLOW`] for TEMP and WIND, which come about once a
+//! second) or marked invalid by the box goes out as RMC status `V`,
+//! GGA fix 0, or an empty field (a left-out pair in `$POV`), never as an old value.
+
+use std::collections::VecDeque;
+use std::io::Write as _;
+use std::net::SocketAddr;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use aeolus_proto::message::{Compass, Gps, Message, Pressure, Temp, Wind};
+use clap::Args;
+use serde_json::json;
+
+use crate::decoders::AEOLUS_CAPACITY;
+use crate::endpoint::{Endpoint, Input, parse_local_addr};
+use crate::error::Result;
+use crate::nmea::fanout::Fanout;
+use crate::nmea::sentence::{self, AirData, Fix, Lxwp0, Utc};
+use crate::render::{Out, text};
+use crate::stop::{self, Deadline};
+use crate::telemetry::{VerticalSpeed, isa_altitude_m};
+
+/// A value older than this is not sent.
+pub const FRESH: Duration = Duration::from_secs(1);
+/// The same for TEMP and WIND, which the box sends about once a second (spec figure 1c:
+/// 829 ms and 1000 ms): two and a half of their intervals.
+pub const FRESH_SLOW: Duration = Duration::from_millis(2500);
+/// The period of RMC, GGA, PGRMZ and LXWP0 (1 Hz).
+pub const SECOND: Duration = Duration::from_secs(1);
+/// The period of POV (5 Hz).
+pub const AIR_PERIOD: Duration = Duration::from_millis(200);
+/// The longest the loop waits for input before it serves the clients again.
+const TURN: Duration = Duration::from_millis(20);
+/// XCSoar's default TCP port.
+pub const DEFAULT_PORT: u16 = 4353;
+
+const KNOTS_PER_MPS: f64 = 3600.0 / 1852.0;
+const KMH_PER_MPS: f64 = 3.6;
+const FEET_PER_M: f64 = 1.0 / 0.3048;
+/// The specific gas constant of dry air, J/(kg·K).
+const R_AIR: f64 = 287.05;
+
+/// Arguments of `protolink nmea`.
+#[derive(Debug, Clone, Args)]
+pub struct NmeaArgs {
+    /// Where the box's AEOLUS telemetry comes from (udp:5001, tcp:127.0.0.1:7000, ...).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub from: Endpoint,
+    /// The TCP server the apps connect to: PORT (on 127.0.0.1) or ADDR:PORT.
+    #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:4353", value_parser = parse_local_addr)]
+    pub listen: SocketAddr,
+    /// Send UDP datagrams (one sentence each) to PORT (on 127.0.0.1) or ADDR:PORT instead of
+    /// serving TCP.
+    #[arg(long, value_name = "[ADDR:]PORT", value_parser = destination, conflicts_with = "listen")]
+    pub to: Option<SocketAddr>,
+    /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
+    /// end of the input).
+    #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
+    pub seconds: Option<Duration>,
+}
+
+/// A destination: PORT (on 127.0.0.1) or ADDR:PORT, never port 0 or an unspecified address.
+///
+/// ```
+/// use protolink::commands::nmea::destination;
+/// assert_eq!(destination("10110").unwrap().to_string(), "127.0.0.1:10110");
+/// assert!(destination("0").unwrap_err().contains("port 0"));
+/// assert!(destination("0.0.0.0:10110").is_err());
+/// ```
+///
+/// # Errors
+/// A sentence naming what is wrong.
+pub fn destination(text: &str) -> std::result::Result<SocketAddr, String> {
+    let addr = parse_local_addr(text)?;
+    if addr.port() == 0 {
+        return Err(format!(
+            "'{text}' names port 0, which nothing can be sent to"
+        ));
+    }
+    if addr.ip().is_unspecified() {
+        return Err(format!(
+            "'{text}' names no host (an unspecified address): give the app's address"
+        ));
+    }
+    Ok(addr)
+}
+
+/// The latest of each telemetry message, with when it arrived, the recent GPS fixes and the
+/// vertical speed.
+#[derive(Debug, Default)]
+pub struct Picture {
+    pressure: Option<(Pressure, Instant)>,
+    temp: Option<(Temp, Instant)>,
+    compass: Option<(Compass, Instant)>,
+    gps: Option<(Gps, Instant)>,
+    wind: Option<(Wind, Instant)>,
+    /// Valid fixes of the last [`TRACK_HISTORY_MS`] of box time, oldest first.
+    fixes: VecDeque<Gps>,
+    vertical: VerticalSpeed,
+}
+
+/// How much box time of fixes the track is taken over (at most).
+const TRACK_HISTORY_MS: f64 = 1000.0;
+/// The shortest span of box time the track is taken over.
+const TRACK_SPAN_MS: f64 = 400.0;
+/// Fixes kept for the track at most, whatever their rate.
+const TRACK_FIXES: usize = 64;
+
+/// `v` if it arrived within [`FRESH`] of `now`.
+fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
+    fresh_within(v, now, FRESH)
+}
+
+/// `v` if it arrived within `limit` of `now`.
+fn fresh_within<T: Copy>(v: &Option<(T, Instant)>, now: Instant, limit: Duration) -> Option<T> {
+    v.filter(|(_, at)| now.saturating_duration_since(*at) <= limit)
+        .map(|(v, _)| v)
+}
+
+impl Picture {
+    /// Takes one telemetry message that arrived at `now`.
+    pub fn take(&mut self, m: &Message<'_>, now: Instant) {
+        match m {
+            Message::Pressure(v) => {
+                self.pressure = Some((*v, now));
+                if v.valid {
+                    self.vertical
+                        .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
+                }
+            }
+            Message::Temp(v) => self.temp = Some((*v, now)),
+            Message::Compass(v) => self.compass = Some((*v, now)),
+            Message::Wind(v) => self.wind = Some((*v, now)),
+            Message::Gps(v) => {
+                self.gps = Some((*v, now));
+                self.keep_fix(v);
+            }
+            _ => {}
+        }
+    }
+
+    /// Keeps a valid fix for the track; a step back of the box clock (a reboot) starts over.
+    fn keep_fix(&mut self, g: &Gps) {
+        if !(g.valid && g.has_fix && g.timestamp_ms.is_finite()) {
+            return;
+        }
+        if self
+            .fixes
+            .back()
+            .is_some_and(|last| g.timestamp_ms <= last.timestamp_ms)
+        {
+            self.fixes.clear();
+        }
+        if self.fixes.len() == TRACK_FIXES {
+            self.fixes.pop_front();
+        }
+        self.fixes.push_back(*g);
+        while self
+            .fixes
+            .front()
+            .is_some_and(|f| g.timestamp_ms - f.timestamp_ms > TRACK_HISTORY_MS)
+        {
+            self.fixes.pop_front();
+        }
+    }
+
+    /// A fresh, valid GPS fix, as RMC and GGA carry it.
+    pub fn fix(&self, now: Instant) -> Option<Fix> {
+        let g = fresh(&self.gps, now).filter(|g| g.valid && g.has_fix)?;
+        Some(Fix {
+            lat_deg: f64::from(g.latitude_deg),
+            lon_deg: f64::from(g.longitude_deg),
+            altitude_m: f64::from(g.altitude_m),
+            satellites: g.satellites,
+            ground_speed_kt: f64::from(g.ground_speed_mps) * KNOTS_PER_MPS,
+            track_deg: self.track_deg(&g),
+        })
+    }
+
+    /// The track: the bearing from the oldest kept fix at least [`TRACK_SPAN_MS`] before
+    /// `now_fix` to it, when they are a metre apart or more.
+    fn track_deg(&self, now_fix: &Gps) -> Option<f64> {
+        let from = self
+            .fixes
+            .iter()
+            .find(|f| now_fix.timestamp_ms - f.timestamp_ms >= TRACK_SPAN_MS)?;
+        bearing_deg(from, now_fix)
+    }
+
+    /// The satellites a fresh GPS message reports, fix or not.
+    fn satellites(&self, now: Instant) -> Option<u8> {
+        fresh(&self.gps, now)
+            .filter(|g| g.valid)
+            .map(|g| g.satellites)
+    }
+
+    fn pressure(&self, now: Instant) -> Option<Pressure> {
+        fresh(&self.pressure, now)
+            .filter(|p| p.valid && p.static_mbar.is_finite() && p.static_mbar > 0.0)
+    }
+
+    /// The pressure altitude in metres (1013.25 hPa datum).
+    fn pressure_altitude_m(&self, now: Instant) -> Option<f64> {
+        self.pressure(now)
+            .map(|p| isa_altitude_m(p.static_mbar))
+            .filter(|m| m.is_finite())
+    }
+
+    /// The pressure altitude in feet, for `$PGRMZ`.
+    pub fn pressure_altitude_ft(&self, now: Instant) -> Option<f64> {
+        self.pressure_altitude_m(now).map(|m| m * FEET_PER_M)
+    }
+
+    /// The static and dynamic pressure and the temperature, for `$POV`.
+    pub fn air_data(&self, now: Instant) -> AirData {
+        let p = self.pressure(now);
+        AirData {
+            static_hpa: p.map(|p| f64::from(p.static_mbar)),
+            dynamic_pa: p.map(|p| f64::from(p.pitot_mbar) * 100.0),
+            celsius: fresh_within(&self.temp, now, FRESH_SLOW)
+                .filter(|t| t.valid)
+                .map(|t| f64::from(t.celsius)),
+        }
+    }
+
+    /// Airspeed, altitude, vario, heading and wind, for `$LXWP0`.
+    pub fn lxwp0(&self, now: Instant) -> Lxwp0 {
+        let air = self.air_data(now);
+        let wind = fresh_within(&self.wind, now, FRESH_SLOW).filter(|w| w.valid);
+        Lxwp0 {
+            tas_kmh: true_airspeed_mps(&air).map(|v| v * KMH_PER_MPS),
+            pressure_altitude_m: self.pressure_altitude_m(now),
+            vario_mps: self
+                .pressure(now)
+                .and_then(|_| self.vertical.mps())
+                .filter(|v| v.is_finite()),
+            heading_deg: fresh(&self.compass, now)
+                .filter(|c| c.valid && c.has_value)
+                .map(|c| f64::from(c.heading_deg)),
+            wind_from_deg: wind.map(|w| f64::from(w.direction_deg)),
+            wind_kmh: wind.map(|w| f64::from(w.speed_mps) * KMH_PER_MPS),
+        }
+    }
+}
+
+/// True airspeed from the dynamic pressure and the air density (static pressure and
+/// temperature): `sqrt(2 q / rho)`; `None` without all three or for a negative pressure.
+///
+/// ```
+/// use protolink::commands::nmea::true_airspeed_mps;
+/// use protolink::nmea::sentence::AirData;
+/// // 1531.25 Pa at sea level in the standard atmosphere is 50 m/s.
+/// let sea = AirData { static_hpa: Some(1013.25), dynamic_pa: Some(1531.25), celsius: Some(15.0) };
+/// assert!((true_airspeed_mps(&sea).unwrap() - 50.0).abs() < 0.01);
+/// assert_eq!(true_airspeed_mps(&AirData { celsius: None, ..sea }), None);
+/// ```
+pub fn true_airspeed_mps(air: &AirData) -> Option<f64> {
+    let (p_hpa, q_pa, celsius) = (air.static_hpa?, air.dynamic_pa?, air.celsius?);
+    let rho = p_hpa * 100.0 / (R_AIR * (celsius + 273.15));
+    let v = (2.0 * q_pa.max(0.0) / rho).sqrt();
+    (rho > 0.0 && v.is_finite()).then_some(v)
+}
+
+/// The true course from fix `a` to fix `b`, when they are at least a metre apart.
+fn bearing_deg(a: &Gps, b: &Gps) -> Option<f64> {
+    let (la1, la2) = (
+        f64::from(a.latitude_deg).to_radians(),
+        f64::from(b.latitude_deg).to_radians(),
+    );
+    let dlon = (f64::from(b.longitude_deg) - f64::from(a.longitude_deg)).to_radians();
+    let y = dlon.sin() * la2.cos();
+    let x = la1.cos() * la2.sin() - la1.sin() * la2.cos() * dlon.cos();
+    let metres = y.hypot(x) * 6_371_000.0;
+    (metres >= 1.0).then(|| y.atan2(x).to_degrees().rem_euclid(360.0))
+}
+
+/// What `nmea` sent, printed on exit.
+#[derive(Debug, Default, Clone, Copy, serde::Serialize)]
+pub struct Counters {
+    /// AEOLUS messages taken in.
+    pub telemetry_in: u64,
+    /// `$GPRMC` sentences.
+    pub rmc: u64,
+    /// `$GPGGA` sentences.
+    pub gga: u64,
+    /// `$PGRMZ` sentences.
+    pub pgrmz: u64,
+    /// `$POV` sentences.
+    pub pov: u64,
+    /// `$LXWP0` sentences.
+    pub lxwp0: u64,
+}
+
+fn utc_now() -> Utc {
+    Utc::from_unix(
+        SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .unwrap_or_default(),
+    )
+}
+
+/// Writes the once-a-second sentences.
+fn each_second(out: &mut Fanout, picture: &Picture, now: Instant, counters: &mut Counters) {
+    let utc = utc_now();
+    let fix = picture.fix(now);
+    out.send(sentence::rmc(&utc, fix.as_ref()).as_bytes());
+    counters.rmc += 1;
+    out.send(sentence::gga(&utc, fix.as_ref(), picture.satellites(now)).as_bytes());
+    counters.gga += 1;
+    out.send(sentence::pgrmz(picture.pressure_altitude_ft(now)).as_bytes());
+    counters.pgrmz += 1;
+    out.send(sentence::lxwp0(&picture.lxwp0(now)).as_bytes());
+    counters.lxwp0 += 1;
+}
+
+/// Runs `protolink nmea`.
+///
+/// # Errors
+/// Opening the input or the server, reading the input, or every datagram failing.
+pub fn run(args: &NmeaArgs) -> Result<()> {
+    let mut link = args.from.open()?;
+    let mut out = match args.to {
+        Some(to) => Fanout::udp(to)?,
+        None => Fanout::listen(args.listen)?,
+    };
+    let where_to = match (args.to, out.local_addr()) {
+        (Some(to), _) => format!("udp {to}"),
+        (None, Ok(addr)) => format!("a TCP server on {addr}"),
+        (None, Err(_)) => format!("a TCP server on {}", args.listen),
+    };
+    let _ = writeln!(
+        std::io::stderr(),
+        "nmea: {} -> NMEA 0183 on {where_to} (Ctrl-C to stop)",
+        link.name()
+    );
+    stop::install_ctrl_c();
+    let deadline = Deadline::after(args.seconds);
+    let mut picture = Picture::default();
+    let mut counters = Counters::default();
+    let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
+    let mut buf = vec![0u8; 65_536];
+    let start = Instant::now();
+    let (mut next_air, mut next_second) = (start, start);
+    while !deadline.reached() {
+        let wait = next_air
+            .min(next_second)
+            .saturating_duration_since(Instant::now())
+            .clamp(Duration::from_millis(1), TURN);
+        match link.read(&mut buf, deadline.left(wait))? {
+            Input::Data(n) => {
+                let now = Instant::now();
+                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
+                    if let Ok(frame) = ev
+                        && let Ok(m) = frame.message()
+                    {
+                        counters.telemetry_in += 1;
+                        picture.take(&m, now);
+                    }
+                });
+                if link.is_datagram() {
+                    decoder.reset();
+                }
+            }
+            Input::Idle => {}
+            Input::End => break,
+        }
+        let now = Instant::now();
+        if now >= next_air {
+            if let Some(s) = sentence::pov(&picture.air_data(now)) {
+                out.send(s.as_bytes());
+                counters.pov += 1;
+            }
+            next_air += AIR_PERIOD;
+        }
+        if now >= next_second {
+            each_second(&mut out, &picture, now, &mut counters);
+            next_second += SECOND;
+        }
+        out.poll(|note| {
+            let _ = writeln!(std::io::stderr(), "nmea: {note}");
+        });
+    }
+    finish(out, counters)
+}
+
+/// Serves the clients one last time, prints the counters, and fails when every datagram
+/// failed.
+fn finish(mut out: Fanout, counters: Counters) -> Result<()> {
+    out.poll(|_| {});
+    let mut o = Out::new();
+    o.line(&format!(
+        "nmea: {} {}",
+        text(&json!(counters)),
+        text(&json!(out.counters()))
+    ))?;
+    o.flush()?;
+    out.check()
+}

@@ -1,0 +1,321 @@
+//! Lines to many readers without letting one hold up the rest: a TCP server whose every
+//! client has its own bounded queue, or a UDP sender (one datagram per line).
+//!
+//! Everything is bounded: at most [`MAX_CLIENTS`] clients (one more is accepted and closed at
+//! once, and counted as refused), at most [`QUEUE_BYTES`] queued for each. A client that reads
+//! too slowly loses whole lines, never parts of one: a line that does not fit its queue is
+//! dropped for that client alone and counted. Sockets are non-blocking, so no client can stall
+//! the loop or the others.
+
+use std::collections::VecDeque;
+use std::io::{self, Read as _, Write as _};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+
+use crate::error::{Error, Result};
+
+/// Most clients served at once.
+pub const MAX_CLIENTS: usize = 8;
+/// Bytes queued for one client at most (about 200 sentences: several seconds of output).
+pub const QUEUE_BYTES: usize = 16 * 1024;
+/// Bytes read (and discarded) from one client per turn: what a client sends is not used.
+const READ_PER_TURN: usize = 4096;
+
+/// What a [`Fanout`] has done.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Counters {
+    /// Lines handed to [`Fanout::send`].
+    pub lines: u64,
+    /// Clients accepted (TCP).
+    pub clients: u64,
+    /// Clients turned away because [`MAX_CLIENTS`] were connected (TCP).
+    pub refused: u64,
+    /// Clients gone (closed by them, or a write failed).
+    pub disconnected: u64,
+    /// Lines dropped for a client whose queue was full, summed over the clients.
+    pub dropped: u64,
+    /// Datagrams whose send failed (UDP).
+    pub send_errors: u64,
+}
+
+/// One TCP client and the bytes waiting for it.
+#[derive(Debug)]
+struct Client {
+    stream: TcpStream,
+    peer: SocketAddr,
+    queue: VecDeque<u8>,
+    dropped: u64,
+}
+
+/// Where the lines go.
+#[derive(Debug)]
+enum Sink {
+    Tcp {
+        listener: TcpListener,
+        clients: Vec<Client>,
+    },
+    Udp {
+        socket: UdpSocket,
+        to: SocketAddr,
+    },
+}
+
+/// A TCP server or a UDP sender for lines.
+///
+/// ```
+/// use std::io::Read;
+/// use protolink::nmea::fanout::Fanout;
+/// let mut out = Fanout::listen("127.0.0.1:0".parse()?)?;
+/// let mut client = std::net::TcpStream::connect(out.local_addr()?)?;
+/// while out.counters().clients == 0 {
+///     out.poll(|_| {});
+/// }
+/// out.send(b"$PGRMZ,2282,f,2*20\r\n");
+/// out.poll(|_| {});
+/// let mut line = [0u8; 20];
+/// client.read_exact(&mut line)?;
+/// assert_eq!(&line, b"$PGRMZ,2282,f,2*20\r\n");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Fanout {
+    sink: Sink,
+    counters: Counters,
+    last_error: Option<io::Error>,
+}
+
+impl Fanout {
+    /// A TCP server on `addr`, non-blocking.
+    ///
+    /// # Errors
+    /// The address cannot be bound.
+    pub fn listen(addr: SocketAddr) -> Result<Self> {
+        let open_err = |source| Error::Open {
+            endpoint: format!("a TCP server on {addr}"),
+            source,
+        };
+        let listener = TcpListener::bind(addr).map_err(open_err)?;
+        listener.set_nonblocking(true).map_err(open_err)?;
+        Ok(Self::with(Sink::Tcp {
+            listener,
+            clients: Vec::new(),
+        }))
+    }
+
+    /// A UDP sender to `to`, from an ephemeral port on 127.0.0.1 for a loopback destination
+    /// (every interface otherwise).
+    ///
+    /// # Errors
+    /// No socket can be bound.
+    pub fn udp(to: SocketAddr) -> Result<Self> {
+        let ip = if to.ip().is_loopback() {
+            Ipv4Addr::LOCALHOST
+        } else {
+            Ipv4Addr::UNSPECIFIED
+        };
+        let socket =
+            UdpSocket::bind(SocketAddr::new(IpAddr::V4(ip), 0)).map_err(|source| Error::Open {
+                endpoint: format!("a UDP socket for {to}"),
+                source,
+            })?;
+        Ok(Self::with(Sink::Udp { socket, to }))
+    }
+
+    fn with(sink: Sink) -> Self {
+        Fanout {
+            sink,
+            counters: Counters::default(),
+            last_error: None,
+        }
+    }
+
+    /// The server's address (TCP), or where the datagrams go (UDP).
+    ///
+    /// # Errors
+    /// The operating system cannot tell the bound address.
+    pub fn local_addr(&self) -> io::Result<SocketAddr> {
+        match &self.sink {
+            Sink::Tcp { listener, .. } => listener.local_addr(),
+            Sink::Udp { to, .. } => Ok(*to),
+        }
+    }
+
+    /// What has been done so far.
+    pub fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    /// Queues `line` for every client (TCP) or sends it as one datagram (UDP).
+    pub fn send(&mut self, line: &[u8]) {
+        self.counters.lines += 1;
+        match &mut self.sink {
+            Sink::Tcp { clients, .. } => {
+                for c in clients {
+                    if c.queue.len() + line.len() <= QUEUE_BYTES {
+                        c.queue.extend(line);
+                    } else {
+                        c.dropped += 1;
+                        self.counters.dropped += 1;
+                    }
+                }
+            }
+            Sink::Udp { socket, to } => {
+                if let Err(e) = socket.send_to(line, *to) {
+                    self.counters.send_errors += 1;
+                    self.last_error = Some(e);
+                }
+            }
+        }
+    }
+
+    /// One turn of the server: accepts waiting clients, writes what each can take, reads and
+    /// discards what they sent, and lets go of the ones that left. `note` gets one sentence
+    /// for each client that comes or goes.
+    pub fn poll(&mut self, mut note: impl FnMut(&str)) {
+        let Sink::Tcp { listener, clients } = &mut self.sink else {
+            return;
+        };
+        while let Ok((stream, peer)) = listener.accept() {
+            if clients.len() >= MAX_CLIENTS || stream.set_nonblocking(true).is_err() {
+                self.counters.refused += 1;
+                note(&format!(
+                    "refused {peer}: {MAX_CLIENTS} clients are connected"
+                ));
+                continue;
+            }
+            self.counters.clients += 1;
+            note(&format!("client {peer} connected"));
+            clients.push(Client {
+                stream,
+                peer,
+                queue: VecDeque::with_capacity(QUEUE_BYTES),
+                dropped: 0,
+            });
+        }
+        let before = clients.len();
+        clients.retain_mut(|c| {
+            let alive = c.serve();
+            if !alive {
+                note(&format!(
+                    "client {} left ({} lines dropped for it)",
+                    c.peer, c.dropped
+                ));
+            }
+            alive
+        });
+        self.counters.disconnected += (before - clients.len()) as u64;
+    }
+
+    /// Fails when lines were to go out as datagrams and not one did.
+    ///
+    /// # Errors
+    /// [`Error::Io`] with the last send error.
+    pub fn check(&mut self) -> Result<()> {
+        match self.last_error.take() {
+            Some(source) if self.counters.send_errors == self.counters.lines => Err(Error::Io {
+                what: format!(
+                    "sending every one of {} datagrams to {}",
+                    self.counters.send_errors,
+                    self.local_addr()
+                        .map_or_else(|_| "?".to_owned(), |a| a.to_string())
+                ),
+                source,
+            }),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl Client {
+    /// Writes what the socket takes and reads what the client sent; false once it is gone.
+    fn serve(&mut self) -> bool {
+        while !self.queue.is_empty() {
+            let (head, _) = self.queue.as_slices();
+            match self.stream.write(head) {
+                Ok(0) => return false,
+                Ok(n) => {
+                    self.queue.drain(..n);
+                }
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(_) => return false,
+            }
+        }
+        let mut buf = [0u8; 512];
+        let mut read = 0;
+        while read < READ_PER_TURN {
+            match self.stream.read(&mut buf) {
+                Ok(0) => return false,
+                Ok(n) => read += n,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(_) => return false,
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, Instant};
+
+    fn accept_one(out: &mut Fanout) {
+        let started = Instant::now();
+        while out.counters().clients == 0 && started.elapsed() < Duration::from_secs(5) {
+            out.poll(|_| {});
+        }
+    }
+
+    #[test]
+    fn a_client_that_never_reads_loses_lines_and_holds_no_one_up() {
+        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap()).unwrap();
+        let addr = out.local_addr().unwrap();
+        let _slow = TcpStream::connect(addr).unwrap();
+        accept_one(&mut out);
+        let mut fast = TcpStream::connect(addr).unwrap();
+        fast.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        while out.counters().clients < 2 {
+            out.poll(|_| {});
+        }
+        let line = [b'x'; 80];
+        let mut got = vec![0u8; 80];
+        // Until the slow client's socket buffers and queue are full (the loopback buffers
+        // may hold megabytes), and a while longer: the fast one gets every line meanwhile.
+        let mut sent = 0u64;
+        while out.counters().dropped < 100 && sent < 2_000_000 {
+            out.send(&line);
+            out.poll(|_| {});
+            fast.read_exact(&mut got).unwrap();
+            assert_eq!(got, line);
+            sent += 1;
+        }
+        let c = out.counters();
+        assert_eq!(c.dropped, 100, "{c:?}");
+        assert_eq!(c.disconnected, 0);
+    }
+
+    #[test]
+    fn clients_beyond_the_limit_are_refused_and_a_closed_one_is_let_go() {
+        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap()).unwrap();
+        let addr = out.local_addr().unwrap();
+        let mut streams: Vec<TcpStream> = (0..MAX_CLIENTS + 2)
+            .map(|_| TcpStream::connect(addr).unwrap())
+            .collect();
+        let started = Instant::now();
+        while out.counters().clients + out.counters().refused < (MAX_CLIENTS + 2) as u64
+            && started.elapsed() < Duration::from_secs(5)
+        {
+            out.poll(|_| {});
+        }
+        assert_eq!(out.counters().clients, MAX_CLIENTS as u64);
+        assert_eq!(out.counters().refused, 2);
+        streams.truncate(MAX_CLIENTS - 1);
+        let started = Instant::now();
+        while out.counters().disconnected < 1 && started.elapsed() < Duration::from_secs(5) {
+            out.send(b"line\r\n");
+            out.poll(|_| {});
+        }
+        assert_eq!(out.counters().disconnected, 1, "the one closed client");
+    }
+}
