@@ -131,3 +131,19 @@ fn the_encoders_byte_iterator_ends_with_the_message() {
     assert!(!by_encode.is_empty());
     assert_eq!(by_iter, by_encode);
 }
+
+/// The satellites of a two-satellite fix detail and the entries of a two-entry direct output,
+/// counted: each iterator ends after its message's count.
+fn list_lengths() -> (usize, usize) {
+    use crate::{DirectOutput, FixDetail, OutputEntry, Satellite};
+    let fix = [[2u8].as_slice(), &[0u8; 2 * Satellite::LEN]].concat();
+    let out = [[2u8, 0].as_slice(), &[0u8; 2 * OutputEntry::LEN]].concat();
+    let sats = FixDetail::parse(&fix).map_or(0, |f| f.satellites().count());
+    let entries = DirectOutput::parse(&out).map_or(0, |d| d.entries().count());
+    (sats, entries)
+}
+
+#[test]
+fn the_message_lists_iterators_end_with_their_count() {
+    assert_eq!(returns("Satellites and Entries", list_lengths), (2, 2));
+}
