@@ -147,3 +147,35 @@ fn list_lengths() -> (usize, usize) {
 fn the_message_lists_iterators_end_with_their_count() {
     assert_eq!(returns("Satellites and Entries", list_lengths), (2, 2));
 }
+
+/// The frames the blocking reader returns over the stream, read `R` bytes at a time, up to its
+/// end (at most 64 reads: the test fails rather than spins if the end is never reported), and
+/// whether it reported the end.
+#[cfg(feature = "embedded-io")]
+fn reader_frames<const R: usize>() -> (Vec<Vec<u8>>, bool) {
+    let mut reader =
+        crate::embedded_io::FrameReader::<_, 16, R>::new(STREAM, Small::new(Profile::Spec));
+    let mut frames = Vec::new();
+    for _ in 0..64 {
+        match reader.read() {
+            Ok(f) => frames.push(f.as_bytes().to_vec()),
+            Err(crate::IoError::Eof) => return (frames, true),
+            Err(_) => {}
+        }
+    }
+    (frames, false)
+}
+
+#[cfg(feature = "embedded-io")]
+#[test]
+fn the_reader_returns_the_streams_frames_and_its_end() {
+    let pushed: Vec<Vec<u8>> = by_push().into_iter().filter_map(|s| s.ok()).collect();
+    assert!(!pushed.is_empty());
+    for got in [
+        returns("FrameReader::read, 1 byte a read", reader_frames::<1>),
+        returns("FrameReader::read, 3 bytes a read", reader_frames::<3>),
+        returns("FrameReader::read, 64 bytes a read", reader_frames::<64>),
+    ] {
+        assert_eq!(got, (pushed.clone(), true));
+    }
+}
