@@ -285,6 +285,21 @@ proptest! {
         let payload = Raw { msg_type: (rng.below(127)) as u8, data: &data };
         let ts = (!expedited).then(|| Timestamp::new(i64::from(rng.next_u64() as u32), 5));
         let mut want = vec![0u8; 200];
+        if reference && expedited {
+            // The Reference profile has no expedited header: refused, and nothing written.
+            let refused = Err(IoError::Protocol(aydp_proto::Error::ExpeditedInReference));
+            prop_assert_eq!(
+                Encoder::new(profile).encode(&payload, ts, &mut want),
+                Err(aydp_proto::Error::ExpeditedInReference)
+            );
+            let mut w = bio::FrameWriter::new(sink(max), profile);
+            prop_assert_eq!(w.write_message(&payload, ts), refused);
+            prop_assert!(w.into_inner().out.is_empty());
+            let mut w = aio::FrameWriter::new(sink(max), profile);
+            prop_assert_eq!(block_on(w.write_message(&payload, ts)), refused);
+            prop_assert!(w.into_inner().out.is_empty());
+            return Ok(());
+        }
         let n = Encoder::new(profile).encode(&payload, ts, &mut want).unwrap();
         want.truncate(n);
         let mut w = bio::FrameWriter::new(sink(max), profile);

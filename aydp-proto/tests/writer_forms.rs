@@ -1,11 +1,14 @@
 #![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! `write_normal` and `write_expedited` write exactly the encoder's normal and expedited
-//! frames and return their length, blocking and async.
+//! frames and return their length, blocking and async; in the Reference profile, which has
+//! no expedited header, `write_expedited` is refused and writes nothing.
 
 #[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
-use aydp_proto::{Encoder, Profile, Raw, Timestamp, embedded_io as bio, embedded_io_async as aio};
+use aydp_proto::{
+    Encoder, Error, IoError, Profile, Raw, Timestamp, embedded_io as bio, embedded_io_async as aio,
+};
 use transport::block_on;
 
 const PAYLOAD: Raw<'static> = Raw {
@@ -14,7 +17,7 @@ const PAYLOAD: Raw<'static> = Raw {
 };
 
 fn expected(normal: bool) -> Vec<u8> {
-    let e = Encoder::new(Profile::Reference);
+    let e = Encoder::new(Profile::Spec);
     let mut out = [0u8; 64];
     let n = if normal {
         e.encode_normal(&PAYLOAD, Timestamp::new(7, 250), &mut out)
@@ -26,22 +29,38 @@ fn expected(normal: bool) -> Vec<u8> {
 
 #[test]
 fn the_blocking_writer_writes_both_forms() {
+    let (normal_bytes, expedited_bytes) = (expected(true), expected(false));
+    let (a, b) = (normal_bytes.len(), expedited_bytes.len());
+    assert_eq!((a, b), (25, 9));
     let mut wire = [0u8; 64];
-    let mut w = bio::FrameWriter::new(&mut wire[..], Profile::Reference);
+    let mut w = bio::FrameWriter::new(&mut wire[..], Profile::Spec);
     let normal = w.write_normal(&PAYLOAD, Timestamp::new(7, 250));
     let expedited = w.write_expedited(&PAYLOAD);
-    assert_eq!((normal, expedited), (Ok(25), Ok(9)));
-    assert_eq!(wire[..25], expected(true)[..]);
-    assert_eq!(wire[25..34], expected(false)[..]);
+    assert_eq!((normal, expedited), (Ok(a), Ok(b)));
+    assert_eq!(wire[..a], normal_bytes[..]);
+    assert_eq!(wire[a..a + b], expedited_bytes[..]);
 }
 
 #[test]
 fn the_async_writer_writes_both_forms() {
+    let (normal_bytes, expedited_bytes) = (expected(true), expected(false));
+    let (a, b) = (normal_bytes.len(), expedited_bytes.len());
     let mut wire = [0u8; 64];
-    let mut w = aio::FrameWriter::new(&mut wire[..], Profile::Reference);
+    let mut w = aio::FrameWriter::new(&mut wire[..], Profile::Spec);
     let normal = block_on(w.write_normal(&PAYLOAD, Timestamp::new(7, 250)));
     let expedited = block_on(w.write_expedited(&PAYLOAD));
-    assert_eq!((normal, expedited), (Ok(25), Ok(9)));
-    assert_eq!(wire[..25], expected(true)[..]);
-    assert_eq!(wire[25..34], expected(false)[..]);
+    assert_eq!((normal, expedited), (Ok(a), Ok(b)));
+    assert_eq!(wire[..a], normal_bytes[..]);
+    assert_eq!(wire[a..a + b], expedited_bytes[..]);
+}
+
+#[test]
+fn the_reference_writers_refuse_the_expedited_form() {
+    let refused = Err(IoError::Protocol(Error::ExpeditedInReference));
+    let mut wire = [0u8; 16];
+    let mut w = bio::FrameWriter::new(&mut wire[..], Profile::Reference);
+    assert_eq!(w.write_expedited(&PAYLOAD), refused);
+    let mut w = aio::FrameWriter::new(&mut wire[..], Profile::Reference);
+    assert_eq!(block_on(w.write_expedited(&PAYLOAD)), refused);
+    assert_eq!(wire, [0u8; 16]);
 }
