@@ -251,7 +251,7 @@ impl<const N: usize> Decoder<N> {
             // Unreachable by construction, as in `append`.
             discard(&mut self.stats, 1);
         }
-        self.poll()
+        self.poll_held()
     }
 
     /// Take the next event from bytes already held (after a rescan), or `None`.
@@ -261,7 +261,18 @@ impl<const N: usize> Decoder<N> {
     /// let mut dec = Decoder::<32>::new(Profile::Spec);
     /// assert!(dec.poll().is_none());
     /// ```
+    #[inline]
     pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
+        if self.start == self.len {
+            // Nothing held (the usual call after an event): nothing to decide.
+            return None;
+        }
+        self.poll_held()
+    }
+
+    /// [`Decoder::poll`] when bytes are held: the step runs over them.
+    #[inline(never)]
+    pub(super) fn poll_held(&mut self) -> Option<Result<Frame<'_>>> {
         let step = self.examine();
         self.event(step)
     }
