@@ -65,6 +65,10 @@ pub fn encode(command: &Command, buf: &mut [u8]) -> Result<usize, Error> {
 /// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+// On 32-bit targets `repr(C)` puts the buffer first: its address is the decoder's, so `push`
+// stores a byte with one `strb` (`scripts/cm3-bench.sh`, issue 29). Not on 64-bit hosts, where
+// it made `push` slower (x86-64 callgrind, PC side: +5.7 %).
+#[cfg_attr(target_pointer_width = "32", repr(C))]
 pub struct PcDecoder {
     buf: [u8; MAX_COMMAND_LEN],
     len: usize,
@@ -184,6 +188,7 @@ impl PcDecoder {
     /// assert_eq!(dec.poll(), Some(Ok(Message::Ack(Ack::Ok))));
     /// assert_eq!(dec.poll(), None);
     /// ```
+    #[inline]
     pub fn poll(&mut self) -> Option<Result<Message, Error>> {
         self.step(false)
     }

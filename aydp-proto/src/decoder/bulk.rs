@@ -51,7 +51,7 @@ impl<const N: usize> Decoder<N> {
         let mut rest = bytes;
         loop {
             // Events a rescan left queued come first: those bytes precede `rest`.
-            while let Some(e) = self.poll() {
+            while let Some(e) = self.poll_held() {
                 on_event(e);
             }
             if self.len == self.start {

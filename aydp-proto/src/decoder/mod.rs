@@ -233,25 +233,31 @@ impl<const N: usize> Decoder<N> {
                 return None;
             }
         }
-        self.push_slow(byte)
+        self.advance(Some(byte))
     }
 
+    /// Stores `byte` (if any) behind the bytes held, then runs the step over them: the one
+    /// out-of-line function of `push` and `poll`, so that a byte the fast path of `push` does
+    /// not take costs one call.
     #[inline(never)]
-    fn push_slow(&mut self, byte: u8) -> Option<Result<Frame<'_>>> {
-        if self.start == self.len {
-            self.start = 0;
-            self.len = 0;
-        } else if self.len >= N {
-            self.compact();
+    fn advance(&mut self, byte: Option<u8>) -> Option<Result<Frame<'_>>> {
+        if let Some(byte) = byte {
+            if self.start == self.len {
+                self.start = 0;
+                self.len = 0;
+            } else if self.len >= N {
+                self.compact();
+            }
+            if let Some(slot) = self.buf.get_mut(self.len) {
+                *slot = byte;
+                self.len += 1;
+            } else {
+                // Unreachable by construction, as in `append`.
+                discard(&mut self.stats, 1);
+            }
         }
-        if let Some(slot) = self.buf.get_mut(self.len) {
-            *slot = byte;
-            self.len += 1;
-        } else {
-            // Unreachable by construction, as in `append`.
-            discard(&mut self.stats, 1);
-        }
-        self.poll()
+        let step = self.examine();
+        self.event(step)
     }
 
     /// Take the next event from bytes already held (after a rescan), or `None`.
@@ -261,8 +267,18 @@ impl<const N: usize> Decoder<N> {
     /// let mut dec = Decoder::<32>::new(Profile::Spec);
     /// assert!(dec.poll().is_none());
     /// ```
+    #[inline]
     pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
-        let step = self.examine();
-        self.event(step)
+        if self.start == self.len {
+            // Nothing held (the usual call after an event): nothing to decide.
+            return None;
+        }
+        self.poll_held()
+    }
+
+    /// [`Decoder::poll`] when bytes are held: the step runs over them.
+    #[inline]
+    pub(super) fn poll_held(&mut self) -> Option<Result<Frame<'_>>> {
+        self.advance(None)
     }
 }

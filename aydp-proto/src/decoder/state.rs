@@ -224,7 +224,10 @@ impl<const N: usize> Decoder<N> {
 }
 
 /// Counts `count` bytes as discarded (at once: it wraps exactly like counting one at a time).
-#[inline]
+// Out of line: inlined, the optimiser keeps every counter in a register across the loop of
+// `examine`, and loads and spills them on each call of `poll_held` (issue 29: `push` 36.8 ->
+// 36.4, `feed` 8.8 -> 8.7 instructions per byte on Cortex-M3).
+#[inline(never)]
 pub(super) fn discard(stats: &mut Stats, count: usize) {
     stats.bytes_discarded = stats.bytes_discarded.wrapping_add(count as u32);
 }
