@@ -53,6 +53,15 @@ fn fake_device(listener: TcpListener, profile: Profile) -> JoinHandle<DeviceLog>
             };
             stream.set_nodelay(true).unwrap();
             let encoder = Encoder::new(profile);
+            // Expedited where the profile has the form; the Reference software sends the same
+            // messages with a normal header.
+            let quick = |m: &dyn aydp_proto::Payload, wire: &mut [u8]| {
+                if profile.has_expedited() {
+                    encoder.encode_expedited(m, wire)
+                } else {
+                    encoder.encode_normal(m, Timestamp::new(10, 6), wire)
+                }
+            };
             let mut decoder = Decoder::<512>::new(profile);
             let mut buf = [0u8; 256];
             loop {
@@ -72,9 +81,7 @@ fn fake_device(listener: TcpListener, profile: Profile) -> JoinHandle<DeviceLog>
                             if let Ok(reply) = registry.read(address, &mut value) {
                                 // A heartbeat, a timed position and noise first: not the reply.
                                 let mut wire = vec![0u8; 128];
-                                let hb = encoder
-                                    .encode_expedited(&Message::Heartbeat, &mut wire)
-                                    .unwrap();
+                                let hb = quick(&Message::Heartbeat, &mut wire).unwrap();
                                 let mut out = wire[..hb].to_vec();
                                 let pos = aydp_proto::Position {
                                     latitude: 1.0,
@@ -86,7 +93,7 @@ fn fake_device(listener: TcpListener, profile: Profile) -> JoinHandle<DeviceLog>
                                     .unwrap();
                                 out.extend(&wire[..n]);
                                 out.extend([0x00, 0x13, 0x37]);
-                                let n = encoder.encode_expedited(&reply, &mut wire).unwrap();
+                                let n = quick(&reply, &mut wire).unwrap();
                                 out.extend(&wire[..n]);
                                 replies.push(out);
                             }

@@ -153,13 +153,15 @@ fn the_message_lists_iterators_end_with_their_count() {
 /// whether it reported the end.
 #[cfg(feature = "embedded-io")]
 fn reader_frames<const R: usize>() -> (Vec<Vec<u8>>, bool) {
+    // `frame_io`'s reader itself, which `embedded_io::FrameReader` names: the decoder module
+    // does not import the module above it (tests/tests/module_layers.rs).
     let mut reader =
-        crate::embedded_io::FrameReader::<_, 16, R>::new(STREAM, Small::new(Profile::Spec));
+        frame_io::embedded_io::Reader::<_, Small, R>::new(STREAM, Small::new(Profile::Spec));
     let mut frames = Vec::new();
     for _ in 0..64 {
         match reader.read() {
             Ok(f) => frames.push(f.as_bytes().to_vec()),
-            Err(crate::IoError::Eof) => return (frames, true),
+            Err(frame_io::IoError::Eof) => return (frames, true),
             Err(_) => {}
         }
     }
