@@ -127,6 +127,38 @@ pub struct View {
     pub units: Units,
 }
 
+/// How long a telemetry value stays current for what `gdl90` and `nmea` send: an older one goes
+/// out as its sentence's or message's invalid form, never as the old value.
+pub const FRESH: Duration = Duration::from_secs(1);
+
+/// `v` if it arrived within `limit` of `now`.
+pub(crate) fn fresh_within<T: Copy>(
+    v: &Option<(T, Instant)>,
+    now: Instant,
+    limit: Duration,
+) -> Option<T> {
+    v.filter(|(_, at)| now.saturating_duration_since(*at) <= limit)
+        .map(|(v, _)| v)
+}
+
+/// `v` if it arrived within [`FRESH`] of `now`.
+pub(crate) fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
+    fresh_within(v, now, FRESH)
+}
+
+/// The specific gas constant of dry air, J/(kg·K).
+const R_AIR: f64 = 287.05;
+
+/// Air density, kg/m³, from static pressure in mbar and temperature in °C (the ideal gas law).
+///
+/// ```
+/// let rho = protolink::telemetry::air_density(1013.25, 15.0);
+/// assert!((rho - 1.225).abs() < 0.001);
+/// ```
+pub fn air_density(static_mbar: f64, celsius: f64) -> f64 {
+    static_mbar * 100.0 / (R_AIR * (celsius + 273.15))
+}
+
 /// Pressure altitude in the ISA, m, from static pressure in mbar.
 ///
 /// ```

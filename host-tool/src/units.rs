@@ -9,6 +9,10 @@ use serde::Serialize;
 pub const M_PER_FT: f64 = 0.3048;
 /// Metres per second per knot (1852 m per hour).
 pub const MPS_PER_KT: f64 = 1852.0 / 3600.0;
+/// Feet per metre.
+pub const FT_PER_M: f64 = 1.0 / M_PER_FT;
+/// Knots per metre per second.
+pub const KT_PER_MPS: f64 = 1.0 / MPS_PER_KT;
 /// Hectopascals (millibars) per inch of mercury (at 0 °C, standard gravity).
 pub const HPA_PER_INHG: f64 = 33.863_886_666_7;
 

@@ -179,10 +179,11 @@ impl Inputs {
             Message::Attitude(a) => self.pitch.push(f64::from(a.pitch_rad).to_degrees()),
             Message::Compass(c) if c.has_value => self.heading.push(f64::from(c.heading_deg)),
             // The standard atmosphere's pressure altitude (1013.25 hPa datum), written here
-            // from the ISA formula rather than taken from the tool.
-            Message::Pressure(p) => self
-                .pressure_altitude
-                .push(145_366.45 * (1.0 - (f64::from(p.static_mbar) / 1013.25).powf(0.190_284))),
+            // from the ICAO ISA rather than taken from the tool: T0 / L = 288.15 K / 6.5 K/km
+            // = 44 330.77 m, exponent R L / (g M) = 0.190 263, in international feet.
+            Message::Pressure(p) => self.pressure_altitude.push(
+                44_330.77 * (1.0 - (f64::from(p.static_mbar) / 1013.25).powf(0.190_263)) / 0.3048,
+            ),
             _ => {}
         }
     }

@@ -19,8 +19,8 @@
 //! | heading | LXWP0 | COMPASS (magnetic) |
 //! | wind | LXWP0 (from, km/h) | WIND |
 //!
-//! Anything older than [`FRESH`] ([`FRESH_SLOW`] for TEMP and WIND, which come about once a
-//! second) or marked invalid by the box goes out as RMC status `V`,
+//! Anything older than [`FRESH`](crate::telemetry::FRESH) ([`FRESH_SLOW`] for TEMP and WIND,
+//! which come about once a second) or marked invalid by the box goes out as RMC status `V`,
 //! GGA fix 0, or an empty field (a left-out pair in `$POV`), never as an old value.
 
 use std::collections::VecDeque;
@@ -39,10 +39,9 @@ use crate::nmea::fanout::Fanout;
 use crate::nmea::sentence::{self, AirData, Fix, Lxwp0, Utc};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{VerticalSpeed, isa_altitude_m};
+use crate::telemetry::{VerticalSpeed, air_density, fresh, fresh_within, isa_altitude_m};
+use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
-/// A value older than this is not sent.
-pub const FRESH: Duration = Duration::from_secs(1);
 /// The same for TEMP and WIND, which the box sends about once a second (spec figure 1c:
 /// 829 ms and 1000 ms): two and a half of their intervals.
 pub const FRESH_SLOW: Duration = Duration::from_millis(2500);
@@ -55,11 +54,7 @@ const TURN: Duration = Duration::from_millis(20);
 /// XCSoar's default TCP port.
 pub const DEFAULT_PORT: u16 = 4353;
 
-const KNOTS_PER_MPS: f64 = 3600.0 / 1852.0;
 const KMH_PER_MPS: f64 = 3.6;
-const FEET_PER_M: f64 = 1.0 / 0.3048;
-/// The specific gas constant of dry air, J/(kg·K).
-const R_AIR: f64 = 287.05;
 
 /// Arguments of `protolink nmea`.
 #[derive(Debug, Clone, Args)]
@@ -126,17 +121,6 @@ const TRACK_HISTORY_MS: f64 = 1000.0;
 const TRACK_SPAN_MS: f64 = 400.0;
 /// Fixes kept for the track at most, whatever their rate.
 const TRACK_FIXES: usize = 64;
-
-/// `v` if it arrived within [`FRESH`] of `now`.
-fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
-    fresh_within(v, now, FRESH)
-}
-
-/// `v` if it arrived within `limit` of `now`.
-fn fresh_within<T: Copy>(v: &Option<(T, Instant)>, now: Instant, limit: Duration) -> Option<T> {
-    v.filter(|(_, at)| now.saturating_duration_since(*at) <= limit)
-        .map(|(v, _)| v)
-}
 
 impl Picture {
     /// Takes one telemetry message that arrived at `now`.
@@ -277,7 +261,7 @@ impl Picture {
 /// ```
 pub fn true_airspeed_mps(air: &AirData) -> Option<f64> {
     let (p_hpa, q_pa, celsius) = (air.static_hpa?, air.dynamic_pa?, air.celsius?);
-    let rho = p_hpa * 100.0 / (R_AIR * (celsius + 273.15));
+    let rho = air_density(p_hpa, celsius);
     let v = (2.0 * q_pa.max(0.0) / rho).sqrt();
     (rho > 0.0 && v.is_finite()).then_some(v)
 }

@@ -22,8 +22,8 @@
 //! | Stratux G | ACCEL: minus the body z specific force over g |
 //! | Stratux pressure altitude, vertical speed | PRESSURE static pressure; its rate over the last second (box clock) |
 //!
-//! Anything older than [`FRESH`] or marked invalid by the box goes out as GDL90's invalid
-//! marker, never as a stale value. Datagrams go to one address (`--to`, 127.0.0.1:4000 by
+//! Anything older than [`FRESH`](crate::telemetry::FRESH) or marked invalid by the box goes
+//! out as GDL90's invalid marker, never as a stale value. Datagrams go to one address (`--to`, 127.0.0.1:4000 by
 //! default); to a broadcast address only with `--broadcast`; with `--discover`, to the host
 //! whose ForeFlight announcement arrives on UDP 63093.
 
@@ -44,12 +44,11 @@ use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{VerticalSpeed, isa_altitude_m};
+use crate::telemetry::{VerticalSpeed, air_density, fresh, isa_altitude_m};
+use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 pub mod ownship;
 
-/// A value older than this is not sent; its invalid marker is.
-pub const FRESH: Duration = Duration::from_secs(1);
 /// The AHRS period (5 Hz).
 pub const AHRS_PERIOD: Duration = Duration::from_millis(200);
 /// The heartbeat, ID, ownship and geometric altitude period (1 Hz).
@@ -57,8 +56,6 @@ pub const SECOND: Duration = Duration::from_secs(1);
 /// The port ForeFlight announces itself on.
 pub const DISCOVERY_PORT: u16 = 63093;
 
-const KNOTS_PER_MPS: f64 = 3600.0 / 1852.0;
-const FEET_PER_M: f64 = 1.0 / 0.3048;
 /// Standard gravity, m/s².
 const G0: f64 = 9.806_65;
 
@@ -125,12 +122,6 @@ pub struct Picture {
     pub identity: ownship::Identity,
 }
 
-/// `v` if it arrived within [`FRESH`] of `now`.
-fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
-    v.filter(|(_, at)| now.saturating_duration_since(*at) <= FRESH)
-        .map(|(v, _)| v)
-}
-
 /// Pressure altitude in feet for a static pressure in mbar, in the standard atmosphere
 /// (1013.25 mbar = 29.92 inHg at 0 ft).
 ///
@@ -140,7 +131,7 @@ fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
 /// assert!((pressure_altitude_ft(843.07) - 5000.0).abs() < 5.0);
 /// ```
 pub fn pressure_altitude_ft(static_mbar: f32) -> f64 {
-    (1.0 - (f64::from(static_mbar) / 1013.25).powf(0.190_284)) * 145_366.45
+    isa_altitude_m(static_mbar) * FEET_PER_M
 }
 
 /// True airspeed from indicated airspeed and the air's pressure and temperature (density
@@ -152,8 +143,8 @@ pub fn pressure_altitude_ft(static_mbar: f32) -> f64 {
 /// assert!(true_airspeed_mps(50.0, 700.0, -10.0) > 55.0);
 /// ```
 pub fn true_airspeed_mps(ias_mps: f32, static_mbar: f32, celsius: f32) -> f64 {
-    let rho = f64::from(static_mbar) * 100.0 / (287.05 * (f64::from(celsius) + 273.15));
-    f64::from(ias_mps) * (1.225 / rho).sqrt()
+    let rho = air_density(f64::from(static_mbar), f64::from(celsius));
+    f64::from(ias_mps) * (air_density(1013.25, 15.0) / rho).sqrt()
 }
 
 fn knots(mps: f64) -> Option<u16> {
