@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 use aeolus_proto::Decoder;
 use aeolus_proto::message::Message;
 use common::*;
+use protolink_tests::gdl90_hand::{icd_crc, stratux_report, unframe};
 
 fn udp() -> (UdpSocket, u16) {
     let s = UdpSocket::bind("127.0.0.1:0").unwrap();
@@ -22,50 +23,12 @@ fn udp() -> (UdpSocket, u16) {
     (s, port)
 }
 
-/// The GDL90 frame check (ICD section 2.2.3), computed bit by bit: the ICD's table entry for a
-/// byte is that byte shifted up 8 and divided by the polynomial 0x1021, and each data byte is
-/// folded in as `table[crc >> 8] ^ (crc << 8) ^ byte`, from 0.
-fn icd_crc(bytes: &[u8]) -> u16 {
-    bytes.iter().fold(0u16, |crc, &b| {
-        let mut entry = crc & 0xFF00;
-        for _ in 0..8 {
-            entry = if entry & 0x8000 != 0 {
-                (entry << 1) ^ 0x1021
-            } else {
-                entry << 1
-            };
-        }
-        entry ^ (crc << 8) ^ u16::from(b)
-    })
-}
-
 #[test]
 fn the_independent_crc_gives_the_icd_heartbeat_check() {
     // ICD section 2.2.4: the heartbeat 00 81 41 DB D0 08 02 has the check B3 8B, LSB first.
     assert_eq!(icd_crc(&[0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]), 0x8BB3);
     // The check value of the GDL90 CRC (DECISIONS A2): not CRC-16/XMODEM's 0x31C3.
     assert_eq!(icd_crc(b"123456789"), 0xBEEF);
-}
-
-/// One GDL90 frame's ID and data, unescaped, with its CRC checked by [`icd_crc`], or `None`
-/// for a bad frame.
-fn unframe(datagram: &[u8]) -> Option<(u8, Vec<u8>)> {
-    let inner = datagram.strip_prefix(&[0x7E])?.strip_suffix(&[0x7E])?;
-    let mut raw = Vec::new();
-    let mut escaped = false;
-    for &b in inner {
-        if escaped {
-            raw.push(b ^ 0x20);
-            escaped = false;
-        } else if b == 0x7D {
-            escaped = true;
-        } else {
-            raw.push(b);
-        }
-    }
-    let (body, crc) = raw.split_at(raw.len().checked_sub(2)?);
-    let want = u16::from_le_bytes([crc[0], crc[1]]);
-    (icd_crc(body) == want).then(|| (body[0], body[1..].to_vec()))
 }
 
 fn i24(b: &[u8]) -> f64 {
@@ -348,27 +311,6 @@ fn discover_follows_the_foreflight_announcement() {
         before += 1;
     }
     assert!(before <= 40, "{before} datagrams went to --to");
-}
-
-/// A Stratux AHRS report (0x4C) decoded here by hand from Stratux's layout
-/// (`makeAHRSGDL90Report`): after `4C 45 01 01`, big-endian signed 16-bit roll, pitch,
-/// heading, slip/skid, yaw rate, G (tenths), IAS (kt), then the pressure altitude unsigned as
-/// feet + 5000, vertical speed (ft/min), and `7F FF` reserved. `0x7FFF` (the altitude:
-/// `0xFFFF`) is invalid.
-struct StratuxReport {
-    words: [i16; 9],
-    altitude_raw: u16,
-}
-
-fn stratux_report(data: &[u8]) -> StratuxReport {
-    assert_eq!(data.len(), 23, "{data:02X?}");
-    assert_eq!(&data[..3], &[0x45, 0x01, 0x01]);
-    assert_eq!(&data[21..], &[0x7F, 0xFF]);
-    let word = |at: usize| i16::from_be_bytes([data[at], data[at + 1]]);
-    StratuxReport {
-        words: [3, 5, 7, 9, 11, 13, 15, 17, 19].map(word),
-        altitude_raw: u16::from_be_bytes([data[17], data[18]]),
-    }
 }
 
 #[test]

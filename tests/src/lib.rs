@@ -9,6 +9,7 @@ pub mod aeolus_udp;
 pub mod browser;
 pub mod channel;
 pub mod examples;
+pub mod gdl90_hand;
 pub mod naive;
 pub mod protocols;
 pub mod resync;

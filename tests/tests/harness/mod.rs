@@ -145,6 +145,9 @@ impl Ports {
     /// `nmea_qemu::an_app_reads_the_firmwares_flight_as_nmea` (UART ports, then the NMEA
     /// server at +7).
     pub const NMEA: Ports = Ports(17_500);
+    /// `gdl90_qemu::an_efb_reads_the_firmwares_flight_as_stratux_ahrs` (UART ports, then the
+    /// EFB's UDP port at +7).
+    pub const GDL90: Ports = Ports(17_510);
 }
 
 impl Ports {
