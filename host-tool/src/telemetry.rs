@@ -225,22 +225,46 @@ impl View {
         mut also: impl FnMut(&Message<'_>),
     ) {
         self.bytes += bytes.len() as u64;
-        for &b in bytes {
-            if let Some(Ok(frame)) = decoder.push(b) {
-                match frame.message() {
-                    Ok(m) => {
-                        self.take(&m, now);
-                        also(&m);
-                    }
-                    Err(_) => self.malformed = self.malformed.wrapping_add(1),
-                }
-            }
-        }
-        if datagram {
-            if decoder.held_bytes() > 0 {
-                self.truncated = self.truncated.wrapping_add(1);
-            }
-            decoder.reset();
-        }
+        let read = decode_read(decoder, bytes, datagram, |m| {
+            self.take(m, now);
+            also(m);
+        });
+        self.malformed = self.malformed.wrapping_add(read.malformed);
+        self.truncated = self.truncated.wrapping_add(u32::from(read.truncated));
     }
+}
+
+/// What [`decode_read`] saw besides the messages.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Read {
+    /// Frames with a good check whose data did not parse as their type.
+    pub malformed: u32,
+    /// A datagram ended inside a frame.
+    pub truncated: bool,
+}
+
+/// Decodes one read of AEOLUS telemetry with `decoder` (its `feed` fast path) and hands every
+/// message to `take`. A datagram is a whole unit: after it the decoder starts afresh, and a
+/// frame it ended inside is reported. The one receive rule of `watch`, `web`, `gdl90` and
+/// `nmea`.
+pub(crate) fn decode_read(
+    decoder: &mut Decoder<AEOLUS_CAPACITY>,
+    bytes: &[u8],
+    datagram: bool,
+    mut take: impl FnMut(&Message<'_>),
+) -> Read {
+    let mut read = Read::default();
+    decoder.feed(bytes, |ev| {
+        if let Ok(frame) = ev {
+            match frame.message() {
+                Ok(m) => take(&m),
+                Err(_) => read.malformed = read.malformed.wrapping_add(1),
+            }
+        }
+    });
+    if datagram {
+        read.truncated = decoder.held_bytes() > 0;
+        decoder.reset();
+    }
+    read
 }

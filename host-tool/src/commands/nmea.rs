@@ -39,7 +39,9 @@ use crate::nmea::fanout::Fanout;
 use crate::nmea::sentence::{self, AirData, Fix, Lxwp0, Utc};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{VerticalSpeed, air_density, fresh, fresh_within, isa_altitude_m};
+use crate::telemetry::{
+    VerticalSpeed, air_density, decode_read, fresh, fresh_within, isa_altitude_m,
+};
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 /// The same for TEMP and WIND, which the box sends about once a second (spec figure 1c:
@@ -354,17 +356,11 @@ pub fn run(args: &NmeaArgs) -> Result<()> {
         match link.read(&mut buf, deadline.left(wait))? {
             Input::Data(n) => {
                 let now = Instant::now();
-                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
-                    if let Ok(frame) = ev
-                        && let Ok(m) = frame.message()
-                    {
-                        counters.telemetry_in += 1;
-                        picture.take(&m, now);
-                    }
+                let bytes = buf.get(..n).unwrap_or(&[]);
+                decode_read(&mut decoder, bytes, link.is_datagram(), |m| {
+                    counters.telemetry_in += 1;
+                    picture.take(m, now);
                 });
-                if link.is_datagram() {
-                    decoder.reset();
-                }
             }
             Input::Idle => {}
             Input::End => break,

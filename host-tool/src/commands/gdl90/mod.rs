@@ -44,7 +44,7 @@ use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{VerticalSpeed, air_density, fresh, isa_altitude_m};
+use crate::telemetry::{VerticalSpeed, air_density, decode_read, fresh, isa_altitude_m};
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 pub mod ownship;
@@ -408,17 +408,11 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
         match link.read(&mut buf, deadline.left(wait.max(Duration::from_millis(1))))? {
             Input::Data(n) => {
                 let now = Instant::now();
-                decoder.feed(buf.get(..n).unwrap_or(&[]), |ev| {
-                    if let Ok(frame) = ev
-                        && let Ok(m) = frame.message()
-                    {
-                        counters.telemetry_in += 1;
-                        picture.take(&m, now);
-                    }
+                let bytes = buf.get(..n).unwrap_or(&[]);
+                decode_read(&mut decoder, bytes, link.is_datagram(), |m| {
+                    counters.telemetry_in += 1;
+                    picture.take(m, now);
                 });
-                if link.is_datagram() {
-                    decoder.reset();
-                }
             }
             Input::Idle => {}
             Input::End => break,
