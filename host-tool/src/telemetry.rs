@@ -37,6 +37,14 @@ pub(crate) struct VerticalSpeed {
 impl VerticalSpeed {
     const SAMPLES: usize = (VERTICAL_SPEED_WINDOW_MS / VERTICAL_SPEED_STEP_MS) as usize + 1;
 
+    /// Takes a PRESSURE message the box marked valid: its ISA pressure altitude at its box
+    /// time (what `gdl90` and `nmea` send a rate of).
+    pub(crate) fn take_valid(&mut self, p: &Pressure) {
+        if p.valid {
+            self.take(p.timestamp_ms, isa_altitude_m(p.static_mbar));
+        }
+    }
+
     /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
     /// starts again; values that are not finite are ignored.
     pub(crate) fn take(&mut self, box_ms: f64, altitude_m: f64) {

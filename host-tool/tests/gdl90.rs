@@ -31,6 +31,29 @@ fn the_independent_crc_gives_the_icd_heartbeat_check() {
     assert_eq!(icd_crc(b"123456789"), 0xBEEF);
 }
 
+/// Passes every datagram `sim` has sent on to `gdl90` (UDP `gdl90_in`), noting the AEOLUS
+/// messages in it (decoded here, a datagram at a time) in `went_in`.
+fn relay(
+    from_sim: &UdpSocket,
+    to_gdl90: &UdpSocket,
+    gdl90_in: u16,
+    deframer: &mut Decoder<1024>,
+    went_in: &mut Inputs,
+) {
+    let mut buf = [0u8; 2048];
+    while let Ok(n) = from_sim.recv(&mut buf) {
+        deframer.reset();
+        for &b in &buf[..n] {
+            if let Some(Ok(f)) = deframer.push(b)
+                && let Ok(m) = f.message()
+            {
+                went_in.take(&m);
+            }
+        }
+        let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
+    }
+}
+
 fn i24(b: &[u8]) -> f64 {
     let v = (i32::from(b[0]) << 24 | i32::from(b[1]) << 16 | i32::from(b[2]) << 8) >> 8;
     f64::from(v) * 180.0 / f64::from(1 << 23)
@@ -73,17 +96,7 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
     // The first 1.5 s let the picture fill; the next 5 s are counted.
     let window = (Duration::from_millis(1500), Duration::from_millis(6500));
     while started.elapsed() < window.1 {
-        while let Ok(n) = from_sim.recv(&mut buf) {
-            deframer.reset();
-            for &b in &buf[..n] {
-                if let Some(Ok(f)) = deframer.push(b)
-                    && let Ok(m) = f.message()
-                {
-                    went_in.take(&m);
-                }
-            }
-            let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
-        }
+        relay(&from_sim, &to_gdl90, gdl90_in, &mut deframer, &mut went_in);
         while let Ok(n) = efb.recv(&mut buf) {
             let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
             if started.elapsed() >= window.0 {
@@ -347,17 +360,7 @@ fn the_stratux_ahrs_report_carries_the_bank_and_the_pressure_altitude() {
     let mut buf = [0u8; 2048];
     let started = Instant::now();
     while started.elapsed() < Duration::from_millis(4500) {
-        while let Ok(n) = from_sim.recv(&mut buf) {
-            deframer.reset();
-            for &b in &buf[..n] {
-                if let Some(Ok(f)) = deframer.push(b)
-                    && let Ok(m) = f.message()
-                {
-                    went_in.take(&m);
-                }
-            }
-            let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
-        }
+        relay(&from_sim, &to_gdl90, gdl90_in, &mut deframer, &mut went_in);
         while let Ok(n) = efb.recv(&mut buf) {
             let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
             match id {

@@ -130,10 +130,7 @@ impl Picture {
         match m {
             Message::Pressure(v) => {
                 self.pressure = Some((*v, now));
-                if v.valid {
-                    self.vertical
-                        .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
-                }
+                self.vertical.take_valid(v);
             }
             Message::Temp(v) => self.temp = Some((*v, now)),
             Message::Compass(v) => self.compass = Some((*v, now)),

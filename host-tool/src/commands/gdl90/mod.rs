@@ -159,10 +159,7 @@ impl Picture {
             Message::Attitude(v) => self.attitude = Some((*v, now)),
             Message::Pressure(v) => {
                 self.pressure = Some((*v, now));
-                if v.valid {
-                    self.vertical
-                        .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
-                }
+                self.vertical.take_valid(v);
             }
             Message::Accel(v) => self.accel = Some((*v, now)),
             Message::Temp(v) => self.temp = Some((*v, now)),
