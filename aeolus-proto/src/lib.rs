@@ -84,6 +84,7 @@ pub use error::Error;
 pub use frame::Frame;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
+pub use scan::find_flag;
 
 /// The flag byte that opens and closes every frame.
 pub const FLAG: u8 = 0x7E;

@@ -1,4 +1,4 @@
-//! Finding the bytes that need escaping (0x7D or 0x7E), four bytes at a time.
+//! Finding the bytes that need escaping (0x7D or 0x7E) four bytes at a time, and the next flag a machine word at a time.
 
 use crate::ESCAPE;
 
@@ -48,9 +48,68 @@ pub(crate) const fn special_in_word(x: usize) -> usize {
     (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & (ONES << 7)
 }
 
+/// Where the first flag (0x7E) of `bytes` is, if it has one: where the frame in progress ends
+/// and the next begins. A machine word is tested a step, so a decoder that is hunting for a
+/// frame (after garbage or an error) passes over the garbage a word at a time, and a reader
+/// that must act before each frame ends can cut a slice at its flags cheaply.
+///
+/// ```
+/// assert_eq!(aeolus_proto::find_flag(&[0x01, 0x7D, 0x5E, 0x7E, 0x7E]), Some(3));
+/// assert_eq!(aeolus_proto::find_flag(&[0x01, 0x02, 0x7D]), None);
+/// ```
+#[inline(always)]
+pub fn find_flag(bytes: &[u8]) -> Option<usize> {
+    const W: usize = core::mem::size_of::<usize>();
+    const ONES: usize = usize::MAX / 0xFF;
+    let mut at = 0;
+    let mut rest = bytes;
+    while let Some((w, tail)) = rest.split_first_chunk::<W>() {
+        // The lowest zero byte of `x` is the first flag: marked exactly, as in `special_bytes`.
+        let x = usize::from_le_bytes(*w) ^ (ONES * crate::FLAG as usize);
+        let hits = x.wrapping_sub(ONES) & !x & (ONES << 7);
+        if hits != 0 {
+            return Some(at + (hits.trailing_zeros() / 8) as usize);
+        }
+        at += W;
+        rest = tail;
+    }
+    rest.iter().position(|&b| b == crate::FLAG).map(|i| at + i)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn find_flag_finds_the_first_flag_at_every_place_and_alignment() {
+        // Fillers next to the flag (0x7D, 0x7F) and the word trick's borrow cases (0x00, 0xFF).
+        for filler in [0x00, 0x7D, 0x7F, 0xFE, 0xFF] {
+            for v in 0..=255u8 {
+                for at in 0..19 {
+                    let mut bytes = [filler; 19];
+                    bytes[at] = v;
+                    // A second flag later must not hide the first.
+                    bytes[18] = 0x7E;
+                    for start in 0..bytes.len() {
+                        let s = &bytes[start..];
+                        let want = s.iter().position(|&b| b == 0x7E);
+                        assert_eq!(
+                            find_flag(s),
+                            want,
+                            "{filler:02x} {v:02x} at {at} from {start}"
+                        );
+                        let cut = &s[..s.len() - 1];
+                        let want = cut.iter().position(|&b| b == 0x7E);
+                        assert_eq!(
+                            find_flag(cut),
+                            want,
+                            "{filler:02x} {v:02x} at {at} from {start}, cut"
+                        );
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_word_test_finds_the_first_special_byte() {

@@ -74,8 +74,14 @@ unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
 
 /// Bit `n` set: UART `n`'s interrupt moved received bytes into the port since the main loop
 /// last looked (`sensor_box::App::poll_pending` runs that port's link only then, or when the
-/// link's own timer says so). One byte, so the main loop takes all three flags in one swap.
+/// link's own timer says so); bit [`TICK`]: a millisecond has passed. One byte, so the main
+/// loop takes all its work in one swap, and any other wake (a run of received bytes below
+/// [`WAKE_BYTES`], a TX FIFO refilled) finds it zero and goes back to sleep at once.
 static RECEIVED: AtomicU8 = AtomicU8::new(0);
+
+/// The bit of [`RECEIVED`] that SysTick sets: the links' timers and the telemetry schedule
+/// run once a millisecond.
+const TICK: u8 = 1 << 7;
 
 /// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
 /// [`WAKE_BYTES`] since its last wake); the next SysTick wakes it.
@@ -110,9 +116,10 @@ pub fn take_received() -> [bool; 3] {
     [bits & 1 != 0, bits & 2 != 0, bits & 4 != 0]
 }
 
-/// Whether a UART received bytes the main loop has not looked at (the loop sleeps only when
-/// none did; call with interrupts off, so none can slip in before the `wfi`).
-pub fn any_received() -> bool {
+/// Whether the main loop has work: a millisecond passed, or a UART woke its link, since it
+/// last took the flags ([`take_received`]). The loop sleeps only when it has none; call with
+/// interrupts off, so none can slip in before the `wfi`.
+pub fn has_work() -> bool {
     RECEIVED.load(Ordering::Relaxed) != 0
 }
 
@@ -148,11 +155,10 @@ fn SysTick() {
         let c = MILLIS.borrow(cs);
         c.set(c.get().wrapping_add(1));
     });
-    // The links of UARTs with bytes below the wake threshold run in this millisecond.
+    // The main loop runs this millisecond, and with it the links of UARTs with bytes below
+    // the wake threshold.
     let held = HELD.swap(0, Ordering::Relaxed);
-    if held != 0 {
-        RECEIVED.fetch_or(held, Ordering::Relaxed);
-    }
+    RECEIVED.fetch_or(held | TICK, Ordering::Relaxed);
     sensor_box::budget::leave(previous);
 }
 

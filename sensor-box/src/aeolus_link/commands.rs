@@ -5,7 +5,7 @@ use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
-use aeolus_proto::{FLAG, Frame, TEXT_CAPACITY};
+use aeolus_proto::{Frame, TEXT_CAPACITY, find_flag};
 
 /// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
@@ -119,12 +119,10 @@ impl AeolusLink {
     }
 }
 
-/// The length of the first piece of `bytes`: up to and including its first flag, or all of it.
+/// The length of the first piece of `bytes`: up to and including its first flag, or all of it
+/// (the flag found a machine word a step, as the decoder's own hunt does).
 fn piece_len(bytes: &[u8]) -> usize {
-    bytes
-        .iter()
-        .position(|&b| b == FLAG)
-        .map_or(bytes.len(), |i| i + 1)
+    find_flag(bytes).map_or(bytes.len(), |i| i + 1)
 }
 
 /// What a good frame asks for. Only the two messages the box acts on are parsed.
