@@ -144,8 +144,9 @@ impl Event {
     }
 }
 
-/// A stream decoder for one protocol, reporting [`Event`]s.
-pub trait StreamDecoder {
+/// A stream decoder for one protocol, reporting [`Event`]s. `Send`, so that a decoder can work
+/// on another thread (the Python package decodes with the GIL released).
+pub trait StreamDecoder: Send {
     /// Feeds bytes that start at input offset `offset`.
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>);
     /// A datagram ended at `offset` (the next byte starts a new one).

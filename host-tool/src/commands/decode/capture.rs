@@ -203,6 +203,16 @@ impl CaptureEvents {
     pub fn flow_count(&self) -> usize {
         self.flows.flows.len()
     }
+
+    /// Every flow opened so far, in the order they appeared: its name, protocol, bytes decoded
+    /// and its decoder's counters.
+    pub fn flows(&self) -> Vec<(String, Proto, u64, Value)> {
+        self.flows
+            .flows
+            .iter()
+            .map(|f| (f.name.clone(), f.proto, f.offset, f.decoder.counters()))
+            .collect()
+    }
 }
 
 /// Decodes the capture at `path`, printing one line per event and a summary per flow.
