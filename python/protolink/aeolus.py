@@ -13,17 +13,18 @@ from ._native import aeolus_encode
 __all__ = ["Decoder", "encode"]
 
 
-def encode(name: str, /, **fields: Any) -> bytes:
+def encode(name: str, /, crc: bool = True, **fields: Any) -> bytes:
     """One AEOLUS frame (flags, escapes and CRC included) from a message name and its fields.
 
     The fields are those ``Message.to_dict()`` gives, so ``encode(m.name, **m.to_dict())``
     gives the frame back (``UNKNOWN`` also takes ``id=``). Raw data (``data``, ``hex``) may be
-    bytes or a hex string; texts (``TOAST``, ``COMMAND``) take ``text=``.
+    bytes or a hex string; texts (``TOAST``, ``COMMAND``) take ``text=``. ``crc=False`` sends
+    ``00 00`` ("no CRC", which the spec allows; ``Message.meta["crc"]`` is then ``"none"``).
 
     >>> encode("TOAST", text="hi").hex()
-    'TOAST_HEX'
+    '7e5268690073ec7e'
 
     Raises ``ValueError`` (an unknown name or field, a value out of range) or ``TypeError``
     (a value of the wrong type), each with one sentence.
     """
-    return aeolus_encode(name, **fields)
+    return aeolus_encode(name, crc=crc, **fields)

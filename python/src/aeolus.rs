@@ -119,12 +119,14 @@ fn raw_data(name: &str, given: &Map<String, Value>) -> PyResult<Vec<u8>> {
 }
 
 /// One AEOLUS frame, flags, escapes and CRC included, from the message's name and its fields
-/// as `to_dict()` gives them (`UNKNOWN` also takes `id`).
+/// as `to_dict()` gives them (`UNKNOWN` also takes `id`). `crc=False` sends `00 00`, "no CRC"
+/// (`meta["crc"] == "none"`).
 #[pyfunction(name = "aeolus_encode")]
-#[pyo3(signature = (name, /, **fields))]
+#[pyo3(signature = (name, /, crc = true, **fields))]
 pub(crate) fn encode_aeolus<'py>(
     py: Python<'py>,
     name: &str,
+    crc: bool,
     fields: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let given = encode::fields(fields)?;
@@ -171,7 +173,14 @@ pub(crate) fn encode_aeolus<'py>(
     };
     let mut buf = vec![0u8; max_encoded_len(message.buffer_len())];
     let n = message
-        .encode(&mut buf, CrcMode::Compute)
+        .encode(
+            &mut buf,
+            if crc {
+                CrcMode::Compute
+            } else {
+                CrcMode::Omit
+            },
+        )
         .map_err(|e| invalid(name, e))?;
     buf.truncate(n);
     check_decodes(name, &buf)?;
