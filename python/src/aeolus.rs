@@ -173,14 +173,7 @@ pub(crate) fn encode_aeolus<'py>(
     };
     let mut buf = vec![0u8; max_encoded_len(message.buffer_len())];
     let n = message
-        .encode(
-            &mut buf,
-            if crc {
-                CrcMode::Compute
-            } else {
-                CrcMode::Omit
-            },
-        )
+        .encode(&mut buf, if crc { CrcMode::Compute } else { CrcMode::Omit })
         .map_err(|e| invalid(name, e))?;
     buf.truncate(n);
     check_decodes(name, &buf)?;

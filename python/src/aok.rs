@@ -30,9 +30,9 @@ impl AokPyDecoder {
     /// `side`: who sent the bytes, `"device"` (debug values, acks, parameter and waypoint
     /// replies, read as the PC reads them) or `"pc"` (commands, read as the device reads them).
     #[new]
-    #[pyo3(signature = (side = "device"))]
-    fn new(side: &str) -> PyResult<Self> {
-        let s = choose("side", side, &SIDES)?;
+    #[pyo3(signature = (side = None))]
+    fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let s = side.map_or(Ok(Side::Device), |a| choose("side", a, &SIDES))?;
         Ok(AokPyDecoder {
             stream: Stream::new(Proto::Aok, ProfileArg::Spec, s),
             side: if s == Side::Device { "device" } else { "pc" },

@@ -39,9 +39,9 @@ impl AydpPyDecoder {
     /// `profile`: `"spec"` (the 2016 document: the length counts the whole message,
     /// sub-seconds in ms) or `"reference"` (the released software: data length, µs).
     #[new]
-    #[pyo3(signature = (profile = "spec"))]
-    fn new(profile: &str) -> PyResult<Self> {
-        let p = choose("profile", profile, &PROFILES)?;
+    #[pyo3(signature = (profile = None))]
+    fn new(profile: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let p = profile.map_or(Ok(ProfileArg::Spec), |a| choose("profile", a, &PROFILES))?;
         Ok(AydpPyDecoder {
             stream: Stream::new(Proto::Aydp, p, Side::Device),
             profile: if p == ProfileArg::Spec {
@@ -132,16 +132,16 @@ fn list<T: serde::de::DeserializeOwned>(
 /// gives them. `profile` is `"spec"` or `"reference"`; `expedited` picks the short header (by
 /// default only for `HEARTBEAT`); `time` is the normal header's time.
 #[pyfunction(name = "aydp_encode")]
-#[pyo3(signature = (name, /, profile = "spec", expedited = None, time = None, **fields))]
+#[pyo3(signature = (name, /, profile = None, expedited = None, time = None, **fields))]
 pub(crate) fn encode_aydp<'py>(
     py: Python<'py>,
     name: &str,
-    profile: &str,
+    profile: Option<&Bound<'py, PyAny>>,
     expedited: Option<bool>,
     time: Option<&Bound<'py, PyAny>>,
     fields: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let profile_arg = choose("profile", profile, &PROFILES)?;
+    let profile_arg = profile.map_or(Ok(ProfileArg::Spec), |a| choose("profile", a, &PROFILES))?;
     let given = encode::fields(fields)?;
     let fixed = |known: &[&str]| check_names(name, &given, known.iter().copied());
     let mut scratch: Vec<u8>;

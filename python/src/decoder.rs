@@ -1,7 +1,7 @@
 //! What the four `Decoder` classes share: feeding a buffer with the GIL released, the end of
 //! the input, and the counters as a dict.
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
@@ -46,14 +46,25 @@ pub(crate) fn stats<'py>(py: Python<'py>, stream: &Stream) -> PyResult<Bound<'py
     }
 }
 
-/// `text` as one of `choices`, or a `ValueError` naming them.
-pub(crate) fn choose<T: Copy>(what: &str, text: &str, choices: &[(&str, T)]) -> PyResult<T> {
+/// `arg` as one of `choices` (by name), or an exception naming them: `ValueError` for another
+/// string, `TypeError` for anything else.
+pub(crate) fn choose<T: Copy>(
+    what: &str,
+    arg: &Bound<'_, PyAny>,
+    choices: &[(&str, T)],
+) -> PyResult<T> {
+    let names: Vec<String> = choices.iter().map(|(n, _)| format!("'{n}'")).collect();
+    let names = names.join(" or ");
+    let Ok(text) = arg.extract::<String>() else {
+        return Err(PyTypeError::new_err(format!(
+            "{what} is {names}, not {}",
+            arg.repr()
+                .map_or_else(|_| "that".to_owned(), |r| r.to_string())
+        )));
+    };
     choices
         .iter()
         .find(|(name, _)| *name == text)
         .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<String> = choices.iter().map(|(n, _)| format!("'{n}'")).collect();
-            PyValueError::new_err(format!("{what} is {}, not '{text}'", names.join(" or ")))
-        })
+        .ok_or_else(|| PyValueError::new_err(format!("{what} is {names}, not '{text}'")))
 }

@@ -349,13 +349,13 @@ fn endpoint(source: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
 
 /// Opens `source` for reading: see the module's documentation.
 #[pyfunction(name = "open")]
-#[pyo3(signature = (source, proto = None, *, profile = None, side = "device", errors = true))]
+#[pyo3(signature = (source, proto = None, *, profile = None, side = None, errors = true))]
 pub(crate) fn open(
     py: Python<'_>,
     source: &Bound<'_, PyAny>,
-    proto: Option<&str>,
-    profile: Option<&str>,
-    side: &str,
+    proto: Option<&Bound<'_, PyAny>>,
+    profile: Option<&Bound<'_, PyAny>>,
+    side: Option<&Bound<'_, PyAny>>,
     errors: bool,
 ) -> PyResult<Reader> {
     let endpoint = endpoint(source)?;
@@ -372,7 +372,9 @@ pub(crate) fn open(
             )
         })
         .transpose()?;
-    let side = choose("side", side, &[("device", Side::Device), ("pc", Side::Pc)])?;
+    let side = side.map_or(Ok(Side::Device), |s| {
+        choose("side", s, &[("device", Side::Device), ("pc", Side::Pc)])
+    })?;
     let name = endpoint.to_string();
     let source = match &endpoint {
         Endpoint::File(path) if protolink::capture::file_is_capture(path) => {
