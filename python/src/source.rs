@@ -182,15 +182,16 @@ impl Reader {
             if let Some(item) = self.ready.pop_front() {
                 return Ok(Some(item));
             }
-            if self.ended || deadline.is_some_and(|d| Instant::now() >= d) {
-                return Ok(None);
-            }
+            let name = self.name.clone();
+            let ended = self.ended;
             let Some(source) = self.source_mut() else {
                 return Err(PyValueError::new_err(format!(
-                    "the reader of {} is closed",
-                    self.name
+                    "the reader of {name} is closed"
                 )));
             };
+            if ended || deadline.is_some_and(|d| Instant::now() >= d) {
+                return Ok(None);
+            }
             let mut batch = Vec::new();
             let more = py.detach(|| source.step(&mut batch)).map_err(error)?;
             self.ended = !more;
@@ -314,7 +315,6 @@ impl Reader {
             .get_mut()
             .unwrap_or_else(std::sync::PoisonError::into_inner) = None;
         self.ready.clear();
-        self.ended = true;
     }
 
     fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
