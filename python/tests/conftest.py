@@ -13,8 +13,15 @@ import subprocess
 import sys
 
 import pytest
+from hypothesis import settings
+from hypothesis.database import DirectoryBasedExampleDatabase
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# Hypothesis keeps its examples under target/, not in the working tree.
+settings.register_profile(
+    "protolink", database=DirectoryBasedExampleDatabase(str(ROOT / "target" / "hypothesis")))
+settings.load_profile("protolink")
 TESTDATA = ROOT / "testdata"
 VECTORS = ROOT.parent / "shared" / "vectors"
 
