@@ -16,6 +16,7 @@
 //! | [`source`] | `open`: files, captures and live links as an iterator |
 //! | [`input`] | the bytes `feed` takes: `bytes` in place, other buffers copied once |
 //! | [`value`] | JSON values and Python objects |
+//! | [`to_python`] | crate values straight to Python objects, rendered as `decode --json` renders them |
 //! | [`cli`] | `python -m protolink decode` |
 //!
 //! No input makes it panic: bad bytes are error events and counters; a misuse of the API is a
@@ -36,6 +37,7 @@ pub mod input;
 pub mod message;
 pub mod source;
 pub mod stream;
+pub mod to_python;
 pub mod value;
 
 /// The native module: the classes and functions the Python package re-exports.

@@ -16,6 +16,7 @@ use pyo3::types::{PyDict, PyList, PyString};
 use serde_json::{Map, Value};
 
 use crate::stream::{AeolusFrame, Pending};
+use crate::to_python::to_python;
 use crate::value;
 
 /// Where and when a message was captured: the capture file's record (its time, flow and
@@ -102,6 +103,34 @@ pub(crate) fn to_object<'py>(
     Ok(Bound::new(py, m)?.into_any())
 }
 
+/// The fields of an AEOLUS message of a fixed layout, straight from its typed value to Python
+/// (as `aeolus_fields` renders them, without the JSON value in between); `None` for the texts
+/// and raw messages, which the host tool renders its own way.
+fn aeolus_typed<'py>(py: Python<'py>, f: &AeolusFrame) -> Option<PyResult<Bound<'py, PyDict>>> {
+    use aeolus_proto::message::Message as M;
+    let m = M::parse(f.id, &f.data).ok()?;
+    let fields = match &m {
+        M::AeolusInfo(v) => to_python(py, v),
+        M::Pressure(v) => to_python(py, v),
+        M::Gyro(v) => to_python(py, v),
+        M::Accel(v) => to_python(py, v),
+        M::Magnet(v) => to_python(py, v),
+        M::Temp(v) => to_python(py, v),
+        M::Gps(v) => to_python(py, v),
+        M::Attitude(v) => to_python(py, v),
+        M::Compass(v) => to_python(py, v),
+        M::Wind(v) => to_python(py, v),
+        M::SetTime(v) => to_python(py, v),
+        M::CalibInfo(_)
+        | M::DebugInfo(_)
+        | M::Log(_)
+        | M::Toast(_)
+        | M::Command(_)
+        | M::Unknown { .. } => return None,
+    };
+    Some(fields.and_then(|d| d.cast_into::<PyDict>().map_err(PyErr::from)))
+}
+
 /// Pending events as a Python list.
 pub(crate) fn to_list<'py>(
     py: Python<'py>,
@@ -157,6 +186,11 @@ impl Message {
         let d = self
             .fields
             .get_or_try_init(py, || -> PyResult<Py<PyDict>> {
+                if let Body::Aeolus(f) = &self.body
+                    && let Some(d) = aeolus_typed(py, f)
+                {
+                    return Ok(d?.unbind());
+                }
                 let map = match self.rendered() {
                     Value::Object(m) => m,
                     other => {
@@ -273,6 +307,8 @@ impl Message {
         self.fields(py)?.copy()
     }
 
+    /// A field as an attribute (Python asks here only when an attribute is not found, so the
+    /// class's own attributes, `name` among them, come first).
     fn __getattr__<'py>(&self, py: Python<'py>, attr: &str) -> PyResult<Bound<'py, PyAny>> {
         match self.fields(py)?.get_item(attr)? {
             Some(v) => Ok(v),

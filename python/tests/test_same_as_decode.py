@@ -241,3 +241,33 @@ def test_classic_pcap_by_port(tmp_path):
     # proto= keeps one protocol, as decode --proto does.
     only = list(protolink.open(cap, proto="gdl90"))
     assert len(only) == 1 and only[0].kind == "checksum_mismatch"
+
+
+# The AEOLUS messages of a fixed layout: ID and data length (aeolus-proto's layout table).
+FIXED = {51: 32, 61: 32, 62: 32, 63: 40, 64: 32, 65: 32, 66: 32, 71: 52, 72: 80, 73: 32, 12: 32}
+
+
+def escaped(body):
+    return body.replace(b"\x7d", b"\x7d\x5d").replace(b"\x7e", b"\x7d\x5e")
+
+
+def test_any_field_bits(tmp_path):
+    # Fixed-layout frames with arbitrary data bytes, float bit patterns that no encoder makes
+    # included (NaN, infinities, subnormals, -0.0): the package renders their fields itself
+    # (to_python.rs), and must give what decode --json gives. Sent without CRC (00 00).
+    rnd = random.Random(7)
+    specials = [struct.pack("<f", v) for v in (float("nan"), float("inf"), -float("inf"), -0.0, 1e-45, 3.4e38)]
+    specials += [struct.pack("<d", v)[:4] for v in (float("nan"), 5e-324)]
+    stream = b""
+    for _ in range(3000):
+        id_, n = rnd.choice(list(FIXED.items()))
+        data = bytearray(rnd.randbytes(n))
+        for _ in range(rnd.randrange(4)):
+            at = rnd.randrange(0, n - 3)
+            data[at:at + 4] = rnd.choice(specials)
+        stream += b"\x7e" + escaped(bytes([id_]) + bytes(data) + b"\x00\x00") + b"\x7e"
+    path = tmp_path / "fields.bin"
+    path.write_bytes(stream)
+    js = check_file(path, "aeolus")
+    assert len(js) == 3000 and not any(e["kind"] == "error" for e in js)
+    assert any(v is None for e in js for v in e["fields"].values())  # a NaN read as None
