@@ -5,7 +5,8 @@
 # Each step prints how long it took. The run ends with one summary: the time of
 # every step, the QEMU tests run, the fuzz executions and crashes, and as the
 # very last line `tests: N passed, M failed, K skipped` (the sums of every `cargo test`
-# "test result:" line, less the tests that skipped for a missing tool, counted apart), which
+# "test result:" line and of pytest's last line for the Python package (step `python`), less
+# the tests that skipped for a missing tool, counted apart), which
 # CI reads. Under CI=true a missing tool fails its tests instead of skipping them. The summary is printed on failure too,
 # and the exit status is then the failing step's. The outputs it is computed
 # from are kept in target/test-logs/.

@@ -1,5 +1,5 @@
-//! What a decoder hands Python: [`Message`] (a decoded message: name, ID, offset, one
-//! attribute per field) and [`ErrorEvent`] (bad bytes in the stream: kind, sentence, offset).
+//! What a decoder hands Python: `Message` (a decoded message: name, ID, offset, one
+//! attribute per field) and `ErrorEvent` (bad bytes in the stream: kind, sentence, offset).
 //!
 //! A message keeps what the decoder produced, without the GIL, and builds its Python fields
 //! the first time one is read, once: an AEOLUS message keeps its frame's data and renders it

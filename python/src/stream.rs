@@ -1,6 +1,6 @@
 //! The decoders behind the Python classes, without Python: one of the host tool's four stream
 //! decoders and the count of bytes fed, run with the GIL released. What they report waits as
-//! [`Pending`] until it becomes a Python object.
+//! `Pending` until it becomes a Python object.
 
 use protolink::decoders::{
     AeolusDecoder, AeolusItem, AokDecoder, AydpDecoder, Event, Gdl90Decoder, StreamDecoder,
