@@ -16,8 +16,11 @@
 #                               picolibc-arm-none-eabi and clang (Debian), cbindgen (crates.io,
 #                               it generates c-api/include/protolink.h), and the nightly
 #                               toolchain's miri component (the C API's Rust tests under Miri)
-#   scripts/setup.sh python     + python3 and pip (Debian) and pynmea2 1.19.0 (PyPI): the NMEA
-#                               test has an outside library parse `protolink nmea`'s output
+#   scripts/setup.sh python     + python3, pip and venv (Debian) and from PyPI: pynmea2 1.19.0 (the
+#                               NMEA test has an outside library parse `protolink nmea`'s output),
+#                               maturin 1.16.0 (builds the Python package, python/), pytest 9.2.0,
+#                               hypothesis 6.170.17 and pandas 3.1.1 (its tests), pymavlink 2.4.50
+#                               (the peer of python/bench/bench.py)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,7 +38,11 @@ rustup +"$MSRV" target list --installed | grep -q thumbv6m-none-eabi \
   || rustup +"$MSRV" target add thumbv6m-none-eabi
 
 need_apt=()
-need_pynmea2=0
+want_pypi=0
+# PyPI packages of the `python` component: the pinned version of each, and the module it imports.
+PYPI=(pynmea2==1.19.0 maturin==1.16.0 pytest==9.2.0 hypothesis==6.170.17 pandas==3.1.1 pymavlink==2.4.50)
+PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink)
+need_pypi=()
 for want in "$@"; do
   case "$want" in
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
@@ -62,7 +69,9 @@ for want in "$@"; do
     python)
       command -v python3 >/dev/null || need_apt+=(python3)
       python3 -m pip --version >/dev/null 2>&1 || need_apt+=(python3-pip)
-      python3 -c 'import pynmea2' 2>/dev/null || need_pynmea2=1 ;;
+      # Debian's python3 makes venvs (scripts/test-python.sh) only with python3-venv.
+      python3 -c 'import ensurepip' 2>/dev/null || need_apt+=(python3-venv)
+      want_pypi=1 ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done
@@ -75,8 +84,13 @@ if [ ${#need_apt[@]} -gt 0 ]; then
 fi
 # After apt (python3 and pip may have just come from it). A Debian python3 refuses a
 # system-wide pip install (PEP 668) unless told: then the user's site-packages take it.
-if [ "$need_pynmea2" = 1 ]; then
-  python3 -m pip install -q pynmea2==1.19.0 2>/dev/null \
-    || python3 -m pip install -q --user --break-system-packages pynmea2==1.19.0
-  python3 -c 'import pynmea2'
+if [ "$want_pypi" = 1 ]; then
+  for i in "${!PYPI[@]}"; do
+    python3 -c "import ${PYPI_MODULES[$i]}" 2>/dev/null || need_pypi+=("${PYPI[$i]}")
+  done
+  if [ ${#need_pypi[@]} -gt 0 ]; then
+    python3 -m pip install -q "${need_pypi[@]}" 2>/dev/null \
+      || python3 -m pip install -q --user --break-system-packages "${need_pypi[@]}"
+  fi
+  python3 -c "import $(IFS=,; echo "${PYPI_MODULES[*]}")"
 fi

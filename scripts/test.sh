@@ -5,7 +5,8 @@
 # Each step prints how long it took. The run ends with one summary: the time of
 # every step, the QEMU tests run, the fuzz executions and crashes, and as the
 # very last line `tests: N passed, M failed, K skipped` (the sums of every `cargo test`
-# "test result:" line, less the tests that skipped for a missing tool, counted apart), which
+# "test result:" line and of pytest's last line for the Python package (step `python`), less
+# the tests that skipped for a missing tool, counted apart), which
 # CI reads. Under CI=true a missing tool fails its tests instead of skipping them. The summary is printed on failure too,
 # and the exit status is then the failing step's. The outputs it is computed
 # from are kept in target/test-logs/.
@@ -18,12 +19,16 @@ logs=target/test-logs
 mkdir -p "$logs"
 test_log=$logs/cargo-test.log
 fuzz_log=$logs/fuzz.log
+# pytest's output of the Python package's tests (scripts/test-python.sh): its last line's counts
+# go into the summary beside cargo's.
+py_log=$logs/python.log
 # One line per test that returned early because a tool was missing (tests/src/skip.rs writes
 # it; under CI=true such a test fails instead). Cargo counts those tests as passed: the
 # summary takes them out and shows them on a line of their own.
 skip_log=$logs/skipped.log
 : >"$test_log"
 : >"$fuzz_log"
+: >"$py_log"
 : >"$skip_log"
 # The teed steps keep cargo's colours on a terminal (the summary strips them).
 [ -t 1 ] && [ -z "${CARGO_TERM_COLOR:-}" ] && export CARGO_TERM_COLOR=always
@@ -49,6 +54,23 @@ step() {
   printf '\n==> %s\n' "$*"
 }
 
+# From pytest's last summary line ("3 failed, 150 passed, 2 skipped in 9.1s"), the number before
+# WORD (errors count as failed); a SKIPPED line of scripts/test-python.sh counts as one skipped.
+pytest_count() {
+  sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$py_log" | awk -v word="$1" '
+    /^SKIPPED python\/tests/ { skip = 1 }
+    /^(=+ )?[0-9]+ [a-z]+[ ,]/ && / in [0-9.]+s/ { line = $0 }
+    END {
+      n = 0
+      k = split(line, f, /[ ,=]+/)
+      for (i = 2; i <= k; i++) {
+        if (f[i] ~ "^" word || (word == "failed" && f[i] ~ /^errors?$/)) n += f[i - 1]
+      }
+      if (word == "skipped") n += skip
+      print n + 0
+    }'
+}
+
 # Sums, over every "test result:" line of the cargo test output, the number before WORD
 # (passed, failed); with ONLY, over the test binaries whose "Running" line matches ONLY.
 count() {
@@ -69,8 +91,8 @@ summary() {
   local qemu_files='qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu|box_clock|readme_examples|realtime_flood'
   skipped=$(grep -c . "$skip_log" || true)
   qemu_skipped=$(grep -cE "^($qemu_files)::" "$skip_log" || true)
-  passed=$(($(count passed) - skipped))
-  failed=$(count failed)
+  passed=$(($(count passed) - skipped + $(pytest_count passed)))
+  failed=$(($(count failed) + $(pytest_count failed)))
   qemu=$(($(count passed "$qemu_files") - qemu_skipped))
   # fuzz.sh's table: "target executions crashes", one line per target.
   read -r fuzz_targets fuzz_execs fuzz_crashes < <(awk '
@@ -84,6 +106,9 @@ summary() {
     echo "SKIPPED: $skipped tests did not run, for a missing tool ($skip_log):"
     sed 's/^/  /' "$skip_log"
   fi
+  echo "Python tests (python/tests, $py_log): $(pytest_count passed) passed, $(pytest_count failed) failed, $(pytest_count skipped) skipped"
+  grep '^SKIPPED python/tests' "$py_log" || true
+  skipped=$((skipped + $(pytest_count skipped)))
   if [ "$fuzz_targets" -gt 0 ]; then
     echo "fuzz: $fuzz_execs executions over $fuzz_targets targets, $fuzz_crashes crashes"
   else
@@ -95,7 +120,7 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind and python3 with pynmea2 (the QEMU, tshark, browser, 32-bit, C, callgrind and NMEA checks must run, never skip, in CI)"
+step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind and python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA and Python checks must run, never skip, in CI)"
 bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
@@ -204,6 +229,11 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
 step "host tests"
 # --no-fail-fast: every test binary runs, so the summary counts every failure, not the first.
 cargo test --workspace --all-features --no-fail-fast 2>&1 | tee "$test_log"
+
+# The Python package (python/): built with pip and maturin into target/py-venv, its pytest and
+# hypothesis tests against `protolink decode --json` (scripts/test-python.sh runs this alone).
+step "python: pip install ./python (maturin) into a venv, then pytest python/tests (the package equals protolink decode field for field, round trips, random bytes, to_frames, python -m protolink decode, live links)"
+scripts/test-python.sh 2>&1 | tee "$py_log"
 
 # The word-at-a-time paths of the decoders and the CRC have a 32-bit form (the firmware's
 # Cortex-M) and a 64-bit one (the host): x86-64 tests alone never run the firmware's.

@@ -2,6 +2,10 @@
 //! The top floor: each subcommand's arguments and `run` come from its module in
 //! [`commands`](crate::commands).
 
+use std::ffi::OsString;
+use std::io::Write;
+
+use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
 
 use crate::commands::aeolus::AeolusArgs;
@@ -144,4 +148,56 @@ impl Cli {
             Command::Wireshark(a) => crate::commands::wireshark::run(a),
         }
     }
+}
+
+/// Runs a command line as the `protolink` binary does, `args` starting with the program's
+/// name: clap's help and version go to stdout, a command-line mistake to stderr as one
+/// sentence, a failure as `error: <sentence>`. Returns the exit status: 0 done (confirmed, or
+/// unconfirmed where the protocol gives no answer), 1 a failure or a refusal by the box, 2 a
+/// command-line mistake. The Python package's `python -m protolink decode` runs it too.
+pub fn main_with<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
+            let _ = e.print();
+            return 0;
+        }
+        Err(e) => {
+            let _ = writeln!(
+                std::io::stderr(),
+                "{}",
+                one_sentence(&e.render().to_string())
+            );
+            return 2;
+        }
+    };
+    match cli.run() {
+        Ok(()) => 0,
+        // The reader went away (`protolink decode ... | head`): not an error of ours.
+        Err(crate::Error::Output(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => 0,
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "error: {e}");
+            e.exit_code()
+        }
+    }
+}
+
+/// Clap's message up to its usage block, on one line: `error: invalid value 'inf' for ...`.
+fn one_sentence(rendered: &str) -> String {
+    let head = rendered
+        .split("\n\nUsage:")
+        .next()
+        .unwrap_or(rendered)
+        .split("\n\nFor more information")
+        .next()
+        .unwrap_or(rendered);
+    let mut line = head.split_whitespace().collect::<Vec<_>>().join(" ");
+    if !line.starts_with("error:") {
+        line.insert_str(0, "error: ");
+    }
+    line
 }

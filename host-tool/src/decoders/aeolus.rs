@@ -1,9 +1,13 @@
 //! AEOLUS in `decode`: the decoder, each frame placed at its opening flag, datagram
 //! boundaries honoured.
+//!
+//! The decoder reports [`AeolusItem`]s first (a frame placed in the input, its typed message
+//! parsed, or an error), and [`StreamDecoder`] renders them as [`Event`]s: the Python package
+//! keeps the items' frames and renders the same fields only when they are read.
 
 use serde_json::{Map, Value, json};
 
-use super::{Event, StreamDecoder};
+use super::{Event, StreamDecoder, error_kind};
 use crate::render::{self, hex, to_json, variant};
 
 /// Capacity of the AEOLUS decoder: every message, long LOG messages included.
@@ -40,6 +44,178 @@ impl AeolusDecoder {
     pub fn stats(&self) -> aeolus_proto::Stats {
         self.decoder.stats()
     }
+
+    /// Feeds bytes that start at input offset `offset`, handing every item to `on_item` with
+    /// the offset of its frame's opening flag (for an error: of the latest flag before it).
+    ///
+    /// The crate's slice path (`Decoder::feed`) does the work, one run up to and including
+    /// each flag at a time: every event of a run is placed at the flag before the run, and a
+    /// frame can only end at the run's closing flag, so no byte is handled one at a time here.
+    ///
+    /// ```
+    /// use protolink::decoders::{AeolusDecoder, AeolusItem};
+    /// let mut d = AeolusDecoder::new();
+    /// let mut seen = Vec::new();
+    /// d.feed_items(&[0x00, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 10, |at, item| {
+    ///     if let AeolusItem::Message { message, len, .. } = item { seen.push((at, message.name(), len)) }
+    /// });
+    /// assert_eq!(seen, [(11, "TOAST", 8)]);
+    /// ```
+    pub fn feed_items(
+        &mut self,
+        bytes: &[u8],
+        offset: u64,
+        mut on_item: impl FnMut(u64, AeolusItem<'_>),
+    ) {
+        let mut rest = bytes;
+        let mut at = offset;
+        while !rest.is_empty() {
+            let run = rest
+                .iter()
+                .position(|&b| b == aeolus_proto::FLAG)
+                .map_or(rest.len(), |i| i + 1);
+            let (chunk, tail) = rest.split_at(run);
+            let end = at + run as u64;
+            let opened = self.opened_at;
+            let malformed = &mut self.malformed;
+            self.decoder.feed(chunk, |event| {
+                let item = match event {
+                    // A frame ends at its closing flag: the last byte of the run.
+                    Ok(frame) => match frame.message() {
+                        Ok(message) => AeolusItem::Message {
+                            frame,
+                            message,
+                            len: end - opened,
+                        },
+                        Err(error) => {
+                            *malformed = malformed.wrapping_add(1);
+                            AeolusItem::Malformed { frame, error }
+                        }
+                    },
+                    Err(e) => AeolusItem::Error(e),
+                };
+                on_item(opened, item);
+            });
+            if chunk.last() == Some(&aeolus_proto::FLAG) {
+                self.opened_at = end - 1;
+            }
+            at = end;
+            rest = tail;
+        }
+    }
+
+    /// A datagram ended at `offset`: a frame in progress is given up as [`AeolusItem::Error`]
+    /// (`Truncated`), and the next byte starts afresh (a frame never spans two datagrams,
+    /// DECISIONS.md A9).
+    pub fn end_of_datagram_items(
+        &mut self,
+        offset: u64,
+        mut on_item: impl FnMut(u64, AeolusItem<'_>),
+    ) {
+        if self.decoder.held_bytes() > 0 {
+            self.truncated = self.truncated.wrapping_add(1);
+            on_item(
+                self.opened_at,
+                AeolusItem::Error(aeolus_proto::Error::Truncated),
+            );
+        }
+        self.opened_at = offset;
+        self.decoder.reset();
+    }
+
+    /// The input ended at `offset`: a frame in progress is given up as
+    /// [`AeolusItem::InputEnded`].
+    pub fn finish_items(&mut self, offset: u64, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
+        if self.decoder.held_bytes() > 0 {
+            self.truncated = self.truncated.wrapping_add(1);
+            on_item(
+                self.opened_at.min(offset.saturating_sub(1)),
+                AeolusItem::InputEnded,
+            );
+            self.decoder.reset();
+        }
+    }
+}
+
+/// One AEOLUS event, placed in the input but not yet rendered.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AeolusItem<'a> {
+    /// A frame (good CRC, or none) whose data parses as its message.
+    Message {
+        /// The frame, unescaped.
+        frame: aeolus_proto::Frame<'a>,
+        /// Its typed message.
+        message: aeolus_proto::message::Message<'a>,
+        /// Its length on the wire, both flags included.
+        len: u64,
+    },
+    /// A frame whose data does not parse as its ID's message (counted as `malformed`).
+    Malformed {
+        /// The frame, unescaped.
+        frame: aeolus_proto::Frame<'a>,
+        /// Why it does not parse.
+        error: aeolus_proto::Error,
+    },
+    /// An error in the stream (the frame in progress, if any, was dropped).
+    Error(aeolus_proto::Error),
+    /// The input ended inside a frame (counted as `truncated`).
+    InputEnded,
+}
+
+impl AeolusItem<'_> {
+    /// The item as `decode` prints it.
+    pub fn to_event(&self, offset: u64) -> Event {
+        match self {
+            AeolusItem::Message {
+                frame,
+                message,
+                len,
+            } => {
+                let (name, fields) = aeolus_fields(message);
+                Event::message(
+                    offset,
+                    name,
+                    aeolus_meta(frame.id(), *len, frame.has_crc()),
+                    fields,
+                )
+            }
+            AeolusItem::Malformed { .. } | AeolusItem::Error(_) | AeolusItem::InputEnded => {
+                let (kind, error) = self.error().unwrap_or_default();
+                Event::error(offset, kind, error)
+            }
+        }
+    }
+
+    /// An error item's kind ([`error_kind`]) and sentence; `None` for a message.
+    pub fn error(&self) -> Option<(String, String)> {
+        match self {
+            AeolusItem::Message { .. } => None,
+            AeolusItem::Malformed { frame, error } => Some((
+                error_kind(error),
+                format!("{error} (frame {})", hex(frame.raw())),
+            )),
+            AeolusItem::Error(e) => Some((error_kind(e), e.to_string())),
+            AeolusItem::InputEnded => Some((
+                error_kind(&aeolus_proto::Error::Truncated),
+                "input ends inside a frame".into(),
+            )),
+        }
+    }
+}
+
+/// The facts `decode` prints about an AEOLUS frame before its fields: `id`, `len` (on the
+/// wire, both flags included) and `crc` (`ok`, or `none` for a frame sent without one).
+///
+/// ```
+/// let m = protolink::decoders::aeolus_meta(62, 37, true);
+/// assert_eq!(serde_json::Value::Object(m).to_string(), r#"{"id":62,"len":37,"crc":"ok"}"#);
+/// ```
+pub fn aeolus_meta(id: u8, len: u64, has_crc: bool) -> Map<String, Value> {
+    let mut meta = Map::new();
+    meta.insert("id".into(), json!(id));
+    meta.insert("len".into(), json!(len));
+    meta.insert("crc".into(), json!(if has_crc { "ok" } else { "none" }));
+    meta
 }
 
 /// Splits an AEOLUS message into its name and fields (texts as strings, raw data as hex).
@@ -79,66 +255,15 @@ pub fn text_fields(bytes: &[u8]) -> Value {
 
 impl StreamDecoder for AeolusDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
-        for (i, &b) in bytes.iter().enumerate() {
-            let at = offset + i as u64;
-            // A frame holds no flag, so the flag before its closing one opened it.
-            let opened = self.opened_at;
-            if b == aeolus_proto::FLAG {
-                self.opened_at = at;
-            }
-            let Some(event) = self.decoder.push(b) else {
-                continue;
-            };
-            match event {
-                Ok(frame) => {
-                    let mut meta = Map::new();
-                    meta.insert("id".into(), json!(frame.id()));
-                    meta.insert("len".into(), json!(at + 1 - opened));
-                    meta.insert(
-                        "crc".into(),
-                        json!(if frame.has_crc() { "ok" } else { "none" }),
-                    );
-                    match frame.message() {
-                        Ok(m) => {
-                            let (name, fields) = aeolus_fields(&m);
-                            out.push(Event::message(opened, name, meta, fields));
-                        }
-                        Err(e) => {
-                            self.malformed = self.malformed.wrapping_add(1);
-                            out.push(Event::error(
-                                opened,
-                                format!("{e} (frame {})", hex(frame.raw())),
-                            ));
-                        }
-                    }
-                }
-                Err(e) => out.push(Event::error(opened, e.to_string())),
-            }
-        }
+        self.feed_items(bytes, offset, |at, item| out.push(item.to_event(at)));
     }
 
     fn end_of_datagram(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.decoder.held_bytes() > 0 {
-            self.truncated = self.truncated.wrapping_add(1);
-            out.push(Event::error(
-                self.opened_at,
-                aeolus_proto::Error::Truncated.to_string(),
-            ));
-        }
-        self.opened_at = offset;
-        // A frame never spans two datagrams (DECISIONS.md A9): start afresh.
-        self.decoder.reset();
+        self.end_of_datagram_items(offset, |at, item| out.push(item.to_event(at)));
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        if self.decoder.held_bytes() > 0 {
-            self.truncated = self.truncated.wrapping_add(1);
-            out.push(Event::error(
-                self.opened_at.min(offset.saturating_sub(1)),
-                "input ends inside a frame".to_string(),
-            ));
-            self.decoder.reset();
-        }
+        self.finish_items(offset, |at, item| out.push(item.to_event(at)));
     }
 
     fn counters(&self) -> Value {

@@ -3,7 +3,7 @@
 
 use serde_json::{Map, Value, json};
 
-use super::{Event, StreamDecoder};
+use super::{Event, StreamDecoder, error_kind};
 use crate::proto::Side;
 use crate::render::{self, to_json, variant};
 
@@ -167,7 +167,7 @@ impl StreamDecoder for AokDecoder {
                             lens.push(len as u64);
                         }
                         Err(e) => {
-                            out.push(Event::error(at, e.to_string()));
+                            out.push(Event::error(at, error_kind(&e), e.to_string()));
                             lens.push(0);
                         }
                     });
@@ -185,7 +185,7 @@ impl StreamDecoder for AokDecoder {
                                 lens.push(c.buffer_len() as u64);
                             }
                             Err(e) => {
-                                out.push(Event::error(at, e.to_string()));
+                                out.push(Event::error(at, error_kind(&e), e.to_string()));
                                 lens.push(0);
                             }
                         }
@@ -227,10 +227,14 @@ impl StreamDecoder for AokDecoder {
             match item {
                 None => break,
                 Some(Ok(event)) => out.push(event),
-                Some(Err(aok_proto::Error::Truncated)) => {
-                    out.push(Event::error(at, "input ends inside a frame"));
+                Some(Err(e @ aok_proto::Error::Truncated)) => {
+                    out.push(Event::error(
+                        at,
+                        error_kind(&e),
+                        "input ends inside a frame",
+                    ));
                 }
-                Some(Err(e)) => out.push(Event::error(at, e.to_string())),
+                Some(Err(e)) => out.push(Event::error(at, error_kind(&e), e.to_string())),
             }
             let end = offset.saturating_sub(self.held_bytes());
             if let Some(events) = out.get_mut(first..) {

@@ -4,7 +4,7 @@
 use aydp_proto::Profile;
 use serde_json::{Map, Value, json};
 
-use super::{Event, StreamDecoder};
+use super::{Event, StreamDecoder, error_kind};
 use crate::render::{self, hex, to_json, variant};
 
 /// Capacity of the AYDP decoder: the longest message accepted.
@@ -29,8 +29,14 @@ impl AydpDecoder {
     }
 }
 
+/// A rendered AYDP message: its name, its meta data (type, expedited, len, time) and its fields.
+pub type AydpRendered = (String, Map<String, Value>, Value);
+
+/// An error's kind ([`error_kind`]) and its sentence.
+pub type ErrorText = (String, String);
+
 /// Splits a checked AYDP frame into its name, its meta data and its fields; a malformed typed
-/// parse comes back as the error sentence.
+/// parse comes back as the error's kind ([`error_kind`]) and sentence.
 ///
 /// ```
 /// use aydp_proto::{Frame, Profile};
@@ -42,10 +48,8 @@ impl AydpDecoder {
 /// ```
 ///
 /// # Errors
-/// The typed parse's error, as a sentence.
-pub fn aydp_fields(
-    frame: &aydp_proto::Frame<'_>,
-) -> std::result::Result<(String, Map<String, Value>, Value), String> {
+/// The typed parse's error, as its kind and a sentence.
+pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRendered, ErrorText> {
     use aydp_proto::Message as M;
     let mut meta = Map::new();
     meta.insert("type".into(), json!(frame.base_type()));
@@ -58,10 +62,13 @@ pub fn aydp_fields(
         );
     }
     let message = frame.message().map_err(|e| {
-        format!(
-            "type {} message is malformed: {e} (data {})",
-            frame.base_type(),
-            hex(frame.data())
+        (
+            error_kind(&e),
+            format!(
+                "type {} message is malformed: {e} (data {})",
+                frame.base_type(),
+                hex(frame.data())
+            ),
         )
     })?;
     let mut fields = match &message {
@@ -85,16 +92,16 @@ pub fn aydp_fields(
 
 /// What an AYDP event becomes once its frame is let go: the printed parts, and the frame's
 /// length on the wire (0 for a failure).
-type AydpOutcome = (
-    std::result::Result<(String, Map<String, Value>, Value), String>,
-    u64,
-);
+type AydpOutcome = (std::result::Result<AydpRendered, ErrorText>, u64);
 
 fn aydp_outcome(ev: aydp_proto::Result<aydp_proto::Frame<'_>>) -> AydpOutcome {
     match ev {
         Ok(frame) => (aydp_fields(&frame), frame.as_bytes().len() as u64),
-        Err(aydp_proto::Error::Truncated) => (Err("input ends inside a message".into()), 0),
-        Err(e) => (Err(e.to_string()), 0),
+        Err(e @ aydp_proto::Error::Truncated) => (
+            Err((error_kind(&e), "input ends inside a message".into())),
+            0,
+        ),
+        Err(e) => (Err((error_kind(&e), e.to_string())), 0),
     }
 }
 
@@ -108,12 +115,12 @@ impl AydpDecoder {
                 out.push(Event::message(end.saturating_sub(len), name, meta, fields));
             }
             // A good frame whose data does not parse: at its own first byte.
-            Err(e) if len > 0 => {
+            Err((kind, e)) if len > 0 => {
                 self.malformed = self.malformed.wrapping_add(1);
-                out.push(Event::error(end.saturating_sub(len), e));
+                out.push(Event::error(end.saturating_sub(len), kind, e));
             }
             // A failed candidate: its start byte was dropped just before the queued bytes.
-            Err(e) => out.push(Event::error(end.saturating_sub(1), e)),
+            Err((kind, e)) => out.push(Event::error(end.saturating_sub(1), kind, e)),
         }
     }
 }
@@ -132,7 +139,7 @@ impl StreamDecoder for AydpDecoder {
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
         while let Some(ev) = self.decoder.flush_next().map(aydp_outcome) {
-            if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.starts_with("input ends")) {
+            if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.1.starts_with("input ends")) {
                 self.truncated = self.truncated.wrapping_add(1);
             }
             self.place(ev, offset, out);

@@ -3,7 +3,7 @@
 
 use serde_json::{Map, Value, json};
 
-use super::{Event, StreamDecoder};
+use super::{Event, StreamDecoder, error_kind};
 use crate::render::{to_json, variant};
 
 /// Capacity of the GDL90 decoder: every ICD message, the UAT uplink included.
@@ -56,7 +56,7 @@ impl StreamDecoder for Gdl90Decoder {
                     meta.insert("len".into(), json!(at + 1 - opened));
                     out.push(Event::message(opened, name, meta, fields));
                 }
-                Some(Err(e)) => out.push(Event::error(opened, e.to_string())),
+                Some(Err(e)) => out.push(Event::error(opened, error_kind(&e), e.to_string())),
                 None => {}
             }
         }
@@ -65,7 +65,11 @@ impl StreamDecoder for Gdl90Decoder {
     fn end_of_datagram(&mut self, offset: u64, out: &mut Vec<Event>) {
         if self.decoder.held_bytes() > 0 {
             self.truncated = self.truncated.wrapping_add(1);
-            out.push(Event::error(self.opened_at, "datagram ends inside a frame"));
+            out.push(Event::error(
+                self.opened_at,
+                error_kind(&gdl90_proto::Error::Truncated),
+                "datagram ends inside a frame",
+            ));
         }
         self.decoder.reset();
         self.opened_at = offset;
@@ -76,6 +80,7 @@ impl StreamDecoder for Gdl90Decoder {
             self.truncated = self.truncated.wrapping_add(1);
             out.push(Event::error(
                 self.opened_at.min(offset.saturating_sub(1)),
+                error_kind(&gdl90_proto::Error::Truncated),
                 "input ends inside a frame",
             ));
             self.decoder.reset();

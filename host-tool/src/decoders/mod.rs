@@ -1,7 +1,8 @@
 //! The stream decoders of the four protocols behind one trait ([`StreamDecoder`]): bytes in,
-//! [`Event`]s out (a message with its fields as JSON, or an error, at its input offset), and
-//! the decoder's counters. `decode` prints them; the field renderers are shared with `aok`
-//! and the Wireshark generators' tests.
+//! [`Event`]s out (a message with its fields as JSON, or an error with its kind, at its input
+//! offset), and the decoder's counters. `decode` prints them; the field renderers are shared
+//! with `aok`, the Wireshark generators' tests and the Python package (`python/`), which also
+//! builds on the AEOLUS decoder's placed events ([`AeolusItem`]) before they are rendered.
 
 use serde_json::{Map, Value, json};
 
@@ -10,11 +11,13 @@ mod aok;
 mod aydp;
 mod gdl90;
 
-pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, text_fields};
+pub use aeolus::{
+    AEOLUS_CAPACITY, AeolusDecoder, AeolusItem, aeolus_fields, aeolus_meta, text_fields,
+};
 pub use aok::{
     AokDecoder, action_name, aok_command_fields, aok_message_fields, slot_name, waypoint_fields,
 };
-pub use aydp::{AYDP_CAPACITY, AydpDecoder, aydp_fields};
+pub use aydp::{AYDP_CAPACITY, AydpDecoder, AydpRendered, ErrorText, aydp_fields};
 pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
 
 use crate::proto::{ProfileArg, Proto, Side};
@@ -43,9 +46,24 @@ pub enum Body {
     },
     /// An error in the stream.
     Error {
+        /// What went wrong, as a short name: the protocol crate's error variant in snake case
+        /// (`checksum_mismatch`, `invalid_escape`, `truncated`, ...; see [`error_kind`]).
+        kind: String,
         /// One sentence.
         error: String,
     },
+}
+
+/// The kind of a protocol crate's error: its variant's name in snake case.
+///
+/// ```
+/// use protolink::decoders::error_kind;
+/// assert_eq!(error_kind(&aeolus_proto::Error::InvalidEscape), "invalid_escape");
+/// assert_eq!(error_kind(&aydp_proto::Error::BadLength(3)), "bad_length");
+/// assert_eq!(error_kind(&aok_proto::Error::ChecksumMismatch { id: 0x73, computed: 1, received: 2 }), "checksum_mismatch");
+/// ```
+pub fn error_kind<E: serde::Serialize>(error: &E) -> String {
+    render::upper_snake(&render::variant(render::to_json(error)).0).to_lowercase()
 }
 
 impl Event {
@@ -65,10 +83,11 @@ impl Event {
         }
     }
 
-    fn error(offset: u64, error: impl Into<String>) -> Self {
+    fn error(offset: u64, kind: impl Into<String>, error: impl Into<String>) -> Self {
         Event {
             offset,
             body: Body::Error {
+                kind: kind.into(),
                 error: error.into(),
             },
         }
@@ -78,7 +97,7 @@ impl Event {
     ///
     /// ```
     /// # use protolink::decoders::{Body, Event};
-    /// let e = Event { offset: 7, body: Body::Error { error: "checksum mismatch".into() } };
+    /// let e = Event { offset: 7, body: Body::Error { kind: "checksum_mismatch".into(), error: "checksum mismatch".into() } };
     /// assert_eq!(e.to_json().to_string(), r#"{"offset":7,"kind":"error","error":"checksum mismatch"}"#);
     /// ```
     pub fn to_json(&self) -> Value {
@@ -91,7 +110,7 @@ impl Event {
                 m.extend(meta.clone());
                 m.insert("fields".into(), fields.clone());
             }
-            Body::Error { error } => {
+            Body::Error { error, .. } => {
                 m.insert("kind".into(), json!("error"));
                 m.insert("error".into(), json!(error));
             }
@@ -103,7 +122,7 @@ impl Event {
     ///
     /// ```
     /// # use protolink::decoders::{Body, Event};
-    /// let e = Event { offset: 7, body: Body::Error { error: "checksum mismatch".into() } };
+    /// let e = Event { offset: 7, body: Body::Error { kind: "checksum_mismatch".into(), error: "checksum mismatch".into() } };
     /// assert_eq!(e.to_text(), "@7 error: checksum mismatch");
     /// ```
     pub fn to_text(&self) -> String {
@@ -120,13 +139,14 @@ impl Event {
                 }
                 line
             }
-            Body::Error { error } => format!("@{} error: {error}", self.offset),
+            Body::Error { error, .. } => format!("@{} error: {error}", self.offset),
         }
     }
 }
 
-/// A stream decoder for one protocol, reporting [`Event`]s.
-pub trait StreamDecoder {
+/// A stream decoder for one protocol, reporting [`Event`]s. `Send`, so that a decoder can work
+/// on another thread (the Python package decodes with the GIL released).
+pub trait StreamDecoder: Send {
     /// Feeds bytes that start at input offset `offset`.
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>);
     /// A datagram ended at `offset` (the next byte starts a new one).

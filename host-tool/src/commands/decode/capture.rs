@@ -38,7 +38,9 @@ struct Flow {
     offset: u64,
 }
 
-fn proto_name(p: Proto) -> &'static str {
+/// The protocol's name as `decode --json` writes it (`"proto"`): `aeolus`, `aydp`, `aok`,
+/// `gdl90`.
+pub fn proto_name(p: Proto) -> &'static str {
     match p {
         Proto::Aeolus => "aeolus",
         Proto::Aydp => "aydp",
@@ -73,57 +75,196 @@ pub struct CaptureCounters {
     pub flows_dropped: u64,
 }
 
+/// One thing a capture decode reports, in the order `decode` prints it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaptureItem {
+    /// A decoder's event, with the record it came in.
+    Event {
+        /// The record's number (for the events at the end of the capture: the last record's).
+        frame: u64,
+        /// The record's capture time, seconds since the Unix epoch.
+        time: f64,
+        /// The flow's name, e.g. `udp 127.0.0.1:40000 > 127.0.0.1:5001`.
+        flow: String,
+        /// The flow's protocol.
+        proto: Proto,
+        /// The event; its offset is within the flow.
+        event: Event,
+    },
+    /// A flow is done (the capture ended): its bytes and its decoder's counters.
+    FlowEnd {
+        /// The flow's name.
+        flow: String,
+        /// The flow's protocol.
+        proto: Proto,
+        /// Bytes of the flow decoded.
+        bytes: u64,
+        /// Its decoder's counters, as `decode` prints them.
+        counters: Value,
+    },
+}
+
+/// A capture being decoded record by record: what `decode --from CAPTURE` prints, and what
+/// the Python package (`python/`) iterates.
+pub struct CaptureEvents {
+    reader: CaptureReader,
+    select: DecodeArgs,
+    flows: Flows,
+    last_time: f64,
+    /// No more records are read (the end of the file, or [`CaptureEvents::stop`]).
+    stopped: bool,
+    /// The flows' last events and summaries have been handed out.
+    finished: bool,
+}
+
+impl std::fmt::Debug for CaptureEvents {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CaptureEvents")
+            .field("reader", &self.reader)
+            .field("flows", &self.flows.flows.len())
+            .finish()
+    }
+}
+
+impl CaptureEvents {
+    /// Opens the capture at `path`; `select`'s `proto`, `profile` and `side` choose what is
+    /// decoded, as on the command line (its other fields are not used).
+    ///
+    /// # Errors
+    /// Opening the file, or a file that is no capture.
+    pub fn open(path: &Path, select: &DecodeArgs) -> Result<Self> {
+        Ok(CaptureEvents {
+            reader: CaptureReader::open(path)?,
+            select: select.clone(),
+            flows: Flows::default(),
+            last_time: 0.0,
+            stopped: false,
+            finished: false,
+        })
+    }
+
+    /// Reads no further record: the next [`CaptureEvents::next_items`] ends the flows.
+    pub fn stop(&mut self) {
+        self.stopped = true;
+    }
+
+    /// Reads the next record and appends what it gives to `out` (nothing for a record of no
+    /// flow); at the end of the capture appends every flow's last events and its
+    /// [`CaptureItem::FlowEnd`]. Returns `false`, appending nothing, once all is said.
+    ///
+    /// # Errors
+    /// A damaged or cut capture.
+    pub fn next_items(&mut self, out: &mut Vec<CaptureItem>) -> Result<bool> {
+        if self.finished {
+            return Ok(false);
+        }
+        let mut events = Vec::new();
+        let record = if self.stopped {
+            None
+        } else {
+            self.reader.next_record()?
+        };
+        let Some(rec) = record else {
+            self.finished = true;
+            let (frames, time) = (self.flows.counters.frames, self.last_time);
+            for flow in &mut self.flows.flows {
+                flow.decoder.finish(flow.offset, &mut events);
+                out.extend(events.drain(..).map(|e| flow.item(e, frames, time)));
+                out.push(CaptureItem::FlowEnd {
+                    flow: flow.name.clone(),
+                    proto: flow.proto,
+                    bytes: flow.offset,
+                    counters: flow.decoder.counters(),
+                });
+            }
+            return Ok(true);
+        };
+        self.flows.counters.frames += 1;
+        let Some((key, kind, bytes)) = classify(rec.payload, &self.select) else {
+            self.flows.counters.skipped += 1;
+            return Ok(true);
+        };
+        let Some(flow) = self.flows.open(key, kind) else {
+            return Ok(true);
+        };
+        flow.feed(&bytes, &mut events);
+        let time = rec.time.as_secs_f64();
+        self.last_time = time;
+        out.extend(events.drain(..).map(|e| flow.item(e, rec.frame, time)));
+        Ok(true)
+    }
+
+    /// The capture's counters so far.
+    pub fn counters(&self) -> CaptureCounters {
+        self.flows.counters
+    }
+
+    /// The flows opened so far.
+    pub fn flow_count(&self) -> usize {
+        self.flows.flows.len()
+    }
+
+    /// Every flow opened so far, in the order they appeared: its name, protocol, bytes decoded
+    /// and its decoder's counters.
+    pub fn flows(&self) -> Vec<(String, Proto, u64, Value)> {
+        self.flows
+            .flows
+            .iter()
+            .map(|f| (f.name.clone(), f.proto, f.offset, f.decoder.counters()))
+            .collect()
+    }
+}
+
 /// Decodes the capture at `path`, printing one line per event and a summary per flow.
 ///
 /// # Errors
 /// Opening or reading the capture, or writing the output.
 pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
-    let mut reader = CaptureReader::open(path)?;
+    let mut capture = CaptureEvents::open(path, args)?;
     let mut out = Out::new();
-    let mut flows = Flows::default();
-    let mut events = Vec::new();
-    let mut last_time = 0.0;
+    let mut items = Vec::new();
     let mut plot = args
         .udp_json
         .map(super::plot::PlotSender::new)
         .transpose()?;
-    while !deadline.reached() {
-        let Some(rec) = reader.next_record()? else {
-            break;
-        };
-        flows.counters.frames += 1;
-        let Some((key, kind, bytes)) = classify(rec.payload, args) else {
-            flows.counters.skipped += 1;
-            continue;
-        };
-        let Some(flow) = flows.open(key, kind) else {
-            continue;
-        };
-        flow.feed(&bytes, &mut events);
-        let time = rec.time.as_secs_f64();
-        last_time = time;
-        if let Some(p) = plot.as_mut() {
-            p.send(&events, time);
+    loop {
+        // The deadline ends the records: the flows' last events and summaries still follow.
+        if deadline.reached() {
+            capture.stop();
         }
-        for e in events.drain(..) {
-            out.line(&line(&e, rec.frame, time, flow, args.json))?;
+        if !capture.next_items(&mut items)? {
+            break;
+        }
+        for item in items.drain(..) {
+            match item {
+                CaptureItem::Event {
+                    frame,
+                    time,
+                    flow,
+                    proto,
+                    event,
+                } => {
+                    if let Some(p) = plot.as_mut() {
+                        p.send(std::slice::from_ref(&event), time);
+                    }
+                    out.line(&line(&event, frame, time, &flow, proto, args.json))?;
+                }
+                CaptureItem::FlowEnd {
+                    flow,
+                    proto,
+                    bytes,
+                    counters,
+                } => out.line(&flow_summary(&flow, proto, bytes, &counters, args.json))?,
+            }
         }
         out.flush()?;
-    }
-    let frames = flows.counters.frames;
-    for flow in &mut flows.flows {
-        flow.decoder.finish(flow.offset, &mut events);
-        for e in events.drain(..) {
-            out.line(&line(&e, frames, last_time, flow, args.json))?;
-        }
-        out.line(&flow_summary(flow, args.json))?;
     }
     if let Some(p) = &plot {
         eprintln!("{}", p.report());
     }
     out.line(&capture_summary(
-        flows.counters,
-        flows.flows.len(),
+        capture.counters(),
+        capture.flow_count(),
         args.json,
     ))?;
     out.flush()
@@ -198,6 +339,17 @@ impl Flows {
 }
 
 impl Flow {
+    /// An event of this flow as a [`CaptureItem`], with its record's number and time.
+    fn item(&self, event: Event, frame: u64, time: f64) -> CaptureItem {
+        CaptureItem::Event {
+            frame,
+            time,
+            flow: self.name.clone(),
+            proto: self.proto,
+            event,
+        }
+    }
+
     fn new(key: FlowKey, kind: StreamKind) -> Self {
         let name = match key {
             FlowKey::Ip(t, s, d) => {
@@ -226,17 +378,17 @@ impl Flow {
 }
 
 /// A flow's summary line: the live decoder's, with the flow and its protocol.
-fn flow_summary(flow: &Flow, json_out: bool) -> String {
-    let s = summary(flow.offset, &flow.decoder.counters(), json_out);
+fn flow_summary(flow: &str, proto: Proto, bytes: u64, counters: &Value, json_out: bool) -> String {
+    let s = summary(bytes, counters, json_out);
     if json_out {
         let mut v: Value = serde_json::from_str(&s).unwrap_or(Value::Null);
         if let Value::Object(m) = &mut v {
-            m.insert("flow".into(), json!(flow.name));
-            m.insert("proto".into(), json!(proto_name(flow.proto)));
+            m.insert("flow".into(), json!(flow));
+            m.insert("proto".into(), json!(proto_name(proto)));
         }
         v.to_string()
     } else {
-        format!("{} ({}) {s}", flow.name, proto_name(flow.proto))
+        format!("{flow} ({}) {s}", proto_name(proto))
     }
 }
 
@@ -252,10 +404,10 @@ fn capture_summary(c: CaptureCounters, flows: usize, json_out: bool) -> String {
     }
 }
 
-fn line(e: &Event, frame: u64, time: f64, flow: &Flow, json_out: bool) -> String {
+fn line(e: &Event, frame: u64, time: f64, flow: &str, proto: Proto, json_out: bool) -> String {
     if json_out {
-        capture_json(e, frame, time, &flow.name, flow.proto).to_string()
+        capture_json(e, frame, time, flow, proto).to_string()
     } else {
-        format!("#{frame} {time:.6} {} {}", flow.name, e.to_text())
+        format!("#{frame} {time:.6} {flow} {}", e.to_text())
     }
 }

@@ -1,0 +1,39 @@
+"""AEOLUS, AYDP, AOK and GDL90 in Python, on the very decoders the firmware runs.
+
+The package is a thin face over the project's Rust crates (the ``protolink`` host tool's
+decoders, capture reading and command line), so a flight decoded here is byte for byte what
+``protolink decode`` and the box itself make of it::
+
+    import protolink
+    frames = protolink.to_frames("flight.pcapng")      # one pandas DataFrame per message type
+    print(frames["GYRO"])
+
+    for msg in protolink.open("udp:5001", proto="aeolus"):   # like mavutil.mavlink_connection
+        if msg.name == "ATTITUDE":
+            print(msg.roll_rad, msg.pitch_rad)
+
+    dec = protolink.aeolus.Decoder()
+    for msg in dec.feed(chunk):                         # messages and error events
+        ...
+
+Modules: :mod:`protolink.aeolus`, :mod:`protolink.aydp`, :mod:`protolink.aok`,
+:mod:`protolink.gdl90` (each a ``Decoder`` and, but for GDL90, ``encode``).
+"""
+
+from . import aeolus, aok, aydp, gdl90
+from ._native import ErrorEvent, Message, Reader, open
+from .frames import to_frames
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ErrorEvent",
+    "Message",
+    "Reader",
+    "aeolus",
+    "aok",
+    "aydp",
+    "gdl90",
+    "open",
+    "to_frames",
+]

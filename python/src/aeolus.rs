@@ -1,0 +1,198 @@
+//! `protolink.aeolus`: the AEOLUS `Decoder` (the host tool's, on the crate's slice path) and
+//! `encode`.
+
+use aeolus_proto::message::{self as msg, Message, Text};
+use aeolus_proto::{CrcMode, max_encoded_len};
+use protolink::decoders::{AeolusDecoder, AeolusItem, aeolus_fields};
+use protolink::proto::{ProfileArg, Proto, Side};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyList};
+use serde_json::{Map, Value};
+
+use crate::encode::{self, check_names, data_bytes, invalid, keys, needed, read};
+use crate::stream::Stream;
+
+/// The AEOLUS stream decoder, as `protolink decode --proto aeolus` runs it: frames with or
+/// without a CRC, every message type, errors as events.
+#[pyclass(module = "protolink.aeolus", name = "Decoder")]
+#[derive(Debug)]
+pub(crate) struct AeolusPyDecoder {
+    stream: Stream,
+}
+
+#[pymethods]
+impl AeolusPyDecoder {
+    #[new]
+    fn new() -> Self {
+        AeolusPyDecoder {
+            stream: Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device),
+        }
+    }
+
+    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
+    /// completed. `datagram=True`: the bytes are one whole UDP datagram (a frame never spans
+    /// two).
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed<'py>(
+        &mut self,
+        py: Python<'py>,
+        data: &Bound<'py, PyAny>,
+        datagram: bool,
+    ) -> PyResult<Bound<'py, PyList>> {
+        crate::decoder::feed(py, &mut self.stream, data, datagram)
+    }
+
+    /// The end of the input: a frame still open is reported as a `truncated` error.
+    fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        crate::decoder::flush(py, &mut self.stream)
+    }
+
+    /// The counters: the crate's `Stats` plus `malformed` and `truncated`.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::decoder::stats(py, &self.stream)
+    }
+
+    /// Bytes fed so far.
+    #[getter]
+    fn bytes_fed(&self) -> u64 {
+        self.stream.bytes_fed()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "protolink.aeolus.Decoder(bytes_fed={})",
+            self.stream.bytes_fed()
+        )
+    }
+}
+
+/// The typed messages read through serde: the spec's name and the message from its fields.
+fn typed(name: &str, fields: Value) -> PyResult<Option<Message<'static>>> {
+    Ok(Some(match name {
+        "AEOLUSINFO" => Message::AeolusInfo(read::<msg::AeolusInfo>(name, fields)?),
+        "PRESSURE" => Message::Pressure(read::<msg::Pressure>(name, fields)?),
+        "GYRO" => Message::Gyro(read::<msg::Gyro>(name, fields)?),
+        "ACCEL" => Message::Accel(read::<msg::Accel>(name, fields)?),
+        "MAGNET" => Message::Magnet(read::<msg::Magnet>(name, fields)?),
+        "TEMP" => Message::Temp(read::<msg::Temp>(name, fields)?),
+        "GPS" => Message::Gps(read::<msg::Gps>(name, fields)?),
+        "ATTITUDE" => Message::Attitude(read::<msg::Attitude>(name, fields)?),
+        "COMPASS" => Message::Compass(read::<msg::Compass>(name, fields)?),
+        "WIND" => Message::Wind(read::<msg::Wind>(name, fields)?),
+        "SETTIME" => Message::SetTime(read::<msg::SetTime>(name, fields)?),
+        _ => return Ok(None),
+    }))
+}
+
+/// The message names `encode` takes.
+const NAMES: &str = "AEOLUSINFO, PRESSURE, GYRO, ACCEL, MAGNET, TEMP, GPS, ATTITUDE, COMPASS, WIND, \
+                     CALIBINFO, DEBUGINFO, LOG, TOAST, COMMAND, SETTIME or UNKNOWN";
+
+/// A text field's bytes: `hex` (the raw bytes, which `to_dict()` adds when the text is not
+/// clean UTF-8) wins over `text`.
+fn text_bytes(name: &str, given: &Map<String, Value>) -> PyResult<Vec<u8>> {
+    check_names(name, given, ["text", "hex"])?;
+    if let Some(h) = given.get("hex") {
+        return data_bytes(name, "hex", h);
+    }
+    match needed(name, given, "text")? {
+        Value::String(s) => Ok(s.as_bytes().to_vec()),
+        _ => Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "cannot encode {name}: `text` is a string"
+        ))),
+    }
+}
+
+/// Raw data (`data`, hex or bytes), checked against `len` when it is given.
+fn raw_data(name: &str, given: &Map<String, Value>) -> PyResult<Vec<u8>> {
+    let data = data_bytes(name, "data", needed(name, given, "data")?)?;
+    if let Some(len) = given.get("len")
+        && len.as_u64() != Some(data.len() as u64)
+    {
+        return Err(invalid(
+            name,
+            format!("`len` is {len} but `data` holds {} bytes", data.len()),
+        ));
+    }
+    Ok(data)
+}
+
+/// One AEOLUS frame, flags, escapes and CRC included, from the message's name and its fields
+/// as `to_dict()` gives them (`UNKNOWN` also takes `id`). `crc=False` sends `00 00`, "no CRC"
+/// (`meta["crc"] == "none"`).
+#[pyfunction(name = "aeolus_encode")]
+#[pyo3(signature = (name, /, crc = true, **fields))]
+pub(crate) fn encode_aeolus<'py>(
+    py: Python<'py>,
+    name: &str,
+    crc: bool,
+    fields: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let given = encode::fields(fields)?;
+    let data;
+    let text;
+    let message = match name {
+        "TOAST" | "COMMAND" => {
+            text = Text::from_bytes(&text_bytes(name, &given)?).map_err(|e| invalid(name, e))?;
+            if name == "TOAST" {
+                Message::Toast(text)
+            } else {
+                Message::Command(text)
+            }
+        }
+        "CALIBINFO" | "DEBUGINFO" | "LOG" => {
+            check_names(name, &given, ["len", "data"])?;
+            data = raw_data(name, &given)?;
+            match name {
+                "CALIBINFO" => Message::CalibInfo(&data),
+                "DEBUGINFO" => Message::DebugInfo(&data),
+                _ => Message::Log(&data),
+            }
+        }
+        "UNKNOWN" => {
+            check_names(name, &given, ["id", "len", "data"])?;
+            let id = needed(name, &given, "id")?
+                .as_u64()
+                .and_then(|id| u8::try_from(id).ok())
+                .ok_or_else(|| invalid(name, "`id` is a message ID, 0..=255"))?;
+            data = raw_data(name, &given)?;
+            Message::Unknown { id, data: &data }
+        }
+        _ => match typed(name, Value::Object(given.clone()))? {
+            Some(m) => {
+                check_names(name, &given, keys(&aeolus_fields(&m).1))?;
+                m
+            }
+            None => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "AEOLUS has no message '{name}': the names are {NAMES}"
+                )));
+            }
+        },
+    };
+    let mut buf = vec![0u8; max_encoded_len(message.buffer_len())];
+    let n = message
+        .encode(&mut buf, if crc { CrcMode::Compute } else { CrcMode::Omit })
+        .map_err(|e| invalid(name, e))?;
+    buf.truncate(n);
+    check_decodes(name, &buf)?;
+    Ok(PyBytes::new(py, &buf))
+}
+
+/// Refuses a frame that the decoder would not give back as a `name` message (an ID the spec
+/// defines sent as UNKNOWN, a LOG longer than a decoder holds, a malformed layout).
+fn check_decodes(name: &str, frame: &[u8]) -> PyResult<()> {
+    let mut decoder = AeolusDecoder::new();
+    let mut outcome = Err("the decoder gives nothing back".to_owned());
+    decoder.feed_items(frame, 0, |_, item| {
+        outcome = match &item {
+            AeolusItem::Message { message, .. } if message.name() == name => Ok(()),
+            AeolusItem::Message { message, .. } => {
+                Err(format!("it decodes as {}, not {name}", message.name()))
+            }
+            other => Err(other.error().map(|e| e.1).unwrap_or_default()),
+        };
+    });
+    outcome.map_err(|why| invalid(name, why))
+}

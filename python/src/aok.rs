@@ -1,0 +1,269 @@
+//! `protolink.aok`: the AOK `Decoder` for either side's bytes, and `encode` for the PC's
+//! commands and the device's messages.
+
+use aok_proto::{ActionWord, Command, Message, ReplyForm, Waypoint, WaypointSlot};
+use protolink::commands::aok::{parse_action, parse_slot};
+use protolink::decoders::{AokDecoder, Body, StreamDecoder};
+use protolink::proto::{ProfileArg, Proto, Side};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyList};
+use serde_json::{Map, Value, json};
+
+use crate::decoder::choose;
+use crate::encode::{self, camel, check_names, invalid, needed, read};
+use crate::stream::Stream;
+
+/// The sides by name: who sent the bytes.
+const SIDES: [(&str, Side); 2] = [("device", Side::Device), ("pc", Side::Pc)];
+
+/// The AOK stream decoder, as `protolink decode --proto aok --side ...` runs it.
+#[pyclass(module = "protolink.aok", name = "Decoder")]
+#[derive(Debug)]
+pub(crate) struct AokPyDecoder {
+    stream: Stream,
+    side: &'static str,
+}
+
+#[pymethods]
+impl AokPyDecoder {
+    /// `side`: who sent the bytes, `"device"` (debug values, acks, parameter and waypoint
+    /// replies, read as the PC reads them) or `"pc"` (commands, read as the device reads them).
+    #[new]
+    #[pyo3(signature = (side = None))]
+    fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let s = side.map_or(Ok(Side::Device), |a| choose("side", a, &SIDES))?;
+        Ok(AokPyDecoder {
+            stream: Stream::new(Proto::Aok, ProfileArg::Spec, s),
+            side: if s == Side::Device { "device" } else { "pc" },
+        })
+    }
+
+    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
+    /// completed.
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed<'py>(
+        &mut self,
+        py: Python<'py>,
+        data: &Bound<'py, PyAny>,
+        datagram: bool,
+    ) -> PyResult<Bound<'py, PyList>> {
+        crate::decoder::feed(py, &mut self.stream, data, datagram)
+    }
+
+    /// The line went quiet (or the input ended): a partial frame is given up (`truncated`) and
+    /// what followed its first byte is rescanned.
+    fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        crate::decoder::flush(py, &mut self.stream)
+    }
+
+    /// The counters: the crate's `Stats`.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::decoder::stats(py, &self.stream)
+    }
+
+    /// Bytes fed so far.
+    #[getter]
+    fn bytes_fed(&self) -> u64 {
+        self.stream.bytes_fed()
+    }
+
+    /// Who sent the bytes: `"device"` or `"pc"`.
+    #[getter]
+    fn side(&self) -> &'static str {
+        self.side
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "protolink.aok.Decoder(side={:?}, bytes_fed={})",
+            self.side,
+            self.stream.bytes_fed()
+        )
+    }
+}
+
+/// The names `encode` takes: the PC's commands, then the device's messages.
+const NAMES: &str = "DEBUG_OFF, DEBUG_ON, RESET, SAVE_WAYPOINTS, LOAD_WAYPOINTS, LOAD_SET, \
+                     SAVE_SET, START_SET, SET_PARAMETER, READ_PARAMETER, BULK_READ, MOTOR_TEST, \
+                     SET_WAYPOINT, READ_WAYPOINT, EXTERNAL_CONTROL (commands); DEBUG, ACK, \
+                     PARAMETER, WAYPOINT (messages)";
+
+/// A frame in one direction.
+enum Frame {
+    /// What the PC sends.
+    Command(Command),
+    /// What the device sends.
+    Message(Message),
+}
+
+/// A slot as the host tool names it (`1`..`31`, `poi`, `ram-poi`, `fbc`).
+fn slot(name: &str, given: &Map<String, Value>) -> PyResult<WaypointSlot> {
+    match needed(name, given, "slot")? {
+        Value::String(s) => parse_slot(s).map_err(|e| invalid(name, e)),
+        Value::Number(n) => parse_slot(&n.to_string()).map_err(|e| invalid(name, e)),
+        other => Err(PyTypeError::new_err(format!(
+            "cannot encode {name}: `slot` is 1..=31, 'poi', 'ram-poi' or 'fbc', not {other}"
+        ))),
+    }
+}
+
+/// An action word as the host tool writes it: `action:value`, or `raw:0x...` for a word whose
+/// action no firmware defines.
+fn action(name: &str, given: &Map<String, Value>, key: &str) -> PyResult<ActionWord> {
+    let Some(v) = given.get(key) else {
+        return Ok(ActionWord::NONE);
+    };
+    let Some(text) = v.as_str() else {
+        return Err(PyTypeError::new_err(format!(
+            "cannot encode {name}: `{key}` is a string such as 'hold-and-climb:15'"
+        )));
+    };
+    if let Some(raw) = text.strip_prefix("raw:") {
+        let digits = raw.strip_prefix("0x").unwrap_or(raw);
+        return u32::from_str_radix(digits, 16)
+            .map(ActionWord)
+            .map_err(|_| {
+                invalid(
+                    name,
+                    format!("`{key}` '{text}' is not raw:0x and 8 hex digits"),
+                )
+            });
+    }
+    parse_action(text).map_err(|e| invalid(name, e))
+}
+
+fn waypoint(name: &str, given: &Map<String, Value>) -> PyResult<Waypoint> {
+    check_names(
+        name,
+        given,
+        ["slot", "longitude", "latitude", "action1", "action2"],
+    )?;
+    Ok(Waypoint {
+        slot: slot(name, given)?,
+        longitude: read(name, needed(name, given, "longitude")?.clone())?,
+        latitude: read(name, needed(name, given, "latitude")?.clone())?,
+        action1: action(name, given, "action1")?,
+        action2: action(name, given, "action2")?,
+    })
+}
+
+/// A one-number command's number, under the name the host tool gives it.
+fn number(name: &str, given: &Map<String, Value>, key: &str) -> PyResult<u8> {
+    check_names(name, given, [key])?;
+    read(name, needed(name, given, key)?.clone())
+}
+
+/// `{"Variant": {fields}}`: serde's form of an enum variant that holds a struct.
+fn tagged(name: &str, given: &Map<String, Value>) -> Value {
+    let mut m = Map::new();
+    m.insert(camel(name), Value::Object(given.clone()));
+    Value::Object(m)
+}
+
+/// The frame a name and fields describe.
+fn frame(name: &str, given: &Map<String, Value>) -> PyResult<Frame> {
+    Ok(match name {
+        "LOAD_SET" => Frame::Command(Command::LoadSet(number(name, given, "set")?)),
+        "SAVE_SET" => Frame::Command(Command::SaveSet(number(name, given, "set")?)),
+        "START_SET" => Frame::Command(Command::StartSet(number(name, given, "set")?)),
+        "READ_PARAMETER" => Frame::Command(Command::ReadParameter(number(name, given, "number")?)),
+        "BULK_READ" => Frame::Command(Command::BulkRead(number(name, given, "first")?)),
+        "READ_WAYPOINT" => {
+            check_names(name, given, ["slot"])?;
+            Frame::Command(Command::ReadWaypoint(slot(name, given)?))
+        }
+        "SET_WAYPOINT" => Frame::Command(Command::SetWaypoint(waypoint(name, given)?)),
+        "WAYPOINT" => Frame::Message(Message::Waypoint(waypoint(name, given)?)),
+        "ACK" => {
+            check_names(name, given, ["value"])?;
+            let v = needed(name, given, "value")?.clone();
+            Frame::Message(read(name, json!({ "Ack": v }))?)
+        }
+        "DEBUG_OFF" | "DEBUG_ON" | "RESET" | "SAVE_WAYPOINTS" | "LOAD_WAYPOINTS" => {
+            check_names(name, given, [])?;
+            Frame::Command(read(name, json!(camel(name)))?)
+        }
+        "SET_PARAMETER" | "MOTOR_TEST" | "EXTERNAL_CONTROL" => {
+            let c: Command = read(name, tagged(name, given))?;
+            check_names(
+                name,
+                given,
+                encode::keys(&protolink::decoders::aok_command_fields(&c).1),
+            )?;
+            Frame::Command(c)
+        }
+        "DEBUG" | "PARAMETER" => {
+            let m: Message = read(name, tagged(name, given))?;
+            check_names(
+                name,
+                given,
+                encode::keys(&protolink::decoders::aok_message_fields(&m).1),
+            )?;
+            Frame::Message(m)
+        }
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "AOK has no message '{name}': the names are {NAMES}"
+            )));
+        }
+    })
+}
+
+/// The frame's bytes: a command as the PC sends it, a message as a device of firmware 0.31 or
+/// later sends it (parameter replies headed).
+fn bytes(name: &str, f: &Frame) -> PyResult<Vec<u8>> {
+    let mut buf = [0u8; 32];
+    let n = match f {
+        Frame::Command(c) => c.emit(&mut buf),
+        Frame::Message(m) => m.emit(ReplyForm::Headed, &mut buf),
+    }
+    .map_err(|e| invalid(name, e))?;
+    Ok(buf.get(..n).unwrap_or(&[]).to_vec())
+}
+
+/// One AOK frame from the name of a command (what the PC sends) or a message (what the device
+/// sends) and its fields as `to_dict()` gives them.
+#[pyfunction(name = "aok_encode")]
+#[pyo3(signature = (name, /, **fields))]
+pub(crate) fn encode_aok<'py>(
+    py: Python<'py>,
+    name: &str,
+    fields: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let given = encode::fields(fields)?;
+    let f = frame(name, &given)?;
+    let out = bytes(name, &f)?;
+    let side = match f {
+        Frame::Command(_) => Side::Pc,
+        Frame::Message(_) => Side::Device,
+    };
+    check_decodes(name, &out, side)?;
+    Ok(PyBytes::new(py, &out))
+}
+
+/// Refuses a frame the decoder for its direction would not give back as a `name` message (an
+/// out-of-range motor or stick, a reserved slot).
+fn check_decodes(name: &str, frame: &[u8], side: Side) -> PyResult<()> {
+    let mut decoder = AokDecoder::new(side);
+    let mut events = Vec::new();
+    decoder.feed(frame, 0, &mut events);
+    decoder.finish(frame.len() as u64, &mut events);
+    match events.first().map(|e| &e.body) {
+        Some(Body::Message { name: got, .. }) if got == name => Ok(()),
+        Some(Body::Message { name: got, .. }) => Err(invalid(name, format!("it decodes as {got}"))),
+        Some(Body::Error { error, .. }) => Err(invalid(name, error)),
+        // A lone ack byte is not decodable passively: only a PC that sent a command expects one.
+        None if name == "ACK" => Ok(()),
+        None => Err(invalid(name, "the decoder gives nothing back")),
+    }
+}
+
+/// The first byte of the frame a decoded AOK message came in (its command letter, or the
+/// reply's start byte): `Message.id` for AOK.
+pub(crate) fn first_byte(name: &str, fields: &Value) -> Option<u8> {
+    let given = fields.as_object()?;
+    let f = frame(name, given).ok()?;
+    bytes(name, &f).ok()?.first().copied()
+}

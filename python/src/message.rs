@@ -1,0 +1,441 @@
+//! What a decoder hands Python: `Message` (a decoded message: name, ID, offset, one
+//! attribute per field) and `ErrorEvent` (bad bytes in the stream: kind, sentence, offset).
+//!
+//! A message keeps what the decoder produced, without the GIL, and builds its Python fields
+//! the first time one is read, once: an AEOLUS message keeps its frame's data and renders it
+//! with the host tool's `aeolus_fields`; the others keep the host tool's rendered fields. Either
+//! way the fields are exactly the `"fields"` of `protolink decode --json`.
+
+use protolink::commands::decode::capture::proto_name;
+use protolink::decoders::{Body as EventBody, aeolus_fields, aeolus_meta};
+use protolink::proto::Proto;
+use pyo3::exceptions::{PyAttributeError, PyKeyError};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList, PyString};
+use serde_json::{Map, Value};
+
+use crate::stream::{AeolusFrame, Pending};
+use crate::to_python::to_python;
+use crate::value;
+
+/// Where and when a message was captured: the capture file's record (its time, flow and
+/// number), or the host's clock when the bytes arrived on a live link.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Origin {
+    /// Seconds since the Unix epoch.
+    pub(crate) capture_time: Option<f64>,
+    /// The capture's flow, e.g. `udp 127.0.0.1:40000 > 127.0.0.1:5001`.
+    pub(crate) flow: Option<String>,
+    /// The capture record's number, from 1.
+    pub(crate) frame: Option<u64>,
+}
+
+/// What a message holds before its fields are read.
+#[derive(Debug)]
+enum Body {
+    /// An AEOLUS frame as received.
+    Aeolus(AeolusFrame),
+    /// A message as the host tool renders it.
+    Rendered {
+        name: String,
+        meta: Map<String, Value>,
+        fields: Value,
+    },
+}
+
+/// A decoded message: `name`, `id`, `offset`, and one attribute per field in the protocol
+/// crate's units (also `msg["field"]` and `to_dict()`).
+#[pyclass(frozen, module = "protolink", name = "Message")]
+pub(crate) struct Message {
+    proto: Proto,
+    offset: u64,
+    body: Body,
+    origin: Option<Box<Origin>>,
+    fields: PyOnceLock<Py<PyDict>>,
+}
+
+/// Bad bytes in a stream: `kind` (the protocol crate's error, e.g. `checksum_mismatch`),
+/// `error` (one sentence, as `protolink decode` prints it) and `offset`. Its `name` is `ERROR`.
+#[pyclass(frozen, module = "protolink", name = "ErrorEvent")]
+#[derive(Debug)]
+pub(crate) struct ErrorEvent {
+    proto: Proto,
+    offset: u64,
+    kind: String,
+    error: String,
+    origin: Option<Box<Origin>>,
+}
+
+/// A pending event of a `proto` decoder as a Python object.
+pub(crate) fn to_object<'py>(
+    py: Python<'py>,
+    pending: Pending,
+    proto: Proto,
+    origin: Option<&Origin>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let origin = origin.map(|o| Box::new(o.clone()));
+    let (offset, body) = match pending {
+        Pending::Aeolus(frame) => (frame.offset, Body::Aeolus(frame)),
+        Pending::Event(event) => match event.body {
+            EventBody::Message { name, meta, fields } => {
+                (event.offset, Body::Rendered { name, meta, fields })
+            }
+            EventBody::Error { kind, error } => {
+                let e = ErrorEvent {
+                    proto,
+                    offset: event.offset,
+                    kind,
+                    error,
+                    origin,
+                };
+                return Ok(Bound::new(py, e)?.into_any());
+            }
+        },
+    };
+    let m = Message {
+        proto,
+        offset,
+        body,
+        origin,
+        fields: PyOnceLock::new(),
+    };
+    Ok(Bound::new(py, m)?.into_any())
+}
+
+/// The fields of an AEOLUS message of a fixed layout, straight from its typed value to Python
+/// (as `aeolus_fields` renders them, without the JSON value in between); `None` for the texts
+/// and raw messages, which the host tool renders its own way.
+fn aeolus_typed<'py>(py: Python<'py>, f: &AeolusFrame) -> Option<PyResult<Bound<'py, PyDict>>> {
+    use aeolus_proto::message::Message as M;
+    let m = M::parse(f.id, &f.data).ok()?;
+    let fields = match &m {
+        M::AeolusInfo(v) => to_python(py, v),
+        M::Pressure(v) => to_python(py, v),
+        M::Gyro(v) => to_python(py, v),
+        M::Accel(v) => to_python(py, v),
+        M::Magnet(v) => to_python(py, v),
+        M::Temp(v) => to_python(py, v),
+        M::Gps(v) => to_python(py, v),
+        M::Attitude(v) => to_python(py, v),
+        M::Compass(v) => to_python(py, v),
+        M::Wind(v) => to_python(py, v),
+        M::SetTime(v) => to_python(py, v),
+        M::CalibInfo(_)
+        | M::DebugInfo(_)
+        | M::Log(_)
+        | M::Toast(_)
+        | M::Command(_)
+        | M::Unknown { .. } => return None,
+    };
+    Some(fields.and_then(|d| d.cast_into::<PyDict>().map_err(PyErr::from)))
+}
+
+/// Pending events as a Python list.
+pub(crate) fn to_list<'py>(
+    py: Python<'py>,
+    pending: Vec<Pending>,
+    proto: Proto,
+    origin: Option<&Origin>,
+) -> PyResult<Bound<'py, PyList>> {
+    let items = pending
+        .into_iter()
+        .map(|p| to_object(py, p, proto, origin))
+        .collect::<PyResult<Vec<_>>>()?;
+    PyList::new(py, items)
+}
+
+/// The attributes every message has, beside its fields (for `dir()`).
+const MESSAGE_ATTRIBUTES: [&str; 12] = [
+    "name",
+    "id",
+    "offset",
+    "len",
+    "proto",
+    "meta",
+    "capture_time",
+    "flow",
+    "frame",
+    "to_dict",
+    "get_type",
+    "is_error",
+];
+
+impl Message {
+    /// The message's fields, rendered as `protolink decode --json` renders them.
+    fn rendered(&self) -> Value {
+        match &self.body {
+            Body::Aeolus(f) => match aeolus_proto::message::Message::parse(f.id, &f.data) {
+                Ok(m) => aeolus_fields(&m).1,
+                // The frame parsed when it was decoded, and parsing is a pure function.
+                Err(e) => serde_json::json!({ "error": e.to_string() }),
+            },
+            Body::Rendered { fields, .. } => fields.clone(),
+        }
+    }
+
+    fn meta_map(&self) -> Map<String, Value> {
+        match &self.body {
+            Body::Aeolus(f) => aeolus_meta(f.id, f.len, f.has_crc),
+            Body::Rendered { meta, .. } => meta.clone(),
+        }
+    }
+
+    /// The fields as a Python dict, built once.
+    fn fields<'py>(&self, py: Python<'py>) -> PyResult<&Bound<'py, PyDict>> {
+        let d = self
+            .fields
+            .get_or_try_init(py, || -> PyResult<Py<PyDict>> {
+                if let Body::Aeolus(f) = &self.body
+                    && let Some(d) = aeolus_typed(py, f)
+                {
+                    return Ok(d?.unbind());
+                }
+                let map = match self.rendered() {
+                    Value::Object(m) => m,
+                    other => {
+                        let mut m = Map::new();
+                        m.insert("value".into(), other);
+                        m
+                    }
+                };
+                Ok(value::dict(py, &map)?.unbind())
+            })?;
+        Ok(d.bind(py))
+    }
+
+    fn name_str(&self) -> String {
+        match &self.body {
+            Body::Aeolus(f) => aeolus_proto::message::Message::parse(f.id, &f.data)
+                .map_or("MALFORMED", |m| m.name())
+                .to_owned(),
+            Body::Rendered { name, .. } => name.clone(),
+        }
+    }
+}
+
+#[pymethods]
+impl Message {
+    /// The message's name, e.g. `GYRO`, `POSITION`, `SET_PARAMETER`, `HEARTBEAT`.
+    #[getter]
+    fn name<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
+        match &self.body {
+            Body::Aeolus(f) => PyString::intern(
+                py,
+                aeolus_proto::message::Message::parse(f.id, &f.data)
+                    .map_or("MALFORMED", |m| m.name()),
+            ),
+            Body::Rendered { name, .. } => PyString::new(py, name),
+        }
+    }
+
+    /// The name, as pymavlink's `get_type()` gives it.
+    fn get_type<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
+        self.name(py)
+    }
+
+    /// The message's identifier on the wire: the AEOLUS and GDL90 message ID, the AYDP base
+    /// type, the first byte of an AOK frame (its command letter, or the reply's start byte).
+    #[getter]
+    fn id(&self) -> Option<u64> {
+        match &self.body {
+            Body::Aeolus(f) => Some(u64::from(f.id)),
+            Body::Rendered { name, meta, fields } => match self.proto {
+                Proto::Aydp => meta.get("type").and_then(Value::as_u64),
+                Proto::Aok => crate::aok::first_byte(name, fields).map(u64::from),
+                Proto::Aeolus | Proto::Gdl90 => meta.get("id").and_then(Value::as_u64),
+            },
+        }
+    }
+
+    /// Offset of the message's first byte in the input (within its flow, for a capture).
+    #[getter]
+    fn offset(&self) -> u64 {
+        self.offset
+    }
+
+    /// The message's length on the wire, in bytes (AEOLUS and GDL90: both flags included).
+    #[getter]
+    fn len(&self) -> Option<u64> {
+        match &self.body {
+            Body::Aeolus(f) => Some(f.len),
+            Body::Rendered { meta, .. } => meta.get("len").and_then(Value::as_u64),
+        }
+    }
+
+    /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
+    #[getter]
+    fn proto(&self) -> &'static str {
+        proto_name(self.proto)
+    }
+
+    /// What `protolink decode` prints about the frame before the fields: AEOLUS `id`, `len`,
+    /// `crc`; AYDP `type`, `expedited`, `len`, `time`; AOK `len`; GDL90 `id`, `len`.
+    #[getter]
+    fn meta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        value::dict(py, &self.meta_map())
+    }
+
+    /// When it was captured, seconds since the Unix epoch: the record's time in a capture file,
+    /// the host's clock when the bytes arrived on a live link; None otherwise.
+    #[getter]
+    fn capture_time(&self) -> Option<f64> {
+        self.origin.as_ref().and_then(|o| o.capture_time)
+    }
+
+    /// The capture's flow it came in (`udp 127.0.0.1:40000 > 127.0.0.1:5001`); None outside a
+    /// capture.
+    #[getter]
+    fn flow(&self) -> Option<&str> {
+        self.origin.as_ref().and_then(|o| o.flow.as_deref())
+    }
+
+    /// The number of the capture record it came in, from 1; None outside a capture.
+    #[getter]
+    fn frame(&self) -> Option<u64> {
+        self.origin.as_ref().and_then(|o| o.frame)
+    }
+
+    /// False: this is a message, not an [`ErrorEvent`].
+    #[getter]
+    fn is_error(&self) -> bool {
+        false
+    }
+
+    /// The fields as a new dict, exactly the `"fields"` of `protolink decode --json`.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.fields(py)?.copy()
+    }
+
+    /// A field as an attribute (Python asks here only when an attribute is not found, so the
+    /// class's own attributes, `name` among them, come first).
+    fn __getattr__<'py>(&self, py: Python<'py>, attr: &str) -> PyResult<Bound<'py, PyAny>> {
+        match self.fields(py)?.get_item(attr)? {
+            Some(v) => Ok(v),
+            None => Err(PyAttributeError::new_err(format!(
+                "{} has no field '{attr}'",
+                self.name_str()
+            ))),
+        }
+    }
+
+    fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        match self.fields(py)?.get_item(key)? {
+            Some(v) => Ok(v),
+            None => Err(PyKeyError::new_err(format!(
+                "{} has no field '{key}'",
+                self.name_str()
+            ))),
+        }
+    }
+
+    fn __contains__(&self, py: Python<'_>, key: &str) -> PyResult<bool> {
+        self.fields(py)?.contains(key)
+    }
+
+    fn __dir__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::new(py, MESSAGE_ATTRIBUTES)?;
+        for k in self.fields(py)?.keys() {
+            list.append(k)?;
+        }
+        Ok(list)
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let mut parts = Vec::new();
+        for (k, v) in self.fields(py)?.iter() {
+            parts.push(format!("{}={}", k.str()?, v.repr()?));
+        }
+        Ok(format!("{}({})", self.name_str(), parts.join(", ")))
+    }
+}
+
+#[pymethods]
+impl ErrorEvent {
+    /// `ERROR`, so that `m.name` tells messages and errors apart.
+    #[getter]
+    fn name(&self) -> &'static str {
+        "ERROR"
+    }
+
+    /// `ERROR`, as pymavlink's `get_type()`.
+    fn get_type(&self) -> &'static str {
+        "ERROR"
+    }
+
+    /// What went wrong: the protocol crate's error in snake case (`checksum_mismatch`,
+    /// `invalid_escape`, `overflow`, `wrong_length`, `truncated`, ...).
+    #[getter]
+    fn kind(&self) -> &str {
+        &self.kind
+    }
+
+    /// One sentence, as `protolink decode` prints it.
+    #[getter]
+    fn error(&self) -> &str {
+        &self.error
+    }
+
+    /// Offset in the input where the failed frame started (AOK: the byte that revealed it).
+    #[getter]
+    fn offset(&self) -> u64 {
+        self.offset
+    }
+
+    /// None: an error has no message ID.
+    #[getter]
+    fn id(&self) -> Option<u64> {
+        None
+    }
+
+    /// None: the bytes of a failed frame are counted in the decoder's stats.
+    #[getter]
+    fn len(&self) -> Option<u64> {
+        None
+    }
+
+    /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
+    #[getter]
+    fn proto(&self) -> &'static str {
+        proto_name(self.proto)
+    }
+
+    /// As `Message.capture_time`.
+    #[getter]
+    fn capture_time(&self) -> Option<f64> {
+        self.origin.as_ref().and_then(|o| o.capture_time)
+    }
+
+    /// As `Message.flow`.
+    #[getter]
+    fn flow(&self) -> Option<&str> {
+        self.origin.as_ref().and_then(|o| o.flow.as_deref())
+    }
+
+    /// As `Message.frame`.
+    #[getter]
+    fn frame(&self) -> Option<u64> {
+        self.origin.as_ref().and_then(|o| o.frame)
+    }
+
+    /// True.
+    #[getter]
+    fn is_error(&self) -> bool {
+        true
+    }
+
+    /// `{"kind": ..., "error": ...}`.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("kind", &self.kind)?;
+        d.set_item("error", &self.error)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ERROR(kind={:?}, offset={}, error={:?})",
+            self.kind, self.offset, self.error
+        )
+    }
+}

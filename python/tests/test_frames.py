@@ -1,0 +1,79 @@
+"""`to_frames`: one pandas DataFrame per message type, with the right number of rows, a time
+column, and the README's three-line example working as printed."""
+
+import re
+import subprocess
+
+import pandas as pd
+import pytest
+
+import protolink
+from conftest import PROTOLINK, PYTHON, ROOT, TESTDATA
+
+AEOLUS_ROWS = {"TOAST": 1, "GYRO": 248, "ACCEL": 248, "MAGNET": 248, "PRESSURE": 347, "ATTITUDE": 248,
+               "COMPASS": 248, "GPS": 19, "TEMP": 3, "WIND": 2, "AEOLUSINFO": 2}
+
+
+def recorded(tmp_path, name="flight.pcapng"):
+    path = tmp_path / name
+    subprocess.run([PROTOLINK, "record", "--from", f"file:{TESTDATA / 'qemu-uart0-aeolus.bin'}",
+                    "--proto", "aeolus", "--out", str(path)], check=True, capture_output=True)
+    return path
+
+
+def test_rows_of_a_raw_file():
+    frames = protolink.to_frames(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")
+    assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
+    gyro = frames["GYRO"]
+    assert list(gyro.columns) == ["time", "offset", "valid", "timestamp_ms", "x", "y", "z"]
+    assert gyro["offset"].iloc[0] == 15 and gyro["y"].iloc[0] == pytest.approx(0.024415644)
+    assert gyro["time"].isna().all()  # a plain byte file has no clock
+
+
+def test_rows_of_a_capture(tmp_path):
+    frames = protolink.to_frames(recorded(tmp_path))
+    assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
+    gyro = frames["GYRO"]
+    assert list(gyro.columns[:3]) == ["time", "offset", "flow"]
+    assert gyro["time"].notna().all() and (gyro["time"] > 1e9).all()
+    assert set(gyro["flow"]) == {"stream 0 linktype 147"}
+
+
+def test_rows_of_messages_and_errors():
+    d = protolink.aydp.Decoder()
+    events = d.feed((TESTDATA / "qemu-uart1-aydp.bin").read_bytes() + b"\xff\x03\x2b\x00\x00\x00\x01")
+    events += d.flush()
+    frames = protolink.to_frames(events)
+    assert {k: len(v) for k, v in frames.items()} == {"HEARTBEAT": 5, "POSITION": 5, "FIX_QUALITY": 5, "ERROR": 1}
+    assert list(frames["ERROR"].columns) == ["time", "offset", "kind", "error"]
+    assert frames["ERROR"]["kind"].iloc[0] == "truncated"
+    assert list(frames["POSITION"]["altitude"]) == [1000.0] * 5
+    # errors=False leaves them out (an option of open).
+    frames = protolink.to_frames(TESTDATA / "qemu-uart2-aok.bin", proto="aok", side="pc", errors=False)
+    assert "ERROR" not in frames
+
+
+def test_to_frames_misuse():
+    with pytest.raises(TypeError, match="to_frames takes proto= and options only with a path"):
+        protolink.to_frames([], proto="aeolus")
+
+
+def test_without_pandas():
+    code = ("import sys; sys.modules['pandas'] = None\n"
+            "import protolink\n"
+            "try:\n    protolink.to_frames([])\nexcept ImportError as e:\n    print(e)\n")
+    out = subprocess.run([PYTHON, "-c", code], capture_output=True, check=True, cwd=ROOT.parent).stdout.decode()
+    assert out.startswith("protolink.to_frames needs pandas, which is not installed: pip install pandas")
+    # Everything else works without pandas.
+    code = "import sys; sys.modules['pandas'] = None\nimport protolink\nprint(len(protolink.aeolus.Decoder().feed(b'')))"
+    assert subprocess.run([PYTHON, "-c", code], capture_output=True, check=True, cwd=ROOT.parent).stdout == b"0\n"
+
+
+def test_readme_example(tmp_path):
+    # The three lines of python/README.md, as printed, on a capture recorded by protolink.
+    readme = (ROOT / "python" / "README.md").read_text()
+    block = re.search(r"```python\n(import protolink\n.*?)```", readme, re.S).group(1)
+    assert len(block.strip().splitlines()) == 3
+    recorded(tmp_path)
+    out = subprocess.run([PYTHON, "-c", block], capture_output=True, check=True, cwd=tmp_path).stdout.decode()
+    assert "[248 rows x 8 columns]" in out and out.split()[:2] == ["time", "offset"]
