@@ -70,10 +70,7 @@ impl AeolusDecoder {
         let mut rest = bytes;
         let mut at = offset;
         while !rest.is_empty() {
-            let run = rest
-                .iter()
-                .position(|&b| b == aeolus_proto::FLAG)
-                .map_or(rest.len(), |i| i + 1);
+            let run = aeolus_proto::find_flag(rest).map_or(rest.len(), |i| i + 1);
             let (chunk, tail) = rest.split_at(run);
             let end = at + run as u64;
             let opened = self.opened_at;
