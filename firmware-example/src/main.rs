@@ -10,9 +10,8 @@
 //! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
 //!    warning if the store is missing or corrupt) and queues the boot TOAST;
 //! 3. the main loop: `App::poll_pending` with the three ports after every
-//!    wake (the CPU sleeps in `wfi` until the next 1 ms SysTick, a UART that
-//!    wakes its link or one that sent bytes; received bytes below the wake
-//!    threshold end the `wfi` and it sleeps again); only
+//!    wake (the CPU sleeps in `wfi` until the next 1 ms SysTick or a UART that
+//!    wakes its link; other interrupts end the `wfi` and it sleeps again); only
 //!    the links whose UART received, or whose own timer is due, run; then a `flush` of each port (on the QEMU board
 //!    that starts one TX interrupt per burst instead of one per byte), a warm
 //!    reset when a link asks for one, and every 5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
@@ -91,11 +90,19 @@ mod run {
             }
             #[cfg(feature = "cpu-budget")]
             budget.poll(now, &app, [&uart0, &uart1, &uart2]);
-            // Sleep until there is work: the next millisecond, a UART that wakes its link, or
-            // one that sent bytes (room for a link's answers). A wake that leaves no work
-            // (received bytes below the wake threshold) costs the check and sleeps again.
+            // Sleep until there is work: the next millisecond, or a UART that wakes its link
+            // (interrupts off for the check: one that arrives after it still ends the `wfi`,
+            // and runs when they are back on). A wake that leaves no work (received bytes
+            // below the wake threshold, a TX FIFO refilled) costs the check and sleeps again.
             loop {
-                cortex_m::interrupt::free(|_| board::sleep_unless_work());
+                cortex_m::interrupt::free(|_| {
+                    if !board::has_work() {
+                        sensor_box::budget::span(
+                            sensor_box::budget::Category::Idle,
+                            cortex_m::asm::wfi,
+                        );
+                    }
+                });
                 // The interrupt that ended the `wfi` has run: a plain load says whether it
                 // left work.
                 if board::has_work() {

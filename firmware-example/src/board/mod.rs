@@ -83,19 +83,6 @@ static RECEIVED: AtomicU8 = AtomicU8::new(0);
 /// run once a millisecond.
 const TICK: u8 = 1 << 7;
 
-/// The bit of [`RECEIVED`] that a UART interrupt sets when it moved bytes into the UART: the
-/// TX ring has room again, so a link that stopped decoding to keep room for its answers can
-/// go on, and the bytes waiting in its RX ring do not pile up until the ring drops them
-/// (seen on the STM32 board, whose USART cannot hold bytes back: 33 bytes of a command burst
-/// dropped when only SysTick and the RX wake threshold woke the loop). The loop clears it
-/// before it sleeps ([`sleep_unless_work`]): a send during a pass does not force another.
-const SENT: u8 = 1 << 6;
-
-/// Called by a UART interrupt that moved bytes from the TX ring into the UART.
-pub fn sent() {
-    RECEIVED.fetch_or(SENT, Ordering::Relaxed);
-}
-
 /// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
 /// [`WAKE_BYTES`] since its last wake); the next SysTick wakes it.
 static HELD: AtomicU8 = AtomicU8::new(0);
@@ -129,21 +116,11 @@ pub fn take_received() -> [bool; 3] {
     [bits & 1 != 0, bits & 2 != 0, bits & 4 != 0]
 }
 
-/// Whether the main loop has work: a millisecond passed, a UART woke its link, or a UART
-/// sent bytes while the loop slept, since it last took the flags ([`take_received`]).
+/// Whether the main loop has work: a millisecond passed, or a UART woke its link, since it
+/// last took the flags ([`take_received`]). The loop sleeps only when it has none; call with
+/// interrupts off, so none can slip in before the `wfi`.
 pub fn has_work() -> bool {
     RECEIVED.load(Ordering::Relaxed) != 0
-}
-
-/// Sleeps (`wfi`) unless the main loop has work, forgetting sends made while it ran. Call
-/// with interrupts off, so none can slip in between the test and the `wfi`: one that comes
-/// after the test still ends the `wfi`, and runs when they are back on. Out of line: inlined
-/// into the main loop it made the QEMU build 272 B larger, past its 48 KiB.
-#[inline(never)]
-pub fn sleep_unless_work() {
-    if RECEIVED.fetch_and(!SENT, Ordering::Relaxed) & !SENT == 0 {
-        sensor_box::budget::span(sensor_box::budget::Category::Idle, cortex_m::asm::wfi);
-    }
 }
 
 // ---------------------------------------------------------------- clock

@@ -327,11 +327,8 @@ fn service(index: usize) {
         // A FIFO's worth per empty FIFO (one flag read per 16 bytes), then byte by byte
         // while a part-full FIFO has room.
         let put = |b| write_volatile(reg(base, DR), u32::from(b));
-        let moved = isr.send_blocks(TX_FIFO, || read_volatile(reg(base, FR)) & FR_TXFE != 0, put)
-            + isr.send_while(|| read_volatile(reg(base, FR)) & FR_TXFF == 0, put);
-        if moved > 0 {
-            super::sent();
-        }
+        isr.send_blocks(TX_FIFO, || read_volatile(reg(base, FR)) & FR_TXFE != 0, put);
+        isr.send_while(|| read_volatile(reg(base, FR)) & FR_TXFF == 0, put);
         let tx = if isr.tx_pending() { INT_TX } else { 0 };
         let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
         write_volatile(reg(base, IMSC), rx | tx);

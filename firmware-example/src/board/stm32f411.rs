@@ -287,7 +287,6 @@ fn service<U: Instance>(index: usize, port: &mut IsrPort<U>) {
         && let Some(b) = port.half.next_to_send()
     {
         let _ = port.tx.write(b);
-        super::sent();
     }
     if port.half.tx_pending() {
         port.tx.listen();
