@@ -33,19 +33,27 @@ pub(crate) const fn special_bytes(x: u32) -> u32 {
     (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & 0x8080_8080
 }
 
-/// Bytes in a machine word: the decoder's loop takes one a step on 64-bit hosts.
-#[cfg(target_pointer_width = "64")]
+/// Bytes in a machine word: the decoder's loop takes one a step on 64-bit hosts, and
+/// [`find_flag`] on every target.
 pub(crate) const WORD: usize = core::mem::size_of::<usize>();
+
+/// `0x01` in every byte of a machine word.
+const ONES: usize = usize::MAX / 0xFF;
+
+/// The high bit set in the lowest zero byte of the machine word `x` (bits above it may be
+/// spurious); zero if no byte of `x` is zero. XOR a word with a byte repeated first, and its
+/// lowest mark is the first byte equal to that byte.
+#[inline(always)]
+const fn zero_bytes(x: usize) -> usize {
+    x.wrapping_sub(ONES) & !x & (ONES << 7)
+}
 
 /// [`special_bytes`] over a whole machine word: the same four-byte test on 32-bit targets,
 /// eight bytes at once on 64-bit hosts.
 #[cfg(target_pointer_width = "64")]
 #[inline(always)]
 pub(crate) const fn special_in_word(x: usize) -> usize {
-    const ONES: usize = usize::MAX / 0xFF;
-    let a = x ^ (ONES * 0x7D);
-    let b = x ^ (ONES * 0x7E);
-    (a.wrapping_sub(ONES) & !a | b.wrapping_sub(ONES) & !b) & (ONES << 7)
+    zero_bytes(x ^ (ONES * 0x7D)) | zero_bytes(x ^ (ONES * 0x7E))
 }
 
 /// Where the first flag (0x7E) of `bytes` is, if it has one: where the frame in progress ends
@@ -59,18 +67,14 @@ pub(crate) const fn special_in_word(x: usize) -> usize {
 /// ```
 #[inline(always)]
 pub fn find_flag(bytes: &[u8]) -> Option<usize> {
-    const W: usize = core::mem::size_of::<usize>();
-    const ONES: usize = usize::MAX / 0xFF;
     let mut at = 0;
     let mut rest = bytes;
-    while let Some((w, tail)) = rest.split_first_chunk::<W>() {
-        // The lowest zero byte of `x` is the first flag: marked exactly, as in `special_bytes`.
-        let x = usize::from_le_bytes(*w) ^ (ONES * crate::FLAG as usize);
-        let hits = x.wrapping_sub(ONES) & !x & (ONES << 7);
+    while let Some((w, tail)) = rest.split_first_chunk::<WORD>() {
+        let hits = zero_bytes(usize::from_le_bytes(*w) ^ (ONES * crate::FLAG as usize));
         if hits != 0 {
             return Some(at + (hits.trailing_zeros() / 8) as usize);
         }
-        at += W;
+        at += WORD;
         rest = tail;
     }
     rest.iter().position(|&b| b == crate::FLAG).map(|i| at + i)
