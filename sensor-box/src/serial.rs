@@ -34,17 +34,16 @@
 //! plays the interrupt handler.
 
 use bbqueue::prod_cons::stream::{StreamConsumer, StreamProducer};
-use bbqueue::traits::{
-    coordination::cas::AtomicCoord, notifier::polling::Polling, storage::Inline,
-};
+use bbqueue::traits::{coordination::cs::CsCoord, notifier::polling::Polling, storage::Inline};
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
 
 /// A byte queue of `N` bytes between the main loop and an interrupt handler: `bbqueue`'s
-/// inline storage, atomic coordination, no async notifier. `Ring::new()` is `const`, so a board
-/// keeps its rings in `static`s.
-pub type Ring<const N: usize> = bbqueue::BBQueue<Inline<N>, AtomicCoord, Polling>;
+/// inline storage, coordination in a critical section (on a single-core part, interrupts
+/// masked for a few instructions: cheaper than compare-and-swap loops and barriers), no async
+/// notifier. `Ring::new()` is `const`, so a board keeps its rings in `static`s.
+pub type Ring<const N: usize> = bbqueue::BBQueue<Inline<N>, CsCoord, Polling>;
 
 /// Counters shared by both halves of a port (wrapping `u32`s), and whether the handler holds
 /// received bytes back in the UART.
@@ -551,31 +550,44 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert_eq!((port.rx_pending(), port.counters().rx_errors), (4, 1));
     /// ```
     pub fn receive_while(&mut self, mut next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
-        let mut total = 0;
-        'runs: loop {
+        // The byte loop walks the grant's slots with an iterator (no index bounds check) and
+        // counts errors in a register, added to the shared counter once at the end.
+        let (mut total, mut errors) = (0, 0);
+        loop {
             let Ok(mut grant) = self.rx.grant_max_remaining(usize::MAX) else {
                 self.stats.rx_held.store(true, Ordering::Relaxed);
                 break;
             };
-            let mut n = 0;
-            while let Some(slot) = grant.get_mut(n) {
-                match next() {
-                    Some(Ok(byte)) => {
-                        *slot = byte;
-                        n += 1;
-                    }
-                    Some(Err(())) => bump(&self.stats.rx_errors),
-                    None => {
-                        grant.commit(n);
-                        total += n;
-                        break 'runs;
+            let len = grant.len();
+            let mut slots = grant.iter_mut();
+            let mut empty = false;
+            'fill: for slot in &mut slots {
+                loop {
+                    match next() {
+                        Some(Ok(byte)) => {
+                            *slot = byte;
+                            continue 'fill;
+                        }
+                        Some(Err(())) => errors += 1,
+                        None => {
+                            empty = true;
+                            break 'fill;
+                        }
                     }
                 }
             }
+            // The slot the UART had no byte for was taken from the iterator but not filled.
+            let n = len - slots.len() - usize::from(empty);
             grant.commit(n);
             total += n;
+            if empty {
+                break;
+            }
         }
         add(&self.stats.rx_bytes, total);
+        if errors > 0 {
+            add(&self.stats.rx_errors, errors);
+        }
         total
     }
 

@@ -194,3 +194,52 @@ fn receive_while_counts_errors_and_stops_when_full() {
     let c = port.counters();
     assert_eq!((c.rx_bytes, c.rx_errors, c.rx_dropped), (3, 2, 0));
 }
+
+/// Receive errors anywhere in a burst, at every fill of a wrapping ring: each is counted once,
+/// none takes a slot, and the bytes around them arrive in order; `receive_while` returns the
+/// bytes it stored.
+#[test]
+fn errors_between_bytes_of_a_wrapping_rx_ring_are_counted_and_take_no_room() {
+    for error_every in 1..=5usize {
+        for burst in 1..=10usize {
+            let uart_items: Vec<Result<u8, ()>> = (0..300usize)
+                .map(|i| {
+                    if i % (error_every + 1) == error_every {
+                        Err(())
+                    } else {
+                        Ok(i as u8)
+                    }
+                })
+                .collect();
+            let want: Vec<u8> = uart_items.iter().filter_map(|r| r.ok()).collect();
+            let errors = uart_items.len() - want.len();
+            let (rxq, txq) = (Ring::<7>::new(), Ring::<2>::new());
+            let stats = PortStats::new();
+            let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+            let (mut uart, mut out, mut stored) =
+                (uart_items.into_iter().peekable(), Vec::new(), 0);
+            let mut buf = [0u8; 3];
+            while uart.peek().is_some() || port.rx_pending() > 0 {
+                let mut left = burst;
+                stored += isr.receive_while(|| {
+                    if left == 0 {
+                        return None;
+                    }
+                    left -= 1;
+                    uart.next()
+                });
+                if port.read_ready() == Ok(true) {
+                    let n = port.read(&mut buf).unwrap();
+                    out.extend_from_slice(&buf[..n]);
+                }
+            }
+            assert_eq!(out, want, "an error every {error_every}, bursts of {burst}");
+            assert_eq!(stored, want.len());
+            let c = port.counters();
+            assert_eq!(
+                (c.rx_bytes as usize, c.rx_errors as usize, c.rx_dropped),
+                (want.len(), errors, 0)
+            );
+        }
+    }
+}
