@@ -585,9 +585,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
             }
         }
         add(&self.stats.rx_bytes, total);
-        if errors > 0 {
-            add(&self.stats.rx_errors, errors);
-        }
+        add(&self.stats.rx_errors, errors);
         total
     }
 
