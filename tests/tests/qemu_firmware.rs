@@ -106,8 +106,9 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     );
 
     // 2. No received byte is lost while telemetry runs at full rate: 40 commands (560 bytes,
-    //    more than the 255-byte RX queue; in one write, or at the line rate on the -icount
-    //    board) are all answered, in order.
+    //    more than the QEMU board's 255-byte RX queue, whose PL011 holds bytes back while it is
+    //    full; within the STM32 board's 1 KiB one, as its USART cannot hold bytes back; in one
+    //    write, or at the line rate on the -icount board) are all answered, in order.
     let mark = u0.frames.len();
     let burst: Vec<String> = (0..40).map(|i| format!("a test {i:02}")).collect();
     if board == Board::Stm32f411 {
