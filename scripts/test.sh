@@ -69,10 +69,13 @@ step() {
   printf '\n==> %s\n' "$*"
 }
 
+# The logs without the colour escapes that cargo and pytest write on a terminal.
+plain() { sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$@"; }
+
 # From pytest's last summary line ("3 failed, 150 passed, 2 skipped in 9.1s"), the number before
 # WORD (errors count as failed); a SKIPPED line of scripts/test-python.sh counts as one skipped.
 pytest_count() {
-  sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$py_log" | awk -v word="$1" '
+  plain "$py_log" | awk -v word="$1" '
     /^SKIPPED python\/tests/ { skip = 1 }
     /^(=+ )?[0-9]+ [a-z]+[ ,]/ && / in [0-9.]+s/ { line = $0 }
     END {
@@ -89,7 +92,7 @@ pytest_count() {
 # Sums, over every "test result:" line of the cargo test output, the number before WORD
 # (passed, failed); with ONLY, over the test binaries whose "Running" line matches ONLY.
 count() {
-  sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$test_log" | awk -v word="$1" -v only="${2:-}" '
+  plain "$test_log" | awk -v word="$1" -v only="${2:-}" '
     /^ *(Running|Doc-tests) / { keep = (only == "" || $0 ~ only) }
     /^test result:/ && (only == "" || keep) {
       for (i = 2; i <= NF; i++) if ($i ~ "^" word) n += $(i - 1)
@@ -103,13 +106,13 @@ count() {
 # host step, exactly as many as six crates have doc tests, and its end named none of them.)
 failures() {
   local names errors
-  names=$(sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$test_log" "$py_log" |
+  names=$(plain "$test_log" "$py_log" |
     grep -E '^test .* \.\.\. FAILED$|^FAILED python/' | sed -E 's/^test (.*) \.\.\. FAILED$/\1/' || true)
   if [ -n "$names" ]; then
     echo "failed tests ($(grep -c . <<<"$names"); the first 20):"
     head -n 20 <<<"$names" | sed 's/^/  /'
   fi
-  errors=$(sed 's/\x1b\[[0-9;]*[A-Za-z]//g' "$test_log" "$py_log" |
+  errors=$(plain "$test_log" "$py_log" |
     grep -E '^error(\[E[0-9]+\])?:|No space left|Too many open files|Cannot allocate memory|Permission denied' |
     awk '!seen[$0]++' | head -n 8 || true)
   if [ -n "$errors" ]; then

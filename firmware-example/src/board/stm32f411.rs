@@ -105,9 +105,9 @@ pub const SYSTICK_HZ: u32 = 168_000_000;
 /// RX ring bytes per USART. The USART has no FIFO and no flow control, so whatever arrives
 /// while the ring is full is dropped (counted in `rx_dropped`): the ring must hold a burst for
 /// as long as its link waits for room for the answers. 1 KiB is 11 ms of 921 600 Bd and holds
-/// `qemu_firmware`'s whole 40-command burst (560 bytes); at 256, CI runs of that test lost 33,
-/// 45 and 54 bytes of it when the host delivered the paced commands in bunches (3 KiB of the
-/// F411's 128 KiB RAM for the three).
+/// `qemu_firmware`'s whole 40-command burst (560 bytes); at 256, two CI runs and a local run of
+/// the CI script lost 33, 45 and 54 bytes of it, the host delivering the paced commands in
+/// bunches (3 KiB of the F411's 128 KiB RAM for the three).
 const RX_CAP: usize = 1024;
 const TX_CAP: usize = 512;
 
