@@ -31,30 +31,47 @@ pub const fn max_encoded_len(data_len: usize) -> usize {
     2 + 2 * (1 + data_len + 2)
 }
 
-/// Copies `src` into `out` at `at`, escaping 0x7D and 0x7E, and runs the CRC `crc` over it:
-/// one pass. Four bytes a step while a word holds no byte to escape (one load, one test, one
-/// store and two table steps of the CRC); the bytes of a word that holds one go one at a
-/// time. Returns the new write position and the CRC.
+/// Copies `head` and then `tail` into `out` at `at`, escaping 0x7D and 0x7E, and runs the
+/// CRC `crc` over them: one pass. Four bytes a step while a word holds no byte to escape (one
+/// load, one store, one test and two table steps of the CRC), the input and output words in
+/// lockstep under one counter; the bytes of a word that holds one go one at a time. Returns
+/// the new write position and the CRC. (One call for both slices, so it is inlined at its one
+/// call site.)
 #[inline]
-fn put_escaped(out: &mut [u8], mut at: usize, mut src: &[u8], crc: u16) -> Option<(usize, u16)> {
+fn put_escaped(
+    out: &mut [u8],
+    mut at: usize,
+    head: &[u8],
+    mut tail: &[u8],
+    crc: u16,
+) -> Option<(usize, u16)> {
     let mut c = (crc as u32) << 16;
+    let mut src = head;
     loop {
-        while let Some((s, s_rest)) = src.split_first_chunk::<4>() {
-            let Some(d) = out.get_mut(at..at.wrapping_add(4)) else {
+        // The words that fit in both the input and the output: no bounds check per word.
+        let mut words = 0;
+        let dst = out.get_mut(at..).unwrap_or_default();
+        for (s, d) in src.chunks_exact(4).zip(dst.chunks_exact_mut(4)) {
+            let (Ok(s), Ok(d)) = (<[u8; 4]>::try_from(s), <&mut [u8; 4]>::try_from(d)) else {
                 break;
             };
             // Stored before the test: a word with a byte to escape is written again below.
-            d.copy_from_slice(s);
-            let w = u32::from_le_bytes(*s);
+            *d = s;
+            let w = u32::from_le_bytes(s);
             if special_bytes(w) != 0 {
                 break;
             }
             c = crc::update_word(c, w.swap_bytes());
-            at += 4;
-            src = s_rest;
+            words += 1;
         }
+        at += 4 * words;
+        src = src.get(4 * words..).unwrap_or_default();
         let Some((&byte, rest)) = src.split_first() else {
-            return Some((at, (c >> 16) as u16));
+            if tail.is_empty() {
+                return Some((at, (c >> 16) as u16));
+            }
+            src = core::mem::take(&mut tail);
+            continue;
         };
         c = (crc::update((c >> 16) as u16, byte) as u32) << 16;
         at = put_escaped_byte(out, at, byte)?;
@@ -126,8 +143,7 @@ fn write_frame(
 ) -> Option<usize> {
     *out.first_mut()? = FLAG;
     let at = put_escaped_byte(out, 1, id)?;
-    let (at, crc) = put_escaped(out, at, head, crc::update(0, id))?;
-    let (mut at, crc) = put_escaped(out, at, tail, crc)?;
+    let (mut at, crc) = put_escaped(out, at, head, tail, crc::update(0, id))?;
     let crc = match crc_mode {
         CrcMode::Compute => crc,
         CrcMode::Omit => 0,

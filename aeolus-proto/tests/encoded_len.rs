@@ -63,3 +63,34 @@ proptest::proptest! {
         proptest::prop_assert_eq!(&exact[..], &big[..len]);
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 2000, ..Default::default() })]
+    /// `encode_frame` copies a word at a time while no byte of it needs escaping and a byte
+    /// at a time around one that does; whatever the data (escapes dense, sparse or at any
+    /// offset of a word), wherever it is split into head and tail and however much room the
+    /// output has beyond the frame, it writes exactly what the byte iterator yields.
+    #[test]
+    fn encode_frame_writes_what_the_byte_iterator_yields(
+        id in proptest::prelude::any::<u8>(),
+        data in proptest::collection::vec(
+            proptest::prop_oneof![
+                8 => proptest::prelude::any::<u8>(),
+                1 => Just(0x7D_u8),
+                1 => Just(0x7E_u8),
+            ],
+            0..90,
+        ),
+        cut in 0usize..90,
+        omit in proptest::prelude::any::<bool>(),
+        spare in 0usize..9,
+    ) {
+        let (head, tail) = data.split_at(cut.min(data.len()));
+        let mode = if omit { CrcMode::Omit } else { CrcMode::Compute };
+        let want: Vec<u8> = aeolus_proto::FrameBytes::new(id, &data, mode).collect();
+        let mut out = vec![0u8; want.len() + spare];
+        let n = encode_frame(id, head, tail, mode, &mut out);
+        proptest::prop_assert_eq!(n, Ok(want.len()));
+        proptest::prop_assert_eq!(&out[..want.len()], &want[..]);
+    }
+}

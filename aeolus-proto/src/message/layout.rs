@@ -58,9 +58,18 @@ macro_rules! fixed_message {
                 let Some(out) = out.get_mut(..Self::LEN) else {
                     return Err(Error::BufferTooSmall { needed: Self::LEN });
                 };
-                out.fill(0);
-                $( <$ty as Field>::write(&self.$field, out, $off); )*
+                out.copy_from_slice(&self.data());
                 Ok(Self::LEN)
+            }
+
+            /// The data bytes, reserved bytes zeroed: what [`Self::emit`] writes. An array of
+            /// exactly the layout's length, so the compiler zeroes only the reserved bytes
+            /// (the fields' stores cover the rest) and needs no buffer of the longest layout.
+            #[inline]
+            pub(crate) fn data(&self) -> [u8; $len] {
+                let mut out = [0u8; $len];
+                $( <$ty as Field>::write(&self.$field, &mut out, $off); )*
+                out
             }
 
             /// The data length [`Self::emit`] writes.

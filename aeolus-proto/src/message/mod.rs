@@ -356,11 +356,17 @@ impl<'a> Message<'a> {
             | Self::DebugInfo(d)
             | Self::Log(d)
             | Self::Unknown { data: d, .. } => encode_frame(id, d, &[], crc, out),
-            _ => {
-                let mut data = [0u8; MAX_FIXED_DATA];
-                let n = self.emit(&mut data)?;
-                encode_frame(id, data.get(..n).unwrap_or(&[]), &[], crc, out)
-            }
+            Self::AeolusInfo(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Pressure(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Gyro(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Accel(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Magnet(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Temp(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Gps(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Attitude(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Compass(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::Wind(m) => encode_frame(id, &m.data(), &[], crc, out),
+            Self::SetTime(m) => encode_frame(id, &m.data(), &[], crc, out),
         }
     }
 }
@@ -390,6 +396,3 @@ impl Message<'_> {
         })
     }
 }
-
-/// The longest fixed layout among the typed messages (COMPASS, 80 bytes).
-const MAX_FIXED_DATA: usize = Compass::LEN;
