@@ -51,7 +51,7 @@ pub use state::{Persisted, Settings, Shared};
 
 use embedded_io::{Write, WriteReady};
 use embedded_storage::nor_flash::NorFlash;
-use port::Receive;
+use port::{Receive, Transmit};
 
 /// Re-exported for the logging macros; not part of the API.
 #[doc(hidden)]
@@ -107,7 +107,7 @@ impl App {
         flash: &mut F,
     ) -> Control
     where
-        U0: Receive + Write + WriteReady,
+        U0: Receive + Transmit + Write + WriteReady,
         U1: Receive + Write + WriteReady,
         U2: Receive + Write + WriteReady,
         F: NorFlash,
@@ -149,7 +149,7 @@ impl App {
         flash: &mut F,
     ) -> Control
     where
-        U0: Receive + Write + WriteReady,
+        U0: Receive + Transmit + Write + WriteReady,
         U1: Receive + Write + WriteReady,
         U2: Receive + Write + WriteReady,
         F: NorFlash,

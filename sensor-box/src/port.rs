@@ -3,7 +3,9 @@
 //!
 //! The links take their ports through two traits: [`Receive`] to take received bytes in
 //! place (a ring-buffered port lends the run of its ring that holds them: no copy, no call
-//! per byte), and `embedded_io`'s [`WriteReady`] + [`Write`] to send. `write` may wait in
+//! per byte), and `embedded_io`'s [`WriteReady`] + [`Write`] to send; the AEOLUS link's port
+//! also lends its free transmit bytes ([`Transmit`]), so telemetry is encoded straight into
+//! it while the link has nothing queued. `write` may wait in
 //! `embedded_io` (until there is room for one byte); the links never let it: they call `write`
 //! only after `write_ready()` said `true`. A frame goes to the port in one `write` of the
 //! whole frame, from the link's [`TxQueue`] (encoded frames waiting for room in the port;
@@ -58,6 +60,46 @@ pub trait Receive: ErrorType {
 impl<P: Receive> Receive for &mut P {
     fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error> {
         (**self).receive(take)
+    }
+}
+
+/// A port that lends the free bytes of its transmit buffer, in place: a link encodes a frame
+/// straight into it, with no copy out of the link's own queue. The transmit side of a
+/// ring-buffered port (`serial::QueuedSerial`, whose TX ring the UART interrupt empties).
+///
+/// A port with no buffer of its own to lend (a socket, a test's port) implements it with the
+/// default, which lends nothing: the link then queues the frame and writes it from there with
+/// [`Write`].
+pub trait Transmit: ErrorType {
+    /// Calls `fill` with the longest contiguous run of free bytes of the port's transmit
+    /// buffer (possibly empty) and queues for transmit the first bytes of it, as many as
+    /// `fill` returns (at most the run's length; 0 when what it had to write did not fit);
+    /// the count queued. Never waits. The default lends nothing: `fill` is not called and
+    /// the count is 0.
+    ///
+    /// ```
+    /// use sensor_box::port::Transmit;
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// let (rxq, txq) = (Ring::<2>::new(), Ring::<8>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    /// let queued = port.transmit(|free| {
+    ///     free[..3].copy_from_slice(b"abc");
+    ///     3
+    /// });
+    /// assert_eq!(queued, Ok(3));
+    /// let sent: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
+    /// assert_eq!(sent, b"abc");
+    /// ```
+    fn transmit(&mut self, fill: impl FnOnce(&mut [u8]) -> usize) -> Result<usize, Self::Error> {
+        let _ = fill;
+        Ok(0)
+    }
+}
+
+impl<P: Transmit> Transmit for &mut P {
+    fn transmit(&mut self, fill: impl FnOnce(&mut [u8]) -> usize) -> Result<usize, Self::Error> {
+        (**self).transmit(fill)
     }
 }
 
@@ -248,7 +290,20 @@ impl<const N: usize> TxQueue<N> {
 
 /// Copies `src` to the start of `dst` (nothing if it does not fit).
 fn copy(dst: &mut [u8], src: &[u8]) {
-    if let Some(d) = dst.get_mut(..src.len()) {
-        d.copy_from_slice(src);
+    if src.len() <= dst.len() {
+        copy_prefix(dst, src);
     }
+}
+
+/// Copies as many bytes as both slices hold from the start of `src` to the start of `dst`;
+/// the count. A byte loop the compiler turns into one `memcpy` call: unlike
+/// `copy_from_slice`, it has no length-mismatch panic, whose message formatting (about 1 KiB
+/// of `core::fmt`) the firmware would otherwise carry.
+pub(crate) fn copy_prefix(dst: &mut [u8], src: &[u8]) -> usize {
+    let mut n = 0;
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+        n += 1;
+    }
+    n
 }

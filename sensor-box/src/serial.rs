@@ -33,6 +33,7 @@
 //! where its read and write positions stand). The same types run in host tests: the test
 //! plays the interrupt handler.
 
+use crate::port::copy_prefix;
 use bbqueue::prod_cons::stream::{StreamConsumer, StreamProducer};
 use bbqueue::traits::{coordination::cs::CsCoord, notifier::polling::Polling, storage::Inline};
 use core::convert::Infallible;
@@ -278,7 +279,7 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
                 break;
             };
             let k = grant.len().min(rest.len());
-            copy(&mut grant, rest.get(..k).unwrap_or(&[]));
+            copy_prefix(&mut grant, rest.get(..k).unwrap_or(&[]));
             grant.commit(k);
             n += k;
         }
@@ -312,7 +313,7 @@ fn drain<const N: usize>(ring: &StreamConsumer<&Ring<N>>, buf: &mut [u8]) -> usi
     while let Some(rest) = buf.get_mut(n..).filter(|r| !r.is_empty()) {
         let Ok(grant) = ring.read() else { break };
         let k = grant.len().min(rest.len());
-        copy(rest, grant.get(..k).unwrap_or(&[]));
+        copy_prefix(rest, grant.get(..k).unwrap_or(&[]));
         let whole = k == grant.len();
         grant.release(k);
         n += k;
@@ -321,14 +322,6 @@ fn drain<const N: usize>(ring: &StreamConsumer<&Ring<N>>, buf: &mut [u8]) -> usi
         }
     }
     n
-}
-
-/// Copies `src` to the start of `dst` (both are cut to the shorter).
-fn copy(dst: &mut [u8], src: &[u8]) {
-    let k = dst.len().min(src.len());
-    if let (Some(d), Some(s)) = (dst.get_mut(..k), src.get(..k)) {
-        d.copy_from_slice(s);
-    }
 }
 
 impl<const RX: usize, const TX: usize> ErrorType for QueuedSerial<'_, RX, TX> {
@@ -396,6 +389,25 @@ impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_,
         grant.release(n);
         add_local(&mut self.rx_taken, n);
         if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
+            (self.kick)();
+        }
+        Ok(n)
+    }
+}
+
+impl<const RX: usize, const TX: usize> crate::port::Transmit for QueuedSerial<'_, RX, TX> {
+    /// Lends `fill` the free run of the TX ring from its write position (a write grant, up to
+    /// the ring's end, as [`embedded_io::Write::write`] takes it), commits what `fill` wrote
+    /// and kicks the interrupt (a [`QueuedSerial::batched`] port only on `flush`). A full ring
+    /// lends nothing.
+    fn transmit(&mut self, fill: impl FnOnce(&mut [u8]) -> usize) -> Result<usize, Infallible> {
+        let Ok(mut grant) = self.tx.grant_max_remaining(TX) else {
+            return Ok(0);
+        };
+        let n = fill(&mut grant).min(grant.len());
+        grant.commit(n);
+        add_local(&mut self.tx_queued, n);
+        if n > 0 && !self.batched {
             (self.kick)();
         }
         Ok(n)
@@ -519,7 +531,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     pub fn received(&mut self, byte: u8) -> bool {
         match self.rx.grant_exact(1) {
             Ok(mut grant) => {
-                copy(&mut grant, &[byte]);
+                copy_prefix(&mut grant, &[byte]);
                 grant.commit(1);
                 bump(&self.stats.rx_bytes);
                 true

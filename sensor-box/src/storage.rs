@@ -69,7 +69,7 @@ impl ReadNorFlash for MemFlash<'_> {
     fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), Error> {
         let r = self.range(offset, bytes.len())?;
         let src = self.mem.get(r).ok_or(Error::OutOfBounds)?;
-        bytes.copy_from_slice(src);
+        crate::port::copy_prefix(bytes, src);
         Ok(())
     }
 

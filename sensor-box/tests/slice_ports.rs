@@ -15,7 +15,7 @@ use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{self, AeolusLink};
 use sensor_box::aok_link::{self, AokLink};
 use sensor_box::aydp_link::{self, AydpLink};
-use sensor_box::port::Receive;
+use sensor_box::port::{Receive, Transmit};
 use sensor_box::{Persisted, Shared};
 
 /// An in-memory port: hands over at most `rx_piece` received bytes per read and takes at most
@@ -29,6 +29,8 @@ struct SlicePort {
     tx_piece: usize,
     tx_room: usize,
     sent: Vec<u8>,
+    /// Bytes the link encoded straight into the port (`Transmit`), in total.
+    lent: usize,
 }
 
 impl SlicePort {
@@ -65,6 +67,7 @@ impl SlicePort {
             tx_piece,
             tx_room: usize::MAX,
             sent: Vec::new(),
+            lent: 0,
         }
     }
 }
@@ -84,6 +87,20 @@ impl Receive for SlicePort {
         assert!(n <= piece, "took more than it was lent");
         self.rx.drain(..n);
         self.read += n;
+        Ok(n)
+    }
+}
+
+impl Transmit for SlicePort {
+    /// Lends as many free bytes as one write would take (so a frame longer than `tx_piece`
+    /// or than the room left goes through the link's queue instead).
+    fn transmit(&mut self, fill: impl FnOnce(&mut [u8]) -> usize) -> Result<usize, Infallible> {
+        let mut free = vec![0xAA; self.tx_piece.min(self.tx_room).min(4096)];
+        let n = fill(&mut free);
+        assert!(n <= free.len(), "wrote more than it was lent");
+        self.sent.extend_from_slice(&free[..n]);
+        self.tx_room -= n;
+        self.lent += n;
         Ok(n)
     }
 }
@@ -169,10 +186,10 @@ fn aeolus_input() -> Vec<(u64, Vec<u8>)> {
     ]
 }
 
-/// Runs the AEOLUS link for 200 ms over a port that reads `rx_piece` and writes `tx_piece`
-/// bytes at a time and drains `rate` bytes per millisecond; what it sent, its counters, and
-/// the most bytes one poll read.
-fn run_aeolus(rx_piece: usize, tx_piece: usize, rate: usize) -> (Vec<u8>, String, usize) {
+/// Runs the AEOLUS link for 200 ms over a port that reads `rx_piece` and writes (or lends)
+/// `tx_piece` bytes at a time and drains `rate` bytes per millisecond; what it sent, its
+/// counters, the most bytes one poll read and the bytes encoded straight into the port.
+fn run_aeolus(rx_piece: usize, tx_piece: usize, rate: usize) -> (Vec<u8>, String, usize, usize) {
     let mut port = SlicePort::new(rx_piece, tx_piece);
     let mut shared = Shared::new(Persisted::default(), 0);
     let mut link = AeolusLink::new(0);
@@ -186,22 +203,26 @@ fn run_aeolus(rx_piece: usize, tx_piece: usize, rate: usize) -> (Vec<u8>, String
         shared.paused,
         shared.wall_clock
     );
-    (port.sent, state, most)
+    (port.sent, state, most, port.lent)
 }
 
 #[test]
 fn aeolus_sends_the_same_bytes_under_every_split() {
     // 921 600 Bd is 92 bytes a millisecond; 40 a millisecond makes the TX queue back up.
     for rate in [92, 40] {
-        let (reference, state, most) = run_aeolus(1, usize::MAX, rate);
+        let (reference, state, most, lent) = run_aeolus(1, usize::MAX, rate);
         assert_eq!(
             most,
             aeolus_link::RX_BUDGET,
             "the burst takes more than one poll"
         );
+        // Both TX paths ran: telemetry encoded straight into the port while the queue was
+        // empty, answers and what did not fit through the queue.
+        assert!(lent > 0, "nothing lent");
+        assert!(lent < reference.len(), "{lent} of {} lent", reference.len());
         for rx_piece in rx_pieces() {
             for tx_piece in [1, 2, 7, 64, usize::MAX] {
-                let (sent, s, m) = run_aeolus(rx_piece, tx_piece, rate);
+                let (sent, s, m, _) = run_aeolus(rx_piece, tx_piece, rate);
                 assert!(m <= aeolus_link::RX_BUDGET);
                 assert_eq!(
                     s, state,

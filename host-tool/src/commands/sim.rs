@@ -21,7 +21,7 @@ use aeolus_proto::FLAG;
 use clap::Args;
 use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{AeolusLink, LinkCounters};
-use sensor_box::port::Receive;
+use sensor_box::port::{Receive, Transmit};
 use sensor_box::telemetry::Kind;
 use sensor_box::{Persisted, Settings, Shared};
 use serde_json::{Map, Value, json};
@@ -114,6 +114,10 @@ impl Receive for DatagramPort {
         Ok(n)
     }
 }
+
+/// No buffer to lend: the link queues its telemetry and writes it (a datagram is cut at the
+/// flags as the bytes arrive, whichever way they come).
+impl Transmit for DatagramPort {}
 
 impl WriteReady for DatagramPort {
     fn write_ready(&mut self) -> std::result::Result<bool, Infallible> {

@@ -75,7 +75,7 @@ mod commands;
 
 use crate::Shared;
 use crate::budget::{Category, span};
-use crate::port::{Receive, TxQueue};
+use crate::port::{Receive, Transmit, TxQueue};
 use crate::telemetry::{Kind, Telemetry, build};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
@@ -196,7 +196,7 @@ impl AeolusLink {
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
-    pub fn poll<P: Receive + Write + WriteReady>(
+    pub fn poll<P: Receive + Transmit + Write + WriteReady>(
         &mut self,
         now_ms: u64,
         port: &mut P,
@@ -236,7 +236,12 @@ impl AeolusLink {
     /// assert_eq!(link.tx_pending(), 0); // the boot TOAST and every kind went to the port
     /// assert_eq!(link.counters().telemetry_total(), 10);
     /// ```
-    pub fn poll_tx<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    pub fn poll_tx<P: Transmit + Write + WriteReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &Shared,
+    ) {
         // Within a millisecond already scheduled, and with nothing queued, there is nothing
         // to do: a wake for received bytes costs the TX half two comparisons.
         if self.scheduled_ms != Some(now_ms) || shared.paused != self.was_paused {
@@ -249,7 +254,12 @@ impl AeolusLink {
         }
     }
 
-    fn queue_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    fn queue_due<P: Transmit + Write + WriteReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &Shared,
+    ) {
         self.scheduled_ms = Some(now_ms);
         if shared.paused {
             self.was_paused = true;
@@ -322,7 +332,12 @@ impl AeolusLink {
 
     /// Builds and queues the telemetry due at `now_ms`: one flight state for the messages that
     /// move with time, the flight's steady values for the others ([`Shared::steady_state`]).
-    fn send_due<P: Write + WriteReady>(&mut self, now_ms: u64, port: &mut P, shared: &Shared) {
+    fn send_due<P: Transmit + Write + WriteReady>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &Shared,
+    ) {
         let intervals = shared.settings().intervals;
         let AeolusLink {
             telemetry,
@@ -341,7 +356,7 @@ impl AeolusLink {
             } else {
                 build(kind, &shared.steady_state(now_ms), now_ms)
             };
-            if enqueue(tx, &msg, TX_RESERVE) {
+            if send(tx, port, counters, &msg) {
                 if let Some(n) = counters.sent.get_mut(kind.index()) {
                     bump(n);
                 }
@@ -375,6 +390,25 @@ fn drain<P: Write + WriteReady>(
     if tx.drain(port).is_err() {
         bump(&mut counters.port_errors);
     }
+}
+
+/// Encodes a telemetry frame straight into the port's free bytes when the link's queue is
+/// empty (nothing to overtake) and the port lends a run that holds it; otherwise queues it
+/// with [`TX_RESERVE`] kept for answers. Whether it went to the port or the queue.
+fn send<P: Transmit>(
+    tx: &mut TxQueue<TX_QUEUE>,
+    port: &mut P,
+    counters: &mut LinkCounters,
+    msg: &Message<'_>,
+) -> bool {
+    if tx.is_empty() {
+        match port.transmit(|free| msg.encode(free, CrcMode::Compute).unwrap_or(0)) {
+            Ok(0) => {}
+            Ok(_) => return true,
+            Err(_) => bump(&mut counters.port_errors),
+        }
+    }
+    enqueue(tx, msg, TX_RESERVE)
 }
 
 /// Encodes `msg` and queues the whole frame if it fits with `reserve` bytes to spare: straight

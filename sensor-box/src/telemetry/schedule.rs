@@ -84,8 +84,12 @@ impl Telemetry {
     /// consumes them (their next due instant moves on); kinds not reached because the iterator
     /// was dropped early stay due.
     pub fn due(&mut self, now_ms: u64, intervals: &Intervals) -> Due<'_> {
-        let quiet = matches!(self.quiet, Some((from, until, seen))
-            if from <= now_ms && now_ms < until && seen == *intervals);
+        let (quiet, settled) = match self.quiet {
+            Some((from, until, seen)) if from <= now_ms && seen == *intervals => {
+                (now_ms < until, true)
+            }
+            _ => (false, false),
+        };
         if !quiet {
             self.quiet = None;
         }
@@ -95,13 +99,9 @@ impl Telemetry {
             intervals: *intervals,
             // Nothing can be due: an iterator that is already at its end.
             index: if quiet { Kind::COUNT } else { 0 },
+            settled,
+            until: OFF,
         }
-    }
-
-    /// Notes the end of a complete pass at `now_ms` (see the `quiet` field).
-    fn settle(&mut self, now_ms: u64, intervals: Intervals) {
-        let until = self.next_ms.iter().copied().min().unwrap_or(OFF);
-        self.quiet = Some((now_ms, until, intervals));
     }
 
     /// Whether `kind` is due at `now_ms`; if it is, moves its due instant on.
@@ -151,6 +151,13 @@ pub struct Due<'a> {
     now_ms: u64,
     intervals: Intervals,
     index: usize,
+    /// The last complete pass had these intervals, at or before `now_ms`: every due instant
+    /// is then at most one interval after `now_ms` and each kind is on or off as it was, so a
+    /// kind not yet due needs no other rule than `now_ms < next` (the clamp of a shortened
+    /// interval and the turn on or off cannot apply).
+    settled: bool,
+    /// The earliest due instant seen in this pass, after its kind was taken.
+    until: u64,
 }
 
 impl Iterator for Due<'_> {
@@ -159,10 +166,17 @@ impl Iterator for Due<'_> {
     fn next(&mut self) -> Option<Kind> {
         while let Some(&kind) = Kind::ALL.get(self.index) {
             self.index += 1;
-            let interval = kind.interval_ms(&self.intervals);
-            let due = self.telemetry.take(kind, self.now_ms, interval);
+            let next = self.telemetry.next_due_ms(kind);
+            let due = if self.settled && self.now_ms < next {
+                false
+            } else {
+                let interval = kind.interval_ms(&self.intervals);
+                self.telemetry.take(kind, self.now_ms, interval)
+            };
+            self.until = self.until.min(self.telemetry.next_due_ms(kind));
             if self.index == Kind::COUNT {
-                self.telemetry.settle(self.now_ms, self.intervals);
+                // A complete pass: nothing is due before `until` while the intervals stay.
+                self.telemetry.quiet = Some((self.now_ms, self.until, self.intervals));
             }
             if due {
                 return Some(kind);
