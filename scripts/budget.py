@@ -28,8 +28,8 @@ CORE_HZ_REFERENCE = 50_000_000
 BAUD = [921_600, 115_200, 38_400]
 DESCRIPTION = {
     "flight-sim": "flight simulation (`Shared::flight_state`, fixed point)",
-    "telemetry": "schedule, message building and AEOLUS encoding into the link's queue",
-    "tx-queue": "links' writes of encoded bytes into the UART TX queues",
+    "telemetry": "schedule, message building and AEOLUS encoding into the port's TX ring (or the link's queue)",
+    "tx-queue": "links' writes of queued bytes into the UART TX rings",
     "tx-irq": "UART interrupts, TX side",
     "rx-irq": "UART interrupts, entry and RX side",
     "aeolus-rx": "AEOLUS link: reading UART0, deframing, handling",

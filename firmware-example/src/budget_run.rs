@@ -66,6 +66,15 @@ impl Run {
         }
     }
 
+    /// When [`Run::poll`] next has something to do, ms: the window's start, then its end.
+    pub fn next_ms(&self) -> u64 {
+        if self.started {
+            self.start_ms.saturating_add(window_ms())
+        } else {
+            self.start_ms
+        }
+    }
+
     /// Called once per main-loop turn.
     pub fn poll(&mut self, now_ms: u64, app: &App, ports: [&board::Port; 3]) {
         if !self.started {

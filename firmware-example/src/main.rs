@@ -10,7 +10,9 @@
 //! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
 //!    warning if the store is missing or corrupt) and queues the boot TOAST;
 //! 3. the main loop: `App::poll_pending` with the three ports after every
-//!    wake (the CPU sleeps in `wfi` until the next 1 ms SysTick or a UART that
+//!    wake (the CPU sleeps in `wfi` until SysTick reaches the loop's deadline,
+//!    the earliest instant a link's timer, the telemetry schedule or the report
+//!    is due (`App::next_wake_ms`, `board::wake_at`), or a UART that
 //!    wakes its link; other interrupts end the `wfi` and it sleeps again); only
 //!    the links whose UART received, or whose own timer is due, run; then a `flush` of each port (on the QEMU board
 //!    that starts one TX interrupt per burst instead of one per byte), a warm
@@ -90,6 +92,17 @@ mod run {
             }
             #[cfg(feature = "cpu-budget")]
             budget.poll(now, &app, [&uart0, &uart1, &uart2]);
+            // SysTick wakes the loop when a link's timer, the schedule or the report is due,
+            // and at the next millisecond at the earliest (a link with work left, such as TX
+            // bytes waiting for room, runs once a millisecond, as a received byte's link does
+            // below the wake threshold).
+            let deadline = app
+                .next_wake_ms()
+                .min(next_report)
+                .max(now.saturating_add(1));
+            #[cfg(feature = "cpu-budget")]
+            let deadline = deadline.min(budget.next_ms());
+            board::wake_at(deadline);
             // Sleep until there is work: the next millisecond, or a UART that wakes its link
             // (interrupts off for the check: one that arrives after it still ends the `wfi`,
             // and runs when they are back on). A wake that leaves no work (received bytes

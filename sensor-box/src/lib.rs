@@ -137,7 +137,8 @@ impl App {
     /// app.poll_pending(0, [false; 3], &mut u0, &mut u1, &mut u2, &mut flash); // boot: all due
     /// assert!(!app.aydp.has_work(1)); // the next heartbeat is due at 1000
     /// assert!(!app.aok.has_work(1)); // the next debug value at 20
-    /// assert!(app.aeolus.has_work(1)); // the schedule runs every millisecond
+    /// assert!(!app.aeolus.has_work(1, &app.shared)); // PRESSURE is next due at 5
+    /// assert_eq!(app.next_wake_ms(), 5); // so the main loop may sleep until then
     /// ```
     pub fn poll_pending<U0, U1, U2, F>(
         &mut self,
@@ -156,7 +157,7 @@ impl App {
     {
         use budget::{Category, span};
         let [rx0, rx1, rx2] = received;
-        if rx0 || self.aeolus.has_work(now_ms) {
+        if rx0 || self.aeolus.has_work(now_ms, &self.shared) {
             self.aeolus.poll(now_ms, uart0, &mut self.shared);
         }
         if rx1 || self.aydp.has_work(now_ms) {
@@ -174,6 +175,33 @@ impl App {
         } else {
             Control::Run
         }
+    }
+
+    /// The earliest instant at which [`App::poll_pending`] has something to do without a
+    /// received byte: the earliest of the three links' `next_wake_ms` (0: at once). A main
+    /// loop may sleep until then, or until a UART wakes a link.
+    ///
+    /// ```
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// use sensor_box::storage::MemFlash;
+    /// use sensor_box::App;
+    /// let (r, t) = ([const { Ring::<64>::new() }; 3], [const { Ring::<512>::new() }; 3]);
+    /// let s = [const { PortStats::new() }; 3];
+    /// let (mut u0, _i0) = QueuedSerial::split(&r[0], &t[0], &s[0], || {});
+    /// let (mut u1, _i1) = QueuedSerial::split(&r[1], &t[1], &s[1], || {});
+    /// let (mut u2, _i2) = QueuedSerial::split(&r[2], &t[2], &s[2], || {});
+    /// let mut mem = [0xFFu8; 4096];
+    /// let mut flash = MemFlash::new(&mut mem);
+    /// let mut app = App::new(&mut flash, 0);
+    /// assert_eq!(app.next_wake_ms(), 0); // boot: every link has its first messages due
+    /// app.poll_pending(0, [false; 3], &mut u0, &mut u1, &mut u2, &mut flash);
+    /// assert_eq!(app.next_wake_ms(), 5); // PRESSURE
+    /// ```
+    pub fn next_wake_ms(&self) -> u64 {
+        self.aeolus
+            .next_wake_ms(&self.shared)
+            .min(self.aydp.next_wake_ms())
+            .min(self.aok.next_wake_ms())
     }
 
     /// What the links asked the main loop for, done after they ran: writes the flash when a

@@ -79,8 +79,8 @@ unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
 /// [`WAKE_BYTES`], a TX FIFO refilled) finds it zero and goes back to sleep at once.
 static RECEIVED: AtomicU8 = AtomicU8::new(0);
 
-/// The bit of [`RECEIVED`] that SysTick sets: the links' timers and the telemetry schedule
-/// run once a millisecond.
+/// The bit of [`RECEIVED`] that SysTick sets when the clock reaches the main loop's deadline
+/// ([`wake_at`]): a link's timer or the telemetry schedule is due.
 const TICK: u8 = 1 << 7;
 
 /// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
@@ -137,6 +137,22 @@ pub fn has_work() -> bool {
 
 static MILLIS: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
 
+/// The millisecond at which SysTick wakes the main loop ([`wake_at`]); 0 at boot, so the
+/// first tick wakes it.
+static DEADLINE: Mutex<Cell<u64>> = Mutex::new(Cell::new(0));
+
+/// Asks SysTick to wake the main loop when the clock reaches `deadline_ms` (ms since boot),
+/// or at once if it already has. Until the next call, a millisecond before it costs SysTick
+/// one comparison and the main loop nothing; received bytes still wake their links.
+pub fn wake_at(deadline_ms: u64) {
+    critical_section::with(|cs| {
+        if MILLIS.borrow(cs).get() >= deadline_ms {
+            RECEIVED.fetch_or(TICK, Ordering::Relaxed);
+        }
+        DEADLINE.borrow(cs).set(deadline_ms);
+    });
+}
+
 /// The SysTick millisecond clock (a handle; the count lives in a static).
 #[derive(Clone, Copy)]
 pub struct SysTickClock(());
@@ -161,14 +177,19 @@ fn start_systick(mut syst: cortex_m::peripheral::SYST, core_hz: u32) -> SysTickC
 #[cortex_m_rt::exception]
 fn SysTick() {
     let previous = sensor_box::budget::enter(sensor_box::budget::Category::Tick);
-    critical_section::with(|cs| {
+    let due = critical_section::with(|cs| {
         let c = MILLIS.borrow(cs);
-        c.set(c.get().wrapping_add(1));
+        let now = c.get().wrapping_add(1);
+        c.set(now);
+        now >= DEADLINE.borrow(cs).get()
     });
-    // The main loop runs this millisecond, and with it the links of UARTs with bytes below
-    // the wake threshold.
+    // The main loop runs when its deadline has come, and for the links of UARTs with bytes
+    // below the wake threshold.
     let held = HELD.swap(0, Ordering::Relaxed);
-    RECEIVED.fetch_or(held | TICK, Ordering::Relaxed);
+    let work = held | if due { TICK } else { 0 };
+    if work != 0 {
+        RECEIVED.fetch_or(work, Ordering::Relaxed);
+    }
     sensor_box::budget::leave(previous);
 }
 

@@ -163,8 +163,8 @@ pub struct AeolusLink {
     tx: TxQueue<TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
-    /// The millisecond the schedule was last run for: the main loop polls many times a
-    /// millisecond (every interrupt wakes it) and the schedule can only change when the
+    /// The millisecond the schedule was last run for: the main loop may poll many times a
+    /// millisecond (a UART's interrupt wakes it) and the schedule can only change when the
     /// millisecond does.
     scheduled_ms: Option<u64>,
     /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
@@ -207,16 +207,50 @@ impl AeolusLink {
     }
 
     /// Whether a poll at `now_ms` has anything to do besides what the port received since the
-    /// last one: the schedule's first poll in a millisecond, TX bytes waiting for room in the
-    /// port, or received bytes left in the port by the last poll's [`RX_BUDGET`]. What
+    /// last one: `now_ms` has reached [`AeolusLink::next_wake_ms`]. What
     /// [`App::poll_pending`](crate::App::poll_pending) asks before it runs the link.
     ///
     /// ```
-    /// let mut link = sensor_box::aeolus_link::AeolusLink::new(0);
-    /// assert!(link.has_work(0)); // the boot TOAST waits
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// let shared = Shared::new(Persisted::default(), 0);
+    /// let link = AeolusLink::new(0);
+    /// assert!(link.has_work(0, &shared)); // the boot TOAST waits
     /// ```
-    pub fn has_work(&self, now_ms: u64) -> bool {
-        self.scheduled_ms != Some(now_ms) || self.rx_more || !self.tx.is_empty()
+    pub fn has_work(&self, now_ms: u64, shared: &Shared) -> bool {
+        now_ms >= self.next_wake_ms(shared)
+    }
+
+    /// The earliest instant at which a poll has something to do without a received byte: 0
+    /// (at once) while TX bytes wait for room in the port, while received bytes wait that
+    /// the last poll's [`RX_BUDGET`] left in the port, and after a pause or a resume the link
+    /// has not seen; else when the schedule has the next kind due
+    /// ([`Telemetry::next_due`]: at once after a change of the intervals), never while paused.
+    /// A main loop that sleeps until the earliest of its links' instants misses nothing.
+    ///
+    /// ```
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
+    /// let (rxq, txq) = (Ring::<2>::new(), Ring::<1024>::new());
+    /// let stats = PortStats::new();
+    /// let (mut port, _isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    /// let mut shared = Shared::new(Persisted::default(), 0);
+    /// let mut link = AeolusLink::new(0);
+    /// assert_eq!(link.next_wake_ms(&shared), 0); // the boot TOAST and the first telemetry
+    /// link.poll(0, &mut port, &mut shared);
+    /// assert_eq!(link.next_wake_ms(&shared), 5); // PRESSURE, every 5 ms
+    /// shared.paused = true;
+    /// assert_eq!(link.next_wake_ms(&shared), 0); // the pause is news to the link
+    /// link.poll(1, &mut port, &mut shared);
+    /// assert_eq!(link.next_wake_ms(&shared), u64::MAX);
+    /// ```
+    pub fn next_wake_ms(&self, shared: &Shared) -> u64 {
+        if self.rx_more || !self.tx.is_empty() || shared.paused != self.was_paused {
+            0
+        } else if shared.paused {
+            u64::MAX
+        } else {
+            self.telemetry.next_due(&shared.settings().intervals)
+        }
     }
 
     /// The TX half of [`AeolusLink::poll`]: queues the telemetry due at `now_ms` (unless

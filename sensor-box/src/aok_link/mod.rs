@@ -214,7 +214,7 @@ impl AokLink {
             self.send_debug(now_ms, shared);
         }
         self.flush(port);
-        self.wake_ms = self.next_wake_ms();
+        self.wake_ms = self.clock_wake_ms();
     }
 
     /// Whether a poll at `now_ms` has anything to do besides what the port received since the
@@ -227,11 +227,29 @@ impl AokLink {
     /// assert!(link.has_work(0)); // the first debug value
     /// ```
     pub fn has_work(&self, now_ms: u64) -> bool {
-        now_ms >= self.wake_ms || self.rx_more || !self.tx.is_empty()
+        now_ms >= self.next_wake_ms()
+    }
+
+    /// The earliest instant at which a poll has something to do without a received byte: 0
+    /// (at once) while TX bytes wait for room in the port or received bytes wait that the last
+    /// poll's [`RX_BUDGET`] left in the port; else the earliest of its timers (the debug
+    /// stream, an unfinished frame's idle limit, a motor test's or an external control's end).
+    ///
+    /// ```
+    /// use sensor_box::{Persisted, Shared, aok_link::AokLink};
+    /// let link = AokLink::new(&Shared::new(Persisted::default(), 0));
+    /// assert_eq!(link.next_wake_ms(), 0); // the first debug value is due at boot
+    /// ```
+    pub fn next_wake_ms(&self) -> u64 {
+        if self.rx_more || !self.tx.is_empty() {
+            0
+        } else {
+            self.wake_ms
+        }
     }
 
     /// The earliest instant something is due by the clock.
-    fn next_wake_ms(&self) -> u64 {
+    fn clock_wake_ms(&self) -> u64 {
         let mut at = u64::MAX;
         if self.debug_on {
             at = at.min(self.next_debug_ms);

@@ -247,10 +247,23 @@ impl AydpLink {
     /// assert!(link.has_work(0)); // the first heartbeat
     /// ```
     pub fn has_work(&self, now_ms: u64) -> bool {
-        now_ms >= self.ctx.next_heartbeat_ms
-            || now_ms >= self.ctx.next_nav_ms
-            || self.rx_more
-            || !self.ctx.tx.is_empty()
+        now_ms >= self.next_wake_ms()
+    }
+
+    /// The earliest instant at which a poll has something to do without a received byte: 0
+    /// (at once) while TX bytes wait for room in the port or received bytes wait that the last
+    /// poll's [`RX_BUDGET`] left in the port; else the next 1 Hz message.
+    ///
+    /// ```
+    /// let link = sensor_box::aydp_link::AydpLink::new(0);
+    /// assert_eq!(link.next_wake_ms(), 0); // the first heartbeat is due at boot
+    /// ```
+    pub fn next_wake_ms(&self) -> u64 {
+        if self.rx_more || !self.ctx.tx.is_empty() {
+            0
+        } else {
+            self.ctx.next_heartbeat_ms.min(self.ctx.next_nav_ms)
+        }
     }
 
     /// What the TX queue is still waiting to hand to the port, bytes.

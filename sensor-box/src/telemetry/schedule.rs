@@ -64,6 +64,27 @@ impl Telemetry {
         self.next_ms.get(kind.index()).copied().unwrap_or(u64::MAX)
     }
 
+    /// The earliest instant at which [`Telemetry::due`] with `intervals` can yield a kind: the
+    /// end of the quiet time the last complete pass saw, while the intervals are the ones it saw;
+    /// 0 (due at once) before a complete pass and after a change of the intervals, which only
+    /// a pass can take in. A caller that sleeps until then misses nothing.
+    ///
+    /// ```
+    /// use sensor_box::{state::Intervals, telemetry::Telemetry};
+    /// let mut t = Telemetry::new(1_000);
+    /// assert_eq!(t.next_due(&Intervals::SPEC), 0); // no pass yet
+    /// assert_eq!(t.due(1_000, &Intervals::SPEC).count(), 10);
+    /// assert_eq!(t.next_due(&Intervals::SPEC), 1_005); // PRESSURE, every 5 ms
+    /// let faster = Intervals { pressure_ms: 2, ..Intervals::SPEC };
+    /// assert_eq!(t.next_due(&faster), 0); // a changed interval takes a pass at once
+    /// ```
+    pub fn next_due(&self, intervals: &Intervals) -> u64 {
+        match self.quiet {
+            Some((_, until, seen)) if seen == *intervals => until,
+            _ => 0,
+        }
+    }
+
     /// Due instants dropped after stalls (wrapping).
     ///
     /// ```
