@@ -98,6 +98,14 @@ fn the_quiet_shortcut_changes_nothing() {
                 assert_eq!(t.next_due_ms(kind), m.next[kind.index()], "seed {seed}");
             }
             assert_eq!(t.skipped(), m.skipped);
+            // Never later than the earliest due instant: a caller that sleeps until then
+            // misses nothing; after a complete pass, exactly that instant.
+            let earliest = m.next.iter().copied().min().unwrap_or(u64::MAX);
+            if take == usize::MAX {
+                assert_eq!(t.next_due(&iv), earliest, "seed {seed} at {now} ms");
+            } else {
+                assert!(t.next_due(&iv) <= earliest, "seed {seed} at {now} ms");
+            }
             now += 1 + rng(&mut r) % 2;
         }
     }

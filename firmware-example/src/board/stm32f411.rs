@@ -21,9 +21,9 @@
 //!
 //! `cargo stm32-qemu` boots this same board code in QEMU's `netduinoplus2`
 //! (an STM32F405: the same USART1/2/6 addresses and IRQ numbers, flash at
-//! 0x0800_0000, SRAM at 0x2000_0000). The feature changes exactly three
-//! things, each marked `qemu-stm32` below; everything else is the real
-//! board's code:
+//! 0x0800_0000, SRAM at 0x2000_0000). The feature changes exactly four
+//! things, each marked `qemu-stm32` (the fourth in `board/mod.rs`); everything
+//! else is the real board's code:
 //!
 //! 1. **Clock**: HSI at 16 MHz without the PLL. The model has no RCC (every
 //!    register reads 0), so the HAL's wait for PLLRDY would never end.
@@ -36,6 +36,11 @@
 //! 3. **SysTick reload**: the model clocks SysTick from a fixed 168 MHz
 //!    (`SYSTICK_HZ`) whatever RCC says; a reload for 16 MHz would make the
 //!    millisecond clock run about ten times fast.
+//! 4. **A main-loop wake every millisecond** (`EVERY_MS` in `board/mod.rs`):
+//!    the model's USART raises no TXE interrupt, so queued bytes leave only
+//!    when the application kicks the handler, which the main loop's `flush`
+//!    does once a pass; the real part's TXE interrupt drains them by itself,
+//!    and its main loop sleeps until a link has work.
 //!
 //! Besides these, only the boot log's board name ([`NAME`]) says the build is
 //! simulated. The log stays `defmt` over RTT: `scripts/qemu-run.sh` reads the RTT buffer

@@ -65,6 +65,33 @@ impl DebugId {
     ];
 }
 
+impl DebugId {
+    /// Whether the value changes with the flight's time (attitude, heading, altitude,
+    /// position, ground speed): it is read from the flight's state at the frame's instant.
+    /// The others are the flight's steady values (airspeed, pressures, temperature, turn rate:
+    /// read from the last state computed, as AEOLUS PRESSURE is, see
+    /// [`Shared::steady_state`]) or the box's own (control source, motor test, status), which
+    /// need no flight state at all.
+    ///
+    /// ```
+    /// use sensor_box::aok_link::DebugId;
+    /// assert!(DebugId::Heading.moves_with_time());
+    /// assert!(!DebugId::Airspeed.moves_with_time());
+    /// ```
+    pub const fn moves_with_time(self) -> bool {
+        matches!(
+            self,
+            DebugId::Roll
+                | DebugId::Pitch
+                | DebugId::Heading
+                | DebugId::Altitude
+                | DebugId::Latitude
+                | DebugId::Longitude
+                | DebugId::GroundSpeed
+        )
+    }
+}
+
 /// Flight status (debug value 86) bit: the box is flying (see [`flying`]).
 pub const STATUS_FLYING: i32 = 1;
 /// Flight status bit: external control has the sticks.
@@ -113,9 +140,15 @@ impl AokLink {
         };
     }
 
-    /// The value of one debug id at `now_ms`, scaled to i32 (see [`DebugId`]).
+    /// The value of one debug id at `now_ms`, scaled to i32 (see [`DebugId`]). A flight state
+    /// is computed only for the ids that move with time ([`DebugId::moves_with_time`]); the
+    /// others take the last one ([`Shared::steady_state`]).
     pub fn debug_value(&self, id: DebugId, now_ms: u64, shared: &Shared) -> i32 {
-        let s = shared.flight_state(now_ms);
+        let s = if id.moves_with_time() {
+            shared.flight_state(now_ms)
+        } else {
+            shared.steady_state(now_ms)
+        };
         match id {
             DebugId::Roll => scaled(s.euler.roll.to_degrees(), 100.0),
             DebugId::Pitch => scaled(s.euler.pitch.to_degrees(), 100.0),
