@@ -229,6 +229,8 @@ IRQ_LOOP = 12
 
 # Issue 29's targets, per received byte in the flood scenario and per wake of an idle link.
 TARGET_LINK, TARGET_BOX, TARGET_IRQ, TARGET_IDLE_WAKE = 20, 40, 10, 20
+# Issue 29's quiet budget: figure 1c telemetry, AYDP and AOK idle, as a share of 50 MHz.
+TARGET_QUIET = 0.04
 # The real part's RX FIFO interrupt level (IFLS: 1/2 full, 8 of 16 bytes; QEMU ignores it).
 FIFO_LEVEL = 8
 
@@ -359,8 +361,11 @@ def main():
           f"and flash wait states add cycles); the share is of 50 MHz.\n")
     print(f"**Figure 1c telemetry, AYDP and AOK idle** (nothing received; `-icount shift=0,sleep=off`). "
           f"Two runs: {'identical account' if same else 'the two runs DIFFER'}. "
-          f"Target: at most 5 % of 50 MHz (2,500,000 instructions/s): "
-          f"{'met' if busy <= 2.5e6 else 'missed'} ({100 * busy / CORE_HZ_REFERENCE:.2f} %).\n")
+          f"Target (issue 29): at most {100 * TARGET_QUIET:g} % of 50 MHz "
+          f"({TARGET_QUIET * CORE_HZ_REFERENCE:,.0f} instructions/s): "
+          f"{'met' if busy <= TARGET_QUIET * CORE_HZ_REFERENCE else 'missed'} "
+          f"({100 * busy / CORE_HZ_REFERENCE:.2f} %; issue 14's 5 %: "
+          f"{'met' if busy <= 0.05 * CORE_HZ_REFERENCE else 'missed'}).\n")
     print("\n".join(rows))
     print(f"\n{notes} Telemetry: {telemetry_line(quiet[0])}.\n")
     print(METHOD)
