@@ -42,6 +42,8 @@ def main():
     ap.add_argument("--seconds", type=float, default=20)
     ap.add_argument("--top", type=int, default=40)
     ap.add_argument("--tick", default="SysTick", help="the 1 ms handler's symbol")
+    ap.add_argument("--callers", metavar="NAME",
+                    help="who enters the function whose name contains NAME: the block run before its first block, per caller")
     ap.add_argument("--blocks", metavar="NAME", help="per block (address: instructions) of the functions whose name contains NAME")
     a = ap.parse_args()
     if not os.path.isfile(a.elf):
@@ -64,6 +66,8 @@ def main():
         # that QEMU cut short for an I/O access under icount carries its length in cflags).
         blocks = {}
         runs = {}
+        callers = {}
+        last_pc = None
         block = None
         prev = None
         with open(log, errors="replace") as f:
@@ -86,6 +90,13 @@ def main():
                             runs[cut] = runs.get(cut, 0) + 1
                     key = (pc, count)
                     runs[key] = runs.get(key, 0) + 1
+                    if a.callers and last_pc is not None:
+                        i = bisect.bisect_right(addrs, pc) - 1
+                        if i >= 0 and addrs[i] == pc and a.callers in names[i]:
+                            j = bisect.bisect_right(addrs, last_pc) - 1
+                            caller = names[j] if j >= 0 else f"0x{last_pc:x}"
+                            callers[caller] = callers.get(caller, 0) + 1
+                    last_pc = pc
                     prev = key
                 elif line.startswith("IN:"):
                     block = []
@@ -105,6 +116,10 @@ def main():
                 and pc == addrs[i])
     total = sum(per_fn.values())
     print(f"{total:,} instructions; {a.tick} ran {ticks:,} times")
+    if a.callers:
+        for caller, n in sorted(callers.items(), key=lambda x: -x[1])[:a.top]:
+            print(f"{n / max(ticks, 1) * 1000:,.0f} calls/s from {caller[:110]}")
+        return
     if a.blocks:
         rows = []
         for (pc, count), n in runs.items():

@@ -728,6 +728,82 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
         total
     }
 
+    /// Fills a UART's transmit FIFO from the TX ring, for an interrupt handler: a block of
+    /// `block` bytes at a time while `empty()` says the FIFO takes a whole one (one register
+    /// read per block), then byte by byte while `room()` says it takes one more; whether bytes
+    /// are still queued (the handler keeps its TX interrupt on for them). The work of
+    /// [`SerialIsr::send_blocks`], [`SerialIsr::send_while`] and [`SerialIsr::tx_pending`] in
+    /// one pass, which reads the ring once per contiguous run and once more to find it empty.
+    ///
+    /// ```
+    /// use embedded_io::Write;
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<2>::new(), Ring::<64>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// port.write(&[7; 40]).unwrap();
+    /// let mut fifo = Vec::new();
+    /// // An empty FIFO takes 16, then 3 more fit one by one: 19 of 40 go, 21 wait.
+    /// let empty = core::cell::Cell::new(true);
+    /// let left = core::cell::Cell::new(3u32);
+    /// let pending = isr.send_fifo(
+    ///     16,
+    ///     || empty.replace(false),
+    ///     || left.replace(left.get().saturating_sub(1)) > 0,
+    ///     |b| fifo.push(b),
+    /// );
+    /// assert!(pending);
+    /// assert_eq!(fifo.len(), 19);
+    /// ```
+    pub fn send_fifo(
+        &mut self,
+        block: usize,
+        mut empty: impl FnMut() -> bool,
+        mut room: impl FnMut() -> bool,
+        mut put: impl FnMut(u8),
+    ) -> bool {
+        let block = block.max(1);
+        let mut total = 0;
+        let pending = loop {
+            let Ok(grant) = self.tx.read() else {
+                break false;
+            };
+            let len = grant.len();
+            let mut n = 0;
+            while n < len && empty() {
+                let chunk = grant.get(n..len.min(n + block)).unwrap_or_default();
+                // Four bytes a step: the loop's test and branch once per four stores.
+                let mut quads = chunk.chunks_exact(4);
+                for q in &mut quads {
+                    if let [a, b, c, d] = *q {
+                        put(a);
+                        put(b);
+                        put(c);
+                        put(d);
+                    }
+                }
+                for &byte in quads.remainder() {
+                    put(byte);
+                }
+                n += chunk.len();
+            }
+            while let Some(&byte) = grant.get(n) {
+                if !room() {
+                    break;
+                }
+                put(byte);
+                n += 1;
+            }
+            grant.release(n);
+            total += n;
+            if n < len {
+                break true;
+            }
+        };
+        add(&self.stats.tx_bytes, total);
+        pending
+    }
+
     /// Moves queued bytes into `buf` (as many as are queued and fit), a slice copy per
     /// contiguous run, for a UART that takes a block at a time (a DMA transfer); the count.
     /// The bytes are counted as handed to the UART.

@@ -250,3 +250,52 @@ fn errors_between_bytes_of_a_wrapping_rx_ring_are_counted_and_take_no_room() {
         }
     }
 }
+
+/// `send_fifo` against a model of a 16-byte UART FIFO at every fill level, through a ring
+/// that wraps at every position: it hands over exactly what the FIFO has room for (a block
+/// while it is empty, then a byte while it has room), in order, says whether bytes are left,
+/// and counts what it handed over.
+#[test]
+fn send_fifo_fills_a_fifo_of_any_level_through_a_wrapping_ring() {
+    const FIFO: usize = 16;
+    let input: Vec<u8> = (0..40u32).map(|i| (i * 37 + 11) as u8).collect();
+    for offset in 0..32usize {
+        for queued in 0..=24usize {
+            for level in 0..=FIFO {
+                let (rxq, txq) = (Ring::<2>::new(), Ring::<32>::new());
+                let stats = PortStats::new();
+                let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+                // Move the ring's positions to `offset`, so the queued bytes wrap there.
+                for _ in 0..offset {
+                    assert_eq!(port.write(&[0]), Ok(1));
+                    assert_eq!(isr.next_to_send(), Some(0));
+                }
+                let mut at = 0;
+                while at < queued {
+                    // A ring of 32 takes 24 bytes at any position, in at most two writes.
+                    assert_eq!(port.write_ready(), Ok(true), "offset {offset}");
+                    at += port.write(&input[at..queued]).unwrap();
+                }
+                let before = port.counters().tx_bytes;
+                let fill = core::cell::Cell::new(level);
+                let mut out = Vec::new();
+                let pending = isr.send_fifo(
+                    FIFO,
+                    || fill.get() == 0,
+                    || fill.get() < FIFO,
+                    |b| {
+                        assert!(fill.get() < FIFO, "a byte put into a full FIFO");
+                        fill.set(fill.get() + 1);
+                        out.push(b);
+                    },
+                );
+                let sent = queued.min(FIFO - level);
+                let case = format!("offset {offset}, {queued} queued, FIFO at {level}");
+                assert_eq!(out, input[..sent], "{case}");
+                assert_eq!(pending, sent < queued, "{case}");
+                assert_eq!(isr.tx_pending(), sent < queued, "{case}");
+                assert_eq!(port.counters().tx_bytes - before, sent as u32, "{case}");
+            }
+        }
+    }
+}

@@ -223,6 +223,24 @@ pub fn stack_size() -> usize {
 pub fn stack_high_water() -> usize {
     let top = &raw const _stack_start as usize;
     let mut p = &raw const _stack_end as usize;
+    // Four painted words a step while four fit (the unpainted word among them is then found
+    // one word at a time below): the report scans the whole unused stack, tens of KiB.
+    while p + 16 <= top {
+        // SAFETY: p..p + 16 is word-aligned and inside the stack region, which is always
+        // mapped RAM; volatile because the stack changes under us.
+        let (a, b, c, d) = unsafe {
+            (
+                core::ptr::read_volatile(p as *const u32),
+                core::ptr::read_volatile((p + 4) as *const u32),
+                core::ptr::read_volatile((p + 8) as *const u32),
+                core::ptr::read_volatile((p + 12) as *const u32),
+            )
+        };
+        if (a ^ STACK_PAINT) | (b ^ STACK_PAINT) | (c ^ STACK_PAINT) | (d ^ STACK_PAINT) != 0 {
+            break;
+        }
+        p += 16;
+    }
     while p < top {
         // SAFETY: p is a word-aligned address inside the stack region, which
         // is always mapped RAM; volatile because the stack changes under us.

@@ -326,11 +326,20 @@ fn service(index: usize) {
         let previous = budget::enter(Category::TxIrq);
         // A FIFO's worth per empty FIFO (one flag read per 16 bytes), then byte by byte
         // while a part-full FIFO has room.
-        let put = |b| write_volatile(reg(base, DR), u32::from(b));
-        isr.send_blocks(TX_FIFO, || read_volatile(reg(base, FR)) & FR_TXFE != 0, put);
-        isr.send_while(|| read_volatile(reg(base, FR)) & FR_TXFF == 0, put);
-        let tx = if isr.tx_pending() { INT_TX } else { 0 };
-        let rx = if isr.rx_room() { INT_RX | INT_RT } else { 0 };
+        let pending = isr.send_fifo(
+            TX_FIFO,
+            || read_volatile(reg(base, FR)) & FR_TXFE != 0,
+            || read_volatile(reg(base, FR)) & FR_TXFF == 0,
+            |b| write_volatile(reg(base, DR), u32::from(b)),
+        );
+        let tx = if pending { INT_TX } else { 0 };
+        // RX interrupts stay on unless the RX ring filled up (the RX side marks it held, and
+        // a full ring met by an RX interrupt marks it too): only then is its room asked.
+        let rx = if !isr.rx_held() || isr.rx_room() {
+            INT_RX | INT_RT
+        } else {
+            0
+        };
         write_volatile(reg(base, IMSC), rx | tx);
         budget::leave(previous);
     }

@@ -76,7 +76,7 @@ mod commands;
 use crate::Shared;
 use crate::budget::{Category, span};
 use crate::port::{Receive, Transmit, TxQueue};
-use crate::telemetry::{Kind, Telemetry, build};
+use crate::telemetry::{Kind, Telemetry, build_at};
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
 use commands::{Incoming, incoming};
@@ -380,15 +380,16 @@ impl AeolusLink {
             ..
         } = self;
         let mut state = None;
+        let timestamp_ms = now_ms as f64;
         for kind in telemetry.due(now_ms, &intervals) {
             let msg = if kind.moves_with_time() {
-                build(
+                build_at(
                     kind,
                     state.get_or_insert_with(|| shared.flight_state(now_ms)),
-                    now_ms,
+                    timestamp_ms,
                 )
             } else {
-                build(kind, &shared.steady_state(now_ms), now_ms)
+                build_at(kind, &shared.steady_state(now_ms), timestamp_ms)
             };
             if send(tx, port, counters, &msg) {
                 if let Some(n) = counters.sent.get_mut(kind.index()) {

@@ -52,7 +52,7 @@
 mod messages;
 mod schedule;
 
-pub use messages::{FIRMWARE_VERSION, GPS_SATELLITES, MAC, MODEL, build};
+pub use messages::{FIRMWARE_VERSION, GPS_SATELLITES, MAC, MODEL, build, build_at};
 pub use schedule::{Due, Telemetry};
 
 use crate::state::Intervals;
