@@ -301,7 +301,6 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
     }
 }
 
-/// Adds `n` to a wrapping count one side keeps to itself.
 /// Hands `block` to `put` four bytes a step (the loop's test and branch once per four calls):
 /// the FIFO fill of the TX interrupt.
 #[inline(always)]
@@ -320,6 +319,7 @@ fn put_block(block: &[u8], put: &mut impl FnMut(u8)) {
     }
 }
 
+/// Adds `n` to a wrapping count one side keeps to itself.
 fn add_local(counter: &mut u32, n: usize) {
     *counter = counter.wrapping_add(u32::try_from(n).unwrap_or(u32::MAX));
 }
@@ -712,26 +712,10 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     pub fn send_blocks(
         &mut self,
         block: usize,
-        mut empty: impl FnMut() -> bool,
-        mut put: impl FnMut(u8),
+        empty: impl FnMut() -> bool,
+        put: impl FnMut(u8),
     ) -> usize {
-        let mut total = 0;
-        'runs: while let Ok(grant) = self.tx.read() {
-            let mut n = 0;
-            for chunk in grant.chunks(block.max(1)) {
-                if !empty() {
-                    grant.release(n);
-                    total += n;
-                    break 'runs;
-                }
-                put_block(chunk, &mut put);
-                n += chunk.len();
-            }
-            grant.release(n);
-            total += n;
-        }
-        add(&self.stats.tx_bytes, total);
-        total
+        self.fill(block, empty, || false, put).0
     }
 
     /// Fills a UART's transmit FIFO from the TX ring, for an interrupt handler: a block of
@@ -764,10 +748,23 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     pub fn send_fifo(
         &mut self,
         block: usize,
+        empty: impl FnMut() -> bool,
+        room: impl FnMut() -> bool,
+        put: impl FnMut(u8),
+    ) -> bool {
+        self.fill(block, empty, room, put).1
+    }
+
+    /// The FIFO fill of [`SerialIsr::send_fifo`] and [`SerialIsr::send_blocks`]: the bytes
+    /// handed over, and whether bytes are still queued.
+    #[inline(always)]
+    fn fill(
+        &mut self,
+        block: usize,
         mut empty: impl FnMut() -> bool,
         mut room: impl FnMut() -> bool,
         mut put: impl FnMut(u8),
-    ) -> bool {
+    ) -> (usize, bool) {
         let block = block.max(1);
         let mut total = 0;
         let pending = loop {
@@ -795,7 +792,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
             }
         };
         add(&self.stats.tx_bytes, total);
-        pending
+        (total, pending)
     }
 
     /// Moves queued bytes into `buf` (as many as are queued and fit), a slice copy per
