@@ -7,6 +7,7 @@ use sensor_box::state::Intervals;
 use sensor_box::telemetry::{Kind, Telemetry};
 
 /// The rules of `Telemetry::take`, one pass over every kind per call.
+#[derive(Clone)]
 struct Model {
     next: [u64; Kind::COUNT],
     skipped: u32,
@@ -92,6 +93,14 @@ fn the_quiet_shortcut_changes_nothing() {
             } else {
                 usize::MAX
             };
+            // A caller that sleeps until `next_due` is awake whenever a kind is due, also
+            // right after a change of the intervals (before any pass has seen it).
+            if !m.clone().due(now, &iv, usize::MAX).is_empty() {
+                assert!(
+                    t.next_due(&iv) <= now,
+                    "seed {seed} at {now} ms: would sleep"
+                );
+            }
             let got: Vec<Kind> = t.due(now, &iv).take(take).collect();
             assert_eq!(got, m.due(now, &iv, take), "seed {seed} at {now} ms");
             for kind in Kind::ALL {
