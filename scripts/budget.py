@@ -223,9 +223,9 @@ def net_rates(r):
 
 
 # Instructions of the QEMU board's RX interrupt per received byte inside `receive_while`'s
-# loop (FR read and test, DR read, error test, store, count, bound check, branch), counted in
+# loop (FR read and test, DR read, error test, store, pointer step, end test, branch), counted in
 # `arm-none-eabi-objdump -d` of the cpu-budget build's `service`; see docs/BENCHMARKS.md.
-IRQ_LOOP = 12
+IRQ_LOOP = 11
 
 # Issue 29's targets, per received byte in the flood scenario and per wake of an idle link.
 TARGET_LINK, TARGET_BOX, TARGET_IRQ, TARGET_IDLE_WAKE = 20, 40, 10, 20

@@ -21,10 +21,13 @@ run just before its first one).
 The ELF runs for S seconds of host time (the log grows by about 1 GB a minute), then QEMU is
 stopped. Counts are divided by the number of times the SysTick handler ran (one per millisecond
 of the box's clock), so the figures are instructions per millisecond, and x 1000 per second.
-Nothing is sent to the UARTs (the quiet scenario). python3 stdlib, llvm-nm (the Rust toolchain's
+Nothing is sent to the UARTs (the quiet scenario), unless --flood BYTES_PER_S: then UART0 is a
+TCP socket on 127.0.0.1 into which random bytes are written at that rate in host time (as
+`scripts/budget.py`'s flood; QEMU then runs with `-icount shift=0`, its clock following the host's
+while the CPU sleeps, so the count is no longer deterministic). python3 stdlib, llvm-nm (the Rust toolchain's
 or the system's) for the symbols.
 """
-import argparse, bisect, glob, os, re, shutil, subprocess, sys, tempfile, time
+import argparse, bisect, glob, os, re, shutil, socket, subprocess, sys, tempfile, threading, time
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -46,6 +49,32 @@ def symbols(elf):
     return [a for a, _ in syms], [n for _, n in syms]
 
 
+def flood(port, rate, stop):
+    """Writes random bytes at `rate` a second into the TCP socket of QEMU's UART0 until `stop`."""
+    deadline = time.monotonic() + 10
+    while not stop.is_set():
+        try:
+            conn = socket.create_connection(("127.0.0.1", port), timeout=1)
+            break
+        except OSError:
+            if time.monotonic() > deadline:
+                return
+            time.sleep(0.05)
+    else:
+        return
+    chunk, start, sent = 1024, time.monotonic(), 0
+    with conn:
+        while not stop.is_set():
+            due = start + sent / rate
+            if due > time.monotonic():
+                time.sleep(due - time.monotonic())
+            try:
+                conn.sendall(os.urandom(chunk))
+            except OSError:
+                return
+            sent += chunk
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("elf")
@@ -54,6 +83,8 @@ def main():
     ap.add_argument("--tick", default="SysTick", help="the 1 ms handler's symbol")
     ap.add_argument("--callers", metavar="NAME",
                     help="who enters the function whose name contains NAME: the block run before its first block, per caller")
+    ap.add_argument("--flood", type=int, default=0, metavar="BYTES_PER_S",
+                    help="random bytes a second (host time) into UART0, 0 for none")
     ap.add_argument("--blocks", metavar="NAME", help="per block (address: instructions) of the functions whose name contains NAME")
     a = ap.parse_args()
     if not os.path.isfile(a.elf):
@@ -62,6 +93,8 @@ def main():
         sys.exit("qemu-profile: --seconds must be in (0, 600]")
     if not 1 <= a.top <= 10_000:
         sys.exit("qemu-profile: --top must be in 1..=10000")
+    if not 0 <= a.flood <= 1_000_000:
+        sys.exit("qemu-profile: --flood must be in 0..=1000000 bytes a second")
     if not shutil.which("qemu-system-arm"):
         sys.exit("qemu-profile: qemu-system-arm is missing: run 'scripts/setup.sh qemu'")
     addrs, names = symbols(a.elf)
@@ -72,8 +105,18 @@ def main():
                 "-monitor", "none", "-serial", "null", "-serial", "null", "-serial", "null",
                 "-icount", "shift=0,sleep=off", "-d", "in_asm,exec,nochain", "-D", log,
                 "-kernel", a.elf]
+        stop = threading.Event()
+        if a.flood:
+            with socket.socket() as s:
+                s.bind(("127.0.0.1", 0))
+                port = s.getsockname()[1]
+            args[args.index("-serial") + 1] = f"tcp:127.0.0.1:{port},server=on,wait=off"
+            args[args.index("shift=0,sleep=off")] = "shift=0"
         q = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        if a.flood:
+            threading.Thread(target=flood, args=(port, a.flood, stop), daemon=True).start()
         time.sleep(a.seconds)
+        stop.set()
         q.terminate()
         q.wait()
         # Per block start: the addresses of its instructions (the longest translation; a block

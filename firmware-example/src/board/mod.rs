@@ -90,13 +90,15 @@ static HELD: AtomicU8 = AtomicU8::new(0);
 /// Received bytes that wake a link at once; fewer wait for the next millisecond's SysTick, so a
 /// link takes a flood in runs of at least this many bytes (its cost per wake spread over them)
 /// and a lone command waits at most 1 ms. On the QEMU board the PL011 holds bytes back while
-/// the RX ring is full, so nothing is lost while the link waits.
+/// the RX ring is full, so nothing is lost while the link waits. 128 is half the AEOLUS link's
+/// `RX_BUDGET` and a quarter of the board's 512-byte RX rings (64 with 256-byte rings until
+/// issue 29's seventh round: twice the main-loop passes under a flood).
 #[cfg(feature = "board-qemu")]
-pub const WAKE_BYTES: usize = 64;
+pub const WAKE_BYTES: usize = 128;
 
 /// On the STM32 board every received byte wakes its link: its USART has no FIFO and cannot
 /// hold bytes back, so a full RX ring drops them, and a link that had stopped decoding to keep
-/// room for its answers must run again as soon as possible (with 64, as on the QEMU board, a
+/// room for its answers must run again as soon as possible (with 64, as on the QEMU board then, a
 /// CI run of `qemu_firmware` lost 33 and 45 bytes of the board's 40-command burst, once the
 /// main loop no longer ran on every interrupt).
 #[cfg(feature = "board-stm32f411")]

@@ -95,7 +95,9 @@ const BAUD: u32 = 115_200;
 const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
 
 const UART_BASE: [usize; 3] = [0x4000_C000, 0x4000_D000, 0x4000_E000];
-const RX_CAP: usize = 256;
+/// Each UART's RX ring: room for four of the link's wake thresholds (`WAKE_BYTES`), so a flood
+/// keeps arriving into the ring while the link decodes the run that woke it.
+const RX_CAP: usize = 512;
 const TX_CAP: usize = 512;
 
 // PL011 registers (offsets) and bits.
