@@ -6,6 +6,7 @@
 //! ```text
 //!   application (main loop)                      UART interrupt handler
 //!   QueuedSerial::receive(|bytes| ..) <-- RX ring <--  SerialIsr::receive_while(next) / received(byte)
+//!                                                      / receive_batched(at, publish, next)
 //!   (or read(&mut buf), a copy)
 //!   QueuedSerial::write(&frame)  --> TX ring -->  SerialIsr::send_while(room, put) / take_to_send
 //!                                --> kick() (pends the interrupt)
@@ -34,7 +35,7 @@
 //! plays the interrupt handler.
 
 use crate::port::copy_prefix;
-use bbqueue::prod_cons::stream::{StreamConsumer, StreamProducer};
+use bbqueue::prod_cons::stream::{StreamConsumer, StreamGrantW, StreamProducer};
 use bbqueue::traits::{coordination::cs::CsCoord, notifier::polling::Polling, storage::Inline};
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -141,6 +142,9 @@ pub struct SerialIsr<'q, const RX: usize, const TX: usize> {
     rx: StreamProducer<&'q Ring<RX>>,
     tx: StreamConsumer<&'q Ring<TX>>,
     stats: &'q PortStats,
+    /// The run of free RX ring that [`SerialIsr::receive_batched`] keeps open across
+    /// interrupts (a write grant, never full) and how many of its bytes are filled.
+    open: Option<(StreamGrantW<&'q Ring<RX>>, usize)>,
 }
 
 impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
@@ -176,6 +180,7 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
                 rx: rx_queue.stream_producer(),
                 tx: tx_queue.stream_consumer(),
                 stats,
+                open: None,
             },
         )
     }
@@ -547,6 +552,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert_eq!(port.counters().rx_dropped, 1);
     /// ```
     pub fn received(&mut self, byte: u8) -> bool {
+        self.publish();
         match self.rx.grant_exact(1) {
             Ok(mut grant) => {
                 copy_prefix(&mut grant, &[byte]);
@@ -580,6 +586,8 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert_eq!((port.rx_pending(), port.counters().rx_errors), (4, 1));
     /// ```
     pub fn receive_while(&mut self, mut next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
+        // Bytes a `receive_batched` left unpublished come first.
+        self.publish();
         // The byte loop tests the end of the run after a store (a grant is never empty), so a
         // byte costs the UART's two reads, the store and one compare; errors are counted in a
         // register, added to the shared counter once at the end (and only when there were any).
@@ -619,6 +627,115 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
             add(&self.stats.rx_errors, errors);
         }
         total
+    }
+
+    /// Moves received bytes from the UART into the RX ring as [`SerialIsr::receive_while`]
+    /// does, but keeps the run of free ring it fills open from one call to the next: its bytes
+    /// become the application's (committed, and counted in `rx_bytes`) only once `publish_at`
+    /// of them wait, when the run is full, or when `publish` is true; the count of bytes this
+    /// call published. An interrupt handler that takes a few bytes at a time pays for the
+    /// ring's grant and commit once per `publish_at` bytes instead of once per interrupt; it
+    /// calls again with `publish` true (with or without new bytes) when the application must
+    /// see what waits, such as once a millisecond while [`SerialIsr::unpublished`] is not 0.
+    /// When the ring is full `next` is not called again and the bytes stay in the UART, as in
+    /// `receive_while`.
+    ///
+    /// ```
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<64>::new(), Ring::<2>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// let mut uart = [1, 2, 3].into_iter().map(Ok);
+    /// assert_eq!(isr.receive_batched(8, false, || uart.next()), 0); // held in the ring
+    /// assert_eq!((isr.unpublished(), port.rx_pending()), (3, 0));
+    /// let mut more = [4, 5, 6, 7, 8].into_iter().map(Ok);
+    /// assert_eq!(isr.receive_batched(8, false, || more.next()), 8); // 8 wait: published
+    /// assert_eq!(isr.receive_batched(8, true, || None), 0); // nothing left to publish
+    /// assert_eq!((isr.unpublished(), port.rx_pending()), (0, 8));
+    /// ```
+    pub fn receive_batched(
+        &mut self,
+        publish_at: usize,
+        publish: bool,
+        mut next: impl FnMut() -> Option<Result<u8, ()>>,
+    ) -> usize {
+        let (mut published, mut errors) = (0, 0);
+        loop {
+            if self.open.is_none() {
+                match self.rx.grant_max_remaining(usize::MAX) {
+                    Ok(grant) => self.open = Some((grant, 0)),
+                    Err(_) => {
+                        self.stats.rx_held.store(true, Ordering::Relaxed);
+                        break;
+                    }
+                }
+            }
+            let Some((grant, filled)) = self.open.as_mut() else {
+                break;
+            };
+            let len = grant.len();
+            let mut slots = grant.get_mut(*filled..).unwrap_or_default().iter_mut();
+            let left = slots.len();
+            // The loop of `receive_while`: the end of the run tested after the store.
+            let (empty, n) = match slots.next() {
+                None => (false, 0),
+                Some(mut slot) => loop {
+                    match next() {
+                        Some(Ok(byte)) => {
+                            *slot = byte;
+                            match slots.next() {
+                                Some(free) => slot = free,
+                                None => break (false, left),
+                            }
+                        }
+                        Some(Err(())) => errors += 1,
+                        None => break (true, left - 1 - slots.len()),
+                    }
+                },
+            };
+            *filled += n;
+            let waiting = *filled;
+            if waiting >= len || waiting >= publish_at || (empty && publish && waiting > 0) {
+                if let Some((grant, _)) = self.open.take() {
+                    grant.commit(waiting);
+                }
+                published += waiting;
+            }
+            if empty {
+                break;
+            }
+        }
+        add(&self.stats.rx_bytes, published);
+        if errors > 0 {
+            add(&self.stats.rx_errors, errors);
+        }
+        published
+    }
+
+    /// Received bytes that [`SerialIsr::receive_batched`] holds in the ring and has not
+    /// published yet (the application does not see them).
+    ///
+    /// ```
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<8>::new(), Ring::<2>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (_port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// let mut uart = [7].into_iter().map(Ok);
+    /// isr.receive_batched(4, false, || uart.next());
+    /// assert_eq!(isr.unpublished(), 1);
+    /// ```
+    pub fn unpublished(&self) -> usize {
+        self.open.as_ref().map_or(0, |(_, filled)| *filled)
+    }
+
+    /// Publishes what [`SerialIsr::receive_batched`] holds (see there); the count.
+    fn publish(&mut self) -> usize {
+        let Some((grant, filled)) = self.open.take() else {
+            return 0;
+        };
+        grant.commit(filled);
+        add(&self.stats.rx_bytes, filled);
+        filled
     }
 
     /// Counts a receive error reported by the UART hardware.
@@ -833,6 +950,10 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert!(!isr.rx_room());
     /// ```
     pub fn rx_room(&self) -> bool {
+        // An open run always has a free slot (`receive_batched` publishes a full one).
+        if self.open.is_some() {
+            return true;
+        }
         // A grant of one byte, dropped at once: nothing is committed.
         let room = self.rx.grant_max_remaining(1).is_ok();
         if !room {

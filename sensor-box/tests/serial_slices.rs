@@ -299,3 +299,113 @@ fn send_fifo_fills_a_fifo_of_any_level_through_a_wrapping_ring() {
         }
     }
 }
+
+/// `receive_batched` against a model, through a wrapping ring, for many random scripts of
+/// bursts (with receive errors), publish requests, thresholds and reads: what the application
+/// reads is the UART's bytes in order; a byte becomes visible exactly when the model says
+/// (the threshold reached, the run of free ring full, or a publish request), never earlier;
+/// the counters agree; nothing is dropped; and a full ring leaves bytes in the UART.
+#[test]
+fn receive_batched_publishes_when_the_model_says_and_keeps_every_byte_in_order() {
+    struct Rng(u64);
+    impl Rng {
+        fn below(&mut self, n: u64) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0 % n
+        }
+    }
+    let mut full_rings = 0;
+    for seed in 1..=300u64 {
+        let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let publish_at = 1 + rng.below(12) as usize;
+        let (rxq, txq) = (Ring::<16>::new(), Ring::<2>::new());
+        let stats = PortStats::new();
+        let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+        let input: Vec<Result<u8, ()>> = (0..400u32)
+            .map(|i| {
+                if rng.below(9) == 0 {
+                    Err(())
+                } else {
+                    Ok((i * 7 + seed as u32) as u8)
+                }
+            })
+            .collect();
+        let want: Vec<u8> = input.iter().filter_map(|r| r.ok()).collect();
+        let mut uart = input.iter().copied().peekable();
+        let (mut out, mut published) = (Vec::new(), 0usize);
+        let mut buf = [0u8; 8];
+        for step in 0..4_000 {
+            if out.len() == want.len() {
+                break;
+            }
+            let burst = rng.below(10) as usize;
+            let publish = rng.below(4) == 0 || step > 3_000;
+            let before = isr.unpublished();
+            let mut taken = 0usize;
+            let n = isr.receive_batched(publish_at, publish, || {
+                if taken == burst {
+                    return None;
+                }
+                taken += 1;
+                uart.next()
+            });
+            published += n;
+            let after = isr.unpublished();
+            // Never more held than the threshold allows (a run of the ring that ends sooner
+            // is published when full, so less may be published at a time).
+            assert!(
+                after < publish_at,
+                "seed {seed}: {after} held at {publish_at}"
+            );
+            if n == 0 && !publish {
+                // Nothing published: what was held, and the bytes just taken, are held.
+                assert!(after >= before, "seed {seed}: held bytes vanished");
+            }
+            if publish && isr.rx_room() {
+                assert_eq!(after, 0, "seed {seed}: a request publishes everything");
+            }
+            assert_eq!(port.rx_pending() + out.len(), published, "seed {seed}");
+            full_rings += usize::from(isr.rx_held());
+            if rng.below(3) == 0 && port.read_ready() == Ok(true) {
+                let k = 1 + rng.below(buf.len() as u64) as usize;
+                let n = port.read(&mut buf[..k]).unwrap();
+                out.extend_from_slice(&buf[..n]);
+            }
+        }
+        assert_eq!(out, want, "seed {seed}, publish at {publish_at}");
+        // Receive errors after the last byte are still in the UART: take them.
+        assert_eq!(isr.receive_batched(publish_at, true, || uart.next()), 0);
+        let c = port.counters();
+        assert_eq!(c.rx_bytes as usize, want.len(), "seed {seed}");
+        assert_eq!(
+            c.rx_errors as usize,
+            input.len() - want.len(),
+            "seed {seed}"
+        );
+        assert_eq!(c.rx_dropped, 0);
+    }
+    assert!(full_rings > 0, "the scripts fill the ring at times");
+}
+
+/// Bytes `receive_batched` holds come before those of a later `receive_while` or `received`:
+/// both publish what is held first.
+#[test]
+fn the_byte_paths_publish_what_receive_batched_holds_first() {
+    let (rxq, txq) = (Ring::<16>::new(), Ring::<2>::new());
+    let stats = PortStats::new();
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    let mut uart = [1, 2].into_iter().map(Ok);
+    assert_eq!(isr.receive_batched(8, false, || uart.next()), 0);
+    let mut more = [3].into_iter().map(Ok);
+    assert_eq!(isr.receive_while(|| more.next()), 1);
+    assert_eq!(isr.unpublished(), 0);
+    let mut uart = [4].into_iter().map(Ok);
+    assert_eq!(isr.receive_batched(8, false, || uart.next()), 0);
+    assert!(isr.received(5));
+    let mut buf = [0u8; 8];
+    assert_eq!(port.read(&mut buf), Ok(5));
+    assert_eq!(buf[..5], [1, 2, 3, 4, 5]);
+    assert_eq!(port.counters().rx_bytes, 5);
+}

@@ -83,14 +83,17 @@ static RECEIVED: AtomicU8 = AtomicU8::new(0);
 /// ([`wake_at`]): a link's timer or the telemetry schedule is due.
 const TICK: u8 = 1 << 7;
 
-/// Bit `n` set: UART `n` queued received bytes that have not woken its link yet (fewer than
-/// [`WAKE_BYTES`] since its last wake); the next SysTick wakes it.
+/// Bit `n` set: UART `n`'s interrupt holds received bytes its link has not been woken for
+/// (fewer than [`WAKE_BYTES`]): the next SysTick has the interrupt publish them (QEMU board,
+/// `SerialIsr::receive_batched`), or wakes the link (STM32 board).
 static HELD: AtomicU8 = AtomicU8::new(0);
 
 /// Received bytes that wake a link at once; fewer wait for the next millisecond's SysTick, so a
 /// link takes a flood in runs of at least this many bytes (its cost per wake spread over them)
 /// and a lone command waits at most 1 ms. On the QEMU board the PL011 holds bytes back while
-/// the RX ring is full, so nothing is lost while the link waits. 128 is half the AEOLUS link's
+/// the RX ring is full, so nothing is lost while the link waits; its interrupt also publishes
+/// the bytes to the ring's reader in runs of this many (`SerialIsr::receive_batched`: one
+/// grant and commit of the ring per run, not per interrupt). 128 is half the AEOLUS link's
 /// `RX_BUDGET` and a quarter of the board's 512-byte RX rings (64 with 256-byte rings until
 /// issue 29's seventh round: twice the main-loop passes under a flood).
 #[cfg(feature = "board-qemu")]
@@ -109,15 +112,26 @@ fn mark_received(index: usize) {
     RECEIVED.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
 }
 
+/// Marks UART `index` as holding received bytes its link has not been woken for: the next
+/// SysTick has them published (QEMU board) or wakes the link (STM32 board). A plain load
+/// first: under a flood the bit is already set on most interrupts.
+fn hold(index: usize) {
+    let bit = 1u8 << (index & 7);
+    if HELD.load(Ordering::Relaxed) & bit == 0 {
+        HELD.fetch_or(bit, Ordering::Relaxed);
+    }
+}
+
 /// Called by UART `index`'s interrupt after it queued `n` received bytes, `since` of them
 /// (`n` included) since it last woke the link: wakes the link when they reach [`WAKE_BYTES`]
 /// (and returns 0, the new count), else leaves it to the next SysTick (and returns `since`).
+#[cfg(feature = "board-stm32f411")]
 pub fn received(index: usize, since: usize) -> usize {
     if since >= WAKE_BYTES {
         mark_received(index);
         0
     } else {
-        HELD.fetch_or(1u8 << (index & 7), Ordering::Relaxed);
+        hold(index);
         since
     }
 }
@@ -193,8 +207,16 @@ fn SysTick() {
         EVERY_MS || now >= DEADLINE.borrow(cs).get()
     });
     // The main loop runs when its deadline has come, and for the links of UARTs with bytes
-    // below the wake threshold.
+    // below the wake threshold: on the QEMU board their interrupts publish those bytes first
+    // (and wake the links), elsewhere the links are woken here.
     let held = HELD.swap(0, Ordering::Relaxed);
+    #[cfg(feature = "board-qemu")]
+    let held = {
+        if held != 0 {
+            qemu::publish_held(held);
+        }
+        0
+    };
     let work = held | if due { TICK } else { 0 };
     if work != 0 {
         RECEIVED.fetch_or(work, Ordering::Relaxed);

@@ -13,7 +13,7 @@
 use super::{Board, start_systick};
 use core::mem::MaybeUninit;
 use core::ptr::{addr_of_mut, read_volatile, write_volatile};
-use core::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
 use firmware_example::serial::Ring;
@@ -190,9 +190,20 @@ static mut FLASH_EMU: MaybeUninit<[u8; 4096]> = MaybeUninit::uninit();
 
 static TAKEN: AtomicBool = AtomicBool::new(false);
 
-/// Per UART: bytes received since the interrupt last woke the link (see `board::received`).
-/// Only that UART's interrupt touches its entry.
-static UNWOKEN: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
+/// Bit `n` set: SysTick asks UART `n`'s interrupt to publish the received bytes it holds in
+/// the RX ring (`SerialIsr::receive_batched`), so that its link sees them within a millisecond.
+static PUBLISH: AtomicU8 = AtomicU8::new(0);
+
+/// Called by SysTick for the UARTs whose interrupt holds unpublished bytes (`bits`, bit `n`
+/// for UART `n`): marks them and pends their interrupts, which publish and wake the links.
+pub(super) fn publish_held(bits: u8) {
+    PUBLISH.fetch_or(bits, Ordering::Relaxed);
+    for (n, irq) in IRQS.iter().enumerate() {
+        if bits & (1 << n) != 0 {
+            NVIC::pend(*irq);
+        }
+    }
+}
 
 fn reg(base: usize, offset: usize) -> *mut u32 {
     (base + offset) as *mut u32
@@ -295,9 +306,16 @@ fn service(index: usize) {
         // Bytes stay in the PL011 FIFO while the RX queue is full: QEMU then stops reading
         // the socket, and nothing is dropped. The application's next read pends this
         // interrupt again (see `SerialIsr::rx_room`).
-        // A TX interrupt finds the RX FIFO empty: no RX ring grant then.
-        if read_volatile(reg(base, FR)) & FR_RXFE == 0 {
-            let n = isr.receive_while(|| {
+        // The bytes are published to the link in runs of `WAKE_BYTES` (one ring grant and
+        // commit per run, not per interrupt); SysTick asks for the rest once a millisecond.
+        // A TX interrupt finds the RX FIFO empty: nothing to do on the RX side then.
+        let bit = 1u8 << index;
+        let publish = PUBLISH.load(Ordering::Relaxed) & bit != 0;
+        if publish {
+            PUBLISH.fetch_and(!bit, Ordering::Relaxed);
+        }
+        if publish || read_volatile(reg(base, FR)) & FR_RXFE == 0 {
+            let published = isr.receive_batched(super::WAKE_BYTES, publish, || {
                 if read_volatile(reg(base, FR)) & FR_RXFE != 0 {
                     return None;
                 }
@@ -308,11 +326,11 @@ fn service(index: usize) {
                     Ok(dr as u8)
                 })
             });
-            if n > 0
-                && let Some(since) = UNWOKEN.get(index)
-            {
-                let total = since.load(Ordering::Relaxed).saturating_add(n);
-                since.store(super::received(index, total), Ordering::Relaxed);
+            if published > 0 {
+                super::mark_received(index);
+            }
+            if isr.unpublished() > 0 {
+                super::hold(index);
             }
         }
         if mis & INT_TX == 0 && mis != 0 {
