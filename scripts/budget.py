@@ -222,9 +222,11 @@ def net_rates(r):
             for name, (counts, entries, nested) in r["cat"].items()}
 
 
-# Instructions of the QEMU board's RX interrupt per received byte inside `receive_while`'s
+# Instructions of the QEMU board's RX interrupt per received byte inside `receive_batched`'s
 # loop (FR read and test, DR read, error test, store, pointer step, end test, branch), counted in
-# `arm-none-eabi-objdump -d` of the cpu-budget build's `service`; see docs/BENCHMARKS.md.
+# `arm-none-eabi-objdump -d` of the cpu-budget build's `service`; see docs/BENCHMARKS.md. The
+# rest of the interrupt's account is charged per interrupt, including the ring's grant and
+# commit, which the handler pays once per run of WAKE_BYTES (a share of it per interrupt).
 IRQ_LOOP = 11
 
 # Issue 29's targets, per received byte in the flood scenario and per wake of an idle link.
