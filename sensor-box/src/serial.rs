@@ -324,6 +324,41 @@ fn put_block(block: &[u8], put: &mut impl FnMut(u8)) {
     }
 }
 
+/// Stores the UART's bytes (`next`, as [`SerialIsr::receive_while`] takes them) into `run`
+/// from its start, until the UART has none left (`true`) or the run is full (`false`), and the
+/// bytes stored; receive errors are counted in `errors` and take no slot. The end of the run
+/// is tested after each store (the slot in hand is filled, then the next one asked for), so a
+/// byte costs the UART's reads, the store and one compare.
+#[inline(always)]
+fn fill_run(
+    run: &mut [u8],
+    next: &mut impl FnMut() -> Option<Result<u8, ()>>,
+    errors: &mut usize,
+) -> (bool, usize) {
+    let len = run.len();
+    let mut slots = run.iter_mut();
+    let mut bad = 0;
+    let stored = match slots.next() {
+        None => (false, 0),
+        Some(mut slot) => loop {
+            match next() {
+                Some(Ok(byte)) => {
+                    *slot = byte;
+                    match slots.next() {
+                        Some(free) => slot = free,
+                        None => break (false, len),
+                    }
+                }
+                Some(Err(())) => bad += 1,
+                // The slot in hand and those after it stay free.
+                None => break (true, len - 1 - slots.len()),
+            }
+        },
+    };
+    *errors += bad;
+    stored
+}
+
 /// Adds `n` to a wrapping count one side keeps to itself.
 fn add_local(counter: &mut u32, n: usize) {
     *counter = counter.wrapping_add(u32::try_from(n).unwrap_or(u32::MAX));
@@ -588,44 +623,22 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     pub fn receive_while(&mut self, mut next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
         // Bytes a `receive_batched` left unpublished come first.
         self.publish();
-        // The byte loop tests the end of the run after a store (a grant is never empty), so a
-        // byte costs the UART's two reads, the store and one compare; errors are counted in a
-        // register, added to the shared counter once at the end (and only when there were any).
+        // Errors are counted in a register, added to the shared counter once at the end (and
+        // only when there were any).
         let (mut total, mut errors) = (0, 0);
         loop {
             let Ok(mut grant) = self.rx.grant_max_remaining(usize::MAX) else {
                 self.stats.rx_held.store(true, Ordering::Relaxed);
                 break;
             };
-            let len = grant.len();
-            let mut slots = grant.iter_mut();
-            let (empty, n) = match slots.next() {
-                None => (false, 0),
-                Some(mut slot) => loop {
-                    match next() {
-                        Some(Ok(byte)) => {
-                            *slot = byte;
-                            match slots.next() {
-                                Some(free) => slot = free,
-                                None => break (false, len),
-                            }
-                        }
-                        Some(Err(())) => errors += 1,
-                        // The slot in hand and those after it stay free.
-                        None => break (true, len - 1 - slots.len()),
-                    }
-                },
-            };
+            let (empty, n) = fill_run(&mut grant, &mut next, &mut errors);
             grant.commit(n);
             total += n;
             if empty {
                 break;
             }
         }
-        add(&self.stats.rx_bytes, total);
-        if errors > 0 {
-            add(&self.stats.rx_errors, errors);
-        }
+        self.count_received(total, errors);
         total
     }
 
@@ -674,25 +687,8 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
                 break;
             };
             let len = grant.len();
-            let mut slots = grant.get_mut(*filled..).unwrap_or_default().iter_mut();
-            let left = slots.len();
-            // The loop of `receive_while`: the end of the run tested after the store.
-            let (empty, n) = match slots.next() {
-                None => (false, 0),
-                Some(mut slot) => loop {
-                    match next() {
-                        Some(Ok(byte)) => {
-                            *slot = byte;
-                            match slots.next() {
-                                Some(free) => slot = free,
-                                None => break (false, left),
-                            }
-                        }
-                        Some(Err(())) => errors += 1,
-                        None => break (true, left - 1 - slots.len()),
-                    }
-                },
-            };
+            let free = grant.get_mut(*filled..).unwrap_or_default();
+            let (empty, n) = fill_run(free, &mut next, &mut errors);
             *filled += n;
             let waiting = *filled;
             if waiting >= len || waiting >= publish_at || (empty && publish && waiting > 0) {
@@ -705,11 +701,18 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
                 break;
             }
         }
-        add(&self.stats.rx_bytes, published);
+        self.count_received(published, errors);
+        published
+    }
+
+    /// Adds bytes made the application's and receive errors to the shared counters (the
+    /// errors only when there were any).
+    #[inline(always)]
+    fn count_received(&self, bytes: usize, errors: usize) {
+        add(&self.stats.rx_bytes, bytes);
         if errors > 0 {
             add(&self.stats.rx_errors, errors);
         }
-        published
     }
 
     /// Received bytes that [`SerialIsr::receive_batched`] holds in the ring and has not

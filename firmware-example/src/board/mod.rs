@@ -208,8 +208,13 @@ fn SysTick() {
     });
     // The main loop runs when its deadline has come, and for the links of UARTs with bytes
     // below the wake threshold: on the QEMU board their interrupts publish those bytes first
-    // (and wake the links), elsewhere the links are woken here.
-    let held = HELD.swap(0, Ordering::Relaxed);
+    // (and wake the links), elsewhere the links are woken here. A plain load first: most
+    // milliseconds nothing is held.
+    let held = if HELD.load(Ordering::Relaxed) != 0 {
+        HELD.swap(0, Ordering::Relaxed)
+    } else {
+        0
+    };
     #[cfg(feature = "board-qemu")]
     let held = {
         if held != 0 {
