@@ -692,10 +692,7 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
             *filled += n;
             let waiting = *filled;
             if waiting >= len || waiting >= publish_at || (empty && publish && waiting > 0) {
-                if let Some((grant, _)) = self.open.take() {
-                    grant.commit(waiting);
-                }
-                published += waiting;
+                published += self.commit_open();
             }
             if empty {
                 break;
@@ -731,13 +728,20 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
         self.open.as_ref().map_or(0, |(_, filled)| *filled)
     }
 
-    /// Publishes what [`SerialIsr::receive_batched`] holds (see there); the count.
-    fn publish(&mut self) -> usize {
+    /// Publishes what [`SerialIsr::receive_batched`] holds (see there), counted.
+    fn publish(&mut self) {
+        let n = self.commit_open();
+        add(&self.stats.rx_bytes, n);
+    }
+
+    /// Commits the open run's filled bytes, if a run is open, and closes it; the count (not
+    /// yet added to `rx_bytes`).
+    #[inline(always)]
+    fn commit_open(&mut self) -> usize {
         let Some((grant, filled)) = self.open.take() else {
             return 0;
         };
         grant.commit(filled);
-        add(&self.stats.rx_bytes, filled);
         filled
     }
 
