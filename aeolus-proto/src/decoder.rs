@@ -429,11 +429,36 @@ impl<const N: usize> Decoder<N> {
         bytes.get(run..).unwrap_or(&[])
     }
 
+    /// Feeds `bytes` up to and including the first byte that gives an event, with the bulk
+    /// path of [`Decoder::feed`]; returns how many bytes it consumed and the event, if any
+    /// (`None` when every byte was consumed without one). Calling it again on the rest gives
+    /// exactly the events of [`Decoder::push`], byte by byte: a caller that must act between
+    /// two frames (check the room for an answer, stop reading) does so without scanning the
+    /// bytes for flags itself.
+    ///
+    /// ```
+    /// use aeolus_proto::Decoder;
+    /// let mut d = Decoder::<64>::new();
+    /// let two = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
+    /// let (n, ev) = d.feed_until(&two);
+    /// assert_eq!((n, ev.map(|r| r.map(|f| f.id()))), (8, Some(Ok(82))));
+    /// let (m, ev) = d.feed_until(&two[n..]);
+    /// assert_eq!((m, ev.is_some()), (7, true)); // the second frame
+    /// assert_eq!(d.feed_until(&[0x00]), (1, None));
+    /// ```
+    pub fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Frame<'_>, Error>>) {
+        let (n, found) = self.push_until(bytes);
+        match found {
+            Found::Nothing => (n, None),
+            Found::Error(e) => (n, Some(Err(e))),
+            Found::Frame { len, has_crc } => (n, Some(Ok(self.found_frame(len, has_crc)))),
+        }
+    }
+
     /// Feeds `bytes` up to and including the first byte that gives an event, with the fast
     /// path of [`Decoder::feed`]. Returns how many bytes were consumed and what the
     /// last of them gave, as a [`Found`] that does not borrow the decoder: a reader keeps
     /// looping over reads and asks for the frame ([`Decoder::found_frame`]) afterwards.
-    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) fn push_until(&mut self, bytes: &[u8]) -> (usize, Found) {
         let total = bytes.len();
         // An error ends the call, so a hunt after it starts at the next call.
@@ -458,7 +483,6 @@ impl<const N: usize> Decoder<N> {
 
     /// The frame a [`Found::Frame`] from the last [`Decoder::push_until`] stands for: it is
     /// still in the buffer until the next byte is pushed.
-    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) fn found_frame(&self, len: usize, has_crc: bool) -> Frame<'_> {
         Frame::checked(self.buf.get(..len).unwrap_or(&[]), has_crc)
     }
@@ -551,7 +575,6 @@ const STATS0: Stats = Stats {
 };
 
 /// What [`Decoder::push_until`] stopped at.
-#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Found {
     /// Every byte was consumed without an event.

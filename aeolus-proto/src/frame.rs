@@ -71,7 +71,6 @@ impl<'a> Frame<'a> {
     }
 
     /// Wraps bytes the decoder has already checked, without checking them again.
-    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
     pub(crate) const fn checked(raw: &'a [u8], has_crc: bool) -> Self {
         Frame { raw, has_crc }
     }

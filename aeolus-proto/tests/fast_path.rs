@@ -2,7 +2,8 @@
 //! exactly the events and counters of `push`, byte by byte, on streams dense in the bytes
 //! that end a run (0x7D, 0x7E) and those that follow an escape (0x5D, 0x5E), at every word
 //! offset, for capacities around the word size, and when `push` and `feed` take turns
-//! within one frame (the running CRC then has bytes to catch up with).
+//! within one frame (the running CRC then has bytes to catch up with); and `feed_until`,
+//! called again on what each call left, gives the same events as well.
 
 use aeolus_proto::{CrcMode, Decoder, Error, Stats, encode_frame};
 use proptest::prelude::*;
@@ -90,8 +91,43 @@ fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events
     (ev, d.stats())
 }
 
+/// Feeds the pieces between the split points with `feed_until`, again and again on what each
+/// call left, recording its event; every call consumes a byte or more, or ends the piece.
+fn until<const N: usize>(bytes: &[u8], splits: &[usize]) -> (Events, Stats) {
+    let mut d = Decoder::<N>::new();
+    let mut ev = Vec::new();
+    let mut cuts: Vec<usize> = splits.iter().map(|&s| s % (bytes.len() + 1)).collect();
+    cuts.push(0);
+    cuts.push(bytes.len());
+    cuts.sort_unstable();
+    for w in cuts.windows(2) {
+        let mut piece = &bytes[w[0]..w[1]];
+        while !piece.is_empty() {
+            let (n, e) = d.feed_until(piece);
+            assert!(n > 0 && n <= piece.len(), "consumed {n} of {}", piece.len());
+            let found = e.is_some();
+            if let Some(e) = e {
+                ev.push(record(e));
+            }
+            assert!(found || n == piece.len(), "stopped without an event");
+            piece = &piece[n..];
+        }
+    }
+    (ev, d.stats())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn feed_until_again_and_again_is_push_byte_by_byte(
+        bytes in stream(),
+        splits in prop::collection::vec(any::<usize>(), 0..6),
+    ) {
+        prop_assert_eq!(until::<64>(&bytes, &splits), by_byte::<64>(&bytes));
+        prop_assert_eq!(until::<5>(&bytes, &splits), by_byte::<5>(&bytes));
+        prop_assert_eq!(until::<13>(&bytes, &splits), by_byte::<13>(&bytes));
+    }
 
     #[test]
     fn feed_in_pieces_is_push_byte_by_byte(

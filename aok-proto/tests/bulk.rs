@@ -184,11 +184,30 @@ fn chunks<'a>(stream: &'a [u8], sizes: &'a [usize]) -> impl Iterator<Item = &'a 
     })
 }
 
+/// `feed_until` again and again on what each call left, until it finds nothing in what is
+/// left; every call consumes a byte or more, or hands out an event.
+fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: &[u8]) -> Vec<T> {
+    let (mut rest, mut out) = (bytes, Vec::new());
+    loop {
+        let (n, ev) = feed_until(rest);
+        assert!(n <= rest.len());
+        let found = ev.is_some();
+        out.extend(ev);
+        assert!(found || n == rest.len(), "stopped without an event");
+        rest = &rest[n..];
+        if !found && rest.is_empty() {
+            return out;
+        }
+    }
+}
+
 fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], steps: &[Between]) {
     let mut slow = PcDecoder::new(fw);
     let mut fast = PcDecoder::new(fw);
+    let mut until = PcDecoder::new(fw);
     slow.expect(first);
     fast.expect(first);
+    until.expect(first);
     let mut steps = steps.iter().cycle();
     for (i, chunk) in chunks(stream, sizes).enumerate() {
         let (mut want, mut got) = (Vec::new(), Vec::new());
@@ -198,14 +217,28 @@ fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], 
         assert_eq!(fast.stats(), slow.stats(), "chunk {i}");
         assert_eq!(fast.expecting(), slow.expecting(), "chunk {i}");
         assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
+        assert_eq!(
+            until_all(|b| until.feed_until(b), chunk),
+            want,
+            "feed_until, chunk {i}"
+        );
+        assert_eq!(until.stats(), slow.stats(), "feed_until, chunk {i}");
+        assert_eq!(until.expecting(), slow.expecting(), "feed_until, chunk {i}");
+        assert_eq!(
+            until.held_bytes(),
+            slow.held_bytes(),
+            "feed_until, chunk {i}"
+        );
         match steps.next() {
             Some(Between::Expect(e)) => {
                 slow.expect(*e);
                 fast.expect(*e);
+                until.expect(*e);
             }
             Some(Between::Firmware(f)) => {
                 slow.set_firmware(*f);
                 fast.set_firmware(*f);
+                until.set_firmware(*f);
             }
             _ => {}
         }
@@ -220,6 +253,7 @@ fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], 
 fn check_device(stream: &[u8], sizes: &[usize]) {
     let mut slow = DeviceDecoder::new();
     let mut fast = DeviceDecoder::new();
+    let mut until = DeviceDecoder::new();
     for (i, chunk) in chunks(stream, sizes).enumerate() {
         let (mut want, mut got) = (Vec::new(), Vec::new());
         device_bytewise(&mut slow, chunk, &mut want);
@@ -227,6 +261,17 @@ fn check_device(stream: &[u8], sizes: &[usize]) {
         assert_eq!(got, want, "chunk {i}");
         assert_eq!(fast.stats(), slow.stats(), "chunk {i}");
         assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
+        assert_eq!(
+            until_all(|b| until.feed_until(b), chunk),
+            want,
+            "feed_until, chunk {i}"
+        );
+        assert_eq!(until.stats(), slow.stats(), "feed_until, chunk {i}");
+        assert_eq!(
+            until.held_bytes(),
+            slow.held_bytes(),
+            "feed_until, chunk {i}"
+        );
     }
     let want = idle_all(&mut slow);
     let got = idle_all(&mut fast);

@@ -58,7 +58,7 @@ impl<const N: usize> Decode for Decoder<N> {
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(Option<usize>, usize), Error>>) {
-        let (used, found) = self.feed_until(bytes);
+        let (used, found) = self.find_until(bytes);
         (used, event(found))
     }
 

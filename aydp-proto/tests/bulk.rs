@@ -1,7 +1,8 @@
 //! The bulk path (`Decoder::feed`) against the byte-at-a-time path (`push`, then `poll` until
 //! `None`): on any byte stream, split at any chunk boundaries, in both profiles and at several
 //! capacities, both give the same events in the same order, the same counters after every
-//! chunk, and the same end state (what `flush` reports).
+//! chunk, and the same end state (what `flush` reports); and so does `feed_until`, called again
+//! and again on what each call left.
 
 #[path = "support/streamgen.rs"]
 mod streamgen;
@@ -27,11 +28,35 @@ fn bytewise<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev
     }
 }
 
+/// `feed_until` again and again on what each call left, until it finds nothing in what is
+/// left; every call consumes a byte or more, or hands out an event.
+fn feed_until_all<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Event>) {
+    let mut rest = bytes;
+    loop {
+        let (n, ev) = dec.feed_until(rest);
+        assert!(n <= rest.len());
+        let found = ev.is_some();
+        if let Some(e) = ev {
+            out.push(e.map(|f| f.as_bytes().to_vec()));
+        }
+        assert!(found || n == rest.len(), "stopped without an event");
+        assert!(
+            found || n > 0 || rest.is_empty(),
+            "neither consumed nor found"
+        );
+        rest = &rest[n..];
+        if !found && rest.is_empty() {
+            return;
+        }
+    }
+}
+
 /// Feed `stream` in chunks of the given sizes (cycled; 0 is an empty call) both ways and
 /// compare after every chunk and after the final flush.
 fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]) {
     let mut slow = Decoder::<N>::new(profile);
     let mut fast = Decoder::<N>::new(profile);
+    let mut until = Decoder::<N>::new(profile);
     let mut rest = stream;
     // The extra 1 makes every round of `sizes` consume a byte, so the loop ends.
     let mut sizes = sizes.iter().chain(&[1]).cycle();
@@ -43,6 +68,19 @@ fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]
         let (mut want, mut got) = (Vec::new(), Vec::new());
         bytewise(&mut slow, chunk, &mut want);
         fast.feed(chunk, record(&mut got));
+        let mut one_by_one = Vec::new();
+        feed_until_all(&mut until, chunk, &mut one_by_one);
+        assert_eq!(
+            one_by_one,
+            want,
+            "N={N} {profile:?}: feed_until, chunk ending at {}",
+            at + n
+        );
+        assert_eq!(
+            until.stats(),
+            slow.stats(),
+            "N={N} {profile:?}: feed_until's stats"
+        );
         at += n;
         assert_eq!(
             got, want,

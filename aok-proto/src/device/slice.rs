@@ -54,9 +54,20 @@ impl DeviceDecoder {
     /// Feed `bytes` up to and including the first item, with the bulk path of
     /// [`DeviceDecoder::feed`]; items an earlier call left unpolled come first. Returns how
     /// many bytes were consumed and the item. Calling it until it finds nothing in an empty
-    /// slice gives exactly the items of [`DeviceDecoder::push`] and [`DeviceDecoder::poll`].
-    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Command, Error>>) {
+    /// slice gives exactly the items of [`DeviceDecoder::push`] and [`DeviceDecoder::poll`]: a
+    /// caller that must act between two commands does so without deframing the bytes itself.
+    ///
+    /// ```
+    /// use aok_proto::{Command, DeviceDecoder};
+    /// let mut dec = DeviceDecoder::new();
+    /// // Two reads of parameters 12 and 13.
+    /// let (n, item) = dec.feed_until(&[0x67, 0x0c, 0x67, 0x0d]);
+    /// assert_eq!((n, item), (2, Some(Ok(Command::ReadParameter(12)))));
+    /// let (m, item) = dec.feed_until(&[0x67, 0x0d]);
+    /// assert_eq!((m, item), (2, Some(Ok(Command::ReadParameter(13)))));
+    /// assert_eq!(dec.feed_until(&[]), (0, None));
+    /// ```
+    pub fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Command, Error>>) {
         let total = bytes.len();
         if let Some(item) = self.poll() {
             return (0, Some(item));

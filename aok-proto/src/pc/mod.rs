@@ -78,6 +78,9 @@ pub struct PcDecoder {
     expect: Expect,
     /// The byte at the front already failed as a headerless reply; read it as a debug start.
     front_not_reply: bool,
+    /// `feed_until` handed out an event from the buffer: the events after it in the buffer
+    /// come first in its next call (as `poll` after `push`).
+    unpolled: bool,
     stats: Stats,
 }
 
@@ -96,6 +99,7 @@ impl PcDecoder {
             form: firmware.reply_form(),
             expect: Expect::Nothing,
             front_not_reply: false,
+            unpolled: false,
             stats: Stats::ZERO,
         }
     }
@@ -239,6 +243,7 @@ impl PcDecoder {
         self.len = 0;
         self.need = 0;
         self.front_not_reply = false;
+        self.unpolled = false;
     }
 
     /// Bytes held: received, and not yet decoded nor dropped (a frame waiting for the rest of

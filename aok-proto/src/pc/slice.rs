@@ -54,12 +54,29 @@ impl PcDecoder {
     /// Feed `bytes` up to and including the first event, with the bulk path of
     /// [`PcDecoder::feed`]; events an earlier call left unpolled come first. Returns how many
     /// bytes were consumed and the event. Calling it until it finds nothing in an empty slice
-    /// gives exactly the events of [`PcDecoder::push`] and [`PcDecoder::poll`].
-    #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Message, Error>>) {
+    /// gives exactly the events of [`PcDecoder::push`] and [`PcDecoder::poll`]: a caller that
+    /// must act between two messages does so without deframing the bytes itself.
+    ///
+    /// ```
+    /// use aok_proto::{pc::PcDecoder, DebugValue, FirmwareVersion, Message};
+    /// let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    /// let two = [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x1c, 0x56, 0, 0, 0, 1, 0x57];
+    /// let (n, ev) = dec.feed_until(&two);
+    /// assert_eq!((n, ev), (7, Some(Ok(Message::Debug(DebugValue { number: 86, value: -2 })))));
+    /// let (m, ev) = dec.feed_until(&two[n..]);
+    /// assert_eq!((m, ev), (7, Some(Ok(Message::Debug(DebugValue { number: 86, value: 1 })))));
+    /// assert_eq!(dec.feed_until(&[]), (0, None));
+    /// ```
+    pub fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Message, Error>>) {
         let total = bytes.len();
-        if let Some(ev) = self.poll() {
-            return (0, Some(ev));
+        // Only after an event out of the buffer: a drained decoder is not asked again, since
+        // a pending request changed since (`expect`) could decide its held bytes otherwise
+        // than the next `push` will.
+        if self.unpolled {
+            if let Some(ev) = self.poll() {
+                return (0, Some(ev));
+            }
+            self.unpolled = false;
         }
         let mut rest = bytes;
         // Bytes held from an earlier call: byte by byte until the buffer is empty.
@@ -69,6 +86,7 @@ impl PcDecoder {
             };
             rest = after;
             if let Some(ev) = self.push(byte) {
+                self.unpolled = true;
                 return (total.saturating_sub(rest.len()), Some(ev));
             }
         }

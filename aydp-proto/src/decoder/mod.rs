@@ -50,7 +50,6 @@ mod bulk;
 #[cfg(test)]
 mod liveness;
 mod state;
-#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod until;
 
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]

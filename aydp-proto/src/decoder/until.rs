@@ -1,15 +1,48 @@
-//! The readers' slice path (`embedded-io` features): feed until the first event.
+//! Feed until the first event: [`Decoder::feed_until`], and the readers' form of it
+//! (`embedded-io` features).
 
 use super::*;
 
 impl<const N: usize> Decoder<N> {
+    /// Feed `bytes` up to and including the first event (a frame or a failure), with the
+    /// bulk path of [`Decoder::feed`]; events an earlier call left queued come first. Returns
+    /// how many bytes were consumed and the event, if any (`None` when every byte was
+    /// consumed without one). A frame borrows `bytes` (found in place) or the decoder (held
+    /// across calls). Calling it again on the rest gives exactly the events of
+    /// [`Decoder::push`] and [`Decoder::poll`]: a caller that must act between two messages
+    /// does so without deframing the bytes itself.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let mut dec = Decoder::<32>::new(Profile::Spec);
+    /// let two = [0xFF, 0x80, 0x07, 0, 0, 0, 0x78, 0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C];
+    /// let (n, ev) = dec.feed_until(&two);
+    /// assert_eq!((n, ev.map(|r| r.map(|f| f.base_type()))), (7, Some(Ok(0))));
+    /// let (m, ev) = dec.feed_until(&two[n..]);
+    /// assert_eq!((m, ev.map(|r| r.map(|f| f.base_type()))), (8, Some(Ok(9))));
+    /// assert_eq!(dec.feed_until(&[0x00]).0, 1);
+    /// ```
+    pub fn feed_until<'a>(&'a mut self, bytes: &'a [u8]) -> (usize, Option<Result<Frame<'a>>>) {
+        let (n, found) = self.find_until(bytes);
+        let event = match found {
+            Found::Nothing | Found::Truncated(_) => None,
+            Found::Error(e) => Some(Err(e)),
+            Found::InPlace { at, len } => Some(Ok(Frame::new_unchecked(
+                bytes.get(at..at.saturating_add(len)).unwrap_or(&[]),
+                self.profile,
+            ))),
+            Found::Held(len) => Some(Ok(self.held_frame(len))),
+        };
+        (n, event)
+    }
+
     /// Feed `bytes` up to and including the first event, with the bulk path of
     /// [`Decoder::feed`] (the step run on `bytes` itself, bodies copied in one go), events
     /// still queued by a rescan first. Returns how many bytes were consumed and what the
     /// event was, as a [`Found`] that borrows nothing, so a reader can loop over reads and
     /// build the frame afterwards. Calling it until it finds nothing in an empty slice gives
     /// exactly the events of [`Decoder::push`] and [`Decoder::poll`].
-    pub(crate) fn feed_until(&mut self, bytes: &[u8]) -> (usize, Found) {
+    pub(crate) fn find_until(&mut self, bytes: &[u8]) -> (usize, Found) {
         let total = bytes.len();
         if let Some(found) = self.poll_found() {
             return (0, found);
@@ -95,6 +128,10 @@ impl<const N: usize> Decoder<N> {
     /// The end of the stream, one event at a time: what [`Decoder::flush`] hands out, in the
     /// same order, with each incomplete candidate as [`Found::Truncated`] (with its length).
     /// `None` once the decoder is empty.
+    #[cfg_attr(
+        not(any(feature = "embedded-io", feature = "embedded-io-async")),
+        allow(dead_code)
+    )]
     pub(crate) fn flush_until(&mut self) -> Option<Found> {
         if let Some(found) = self.poll_found() {
             return Some(found);
@@ -111,7 +148,7 @@ impl<const N: usize> Decoder<N> {
     }
 }
 
-/// What [`Decoder::feed_until`] or [`Decoder::flush_until`] found.
+/// What [`Decoder::find_until`] or [`Decoder::flush_until`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Found {
     /// Every byte was consumed without an event.

@@ -100,6 +100,22 @@ mod aeolus {
         sink(b.stats().frames_ok);
         sink(crc::update_slice(input_byte(3) as u16, bulk.get(..total).unwrap_or(&[])) as u32);
 
+        // Event by event (`feed_until`) over the same bytes.
+        let mut u = Decoder::<{ MAX_FIXED_FRAME }>::new();
+        let mut rest = bulk.get(..total).unwrap_or(&[]);
+        loop {
+            let (n, ev) = u.feed_until(rest);
+            let found = ev.is_some();
+            if let Some(Ok(frame)) = ev {
+                sink(frame.id() as u32 ^ frame.data().len() as u32);
+            }
+            rest = rest.get(n..).unwrap_or(&[]);
+            if !found && rest.is_empty() {
+                break;
+            }
+        }
+        sink(u.stats().frames_ok);
+
         // Datagram decoding in place.
         let mut dg: [u8; 300] = input();
         let n = len() % 301;
@@ -228,6 +244,36 @@ mod aok {
         }
         sink(bdev.stats().bytes_discarded ^ bhost.stats().frames_ok);
 
+        // Event by event (`feed_until`) over the same bytes, on both sides.
+        let mut udev = DeviceDecoder::new();
+        let mut rest = bulk.get(..total).unwrap_or(&[]);
+        loop {
+            let (n, ev) = udev.feed_until(rest);
+            let found = ev.is_some();
+            if let Some(Ok(cmd)) = ev {
+                sink(cmd.buffer_len() as u32);
+            }
+            rest = rest.get(n..).unwrap_or(&[]);
+            if !found && rest.is_empty() {
+                break;
+            }
+        }
+        let mut uhost = PcDecoder::new(fw);
+        uhost.expect(Expect::Parameter(input_byte(5)));
+        let mut rest = bulk.get(..total).unwrap_or(&[]);
+        loop {
+            let (n, ev) = uhost.feed_until(rest);
+            let found = ev.is_some();
+            if let Some(Ok(m)) = ev {
+                sink(m.buffer_len(ReplyForm::Headed) as u32);
+            }
+            rest = rest.get(n..).unwrap_or(&[]);
+            if !found && rest.is_empty() {
+                break;
+            }
+        }
+        sink(udev.stats().frames_ok ^ uhost.stats().bytes_discarded);
+
         // Typed parses on opaque bytes.
         let bytes: [u8; 32] = input();
         let n = len() % 33;
@@ -311,6 +357,21 @@ mod aydp {
             });
             at = end;
         }
+        // Event by event (`feed_until`) over the same bytes.
+        let mut u = Decoder::<128>::new(profile);
+        let mut rest = bulk.get(..total).unwrap_or(&[]);
+        loop {
+            let (n, ev) = u.feed_until(rest);
+            let found = ev.is_some();
+            if let Some(Ok(frame)) = ev {
+                sink(frame.base_type() as u32 ^ frame.data().len() as u32);
+            }
+            rest = rest.get(n..).unwrap_or(&[]);
+            if !found && rest.is_empty() {
+                break;
+            }
+        }
+        sink(u.stats().frames_ok);
         let mut small = Decoder::<4>::new(profile);
         small.feed(bulk.get(..total).unwrap_or(&[]), |e| sink(e.is_ok() as u32));
         b.flush(|e| sink(e.is_ok() as u32));

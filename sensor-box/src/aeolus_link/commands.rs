@@ -5,7 +5,7 @@ use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
-use aeolus_proto::{Frame, TEXT_CAPACITY, find_flag};
+use aeolus_proto::{Frame, TEXT_CAPACITY};
 
 /// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
@@ -29,8 +29,8 @@ impl AeolusLink {
         }
     }
 
-    /// Decodes a slice piece by piece, each up to and including the next flag: only a flag
-    /// ends a frame (and so queues an answer), so the room is checked again before every
+    /// Decodes a slice event by event (`Decoder::feed_until` stops after each frame or
+    /// error): only a frame queues an answer, so the room is checked again before every
     /// frame's last byte, exactly as if the bytes came one at a time. A byte is decoded only
     /// while the longest answer it could complete still fits: when the host reads slowly and
     /// TX backs up, received bytes wait in the port instead of their answers being dropped.
@@ -41,17 +41,12 @@ impl AeolusLink {
             if TX_QUEUE - self.tx.len() < FRAME_BUF {
                 break;
             }
-            let len = piece_len(rest);
-            // A piece holds at most one flag, so it completes at most one frame.
-            let mut incoming_frame = None;
-            let mut errors = 0u32;
-            self.decoder
-                .feed(rest.get(..len).unwrap_or(&[]), |event| match event {
-                    Ok(frame) => incoming_frame = Some(incoming(&frame)),
-                    Err(_) => errors = errors.wrapping_add(1),
-                });
+            let (len, event) = self.decoder.feed_until(rest);
+            let incoming_frame = event.map(|ev| match ev {
+                Ok(frame) => incoming(&frame),
+                Err(_) => Incoming::Error,
+            });
             done += len;
-            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(errors);
             if let Some(frame) = incoming_frame {
                 self.handle(frame, now_ms, shared);
             }
@@ -117,12 +112,6 @@ impl AeolusLink {
         shared.wall_clock = Some((time, now_ms));
         bump(&mut self.counters.settime);
     }
-}
-
-/// The length of the first piece of `bytes`: up to and including its first flag, or all of it
-/// (the flag found a machine word a step, as the decoder's own hunt does).
-fn piece_len(bytes: &[u8]) -> usize {
-    find_flag(bytes).map_or(bytes.len(), |i| i + 1)
 }
 
 /// What a good frame asks for. Only the two messages the box acts on are parsed.
