@@ -154,7 +154,7 @@ def main():
 
     out += ["## Panic-never", "",
             "`checks/panic-never` (built by `scripts/test.sh`, so by CI) feeds volatile bytes through every",
-            "decoder, typed parse and encoder of the three crates on thumbv7m in release; its panic handler",
+            "decoder, typed parse and encoder of the three crates on thumbv7m and thumbv6m in release; its panic handler",
             "calls an undefined symbol, so it links only if no panic path survives.", ""]
     extra = os.path.join(root, "docs", "benchmarks-firmware.md")
     if os.path.exists(extra):
