@@ -1,5 +1,6 @@
 //! The AEOLUS deframer on any byte stream, normal and strict: no panic, and the byte
-//! accounting holds after every byte.
+//! accounting holds after every byte; `feed_until`, called on the rest until it finds nothing,
+//! gives the frames and errors of `push` and the same counters.
 #![no_main]
 use aeolus_proto::Decoder;
 use libfuzzer_sys::fuzz_target;
@@ -7,10 +8,16 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     let mut normal = Decoder::<64>::new();
     let mut strict = Decoder::<64>::strict();
+    let mut want = Vec::new();
     for (i, &b) in data.iter().enumerate() {
-        if let Some(Ok(frame)) = normal.push(b) {
-            assert!(frame.raw().len() >= 3);
-            let _ = frame.message();
+        match normal.push(b) {
+            Some(Ok(frame)) => {
+                assert!(frame.raw().len() >= 3);
+                let _ = frame.message();
+                want.push(Ok(frame.raw().to_vec()));
+            }
+            Some(Err(e)) => want.push(Err(e)),
+            None => {}
         }
         if let Some(Ok(frame)) = strict.push(b) {
             assert!(frame.has_crc());
@@ -21,4 +28,19 @@ fuzz_target!(|data: &[u8]| {
             assert_eq!(accounted + d.held_bytes(), i + 1);
         }
     }
+    let mut until = Decoder::<64>::new();
+    let (mut got, mut rest) = (Vec::new(), data);
+    loop {
+        let (n, ev) = until.feed_until(rest);
+        assert!(n <= rest.len());
+        let found = ev.is_some();
+        assert!(found || n == rest.len());
+        got.extend(ev.map(|e| e.map(|f| f.raw().to_vec())));
+        rest = &rest[n..];
+        if !found && rest.is_empty() {
+            break;
+        }
+    }
+    assert_eq!(got, want);
+    assert_eq!(until.stats(), normal.stats());
 });

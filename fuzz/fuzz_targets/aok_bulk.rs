@@ -1,7 +1,8 @@
-//! The AOK bulk paths (`DeviceDecoder::feed`, `PcDecoder::feed`) against pushing byte by byte and
-//! draining every iterator: on any byte stream, in chunks the input chooses, with the PC's
-//! pending request switched between chunks, both give the same items, counters, pending request
-//! and buffered bytes after every chunk, and the same `idle()`.
+//! The AOK bulk paths (`DeviceDecoder::feed`, `PcDecoder::feed`, and `feed_until` called on the
+//! rest until it finds nothing) against pushing byte by byte and draining every iterator: on any
+//! byte stream, in chunks the input chooses, with the PC's pending request switched between
+//! chunks, all give the same items, counters, pending request and buffered bytes after every
+//! chunk, and `feed` the same `idle()`.
 #![no_main]
 use aok_proto::{DeviceDecoder, FirmwareVersion, PcDecoder, WaypointSlot, pc::Expect};
 use libfuzzer_sys::fuzz_target;
@@ -23,6 +24,22 @@ fn chunks<'a>(cuts: &'a [u8], data: &'a [u8]) -> impl Iterator<Item = (u8, &'a [
     })
 }
 
+/// `feed_until` on what each call left, until it finds nothing in what is left.
+fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: &[u8]) -> Vec<T> {
+    let (mut rest, mut out) = (bytes, Vec::new());
+    loop {
+        let (n, ev) = feed_until(rest);
+        assert!(n <= rest.len());
+        let found = ev.is_some();
+        assert!(found || n == rest.len());
+        out.extend(ev);
+        rest = &rest[n..];
+        if !found && rest.is_empty() {
+            return out;
+        }
+    }
+}
+
 fuzz_target!(|input: &[u8]| {
     // First byte: firmware and how many chunk sizes follow; then the sizes; then data.
     let Some((&cfg, rest)) = input.split_first() else { return };
@@ -30,6 +47,7 @@ fuzz_target!(|input: &[u8]| {
 
     let mut slow = DeviceDecoder::new();
     let mut fast = DeviceDecoder::new();
+    let mut until = DeviceDecoder::new();
     for (_, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {
@@ -44,6 +62,9 @@ fuzz_target!(|input: &[u8]| {
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
+        assert_eq!(until_all(|b| until.feed_until(b), chunk), want);
+        assert_eq!(until.stats(), slow.stats());
+        assert_eq!(until.held_bytes(), slow.held_bytes());
     }
     let (mut want, mut got) = (Vec::new(), Vec::new());
     slow.idle(|ev| want.push(ev));
@@ -58,6 +79,7 @@ fuzz_target!(|input: &[u8]| {
     };
     let mut slow = PcDecoder::new(fw);
     let mut fast = PcDecoder::new(fw);
+    let mut until = PcDecoder::new(fw);
     for (c, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {
@@ -73,6 +95,10 @@ fuzz_target!(|input: &[u8]| {
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
         assert_eq!(fast.expecting(), slow.expecting());
+        assert_eq!(until_all(|b| until.feed_until(b), chunk), want);
+        assert_eq!(until.stats(), slow.stats());
+        assert_eq!(until.held_bytes(), slow.held_bytes());
+        assert_eq!(until.expecting(), slow.expecting());
         // The chunk-size byte also picks the next pending request.
         let e = match c >> 5 {
             0 => None,
@@ -85,6 +111,7 @@ fuzz_target!(|input: &[u8]| {
         if let Some(e) = e {
             slow.expect(e);
             fast.expect(e);
+            until.expect(e);
         }
     }
     let (mut want, mut got) = (Vec::new(), Vec::new());

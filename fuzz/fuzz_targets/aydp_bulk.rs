@@ -1,6 +1,7 @@
-//! The AYDP bulk path (`Decoder::feed`) against pushing byte by byte and draining every event:
-//! on any byte stream, in chunks the input chooses, both give the same events, the same
-//! counters after every chunk and the same flush.
+//! The AYDP bulk path (`Decoder::feed`, and `Decoder::feed_until` called on the rest until it
+//! finds nothing) against pushing byte by byte and draining every event: on any byte stream, in
+//! chunks the input chooses, all give the same events and the same counters after every chunk,
+//! and `feed` the same flush.
 #![no_main]
 use aydp_proto::{Decoder, Error, Frame, Profile};
 use libfuzzer_sys::fuzz_target;
@@ -14,6 +15,7 @@ fn record(out: &mut Vec<Event>) -> impl FnMut(Result<Frame<'_>, Error>) + '_ {
 fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
     let mut slow = Decoder::<N>::new(profile);
     let mut fast = Decoder::<N>::new(profile);
+    let mut until = Decoder::<N>::new(profile);
     let (mut want, mut got) = (Vec::new(), Vec::new());
     let mut rest = data;
     let mut i = 0;
@@ -37,6 +39,23 @@ fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
+        // feed_until on what each call left, until it finds nothing in what is left.
+        got.clear();
+        let mut part = chunk;
+        loop {
+            let (n, ev) = until.feed_until(part);
+            assert!(n <= part.len());
+            let found = ev.is_some();
+            assert!(found || n == part.len());
+            got.extend(ev.map(|e| e.map(|f| f.as_bytes().to_vec())));
+            part = &part[n..];
+            if !found && part.is_empty() {
+                break;
+            }
+        }
+        assert_eq!(got, want);
+        assert_eq!(until.stats(), slow.stats());
+        assert_eq!(until.held_bytes(), slow.held_bytes());
     }
     want.clear();
     got.clear();
