@@ -16,7 +16,12 @@ fn chunks<'a>(cuts: &'a [u8], data: &'a [u8]) -> impl Iterator<Item = (u8, &'a [
         }
         let c = cuts.get(i % cuts.len().max(1)).copied().unwrap_or(0x1F);
         // 0..=31 bytes a chunk; every fourth chunk has one or more.
-        let n = if i % 4 == 3 { (c as usize % 32).max(1) } else { c as usize % 32 }.min(rest.len());
+        let n = if i % 4 == 3 {
+            (c as usize % 32).max(1)
+        } else {
+            c as usize % 32
+        }
+        .min(rest.len());
         i += 1;
         let (chunk, tail) = rest.split_at(n);
         rest = tail;
@@ -42,7 +47,9 @@ fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: 
 
 fuzz_target!(|input: &[u8]| {
     // First byte: firmware and how many chunk sizes follow; then the sizes; then data.
-    let Some((&cfg, rest)) = input.split_first() else { return };
+    let Some((&cfg, rest)) = input.split_first() else {
+        return;
+    };
     let (cuts, data) = rest.split_at((cfg as usize & 7).min(rest.len()));
 
     let mut slow = DeviceDecoder::new();
@@ -105,7 +112,9 @@ fuzz_target!(|input: &[u8]| {
             1 => Some(Expect::Ack),
             2 | 3 => Some(Expect::Parameter(c & 3)),
             4 => Some(Expect::Bulk((c & 3).wrapping_sub(15))),
-            5 => Some(Expect::Waypoint(WaypointSlot::from_wire(c & 0x1F).unwrap_or(WaypointSlot::FbcTarget))),
+            5 => Some(Expect::Waypoint(
+                WaypointSlot::from_wire(c & 0x1F).unwrap_or(WaypointSlot::FbcTarget),
+            )),
             _ => Some(Expect::Nothing),
         };
         if let Some(e) = e {

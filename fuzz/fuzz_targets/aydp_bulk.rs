@@ -67,9 +67,15 @@ fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
 
 fuzz_target!(|input: &[u8]| {
     // First byte: profile, capacity and how many chunk sizes follow; then the sizes; then data.
-    let Some((&cfg, rest)) = input.split_first() else { return };
+    let Some((&cfg, rest)) = input.split_first() else {
+        return;
+    };
     let (cuts, data) = rest.split_at((cfg as usize & 7).min(rest.len()));
-    let profile = if cfg & 0x80 == 0 { Profile::Spec } else { Profile::Reference };
+    let profile = if cfg & 0x80 == 0 {
+        Profile::Spec
+    } else {
+        Profile::Reference
+    };
     match (cfg >> 4) & 3 {
         0 => run::<128>(profile, cuts, data),
         1 => run::<40>(profile, cuts, data),
