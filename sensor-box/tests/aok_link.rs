@@ -1112,3 +1112,34 @@ fn external_control_with_expiry_0_hands_back_at_once() {
     assert_eq!(rig.link.control_source(), ControlSource::Rc);
     assert_eq!(rig.link.decoder_stats().frames_ok, 2); // 63 01 and the 53
 }
+
+/// A false start's bad checksum can uncover several commands at once in the decoder's buffer:
+/// every one of them is answered in the poll that received the false start's last byte, not
+/// when the next byte arrives.
+#[test]
+fn every_command_a_rescan_uncovers_is_answered_in_the_same_poll() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    // A 77 (a waypoint frame: 19 bytes) with two parameter reads inside; the decoder holds it.
+    rig.send(&[0x77, 0x67, 0x0c, 0x67, 0x0d]);
+    rig.poll();
+    assert!(rig.take().is_empty());
+    assert_eq!(rig.link.decoder_stats().checksum_errors, 0);
+    // Its last 14 bytes: the checksum fails ('E'), and the rescan finds both reads, which are
+    // answered at once (nothing arrives after the 0x55).
+    let mut rest = [0u8; 14];
+    rest[13] = 0x55;
+    rig.send(&rest);
+    rig.poll();
+    let out = rig.take();
+    assert_eq!(rig.link.decoder_stats().checksum_errors, 1);
+    assert_eq!(out.first(), Some(&b'E'));
+    let numbers: Vec<u8> = decode(&out[1..], Expect::Nothing)
+        .into_iter()
+        .map(|m| match m {
+            Message::Parameter(p) => p.number,
+            other => panic!("not a parameter reply: {other:?}"),
+        })
+        .collect();
+    assert_eq!(numbers, [12, 13]);
+}
