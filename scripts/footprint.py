@@ -2,8 +2,8 @@
 """Flash and stack figures of the protocol crates on thumbv7m and thumbv6m (checks/footprint).
 
 `python3 scripts/footprint.py [TARGET...]`: thumbv7m-none-eabi then thumbv6m-none-eabi by default
-(nightly needs both targets: `rustup target add --toolchain nightly thumbv7m-none-eabi
-thumbv6m-none-eabi`).
+(nightly needs both targets: the script adds the ones it lacks with `rustup target add
+--toolchain nightly`).
 
 Flash: each protocol's decode-only (then encode-only) binary minus the empty baseline, from
 llvm-size (text + data). Stack: nightly's -Z emit-stack-sizes gives every function's frame; the
@@ -20,6 +20,15 @@ size_tool, readobj, objdump = (os.path.join(tools, t) for t in ("llvm-size", "ll
 targets = sys.argv[1:] or ["thumbv7m-none-eabi", "thumbv6m-none-eabi"]
 features = ["", "aeolus-decode", "aeolus-encode", "aydp-decode", "aydp-encode", "aok-decode", "aok-encode",
             "aeolus-read", "aydp-read", "aok-read"]
+
+
+def add_nightly_targets(triples):
+    """Adds to nightly the targets it lacks (the stack figures are built with it)."""
+    listed = subprocess.run(["rustup", "+nightly", "target", "list", "--installed"], capture_output=True,
+                            text=True, check=True).stdout.split()
+    missing = [t for t in triples if t not in listed]
+    if missing:
+        subprocess.run(["rustup", "target", "add", "--toolchain", "nightly"] + missing, check=True)
 
 
 def build(triple, feature, nightly):
@@ -89,6 +98,7 @@ def table(triple):
     print(f"\nbaseline (empty binary): {base} B")
 
 
+add_nightly_targets(targets)
 for i, triple in enumerate(targets):
     if i:
         # The first target's table stands under the caller's heading; the others get their own.
