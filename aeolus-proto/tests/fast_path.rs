@@ -67,15 +67,21 @@ fn by_byte<const N: usize>(bytes: &[u8]) -> (Events, Stats) {
     (ev, d.stats())
 }
 
+/// The split points reduced into `bytes`, with its two ends, in order.
+fn cut_points(bytes: &[u8], splits: &[usize]) -> Vec<usize> {
+    let mut cuts: Vec<usize> = splits.iter().map(|&s| s % (bytes.len() + 1)).collect();
+    cuts.push(0);
+    cuts.push(bytes.len());
+    cuts.sort_unstable();
+    cuts
+}
+
 /// Feeds the pieces between the split points in turn; a piece whose index is in `pushed` is
 /// pushed byte by byte instead.
 fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events, Stats) {
     let mut d = Decoder::<N>::new();
     let mut ev = Vec::new();
-    let mut cuts: Vec<usize> = splits.iter().map(|&s| s % (bytes.len() + 1)).collect();
-    cuts.push(0);
-    cuts.push(bytes.len());
-    cuts.sort_unstable();
+    let cuts = cut_points(bytes, splits);
     for (i, w) in cuts.windows(2).enumerate() {
         let piece = &bytes[w[0]..w[1]];
         if pushed & (1 << (i % 32)) != 0 {
@@ -96,10 +102,7 @@ fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events
 fn until<const N: usize>(bytes: &[u8], splits: &[usize]) -> (Events, Stats) {
     let mut d = Decoder::<N>::new();
     let mut ev = Vec::new();
-    let mut cuts: Vec<usize> = splits.iter().map(|&s| s % (bytes.len() + 1)).collect();
-    cuts.push(0);
-    cuts.push(bytes.len());
-    cuts.sort_unstable();
+    let cuts = cut_points(bytes, splits);
     for w in cuts.windows(2) {
         let mut piece = &bytes[w[0]..w[1]];
         while !piece.is_empty() {
