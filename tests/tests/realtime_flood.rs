@@ -8,10 +8,11 @@
 //! the last answers may come after the flood). "Every command" is every one the box's decoders
 //! can see: the test runs each stream it wrote through a decoder configured as the box's, since
 //! now and then a random AYDP or AOK start byte's 8-bit checksum passes and its frame takes the
-//! command after it along (the protocol, not the box). Also checked: one boot (no reset), no received byte dropped by
-//! the box (its UART counters in the log); and, with `REALTIME_FLOOD_STRICT=1`, every telemetry
-//! type at 100 % of its rate (no gap between two frames of a type on the box's clock as long as
-//! 1.5 intervals: a late-skipped slot, or a frame lost, makes one). The rates are printed in
+//! command after it along (the protocol, not the box). Also checked: one boot (no reset), no
+//! received byte dropped by the box (its UART counters in the log); and, with
+//! `REALTIME_FLOOD_STRICT=1`, every telemetry type at 100 % of its rate (no gap between two
+//! frames of a type on the box's clock as long as 1.5 intervals: a late-skipped slot, or a frame
+//! lost, makes one). The rates are printed in
 //! every run but asserted only on request: without icount the box's clock is the host's, and on
 //! a shared 2-core host QEMU does not emulate three floods in real time, with this firmware or
 //! the one before it (docs/BENCHMARKS.md, "Firmware CPU budget").
@@ -104,37 +105,26 @@ fn flood(
 }
 
 /// The AYDP requests for [`AIRSPEED`] a decoder configured as the box's (`Profile::Spec`, the
-/// box's `aydp_link::DECODER_CAPACITY` of 128) finds in `stream`, fed byte by byte.
+/// box's `aydp_link::DECODER_CAPACITY` of 128) finds in `stream`.
 fn aydp_requests_in(stream: &[u8]) -> u32 {
-    let mut decoder = AydpDecoder::<128>::new(Profile::Spec);
     let mut found = 0;
-    for &b in stream {
-        decoder.feed(&[b], |ev| {
-            if let Ok(Ok(AydpMessage::SystemControl(aydp_proto::SystemControl::RequestData {
-                address: AIRSPEED,
-            }))) = ev.map(|f| f.message())
-            {
-                found += 1;
-            }
-        });
-    }
+    AydpDecoder::<128>::new(Profile::Spec).feed(stream, |ev| {
+        if let Ok(Ok(AydpMessage::SystemControl(aydp_proto::SystemControl::RequestData {
+            address: AIRSPEED,
+        }))) = ev.map(|f| f.message())
+        {
+            found += 1;
+        }
+    });
     found
 }
 
-/// The reads of [`PARAMETER`] the box's decoder (a `DeviceDecoder`) finds in `stream`, fed
-/// byte by byte.
+/// The reads of [`PARAMETER`] the box's decoder (a `DeviceDecoder`) finds in `stream`.
 fn aok_reads_in(stream: &[u8]) -> u32 {
-    let mut decoder = DeviceDecoder::new();
     let mut found = 0;
-    for &b in stream {
-        let mut ev = decoder.push(b);
-        while let Some(e) = ev {
-            if matches!(e, Ok(AokCommand::ReadParameter(PARAMETER))) {
-                found += 1;
-            }
-            ev = decoder.poll();
-        }
-    }
+    DeviceDecoder::new().feed(stream, |c| {
+        found += u32::from(matches!(c, Ok(AokCommand::ReadParameter(PARAMETER))));
+    });
     found
 }
 

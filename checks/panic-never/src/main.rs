@@ -58,6 +58,19 @@ fn sink(v: u32) {
     unsafe { core::ptr::write_volatile(core::ptr::addr_of_mut!(SINK), v) }
 }
 
+/// Runs `step` (a decoder's `feed_until`, its event handed to `sink`; the bytes consumed and
+/// whether it found an event) on what each call left, until it finds nothing in what is left.
+fn until_each(bytes: &[u8], mut step: impl FnMut(&[u8]) -> (usize, bool)) {
+    let mut rest = bytes;
+    loop {
+        let (n, found) = step(rest);
+        rest = rest.get(n..).unwrap_or(&[]);
+        if !found && rest.is_empty() {
+            break;
+        }
+    }
+}
+
 mod aeolus {
     use super::*;
     use aeolus_proto::{message::*, *};
@@ -102,18 +115,14 @@ mod aeolus {
 
         // Event by event (`feed_until`) over the same bytes.
         let mut u = Decoder::<{ MAX_FIXED_FRAME }>::new();
-        let mut rest = bulk.get(..total).unwrap_or(&[]);
-        loop {
+        until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = u.feed_until(rest);
             let found = ev.is_some();
             if let Some(Ok(frame)) = ev {
                 sink(frame.id() as u32 ^ frame.data().len() as u32);
             }
-            rest = rest.get(n..).unwrap_or(&[]);
-            if !found && rest.is_empty() {
-                break;
-            }
-        }
+            (n, found)
+        });
         sink(u.stats().frames_ok);
 
         // Datagram decoding in place.
@@ -141,7 +150,13 @@ mod aeolus {
         // Encoders with arbitrary data and output sizes.
         let mut out = [0u8; 128];
         let k = (input_byte(5) as usize) % 129;
-        if let Ok(n) = encode_frame(id, &data[..dl], &data[..dl % 7], CrcMode::Omit, &mut out[..k]) {
+        if let Ok(n) = encode_frame(
+            id,
+            &data[..dl],
+            &data[..dl % 7],
+            CrcMode::Omit,
+            &mut out[..k],
+        ) {
             sink(n as u32);
         }
         for b in FrameBytes::new(id, &data[..dl], CrcMode::Compute) {
@@ -156,7 +171,11 @@ mod aeolus {
 
 mod aok {
     use super::*;
-    use aok_proto::{device, pc::{self, Expect, PcDecoder}, *};
+    use aok_proto::{
+        device,
+        pc::{self, Expect, PcDecoder},
+        *,
+    };
 
     pub fn run() {
         // Device side: every command the PC sends, byte by byte, then idle.
@@ -246,32 +265,24 @@ mod aok {
 
         // Event by event (`feed_until`) over the same bytes, on both sides.
         let mut udev = DeviceDecoder::new();
-        let mut rest = bulk.get(..total).unwrap_or(&[]);
-        loop {
+        until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = udev.feed_until(rest);
             let found = ev.is_some();
             if let Some(Ok(cmd)) = ev {
                 sink(cmd.buffer_len() as u32);
             }
-            rest = rest.get(n..).unwrap_or(&[]);
-            if !found && rest.is_empty() {
-                break;
-            }
-        }
+            (n, found)
+        });
         let mut uhost = PcDecoder::new(fw);
         uhost.expect(Expect::Parameter(input_byte(5)));
-        let mut rest = bulk.get(..total).unwrap_or(&[]);
-        loop {
+        until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = uhost.feed_until(rest);
             let found = ev.is_some();
             if let Some(Ok(m)) = ev {
                 sink(m.buffer_len(ReplyForm::Headed) as u32);
             }
-            rest = rest.get(n..).unwrap_or(&[]);
-            if !found && rest.is_empty() {
-                break;
-            }
-        }
+            (n, found)
+        });
         sink(udev.stats().frames_ok ^ uhost.stats().bytes_discarded);
 
         // Typed parses on opaque bytes.
@@ -289,8 +300,19 @@ mod aok {
         // Encoders with opaque values and buffer sizes.
         let mut out = [0u8; 400];
         let k = len() % 401;
-        let v = i32::from_le_bytes([input_byte(12), input_byte(13), input_byte(14), input_byte(15)]);
-        let _ = device::encode_debug(DebugValue { number: input_byte(16), value: v }, &mut out[..k]);
+        let v = i32::from_le_bytes([
+            input_byte(12),
+            input_byte(13),
+            input_byte(14),
+            input_byte(15),
+        ]);
+        let _ = device::encode_debug(
+            DebugValue {
+                number: input_byte(16),
+                value: v,
+            },
+            &mut out[..k],
+        );
         let _ = device::encode_ack(Ack::Ok, &mut out[..k]);
         let _ = device::encode_bulk(input_byte(17), &[v; 16], &mut out[..k]);
         sink(out[0] as u32);
@@ -299,10 +321,17 @@ mod aok {
 
 mod aydp {
     use super::*;
-    use aydp_proto::{registry::{Cell, Registry, Slot}, *};
+    use aydp_proto::{
+        registry::{Cell, Registry, Slot},
+        *,
+    };
 
     pub fn run() {
-        let profile = if input_byte(20) & 1 == 0 { Profile::Spec } else { Profile::Reference };
+        let profile = if input_byte(20) & 1 == 0 {
+            Profile::Spec
+        } else {
+            Profile::Reference
+        };
         // The decoder, byte by byte, draining every event; then a flush.
         let mut d = Decoder::<128>::new(profile);
         let mut enable = 0u8;
@@ -359,18 +388,14 @@ mod aydp {
         }
         // Event by event (`feed_until`) over the same bytes.
         let mut u = Decoder::<128>::new(profile);
-        let mut rest = bulk.get(..total).unwrap_or(&[]);
-        loop {
+        until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = u.feed_until(rest);
             let found = ev.is_some();
             if let Some(Ok(frame)) = ev {
                 sink(frame.base_type() as u32 ^ frame.data().len() as u32);
             }
-            rest = rest.get(n..).unwrap_or(&[]);
-            if !found && rest.is_empty() {
-                break;
-            }
-        }
+            (n, found)
+        });
         sink(u.stats().frames_ok);
         let mut small = Decoder::<4>::new(profile);
         small.feed(bulk.get(..total).unwrap_or(&[]), |e| sink(e.is_ok() as u32));
@@ -380,8 +405,16 @@ mod aydp {
         // Typed parse of opaque data, every type, both forms.
         let data: [u8; 128] = input();
         let n = len() % 129;
-        if let Ok(msg) = Message::parse(input_byte(22) & 0x7F, input_byte(23) & 1 == 1, &data[..n], profile) {
-            let ts = Timestamp { seconds: input_byte(24) as i64, subsec: input_byte(25) as i64 };
+        if let Ok(msg) = Message::parse(
+            input_byte(22) & 0x7F,
+            input_byte(23) & 1 == 1,
+            &data[..n],
+            profile,
+        ) {
+            let ts = Timestamp {
+                seconds: input_byte(24) as i64,
+                subsec: input_byte(25) as i64,
+            };
             let mut out = [0u8; 200];
             let k = input_byte(26) as usize % 201;
             if let Ok(n) = enc.encode_normal(&msg, ts, &mut out[..k]) {
@@ -495,12 +528,20 @@ mod io {
     }
 
     pub fn run() {
-        use aeolus_proto::{CrcMode, Decoder, IoError as AeolusIo, MAX_FIXED_FRAME, message::Message};
+        use aeolus_proto::{
+            CrcMode, Decoder, IoError as AeolusIo, MAX_FIXED_FRAME, message::Message,
+        };
         let rounds = len() % 64;
 
         // AEOLUS readers and writers.
-        let mut r = aeolus_proto::embedded_io::FrameReader::<_, MAX_FIXED_FRAME, 48>::new(opaque(0), Decoder::new());
-        let mut a = aeolus_proto::embedded_io_async::FrameReader::<_, 64, 7>::new(opaque(9), Decoder::new());
+        let mut r = aeolus_proto::embedded_io::FrameReader::<_, MAX_FIXED_FRAME, 48>::new(
+            opaque(0),
+            Decoder::new(),
+        );
+        let mut a = aeolus_proto::embedded_io_async::FrameReader::<_, 64, 7>::new(
+            opaque(9),
+            Decoder::new(),
+        );
         let mut w = aeolus_proto::embedded_io::FrameWriter::new(opaque(17));
         for _ in 0..rounds {
             match r.read() {
@@ -522,13 +563,26 @@ mod io {
 
         // AYDP readers and writers.
         use aydp_proto::{Profile, Raw, Timestamp};
-        let profile = if input_byte(30) & 1 == 0 { Profile::Spec } else { Profile::Reference };
-        let mut r = aydp_proto::embedded_io::FrameReader::<_, 128, 32>::new(opaque(31), aydp_proto::Decoder::new(profile));
-        let mut a = aydp_proto::embedded_io_async::FrameReader::<_, 40, 5>::new(opaque(37), aydp_proto::Decoder::new(profile));
+        let profile = if input_byte(30) & 1 == 0 {
+            Profile::Spec
+        } else {
+            Profile::Reference
+        };
+        let mut r = aydp_proto::embedded_io::FrameReader::<_, 128, 32>::new(
+            opaque(31),
+            aydp_proto::Decoder::new(profile),
+        );
+        let mut a = aydp_proto::embedded_io_async::FrameReader::<_, 40, 5>::new(
+            opaque(37),
+            aydp_proto::Decoder::new(profile),
+        );
         let mut w = aydp_proto::embedded_io::FrameWriter::new(opaque(41), profile);
         for _ in 0..rounds {
             if let Ok(f) = r.read() {
-                let raw = Raw { msg_type: f.base_type(), data: f.data() };
+                let raw = Raw {
+                    msg_type: f.base_type(),
+                    data: f.data(),
+                };
                 sink(w.write_expedited(&raw).is_ok() as u32);
                 if let Ok(m) = f.message() {
                     let ts = Timestamp::new(len() as i64, 3);
@@ -544,8 +598,14 @@ mod io {
         // AOK readers and writers.
         use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};
         let fw = FirmwareVersion::new(input_byte(44), input_byte(45));
-        let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(opaque(47), aok_proto::PcDecoder::new(fw));
-        let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(opaque(53), aok_proto::DeviceDecoder::new());
+        let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(
+            opaque(47),
+            aok_proto::PcDecoder::new(fw),
+        );
+        let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(
+            opaque(53),
+            aok_proto::DeviceDecoder::new(),
+        );
         let mut w = aok_proto::embedded_io::Writer::new(opaque(59));
         let mut aw = aok_proto::embedded_io_async::Writer::new(opaque(61));
         for i in 0..rounds {
@@ -621,9 +681,14 @@ mod gdl90 {
         }
 
         // The encoders with opaque values and output sizes.
-        let f = |i: usize| f32::from_bits(u32::from_le_bytes([
-            input_byte(i), input_byte(i + 1), input_byte(i + 2), input_byte(i + 3),
-        ]));
+        let f = |i: usize| {
+            f32::from_bits(u32::from_le_bytes([
+                input_byte(i),
+                input_byte(i + 1),
+                input_byte(i + 2),
+                input_byte(i + 3),
+            ]))
+        };
         let w = |i: usize| u16::from_le_bytes([input_byte(i), input_byte(i + 1)]);
         let mut out = [0u8; MAX_ENCODED_LEN];
         let k = input_byte(33) as usize % (MAX_ENCODED_LEN + 1);
@@ -639,7 +704,10 @@ mod gdl90 {
         }
         let report = Report {
             address: f(42).to_bits(),
-            position: Some(LatLon { lat_deg: f(46) as f64 * 1e30, lon_deg: f(50) as f64 }),
+            position: Some(LatLon {
+                lat_deg: f(46) as f64 * 1e30,
+                lon_deg: f(50) as f64,
+            }),
             pressure_altitude_ft: Some(f(54).to_bits() as i32),
             track: Some(Track::MagneticHeading(f(58))),
             nic: input_byte(62),
@@ -663,7 +731,10 @@ mod gdl90 {
         if let Ok(n) = encode_geo_altitude(&alt, &mut out[..k]) {
             sink(n as u32);
         }
-        let id = ForeFlightId { serial: Some(f(77).to_bits() as u64), ..ForeFlightId::default() };
+        let id = ForeFlightId {
+            serial: Some(f(77).to_bits() as u64),
+            ..ForeFlightId::default()
+        };
         if let Ok(n) = encode_foreflight_id(&id, &mut out[..k]) {
             sink(n as u32);
         }
