@@ -579,14 +579,11 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     ) else {
         return PL_E_NULL;
     };
-    for (i, &b) in input.iter().enumerate() {
-        if let Some(event) = d.push(b) {
-            *used = i + 1;
-            return deliver(event, msg, err);
-        }
-    }
-    *used = input.len();
-    PL_NOTHING
+    // The crate's `feed_until`: runs of ordinary bytes copied a word at a time, up to the
+    // first event.
+    let (n, event) = d.feed_until(input);
+    *used = n;
+    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)

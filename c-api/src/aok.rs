@@ -473,18 +473,11 @@ pub unsafe extern "C" fn pl_aok_device_parse(
     ) else {
         return PL_E_NULL;
     };
-    *used = 0;
-    if let Some(event) = d.poll() {
-        return deliver(Some(event), command_c, i, e);
-    }
-    for (n, &b) in input.iter().enumerate() {
-        if let Some(event) = d.push(b) {
-            *used = n + 1;
-            return deliver(Some(event), command_c, i, e);
-        }
-    }
-    *used = input.len();
-    PL_NOTHING
+    // The crate's `feed_until`: an item still held first (0 bytes used), then the bulk path
+    // of `feed` up to the first item.
+    let (n, event) = d.feed_until(input);
+    *used = n;
+    deliver(event, command_c, i, e)
 }
 
 /// Device side: the decoder's counters. Returns 0 or `PL_E_NULL`.
@@ -655,18 +648,15 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
     ) else {
         return PL_E_NULL;
     };
+    // Any event still held first, as `pl_aok_pc_poll` gives it (`feed_until` asks only after
+    // an event of its own); then the crate's `feed_until` up to the first event.
     *used = 0;
     if let Some(event) = d.poll() {
         return deliver(Some(event), message_c, i, e);
     }
-    for (n, &b) in input.iter().enumerate() {
-        if let Some(event) = d.push(b) {
-            *used = n + 1;
-            return deliver(Some(event), message_c, i, e);
-        }
-    }
-    *used = input.len();
-    PL_NOTHING
+    let (n, event) = d.feed_until(input);
+    *used = n;
+    deliver(event, message_c, i, e)
 }
 
 /// PC side: the decoder's counters. Returns 0 or `PL_E_NULL`.

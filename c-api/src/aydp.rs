@@ -565,6 +565,8 @@ pub unsafe extern "C" fn pl_aydp_parse(
     {
         return deliver(event, msg, err);
     }
+    // Byte by byte, not the crate's `feed_until`: that one finds a frame in the bytes given
+    // and points at it there, where this call promises `msg->data` inside the decoder.
     for (i, &b) in input.iter().enumerate() {
         if let Some(event) = d.push(b) {
             *used = i + 1;

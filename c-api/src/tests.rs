@@ -339,3 +339,267 @@ fn aeolus_feed_gives_every_event_to_the_callback_in_order() {
     let st = unsafe { pl_aeolus_feed(d.as_mut_ptr(), stream.as_ptr(), 1, None, ctx) };
     assert_eq!(st, PL_E_NULL);
 }
+
+/// An event of a parse call, as the tests below compare them: the status, the error, and what
+/// the message says (AEOLUS: its ID and data bytes; AOK: the item).
+type Event = (i32, pl_error, Vec<u8>, pl_aok_item);
+
+/// A hostile stream: `good` (frames of the protocol) cut into pieces with random bytes between
+/// them, a quarter of those drawn from `alphabet` (the protocol's start and control bytes),
+/// deterministic for `seed`.
+fn hostile(good: &[u8], alphabet: &[u8], seed: u64) -> Vec<u8> {
+    let mut state = seed;
+    let mut next = || {
+        // splitmix64
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut out = Vec::new();
+    let mut rest = good;
+    while !rest.is_empty() {
+        let take = (next() % 64) as usize + 1;
+        let (piece, after) = rest.split_at(take.min(rest.len()));
+        out.extend_from_slice(piece);
+        rest = after;
+        for _ in 0..next() % 12 {
+            let r = next();
+            out.push(if r % 4 == 0 {
+                alphabet[(r >> 8) as usize % alphabet.len()]
+            } else {
+                (r >> 16) as u8
+            });
+        }
+    }
+    out
+}
+
+/// The events of `parse` over `stream` handed over in pieces of `chunk` bytes, each piece
+/// parsed until the call has consumed it and has nothing more to give (a call on the empty rest
+/// gives what a rescan still holds). `parse` returns the status, the bytes used and the event.
+fn chunked(
+    stream: &[u8],
+    chunk: usize,
+    mut parse: impl FnMut(&[u8]) -> (i32, usize, Event),
+) -> Vec<Event> {
+    let mut events = Vec::new();
+    for piece in stream.chunks(chunk) {
+        let mut off = 0;
+        loop {
+            let (st, used, event) = parse(&piece[off..]);
+            assert!(
+                st >= 0 && used <= piece.len() - off,
+                "status {st}, used {used}"
+            );
+            off += used;
+            if st == PL_NOTHING {
+                assert_eq!(
+                    off,
+                    piece.len(),
+                    "nothing found before the end of the piece"
+                );
+                break;
+            }
+            events.push(event);
+        }
+    }
+    events
+}
+
+/// Stream lengths and chunk sizes: shorter under Miri, which runs these too.
+fn sizes() -> (usize, &'static [usize]) {
+    if cfg!(miri) {
+        (1500, &[1, 7, 1500])
+    } else {
+        (6000, &[1, 2, 3, 5, 8, 13, 64, 6000])
+    }
+}
+
+#[test]
+fn aeolus_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
+    let (len, chunks) = sizes();
+    let capture = include_bytes!("../../testdata/qemu-uart0-aeolus.bin");
+    let stream = hostile(&capture[..len], &[0x7E, 0x7D, 0x5E, 0x5D, 0x00], 0xAE);
+    let event = |st: i32, msg: &pl_aeolus_message, err: &pl_error| -> Event {
+        let data = if st == PL_MESSAGE && msg.data_len > 0 {
+            // SAFETY: a delivered message's data points into the decoder, valid until the next
+            // call on it; copied at once.
+            unsafe { core::slice::from_raw_parts(msg.data, msg.data_len) }.to_vec()
+        } else {
+            Vec::new()
+        };
+        let id = if st == PL_MESSAGE { msg.id } else { 0 };
+        let err = if st == PL_ERROR {
+            *err
+        } else {
+            pl_error::default()
+        };
+        (st, err, [&[id][..], &data].concat(), pl_aok_item::default())
+    };
+    let stats = |d: &MaybeUninit<pl_aeolus_decoder>| {
+        let mut s = pl_aeolus_stats::default();
+        // SAFETY: a set-up decoder, a live output.
+        assert_eq!(unsafe { pl_aeolus_get_stats(d.as_ptr(), &mut s) }, 0);
+        s
+    };
+    let mut d = aeolus_decoder();
+    let (mut msg, mut err): (pl_aeolus_message, _) = (zeroed(), pl_error::default());
+    let mut expected = Vec::new();
+    for &b in &stream {
+        // SAFETY: a set-up decoder, live outputs.
+        let st = unsafe { pl_aeolus_parse_byte(d.as_mut_ptr(), b, &mut msg, &mut err) };
+        if st != PL_NOTHING {
+            expected.push(event(st, &msg, &err));
+        }
+    }
+    let expected_stats = stats(&d);
+    assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
+    for &chunk in chunks {
+        let mut d = aeolus_decoder();
+        let got = chunked(&stream, chunk, |rest| {
+            let mut used = usize::MAX;
+            // SAFETY: a set-up decoder, a live input and outputs.
+            let st = unsafe {
+                pl_aeolus_parse(
+                    d.as_mut_ptr(),
+                    rest.as_ptr(),
+                    rest.len(),
+                    &mut used,
+                    &mut msg,
+                    &mut err,
+                )
+            };
+            (st, used, event(st, &msg, &err))
+        });
+        assert!(got == expected, "pieces of {chunk}: the events differ");
+        assert_eq!(stats(&d), expected_stats, "pieces of {chunk}");
+    }
+}
+
+/// The AOK item or error of a parse call, as [`Event`].
+fn aok_event(st: i32, item: &pl_aok_item, err: &pl_error) -> Event {
+    let item = if st == PL_MESSAGE {
+        *item
+    } else {
+        pl_aok_item::default()
+    };
+    let err = if st == PL_ERROR {
+        *err
+    } else {
+        pl_error::default()
+    };
+    (st, err, Vec::new(), item)
+}
+
+#[test]
+fn aok_device_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
+    let (len, chunks) = sizes();
+    let capture = include_bytes!("../../testdata/qemu-uart2-aok.bin");
+    let good: Vec<u8> = capture.iter().copied().cycle().take(len).collect();
+    let stream = hostile(&good, &[0x63, 0x67, 0x47, 0x78, 0x57, 0x1c, 0x00], 0xA0C);
+    let init = || {
+        let mut d = MaybeUninit::<pl_aok_device_decoder>::uninit();
+        // SAFETY: writable storage.
+        assert_eq!(unsafe { pl_aok_device_init(d.as_mut_ptr()) }, 0);
+        d
+    };
+    let stats = |d: &MaybeUninit<pl_aok_device_decoder>| {
+        let mut s = pl_aok_stats::default();
+        // SAFETY: a set-up decoder, a live output.
+        assert_eq!(unsafe { pl_aok_device_get_stats(d.as_ptr(), &mut s) }, 0);
+        s
+    };
+    let mut d = init();
+    let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
+    let mut expected = Vec::new();
+    for &b in &stream {
+        // SAFETY: a set-up decoder, live outputs.
+        let mut st = unsafe { pl_aok_device_parse_byte(d.as_mut_ptr(), b, &mut item, &mut err) };
+        while st > 0 {
+            expected.push(aok_event(st, &item, &err));
+            // SAFETY: as above.
+            st = unsafe { pl_aok_device_poll(d.as_mut_ptr(), &mut item, &mut err) };
+        }
+    }
+    let expected_stats = stats(&d);
+    assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
+    for &chunk in chunks {
+        let mut d = init();
+        let got = chunked(&stream, chunk, |rest| {
+            let mut used = usize::MAX;
+            // SAFETY: a set-up decoder, a live input and outputs.
+            let st = unsafe {
+                pl_aok_device_parse(
+                    d.as_mut_ptr(),
+                    rest.as_ptr(),
+                    rest.len(),
+                    &mut used,
+                    &mut item,
+                    &mut err,
+                )
+            };
+            (st, used, aok_event(st, &item, &err))
+        });
+        assert!(got == expected, "pieces of {chunk}: the events differ");
+        assert_eq!(stats(&d), expected_stats, "pieces of {chunk}");
+    }
+}
+
+#[test]
+fn aok_pc_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
+    let (len, chunks) = sizes();
+    // Debug values (-2 and 1 for value 86), the device's answers the PC side reads most.
+    let frames = [
+        0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x1c, 0x56, 0, 0, 0, 1, 0x57,
+    ];
+    let good: Vec<u8> = frames.iter().copied().cycle().take(len).collect();
+    let stream = hostile(&good, &[0x1c, 0x56, 0x57, 0x4b, 0x00, 0xff], 0x9C);
+    let init = || {
+        let mut d = MaybeUninit::<pl_aok_pc_decoder>::uninit();
+        // SAFETY: writable storage.
+        assert_eq!(unsafe { pl_aok_pc_init(d.as_mut_ptr(), 0, 35) }, 0);
+        d
+    };
+    let stats = |d: &MaybeUninit<pl_aok_pc_decoder>| {
+        let mut s = pl_aok_stats::default();
+        // SAFETY: a set-up decoder, a live output.
+        assert_eq!(unsafe { pl_aok_pc_get_stats(d.as_ptr(), &mut s) }, 0);
+        s
+    };
+    let mut d = init();
+    let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
+    let mut expected = Vec::new();
+    for &b in &stream {
+        // SAFETY: a set-up decoder, live outputs.
+        let mut st = unsafe { pl_aok_pc_parse_byte(d.as_mut_ptr(), b, &mut item, &mut err) };
+        while st > 0 {
+            expected.push(aok_event(st, &item, &err));
+            // SAFETY: as above.
+            st = unsafe { pl_aok_pc_poll(d.as_mut_ptr(), &mut item, &mut err) };
+        }
+    }
+    let expected_stats = stats(&d);
+    assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
+    for &chunk in chunks {
+        let mut d = init();
+        let got = chunked(&stream, chunk, |rest| {
+            let mut used = usize::MAX;
+            // SAFETY: a set-up decoder, a live input and outputs.
+            let st = unsafe {
+                pl_aok_pc_parse(
+                    d.as_mut_ptr(),
+                    rest.as_ptr(),
+                    rest.len(),
+                    &mut used,
+                    &mut item,
+                    &mut err,
+                )
+            };
+            (st, used, aok_event(st, &item, &err))
+        });
+        assert!(got == expected, "pieces of {chunk}: the events differ");
+        assert_eq!(stats(&d), expected_stats, "pieces of {chunk}");
+    }
+}
