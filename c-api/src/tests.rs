@@ -493,58 +493,91 @@ fn aok_event(st: i32, item: &pl_aok_item, err: &pl_error) -> Event {
     (st, err, Vec::new(), item)
 }
 
+/// One side of the AOK C face: its decoder's set-up and calls.
+struct AokSide<D> {
+    init: fn(*mut D) -> i32,
+    parse_byte: unsafe extern "C" fn(*mut D, u8, *mut pl_aok_item, *mut pl_error) -> i32,
+    poll: unsafe extern "C" fn(*mut D, *mut pl_aok_item, *mut pl_error) -> i32,
+    parse: unsafe extern "C" fn(
+        *mut D,
+        *const u8,
+        usize,
+        *mut usize,
+        *mut pl_aok_item,
+        *mut pl_error,
+    ) -> i32,
+    get_stats: unsafe extern "C" fn(*const D, *mut pl_aok_stats) -> i32,
+}
+
+impl<D> AokSide<D> {
+    fn init(&self) -> MaybeUninit<D> {
+        let mut d = MaybeUninit::<D>::uninit();
+        assert_eq!((self.init)(d.as_mut_ptr()), 0);
+        d
+    }
+
+    fn stats(&self, d: &MaybeUninit<D>) -> pl_aok_stats {
+        let mut s = pl_aok_stats::default();
+        // SAFETY: a set-up decoder, a live output.
+        assert_eq!(unsafe { (self.get_stats)(d.as_ptr(), &mut s) }, 0);
+        s
+    }
+
+    /// `parse` over `stream` in pieces of each of `chunks` gives the events and counters of
+    /// `parse_byte` with `poll`.
+    fn parse_matches_the_byte_calls(&self, stream: &[u8], chunks: &[usize]) {
+        let mut d = self.init();
+        let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
+        let mut expected = Vec::new();
+        for &b in stream {
+            // SAFETY: a set-up decoder, live outputs.
+            let mut st = unsafe { (self.parse_byte)(d.as_mut_ptr(), b, &mut item, &mut err) };
+            while st > 0 {
+                expected.push(aok_event(st, &item, &err));
+                // SAFETY: as above.
+                st = unsafe { (self.poll)(d.as_mut_ptr(), &mut item, &mut err) };
+            }
+        }
+        let expected_stats = self.stats(&d);
+        assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
+        for &chunk in chunks {
+            let mut d = self.init();
+            let got = chunked(stream, chunk, |rest| {
+                let mut used = usize::MAX;
+                // SAFETY: a set-up decoder, a live input and outputs.
+                let st = unsafe {
+                    (self.parse)(
+                        d.as_mut_ptr(),
+                        rest.as_ptr(),
+                        rest.len(),
+                        &mut used,
+                        &mut item,
+                        &mut err,
+                    )
+                };
+                (st, used, aok_event(st, &item, &err))
+            });
+            assert!(got == expected, "pieces of {chunk}: the events differ");
+            assert_eq!(self.stats(&d), expected_stats, "pieces of {chunk}");
+        }
+    }
+}
+
 #[test]
 fn aok_device_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     let (len, chunks) = sizes();
     let capture = include_bytes!("../../testdata/qemu-uart2-aok.bin");
     let good: Vec<u8> = capture.iter().copied().cycle().take(len).collect();
     let stream = hostile(&good, &[0x63, 0x67, 0x47, 0x78, 0x57, 0x1c, 0x00], 0xA0C);
-    let init = || {
-        let mut d = MaybeUninit::<pl_aok_device_decoder>::uninit();
+    let side = AokSide {
         // SAFETY: writable storage.
-        assert_eq!(unsafe { pl_aok_device_init(d.as_mut_ptr()) }, 0);
-        d
+        init: |d| unsafe { pl_aok_device_init(d) },
+        parse_byte: pl_aok_device_parse_byte,
+        poll: pl_aok_device_poll,
+        parse: pl_aok_device_parse,
+        get_stats: pl_aok_device_get_stats,
     };
-    let stats = |d: &MaybeUninit<pl_aok_device_decoder>| {
-        let mut s = pl_aok_stats::default();
-        // SAFETY: a set-up decoder, a live output.
-        assert_eq!(unsafe { pl_aok_device_get_stats(d.as_ptr(), &mut s) }, 0);
-        s
-    };
-    let mut d = init();
-    let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
-    let mut expected = Vec::new();
-    for &b in &stream {
-        // SAFETY: a set-up decoder, live outputs.
-        let mut st = unsafe { pl_aok_device_parse_byte(d.as_mut_ptr(), b, &mut item, &mut err) };
-        while st > 0 {
-            expected.push(aok_event(st, &item, &err));
-            // SAFETY: as above.
-            st = unsafe { pl_aok_device_poll(d.as_mut_ptr(), &mut item, &mut err) };
-        }
-    }
-    let expected_stats = stats(&d);
-    assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
-    for &chunk in chunks {
-        let mut d = init();
-        let got = chunked(&stream, chunk, |rest| {
-            let mut used = usize::MAX;
-            // SAFETY: a set-up decoder, a live input and outputs.
-            let st = unsafe {
-                pl_aok_device_parse(
-                    d.as_mut_ptr(),
-                    rest.as_ptr(),
-                    rest.len(),
-                    &mut used,
-                    &mut item,
-                    &mut err,
-                )
-            };
-            (st, used, aok_event(st, &item, &err))
-        });
-        assert!(got == expected, "pieces of {chunk}: the events differ");
-        assert_eq!(stats(&d), expected_stats, "pieces of {chunk}");
-    }
+    side.parse_matches_the_byte_calls(&stream, chunks);
 }
 
 #[test]
@@ -556,50 +589,13 @@ fn aok_pc_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     ];
     let good: Vec<u8> = frames.iter().copied().cycle().take(len).collect();
     let stream = hostile(&good, &[0x1c, 0x56, 0x57, 0x4b, 0x00, 0xff], 0x9C);
-    let init = || {
-        let mut d = MaybeUninit::<pl_aok_pc_decoder>::uninit();
+    let side = AokSide {
         // SAFETY: writable storage.
-        assert_eq!(unsafe { pl_aok_pc_init(d.as_mut_ptr(), 0, 35) }, 0);
-        d
+        init: |d| unsafe { pl_aok_pc_init(d, 0, 35) },
+        parse_byte: pl_aok_pc_parse_byte,
+        poll: pl_aok_pc_poll,
+        parse: pl_aok_pc_parse,
+        get_stats: pl_aok_pc_get_stats,
     };
-    let stats = |d: &MaybeUninit<pl_aok_pc_decoder>| {
-        let mut s = pl_aok_stats::default();
-        // SAFETY: a set-up decoder, a live output.
-        assert_eq!(unsafe { pl_aok_pc_get_stats(d.as_ptr(), &mut s) }, 0);
-        s
-    };
-    let mut d = init();
-    let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
-    let mut expected = Vec::new();
-    for &b in &stream {
-        // SAFETY: a set-up decoder, live outputs.
-        let mut st = unsafe { pl_aok_pc_parse_byte(d.as_mut_ptr(), b, &mut item, &mut err) };
-        while st > 0 {
-            expected.push(aok_event(st, &item, &err));
-            // SAFETY: as above.
-            st = unsafe { pl_aok_pc_poll(d.as_mut_ptr(), &mut item, &mut err) };
-        }
-    }
-    let expected_stats = stats(&d);
-    assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
-    for &chunk in chunks {
-        let mut d = init();
-        let got = chunked(&stream, chunk, |rest| {
-            let mut used = usize::MAX;
-            // SAFETY: a set-up decoder, a live input and outputs.
-            let st = unsafe {
-                pl_aok_pc_parse(
-                    d.as_mut_ptr(),
-                    rest.as_ptr(),
-                    rest.len(),
-                    &mut used,
-                    &mut item,
-                    &mut err,
-                )
-            };
-            (st, used, aok_event(st, &item, &err))
-        });
-        assert!(got == expected, "pieces of {chunk}: the events differ");
-        assert_eq!(stats(&d), expected_stats, "pieces of {chunk}");
-    }
+    side.parse_matches_the_byte_calls(&stream, chunks);
 }
