@@ -58,7 +58,11 @@ impl Stats {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 enum State {
-    /// Dropping bytes until a flag (before the first flag, and after an error).
+    /// A new decoder's hunt: the fast path stores what it takes for ordinary bytes (garbage
+    /// before the first flag) and `at` counts them (see `Decoder::at`). First, so that a new
+    /// decoder is all zeros.
+    Fresh,
+    /// Dropping bytes until a flag (after the first garbage, and after an error).
     Hunt,
     /// Inside a frame.
     Frame,
@@ -113,6 +117,11 @@ pub struct Decoder<const N: usize> {
     /// The fast path's write index. In the `Frame` state it is the number of bytes held; in the
     /// other states it is that number plus [`Self::PARKED`], past the end of `buf`, so that the
     /// fast path's single bounds check also sends every byte of those states to the slow path.
+    /// One exception: a new decoder hunts in the `Fresh` state with `at` 0, so that it is all
+    /// zeros (a `static` decoder then lives in `.bss`, not in flash); the ordinary bytes the
+    /// fast path stores before the first flag or escape are garbage, counted as discarded
+    /// when the slow path or a slice method first sees the decoder ([`Decoder::settle`]), and
+    /// by [`Decoder::stats`] before that.
     at: usize,
     /// The CRC run over `buf[..crc_at]` (unescaped bytes of the frame in progress, its two
     /// CRC bytes included once they arrive). The slice path keeps it up to date as it copies;
@@ -135,15 +144,21 @@ impl<const N: usize> Decoder<N> {
     /// Added to the length outside the `Frame` state (see `at`): never a valid index.
     const PARKED: usize = N + 1;
 
-    /// A decoder that accepts frames without CRC (`00 00`), as the spec allows.
+    /// A decoder that accepts frames without CRC (`00 00`), as the spec allows. Every byte of
+    /// it is zero, so a `static` one takes no flash for its buffer.
+    ///
+    /// ```
+    /// let d = aeolus_proto::Decoder::<64>::new();
+    /// assert_eq!((d.held_bytes(), d.stats().bytes_discarded), (0, 0));
+    /// ```
     pub const fn new() -> Self {
         Decoder {
             buf: [0; N],
-            at: Self::PARKED,
+            at: 0,
             crc: 0,
             crc_at: 0,
             escapes: 0,
-            state: State::Hunt,
+            state: State::Fresh,
             strict: false,
             stats: STATS0,
         }
@@ -173,12 +188,34 @@ impl<const N: usize> Decoder<N> {
 
     /// The counters so far.
     pub const fn stats(&self) -> Stats {
-        self.stats
+        let mut stats = self.stats;
+        stats.bytes_discarded = stats.bytes_discarded.wrapping_add(self.fresh() as u32);
+        stats
     }
 
     /// Zeroes the counters.
     pub fn reset_stats(&mut self) {
+        self.settle();
         self.stats = Stats::default();
+    }
+
+    /// The garbage bytes a new decoder's fast path has stored and not yet counted (see `at`).
+    #[inline(always)]
+    const fn fresh(&self) -> usize {
+        match self.state {
+            State::Fresh => self.at,
+            _ => 0,
+        }
+    }
+
+    /// Counts the garbage a new decoder's fast path stored (see `at`) as discarded and parks
+    /// the write index, as every other hunt has it.
+    #[inline(always)]
+    fn settle(&mut self) {
+        if matches!(self.state, State::Fresh) {
+            self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(self.at as u32);
+            self.enter(State::Hunt, 0);
+        }
     }
 
     /// Bytes held: the wire bytes of the frame in progress (received, not yet delivered nor
@@ -191,7 +228,7 @@ impl<const N: usize> Decoder<N> {
     /// ```
     pub const fn held_bytes(&self) -> usize {
         match self.state {
-            State::Hunt => 0,
+            State::Fresh | State::Hunt => 0,
             State::Frame | State::Escape => self.len().wrapping_add(self.escapes),
         }
     }
@@ -201,7 +238,7 @@ impl<const N: usize> Decoder<N> {
     const fn len(&self) -> usize {
         match self.state {
             State::Frame => self.at,
-            State::Hunt | State::Escape => self.at.wrapping_sub(Self::PARKED),
+            State::Fresh | State::Hunt | State::Escape => self.at.wrapping_sub(Self::PARKED),
         }
     }
 
@@ -211,12 +248,13 @@ impl<const N: usize> Decoder<N> {
         self.state = state;
         self.at = match state {
             State::Frame => len,
-            State::Hunt | State::Escape => len.wrapping_add(Self::PARKED),
+            State::Fresh | State::Hunt | State::Escape => len.wrapping_add(Self::PARKED),
         };
     }
 
     /// Drops the frame in progress (counting its bytes as discarded) and hunts for a flag.
     pub fn reset(&mut self) {
+        self.settle();
         self.drop_frame(0, State::Hunt);
     }
 
@@ -269,7 +307,8 @@ impl<const N: usize> Decoder<N> {
                     Some(Err(Error::InvalidEscape))
                 }
             },
-            State::Hunt => {
+            State::Fresh | State::Hunt => {
+                self.settle();
                 if byte == FLAG {
                     self.stats.flags = self.stats.flags.wrapping_add(1);
                     self.enter(State::Frame, 0);
@@ -337,7 +376,7 @@ impl<const N: usize> Decoder<N> {
     /// flood of random bytes the decoder hunts for about half of them.
     #[inline(always)]
     fn hunt<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
-        if self.state != State::Hunt {
+        if !matches!(self.state, State::Fresh | State::Hunt) {
             return bytes;
         }
         self.skip_to_flag(bytes)

@@ -76,3 +76,91 @@ fn flush_gives_up_a_frame_in_progress_and_nothing_else() {
     d.flush(|ev| events.push(ev.map(|f| f.id())));
     assert_eq!(events.len(), 2);
 }
+
+/// The IDs (or errors) of pushing `bytes` one at a time.
+fn push_all(d: &mut Decoder<8>, bytes: &[u8]) -> Vec<Result<u8, Error>> {
+    let mut ids = Vec::new();
+    for &b in bytes {
+        if let Some(ev) = d.push(b) {
+            ids.push(ev.map(|f| f.id()));
+        }
+    }
+    ids
+}
+
+/// A new decoder is all zeros (a `static` one lives in `.bss`): its first hunt lets the fast
+/// path store the garbage, and the counters must still see every byte of it, at every byte,
+/// whichever call comes next.
+#[test]
+fn a_new_decoder_counts_every_garbage_byte_at_once_whatever_comes_next() {
+    // Past the buffer's 8 bytes, so the stored garbage fills it and goes on.
+    let garbage: Vec<u8> = (1..=13).collect();
+    let mut d = Decoder::<8>::new();
+    for (i, &b) in garbage.iter().enumerate() {
+        assert!(d.push(b).is_none());
+        assert_eq!(
+            (d.stats().bytes_discarded, d.held_bytes()),
+            (i as u32 + 1, 0)
+        );
+    }
+    let mut ids = Vec::new();
+    d.feed(&HI, |ev| ids.push(ev.map(|f| f.id())));
+    assert_eq!(ids, [Ok(0x52)]);
+    assert_eq!((d.stats().bytes_discarded, d.stats().frames_ok), (13, 1));
+
+    // Garbage pushed, then each of the other calls: the same counts as pushing it all.
+    type Next = fn(&mut Decoder<8>) -> Vec<Result<u8, Error>>;
+    let nexts: [(&str, Next); 5] = [
+        ("push", |d| push_all(d, &HI)),
+        ("feed", |d| {
+            let mut ids = Vec::new();
+            d.feed(&HI, |ev| ids.push(ev.map(|f| f.id())));
+            ids
+        }),
+        ("feed_until", |d| {
+            let (n, ev) = d.feed_until(&HI);
+            assert_eq!(n, HI.len());
+            ev.into_iter().map(|e| e.map(|f| f.id())).collect()
+        }),
+        ("flush, then push", |d| {
+            d.flush(|_| panic!("nothing to flush in a hunt"));
+            push_all(d, &HI)
+        }),
+        ("a clone", |d| {
+            let mut c = d.clone();
+            let ids = push_all(&mut c, &HI);
+            *d = c;
+            ids
+        }),
+    ];
+    for (what, next) in nexts {
+        let mut d = Decoder::<8>::new();
+        for &b in &garbage[..5] {
+            d.push(b);
+        }
+        assert_eq!(next(&mut d), [Ok(0x52)], "{what}");
+        assert_eq!(
+            (d.stats().bytes_discarded, d.stats().frames_ok),
+            (5, 1),
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn reset_stats_and_reset_on_a_new_decoder_forget_and_keep_its_garbage() {
+    // `reset_stats` forgets the garbage stored so far: none of it counts at the flag.
+    let mut d = Decoder::<8>::new();
+    push_all(&mut d, &[1, 2, 3, 4, 5]);
+    d.reset_stats();
+    assert_eq!(d.stats(), Stats::default());
+    assert_eq!(push_all(&mut d, &HI), [Ok(0x52)]);
+    assert_eq!(d.stats().bytes_discarded, 0);
+    // `reset` keeps it counted, once.
+    let mut d = Decoder::<8>::new();
+    push_all(&mut d, &[6, 7]);
+    d.reset();
+    assert_eq!((d.stats().bytes_discarded, d.held_bytes()), (2, 0));
+    assert_eq!(push_all(&mut d, &HI), [Ok(0x52)]);
+    assert_eq!(d.stats().bytes_discarded, 2);
+}
