@@ -120,8 +120,9 @@ pub struct Decoder<const N: usize> {
     /// One exception: a new decoder hunts in the `Fresh` state with `at` 0, so that it is all
     /// zeros (a `static` decoder then lives in `.bss`, not in flash); the ordinary bytes the
     /// fast path stores before the first flag or escape are garbage, counted as discarded
-    /// when the slow path or a slice method first sees the decoder ([`Decoder::settle`]), and
-    /// by [`Decoder::stats`] before that.
+    /// when the slow path first sees a byte (the first flag or escape, or the byte past a full
+    /// buffer; the slice methods reach it at their first flag), at `reset` and `reset_stats`
+    /// (all through `settle`), and by `stats()` before that.
     at: usize,
     /// The CRC run over `buf[..crc_at]` (unescaped bytes of the frame in progress, its two
     /// CRC bytes included once they arrive). The slice path keeps it up to date as it copies;

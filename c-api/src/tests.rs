@@ -377,8 +377,7 @@ fn hostile(good: &[u8], alphabet: &[u8], seed: u64) -> Vec<u8> {
 }
 
 /// The events of `parse` over `stream` handed over in pieces of `chunk` bytes, each piece
-/// parsed until the call has consumed it and has nothing more to give (a call on the empty rest
-/// gives what a rescan still holds). `parse` returns the status, the bytes used and the event.
+/// taken by [`parse_all`]. `parse` returns the status, the bytes used and the event.
 fn chunked(
     stream: &[u8],
     chunk: usize,
@@ -386,26 +385,36 @@ fn chunked(
 ) -> Vec<Event> {
     let mut events = Vec::new();
     for piece in stream.chunks(chunk) {
-        let mut off = 0;
-        loop {
-            let (st, used, event) = parse(&piece[off..]);
-            assert!(
-                st >= 0 && used <= piece.len() - off,
-                "status {st}, used {used}"
-            );
-            off += used;
-            if st == PL_NOTHING {
-                assert_eq!(
-                    off,
-                    piece.len(),
-                    "nothing found before the end of the piece"
-                );
-                break;
-            }
-            events.push(event);
-        }
+        parse_all(piece, &mut parse, &mut events);
     }
     events
+}
+
+/// Calls `parse` on `piece` until it has consumed it and has nothing more to give (a call on
+/// the empty rest gives what a rescan still holds), adding each event to `events`.
+fn parse_all(
+    piece: &[u8],
+    parse: &mut impl FnMut(&[u8]) -> (i32, usize, Event),
+    events: &mut Vec<Event>,
+) {
+    let mut off = 0;
+    loop {
+        let (st, used, event) = parse(&piece[off..]);
+        assert!(
+            st >= 0 && used <= piece.len() - off,
+            "status {st}, used {used}"
+        );
+        off += used;
+        if st == PL_NOTHING {
+            assert_eq!(
+                off,
+                piece.len(),
+                "nothing found before the end of the piece"
+            );
+            return;
+        }
+        events.push(event);
+    }
 }
 
 /// Stream lengths and chunk sizes: shorter under Miri, which runs these too.
@@ -507,6 +516,8 @@ struct AokSide<D> {
         *mut pl_error,
     ) -> i32,
     get_stats: unsafe extern "C" fn(*const D, *mut pl_aok_stats) -> i32,
+    /// Whether the test stream makes a byte call leave events for `poll`.
+    rescans: bool,
 }
 
 impl<D> AokSide<D> {
@@ -560,6 +571,64 @@ impl<D> AokSide<D> {
             assert!(got == expected, "pieces of {chunk}: the events differ");
             assert_eq!(self.stats(&d), expected_stats, "pieces of {chunk}");
         }
+        // The calls mixed: the first byte of every 5 by `parse_byte`, without the `poll` its
+        // contract asks for, then `parse` on the other four, which must give what that byte
+        // left held first.
+        let mut d = self.init();
+        let d_ptr = d.as_mut_ptr();
+        let (mut got, mut held_first) = (Vec::new(), 0);
+        let mut parse = |rest: &[u8]| {
+            let mut used = usize::MAX;
+            // SAFETY: a set-up decoder, a live input and outputs.
+            let st = unsafe {
+                (self.parse)(
+                    d_ptr,
+                    rest.as_ptr(),
+                    rest.len(),
+                    &mut used,
+                    &mut item,
+                    &mut err,
+                )
+            };
+            (st, used, aok_event(st, &item, &err))
+        };
+        for piece in stream.chunks(5) {
+            let (&first, rest) = piece.split_first().expect("chunks are not empty");
+            let (mut one, mut one_err) = (pl_aok_item::default(), pl_error::default());
+            // SAFETY: a set-up decoder (the one `parse` uses, not used at the same time),
+            // live outputs.
+            let st = unsafe { (self.parse_byte)(d_ptr, first, &mut one, &mut one_err) };
+            if st > 0 {
+                got.push(aok_event(st, &one, &one_err));
+                // What `poll` would give now, asked of a copy of the decoder: the next
+                // `parse` must give it at once, with no byte used.
+                // SAFETY: the decoder is plain words, set up; the copy is its own.
+                let mut copy = unsafe { d_ptr.cast::<MaybeUninit<D>>().read() };
+                // SAFETY: the copy is a set-up decoder, live outputs.
+                let held = unsafe { (self.poll)(copy.as_mut_ptr(), &mut one, &mut one_err) };
+                if held > 0 {
+                    let (st, used, event) = parse(rest);
+                    assert_eq!(
+                        (st, used, &event),
+                        (held, 0, &aok_event(held, &one, &one_err)),
+                        "parse after a byte call that left an event held"
+                    );
+                    got.push(event);
+                    held_first += 1;
+                }
+            }
+            parse_all(rest, &mut parse, &mut got);
+        }
+        // The device side's stream leaves events held after a byte call (a rescan), often
+        // enough to test that above; in the PC side's no byte call leaves one.
+        if self.rescans {
+            assert!(held_first > 0, "no byte call left an event held");
+        }
+        assert!(
+            got == expected,
+            "byte and slice calls mixed: the events differ"
+        );
+        assert_eq!(self.stats(&d), expected_stats, "byte and slice calls mixed");
     }
 }
 
@@ -576,6 +645,7 @@ fn aok_device_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
         poll: pl_aok_device_poll,
         parse: pl_aok_device_parse,
         get_stats: pl_aok_device_get_stats,
+        rescans: true,
     };
     side.parse_matches_the_byte_calls(&stream, chunks);
 }
@@ -596,6 +666,7 @@ fn aok_pc_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
         poll: pl_aok_pc_poll,
         parse: pl_aok_pc_parse,
         get_stats: pl_aok_pc_get_stats,
+        rescans: false,
     };
     side.parse_matches_the_byte_calls(&stream, chunks);
 }
