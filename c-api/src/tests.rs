@@ -527,6 +527,21 @@ impl<D> AokSide<D> {
         d
     }
 
+    /// One `parse` call on `rest` with the set-up decoder at `d`: the status, the bytes used
+    /// and the event.
+    fn parse_once(
+        &self,
+        d: *mut D,
+        rest: &[u8],
+        item: &mut pl_aok_item,
+        err: &mut pl_error,
+    ) -> (i32, usize, Event) {
+        let mut used = usize::MAX;
+        // SAFETY: a set-up decoder, a live input and outputs.
+        let st = unsafe { (self.parse)(d, rest.as_ptr(), rest.len(), &mut used, item, err) };
+        (st, used, aok_event(st, item, err))
+    }
+
     fn stats(&self, d: &MaybeUninit<D>) -> pl_aok_stats {
         let mut s = pl_aok_stats::default();
         // SAFETY: a set-up decoder, a live output.
@@ -553,20 +568,9 @@ impl<D> AokSide<D> {
         assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
         for &chunk in chunks {
             let mut d = self.init();
+            let d_ptr = d.as_mut_ptr();
             let got = chunked(stream, chunk, |rest| {
-                let mut used = usize::MAX;
-                // SAFETY: a set-up decoder, a live input and outputs.
-                let st = unsafe {
-                    (self.parse)(
-                        d.as_mut_ptr(),
-                        rest.as_ptr(),
-                        rest.len(),
-                        &mut used,
-                        &mut item,
-                        &mut err,
-                    )
-                };
-                (st, used, aok_event(st, &item, &err))
+                self.parse_once(d_ptr, rest, &mut item, &mut err)
             });
             assert!(got == expected, "pieces of {chunk}: the events differ");
             assert_eq!(self.stats(&d), expected_stats, "pieces of {chunk}");
@@ -577,21 +581,7 @@ impl<D> AokSide<D> {
         let mut d = self.init();
         let d_ptr = d.as_mut_ptr();
         let (mut got, mut held_first) = (Vec::new(), 0);
-        let mut parse = |rest: &[u8]| {
-            let mut used = usize::MAX;
-            // SAFETY: a set-up decoder, a live input and outputs.
-            let st = unsafe {
-                (self.parse)(
-                    d_ptr,
-                    rest.as_ptr(),
-                    rest.len(),
-                    &mut used,
-                    &mut item,
-                    &mut err,
-                )
-            };
-            (st, used, aok_event(st, &item, &err))
-        };
+        let mut parse = |rest: &[u8]| self.parse_once(d_ptr, rest, &mut item, &mut err);
         for piece in stream.chunks(5) {
             let (&first, rest) = piece.split_first().expect("chunks are not empty");
             let (mut one, mut one_err) = (pl_aok_item::default(), pl_error::default());
