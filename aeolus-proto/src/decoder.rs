@@ -346,6 +346,7 @@ impl<const N: usize> Decoder<N> {
                 on_event(ev);
                 // Only an error leaves the decoder hunting.
                 bytes = self.hunt(bytes);
+                bytes = self.open(bytes);
             }
         }
     }
@@ -394,6 +395,19 @@ impl<const N: usize> Decoder<N> {
         // The counter wraps, as every counter does: the low 32 bits of the count are exact.
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(skip as u32);
         bytes.get(skip..).unwrap_or(&[])
+    }
+
+    /// Between two frames (in the `Frame` state with nothing held), takes a leading flag, the
+    /// next frame's opening flag, at once; returns the rest.
+    #[inline(always)]
+    fn open<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
+        match bytes.split_first() {
+            Some((&FLAG, rest)) if self.at == 0 && self.state == State::Frame => {
+                self.stats.flags = self.stats.flags.wrapping_add(1);
+                rest
+            }
+            _ => bytes,
+        }
     }
 
     /// Inside a frame, copies the leading run of ordinary bytes of `bytes` that still fits
@@ -503,6 +517,7 @@ impl<const N: usize> Decoder<N> {
         let total = bytes.len();
         // An error ends the call, so a hunt after it starts at the next call.
         let mut rest = self.hunt(bytes);
+        rest = self.open(rest);
         loop {
             rest = self.copy_run(rest);
             let Some((&b, after)) = rest.split_first() else {
