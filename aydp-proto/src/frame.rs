@@ -113,13 +113,6 @@ impl<'a> Frame<'a> {
     }
 
     /// Parse the data as a typed message (profile-aware).
-    // On 32-bit targets the one out-of-line call of a parse, with `Message::parse` inlined
-    // into it: a frame then pays one call's entry and exit instead of two (Cortex-M3, AYDP
-    // `feed` 7.67 -> 7.21 instructions a byte, `push` 33.9 -> 33.5). On 64-bit hosts this is
-    // inlined into the caller and `parse` is the call, which measured faster there (x86-64
-    // under callgrind, `feed`: 6.20 against 6.87 the other way).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    #[cfg_attr(target_pointer_width = "64", inline)]
     pub fn message(&self) -> Result<Message<'a>> {
         Message::parse(
             self.base_type(),

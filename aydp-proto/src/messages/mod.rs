@@ -142,12 +142,9 @@ fn empty(msg_type: u8, data: &[u8]) -> Result<()> {
 
 impl<'a> Message<'a> {
     /// Parse the data of a message of `base_type` (without the expedited bit).
-    // Kept out of line, so that a caller that parses in several places keeps one copy
-    // (inlined into the firmware's main loop, it cost 416 B of flash more once VESSEL DATA
-    // moved out of it): on 32-bit targets inside `Frame::message`, the one out-of-line call of
-    // a parse there; on 64-bit hosts as a function of its own (see `Frame::message`).
-    #[cfg_attr(not(target_pointer_width = "64"), inline)]
-    #[cfg_attr(target_pointer_width = "64", inline(never))]
+    // Out of line: a caller that parses in several places keeps one copy (inlined into the
+    // firmware's main loop, it cost 416 B of flash more once VESSEL DATA moved out of it).
+    #[inline(never)]
     pub fn parse(base_type: u8, expedited: bool, data: &'a [u8], profile: Profile) -> Result<Self> {
         if base_type > USER_LAST {
             // Y3: base types are 0..=126 (the encoder refuses anything else too).
