@@ -13,7 +13,7 @@ use aok_proto::{
 };
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
 use sensor_box::aok_link::{
-    AokLink, ControlSource, DebugId, FIRMWARE, IDLE_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
+    AokLink, ControlSource, DebugId, FIRMWARE, GAP_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
     STATUS_FLYING, STATUS_MOTOR_TEST,
 };
 use sensor_box::serial::Ring;
@@ -101,6 +101,12 @@ impl<const TX: usize> Rig<TX> {
             self.poll();
             self.now += 1;
         }
+    }
+
+    /// Polls until the silence after what was sent is observed ([`GAP_MS`] after the poll that
+    /// took the last byte): the burst is obeyed (or discarded) by then.
+    fn settle(&mut self) {
+        self.run(GAP_MS + 1);
     }
 
     /// Everything the device sent since the last call.
@@ -244,7 +250,7 @@ fn late_debug_frames_after_debug_off_are_only_what_was_queued() {
     let queued = rig.link.counters().debug_frames;
     assert_eq!(queued, 13);
     rig.cmd(Command::DebugOff);
-    rig.poll();
+    rig.settle();
     assert!(!rig.link.debug_enabled());
     rig.draining = true;
     rig.run(500);
@@ -277,12 +283,21 @@ fn debug_off_then_silence_then_on() {
 // Reset
 
 #[test]
-fn reset_requests_a_reboot() {
+fn reset_requests_a_reboot_landed_and_is_refused_in_flight() {
     let mut rig = Rig::new();
+    rig.quiet();
+    // Flying: refused with 'I', like every other state change.
+    assert_eq!(rig.exchange(&[0x63, 0x07]), b"I");
     assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().refused_in_flight, 1);
+    land(&mut rig);
     rig.send(&[0x63, 0x07]);
     rig.poll();
+    // Not before the silence after it is observed.
+    assert!(!rig.shared.requests.reboot);
+    rig.settle();
     assert!(rig.shared.requests.reboot);
+    assert_eq!(rig.take(), []);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -568,15 +583,17 @@ fn waypoints_set_and_read_in_ram() {
         Persisted::default().aok.waypoints
     );
     // Slot 32 does not exist: a 77 with a good checksum is answered 'E'; so is a bad checksum.
-    // As after a bad checksum, only its first byte is dropped (docs/protocol-notes.md, AOK
-    // item 4): the rescan of this frame's body meets one more false start with a bad
-    // checksum, answered 'E' too, and a partial one that the quiet line (IDLE_MS) gives up.
+    // The decoder drops only its first byte (docs/protocol-notes.md, AOK item 4) and its
+    // rescan of the frame's body meets one more false start with a bad checksum and a partial
+    // one that the silence after the burst cuts short: the burst is discarded whole and
+    // answered one 'E'.
     let mut bad = WP3_FRAME;
     bad[1] = 0x20;
     bad[18] ^= 0x20;
     rig.send(&bad);
-    rig.run(sensor_box::aok_link::IDLE_MS + 10);
-    assert_eq!(rig.take(), b"EE");
+    rig.run(GAP_MS + 10);
+    assert_eq!(rig.take(), b"E");
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
     assert_eq!(rig.exchange(&[0x78, 0x20]), b"E");
     // (A frame whose bytes hold no other command start: the rescan after a bad checksum
     // finds nothing else to answer.)
@@ -694,9 +711,12 @@ fn motor_test_values_lapse_500_ms_after_the_last_frame() {
     let mut rig = Rig::new();
     rig.quiet();
     land(&mut rig);
-    let start = rig.now;
-    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32.
+    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32. Obeyed when the
+    // silence after them is observed, GAP_MS after they arrived: `start`.
+    let start = rig.now + GAP_MS;
     rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
+    rig.run(GAP_MS);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
     rig.run(1);
     let mut expect = [0u8; 12];
     expect[0] = 100;
@@ -712,11 +732,11 @@ fn motor_test_values_lapse_500_ms_after_the_last_frame() {
             .debug_value(DebugId::FlightStatus, rig.now, &rig.shared),
         STATUS_MOTOR_TEST
     );
-    // Motor 12 is refreshed at +300 ms; motor 1 is not.
-    rig.run(299);
-    assert_eq!(rig.now, start + 300);
+    // Motor 12 is refreshed at +300 ms (sent at +298); motor 1 is not.
+    rig.run(297);
+    assert_eq!(rig.now, start + 300 - GAP_MS);
     rig.send(&[0x43, 0x20, 0x63]);
-    rig.run(199);
+    rig.run(199 + GAP_MS);
     assert_eq!(rig.now, start + 499);
     rig.poll();
     assert_eq!(rig.link.motor_outputs()[0], 100); // +499: still held
@@ -765,11 +785,15 @@ fn external_control_expires_back_to_rc() {
     let mut rig = Rig::new();
     rig.quiet();
     assert_eq!(rig.link.control_source(), ControlSource::Rc);
-    let start = rig.now;
-    // The spec's example: roll 32, nick -32, yaw 0, pitch 0, expiry 500 ms.
+    // The spec's example: roll 32, nick -32, yaw 0, pitch 0, expiry 500 ms. Obeyed (`start`)
+    // when the silence after it is observed.
     rig.send(&[
         0x53, 0x20, 0x00, 0xe0, 0xff, 0x00, 0x00, 0x00, 0x00, 0xf4, 0x01, 0xca,
     ]);
+    rig.poll();
+    assert_eq!(rig.link.control_source(), ControlSource::Rc);
+    let start = rig.now + GAP_MS;
+    rig.now = start;
     rig.poll();
     assert_eq!(rig.link.control_source(), ControlSource::External);
     let sticks = rig.link.external_control().unwrap();
@@ -805,7 +829,8 @@ fn external_control_expires_back_to_rc() {
         0
     );
 
-    // A new frame before the expiry extends it: frames at +0 and +300 with 200 ms each.
+    // A new frame before the expiry extends it: frames at +0 and +300 with 400 ms each, each
+    // obeyed GAP_MS after it arrived.
     let frame = |roll| {
         Command::ExternalControl(ExternalControl {
             roll: Stick::new(roll).unwrap(),
@@ -817,14 +842,14 @@ fn external_control_expires_back_to_rc() {
     };
     let t0 = rig.now;
     rig.cmd(frame(10));
-    rig.poll();
+    rig.settle();
     rig.now = t0 + 300;
     rig.cmd(frame(20));
-    rig.poll();
-    rig.now = t0 + 699;
+    rig.settle();
+    rig.now = t0 + 699 + GAP_MS;
     rig.poll();
     assert_eq!(rig.link.external_control().unwrap().roll.get(), 20);
-    rig.now = t0 + 700;
+    rig.now = t0 + 700 + GAP_MS;
     rig.poll();
     assert_eq!(rig.link.control_source(), ControlSource::Rc);
     // External control has no ack.
@@ -853,15 +878,39 @@ fn external_control_with_a_stick_beyond_200_is_ignored() {
 fn garbage_before_a_command_and_a_dead_partial_frame() {
     let mut rig = Rig::new();
     rig.quiet();
-    // Noise, a 73 with a bad checksum ('E'), then a read: the read is still answered.
+    // Noise, a 73 with a bad checksum, then a read, in one burst: not a command as a PC sends
+    // it, so nothing of it is obeyed (the read neither); the bad checksum is answered 'E'.
     let out = rig.exchange(&[0x00, 0x12, 0x73, 0x01, 0, 0, 0, 5, 0x00, 0x67, 0x01]);
-    assert_eq!(out, [b'E', 0xff, 0x01, 0, 0, 0, 0, 0]);
-    // A partial 73 and then silence: after IDLE_MS it is abandoned, so the read that follows
-    // is not swallowed as its body.
+    assert_eq!(out, b"E");
+    assert_eq!(rig.link.decoder_stats().frames_ok, 2); // 63 01 and the read, found
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+    // The read on its own, framed by silence, is answered.
+    assert_eq!(rig.exchange(&[0x67, 0x01]), [0xff, 0x01, 0, 0, 0, 0, 0]);
+    // A partial 73 and then silence: after GAP_MS it is abandoned with its burst, so the read
+    // that follows is not swallowed as its body.
     rig.send(&[0x73, 0x01]);
-    rig.run(IDLE_MS + 1);
+    rig.settle();
     assert_eq!(rig.link.decoder_stats().abandoned, 1);
+    assert_eq!(rig.link.counters().bursts_discarded, 2);
     assert_eq!(rig.exchange(&[0x67, 0x02]), [0xff, 0x02, 0, 0, 0, 0, 0]);
+    // Garbage with a reset in it and no decode error (0x00 is skipped): discarded unanswered.
+    land(&mut rig);
+    assert_eq!(rig.exchange(&[0x00, 0x63, 0x07]), []);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+    // More than BURST_COMMANDS commands in one burst: discarded.
+    let five = [0x67, 0x01].repeat(sensor_box::aok_link::BURST_COMMANDS + 1);
+    assert_eq!(rig.exchange(&five), []);
+    assert_eq!(rig.link.counters().bursts_discarded, 4);
+    // A burst that the poll's RX budget splits is still one burst: a stalled main loop that
+    // then finds many bytes at once does not see a gap inside them.
+    let mut long = vec![0u8; sensor_box::aok_link::RX_BUDGET];
+    long.extend([0x63, 0x07]);
+    rig.send(&long);
+    rig.now += 100;
+    rig.run(10);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 5);
 }
 
 #[test]
@@ -1047,31 +1096,33 @@ fn sets_and_waypoints_survive_a_reboot() {
 }
 
 #[test]
-fn a_frame_held_back_by_a_full_tx_queue_is_not_abandoned() {
+fn a_burst_held_back_by_a_full_tx_queue_is_obeyed_in_full_and_in_order() {
     let mut rig = Rig::with(Persisted::default(), ports::<8>());
     rig.quiet();
     // The line stalls: nothing leaves the port.
     rig.draining = false;
-    // A 73 whose checksum fails ('E'); the rescan finds a bulk read (112 bytes: the link's TX
-    // queue is now too full to read more) and the start of a real 73 (4 of its 7 bytes).
-    rig.send(&[0x73, 0x47, 0x00, 0x73, 0x03, 0x00, 0x00]);
-    rig.poll();
-    assert_eq!(rig.link.decoder_stats().checksum_errors, 1);
-    // The rest of the 73 arrives but waits in the port's RX queue while the TX queue is full.
-    rig.send(&[0x00, 0x09, 0x0a]);
-    rig.run(IDLE_MS * 2);
-    assert_eq!(rig.link.decoder_stats().abandoned, 0);
+    // A bulk read and a set of parameter 3 in one write: the bulk reply (112 bytes) leaves the
+    // link's TX queue too full for the next reply, so the set waits, and so does a read sent
+    // meanwhile (in the port: not silence, not a new burst yet).
+    rig.send(&[0x47, 0x00, 0x73, 0x03, 0x00, 0x00, 0x00, 0x09, 0x0a]);
+    rig.settle();
     assert_eq!(rig.link.parameters()[3], 0);
+    rig.send(&[0x67, 0x03]);
+    rig.run(100);
+    assert_eq!(rig.link.parameters()[3], 0);
+    assert_eq!(rig.link.counters().bursts_discarded, 0);
+    assert_eq!(rig.link.decoder_stats().abandoned, 0);
     // The line moves again: everything is answered, in order.
     rig.draining = true;
     rig.run(50);
     let out = rig.take();
-    assert_eq!(out.len(), 1 + 112 + 1);
-    assert_eq!(out[0], b'E');
-    assert_eq!(decode(&out[1..113], Expect::Bulk(0)).len(), 16);
-    assert_eq!(out[113], b'O');
+    assert_eq!(out.len(), 112 + 1 + 7);
+    assert_eq!(decode(&out[..112], Expect::Bulk(0)).len(), 16);
+    assert_eq!(out[112], b'O');
+    assert_eq!(&out[113..], &[0xff, 0x03, 0, 0, 0, 9, 9]);
     assert_eq!(rig.link.parameters()[3], 9);
-    assert_eq!(rig.link.decoder_stats().abandoned, 0);
+    assert_eq!(rig.link.counters().replies_dropped, 0);
+    assert_eq!(rig.link.counters().bursts_discarded, 0);
 }
 
 #[test]
@@ -1108,16 +1159,17 @@ fn external_control_with_expiry_0_hands_back_at_once() {
         pitch: 0,
         expiry_ms: 0,
     }));
-    rig.poll();
+    rig.settle();
     assert_eq!(rig.link.control_source(), ControlSource::Rc);
     assert_eq!(rig.link.decoder_stats().frames_ok, 2); // 63 01 and the 53
+    assert_eq!(rig.link.counters().bursts_discarded, 0);
 }
 
 /// A false start's bad checksum can uncover several commands at once in the decoder's buffer:
-/// every one of them is answered in the poll that received the false start's last byte, not
-/// when the next byte arrives.
+/// none of them is obeyed (they were not framed by silence as a PC sends a command), and the
+/// burst is answered with one 'E' once the silence after it is observed.
 #[test]
-fn every_command_a_rescan_uncovers_is_answered_in_the_same_poll() {
+fn commands_a_rescan_uncovers_are_not_obeyed() {
     let mut rig = Rig::new();
     rig.quiet();
     // A 77 (a waypoint frame: 19 bytes) with two parameter reads inside; the decoder holds it.
@@ -1125,21 +1177,212 @@ fn every_command_a_rescan_uncovers_is_answered_in_the_same_poll() {
     rig.poll();
     assert!(rig.take().is_empty());
     assert_eq!(rig.link.decoder_stats().checksum_errors, 0);
-    // Its last 14 bytes: the checksum fails ('E'), and the rescan finds both reads, which are
-    // answered at once (nothing arrives after the 0x55).
+    // Its last 14 bytes: the checksum fails, and the rescan finds both reads, which are not
+    // answered: the burst is discarded, with one 'E'.
     let mut rest = [0u8; 14];
     rest[13] = 0x55;
     rig.send(&rest);
-    rig.poll();
-    let out = rig.take();
+    let frames_ok = rig.link.decoder_stats().frames_ok;
+    rig.settle();
+    assert_eq!(rig.take(), b"E");
     assert_eq!(rig.link.decoder_stats().checksum_errors, 1);
-    assert_eq!(out.first(), Some(&b'E'));
-    let numbers: Vec<u8> = decode(&out[1..], Expect::Nothing)
-        .into_iter()
-        .map(|m| match m {
-            Message::Parameter(p) => p.number,
-            other => panic!("not a parameter reply: {other:?}"),
-        })
-        .collect();
-    assert_eq!(numbers, [12, 13]);
+    assert_eq!(rig.link.decoder_stats().frames_ok, frames_ok + 2);
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Framing: every command as a PC sends it
+
+/// Every AOK command, sent in one write as `protolink aok` (through `aok_proto`'s `Client`)
+/// and the reference PC software send it, flying and landed: nothing happens until the poll
+/// that observes the silence after it (GAP_MS after the poll that took its last byte), then it
+/// is obeyed, or refused in flight with 'I' where it changes what must not change in the air,
+/// and the reply arrives at once.
+#[test]
+fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
+    let motor = MotorTest {
+        motor: Motor::new(4).unwrap(),
+        value: 9,
+    };
+    let sticks = ExternalControl {
+        roll: Stick::new(5).unwrap(),
+        nick: Stick::CENTER,
+        yaw: Stick::CENTER,
+        pitch: 0,
+        expiry_ms: 1000,
+    };
+    let read_wp = |rig: &Rig| rig.link.waypoint(WP3.slot, &rig.shared).lon;
+    type Check = fn(&Rig) -> bool;
+    type Case = (Command, Vec<u8>, Option<Vec<u8>>, Check, Check);
+    // (command, reply landed, reply flying (None: as landed), obeyed landed, obeyed flying)
+    let cases: Vec<Case> = vec![
+        (
+            Command::DebugOn,
+            vec![],
+            None,
+            |r| r.link.debug_enabled(),
+            |r| r.link.debug_enabled(),
+        ),
+        (
+            Command::DebugOff,
+            vec![],
+            None,
+            |r| !r.link.debug_enabled(),
+            |r| !r.link.debug_enabled(),
+        ),
+        (
+            Command::Reset,
+            vec![],
+            Some(b"I".to_vec()),
+            |r| r.shared.requests.reboot,
+            |r| !r.shared.requests.reboot,
+        ),
+        (
+            Command::SetParameter(ParameterValue {
+                number: 3,
+                value: -5,
+            }),
+            b"O".to_vec(),
+            None,
+            |r| r.link.parameters()[3] == -5,
+            |r| r.link.parameters()[3] == -5,
+        ),
+        (
+            Command::SetParameter(ParameterValue {
+                number: 20,
+                value: 6,
+            }),
+            b"O".to_vec(),
+            Some(b"I".to_vec()),
+            |r| r.link.parameters()[20] == 6,
+            |r| r.link.parameters()[20] == 0,
+        ),
+        (
+            Command::ReadParameter(3),
+            vec![0xff, 0x03, 0, 0, 0, 0, 0],
+            None,
+            |_| true,
+            |_| true,
+        ),
+        (
+            Command::LoadSet(1),
+            b"O".to_vec(),
+            Some(b"I".to_vec()),
+            |r| r.link.parameters()[0] == 11,
+            |r| r.link.parameters()[0] == 0,
+        ),
+        (
+            Command::SaveSet(1),
+            b"O".to_vec(),
+            Some(b"I".to_vec()),
+            |r| r.shared.requests.store && r.shared.persisted.aok.sets[1][0] == 0,
+            |r| !r.shared.requests.store,
+        ),
+        (
+            Command::StartSet(1),
+            b"O".to_vec(),
+            Some(b"I".to_vec()),
+            |r| r.shared.requests.store && r.shared.persisted.aok.start_set == 1,
+            |r| !r.shared.requests.store && r.shared.persisted.aok.start_set == 0,
+        ),
+        (
+            Command::SaveWaypoints,
+            b"O".to_vec(),
+            Some(b"I".to_vec()),
+            |r| r.shared.requests.store,
+            |r| !r.shared.requests.store,
+        ),
+        (
+            Command::LoadWaypoints,
+            b"O".to_vec(),
+            None,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
+        ),
+        (
+            Command::SetWaypoint(WP3),
+            b"O".to_vec(),
+            None,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == WP3.longitude,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == WP3.longitude,
+        ),
+        (
+            Command::ReadWaypoint(WaypointSlot::from_wire(0).unwrap()),
+            WP3_FRAME.to_vec(),
+            None,
+            |_| true,
+            |_| true,
+        ),
+        (
+            Command::MotorTest(motor),
+            vec![],
+            None,
+            |r| r.link.motor_outputs()[3] == 9,
+            |r| r.link.motor_outputs() == [0; 12],
+        ),
+        (
+            Command::ExternalControl(sticks),
+            vec![],
+            None,
+            |r| r.link.control_source() == ControlSource::External,
+            |r| r.link.control_source() == ControlSource::External,
+        ),
+    ];
+    for (command, landed_reply, flying_reply, landed_ok, flying_ok) in cases {
+        for flying in [false, true] {
+            let mut persisted = Persisted::default();
+            persisted.aok.sets[1][0] = 11;
+            let mut rig = Rig::with(persisted, ports::<1024>());
+            rig.quiet();
+            rig.shared.paused = !flying;
+            // Waypoint 1 is WP3 in RAM and 77 in flash: a load from flash shows.
+            if matches!(command, Command::LoadWaypoints | Command::ReadWaypoint(_)) {
+                assert_eq!(rig.exchange(&WP3_FRAME), b"O");
+                rig.shared.persisted.aok.waypoints[0].lon = 77;
+            }
+            if command == Command::DebugOn {
+                rig.shared.persisted.settings.aok_debug_period_ms = 60_000;
+            }
+            let before = read_wp(&rig);
+            rig.cmd(command);
+            rig.poll(); // takes the bytes
+            for _ in 1..GAP_MS {
+                rig.now += 1;
+                rig.poll();
+            }
+            assert_eq!(rig.take(), [], "{command:?}: answered before the gap");
+            assert!(!rig.shared.requests.reboot && !rig.shared.requests.store);
+            assert_eq!(read_wp(&rig), before);
+            rig.now += 1;
+            rig.poll(); // GAP_MS after the bytes: the silence is observed
+            let mut out = rig.take();
+            if command == Command::DebugOn {
+                // The stream resumes at once: one debug frame is the only output.
+                assert_eq!(debug_values(&out).len(), 1, "{command:?}");
+                out.clear();
+            }
+            let (want, ok) = if flying {
+                (
+                    flying_reply.clone().unwrap_or(landed_reply.clone()),
+                    flying_ok,
+                )
+            } else {
+                (landed_reply.clone(), landed_ok)
+            };
+            assert_eq!(out, want, "{command:?} flying {flying}");
+            assert!(
+                ok(&rig),
+                "{command:?} flying {flying}: not obeyed as it should be"
+            );
+            assert_eq!(rig.link.counters().bursts_discarded, 0);
+        }
+    }
+    // The bulk read: 16 replies, right after the gap.
+    let mut rig = Rig::new();
+    rig.quiet();
+    rig.cmd(Command::BulkRead(0));
+    rig.run(GAP_MS);
+    assert_eq!(rig.take(), []);
+    rig.poll();
+    assert_eq!(decode(&rig.take(), Expect::Bulk(0)).len(), 16);
 }

@@ -4,7 +4,7 @@
 
 use sensor_box::serial::{PortStats, QueuedSerial, Ring};
 use sensor_box::storage::MemFlash;
-use sensor_box::{App, aeolus_link, aydp_link};
+use sensor_box::{App, aeolus_link, aok_link, aydp_link};
 
 type Port<'a> = QueuedSerial<'a, 512, 1024>;
 
@@ -60,10 +60,23 @@ fn only_the_flagged_link_or_a_due_timer_runs() {
     assert_eq!((u1.rx_pending(), u2.rx_pending()), (3, 2));
     assert_eq!(i2.next_to_send(), None);
     assert_eq!(app.aok.decoder_stats().frames_ok, 0);
-    // Its flag set, AOK runs at once and answers; AYDP still waits.
+    // Its flag set, AOK runs at once and takes the read; AYDP still waits. The read is
+    // obeyed when the silence after it is observed: AOK's own timer wakes it for that,
+    // GAP_MS later, without a flag, and it answers.
     app.poll_pending(
         2,
         [false, false, true],
+        &mut u0,
+        &mut u1,
+        &mut u2,
+        &mut flash,
+    );
+    assert_eq!((u2.rx_pending(), i2.next_to_send()), (0, None));
+    assert_eq!(app.aok.next_wake_ms(), 2 + aok_link::GAP_MS);
+    assert!(!app.aok.has_work(2 + aok_link::GAP_MS - 1));
+    app.poll_pending(
+        2 + aok_link::GAP_MS,
+        [false; 3],
         &mut u0,
         &mut u1,
         &mut u2,

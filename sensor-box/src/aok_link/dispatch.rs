@@ -1,88 +1,139 @@
-//! Decode and dispatch: received bytes through the [`DeviceDecoder`](aok_proto::DeviceDecoder)
-//! (with back-pressure and the idle timeout), then one `match` over the commands that hands
-//! each family to its room (`params`, `waypoints`, `control`, `debug`).
+//! Receive, gate and dispatch: received bytes through the
+//! [`DeviceDecoder`](aok_proto::DeviceDecoder) into the burst being received; at a silence of
+//! [`GAP_MS`] the burst is obeyed whole or discarded whole (the framing policy: [`AokLink`],
+//! "Framing"); then one `match` over the commands that hands each family to its room
+//! (`params`, `waypoints`, `control`, `debug`).
 
-use super::{AokLink, IDLE_MS, MAX_REPLY, RX_BUDGET, flying};
+use super::{AokLink, GAP_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aok_proto::{Ack, Command, Error as AokError};
 
 impl AokLink {
-    /// Decodes received bytes while the TX queue has room for the longest reply (otherwise
-    /// the bytes wait in the port: back-pressure instead of lost replies). The port lends its
-    /// bytes a slice at a time (at most [`RX_BUDGET`] a poll); the decoder takes them byte by
-    /// byte (`push`), because the link's TX queue holds one longest reply (a bulk read's 112
-    /// bytes from a 2-byte command), so the room must be checked after every byte, which the
-    /// slice path (`feed`) cannot do. AOK runs at 38 400 Bd: 3 840 bytes a second at most.
+    /// Obeys what is left of an accepted burst, then decodes received bytes (at most
+    /// [`RX_BUDGET`] a poll, lent by the port a slice at a time) into the open burst, and ends
+    /// the burst when this poll observes silence: the port empty after receiving and nothing
+    /// taken for [`GAP_MS`]. While an accepted burst is still being obeyed (its replies wait
+    /// for room in the TX queue), new bytes wait in the port: back-pressure, no lost reply.
+    /// AOK runs at 38 400 Bd: 3 840 bytes a second at most.
     pub(super) fn receive<P: Receive>(&mut self, now_ms: u64, port: &mut P, shared: &mut Shared) {
-        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms, shared));
+        if self.obey_next.is_some() {
+            self.obey(now_ms, shared);
+            if self.obey_next.is_some() {
+                return;
+            }
+        }
+        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms));
         self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         let port_empty = match taken {
-            Ok(n) => n < RX_BUDGET && self.tx_free() >= MAX_REPLY,
+            Ok(n) => n < RX_BUDGET,
             Err(_) => {
                 self.counters.port_errors = self.counters.port_errors.wrapping_add(1);
                 false
             }
         };
-        // Silence only counts when the port has nothing more: bytes held back in it
-        // (back-pressure, budget) may be the rest of the partial frame.
-        if port_empty
-            && self.decoder.held_bytes() > 0
-            && now_ms.saturating_sub(self.last_rx_ms) >= IDLE_MS
-        {
-            while let Some(item) = self.decoder.idle_next() {
-                self.handle(item, now_ms, shared);
-            }
+        // Silence only counts when the port has nothing more: bytes left in it (the budget, a
+        // port error) may be the rest of the burst.
+        if port_empty && self.burst_open && now_ms.saturating_sub(self.last_rx_ms) >= GAP_MS {
+            self.end_burst(now_ms, shared);
         }
     }
 
-    /// Pushes `bytes` into the decoder one at a time while one longest reply still fits, and
-    /// handles every event; the count decoded.
-    fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
-        let mut done = 0;
-        for &byte in bytes {
-            if self.tx_free() < MAX_REPLY {
-                break;
-            }
-            done += 1;
+    /// Pushes `bytes` into the decoder one at a time and collects every event into the open
+    /// burst; the count decoded: all of them.
+    fn decode(&mut self, bytes: &[u8], now_ms: u64) -> usize {
+        if !bytes.is_empty() {
             self.last_rx_ms = now_ms;
+            self.burst_open = true;
+        }
+        for &byte in bytes {
             let mut event = self.decoder.push(byte);
             while let Some(item) = event {
-                self.handle(item, now_ms, shared);
+                self.collect(item);
                 event = self.decoder.poll();
             }
         }
-        done
+        bytes.len()
     }
 
-    pub(super) fn handle(
-        &mut self,
-        item: Result<Command, AokError>,
-        now_ms: u64,
-        shared: &mut Shared,
-    ) {
-        if item.is_err() {
-            self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
+    /// One decoder event into the open burst: a command is kept (the burst is spoilt when it
+    /// already holds [`BURST_COMMANDS`](super::BURST_COMMANDS)), an error spoils it.
+    fn collect(&mut self, item: Result<Command, AokError>) {
+        match item {
+            Ok(command) => {
+                if self.burst.push(command).is_err() {
+                    self.burst_clean = false;
+                }
+            }
+            Err(e) => {
+                self.counters.rx_errors = self.counters.rx_errors.wrapping_add(1);
+                self.burst_clean = false;
+                // A faulty `73`/`77` is answered 'E' (the spec), once for the burst: the
+                // decoder cannot say which command a bad checksum belonged to.
+                if matches!(
+                    e,
+                    AokError::ChecksumMismatch { .. } | AokError::InvalidSlot(_)
+                ) {
+                    self.burst_bad_check = true;
+                }
+            }
         }
-        let command = match item {
-            Ok(c) => c,
-            // A frame cut by a quiet line: counted by the decoder, nothing to answer.
-            Err(AokError::Truncated) => return,
-            Err(AokError::ChecksumMismatch { .. }) | Err(AokError::InvalidSlot(_)) => {
-                // A faulty `73`/`77` is answered 'E' (the spec); the decoder cannot say which
-                // command a bad checksum belonged to, so every one is answered.
+    }
+
+    /// Silence observed: a frame still held was cut short (abandoned, reported by the decoder
+    /// as `Truncated`), and the burst is obeyed if it decoded cleanly, else discarded whole.
+    /// Clean: no error event, no more commands than the buffer holds, and not one byte thrown
+    /// away by the decoder (its `bytes_discarded`, which counts every byte that is not part of
+    /// a command: unknown bytes, which it skips without an event, false starts, abandoned
+    /// starts, unchanged since the last burst ended).
+    fn end_burst(&mut self, now_ms: u64, shared: &mut Shared) {
+        while let Some(item) = self.decoder.idle_next() {
+            self.collect(item);
+        }
+        let discarded = self.decoder.stats().bytes_discarded;
+        if self.burst_clean && discarded == self.burst_discarded && !self.burst.is_empty() {
+            self.obey_next = Some(0);
+            self.obey(now_ms, shared);
+        } else {
+            crate::debug!("AOK: burst discarded");
+            self.counters.bursts_discarded = self.counters.bursts_discarded.wrapping_add(1);
+            self.burst.clear();
+            if self.burst_bad_check {
                 self.ack(Ack::Error);
+            }
+        }
+        self.burst_open = false;
+        self.burst_discarded = discarded;
+        self.burst_clean = true;
+        self.burst_bad_check = false;
+    }
+
+    /// The commands of the accepted burst, in order, while the TX queue has room for the
+    /// longest reply; the rest at the next poll.
+    fn obey(&mut self, now_ms: u64, shared: &mut Shared) {
+        loop {
+            let next = self.obey_next.unwrap_or(0);
+            let Some(&command) = self.burst.get(usize::from(next)) else {
+                self.burst.clear();
+                self.obey_next = None;
+                return;
+            };
+            if self.tx_free() < MAX_REPLY {
                 return;
             }
-            Err(_) => {
-                // Stick values beyond ±200: external control has no ack; counted by the decoder.
-                crate::warn!("AOK: command with an out-of-range field ignored");
-                return;
-            }
-        };
+            self.obey_next = Some(next.wrapping_add(1));
+            self.handle(command, now_ms, shared);
+        }
+    }
+
+    fn handle(&mut self, command: Command, now_ms: u64, shared: &mut Shared) {
         let flying = flying(shared);
         match command {
             Command::DebugOff | Command::DebugOn => self.switch_debug(command, now_ms),
+            Command::Reset if flying => {
+                crate::warn!("AOK reset refused: flying");
+                self.ack(Ack::InFlight);
+            }
             Command::Reset => {
                 crate::info!("AOK reset requested");
                 shared.requests.reboot = true;

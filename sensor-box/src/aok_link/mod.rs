@@ -24,7 +24,7 @@
 //! the debug value stream.
 //!
 //! ```
-//! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId}};
+//! use sensor_box::{Persisted, Shared, aok_link::{AokLink, DebugId, GAP_MS}};
 //! use sensor_box::serial::{PortStats, QueuedSerial};
 //! use sensor_box::serial::Ring;
 //!
@@ -38,13 +38,25 @@
 //! let frame: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
 //! assert_eq!(frame.len(), 7);
 //! assert_eq!(&frame[..2], &[0x1c, DebugId::Roll as u8]);
-//! // Read parameter 3: the >= 0.31 reply `FF 03 B1..B4 CRC`.
+//! // Debug off and read parameter 3, in one write as a PC sends them: obeyed once the line
+//! // has been silent for GAP_MS, and answered with the >= 0.31 reply `FF 03 B1..B4 CRC`.
 //! for b in [0x63, 0x01, 0x67, 0x03] {
 //!     isr.received(b);
 //! }
 //! link.poll(1, &mut port, shared);
+//! assert_eq!(isr.next_to_send(), None); // the burst may not be over yet
+//! assert_eq!(link.next_wake_ms(), 1 + GAP_MS); // when silence can be observed
+//! link.poll(1 + GAP_MS, &mut port, shared);
 //! let reply: Vec<u8> = core::iter::from_fn(|| isr.next_to_send()).collect();
 //! assert_eq!(reply, [0xff, 0x03, 0, 0, 0, 0, 0]);
+//! // Noise: a `63 07` (reset) behind a stray byte is never obeyed.
+//! for b in [0x00, 0x63, 0x07] {
+//!     isr.received(b);
+//! }
+//! link.poll(10, &mut port, shared);
+//! link.poll(10 + GAP_MS, &mut port, shared);
+//! assert!(!shared.requests.reboot);
+//! assert_eq!(link.counters().bursts_discarded, 1);
 //! ```
 
 mod control;
@@ -59,7 +71,7 @@ use crate::Shared;
 use crate::port::{Receive, TxQueue};
 use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{Ack, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
+use aok_proto::{Ack, Command, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
 use embedded_io::{Write, WriteReady};
 
 /// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
@@ -78,8 +90,14 @@ pub const MISSION_POI: usize = AOK_FLASH_WAYPOINTS - 1;
 /// Parameters that may be set while flying: bit `n` set = parameter `n` is "in-flight"
 /// settable. Parameters 0..=15 are (tuning values); 16..=31 are not (configuration).
 pub const IN_FLIGHT_PARAMS: u32 = 0x0000_ffff;
-/// A partial frame is abandoned (the decoder rescans behind it) after this much silence.
-pub const IDLE_MS: u64 = 50;
+/// Silence that ends a burst, ms: a poll observes it when, after receiving, the port is empty
+/// and no byte has been taken for `GAP_MS` (the poll times are whole milliseconds, so two of
+/// them guarantee more than 1 ms of true silence, over 3.5 characters at 38 400 Bd 8N1, which
+/// last 0.91 ms: Modbus RTU's inter-frame gap). See [`AokLink`], "Framing".
+pub const GAP_MS: u64 = 2;
+/// Most commands one burst may carry and still be obeyed (a PC writes one command at a time;
+/// a burst with more is discarded whole and counted in [`AokCounters::bursts_discarded`]).
+pub const BURST_COMMANDS: usize = 4;
 /// Capacity of the link's own TX queue, in bytes: one bulk reply (112 bytes) plus room.
 pub const TX_CAPACITY: usize = 128;
 /// The longest reply one command produces: the 16 frames of a bulk read.
@@ -128,6 +146,9 @@ pub struct AokCounters {
     pub rx_errors: u32,
     /// Errors reported by the port itself, on either side.
     pub port_errors: u32,
+    /// Bursts received but not obeyed: not framed by silence as a PC sends a command (garbage
+    /// skipped, a decode error, a frame cut short, or more than [`BURST_COMMANDS`] commands).
+    pub bursts_discarded: u32,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -143,8 +164,37 @@ struct External {
 }
 
 /// The AOK link.
+///
+/// # Framing
+///
+/// AOK's `63` commands carry no checksum and the others an 8-bit XOR, and the decoder rescans
+/// every byte after a failed frame, so line noise holds commands (a reset every 15 s or so of
+/// random bytes at 38 400 Bd). The link therefore obeys a command only as a PC sends it: in a
+/// *burst* of bytes framed by silence before and after (Modbus RTU's 3.5-character gap).
+/// Every command the decoder finds goes into the burst's buffer (at most [`BURST_COMMANDS`]);
+/// when a poll observes [`GAP_MS`] of silence, the burst is obeyed, in order, only if it
+/// decoded cleanly: every byte part of a command, no decode error, nothing left half-held, at
+/// most [`BURST_COMMANDS`] commands. Otherwise it is discarded whole
+/// ([`AokCounters::bursts_discarded`]; one 'E' if a checksum or a waypoint slot was bad).
+/// Silence is observed, never inferred: the port is empty after the poll's receive and no byte
+/// was taken for [`GAP_MS`], so a main loop that stalls and then finds many bytes at once
+/// sees no gap, nor do bytes left in the port by [`RX_BUDGET`]. Reads go through the gate too.
+/// The reply comes about [`GAP_MS`] after the command ([`AokLink::next_wake_ms`] wakes the
+/// poll for it).
 pub struct AokLink {
     decoder: DeviceDecoder,
+    /// The commands of the burst being received, or of the accepted burst being obeyed.
+    burst: heapless::Vec<Command, BURST_COMMANDS>,
+    /// The next command of an accepted burst to obey, while one is being obeyed.
+    obey_next: Option<u8>,
+    /// Bytes were taken since the last silence observed.
+    burst_open: bool,
+    /// The open burst has decoded cleanly so far.
+    burst_clean: bool,
+    /// The decoder's `bytes_discarded` when the last burst ended.
+    burst_discarded: u32,
+    /// The open burst held a frame with a bad checksum or waypoint slot (answered 'E').
+    burst_bad_check: bool,
     tx: TxQueue<TX_CAPACITY>,
     debug_on: bool,
     next_debug_ms: u64,
@@ -157,7 +207,7 @@ pub struct AokLink {
     motors: [MotorOutput; MOTORS],
     external: Option<External>,
     /// When the next poll has something to do by the clock (a debug value, a motor-test
-    /// lapse, external control's expiry, a partial frame's idle timeout), from the last poll.
+    /// lapse, external control's expiry, the end of a burst), from the last poll.
     wake_ms: u64,
     /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
     rx_more: bool,
@@ -181,6 +231,12 @@ impl AokLink {
         };
         let mut link = AokLink {
             decoder: DeviceDecoder::new(),
+            burst: heapless::Vec::new(),
+            obey_next: None,
+            burst_open: false,
+            burst_clean: true,
+            burst_discarded: 0,
+            burst_bad_check: false,
             tx: TxQueue::new(),
             debug_on: true,
             next_debug_ms: 0,
@@ -231,9 +287,10 @@ impl AokLink {
     }
 
     /// The earliest instant at which a poll has something to do without a received byte: 0
-    /// (at once) while TX bytes wait for room in the port or received bytes wait that the last
-    /// poll's [`RX_BUDGET`] left in the port; else the earliest of its timers (the debug
-    /// stream, an unfinished frame's idle limit, a motor test's or an external control's end).
+    /// (at once) while TX bytes wait for room in the port, received bytes wait that the last
+    /// poll's [`RX_BUDGET`] left in the port, or commands of an accepted burst wait; else the
+    /// earliest of its timers (the debug stream, the [`GAP_MS`] that ends a burst, a motor
+    /// test's or an external control's end).
     ///
     /// ```
     /// use sensor_box::{Persisted, Shared, aok_link::AokLink};
@@ -241,7 +298,7 @@ impl AokLink {
     /// assert_eq!(link.next_wake_ms(), 0); // the first debug value is due at boot
     /// ```
     pub fn next_wake_ms(&self) -> u64 {
-        if self.rx_more || !self.tx.is_empty() {
+        if self.rx_more || self.obey_next.is_some() || !self.tx.is_empty() {
             0
         } else {
             self.wake_ms
@@ -254,8 +311,8 @@ impl AokLink {
         if self.debug_on {
             at = at.min(self.next_debug_ms);
         }
-        if self.decoder.held_bytes() > 0 {
-            at = at.min(self.last_rx_ms.saturating_add(IDLE_MS));
+        if self.burst_open {
+            at = at.min(self.last_rx_ms.saturating_add(GAP_MS));
         }
         for m in self.motors.iter().filter(|m| m.value != 0) {
             at = at.min(m.until_ms);
