@@ -54,8 +54,9 @@ const AIRSPEED: u16 = 0x0110;
 /// The AOK parameter every read asks for.
 const PARAMETER: u8 = 3;
 /// The silence around each AOK read: the box obeys an AOK command only in a burst framed by
-/// silence (2 ms on its clock); 20 ms leaves room for QEMU's and the host's scheduling.
-const AOK_QUIET: Duration = Duration::from_millis(20);
+/// silence (2 ms on its clock); 50 ms leaves room for QEMU's and the host's scheduling and
+/// for the guest to catch up with the flood it may lag behind.
+const AOK_QUIET: Duration = Duration::from_millis(50);
 
 /// splitmix64: a small deterministic generator.
 struct Random(u64);
