@@ -164,8 +164,8 @@ mod run {
         let k = app.aok.counters();
         let d = app.aok.decoder_stats();
         info!(
-            "AOK: commands {=u32}, rx errors {=u32}, cut by a quiet line {=u32}, replies dropped {=u32}",
-            d.frames_ok, k.rx_errors, d.abandoned, k.replies_dropped
+            "AOK: commands {=u32}, rx errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}, replies dropped {=u32}",
+            d.frames_ok, k.rx_errors, d.abandoned, k.bursts_discarded, k.replies_dropped
         );
     }
 }
