@@ -27,7 +27,7 @@
 //! `NOISE_HOURS` (default 24) sets the simulated time of every scenario; each test prints its
 //! figures (`cargo test -p sensor-box --test noise -- --nocapture`). The figures before the
 //! AOK link's silence framing, and after, are in `docs/RELIABILITY.md` ("Line noise commands
-//! nothing"). The whole file takes about 2.5 minutes in a debug `cargo test` on two cores (the
+//! nothing"). The whole file takes 155 to 165 s in a debug `cargo test` on two cores (the
 //! test profile builds the box's crates with `opt-level = 3`).
 
 use aok_proto::WaypointSlot;
