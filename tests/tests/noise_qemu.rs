@@ -26,6 +26,10 @@
 //! when it obeys), from the boot TOASTs on UART0, and from reading the parameters and the
 //! mission POI back over AOK before and after the noise. The test prints every count.
 //!
+//! It takes about 70 s. Before the AOK line-noise gate (issue 42) the box obeys this noise and
+//! the test fails: with this seed, a waypoint load from flash in flight; landed, a reset,
+//! waypoint saves and loads, motor-test outputs and debug toggles.
+//!
 //! QEMU board only: the simulated STM32 (netduinoplus2) takes a whole host core already and
 //! would double the run.
 
@@ -50,9 +54,9 @@ const CHUNK: usize = 40;
 /// The fewest bytes one write of noise carries: more than the longest AOK command (19).
 const MIN_CHUNK: usize = 20;
 /// Each continuous phase.
-const CONTINUOUS: Duration = Duration::from_secs(15);
+const CONTINUOUS: Duration = Duration::from_secs(20);
 /// Each burst phase.
-const BURSTS: Duration = Duration::from_secs(10);
+const BURSTS: Duration = Duration::from_secs(12);
 /// Silence before and after a genuine command (and after the noise).
 const QUIET: Duration = Duration::from_millis(150);
 
