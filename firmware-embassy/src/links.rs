@@ -13,9 +13,15 @@
 //! the queue to the UART in DMA chunks instead of a TXE interrupt moving it a byte at a time.
 //! Only the RX side differs in shape: the protocol crates' async `FrameReader`s decode what
 //! the DMA ring holds, and each frame is handed to the link's per-frame entry point.
+//!
+//! The watchdog is fed by one supervisor ([`supervise`]), and only when every task that must
+//! make progress has shown it since the last feed ([`Heartbeat`]): the tick ([`run`]) on every
+//! tick, each TX pump ([`pump_tx`]) after every transfer or while it waits with nothing to
+//! send. The RX tasks wait for as long as nothing is received, so they have no heartbeat; a
+//! hang inside one (or anywhere: the tasks share one executor) stops the tick's too.
 
 use core::cell::RefCell;
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 
 use aeolus_proto::IoError;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -112,6 +118,61 @@ impl RxErrors {
     }
 }
 
+/// How often the supervisor looks at the heartbeats and feeds the watchdog, ms. With the
+/// longest stall of the executor (a 128 KiB sector erase, up to 4 s at the x8 parallelism
+/// `embassy-stm32` programs), feeds are at most 4.5 s apart: below the IWDG's 8 s time-out
+/// at the LSI's fastest (47 kHz: 5.4 s).
+pub const FEED_MS: u64 = 500;
+
+/// A task's sign of progress for the watchdog's supervisor: a beat since the supervisor last
+/// looked, or waiting (with nothing to do, which is progress too).
+pub struct Heartbeat(AtomicU8);
+
+const BEAT: u8 = 1;
+const WAITING: u8 = 2;
+
+impl Heartbeat {
+    /// No beat yet.
+    pub const fn new() -> Self {
+        Heartbeat(AtomicU8::new(0))
+    }
+
+    /// The task made progress.
+    pub fn beat(&self) {
+        self.0.fetch_or(BEAT, Ordering::Relaxed);
+    }
+
+    /// The task waits with nothing to do (`true`), or has work again (`false`, also a beat).
+    pub fn waiting(&self, waiting: bool) {
+        self.0
+            .store(if waiting { WAITING } else { BEAT }, Ordering::Relaxed);
+    }
+
+    /// Whether the task beat, or is waiting, since the last call; clears the beat.
+    fn take(&self) -> bool {
+        self.0.fetch_and(!BEAT, Ordering::Relaxed) != 0
+    }
+}
+
+/// The watchdog's supervisor: every [`FEED_MS`], `feed` runs if every one of `hearts` beat or
+/// waits since the last look. One that did not is logged once per look (by its index), and
+/// the watchdog resets the box unless it comes back before the time-out.
+pub async fn supervise(hearts: &[&Heartbeat], mut feed: impl FnMut()) -> ! {
+    loop {
+        Timer::after_millis(FEED_MS).await;
+        let mut all = true;
+        for (i, heart) in hearts.iter().enumerate() {
+            if !heart.take() {
+                defmt::warn!("watchdog: task {=usize} shows no progress, not fed", i);
+                all = false;
+            }
+        }
+        if all {
+            feed();
+        }
+    }
+}
+
 /// Milliseconds since boot (the application's clock).
 pub fn now_ms() -> u64 {
     Instant::now().as_millis()
@@ -195,29 +256,44 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
 }
 
 /// Moves what the links queued on one port to `uart`, [`TX_CHUNK`] bytes per write (one DMA
-/// transfer each); sleeps on `ready` while the queue is empty.
-pub async fn pump_tx<W: Write>(mut isr: PortIsr, mut uart: W, ready: &TxReady) -> ! {
+/// transfer each); sleeps on `ready` while the queue is empty. `heart` beats after every
+/// transfer and waits with it.
+pub async fn pump_tx<W: Write>(
+    mut isr: PortIsr,
+    mut uart: W,
+    ready: &TxReady,
+    heart: &Heartbeat,
+) -> ! {
     let mut chunk = [0u8; TX_CHUNK];
     loop {
         let n = isr.take_to_send(&mut chunk);
         if n == 0 {
+            heart.waiting(true);
             ready.wait().await;
+            heart.waiting(false);
             continue;
         }
         if uart.write_all(chunk.get(..n).unwrap_or(&[])).await.is_err() {
             defmt::warn!("UART transmit error: {=usize} bytes lost", n);
         }
+        heart.beat();
     }
 }
 
 /// The telemetry schedule and the links' TX halves, every [`TICK_MS`]: AEOLUS telemetry and
 /// answers, the AYDP heartbeat, position and fix quality; then the flash store when a link
 /// asked for one. Returns when a link asked for a reboot, after [`REBOOT_FLUSH_MS`] for the
-/// answer to leave; the board resets.
-pub async fn run<F: NorFlash>(shared: &Shared, store: &mut F, rx_errors: [&RxErrors; 2]) {
+/// answer to leave; the board resets. `heart` beats on every tick.
+pub async fn run<F: NorFlash>(
+    shared: &Shared,
+    store: &mut F,
+    rx_errors: [&RxErrors; 2],
+    heart: &Heartbeat,
+) {
     let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
     loop {
+        heart.beat();
         let now = now_ms();
         let control = shared.with(|a| {
             let Application {

@@ -9,6 +9,11 @@
 //! | AYDP | USART1 | PA9, PA10 | 115 200 | DMA2 stream 2, stream 7 |
 //!
 //! AOK (USART6 on the blocking board) is not wired here.
+//!
+//! The IWDG resets the box [`WATCHDOG_US`] (8 s at the LSI's nominal 32 kHz; 5.4 s to 15 s
+//! over its 17-47 kHz) after the last feed. Only the supervisor task feeds it, and only when
+//! the tick and both TX pumps have shown progress ([`links::supervise`]). The boot log has
+//! RCC_CSR (IWDGRSTF, bit 29: the last reset was the watchdog's).
 #![no_std]
 #![no_main]
 
@@ -19,11 +24,12 @@ use embassy_executor::{SpawnError, SpawnToken, Spawner};
 use embassy_stm32::flash::Flash;
 use embassy_stm32::mode::Async;
 use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
 use embedded_storage::nor_flash::ReadNorFlash;
 use firmware_example::serial::Ring;
 use firmware_example::{FlashWindow, PortStats, QueuedSerial};
-use links::{Application, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
+use links::{Application, Heartbeat, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
 use panic_probe as _;
 use sensor_box::App;
 use static_cell::{ConstStaticCell, StaticCell};
@@ -64,6 +70,19 @@ static AYDP_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::
 static UNUSED_RX: ConstStaticCell<[Ring<UNUSED_RX_LEN>; 2]> =
     ConstStaticCell::new([const { Ring::new() }; 2]);
 static SHARED: StaticCell<Shared> = StaticCell::new();
+/// The heartbeats the watchdog's supervisor checks: the tick, the AEOLUS and the AYDP pumps.
+static HEARTS: [Heartbeat; 3] = [const { Heartbeat::new() }; 3];
+
+/// The IWDG's time-out at the LSI's nominal 32 kHz, µs: above the longest stall (a 128 KiB
+/// sector erase, up to 4 s at x8 parallelism) plus the supervisor's [`links::FEED_MS`] even at
+/// the LSI's fastest.
+const WATCHDOG_US: u32 = 8_000_000;
+/// RCC_CSR (RCC at 0x4002_3800, offset 0x74): the reset flags.
+const RCC_CSR: usize = 0x4002_3874;
+/// RCC_CSR's IWDGRSTF: the last reset was the IWDG's.
+const CSR_IWDGRSTF: u32 = 1 << 29;
+/// RCC_CSR's RMVF: clears the reset flags.
+const CSR_RMVF: u32 = 1 << 24;
 
 /// HSI (16 MHz) / 8 * 100 / 2 = 100 MHz, the F411's maximum; APB1 (USART2) at 50 MHz, APB2
 /// (USART1) at 100 MHz. The blocking board runs the same clocks.
@@ -98,6 +117,20 @@ async fn main(spawner: Spawner) {
         "sensor-box-embassy {=str} on stm32f411 (embassy): booting",
         env!("CARGO_PKG_VERSION")
     );
+    // SAFETY: RCC_CSR is the F411's reset-flag register; only its RMVF bit is written, which
+    // clears the flags and touches no clock.
+    let csr = unsafe {
+        let csr = core::ptr::read_volatile(RCC_CSR as *const u32);
+        core::ptr::write_volatile(RCC_CSR as *mut u32, csr | CSR_RMVF);
+        csr
+    };
+    defmt::info!(
+        "reset cause: RCC_CSR {=u32:#x}, watchdog {=bool}",
+        csr,
+        csr & CSR_IWDGRSTF != 0
+    );
+    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_US);
+    watchdog.unleash();
 
     let (Ok(aeolus), Ok(aydp)) = (
         Uart::new(
@@ -153,10 +186,32 @@ async fn main(spawner: Spawner) {
 
     spawn(&spawner, aeolus_rx_task(aeolus_rx, shared));
     spawn(&spawner, aydp_rx_task(aydp_rx, shared));
-    spawn(&spawner, tx_task(aeolus_isr, aeolus_tx, &AEOLUS_READY));
-    spawn(&spawner, tx_task(aydp_isr, aydp_tx, &AYDP_READY));
-    links::run(shared, &mut store, [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS]).await;
+    let [tick_heart, aeolus_heart, aydp_heart] = &HEARTS;
+    spawn(
+        &spawner,
+        tx_task(aeolus_isr, aeolus_tx, &AEOLUS_READY, aeolus_heart),
+    );
+    spawn(
+        &spawner,
+        tx_task(aydp_isr, aydp_tx, &AYDP_READY, aydp_heart),
+    );
+    spawn(&spawner, watchdog_task(watchdog));
+    links::run(
+        shared,
+        &mut store,
+        [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS],
+        tick_heart,
+    )
+    .await;
     cortex_m::peripheral::SCB::sys_reset();
+}
+
+/// The watchdog's supervisor ([`links::supervise`]): feeds the IWDG while the tick and both
+/// TX pumps show progress.
+#[embassy_executor::task]
+async fn watchdog_task(mut watchdog: IndependentWatchdog<'static, peripherals::IWDG>) {
+    let [tick, aeolus, aydp] = &HEARTS;
+    links::supervise(&[tick, aeolus, aydp], || watchdog.pet()).await
 }
 
 /// Starts a task; a task that is already running (none is spawned twice beyond its pool) is
@@ -182,6 +237,11 @@ async fn aydp_rx_task(uart: RingBufferedUartRx<'static>, shared: &'static Shared
 
 /// Transmit: one port's TX queue to its UART by DMA ([`links::pump_tx`]); one per UART.
 #[embassy_executor::task(pool_size = 2)]
-async fn tx_task(isr: PortIsr, uart: UartTx<'static, Async>, ready: &'static TxReady) {
-    links::pump_tx(isr, uart, ready).await
+async fn tx_task(
+    isr: PortIsr,
+    uart: UartTx<'static, Async>,
+    ready: &'static TxReady,
+    heart: &'static Heartbeat,
+) {
+    links::pump_tx(isr, uart, ready, heart).await
 }

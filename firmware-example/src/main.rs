@@ -17,7 +17,14 @@
 //!    the links whose UART received, or whose own timer is due, run; then a `flush` of each port (on the QEMU board
 //!    that starts one TX interrupt per burst instead of one per byte), a warm
 //!    reset when a link asks for one, and every 5 s (`REPORT_MS`) log lines with the uptime, the stack high-water mark
-//!    (cortex-m-rt paints the stack before `main`) and the UART counters.
+//!    (cortex-m-rt paints the stack before `main`) and the UART counters. Each pass feeds the
+//!    board's watchdog first, and no sleep lasts longer than `board::FEED_MS` (1 s), so only
+//!    a loop that stops is reset (the time-outs: `board/mod.rs`, "The watchdog").
+//!
+//! At boot the log has the reset cause: the board's reset-status register (its watchdog bit),
+//! and whether this reset was one the firmware did not ask for, with their count since
+//! power-on (`board::unrequested_resets`: QEMU sets no reset-status bits, so there only the
+//! count tells a watchdog reset).
 //!
 //! On the host this file builds a stub `main` that says how to run it.
 #![cfg_attr(target_os = "none", no_std)]
@@ -52,12 +59,21 @@ mod run {
     fn main() -> ! {
         let b = board::init();
         let (mut uart0, mut uart1, mut uart2) = (b.uart0, b.uart1, b.uart2);
-        let (clock, mut store) = (b.clock, b.store);
+        let (clock, mut store, mut watchdog) = (b.clock, b.store, b.watchdog);
         info!(
             "sensor-box {=str} on {=str}: booting; flash store {=usize} bytes",
             env!("CARGO_PKG_VERSION"),
             board::NAME,
             store.capacity()
+        );
+        let cause = board::reset_cause();
+        let (unrequested, count) = board::unrequested_resets();
+        info!(
+            "reset cause: register {=u32:#x}, watchdog {=bool}; not asked for {=bool} ({=u32} since power-on)",
+            cause,
+            cause & board::WATCHDOG_CAUSE != 0,
+            unrequested,
+            count
         );
 
         let mut app = App::new(&mut store, clock.now_ms());
@@ -70,6 +86,8 @@ mod run {
         #[cfg(feature = "cpu-budget")]
         let mut budget = crate::budget_run::Run::new(clock.now_ms());
         loop {
+            // The one place that feeds the watchdog: once per pass.
+            watchdog.feed();
             let now = clock.now_ms();
             // Only the links with work run: the UARTs that received, and the timers due.
             let received = board::take_received();
@@ -86,6 +104,14 @@ mod run {
                 flush(&mut uart0, &clock, now.saturating_add(REBOOT_FLUSH_MS));
                 board::reset();
             }
+            // Test only (feature `fault-hang`): an unknown AEOLUS command hangs the loop; its
+            // answer still leaves (the UART interrupts run), the watchdog must reset the box.
+            #[cfg(feature = "fault-hang")]
+            if app.aeolus.counters().unknown_commands != 0 {
+                info!("fault-hang: the main loop hangs");
+                #[allow(clippy::empty_loop)]
+                loop {}
+            }
             if now >= next_report {
                 next_report = now.saturating_add(REPORT_MS);
                 report(now, &app, [&uart0, &uart1, &uart2]);
@@ -99,6 +125,7 @@ mod run {
             let deadline = app
                 .next_wake_ms()
                 .min(next_report)
+                .min(now.saturating_add(board::FEED_MS))
                 .max(now.saturating_add(1));
             #[cfg(feature = "cpu-budget")]
             let deadline = deadline.min(budget.next_ms());

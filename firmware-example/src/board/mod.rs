@@ -5,13 +5,30 @@
 //! * `NAME`: the board's name, for the boot log;
 //! * `Port`: its [`QueuedSerial`](firmware_example::QueuedSerial) (the sizes of its RX and TX rings);
 //! * `Store`: its flash store type (`embedded-storage` `NorFlash`);
-//! * `init() -> Board<Store>`: clocks, SysTick, three interrupt-driven UARTs
-//!   and the flash store;
+//! * `init() -> Board<Store>`: clocks, SysTick, three interrupt-driven UARTs,
+//!   the flash store and the running watchdog;
+//! * `Watchdog`: its watchdog (`feed`), and `reset_cause()`: its reset-status
+//!   register, read and cleared, with `WATCHDOG_CAUSE` (the register's watchdog bit);
 //! * the UART interrupt handlers, which move bytes between the UARTs and the
 //!   queues behind [`QueuedSerial`](firmware_example::QueuedSerial).
 //!
 //! What is the same on every Cortex-M (the millisecond clock, the painted
-//! stack, the warm reset, the HardFault handler) is in this file.
+//! stack, the warm reset, the HardFault handler, the count of resets the firmware did not
+//! ask for) is in this file.
+//!
+//! ## The watchdog
+//!
+//! Every board starts its watchdog in `init`; only the main loop feeds it, once per pass
+//! (`main.rs`), and the loop never sleeps longer than [`FEED_MS`]. A main loop that stops
+//! (a hang, a livelock in a link, an interrupt storm that starves it) is reset; a hang in
+//! an interrupt handler too, since the loop then never runs. Interrupts alone do not keep
+//! the box alive: SysTick and the UARTs never feed it.
+//!
+//! | board | watchdog | clock | reset after | why that long |
+//! |---|---|---|---|---|
+//! | `board-qemu` | LM3S6965 watchdog (QEMU `luminary-watchdog`) | system clock, 12.5 MHz | 4 s (load 2 s: the first time-out raises the interrupt, the second resets) | 4 x [`FEED_MS`]; the store is RAM, no erase |
+//! | `board-stm32f411` | IWDG | LSI, 32 kHz nominal (17 to 47 kHz) | 8 s nominal, 5.4 s to 15 s over the LSI's range | above the 4 s worst-case 128 KiB sector erase at x8 parallelism (the HAL's `PSIZE`), which blocks the loop |
+//! | `qemu-stm32` | none in QEMU: `netduinoplus2`'s IWDG is an unimplemented-device stub (writes ignored) | | never | |
 //!
 //! | board feature     | target                 | module           | memory map                |
 //! |-------------------|------------------------|------------------|---------------------------|
@@ -33,12 +50,12 @@ compile_error!(
 #[cfg(feature = "board-qemu")]
 mod qemu;
 #[cfg(feature = "board-qemu")]
-pub use qemu::{NAME, Port, init};
+pub use qemu::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause};
 
 #[cfg(feature = "board-stm32f411")]
 mod stm32f411;
 #[cfg(feature = "board-stm32f411")]
-pub use stm32f411::{NAME, Port, init};
+pub use stm32f411::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause};
 
 /// What `init` hands to the application.
 pub struct Board<S> {
@@ -52,22 +69,72 @@ pub struct Board<S> {
     pub clock: SysTickClock,
     /// The settings store.
     pub store: S,
+    /// The watchdog, running: feed it once per main-loop pass.
+    pub watchdog: Watchdog,
 }
 
-/// Warm reset (`SCB::sys_reset`): RAM is not cleared, so QEMU's emulated
-/// flash survives; the STM32's real flash survives anyway.
+/// Warm reset (`SCB::sys_reset`), asked for by the firmware (a reboot command): RAM is not
+/// cleared, so QEMU's emulated flash survives; the STM32's real flash survives anyway.
 pub fn reset() -> ! {
+    set_run(REQUESTED);
     cortex_m::peripheral::SCB::sys_reset()
 }
 
 /// A HardFault (a bad memory access, an undefined instruction, an escalated fault): one fixed
 /// line in the log, `HardFault: resetting` with the faulting PC, then a warm reset, so a box
 /// in the field comes back instead of hanging, and a test that reads the log sees it (the
-/// soak, `tests/tests/soak.rs`, fails on that line).
+/// soak, `tests/tests/soak.rs`, fails on that line). Counted as a reset not asked for.
 #[cortex_m_rt::exception]
 unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
     defmt::error!("HardFault: resetting (pc {=u32:#010x})", frame.pc());
-    reset()
+    cortex_m::peripheral::SCB::sys_reset()
+}
+
+// ------------------------------------------------------------ resets not asked for
+
+/// The longest the main loop sleeps, ms: it feeds the watchdog once per pass, and its
+/// deadline is clamped to this (with telemetry paused the next wake could be the 5 s
+/// status report). A quarter of the shortest watchdog time-out (4 s, QEMU board).
+pub const FEED_MS: u64 = 1_000;
+
+/// [`RUN`]'s first word while the firmware runs: a reset that finds it there was not asked
+/// for (the watchdog, a HardFault, the reset pin).
+const RUNNING: u32 = 0x5744_4F47;
+/// [`RUN`]'s first word after [`reset`]: the firmware asked for the reset.
+const REQUESTED: u32 = 0x5245_5154;
+
+/// How the last run ended (`RUNNING`, `REQUESTED`, anything else after power-on) and the
+/// resets not asked for since power-on. In `.uninit` (cortex-m-rt never initialises it), so a
+/// warm reset, or the watchdog's, keeps it.
+#[unsafe(link_section = ".uninit.sensor_box_run")]
+static mut RUN: core::mem::MaybeUninit<[u32; 2]> = core::mem::MaybeUninit::uninit();
+
+fn set_run(state: u32) {
+    // SAFETY: a word of RAM only this file touches, from the main loop before a reset.
+    unsafe { core::ptr::write_volatile(core::ptr::addr_of_mut!(RUN).cast::<u32>(), state) }
+}
+
+/// Called once at boot: whether this reset was not asked for (the last run was still
+/// running), and the count of such resets since power-on (this one included). From then on
+/// the run counts as running until [`reset`].
+pub fn unrequested_resets() -> (bool, u32) {
+    let p = core::ptr::addr_of_mut!(RUN).cast::<u32>();
+    // SAFETY: two words of RAM only this file touches; whatever they hold (power-on garbage
+    // included) is a valid `u32`, and it is read volatile, as hardware state.
+    unsafe {
+        let (state, count) = (
+            core::ptr::read_volatile(p),
+            core::ptr::read_volatile(p.add(1)),
+        );
+        let (unrequested, count) = match state {
+            RUNNING => (true, count.wrapping_add(1)),
+            REQUESTED => (false, count),
+            _ => (false, 0),
+        };
+        core::ptr::write_volatile(p, RUNNING);
+        core::ptr::write_volatile(p.add(1), count);
+        (unrequested, count)
+    }
 }
 
 // ------------------------------------------------------------ pending

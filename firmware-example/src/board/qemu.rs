@@ -9,6 +9,16 @@
 //! * Clock: the PLL divided by 16 (12.5 MHz, the reset's divisor, set explicitly in
 //!   `set_core_clock`); SysTick counts it. QEMU without `-icount` follows the host's clock,
 //!   so the box's millisecond is the host's (`tests/tests/box_clock.rs` checks it).
+//! * Watchdog: the LM3S6965's watchdog timer at 0x4000_0000, which QEMU 7.2 models
+//!   (`luminary-watchdog`, its CMSDK APB watchdog in the Stellaris variant, clocked by the
+//!   system clock, `info mtree` shows it as `cmsdk-apb-watchdog`). Load
+//!   [`WATCHDOG_LOAD_MS`] (2 s) of the system clock: the first time-out raises its
+//!   interrupt (left masked in the NVIC), the second resets the box, so a main loop that
+//!   stops feeding it is reset 4 s later. A feed writes WDTICR (clears the interrupt and
+//!   reloads the counter). QEMU's reset leaves RAM alone, so the settings survive it.
+//! * Reset cause: RESC (0x400F_E05C; bit 3, WDT). QEMU's model never sets its bits (a
+//!   plain register, 0 after power-on): in QEMU the cause shows only as a reset the
+//!   firmware did not ask for (`board::unrequested_resets`).
 
 use super::{Board, start_systick};
 use core::mem::MaybeUninit;
@@ -128,6 +138,57 @@ const LCRH_WLEN8_FEN: u32 = 0x70;
 const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
 /// System control: run-mode clock gating 1 (UART0..2 are bits 0..2).
 const SYSCTL_RCGC1: usize = 0x400F_E104;
+/// System control: run-mode clock gating 0 (bit 3: the watchdog; QEMU ignores the gating).
+const SYSCTL_RCGC0: usize = 0x400F_E100;
+const RCGC0_WDT: u32 = 1 << 3;
+/// System control: reset cause (bit 3: the watchdog), cleared by writing 0.
+const SYSCTL_RESC: usize = 0x400F_E05C;
+/// The RESC bit that names a watchdog reset.
+pub const WATCHDOG_CAUSE: u32 = 1 << 3;
+
+/// The watchdog timer's registers (LM3S6965 data sheet, "Watchdog Timers").
+const WDT_LOAD: usize = 0x4000_0000;
+const WDT_CTL: usize = 0x4000_0008;
+const WDT_ICR: usize = 0x4000_000C;
+/// WDTCTL: INTEN (bit 0: start counting; only a reset stops it) and RESEN (bit 1: the second
+/// time-out resets).
+const WDT_CTL_INTEN_RESEN: u32 = 0b11;
+/// One time-out of the watchdog, ms: the interrupt after one, the reset after two.
+pub const WATCHDOG_LOAD_MS: u32 = 2_000;
+const WDT_LOAD_COUNT: u32 = CORE_HZ / 1_000 * WATCHDOG_LOAD_MS;
+
+/// The running watchdog; only the main loop holds it.
+pub struct Watchdog(());
+
+impl Watchdog {
+    /// Clears the time-out interrupt and reloads the counter (a write of WDTICR).
+    pub fn feed(&mut self) {
+        // SAFETY: WDTICR is a valid lm3s6965 watchdog register; any value feeds.
+        unsafe { write_volatile(WDT_ICR as *mut u32, 1) }
+    }
+}
+
+/// Starts the watchdog (its clock gate, the load, then INTEN and RESEN), left unlocked.
+fn start_watchdog() -> Watchdog {
+    // SAFETY: valid lm3s6965 system-control and watchdog registers; nothing else uses them.
+    unsafe {
+        let rcgc0 = read_volatile(SYSCTL_RCGC0 as *const u32);
+        write_volatile(SYSCTL_RCGC0 as *mut u32, rcgc0 | RCGC0_WDT);
+        write_volatile(WDT_LOAD as *mut u32, WDT_LOAD_COUNT);
+        write_volatile(WDT_CTL as *mut u32, WDT_CTL_INTEN_RESEN);
+    }
+    Watchdog(())
+}
+
+/// RESC, read and cleared: what caused this reset ([`WATCHDOG_CAUSE`] for the watchdog).
+pub fn reset_cause() -> u32 {
+    // SAFETY: RESC is a valid lm3s6965 system-control register.
+    unsafe {
+        let resc = read_volatile(SYSCTL_RESC as *const u32);
+        write_volatile(SYSCTL_RESC as *mut u32, 0);
+        resc
+    }
+}
 
 /// The lm3s6965 interrupt numbers this board uses.
 #[derive(Clone, Copy)]
@@ -280,6 +341,7 @@ pub fn init() -> Board<Store> {
         uart2,
         clock,
         store: MemFlash::new(mem),
+        watchdog: start_watchdog(),
     }
 }
 

@@ -16,6 +16,12 @@
 //! * Log: `defmt` over RTT (`defmt-rtt`), shown by `probe-rs run`.
 //! * Flash store: sector 7 (128 KiB at 0x0806_0000), outside the program's
 //!   memory map (`stm32f411.x`).
+//! * Watchdog: the IWDG (`IndependentWatchdog`), [`WATCHDOG_MS`] (8 s) at the LSI's nominal
+//!   32 kHz (prescaler 256, reload 999); the LSI may run at 17 to 47 kHz (data sheet), so
+//!   5.4 s to 15 s. Above the longest stall of the main loop: a 128 KiB sector erase takes
+//!   up to 4 s at the x8 parallelism `stm32f4xx-hal` programs (`PSIZE` x8; 2 s at x32), and
+//!   the loop sleeps at most `board::FEED_MS` (1 s). Once started only a reset stops it.
+//! * Reset cause: RCC_CSR (IWDGRSTF, bit 29), read and cleared (RMVF) at boot.
 //!
 //! ## The simulated build (feature `qemu-stm32`)
 //!
@@ -42,6 +48,11 @@
 //!    does once a pass; the real part's TXE interrupt drains them by itself,
 //!    and its main loop sleeps until a link has work.
 //!
+//! The model has no IWDG either (an unimplemented-device stub at 0x4000_3000: writes are
+//! ignored, reads return 0), so the simulated build starts the same watchdog, which never
+//! resets; and RCC_CSR reads 0, so no reset cause. `tests/tests/watchdog_qemu.rs` runs on the
+//! QEMU board only for that reason.
+//!
 //! Besides these, only the boot log's board name ([`NAME`]) says the build is
 //! simulated. The log stays `defmt` over RTT: `scripts/qemu-run.sh` reads the RTT buffer
 //! through QEMU's GDB stub, as a probe would.
@@ -59,6 +70,7 @@ use stm32f4xx_hal::pac::{self, Interrupt, USART1, USART2, USART6, interrupt};
 use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::serial::{self, Instance, Rx, Tx, TxISR, TxListen};
+use stm32f4xx_hal::watchdog::IndependentWatchdog;
 #[cfg(not(feature = "qemu-stm32"))]
 use {
     embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash},
@@ -107,6 +119,29 @@ const SYSCLK_HZ: u32 = 100_000_000;
 /// RCC says (QEMU 7.2 `netduinoplus2`, `SYSCLK_FRQ`).
 #[cfg(feature = "qemu-stm32")]
 pub const SYSTICK_HZ: u32 = 168_000_000;
+/// The IWDG time-out at the LSI's nominal 32 kHz, ms (see the module docs).
+pub const WATCHDOG_MS: u32 = 8_000;
+/// RCC_CSR's IWDGRSTF: the IWDG reset the MCU.
+pub const WATCHDOG_CAUSE: u32 = 1 << 29;
+
+/// The running IWDG; only the main loop holds it.
+pub struct Watchdog(IndependentWatchdog);
+
+impl Watchdog {
+    /// Reloads the IWDG's counter.
+    pub fn feed(&mut self) {
+        self.0.feed();
+    }
+}
+
+/// RCC_CSR as it was at boot (read in `init`, before the HAL takes the RCC, then cleared).
+static CSR_AT_BOOT: AtomicUsize = AtomicUsize::new(0);
+
+/// RCC_CSR at boot: what caused this reset ([`WATCHDOG_CAUSE`] for the IWDG).
+pub fn reset_cause() -> u32 {
+    CSR_AT_BOOT.load(Ordering::Relaxed) as u32
+}
+
 /// RX ring bytes per USART. The USART has no FIFO and no flow control, so whatever arrives
 /// while the ring is full is dropped (counted in `rx_dropped`): the ring must hold a burst for
 /// as long as its link waits for room for the answers. 1 KiB is 11 ms of 921 600 Bd and holds
@@ -182,6 +217,9 @@ pub fn init() -> Board<Store> {
     let (Some(dp), Some(cp)) = (pac::Peripherals::take(), cortex_m::Peripherals::take()) else {
         super::reset();
     };
+    let csr = dp.RCC.csr().read().bits();
+    CSR_AT_BOOT.store(csr as usize, Ordering::Relaxed);
+    dp.RCC.csr().modify(|_, w| w.rmvf().set_bit());
     #[cfg(not(feature = "qemu-stm32"))]
     let mut rcc = dp.RCC.freeze(Config::hsi().sysclk(SYSCLK_HZ.Hz()));
     // qemu-stm32: HSI (16 MHz) without the PLL; the model's RCC never reports PLLRDY.
@@ -244,12 +282,15 @@ pub fn init() -> Board<Store> {
     let store = firmware_example::MemFlash::new(unsafe {
         core::slice::from_raw_parts_mut(QEMU_STORE_ADDR as *mut u8, QEMU_STORE_LEN)
     });
+    let mut watchdog = IndependentWatchdog::new(dp.IWDG);
+    watchdog.start(WATCHDOG_MS.millis());
     Board {
         uart0,
         uart1,
         uart2,
         clock,
         store,
+        watchdog: Watchdog(watchdog),
     }
 }
 

@@ -19,6 +19,10 @@
 //!   to `$CARGO_TARGET_DIR/qemu-firmware-PORT.log` (decoded when `defmt-print` is installed;
 //!   on the STM32 it is read over RTT through QEMU's GDB stub, port UART0 + 3).
 //!
+//! A test that needs a firmware built with extra features of `firmware-example` (such as the
+//! test-only `fault-hang`) gets its ELF from [`firmware_elf_with`], which builds it once and
+//! copies it to its own path beside the default one, then boots it with [`boot_elf`].
+//!
 //! To add a test: write `fn my_test(board: Board)`, add it to the file's [`on_both_boards!`]
 //! list, give it its own [`Ports`], then `let Some(mut q) = boot(board,
 //! Ports::NEXT_ONE.on(board)) else { return };` and use `q.uart0` (an [`Aeolus`] reader over
@@ -73,6 +77,14 @@ impl Board {
         match self {
             Board::Lm3s6965evb => "qemu-build",
             Board::Stm32f411 => "stm32-qemu-build",
+        }
+    }
+
+    /// The target triple and the board feature of its firmware build (what its alias passes).
+    fn target_and_feature(self) -> (&'static str, &'static str) {
+        match self {
+            Board::Lm3s6965evb => ("thumbv7m-none-eabi", "board-qemu"),
+            Board::Stm32f411 => ("thumbv7em-none-eabihf", "qemu-stm32"),
         }
     }
 
@@ -148,6 +160,10 @@ impl Ports {
     /// `gdl90_qemu::an_efb_reads_the_firmwares_flight_as_stratux_ahrs` (UART ports, then the
     /// EFB's UDP port at +7).
     pub const GDL90: Ports = Ports(17_510);
+    /// `watchdog_qemu::a_hung_loop_is_reset_and_keeps_its_settings`.
+    pub const WATCHDOG: Ports = Ports(17_520);
+    /// `noise_qemu::line_noise_on_the_aok_uart_commands_nothing`.
+    pub const NOISE: Ports = Ports(17_530);
 }
 
 impl Ports {
@@ -224,6 +240,46 @@ pub fn firmware_elf(board: Board) -> &'static Path {
     })
 }
 
+/// The board's release firmware built with the extra `features` of `firmware-example`, copied
+/// to `sensor-box-FEATURES` beside the default ELF (so the default one, which the other tests
+/// boot, is rebuilt by the next `cargo qemu-build` from cargo's cache, not overwritten for
+/// good). Built each time it is called: call it once per test.
+pub fn firmware_elf_with(board: Board, features: &[&str]) -> PathBuf {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let (target, feature) = board.target_and_feature();
+    let all = std::iter::once(feature)
+        .chain(features.iter().copied())
+        .collect::<Vec<_>>()
+        .join(",");
+    let status = Command::new(&cargo)
+        .args([
+            "build",
+            "-p",
+            "firmware-example",
+            "--bin",
+            "sensor-box",
+            "--release",
+        ])
+        .args(["--target", target, "--features", &all])
+        .current_dir(workspace_root())
+        .env("CARGO_TARGET_DIR", target_dir())
+        .status()
+        .unwrap_or_else(|e| panic!("build the firmware with {all}: {e}"));
+    assert!(status.success(), "the firmware build with {all} failed");
+    let built = target_dir().join(board.elf_path());
+    let copy = built.with_file_name(format!("sensor-box-{}", features.join("-")));
+    std::fs::copy(&built, &copy).expect("copy the firmware ELF");
+    // The default ELF back in its place (cargo has it cached: a copy, no compile).
+    let status = Command::new(&cargo)
+        .arg(board.build_alias())
+        .current_dir(workspace_root())
+        .env("CARGO_TARGET_DIR", target_dir())
+        .status()
+        .expect("run the default firmware build");
+    assert!(status.success(), "the default firmware build failed");
+    copy
+}
+
 /// The `protolink` binary (debug build), built once per test run (`cargo build -p protolink`,
 /// a no-op inside `cargo test --workspace`, which has built it already).
 pub fn protolink() -> &'static Path {
@@ -279,10 +335,7 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
 /// a test that judges the schedule in the box's clock boots it this way.
 pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
     if !qemu_installed() {
-        protolink_tests::skip::skip(
-            "qemu-system-arm is not installed, so the firmware cannot be booted \
-             (scripts/setup.sh qemu installs it)",
-        );
+        skip_without_qemu();
         return None;
     }
     // Both boards' firmware is built before any QEMU runs (the first test to get here builds
@@ -290,7 +343,27 @@ pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
     for b in [Board::Lm3s6965evb, Board::Stm32f411] {
         firmware_elf(b);
     }
-    let elf = firmware_elf(board);
+    start(board, ports, icount, firmware_elf(board))
+}
+
+/// [`boot`] with a given ELF of `board` (from [`firmware_elf_with`]); `None` when
+/// `qemu-system-arm` is missing.
+pub fn boot_elf(board: Board, ports: Ports, elf: &Path) -> Option<Qemu> {
+    if !qemu_installed() {
+        skip_without_qemu();
+        return None;
+    }
+    start(board, ports, false, elf)
+}
+
+fn skip_without_qemu() {
+    protolink_tests::skip::skip(
+        "qemu-system-arm is not installed, so the firmware cannot be booted \
+         (scripts/setup.sh qemu installs it)",
+    );
+}
+
+fn start(board: Board, ports: Ports, icount: bool, elf: &Path) -> Option<Qemu> {
     assert!(elf.is_file(), "no firmware at {}", elf.display());
     let turn = QEMU_LOCK.lock().unwrap_or_else(|e| e.into_inner());
 
