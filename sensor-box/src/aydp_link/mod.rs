@@ -51,6 +51,7 @@
 //! | 0x0120 | AOK debug period, ms | u32 | rw | 0..=60 000 | 20 |
 //! | 0x0200 | direct outputs (device 1, channels 0..=7) | f32\[8\] | ro | | 0 |
 //! | 0x0300 | link counters ([`COUNTER_NAMES`]) | u32\[10\] | ro | | 0 |
+//! | 0x0310 | flash store counters of all links ([`STORE_COUNTER_NAMES`]) | u32\[5\] | ro | | 0 |
 //!
 //! # Files
 //!
@@ -92,7 +93,9 @@ mod periodic;
 mod registry;
 
 pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
-pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
+pub use registry::{
+    FIRMWARE_VERSION, HARDWARE_VERSION, STORE_COUNTER_NAMES, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr,
+};
 
 use crate::Shared;
 use crate::port::{Receive, TxQueue, receive_slices};
@@ -126,7 +129,8 @@ pub struct LinkCounters {
     pub malformed: u32,
     /// Request-data commands answered.
     pub requests_answered: u32,
-    /// Store-configuration commands (flash writes requested).
+    /// Store-configuration commands received (accepted or refused by the store policy: see
+    /// register 0x0310).
     pub stores_requested: u32,
     /// Direct output messages obeyed.
     pub direct_applied: u32,
