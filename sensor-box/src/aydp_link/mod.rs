@@ -20,7 +20,8 @@
 //!   whole value (scalars in mode 1, arrays and texts in mode 2), in the form the request came
 //!   in (expedited request, expedited reply; normal request, normal reply with a timestamp).
 //!   An unknown address is not answered (AYDP has no negative reply) and counts as rejected.
-//!   "Store configuration" sets [`Shared::requests`]`.store`; the App writes the flash.
+//!   "Store configuration" asks [`Shared::request_store`] (refused in flight and past the
+//!   rate limit, counted at 0x0310); the App writes the flash.
 //! * **Direct output control** (7): obeyed only while address 0x0000 is 1, and all or
 //!   nothing: an entry naming a (device, channel) the box does not have, or a non-finite
 //!   value, rejects the whole message. The new values are logged and readable at

@@ -12,8 +12,9 @@
 //! touched); when it does not fit, it erases the other area and writes the image at its
 //! start. A power cut at any point leaves the newest image before the store intact: an erase
 //! only ever hits the area that does not hold it, and a write only bytes that were erased.
-//! A 128 KiB sector holds about a hundred images, so a sector is erased once per hundred
-//! stores (see `docs/RELIABILITY.md`, "Power cuts and flash wear").
+//! A 128 KiB sector holds 86 images of the largest record (394 of the default one), so a
+//! sector is erased once per 86 stores or fewer (see `docs/RELIABILITY.md`, "Power cuts and
+//! flash wear").
 //!
 //! # Image layout
 //!

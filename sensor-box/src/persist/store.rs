@@ -193,7 +193,7 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
             return Ok(Stored::Unchanged);
         }
         seq = n.seq.wrapping_add(1);
-        area = n.start / half * half;
+        area = if n.start >= half { half } else { 0 };
     }
     head[12..16].copy_from_slice(&seq.to_le_bytes());
     // Pass 3: the CRC over header bytes 0..16, then the payload.
