@@ -80,7 +80,8 @@ impl<'f, F: NorFlash> Reader<'f, F> {
         Ok(())
     }
 
-    /// The `n` bytes from flash offset `at`, read into the window if they are not in it.
+    /// The `n` bytes from flash offset `at`, read into the window if they are not in it. The
+    /// caller keeps `at + n` within the flash (else the tail is stale).
     fn window(&mut self, at: usize, n: usize) -> Result<&[u8], StoreError> {
         let stop = at.saturating_add(n);
         if at < self.base || stop > self.base.saturating_add(self.len) {
@@ -243,7 +244,11 @@ impl<'f, F: NorFlash> Reader<'f, F> {
         let mut why = StoreError::Empty;
         for base in [0, half] {
             let limit = base + half;
-            let used = self.used_end(base, limit)?;
+            // An image is longer than a header: none starts in the last header's length
+            // of the area (whose window would run past the flash's end).
+            let used = self
+                .used_end(base, limit)?
+                .min(limit.saturating_sub(HEADER_LEN));
             let mut at = base;
             while at < used {
                 match self.check(at, limit, at == base, VERSION) {

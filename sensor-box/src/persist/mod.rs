@@ -124,8 +124,8 @@ pub const IMAGE_MAX: usize = HEADER_LEN + PAYLOAD_MAX;
 /// Write buffer of [`store`], bytes: every write but the last is this long. A multiple of
 /// every power-of-two `WRITE_SIZE` up to 64.
 pub const CHUNK: usize = 64;
-/// Read window of [`load_into`], bytes: holds the largest value decoded at once (the
-/// settings, 47 bytes) from any offset, for a `READ_SIZE` up to 64.
+/// Read window of [`load_into`] and [`store`], bytes: holds an image header (20 bytes) from
+/// any offset, for a `READ_SIZE` up to 64.
 pub const WINDOW: usize = 128;
 /// Largest `READ_SIZE` / `WRITE_SIZE` the store handles.
 const UNIT_MAX: usize = 64;
