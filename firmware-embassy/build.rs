@@ -1,5 +1,5 @@
 //! Links with the repository's STM32F411 memory map (`firmware-example/src/board/stm32f411.x`:
-//! 384 KiB of program flash, sector 7 kept for the settings store, 128 KiB RAM), the same
+//! 256 KiB of program flash, sectors 6 and 7 kept for the settings store, 128 KiB RAM), the same
 //! map the blocking board uses, copied to `OUT_DIR/memory.x` for cortex-m-rt's `link.x`.
 
 use std::{env, fs, path::PathBuf};

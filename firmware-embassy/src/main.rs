@@ -42,11 +42,12 @@ const AYDP_BAUD: u32 = 115_200;
 /// Bytes of each DMA receive ring. The links receive little (commands, requests); the ring
 /// bridges the time between two reads, and the idle line ends a read early.
 const RX_RING: usize = 256;
-/// The settings store: flash sector 7 (128 KiB at 0x0806_0000), outside the program
-/// (`memory.x` gives the program sectors 0-6), as on the blocking STM32 board.
-const STORE_OFFSET: u32 = 0x6_0000;
-/// Size of the store (all of sector 7).
-const STORE_LEN: u32 = 0x2_0000;
+/// The settings store: flash sectors 6 and 7 (2 x 128 KiB at 0x0804_0000), the two areas of
+/// the power-cut-safe store (`sensor_box::persist`), outside the program (`memory.x` gives
+/// the program sectors 0-5), as on the blocking STM32 board.
+const STORE_OFFSET: u32 = 0x4_0000;
+/// Size of the store (sectors 6 and 7).
+const STORE_LEN: u32 = 0x4_0000;
 
 bind_interrupts!(struct Irqs {
     USART1 => usart::InterruptHandler<peripherals::USART1>;

@@ -11,7 +11,9 @@
 //! Structure:
 //! - [`state`]: the data the links share ([`Shared`]), the [`Settings`] and the
 //!   [`Persisted`] record kept in flash.
-//! - [`persist`]: loading and storing the [`Persisted`] record (postcard, versioned, CRC).
+//! - [`persist`]: loading and storing the [`Persisted`] record (postcard, versioned, CRC,
+//!   A/B images that survive a power cut), and [`store_policy`]: when a command may store it
+//!   (not in flight, rate-limited).
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
@@ -45,6 +47,7 @@ pub mod port;
 pub mod serial;
 pub mod state;
 pub mod storage;
+pub mod store_policy;
 pub mod telemetry;
 
 pub use state::{Persisted, Settings, Shared};
@@ -205,7 +208,8 @@ impl App {
     }
 
     /// What the links asked the main loop for, done after they ran: writes the flash when a
-    /// link asked for a store (a failure is logged and counted), and says whether to reboot.
+    /// link asked for a store (an unchanged record is not written; the outcome is counted in
+    /// [`Counters`](state::Counters), a failure logged), and says whether to reboot.
     /// [`App::poll`] ends with it; a board that runs the links itself (one task per link, as
     /// `firmware-embassy` does) calls it after them.
     ///
@@ -220,12 +224,17 @@ impl App {
     /// assert_eq!(app.service_requests(&mut flash), Control::Run);
     /// ```
     pub fn service_requests<F: NorFlash>(&mut self, flash: &mut F) -> Control {
-        if core::mem::take(&mut self.shared.requests.store)
-            && persist::store(flash, &self.shared.persisted).is_err()
-        {
-            crate::warn!("flash store: write failed; settings kept in RAM only");
-            self.shared.counters.store_failures =
-                self.shared.counters.store_failures.wrapping_add(1);
+        if core::mem::take(&mut self.shared.requests.store) {
+            let c = &mut self.shared.counters;
+            let counter = match persist::store(flash, &self.shared.persisted) {
+                Ok(persist::Stored::Unchanged) => &mut c.stores_unchanged,
+                Ok(_) => &mut c.stores_written,
+                Err(_) => {
+                    crate::warn!("flash store: write failed; settings kept in RAM only");
+                    &mut c.store_failures
+                }
+            };
+            *counter = counter.wrapping_add(1);
         }
         if core::mem::take(&mut self.shared.requests.reboot) {
             Control::Reboot

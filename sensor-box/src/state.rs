@@ -1,5 +1,6 @@
 //! The state the three links share, and the record kept in flash.
 
+use crate::store_policy::{StorePolicy, Verdict};
 use core::cell::Cell;
 use flight_sim::{Flight, FlightParams};
 use serde::{Deserialize, Serialize};
@@ -132,11 +133,20 @@ pub struct Requests {
     pub reboot: bool,
 }
 
-/// Application-level counters (the protocol decoders keep their own).
+/// Application-level counters (the protocol decoders keep their own). The store counters are
+/// AYDP register 0x0310, in this order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Counters {
+    /// Stores that wrote an image.
+    pub stores_written: u32,
+    /// Stores skipped: the record was unchanged since the newest image.
+    pub stores_unchanged: u32,
     /// Flash writes that failed.
     pub store_failures: u32,
+    /// Store requests refused because the box is flying (any link).
+    pub stores_refused_in_flight: u32,
+    /// Store requests refused by the rate limit (any link).
+    pub stores_rate_limited: u32,
 }
 
 /// Number of direct-output channels the box exposes (AYDP direct output control).
@@ -175,6 +185,8 @@ pub struct Shared {
     pub requests: Requests,
     /// Counters.
     pub counters: Counters,
+    /// When a store may be asked for ([`Shared::request_store`]).
+    pub store_policy: StorePolicy,
     /// The last state [`Shared::flight_state`] computed and the time it is for (the flight's
     /// epoch and the time since it): the links ask for the same millisecond (AEOLUS telemetry
     /// and AOK debug frames fall on the same millisecond on their grids), and one state costs
@@ -208,7 +220,40 @@ impl Shared {
             flight_at: Cell::new(None),
             flight_last: Cell::new(first),
             counters: Counters::default(),
+            store_policy: StorePolicy::new(),
         }
+    }
+
+    /// A link asks for the record to be stored at `now_ms`: the [store
+    /// policy](crate::store_policy) decides, and an accepted request is set for the main loop
+    /// ([`Requests::store`]); a refusal is counted and logged, and the link answers it. Change
+    /// the record only when this says [`Verdict::Accepted`].
+    ///
+    /// ```
+    /// use sensor_box::store_policy::Verdict;
+    /// use sensor_box::{Persisted, Shared};
+    /// let mut shared = Shared::new(Persisted::default(), 0);
+    /// assert_eq!(shared.request_store(0, true), Verdict::InFlight);
+    /// assert_eq!(shared.counters.stores_refused_in_flight, 1);
+    /// assert!(!shared.requests.store);
+    /// assert_eq!(shared.request_store(0, false), Verdict::Accepted);
+    /// assert!(shared.requests.store);
+    /// ```
+    pub fn request_store(&mut self, now_ms: u64, flying: bool) -> Verdict {
+        let verdict = self.store_policy.check(now_ms, flying);
+        let c = &mut self.counters;
+        match verdict {
+            Verdict::Accepted => self.requests.store = true,
+            Verdict::InFlight => {
+                crate::warn!("flash store refused: flying");
+                c.stores_refused_in_flight = c.stores_refused_in_flight.wrapping_add(1);
+            }
+            Verdict::TooSoon => {
+                crate::warn!("flash store refused: rate limit");
+                c.stores_rate_limited = c.stores_rate_limited.wrapping_add(1);
+            }
+        }
+        verdict
     }
 
     /// The live settings.

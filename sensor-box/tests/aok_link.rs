@@ -510,6 +510,44 @@ fn set_commands_are_refused_while_flying() {
     assert_eq!(rig.exchange(&[0x63, 0x04, 0x09]), b"E");
 }
 
+#[test]
+fn stores_past_the_rate_limit_are_answered_e_and_change_nothing() {
+    use sensor_box::store_policy::{STORE_BURST, STORE_INTERVAL_MS};
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    // A PC saving everything at once: the burst.
+    for n in 0..5u8 {
+        assert_eq!(rig.exchange(&[0x63, 0x04, n]), b"O");
+    }
+    assert_eq!(rig.exchange(&[0x63, 0x05, 0x01]), b"O");
+    assert_eq!(rig.exchange(&[0x63, 0x08]), b"O");
+    let mut poi = WP3;
+    poi.slot = WaypointSlot::MissionPoi;
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(poi)), b"O");
+    assert_eq!(STORE_BURST, 8);
+    // The ninth within the minute: 'E', counted, and neither the record nor RAM touched.
+    let p3 = ParameterValue {
+        number: 3,
+        value: 42,
+    };
+    assert_eq!(rig.exchange_cmd(Command::SetParameter(p3)), b"O");
+    let before = rig.shared.persisted.clone();
+    for command in [&[0x63, 0x04, 0x02][..], &[0x63, 0x05, 0x03], &[0x63, 0x08]] {
+        assert_eq!(rig.exchange(command), b"E");
+    }
+    poi.longitude = 1;
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(poi)), b"E");
+    assert_eq!(rig.shared.persisted, before);
+    assert_eq!(rig.shared.counters.stores_rate_limited, 4);
+    assert_eq!(rig.link.counters().rejected, 4);
+    // A minute later one more store is allowed.
+    rig.now += STORE_INTERVAL_MS;
+    assert_eq!(rig.exchange(&[0x63, 0x04, 0x02]), b"O");
+    assert_eq!(rig.shared.persisted.aok.sets[2][3], 42);
+    assert_eq!(rig.exchange(&[0x63, 0x04, 0x02]), b"E");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Waypoints
 

@@ -602,11 +602,35 @@ fn store_configuration_writes_the_flash_and_survives_a_reboot() {
     );
     rig.update(addr::DIRECT_CONTROL, UpdateMode::Single, &[1]);
     // Store configuration: FF 89 08 00 00 00 02 7C (the document's example, Y6 checksum).
-    rig.exchange(&[0xFF, 0x89, 0x08, 0x00, 0x00, 0x00, 0x02, 0x7C]);
+    // Flying (the box boots flying): refused, counted, nothing stored.
+    let store = [0xFF, 0x89, 0x08, 0x00, 0x00, 0x00, 0x02, 0x7C];
+    rig.exchange(&store);
     assert_eq!(rig.app.aydp.counters().stores_requested, 1);
+    assert_eq!(rig.app.shared.counters.stores_refused_in_flight, 1);
+    assert_eq!(rig.app.shared.counters.stores_written, 0);
+    assert_eq!(
+        rig.read(addr::STORE_COUNTERS)
+            .map(|(_, v)| v[12..16].to_vec()),
+        Some(1u32.to_le_bytes().to_vec()),
+        "0x0310 element 3: refused in flight"
+    );
+    // Landed: obeyed.
+    rig.app.shared.paused = true;
+    rig.exchange(&store);
+    assert_eq!(rig.app.aydp.counters().stores_requested, 2);
+    assert_eq!(rig.app.shared.counters.stores_written, 1);
     assert!(!rig.app.shared.requests.store, "the App took the request");
     assert_eq!(rig.app.shared.counters.store_failures, 0);
     let stored = rig.app.shared.persisted.clone();
+    // The same again: nothing changed, nothing written.
+    rig.exchange(&store);
+    assert_eq!(rig.app.shared.counters.stores_unchanged, 1);
+    // The rate limit: a burst of 8 (2 taken), then refused and counted.
+    for _ in 0..8 {
+        rig.exchange(&store);
+    }
+    assert_eq!(rig.app.shared.counters.stores_unchanged, 7);
+    assert_eq!(rig.app.shared.counters.stores_rate_limited, 2);
 
     // Reboot: a new App over the same flash.
     rig.reboot();

@@ -222,7 +222,10 @@ fn aydp_frame_by_frame_equals_poll() {
     assert_eq!(a.decoder_stats(), decoder.stats());
     assert_eq!(a_shared.settings(), b_shared.settings());
     assert_eq!(a_shared.settings().airspeed_mps, 62.5);
-    assert!(a_shared.requests.store && b_shared.requests.store);
+    // Flying: the store configuration was refused by both, and counted.
+    assert!(!a_shared.requests.store && !b_shared.requests.store);
+    assert_eq!(a_shared.counters, b_shared.counters);
+    assert_eq!(a_shared.counters.stores_refused_in_flight, 1);
     assert_eq!(a.counters().requests_answered, 2);
     assert_eq!(a.counters().rejected, 2);
 }

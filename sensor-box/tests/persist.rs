@@ -3,8 +3,7 @@
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
 use sensor_box::persist::{
-    self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, PersistedV1, SettingsV1, StoreError,
-    VERSION,
+    self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, StoreError, Stored, VERSION,
 };
 use sensor_box::serial::Ring;
 use sensor_box::serial::{PortStats, QueuedSerial};
@@ -81,31 +80,32 @@ fn round_trip() {
     let record = sample();
     persist::store(&mut flash, &record).unwrap();
     let loaded = persist::load(&mut flash).unwrap();
-    assert_eq!(loaded.version, 2);
+    assert_eq!(loaded.version, 3);
     assert_eq!(loaded.record, record);
     assert_eq!(persist::load_or_default(&mut flash), record);
 }
 
 #[test]
 fn the_image_layout() {
-    let mut mem = [0u8; 4096];
+    let mut mem = [0xFFu8; 4096];
     persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
     assert_eq!(&mem[0..4], b"SBOX");
     assert_eq!(MAGIC, 0x584F_4253);
     assert_eq!(
         &mem[4..8],
-        &[0x02, 0x00, 0x00, 0x00],
-        "version 2, reserved 0"
+        &[0x03, 0x00, 0x00, 0x00],
+        "version 3, reserved 0"
     );
+    assert_eq!(&mem[12..16], &[1, 0, 0, 0], "the first image: sequence 1");
     let len = u32::from_le_bytes(mem[8..12].try_into().unwrap()) as usize;
     let payload = &mem[HEADER_LEN..HEADER_LEN + len];
     let mut buf = [0u8; PAYLOAD_MAX];
     assert_eq!(postcard::to_slice(&sample(), &mut buf).unwrap(), payload);
-    // The CRC covers header bytes 0..12 and the payload.
-    let mut covered = mem[..12].to_vec();
+    // The CRC covers header bytes 0..16 (the sequence number too) and the payload.
+    let mut covered = mem[..16].to_vec();
     covered.extend_from_slice(payload);
     assert_eq!(
-        u32::from_le_bytes(mem[12..16].try_into().unwrap()),
+        u32::from_le_bytes(mem[16..20].try_into().unwrap()),
         crc32_iso_hdlc(&covered)
     );
     // The settings come first: intervals as varints, then the three f32, then the AOK period.
@@ -119,12 +119,26 @@ fn the_image_layout() {
             50,   // AOK debug period
         ]
     );
-    // Only the pages the image covers are erased; the padding up to the write size and the
-    // rest of those pages stay 0xFF, and the pages after them are untouched (0 here).
-    let erased = (HEADER_LEN + len).div_ceil(1024) * 1024;
-    assert_eq!(erased, 1024);
-    assert!(mem[HEADER_LEN + len..erased].iter().all(|&b| b == 0xFF));
-    assert!(mem[erased..].iter().all(|&b| b == 0));
+    // The flash was erased already: nothing else was touched.
+    assert!(mem[HEADER_LEN + len..].iter().all(|&b| b == 0xFF));
+
+    // The next store appends at the next multiple of 4, with sequence 2; the first image
+    // stays.
+    let mut changed = sample();
+    changed.settings.bank_deg = 5.0;
+    let first = mem[..HEADER_LEN + len].to_vec();
+    assert_eq!(
+        persist::store(&mut MemFlash::new(&mut mem), &changed),
+        Ok(Stored::Appended)
+    );
+    let at = (HEADER_LEN + len).div_ceil(4) * 4;
+    assert_eq!(&mem[..HEADER_LEN + len], &first[..]);
+    assert_eq!(&mem[at..at + 4], b"SBOX");
+    assert_eq!(&mem[at + 12..at + 16], &[2, 0, 0, 0]);
+    assert_eq!(
+        persist::load(&mut MemFlash::new(&mut mem)).unwrap().record,
+        changed
+    );
 }
 
 #[test]
@@ -154,7 +168,7 @@ fn the_payload_bound_is_exact() {
         PAYLOAD_MAX
     );
     assert_eq!(PAYLOAD_MAX, 1488);
-    assert_eq!(IMAGE_MAX, 1504);
+    assert_eq!(IMAGE_MAX, 1508);
     let mut mem = [0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     persist::store(&mut flash, &worst).unwrap();
@@ -177,7 +191,7 @@ fn an_empty_store_gives_the_defaults() {
 
 #[test]
 fn a_corrupted_store_gives_the_defaults() {
-    let mut clean = [0u8; 4096];
+    let mut clean = [0xFFu8; 4096];
     persist::store(&mut MemFlash::new(&mut clean), &sample()).unwrap();
     let len = u32::from_le_bytes(clean[8..12].try_into().unwrap()) as usize;
 
@@ -192,7 +206,7 @@ fn a_corrupted_store_gives_the_defaults() {
     };
     // The reasons, byte by byte.
     assert_eq!(flipped(0).0, Err(StoreError::BadMagic));
-    assert_eq!(flipped(4).0, Err(StoreError::UnsupportedVersion(0x00FD)));
+    assert_eq!(flipped(4).0, Err(StoreError::UnsupportedVersion(0x00FC)));
     assert_eq!(
         flipped(6).0,
         Err(StoreError::BadCrc),
@@ -202,7 +216,12 @@ fn a_corrupted_store_gives_the_defaults() {
         flipped(10).0,
         Err(StoreError::BadLength(len as u32 ^ 0x00FF_0000))
     );
-    assert_eq!(flipped(13).0, Err(StoreError::BadCrc));
+    assert_eq!(
+        flipped(13).0,
+        Err(StoreError::BadCrc),
+        "the sequence is covered"
+    );
+    assert_eq!(flipped(17).0, Err(StoreError::BadCrc));
     assert_eq!(flipped(HEADER_LEN + 100).0, Err(StoreError::BadCrc));
     // Every single flipped byte of the image: an error, the defaults, never a panic.
     for at in 0..HEADER_LEN + len {
@@ -226,7 +245,7 @@ fn a_corrupted_store_gives_the_defaults() {
 #[test]
 fn a_torn_write_gives_the_defaults() {
     // The reset came after the first 256 bytes: the rest is still erased.
-    let mut mem = [0u8; 4096];
+    let mut mem = [0xFFu8; 4096];
     persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
     mem[256..].fill(0xFF);
     assert_eq!(
@@ -280,60 +299,161 @@ fn a_valid_crc_over_a_foreign_payload_is_a_decode_error() {
 fn a_newer_version_gives_the_defaults() {
     let mut mem = [0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
-    persist::write_image(&mut flash, 3, &sample()).unwrap();
+    persist::write_image(&mut flash, 4, &sample()).unwrap();
     assert_eq!(
         persist::load(&mut flash),
-        Err(StoreError::UnsupportedVersion(3))
+        Err(StoreError::UnsupportedVersion(4))
     );
     assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    // Behind an image this firmware reads, the newer one is skipped.
+    let mut mem = [0xFFu8; 4096];
+    let mut flash = MemFlash::new(&mut mem);
+    persist::store(&mut flash, &sample()).unwrap();
+    persist::write_image(&mut flash, 4, &Persisted::default()).unwrap();
+    assert_eq!(persist::load(&mut flash).unwrap().record, sample());
+}
+
+/// The images the firmware before the A/B layout (format versions 1 and 2, one image at
+/// offset 0) wrote: `tests/data/v1-qemu-4k.bin` and `v2-qemu-4k.bin` are the QEMU board's
+/// whole 4 KiB store as that code left it (written with its `persist::write_image` and
+/// `persist::store` on zeroed RAM).
+const V1_STORE: &[u8; 4096] = include_bytes!("data/v1-qemu-4k.bin");
+const V2_STORE: &[u8; 4096] = include_bytes!("data/v2-qemu-4k.bin");
+
+/// The AOK data in both images.
+fn legacy_aok() -> AokFlash {
+    let mut aok = AokFlash::default();
+    aok.sets[1][3] = -1234;
+    aok.sets[4][31] = 77;
+    aok.start_set = 4;
+    aok.waypoints[0] = StoredWaypoint {
+        lon: 117_861_000,
+        lat: 483_538_000,
+        action1: 0xDEAD_BEEF,
+        action2: 7,
+    };
+    aok
+}
+
+#[test]
+fn the_old_images_are_what_the_old_code_wrote() {
+    // Version 2: the 16-byte header, CRC over bytes 0..12 and the payload, at offset 0.
+    let len = u32::from_le_bytes(V2_STORE[8..12].try_into().unwrap()) as usize;
+    assert_eq!(&V2_STORE[..8], b"SBOX\x02\0\0\0");
+    let mut covered = V2_STORE[..12].to_vec();
+    covered.extend_from_slice(&V2_STORE[16..16 + len]);
+    assert_eq!(
+        u32::from_le_bytes(V2_STORE[12..16].try_into().unwrap()),
+        crc32_iso_hdlc(&covered)
+    );
+    let mut buf = [0u8; PAYLOAD_MAX];
+    let mut v2 = sample();
+    v2.aok = legacy_aok();
+    assert_eq!(
+        postcard::to_slice(&v2, &mut buf).unwrap(),
+        &V2_STORE[16..16 + len]
+    );
+    assert_eq!(&V1_STORE[..8], b"SBOX\x01\0\0\0");
 }
 
 #[test]
 fn a_version_1_store_is_migrated() {
-    let current = sample();
-    let old = PersistedV1 {
-        settings: SettingsV1 {
-            intervals: current.settings.intervals,
-            airspeed_mps: 62.5,
-            bank_deg: -25.0,
-            altitude_m: 1500.0,
-        },
-        aok: current.aok.clone(),
-    };
-    let mut mem = [0u8; 4096];
-    persist::write_image(&mut MemFlash::new(&mut mem), 1, &old).unwrap();
-    assert_eq!(&mem[4..6], &[0x01, 0x00]);
-
+    let mut mem = *V1_STORE;
     let mut flash = MemFlash::new(&mut mem);
     let loaded = persist::load(&mut flash).unwrap();
     assert_eq!(loaded.version, 1);
     let s = loaded.record.settings;
-    assert_eq!(s.intervals.gps_ms, 100);
-    assert_eq!(s.intervals.info_ms, 500);
+    assert_eq!(s.intervals, Intervals::SPEC);
     assert_eq!(
         (s.airspeed_mps, s.bank_deg, s.altitude_m),
-        (62.5, -25.0, 1500.0)
+        (40.0, -15.0, 300.0)
     );
     // The field version 1 did not have takes its default.
     assert_eq!(s.aok_debug_period_ms, 20);
-    assert_eq!(loaded.record.aok, current.aok);
+    assert_eq!(loaded.record.aok, legacy_aok());
     assert_eq!(persist::load_or_default(&mut flash), loaded.record);
 
-    // The App boots from it; its next store writes version 2.
+    // The App boots from it; its next store writes version 3 after the old image.
     let mut app = App::new(&mut flash, 0);
-    assert_eq!(app.shared.settings().bank_deg, -25.0);
-    assert_eq!(app.shared.flight.params().bank_deg, -25.0);
+    assert_eq!(app.shared.settings().bank_deg, -15.0);
+    assert_eq!(app.shared.flight.params().bank_deg, -15.0);
     app.shared.requests.store = true;
     poll_app(&mut app, &mut flash);
+    assert_eq!(app.shared.counters.store_failures, 0);
     let loaded = persist::load(&mut flash).unwrap();
-    assert_eq!(loaded.version, 2);
+    assert_eq!(loaded.version, 3);
     assert_eq!(loaded.record.settings.aok_debug_period_ms, 20);
-    assert_eq!(loaded.record.settings.airspeed_mps, 62.5);
+    assert_eq!(loaded.record.settings.airspeed_mps, 40.0);
+    assert_eq!(loaded.record.aok, legacy_aok());
+    assert_eq!(&mem[..16], &V1_STORE[..16], "the old image was not touched");
+}
+
+#[test]
+fn a_version_2_store_is_migrated_on_either_board() {
+    let mut v2 = sample();
+    v2.aok = legacy_aok();
+    // QEMU: the old image at offset 0 of the store (area A).
+    // STM32F411: the old image at the start of sector 7, now area B (the store is sectors 6
+    // and 7), with sector 6 erased before it.
+    let mut qemu = *V2_STORE;
+    let mut stm32 = [0xFFu8; 4096];
+    stm32[2048..].copy_from_slice(&V2_STORE[..2048]);
+    for mem in [&mut qemu[..], &mut stm32[..]] {
+        let mut flash = MemFlash::new(mem);
+        let loaded = persist::load(&mut flash).unwrap();
+        assert_eq!((loaded.version, &loaded.record), (2, &v2));
+        // Stored unchanged, it is still written: in version 3 (on QEMU in area B, as the old
+        // code erased only the first 1 KiB page of area A and the RAM behind it is zero).
+        assert!(matches!(
+            persist::store(&mut flash, &v2),
+            Ok(Stored::Appended | Stored::Erased)
+        ));
+        let loaded = persist::load(&mut flash).unwrap();
+        assert_eq!((loaded.version, &loaded.record), (3, &v2));
+        assert_eq!(persist::store(&mut flash, &v2), Ok(Stored::Unchanged));
+        // Once the area is full, the other is erased and the old image is gone.
+        let mut changed = v2.clone();
+        let mut erased = false;
+        for i in 0..12 {
+            changed.settings.bank_deg = i as f32;
+            erased |= persist::store(&mut flash, &changed) == Ok(Stored::Erased);
+        }
+        assert!(erased);
+        assert_eq!(persist::load(&mut flash).unwrap().record, changed);
+    }
+    // A version 1 or 2 image anywhere but the start of an area is not read.
+    let mut mem = [0xFFu8; 4096];
+    mem[1024..2048].copy_from_slice(&V2_STORE[..1024]);
+    assert_eq!(
+        persist::load(&mut MemFlash::new(&mut mem)).map(|l| l.version),
+        Err(StoreError::UnsupportedVersion(2))
+    );
+}
+
+#[test]
+fn an_unchanged_record_is_not_written_again() {
+    let mut flash = Strict::<8> {
+        mem: vec![0xFFu8; 4096],
+        writes: Vec::new(),
+        broken: false,
+    };
+    assert_eq!(persist::store(&mut flash, &sample()), Ok(Stored::Appended));
+    let writes = flash.writes.len();
+    let before = flash.mem.clone();
+    assert_eq!(persist::store(&mut flash, &sample()), Ok(Stored::Unchanged));
+    assert_eq!(flash.writes.len(), writes, "no write");
+    assert_eq!(flash.mem, before, "no erase");
+    // Any change is written.
+    let mut changed = sample();
+    changed.aok.waypoints[5].action2 = 1;
+    assert_eq!(persist::store(&mut flash, &changed), Ok(Stored::Appended));
+    assert_eq!(persist::load(&mut flash).unwrap().record, changed);
 }
 
 #[test]
 fn a_record_too_big_for_the_store_is_refused_and_the_old_one_kept() {
-    let mut mem = [0u8; 1024];
+    // Two 1 KiB areas: the largest record (1 508 bytes) does not fit one.
+    let mut mem = [0u8; 2048];
     let mut flash = MemFlash::new(&mut mem);
     persist::store(&mut flash, &Persisted::default()).unwrap();
     let mut big = sample();
@@ -420,12 +540,14 @@ fn writes_are_aligned_chunks_after_an_erase() {
         broken: false,
     };
     let record = sample();
-    persist::store(&mut flash, &record).unwrap();
-    let len = u32::from_le_bytes(flash.mem[8..12].try_into().unwrap()) as usize;
+    // Blank (zero) RAM: area A is not erased, so the store erases area B and writes there.
+    assert_eq!(persist::store(&mut flash, &record), Ok(Stored::Erased));
+    let start = 2048;
+    let len = u32::from_le_bytes(flash.mem[start + 8..start + 12].try_into().unwrap()) as usize;
     let padded = (HEADER_LEN + len).div_ceil(8) * 8;
-    // Consecutive 64-byte chunks from offset 0 covering the padded image; the last one is
-    // shorter but still whole write units.
-    let mut at = 0;
+    // Consecutive 64-byte chunks from the area's start covering the padded image; the last
+    // one is shorter but still whole write units.
+    let mut at = start;
     for (i, &(offset, n)) in flash.writes.iter().enumerate() {
         assert_eq!(offset as usize, at);
         if i + 1 < flash.writes.len() {
@@ -435,10 +557,11 @@ fn writes_are_aligned_chunks_after_an_erase() {
         }
         at += n;
     }
-    assert_eq!(at, padded);
+    assert_eq!(at, start + padded);
     assert_eq!(flash.writes.len(), padded.div_ceil(CHUNK));
     assert_eq!(persist::load(&mut flash).unwrap().record, record);
-    // A second store erases first (the strict flash refuses to program unerased bytes).
+    // A second store does not fit after the first in area B: it erases area A first (the
+    // strict flash refuses to program unerased bytes).
     let mut changed = record.clone();
     changed.settings.bank_deg = 5.0;
     persist::store(&mut flash, &changed).unwrap();
@@ -538,7 +661,7 @@ fn settings_stored_by_the_app_come_back_after_a_reboot() {
 
 #[test]
 fn the_app_boots_with_defaults_from_a_corrupt_store() {
-    let mut mem = [0u8; 4096];
+    let mut mem = [0xFFu8; 4096];
     persist::store(&mut MemFlash::new(&mut mem), &sample()).unwrap();
     mem[HEADER_LEN + 3] ^= 0x40;
     let app = App::new(&mut MemFlash::new(&mut mem), 0);
@@ -587,6 +710,6 @@ fn load_into_fills_the_record_in_place() {
     let mut flash = MemFlash::new(&mut mem);
     persist::store(&mut flash, &sample()).unwrap();
     let mut record = Persisted::default();
-    assert_eq!(persist::load_into(&mut flash, &mut record), Ok(2));
+    assert_eq!(persist::load_into(&mut flash, &mut record), Ok(3));
     assert_eq!(record, sample());
 }

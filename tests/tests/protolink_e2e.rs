@@ -200,7 +200,16 @@ fn protolink_aydp_set_get_store(board: Board) {
         "{err}"
     );
 
-    // Store, then "a reboot" over AEOLUS: the stored airspeed is back after the boot.
+    // Land ("a pause": a store is refused in flight), store, then "a reboot" over AEOLUS: the
+    // stored airspeed is back after the boot.
+    q.uart0.command("a pause");
+    let ack = q
+        .uart0
+        .read_until(Duration::from_secs(2), |f| f.toast().is_some());
+    assert_eq!(
+        q.uart0.frames[ack].toast().as_deref(),
+        Some("AEOLUS paused")
+    );
     assert!(aydp(&["store"]).starts_with("store configuration: unconfirmed"));
     q.uart0.command("a reboot");
     let seen = q.uart0.frames.len();

@@ -14,8 +14,9 @@
 //! * Clock: HSI (16 MHz, no crystal needed on either board) through the PLL
 //!   to 100 MHz; SysTick at 1 kHz from the core clock.
 //! * Log: `defmt` over RTT (`defmt-rtt`), shown by `probe-rs run`.
-//! * Flash store: sector 7 (128 KiB at 0x0806_0000), outside the program's
-//!   memory map (`stm32f411.x`).
+//! * Flash store: sectors 6 and 7 (2 x 128 KiB at 0x0804_0000), the two areas
+//!   of the power-cut-safe store (`sensor_box::persist`), outside the
+//!   program's memory map (`stm32f411.x`).
 //! * Watchdog: the IWDG (`IndependentWatchdog`), [`WATCHDOG_MS`] (8 s) at the LSI's nominal
 //!   32 kHz (prescaler 256, reload 999); the LSI may run at 17 to 47 kHz (data sheet), so
 //!   5.4 s to 15 s. Above the longest stall of the main loop: a 128 KiB sector erase takes
@@ -88,7 +89,7 @@ pub const NAME: &str = "stm32f411";
 #[cfg(feature = "qemu-stm32")]
 pub const NAME: &str = "stm32f411 (simulated: QEMU netduinoplus2)";
 
-/// The settings store: sector 7 of the internal flash.
+/// The settings store: sectors 6 and 7 of the internal flash.
 #[cfg(not(feature = "qemu-stm32"))]
 pub type Store = FlashWindow<Stm32Flash>;
 /// `qemu-stm32`: the settings store is NOR flash emulated in the model's RAM.
@@ -97,12 +98,12 @@ pub type Store = firmware_example::MemFlash<'static>;
 
 /// Baud rates of UART0 (AEOLUS), UART1 (AYDP) and UART2 (AOK).
 pub const BAUD: [u32; 3] = [921_600, 115_200, 38_400];
-/// Offset of the store (sector 7) from the start of flash.
+/// Offset of the store (sector 6, then 7) from the start of flash.
 #[cfg(not(feature = "qemu-stm32"))]
-const STORE_OFFSET: u32 = 0x6_0000;
-/// Size of the store (all of sector 7).
+const STORE_OFFSET: u32 = 0x4_0000;
+/// Size of the store (sectors 6 and 7: each an area of the store, erased alone).
 #[cfg(not(feature = "qemu-stm32"))]
-const STORE_LEN: u32 = 0x2_0000;
+const STORE_LEN: u32 = 0x4_0000;
 /// `qemu-stm32`: where the RAM settings store lives: the first 4 KiB past
 /// the F411's 128 KiB of SRAM, which exist only in the model (an STM32F405
 /// with 192 KiB at 0x2000_0000). Nothing links there (`stm32f411.x` ends the
@@ -177,7 +178,8 @@ impl ReadNorFlash for Stm32Flash {
 #[cfg(not(feature = "qemu-stm32"))]
 impl NorFlash for Stm32Flash {
     const WRITE_SIZE: usize = 1;
-    /// The largest sector; only sector 7 is ever erased (see `STORE_OFFSET`).
+    /// The largest sector; only sectors 6 and 7 are ever erased, one at a time (see
+    /// `STORE_OFFSET`).
     const ERASE_SIZE: usize = 128 * 1024;
 
     fn erase(&mut self, from: u32, to: u32) -> Result<(), flash::Error> {

@@ -142,15 +142,15 @@ impl AokLink {
             Command::ReadParameter(number) => self.read_parameter(number),
             Command::BulkRead(first) => self.bulk_read(first),
             Command::LoadSet(n) => self.load_set(n, flying, shared),
-            Command::SaveSet(n) => self.save_set(n, flying, shared),
-            Command::StartSet(n) => self.start_set(n, flying, shared),
-            Command::SaveWaypoints => self.save_waypoints(flying, shared),
+            Command::SaveSet(n) => self.save_set(n, flying, now_ms, shared),
+            Command::StartSet(n) => self.start_set(n, flying, now_ms, shared),
+            Command::SaveWaypoints => self.save_waypoints(flying, now_ms, shared),
             Command::LoadWaypoints => {
                 crate::info!("AOK waypoints loaded from flash");
                 self.load_waypoints(shared);
                 self.ack(Ack::Ok);
             }
-            Command::SetWaypoint(w) => self.set_waypoint(&w, flying, shared),
+            Command::SetWaypoint(w) => self.set_waypoint(&w, flying, now_ms, shared),
             Command::ReadWaypoint(slot) => self.read_waypoint(slot, shared),
             Command::MotorTest(m) => self.motor_test(m, now_ms, flying),
             Command::ExternalControl(e) => self.take_external(e, now_ms),

@@ -3,6 +3,7 @@
 
 use super::{AokLink, FIRMWARE, MAX_REPLY, in_flight_settable};
 use crate::Shared;
+use crate::store_policy::Verdict;
 use aok_proto::message::HEADED_REPLY_LEN;
 use aok_proto::{Ack, ParameterValue, device};
 
@@ -63,34 +64,41 @@ impl AokLink {
         self.ack(ack);
     }
 
-    /// `63 04 NUM`: the RAM parameters into set `n` and the flash (not while flying).
-    pub(super) fn save_set(&mut self, n: u8, flying: bool, shared: &mut Shared) {
-        let params = self.params;
-        let ack = match shared.persisted.aok.sets.get_mut(usize::from(n)) {
+    /// `63 04 NUM`: the RAM parameters into set `n` and the flash (when the [store
+    /// policy](crate::store_policy) allows: 'I' flying, 'E' too soon).
+    pub(super) fn save_set(&mut self, n: u8, flying: bool, now_ms: u64, shared: &mut Shared) {
+        let ack = match shared.persisted.aok.sets.get(usize::from(n)) {
             None => Ack::Error,
-            Some(_) if flying => Ack::InFlight,
-            Some(set) => {
-                crate::info!("AOK parameters saved to set {=u8}", n);
-                *set = params;
-                shared.requests.store = true;
-                Ack::Ok
-            }
+            Some(_) => store_ack(shared.request_store(now_ms, flying)),
         };
+        if let (Ack::Ok, Some(set)) = (ack, shared.persisted.aok.sets.get_mut(usize::from(n))) {
+            crate::info!("AOK parameters saved to set {=u8}", n);
+            *set = self.params;
+        }
         self.ack(ack);
     }
 
-    /// `63 05 NUM`: the set loaded at boot (not while flying).
-    pub(super) fn start_set(&mut self, n: u8, flying: bool, shared: &mut Shared) {
+    /// `63 05 NUM`: the set loaded at boot (stored as `63 04` is).
+    pub(super) fn start_set(&mut self, n: u8, flying: bool, now_ms: u64, shared: &mut Shared) {
         let ack = if usize::from(n) >= shared.persisted.aok.sets.len() {
             Ack::Error
-        } else if flying {
-            Ack::InFlight
         } else {
+            store_ack(shared.request_store(now_ms, flying))
+        };
+        if ack == Ack::Ok {
             crate::info!("AOK start set {=u8}", n);
             shared.persisted.aok.start_set = n;
-            shared.requests.store = true;
-            Ack::Ok
-        };
+        }
         self.ack(ack);
+    }
+}
+
+/// The AOK answer to the store policy's verdict: 'O' accepted, 'I' flying, 'E' too soon (K6
+/// has no "busy"; 'I' would tell the PC the box is flying).
+pub(super) fn store_ack(verdict: Verdict) -> Ack {
+    match verdict {
+        Verdict::Accepted => Ack::Ok,
+        Verdict::InFlight => Ack::InFlight,
+        Verdict::TooSoon => Ack::Error,
     }
 }

@@ -2,6 +2,7 @@
 //! waypoints with the mission POI (31), reading and setting one, and moving them between
 //! flash and RAM.
 
+use super::params::store_ack;
 use super::{AokLink, MISSION_POI};
 use crate::Shared;
 use crate::state::StoredWaypoint;
@@ -37,11 +38,11 @@ impl AokLink {
         self.ram_poi = flash.get(MISSION_POI).copied().unwrap_or_default();
     }
 
-    /// `63 08`: RAM slots 0..=30 and the RAM POI into the flash record (not while flying).
-    pub(super) fn save_waypoints(&mut self, flying: bool, shared: &mut Shared) {
-        let ack = if flying {
-            Ack::InFlight
-        } else {
+    /// `63 08`: RAM slots 0..=30 and the RAM POI into the flash record (when the [store
+    /// policy](crate::store_policy) allows).
+    pub(super) fn save_waypoints(&mut self, flying: bool, now_ms: u64, shared: &mut Shared) {
+        let ack = store_ack(shared.request_store(now_ms, flying));
+        if ack == Ack::Ok {
             crate::info!("AOK waypoints saved to flash");
             let flash = &mut shared.persisted.aok.waypoints;
             for (f, r) in flash.iter_mut().zip(self.waypoints.iter()) {
@@ -50,14 +51,18 @@ impl AokLink {
             if let Some(poi) = flash.get_mut(MISSION_POI) {
                 *poi = self.ram_poi;
             }
-            shared.requests.store = true;
-            Ack::Ok
-        };
+        }
         self.ack(ack);
     }
 
-    /// `77`: one slot (the mission POI goes to flash, not while flying).
-    pub(super) fn set_waypoint(&mut self, w: &Waypoint, flying: bool, shared: &mut Shared) {
+    /// `77`: one slot (the mission POI goes to flash, when the store policy allows).
+    pub(super) fn set_waypoint(
+        &mut self,
+        w: &Waypoint,
+        flying: bool,
+        now_ms: u64,
+        shared: &mut Shared,
+    ) {
         let stored = StoredWaypoint {
             lon: w.longitude,
             lat: w.latitude,
@@ -66,11 +71,10 @@ impl AokLink {
         };
         let slot = match w.slot {
             WaypointSlot::Waypoint(n) => self.waypoints.get_mut(usize::from(n.wire())),
-            WaypointSlot::MissionPoi if flying => return self.ack(Ack::InFlight),
-            WaypointSlot::MissionPoi => {
-                shared.requests.store = true;
-                shared.persisted.aok.waypoints.get_mut(MISSION_POI)
-            }
+            WaypointSlot::MissionPoi => match store_ack(shared.request_store(now_ms, flying)) {
+                Ack::Ok => shared.persisted.aok.waypoints.get_mut(MISSION_POI),
+                refused => return self.ack(refused),
+            },
             WaypointSlot::RamPoi => Some(&mut self.ram_poi),
             WaypointSlot::FbcTarget => Some(&mut self.fbc_target),
         };

@@ -5,6 +5,7 @@ use super::Ctx;
 use super::periodic::timestamp;
 use super::registry::View;
 use crate::Shared;
+use crate::store_policy::Verdict;
 use aydp_proto::registry::Registry;
 use aydp_proto::{Frame, Message, Stats, SystemControl, SystemValueUpdate, Timestamp};
 
@@ -32,9 +33,12 @@ impl Ctx {
                 self.request(address, ts, stats, shared);
             }
             Message::SystemControl(SystemControl::StoreConfiguration) => {
-                shared.requests.store = true;
+                // No answer in the protocol: a refusal is counted (0x0310) and logged.
                 self.counters.stores_requested = self.counters.stores_requested.wrapping_add(1);
-                crate::info!("AYDP: store configuration");
+                let flying = crate::aok_link::flying(shared);
+                if shared.request_store(now_ms, flying) == Verdict::Accepted {
+                    crate::info!("AYDP: store configuration");
+                }
             }
             Message::DirectOutput(out) => self.direct(&out, shared),
             Message::Heartbeat => {

@@ -20,7 +20,8 @@
 //!   whole value (scalars in mode 1, arrays and texts in mode 2), in the form the request came
 //!   in (expedited request, expedited reply; normal request, normal reply with a timestamp).
 //!   An unknown address is not answered (AYDP has no negative reply) and counts as rejected.
-//!   "Store configuration" sets [`Shared::requests`]`.store`; the App writes the flash.
+//!   "Store configuration" asks [`Shared::request_store`] (refused in flight and past the
+//!   rate limit, counted at 0x0310); the App writes the flash.
 //! * **Direct output control** (7): obeyed only while address 0x0000 is 1, and all or
 //!   nothing: an entry naming a (device, channel) the box does not have, or a non-finite
 //!   value, rejects the whole message. The new values are logged and readable at
@@ -51,6 +52,7 @@
 //! | 0x0120 | AOK debug period, ms | u32 | rw | 0..=60 000 | 20 |
 //! | 0x0200 | direct outputs (device 1, channels 0..=7) | f32\[8\] | ro | | 0 |
 //! | 0x0300 | link counters ([`COUNTER_NAMES`]) | u32\[10\] | ro | | 0 |
+//! | 0x0310 | flash store counters of all links ([`STORE_COUNTER_NAMES`]) | u32\[5\] | ro | | 0 |
 //!
 //! # Files
 //!
@@ -92,7 +94,9 @@ mod periodic;
 mod registry;
 
 pub use periodic::{FIX_QUALITY, timestamp, unix_seconds};
-pub use registry::{FIRMWARE_VERSION, HARDWARE_VERSION, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr};
+pub use registry::{
+    FIRMWARE_VERSION, HARDWARE_VERSION, STORE_COUNTER_NAMES, SYSTEM_ID, SYSTEM_NAME, TEXT_LEN, addr,
+};
 
 use crate::Shared;
 use crate::port::{Receive, TxQueue, receive_slices};
@@ -126,7 +130,8 @@ pub struct LinkCounters {
     pub malformed: u32,
     /// Request-data commands answered.
     pub requests_answered: u32,
-    /// Store-configuration commands (flash writes requested).
+    /// Store-configuration commands received (accepted or refused by the store policy: see
+    /// register 0x0310).
     pub stores_requested: u32,
     /// Direct output messages obeyed.
     pub direct_applied: u32,

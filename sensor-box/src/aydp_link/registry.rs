@@ -34,7 +34,20 @@ pub mod addr {
     pub const OUTPUTS: u16 = 0x0200;
     /// The link counters, u32\[10\], read-only (order: [`COUNTER_NAMES`](crate::aydp_link::COUNTER_NAMES)).
     pub const LINK_COUNTERS: u16 = 0x0300;
+    /// The flash store counters of every link, u32\[5\], read-only (order:
+    /// [`STORE_COUNTER_NAMES`](crate::aydp_link::STORE_COUNTER_NAMES)).
+    pub const STORE_COUNTERS: u16 = 0x0310;
 }
+
+/// Names of the u32\[5\] at [`addr::STORE_COUNTERS`], in order: the store counters of
+/// [`Counters`](crate::state::Counters), for all links (see [`crate::store_policy`]).
+pub const STORE_COUNTER_NAMES: [&str; 5] = [
+    "stores written",
+    "stores unchanged (not written)",
+    "stores failed",
+    "stores refused in flight",
+    "stores refused by the rate limit",
+];
 
 /// Length of the prescribed texts.
 pub const TEXT_LEN: usize = 40;
@@ -86,6 +99,7 @@ pub(super) struct View {
     aok_period: u32,
     outputs: [f32; OUTPUTS],
     counters: [u32; 10],
+    store: [u32; 5],
 }
 
 impl View {
@@ -127,11 +141,21 @@ impl View {
                 c.direct_applied,
                 c.direct_refused,
             ],
+            store: {
+                let s = &shared.counters;
+                [
+                    s.stores_written,
+                    s.stores_unchanged,
+                    s.store_failures,
+                    s.stores_refused_in_flight,
+                    s.stores_rate_limited,
+                ]
+            },
         }
     }
 
     /// The registry table over this view (see the module table).
-    pub(super) fn slots(&mut self) -> [Slot<'_>; 12] {
+    pub(super) fn slots(&mut self) -> [Slot<'_>; 13] {
         [
             Slot::value(addr::DIRECT_CONTROL, Cell::u8(&mut self.direct)).with_range(0.0, 1.0),
             Slot::value(addr::SYSTEM_NAME, Cell::Chars(&mut self.name)).read_only(),
@@ -146,6 +170,7 @@ impl View {
                 .with_range(0.0, 60_000.0),
             Slot::array(addr::OUTPUTS, Cell::F32(&mut self.outputs)).read_only(),
             Slot::array(addr::LINK_COUNTERS, Cell::U32(&mut self.counters)).read_only(),
+            Slot::array(addr::STORE_COUNTERS, Cell::U32(&mut self.store)).read_only(),
         ]
     }
 

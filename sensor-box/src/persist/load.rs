@@ -1,18 +1,19 @@
-//! Reading the image: the header and CRC checked through a small window, then the record
-//! decoded in place, field by field.
+//! Reading: the newest valid image found by walking both areas, its header and CRC checked
+//! through a small window, then the record decoded in place, field by field.
 
 use super::{
-    CRC, HEADER_LEN, Loaded, MAGIC, OLDEST_VERSION, PAYLOAD_MAX, SETTINGS_MAX, SettingsV1,
-    StoreError, VERSION, WINDOW, le_u16, le_u32, offset, unit_ok,
+    CRC, HEADER_LEN, LEGACY_HEADER_LEN, Loaded, MAGIC, OLDEST_VERSION, PAYLOAD_MAX, StoreError,
+    VERSION, WINDOW, align, area_len, le_u16, le_u32, offset, round_up, unit_ok,
 };
 use crate::Persisted;
-use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, AOK_SETS, AokFlash, Settings, StoredWaypoint};
-use embedded_storage::nor_flash::ReadNorFlash;
-use serde::de::DeserializeOwned;
+use crate::state::{
+    AOK_FLASH_WAYPOINTS, AOK_PARAMS, AOK_SETS, AokFlash, Intervals, Settings, StoredWaypoint,
+};
+use embedded_storage::nor_flash::NorFlash;
 
-/// A [`WINDOW`]-byte window on the image in flash, and a decoding position in it.
+/// A [`WINDOW`]-byte window on the flash, the image it is looking at, and a decoding position.
 pub(super) struct Reader<'f, F> {
-    flash: &'f mut F,
+    pub(super) flash: &'f mut F,
     buf: [u8; WINDOW],
     /// Flash offset of `buf[0]`.
     base: usize,
@@ -20,28 +21,47 @@ pub(super) struct Reader<'f, F> {
     len: usize,
     /// Next byte to decode (flash offset).
     pos: usize,
-    /// End of the image (flash offset): nothing at or after it belongs to the record.
+    /// The image looked at: where its CRC field is (flash offset) and where it ends.
+    crc_at: usize,
     end: usize,
 }
 
-impl<'f, F: ReadNorFlash> Reader<'f, F> {
-    fn new(flash: &'f mut F) -> Result<Self, StoreError> {
+/// A valid image: where it is, its format version, sequence number and CRC.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Image {
+    /// Flash offset of its first byte.
+    pub(super) start: usize,
+    /// Flash offset just past its payload.
+    pub(super) end: usize,
+    pub(super) version: u16,
+    pub(super) seq: u32,
+    pub(super) crc: u32,
+}
+
+impl Image {
+    fn header_len(&self) -> usize {
+        if self.version < 3 {
+            LEGACY_HEADER_LEN
+        } else {
+            HEADER_LEN
+        }
+    }
+}
+
+impl<'f, F: NorFlash> Reader<'f, F> {
+    pub(super) fn new(flash: &'f mut F) -> Result<Self, StoreError> {
         if !unit_ok(F::READ_SIZE) {
             return Err(StoreError::Unsupported);
         }
-        let mut r = Reader {
+        Ok(Reader {
             flash,
             buf: [0; WINDOW],
             base: 0,
             len: 0,
             pos: 0,
-            end: HEADER_LEN,
-        };
-        r.fill(0)?;
-        if r.len < HEADER_LEN {
-            return Err(StoreError::Empty);
-        }
-        Ok(r)
+            crc_at: 0,
+            end: 0,
+        })
     }
 
     /// Reads the window starting at `at` rounded down to the read unit.
@@ -60,6 +80,19 @@ impl<'f, F: ReadNorFlash> Reader<'f, F> {
         Ok(())
     }
 
+    /// The `n` bytes from flash offset `at`, read into the window if they are not in it. The
+    /// caller keeps `at + n` within the flash (else the tail is stale).
+    fn window(&mut self, at: usize, n: usize) -> Result<&[u8], StoreError> {
+        let stop = at.saturating_add(n);
+        if at < self.base || stop > self.base.saturating_add(self.len) {
+            self.fill(at)?;
+        }
+        let lo = at.saturating_sub(self.base);
+        self.buf
+            .get(lo..lo.saturating_add(n))
+            .ok_or(StoreError::Flash)
+    }
+
     /// The image bytes held in the window from flash offset `from` (up to the image end).
     fn held(&self, from: usize) -> &[u8] {
         let stop = self.end.min(self.base.saturating_add(self.len));
@@ -68,10 +101,11 @@ impl<'f, F: ReadNorFlash> Reader<'f, F> {
         self.buf.get(lo..hi).unwrap_or(&[])
     }
 
-    /// The CRC of header bytes 0..12 and the payload, read window by window.
-    fn image_crc(&mut self) -> Result<u32, StoreError> {
+    /// The CRC of the image from `start` to its end, without its CRC field, read window by
+    /// window.
+    fn image_crc(&mut self, start: usize) -> Result<u32, StoreError> {
         let mut digest = CRC.digest();
-        let mut at = 0;
+        let mut at = start;
         while at < self.end {
             if at != self.base {
                 self.fill(at)?;
@@ -80,64 +114,162 @@ impl<'f, F: ReadNorFlash> Reader<'f, F> {
             if held.is_empty() {
                 return Err(StoreError::Flash);
             }
-            if at == 0 {
-                // Skip the CRC field itself.
-                digest.update(held.get(..12).unwrap_or(&[]));
-                digest.update(held.get(HEADER_LEN..).unwrap_or(&[]));
-            } else {
-                digest.update(held);
-            }
+            let before = self.crc_at.saturating_sub(at).min(held.len());
+            let after = (self.crc_at + 4).saturating_sub(at).min(held.len());
+            digest.update(held.get(..before).unwrap_or(&[]));
+            digest.update(held.get(after..).unwrap_or(&[]));
             at = at.saturating_add(held.len());
         }
         Ok(digest.finalize())
     }
 
-    /// Decodes the next postcard value.
-    fn take<T: DeserializeOwned>(&mut self) -> Result<T, StoreError> {
-        let want = self.pos.saturating_add(SETTINGS_MAX).min(self.end);
-        if self.pos < self.base || want > self.base.saturating_add(self.len) {
+    /// The next payload byte.
+    fn byte(&mut self) -> Result<u8, StoreError> {
+        if self.pos >= self.end {
+            return Err(StoreError::Decode);
+        }
+        if self.pos < self.base || self.pos >= self.base.saturating_add(self.len) {
             self.fill(self.pos)?;
         }
-        let held = self.held(self.pos);
-        let (value, rest) = postcard::take_from_bytes::<T>(held).map_err(|_| StoreError::Decode)?;
-        self.pos = self
-            .pos
-            .saturating_add(held.len().saturating_sub(rest.len()));
-        Ok(value)
+        let b = self
+            .buf
+            .get(self.pos.wrapping_sub(self.base))
+            .copied()
+            .ok_or(StoreError::Flash)?;
+        self.pos += 1;
+        Ok(b)
     }
-}
 
-/// Checks the header (the version only if `known_version`) and the CRC; returns the version
-/// and a reader at the payload.
-pub(super) fn open<F: ReadNorFlash>(
-    flash: &mut F,
-    known_version: bool,
-) -> Result<(u16, Reader<'_, F>), StoreError> {
-    let mut r = Reader::new(flash)?;
-    let head = r.held(0);
-    if head.iter().all(|&b| b == 0xFF) || head.iter().all(|&b| b == 0) {
-        return Err(StoreError::Empty);
+    /// The next postcard `u32`: a varint of at most 5 bytes, as postcard reads it (the fifth
+    /// byte may carry only the top 4 bits).
+    fn u32(&mut self) -> Result<u32, StoreError> {
+        let mut out = 0u32;
+        for i in 0..5 {
+            let b = self.byte()?;
+            out |= u32::from(b & 0x7F) << (7 * i);
+            if b & 0x80 == 0 {
+                return if i == 4 && b > 0x0F {
+                    Err(StoreError::Decode)
+                } else {
+                    Ok(out)
+                };
+            }
+        }
+        Err(StoreError::Decode)
     }
-    if le_u32(head, 0) != MAGIC {
-        return Err(StoreError::BadMagic);
+
+    /// The next postcard `i32`: a zigzag varint.
+    fn i32(&mut self) -> Result<i32, StoreError> {
+        let u = self.u32()?;
+        Ok(((u >> 1) as i32) ^ -((u & 1) as i32))
     }
-    let version = le_u16(head, 4);
-    if known_version && !(OLDEST_VERSION..=VERSION).contains(&version) {
-        return Err(StoreError::UnsupportedVersion(version));
+
+    /// The next postcard `f32`: 4 bytes, little-endian.
+    fn f32(&mut self) -> Result<f32, StoreError> {
+        let mut b = [0u8; 4];
+        for x in b.iter_mut() {
+            *x = self.byte()?;
+        }
+        Ok(f32::from_le_bytes(b))
     }
-    let len_field = le_u32(head, 8);
-    let crc = le_u32(head, 12);
-    let len = usize::try_from(len_field).unwrap_or(usize::MAX);
-    let end = HEADER_LEN.saturating_add(len);
-    if len == 0 || len > PAYLOAD_MAX || end > r.flash.capacity() {
-        return Err(StoreError::BadLength(len_field));
+
+    /// Checks the image at `start`, which must end by `limit`: the header (a version 1 or 2
+    /// image only where `legacy`, a version above `newest` is refused) and the CRC.
+    pub(super) fn check(
+        &mut self,
+        start: usize,
+        limit: usize,
+        legacy: bool,
+        newest: u16,
+    ) -> Result<Image, StoreError> {
+        let head = self.window(start, HEADER_LEN)?;
+        if head.iter().all(|&b| b == 0xFF) || head.iter().all(|&b| b == 0) {
+            return Err(StoreError::Empty);
+        }
+        if le_u32(head, 0) != MAGIC {
+            return Err(StoreError::BadMagic);
+        }
+        let version = le_u16(head, 4);
+        let len_field = le_u32(head, 8);
+        let (hlen, seq) = if version > newest || version < OLDEST_VERSION {
+            return Err(StoreError::UnsupportedVersion(version));
+        } else if version >= 3 {
+            (HEADER_LEN, le_u32(head, 12))
+        } else if legacy {
+            (LEGACY_HEADER_LEN, 0)
+        } else {
+            return Err(StoreError::UnsupportedVersion(version));
+        };
+        let crc = le_u32(head, hlen - 4);
+        let len = usize::try_from(len_field).unwrap_or(usize::MAX);
+        let end = start.saturating_add(hlen).saturating_add(len);
+        if len == 0 || len > PAYLOAD_MAX || end > limit {
+            return Err(StoreError::BadLength(len_field));
+        }
+        self.crc_at = start + hlen - 4;
+        self.end = end;
+        if self.image_crc(start)? != crc {
+            return Err(StoreError::BadCrc);
+        }
+        Ok(Image {
+            start,
+            end,
+            version,
+            seq,
+            crc,
+        })
     }
-    r.end = end;
-    if r.image_crc()? != crc {
-        return Err(StoreError::BadCrc);
+
+    /// Flash offset past the last byte of `base..limit` that is not erased (`0xFF`), rounded
+    /// up to [`align`]: everything from there to `limit` is erased.
+    pub(super) fn used_end(&mut self, base: usize, limit: usize) -> Result<usize, StoreError> {
+        let mut end = limit;
+        while end > base {
+            let from = end.saturating_sub(WINDOW).max(base);
+            let part = self.window(from, end - from)?;
+            if let Some(i) = part.iter().rposition(|&b| b != 0xFF) {
+                return round_up(from + i + 1, align(F::WRITE_SIZE)).ok_or(StoreError::TooLarge);
+            }
+            end = from;
+        }
+        Ok(base)
     }
-    r.pos = HEADER_LEN;
-    Ok((version, r))
+
+    /// The newest image of a version this firmware reads, in either area; else why there is
+    /// none ([`StoreError::Empty`] when no area holds anything that looks like an image).
+    pub(super) fn newest(&mut self) -> Result<Image, StoreError> {
+        let half = area_len(self.flash.capacity(), F::ERASE_SIZE, F::WRITE_SIZE)?;
+        let step = align(F::WRITE_SIZE);
+        let mut best: Option<Image> = None;
+        let mut why = StoreError::Empty;
+        for base in [0, half] {
+            let limit = base + half;
+            // An image is longer than a header: none starts in the last header's length
+            // of the area (whose window would run past the flash's end).
+            let used = self
+                .used_end(base, limit)?
+                .min(limit.saturating_sub(HEADER_LEN));
+            let mut at = base;
+            while at < used {
+                match self.check(at, limit, at == base, VERSION) {
+                    Ok(image) => {
+                        at = round_up(image.end, step).ok_or(StoreError::TooLarge)?;
+                        if best.is_none_or(|b| image.seq > b.seq) {
+                            best = Some(image);
+                        }
+                    }
+                    Err(StoreError::Flash) => return Err(StoreError::Flash),
+                    Err(StoreError::Empty) => at += step,
+                    Err(StoreError::BadMagic) if at != base => at += step,
+                    Err(e) => {
+                        why = e;
+                        at += step;
+                    }
+                }
+            }
+        }
+        best.ok_or(why)
+    }
 }
 
 /// Fails to compile when a field is added to the record: [`decode`] walks the fields by
@@ -145,7 +277,22 @@ pub(super) fn open<F: ReadNorFlash>(
 #[allow(dead_code)]
 fn layout_guard(p: &Persisted) {
     let Persisted {
-        settings: _,
+        settings:
+            Settings {
+                intervals:
+                    Intervals {
+                        imu_ms: _,
+                        pressure_ms: _,
+                        gps_ms: _,
+                        temp_ms: _,
+                        wind_ms: _,
+                        info_ms: _,
+                    },
+                airspeed_mps: _,
+                bank_deg: _,
+                altitude_m: _,
+                aok_debug_period_ms: _,
+            },
         aok:
             AokFlash {
                 sets: _,
@@ -153,26 +300,59 @@ fn layout_guard(p: &Persisted) {
                 waypoints: _,
             },
     } = p;
+    let StoredWaypoint {
+        lon: _,
+        lat: _,
+        action1: _,
+        action2: _,
+    } = StoredWaypoint::default();
 }
 
-/// Decodes the payload field by field, into `record` when given (else only checks it).
-fn decode<F: ReadNorFlash>(
+/// Decodes the payload field by field, into `record` when given (else only checks it). The
+/// record holds four primitive types (`u32` and `i32` varints, `f32`, `u8`), read by hand as
+/// postcard writes them (`tests/persist.rs` checks both agree): a serde decoder per type
+/// costs flash. Version 1's settings are version 2's without the last field.
+fn decode<F: NorFlash>(
     r: &mut Reader<'_, F>,
-    version: u16,
+    image: &Image,
     mut record: Option<&mut Persisted>,
 ) -> Result<(), StoreError> {
-    r.pos = HEADER_LEN;
-    let settings = if version == VERSION {
-        r.take::<Settings>()?
+    r.pos = image.start + image.header_len();
+    r.end = image.end;
+    let mut i = [0u32; 6];
+    for v in i.iter_mut() {
+        *v = r.u32()?;
+    }
+    let mut f = [0f32; 3];
+    for v in f.iter_mut() {
+        *v = r.f32()?;
+    }
+    let aok_debug_period_ms = if image.version >= 2 {
+        r.u32()?
     } else {
-        r.take::<SettingsV1>()?.migrate()
+        Settings::default().aok_debug_period_ms
     };
     if let Some(rec) = record.as_deref_mut() {
-        rec.settings = settings;
+        let [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] = i;
+        let [airspeed_mps, bank_deg, altitude_m] = f;
+        rec.settings = Settings {
+            intervals: Intervals {
+                imu_ms,
+                pressure_ms,
+                gps_ms,
+                temp_ms,
+                wind_ms,
+                info_ms,
+            },
+            airspeed_mps,
+            bank_deg,
+            altitude_m,
+            aok_debug_period_ms,
+        };
     }
     for s in 0..AOK_SETS {
         for p in 0..AOK_PARAMS {
-            let v = r.take::<i32>()?;
+            let v = r.i32()?;
             if let Some(slot) = record
                 .as_deref_mut()
                 .and_then(|rec| rec.aok.sets.get_mut(s))
@@ -182,15 +362,20 @@ fn decode<F: ReadNorFlash>(
             }
         }
     }
-    let start_set = r.take::<u8>()?;
+    let start_set = r.byte()?;
     if let Some(rec) = record.as_deref_mut() {
         rec.aok.start_set = start_set;
     }
-    for i in 0..AOK_FLASH_WAYPOINTS {
-        let w = r.take::<StoredWaypoint>()?;
+    for n in 0..AOK_FLASH_WAYPOINTS {
+        let w = StoredWaypoint {
+            lon: r.i32()?,
+            lat: r.i32()?,
+            action1: r.u32()?,
+            action2: r.u32()?,
+        };
         if let Some(slot) = record
             .as_deref_mut()
-            .and_then(|rec| rec.aok.waypoints.get_mut(i))
+            .and_then(|rec| rec.aok.waypoints.get_mut(n))
         {
             *slot = w;
         }
@@ -201,15 +386,17 @@ fn decode<F: ReadNorFlash>(
     Ok(())
 }
 
-/// Loads the record into `record`, in place; returns the format version it was stored in.
-/// On an error `record` is left as it was: the payload is decoded once to check it, and a
-/// second time into `record`.
+/// Loads the newest valid image's record into `record`, in place; returns the format version
+/// it was stored in. On an error `record` is left as it was: the payload is decoded once to
+/// check it, and a second time into `record`.
 ///
 /// # Errors
-/// [`StoreError::Empty`] for an erased or blank store; [`StoreError::BadMagic`],
-/// [`StoreError::UnsupportedVersion`], [`StoreError::BadLength`], [`StoreError::BadCrc`] or
-/// [`StoreError::Decode`] for a corrupt one; [`StoreError::Flash`] if the driver failed;
-/// [`StoreError::Unsupported`] for a read unit above 64 bytes.
+/// [`StoreError::Empty`] for an erased or blank store; when no image is valid, why the last
+/// candidate failed: [`StoreError::BadMagic`] (garbage at the start of an area),
+/// [`StoreError::UnsupportedVersion`], [`StoreError::BadLength`] or [`StoreError::BadCrc`];
+/// [`StoreError::Decode`] when the newest image passes its CRC but is no record;
+/// [`StoreError::Flash`] if the driver failed; [`StoreError::Unsupported`] for a read unit
+/// above 64 bytes; [`StoreError::TooLarge`] for a store smaller than two erase pages.
 ///
 /// ```
 /// use sensor_box::storage::MemFlash;
@@ -224,14 +411,12 @@ fn decode<F: ReadNorFlash>(
 /// assert_eq!(record, stored);
 /// # Ok::<(), persist::StoreError>(())
 /// ```
-pub fn load_into<F: ReadNorFlash>(
-    flash: &mut F,
-    record: &mut Persisted,
-) -> Result<u16, StoreError> {
-    let (version, mut r) = open(flash, true)?;
-    decode(&mut r, version, None)?;
-    decode(&mut r, version, Some(record))?;
-    Ok(version)
+pub fn load_into<F: NorFlash>(flash: &mut F, record: &mut Persisted) -> Result<u16, StoreError> {
+    let mut r = Reader::new(flash)?;
+    let image = r.newest()?;
+    decode(&mut r, &image, None)?;
+    decode(&mut r, &image, Some(record))?;
+    Ok(image.version)
 }
 
 /// Reads the record and tells why there is none.
@@ -249,7 +434,7 @@ pub fn load_into<F: ReadNorFlash>(
 /// assert_eq!((loaded.record, loaded.version), (Persisted::default(), persist::VERSION));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
-pub fn load<F: ReadNorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
+pub fn load<F: NorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
     let mut record = Persisted::default();
     let version = load_into(flash, &mut record)?;
     Ok(Loaded { record, version })
@@ -265,7 +450,7 @@ pub fn load<F: ReadNorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
 /// assert_eq!(persist::load_or_default(&mut MemFlash::new(&mut mem)), Persisted::default());
 /// ```
 #[inline(always)]
-pub fn load_or_default<F: ReadNorFlash>(flash: &mut F) -> Persisted {
+pub fn load_or_default<F: NorFlash>(flash: &mut F) -> Persisted {
     // Inlined, so the record is built where the caller wants it instead of being copied out
     // of this function's frame (1.2 KiB of boot stack).
     let mut record = Persisted::default();
@@ -275,7 +460,7 @@ pub fn load_or_default<F: ReadNorFlash>(flash: &mut F) -> Persisted {
 
 /// [`load_into`], and the log line that says what happened.
 #[inline(never)]
-fn load_logged<F: ReadNorFlash>(flash: &mut F, record: &mut Persisted) {
+fn load_logged<F: NorFlash>(flash: &mut F, record: &mut Persisted) {
     match load_into(flash, record) {
         Ok(VERSION) => crate::info!("flash store: settings loaded"),
         Ok(old) => crate::warn!(

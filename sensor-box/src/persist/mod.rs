@@ -1,47 +1,71 @@
-//! Loading and storing the [`Persisted`] record in flash.
+//! Loading and storing the [`Persisted`] record in flash, so that a power cut at any moment
+//! keeps the record stored before or the new one.
+//!
+//! # Store layout
+//!
+//! The store is split into two equal areas, A (the first half) and B, each a whole number of
+//! erase pages (QEMU: two 2 KiB halves of the 4 KiB store; STM32F411: sectors 6 and 7). Images
+//! are appended in an area one after the other, each at a multiple of [`align`] bytes, with a
+//! sequence number one above the newest image's. Loading takes the valid image with the
+//! highest sequence number of both areas. Storing appends the image past the last byte of the
+//! newest image's area that is not erased (so never over bytes a torn write may have
+//! touched); when it does not fit, it erases the other area and writes the image at its
+//! start. A power cut at any point leaves the newest image before the store intact: an erase
+//! only ever hits the area that does not hold it, and a write only bytes that were erased.
+//! A 128 KiB sector holds 86 images of the largest record (394 of the default one), so a
+//! sector is erased once per 86 stores or fewer (see `docs/RELIABILITY.md`, "Power cuts and
+//! flash wear").
 //!
 //! # Image layout
 //!
-//! The record is one image at offset 0 of the store, all fields little-endian:
+//! All fields little-endian:
 //!
 //! | offset | size | field |
 //! |---|---|---|
 //! | 0 | 4 | magic `"SBOX"` ([`MAGIC`]) |
-//! | 4 | 2 | format version ([`VERSION`] = 2; 1 is still read, see below) |
+//! | 4 | 2 | format version ([`VERSION`] = 3; 1 and 2 are still read, see below) |
 //! | 6 | 2 | reserved, 0 |
 //! | 8 | 4 | payload length `n`, bytes (1..=[`PAYLOAD_MAX`]) |
-//! | 12 | 4 | CRC-32/ISO-HDLC over bytes 0..12 and the payload |
-//! | 16 | `n` | the record, `postcard`-serialised |
+//! | 12 | 4 | sequence number (the first image 1, each store one more) |
+//! | 16 | 4 | CRC-32/ISO-HDLC over bytes 0..16 and the payload |
+//! | 20 | `n` | the record, `postcard`-serialised |
 //!
 //! The image is padded with `0xFF` (the erased value, so padding programs nothing) to a
-//! multiple of the flash's `WRITE_SIZE`, and written in chunks of [`CHUNK`] bytes after
-//! erasing the pages it covers. A write cut short by a reset leaves an image whose CRC fails:
-//! it then loads as the defaults.
+//! multiple of the flash's `WRITE_SIZE` and written in chunks of [`CHUNK`] bytes. A write cut
+//! short leaves an image whose CRC fails: it is skipped, and the image before it loads.
 //!
 //! # Small stack
 //!
-//! Neither direction holds the image in RAM. [`store`] serialises the record three times
-//! through small postcard flavors: to count its bytes, to compute the CRC, and to write it
-//! to flash through a [`CHUNK`]-byte buffer; then it reads the image back to check the CRC.
-//! [`load_into`] checks the CRC through a [`WINDOW`]-byte window, then decodes the record in
-//! place, field by field: the settings as one postcard value, the AOK arrays one element at
-//! a time. The bytes are exactly postcard's encoding of [`Persisted`] (a fixed-size array
-//! is its elements in order, a struct its fields in order); decoding the 1.2 KiB record as
-//! one serde value would build several copies of its arrays on the stack.
+//! Neither direction holds the image in RAM. [`store`] serialises the record through small
+//! postcard flavors: to count its bytes, to compute the CRC (twice when there is an image
+//! already: the second tells an unchanged record, which is not written again), and to write
+//! it to flash through a [`CHUNK`]-byte buffer; then it reads the image back to check the
+//! CRC. [`load_into`] finds the newest image and checks CRCs through a [`WINDOW`]-byte
+//! window, then decodes the record in place, field by field: the settings as one postcard
+//! value, the AOK arrays one element at a time. The bytes are exactly postcard's encoding of
+//! [`Persisted`] (a fixed-size array is its elements in order, a struct its fields in
+//! order); decoding the 1.2 KiB record as one serde value would build several copies of its
+//! arrays on the stack.
 //!
 //! # Versions
 //!
-//! * 2 (current): [`Persisted`].
-//! * 1: [`PersistedV1`], the layout before the AOK debug period setting existed. It loads
-//!   with its values and the missing field at its default ([`PersistedV1::migrate`]); the
-//!   next store writes version 2.
+//! * 3 (current): [`Persisted`] in the A/B layout above.
+//! * 2: [`Persisted`], one image at offset 0 of the store with a 16-byte header (bytes 0..12
+//!   as above, then the CRC over them and the payload; no sequence number).
+//! * 1: as 2, with [`PersistedV1`], the record before the AOK debug period setting existed.
+//!   It loads with its values and the missing field at its default
+//!   ([`PersistedV1::migrate`]).
 //!
-//! Any other version (a store written by a newer firmware) loads as the defaults.
+//! A version 1 or 2 image is read only at the start of an area (where the firmware before the
+//! A/B layout wrote it: offset 0 of the QEMU store, the start of sector 7 on the STM32F411,
+//! which is area B), as older than every version 3 image; the next store appends a version 3
+//! image after it. An image of a newer version (a store written by a newer firmware) is
+//! skipped: the newest image this firmware can read loads, else the defaults.
 //!
 //! # Files
 //!
 //! This file is the record format: the header constants, the versions and their migrations,
-//! the errors. `load.rs` reads an image from flash, `store.rs` writes one.
+//! the errors. `load.rs` finds and reads an image in flash, `store.rs` writes one.
 //!
 //! ```
 //! use sensor_box::storage::MemFlash;
@@ -53,8 +77,11 @@
 //!
 //! let mut record = Persisted::default();
 //! record.settings.airspeed_mps = 61.5;
-//! persist::store(&mut flash, &record)?;
+//! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Erased);
 //! assert_eq!(persist::load_or_default(&mut flash), record);
+//! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Unchanged);
+//! record.settings.airspeed_mps = 55.0;
+//! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Appended);
 //! # Ok::<(), persist::StoreError>(())
 //! ```
 
@@ -62,7 +89,7 @@ mod load;
 mod store;
 
 pub use load::{load, load_into, load_or_default};
-pub use store::{store, write_image};
+pub use store::{Stored, store, write_image};
 
 use super::Persisted;
 use super::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, AOK_SETS, AokFlash, Intervals, Settings};
@@ -73,11 +100,13 @@ use serde::{Deserialize, Serialize};
 /// `"SBOX"`: marks a sensor-box settings image.
 pub const MAGIC: u32 = u32::from_le_bytes(*b"SBOX");
 /// The format version [`store`] writes.
-pub const VERSION: u16 = 2;
+pub const VERSION: u16 = 3;
 /// The oldest format version [`load`] still reads.
 pub const OLDEST_VERSION: u16 = 1;
-/// Bytes before the payload.
-pub const HEADER_LEN: usize = 16;
+/// Bytes before the payload (version 3).
+pub const HEADER_LEN: usize = 20;
+/// Bytes before the payload in versions 1 and 2 (no sequence number).
+pub const LEGACY_HEADER_LEN: usize = 16;
 
 /// Largest postcard varint of a `u32` / zigzagged `i32`, bytes.
 const VARINT32_MAX: usize = 5;
@@ -95,8 +124,8 @@ pub const IMAGE_MAX: usize = HEADER_LEN + PAYLOAD_MAX;
 /// Write buffer of [`store`], bytes: every write but the last is this long. A multiple of
 /// every power-of-two `WRITE_SIZE` up to 64.
 pub const CHUNK: usize = 64;
-/// Read window of [`load_into`], bytes: holds the largest value decoded at once (the
-/// settings, 47 bytes) from any offset, for a `READ_SIZE` up to 64.
+/// Read window of [`load_into`] and [`store`], bytes: holds an image header (20 bytes) from
+/// any offset, for a `READ_SIZE` up to 64.
 pub const WINDOW: usize = 128;
 /// Largest `READ_SIZE` / `WRITE_SIZE` the store handles.
 const UNIT_MAX: usize = 64;
@@ -114,8 +143,8 @@ static CRC: Crc<u32, NoTable> = Crc::<u32, NoTable>::new(&CRC_32_ISO_HDLC);
 pub enum StoreError {
     /// The flash driver reported an error.
     Flash,
-    /// The record (padded to the write size, erased by whole pages) does not fit the store,
-    /// or its payload is longer than [`PAYLOAD_MAX`].
+    /// The record (padded to the write size) does not fit one area (half the store, rounded
+    /// down to whole erase pages), or its payload is longer than [`PAYLOAD_MAX`].
     TooLarge,
     /// The flash's `READ_SIZE` or `WRITE_SIZE` is above 64 bytes or not a power of two.
     Unsupported,
@@ -235,6 +264,28 @@ const fn round_up(n: usize, k: usize) -> Option<usize> {
         Some(m) => Some(m / k * k),
         None => None,
     }
+}
+
+/// Where images may start in an area: a multiple of this many bytes, the flash's write
+/// unit and at least 4.
+///
+/// ```
+/// assert_eq!(sensor_box::persist::align(1), 4);
+/// assert_eq!(sensor_box::persist::align(8), 8);
+/// ```
+pub const fn align(write_size: usize) -> usize {
+    if write_size > 4 { write_size } else { 4 }
+}
+
+/// The length of each of the two areas of a `capacity`-byte store with `erase`-byte pages:
+/// half the store, rounded down to whole pages.
+fn area_len(capacity: usize, erase: usize, write: usize) -> Result<usize, StoreError> {
+    let erase = erase.max(1);
+    let half = capacity / 2 / erase * erase;
+    if half == 0 || !half.is_multiple_of(align(write)) {
+        return Err(StoreError::TooLarge);
+    }
+    Ok(half)
 }
 
 /// Whether the store can use a flash with this read or write unit.

@@ -1,9 +1,11 @@
-//! Writing the image: the record serialised through small postcard flavors (count and CRC,
-//! then write in chunks after the erase), then read back to check it.
+//! Writing an image: the record serialised through small postcard flavors (count, CRC, then
+//! write in chunks after the newest image or at the start of the freshly erased other
+//! area), then read back to check it.
 
-use super::load::open;
+use super::load::Reader;
 use super::{
-    CHUNK, CRC, HEADER_LEN, MAGIC, PAYLOAD_MAX, StoreError, VERSION, offset, round_up, unit_ok,
+    CHUNK, CRC, HEADER_LEN, MAGIC, PAYLOAD_MAX, StoreError, VERSION, align, area_len, offset,
+    round_up, unit_ok,
 };
 use crate::Persisted;
 use crc::{Digest, NoTable};
@@ -83,58 +85,80 @@ impl<F: NorFlash> Flavor for Writer<'_, F> {
     }
 }
 
-/// Writes the record in the current format ([`VERSION`]).
+/// What a successful [`store`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Stored {
+    /// The newest image already holds this record: nothing was erased or written.
+    Unchanged,
+    /// The image was written after the newest one, in its area: no erase.
+    Appended,
+    /// The newest image's area was full: the other area was erased and the image written at
+    /// its start.
+    Erased,
+}
+
+/// Writes the record in the current format ([`VERSION`]) as the newest image, unless the
+/// newest image already holds it. A power cut at any point keeps the image that was newest
+/// before (see the [module](super) documentation).
 ///
 /// # Errors
-/// [`StoreError::TooLarge`] if the image does not fit the store, [`StoreError::Flash`] if the
+/// [`StoreError::TooLarge`] if the image does not fit one area, [`StoreError::Flash`] if the
 /// driver failed, [`StoreError::Verify`] if the flash does not read back the image,
-/// [`StoreError::Unsupported`] for a read or write unit above 64 bytes.
+/// [`StoreError::Unsupported`] for a read or write unit above 64 bytes. The newest image
+/// before the store still loads after any of them.
 ///
 /// ```
 /// use sensor_box::storage::MemFlash;
 /// use sensor_box::{Persisted, persist};
-/// let mut mem = [0u8; 4096];
+/// let mut mem = [0xFFu8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut record = Persisted::default();
 /// record.settings.intervals.gps_ms = 200;
-/// persist::store(&mut flash, &record)?;
+/// assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Appended);
 /// assert_eq!(persist::load(&mut flash)?.record.settings.intervals.gps_ms, 200);
+/// assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Unchanged);
 /// # Ok::<(), persist::StoreError>(())
 /// ```
-pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<(), StoreError> {
+pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<Stored, StoreError> {
     write_image(flash, VERSION, record)
 }
 
-/// Writes any serialisable record as an image of format `version`. [`store`] uses it with
-/// [`VERSION`]; tests use it to write older formats (e.g. a [`PersistedV1`](super::PersistedV1) as version 1).
+/// The CRC of an image of `version` with this header and record.
+fn image_crc<T: Serialize + ?Sized>(head: &[u8], record: &T) -> Result<u32, StoreError> {
+    let mut digest = CRC.digest();
+    digest.update(head);
+    let measure = Measure { len: 0, digest };
+    let (_, crc) =
+        postcard::serialize_with_flavor(record, measure).map_err(|_| StoreError::TooLarge)?;
+    Ok(crc)
+}
+
+/// Writes any serialisable record as an image of format `version` (in the version 3
+/// layout), as [`store`] does. [`store`] uses it with [`VERSION`]; tests use it to write
+/// images a newer firmware would, or foreign payloads.
 ///
 /// # Errors
 /// As [`store`].
 ///
 /// ```
 /// use sensor_box::storage::MemFlash;
-/// use sensor_box::persist::{self, PersistedV1, SettingsV1};
-/// use sensor_box::state::{AokFlash, Intervals};
-/// let mut mem = [0u8; 4096];
+/// use sensor_box::{Persisted, persist};
+/// let mut mem = [0xFFu8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
-/// let old = PersistedV1 {
-///     settings: SettingsV1 { intervals: Intervals::SPEC, airspeed_mps: 40.0, bank_deg: 10.0, altitude_m: 500.0 },
-///     aok: AokFlash::default(),
-/// };
-/// persist::write_image(&mut flash, 1, &old)?;
-/// let loaded = persist::load(&mut flash)?;
-/// assert_eq!(loaded.version, 1);
-/// assert_eq!(loaded.record.settings.airspeed_mps, 40.0);
+/// persist::write_image(&mut flash, 9, &Persisted::default())?;
+/// assert_eq!(persist::load(&mut flash).map(|l| l.version), Err(persist::StoreError::UnsupportedVersion(9)));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
     flash: &mut F,
     version: u16,
     record: &T,
-) -> Result<(), StoreError> {
+) -> Result<Stored, StoreError> {
     if !unit_ok(F::WRITE_SIZE) || !unit_ok(F::READ_SIZE) {
         return Err(StoreError::Unsupported);
     }
+    let half = area_len(flash.capacity(), F::ERASE_SIZE, F::WRITE_SIZE)?;
     // Pass 1: the payload length.
     let measure = Measure {
         len: 0,
@@ -142,7 +166,8 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
     };
     let (len, _) =
         postcard::serialize_with_flavor(record, measure).map_err(|_| StoreError::TooLarge)?;
-    if len > PAYLOAD_MAX {
+    let padded = round_up(HEADER_LEN + len, align(F::WRITE_SIZE)).ok_or(StoreError::TooLarge)?;
+    if len > PAYLOAD_MAX || padded > half {
         return Err(StoreError::TooLarge);
     }
     let mut head = [0u8; HEADER_LEN];
@@ -150,29 +175,49 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
     head[4..6].copy_from_slice(&version.to_le_bytes());
     head[8..12].copy_from_slice(&offset(len)?.to_le_bytes());
 
-    // Pass 2: the CRC over header bytes 0..12, then the payload.
-    let mut digest = CRC.digest();
-    digest.update(&head[..12]);
-    let measure = Measure { len: 0, digest };
-    let (_, crc) =
-        postcard::serialize_with_flavor(record, measure).map_err(|_| StoreError::TooLarge)?;
-    head[12..16].copy_from_slice(&crc.to_le_bytes());
-
-    let padded = round_up(HEADER_LEN + len, F::WRITE_SIZE).ok_or(StoreError::TooLarge)?;
-    let erase_end = round_up(padded, F::ERASE_SIZE).ok_or(StoreError::TooLarge)?;
-    if erase_end > flash.capacity() {
-        return Err(StoreError::TooLarge);
+    // The newest image: the record may be in it already; the next goes after it.
+    let newest = match Reader::new(&mut *flash)?.newest() {
+        Ok(image) => Some(image),
+        Err(StoreError::Flash) => return Err(StoreError::Flash),
+        Err(_) => None,
+    };
+    let mut seq = 1;
+    let mut area = 0;
+    if let Some(n) = newest {
+        // Pass 2 (only with an image): this record as that image would hold it.
+        head[12..16].copy_from_slice(&n.seq.to_le_bytes());
+        if n.version == version
+            && n.end - n.start == HEADER_LEN + len
+            && image_crc(&head[..16], record)? == n.crc
+        {
+            return Ok(Stored::Unchanged);
+        }
+        seq = n.seq.wrapping_add(1);
+        area = if n.start >= half { half } else { 0 };
     }
-    flash
-        .erase(0, offset(erase_end)?)
-        .map_err(|_| StoreError::Flash)?;
+    head[12..16].copy_from_slice(&seq.to_le_bytes());
+    // Pass 3: the CRC over header bytes 0..16, then the payload.
+    let crc = image_crc(&head[..16], record)?;
+    head[16..20].copy_from_slice(&crc.to_le_bytes());
 
-    // Pass 3: header and payload to flash.
+    // Past everything written in the newest image's area, or the start of the other one.
+    let mut at = Reader::new(&mut *flash)?.used_end(area, area + half)?;
+    let mut done = Stored::Appended;
+    if at + padded > area + half {
+        area = half - area;
+        flash
+            .erase(offset(area)?, offset(area + half)?)
+            .map_err(|_| StoreError::Flash)?;
+        at = area;
+        done = Stored::Erased;
+    }
+
+    // Pass 4: header and payload to flash.
     let mut writer = Writer {
         flash: &mut *flash,
         buf: [0xFF; CHUNK],
         fill: 0,
-        at: 0,
+        at,
     };
     for &b in &head {
         writer.try_push(b).map_err(|_| StoreError::Flash)?;
@@ -180,8 +225,8 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
     postcard::serialize_with_flavor(record, writer).map_err(|_| StoreError::Flash)?;
 
     // Read back: the image must be there, CRC and all.
-    match open(flash, false) {
-        Ok(_) => Ok(()),
+    match Reader::new(flash)?.check(at, area + half, false, u16::MAX) {
+        Ok(_) => Ok(done),
         Err(_) => Err(StoreError::Verify),
     }
 }
