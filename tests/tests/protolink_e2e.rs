@@ -200,8 +200,15 @@ fn protolink_aydp_set_get_store(board: Board) {
         "{err}"
     );
 
-    // Land ("a pause": a store is refused in flight), store, then "a reboot" over AEOLUS: the
-    // stored airspeed is back after the boot.
+    // In flight a store is refused, and `--verify` says so from the box's store counters, with
+    // a non-zero exit.
+    let out = finish(spawn_protolink(&["aydp", "--to", &to, "store", "--verify"]));
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("refused") && err.contains("flying"), "{err}");
+
+    // Land ("a pause"), store (written, then unchanged: nothing to write), then "a reboot" over
+    // AEOLUS: the stored airspeed is back after the boot.
     q.uart0.command("a pause");
     let ack = q
         .uart0
@@ -211,6 +218,15 @@ fn protolink_aydp_set_get_store(board: Board) {
         Some("AEOLUS paused")
     );
     assert!(aydp(&["store"]).starts_with("store configuration: unconfirmed"));
+    assert!(
+        aydp(&["store", "--verify"]).starts_with("store configuration: confirmed (unchanged"),
+        "the plain store above wrote this configuration already"
+    );
+    assert_eq!(
+        aydp(&["set", "0x0110", "64.0", "--as", "f32"]),
+        "0x0110 f32 = 64.0: confirmed (read back)\n"
+    );
+    assert!(aydp(&["store", "--verify"]).starts_with("store configuration: confirmed (written"));
     q.uart0.command("a reboot");
     let seen = q.uart0.frames.len();
     let again = q.uart0.read_until(Duration::from_secs(10), |f| {
@@ -219,7 +235,7 @@ fn protolink_aydp_set_get_store(board: Board) {
     assert!(again >= seen, "a second boot TOAST");
     assert_eq!(
         aydp(&["get", "0x0110", "--as", "f32"]),
-        "0x0110 f32 = 64.5\n"
+        "0x0110 f32 = 64.0\n"
     );
     q.stop();
 }

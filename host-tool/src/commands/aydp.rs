@@ -82,9 +82,20 @@ pub enum AydpAction {
         value_type: ValueType,
     },
     /// Store the configuration in the device's non-volatile memory (unconfirmed: AYDP has no
-    /// acknowledgement).
-    #[command(after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 store")]
-    Store,
+    /// acknowledgement; --verify reads the box's store counters).
+    #[command(after_help = "Examples:\n  \
+        protolink aydp --to tcp:127.0.0.1:7001 store\n  \
+        protolink aydp --to tcp:127.0.0.1:7001 store --verify")]
+    Store {
+        /// Confirm the outcome by reading the box's store counters before and after (this
+        /// project's sensor box: `u32[5]` at --counters: written, unchanged, failed, refused in
+        /// flight, refused by the rate limit).
+        #[arg(long)]
+        verify: bool,
+        /// Where the store counters are, for --verify.
+        #[arg(long, value_name = "ADDR", default_value = "0x0310", value_parser = parse_address)]
+        counters: u16,
+    },
     /// Set outputs directly (direct output control).
     #[command(
         after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 output 1:2=10.0 1:3=-5 --enable --verify"
@@ -337,6 +348,31 @@ impl Session {
         }
     }
 
+    /// Reads the box's store counters (written, unchanged, failed, refused in flight,
+    /// refused by the rate limit) at `address` (`u32[5]`, little-endian).
+    ///
+    /// # Errors
+    /// No answer, or an answer too short to hold them.
+    pub fn store_counters(&mut self, address: u16) -> Result<[u32; 5]> {
+        let r = self.read(address)?;
+        let mut out = [0u32; 5];
+        for (i, slot) in out.iter_mut().enumerate() {
+            *slot = r
+                .data
+                .get(i * 4..i * 4 + 4)
+                .and_then(|b| b.try_into().ok())
+                .map(u32::from_le_bytes)
+                .ok_or_else(|| {
+                    Error::Device(format!(
+                        "the store counters at {address:#06x} are {} bytes, too short for \
+                         --verify (20 needed)",
+                        r.data.len()
+                    ))
+                })?;
+        }
+        Ok(out)
+    }
+
     fn scan(&mut self, bytes: &[u8], address: u16) -> Option<Reading> {
         let mut found = None;
         let mut skipped = 0u32;
@@ -418,7 +454,9 @@ pub fn run(args: &AydpArgs) -> Result<()> {
             value,
             value_type,
         } => vec![set(&mut s, target, value, *value_type, check)?],
-        AydpAction::Store => vec![store(&mut s, check)?],
+        AydpAction::Store { verify, counters } => {
+            vec![store(&mut s, check, verify.then_some(*counters))?]
+        }
         AydpAction::Output {
             outputs,
             enable,
@@ -478,19 +516,77 @@ fn set(
     Ok(format!("{line}: confirmed (read back)"))
 }
 
-/// `store`: AYDP has no acknowledgement; unless `check` is off, a request answered after the
+/// `store`: AYDP has no acknowledgement. With the box's store counters at `counters`, their
+/// change says what became of it; else, unless `check` is off, a request answered after the
 /// store shows that the device is alive and has read the store before it.
-fn store(s: &mut Session, check: bool) -> Result<String> {
+fn store(s: &mut Session, check: bool, counters: Option<u16>) -> Result<String> {
+    let before = counters.map(|c| s.store_counters(c)).transpose()?;
     s.send(&SystemControl::StoreConfiguration)?;
+    if let (Some(before), Some(address)) = (before, counters) {
+        return stored(&before, &s.store_counters(address)?);
+    }
     if !check {
         return Ok("store configuration: unconfirmed (AYDP has no acknowledgement)".into());
     }
     s.read(DIRECT_CONTROL)?;
     Ok(
         "store configuration: unconfirmed (AYDP has no acknowledgement; the device \
-         answered a request sent after it, so it received the store)"
+         answered a request sent after it, so it received the store; --verify reads the box's \
+         store counters)"
             .into(),
     )
+}
+
+/// What became of a store, from the box's store counters before and after it (written,
+/// unchanged, failed, refused in flight, refused by the rate limit): confirmed when the
+/// written or the unchanged one moved, refused or failed (an error) when another did,
+/// unconfirmed (an error too: the box did not count it) when none did.
+///
+/// ```
+/// use protolink::commands::aydp::stored;
+/// assert!(stored(&[3, 0, 0, 0, 0], &[4, 0, 0, 0, 0]).unwrap().contains("confirmed"));
+/// assert!(stored(&[3, 0, 0, 0, 0], &[3, 0, 0, 1, 0]).is_err()); // refused: flying
+/// ```
+///
+/// # Errors
+/// [`Error::Refused`] when the box refused the store or its flash write failed, or counted
+/// nothing.
+pub fn stored(before: &[u32; 5], after: &[u32; 5]) -> Result<String> {
+    let moved = |i: usize| after[i] != before[i];
+    if moved(3) {
+        return Err(Error::Refused(
+            "the box refused to store its configuration: it is flying".into(),
+        ));
+    }
+    if moved(4) {
+        return Err(Error::Refused(
+            "the box refused to store its configuration: too soon after the last stores \
+             (its rate limit)"
+                .into(),
+        ));
+    }
+    if moved(2) {
+        return Err(Error::Refused(
+            "the box could not store its configuration: its flash write failed".into(),
+        ));
+    }
+    if moved(0) {
+        return Ok(format!(
+            "store configuration: confirmed (written; the box's written counter went from {} to {})",
+            before[0], after[0]
+        ));
+    }
+    if moved(1) {
+        return Ok(
+            "store configuration: confirmed (unchanged: the flash already held this \
+             configuration, nothing written)"
+                .into(),
+        );
+    }
+    Err(Error::Refused(
+        "the box's store counters did not change: the store was not received or not acted on"
+            .into(),
+    ))
 }
 
 /// `output`: direct control on (with `enable`) and checked (unless `check` is off), the
