@@ -218,15 +218,16 @@ pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<Stored, S
     write(flash, VERSION, record)
 }
 
-/// The CRC of an image with this header (bytes 0..16) and payload.
-fn image_crc<P: Payload + ?Sized>(head: &[u8], payload: &P) -> u32 {
+/// The payload's length, and the CRC of an image with this header (bytes 0..16) and
+/// payload.
+fn measure<P: Payload + ?Sized>(head: &[u8], payload: &P) -> (usize, u32) {
     let mut measure = Measure {
         len: 0,
         digest: CRC.digest(),
     };
     measure.digest.update(head);
     payload.emit(&mut measure);
-    measure.digest.finalize()
+    (measure.len, measure.digest.finalize())
 }
 
 /// Writes raw payload bytes as an image of format `version` (in the version 3 layout), as
@@ -265,12 +266,7 @@ fn write<F: NorFlash, P: Payload + ?Sized>(
     }
     let half = area_len(flash.capacity(), F::ERASE_SIZE, F::WRITE_SIZE)?;
     // Pass 1: the payload length.
-    let mut measure = Measure {
-        len: 0,
-        digest: CRC.digest(),
-    };
-    payload.emit(&mut measure);
-    let len = measure.len;
+    let (len, _) = measure(&[], payload);
     let padded = round_up(HEADER_LEN + len, align(F::WRITE_SIZE)).ok_or(StoreError::TooLarge)?;
     if len > PAYLOAD_MAX || padded > half {
         return Err(StoreError::TooLarge);
@@ -293,7 +289,7 @@ fn write<F: NorFlash, P: Payload + ?Sized>(
         head[12..16].copy_from_slice(&n.seq.to_le_bytes());
         if n.version == version
             && n.end - n.start == HEADER_LEN + len
-            && image_crc(&head[..16], payload) == n.crc
+            && measure(&head[..16], payload).1 == n.crc
         {
             return Ok(Stored::Unchanged);
         }
@@ -302,7 +298,7 @@ fn write<F: NorFlash, P: Payload + ?Sized>(
     }
     head[12..16].copy_from_slice(&seq.to_le_bytes());
     // Pass 3: the CRC over header bytes 0..16, then the payload.
-    let crc = image_crc(&head[..16], payload);
+    let (_, crc) = measure(&head[..16], payload);
     head[16..20].copy_from_slice(&crc.to_le_bytes());
 
     // Past everything written in the newest image's area, or the start of the other one.
