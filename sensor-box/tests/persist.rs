@@ -51,6 +51,113 @@ fn sample() -> Persisted {
     }
 }
 
+/// `value` serialised by postcard: the payload of a foreign image, or what the store's
+/// hand-written encoder must write for a record.
+fn postcard_bytes<T: serde::Serialize>(value: &T) -> Vec<u8> {
+    let mut buf = vec![0u8; 2 * PAYLOAD_MAX];
+    let n = postcard::to_slice(value, &mut buf).unwrap().len();
+    buf.truncate(n);
+    buf
+}
+
+/// The payload of the image a store of `record` writes on an empty flash.
+fn stored_payload(record: &Persisted) -> Vec<u8> {
+    let mut mem = [0xFFu8; 4096];
+    persist::store(&mut MemFlash::new(&mut mem), record).unwrap();
+    let len = u32::from_le_bytes(mem[8..12].try_into().unwrap()) as usize;
+    mem[HEADER_LEN..HEADER_LEN + len].to_vec()
+}
+
+#[test]
+fn the_encoder_writes_postcards_bytes() {
+    // The defaults, the sample, and the extremes of every field.
+    assert_eq!(
+        stored_payload(&Persisted::default()),
+        postcard_bytes(&Persisted::default())
+    );
+    assert_eq!(stored_payload(&sample()), postcard_bytes(&sample()));
+    let mut worst = Persisted::default();
+    worst.settings.intervals = Intervals {
+        imu_ms: u32::MAX,
+        pressure_ms: 0,
+        gps_ms: 0x7F,
+        temp_ms: 0x80,
+        wind_ms: 0x3FFF,
+        info_ms: 0x4000,
+    };
+    worst.settings.airspeed_mps = f32::NAN;
+    worst.settings.bank_deg = -0.0;
+    worst.settings.altitude_m = f32::NEG_INFINITY;
+    worst.settings.aok_debug_period_ms = 0x0FFF_FFFF;
+    worst.aok.sets = [[i32::MIN; AOK_PARAMS]; 5];
+    worst.aok.sets[2] = [i32::MAX; AOK_PARAMS];
+    worst.aok.start_set = u8::MAX;
+    worst.aok.waypoints = [StoredWaypoint {
+        lon: i32::MIN,
+        lat: i32::MAX,
+        action1: u32::MAX,
+        action2: 0x1000_0000,
+    }; 32];
+    assert_eq!(stored_payload(&worst), postcard_bytes(&worst));
+}
+
+#[test]
+fn the_encoder_writes_postcards_bytes_for_random_records() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, TestRunner};
+
+    // Values of every varint length (1 to 5 bytes), signs, and any f32 bit pattern.
+    fn u() -> impl Strategy<Value = u32> {
+        prop_oneof![0u32..0x80, 0x80u32..0x4000, any::<u32>(), Just(u32::MAX)]
+    }
+    fn i() -> impl Strategy<Value = i32> {
+        prop_oneof![-64i32..64, any::<i32>(), Just(i32::MIN), Just(i32::MAX)]
+    }
+    fn f() -> impl Strategy<Value = f32> {
+        any::<u32>().prop_map(f32::from_bits)
+    }
+    let waypoint = (i(), i(), u(), u()).prop_map(|(lon, lat, action1, action2)| StoredWaypoint {
+        lon,
+        lat,
+        action1,
+        action2,
+    });
+    let record = (
+        prop::collection::vec(u(), 7),
+        prop::collection::vec(f(), 3),
+        prop::collection::vec(i(), 5 * AOK_PARAMS),
+        any::<u8>(),
+        prop::collection::vec(waypoint, 32),
+    )
+        .prop_map(|(u, f, sets, start_set, waypoints)| {
+            let mut r = Persisted::default();
+            r.settings.intervals = Intervals {
+                imu_ms: u[0],
+                pressure_ms: u[1],
+                gps_ms: u[2],
+                temp_ms: u[3],
+                wind_ms: u[4],
+                info_ms: u[5],
+            };
+            r.settings.aok_debug_period_ms = u[6];
+            r.settings.airspeed_mps = f[0];
+            r.settings.bank_deg = f[1];
+            r.settings.altitude_m = f[2];
+            for (slot, v) in r.aok.sets.iter_mut().flatten().zip(sets) {
+                *slot = v;
+            }
+            r.aok.start_set = start_set;
+            r.aok.waypoints.copy_from_slice(&waypoints);
+            r
+        });
+    TestRunner::new(Config::with_cases(256))
+        .run(&record, |r| {
+            prop_assert_eq!(stored_payload(&r), postcard_bytes(&r));
+            Ok(())
+        })
+        .unwrap();
+}
+
 /// CRC-32/ISO-HDLC written out bit by bit (reflected 0x04C11DB7, init and xorout all ones),
 /// independent of the `crc` crate the firmware uses.
 fn crc32_iso_hdlc(bytes: &[u8]) -> u32 {
@@ -287,10 +394,15 @@ fn a_valid_crc_over_a_foreign_payload_is_a_decode_error() {
     let mut mem = [0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     // Too short for a record.
-    persist::write_image(&mut flash, VERSION, &[1u8, 2, 3]).unwrap();
+    persist::write_image(&mut flash, VERSION, &postcard_bytes(&[1u8, 2, 3])).unwrap();
     assert_eq!(persist::load(&mut flash), Err(StoreError::Decode));
     // A whole record plus trailing bytes.
-    persist::write_image(&mut flash, VERSION, &(Persisted::default(), 7u8)).unwrap();
+    persist::write_image(
+        &mut flash,
+        VERSION,
+        &postcard_bytes(&(Persisted::default(), 7u8)),
+    )
+    .unwrap();
     assert_eq!(persist::load(&mut flash), Err(StoreError::Decode));
     assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
 }
@@ -299,7 +411,7 @@ fn a_valid_crc_over_a_foreign_payload_is_a_decode_error() {
 fn a_newer_version_gives_the_defaults() {
     let mut mem = [0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
-    persist::write_image(&mut flash, 4, &sample()).unwrap();
+    persist::write_image(&mut flash, 4, &postcard_bytes(&sample())).unwrap();
     assert_eq!(
         persist::load(&mut flash),
         Err(StoreError::UnsupportedVersion(4))
@@ -309,7 +421,7 @@ fn a_newer_version_gives_the_defaults() {
     let mut mem = [0xFFu8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     persist::store(&mut flash, &sample()).unwrap();
-    persist::write_image(&mut flash, 4, &Persisted::default()).unwrap();
+    persist::write_image(&mut flash, 4, &postcard_bytes(&Persisted::default())).unwrap();
     assert_eq!(persist::load(&mut flash).unwrap().record, sample());
 }
 
@@ -690,7 +802,7 @@ fn load_into_leaves_the_record_alone_on_an_error() {
     persist::write_image(
         &mut flash,
         VERSION,
-        &(sample().settings, [7i32; AOK_PARAMS]),
+        &postcard_bytes(&(sample().settings, [7i32; AOK_PARAMS])),
     )
     .unwrap();
     let mut record = Persisted::default();

@@ -1,6 +1,7 @@
-//! Writing an image: the record serialised through small postcard flavors (count, CRC, then
-//! write in chunks after the newest image or at the start of the freshly erased other
-//! area), then read back to check it.
+//! Writing an image: the record encoded by hand, byte for byte as postcard encodes it
+//! ([`encode`]), into a sink that counts and CRCs the bytes or writes them to flash in
+//! chunks, after the newest image or at the start of the freshly erased other area; then the
+//! image is read back to check it.
 
 use super::load::Reader;
 use super::{
@@ -8,41 +9,132 @@ use super::{
     round_up, unit_ok,
 };
 use crate::Persisted;
+use crate::state::{AokFlash, Intervals, Settings, StoredWaypoint};
 use crc::{Digest, NoTable};
 use embedded_storage::nor_flash::NorFlash;
-use postcard::ser_flavors::Flavor;
-use serde::Serialize;
 
-/// Counts the serialised bytes and feeds them to a CRC.
+/// Where encoded bytes go. One `dyn` interface, so that [`encode`] is compiled once for the
+/// three passes of a store (count, CRC, write).
+trait Sink {
+    fn put(&mut self, b: u8);
+}
+
+/// A payload [`write_image`] can write: the record, or raw bytes (tests).
+trait Payload {
+    fn emit(&self, out: &mut dyn Sink);
+}
+
+impl Payload for Persisted {
+    fn emit(&self, out: &mut dyn Sink) {
+        encode(self, out);
+    }
+}
+
+impl Payload for [u8] {
+    fn emit(&self, out: &mut dyn Sink) {
+        for &b in self {
+            out.put(b);
+        }
+    }
+}
+
+/// A postcard varint: 7 bits a byte, least significant first, the top bit set on every byte
+/// but the last.
+fn varint(out: &mut dyn Sink, mut v: u32) {
+    while v > 0x7F {
+        out.put(v as u8 | 0x80);
+        v >>= 7;
+    }
+    out.put(v as u8);
+}
+
+/// A postcard `i32`: zigzagged (0, -1, 1, -2, ... as 0, 1, 2, 3, ...), then a varint.
+fn zigzag(out: &mut dyn Sink, v: i32) {
+    varint(out, ((v << 1) ^ (v >> 31)) as u32);
+}
+
+/// A postcard `f32`: 4 bytes, little-endian.
+fn float(out: &mut dyn Sink, v: f32) {
+    for b in v.to_le_bytes() {
+        out.put(b);
+    }
+}
+
+/// The record, exactly as `postcard` serialises [`Persisted`] (`tests/persist.rs` checks
+/// both agree, for the defaults and random records): a struct is its fields in order, a
+/// fixed-size array its elements in order, `u32` a varint, `i32` a zigzag varint, `f32` 4
+/// bytes little-endian, `u8` one byte. The pattern names every field, so a field added to
+/// the record does not compile until it is written here (and read in `load.rs`).
+fn encode(record: &Persisted, out: &mut dyn Sink) {
+    let Persisted {
+        settings:
+            Settings {
+                intervals:
+                    Intervals {
+                        imu_ms,
+                        pressure_ms,
+                        gps_ms,
+                        temp_ms,
+                        wind_ms,
+                        info_ms,
+                    },
+                airspeed_mps,
+                bank_deg,
+                altitude_m,
+                aok_debug_period_ms,
+            },
+        aok: AokFlash {
+            sets,
+            start_set,
+            waypoints,
+        },
+    } = record;
+    for v in [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] {
+        varint(out, *v);
+    }
+    for v in [airspeed_mps, bank_deg, altitude_m] {
+        float(out, *v);
+    }
+    varint(out, *aok_debug_period_ms);
+    for v in sets.iter().flatten() {
+        zigzag(out, *v);
+    }
+    out.put(*start_set);
+    for StoredWaypoint {
+        lon,
+        lat,
+        action1,
+        action2,
+    } in waypoints
+    {
+        zigzag(out, *lon);
+        zigzag(out, *lat);
+        varint(out, *action1);
+        varint(out, *action2);
+    }
+}
+
+/// Counts the bytes and feeds them to a CRC.
 struct Measure<'c> {
     len: usize,
     digest: Digest<'c, u32, NoTable>,
 }
 
-impl Flavor for Measure<'_> {
-    type Output = (usize, u32);
-
-    fn try_push(&mut self, data: u8) -> postcard::Result<()> {
-        self.try_extend(&[data])
-    }
-
-    fn try_extend(&mut self, data: &[u8]) -> postcard::Result<()> {
-        self.len = self.len.saturating_add(data.len());
-        self.digest.update(data);
-        Ok(())
-    }
-
-    fn finalize(self) -> postcard::Result<(usize, u32)> {
-        Ok((self.len, self.digest.finalize()))
+impl Sink for Measure<'_> {
+    fn put(&mut self, b: u8) {
+        self.len = self.len.saturating_add(1);
+        self.digest.update(&[b]);
     }
 }
 
-/// Writes the bytes to flash from offset 0 through a [`CHUNK`]-byte buffer.
+/// Writes the bytes to flash from `at` through a [`CHUNK`]-byte buffer. The first failed
+/// write stops the writes, and [`Writer::finish`] reports it.
 struct Writer<'f, F> {
     flash: &'f mut F,
     buf: [u8; CHUNK],
     fill: usize,
     at: usize,
+    failed: bool,
 }
 
 impl<F: NorFlash> Writer<'_, F> {
@@ -62,26 +154,28 @@ impl<F: NorFlash> Writer<'_, F> {
         self.fill = 0;
         Ok(())
     }
-}
 
-impl<F: NorFlash> Flavor for Writer<'_, F> {
-    type Output = ();
-
-    fn try_push(&mut self, data: u8) -> postcard::Result<()> {
-        if let Some(slot) = self.buf.get_mut(self.fill) {
-            *slot = data;
-            self.fill = self.fill.saturating_add(1);
-        }
-        if self.fill >= CHUNK {
-            self.flush()
-                .map_err(|_| postcard::Error::SerializeBufferFull)?;
+    /// Writes what is left in the buffer. [`StoreError::Flash`] if a write failed.
+    fn finish(mut self) -> Result<(), StoreError> {
+        if self.failed || self.flush().is_err() {
+            return Err(StoreError::Flash);
         }
         Ok(())
     }
+}
 
-    fn finalize(mut self) -> postcard::Result<()> {
-        self.flush()
-            .map_err(|_| postcard::Error::SerializeBufferFull)
+impl<F: NorFlash> Sink for Writer<'_, F> {
+    fn put(&mut self, b: u8) {
+        if self.failed {
+            return;
+        }
+        if let Some(slot) = self.buf.get_mut(self.fill) {
+            *slot = b;
+            self.fill = self.fill.saturating_add(1);
+        }
+        if self.fill >= CHUNK {
+            self.failed = self.flush().is_err();
+        }
     }
 }
 
@@ -121,51 +215,58 @@ pub enum Stored {
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<Stored, StoreError> {
-    write_image(flash, VERSION, record)
+    write(flash, VERSION, record)
 }
 
-/// The CRC of an image of `version` with this header and record.
-fn image_crc<T: Serialize + ?Sized>(head: &[u8], record: &T) -> Result<u32, StoreError> {
-    let mut digest = CRC.digest();
-    digest.update(head);
-    let measure = Measure { len: 0, digest };
-    let (_, crc) =
-        postcard::serialize_with_flavor(record, measure).map_err(|_| StoreError::TooLarge)?;
-    Ok(crc)
+/// The payload's length, and the CRC of an image with this header (bytes 0..16) and
+/// payload.
+fn measure<P: Payload + ?Sized>(head: &[u8], payload: &P) -> (usize, u32) {
+    let mut measure = Measure {
+        len: 0,
+        digest: CRC.digest(),
+    };
+    measure.digest.update(head);
+    payload.emit(&mut measure);
+    (measure.len, measure.digest.finalize())
 }
 
-/// Writes any serialisable record as an image of format `version` (in the version 3
-/// layout), as [`store`] does. [`store`] uses it with [`VERSION`]; tests use it to write
-/// images a newer firmware would, or foreign payloads.
+/// Writes raw payload bytes as an image of format `version` (in the version 3 layout), as
+/// [`store`] writes a record. Tests use it to write images a newer firmware would, or
+/// foreign payloads (`postcard::to_slice` of any value gives the bytes of its record).
 ///
 /// # Errors
 /// As [`store`].
 ///
 /// ```
 /// use sensor_box::storage::MemFlash;
-/// use sensor_box::{Persisted, persist};
+/// use sensor_box::persist;
 /// let mut mem = [0xFFu8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
-/// persist::write_image(&mut flash, 9, &Persisted::default())?;
+/// persist::write_image(&mut flash, 9, &[1, 2, 3])?;
 /// assert_eq!(persist::load(&mut flash).map(|l| l.version), Err(persist::StoreError::UnsupportedVersion(9)));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
-pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
+pub fn write_image<F: NorFlash>(
     flash: &mut F,
     version: u16,
-    record: &T,
+    payload: &[u8],
+) -> Result<Stored, StoreError> {
+    write(flash, version, payload)
+}
+
+/// [`store`] and [`write_image`]: writes the payload as the newest image of format
+/// `version`, unless the newest image holds it already.
+fn write<F: NorFlash, P: Payload + ?Sized>(
+    flash: &mut F,
+    version: u16,
+    payload: &P,
 ) -> Result<Stored, StoreError> {
     if !unit_ok(F::WRITE_SIZE) || !unit_ok(F::READ_SIZE) {
         return Err(StoreError::Unsupported);
     }
     let half = area_len(flash.capacity(), F::ERASE_SIZE, F::WRITE_SIZE)?;
     // Pass 1: the payload length.
-    let measure = Measure {
-        len: 0,
-        digest: CRC.digest(),
-    };
-    let (len, _) =
-        postcard::serialize_with_flavor(record, measure).map_err(|_| StoreError::TooLarge)?;
+    let (len, _) = measure(&[], payload);
     let padded = round_up(HEADER_LEN + len, align(F::WRITE_SIZE)).ok_or(StoreError::TooLarge)?;
     if len > PAYLOAD_MAX || padded > half {
         return Err(StoreError::TooLarge);
@@ -188,7 +289,7 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
         head[12..16].copy_from_slice(&n.seq.to_le_bytes());
         if n.version == version
             && n.end - n.start == HEADER_LEN + len
-            && image_crc(&head[..16], record)? == n.crc
+            && measure(&head[..16], payload).1 == n.crc
         {
             return Ok(Stored::Unchanged);
         }
@@ -197,7 +298,7 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
     }
     head[12..16].copy_from_slice(&seq.to_le_bytes());
     // Pass 3: the CRC over header bytes 0..16, then the payload.
-    let crc = image_crc(&head[..16], record)?;
+    let (_, crc) = measure(&head[..16], payload);
     head[16..20].copy_from_slice(&crc.to_le_bytes());
 
     // Past everything written in the newest image's area, or the start of the other one.
@@ -218,11 +319,13 @@ pub fn write_image<F: NorFlash, T: Serialize + ?Sized>(
         buf: [0xFF; CHUNK],
         fill: 0,
         at,
+        failed: false,
     };
     for &b in &head {
-        writer.try_push(b).map_err(|_| StoreError::Flash)?;
+        writer.put(b);
     }
-    postcard::serialize_with_flavor(record, writer).map_err(|_| StoreError::Flash)?;
+    payload.emit(&mut writer);
+    writer.finish()?;
 
     // Read back: the image must be there, CRC and all.
     match Reader::new(flash)?.check(at, area + half, false, u16::MAX) {
