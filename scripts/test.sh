@@ -127,7 +127,7 @@ summary() {
   set +e
   end_step
   local passed failed qemu qemu_skipped skipped fuzz_targets fuzz_execs fuzz_crashes
-  local qemu_files='qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu|box_clock|readme_examples|realtime_flood'
+  local qemu_files='qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu|box_clock|readme_examples|realtime_flood|noise_qemu|watchdog_qemu'
   skipped=$(grep -c . "$skip_log" || true)
   qemu_skipped=$(grep -cE "^($qemu_files)::" "$skip_log" || true)
   passed=$(($(count passed) - skipped + $(pytest_count passed)))
@@ -140,7 +140,7 @@ summary() {
     END { printf "%d %d%s %d\n", n, e, (u ? "+" : ""), c }' "$fuzz_log")
   printf '\n==> summary (%s in all)\n' "$(secs $(($(now_ms) - run_start)))"
   printf '%s\n' "${timings[@]}"
-  echo "QEMU tests run: $qemu passed, $qemu_skipped skipped (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs, box_clock.rs, readme_examples.rs, realtime_flood.rs)"
+  echo "QEMU tests run: $qemu passed, $qemu_skipped skipped (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs, box_clock.rs, readme_examples.rs, realtime_flood.rs, noise_qemu.rs, watchdog_qemu.rs)"
   if [ "$skipped" -gt 0 ]; then
     echo "SKIPPED: $skipped tests did not run, for a missing tool ($skip_log):"
     sed 's/^/  /' "$skip_log"

@@ -238,7 +238,8 @@ fn store_is_sent_and_confirmed() {
     assert_eq!(
         ok(&out),
         "store configuration: unconfirmed (AYDP has no acknowledgement; the device answered a \
-         request sent after it, so it received the store)\n"
+         request sent after it, so it received the store; --verify reads the box's store \
+         counters)\n"
     );
     assert_eq!(log.stores, 1);
 }

@@ -523,6 +523,11 @@ fn store(s: &mut Session, check: bool, counters: Option<u16>) -> Result<String> 
     let before = counters.map(|c| s.store_counters(c)).transpose()?;
     s.send(&SystemControl::StoreConfiguration)?;
     if let (Some(before), Some(address)) = (before, counters) {
+        // The box writes its flash after the poll that received the store, so a request
+        // answered in that same poll could still see the counters from before: a first
+        // request, answered, shows the store received; the counters read after it are the
+        // ones after the write.
+        s.read(DIRECT_CONTROL)?;
         return stored(&before, &s.store_counters(address)?);
     }
     if !check {
