@@ -32,6 +32,43 @@ impl Intervals {
         wind_ms: 1000,
         info_ms: 1000,
     };
+
+    /// The intervals from an array in the order of the fields (the order of AYDP 0x0100 and of
+    /// the stored record).
+    ///
+    /// ```
+    /// use sensor_box::state::Intervals;
+    /// assert_eq!(Intervals::from_array([7, 5, 92, 829, 1000, 1000]), Intervals::SPEC);
+    /// ```
+    pub const fn from_array(a: [u32; 6]) -> Self {
+        let [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] = a;
+        Intervals {
+            imu_ms,
+            pressure_ms,
+            gps_ms,
+            temp_ms,
+            wind_ms,
+            info_ms,
+        }
+    }
+
+    /// The intervals as an array in the order of the fields ([`Intervals::from_array`]'s
+    /// inverse).
+    ///
+    /// ```
+    /// use sensor_box::state::Intervals;
+    /// assert_eq!(Intervals::SPEC.to_array(), [7, 5, 92, 829, 1000, 1000]);
+    /// ```
+    pub const fn to_array(self) -> [u32; 6] {
+        [
+            self.imu_ms,
+            self.pressure_ms,
+            self.gps_ms,
+            self.temp_ms,
+            self.wind_ms,
+            self.info_ms,
+        ]
+    }
 }
 
 /// The box's own settings (AYDP addresses in the README), persisted by "store configuration".

@@ -209,14 +209,7 @@ fn protolink_aydp_set_get_store(board: Board) {
 
     // Land ("a pause"), store (written, then unchanged: nothing to write), then "a reboot" over
     // AEOLUS: the stored airspeed is back after the boot.
-    q.uart0.command("a pause");
-    let ack = q
-        .uart0
-        .read_until(Duration::from_secs(2), |f| f.toast().is_some());
-    assert_eq!(
-        q.uart0.frames[ack].toast().as_deref(),
-        Some("AEOLUS paused")
-    );
+    q.uart0.land();
     assert!(aydp(&["store"]).starts_with("store configuration: unconfirmed"));
     assert!(
         aydp(&["store", "--verify"]).starts_with("store configuration: confirmed (unchanged"),

@@ -242,16 +242,8 @@ fn aydp_setting_survives_store_and_reboot(board: Board) {
         "log: {log}"
     );
 
-    // Land ("a pause"): a store is refused in flight (`sensor_box::store_policy`).
-    q.uart0.command("a pause");
-    let ack = q
-        .uart0
-        .read_until(Duration::from_secs(2), |f| f.toast().is_some());
-    assert_eq!(
-        q.uart0.frames[ack].toast().as_deref(),
-        Some("AEOLUS paused"),
-        "log: {log}"
-    );
+    // Land: a store is refused in flight.
+    q.uart0.land();
     // Store configuration, then "a reboot" over AEOLUS: the box comes back with TOAST "AEOLUS on".
     aydp_send(
         &mut q.uart1,

@@ -39,7 +39,8 @@ fn a_hung_loop_is_reset_and_keeps_its_settings() {
         "log: {log}"
     );
 
-    // A stored setting: airspeed to 72 m/s, read back, then "store configuration".
+    // A stored setting: airspeed to 72 m/s, read back, then, landed (a store is refused in
+    // flight), "store configuration".
     let value = 72.0f32.to_le_bytes();
     assert_ne!(
         request(&mut q.uart1, AIRSPEED).as_deref(),
@@ -57,6 +58,7 @@ fn a_hung_loop_is_reset_and_keeps_its_settings() {
         Some(&value[..]),
         "log: {log}"
     );
+    q.uart0.land();
     aydp_send(
         &mut q.uart1,
         &aydp_proto::Message::SystemControl(aydp_proto::SystemControl::StoreConfiguration),

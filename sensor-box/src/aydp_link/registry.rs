@@ -105,7 +105,6 @@ pub(super) struct View {
 impl View {
     pub(super) fn new(shared: &Shared, stats: &Stats, c: &LinkCounters) -> Self {
         let s = shared.settings();
-        let i = s.intervals;
         let mut outputs = [0.0; OUTPUTS];
         for (v, o) in outputs.iter_mut().zip(shared.outputs.iter()) {
             *v = o.value;
@@ -116,14 +115,7 @@ impl View {
             id: SYSTEM_ID,
             hardware: HARDWARE_VERSION,
             firmware: FIRMWARE_VERSION,
-            intervals: [
-                i.imu_ms,
-                i.pressure_ms,
-                i.gps_ms,
-                i.temp_ms,
-                i.wind_ms,
-                i.info_ms,
-            ],
+            intervals: s.intervals.to_array(),
             airspeed: s.airspeed_mps,
             bank: s.bank_deg,
             altitude: s.altitude_m,
@@ -179,15 +171,7 @@ impl View {
     pub(super) fn write_back(&self, shared: &mut Shared, now_ms: u64) {
         shared.direct_control = self.direct == 1;
         let s = &mut shared.persisted.settings;
-        let [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] = self.intervals;
-        s.intervals = Intervals {
-            imu_ms,
-            pressure_ms,
-            gps_ms,
-            temp_ms,
-            wind_ms,
-            info_ms,
-        };
+        s.intervals = Intervals::from_array(self.intervals);
         s.aok_debug_period_ms = self.aok_period;
         let flight_changed = s.airspeed_mps.to_bits() != self.airspeed.to_bits()
             || s.bank_deg.to_bits() != self.bank.to_bits()

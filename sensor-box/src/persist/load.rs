@@ -333,17 +333,9 @@ fn decode<F: NorFlash>(
         Settings::default().aok_debug_period_ms
     };
     if let Some(rec) = record.as_deref_mut() {
-        let [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] = i;
         let [airspeed_mps, bank_deg, altitude_m] = f;
         rec.settings = Settings {
-            intervals: Intervals {
-                imu_ms,
-                pressure_ms,
-                gps_ms,
-                temp_ms,
-                wind_ms,
-                info_ms,
-            },
+            intervals: Intervals::from_array(i),
             airspeed_mps,
             bank_deg,
             altitude_m,

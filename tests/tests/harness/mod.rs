@@ -588,6 +588,18 @@ impl Aeolus {
         }
     }
 
+    /// Lands the box: "a pause", answered by TOAST "AEOLUS paused" (the box refuses a flash
+    /// store in flight, `sensor_box::store_policy`).
+    pub fn land(&mut self) {
+        self.command("a pause");
+        let ack = self.read_until(Duration::from_secs(2), |f| f.toast().is_some());
+        assert_eq!(
+            self.frames[ack].toast().as_deref(),
+            Some("AEOLUS paused"),
+            "the answer to \"a pause\""
+        );
+    }
+
     /// Sends a COMMAND.
     pub fn command(&mut self, text: &str) {
         self.queue_command(text);
