@@ -221,35 +221,11 @@ fn aydp_setting_survives_store_and_reboot(board: Board) {
         "log: {log}"
     );
 
-    // Airspeed (0x0110, f32) from its default to 72 m/s, read back.
-    const AIRSPEED: u16 = 0x0110;
-    let before = request(&mut q.uart1, AIRSPEED).expect("airspeed readable");
-    assert_ne!(
-        before,
-        72.0f32.to_le_bytes(),
-        "the default is not already 72"
-    );
+    // Airspeed (0x0110, f32) from its default to 72 m/s, read back; landed (a store is refused
+    // in flight), store configuration, then "a reboot" over AEOLUS: the box comes back with
+    // TOAST "AEOLUS on".
+    store_airspeed(&mut q, 72.0, &log);
     let value = 72.0f32.to_le_bytes();
-    let set = aydp_proto::Message::SystemValueUpdate(aydp_proto::SystemValueUpdate {
-        address: AIRSPEED,
-        mode: aydp_proto::UpdateMode::Single,
-        data: &value,
-    });
-    aydp_send(&mut q.uart1, &set);
-    assert_eq!(
-        request(&mut q.uart1, AIRSPEED).as_deref(),
-        Some(&value[..]),
-        "log: {log}"
-    );
-
-    // Land: a store is refused in flight.
-    q.uart0.land();
-    // Store configuration, then "a reboot" over AEOLUS: the box comes back with TOAST "AEOLUS on".
-    aydp_send(
-        &mut q.uart1,
-        &aydp_proto::Message::SystemControl(aydp_proto::SystemControl::StoreConfiguration),
-    );
-    std::thread::sleep(Duration::from_millis(300));
     q.uart0.command("a reboot");
     let seen = q.uart0.frames.len();
     let again = q.uart0.read_until(Duration::from_secs(10), |f| {

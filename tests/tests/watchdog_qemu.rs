@@ -17,9 +17,6 @@ mod harness;
 use harness::*;
 use std::time::{Duration, Instant};
 
-/// Airspeed (AYDP 0x0110, f32): the stored setting the test changes.
-const AIRSPEED: u16 = 0x0110;
-
 #[test]
 fn a_hung_loop_is_reset_and_keeps_its_settings() {
     let board = Board::Lm3s6965evb;
@@ -39,31 +36,9 @@ fn a_hung_loop_is_reset_and_keeps_its_settings() {
         "log: {log}"
     );
 
-    // A stored setting: airspeed to 72 m/s, read back, then, landed (a store is refused in
-    // flight), "store configuration".
+    // A stored setting: airspeed to 72 m/s, read back, then, landed, "store configuration".
+    store_airspeed(&mut q, 72.0, &log);
     let value = 72.0f32.to_le_bytes();
-    assert_ne!(
-        request(&mut q.uart1, AIRSPEED).as_deref(),
-        Some(&value[..]),
-        "the default is not already 72; log: {log}"
-    );
-    let set = aydp_proto::Message::SystemValueUpdate(aydp_proto::SystemValueUpdate {
-        address: AIRSPEED,
-        mode: aydp_proto::UpdateMode::Single,
-        data: &value,
-    });
-    aydp_send(&mut q.uart1, &set);
-    assert_eq!(
-        request(&mut q.uart1, AIRSPEED).as_deref(),
-        Some(&value[..]),
-        "log: {log}"
-    );
-    q.uart0.land();
-    aydp_send(
-        &mut q.uart1,
-        &aydp_proto::Message::SystemControl(aydp_proto::SystemControl::StoreConfiguration),
-    );
-    std::thread::sleep(Duration::from_millis(300));
 
     // The hang: the answer still leaves (interrupts run), then telemetry stops (the main loop
     // schedules it), then the box boots again.

@@ -9,7 +9,7 @@ use super::{
     round_up, unit_ok,
 };
 use crate::Persisted;
-use crate::state::{AokFlash, Intervals, Settings, StoredWaypoint};
+use crate::state::{AokFlash, Settings, StoredWaypoint};
 use crc::{Digest, NoTable};
 use embedded_storage::nor_flash::NorFlash;
 
@@ -69,15 +69,7 @@ fn encode(record: &Persisted, out: &mut dyn Sink) {
     let Persisted {
         settings:
             Settings {
-                intervals:
-                    Intervals {
-                        imu_ms,
-                        pressure_ms,
-                        gps_ms,
-                        temp_ms,
-                        wind_ms,
-                        info_ms,
-                    },
+                intervals,
                 airspeed_mps,
                 bank_deg,
                 altitude_m,
@@ -89,8 +81,9 @@ fn encode(record: &Persisted, out: &mut dyn Sink) {
             waypoints,
         },
     } = record;
-    for v in [imu_ms, pressure_ms, gps_ms, temp_ms, wind_ms, info_ms] {
-        varint(out, *v);
+    // `Intervals::to_array` names every field of the intervals, in their order.
+    for v in intervals.to_array() {
+        varint(out, v);
     }
     for v in [airspeed_mps, bank_deg, altitude_m] {
         float(out, *v);

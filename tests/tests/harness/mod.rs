@@ -808,6 +808,38 @@ pub fn request(port: &mut TcpStream, address: u16) -> Option<Vec<u8>> {
     aydp_read_value(port, address, Duration::from_secs(3))
 }
 
+/// AYDP's simulated airspeed (0x0110, f32): the setting the store tests change.
+pub const AIRSPEED: u16 = 0x0110;
+
+/// Sets the airspeed to `mps` over UART1 (from a different value), reads it back, lands the box
+/// (a store is refused in flight) and sends "store configuration", then leaves the box 300 ms
+/// to write its flash. `log` names the firmware log in the failure messages.
+pub fn store_airspeed(q: &mut Qemu, mps: f32, log: &str) {
+    let value = mps.to_le_bytes();
+    let before = request(&mut q.uart1, AIRSPEED).expect("the airspeed readable");
+    assert_ne!(
+        before, value,
+        "the airspeed is not already {mps}; log: {log}"
+    );
+    let set = aydp_proto::Message::SystemValueUpdate(aydp_proto::SystemValueUpdate {
+        address: AIRSPEED,
+        mode: aydp_proto::UpdateMode::Single,
+        data: &value,
+    });
+    aydp_send(&mut q.uart1, &set);
+    assert_eq!(
+        request(&mut q.uart1, AIRSPEED).as_deref(),
+        Some(&value[..]),
+        "the airspeed read back; log: {log}"
+    );
+    q.uart0.land();
+    aydp_send(
+        &mut q.uart1,
+        &aydp_proto::Message::SystemControl(aydp_proto::SystemControl::StoreConfiguration),
+    );
+    std::thread::sleep(Duration::from_millis(300));
+}
+
 /// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
 pub struct NbSerial(pub TcpStream);
 
