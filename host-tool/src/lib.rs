@@ -41,6 +41,7 @@ pub mod cli;
 pub mod commands;
 pub mod wireshark;
 
+pub mod air_data;
 pub mod args;
 pub mod capture;
 pub mod datagrams;

@@ -3,12 +3,13 @@
 //! host's clock, staleness), the vertical speed, and the counts of malformed and truncated
 //! frames.
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 use aeolus_proto::Decoder;
 use aeolus_proto::message::{AeolusInfo, Attitude, Compass, Gps, Message, Pressure, Temp, Wind};
 
+use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::units::Units;
 
@@ -20,56 +21,6 @@ pub const EVENTS: [u8; 4] = [
     aeolus_proto::message::id::COMMAND,
     aeolus_proto::message::id::SETTIME,
 ];
-
-/// The vertical speed is the change of the pressure altitude over this much of the box's
-/// clock (at most; the first estimate needs half of it).
-pub const VERTICAL_SPEED_WINDOW_MS: f64 = 1000.0;
-/// Pressure altitudes closer together than this (box clock) are not kept.
-const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
-
-/// The vertical speed from the pressure altitude: samples at least
-/// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct VerticalSpeed {
-    samples: VecDeque<(f64, f64)>,
-}
-
-impl VerticalSpeed {
-    const SAMPLES: usize = (VERTICAL_SPEED_WINDOW_MS / VERTICAL_SPEED_STEP_MS) as usize + 1;
-
-    /// Takes a PRESSURE message the box marked valid: its ISA pressure altitude at its box
-    /// time (what `gdl90` and `nmea` send a rate of).
-    pub(crate) fn take_valid(&mut self, p: &Pressure) {
-        if p.valid {
-            self.take(p.timestamp_ms, isa_altitude_m(p.static_mbar));
-        }
-    }
-
-    /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
-    /// starts again; values that are not finite are ignored.
-    pub(crate) fn take(&mut self, box_ms: f64, altitude_m: f64) {
-        if !(box_ms.is_finite() && altitude_m.is_finite()) {
-            return;
-        }
-        if let Some(&(last, _)) = self.samples.back() {
-            if box_ms < last {
-                self.samples.clear();
-            } else if box_ms - last < VERTICAL_SPEED_STEP_MS {
-                return;
-            }
-        }
-        if self.samples.len() == Self::SAMPLES {
-            self.samples.pop_front();
-        }
-        self.samples.push_back((box_ms, altitude_m));
-    }
-
-    /// m/s, positive up, once the samples span half the window.
-    pub(crate) fn mps(&self) -> Option<f64> {
-        let (&(t0, a0), &(t1, a1)) = (self.samples.front()?, self.samples.back()?);
-        (t1 - t0 >= VERTICAL_SPEED_WINDOW_MS / 2.0).then(|| (a1 - a0) / (t1 - t0) * 1000.0)
-    }
-}
 
 /// A type is never called stale sooner than this after its last message (host jitter).
 pub const STALE_FLOOR: Duration = Duration::from_millis(100);
@@ -130,7 +81,8 @@ pub struct View {
     pub(crate) malformed: u32,
     pub(crate) truncated: u32,
     pub(crate) bytes: u64,
-    pub(crate) vertical: VerticalSpeed,
+    /// The air data (airspeeds, pressure altitude, vertical speed) every face shares.
+    pub(crate) air: AirDataSource,
     /// The units the views show.
     pub units: Units,
 }
@@ -138,6 +90,10 @@ pub struct View {
 /// How long a telemetry value stays current for what `gdl90` and `nmea` send: an older one goes
 /// out as its sentence's or message's invalid form, never as the old value.
 pub const FRESH: Duration = Duration::from_secs(1);
+
+/// How long a TEMP or WIND stays current, which the box sends about once a second (spec
+/// figure 1c: 829 ms and 1000 ms): two and a half of their intervals.
+pub const FRESH_SLOW: Duration = Duration::from_millis(2500);
 
 /// `v` if it arrived within `limit` of `now`.
 pub(crate) fn fresh_within<T: Copy>(
@@ -152,29 +108,6 @@ pub(crate) fn fresh_within<T: Copy>(
 /// `v` if it arrived within [`FRESH`] of `now`.
 pub(crate) fn fresh<T: Copy>(v: &Option<(T, Instant)>, now: Instant) -> Option<T> {
     fresh_within(v, now, FRESH)
-}
-
-/// The specific gas constant of dry air, J/(kg·K).
-const R_AIR: f64 = 287.05;
-
-/// Air density, kg/m³, from static pressure in mbar and temperature in °C (the ideal gas law).
-///
-/// ```
-/// let rho = protolink::telemetry::air_density(1013.25, 15.0);
-/// assert!((rho - 1.225).abs() < 0.001);
-/// ```
-pub fn air_density(static_mbar: f64, celsius: f64) -> f64 {
-    static_mbar * 100.0 / (R_AIR * (celsius + 273.15))
-}
-
-/// Pressure altitude in the ISA, m, from static pressure in mbar.
-///
-/// ```
-/// assert!(protolink::telemetry::isa_altitude_m(1013.25).abs() < 0.01);
-/// assert!((protolink::telemetry::isa_altitude_m(898.76) - 1000.0).abs() < 1.0);
-/// ```
-pub fn isa_altitude_m(static_mbar: f32) -> f64 {
-    44_330.77 * (1.0 - (f64::from(static_mbar) / 1013.25).powf(0.190_263))
 }
 
 impl View {
@@ -208,13 +141,15 @@ impl View {
             Message::Attitude(v) => self.attitude = Some(*v),
             Message::Pressure(v) => {
                 self.pressure = Some(*v);
-                self.vertical
-                    .take(v.timestamp_ms, isa_altitude_m(v.static_mbar));
+                self.air.take_pressure(v, now);
             }
             Message::Gps(v) => self.gps = Some(*v),
             Message::Compass(v) => self.compass = Some(*v),
             Message::Wind(v) => self.wind = Some(*v),
-            Message::Temp(v) => self.temp = Some(*v),
+            Message::Temp(v) => {
+                self.temp = Some(*v);
+                self.air.take(m, now);
+            }
             Message::AeolusInfo(v) => self.info = Some(*v),
             Message::Toast(t) => self.toast = Some(crate::render::escape_text(t.as_bytes())),
             _ => {}

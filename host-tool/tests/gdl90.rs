@@ -138,6 +138,12 @@ struct Inputs {
     heading: Vec<f64>,
     /// Pressure altitude from PRESSURE's static pressure, feet.
     pressure_altitude: Vec<f64>,
+    /// Indicated airspeed from PRESSURE's dynamic (pitot) pressure, knots.
+    ias_kt: Vec<f64>,
+    /// True airspeed from PRESSURE's dynamic and static pressure and the last TEMP, knots.
+    tas_kt: Vec<f64>,
+    /// The last TEMP, °C.
+    celsius: Option<f64>,
 }
 
 /// The last values to match an output against: the outputs lag the inputs by at most a
@@ -157,9 +163,21 @@ impl Inputs {
             // The standard atmosphere's pressure altitude (1013.25 hPa datum), written here
             // from the ICAO ISA rather than taken from the tool: T0 / L = 288.15 K / 6.5 K/km
             // = 44 330.77 m, exponent R L / (g M) = 0.190 263, in international feet.
-            Message::Pressure(p) => self.pressure_altitude.push(
-                44_330.77 * (1.0 - (f64::from(p.static_mbar) / 1013.25).powf(0.190_263)) / 0.3048,
-            ),
+            Message::Pressure(p) => {
+                self.pressure_altitude.push(
+                    44_330.77 * (1.0 - (f64::from(p.static_mbar) / 1013.25).powf(0.190_263))
+                        / 0.3048,
+                );
+                // V = sqrt(2 q / rho): rho0 = 1.225 kg/m³ for IAS, p / (R T) for TAS.
+                let q = f64::from(p.pitot_mbar) * 100.0;
+                let kt = 3600.0 / 1852.0;
+                self.ias_kt.push((2.0 * q / 1.225).sqrt() * kt);
+                if let Some(c) = self.celsius {
+                    let rho = f64::from(p.static_mbar) * 100.0 / (287.05 * (c + 273.15));
+                    self.tas_kt.push((2.0 * q / rho).sqrt() * kt);
+                }
+            }
+            Message::Temp(t) => self.celsius = Some(f64::from(t.celsius)),
             _ => {}
         }
     }
@@ -215,6 +233,20 @@ impl Outputs {
                 assert!(
                     near(&went_in.heading, heading, 0.1, angular),
                     "AHRS heading {heading} is not one of the last COMPASS headings"
+                );
+                // IAS and TAS, whole knots: IAS from the pitot's dynamic pressure at sea-level
+                // density, TAS at the density of the static pressure and TEMP (PL39).
+                let (ias, tas) = (
+                    f64::from(u16::from_be_bytes([data[7], data[8]])),
+                    f64::from(u16::from_be_bytes([data[9], data[10]])),
+                );
+                assert!(
+                    near(&went_in.ias_kt, ias, 0.51, linear),
+                    "AHRS IAS {ias} kt is not that of a recent PRESSURE"
+                );
+                assert!(
+                    near(&went_in.tas_kt, tas, 0.51, linear),
+                    "AHRS TAS {tas} kt is not that of a recent PRESSURE and TEMP"
                 );
             }
             (0x0A, _) => {

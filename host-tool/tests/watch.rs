@@ -63,7 +63,8 @@ fn telemetry() -> Vec<u8> {
                 timestamp_ms: t,
                 static_mbar: 898.76,
                 pitot_mbar: 6.1,
-                airspeed_mps: 31.25,
+                // The box's own airspeed field, which no view shows (PL39).
+                airspeed_mps: 99.0,
             })));
         }
         if ms % 92 == 0 {
@@ -130,7 +131,9 @@ fn plain_summary_shows_the_flight_and_the_box_intervals() {
         line("attitude")
     );
     assert!(
-        line("airspeed").contains(" 31.25 m/s"),
+        // 610 Pa of dynamic pressure at sea-level density: sqrt(2 * 610 / 1.225) = 31.558 m/s;
+        // no TEMP, so no true airspeed.
+        line("airspeed").contains("ias 31.56 m/s  tas -  "),
         "{}",
         line("airspeed")
     );
@@ -200,7 +203,7 @@ fn climbing() -> Vec<u8> {
             timestamp_ms: t,
             static_mbar: flight_sim::atmosphere::pressure_pa(altitude) / 100.0,
             pitot_mbar: 6.1,
-            airspeed_mps: 31.25,
+            airspeed_mps: 99.0,
         })));
         if ms % 100 == 0 {
             out.extend(frame(&Message::Gps(Gps {
@@ -246,9 +249,9 @@ fn aviation_units_vertical_speed_and_events() {
             .unwrap_or_else(|| panic!("no '{key}' line in:\n{last}"))
             .to_string()
     };
-    // 31.25 m/s = 60.75 kt; 33 m/s = 64.15 kt.
+    // 31.558 m/s = 61.34 kt; 33 m/s = 64.15 kt.
     let air = line("airspeed");
-    assert!(air.contains(" 60.75 kt "), "{air}");
+    assert!(air.contains("ias 61.34 kt "), "{air}");
     assert!(air.contains(" hPa (") && air.contains(" inHg)"), "{air}");
     assert!(
         line("gps").contains("ground speed 64.15 kt"),

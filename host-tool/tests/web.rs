@@ -182,16 +182,31 @@ fn aviation_units_on_a_climbing_turn_in_chromium() {
     ] {
         assert_eq!(first[key], unit, "{key}: {first}");
     }
-    // 50 m/s is 97.19 kt.
+    // The sim's true airspeed, 50 m/s, is 97.19 kt; the tape shows the indicated airspeed,
+    // lower by the square root of the density ratio at the pressure altitude (the ISA,
+    // written here).
+    let tas = number(&first, "tas_shown").expect("true airspeed shown");
+    assert!((tas - 97.19).abs() < 0.05, "true airspeed {tas} kt");
+    let h = number(&first, "pressure_altitude_m").expect("pressure altitude");
+    let kelvin = 288.15 - 0.0065 * h;
+    let density = 101_325.0 * (kelvin / 288.15).powf(5.255_88) / (287.05 * kelvin);
+    let want = 97.19 * (density / 1.225).sqrt();
     let kt = number(&first, "airspeed_shown").expect("airspeed drawn");
-    assert!((kt - 97.19).abs() < 0.05, "airspeed {kt} kt");
+    assert!(
+        (kt - want).abs() < 0.05,
+        "indicated airspeed {kt} kt, not {want:.2} kt"
+    );
     // Feet on the tape: the GPS altitude (m) over 0.3048.
     let m = number(&first, "gps_altitude_m").expect("GPS altitude");
     let ft = number(&first, "altitude_shown").expect("altitude drawn");
     assert!((ft - m / 0.3048).abs() < 0.01, "{ft} ft for {m} m");
     let caption = page.eval("document.querySelector('.pfd').innerText");
     let caption = caption.as_str().unwrap_or_default();
-    for want in ["airspeed kt", "altitude ft", "vertical speed ft/min"] {
+    for want in [
+        "indicated airspeed kt",
+        "altitude ft",
+        "vertical speed ft/min",
+    ] {
         assert!(caption.contains(want), "{want:?} not in {caption:?}");
     }
     // About 490 ft/min, over several frames.

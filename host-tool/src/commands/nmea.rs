@@ -28,25 +28,21 @@ use std::io::Write as _;
 use std::net::SocketAddr;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use aeolus_proto::message::{Compass, Gps, Message, Pressure, Temp, Wind};
+use aeolus_proto::message::{Compass, Gps, Message, Wind};
 use clap::Args;
 use serde_json::json;
 
+use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::Result;
 use crate::nmea::fanout::Fanout;
-use crate::nmea::sentence::{self, AirData, Fix, Lxwp0, Utc};
+use crate::nmea::sentence::{self, Fix, Lxwp0, Pov, Utc};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{
-    VerticalSpeed, air_density, decode_read, fresh, fresh_within, isa_altitude_m,
-};
+use crate::telemetry::{FRESH_SLOW, decode_read, fresh, fresh_within};
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
-/// The same for TEMP and WIND, which the box sends about once a second (spec figure 1c:
-/// 829 ms and 1000 ms): two and a half of their intervals.
-pub const FRESH_SLOW: Duration = Duration::from_millis(2500);
 /// The period of RMC, GGA, PGRMZ and LXWP0 (1 Hz).
 pub const SECOND: Duration = Duration::from_secs(1);
 /// The period of POV (5 Hz).
@@ -104,17 +100,15 @@ pub fn destination(text: &str) -> std::result::Result<SocketAddr, String> {
 }
 
 /// The latest of each telemetry message, with when it arrived, the recent GPS fixes and the
-/// vertical speed.
+/// air data.
 #[derive(Debug, Default)]
 pub struct Picture {
-    pressure: Option<(Pressure, Instant)>,
-    temp: Option<(Temp, Instant)>,
+    air: AirDataSource,
     compass: Option<(Compass, Instant)>,
     gps: Option<(Gps, Instant)>,
     wind: Option<(Wind, Instant)>,
     /// Valid fixes of the last [`TRACK_HISTORY_MS`] of box time, oldest first.
     fixes: VecDeque<Gps>,
-    vertical: VerticalSpeed,
 }
 
 /// How much box time of fixes the track is taken over (at most).
@@ -128,11 +122,7 @@ impl Picture {
     /// Takes one telemetry message that arrived at `now`.
     pub fn take(&mut self, m: &Message<'_>, now: Instant) {
         match m {
-            Message::Pressure(v) => {
-                self.pressure = Some((*v, now));
-                self.vertical.take_valid(v);
-            }
-            Message::Temp(v) => self.temp = Some((*v, now)),
+            Message::Pressure(_) | Message::Temp(_) => self.air.take(m, now),
             Message::Compass(v) => self.compass = Some((*v, now)),
             Message::Wind(v) => self.wind = Some((*v, now)),
             Message::Gps(v) => {
@@ -198,46 +188,29 @@ impl Picture {
             .map(|g| g.satellites)
     }
 
-    fn pressure(&self, now: Instant) -> Option<Pressure> {
-        fresh(&self.pressure, now)
-            .filter(|p| p.valid && p.static_mbar.is_finite() && p.static_mbar > 0.0)
-    }
-
-    /// The pressure altitude in metres (1013.25 hPa datum).
-    fn pressure_altitude_m(&self, now: Instant) -> Option<f64> {
-        self.pressure(now)
-            .map(|p| isa_altitude_m(p.static_mbar))
-            .filter(|m| m.is_finite())
-    }
-
     /// The pressure altitude in feet, for `$PGRMZ`.
     pub fn pressure_altitude_ft(&self, now: Instant) -> Option<f64> {
-        self.pressure_altitude_m(now).map(|m| m * FEET_PER_M)
+        self.air.at(now).pressure_altitude_m.map(|m| m * FEET_PER_M)
     }
 
     /// The static and dynamic pressure and the temperature, for `$POV`.
-    pub fn air_data(&self, now: Instant) -> AirData {
-        let p = self.pressure(now);
-        AirData {
-            static_hpa: p.map(|p| f64::from(p.static_mbar)),
-            dynamic_pa: p.map(|p| f64::from(p.pitot_mbar) * 100.0),
-            celsius: fresh_within(&self.temp, now, FRESH_SLOW)
-                .filter(|t| t.valid)
-                .map(|t| f64::from(t.celsius)),
+    pub fn pov(&self, now: Instant) -> Pov {
+        let air = self.air.at(now);
+        Pov {
+            static_hpa: air.static_hpa,
+            dynamic_pa: air.dynamic_pa,
+            celsius: air.celsius,
         }
     }
 
     /// Airspeed, altitude, vario, heading and wind, for `$LXWP0`.
     pub fn lxwp0(&self, now: Instant) -> Lxwp0 {
-        let air = self.air_data(now);
+        let air = self.air.at(now);
         let wind = fresh_within(&self.wind, now, FRESH_SLOW).filter(|w| w.valid);
         Lxwp0 {
-            tas_kmh: true_airspeed_mps(&air).map(|v| v * KMH_PER_MPS),
-            pressure_altitude_m: self.pressure_altitude_m(now),
-            vario_mps: self
-                .pressure(now)
-                .and_then(|_| self.vertical.mps())
-                .filter(|v| v.is_finite()),
+            tas_kmh: air.tas_mps.map(|v| v * KMH_PER_MPS),
+            pressure_altitude_m: air.pressure_altitude_m,
+            vario_mps: air.vertical_speed_mps,
             heading_deg: fresh(&self.compass, now)
                 .filter(|c| c.valid && c.has_value)
                 .map(|c| f64::from(c.heading_deg)),
@@ -245,24 +218,6 @@ impl Picture {
             wind_kmh: wind.map(|w| f64::from(w.speed_mps) * KMH_PER_MPS),
         }
     }
-}
-
-/// True airspeed from the dynamic pressure and the air density (static pressure and
-/// temperature): `sqrt(2 q / rho)`; `None` without all three or for a negative pressure.
-///
-/// ```
-/// use protolink::commands::nmea::true_airspeed_mps;
-/// use protolink::nmea::sentence::AirData;
-/// // 1531.25 Pa at sea level in the standard atmosphere is 50 m/s.
-/// let sea = AirData { static_hpa: Some(1013.25), dynamic_pa: Some(1531.25), celsius: Some(15.0) };
-/// assert!((true_airspeed_mps(&sea).unwrap() - 50.0).abs() < 0.01);
-/// assert_eq!(true_airspeed_mps(&AirData { celsius: None, ..sea }), None);
-/// ```
-pub fn true_airspeed_mps(air: &AirData) -> Option<f64> {
-    let (p_hpa, q_pa, celsius) = (air.static_hpa?, air.dynamic_pa?, air.celsius?);
-    let rho = air_density(p_hpa, celsius);
-    let v = (2.0 * q_pa.max(0.0) / rho).sqrt();
-    (rho > 0.0 && v.is_finite()).then_some(v)
 }
 
 /// The true course from fix `a` to fix `b`, when they are at least a metre apart.
@@ -364,7 +319,7 @@ pub fn run(args: &NmeaArgs) -> Result<()> {
         }
         let now = Instant::now();
         if now >= next_air {
-            if let Some(s) = sentence::pov(&picture.air_data(now)) {
+            if let Some(s) = sentence::pov(&picture.pov(now)) {
                 out.send(s.as_bytes());
                 counters.pov += 1;
             }

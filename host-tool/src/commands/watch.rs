@@ -12,7 +12,7 @@ use crate::endpoint::{Endpoint, Input};
 use crate::error::Result;
 use crate::render::Out;
 use crate::stop::{self, Deadline};
-use crate::telemetry::{EVENTS, NO_DATA_AFTER, View, isa_altitude_m};
+use crate::telemetry::{EVENTS, NO_DATA_AFTER, View};
 use crate::units::Units;
 
 /// How often the terminal view redraws.
@@ -62,8 +62,8 @@ pub fn lines(
         view.bytes
     ));
     l.push(attitude_line(view));
-    l.push(airspeed_line(view));
-    l.push(altitude_line(view));
+    l.push(airspeed_line(view, now));
+    l.push(altitude_line(view, now));
     l.push(heading_line(view));
     l.push(gps_line(view));
     l.push(wind_line(view));
@@ -92,18 +92,23 @@ fn attitude_line(view: &View) -> String {
     }
 }
 
-fn airspeed_line(view: &View) -> String {
+/// Indicated and true airspeed (from the air data: fresh values only), then the last
+/// PRESSURE's static and pitot pressure as the box sent them.
+fn airspeed_line(view: &View, now: Instant) -> String {
     let u = view.units;
     let speed = u.speed();
     let pitot_unit = match u {
         Units::Si => "mbar",
         Units::Aviation => "hPa",
     };
+    let air = view.air.at(now);
+    let shown =
+        |v: Option<f64>| v.map_or_else(dash, |v| format!("{:.2} {}", speed.of(v), speed.unit));
     match &view.pressure {
         Some(p) => format!(
-            "airspeed   {:6.2} {}  static {}  pitot {:.2} {pitot_unit}{}",
-            speed.of(f64::from(p.airspeed_mps)),
-            speed.unit,
+            "airspeed   ias {}  tas {}  static {}  pitot {:.2} {pitot_unit}{}",
+            shown(air.ias_mps),
+            shown(air.tas_mps),
             u.pressure(p.static_mbar),
             p.pitot_mbar,
             valid(p.valid)
@@ -112,21 +117,19 @@ fn airspeed_line(view: &View) -> String {
     }
 }
 
-/// GPS altitude, pressure altitude and vertical speed, those known.
-fn altitude_line(view: &View) -> String {
+/// GPS altitude, pressure altitude and vertical speed, those known (the last two from the air
+/// data: fresh values only).
+fn altitude_line(view: &View, now: Instant) -> String {
     let u = view.units;
     let (alt, vs) = (u.altitude(), u.vertical_speed());
+    let air = view.air.at(now);
     let gps_alt = view
         .gps
         .map(|g| format!("gps {:.1} {}", alt.of(f64::from(g.altitude_m)), alt.unit));
-    let baro_alt = view.pressure.map(|p| {
-        format!(
-            "pressure {:.1} {} (ISA)",
-            alt.of(isa_altitude_m(p.static_mbar)),
-            alt.unit
-        )
-    });
-    let vertical = view.vertical.mps().map(|v| {
+    let baro_alt = air
+        .pressure_altitude_m
+        .map(|m| format!("pressure {:.1} {} (ISA)", alt.of(m), alt.unit));
+    let vertical = air.vertical_speed_mps.map(|v| {
         let digits = if u == Units::Si { 2 } else { 0 };
         format!("vertical speed {:+.digits$} {}", vs.of(v), vs.unit)
     });

@@ -227,7 +227,7 @@ pub fn pgrmz(pressure_altitude_ft: Option<f64>) -> String {
 
 /// What `$POV` carries (OpenVario: each value a one-letter type and a number).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct AirData {
+pub struct Pov {
     /// `P`: static pressure, hPa.
     pub static_hpa: Option<f64>,
     /// `Q`: dynamic (pitot minus static) pressure, Pa.
@@ -240,12 +240,12 @@ pub struct AirData {
 /// the first pair without a number, so an unknown value is left out, not sent empty.
 ///
 /// ```
-/// use protolink::nmea::sentence::{pov, AirData};
-/// let a = AirData { static_hpa: Some(898.746), dynamic_pa: None, celsius: Some(8.5) };
+/// use protolink::nmea::sentence::{pov, Pov};
+/// let a = Pov { static_hpa: Some(898.746), dynamic_pa: None, celsius: Some(8.5) };
 /// assert_eq!(pov(&a).unwrap(), "$POV,P,898.75,T,8.50*4B\r\n");
-/// assert_eq!(pov(&AirData::default()), None);
+/// assert_eq!(pov(&Pov::default()), None);
 /// ```
-pub fn pov(air: &AirData) -> Option<String> {
+pub fn pov(air: &Pov) -> Option<String> {
     let mut body = String::from("POV");
     for (kind, value, range) in [
         ('P', air.static_hpa, (0.0, 2_000.0)),
@@ -387,15 +387,15 @@ mod tests {
 
     #[test]
     fn air_data_sentences() {
-        let a = AirData {
+        let a = Pov {
             static_hpa: Some(898.746),
             dynamic_pa: Some(1377.5),
             celsius: Some(8.5),
         };
         assert_eq!(pov(&a).unwrap(), "$POV,P,898.75,Q,1377.50,T,8.50*33\r\n");
-        let only_q = AirData {
+        let only_q = Pov {
             dynamic_pa: Some(-3.0),
-            ..AirData::default()
+            ..Pov::default()
         };
         assert_eq!(pov(&only_q).unwrap(), "$POV,Q,-3.00*28\r\n");
         let full = Lxwp0 {
@@ -437,7 +437,7 @@ mod tests {
             wind_from_deg: Some(359.9),
             wind_kmh: Some(999.9),
         };
-        let air = AirData {
+        let air = Pov {
             static_hpa: Some(1999.99),
             dynamic_pa: Some(-99_999.0),
             celsius: Some(-999.0),
@@ -461,9 +461,9 @@ mod tests {
         assert_eq!(lxwp0(&wild), lxwp0(&Lxwp0::default()));
         assert_eq!(pgrmz(Some(1e12)), pgrmz(None));
         assert_eq!(
-            pov(&AirData {
+            pov(&Pov {
                 static_hpa: Some(-5.0),
-                ..AirData::default()
+                ..Pov::default()
             }),
             None
         );

@@ -245,7 +245,7 @@ pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
                     event,
                 } => {
                     if let Some(p) = plot.as_mut() {
-                        p.send(std::slice::from_ref(&event), time);
+                        p.send(proto, std::slice::from_ref(&event), time);
                     }
                     out.line(&line(&event, frame, time, &flow, proto, args.json))?;
                 }

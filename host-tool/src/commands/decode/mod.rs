@@ -82,7 +82,7 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
     let mut plot = args.udp_json.map(plot::PlotSender::new).transpose()?;
     let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
         if let Some(p) = plot.as_mut() {
-            p.send(events, plot::now());
+            p.send(proto, events, plot::now());
         }
         for e in events {
             let line = if args.json {

@@ -9,8 +9,8 @@
 //! | --- | --- |
 //! | AHRS roll, pitch | ATTITUDE |
 //! | AHRS heading (magnetic) | COMPASS (never the GPS track) |
-//! | AHRS IAS | PRESSURE airspeed, m/s to knots |
-//! | AHRS TAS | IAS corrected by the air density from PRESSURE static pressure and TEMP |
+//! | AHRS IAS | PRESSURE pitot (dynamic) pressure at sea-level density ([`crate::air_data`]) |
+//! | AHRS TAS | PRESSURE pitot pressure at the air density from PRESSURE static pressure and TEMP ([`crate::air_data`]) |
 //! | ownship position, geometric altitude, ground speed | GPS, only with a fix |
 //! | ownship track, vertical rate | the last two GPS fixes (on the box's clock) |
 //! | ownship pressure altitude | PRESSURE static pressure, standard atmosphere (29.92 inHg) |
@@ -31,7 +31,7 @@ use std::io::Write as _;
 use std::net::{IpAddr, SocketAddr, UdpSocket};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use aeolus_proto::message::{Accel, Attitude, Compass, Gps, Message, Pressure, Temp};
+use aeolus_proto::message::{Accel, Attitude, Compass, Gps, Message};
 use clap::{Args, ValueEnum};
 use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, ForeFlightId, GeoAltitude, Heading, Heartbeat,
@@ -39,12 +39,13 @@ use gdl90_proto::message::{
 };
 use serde_json::json;
 
+use crate::air_data::{AirDataSource, isa_altitude_m};
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{VerticalSpeed, air_density, decode_read, fresh, isa_altitude_m};
+use crate::telemetry::{decode_read, fresh};
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 pub mod ownship;
@@ -108,16 +109,14 @@ pub struct Gdl90Args {
 #[derive(Debug, Default, Clone)]
 pub struct Picture {
     attitude: Option<(Attitude, Instant)>,
-    pressure: Option<(Pressure, Instant)>,
-    temp: Option<(Temp, Instant)>,
     compass: Option<(Compass, Instant)>,
     accel: Option<(Accel, Instant)>,
     gps: Option<(Gps, Instant)>,
     previous_fix: Option<Gps>,
     /// The low 24 bits of the box's MAC, from AEOLUSINFO: the self-assigned address.
     address: Option<u32>,
-    /// The pressure altitude's rate.
-    vertical: VerticalSpeed,
+    /// Airspeeds, pressure altitude and its rate.
+    air: AirDataSource,
     /// `--icao` and `--callsign`, given or kept.
     pub identity: ownship::Identity,
 }
@@ -134,19 +133,6 @@ pub fn pressure_altitude_ft(static_mbar: f32) -> f64 {
     isa_altitude_m(static_mbar) * FEET_PER_M
 }
 
-/// True airspeed from indicated airspeed and the air's pressure and temperature (density
-/// ratio against the sea-level standard, 1.225 kg/m³).
-///
-/// ```
-/// use protolink::commands::gdl90::true_airspeed_mps;
-/// assert!((true_airspeed_mps(50.0, 1013.25, 15.0) - 50.0).abs() < 0.1);
-/// assert!(true_airspeed_mps(50.0, 700.0, -10.0) > 55.0);
-/// ```
-pub fn true_airspeed_mps(ias_mps: f32, static_mbar: f32, celsius: f32) -> f64 {
-    let rho = air_density(f64::from(static_mbar), f64::from(celsius));
-    f64::from(ias_mps) * (air_density(1013.25, 15.0) / rho).sqrt()
-}
-
 fn knots(mps: f64) -> Option<u16> {
     let kt = (mps * KNOTS_PER_MPS).round();
     (kt.is_finite() && kt >= 0.0).then(|| kt.min(f64::from(u16::MAX - 1)) as u16)
@@ -157,12 +143,8 @@ impl Picture {
     pub fn take(&mut self, m: &Message<'_>, now: Instant) {
         match m {
             Message::Attitude(v) => self.attitude = Some((*v, now)),
-            Message::Pressure(v) => {
-                self.pressure = Some((*v, now));
-                self.vertical.take_valid(v);
-            }
+            Message::Pressure(_) | Message::Temp(_) => self.air.take(m, now),
             Message::Accel(v) => self.accel = Some((*v, now)),
-            Message::Temp(v) => self.temp = Some((*v, now)),
             Message::Compass(v) => self.compass = Some((*v, now)),
             Message::Gps(v) => {
                 if let Some((old, _)) = self.gps
@@ -190,8 +172,7 @@ impl Picture {
     /// The ForeFlight AHRS message for `now`.
     pub fn ahrs(&self, now: Instant) -> Ahrs {
         let attitude = fresh(&self.attitude, now).filter(|a| a.valid);
-        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
-        let temp = fresh(&self.temp, now).filter(|t| t.valid);
+        let air = self.air.at(now);
         let heading = fresh(&self.compass, now)
             .filter(|c| c.valid && c.has_value && c.heading_deg.is_finite())
             .map(|c| Heading::Magnetic(c.heading_deg.rem_euclid(360.0)));
@@ -199,10 +180,8 @@ impl Picture {
             roll_deg: attitude.map(|a| a.roll_rad.to_degrees()),
             pitch_deg: attitude.map(|a| a.pitch_rad.to_degrees()),
             heading,
-            indicated_airspeed_kt: pressure.and_then(|p| knots(f64::from(p.airspeed_mps))),
-            true_airspeed_kt: pressure.zip(temp).and_then(|(p, t)| {
-                knots(true_airspeed_mps(p.airspeed_mps, p.static_mbar, t.celsius))
-            }),
+            indicated_airspeed_kt: air.ias_mps.and_then(knots),
+            true_airspeed_kt: air.tas_mps.and_then(knots),
         }
     }
 
@@ -210,7 +189,7 @@ impl Picture {
     pub fn stratux_ahrs(&self, now: Instant) -> StratuxAhrs {
         let ff = self.ahrs(now);
         let attitude = fresh(&self.attitude, now).filter(|a| a.valid);
-        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
+        let air = self.air.at(now);
         let finite = |v: f64| v.is_finite().then_some(v as f32);
         let whole =
             |v: f64| (v.is_finite() && v.abs() < f64::from(i16::MAX)).then(|| v.round() as i16);
@@ -227,12 +206,11 @@ impl Picture {
             indicated_airspeed_kt: ff
                 .indicated_airspeed_kt
                 .and_then(|kt| i16::try_from(kt).ok()),
-            pressure_altitude_ft: pressure
-                .map(|p| pressure_altitude_ft(p.static_mbar))
-                .filter(|ft| ft.is_finite())
-                .map(|ft| ft.round() as i32),
-            vertical_speed_fpm: pressure
-                .and_then(|_| self.vertical.mps())
+            pressure_altitude_ft: air
+                .pressure_altitude_m
+                .map(|m| (m * FEET_PER_M).round() as i32),
+            vertical_speed_fpm: air
+                .vertical_speed_mps
                 .and_then(|mps| whole(mps * FEET_PER_M * 60.0)),
         }
     }
@@ -240,7 +218,6 @@ impl Picture {
     /// The ownship report for `now`.
     pub fn ownship(&self, now: Instant) -> Report {
         let fix = self.fix(now);
-        let pressure = fresh(&self.pressure, now).filter(|p| p.valid);
         let (track, vertical_rate_fpm) = match (fix, self.previous_fix) {
             (Some(g), Some(p)) if g.timestamp_ms > p.timestamp_ms => {
                 let dt_min = (g.timestamp_ms - p.timestamp_ms) / 60_000.0;
@@ -270,10 +247,11 @@ impl Picture {
                 lat_deg: f64::from(g.latitude_deg),
                 lon_deg: f64::from(g.longitude_deg),
             }),
-            pressure_altitude_ft: pressure
-                .map(|p| pressure_altitude_ft(p.static_mbar))
-                .filter(|ft| ft.is_finite())
-                .map(|ft| ft.round() as i32),
+            pressure_altitude_ft: self
+                .air
+                .at(now)
+                .pressure_altitude_m
+                .map(|m| (m * FEET_PER_M).round() as i32),
             airborne: fix.is_some_and(|g| g.ground_speed_mps > 15.0),
             track,
             // AEOLUS reports no accuracy: a GPS fix is given typical values.

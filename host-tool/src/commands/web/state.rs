@@ -12,8 +12,9 @@ use aeolus_proto::message::{
 };
 use serde::Serialize;
 
+use crate::air_data::AirData;
 use crate::decoders::AEOLUS_CAPACITY;
-use crate::telemetry::{EVENTS, NO_DATA_AFTER, View, isa_altitude_m};
+use crate::telemetry::{EVENTS, NO_DATA_AFTER, View};
 use crate::units::{UnitScales, Units};
 
 /// How many track points the page keeps: five minutes at [`TRACK_STEP_MS`].
@@ -151,7 +152,7 @@ impl Cockpit {
             bytes: v.bytes,
             no_data,
             attitude: v.attitude.map(attitude_state),
-            air: v.pressure.map(|p| air_state(p, v.vertical.mps())),
+            air: v.pressure.map(|p| air_state(p, v.air.at(now))),
             heading: v.compass.map(heading_state),
             gps: v.gps.map(gps_state),
             wind: v.wind.map(|w| WindState {
@@ -216,15 +217,16 @@ fn attitude_state(a: Attitude) -> AttitudeState {
     }
 }
 
-fn air_state(p: Pressure, vertical_speed_mps: Option<f64>) -> AirState {
+fn air_state(p: Pressure, air: AirData) -> AirState {
     AirState {
         valid: p.valid,
         timestamp_ms: p.timestamp_ms,
-        airspeed_mps: p.airspeed_mps,
+        ias_mps: air.ias_mps,
+        tas_mps: air.tas_mps,
         static_mbar: p.static_mbar,
         pitot_mbar: p.pitot_mbar,
-        pressure_altitude_m: isa_altitude_m(p.static_mbar),
-        vertical_speed_mps,
+        pressure_altitude_m: air.pressure_altitude_m,
+        vertical_speed_mps: air.vertical_speed_mps,
     }
 }
 
@@ -337,17 +339,22 @@ pub struct AttitudeState {
     pub turn_coordinator: f32,
 }
 
-/// The last PRESSURE.
+/// The last PRESSURE as the box sent it, and the air data ([`crate::air_data`]) at the
+/// moment of the state: `null` where stale or invalid.
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
 pub struct AirState {
     pub valid: bool,
     pub timestamp_ms: f64,
-    pub airspeed_mps: f32,
+    /// Indicated airspeed from the pitot's dynamic pressure, m/s.
+    pub ias_mps: Option<f64>,
+    /// True airspeed from the dynamic pressure and the air density (static pressure, TEMP),
+    /// m/s.
+    pub tas_mps: Option<f64>,
     pub static_mbar: f32,
     pub pitot_mbar: f32,
     /// The ISA altitude of the static pressure, m.
-    pub pressure_altitude_m: f64,
+    pub pressure_altitude_m: Option<f64>,
     /// The vertical speed: the pressure altitude's change over the last second of the box's
     /// clock, m/s, positive up (`null` until half a second of PRESSURE has arrived).
     pub vertical_speed_mps: Option<f64>,

@@ -8,12 +8,12 @@ const GROUND = '#8a5a2b';
 const PX_PER_DEG = 4; // pitch ladder scale on the attitude indicator
 const efis = {
   frames: 0, roll_deg: null, pitch_deg: null, attitude_time_ms: null, heading_deg: null,
-  heading_time_ms: null, airspeed_mps: null, gps_altitude_m: null, pressure_altitude_m: null,
+  heading_time_ms: null, airspeed_mps: null, tas_mps: null, gps_altitude_m: null, pressure_altitude_m: null,
   slip_ball: null, turn_coordinator: null, track_points: 0, wind_from_deg: null,
   wind_speed_mps: null, stale_types: [], live_types: [], connected: false, // live_types: scheduled types only (not TOAST, LOG)
   // What the tapes and the vertical speed indicator show, in the units shown (`--units`).
   units: null, speed_unit: null, altitude_unit: null, vertical_speed_unit: null,
-  airspeed_shown: null, altitude_shown: null, vertical_speed_shown: null,
+  airspeed_shown: null, tas_shown: null, altitude_shown: null, vertical_speed_shown: null,
 };
 // The SI scales, until the server says otherwise (the same shape as `units` in the state).
 const SI = {
@@ -307,14 +307,21 @@ const scaled = (v, scale) => (num(v) ? v * scale.per_si : null);
 
 function drawTapes(s, u) {
   const air = s.air;
-  const speed = air ? air.airspeed_mps : null;
+  // The tape is the indicated airspeed; the true airspeed is the readout below it.
+  const speed = air ? air.ias_mps : null;
+  const tas = air ? air.tas_mps : null;
   const knots = u.speed.unit !== 'm/s';
   // m/s: a tick a unit, 6 px each; knots: a tick every 2 kt at the same pixels per m/s.
   const speedPx = 6 / u.speed.per_si;
   const speedShown = scaled(speed, u.speed);
-  const speedDrawn = drawTape('speed', speedShown, knots ? 2 : 1, 5, speedPx);
+  const tasShown = scaled(tas, u.speed);
+  const speedDrawn = drawTape('speed', speedShown, knots ? 2 : 1, 5, speedPx, (g, w, h) => {
+    if (num(tasShown)) text(g, `T ${tasShown.toFixed(0)}`, w / 2, h - 10, '#7fd4ff', '12px system-ui, sans-serif');
+  });
   efis.airspeed_mps = speedDrawn ? speed : null;
   efis.airspeed_shown = speedDrawn ? speedShown : null;
+  efis.tas_mps = speedDrawn && num(tas) ? tas : null;
+  efis.tas_shown = speedDrawn && num(tasShown) ? tasShown : null;
   const gpsAlt = s.gps ? s.gps.altitude_m : null;
   const baroM = air ? air.pressure_altitude_m : null;
   const baro = scaled(baroM, u.altitude);
