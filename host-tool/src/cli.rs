@@ -82,13 +82,15 @@ pub enum Command {
   protolink gdl90 --from udp:5001 --to 127.0.0.1:4000
   protolink gdl90 --from tcp:127.0.0.1:7000 --discover")]
     Gdl90(Gdl90Args),
-    /// The box's telemetry as NMEA 0183 for gliding and moving-map apps (XCSoar, LK8000) on TCP 4353.
+    /// The box's telemetry as NMEA 0183 for gliding and moving-map apps (XCSoar, LK8000, gpsd) on TCP 4353.
     #[command(
-        after_help = "Sentences: $GPRMC, $GPGGA, $PGRMZ (1 Hz), $LXWP0 (1 Hz), $POV (5 Hz).
+        after_help = "Sentences: $GPRMC, $GPGGA (1 Hz); $LXWP0 (1 Hz) and $POV (5 Hz) for xcsoar and lk8000;
+$PGRMZ (1 Hz) for lk8000 only.
 
 Examples:
   protolink nmea --from udp:5001                       (XCSoar: TCP client to 127.0.0.1:4353)
-  protolink nmea --from tcp:127.0.0.1:7000 --listen 0.0.0.0:4353
+  protolink nmea --from udp:5001 --for lk8000 --listen 0.0.0.0:4353
+  protolink nmea --from udp:5001 --for gpsd            (then: gpsd -N tcp://127.0.0.1:4353)
   protolink nmea --from udp:5001 --to 127.0.0.1:10110  (UDP datagrams instead)"
     )]
     Nmea(NmeaArgs),

@@ -172,6 +172,9 @@ fn run_sim_through_nmea(window: (Duration, Duration)) -> (Inputs, Vec<(f64, Stri
         &format!("udp:{nmea_in}"),
         "--listen",
         &listen.to_string(),
+        // Every sentence: LK8000's set is all five.
+        "--for",
+        "lk8000",
         "--seconds",
         "9",
     ]);
@@ -394,41 +397,68 @@ fn check_the_turn(rmc: &[&Value], lxwp0: &[&Value], went_in: &Inputs) {
 }
 
 /// With no telemetry at all: RMC void, GGA fix 0, PGRMZ and LXWP0 empty, no POV; over UDP.
+/// Each reader (`--for`) gets its sentences and no other; with a silent box every one of
+/// them is void (`$POV`, with nothing to carry, is not sent at all).
 #[test]
-fn a_silent_box_gives_void_sentences_never_old_values() {
-    let (app, app_port) = udp();
-    let out = spawn(&[
-        "nmea",
-        "--from",
-        &format!("udp:{}", free_udp_port()),
-        "--to",
-        &format!("127.0.0.1:{app_port}"),
-        "--seconds",
-        "2.5",
-    ]);
-    let out = finish(out);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let mut buf = [0u8; 256];
-    let mut lines = Vec::new();
-    while let Ok(n) = app.recv(&mut buf) {
-        lines.push(String::from_utf8(buf[..n].to_vec()).unwrap());
-    }
-    assert!(lines.len() >= 8, "{lines:?}");
-    for line in &lines {
-        // The checksum, computed here: the XOR of the bytes between '$' and '*'.
-        let (body, sum) = line.trim_end()[1..].split_once('*').unwrap();
-        assert_eq!(
-            u8::from_str_radix(sum, 16).unwrap(),
-            body.bytes().fold(0, |x, b| x ^ b)
+fn a_silent_box_gives_each_reader_void_sentences_never_old_values() {
+    let readers = [
+        ("xcsoar", &["GPGGA", "GPRMC", "LXWP0"][..]),
+        ("lk8000", &["GPGGA", "GPRMC", "LXWP0", "PGRMZ"][..]),
+        ("gpsd", &["GPGGA", "GPRMC"][..]),
+    ];
+    let runs: Vec<_> = readers
+        .iter()
+        .map(|&(reader, _)| {
+            let (app, app_port) = udp();
+            let child = spawn(&[
+                "nmea",
+                "--from",
+                &format!("udp:{}", free_udp_port()),
+                "--to",
+                &format!("127.0.0.1:{app_port}"),
+                "--for",
+                reader,
+                "--seconds",
+                "2.5",
+            ]);
+            (app, child)
+        })
+        .collect();
+    for ((reader, want), (app, child)) in readers.iter().zip(runs) {
+        let out = finish(child);
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(
+            stdout(&out).contains(&format!("for={reader}")),
+            "{}",
+            stdout(&out)
         );
-        let fields: Vec<&str> = body.split(',').collect();
-        match fields[0] {
-            "GPRMC" => assert_eq!((fields[2], fields[3], fields[12]), ("V", "", "N"), "{line}"),
-            "GPGGA" => assert_eq!((fields[2], fields[6], fields[9]), ("", "0", ""), "{line}"),
-            "PGRMZ" => assert_eq!(fields[1], "", "{line}"),
-            "LXWP0" => assert!(fields[2..].iter().all(|f| f.is_empty()), "{line}"),
-            other => panic!("{other} without telemetry: {line}"),
+        let mut buf = [0u8; 256];
+        let mut lines = Vec::new();
+        while let Ok(n) = app.recv(&mut buf) {
+            lines.push(String::from_utf8(buf[..n].to_vec()).unwrap());
         }
+        assert!(lines.len() >= 2 * want.len(), "{reader}: {lines:?}");
+        let mut kinds = Vec::new();
+        for line in &lines {
+            // The checksum, computed here: the XOR of the bytes between '$' and '*'.
+            let (body, sum) = line.trim_end()[1..].split_once('*').unwrap();
+            assert_eq!(
+                u8::from_str_radix(sum, 16).unwrap(),
+                body.bytes().fold(0, |x, b| x ^ b)
+            );
+            let fields: Vec<&str> = body.split(',').collect();
+            match fields[0] {
+                "GPRMC" => assert_eq!((fields[2], fields[3], fields[12]), ("V", "", "N"), "{line}"),
+                "GPGGA" => assert_eq!((fields[2], fields[6], fields[9]), ("", "0", ""), "{line}"),
+                "PGRMZ" => assert_eq!(fields[1], "", "{line}"),
+                "LXWP0" => assert!(fields[2..].iter().all(|f| f.is_empty()), "{line}"),
+                other => panic!("{other} without telemetry: {line}"),
+            }
+            kinds.push(fields[0]);
+        }
+        kinds.sort_unstable();
+        kinds.dedup();
+        assert_eq!(kinds, *want, "the sentences {reader} gets");
     }
 }
 

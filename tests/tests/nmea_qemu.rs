@@ -83,6 +83,9 @@ fn an_app_reads_the_firmwares_flight_as_nmea(board: Board) {
         format!("tcp:127.0.0.1:{}", ports.uart(0)),
         "--listen".into(),
         format!("127.0.0.1:{server}"),
+        // Every sentence: LK8000's set is all five.
+        "--for".into(),
+        "lk8000".into(),
         "--seconds".into(),
         "20".into(),
     ]);

@@ -2,8 +2,9 @@
 //! (XCSoar, LK8000, Kobo varios running XCSoar), on a TCP server (127.0.0.1:4353 by default,
 //! XCSoar's default TCP port) or as UDP datagrams (`--to`).
 //!
-//! Once a second `$GPRMC`, `$GPGGA`, `$PGRMZ` and `$LXWP0`; five times a second `$POV`. What
-//! goes in ([`Picture`]; the sentences in [`crate::nmea::sentence`]):
+//! Once a second `$GPRMC`, `$GPGGA`, `$PGRMZ` and `$LXWP0`; five times a second `$POV`; each
+//! reader (`--for`, [`Reader`]) gets only the sentences it reads as meant. What goes in
+//! ([`Picture`]; the sentences in [`crate::nmea::sentence`]):
 //!
 //! | field | sentence | from |
 //! | --- | --- | --- |
@@ -14,7 +15,7 @@
 //! | pressure altitude | PGRMZ (ft), LXWP0 (m) | PRESSURE static pressure, standard atmosphere |
 //! | static pressure, dynamic pressure | POV `P` (hPa), `Q` (Pa) | PRESSURE static and pitot (differential) pressure |
 //! | temperature | POV `T` | TEMP |
-//! | true airspeed | LXWP0 (km/h) | PRESSURE pitot pressure and the air density from static pressure and TEMP |
+//! | true airspeed | LXWP0 (km/h) | PRESSURE pitot pressure and the air density from static pressure and TEMP ([`crate::air_data`]) |
 //! | vario | LXWP0 (m/s) | the pressure altitude's rate over the last second (box clock) |
 //! | heading | LXWP0 | COMPASS (magnetic) |
 //! | wind | LXWP0 (from, km/h) | WIND |
@@ -29,7 +30,7 @@ use std::net::SocketAddr;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use aeolus_proto::message::{Compass, Gps, Message, Wind};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use serde_json::json;
 
 use crate::air_data::AirDataSource;
@@ -54,6 +55,72 @@ pub const DEFAULT_PORT: u16 = 4353;
 
 const KMH_PER_MPS: f64 = 3.6;
 
+/// The reader the sentences are for: each gets what it understands and nothing it misreads.
+///
+/// | `--for` | sentences | why not the others |
+/// | --- | --- | --- |
+/// | `xcsoar` (default) | RMC, GGA, `$LXWP0`, `$POV` | XCSoar reads `$PGRMZ` as a QNH altitude unless a FLARM (`$PFLAU`) was seen; it takes the pressure altitude from `$LXWP0` (LX driver) or `$POV`'s `P` (OpenVario driver) |
+/// | `lk8000` | RMC, GGA, `$PGRMZ`, `$LXWP0`, `$POV` | none: LK8000 reads `$PGRMZ` as the pressure altitude (QNE) |
+/// | `gpsd` | RMC, GGA | gpsd reads `$PGRMZ` as a GPS altitude and its last field as the fix dimension (a 2D fix during an outage); a plain GPS reader (moving map, chart plotter) wants nothing else |
+///
+/// ```
+/// use protolink::commands::nmea::Reader;
+/// assert!(!Reader::Xcsoar.sends().pgrmz && Reader::Xcsoar.sends().lxwp0);
+/// assert!(Reader::Lk8000.sends().pgrmz);
+/// let gpsd = Reader::Gpsd.sends();
+/// assert!(gpsd.rmc && gpsd.gga && !gpsd.pgrmz && !gpsd.pov && !gpsd.lxwp0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Reader {
+    /// XCSoar (also on Kobo varios and OpenVario): RMC, GGA, $LXWP0 and $POV; no $PGRMZ,
+    /// which XCSoar reads as a QNH altitude without a FLARM.
+    #[default]
+    Xcsoar,
+    /// LK8000: RMC, GGA, $PGRMZ (read as pressure altitude), $LXWP0 and $POV.
+    Lk8000,
+    /// gpsd, or any reader that only wants a GPS (moving maps, chart plotters): RMC and GGA.
+    Gpsd,
+}
+
+/// Which sentences a [`Reader`] gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sentences {
+    /// `$GPRMC`.
+    pub rmc: bool,
+    /// `$GPGGA`.
+    pub gga: bool,
+    /// `$PGRMZ`.
+    pub pgrmz: bool,
+    /// `$POV`.
+    pub pov: bool,
+    /// `$LXWP0`.
+    pub lxwp0: bool,
+}
+
+impl Reader {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reader::Xcsoar => "xcsoar",
+            Reader::Lk8000 => "lk8000",
+            Reader::Gpsd => "gpsd",
+        }
+    }
+
+    /// The sentences this reader gets.
+    pub fn sends(self) -> Sentences {
+        let gliding = self != Reader::Gpsd;
+        Sentences {
+            rmc: true,
+            gga: true,
+            pgrmz: self == Reader::Lk8000,
+            pov: gliding,
+            lxwp0: gliding,
+        }
+    }
+}
+
 /// Arguments of `protolink nmea`.
 #[derive(Debug, Clone, Args)]
 pub struct NmeaArgs {
@@ -67,6 +134,10 @@ pub struct NmeaArgs {
     /// serving TCP.
     #[arg(long, value_name = "[ADDR:]PORT", value_parser = destination, conflicts_with = "listen")]
     pub to: Option<SocketAddr>,
+    /// The reader the sentences are for: each gets only what it reads as meant (default
+    /// `xcsoar`, the most used gliding app).
+    #[arg(long = "for", value_name = "READER", value_enum, default_value_t = Reader::Xcsoar)]
+    pub reader: Reader,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
     /// end of the input).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
@@ -236,6 +307,9 @@ fn bearing_deg(a: &Gps, b: &Gps) -> Option<f64> {
 /// What `nmea` sent, printed on exit.
 #[derive(Debug, Default, Clone, Copy, serde::Serialize)]
 pub struct Counters {
+    /// The reader the sentences were for.
+    #[serde(rename = "for")]
+    pub reader: Reader,
     /// AEOLUS messages taken in.
     pub telemetry_in: u64,
     /// `$GPRMC` sentences.
@@ -258,18 +332,27 @@ fn utc_now() -> Utc {
     )
 }
 
-/// Writes the once-a-second sentences.
+/// Writes the once-a-second sentences the reader gets.
 fn each_second(out: &mut Fanout, picture: &Picture, now: Instant, counters: &mut Counters) {
+    let sends = counters.reader.sends();
     let utc = utc_now();
     let fix = picture.fix(now);
-    out.send(sentence::rmc(&utc, fix.as_ref()).as_bytes());
-    counters.rmc += 1;
-    out.send(sentence::gga(&utc, fix.as_ref(), picture.satellites(now)).as_bytes());
-    counters.gga += 1;
-    out.send(sentence::pgrmz(picture.pressure_altitude_ft(now)).as_bytes());
-    counters.pgrmz += 1;
-    out.send(sentence::lxwp0(&picture.lxwp0(now)).as_bytes());
-    counters.lxwp0 += 1;
+    if sends.rmc {
+        out.send(sentence::rmc(&utc, fix.as_ref()).as_bytes());
+        counters.rmc += 1;
+    }
+    if sends.gga {
+        out.send(sentence::gga(&utc, fix.as_ref(), picture.satellites(now)).as_bytes());
+        counters.gga += 1;
+    }
+    if sends.pgrmz {
+        out.send(sentence::pgrmz(picture.pressure_altitude_ft(now)).as_bytes());
+        counters.pgrmz += 1;
+    }
+    if sends.lxwp0 {
+        out.send(sentence::lxwp0(&picture.lxwp0(now)).as_bytes());
+        counters.lxwp0 += 1;
+    }
 }
 
 /// Runs `protolink nmea`.
@@ -289,13 +372,17 @@ pub fn run(args: &NmeaArgs) -> Result<()> {
     };
     let _ = writeln!(
         std::io::stderr(),
-        "nmea: {} -> NMEA 0183 on {where_to} (Ctrl-C to stop)",
-        link.name()
+        "nmea: {} -> NMEA 0183 for {} on {where_to} (Ctrl-C to stop)",
+        link.name(),
+        args.reader.name()
     );
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
     let mut picture = Picture::default();
-    let mut counters = Counters::default();
+    let mut counters = Counters {
+        reader: args.reader,
+        ..Counters::default()
+    };
     let mut decoder = Box::new(aeolus_proto::Decoder::<AEOLUS_CAPACITY>::new());
     let mut buf = vec![0u8; 65_536];
     let start = Instant::now();
@@ -319,7 +406,7 @@ pub fn run(args: &NmeaArgs) -> Result<()> {
         }
         let now = Instant::now();
         if now >= next_air {
-            if let Some(s) = sentence::pov(&picture.pov(now)) {
+            if let Some(s) = sentence::pov(&picture.pov(now)).filter(|_| args.reader.sends().pov) {
                 out.send(s.as_bytes());
                 counters.pov += 1;
             }
