@@ -50,9 +50,11 @@ pub struct pl_aeolus_motion {
     /// PRESSURE: static pressure (mbar); GYRO: rate about X (rad/s); ACCEL: X (m/s²);
     /// MAGNET: X (Gauss).
     pub x: f32,
-    /// PRESSURE: pitot pressure (mbar); the others: Y.
+    /// PRESSURE: pitot (dynamic) pressure (mbar); the others: Y.
     pub y: f32,
-    /// PRESSURE: airspeed (m/s); the others: Z.
+    /// PRESSURE: the box's airspeed field (m/s), as sent; the spec leaves open whether it is
+    /// indicated or true, so derive IAS and TAS from the pressures (docs/protocol-notes.md
+    /// PL39); the others: Z.
     pub z: f32,
 }
 
