@@ -443,3 +443,122 @@ fn seconds_ends_it_with_the_counters() {
     assert!(out.starts_with("web: "), "{out}");
     assert!(out.contains("refused=0"), "{out}");
 }
+
+/// A TCP connection to `to` from the local address `from` (another loopback address stands
+/// for another machine).
+fn connect_from(from: [u8; 4], to: SocketAddr) -> std::io::Result<TcpStream> {
+    use socket2::{Domain, Socket, Type};
+    let s = Socket::new(Domain::IPV4, Type::STREAM, None)?;
+    s.bind(&SocketAddr::from((from, 0)).into())?;
+    s.connect_timeout(&to.into(), Duration::from_secs(2))?;
+    Ok(s.into())
+}
+
+/// The first line of the answer to `request` sent from `from`, and whether a live update
+/// (`data: {`) followed within 5 s.
+fn ask_from(from: [u8; 4], to: SocketAddr, request: &str) -> (String, bool) {
+    let Ok(mut s) = connect_from(from, to) else {
+        return ("no connection".into(), false);
+    };
+    let _ = s.set_read_timeout(Some(Duration::from_secs(5)));
+    if s.write_all(request.as_bytes()).is_err() {
+        return ("write failed".into(), false);
+    }
+    let mut text = String::new();
+    let mut buf = [0u8; 4096];
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_secs(5) && !text.contains("\ndata: {") {
+        match s.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => text.push_str(&String::from_utf8_lossy(&buf[..n])),
+        }
+    }
+    let status = text.lines().next().unwrap_or("nothing").to_owned();
+    (status, text.contains("\ndata: {"))
+}
+
+/// Slow clients on another machine (127.0.0.2) that send their request heads a line at a
+/// time and reconnect whenever they are closed, and pages of another site (127.0.0.3) asking
+/// for the live stream: a normal page load and its stream (127.0.0.1) are still served, the
+/// other site is refused with 403, and both are counted.
+#[test]
+fn hostile_peers_leave_a_normal_page_and_its_stream_served() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    let (_web, addr) = web("udp:17494");
+    let stop = Arc::new(AtomicBool::new(false));
+    let slow_connections = Arc::new(AtomicU64::new(0));
+    let mut threads = Vec::new();
+    for _ in 0..30 {
+        let (stop, count) = (stop.clone(), slow_connections.clone());
+        threads.push(std::thread::spawn(move || {
+            while !stop.load(Ordering::Relaxed) {
+                let Ok(mut s) = connect_from([127, 0, 0, 2], addr) else {
+                    std::thread::sleep(Duration::from_millis(50));
+                    continue;
+                };
+                count.fetch_add(1, Ordering::Relaxed);
+                let mut ok = s
+                    .write_all(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+                    .is_ok();
+                while ok && !stop.load(Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(200));
+                    ok = s.write_all(b"X-Slow: 1\r\n").is_ok();
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        }));
+    }
+    let cross = "GET /events HTTP/1.1\r\nHost: 127.0.0.1\r\nOrigin: http://evil.example\r\n\
+                 Sec-Fetch-Site: cross-site\r\nSec-Fetch-Mode: cors\r\nSec-Fetch-Dest: empty\r\n\r\n";
+    let cross_site: Vec<_> = (0..8)
+        .map(|_| std::thread::spawn(move || ask_from([127, 0, 0, 3], addr, cross)))
+        .collect();
+    std::thread::sleep(Duration::from_secs(3));
+    // The page and its stream, ten times over five seconds, while the slow clients keep at it.
+    let page = format!("GET / HTTP/1.1\r\nHost: {addr}\r\nSec-Fetch-Site: none\r\n\r\n");
+    let script =
+        format!("GET /app.js HTTP/1.1\r\nHost: {addr}\r\nSec-Fetch-Site: same-origin\r\n\r\n");
+    let events =
+        format!("GET /events HTTP/1.1\r\nHost: {addr}\r\nSec-Fetch-Site: same-origin\r\n\r\n");
+    let mut failures = Vec::new();
+    for _ in 0..10 {
+        for request in [&page, &script] {
+            let (status, _) = ask_from([127, 0, 0, 1], addr, request);
+            if !status.contains(" 200 ") {
+                failures.push(status);
+            }
+        }
+        let (status, live) = ask_from([127, 0, 0, 1], addr, &events);
+        if !(status.contains(" 200 ") && live) {
+            failures.push(format!("{status} (live update: {live})"));
+        }
+        std::thread::sleep(Duration::from_millis(500));
+    }
+    stop.store(true, Ordering::Relaxed);
+    for t in threads {
+        let _ = t.join();
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of 30 normal requests failed: {failures:?}",
+        failures.len()
+    );
+    for t in cross_site {
+        let (status, live) = t.join().unwrap();
+        assert!(
+            status.contains(" 403 ") && !live,
+            "cross-site stream: {status}"
+        );
+    }
+    let state = state_when(addr, "the counters", |v| v["server"]["cross_site"] == 8);
+    let server = &state["server"];
+    assert!(
+        server["refused"].as_u64().unwrap() > 0,
+        "the slow peer's connections beyond its share are refused: {server}"
+    );
+    assert!(
+        slow_connections.load(Ordering::Relaxed) > 12,
+        "the slow clients kept at it"
+    );
+}

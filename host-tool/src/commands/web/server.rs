@@ -6,22 +6,31 @@
 //!   (server-sent events, `GET /events`) sends the newest snapshot whenever it is ready for
 //!   one; the snapshots it skipped are counted as dropped. So a slow client costs the decoder
 //!   and the other clients nothing.
-//! * At most [`MAX_STREAMS`] live-update streams and [`MAX_CONNECTIONS`] connections in all;
-//!   more are answered `503` and counted.
+//! * At most [`MAX_STREAMS`] live-update streams and [`MAX_CONNECTIONS`] connections in all,
+//!   at most [`MAX_PER_PEER`] from one address; more are answered `503` and counted.
 //! * A request head is at most [`MAX_HEAD`] bytes with at most [`MAX_HEADERS`] headers
-//!   (`431` otherwise), parsed by `httparse`; it must arrive within [`READ_TIMEOUT`]. A write
-//!   that cannot go out within [`WRITE_TIMEOUT`] ends the connection.
+//!   (`431` otherwise), parsed by `httparse`; it must arrive within [`HEAD_TIMEOUT`]. At most
+//!   [`MAX_PENDING`] connections may be sending their head at once: a new one closes the
+//!   oldest of them that has had [`PENDING_GRACE`] (of its own address when that address is
+//!   at its limit; counted as evicted), so clients that send their heads slowly can neither
+//!   take the slots that connections with a request use nor keep a new client out. A write that cannot go out within [`WRITE_TIMEOUT`] ends the
+//!   connection.
+//! * A request a browser marks as sent by another site (`Sec-Fetch-Site: cross-site` or
+//!   `same-site`, other than the user opening the page itself), or whose `Origin` is not this
+//!   server, is refused with `403` and counted: a web page the user has open elsewhere can
+//!   neither read the state nor hold the live-update streams.
 //! * Only `GET` and `HEAD` (`405` otherwise); every response closes its connection.
 //! * Bound to a loopback address, it answers only requests whose `Host` is an address or
 //!   `localhost` (`421` otherwise), so a web page that points its own name at 127.0.0.1 (DNS
 //!   rebinding) cannot read the state.
 
+use std::collections::{HashMap, VecDeque};
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
-use std::sync::Arc;
+use std::net::{IpAddr, Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::assets;
 use super::hub::Hub;
@@ -32,12 +41,19 @@ use crate::error::{Error, Result};
 pub const MAX_STREAMS: u64 = 8;
 /// The most connections served at once (streams included).
 pub const MAX_CONNECTIONS: u64 = 24;
+/// The most connections from one address at once (a browser opens six per host).
+pub const MAX_PER_PEER: u64 = 12;
+/// The most connections still sending their request head at once: more than one address may
+/// hold, so another address always finds room.
+pub const MAX_PENDING: usize = 16;
+/// How long a connection may send its head before a new one may close it to take its place.
+pub const PENDING_GRACE: Duration = Duration::from_millis(250);
 /// The longest request head (request line and headers) accepted, bytes.
 pub const MAX_HEAD: usize = 8 * 1024;
 /// The most headers accepted in one request.
 pub const MAX_HEADERS: usize = 32;
-/// How long a client has to send its request head.
-pub const READ_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long a client has to send its whole request head (a browser sends it at once).
+pub const HEAD_TIMEOUT: Duration = Duration::from_secs(2);
 /// How long one write to a client may take before the connection is given up.
 pub const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
 /// A stream with nothing new sends a comment this often (so a gone client is noticed).
@@ -50,8 +66,20 @@ pub struct Counters {
     streams: AtomicU64,
     refused: AtomicU64,
     bad_requests: AtomicU64,
+    cross_site: AtomicU64,
+    evicted: AtomicU64,
     frames_sent: AtomicU64,
     frames_dropped: AtomicU64,
+    /// Connections per peer address (only addresses with one open).
+    peers: Mutex<HashMap<IpAddr, u64>>,
+    /// The connections still sending their head, oldest first.
+    pending: Mutex<VecDeque<Pending>>,
+    next_id: AtomicU64,
+}
+
+/// Locks `m`, taking the data of a poisoned lock as it is (every update is one step).
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 impl Counters {
@@ -61,6 +89,8 @@ impl Counters {
             clients: self.streams.load(Ordering::Relaxed),
             refused: self.refused.load(Ordering::Relaxed),
             bad_requests: self.bad_requests.load(Ordering::Relaxed),
+            cross_site: self.cross_site.load(Ordering::Relaxed),
+            evicted: self.evicted.load(Ordering::Relaxed),
             frames_sent: self.frames_sent.load(Ordering::Relaxed),
             frames_dropped: self.frames_dropped.load(Ordering::Relaxed),
         }
@@ -164,26 +194,29 @@ fn accept_loop(
 ) {
     while !stop.load(Ordering::SeqCst) {
         match listener.accept() {
-            Ok((mut stream, _)) => {
+            Ok((mut stream, peer)) => {
                 let _ = stream.set_nonblocking(false);
-                let Some(conn) = Connection::take(counters) else {
-                    counters.refused.fetch_add(1, Ordering::Relaxed);
-                    // A few bytes into a fresh socket's buffer: never blocks for long.
-                    let _ = stream.set_write_timeout(Some(Duration::from_millis(100)));
-                    let _ = respond(
-                        &mut stream,
-                        false,
-                        "503 Service Unavailable",
-                        "text/plain; charset=utf-8",
-                        b"too many connections",
-                    );
-                    continue;
+                let conn = match Connection::take(counters, peer.ip()) {
+                    Ok(conn) => conn,
+                    Err(why) => {
+                        counters.refused.fetch_add(1, Ordering::Relaxed);
+                        // A few bytes into a fresh socket's buffer: never blocks for long.
+                        let _ = stream.set_write_timeout(Some(Duration::from_millis(100)));
+                        let _ = respond(
+                            &mut stream,
+                            false,
+                            "503 Service Unavailable",
+                            "text/plain; charset=utf-8",
+                            why.as_bytes(),
+                        );
+                        continue;
+                    }
                 };
                 let hub = hub.clone();
                 // If the thread cannot start, the closure (and with it the slot) is dropped.
                 let _ = thread::Builder::new()
                     .name("web-conn".into())
-                    .spawn(move || serve(stream, loopback, &hub, &conn.0));
+                    .spawn(move || serve(stream, loopback, &hub, &conn));
             }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 thread::sleep(Duration::from_millis(20));
@@ -195,21 +228,121 @@ fn accept_loop(
     }
 }
 
-/// One of [`MAX_CONNECTIONS`] connection slots, given back when dropped.
-struct Connection(Arc<Counters>);
+/// One of [`MAX_CONNECTIONS`] connection slots and one of its peer's [`MAX_PER_PEER`], given
+/// back when dropped; while the request head is awaited, also one of [`MAX_PENDING`].
+struct Connection {
+    counters: Arc<Counters>,
+    peer: IpAddr,
+    id: u64,
+}
 
 impl Connection {
-    fn take(counters: &Arc<Counters>) -> Option<Self> {
-        Slot::take(&counters.connections, MAX_CONNECTIONS).map(|slot| {
+    /// The slots for a new connection from `peer`, or the sentence that refuses it. When its
+    /// peer is at [`MAX_PER_PEER`], [`MAX_PENDING`] heads are awaited or every connection
+    /// slot is taken, the oldest connection (of that peer, or of any) still sending its head
+    /// after [`PENDING_GRACE`] is closed to make room.
+    fn take(counters: &Arc<Counters>, peer: IpAddr) -> std::result::Result<Self, &'static str> {
+        let peer_full = || lock(&counters.peers).get(&peer).copied().unwrap_or(0) >= MAX_PER_PEER;
+        if peer_full() && !evict_oldest(counters, Some(peer), || !peer_full()) {
+            return Err("too many connections from your address");
+        }
+        let pending_full = || lock(&counters.pending).len() >= MAX_PENDING;
+        if pending_full() && !evict_oldest(counters, None, || !pending_full()) {
+            return Err("too many connections are still sending their request");
+        }
+        let all_taken = || counters.connections.load(Ordering::SeqCst) >= MAX_CONNECTIONS;
+        if all_taken() && !evict_oldest(counters, None, || !all_taken()) {
+            return Err("too many connections");
+        }
+        {
+            let mut peers = lock(&counters.peers);
+            let n = peers.entry(peer).or_insert(0);
+            if *n >= MAX_PER_PEER {
+                return Err("too many connections from your address");
+            }
+            *n += 1;
+        }
+        if let Some(slot) = Slot::take(&counters.connections, MAX_CONNECTIONS) {
+            // Given back by the connection's drop.
             std::mem::forget(slot);
-            Connection(counters.clone())
-        })
+            return Ok(Connection {
+                counters: counters.clone(),
+                peer,
+                id: counters.next_id.fetch_add(1, Ordering::Relaxed),
+            });
+        }
+        release_peer(counters, peer);
+        Err("too many connections")
     }
+
+    /// Marks the connection as sending its head (closable by a newer one) until [`Self::arrived`].
+    fn awaiting_head(&self, stream: &TcpStream) {
+        if let Ok(handle) = stream.try_clone() {
+            lock(&self.counters.pending).push_back(Pending {
+                id: self.id,
+                since: Instant::now(),
+                peer: self.peer,
+                stream: handle,
+            });
+        }
+    }
+
+    /// The head arrived (or the connection ended): it no longer counts as pending.
+    fn arrived(&self) {
+        lock(&self.counters.pending).retain(|p| p.id != self.id);
+    }
+}
+
+/// A connection still sending its request head.
+#[derive(Debug)]
+struct Pending {
+    id: u64,
+    since: Instant,
+    peer: IpAddr,
+    /// A handle to close it by.
+    stream: TcpStream,
+}
+
+/// Closes the oldest connection still sending its head after [`PENDING_GRACE`] (of `peer`
+/// when given), counted as evicted, and waits up to 50 ms for its thread to give its slots
+/// back (`freed`); false when there is none to close.
+fn evict_oldest(counters: &Counters, peer: Option<IpAddr>, freed: impl Fn() -> bool) -> bool {
+    let victim = {
+        let mut pending = lock(&counters.pending);
+        let at = pending.iter().position(|p| {
+            peer.is_none_or(|peer| p.peer == peer) && p.since.elapsed() >= PENDING_GRACE
+        });
+        at.and_then(|i| pending.remove(i))
+    };
+    let Some(victim) = victim else {
+        return false;
+    };
+    counters.evicted.fetch_add(1, Ordering::Relaxed);
+    let _ = victim.stream.shutdown(Shutdown::Both);
+    let until = Instant::now() + Duration::from_millis(50);
+    while !freed() && Instant::now() < until {
+        thread::sleep(Duration::from_millis(1));
+    }
+    freed()
 }
 
 impl Drop for Connection {
     fn drop(&mut self) {
-        self.0.connections.fetch_sub(1, Ordering::SeqCst);
+        self.arrived();
+        release_peer(&self.counters, self.peer);
+        // Only a connection whose slot was taken exists: `take` returns one only then.
+        self.counters.connections.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Gives back one of `peer`'s connections; an address with none left is forgotten.
+fn release_peer(counters: &Counters, peer: IpAddr) {
+    let mut peers = lock(&counters.peers);
+    if let Some(n) = peers.get_mut(&peer) {
+        *n = n.saturating_sub(1);
+        if *n == 0 {
+            peers.remove(&peer);
+        }
     }
 }
 
@@ -234,15 +367,15 @@ fn respond(
 }
 
 /// Reads the request head: up to and including the blank line, at most [`MAX_HEAD`] bytes,
-/// all within [`READ_TIMEOUT`]. `Ok(None)` when it is too long.
+/// all within [`HEAD_TIMEOUT`]. `Ok(None)` when it is too long.
 fn read_head(stream: &mut TcpStream) -> std::io::Result<Option<Vec<u8>>> {
     let started = std::time::Instant::now();
     let mut head = Vec::with_capacity(1024);
     let mut chunk = [0u8; 1024];
     loop {
-        // The whole head within READ_TIMEOUT, not each read: a client that trickles bytes
+        // The whole head within HEAD_TIMEOUT, not each read: a client that trickles bytes
         // cannot hold a connection slot for long.
-        let left = READ_TIMEOUT.saturating_sub(started.elapsed());
+        let left = HEAD_TIMEOUT.saturating_sub(started.elapsed());
         if left.is_zero() {
             return Err(std::io::ErrorKind::TimedOut.into());
         }
@@ -275,9 +408,35 @@ fn local_host(value: &[u8]) -> bool {
     name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::IpAddr>().is_ok()
 }
 
+/// Whether a browser marks the request as made by another site's page: `Sec-Fetch-Site`
+/// `cross-site` or `same-site` (other than the user opening the page itself: a navigation to
+/// a document), or an `Origin` other than the `Host` the request was sent to.
+fn from_another_site(headers: &[httparse::Header<'_>]) -> bool {
+    let get = |name: &str| {
+        headers
+            .iter()
+            .find(|h| h.name.eq_ignore_ascii_case(name))
+            .map(|h| String::from_utf8_lossy(h.value).trim().to_ascii_lowercase())
+    };
+    let site = get("sec-fetch-site");
+    let user_opened = get("sec-fetch-mode").as_deref() == Some("navigate")
+        && get("sec-fetch-dest")
+            .as_deref()
+            .is_none_or(|d| d == "document");
+    if matches!(site.as_deref(), Some("cross-site" | "same-site")) && !user_opened {
+        return true;
+    }
+    match (get("origin"), get("host")) {
+        (Some(origin), Some(host)) => origin != format!("http://{host}"),
+        (Some(_), None) => true,
+        (None, _) => false,
+    }
+}
+
 /// One connection: read one request, answer it, close.
-fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) {
-    let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
+fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, conn: &Connection) {
+    let counters = &*conn.counters;
+    let _ = stream.set_read_timeout(Some(HEAD_TIMEOUT));
     let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
     let _ = stream.set_nodelay(true);
     let bad = |stream: &mut TcpStream, status: &str| {
@@ -290,14 +449,17 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) 
             status.as_bytes(),
         );
     };
-    let head = match read_head(&mut stream) {
+    conn.awaiting_head(&stream);
+    let head = read_head(&mut stream);
+    conn.arrived();
+    let head = match head {
         Ok(Some(head)) => head,
         Ok(None) => return bad(&mut stream, "431 Request Header Fields Too Large"),
         Err(_) => return,
     };
     let mut headers = [httparse::EMPTY_HEADER; MAX_HEADERS];
     let mut req = httparse::Request::new(&mut headers);
-    let (method, path, host_ok) = match req.parse(&head) {
+    let (method, path, host_ok, cross_site) = match req.parse(&head) {
         Ok(httparse::Status::Complete(_)) => (
             req.method.unwrap_or_default().to_owned(),
             req.path.unwrap_or_default().to_owned(),
@@ -305,6 +467,7 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) 
                 .iter()
                 .find(|h| h.name.eq_ignore_ascii_case("host"))
                 .is_none_or(|h| local_host(h.value)),
+            from_another_site(req.headers),
         ),
         Err(httparse::Error::TooManyHeaders) => {
             return bad(&mut stream, "431 Request Header Fields Too Large");
@@ -315,6 +478,18 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, counters: &Counters) 
     // the state: a loopback server answers only to an address or `localhost`.
     if loopback && !host_ok {
         return bad(&mut stream, "421 Misdirected Request");
+    }
+    // Another site's page must neither read the state nor hold a stream slot.
+    if cross_site {
+        counters.cross_site.fetch_add(1, Ordering::Relaxed);
+        let _ = respond(
+            &mut stream,
+            false,
+            "403 Forbidden",
+            "text/plain; charset=utf-8",
+            b"refused: a request from another site (open the page itself)",
+        );
+        return;
     }
     let head_only = match method.as_str() {
         "GET" => false,
@@ -420,6 +595,56 @@ mod tests {
     use std::sync::Mutex;
 
     use super::*;
+
+    #[test]
+    fn requests_of_another_site_are_told_apart() {
+        let h = |pairs: &[(&'static str, &'static str)]| -> bool {
+            let headers: Vec<httparse::Header<'_>> = pairs
+                .iter()
+                .map(|(name, value)| httparse::Header {
+                    name,
+                    value: value.as_bytes(),
+                })
+                .collect();
+            from_another_site(&headers)
+        };
+        let host = ("Host", "127.0.0.1:8080");
+        // No fetch metadata (curl, an older browser), the user typing the address, the page's
+        // own requests: served.
+        assert!(!h(&[host]));
+        assert!(!h(&[host, ("Sec-Fetch-Site", "none")]));
+        assert!(!h(&[host, ("Sec-Fetch-Site", "same-origin")]));
+        assert!(!h(&[host, ("Origin", "http://127.0.0.1:8080")]));
+        // A link on another site opening the page itself: served (its requests are then
+        // same-origin).
+        assert!(!h(&[
+            host,
+            ("Sec-Fetch-Site", "cross-site"),
+            ("Sec-Fetch-Mode", "navigate"),
+            ("Sec-Fetch-Dest", "document"),
+        ]));
+        // Another site's script, frame or stream: refused.
+        assert!(h(&[
+            host,
+            ("Sec-Fetch-Site", "cross-site"),
+            ("Sec-Fetch-Mode", "cors")
+        ]));
+        assert!(h(&[
+            host,
+            ("Sec-Fetch-Site", "Same-Site"),
+            ("Sec-Fetch-Mode", "no-cors")
+        ]));
+        assert!(h(&[
+            host,
+            ("Sec-Fetch-Site", "cross-site"),
+            ("Sec-Fetch-Mode", "navigate"),
+            ("Sec-Fetch-Dest", "iframe"),
+        ]));
+        assert!(h(&[host, ("Origin", "http://evil.example")]));
+        assert!(h(&[host, ("Origin", "http://127.0.0.1:9999")]));
+        assert!(h(&[host, ("Origin", "null")]));
+        assert!(h(&[("Origin", "http://127.0.0.1:8080")]));
+    }
 
     #[test]
     fn only_local_host_names_pass() {

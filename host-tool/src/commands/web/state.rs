@@ -450,10 +450,14 @@ pub struct ErrorState {
 pub struct ServerState {
     /// Live-update streams open now.
     pub clients: u64,
-    /// Connections refused with 503 (too many clients or connections).
+    /// Connections refused with 503 (too many clients, connections, or from one address).
     pub refused: u64,
     /// Requests answered with an error status (bad request, too large, unknown path, not GET).
     pub bad_requests: u64,
+    /// Requests refused with 403 as made by another site's page.
+    pub cross_site: u64,
+    /// Connections closed while still sending their request head, to let a newer one in.
+    pub evicted: u64,
     /// Snapshots sent on live-update streams.
     pub frames_sent: u64,
     /// Snapshots a slow client never got (it got a newer one instead).

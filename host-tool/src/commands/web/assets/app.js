@@ -568,7 +568,7 @@ function drawBox(s) {
     ? `${fmt(p.latitude_deg, 6)}, ${fmt(p.longitude_deg, 6)}  fix ${p.fix ? 'yes' : 'no'}  ${p.satellites} sats  ${fmt(scaled(p.ground_speed_mps, u.speed), 1)} ${u.speed.unit}`
     : '-';
   const v = s.server || {};
-  $('server').textContent = `${v.clients} live clients, ${v.refused} refused, ${v.frames_sent} updates sent, ${v.frames_dropped} dropped for slow clients, ${v.bad_requests} bad requests; ${s.bytes} bytes from ${s.source} in ${fmt(s.uptime_s, 0)} s`;
+  $('server').textContent = `${v.clients} live clients, ${v.refused} refused, ${v.frames_sent} updates sent, ${v.frames_dropped} dropped for slow clients, ${v.bad_requests} bad requests, ${v.cross_site} cross-site refused, ${v.evicted} slow requests closed; ${s.bytes} bytes from ${s.source} in ${fmt(s.uptime_s, 0)} s`;
 }
 
 // ------------------------------------------------------------------ the loop
