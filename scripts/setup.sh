@@ -21,6 +21,8 @@
 #                               maturin 1.16.0 (builds the Python package, python/), pytest 9.2.0,
 #                               hypothesis 6.170.17 and pandas 3.1.1 (its tests), pymavlink 2.4.50
 #                               (the peer of python/bench/bench.py)
+#   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/gpsd.rs
+#                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -72,6 +74,10 @@ for want in "$@"; do
       # Debian's python3 makes venvs (scripts/test-python.sh) only with python3-venv.
       python3 -c 'import ensurepip' 2>/dev/null || need_apt+=(python3-venv)
       want_pypi=1 ;;
+    gpsd)
+      # gpsd lives in /usr/sbin, which a user's PATH may lack.
+      command -v gpsd >/dev/null || [ -x /usr/sbin/gpsd ] || need_apt+=(gpsd)
+      command -v gpspipe >/dev/null || need_apt+=(gpsd-clients) ;;
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done

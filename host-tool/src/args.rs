@@ -1,9 +1,11 @@
-//! Checking numbers on the command line: durations with a unit, and floats in a stated range.
+//! Checking numbers on the command line: durations with a unit, windows of time, and floats in
+//! a stated range.
 //!
 //! Every parser here refuses NaN, infinities, values out of range and empty text with one
 //! sentence that names the range and the unit, so clap reports it and exits with status 2.
 //! Nothing is silently clamped or taken as zero.
 
+use std::ops::Range;
 use std::time::Duration;
 
 /// The longest duration any option accepts: one year.
@@ -11,6 +13,9 @@ pub const MAX_DURATION: Duration = Duration::from_secs(365 * 24 * 3600);
 
 /// How long every request/reply command waits for an answer unless told otherwise.
 pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_millis(2000);
+
+/// The latest end of a window of time ([`time_window`]): one day.
+pub const MAX_WINDOW_END: Duration = Duration::from_secs(24 * 3600);
 
 /// The units a duration may carry.
 const UNITS: [(&str, f64); 4] = [("ms", 1e-3), ("s", 1.0), ("min", 60.0), ("h", 3600.0)];
@@ -121,6 +126,45 @@ pub fn timeout_ms(text: &str) -> Result<Duration, String> {
 /// A sentence naming the range.
 pub fn period_ms(text: &str) -> Result<Duration, String> {
     duration(text, 1e-3, Duration::ZERO, Duration::from_secs(3600))
+}
+
+/// A window of time after a start, `FROM..TO` (`--gps-outage`): each end is a duration as
+/// [`run_time`] reads it (a plain number is in seconds), from 0 to [`MAX_WINDOW_END`] (one
+/// day), and FROM comes before TO. The window holds FROM and not TO.
+///
+/// ```
+/// use std::time::Duration;
+/// use protolink::args::time_window;
+/// let w = time_window("4..8").unwrap();
+/// assert_eq!((w.start, w.end), (Duration::from_secs(4), Duration::from_secs(8)));
+/// assert_eq!(time_window("0.5..2min").unwrap().end, Duration::from_secs(120));
+/// assert!(time_window("8..4").unwrap_err().contains("FROM must come before TO"));
+/// for bad in ["4", "4..", "..8", "-1..8", "4..nan", "4..inf", "0..86401", "4..8..9"] {
+///     assert!(time_window(bad).unwrap_err().contains("is not a window FROM..TO"), "{bad}");
+/// }
+/// ```
+///
+/// # Errors
+/// A sentence naming the syntax and the range, or saying that the window is empty.
+pub fn time_window(text: &str) -> Result<Range<Duration>, String> {
+    let not_a_window = || {
+        format!(
+            "'{text}' is not a window FROM..TO (each a time after the start from 0 to {}, \
+             a plain number in seconds, FROM before TO)",
+            show(MAX_WINDOW_END)
+        )
+    };
+    let (from, to) = text.trim().split_once("..").ok_or_else(not_a_window)?;
+    let end = |t: &str| duration(t, 1.0, Duration::ZERO, MAX_WINDOW_END).ok();
+    let (Some(from), Some(to)) = (end(from), end(to)) else {
+        return Err(not_a_window());
+    };
+    if from >= to {
+        return Err(format!(
+            "'{text}' is an empty window: FROM must come before TO"
+        ));
+    }
+    Ok(from..to)
 }
 
 /// Parses a finite number in `lo..=hi`, for the error naming `unit`.

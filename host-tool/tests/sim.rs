@@ -165,3 +165,55 @@ fn sim_refuses_an_impossible_flight_in_one_sentence() {
         "{err}"
     );
 }
+
+/// `--gps-outage 1..2`: the GPS frames the sim sends in that second have no fix, the others
+/// have one; a window that is not one is refused in one sentence, with status 2.
+#[test]
+fn sim_gps_outage_sends_no_fix_in_its_window_and_refuses_a_bad_one() {
+    let mut link = App::new(free_udp_port());
+    let child = sim(&link, &["--gps-outage", "1..2", "--seconds", "3"]);
+    link.read_for(Duration::from_millis(3500));
+    ok(&finish(child));
+    // The box's clock starts with the sim's (no reboot here): 100 ms of margin at each edge.
+    let gps: Vec<_> = link
+        .frames
+        .iter()
+        .filter_map(|f| match f.message()? {
+            Message::Gps(g) => Some(g),
+            _ => None,
+        })
+        .collect();
+    let (mut inside, mut outside) = (0, 0);
+    for g in &gps {
+        let t = g.timestamp_ms;
+        if (1100.0..1900.0).contains(&t) {
+            inside += 1;
+            assert!(
+                !g.has_fix && g.satellites == 0 && g.latitude_deg == 0.0,
+                "{g:?}"
+            );
+            assert!(g.valid, "the receiver works without a fix: {g:?}");
+        } else if !(900.0..2100.0).contains(&t) {
+            outside += 1;
+            assert!(g.has_fix && g.satellites > 0, "{g:?}");
+        }
+    }
+    assert!(
+        inside >= 7 && outside >= 15,
+        "{inside} GPS in the outage, {outside} out"
+    );
+
+    for (window, says) in [
+        (
+            "8..4",
+            "'8..4' is an empty window: FROM must come before TO",
+        ),
+        ("4", "'4' is not a window FROM..TO"),
+        ("-1..4", "'-1..4' is not a window FROM..TO"),
+        ("4..nan", "'4..nan' is not a window FROM..TO"),
+        ("0..86401", "each a time after the start from 0 to 86400 s"),
+    ] {
+        let err = usage_failed(&run(&["sim", "--gps-outage", window, "--seconds", "1"]));
+        assert!(err.contains(says), "{window}: {err}");
+    }
+}

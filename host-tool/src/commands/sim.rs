@@ -11,13 +11,19 @@
 //! [`run`] adds the sockets and a millisecond clock: the link is polled once per millisecond
 //! of wall time, and the frames it produces go out through a [`Packer`] (one frame per
 //! datagram by default, `--pack N` to pack).
+//!
+//! One thing is the host's, not the firmware's: a GPS outage (`--gps-outage FROM..TO`,
+//! [`Sim::gps_outage`]). The box always has a fix, so the sim rewrites the GPS frames the link
+//! sends inside the window, re-encoded as a receiver without a fix reports it.
 
 use std::collections::VecDeque;
 use std::convert::Infallible;
 use std::io::{self, IsTerminal, Write as _};
+use std::ops::Range;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::FLAG;
+use aeolus_proto::message::{Gps, Message};
+use aeolus_proto::{CrcMode, FLAG, decode_datagram, max_encoded_len};
 use clap::Args;
 use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{AeolusLink, LinkCounters};
@@ -54,6 +60,12 @@ pub struct SimArgs {
     #[arg(long, value_name = "M/S", allow_negative_numbers = true,
           value_parser = |t: &str| crate::args::number_in(t, -75.0, 75.0, "m/s"))]
     pub climb: Option<f32>,
+    /// A GPS outage from FROM to TO seconds after the sim starts (`4..8`; 0..=86400, FROM
+    /// before TO; a reboot does not restart this clock): every GPS message in the window says
+    /// "no fix" (still valid, 0 satellites, position, altitude and ground speed zero).
+    #[arg(long, value_name = "FROM..TO", allow_hyphen_values = true,
+          value_parser = crate::args::time_window)]
+    pub gps_outage: Option<Range<Duration>>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<std::time::Duration>,
@@ -200,6 +212,10 @@ pub struct Sim {
     dropped: u64,
     /// The vertical speed the flight adds to the settings' level turn, m/s.
     climb_mps: f32,
+    /// When the sim started (the `now_ms` of [`Sim::new`]; a reboot keeps it).
+    started_ms: u64,
+    /// Milliseconds after the start during which GPS frames say "no fix".
+    gps_outage_ms: Option<Range<u64>>,
 }
 
 /// Bytes the virtual box holds for its link to read (the link reads up to
@@ -221,7 +237,51 @@ impl Sim {
             reboots: 0,
             dropped: 0,
             climb_mps: 0.0,
+            started_ms: now_ms,
+            gps_outage_ms: None,
         }
+    }
+
+    /// The same box with a GPS outage from `window_ms.start` to `window_ms.end` milliseconds
+    /// after the sim started (the `now_ms` of [`Sim::new`]; a reboot does not restart this
+    /// clock). Every GPS frame [`Sim::poll`] sends in the window says what a working receiver
+    /// without a fix says: still `valid`, `has_fix` false, 0 satellites, and position,
+    /// altitude and ground speed zero (its timestamp stays). The box itself always has a fix,
+    /// so the sim rewrites its frames; the firmware knows no outage.
+    ///
+    /// ```
+    /// use aeolus_proto::{decode_datagram, message::Message};
+    /// use protolink::commands::sim::Sim;
+    ///
+    /// let mut sim = Sim::new(sensor_box::Settings::default(), 0).gps_outage(1_000..2_000);
+    /// // (time after the start, has a fix, satellites, latitude) of every GPS frame in 3 s.
+    /// let mut gps = Vec::new();
+    /// for now_ms in 0..3_000 {
+    ///     sim.poll(now_ms, |wire| {
+    ///         let mut frame = wire.to_vec();
+    ///         let f = decode_datagram(&mut frame, true).next().unwrap().unwrap();
+    ///         if let Ok(Message::Gps(g)) = f.message() {
+    ///             assert!(g.valid, "the receiver works, fix or not");
+    ///             gps.push((now_ms, g.has_fix, g.satellites, g.latitude_deg));
+    ///         }
+    ///     });
+    /// }
+    /// let mut inside = 0;
+    /// for &(now_ms, has_fix, satellites, latitude) in &gps {
+    ///     if (1_000..2_000).contains(&now_ms) {
+    ///         inside += 1;
+    ///         assert!(!has_fix && satellites == 0 && latitude == 0.0, "no fix at {now_ms} ms");
+    ///     } else {
+    ///         assert!(has_fix && satellites > 0 && latitude != 0.0, "a fix at {now_ms} ms");
+    ///     }
+    /// }
+    /// // GPS every 92 ms: about 10 frames in the window and 20 outside it.
+    /// assert!(inside >= 10 && gps.len() - inside >= 20);
+    /// ```
+    #[must_use]
+    pub fn gps_outage(mut self, window_ms: Range<u64>) -> Self {
+        self.gps_outage_ms = Some(window_ms);
+        self
     }
 
     /// The same box climbing (or descending, `climb_mps` < 0) from its settings' altitude at
@@ -281,11 +341,19 @@ impl Sim {
 
     /// Runs the box at `now_ms`: acts on what was received, and hands each frame it sends
     /// (escaped, flags included) to `send`. A `a reboot` command restarts the box, which
-    /// keeps its settings and starts again with its boot TOAST.
+    /// keeps its settings and starts again with its boot TOAST. In a GPS outage
+    /// ([`Sim::gps_outage`]) its GPS frames go out without a fix.
     pub fn poll(&mut self, now_ms: u64, mut send: impl FnMut(&[u8])) {
         self.link.poll(now_ms, &mut self.port, &mut self.shared);
+        let outage = self
+            .gps_outage_ms
+            .as_ref()
+            .is_some_and(|w| w.contains(&now_ms.saturating_sub(self.started_ms)));
         for frame in self.port.frames.drain(..) {
-            send(&frame);
+            match outage.then(|| without_fix(&frame)).flatten() {
+                Some(rewritten) => send(&rewritten),
+                None => send(&frame),
+            }
         }
         if std::mem::take(&mut self.shared.requests.reboot) {
             add_counters(&mut self.before_reboots, self.link.counters());
@@ -340,6 +408,36 @@ impl Sim {
     }
 }
 
+/// A GPS frame (escaped, flags included) as a receiver without a fix sends it: still valid,
+/// no fix, 0 satellites, position, altitude and ground speed zero, the same timestamp;
+/// `None` for any other frame, which goes out unchanged.
+fn without_fix(frame: &[u8]) -> Option<Vec<u8>> {
+    // The ID follows the opening flag; GPS's (66) is never escaped, so other frames stop here.
+    if frame.get(1) != Some(&Gps::ID) {
+        return None;
+    }
+    let mut unescaped = frame.to_vec();
+    let decoded = decode_datagram(&mut unescaped, true).next()?.ok()?;
+    let Ok(Message::Gps(g)) = decoded.message() else {
+        return None;
+    };
+    let no_fix = Gps {
+        has_fix: false,
+        satellites: 0,
+        latitude_deg: 0.0,
+        longitude_deg: 0.0,
+        altitude_m: 0.0,
+        ground_speed_mps: 0.0,
+        ..g
+    };
+    let mut out = vec![0u8; max_encoded_len(Gps::LEN)];
+    let n = Message::Gps(no_fix)
+        .encode(&mut out, CrcMode::Compute)
+        .ok()?;
+    out.truncate(n);
+    Some(out)
+}
+
 fn add_counters(into: &mut LinkCounters, c: &LinkCounters) {
     for (a, b) in into.sent.iter_mut().zip(c.sent) {
         *a = a.wrapping_add(b);
@@ -382,6 +480,16 @@ pub fn run(args: &SimArgs) -> Result<()> {
     let deadline = Deadline::after(args.seconds);
     let start = Instant::now();
     let mut sim = Sim::new(settings, 0).climbing(args.climb.unwrap_or(0.0))?;
+    if let Some(w) = &args.gps_outage {
+        let ms = |d: Duration| u64::try_from(d.as_millis()).unwrap_or(u64::MAX);
+        sim = sim.gps_outage(ms(w.start)..ms(w.end));
+        let _ = writeln!(
+            io::stderr(),
+            "sim: GPS outage from {} to {} after the start (no fix)",
+            crate::args::show(w.start),
+            crate::args::show(w.end)
+        );
+    }
     let mut datagram = vec![0u8; 65_536];
     let mut received = 0u64;
     let mut status = Status::new();
@@ -477,5 +585,52 @@ impl Status {
         if self.tty && self.shown {
             let _ = write!(io::stderr(), "\r\x1b[2K");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use aeolus_proto::message::{Message, Text};
+    use aeolus_proto::{CrcMode, decode_datagram};
+    use sensor_box::Settings;
+
+    use crate::commands::sim::Sim;
+
+    /// The GPS frames `sim` sends from `from_ms` to `to_ms`: (poll time, has a fix).
+    fn gps_fixes(sim: &mut Sim, from_ms: u64, to_ms: u64) -> Vec<(u64, bool)> {
+        let mut gps = Vec::new();
+        for now_ms in from_ms..to_ms {
+            sim.poll(now_ms, |wire| {
+                let mut frame = wire.to_vec();
+                if let Some(Ok(f)) = decode_datagram(&mut frame, true).next()
+                    && let Ok(Message::Gps(g)) = f.message()
+                {
+                    gps.push((now_ms, g.has_fix));
+                }
+            });
+        }
+        gps
+    }
+
+    /// The outage's clock is the sim's, from the `now_ms` it started at: a reboot in the
+    /// middle (which restarts the box's own clock) neither ends nor moves the window.
+    #[test]
+    fn a_reboot_keeps_the_outage_window_on_the_sims_clock() {
+        let mut sim = Sim::new(Settings::default(), 10_000).gps_outage(1_000..3_000);
+        let mut gps = gps_fixes(&mut sim, 10_000, 11_500);
+        let mut reboot = [0u8; 32];
+        let n = Message::Command(Text::new("a reboot").unwrap())
+            .encode(&mut reboot, CrcMode::Compute)
+            .unwrap();
+        assert!(sim.receive(&reboot[..n]));
+        gps.extend(gps_fixes(&mut sim, 11_500, 14_000));
+        assert_eq!(sim.reboots(), 1);
+        let in_window = |now_ms: u64| (11_000..13_000).contains(&now_ms);
+        for &(now_ms, has_fix) in &gps {
+            assert_eq!(has_fix, !in_window(now_ms), "GPS at {now_ms} ms");
+        }
+        // GPS every 92 ms, on both sides of the reboot.
+        let inside = gps.iter().filter(|g| in_window(g.0)).count();
+        assert!(inside >= 15 && gps.len() - inside >= 20, "{gps:?}");
     }
 }
