@@ -33,9 +33,10 @@ use common::*;
 use serde_json::Value;
 
 /// How `protolink nmea` is started for gpsd (`--from`, `--listen` and `--seconds` follow).
-/// The default output, `&["nmea"]` (with `$PGRMZ`, `$LXWP0` and `$POV`), fails here: gpsd's
-/// stream is right, but its polls give the pressure altitude as `altMSL`, and mode 2 with that
-/// altitude through the outage (gpsd 3.22 reads `$PGRMZ` as Garmin's altitude and fix type).
+/// A set with `$PGRMZ` (``--for lk8000`, and every run before `--for` existed) fails here:
+/// gpsd's stream is right, but its polls give the pressure altitude as `altMSL`, and mode 2
+/// with that altitude through the outage (gpsd 3.22 reads `$PGRMZ` as Garmin's altitude and
+/// fix type).
 const NMEA: &[&str] = &["nmea", "--for", "gpsd"];
 
 /// How long the sim runs, seconds.
