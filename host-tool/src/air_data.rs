@@ -16,7 +16,7 @@
 //! are what the box measures. The raw decoders (`decode`, Wireshark, Python, C) show it as the
 //! wire field `airspeed_mps`.
 //!
-//! A value is there only while its message is fresh ([`FRESH`](crate::telemetry::FRESH) for PRESSURE, [`FRESH_SLOW`]
+//! A value is there only while its message is fresh ([`FRESH`](crate::fresh::FRESH) for PRESSURE, [`FRESH_SLOW`]
 //! for TEMP, which the box sends about once a second) and marked valid by the box; anything
 //! else is `None`, which each face sends as its format's invalid marker, never as an old
 //! value.
@@ -27,7 +27,7 @@ use std::time::Instant;
 use aeolus_proto::message::{Message, Pressure, Temp};
 use serde::Serialize;
 
-use crate::telemetry::{FRESH_SLOW, fresh, fresh_within};
+use crate::fresh::{FRESH_SLOW, fresh, fresh_within};
 
 /// Air density of the ISA at sea level, kg/m³: the density indicated airspeed assumes.
 pub const SEA_LEVEL_DENSITY: f64 = 1.225;

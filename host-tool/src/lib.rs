@@ -18,6 +18,8 @@
 //! | shared | [`proto`] | what a stream carries: protocol, AYDP profile, AOK side |
 //! | shared | [`decoders`] | stream decoders for the four protocols: events, fields as JSON, counters |
 //! | shared | [`telemetry`] | the live AEOLUS telemetry model that `watch` and `web` show |
+//! | shared | [`air_data`] | the one air-data truth: IAS, TAS, pressure altitude, vertical speed (PL39) |
+//! | shared | [`fresh`] | how long a telemetry value stays current for what the faces send |
 //! | shared | [`nmea`] | NMEA 0183 sentences and their bounded fan-out to TCP clients or UDP |
 //! | shared | [`render`] | output lines, text escaping, JSON and `key=value` rendering |
 //! | shared | [`args`], [`units`], [`value_type`] | durations and range-checked numbers, display units, AYDP value types such as `f32[3]` |
@@ -48,6 +50,7 @@ pub mod datagrams;
 pub mod decoders;
 pub mod endpoint;
 pub mod error;
+pub mod fresh;
 pub mod nb_serial;
 pub mod nmea;
 pub mod progress;

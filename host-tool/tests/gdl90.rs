@@ -319,9 +319,20 @@ fn decode_reads_the_icd_heartbeat_example() {
 
 /// `--discover`: GDL90 goes to the host and port a ForeFlight announcement names, not to
 /// `--to`.
-#[test]
-fn discover_follows_the_foreflight_announcement() {
-    let (app, app_port) = udp();
+/// A UDP socket on `ip` (another loopback address stands for another machine), non-blocking.
+fn udp_on(ip: &str) -> (UdpSocket, u16) {
+    let s = UdpSocket::bind((ip, 0)).unwrap();
+    s.set_nonblocking(true).unwrap();
+    let port = s.local_addr().unwrap().port();
+    (s, port)
+}
+
+/// Runs `gdl90 --discover[=WHOM]` while a ForeFlight on 127.0.0.2 announces itself, and from
+/// 3 s on a second one on 127.0.0.3; returns the GDL90 datagrams each got after the second
+/// began, those that went to `--to`, and the run's stderr and stdout.
+fn discover_with(discover: &str) -> (usize, usize, usize, String, String) {
+    let (first, first_port) = udp_on("127.0.0.2");
+    let (second, second_port) = udp_on("127.0.0.3");
     let (unused, unused_port) = udp();
     let gdl90 = spawn(&[
         "gdl90",
@@ -329,33 +340,86 @@ fn discover_follows_the_foreflight_announcement() {
         "udp:0",
         "--to",
         &format!("127.0.0.1:{unused_port}"),
-        "--discover",
+        discover,
         "--seconds",
-        "8",
+        "6",
     ]);
-    let announce = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let text = format!(r#"{{"App":"ForeFlight","GDL90":{{"port":{app_port}}}}}"#);
+    let announce = |ip: &str, port: u16| {
+        let s = UdpSocket::bind((ip, 0)).unwrap();
+        let text = format!(r#"{{"App":"ForeFlight","GDL90":{{"port":{port}}}}}"#);
+        let _ = s.send_to(text.as_bytes(), ("127.0.0.1", 63093));
+    };
     let mut buf = [0u8; 512];
-    let mut heard = 0;
+    let (mut to_first, mut to_second) = (0, 0);
     let started = Instant::now();
-    // Announce every 100 ms (the tool may still be starting) until 5 datagrams came.
-    while heard < 5 && started.elapsed() < Duration::from_secs(7) {
-        let _ = announce.send_to(text.as_bytes(), ("127.0.0.1", 63093));
-        while let Ok(n) = app.recv(&mut buf) {
+    // Each announces every 100 ms (the tool may still be starting; ForeFlight repeats its
+    // announcement too).
+    while started.elapsed() < Duration::from_millis(5500) {
+        announce("127.0.0.2", first_port);
+        let second_on = started.elapsed() >= Duration::from_secs(3);
+        if second_on {
+            announce("127.0.0.3", second_port);
+        }
+        // Settle for half a second after the second began, then count.
+        let counting = started.elapsed() >= Duration::from_millis(3500);
+        while let Ok(n) = first.recv(&mut buf) {
             assert!(unframe(&buf[..n]).is_some());
-            heard += 1;
+            to_first += usize::from(counting);
+        }
+        while let Ok(n) = second.recv(&mut buf) {
+            assert!(unframe(&buf[..n]).is_some());
+            to_second += usize::from(counting);
         }
         std::thread::sleep(Duration::from_millis(100));
     }
     let out = finish(gdl90);
     assert!(out.status.success(), "{}", stderr(&out));
-    assert!(heard >= 5, "{heard} datagrams reached the announced app");
-    // Before the announcement datagrams went to --to: at most the first second's worth.
-    let mut before = 0;
+    let mut to_unused = 0;
     while unused.recv(&mut buf).is_ok() {
-        before += 1;
+        to_unused += 1;
     }
-    assert!(before <= 40, "{before} datagrams went to --to");
+    (to_first, to_second, to_unused, stderr(&out), stdout(&out))
+}
+
+/// `--discover` sends to the first ForeFlight that announces itself, here on another address
+/// (127.0.0.2), and keeps it when a second one (127.0.0.3) announces itself later: the second
+/// is ignored, counted and named. `--discover=follow` goes to the latest.
+#[test]
+fn discover_keeps_the_first_announcer_unless_told_to_follow() {
+    let (first, second, unused, err, out) = discover_with("--discover");
+    assert!(
+        first >= 10,
+        "{first} datagrams reached the first announcer; {err}"
+    );
+    assert_eq!(
+        second, 0,
+        "the second announcer took the stream over; {err}"
+    );
+    // Before the announcement datagrams went to --to: at most the first second's worth.
+    assert!(unused <= 40, "{unused} datagrams went to --to");
+    assert!(
+        err.contains("sending to the ForeFlight at 127.0.0.2:"),
+        "{err}"
+    );
+    assert!(
+        err.contains("ignored the ForeFlight at 127.0.0.3:"),
+        "{err}"
+    );
+    let ignored: u64 = out
+        .split("announcements_ignored=")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(ignored >= 10, "announcements_ignored={ignored}: {out}");
+
+    let (first, second, _, err, _) = discover_with("--discover=follow");
+    assert!(
+        second >= 10,
+        "{second} datagrams reached the latest announcer; {err}"
+    );
+    // Both announce every 100 ms: the stream follows whichever spoke last, so both get some.
+    assert!(first + second >= 20, "{first} + {second} datagrams; {err}");
 }
 
 #[test]

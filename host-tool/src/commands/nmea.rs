@@ -20,7 +20,7 @@
 //! | heading | LXWP0 | COMPASS (magnetic) |
 //! | wind | LXWP0 (from, km/h) | WIND |
 //!
-//! Anything older than [`FRESH`](crate::telemetry::FRESH) ([`FRESH_SLOW`] for TEMP and WIND,
+//! Anything older than [`FRESH`](crate::fresh::FRESH) ([`FRESH_SLOW`] for TEMP and WIND,
 //! which come about once a second) or marked invalid by the box goes out as RMC status `V`,
 //! GGA fix 0, or an empty field (a left-out pair in `$POV`), never as an old value.
 
@@ -37,11 +37,12 @@ use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::Result;
+use crate::fresh::{FRESH_SLOW, fresh, fresh_within};
 use crate::nmea::fanout::Fanout;
 use crate::nmea::sentence::{self, Fix, Lxwp0, Pov, Utc};
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{FRESH_SLOW, decode_read, fresh, fresh_within};
+use crate::telemetry::decode_read;
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 /// The period of RMC, GGA, PGRMZ and LXWP0 (1 Hz).

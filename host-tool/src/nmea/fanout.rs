@@ -6,10 +6,19 @@
 //! too slowly loses whole lines, never parts of one: a line that does not fit its queue is
 //! dropped for that client alone and counted. Sockets are non-blocking, so no client can stall
 //! the loop or the others.
+//!
+//! A client that stays behind is let go, so clients that connect and never read cannot hold
+//! every place: once its socket takes no more bytes or a line is dropped for it, it has
+//! [`STALL_LIMIT`] to catch up (its queue drained empty) before it is closed, counted as
+//! evicted and noted. Each client's kernel send buffer is kept small ([`SEND_BUFFER`]), so a
+//! client that reads nothing is behind once its own receive buffer is full (about 80 KB on
+//! Linux's loopback: minutes at NMEA's few hundred bytes a second) rather than after the
+//! megabytes an automatically sized buffer would hold.
 
 use std::collections::VecDeque;
 use std::io::{self, Read as _, Write as _};
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::time::{Duration, Instant};
 
 use crate::error::{Error, Result};
 
@@ -19,6 +28,11 @@ pub const MAX_CLIENTS: usize = 8;
 pub const QUEUE_BYTES: usize = 16 * 1024;
 /// Bytes read (and discarded) from one client per turn: what a client sends is not used.
 const READ_PER_TURN: usize = 4096;
+/// How long a client may stay behind (its socket full, or lines dropped for it) before it is
+/// let go.
+pub const STALL_LIMIT: Duration = Duration::from_secs(15);
+/// The kernel send buffer asked for each client's socket, bytes (Linux doubles it).
+pub const SEND_BUFFER: usize = 4096;
 
 /// What a [`Fanout`] has done.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
@@ -29,8 +43,10 @@ pub struct Counters {
     pub clients: u64,
     /// Clients turned away because [`MAX_CLIENTS`] were connected (TCP).
     pub refused: u64,
-    /// Clients gone (closed by them, or a write failed).
+    /// Clients gone (closed by them, a write failed, or evicted).
     pub disconnected: u64,
+    /// Clients let go after [`STALL_LIMIT`] behind (also counted as disconnected).
+    pub evicted: u64,
     /// Lines dropped for a client whose queue was full, summed over the clients.
     pub dropped: u64,
     /// Datagrams whose send failed (UDP).
@@ -44,6 +60,17 @@ struct Client {
     peer: SocketAddr,
     queue: VecDeque<u8>,
     dropped: u64,
+    /// Since when it is behind: its socket took no more, or a line was dropped for it; until
+    /// its queue drains empty.
+    behind_since: Option<Instant>,
+}
+
+/// Why a client is let go.
+enum Gone {
+    /// It closed, or a read or write failed.
+    Left,
+    /// It stayed behind for the stall limit.
+    Evicted,
 }
 
 /// Where the lines go.
@@ -81,6 +108,7 @@ pub struct Fanout {
     sink: Sink,
     counters: Counters,
     last_error: Option<io::Error>,
+    stall_limit: Duration,
 }
 
 impl Fanout {
@@ -125,7 +153,21 @@ impl Fanout {
             sink,
             counters: Counters::default(),
             last_error: None,
+            stall_limit: STALL_LIMIT,
         }
+    }
+
+    /// The same with another stall limit than [`STALL_LIMIT`] (a test's short one).
+    ///
+    /// ```
+    /// use std::time::Duration;
+    /// use protolink::nmea::fanout::Fanout;
+    /// let out = Fanout::listen("127.0.0.1:0".parse()?)?.with_stall_limit(Duration::from_secs(1));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_stall_limit(mut self, limit: Duration) -> Self {
+        self.stall_limit = limit;
+        self
     }
 
     /// The server's address (TCP), or where the datagrams go (UDP).
@@ -155,6 +197,7 @@ impl Fanout {
                     } else {
                         c.dropped += 1;
                         self.counters.dropped += 1;
+                        c.behind_since.get_or_insert_with(Instant::now);
                     }
                 }
             }
@@ -182,6 +225,9 @@ impl Fanout {
                 ));
                 continue;
             }
+            // A small kernel buffer: a client that reads nothing is seen behind sooner. Where
+            // the option cannot be set, the client is served with the system's buffer.
+            let _ = socket2::SockRef::from(&stream).set_send_buffer_size(SEND_BUFFER);
             self.counters.clients += 1;
             note(&format!("client {peer} connected"));
             clients.push(Client {
@@ -189,18 +235,30 @@ impl Fanout {
                 peer,
                 queue: VecDeque::with_capacity(QUEUE_BYTES),
                 dropped: 0,
+                behind_since: None,
             });
         }
         let before = clients.len();
-        clients.retain_mut(|c| {
-            let alive = c.serve();
-            if !alive {
+        let (limit, counters) = (self.stall_limit, &mut self.counters);
+        clients.retain_mut(|c| match c.serve(limit) {
+            Ok(()) => true,
+            Err(Gone::Left) => {
                 note(&format!(
                     "client {} left ({} lines dropped for it)",
                     c.peer, c.dropped
                 ));
+                false
             }
-            alive
+            Err(Gone::Evicted) => {
+                counters.evicted += 1;
+                note(&format!(
+                    "evicted {}: behind for {} s, reading too little or nothing ({} lines dropped for it)",
+                    c.peer,
+                    limit.as_secs_f64(),
+                    c.dropped
+                ));
+                false
+            }
         });
         self.counters.disconnected += (before - clients.len()) as u64;
     }
@@ -226,39 +284,48 @@ impl Fanout {
 }
 
 impl Client {
-    /// Writes what the socket takes and reads what the client sent; false once it is gone.
-    fn serve(&mut self) -> bool {
+    /// Writes what the socket takes and reads what the client sent; an error once it is gone
+    /// or has been behind for `limit`.
+    fn serve(&mut self, limit: Duration) -> std::result::Result<(), Gone> {
         while !self.queue.is_empty() {
             let (head, _) = self.queue.as_slices();
             match self.stream.write(head) {
-                Ok(0) => return false,
+                Ok(0) => return Err(Gone::Left),
                 Ok(n) => {
                     self.queue.drain(..n);
                 }
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                    self.behind_since.get_or_insert_with(Instant::now);
+                    break;
+                }
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(_) => return false,
+                Err(_) => return Err(Gone::Left),
             }
+        }
+        if self.queue.is_empty() {
+            self.behind_since = None;
+        }
+        if self.behind_since.is_some_and(|t| t.elapsed() >= limit) {
+            return Err(Gone::Evicted);
         }
         let mut buf = [0u8; 512];
         let mut read = 0;
         while read < READ_PER_TURN {
             match self.stream.read(&mut buf) {
-                Ok(0) => return false,
+                Ok(0) => return Err(Gone::Left),
                 Ok(n) => read += n,
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(_) => return false,
+                Err(_) => return Err(Gone::Left),
             }
         }
-        true
+        Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::{Duration, Instant};
 
     fn accept_one(out: &mut Fanout) {
         let started = Instant::now();
@@ -293,6 +360,83 @@ mod tests {
         let c = out.counters();
         assert_eq!(c.dropped, 100, "{c:?}");
         assert_eq!(c.disconnected, 0);
+    }
+
+    /// Eight clients that connect and never read hold every place; once they are behind for
+    /// the stall limit they are let go, counted and noted, and a ninth client gets a place and
+    /// every line, while a client that reads is never let go.
+    #[test]
+    fn clients_that_read_nothing_are_evicted_and_a_new_one_gets_their_place() {
+        let limit = Duration::from_millis(500);
+        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap())
+            .unwrap()
+            .with_stall_limit(limit);
+        let addr = out.local_addr().unwrap();
+        let mut reader = TcpStream::connect(addr).unwrap();
+        let silent: Vec<TcpStream> = (0..MAX_CLIENTS - 1)
+            .map(|_| TcpStream::connect(addr).unwrap())
+            .collect();
+        let started = Instant::now();
+        while out.counters().clients < MAX_CLIENTS as u64
+            && started.elapsed() < Duration::from_secs(5)
+        {
+            out.poll(|_| {});
+        }
+        assert_eq!(out.counters().clients, MAX_CLIENTS as u64);
+        // A ninth is refused while the eight are connected.
+        let _early = TcpStream::connect(addr).unwrap();
+        while out.counters().refused == 0 && started.elapsed() < Duration::from_secs(5) {
+            out.poll(|_| {});
+        }
+        assert_eq!(out.counters().refused, 1);
+        let drain = std::thread::spawn(move || {
+            let mut buf = [0u8; 65536];
+            let mut total = 0u64;
+            reader
+                .set_read_timeout(Some(Duration::from_secs(3)))
+                .unwrap();
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                total += n as u64;
+            }
+            total
+        });
+        // Lines as fast as the loop goes, until the seven silent clients are let go.
+        let line = [b'x'; 80];
+        let mut notes = Vec::new();
+        let started = Instant::now();
+        while out.counters().evicted < silent.len() as u64
+            && started.elapsed() < Duration::from_secs(20)
+        {
+            out.send(&line);
+            out.poll(|n| notes.push(n.to_owned()));
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        let c = out.counters();
+        assert_eq!(c.evicted, silent.len() as u64, "{c:?} {notes:?}");
+        assert_eq!(c.disconnected, c.evicted, "the reading client stays: {c:?}");
+        assert!(
+            notes.iter().any(|n| n.starts_with("evicted 127.0.0.1:")),
+            "{notes:?}"
+        );
+        // Their places are free: a new client is served.
+        let mut ninth = TcpStream::connect(addr).unwrap();
+        ninth
+            .set_read_timeout(Some(Duration::from_secs(5)))
+            .unwrap();
+        while out.counters().clients < MAX_CLIENTS as u64 + 1 {
+            out.poll(|_| {});
+        }
+        out.send(b"$PGRMZ,2282,f,2*20\r\n");
+        out.poll(|_| {});
+        let mut got = [0u8; 20];
+        ninth.read_exact(&mut got).unwrap();
+        assert_eq!(&got, b"$PGRMZ,2282,f,2*20\r\n");
+        drop(out);
+        assert!(drain.join().unwrap() > 0);
+        drop(silent);
     }
 
     #[test]

@@ -22,10 +22,11 @@
 //! | Stratux G | ACCEL: minus the body z specific force over g |
 //! | Stratux pressure altitude, vertical speed | PRESSURE static pressure; its rate over the last second (box clock) |
 //!
-//! Anything older than [`FRESH`](crate::telemetry::FRESH) or marked invalid by the box goes
+//! Anything older than [`FRESH`](crate::fresh::FRESH) or marked invalid by the box goes
 //! out as GDL90's invalid marker, never as a stale value. Datagrams go to one address (`--to`, 127.0.0.1:4000 by
-//! default); to a broadcast address only with `--broadcast`; with `--discover`, to the host
-//! whose ForeFlight announcement arrives on UDP 63093.
+//! default); to a broadcast address only with `--broadcast`; with `--discover`, to the first
+//! host whose ForeFlight announcement arrives on UDP 63093 (`--discover=follow`: the latest
+//! one), from a socket bound to every interface so that the datagrams can reach it.
 
 use std::io::Write as _;
 use std::net::{IpAddr, SocketAddr, UdpSocket};
@@ -43,9 +44,10 @@ use crate::air_data::{AirDataSource, isa_altitude_m};
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
+use crate::fresh::fresh;
 use crate::render::{Out, text};
 use crate::stop::{self, Deadline};
-use crate::telemetry::{decode_read, fresh};
+use crate::telemetry::decode_read;
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 pub mod ownship;
@@ -59,6 +61,16 @@ pub const DISCOVERY_PORT: u16 = 63093;
 
 /// Standard gravity, m/s².
 const G0: f64 = 9.806_65;
+
+/// Whom `--discover` sends to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Discover {
+    /// The first host that announces itself; later announcements from other hosts are
+    /// ignored (counted and named on stderr), so nobody else can take the stream over.
+    First,
+    /// Whichever host announced itself last.
+    Follow,
+}
 
 /// Which AHRS messages `gdl90` sends.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -84,9 +96,11 @@ pub struct Gdl90Args {
     #[arg(long, value_name = "ADDR")]
     pub broadcast: Option<IpAddr>,
     /// Listen on UDP 63093 for ForeFlight's announcement and send to the host it came from,
-    /// on the port it names.
-    #[arg(long)]
-    pub discover: bool,
+    /// on the port it names: the first host to announce itself (`--discover`, the same as
+    /// `--discover=first`), or whichever announced itself last (`--discover=follow`).
+    #[arg(long, value_enum, value_name = "WHOM", num_args = 0..=1, require_equals = true,
+          default_missing_value = "first")]
+    pub discover: Option<Discover>,
     /// Which AHRS messages to send.
     #[arg(long, value_enum, default_value = "both")]
     pub ahrs: AhrsKind,
@@ -331,6 +345,9 @@ pub struct Counters {
     pub foreflight_id: u64,
     /// Datagrams whose send failed.
     pub send_errors: u64,
+    /// ForeFlight announcements ignored: from another host than the one followed
+    /// (`--discover`), or not an announcement.
+    pub announcements_ignored: u64,
 }
 
 fn seconds_since_midnight() -> u32 {
@@ -346,15 +363,15 @@ fn seconds_since_midnight() -> u32 {
 pub fn run(args: &Gdl90Args) -> Result<()> {
     let mut link = args.from.open()?;
     let (mut to, mut sender) = Sender::open(args)?;
-    let discovery = args.discover.then(open_discovery).transpose()?;
+    let mut discovery = args.discover.map(Discovery::open).transpose()?;
     let _ = writeln!(
         std::io::stderr(),
         "gdl90: {} -> GDL90 on udp {to}{} (Ctrl-C to stop)",
         link.name(),
-        if args.discover {
-            ", or the ForeFlight that announces itself"
-        } else {
-            ""
+        match args.discover {
+            Some(Discover::First) => ", or the first ForeFlight that announces itself",
+            Some(Discover::Follow) => ", or the ForeFlight that announced itself last",
+            None => "",
         }
     );
     stop::install_ctrl_c();
@@ -392,7 +409,11 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
             Input::Idle => {}
             Input::End => break,
         }
-        if let Some(addr) = discovery.as_ref().and_then(announced) {
+        if let Some(d) = discovery.as_mut()
+            && let Some(addr) = d.poll(&mut counters, |note| {
+                let _ = writeln!(std::io::stderr(), "gdl90: {note}");
+            })
+        {
             to = addr;
         }
         let now = Instant::now();
@@ -408,17 +429,66 @@ pub fn run(args: &Gdl90Args) -> Result<()> {
     sender.finish(to, counters)
 }
 
-/// The socket ForeFlight's announcements arrive on (UDP 63093, every interface), non-blocking.
-fn open_discovery() -> Result<UdpSocket> {
-    let s = UdpSocket::bind(("0.0.0.0", DISCOVERY_PORT)).map_err(|source| Error::Open {
-        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT} (ForeFlight discovery)"),
-        source,
-    })?;
-    s.set_nonblocking(true).map_err(|source| Error::Open {
-        endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT}"),
-        source,
-    })?;
-    Ok(s)
+/// ForeFlight's announcements (UDP 63093, every interface) and the host they lead to.
+struct Discovery {
+    socket: UdpSocket,
+    whom: Discover,
+    /// The host followed and the port it named.
+    following: Option<SocketAddr>,
+    /// Hosts whose announcements were ignored and named on stderr (at most
+    /// [`Discovery::NAMED`], so a flood of spoofed sources cannot grow it).
+    named: Vec<IpAddr>,
+}
+
+impl Discovery {
+    /// At most this many ignored hosts are named on stderr (each once).
+    const NAMED: usize = 16;
+
+    /// Binds UDP 63093 on every interface, non-blocking.
+    fn open(whom: Discover) -> Result<Self> {
+        let open_err = |source| Error::Open {
+            endpoint: format!("udp:0.0.0.0:{DISCOVERY_PORT} (ForeFlight discovery)"),
+            source,
+        };
+        let socket = UdpSocket::bind(("0.0.0.0", DISCOVERY_PORT)).map_err(open_err)?;
+        socket.set_nonblocking(true).map_err(open_err)?;
+        Ok(Discovery {
+            socket,
+            whom,
+            following: None,
+            named: Vec::new(),
+        })
+    }
+
+    /// Takes the announcements waiting; the new destination when it changes. `note` gets a
+    /// sentence for a new destination and for each host ignored (the first time).
+    fn poll(&mut self, counters: &mut Counters, mut note: impl FnMut(&str)) -> Option<SocketAddr> {
+        let mut buf = [0u8; 1024];
+        let before = self.following;
+        while let Ok((n, from)) = self.socket.recv_from(&mut buf) {
+            let Some(port) = buf.get(..n).and_then(announced_port) else {
+                counters.announcements_ignored += 1;
+                continue;
+            };
+            let at = SocketAddr::new(from.ip(), port);
+            match self.following {
+                Some(f) if self.whom == Discover::First && f.ip() != at.ip() => {
+                    counters.announcements_ignored += 1;
+                    if self.named.len() < Self::NAMED && !self.named.contains(&at.ip()) {
+                        self.named.push(at.ip());
+                        note(&format!(
+                            "ignored the ForeFlight at {at}: sending to the first, {f} \
+                             (--discover=follow follows the latest)"
+                        ));
+                    }
+                }
+                _ => self.following = Some(at),
+            }
+        }
+        let now = self.following.filter(|f| Some(*f) != before)?;
+        note(&format!("sending to the ForeFlight at {now}"));
+        Some(now)
+    }
 }
 
 /// Encodes into one buffer and sends it, counting failures.
@@ -431,13 +501,14 @@ struct Sender {
 
 impl Sender {
     /// The destination (`--to`, or the `--broadcast` address on its port) and a sender bound
-    /// to an ephemeral port (on 127.0.0.1 for a loopback destination, else every interface).
+    /// to an ephemeral port: on every interface with `--discover` (the announcer may be on any
+    /// network) or for a destination off this machine, else on 127.0.0.1.
     fn open(args: &Gdl90Args) -> Result<(SocketAddr, Self)> {
         let to = match args.broadcast {
             Some(b) => SocketAddr::new(b, args.to.port()),
             None => args.to,
         };
-        let bind: SocketAddr = if to.ip().is_loopback() {
+        let bind: SocketAddr = if to.ip().is_loopback() && args.discover.is_none() {
             ([127, 0, 0, 1], 0).into()
         } else {
             ([0, 0, 0, 0], 0).into()
@@ -538,21 +609,49 @@ impl Sender {
     }
 }
 
-/// A ForeFlight announcement waiting on `socket` (`{"App":"ForeFlight","GDL90":{"port":4000}}`):
-/// the sender's address on the port it names.
-fn announced(socket: &UdpSocket) -> Option<SocketAddr> {
-    let mut buf = [0u8; 1024];
-    let mut found = None;
-    while let Ok((n, from)) = socket.recv_from(&mut buf) {
-        let v: serde_json::Value = serde_json::from_slice(buf.get(..n)?).ok()?;
-        let port = v["GDL90"]["port"]
-            .as_u64()
-            .and_then(|p| u16::try_from(p).ok());
-        if v["App"] == "ForeFlight"
-            && let Some(port) = port
-        {
-            found = Some(SocketAddr::new(from.ip(), port));
-        }
+/// The port a ForeFlight announcement names (`{"App":"ForeFlight","GDL90":{"port":4000}}`),
+/// or `None` for anything else.
+///
+/// ```
+/// use protolink::commands::gdl90::announced_port;
+/// assert_eq!(announced_port(br#"{"App":"ForeFlight","GDL90":{"port":4000}}"#), Some(4000));
+/// assert_eq!(announced_port(br#"{"App":"Other","GDL90":{"port":4000}}"#), None);
+/// assert_eq!(announced_port(b"not json"), None);
+/// ```
+pub fn announced_port(datagram: &[u8]) -> Option<u16> {
+    let v: serde_json::Value = serde_json::from_slice(datagram).ok()?;
+    let port = v["GDL90"]["port"]
+        .as_u64()
+        .and_then(|p| u16::try_from(p).ok())?;
+    (v["App"] == "ForeFlight" && port != 0).then_some(port)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::net::IpAddr;
+
+    use clap::Parser;
+
+    use crate::commands::gdl90::{Gdl90Args, Sender};
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Gdl90Args,
     }
-    found
+
+    fn bound(argv: &[&str]) -> IpAddr {
+        let cli = Cli::try_parse_from(argv).unwrap();
+        let (_, sender) = Sender::open(&cli.args).unwrap();
+        sender.socket.local_addr().unwrap().ip()
+    }
+
+    /// With `--discover` the announcer may be on any network, so the sender is bound to every
+    /// interface: a socket on 127.0.0.1 could never reach a tablet on the LAN.
+    #[test]
+    fn discover_sends_from_every_interface() {
+        assert!(bound(&["t", "--from", "udp:0"]).is_loopback());
+        assert!(bound(&["t", "--from", "udp:0", "--discover"]).is_unspecified());
+        assert!(bound(&["t", "--from", "udp:0", "--discover=follow"]).is_unspecified());
+    }
 }
