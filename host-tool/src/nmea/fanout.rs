@@ -11,9 +11,12 @@
 //! every place: once its socket takes no more bytes or a line is dropped for it, it has
 //! [`STALL_LIMIT`] to catch up (its queue drained empty) before it is closed, counted as
 //! evicted and noted. Each client's kernel send buffer is kept small ([`SEND_BUFFER`]), so a
-//! client that reads nothing is behind once its own receive buffer is full (about 80 KB on
-//! Linux's loopback: minutes at NMEA's few hundred bytes a second) rather than after the
-//! megabytes an automatically sized buffer would hold.
+//! client that reads nothing is behind once its own receive buffer is full rather than after
+//! the megabytes an automatically sized buffer would hold; that buffer is the client's, and
+//! at NMEA's few hundred bytes a second it takes minutes to fill (more than six on Linux's
+//! loopback, `docs/RELIABILITY.md`). On Linux a peer that stops acknowledging altogether (a
+//! tablet asleep, a cable pulled) is dropped by the system after [`STALL_LIMIT`] of
+//! unacknowledged data (`TCP_USER_TIMEOUT`).
 
 use std::collections::VecDeque;
 use std::io::{self, Read as _, Write as _};
@@ -227,7 +230,12 @@ impl Fanout {
             }
             // A small kernel buffer: a client that reads nothing is seen behind sooner. Where
             // the option cannot be set, the client is served with the system's buffer.
-            let _ = socket2::SockRef::from(&stream).set_send_buffer_size(SEND_BUFFER);
+            let sock = socket2::SockRef::from(&stream);
+            let _ = sock.set_send_buffer_size(SEND_BUFFER);
+            // A peer that stops acknowledging (a tablet asleep, a cable pulled) is dropped by
+            // the system once data has waited unacknowledged this long.
+            #[cfg(target_os = "linux")]
+            let _ = sock.set_tcp_user_timeout(Some(STALL_LIMIT));
             self.counters.clients += 1;
             note(&format!("client {peer} connected"));
             clients.push(Client {
