@@ -27,14 +27,6 @@ fn udp() -> (UdpSocket, u16) {
     (s, port)
 }
 
-fn free_tcp_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
-
 /// Whether `python3` with pynmea2 runs here; when not, the skip (a failure under CI).
 fn pynmea2_available() -> bool {
     let ok = Command::new("python3")

@@ -227,6 +227,15 @@ pub fn listener() -> (TcpListener, String) {
     (l, format!("tcp:127.0.0.1:{port}"))
 }
 
+/// A free TCP port on 127.0.0.1 (bound, then released).
+pub fn free_tcp_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .expect("bind")
+        .local_addr()
+        .expect("addr")
+        .port()
+}
+
 /// A free UDP port on 127.0.0.1 (bound, then released).
 pub fn free_udp_port() -> u16 {
     UdpSocket::bind("127.0.0.1:0")
