@@ -73,6 +73,19 @@ pub enum Error {
         /// The protocol error.
         source: aok_proto::Error,
     },
+    /// A capture file ends inside a block (pcapng) or record (pcap): what `record` leaves
+    /// when it is killed mid-write. The records before it were read whole.
+    #[error(
+        "reading the capture {path} failed at byte {offset}, after frame {frames}: the file ends inside the block that starts there"
+    )]
+    CaptureCut {
+        /// The file, as given.
+        path: String,
+        /// Where the cut block starts: the length of the whole blocks before it.
+        offset: u64,
+        /// The records read before it.
+        frames: u64,
+    },
     /// Writing the output (stdout) failed.
     #[error("writing the output failed: {0}")]
     Output(#[source] io::Error),

@@ -604,6 +604,25 @@ fn damaged_captures_end_in_one_sentence_never_a_panic() {
     ]);
     let err = failed(&o);
     assert!(err.contains("reading the capture"), "{err}");
+    // A cut: the sentence names where the cut block starts (a pcapng block ends with its own
+    // length), and the reader has read every record before it.
+    let last = u32::from_le_bytes(good[good.len() - 4..].try_into().unwrap()) as usize;
+    let start = good.len() - last;
+    assert!(
+        err.contains(&format!(
+            "failed at byte {start}, after frame 19: the file ends inside the block that starts there"
+        )),
+        "{err}"
+    );
+    let mut r = protolink::capture::CaptureReader::open(&bad).unwrap();
+    for _ in 0..19 {
+        assert!(r.next_record().unwrap().is_some());
+    }
+    assert_eq!(r.offset(), start as u64);
+    assert!(matches!(
+        r.next_record(),
+        Err(protolink::Error::CaptureCut { offset, frames: 19, .. }) if offset == start as u64
+    ));
     let _ = std::fs::remove_file(cap);
     let _ = std::fs::remove_file(bad);
 }

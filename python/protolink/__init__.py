@@ -15,21 +15,26 @@ decoders, capture reading and command line), so a flight decoded here is byte fo
     dec = protolink.aeolus.Decoder()
     for msg in dec.feed(chunk):                         # messages and error events
         ...
+    for msg in dec.feed_iter(big_buffer):               # the same, lazily: bounded memory
+        ...
 
 Modules: :mod:`protolink.aeolus`, :mod:`protolink.aydp`, :mod:`protolink.aok`,
 :mod:`protolink.gdl90` (each a ``Decoder`` and, but for GDL90, ``encode``).
 """
 
 from . import aeolus, aok, aydp, gdl90
-from ._native import ErrorEvent, Message, Reader, open
+from ._native import ErrorEvent, FeedIter, Message, Reader, open
+from ._warnings import TruncatedCaptureWarning
 from .frames import to_frames
 
 __version__ = "0.1.0"
 
 __all__ = [
     "ErrorEvent",
+    "FeedIter",
     "Message",
     "Reader",
+    "TruncatedCaptureWarning",
     "aeolus",
     "aok",
     "aydp",

@@ -3,7 +3,7 @@
 ``protolink.gdl90`` re-export."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 Event = Union["Message", "ErrorEvent"]
 Buffer = Union[bytes, bytearray, memoryview, Any]
@@ -76,16 +76,35 @@ class Reader:
     @property
     def stats(self) -> Dict[str, Any]: ...
     @property
+    def truncated_at(self) -> Optional[int]:
+        """Where a cut capture's cut block starts (its first ``truncated_at`` bytes are a
+        whole capture); None otherwise."""
+    @property
     def source(self) -> str: ...
     def close(self) -> None: ...
     def __enter__(self) -> "Reader": ...
     def __exit__(self, *args: Any) -> bool: ...
 
+class FeedIter(Iterator[Event]):
+    """What ``Decoder.feed_iter(data)`` returns: the events of ``data``, decoded one bounded
+    step (64 KiB pieces, until 20 ms or 4 096 events) at a time as they are read."""
+
+    def __iter__(self) -> "FeedIter": ...
+    def __next__(self) -> Event: ...
+    @property
+    def bytes_left(self) -> int:
+        """Bytes of ``data`` not yet fed to the decoder."""
+
 class AeolusDecoder:
     """``protolink.aeolus.Decoder``."""
 
     def __init__(self) -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]: ...
+    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
+        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
+        lands between two steps; the decoder is then fed up to a 64 KiB boundary
+        (``bytes_fed``) and keeps those bytes' events for the next call."""
+    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
+        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
     def flush(self) -> List[Event]: ...
     @property
     def stats(self) -> Dict[str, int]: ...
@@ -96,7 +115,12 @@ class AydpDecoder:
     """``protolink.aydp.Decoder``."""
 
     def __init__(self, profile: str = "spec") -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]: ...
+    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
+        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
+        lands between two steps; the decoder is then fed up to a 64 KiB boundary
+        (``bytes_fed``) and keeps those bytes' events for the next call."""
+    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
+        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
     def flush(self) -> List[Event]: ...
     @property
     def stats(self) -> Dict[str, int]: ...
@@ -109,7 +133,12 @@ class AokDecoder:
     """``protolink.aok.Decoder``."""
 
     def __init__(self, side: str = "device") -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]: ...
+    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
+        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
+        lands between two steps; the decoder is then fed up to a 64 KiB boundary
+        (``bytes_fed``) and keeps those bytes' events for the next call."""
+    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
+        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
     def flush(self) -> List[Event]: ...
     @property
     def stats(self) -> Dict[str, int]: ...
@@ -122,7 +151,12 @@ class Gdl90Decoder:
     """``protolink.gdl90.Decoder``."""
 
     def __init__(self) -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]: ...
+    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
+        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
+        lands between two steps; the decoder is then fed up to a 64 KiB boundary
+        (``bytes_fed``) and keeps those bytes' events for the next call."""
+    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
+        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
     def flush(self) -> List[Event]: ...
     @property
     def stats(self) -> Dict[str, int]: ...
@@ -146,5 +180,6 @@ def open(
     profile: Optional[str] = None,
     side: str = "device",
     errors: bool = True,
+    strict: bool = False,
 ) -> Reader: ...
 def run_cli(args: List[str]) -> int: ...

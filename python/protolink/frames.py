@@ -34,6 +34,11 @@ def to_frames(
     Unix epoch, None from a plain byte file), ``offset``, ``flow`` (from a capture), then its
     fields (``to_dict()``). Error events go to the frame ``"ERROR"`` (columns ``kind`` and
     ``error``) unless ``errors=False``.
+
+    A capture cut inside a block (``protolink record`` killed mid-write) gives the frames of
+    its whole records, then a :class:`protolink.TruncatedCaptureWarning` naming the byte
+    offset where the cut block starts; ``strict=True`` raises ``OSError`` instead. Ctrl-C
+    interrupts the reading within one step of the reader (``KeyboardInterrupt``).
     """
     pd = _pandas()
     if isinstance(source, (str, bytes, os.PathLike)):
@@ -44,11 +49,32 @@ def to_frames(
                 "to_frames takes proto= and options only with a path or endpoint to open"
             )
         messages = source
-    rows: Dict[str, List[Dict[str, Any]]] = {}
+    tables: Dict[str, _Columns] = {}
     for m in messages:
+        table = tables.get(m.name)
+        if table is None:
+            table = tables[m.name] = _Columns()
         row: Dict[str, Any] = {"time": m.capture_time, "offset": m.offset}
         if m.flow is not None:
             row["flow"] = m.flow
         row.update(m.to_dict())
-        rows.setdefault(m.name, []).append(row)
-    return {name: pd.DataFrame.from_records(r) for name, r in rows.items()}
+        table.add(row)
+    return {name: pd.DataFrame(table.columns) for name, table in tables.items()}
+
+
+class _Columns:
+    """One message type's rows, kept as one list per column (in the order the columns first
+    appear; None where a row lacks one): no dict per row held, and pandas builds the frame a
+    column at a time, each conversion short, so Ctrl-C lands between two."""
+
+    def __init__(self) -> None:
+        self.columns: Dict[str, List[Any]] = {}
+        self.rows = 0
+
+    def add(self, row: Dict[str, Any]) -> None:
+        for key in row:
+            if key not in self.columns:
+                self.columns[key] = [None] * self.rows
+        for key, column in self.columns.items():
+            column.append(row.get(key))
+        self.rows += 1

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use serde_json::{Map, Value};
 
+use crate::decoder::{Core, FeedIter, Owner};
 use crate::encode::{self, check_names, data_bytes, invalid, keys, needed, read};
 use crate::stream::Stream;
 
@@ -17,7 +18,7 @@ use crate::stream::Stream;
 #[pyclass(module = "protolink.aeolus", name = "Decoder")]
 #[derive(Debug)]
 pub(crate) struct AeolusPyDecoder {
-    stream: Stream,
+    pub(crate) core: Core,
 }
 
 #[pymethods]
@@ -25,13 +26,19 @@ impl AeolusPyDecoder {
     #[new]
     fn new() -> Self {
         AeolusPyDecoder {
-            stream: Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device),
+            core: Core::new(Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device)),
         }
     }
 
     /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
     /// completed. `datagram=True`: the bytes are one whole UDP datagram (a frame never spans
     /// two).
+    ///
+    /// The list holds every message of `data` (a Python object each): over a big input,
+    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
+    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
+    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
+    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
     #[pyo3(signature = (data, /, datagram = false))]
     fn feed<'py>(
         &mut self,
@@ -39,30 +46,45 @@ impl AeolusPyDecoder {
         data: &Bound<'py, PyAny>,
         datagram: bool,
     ) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::feed(py, &mut self.stream, data, datagram)
+        self.core.feed(py, data, datagram)
+    }
+
+    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
+    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
+    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
+    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
+    /// until it ends (a `RuntimeError` says so).
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed_iter(
+        slf: Bound<'_, Self>,
+        data: &Bound<'_, PyAny>,
+        datagram: bool,
+    ) -> PyResult<FeedIter> {
+        FeedIter::new(Owner::Aeolus(slf.unbind()), data, datagram)
     }
 
     /// The end of the input: a frame still open is reported as a `truncated` error.
+    /// Messages an interrupted `feed` kept come first.
     fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::flush(py, &mut self.stream)
+        self.core.flush(py)
     }
 
     /// The counters: the crate's `Stats` plus `malformed` and `truncated`.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::decoder::stats(py, &self.stream)
+        self.core.stats(py)
     }
 
     /// Bytes fed so far.
     #[getter]
     fn bytes_fed(&self) -> u64 {
-        self.stream.bytes_fed()
+        self.core.bytes_fed()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "protolink.aeolus.Decoder(bytes_fed={})",
-            self.stream.bytes_fed()
+            self.core.bytes_fed()
         )
     }
 }

@@ -11,6 +11,7 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 use serde_json::{Map, Value, json};
 
 use crate::decoder::choose;
+use crate::decoder::{Core, FeedIter, Owner};
 use crate::encode::{self, camel, check_names, invalid, needed, read};
 use crate::stream::Stream;
 
@@ -21,7 +22,7 @@ const SIDES: [(&str, Side); 2] = [("device", Side::Device), ("pc", Side::Pc)];
 #[pyclass(module = "protolink.aok", name = "Decoder")]
 #[derive(Debug)]
 pub(crate) struct AokPyDecoder {
-    stream: Stream,
+    pub(crate) core: Core,
     side: &'static str,
 }
 
@@ -34,13 +35,19 @@ impl AokPyDecoder {
     fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
         let s = side.map_or(Ok(Side::Device), |a| choose("side", a, &SIDES))?;
         Ok(AokPyDecoder {
-            stream: Stream::new(Proto::Aok, ProfileArg::Spec, s),
+            core: Core::new(Stream::new(Proto::Aok, ProfileArg::Spec, s)),
             side: if s == Side::Device { "device" } else { "pc" },
         })
     }
 
     /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
     /// completed.
+    ///
+    /// The list holds every message of `data` (a Python object each): over a big input,
+    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
+    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
+    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
+    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
     #[pyo3(signature = (data, /, datagram = false))]
     fn feed<'py>(
         &mut self,
@@ -48,25 +55,40 @@ impl AokPyDecoder {
         data: &Bound<'py, PyAny>,
         datagram: bool,
     ) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::feed(py, &mut self.stream, data, datagram)
+        self.core.feed(py, data, datagram)
+    }
+
+    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
+    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
+    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
+    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
+    /// until it ends (a `RuntimeError` says so).
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed_iter(
+        slf: Bound<'_, Self>,
+        data: &Bound<'_, PyAny>,
+        datagram: bool,
+    ) -> PyResult<FeedIter> {
+        FeedIter::new(Owner::Aok(slf.unbind()), data, datagram)
     }
 
     /// The line went quiet (or the input ended): a partial frame is given up (`truncated`) and
     /// what followed its first byte is rescanned.
+    /// Messages an interrupted `feed` kept come first.
     fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::flush(py, &mut self.stream)
+        self.core.flush(py)
     }
 
     /// The counters: the crate's `Stats`.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::decoder::stats(py, &self.stream)
+        self.core.stats(py)
     }
 
     /// Bytes fed so far.
     #[getter]
     fn bytes_fed(&self) -> u64 {
-        self.stream.bytes_fed()
+        self.core.bytes_fed()
     }
 
     /// Who sent the bytes: `"device"` or `"pc"`.
@@ -79,7 +101,7 @@ impl AokPyDecoder {
         format!(
             "protolink.aok.Decoder(side={:?}, bytes_fed={})",
             self.side,
-            self.stream.bytes_fed()
+            self.core.bytes_fed()
         )
     }
 }

@@ -15,6 +15,7 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 use serde_json::{Map, Value, json};
 
 use crate::decoder::choose;
+use crate::decoder::{Core, FeedIter, Owner};
 use crate::encode::{self, check_names, data_bytes, invalid, needed, read};
 use crate::stream::Stream;
 use crate::value;
@@ -30,7 +31,7 @@ const PROFILES: [(&str, ProfileArg); 2] = [
 #[pyclass(module = "protolink.aydp", name = "Decoder")]
 #[derive(Debug)]
 pub(crate) struct AydpPyDecoder {
-    stream: Stream,
+    pub(crate) core: Core,
     profile: &'static str,
 }
 
@@ -43,7 +44,7 @@ impl AydpPyDecoder {
     fn new(profile: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
         let p = profile.map_or(Ok(ProfileArg::Spec), |a| choose("profile", a, &PROFILES))?;
         Ok(AydpPyDecoder {
-            stream: Stream::new(Proto::Aydp, p, Side::Device),
+            core: Core::new(Stream::new(Proto::Aydp, p, Side::Device)),
             profile: if p == ProfileArg::Spec {
                 "spec"
             } else {
@@ -54,6 +55,12 @@ impl AydpPyDecoder {
 
     /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
     /// completed. `datagram=True`: the bytes are one whole datagram.
+    ///
+    /// The list holds every message of `data` (a Python object each): over a big input,
+    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
+    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
+    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
+    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
     #[pyo3(signature = (data, /, datagram = false))]
     fn feed<'py>(
         &mut self,
@@ -61,25 +68,40 @@ impl AydpPyDecoder {
         data: &Bound<'py, PyAny>,
         datagram: bool,
     ) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::feed(py, &mut self.stream, data, datagram)
+        self.core.feed(py, data, datagram)
+    }
+
+    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
+    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
+    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
+    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
+    /// until it ends (a `RuntimeError` says so).
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed_iter(
+        slf: Bound<'_, Self>,
+        data: &Bound<'_, PyAny>,
+        datagram: bool,
+    ) -> PyResult<FeedIter> {
+        FeedIter::new(Owner::Aydp(slf.unbind()), data, datagram)
     }
 
     /// The end of the input: a message still open is given up (`truncated`) and what followed
     /// its start is rescanned.
+    /// Messages an interrupted `feed` kept come first.
     fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        crate::decoder::flush(py, &mut self.stream)
+        self.core.flush(py)
     }
 
     /// The counters: the crate's `Stats` plus `malformed` and `truncated`.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::decoder::stats(py, &self.stream)
+        self.core.stats(py)
     }
 
     /// Bytes fed so far.
     #[getter]
     fn bytes_fed(&self) -> u64 {
-        self.stream.bytes_fed()
+        self.core.bytes_fed()
     }
 
     /// The profile: `"spec"` or `"reference"`.
@@ -92,7 +114,7 @@ impl AydpPyDecoder {
         format!(
             "protolink.aydp.Decoder(profile={:?}, bytes_fed={})",
             self.profile,
-            self.stream.bytes_fed()
+            self.core.bytes_fed()
         )
     }
 }

@@ -21,35 +21,18 @@ pub(crate) enum Input<'a, 'py> {
 }
 
 impl<'a, 'py> Input<'a, 'py> {
-    /// The bytes of `obj`.
+    /// The bytes of `obj`, for the method `what` (named in the exception).
     ///
     /// # Errors
     /// `TypeError` for a `str`, an `int` or an object without the buffer protocol.
-    pub(crate) fn extract(obj: &'a Bound<'py, PyAny>) -> PyResult<Self> {
+    pub(crate) fn extract(obj: &'a Bound<'py, PyAny>, what: &str) -> PyResult<Self> {
         if let Ok(b) = obj.cast::<PyBytes>() {
             return Ok(Input::Borrowed(b.as_bytes()));
         }
         if let Ok(b) = obj.cast::<PyByteArray>() {
             return Ok(Input::Owned(b.to_vec()));
         }
-        if obj.is_instance_of::<PyString>() {
-            return Err(PyTypeError::new_err(
-                "feed takes bytes, not str: encode the text first (data.encode('latin-1') keeps every byte)",
-            ));
-        }
-        let py = obj.py();
-        let copied = py
-            .import("builtins")
-            .and_then(|b| b.getattr("memoryview"))
-            .and_then(|mv| mv.call1((obj,)))
-            .and_then(|view| view.call_method0("tobytes"))
-            .and_then(|bytes| bytes.cast_into::<PyBytes>().map_err(PyErr::from));
-        copied.map(Input::Copied).map_err(|_| {
-            PyTypeError::new_err(format!(
-                "feed takes bytes, bytearray, memoryview or another buffer of bytes, not {}",
-                type_name(obj)
-            ))
-        })
+        copy(obj, what).map(Input::Copied)
     }
 
     /// The bytes.
@@ -60,4 +43,38 @@ impl<'a, 'py> Input<'a, 'py> {
             Input::Copied(b) => b.as_bytes(),
         }
     }
+}
+
+/// `obj` as a `bytes` object: itself, or a copy of another buffer (made once, as `feed`
+/// makes it), for the method `what`.
+///
+/// # Errors
+/// As [`Input::extract`].
+pub(crate) fn to_bytes<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyBytes>> {
+    match obj.cast::<PyBytes>() {
+        Ok(b) => Ok(b.clone()),
+        Err(_) => copy(obj, what),
+    }
+}
+
+/// A copy of a buffer that is not `bytes`, as `memoryview(obj).tobytes()`.
+fn copy<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyBytes>> {
+    if obj.is_instance_of::<PyString>() {
+        return Err(PyTypeError::new_err(format!(
+            "{what} takes bytes, not str: encode the text first (data.encode('latin-1') keeps every byte)"
+        )));
+    }
+    let py = obj.py();
+    let copied = py
+        .import("builtins")
+        .and_then(|b| b.getattr("memoryview"))
+        .and_then(|mv| mv.call1((obj,)))
+        .and_then(|view| view.call_method0("tobytes"))
+        .and_then(|bytes| bytes.cast_into::<PyBytes>().map_err(PyErr::from));
+    copied.map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{what} takes bytes, bytearray, memoryview or another buffer of bytes, not {}",
+            type_name(obj)
+        ))
+    })
 }

@@ -10,17 +10,18 @@
 //! | --- | --- |
 //! | [`stream`] | the host tool's four stream decoders without Python: bytes in, pending events out |
 //! | [`message`] | `Message` and `ErrorEvent`, the Python objects of those events |
-//! | [`decoder`] | what the four `Decoder` classes share: `feed` (GIL released), `flush`, `stats` |
+//! | [`decoder`] | what the four `Decoder` classes share: `feed` and `feed_iter` (in bounded steps, GIL released, Ctrl-C between two), `flush`, `stats` |
 //! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` class and encoder |
 //! | [`encode`] | what the encoders share: fields through serde, one sentence per refusal |
-//! | [`source`] | `open`: files, captures and live links as an iterator |
+//! | [`source`] | `open`: files, captures (a cut one warned about) and live links as an iterator |
 //! | [`input`] | the bytes `feed` takes: `bytes` in place, other buffers copied once |
 //! | [`value`] | JSON values and Python objects |
 //! | [`to_python`] | crate values straight to Python objects, rendered as `decode --json` renders them |
 //! | [`cli`] | `python -m protolink decode` |
 //!
 //! No input makes it panic: bad bytes are error events and counters; a misuse of the API is a
-//! `TypeError` or `ValueError` of one sentence.
+//! `TypeError` or `ValueError` of one sentence. No call runs long without a look for Ctrl-C:
+//! a long input is decoded in bounded steps with `py.check_signals()` between two.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -51,6 +52,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<message::Message>()?;
     m.add_class::<message::ErrorEvent>()?;
     m.add_class::<source::Reader>()?;
+    m.add_class::<decoder::FeedIter>()?;
     m.add_function(wrap_pyfunction!(aeolus::encode_aeolus, m)?)?;
     m.add_function(wrap_pyfunction!(aydp::encode_aydp, m)?)?;
     m.add_function(wrap_pyfunction!(aok::encode_aok, m)?)?;

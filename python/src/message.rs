@@ -131,20 +131,6 @@ fn aeolus_typed<'py>(py: Python<'py>, f: &AeolusFrame) -> Option<PyResult<Bound<
     Some(fields.and_then(|d| d.cast_into::<PyDict>().map_err(PyErr::from)))
 }
 
-/// Pending events as a Python list.
-pub(crate) fn to_list<'py>(
-    py: Python<'py>,
-    pending: Vec<Pending>,
-    proto: Proto,
-    origin: Option<&Origin>,
-) -> PyResult<Bound<'py, PyList>> {
-    let items = pending
-        .into_iter()
-        .map(|p| to_object(py, p, proto, origin))
-        .collect::<PyResult<Vec<_>>>()?;
-    PyList::new(py, items)
-}
-
 /// The attributes every message has, beside its fields (for `dir()`).
 const MESSAGE_ATTRIBUTES: [&str; 12] = [
     "name",

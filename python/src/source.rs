@@ -1,9 +1,17 @@
 //! `protolink.open`: messages from a file (raw bytes, or a pcap / pcapng capture found by its
 //! magic number, decoded per flow as `protolink decode` does), from `udp:PORT`,
 //! `tcp:HOST:PORT` or `serial:DEVICE@BAUD`, as an iterator, in the manner of pymavlink's
-//! `mavutil.mavlink_connection`. Reading and decoding run with the GIL released.
+//! `mavutil.mavlink_connection`. Reading and decoding run with the GIL released, a little at a
+//! time (one read of at most 64 KiB, or up to 256 capture records), with a look for Ctrl-C
+//! between two.
+//!
+//! A capture that ends inside a block (`protolink record` killed mid-write) gives every whole
+//! record's messages, then, as the iteration ends, a `protolink.TruncatedCaptureWarning` that
+//! names the byte offset where the cut block starts; `strict=True` raises `OSError` instead,
+//! when the cut block is reached.
 
 use std::collections::VecDeque;
+use std::ffi::CString;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
@@ -43,6 +51,7 @@ const RECORDS_PER_STEP: usize = 256;
 pub(crate) fn error(e: protolink::Error) -> PyErr {
     let text = e.to_string();
     match &e {
+        protolink::Error::CaptureCut { .. } => PyOSError::new_err(text),
         protolink::Error::Open { source, .. } | protolink::Error::Io { source, .. } => {
             match source.kind() {
                 std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(text),
@@ -58,10 +67,39 @@ pub(crate) fn error(e: protolink::Error) -> PyErr {
     }
 }
 
+/// Where a capture is cut: the file ends inside the block at `offset`, after `frames` whole
+/// records.
+#[derive(Debug, Clone)]
+struct Cut {
+    /// The capture's path, as shown.
+    path: String,
+    /// Where the cut block starts.
+    offset: u64,
+    /// The whole records before it.
+    frames: u64,
+}
+
+impl Cut {
+    /// The warning's sentence.
+    fn message(&self) -> String {
+        format!(
+            "the capture {} is cut inside the block at byte {}, after frame {}: every whole frame was read, that block was not (the first {} bytes are a whole capture)",
+            self.path, self.offset, self.frames, self.offset
+        )
+    }
+}
+
 /// What a reader reads.
 enum Source {
     /// A pcapng or pcap file, decoded per flow.
-    Capture(Box<CaptureEvents>),
+    Capture {
+        /// The capture, decoded record by record.
+        capture: Box<CaptureEvents>,
+        /// A cut capture raises (`strict=True`) instead of ending with a warning.
+        strict: bool,
+        /// Where the capture was found cut, once it was.
+        cut: Option<Cut>,
+    },
     /// A byte stream or datagrams: a file, stdin, TCP, UDP, a serial port.
     Link {
         link: Link,
@@ -79,14 +117,35 @@ type Batch = Vec<(Pending, Proto, Option<Origin>)>;
 
 impl Source {
     /// Reads a little (one read of at most [`TICK`], or up to [`RECORDS_PER_STEP`] capture
-    /// records) and decodes it. `Ok(false)` once the source has ended and been flushed.
+    /// records) and decodes it. `Ok(false)` once the source has ended and been flushed. A cut
+    /// capture ends there (its flows are flushed), unless it is strict: then the cut is the
+    /// error.
     fn step(&mut self, out: &mut Batch) -> protolink::Result<bool> {
         match self {
-            Source::Capture(capture) => {
+            Source::Capture {
+                capture,
+                strict,
+                cut,
+            } => {
                 let mut items = Vec::new();
                 for _ in 0..RECORDS_PER_STEP {
-                    if !capture.next_items(&mut items)? {
-                        return Ok(false);
+                    match capture.next_items(&mut items) {
+                        Ok(true) => {}
+                        Ok(false) => return Ok(false),
+                        Err(protolink::Error::CaptureCut {
+                            path,
+                            offset,
+                            frames,
+                        }) if !*strict => {
+                            *cut = Some(Cut {
+                                path,
+                                offset,
+                                frames,
+                            });
+                            capture.stop();
+                            continue;
+                        }
+                        Err(e) => return Err(e),
                     }
                     for item in items.drain(..) {
                         if let CaptureItem::Event {
@@ -159,6 +218,8 @@ pub(crate) struct Reader {
     source: std::sync::Mutex<Option<Source>>,
     /// The source has ended and been flushed.
     ended: bool,
+    /// The cut of a capture has been warned about.
+    warned: bool,
     ready: VecDeque<Py<PyAny>>,
     errors: bool,
     name: String,
@@ -183,13 +244,24 @@ impl Reader {
                 return Ok(Some(item));
             }
             let name = self.name.clone();
-            let ended = self.ended;
+            let (ended, warned) = (self.ended, self.warned);
             let Some(source) = self.source_mut() else {
                 return Err(PyValueError::new_err(format!(
                     "the reader of {name} is closed"
                 )));
             };
-            if ended || deadline.is_some_and(|d| Instant::now() >= d) {
+            if ended {
+                let cut = match source {
+                    Source::Capture { cut, .. } if !warned => cut.clone(),
+                    _ => None,
+                };
+                if let Some(cut) = cut {
+                    self.warned = true;
+                    warn_cut(py, &cut)?;
+                }
+                return Ok(None);
+            }
+            if deadline.is_some_and(|d| Instant::now() >= d) {
                 return Ok(None);
             }
             let mut batch = Vec::new();
@@ -207,6 +279,17 @@ impl Reader {
             py.check_signals()?;
         }
     }
+}
+
+/// Issues a `protolink.TruncatedCaptureWarning` about `cut` (an exception if warnings are
+/// errors).
+fn warn_cut(py: Python<'_>, cut: &Cut) -> PyResult<()> {
+    let category = py
+        .import("protolink._warnings")?
+        .getattr("TruncatedCaptureWarning")?;
+    let text = CString::new(cut.message())
+        .map_err(|_| PyValueError::new_err("the capture's path holds a NUL byte"))?;
+    PyErr::warn(py, &category, &text, 1)
 }
 
 /// The names `recv_match(type=...)` accepts: one name or a list of names.
@@ -287,7 +370,7 @@ impl Reader {
                 Value::Object(m) => value::dict(py, &m),
                 _ => Ok(PyDict::new(py)),
             },
-            Some(Source::Capture(capture)) => {
+            Some(Source::Capture { capture, .. }) => {
                 let d = PyDict::new(py);
                 for (flow, proto, bytes, counters) in capture.flows() {
                     let entry = PyDict::new(py);
@@ -299,6 +382,17 @@ impl Reader {
                 Ok(d)
             }
             None => Ok(PyDict::new(py)),
+        }
+    }
+
+    /// Where a capture was found cut: the byte offset of the block the file ends inside
+    /// (its first `truncated_at` bytes are a whole capture); None for a whole capture (so
+    /// far) and for other sources.
+    #[getter]
+    fn truncated_at(&mut self) -> Option<u64> {
+        match self.source_mut() {
+            Some(Source::Capture { cut: Some(cut), .. }) => Some(cut.offset),
+            _ => None,
         }
     }
 
@@ -347,9 +441,10 @@ fn endpoint(source: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
     }
 }
 
-/// Opens `source` for reading: see the module's documentation.
+/// Opens `source` for reading: see the module's documentation. `strict=True`: a cut capture
+/// raises `OSError` instead of ending with a `TruncatedCaptureWarning`.
 #[pyfunction(name = "open")]
-#[pyo3(signature = (source, proto = None, *, profile = None, side = None, errors = true))]
+#[pyo3(signature = (source, proto = None, *, profile = None, side = None, errors = true, strict = false))]
 pub(crate) fn open(
     py: Python<'_>,
     source: &Bound<'_, PyAny>,
@@ -357,6 +452,7 @@ pub(crate) fn open(
     profile: Option<&Bound<'_, PyAny>>,
     side: Option<&Bound<'_, PyAny>>,
     errors: bool,
+    strict: bool,
 ) -> PyResult<Reader> {
     let endpoint = endpoint(source)?;
     let proto = proto.map(|p| choose("proto", p, &PROTOS)).transpose()?;
@@ -390,7 +486,11 @@ pub(crate) fn open(
             let capture = py
                 .detach(|| CaptureEvents::open(path, &select))
                 .map_err(error)?;
-            Source::Capture(Box::new(capture))
+            Source::Capture {
+                capture: Box::new(capture),
+                strict,
+                cut: None,
+            }
         }
         _ => {
             let Some(proto) = proto else {
@@ -411,6 +511,7 @@ pub(crate) fn open(
     Ok(Reader {
         source: std::sync::Mutex::new(Some(source)),
         ended: false,
+        warned: false,
         ready: VecDeque::new(),
         errors,
         name,

@@ -1,6 +1,7 @@
 """`to_frames`: one pandas DataFrame per message type, with the right number of rows, a time
 column, and the README's three-line example working as printed."""
 
+import random
 import re
 import subprocess
 
@@ -77,3 +78,40 @@ def test_readme_example(tmp_path):
     recorded(tmp_path)
     out = subprocess.run([PYTHON, "-c", block], capture_output=True, check=True, cwd=tmp_path).stdout.decode()
     assert "[248 rows x 8 columns]" in out and out.split()[:2] == ["time", "offset"]
+
+
+def from_records(messages):
+    """to_frames as it was before issue 44: a dict per row, then DataFrame.from_records."""
+    rows = {}
+    for m in messages:
+        row = {"time": m.capture_time, "offset": m.offset}
+        if m.flow is not None:
+            row["flow"] = m.flow
+        row.update(m.to_dict())
+        rows.setdefault(m.name, []).append(row)
+    return {name: pd.DataFrame.from_records(r) for name, r in rows.items()}
+
+
+def test_columns_give_the_frames_rows_gave(tmp_path):
+    # to_frames keeps a list per column (issue 44, half the memory): the same frames, columns,
+    # dtypes and values as a dict per row, on every sample, a capture, and streams of
+    # messages and garbage (TOAST with and without `hex`, so that rows lack columns) read by
+    # every decoder.
+    rnd = random.Random(44)
+    pieces = [protolink.aeolus.encode("TOAST", text="hi"), protolink.aeolus.encode("TOAST", hex="ff00"),
+              protolink.aeolus.encode("LOG", data=b"\xff\xfe")]
+    junk = tmp_path / "junk.bin"
+    junk.write_bytes(b"".join(rnd.choice(pieces) + rnd.randbytes(rnd.randrange(8)) for _ in range(2000)))
+    cases = [(TESTDATA / "qemu-uart0-aeolus.bin", {"proto": "aeolus"}),
+             (TESTDATA / "qemu-uart1-aydp.bin", {"proto": "aydp"}),
+             (TESTDATA / "qemu-uart2-aok.bin", {"proto": "aok", "side": "pc"}),
+             (TESTDATA / "qemu-uart2-aok.bin", {"proto": "aok", "side": "device"}),
+             (recorded(tmp_path), {})]
+    cases += [(junk, {"proto": p}) for p in ("aeolus", "aydp", "aok", "gdl90")]
+    for path, options in cases:
+        rows = from_records(protolink.open(path, **options))
+        columns = protolink.to_frames(path, **options)
+        assert rows.keys() == columns.keys()
+        for name in rows:
+            pd.testing.assert_frame_equal(columns[name], rows[name], check_dtype=True)
+    assert set(protolink.to_frames(junk, proto="aeolus")["TOAST"].columns) >= {"text", "hex"}

@@ -2,15 +2,17 @@
 //! finding the UDP or TCP payload (or a stream chunk) in each.
 
 use std::fs::File;
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
 use std::net::{Ipv4Addr, SocketAddrV4};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use byteorder_slice::{BigEndian, LittleEndian};
 use pcap_file::pcap::PcapReader;
 use pcap_file::pcapng::PcapNgReader;
 use pcap_file::pcapng::blocks::Block;
 use pcap_file::pcapng::blocks::interface_description::InterfaceDescriptionOption;
+use pcap_file::{Endianness, PcapError};
 
 use super::{Payload, Record, StreamKind, Transport, pcap_err};
 use crate::error::{Error, Result};
@@ -101,11 +103,26 @@ impl TsUnit {
     }
 }
 
+/// The length of a classic pcap's file header.
+const PCAP_HEADER_LEN: u64 = 24;
+
+/// The length of a classic pcap record's header (before its data).
+const PCAP_RECORD_HEADER_LEN: u64 = 16;
+
+/// The most `pcap-file` holds of a file at once (its `ReadBuffer`): a block or record
+/// longer than this cannot be read, whether the file holds all of it or not.
+const READ_BUFFER: u64 = 8_000_000;
+
 /// A capture being read, record by record (bounded memory: one record at a time).
 pub struct CaptureReader {
     inner: Inner,
     frame: u64,
+    /// The file's offset of the next block (pcapng) or record (pcap): the end of the last
+    /// whole one read.
+    offset: u64,
     path: String,
+    /// The file, for its length when a block cannot be read.
+    file: PathBuf,
 }
 
 impl std::fmt::Debug for CaptureReader {
@@ -128,19 +145,22 @@ impl CaptureReader {
             source,
         };
         let mut file = File::open(path).map_err(open_err)?;
-        let mut head = [0u8; 4];
-        let n = file.read(&mut head).map_err(open_err)?;
+        let mut head = [0u8; 12];
+        let n = read_head(&mut file, &mut head).map_err(open_err)?;
         file.seek(SeekFrom::Start(0)).map_err(open_err)?;
         let what = format!("reading the capture {shown}");
-        let inner = match magic(&head[..n]) {
-            Some(Format::PcapNg) => Inner::PcapNg {
-                reader: PcapNgReader::new(BufReader::new(file)).map_err(pcap_err(what))?,
-                interfaces: Vec::new(),
-            },
+        let (inner, offset) = match magic(&head[..n]) {
+            Some(Format::PcapNg) => (
+                Inner::PcapNg {
+                    reader: PcapNgReader::new(BufReader::new(file)).map_err(pcap_err(what))?,
+                    interfaces: Vec::new(),
+                },
+                section_header_len(&head),
+            ),
             Some(Format::Pcap) => {
                 let reader = PcapReader::new(BufReader::new(file)).map_err(pcap_err(what))?;
                 let link = u32::from(reader.header().datalink);
-                Inner::Pcap { reader, link }
+                (Inner::Pcap { reader, link }, PCAP_HEADER_LEN)
             }
             None => {
                 return Err(Error::Unsupported(format!(
@@ -151,14 +171,24 @@ impl CaptureReader {
         Ok(CaptureReader {
             inner,
             frame: 0,
+            offset,
             path: shown,
+            file: path.to_path_buf(),
         })
+    }
+
+    /// The byte offset in the file where the next block (pcapng) or record (pcap) starts: the
+    /// end of the last whole one read. A capture cut there would give the same records.
+    pub fn offset(&self) -> u64 {
+        self.offset
     }
 
     /// The next packet record, or `None` at the end of the file.
     ///
     /// # Errors
-    /// A damaged or cut file.
+    /// [`Error::CaptureCut`] for a file that ends inside a block or record (what `record`
+    /// leaves when it is killed mid-write): every record before it has been read. Otherwise
+    /// a damaged file.
     pub fn next_record(&mut self) -> Result<Option<Record>> {
         let what = format!(
             "reading the capture {} after frame {}",
@@ -168,44 +198,57 @@ impl CaptureReader {
             let (time, link, interface, data) = match &mut self.inner {
                 Inner::Pcap { reader, link } => match reader.next_packet() {
                     None => return Ok(None),
-                    Some(Err(e)) => return Err(pcap_err(what)(e)),
-                    Some(Ok(p)) => (p.timestamp, *link, 0, p.data.into_owned()),
+                    Some(Err(e)) => return Err(self.failed(what, e)),
+                    Some(Ok(p)) => {
+                        self.offset += PCAP_RECORD_HEADER_LEN + p.data.len() as u64;
+                        (p.timestamp, *link, 0, p.data.into_owned())
+                    }
                 },
-                Inner::PcapNg { reader, interfaces } => match reader.next_block() {
-                    None => return Ok(None),
-                    Some(Err(e)) => return Err(pcap_err(what)(e)),
-                    Some(Ok(Block::SectionHeader(_))) => {
-                        interfaces.clear();
-                        continue;
+                Inner::PcapNg { reader, interfaces } => {
+                    let block = match next_block(reader) {
+                        None => return Ok(None),
+                        Some(Err(e)) => return Err(self.failed(what, e)),
+                        Some(Ok((len, block))) => {
+                            self.offset += u64::from(len);
+                            block
+                        }
+                    };
+                    match block {
+                        Block::SectionHeader(_) => {
+                            interfaces.clear();
+                            continue;
+                        }
+                        Block::InterfaceDescription(idb) => {
+                            let tsresol = idb.options.iter().find_map(|o| match o {
+                                InterfaceDescriptionOption::IfTsResol(r) => Some(*r),
+                                _ => None,
+                            });
+                            interfaces
+                                .push((u32::from(idb.linktype), TsUnit::from_option(tsresol)));
+                            continue;
+                        }
+                        Block::EnhancedPacket(epb) => {
+                            let Some(&(link, unit)) = interfaces.get(epb.interface_id as usize)
+                            else {
+                                return Err(Error::Unsupported(format!(
+                                    "{what} failed: a packet names interface {} which the file never describes",
+                                    epb.interface_id
+                                )));
+                            };
+                            (
+                                unit.to_duration(epb.timestamp.as_nanos()),
+                                link,
+                                epb.interface_id,
+                                epb.data.into_owned(),
+                            )
+                        }
+                        Block::SimplePacket(spb) => {
+                            let link = interfaces.first().map_or(1, |i| i.0);
+                            (Duration::ZERO, link, 0, spb.data.into_owned())
+                        }
+                        _ => continue,
                     }
-                    Some(Ok(Block::InterfaceDescription(idb))) => {
-                        let tsresol = idb.options.iter().find_map(|o| match o {
-                            InterfaceDescriptionOption::IfTsResol(r) => Some(*r),
-                            _ => None,
-                        });
-                        interfaces.push((u32::from(idb.linktype), TsUnit::from_option(tsresol)));
-                        continue;
-                    }
-                    Some(Ok(Block::EnhancedPacket(epb))) => {
-                        let Some(&(link, unit)) = interfaces.get(epb.interface_id as usize) else {
-                            return Err(Error::Unsupported(format!(
-                                "{what} failed: a packet names interface {} which the file never describes",
-                                epb.interface_id
-                            )));
-                        };
-                        (
-                            unit.to_duration(epb.timestamp.as_nanos()),
-                            link,
-                            epb.interface_id,
-                            epb.data.into_owned(),
-                        )
-                    }
-                    Some(Ok(Block::SimplePacket(spb))) => {
-                        let link = interfaces.first().map_or(1, |i| i.0);
-                        (Duration::ZERO, link, 0, spb.data.into_owned())
-                    }
-                    Some(Ok(_)) => continue,
-                },
+                }
             };
             self.frame += 1;
             let payload = parse_payload(link, interface, &data);
@@ -215,6 +258,69 @@ impl CaptureReader {
                 payload,
             }));
         }
+    }
+
+    /// The error of a block or record that could not be read: [`Error::CaptureCut`] when the
+    /// file ends inside it (`pcap-file` read every byte left and wanted more), else `what`
+    /// failed for the reason `pcap-file` gives.
+    fn failed(&self, what: String, e: PcapError) -> Error {
+        let left = std::fs::metadata(&self.file)
+            .map(|m| m.len().saturating_sub(self.offset))
+            .unwrap_or(u64::MAX);
+        match e {
+            PcapError::IoError(io)
+                if io.kind() == ErrorKind::UnexpectedEof && left < READ_BUFFER =>
+            {
+                Error::CaptureCut {
+                    path: self.path.clone(),
+                    offset: self.offset,
+                    frames: self.frame,
+                }
+            }
+            other => pcap_err(what)(other),
+        }
+    }
+}
+
+/// The next block of a pcapng and its length in the file.
+fn next_block(
+    reader: &mut PcapNgReader<BufReader<File>>,
+) -> Option<std::result::Result<(u32, Block<'_>), PcapError>> {
+    // The byte order of the section the block is in (a section header block, which starts a
+    // new section, is read whatever the order).
+    let order = reader.section().endianness;
+    let raw = match reader.next_raw_block()? {
+        Ok(raw) => raw,
+        Err(e) => return Some(Err(e)),
+    };
+    let len = raw.initial_len;
+    let block = match order {
+        Endianness::Big => raw.try_into_block::<BigEndian>(),
+        Endianness::Little => raw.try_into_block::<LittleEndian>(),
+    };
+    Some(block.map(|b| (len, b)))
+}
+
+/// Reads up to `head.len()` bytes from the start of `file` (fewer only at its end).
+fn read_head(file: &mut File, head: &mut [u8]) -> std::io::Result<usize> {
+    let mut n = 0;
+    while n < head.len() {
+        match file.read(&mut head[n..])? {
+            0 => break,
+            k => n += k,
+        }
+    }
+    Ok(n)
+}
+
+/// The length of a pcapng's first block, its section header: the block length at bytes 4..8,
+/// in the byte order its magic at 8..12 gives (a file too short for it is refused by the
+/// reader before the length counts).
+fn section_header_len(head: &[u8; 12]) -> u64 {
+    let len = [head[4], head[5], head[6], head[7]];
+    match head[8..12] {
+        [0x4D, 0x3C, 0x2B, 0x1A] => u64::from(u32::from_le_bytes(len)),
+        _ => u64::from(u32::from_be_bytes(len)),
     }
 }
 
