@@ -2,16 +2,24 @@
  * protolink.h: AEOLUS, AYDP (both profiles), AOK (both sides) and GDL90 for C.
  * C11 and C++17; link with libprotolink_c.a (one archive, all four protocols).
  *
- * Every function checks its pointers for NULL and bounds its lengths: bad input gets a
- * negative PL_E_* code, never undefined behaviour. Nothing allocates, nothing panics
- * (proved at link time), and the library has no global or static mutable state.
+ * Every function checks its pointers for NULL, its states for their tag and alignment, and
+ * bounds its lengths: bad input gets a negative PL_E_* code, never undefined behaviour.
+ * Nothing allocates, nothing panics (proved at link time), and the library has no global or
+ * static mutable state.
  *
  * Decoders. The caller owns each decoder's state (pl_*_decoder, an opaque array of 64-bit
  * words; PL_*_DECODER_SIZE and _ALIGN give its size and alignment) and sets it up with
- * pl_*_init. pl_*_parse_byte takes one byte and returns PL_NOTHING, PL_MESSAGE (the message
- * struct is filled) or PL_ERROR (the pl_error is filled with a PL_ERR_* kind). pl_*_parse
- * takes a slice and stops after the byte that completed the next event, reporting how many
- * bytes it used. AYDP and AOK can hold more than one event after a rescan: after an event,
+ * pl_*_init, which writes a tag at its start. Every other call on a state checks it first: a
+ * state never set up (whatever bytes it holds, unless they are left over from a state of the
+ * same kind), set up for another protocol or by an archive of another ABI version, or not
+ * aligned for its type gets PL_E_INVALID: nothing past its first word is read, nothing is
+ * written. Copy a state only as a whole. At start-up, pl_abi_version() == PL_ABI_VERSION and
+ * pl_state_size(PL_STATE_*) == sizeof(pl_*_decoder) (and pl_state_align) show that this
+ * header and the archive agree.
+ * pl_*_parse_byte takes one byte and returns PL_NOTHING, PL_MESSAGE (the message struct is
+ * filled) or PL_ERROR (the pl_error is filled with a PL_ERR_* kind). pl_*_parse takes a
+ * slice and stops after the byte that completed the next event, reporting how many bytes it
+ * used. AYDP and AOK can hold more than one event after a rescan: after an event,
  * call pl_*_poll until it returns PL_NOTHING (pl_*_parse does this for you).
  * Pointers inside a decoded message point into the decoder and stay valid until the next
  * call on that decoder.
@@ -60,8 +68,11 @@
 // knows.
 #define PL_E_BAD_TAG -4
 
-// Return code (encoders): the message is not valid for the protocol (for example a text too
-// long, a count that does not match its data, a base type above 126).
+// Return code: the state passed is not one its `init` set up (never set up, set up for
+// another protocol or by an archive of another ABI version, or not aligned for its type);
+// nothing but its first word was read, nothing written. Encoders: the message is not valid
+// for the protocol (for example a text too long, a count that does not match its data, a base
+// type above 126).
 #define PL_E_INVALID -5
 
 // Error kind: none (the `pl_error` holds no error).
@@ -134,10 +145,11 @@
 #define PL_AEOLUS_CAPACITY 256
 
 // 64-bit words in a `pl_aeolus_decoder`.
-#define PL_AEOLUS_DECODER_WORDS 41
+#define PL_AEOLUS_DECODER_WORDS 42
 
-// Size of `pl_aeolus_decoder` in bytes (an upper bound over the supported targets).
-#define PL_AEOLUS_DECODER_SIZE 328
+// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
+// supported targets).
+#define PL_AEOLUS_DECODER_SIZE 336
 
 // Alignment of `pl_aeolus_decoder` in bytes.
 #define PL_AEOLUS_DECODER_ALIGN 8
@@ -198,11 +210,11 @@
 #define PL_AEOLUS_ID_SETTIME 12
 
 // 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-#define PL_AOK_DECODER_WORDS 8
+#define PL_AOK_DECODER_WORDS 9
 
-// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes (an upper bound over
-// the supported targets).
-#define PL_AOK_DECODER_SIZE 64
+// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
+// decoder (an upper bound over the supported targets).
+#define PL_AOK_DECODER_SIZE 72
 
 // Alignment of the AOK decoders in bytes.
 #define PL_AOK_DECODER_ALIGN 8
@@ -273,7 +285,8 @@
 // 64-bit words in a `pl_aydp_decoder`.
 #define PL_AYDP_DECODER_WORDS 71
 
-// Size of `pl_aydp_decoder` in bytes (an upper bound over the supported targets).
+// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
+// supported targets).
 #define PL_AYDP_DECODER_SIZE 568
 
 // Alignment of `pl_aydp_decoder` in bytes.
@@ -342,10 +355,11 @@
 #define PL_GDL90_CAPACITY 438
 
 // 64-bit words in a `pl_gdl90_decoder`.
-#define PL_GDL90_DECODER_WORDS 65
+#define PL_GDL90_DECODER_WORDS 66
 
-// Size of `pl_gdl90_decoder` in bytes (an upper bound over the supported targets).
-#define PL_GDL90_DECODER_SIZE 520
+// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
+// supported targets).
+#define PL_GDL90_DECODER_SIZE 528
 
 // Alignment of `pl_gdl90_decoder` in bytes.
 #define PL_GDL90_DECODER_ALIGN 8
@@ -374,6 +388,27 @@
 // `kind`: any other ID, raw `data` (a Stratux AHRS report, ID 0x4C, comes as this kind with
 // no data: the C face does not type it yet).
 #define PL_GDL90_UNKNOWN 6
+
+// The ABI version of this archive and header: it changes whenever a state's size, alignment
+// or tag, a struct's layout, or a function's signature or meaning changes, so a program can
+// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 is
+// the first with tagged states.
+#define PL_ABI_VERSION 1
+
+// State kind: `pl_aeolus_decoder`.
+#define PL_STATE_AEOLUS 1
+
+// State kind: `pl_aydp_decoder`.
+#define PL_STATE_AYDP 2
+
+// State kind: `pl_aok_device_decoder`.
+#define PL_STATE_AOK_DEVICE 3
+
+// State kind: `pl_aok_pc_decoder`.
+#define PL_STATE_AOK_PC 4
+
+// State kind: `pl_gdl90_decoder`.
+#define PL_STATE_GDL90 5
 
 // An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
 // call; copy it only as a whole.
@@ -1054,7 +1089,7 @@ extern "C" {
 #endif // __cplusplus
 
 // Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
-// allows). Returns 0, or `PL_E_NULL`.
+// allows). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned for its type).
 //
 // ```c
 // pl_aeolus_decoder dec;
@@ -1066,7 +1101,7 @@ extern "C" {
 int32_t pl_aeolus_init(pl_aeolus_decoder *dec);
 
 // Sets up `dec` as a fresh strict decoder: frames without a CRC are errors
-// (`PL_ERR_MISSING_CRC`). Returns 0, or `PL_E_NULL`.
+// (`PL_ERR_MISSING_CRC`). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned).
 //
 // ```c
 // pl_aeolus_decoder dec;
@@ -1079,7 +1114,7 @@ int32_t pl_aeolus_init_strict(pl_aeolus_decoder *dec);
 
 // Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg` filled), `PL_ERROR` (`*err`
 // filled; for a good frame whose typed parse failed, `*msg` also holds its ID and raw data),
-// or `PL_E_NULL`. At most one event per byte.
+// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
 //
 // ```c
 // pl_aeolus_message msg;
@@ -1090,8 +1125,8 @@ int32_t pl_aeolus_init_strict(pl_aeolus_decoder *dec);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aeolus_init*`; `msg` and `err` are NULL or writable; nothing else
-// uses `dec` during the call.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
 int32_t pl_aeolus_parse_byte(pl_aeolus_decoder *dec,
                              uint8_t byte,
                              pl_aeolus_message *msg,
@@ -1122,7 +1157,8 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
 
 // The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
 // ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
-// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, `PL_E_NULL` or
+// `PL_E_INVALID`.
 // Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
 // message.
 //
@@ -1134,8 +1170,9 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aeolus_init*`; `bytes` is NULL (with `len` 0) or readable for
-// `len` bytes; `on_event` is a function that may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` is a
+// function that may be called with `ctx` and does not use `dec`.
 int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
@@ -1143,17 +1180,19 @@ int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
                        void *ctx);
 
 // End of stream (or of a datagram): a partial frame still held is given up. Returns
-// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, or `PL_E_NULL`.
+// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // if (pl_aeolus_flush(&dec, &err) == PL_ERROR) count_truncated();
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aeolus_init*`; `err` is NULL or writable.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+// `PL_E_INVALID`); `err` is NULL or writable.
 int32_t pl_aeolus_flush(pl_aeolus_decoder *dec, pl_error *err);
 
-// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aeolus_stats st;
@@ -1162,7 +1201,8 @@ int32_t pl_aeolus_flush(pl_aeolus_decoder *dec, pl_error *err);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aeolus_init*`; `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+// `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aeolus_get_stats(const pl_aeolus_decoder *dec, pl_aeolus_stats *stats);
 
 // Encodes `*msg` as one whole frame (flags, escapes, CRC) into `out[..cap]`. Returns the
@@ -1192,7 +1232,8 @@ int32_t pl_aeolus_encode(const pl_aeolus_message *msg, uint8_t *out, size_t cap)
 // ```
 size_t pl_aeolus_max_encoded_len(size_t data_len);
 
-// Sets up the device side's decoder. Returns 0 or `PL_E_NULL`.
+// Sets up the device side's decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
+// aligned for its type).
 //
 // ```c
 // pl_aok_device_decoder dec;
@@ -1204,8 +1245,8 @@ size_t pl_aeolus_max_encoded_len(size_t data_len);
 int32_t pl_aok_device_init(pl_aok_device_decoder *dec);
 
 // Device side: feeds one byte of the PC's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-// (`*cmd` holds a command), `PL_ERROR` (`*err`) or `PL_E_NULL`; after an event call
-// `pl_aok_device_poll` until `PL_NOTHING`.
+// (`*cmd` holds a command), `PL_ERROR` (`*err`), `PL_E_NULL` or `PL_E_INVALID`; after an
+// event call `pl_aok_device_poll` until `PL_NOTHING`.
 //
 // ```c
 // pl_aok_item cmd;
@@ -1213,7 +1254,8 @@ int32_t pl_aok_device_init(pl_aok_device_decoder *dec);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_device_init`; `cmd`, `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+// gets `PL_E_INVALID`); `cmd`, `err` are NULL or writable.
 int32_t pl_aok_device_parse_byte(pl_aok_device_decoder *dec,
                                  uint8_t byte,
                                  pl_aok_item *cmd,
@@ -1258,7 +1300,7 @@ int32_t pl_aok_device_parse(pl_aok_device_decoder *dec,
                             pl_aok_item *cmd,
                             pl_error *err);
 
-// Device side: the decoder's counters. Returns 0 or `PL_E_NULL`.
+// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_stats st;
@@ -1266,12 +1308,13 @@ int32_t pl_aok_device_parse(pl_aok_device_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_device_init`; `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+// gets `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aok_device_get_stats(const pl_aok_device_decoder *dec, pl_aok_stats *stats);
 
 // Sets up the PC side's decoder for a device running firmware `major.minor` (<= 0.30 sends
-// headerless parameter replies, >= 0.31 headed ones; DECISIONS.md K4). Returns 0 or
-// `PL_E_NULL`.
+// headerless parameter replies, >= 0.31 headed ones; DECISIONS.md K4). Returns 0, `PL_E_NULL`
+// or `PL_E_INVALID` (`dec` not aligned for its type).
 //
 // ```c
 // pl_aok_pc_decoder dec;
@@ -1284,7 +1327,7 @@ int32_t pl_aok_pc_init(pl_aok_pc_decoder *dec, uint8_t major, uint8_t minor);
 
 // PC side: tell the decoder which reply the command just sent asks for (an ack, a parameter,
 // 16 parameters, a waypoint), so that it reads the device's answer. Returns 0, `PL_E_NULL`,
-// `PL_E_BAD_TAG` or `PL_E_OUT_OF_RANGE` (as `pl_aok_encode_command`).
+// `PL_E_INVALID` (`dec`), `PL_E_BAD_TAG` or `PL_E_OUT_OF_RANGE` (as `pl_aok_encode_command`).
 //
 // ```c
 // pl_aok_item get = { .kind = PL_AOK_READ_PARAMETER, .number = 12 };
@@ -1294,12 +1337,13 @@ int32_t pl_aok_pc_init(pl_aok_pc_decoder *dec, uint8_t major, uint8_t minor);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_pc_init`; `cmd` is NULL or readable.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+// `PL_E_INVALID`); `cmd` is NULL or readable.
 int32_t pl_aok_pc_expect_reply(pl_aok_pc_decoder *dec, const pl_aok_item *cmd);
 
 // PC side: feeds one byte of the device's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`) or
-// `PL_E_NULL`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
+// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`),
+// `PL_E_NULL` or `PL_E_INVALID`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
 //
 // ```c
 // pl_aok_item msg;
@@ -1307,7 +1351,8 @@ int32_t pl_aok_pc_expect_reply(pl_aok_pc_decoder *dec, const pl_aok_item *cmd);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_pc_init`; `msg`, `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+// `PL_E_INVALID`); `msg`, `err` are NULL or writable.
 int32_t pl_aok_pc_parse_byte(pl_aok_pc_decoder *dec,
                              uint8_t byte,
                              pl_aok_item *msg,
@@ -1350,7 +1395,7 @@ int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
                         pl_aok_item *msg,
                         pl_error *err);
 
-// PC side: the decoder's counters. Returns 0 or `PL_E_NULL`.
+// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_stats st;
@@ -1358,20 +1403,22 @@ int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_pc_init`; `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+// `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aok_pc_get_stats(const pl_aok_pc_decoder *dec, pl_aok_stats *stats);
 
 // Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
 // `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
-// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_device_init`; `bytes` is NULL (with `len` 0) or readable for
-// `len` bytes; `on_event` may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
+// be called with `ctx` and does not use `dec`.
 int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
                            const uint8_t *bytes,
                            size_t len,
@@ -1380,15 +1427,16 @@ int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
 
 // PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
 // `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
-// `pl_aok_pc_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+// `pl_aok_pc_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aok_pc_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+// called with `ctx` and does not use `dec`.
 int32_t pl_aok_pc_feed(pl_aok_pc_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
@@ -1426,7 +1474,8 @@ int32_t pl_aok_encode_command(const pl_aok_item *cmd, uint8_t *out, size_t cap);
 int32_t pl_aok_encode_message(const pl_aok_item *msg, uint8_t headed, uint8_t *out, size_t cap);
 
 // Sets up `dec` as a fresh decoder for `profile` (`PL_AYDP_SPEC` or `PL_AYDP_REFERENCE`).
-// Returns 0, `PL_E_NULL` or `PL_E_BAD_TAG` (another profile).
+// Returns 0, `PL_E_NULL`, `PL_E_BAD_TAG` (another profile) or `PL_E_INVALID` (`dec` not
+// aligned for its type).
 //
 // ```c
 // pl_aydp_decoder dec;
@@ -1438,9 +1487,9 @@ int32_t pl_aok_encode_message(const pl_aok_item *msg, uint8_t headed, uint8_t *o
 int32_t pl_aydp_init(pl_aydp_decoder *dec, uint32_t profile);
 
 // Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`; for a
-// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data), or
-// `PL_E_NULL`. After any event, call `pl_aydp_poll` until it returns `PL_NOTHING`: a rescan
-// after an error can uncover further messages among bytes already held.
+// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data),
+// `PL_E_NULL` or `PL_E_INVALID`. After any event, call `pl_aydp_poll` until it returns
+// `PL_NOTHING`: a rescan after an error can uncover further messages among bytes already held.
 //
 // ```c
 // int st = pl_aydp_parse_byte(&dec, byte, &msg, &err);
@@ -1451,8 +1500,8 @@ int32_t pl_aydp_init(pl_aydp_decoder *dec, uint32_t profile);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aydp_init`; `msg` and `err` are NULL or writable; nothing else
-// uses `dec` during the call.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
 int32_t pl_aydp_parse_byte(pl_aydp_decoder *dec, uint8_t byte, pl_aydp_message *msg, pl_error *err);
 
 // The next further event among bytes already held (after a rescan). Returns as
@@ -1492,15 +1541,17 @@ int32_t pl_aydp_parse(pl_aydp_decoder *dec,
 
 // The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
 // `on_event(ctx, ...)` for every event, in order: exactly the events of
-// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aydp_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+// called with `ctx` and does not use `dec`.
 int32_t pl_aydp_feed(pl_aydp_decoder *dec,
                      const uint8_t *bytes,
                      size_t len,
@@ -1518,7 +1569,7 @@ int32_t pl_aydp_feed(pl_aydp_decoder *dec,
 // As `pl_aydp_parse_byte`.
 int32_t pl_aydp_flush(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err);
 
-// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aydp_stats st;
@@ -1526,7 +1577,8 @@ int32_t pl_aydp_flush(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err)
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_aydp_init`; `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+// `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aydp_get_stats(const pl_aydp_decoder *dec, pl_aydp_stats *stats);
 
 // The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
@@ -1575,7 +1627,8 @@ int32_t pl_aydp_output_entry_at(const pl_aydp_message *msg,
 // for their lengths; `out` is NULL or writable for `cap` bytes.
 int32_t pl_aydp_encode(uint32_t profile, const pl_aydp_message *msg, uint8_t *out, size_t cap);
 
-// Sets up `dec` as a fresh GDL90 decoder. Returns 0 or `PL_E_NULL`.
+// Sets up `dec` as a fresh GDL90 decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
+// aligned for its type).
 //
 // ```c
 // pl_gdl90_decoder dec;
@@ -1586,16 +1639,16 @@ int32_t pl_aydp_encode(uint32_t profile, const pl_aydp_message *msg, uint8_t *ou
 // `dec` is NULL or points to writable memory for a `pl_gdl90_decoder`.
 int32_t pl_gdl90_init(pl_gdl90_decoder *dec);
 
-// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`) or
-// `PL_E_NULL`. At most one event per byte.
+// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`),
+// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
 //
 // ```c
 // if (pl_gdl90_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_GDL90_TRAFFIC) draw(&msg.body.report);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_gdl90_init`; `msg`, `err` are NULL or writable; nothing else uses
-// `dec` during the call.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+// `PL_E_INVALID`); `msg`, `err` are NULL or writable; nothing else uses `dec` during the call.
 int32_t pl_gdl90_parse_byte(pl_gdl90_decoder *dec,
                             uint8_t byte,
                             pl_gdl90_message *msg,
@@ -1620,22 +1673,23 @@ int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
 
 // The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
 // for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
-// or `PL_E_NULL`.
+// `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_gdl90_feed(&dec, datagram, n, on_event, &app);
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_gdl90_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+// called with `ctx` and does not use `dec`.
 int32_t pl_gdl90_feed(pl_gdl90_decoder *dec,
                       const uint8_t *bytes,
                       size_t len,
                       pl_gdl90_callback on_event,
                       void *ctx);
 
-// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_gdl90_stats st;
@@ -1643,7 +1697,8 @@ int32_t pl_gdl90_feed(pl_gdl90_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` was set up by `pl_gdl90_init`; `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+// `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_gdl90_get_stats(const pl_gdl90_decoder *dec, pl_gdl90_stats *stats);
 
 // Encodes `*msg` as one whole frame into `out[..cap]`. Returns its length, or `PL_E_NULL`,
@@ -1662,6 +1717,31 @@ int32_t pl_gdl90_get_stats(const pl_gdl90_decoder *dec, pl_gdl90_stats *stats);
 // `msg` is NULL or readable with `data` readable for `data_len` bytes; `out` is NULL or
 // writable for `cap` bytes.
 int32_t pl_gdl90_encode(const pl_gdl90_message *msg, uint8_t *out, size_t cap);
+
+// The ABI version of the archive, `PL_ABI_VERSION` of the header it was built with.
+//
+// ```c
+// if (pl_abi_version() != PL_ABI_VERSION) halt("protolink.h and libprotolink_c.a differ");
+// ```
+uint32_t pl_abi_version(void);
+
+// The size in bytes of the state of `kind` (`PL_STATE_*`) in this archive, or 0 for a kind
+// it does not know. One function for every state, not one per state: a program compiled
+// against a newer header can ask an older archive about a state it lacks and get 0, and a
+// new protocol adds a kind, not a function.
+//
+// ```c
+// if (pl_state_size(PL_STATE_AEOLUS) != sizeof(pl_aeolus_decoder)) halt("wrong header");
+// ```
+size_t pl_state_size(uint32_t kind);
+
+// The alignment in bytes of the state of `kind` (`PL_STATE_*`) in this archive, or 0 for a
+// kind it does not know (see `pl_state_size`).
+//
+// ```c
+// if (pl_state_align(PL_STATE_AEOLUS) != _Alignof(pl_aeolus_decoder)) halt("wrong header");
+// ```
+size_t pl_state_align(uint32_t kind);
 
 #ifdef __cplusplus
 }  // extern "C"

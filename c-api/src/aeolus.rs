@@ -4,15 +4,17 @@ use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
 use aeolus_proto::{CrcMode, Decoder, Error, Frame};
 
 use crate::ffi::{self, pl_error};
+use crate::state::{self, State};
 use crate::*;
 
 /// Unescaped bytes (ID + data + CRC) one AEOLUS decoder holds: every fixed-size message,
 /// every TOAST and COMMAND text, LOG messages up to 253 data bytes.
 pub const PL_AEOLUS_CAPACITY: usize = 256;
 /// 64-bit words in a `pl_aeolus_decoder`.
-pub const PL_AEOLUS_DECODER_WORDS: usize = 41;
-/// Size of `pl_aeolus_decoder` in bytes (an upper bound over the supported targets).
-pub const PL_AEOLUS_DECODER_SIZE: usize = 328;
+pub const PL_AEOLUS_DECODER_WORDS: usize = 42;
+/// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
+/// supported targets).
+pub const PL_AEOLUS_DECODER_SIZE: usize = 336;
 /// Alignment of `pl_aeolus_decoder` in bytes.
 pub const PL_AEOLUS_DECODER_ALIGN: usize = 8;
 /// The longest TOAST or COMMAND text (without its NUL).
@@ -31,7 +33,12 @@ pub struct pl_aeolus_decoder {
     pub opaque: [u64; PL_AEOLUS_DECODER_WORDS],
 }
 
-const _: () = assert!(ffi::fits::<pl_aeolus_decoder, Inner>());
+// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
+unsafe impl State for pl_aeolus_decoder {
+    type Inner = Inner;
+    const KIND: u32 = state::PL_STATE_AEOLUS;
+}
+const _: () = assert!(state::fits::<pl_aeolus_decoder>());
 const _: () = assert!(PL_AEOLUS_DECODER_SIZE == core::mem::size_of::<pl_aeolus_decoder>());
 const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AEOLUS_DECODER_ALIGN);
 const _: () = assert!(PL_AEOLUS_TEXT_CAPACITY == aeolus_proto::TEXT_CAPACITY);
@@ -478,7 +485,7 @@ fn deliver(
 }
 
 /// Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
-/// allows). Returns 0, or `PL_E_NULL`.
+/// allows). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned for its type).
 ///
 /// ```c
 /// pl_aeolus_decoder dec;
@@ -490,11 +497,11 @@ fn deliver(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, Inner::new()) }
+    unsafe { state::init(dec, Inner::new()) }
 }
 
 /// Sets up `dec` as a fresh strict decoder: frames without a CRC are errors
-/// (`PL_ERR_MISSING_CRC`). Returns 0, or `PL_E_NULL`.
+/// (`PL_ERR_MISSING_CRC`). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned).
 ///
 /// ```c
 /// pl_aeolus_decoder dec;
@@ -506,12 +513,12 @@ pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, Inner::strict()) }
+    unsafe { state::init(dec, Inner::strict()) }
 }
 
 /// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg` filled), `PL_ERROR` (`*err`
 /// filled; for a good frame whose typed parse failed, `*msg` also holds its ID and raw data),
-/// or `PL_E_NULL`. At most one event per byte.
+/// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
 ///
 /// ```c
 /// pl_aeolus_message msg;
@@ -522,8 +529,8 @@ pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aeolus_init*`; `msg` and `err` are NULL or writable; nothing else
-/// uses `dec` during the call.
+/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+/// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_parse_byte(
     dec: *mut pl_aeolus_decoder,
@@ -531,13 +538,14 @@ pub unsafe extern "C" fn pl_aeolus_parse_byte(
     msg: *mut pl_aeolus_message,
     err: *mut pl_error,
 ) -> i32 {
-    // SAFETY: the caller's promises: `dec` holds a decoder, `msg` and `err` are writable,
-    // and none of them alias.
-    let (Some(d), Some(msg), Some(err)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-    ) else {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    // SAFETY: the caller's promises: `msg` and `err` are NULL or writable, and none of the
+    // pointers alias.
+    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     match d.push(byte) {
@@ -571,9 +579,13 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     msg: *mut pl_aeolus_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises, as in `pl_aeolus_parse_byte` and for `bytes[..len]`.
-    let (Some(d), Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
+    let (Some(msg), Some(err), Some(input), Some(used)) = (
         unsafe { msg.as_mut() },
         unsafe { err.as_mut() },
         unsafe { ffi::bytes(bytes, len) },
@@ -602,7 +614,8 @@ pub type pl_aeolus_callback = Option<
 
 /// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
 /// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
-/// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, `PL_E_NULL` or
+/// `PL_E_INVALID`.
 /// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
 /// message.
 ///
@@ -614,8 +627,9 @@ pub type pl_aeolus_callback = Option<
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aeolus_init*`; `bytes` is NULL (with `len` 0) or readable for
-/// `len` bytes; `on_event` is a function that may be called with `ctx` and does not use `dec`.
+/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` is a
+/// function that may be called with `ctx` and does not use `dec`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_feed(
     dec: *mut pl_aeolus_decoder,
@@ -624,12 +638,13 @@ pub unsafe extern "C" fn pl_aeolus_feed(
     on_event: pl_aeolus_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(input), Some(call)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { ffi::bytes(bytes, len) },
-        on_event,
-    ) else {
+    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
     let mut msg = pl_aeolus_message {
@@ -652,20 +667,25 @@ pub unsafe extern "C" fn pl_aeolus_feed(
 }
 
 /// End of stream (or of a datagram): a partial frame still held is given up. Returns
-/// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, or `PL_E_NULL`.
+/// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, `PL_E_NULL` or
+/// `PL_E_INVALID`.
 ///
 /// ```c
 /// if (pl_aeolus_flush(&dec, &err) == PL_ERROR) count_truncated();
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aeolus_init*`; `err` is NULL or writable.
+/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+/// `PL_E_INVALID`); `err` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut pl_error) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(err)) = (unsafe { ffi::state::<_, Inner>(dec) }, unsafe {
-        err.as_mut()
-    }) else {
+    let Some(err) = (unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     let mut status = PL_NOTHING;
@@ -678,7 +698,7 @@ pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut 
     status
 }
 
-/// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aeolus_stats st;
@@ -687,16 +707,20 @@ pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut 
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aeolus_init*`; `stats` is NULL or writable.
+/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
+/// `PL_E_INVALID`); `stats` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_get_stats(
     dec: *const pl_aeolus_decoder,
     stats: *mut pl_aeolus_stats,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked_ref(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
-        stats.as_mut()
-    }) else {
+    let Some(out) = (unsafe { stats.as_mut() }) else {
         return PL_E_NULL;
     };
     let s = d.stats();

@@ -8,13 +8,14 @@ use aok_proto::{
 };
 
 use crate::ffi::{self, pl_error};
+use crate::state::{self, State};
 use crate::*;
 
 /// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-pub const PL_AOK_DECODER_WORDS: usize = 8;
-/// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes (an upper bound over
-/// the supported targets).
-pub const PL_AOK_DECODER_SIZE: usize = 64;
+pub const PL_AOK_DECODER_WORDS: usize = 9;
+/// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
+/// decoder (an upper bound over the supported targets).
+pub const PL_AOK_DECODER_SIZE: usize = 72;
 /// Alignment of the AOK decoders in bytes.
 pub const PL_AOK_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest frame either side sends (a command, or a headed reply).
@@ -34,8 +35,18 @@ pub struct pl_aok_pc_decoder {
     pub opaque: [u64; PL_AOK_DECODER_WORDS],
 }
 
-const _: () = assert!(ffi::fits::<pl_aok_device_decoder, DeviceDecoder>());
-const _: () = assert!(ffi::fits::<pl_aok_pc_decoder, PcDecoder>());
+// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
+unsafe impl State for pl_aok_device_decoder {
+    type Inner = DeviceDecoder;
+    const KIND: u32 = state::PL_STATE_AOK_DEVICE;
+}
+const _: () = assert!(state::fits::<pl_aok_device_decoder>());
+// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
+unsafe impl State for pl_aok_pc_decoder {
+    type Inner = PcDecoder;
+    const KIND: u32 = state::PL_STATE_AOK_PC;
+}
+const _: () = assert!(state::fits::<pl_aok_pc_decoder>());
 const _: () = assert!(PL_AOK_DECODER_SIZE == core::mem::size_of::<pl_aok_pc_decoder>());
 const _: () = assert!(core::mem::align_of::<PcDecoder>() <= PL_AOK_DECODER_ALIGN);
 const _: () = assert!(core::mem::align_of::<DeviceDecoder>() <= PL_AOK_DECODER_ALIGN);
@@ -344,25 +355,28 @@ fn stats_c(s: &aok_proto::Stats) -> pl_aok_stats {
     }
 }
 
-/// The decoder, the item and the error behind three C pointers, or `None` if one is NULL.
+/// The decoder, the item and the error behind three C pointers, or the code to return:
+/// the decoder is checked first (`PL_E_NULL`, `PL_E_INVALID`), then the others (`PL_E_NULL`).
 ///
 /// # Safety
-/// Each is NULL or valid (the decoder set up by its `init`), and none alias.
-unsafe fn args<'a, S, D>(
+/// `dec` is NULL or a state (see `state::checked`); `item` and `err` are NULL or writable;
+/// none alias.
+unsafe fn args<'a, S: State>(
     dec: *mut S,
     item: *mut pl_aok_item,
     err: *mut pl_error,
-) -> Option<(&'a mut D, &'a mut pl_aok_item, &'a mut pl_error)> {
+) -> Result<(&'a mut S::Inner, &'a mut pl_aok_item, &'a mut pl_error), i32> {
     // SAFETY: the caller's promises.
-    let d = unsafe { ffi::state::<S, D>(dec) }?;
+    let d = unsafe { state::checked(dec) }?;
     // SAFETY: the caller's promises.
-    let i = unsafe { item.as_mut() }?;
-    // SAFETY: the caller's promises.
-    let e = unsafe { err.as_mut() }?;
-    Some((d, i, e))
+    let (Some(i), Some(e)) = (unsafe { item.as_mut() }, unsafe { err.as_mut() }) else {
+        return Err(PL_E_NULL);
+    };
+    Ok((d, i, e))
 }
 
-/// Sets up the device side's decoder. Returns 0 or `PL_E_NULL`.
+/// Sets up the device side's decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
+/// aligned for its type).
 ///
 /// ```c
 /// pl_aok_device_decoder dec;
@@ -374,12 +388,12 @@ unsafe fn args<'a, S, D>(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, DeviceDecoder::new()) }
+    unsafe { state::init(dec, DeviceDecoder::new()) }
 }
 
 /// Device side: feeds one byte of the PC's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*cmd` holds a command), `PL_ERROR` (`*err`) or `PL_E_NULL`; after an event call
-/// `pl_aok_device_poll` until `PL_NOTHING`.
+/// (`*cmd` holds a command), `PL_ERROR` (`*err`), `PL_E_NULL` or `PL_E_INVALID`; after an
+/// event call `pl_aok_device_poll` until `PL_NOTHING`.
 ///
 /// ```c
 /// pl_aok_item cmd;
@@ -387,7 +401,8 @@ pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> 
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_device_init`; `cmd`, `err` are NULL or writable.
+/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+/// gets `PL_E_INVALID`); `cmd`, `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_parse_byte(
     dec: *mut pl_aok_device_decoder,
@@ -396,8 +411,9 @@ pub unsafe extern "C" fn pl_aok_device_parse_byte(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, DeviceDecoder>(dec, cmd, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.push(byte), command_c, i, e)
 }
@@ -417,8 +433,9 @@ pub unsafe extern "C" fn pl_aok_device_poll(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, DeviceDecoder>(dec, cmd, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.poll(), command_c, i, e)
 }
@@ -439,8 +456,9 @@ pub unsafe extern "C" fn pl_aok_device_idle(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, DeviceDecoder>(dec, cmd, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.idle_next(), command_c, i, e)
 }
@@ -466,11 +484,13 @@ pub unsafe extern "C" fn pl_aok_device_parse(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let (Some((d, i, e)), Some(input), Some(used)) = (
-        unsafe { args::<_, DeviceDecoder>(dec, cmd, err) },
-        unsafe { ffi::bytes(bytes, len) },
-        unsafe { used.as_mut() },
-    ) else {
+    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
+    };
+    // SAFETY: the caller's promises for `bytes[..len]` and `used`.
+    let (Some(input), Some(used)) = (unsafe { ffi::bytes(bytes, len) }, unsafe { used.as_mut() })
+    else {
         return PL_E_NULL;
     };
     // The crate's `feed_until`: an item still held first (0 bytes used), then the bulk path
@@ -480,7 +500,7 @@ pub unsafe extern "C" fn pl_aok_device_parse(
     deliver(event, command_c, i, e)
 }
 
-/// Device side: the decoder's counters. Returns 0 or `PL_E_NULL`.
+/// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aok_stats st;
@@ -488,16 +508,20 @@ pub unsafe extern "C" fn pl_aok_device_parse(
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_device_init`; `stats` is NULL or writable.
+/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+/// gets `PL_E_INVALID`); `stats` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_get_stats(
     dec: *const pl_aok_device_decoder,
     stats: *mut pl_aok_stats,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked_ref(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, DeviceDecoder>(dec) }, unsafe {
-        stats.as_mut()
-    }) else {
+    let Some(out) = (unsafe { stats.as_mut() }) else {
         return PL_E_NULL;
     };
     *out = stats_c(&d.stats());
@@ -505,8 +529,8 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
 }
 
 /// Sets up the PC side's decoder for a device running firmware `major.minor` (<= 0.30 sends
-/// headerless parameter replies, >= 0.31 headed ones; DECISIONS.md K4). Returns 0 or
-/// `PL_E_NULL`.
+/// headerless parameter replies, >= 0.31 headed ones; DECISIONS.md K4). Returns 0, `PL_E_NULL`
+/// or `PL_E_INVALID` (`dec` not aligned for its type).
 ///
 /// ```c
 /// pl_aok_pc_decoder dec;
@@ -518,12 +542,12 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_init(dec: *mut pl_aok_pc_decoder, major: u8, minor: u8) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, PcDecoder::new(FirmwareVersion::new(major, minor))) }
+    unsafe { state::init(dec, PcDecoder::new(FirmwareVersion::new(major, minor))) }
 }
 
 /// PC side: tell the decoder which reply the command just sent asks for (an ack, a parameter,
 /// 16 parameters, a waypoint), so that it reads the device's answer. Returns 0, `PL_E_NULL`,
-/// `PL_E_BAD_TAG` or `PL_E_OUT_OF_RANGE` (as `pl_aok_encode_command`).
+/// `PL_E_INVALID` (`dec`), `PL_E_BAD_TAG` or `PL_E_OUT_OF_RANGE` (as `pl_aok_encode_command`).
 ///
 /// ```c
 /// pl_aok_item get = { .kind = PL_AOK_READ_PARAMETER, .number = 12 };
@@ -533,16 +557,20 @@ pub unsafe extern "C" fn pl_aok_pc_init(dec: *mut pl_aok_pc_decoder, major: u8, 
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_pc_init`; `cmd` is NULL or readable.
+/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+/// `PL_E_INVALID`); `cmd` is NULL or readable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_expect_reply(
     dec: *mut pl_aok_pc_decoder,
     cmd: *const pl_aok_item,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(cmd)) = (unsafe { ffi::state::<_, PcDecoder>(dec) }, unsafe {
-        cmd.as_ref()
-    }) else {
+    let Some(cmd) = (unsafe { cmd.as_ref() }) else {
         return PL_E_NULL;
     };
     match command_rust(cmd) {
@@ -555,8 +583,8 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
 }
 
 /// PC side: feeds one byte of the device's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`) or
-/// `PL_E_NULL`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
+/// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`),
+/// `PL_E_NULL` or `PL_E_INVALID`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
 ///
 /// ```c
 /// pl_aok_item msg;
@@ -564,7 +592,8 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_pc_init`; `msg`, `err` are NULL or writable.
+/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+/// `PL_E_INVALID`); `msg`, `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_parse_byte(
     dec: *mut pl_aok_pc_decoder,
@@ -573,8 +602,9 @@ pub unsafe extern "C" fn pl_aok_pc_parse_byte(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, PcDecoder>(dec, msg, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, msg, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.push(byte), message_c, i, e)
 }
@@ -594,8 +624,9 @@ pub unsafe extern "C" fn pl_aok_pc_poll(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, PcDecoder>(dec, msg, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, msg, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.poll(), message_c, i, e)
 }
@@ -615,8 +646,9 @@ pub unsafe extern "C" fn pl_aok_pc_idle(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let Some((d, i, e)) = (unsafe { args::<_, PcDecoder>(dec, msg, err) }) else {
-        return PL_E_NULL;
+    let (d, i, e) = match unsafe { args(dec, msg, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
     };
     deliver(d.idle_next(), message_c, i, e)
 }
@@ -641,11 +673,13 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let (Some((d, i, e)), Some(input), Some(used)) = (
-        unsafe { args::<_, PcDecoder>(dec, msg, err) },
-        unsafe { ffi::bytes(bytes, len) },
-        unsafe { used.as_mut() },
-    ) else {
+    let (d, i, e) = match unsafe { args(dec, msg, err) } {
+        Ok(args) => args,
+        Err(code) => return code,
+    };
+    // SAFETY: the caller's promises for `bytes[..len]` and `used`.
+    let (Some(input), Some(used)) = (unsafe { ffi::bytes(bytes, len) }, unsafe { used.as_mut() })
+    else {
         return PL_E_NULL;
     };
     // Any event still held first, as `pl_aok_pc_poll` gives it (`feed_until` asks only after
@@ -659,7 +693,7 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
     deliver(event, message_c, i, e)
 }
 
-/// PC side: the decoder's counters. Returns 0 or `PL_E_NULL`.
+/// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aok_stats st;
@@ -667,16 +701,20 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_pc_init`; `stats` is NULL or writable.
+/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+/// `PL_E_INVALID`); `stats` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_get_stats(
     dec: *const pl_aok_pc_decoder,
     stats: *mut pl_aok_stats,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked_ref(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, PcDecoder>(dec) }, unsafe {
-        stats.as_mut()
-    }) else {
+    let Some(out) = (unsafe { stats.as_mut() }) else {
         return PL_E_NULL;
     };
     *out = stats_c(&d.stats());
@@ -717,15 +755,16 @@ unsafe fn callback<T>(
 
 /// Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
 /// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
-/// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_device_init`; `bytes` is NULL (with `len` 0) or readable for
-/// `len` bytes; `on_event` may be called with `ctx` and does not use `dec`.
+/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+/// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
+/// be called with `ctx` and does not use `dec`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_feed(
     dec: *mut pl_aok_device_decoder,
@@ -734,12 +773,13 @@ pub unsafe extern "C" fn pl_aok_device_feed(
     on_event: pl_aok_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(input), Some(call)) = (
-        unsafe { ffi::state::<_, DeviceDecoder>(dec) },
-        unsafe { ffi::bytes(bytes, len) },
-        on_event,
-    ) else {
+    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
     // SAFETY: the caller's promise for `on_event`.
@@ -751,15 +791,16 @@ pub unsafe extern "C" fn pl_aok_device_feed(
 
 /// PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
 /// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
-/// `pl_aok_pc_poll`). Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// `pl_aok_pc_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aok_pc_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
+/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+/// called with `ctx` and does not use `dec`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_feed(
     dec: *mut pl_aok_pc_decoder,
@@ -768,12 +809,13 @@ pub unsafe extern "C" fn pl_aok_pc_feed(
     on_event: pl_aok_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(input), Some(call)) = (
-        unsafe { ffi::state::<_, PcDecoder>(dec) },
-        unsafe { ffi::bytes(bytes, len) },
-        on_event,
-    ) else {
+    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
     // SAFETY: the caller's promise for `on_event`.

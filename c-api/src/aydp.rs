@@ -9,13 +9,15 @@ use aydp_proto::{
 };
 
 use crate::ffi::{self, pl_error, sat32};
+use crate::state::{self, State};
 use crate::*;
 
 /// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
 pub const PL_AYDP_CAPACITY: usize = 512;
 /// 64-bit words in a `pl_aydp_decoder`.
 pub const PL_AYDP_DECODER_WORDS: usize = 71;
-/// Size of `pl_aydp_decoder` in bytes (an upper bound over the supported targets).
+/// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
+/// supported targets).
 pub const PL_AYDP_DECODER_SIZE: usize = 568;
 /// Alignment of `pl_aydp_decoder` in bytes.
 pub const PL_AYDP_DECODER_ALIGN: usize = 8;
@@ -39,7 +41,12 @@ pub struct pl_aydp_decoder {
     pub opaque: [u64; PL_AYDP_DECODER_WORDS],
 }
 
-const _: () = assert!(ffi::fits::<pl_aydp_decoder, Inner>());
+// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
+unsafe impl State for pl_aydp_decoder {
+    type Inner = Inner;
+    const KIND: u32 = state::PL_STATE_AYDP;
+}
+const _: () = assert!(state::fits::<pl_aydp_decoder>());
 const _: () = assert!(PL_AYDP_DECODER_SIZE == core::mem::size_of::<pl_aydp_decoder>());
 const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AYDP_DECODER_ALIGN);
 
@@ -439,7 +446,8 @@ fn deliver(event: Result<Frame<'_>, Error>, msg: &mut pl_aydp_message, err: &mut
 }
 
 /// Sets up `dec` as a fresh decoder for `profile` (`PL_AYDP_SPEC` or `PL_AYDP_REFERENCE`).
-/// Returns 0, `PL_E_NULL` or `PL_E_BAD_TAG` (another profile).
+/// Returns 0, `PL_E_NULL`, `PL_E_BAD_TAG` (another profile) or `PL_E_INVALID` (`dec` not
+/// aligned for its type).
 ///
 /// ```c
 /// pl_aydp_decoder dec;
@@ -454,13 +462,13 @@ pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -
         return PL_E_BAD_TAG;
     };
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, Inner::new(p)) }
+    unsafe { state::init(dec, Inner::new(p)) }
 }
 
 /// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`; for a
-/// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data), or
-/// `PL_E_NULL`. After any event, call `pl_aydp_poll` until it returns `PL_NOTHING`: a rescan
-/// after an error can uncover further messages among bytes already held.
+/// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data),
+/// `PL_E_NULL` or `PL_E_INVALID`. After any event, call `pl_aydp_poll` until it returns
+/// `PL_NOTHING`: a rescan after an error can uncover further messages among bytes already held.
 ///
 /// ```c
 /// int st = pl_aydp_parse_byte(&dec, byte, &msg, &err);
@@ -471,8 +479,8 @@ pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aydp_init`; `msg` and `err` are NULL or writable; nothing else
-/// uses `dec` during the call.
+/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+/// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aydp_parse_byte(
     dec: *mut pl_aydp_decoder,
@@ -480,12 +488,13 @@ pub unsafe extern "C" fn pl_aydp_parse_byte(
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-    ) else {
+    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     match d.push(byte) {
@@ -509,12 +518,13 @@ pub unsafe extern "C" fn pl_aydp_poll(
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-    ) else {
+    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     match d.poll() {
@@ -549,9 +559,13 @@ pub unsafe extern "C" fn pl_aydp_parse(
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
+    let (Some(msg), Some(err), Some(input), Some(used)) = (
         unsafe { msg.as_mut() },
         unsafe { err.as_mut() },
         unsafe { ffi::bytes(bytes, len) },
@@ -589,15 +603,17 @@ pub type pl_aydp_callback = Option<
 
 /// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
 /// `on_event(ctx, ...)` for every event, in order: exactly the events of
-/// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, or `PL_E_NULL`.
+/// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, `PL_E_NULL` or
+/// `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aydp_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+/// called with `ctx` and does not use `dec`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aydp_feed(
     dec: *mut pl_aydp_decoder,
@@ -606,12 +622,13 @@ pub unsafe extern "C" fn pl_aydp_feed(
     on_event: pl_aydp_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(input), Some(call)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { ffi::bytes(bytes, len) },
-        on_event,
-    ) else {
+    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
     let mut msg = pl_aydp_message {
@@ -649,12 +666,13 @@ pub unsafe extern "C" fn pl_aydp_flush(
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-    ) else {
+    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     match d.flush_next() {
@@ -663,7 +681,7 @@ pub unsafe extern "C" fn pl_aydp_flush(
     }
 }
 
-/// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_aydp_stats st;
@@ -671,16 +689,20 @@ pub unsafe extern "C" fn pl_aydp_flush(
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_aydp_init`; `stats` is NULL or writable.
+/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+/// `PL_E_INVALID`); `stats` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aydp_get_stats(
     dec: *const pl_aydp_decoder,
     stats: *mut pl_aydp_stats,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked_ref(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
-        stats.as_mut()
-    }) else {
+    let Some(out) = (unsafe { stats.as_mut() }) else {
         return PL_E_NULL;
     };
     let s = d.stats();

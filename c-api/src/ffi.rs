@@ -1,5 +1,6 @@
 //! What every protocol file shares: the error struct, and the checked conversions from C
-//! pointers to Rust references and slices. All of the crate's pointer checks live here.
+//! pointers to Rust slices and buffers. These and the state checks of `state.rs` are all of
+//! the crate's pointer checks.
 
 use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
 
@@ -77,47 +78,4 @@ pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8]
 /// A frame length as the encoders' `int32_t` return value.
 pub(crate) fn length(n: usize) -> i32 {
     i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
-}
-
-/// The decoder state behind a C `pl_*_decoder` pointer, or `None` for NULL.
-///
-/// # Safety
-/// `state` is NULL or points to a `pl_*_decoder` that `init` set up as a `D`, that nothing
-/// else accesses for `'a`. `S` is at least as large and as aligned as `D` (each protocol file
-/// checks this at compile time).
-pub(crate) unsafe fn state<'a, S, D>(state: *mut S) -> Option<&'a mut D> {
-    // SAFETY: a `D` was written at this address by `init` (the caller's promise), and `S`
-    // is large and aligned enough to hold it.
-    unsafe { state.cast::<D>().as_mut() }
-}
-
-/// The decoder state behind a `const pl_*_decoder *`, read only, or `None` for NULL.
-///
-/// # Safety
-/// As [`state`], but nothing writes to it for `'a`.
-pub(crate) unsafe fn state_ref<'a, S, D>(state: *const S) -> Option<&'a D> {
-    // SAFETY: as in `state`; shared access only.
-    unsafe { state.cast::<D>().as_ref() }
-}
-
-/// Writes a fresh decoder `value` into the C state.
-///
-/// # Safety
-/// `state` is NULL or valid for writes of `S`, and `S` is at least as large and aligned as
-/// `D`.
-pub(crate) unsafe fn init<S, D>(state: *mut S, value: D) -> i32 {
-    if state.is_null() {
-        return PL_E_NULL;
-    }
-    // SAFETY: not NULL, valid for writes of `S` (the caller's promise), which holds a `D`
-    // (size and alignment checked at compile time by the caller's const assertion). Whatever
-    // was there before is plain bytes: nothing to drop.
-    unsafe { state.cast::<D>().write(value) };
-    0
-}
-
-/// Compile-time check that the C storage `S` can hold `D`.
-pub(crate) const fn fits<S, D>() -> bool {
-    core::mem::size_of::<D>() <= core::mem::size_of::<S>()
-        && core::mem::align_of::<D>() <= core::mem::align_of::<S>()
 }

@@ -7,14 +7,16 @@ use gdl90_proto::message::{
 use gdl90_proto::{Decoder, Error};
 
 use crate::ffi::{self, pl_error};
+use crate::state::{self, State};
 use crate::*;
 
 /// Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
 pub const PL_GDL90_CAPACITY: usize = 438;
 /// 64-bit words in a `pl_gdl90_decoder`.
-pub const PL_GDL90_DECODER_WORDS: usize = 65;
-/// Size of `pl_gdl90_decoder` in bytes (an upper bound over the supported targets).
-pub const PL_GDL90_DECODER_SIZE: usize = 520;
+pub const PL_GDL90_DECODER_WORDS: usize = 66;
+/// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
+/// supported targets).
+pub const PL_GDL90_DECODER_SIZE: usize = 528;
 /// Alignment of `pl_gdl90_decoder` in bytes.
 pub const PL_GDL90_DECODER_ALIGN: usize = 8;
 /// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
@@ -30,7 +32,12 @@ pub struct pl_gdl90_decoder {
 }
 
 const _: () = assert!(PL_GDL90_CAPACITY == gdl90_proto::MAX_FRAME);
-const _: () = assert!(ffi::fits::<pl_gdl90_decoder, Inner>());
+// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
+unsafe impl State for pl_gdl90_decoder {
+    type Inner = Inner;
+    const KIND: u32 = state::PL_STATE_GDL90;
+}
+const _: () = assert!(state::fits::<pl_gdl90_decoder>());
 const _: () = assert!(PL_GDL90_DECODER_SIZE == core::mem::size_of::<pl_gdl90_decoder>());
 const _: () = assert!(core::mem::align_of::<Inner>() <= PL_GDL90_DECODER_ALIGN);
 const _: () = assert!(PL_GDL90_MAX_FRAME_LEN == gdl90_proto::MAX_ENCODED_LEN);
@@ -472,7 +479,8 @@ fn deliver(
     }
 }
 
-/// Sets up `dec` as a fresh GDL90 decoder. Returns 0 or `PL_E_NULL`.
+/// Sets up `dec` as a fresh GDL90 decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
+/// aligned for its type).
 ///
 /// ```c
 /// pl_gdl90_decoder dec;
@@ -484,19 +492,19 @@ fn deliver(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_init(dec: *mut pl_gdl90_decoder) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { ffi::init(dec, Inner::new()) }
+    unsafe { state::init(dec, Inner::new()) }
 }
 
-/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`) or
-/// `PL_E_NULL`. At most one event per byte.
+/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`),
+/// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
 ///
 /// ```c
 /// if (pl_gdl90_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_GDL90_TRAFFIC) draw(&msg.body.report);
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_gdl90_init`; `msg`, `err` are NULL or writable; nothing else uses
-/// `dec` during the call.
+/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+/// `PL_E_INVALID`); `msg`, `err` are NULL or writable; nothing else uses `dec` during the call.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_parse_byte(
     dec: *mut pl_gdl90_decoder,
@@ -504,12 +512,13 @@ pub unsafe extern "C" fn pl_gdl90_parse_byte(
     msg: *mut pl_gdl90_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-    ) else {
+    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
     match d.push(byte) {
@@ -537,9 +546,13 @@ pub unsafe extern "C" fn pl_gdl90_parse(
     msg: *mut pl_gdl90_message,
     err: *mut pl_error,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
+    let (Some(msg), Some(err), Some(input), Some(used)) = (
         unsafe { msg.as_mut() },
         unsafe { err.as_mut() },
         unsafe { ffi::bytes(bytes, len) },
@@ -569,15 +582,16 @@ pub type pl_gdl90_callback = Option<
 
 /// The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
 /// for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
-/// or `PL_E_NULL`.
+/// `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_gdl90_init`; `bytes` is NULL (with `len` 0) or readable for `len`
-/// bytes; `on_event` may be called with `ctx` and does not use `dec`.
+/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
+/// called with `ctx` and does not use `dec`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_feed(
     dec: *mut pl_gdl90_decoder,
@@ -586,12 +600,13 @@ pub unsafe extern "C" fn pl_gdl90_feed(
     on_event: pl_gdl90_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises.
-    let (Some(d), Some(input), Some(call)) = (
-        unsafe { ffi::state::<_, Inner>(dec) },
-        unsafe { ffi::bytes(bytes, len) },
-        on_event,
-    ) else {
+    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
     let mut msg = pl_gdl90_message {
@@ -613,7 +628,7 @@ pub unsafe extern "C" fn pl_gdl90_feed(
     PL_NOTHING
 }
 
-/// Copies the decoder's counters into `*stats`. Returns 0 or `PL_E_NULL`.
+/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_gdl90_stats st;
@@ -621,16 +636,20 @@ pub unsafe extern "C" fn pl_gdl90_feed(
 /// ```
 ///
 /// # Safety
-/// `dec` was set up by `pl_gdl90_init`; `stats` is NULL or writable.
+/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
+/// `PL_E_INVALID`); `stats` is NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_get_stats(
     dec: *const pl_gdl90_decoder,
     stats: *mut pl_gdl90_stats,
 ) -> i32 {
+    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
+    let d = match unsafe { state::checked_ref(dec) } {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
     // SAFETY: the caller's promises (the decoder is only read).
-    let (Some(d), Some(out)) = (unsafe { ffi::state_ref::<_, Inner>(dec) }, unsafe {
-        stats.as_mut()
-    }) else {
+    let Some(out) = (unsafe { stats.as_mut() }) else {
         return PL_E_NULL;
     };
     let s = d.stats();

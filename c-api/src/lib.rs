@@ -9,7 +9,10 @@
 //!
 //! - decoder state is owned by the caller (`pl_*_decoder`, an opaque array of 64-bit words
 //!   whose size and alignment are checked against the Rust decoder at compile time), set up
-//!   with `pl_*_init`;
+//!   with `pl_*_init`, which writes a tag that every other call checks first ([`state`]):
+//!   a state never set up, set up for another protocol, or misaligned gets `PL_E_INVALID`;
+//! - [`state::pl_abi_version`], [`state::pl_state_size`] and [`state::pl_state_align`] let a
+//!   C program compare the header it was compiled with and the archive it links;
 //! - `pl_*_parse_byte` takes one byte and answers [`PL_NOTHING`], [`PL_MESSAGE`] or
 //!   [`PL_ERROR`] (the kind in a [`pl_error`]); `pl_*_parse` takes a slice, stops after the
 //!   byte that completed the next event and says how many bytes it used; `pl_*_feed` hands a
@@ -19,7 +22,8 @@
 //!   valid until the next call on that decoder;
 //! - encoders write one whole frame into the caller's buffer and return its length, or a
 //!   negative `PL_E_*` code;
-//! - every pointer is checked for NULL, every length is bounded: bad input gets a code.
+//! - every pointer is checked for NULL, every state for its tag and alignment, every length
+//!   is bounded: bad input gets a code.
 //!
 //! No allocator, no global or static mutable state: one decoder per UART, each used from one
 //! context (its interrupt handler or the main loop), needs no locking.
@@ -42,6 +46,7 @@ pub mod aydp;
 pub mod bench;
 mod ffi;
 pub mod gdl90;
+pub mod state;
 
 pub use ffi::pl_error;
 
@@ -62,8 +67,11 @@ pub const PL_E_OUT_OF_RANGE: i32 = -3;
 /// Return code: the message tag (or another selector argument) names nothing this function
 /// knows.
 pub const PL_E_BAD_TAG: i32 = -4;
-/// Return code (encoders): the message is not valid for the protocol (for example a text too
-/// long, a count that does not match its data, a base type above 126).
+/// Return code: the state passed is not one its `init` set up (never set up, set up for
+/// another protocol or by an archive of another ABI version, or not aligned for its type);
+/// nothing but its first word was read, nothing written. Encoders: the message is not valid
+/// for the protocol (for example a text too long, a count that does not match its data, a base
+/// type above 126).
 pub const PL_E_INVALID: i32 = -5;
 
 /// Error kind: none (the `pl_error` holds no error).

@@ -1,8 +1,9 @@
 //! The C functions called from Rust, as a C program calls them: these also run under Miri
 //! (`cargo +nightly miri test -p protolink-c`), which checks every `unsafe` block they reach.
 
-use core::mem::MaybeUninit;
+use core::mem::{MaybeUninit, align_of, size_of};
 use core::ptr::{null, null_mut};
+use std::boxed::Box;
 use std::vec::Vec;
 
 use crate::aeolus::*;
@@ -659,4 +660,465 @@ fn aok_pc_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
         rescans: false,
     };
     side.parse_matches_the_byte_calls(&stream, chunks);
+}
+
+/// Output storage filled with 0x5A: a refused call must leave every byte of it as it was. (On
+/// the heap: moving a `MaybeUninit<T>` would not keep the bytes of `T`'s padding.)
+struct Out<T>(Box<MaybeUninit<T>>);
+
+impl<T> Out<T> {
+    fn new() -> Self {
+        let mut m = Box::new(MaybeUninit::<T>::uninit());
+        // SAFETY: writable for one `T`.
+        unsafe {
+            m.as_mut_ptr()
+                .cast::<u8>()
+                .write_bytes(0x5A, size_of::<T>())
+        };
+        Self(m)
+    }
+
+    fn ptr(&mut self) -> *mut T {
+        self.0.as_mut_ptr()
+    }
+
+    fn untouched(&self) -> bool {
+        // SAFETY: every byte was written by `new`; a refused call writes none.
+        let bytes =
+            unsafe { core::slice::from_raw_parts(self.0.as_ptr().cast::<u8>(), size_of::<T>()) };
+        bytes.iter().all(|&b| b == 0x5A)
+    }
+}
+
+/// A feed callback that notes it was called (`ctx` is a `bool`).
+unsafe extern "C" fn called<M>(
+    ctx: *mut core::ffi::c_void,
+    _: i32,
+    _: *const M,
+    _: *const pl_error,
+) {
+    // SAFETY: the tests pass a live `bool`.
+    unsafe { *ctx.cast::<bool>() = true };
+}
+
+/// The bytes every call below feeds: the start of an AEOLUS frame, an AYDP start byte, an AOK
+/// command byte (none completes anything).
+const BYTES: [u8; 4] = [0x7E, 0x3E, 0xFF, 0x63];
+
+/// The statuses of every call on the state at `p` but `init` (valid other arguments), and
+/// whether every call was refused and left every output untouched.
+type Calls = unsafe fn(*mut u8) -> (Vec<i32>, bool);
+
+/// Whether every status is `PL_E_INVALID`.
+fn refused(st: &[i32]) -> bool {
+    st.iter().all(|&s| s == PL_E_INVALID)
+}
+
+/// One kind of state: its name, its `init` on the storage at a pointer, and its other calls.
+struct Kind {
+    name: &'static str,
+    init: unsafe fn(*mut u8) -> i32,
+    calls: Calls,
+}
+
+unsafe fn aeolus_calls(p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<pl_aeolus_decoder>();
+    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<pl_aeolus_stats>::new();
+    let mut fed = false;
+    let ctx = (&mut fed as *mut bool).cast();
+    // SAFETY: the state at `p` is what is tested; the other arguments are live.
+    let st = unsafe {
+        std::vec![
+            pl_aeolus_parse_byte(d, BYTES[0], msg.ptr(), err.ptr()),
+            pl_aeolus_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
+            pl_aeolus_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aeolus_message>), ctx),
+            pl_aeolus_flush(d, err.ptr()),
+            pl_aeolus_get_stats(d, stats.ptr()),
+        ]
+    };
+    // Outputs are only compared after refusals: an accepted call may write them.
+    let untouched =
+        refused(&st) && msg.untouched() && err.untouched() && used.untouched() && stats.untouched();
+    (st, untouched && !fed)
+}
+
+unsafe fn aydp_calls(p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<pl_aydp_decoder>();
+    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<pl_aydp_stats>::new();
+    let mut fed = false;
+    let ctx = (&mut fed as *mut bool).cast();
+    // SAFETY: as in `aeolus_calls`.
+    let st = unsafe {
+        std::vec![
+            pl_aydp_parse_byte(d, BYTES[2], msg.ptr(), err.ptr()),
+            pl_aydp_poll(d, msg.ptr(), err.ptr()),
+            pl_aydp_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
+            pl_aydp_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aydp_message>), ctx),
+            pl_aydp_flush(d, msg.ptr(), err.ptr()),
+            pl_aydp_get_stats(d, stats.ptr()),
+        ]
+    };
+    // Outputs are only compared after refusals: an accepted call may write them.
+    let untouched =
+        refused(&st) && msg.untouched() && err.untouched() && used.untouched() && stats.untouched();
+    (st, untouched && !fed)
+}
+
+unsafe fn aok_device_calls(p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<pl_aok_device_decoder>();
+    let (mut item, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<pl_aok_stats>::new();
+    let mut fed = false;
+    let ctx = (&mut fed as *mut bool).cast();
+    // SAFETY: as in `aeolus_calls`.
+    let st = unsafe {
+        std::vec![
+            pl_aok_device_parse_byte(d, BYTES[3], item.ptr(), err.ptr()),
+            pl_aok_device_poll(d, item.ptr(), err.ptr()),
+            pl_aok_device_idle(d, item.ptr(), err.ptr()),
+            pl_aok_device_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
+            pl_aok_device_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
+            pl_aok_device_get_stats(d, stats.ptr()),
+        ]
+    };
+    // Outputs are only compared after refusals: an accepted call may write them.
+    let untouched = refused(&st)
+        && item.untouched()
+        && err.untouched()
+        && used.untouched()
+        && stats.untouched();
+    (st, untouched && !fed)
+}
+
+unsafe fn aok_pc_calls(p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<pl_aok_pc_decoder>();
+    let (mut item, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<pl_aok_stats>::new();
+    let mut fed = false;
+    let ctx = (&mut fed as *mut bool).cast();
+    let get = pl_aok_item {
+        kind: PL_AOK_READ_PARAMETER,
+        number: 12,
+        ..Default::default()
+    };
+    // SAFETY: as in `aeolus_calls`.
+    let st = unsafe {
+        std::vec![
+            pl_aok_pc_expect_reply(d, &get),
+            pl_aok_pc_parse_byte(d, 0x1C, item.ptr(), err.ptr()),
+            pl_aok_pc_poll(d, item.ptr(), err.ptr()),
+            pl_aok_pc_idle(d, item.ptr(), err.ptr()),
+            pl_aok_pc_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
+            pl_aok_pc_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
+            pl_aok_pc_get_stats(d, stats.ptr()),
+        ]
+    };
+    // Outputs are only compared after refusals: an accepted call may write them.
+    let untouched = refused(&st)
+        && item.untouched()
+        && err.untouched()
+        && used.untouched()
+        && stats.untouched();
+    (st, untouched && !fed)
+}
+
+unsafe fn gdl90_calls(p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<pl_gdl90_decoder>();
+    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<pl_gdl90_stats>::new();
+    let mut fed = false;
+    let ctx = (&mut fed as *mut bool).cast();
+    // SAFETY: as in `aeolus_calls`.
+    let st = unsafe {
+        std::vec![
+            pl_gdl90_parse_byte(d, BYTES[0], msg.ptr(), err.ptr()),
+            pl_gdl90_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
+            pl_gdl90_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_gdl90_message>), ctx),
+            pl_gdl90_get_stats(d, stats.ptr()),
+        ]
+    };
+    // Outputs are only compared after refusals: an accepted call may write them.
+    let untouched =
+        refused(&st) && msg.untouched() && err.untouched() && used.untouched() && stats.untouched();
+    (st, untouched && !fed)
+}
+
+/// Every kind of state (the AEOLUS strict init and the AYDP Reference profile write the same
+/// tags as these).
+const KINDS: [Kind; 5] = [
+    Kind {
+        name: "AEOLUS",
+        // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
+        init: |p| unsafe { pl_aeolus_init(p.cast()) },
+        calls: aeolus_calls,
+    },
+    Kind {
+        name: "AYDP",
+        // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
+        init: |p| unsafe { pl_aydp_init(p.cast(), PL_AYDP_SPEC) },
+        calls: aydp_calls,
+    },
+    Kind {
+        name: "AOK device",
+        // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
+        init: |p| unsafe { pl_aok_device_init(p.cast()) },
+        calls: aok_device_calls,
+    },
+    Kind {
+        name: "AOK PC",
+        // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
+        init: |p| unsafe { pl_aok_pc_init(p.cast(), 0, 35) },
+        calls: aok_pc_calls,
+    },
+    Kind {
+        name: "GDL90",
+        // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
+        init: |p| unsafe { pl_gdl90_init(p.cast()) },
+        calls: gdl90_calls,
+    },
+];
+
+/// Storage for any state, as a C union of them: aligned for each, large enough for each and 8
+/// bytes more (for a state moved to an odd address).
+#[repr(C, align(8))]
+struct AnyState([u8; ANY_STATE_LEN]);
+
+const ANY_STATE_LEN: usize = 8 + {
+    let sizes = [
+        PL_AEOLUS_DECODER_SIZE,
+        PL_AYDP_DECODER_SIZE,
+        PL_AOK_DECODER_SIZE,
+        PL_GDL90_DECODER_SIZE,
+    ];
+    let (mut max, mut i) = (0, 0);
+    while i < sizes.len() {
+        if sizes[i] > max {
+            max = sizes[i];
+        }
+        i += 1;
+    }
+    max
+};
+
+impl AnyState {
+    fn filled(byte: u8) -> Self {
+        Self([byte; ANY_STATE_LEN])
+    }
+
+    /// Random bytes, deterministic for `seed`.
+    fn random(seed: u64) -> Self {
+        let mut s = Self::filled(0);
+        let mut x = seed;
+        for b in s.0.iter_mut() {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            *b = (x >> 24) as u8;
+        }
+        s
+    }
+}
+
+/// Every call on every kind of state whose storage holds `bytes` (never set up by `init`)
+/// returns `PL_E_INVALID` and writes nothing: not the state, not an output.
+fn refused_untouched(bytes: impl Fn() -> AnyState, what: &str) {
+    for kind in &KINDS {
+        let mut mem = bytes();
+        let before = mem.0;
+        // SAFETY: storage for any state, filled with `bytes`.
+        let (st, untouched) = unsafe { (kind.calls)(mem.0.as_mut_ptr()) };
+        assert!(refused(&st), "{} state {what}: {st:?}", kind.name);
+        assert!(
+            untouched,
+            "{} state {what}: an output was written",
+            kind.name
+        );
+        assert!(
+            mem.0 == before,
+            "{} state {what}: the state was written",
+            kind.name
+        );
+    }
+}
+
+#[test]
+fn a_state_set_up_by_its_init_is_accepted_by_every_call() {
+    for kind in &KINDS {
+        let mut mem = AnyState::filled(0xA5);
+        let p = mem.0.as_mut_ptr();
+        // SAFETY: storage for any state.
+        let (st, _) = unsafe {
+            assert_eq!((kind.init)(p), 0, "{}", kind.name);
+            (kind.calls)(p)
+        };
+        assert!(st.iter().all(|&s| s >= 0), "{}: {st:?}", kind.name);
+    }
+}
+
+#[test]
+fn a_state_never_set_up_filled_with_zeros_is_refused() {
+    refused_untouched(|| AnyState::filled(0x00), "filled with 0x00");
+}
+
+/// Issue 44's case: before the tag, `pl_aok_pc_parse_byte` on this state built an invalid
+/// `ReplyForm` (Miri: "constructing invalid value of type aok_proto::ReplyForm: at
+/// .<enum-tag>, encountered 0xa5, but expected a valid enum tag").
+#[test]
+fn an_aok_pc_state_never_set_up_filled_with_0xa5_is_refused() {
+    let mut d = MaybeUninit::<pl_aok_pc_decoder>::uninit();
+    let p = d.as_mut_ptr();
+    // SAFETY: writable storage for the state.
+    unsafe {
+        p.cast::<u8>()
+            .write_bytes(0xA5, size_of::<pl_aok_pc_decoder>())
+    };
+    let (mut item, mut err) = (Out::new(), Out::new());
+    // SAFETY: the state is what is tested; live outputs.
+    let st = unsafe { pl_aok_pc_parse_byte(p, 0x1C, item.ptr(), err.ptr()) };
+    assert_eq!(st, PL_E_INVALID);
+    assert!(item.untouched() && err.untouched());
+}
+
+/// Every state filled with 0xA5: before the tag, the AEOLUS, GDL90 and AOK PC ones were
+/// undefined behaviour (AEOLUS and GDL90: "enum value has invalid tag: 0xa5"; AOK PC, above),
+/// and the AYDP and AOK device ones were read as decoders.
+#[test]
+fn a_state_never_set_up_filled_with_0xa5_is_refused() {
+    refused_untouched(|| AnyState::filled(0xA5), "filled with 0xA5");
+    refused_untouched(|| AnyState::filled(0xFF), "filled with 0xFF");
+}
+
+#[test]
+fn a_state_never_set_up_holding_random_bytes_is_refused() {
+    for seed in [1, 0xA5A5, 0x1234_5678_9ABC_DEF0] {
+        refused_untouched(|| AnyState::random(seed), "of random bytes");
+    }
+}
+
+#[test]
+fn a_state_set_up_for_another_protocol_is_refused_and_stays_good() {
+    for (i, other) in KINDS.iter().enumerate() {
+        for (j, kind) in KINDS.iter().enumerate() {
+            if i == j {
+                continue;
+            }
+            let mut mem = AnyState::filled(0);
+            let p = mem.0.as_mut_ptr();
+            // SAFETY: storage for any state.
+            let (st, untouched) = unsafe {
+                assert_eq!((other.init)(p), 0);
+                (kind.calls)(p)
+            };
+            assert!(
+                refused(&st),
+                "{} call on a state set up as {}: {st:?}",
+                kind.name,
+                other.name
+            );
+            assert!(
+                untouched,
+                "{} call on a state set up as {} wrote",
+                kind.name, other.name
+            );
+            // The other protocol's state is still one (its padding is not compared: it is
+            // not initialised memory in Rust's model).
+            // SAFETY: a set-up state of `other`.
+            let (st, _) = unsafe { (other.calls)(p) };
+            assert!(
+                st.iter().all(|&s| s >= 0),
+                "{} state afterwards: {st:?}",
+                other.name
+            );
+        }
+    }
+}
+
+#[test]
+fn a_misaligned_state_is_refused_by_init_and_every_call() {
+    for kind in &KINDS {
+        // `init` on an odd address writes nothing.
+        let mut mem = AnyState::filled(0);
+        // SAFETY: one byte into the storage: as large as any state, not aligned for one.
+        let st = unsafe { (kind.init)(mem.0.as_mut_ptr().add(1)) };
+        assert_eq!(st, PL_E_INVALID, "{} init", kind.name);
+        assert!(mem.0 == [0; ANY_STATE_LEN], "{} init wrote", kind.name);
+        // A good state moved to an odd address, tag and all, is refused before it is read.
+        let mut good = AnyState::filled(0);
+        let mut moved = AnyState::filled(0);
+        // SAFETY: storage for any state, and a copy of its bytes one byte further on.
+        let (st, untouched) = unsafe {
+            assert_eq!((kind.init)(good.0.as_mut_ptr()), 0);
+            core::ptr::copy_nonoverlapping(
+                good.0.as_ptr(),
+                moved.0.as_mut_ptr().add(1),
+                ANY_STATE_LEN - 8,
+            );
+            (kind.calls)(moved.0.as_mut_ptr().add(1))
+        };
+        assert!(
+            refused(&st),
+            "{} moved to an odd address: {st:?}",
+            kind.name
+        );
+        assert!(
+            untouched,
+            "{} moved to an odd address: an output was written",
+            kind.name
+        );
+    }
+}
+
+#[test]
+fn the_archive_reports_its_abi_version_and_the_header_sizes() {
+    assert_eq!(state::pl_abi_version(), state::PL_ABI_VERSION);
+    let states = [
+        (
+            state::PL_STATE_AEOLUS,
+            size_of::<pl_aeolus_decoder>(),
+            PL_AEOLUS_DECODER_SIZE,
+        ),
+        (
+            state::PL_STATE_AYDP,
+            size_of::<pl_aydp_decoder>(),
+            PL_AYDP_DECODER_SIZE,
+        ),
+        (
+            state::PL_STATE_AOK_DEVICE,
+            size_of::<pl_aok_device_decoder>(),
+            PL_AOK_DECODER_SIZE,
+        ),
+        (
+            state::PL_STATE_AOK_PC,
+            size_of::<pl_aok_pc_decoder>(),
+            PL_AOK_DECODER_SIZE,
+        ),
+        (
+            state::PL_STATE_GDL90,
+            size_of::<pl_gdl90_decoder>(),
+            PL_GDL90_DECODER_SIZE,
+        ),
+    ];
+    for (kind, size, header) in states {
+        assert_eq!(
+            (state::pl_state_size(kind), size),
+            (header, header),
+            "kind {kind}"
+        );
+        assert_eq!(
+            state::pl_state_align(kind),
+            align_of::<u64>(),
+            "kind {kind}"
+        );
+    }
+    for unknown in [0, 6, u32::MAX] {
+        assert_eq!(
+            (
+                state::pl_state_size(unknown),
+                state::pl_state_align(unknown)
+            ),
+            (0, 0)
+        );
+    }
 }

@@ -6,7 +6,10 @@
 #   1. round trips every message type (encode, decode, re-encode, same bytes);
 #   2. feeds 10 MiB of random bytes twice, every truncation and single-byte corruption of the
 #      round-trip frames, oversized frames and NULL/length abuse;
-#   3. decodes ../shared/vectors/, testdata/*.bin and the round-trip frames through the C API
+#   3. calls every function on states their init did not set up (0x00, 0xA5, 0xFF and random
+#      fills, another protocol's state, an odd address): PL_E_INVALID and nothing written; and
+#      checks the header's state sizes, alignments and ABI version against the archive's;
+#   4. decodes ../shared/vectors/, testdata/*.bin and the round-trip frames through the C API
 #      and compares every message field and counter with `protolink decode --json`.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -34,6 +37,7 @@ export ASAN_OPTIONS=abort_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=
 
 "$out/host_test" roundtrip "$out/rt"
 RT_DIR="$out/rt" "$out/host_test" hostile 10
+"$out/host_test" misuse
 
 python3 c-api/tests/vectors.py ../shared/vectors "$out/vectors"
 python3 c-api/tests/compare.py "$out/host_test" target/release/protolink \

@@ -10,6 +10,10 @@
  *   host_test hostile MBYTES    MBYTES of random bytes, then truncated, corrupted and oversized
  *                               frames through every decoder, byte and slice calls, plus NULL
  *                               and length checks on every function
+ *   host_test misuse            every call on states their init did not set up (0x00, 0xA5,
+ *                               0xFF and random fills, another protocol's state, an odd
+ *                               address): PL_E_INVALID, nothing written; the header's state
+ *                               sizes and ABI version against the archive's
  *
  * PROTO: aeolus, aydp-spec, aydp-reference, aok-pc (commands), aok-device (device messages),
  * gdl90. Exit status 0 on success; any failed check prints one line and exits 1.
@@ -692,11 +696,13 @@ static int cmd_dump(const char *proto, const char *path) {
 
 #include "host_roundtrip.h"
 #include "host_hostile.h"
+#include "host_misuse.h"
 
 int main(int argc, char **argv) {
     if (argc == 4 && !strcmp(argv[1], "dump")) return cmd_dump(argv[2], argv[3]);
     if (argc == 3 && !strcmp(argv[1], "roundtrip")) return cmd_roundtrip(argv[2]);
     if (argc == 3 && !strcmp(argv[1], "hostile")) return cmd_hostile(atoi(argv[2]));
-    fprintf(stderr, "usage: host_test dump PROTO FILE | roundtrip DIR | hostile MBYTES\n");
+    if (argc == 2 && !strcmp(argv[1], "misuse")) return cmd_misuse();
+    fprintf(stderr, "usage: host_test dump PROTO FILE | roundtrip DIR | hostile MBYTES | misuse\n");
     return 2;
 }

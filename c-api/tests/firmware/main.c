@@ -2,7 +2,8 @@
  * The C firmware test: a Cortex-M3 program for QEMU lm3s6965evb, built with Debian's
  * arm-none-eabi-gcc and picolibc and linked with libprotolink_c.a (thumbv7m). It decodes the
  * three UART captures of testdata/ (built into the image by capture.S) through the C API,
- * AEOLUS byte by byte, AYDP and AOK with the slice calls, and prints the decoders' counters
+ * AEOLUS byte by byte, AYDP and AOK with the slice calls (after checking that the header and
+ * the archive agree: ABI version, state sizes), and prints the decoders' counters
  * over semihosting; c-api/tests/firmware.sh compares them with the Rust decoder's
  * (`protolink decode --json`).
  */
@@ -24,6 +25,14 @@ static pl_aok_pc_decoder aok;
 int main(void) {
     pl_error err;
     unsigned aeolus_messages = 0, aydp_messages = 0, aok_messages = 0, errors = 0;
+
+    /* The header this was compiled with describes the archive it is linked with. */
+    if (pl_abi_version() != PL_ABI_VERSION || pl_state_size(PL_STATE_AEOLUS) != sizeof aeolus ||
+        pl_state_size(PL_STATE_AYDP) != sizeof aydp || pl_state_size(PL_STATE_AOK_PC) != sizeof aok ||
+        pl_state_align(PL_STATE_AEOLUS) != _Alignof(pl_aeolus_decoder)) {
+        printf("protolink.h and libprotolink_c.a differ\n");
+        exit(1);
+    }
 
     pl_aeolus_message am;
     pl_aeolus_init(&aeolus);
