@@ -169,6 +169,9 @@ bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python gpsd
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py
 
+step "docs: no stale name of a removed type or method outside the CHANGELOGs (scripts/check-words.py)"
+python3 scripts/check-words.py
+
 step "format"
 cargo fmt --all -- --check
 (cd firmware-embassy && cargo fmt -- --check)

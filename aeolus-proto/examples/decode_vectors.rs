@@ -30,7 +30,7 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let mut deframer = Decoder::<MAX_FIXED_FRAME>::new();
+    let mut decoder = Decoder::<MAX_FIXED_FRAME>::new();
     for v in doc["vectors"].as_array().into_iter().flatten() {
         let name = v["name"].as_str().unwrap_or("?");
         let wire = v["frame"]
@@ -40,7 +40,7 @@ fn main() -> ExitCode {
             .unwrap_or_default();
         println!("{name} ({} bytes on the wire)", wire.len());
         for &byte in &wire {
-            match deframer.push(byte) {
+            match decoder.push(byte) {
                 Some(Ok(frame)) => {
                     let crc = if frame.has_crc() { "CRC ok" } else { "no CRC" };
                     match frame.message() {
@@ -53,7 +53,7 @@ fn main() -> ExitCode {
             }
         }
     }
-    let s = deframer.stats();
+    let s = decoder.stats();
     println!(
         "frames ok {}, without CRC {}, CRC errors {}, overflows {}, bytes discarded {}",
         s.frames_ok, s.frames_no_crc, s.checksum_errors, s.overflows, s.bytes_discarded

@@ -158,7 +158,7 @@ proptest! {
             check::<{ aeolus_proto::MAX_FIXED_FRAME }, 64>(s, &sizes, &errors);
             check::<{ aeolus_proto::MAX_FIXED_FRAME }, 7>(s, &sizes, &errors);
             check::<{ aeolus_proto::MAX_FIXED_FRAME }, 1>(s, &sizes, &errors);
-            // A small deframer: overflows on the long messages.
+            // A small decoder: overflows on the long messages.
             check::<24, 16>(s, &sizes, &errors);
         }
     }

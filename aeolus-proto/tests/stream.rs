@@ -1,4 +1,4 @@
-//! Stream behaviour of the deframer: noise, flags, escapes, overflow, CRC errors, short frames,
+//! Stream behaviour of the decoder: noise, flags, escapes, overflow, CRC errors, short frames,
 //! strict mode, counters; every stream test repeats with the input split at every byte
 //! boundary; 1,000 random messages in random garbage; 1 MiB of random bytes.
 
@@ -11,8 +11,8 @@ type Events = Vec<Result<(u8, Vec<u8>), Error>>;
 /// TOAST "hi" with its CRC.
 const HI: [u8; 8] = [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
 
-/// Runs `bytes` through a fresh deframer whole, then split in two at every byte boundary
-/// (two `push_slice` calls on the same deframer), and checks all runs agree. Returns the
+/// Runs `bytes` through a fresh decoder whole, then split in two at every byte boundary
+/// (two `feed` calls on the same decoder), and checks all runs agree. Returns the
 /// events and the final counters.
 fn run_split<const N: usize>(strict: bool, bytes: &[u8]) -> (Events, Stats) {
     let fresh = || {
@@ -101,7 +101,7 @@ fn escape_followed_by_an_invalid_byte_drops_the_frame_until_the_next_flag() {
 
 #[test]
 fn overflow_then_clean_resync() {
-    // 40 data bytes into a deframer of 16: overflow at byte 17, then the next frame arrives.
+    // 40 data bytes into a decoder of 16: overflow at byte 17, then the next frame arrives.
     let mut long = [0u8; max_encoded_len(40)];
     let n = encode_frame(81, &[0x11; 40], &[], CrcMode::Compute, &mut long).unwrap();
     let mut s = long[..n].to_vec();
@@ -329,7 +329,7 @@ fn a_mebibyte_of_random_bytes_never_panics_and_the_counters_add_up() {
     }
 }
 
-/// `push_slice` copies runs in bulk; it must give exactly what pushing byte by byte gives,
+/// `feed` copies runs in bulk; it must give exactly what pushing byte by byte gives,
 /// events and counters, on noise and on frames, for a capacity that overflows often.
 #[test]
 fn push_slice_is_exactly_push_byte_by_byte() {

@@ -48,7 +48,7 @@ fn naive_aeolus(input: Vec<u8>) -> usize {
 }
 
 // Every decoder twice: byte by byte (`push`, the `_push` rows) and through its slice API
-// (`push_slice` / `feed`).
+// (`feed`).
 #[library_benchmark]
 #[bench::aydp(aydp_stream())]
 fn decode_aydp_push(input: Vec<u8>) -> u32 {

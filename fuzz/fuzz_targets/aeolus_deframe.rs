@@ -1,4 +1,4 @@
-//! The AEOLUS deframer on any byte stream, normal and strict: no panic, and the byte
+//! The AEOLUS decoder on any byte stream, normal and strict: no panic, and the byte
 //! accounting holds after every byte; `feed_until`, called on the rest until it finds nothing,
 //! gives the frames and errors of `push` and the same counters.
 #![no_main]

@@ -16,7 +16,7 @@ fuzz_target!(|data: &[u8]| {
     let mut out = vec![0u8; n];
     let m = again.emit(&mut out).unwrap();
     assert_eq!(&out[..m], canon);
-    // The whole frame round-trips through the deframer.
+    // The whole frame round-trips through the decoder.
     let mut wire = vec![0u8; max_encoded_len(n)];
     let w = msg.encode(&mut wire, CrcMode::Compute).unwrap();
     // Capacity for the longest input the fuzzer makes (-max_len=4096).

@@ -37,14 +37,14 @@ fn relay(
     from_sim: &UdpSocket,
     to_gdl90: &UdpSocket,
     gdl90_in: u16,
-    deframer: &mut Decoder<1024>,
+    decoder: &mut Decoder<1024>,
     went_in: &mut Inputs,
 ) {
     let mut buf = [0u8; 2048];
     while let Ok(n) = from_sim.recv(&mut buf) {
-        deframer.reset();
+        decoder.reset();
         for &b in &buf[..n] {
-            if let Some(Ok(f)) = deframer.push(b)
+            if let Some(Ok(f)) = decoder.push(b)
                 && let Ok(m) = f.message()
             {
                 went_in.take(&m);
@@ -88,7 +88,7 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
         "--seconds",
         "7",
     ]);
-    let mut deframer = Box::new(Decoder::<1024>::new());
+    let mut decoder = Box::new(Decoder::<1024>::new());
     let mut went_in = Inputs::default();
     let mut got = Outputs::default();
     let mut buf = [0u8; 2048];
@@ -96,7 +96,7 @@ fn sim_at_30_degrees_of_bank_reaches_an_efb_as_gdl90() {
     // The first 1.5 s let the picture fill; the next 5 s are counted.
     let window = (Duration::from_millis(1500), Duration::from_millis(6500));
     while started.elapsed() < window.1 {
-        relay(&from_sim, &to_gdl90, gdl90_in, &mut deframer, &mut went_in);
+        relay(&from_sim, &to_gdl90, gdl90_in, &mut decoder, &mut went_in);
         while let Ok(n) = efb.recv(&mut buf) {
             let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
             if started.elapsed() >= window.0 {
@@ -450,13 +450,13 @@ fn the_stratux_ahrs_report_carries_the_bank_and_the_pressure_altitude() {
         "--seconds",
         "5",
     ]);
-    let mut deframer = Box::new(Decoder::<1024>::new());
+    let mut decoder = Box::new(Decoder::<1024>::new());
     let mut went_in = Inputs::default();
     let (mut reports, mut foreflight) = (Vec::new(), 0);
     let mut buf = [0u8; 2048];
     let started = Instant::now();
     while started.elapsed() < Duration::from_millis(4500) {
-        relay(&from_sim, &to_gdl90, gdl90_in, &mut deframer, &mut went_in);
+        relay(&from_sim, &to_gdl90, gdl90_in, &mut decoder, &mut went_in);
         while let Ok(n) = efb.recv(&mut buf) {
             let (id, data) = unframe(&buf[..n]).expect("every datagram is one good frame");
             match id {

@@ -200,14 +200,14 @@ fn run_sim_through_nmea(window: (Duration, Duration)) -> (Inputs, Vec<(f64, Stri
         }
         lines
     });
-    let mut deframer = Box::new(Decoder::<1024>::new());
+    let mut decoder = Box::new(Decoder::<1024>::new());
     let mut went_in = Inputs::default();
     let mut buf = [0u8; 2048];
     while started.elapsed() < window.1 + Duration::from_millis(200) {
         while let Ok(n) = from_sim.recv(&mut buf) {
-            deframer.reset();
+            decoder.reset();
             for &b in &buf[..n] {
-                if let Some(Ok(f)) = deframer.push(b)
+                if let Some(Ok(f)) = decoder.push(b)
                     && let Ok(m) = f.message()
                 {
                     went_in.take(&m);

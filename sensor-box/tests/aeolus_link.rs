@@ -53,10 +53,10 @@ impl Sent {
     }
 }
 
-/// The peer on the other end of UART0: a strict deframer (every frame must carry a good CRC).
+/// The peer on the other end of UART0: a strict decoder (every frame must carry a good CRC).
 struct Peer<const TX: usize = 8192> {
     isr: SerialIsr<'static, 4096, TX>,
-    deframer: Decoder<512>,
+    decoder: Decoder<512>,
     frames: Vec<Sent>,
 }
 
@@ -67,7 +67,7 @@ impl<const TX: usize> Peer<TX> {
             let Some(b) = self.isr.next_to_send() else {
                 break;
             };
-            if let Some(event) = self.deframer.push(b) {
+            if let Some(event) = self.decoder.push(b) {
                 let f = event.expect("every frame the box sends is intact");
                 self.frames.push(Sent {
                     id: f.id(),
@@ -137,7 +137,7 @@ impl<const TX: usize> SensorBox<TX> {
             port,
             peer: Peer {
                 isr,
-                deframer: Decoder::strict(),
+                decoder: Decoder::strict(),
                 frames: Vec::new(),
             },
             now: 0,
@@ -249,7 +249,7 @@ fn ten_seconds_give_the_spec_rates_within_two_percent() {
         }
     }
     assert_eq!(b.peer.toasts(), ["AEOLUS on"]);
-    let stats = b.peer.deframer.stats();
+    let stats = b.peer.decoder.stats();
     assert_eq!(
         (
             stats.checksum_errors,
@@ -397,7 +397,7 @@ fn nominal_byte_rate_and_uart_speed() {
         b.link.poll(b.now, &mut b.port, &mut b.shared);
         while let Some(byte) = b.peer.isr.next_to_send() {
             wire_bytes += 1;
-            if b.peer.deframer.push(byte).is_some() {
+            if b.peer.decoder.push(byte).is_some() {
                 counted += 1;
             }
         }
@@ -666,7 +666,7 @@ fn reboot_answers_then_asks_the_main_loop_for_a_reset() {
     let (mut u2, _isr2) = port::<8192>();
     let mut peer = Peer {
         isr: isr0,
-        deframer: Decoder::strict(),
+        decoder: Decoder::strict(),
         frames: Vec::new(),
     };
     for now in 0..50 {
@@ -781,7 +781,7 @@ fn commands_split_over_many_polls_and_after_garbage_are_found() {
 #[test]
 fn a_slow_uart_drops_whole_frames_but_still_answers() {
     // A 115 200 Bd UART (11 bytes/ms) cannot carry 45 kB/s: the link queue fills, whole
-    // telemetry frames are dropped (the peer's strict deframer sees no damage), RX keeps
+    // telemetry frames are dropped (the peer's strict decoder sees no damage), RX keeps
     // working and the answer TOAST still goes out (the queue keeps room for it).
     let mut b = SensorBox::boot_with(port::<64>());
     b.uart_bytes_per_ms = 11;
@@ -798,7 +798,7 @@ fn a_slow_uart_drops_whole_frames_but_still_answers() {
             .toasts()
             .contains(&"unknown command: a c pressure".to_owned())
     );
-    let stats = b.peer.deframer.stats();
+    let stats = b.peer.decoder.stats();
     assert_eq!((stats.checksum_errors, stats.bytes_discarded), (0, 0));
     // Sent frames are whole frames: about 11 kB/s of them.
     assert!(b.peer.frames.len() > 200);

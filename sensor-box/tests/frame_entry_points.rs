@@ -103,9 +103,9 @@ fn aeolus_frame_by_frame_equals_poll() {
     let (mut b_port, mut b_isr) = port();
     let mut b_shared = Shared::new(Persisted::default(), 0);
     let mut b = AeolusLink::new(0);
-    let mut deframer = aeolus_proto::Decoder::<RX_FRAME>::new();
+    let mut decoder = aeolus_proto::Decoder::<RX_FRAME>::new();
     for &byte in &stream {
-        if let Some(frame) = deframer.push(byte) {
+        if let Some(frame) = decoder.push(byte) {
             b.handle_frame(frame.as_ref().map_err(|e| *e), 3, &mut b_shared);
         }
     }
@@ -114,7 +114,7 @@ fn aeolus_frame_by_frame_equals_poll() {
 
     assert_eq!(sent(&mut a_isr), sent(&mut b_isr));
     assert_eq!(a.counters(), b.counters());
-    assert_eq!(a.rx_stats(), deframer.stats());
+    assert_eq!(a.rx_stats(), decoder.stats());
     assert_eq!(a_shared.paused, b_shared.paused);
     assert_eq!(a_shared.wall_clock, b_shared.wall_clock);
     assert!(a_shared.wall_clock.is_some());

@@ -145,7 +145,7 @@ fn command(text: &str) -> Vec<u8> {
 
 /// What the AEOLUS peer sends, by millisecond: commands answered by TOASTs (known, unknown,
 /// the longest), a SETTIME, garbage, a bad escape, a bad CRC, a frame too long for the
-/// deframer, a burst of 40 commands in one millisecond (more than one poll reads) and 600
+/// decoder, a burst of 40 commands in one millisecond (more than one poll reads) and 600
 /// bytes of noise.
 fn aeolus_input() -> Vec<(u64, Vec<u8>)> {
     let settime = aeolus(Message::SetTime(SetTime {
@@ -239,9 +239,9 @@ fn aeolus_sends_the_same_bytes_under_every_split() {
 
 /// The TOASTs in an AEOLUS stream.
 fn toasts(wire: &[u8]) -> Vec<String> {
-    let mut deframer = Decoder::<512>::new();
+    let mut decoder = Decoder::<512>::new();
     let mut out = Vec::new();
-    deframer.feed(wire, |f| {
+    decoder.feed(wire, |f| {
         if let Ok(Message::Toast(t)) = f.unwrap().message() {
             out.push(t.as_str().unwrap().to_owned());
         }

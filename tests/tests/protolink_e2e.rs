@@ -130,11 +130,11 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
     ] {
         assert!(counters.contains(want), "{want} not in {counters}");
     }
-    let deframer = stdout
+    let decoder = stdout
         .lines()
         .find(|l| l.starts_with("uart decoder: "))
-        .expect("the deframer's counters");
-    assert!(deframer.contains("checksum_errors=0 "), "{deframer}");
+        .expect("the decoder's counters");
+    assert!(decoder.contains("checksum_errors=0 "), "{decoder}");
 
     // The firmware's log shows it took the SETTIME and the commands.
     let log = q.stop();

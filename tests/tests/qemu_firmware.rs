@@ -46,7 +46,7 @@ fn aeolus_telemetry_crc_rates_and_commands(board: Board) {
     // while busy): host-timed waits below are judged in box time at this pace.
     let pace = (3_000.0 / host_start.elapsed().as_secs_f64() / 1_000.0).min(1.0);
 
-    // Every frame's CRC checked (strict deframer): nothing rejected, nothing skipped.
+    // Every frame's CRC checked (strict decoder): nothing rejected, nothing skipped.
     let s = u0.stats();
     println!(
         "3 s of UART0: {} bytes, {} frames, {s:?}",

@@ -25,7 +25,7 @@ pub fn aeolus_deframe(stream: &[u8]) -> u32 {
     n
 }
 
-/// Deframes `stream` with `push_slice` (runs copied in bulk). Returns the frames delivered.
+/// Deframes `stream` with `feed` (runs copied in bulk). Returns the frames delivered.
 #[inline(never)]
 pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
     let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
@@ -34,7 +34,7 @@ pub fn aeolus_deframe_slice(stream: &[u8]) -> u32 {
     n
 }
 
-/// Deframes with `push_slice` and parses every frame into a typed message. Returns the XOR of
+/// Deframes with `feed` and parses every frame into a typed message. Returns the XOR of
 /// the GYRO timestamps' bit patterns: an integer fold, so that no soft-float addition (a
 /// library call on Cortex-M3) is counted as decoding.
 #[inline(never)]

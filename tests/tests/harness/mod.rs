@@ -513,12 +513,12 @@ impl Frame {
     }
 }
 
-/// The UART0 socket and everything decoded from it so far, with a strict deframer: a frame
+/// The UART0 socket and everything decoded from it so far, with a strict decoder: a frame
 /// without a CRC or with a wrong one is counted, never delivered.
 #[derive(Default)]
 pub struct Aeolus {
     stream: Option<TcpStream>,
-    deframer: Decoder<{ aeolus_proto::MAX_FIXED_FRAME }>,
+    decoder: Decoder<{ aeolus_proto::MAX_FIXED_FRAME }>,
     /// Every frame received, in order.
     pub frames: Vec<Frame>,
     /// Every byte received.
@@ -535,7 +535,7 @@ impl Aeolus {
             .expect("set a read timeout");
         Aeolus {
             stream: Some(stream),
-            deframer: Decoder::strict(),
+            decoder: Decoder::strict(),
             ..Aeolus::default()
         }
     }
@@ -575,7 +575,7 @@ impl Aeolus {
             Ok(n) => {
                 self.bytes += n;
                 for &b in &buf[..n] {
-                    if let Some(Ok(f)) = self.deframer.push(b) {
+                    if let Some(Ok(f)) = self.decoder.push(b) {
                         self.frames.push(Frame {
                             id: f.id(),
                             data: f.data().to_vec(),
@@ -633,9 +633,9 @@ impl Aeolus {
         self.stream = None;
     }
 
-    /// The deframer's counters.
+    /// The decoder's counters.
     pub fn stats(&self) -> aeolus_proto::Stats {
-        self.deframer.stats()
+        self.decoder.stats()
     }
 }
 
