@@ -147,9 +147,8 @@ impl AirData {
             celsius,
             ias_mps: dynamic_pa.and_then(indicated_airspeed_mps),
             tas_mps,
-            pressure_altitude_m: pressure
-                .filter(|_| static_hpa.is_some())
-                .map(|p| isa_altitude_m(p.static_mbar))
+            pressure_altitude_m: static_hpa
+                .map(|hpa| isa_altitude_m(hpa as f32))
                 .filter(|m| m.is_finite()),
             vertical_speed_mps: vertical
                 .filter(|v| v.is_finite())

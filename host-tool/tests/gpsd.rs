@@ -33,7 +33,7 @@ use common::*;
 use serde_json::Value;
 
 /// How `protolink nmea` is started for gpsd (`--from`, `--listen` and `--seconds` follow).
-/// A set with `$PGRMZ` (`--for lk8000`, and every run before `--for` existed) fails here:
+/// A set with `$PGRMZ` (`--for lk8000`) fails here:
 /// gpsd's stream is right, but its polls give the pressure altitude as `altMSL`, and mode 2
 /// with that altitude through the outage (gpsd 3.22 reads `$PGRMZ` as Garmin's altitude and
 /// fix type).

@@ -104,6 +104,10 @@ fn air_message(event: &Event) -> Option<AirMessage> {
     let Body::Message { name, fields, .. } = &event.body else {
         return None;
     };
+    // Most messages are neither: told apart by name before any field is looked up.
+    if name != "PRESSURE" && name != "TEMP" {
+        return None;
+    }
     let valid = fields.get("valid")?.as_bool()?;
     let timestamp_ms = fields.get("timestamp_ms")?.as_f64()?;
     let f32_of = |key: &str| fields.get(key).and_then(Value::as_f64).map(|v| v as f32);
@@ -184,15 +188,16 @@ impl PlotSender {
             if proto != Proto::Aeolus {
                 continue;
             }
-            let at = self.instant(timestamp);
             match air_message(e) {
                 Some(AirMessage::Pressure(p)) => {
+                    let at = self.instant(timestamp);
                     self.air.take_pressure(&p, at);
                     if let Some(v) = air_flat(&self.air.at(at), timestamp) {
                         self.datagram(&v);
                     }
                 }
                 Some(AirMessage::Temp(t)) => {
+                    let at = self.instant(timestamp);
                     self.air.take(&aeolus_proto::message::Message::Temp(t), at);
                 }
                 None => {}
