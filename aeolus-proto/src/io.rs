@@ -48,6 +48,7 @@ impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
     type Found = (usize, bool);
     type Item<'a> = Frame<'a>;
+    const TRUNCATED: Error = Error::Truncated;
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(usize, bool), Error>>) {

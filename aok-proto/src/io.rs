@@ -81,6 +81,7 @@ impl Decode for PcDecoder {
     type Error = Error;
     type Found = Message;
     type Item<'a> = Message;
+    const TRUNCATED: Error = Error::Truncated;
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Message, Error>>) {
@@ -114,6 +115,7 @@ impl Decode for DeviceDecoder {
     type Error = Error;
     type Found = Command;
     type Item<'a> = Command;
+    const TRUNCATED: Error = Error::Truncated;
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Command, Error>>) {

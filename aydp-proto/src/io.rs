@@ -55,6 +55,7 @@ impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
     type Found = (Option<usize>, usize);
     type Item<'a> = Frame<'a>;
+    const TRUNCATED: Error = Error::Truncated;
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(Option<usize>, usize), Error>>) {

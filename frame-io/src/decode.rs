@@ -21,15 +21,35 @@ pub enum Event<F, P> {
     Truncated(usize),
 }
 
-/// A stream decoder that the readers can drive: the slice fast path, the end of the stream,
-/// and the item a [`Event::Found`] stands for.
+/// **The decoder contract**: what every decoder of this workspace implements, and the one
+/// loop a user writes with it.
 ///
-/// The reader calls [`Decode::decode`] on every byte it reads (and once more with an empty
-/// slice before each read, for events a rescan left queued); when a read returns 0 bytes, it
-/// calls [`Decode::end`] until that returns `None`, then reports
-/// [`IoError::Eof`](crate::IoError::Eof) and reads on. The events must be those of the
-/// decoder's byte-at-a-time `push` (and `poll`) over the same bytes, and at the end those of
-/// its `flush` or `idle`.
+/// ```text
+/// decoder.feed(bytes, |event| ...)   // every slice of the stream, of any length (one byte too)
+/// decoder.finish(|event| ...)        // the stream ended (a file, a datagram, a quiet line)
+/// ```
+///
+/// Each `event` is `Ok(item)` (a frame, a message or a command) or `Err(error)` (the decoder
+/// has resynchronised and goes on). The events depend only on the bytes, never on how they
+/// were cut into slices: feeding a stream whole, byte by byte or in any other pieces gives
+/// the same events in the same order (every crate property-tests and fuzzes this). After
+/// `finish` the decoder starts afresh, as if new.
+///
+/// Below that loop is the **pull form** the loop itself is built on, for callers that must
+/// act between two events (the firmware checks its TX room before it reads on; the readers of
+/// this crate return one item per call; the C library returns one event per call):
+///
+/// - [`Decode::decode`]: decodes a slice up to and including the byte that gives the first
+///   event; returns how many bytes it used and the event (`None`: every byte was used and
+///   nothing came of it). Events a rescan left queued come first, with no byte used, so a
+///   caller calls it again on the rest, and once with an empty slice, until it returns
+///   `(0, None)`.
+/// - [`Decode::end`]: the events of the end of the stream, one a call, until `None`.
+/// - [`Decode::item`]: the item an [`Event::Found`] stands for (it may borrow the decoder or
+///   the slice given to `decode`).
+///
+/// An implementation writes the pull form; `feed` and `finish` come with it (a decoder may
+/// override `feed` with a faster loop that gives the same events).
 ///
 /// ```
 /// use frame_io::{Decode, Event};
@@ -44,6 +64,7 @@ pub enum Event<F, P> {
 ///     type Error = &'static str;
 ///     type Found = usize;
 ///     type Item<'a> = &'a [u8];
+///     const TRUNCATED: &'static str = "line cut short";
 ///
 ///     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<usize, &'static str>>) {
 ///         for (i, &b) in bytes.iter().enumerate() {
@@ -70,7 +91,19 @@ pub enum Event<F, P> {
 ///     }
 /// }
 ///
+/// // The one loop: any slices, then the end of the stream.
 /// let mut lines = Lines { buf: [0; 8], len: 0 };
+/// let mut seen = Vec::new();
+/// for piece in [&b"hi\nth"[..], b"ere\n", b"1234567890\n", b"tail"] {
+///     lines.feed(piece, |event| seen.push(event.map(|line| line.to_vec())));
+/// }
+/// lines.finish(|event| seen.push(event.map(|line| line.to_vec())));
+/// assert_eq!(
+///     seen,
+///     [Ok(b"hi".to_vec()), Ok(b"there".to_vec()), Err("line too long"), Ok(b"0".to_vec()), Err("line cut short")]
+/// );
+///
+/// // The pull form underneath.
 /// assert_eq!(lines.decode(b"hi\nthere"), (3, Some(Event::Found(2))));
 /// assert_eq!(lines.decode(b"there"), (5, None));
 /// assert_eq!(lines.end(true), Some(Event::Truncated(5)));
@@ -86,13 +119,16 @@ pub trait Decode {
     type Item<'a>
     where
         Self: 'a;
+    /// The error [`Decode::finish`] reports for an [`Event::Truncated`]: the stream ended
+    /// inside a frame (each protocol crate's `Error::Truncated`).
+    const TRUNCATED: Self::Error;
 
     /// Decodes `bytes` up to the first event: returns how many of them were used and the
     /// event, if any (`None`: every byte was used and nothing was found). Events left queued
     /// by an earlier call come first, with no byte used.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -109,7 +145,7 @@ pub trait Decode {
     /// read that returned 0 bytes.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -124,7 +160,7 @@ pub trait Decode {
     /// an item found in place in the read buffer can borrow it.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -132,4 +168,66 @@ pub trait Decode {
     /// assert_eq!(Bytes.item(&[7, 8], 7), 7);
     /// ```
     fn item<'a>(&'a self, input: &'a [u8], found: Self::Found) -> Self::Item<'a>;
+
+    /// The loop of the contract for a slice of the stream: calls `on_event` for every event
+    /// the bytes give, in order, and returns once every byte is used. Slices of any length,
+    /// one byte included, give the events of the whole stream.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// use frame_io::Decode;
+    /// let mut seen = Vec::new();
+    /// Bytes.feed(&[7, 0, 8], |event| seen.push(event));
+    /// assert_eq!(seen, [Ok(7), Err(0), Ok(8)]);
+    /// ```
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Self::Item<'_>, Self::Error>),
+    {
+        let mut rest = bytes;
+        loop {
+            let input = rest;
+            let (used, event) = self.decode(input);
+            rest = input.get(used..).unwrap_or(&[]);
+            match event {
+                None => return,
+                Some(Event::Found(found)) => on_event(Ok(self.item(input, found))),
+                Some(Event::Error(error)) => on_event(Err(error)),
+                Some(Event::Truncated(_)) => on_event(Err(Self::TRUNCATED)),
+            }
+        }
+    }
+
+    /// The loop of the contract for the end of the stream: calls `on_event` for every event
+    /// of [`Decode::end`] (a frame cut short is `Err(TRUNCATED)`; what a protocol rescans
+    /// after it follows), then the decoder is as new.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// use frame_io::Decode;
+    /// let mut seen = 0;
+    /// Bytes.finish(|_| seen += 1);
+    /// assert_eq!(seen, 0); // `Bytes` holds nothing between calls
+    /// ```
+    fn finish<F>(&mut self, mut on_event: F)
+    where
+        F: FnMut(Result<Self::Item<'_>, Self::Error>),
+    {
+        let mut first = true;
+        while let Some(event) = self.end(first) {
+            first = false;
+            match event {
+                Event::Found(found) => on_event(Ok(self.item(&[], found))),
+                Event::Error(error) => on_event(Err(error)),
+                Event::Truncated(_) => on_event(Err(Self::TRUNCATED)),
+            }
+        }
+    }
 }

@@ -17,7 +17,7 @@ use crate::{Decode, IoError};
 /// buffer.
 ///
 /// ```
-/// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+/// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
 /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
 /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
 /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -39,7 +39,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// A reader of `inner` through `decoder`.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -64,7 +64,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// - [`IoError::Eof`]: the stream ended and nothing is held. The next call reads again.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -92,7 +92,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The decoder, for its counters.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -106,7 +106,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The decoder, mutably (to change what it expects, say).
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -120,7 +120,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// Bytes read from the transport and not decoded yet.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -135,7 +135,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The transport.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -149,7 +149,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The transport, mutably (bytes read around the reader are not decoded).
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -164,7 +164,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// Gives the transport back; bytes read and not decoded are lost.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }

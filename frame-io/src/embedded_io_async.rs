@@ -26,7 +26,7 @@ use crate::{Decode, IoError};
 /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
 /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
 /// # }
-/// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+/// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
 /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
 /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
 /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -48,7 +48,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// A reader of `inner` through `decoder`.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -78,7 +78,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -107,7 +107,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The decoder, for its counters.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -121,7 +121,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The decoder, mutably (to change what it expects, say).
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -140,7 +140,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -156,7 +156,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// The transport.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -175,7 +175,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
@@ -190,7 +190,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// Gives the transport back; bytes read and not decoded are lost.
     ///
     /// ```
-    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8;
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }

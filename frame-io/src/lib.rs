@@ -36,6 +36,7 @@
 //!     type Error = &'static str;
 //!     type Found = usize;
 //!     type Item<'a> = &'a [u8];
+//!     const TRUNCATED: &'static str = "line cut short";
 //!
 //!     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<usize, &'static str>>) {
 //!         for (i, &b) in bytes.iter().enumerate() {

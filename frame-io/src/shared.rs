@@ -186,6 +186,7 @@ mod liveness {
         type Error = ();
         type Found = ();
         type Item<'a> = ();
+        const TRUNCATED: () = ();
         fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(), ()>>) {
             self.0 += bytes.len();
             (bytes.len(), None)

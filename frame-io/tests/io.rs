@@ -31,6 +31,7 @@ impl Decode for Lines {
     type Error = &'static str;
     type Found = Found;
     type Item<'a> = &'a [u8];
+    const TRUNCATED: &'static str = "line cut short";
 
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Found, &'static str>>) {
         if self.len == 0 {
