@@ -2,7 +2,7 @@
 //!
 //! `cargo run -p aeolus-proto --example decode_vectors -- testdata/aeolus-frames.json`
 
-use aeolus_proto::{Decoder, MAX_FIXED_FRAME};
+use aeolus_proto::{Decode, Decoder, MAX_FIXED_FRAME};
 use std::process::ExitCode;
 
 fn hex(s: &str) -> Option<Vec<u8>> {
@@ -39,19 +39,16 @@ fn main() -> ExitCode {
             .and_then(hex)
             .unwrap_or_default();
         println!("{name} ({} bytes on the wire)", wire.len());
-        for &byte in &wire {
-            match decoder.push(byte) {
-                Some(Ok(frame)) => {
-                    let crc = if frame.has_crc() { "CRC ok" } else { "no CRC" };
-                    match frame.message() {
-                        Ok(msg) => println!("  {} [{crc}] {msg:?}", msg.name()),
-                        Err(e) => println!("  id {} [{crc}] {e}", frame.id()),
-                    }
+        decoder.feed(&wire, |event| match event {
+            Ok(frame) => {
+                let crc = if frame.has_crc() { "CRC ok" } else { "no CRC" };
+                match frame.message() {
+                    Ok(msg) => println!("  {} [{crc}] {msg:?}", msg.name()),
+                    Err(e) => println!("  id {} [{crc}] {e}", frame.id()),
                 }
-                Some(Err(e)) => println!("  error: {e}"),
-                None => {}
             }
-        }
+            Err(e) => println!("  error: {e}"),
+        });
     }
     let s = decoder.stats();
     println!(

@@ -3,8 +3,8 @@
 //!
 //! - [`FrameReader`] is `frame-io`'s reader around a [`Decoder`] and a read buffer of `R`
 //!   bytes; each [`FrameReader::read`]`.await` returns the next frame. Every read is decoded
-//!   with the slice fast path of [`Decoder::feed`], and the frames and errors are exactly those
-//!   of [`Decoder::push`] byte by byte.
+//!   with the slice fast path of [`crate::Decode::feed`], and the frames and errors are exactly
+//!   those of `feed` over the same bytes in any pieces.
 //! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
 //!   a time, with no frame buffer.
 //!

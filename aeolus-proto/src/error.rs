@@ -38,7 +38,7 @@ pub enum Error {
     InvalidEscape,
     /// An escape byte (0x7D) right before a flag: the frame was aborted.
     EscapedFlag,
-    /// A datagram or a stream ([`crate::Decoder::flush`]) ended inside a frame (no closing
+    /// A datagram or a stream ([`crate::Decode::finish`]) ended inside a frame (no closing
     /// flag).
     Truncated,
     /// A known fixed-size message ID arrived with the wrong number of data bytes.

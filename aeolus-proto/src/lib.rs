@@ -4,10 +4,10 @@
 //! protocol: GDL90-style framing (`0x7E` flags, `0x7D` escapes, a CRC-16) carrying the 16
 //! message types of the AEOLUS communications document.
 //!
-//! - [`Decoder`]: byte-at-a-time decoding of a UART stream (`push`, at most one event per
-//!   byte), whole slices (`feed`) and the end of the stream (`flush`), bounded by a
-//!   const-generic capacity, resynchronising after any error, with [`Stats`] counters. The
-//!   three protocol crates share this shape: see `docs/architecture.md`.
+//! - [`Decoder`]: the stream decoder, bounded by a const-generic capacity, resynchronising
+//!   after any error, with [`Stats`] counters. It implements [`Decode`], the decoder contract
+//!   every protocol crate of this workspace shares (from `frame-io`): `feed` every slice of
+//!   the stream, one byte or many, and `finish` at its end.
 //! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
 //! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
 //!   [`max_encoded_len`] sizes buffers at compile time.
@@ -20,10 +20,10 @@
 //!
 //! Byte order is little-endian (DECISIONS.md A1). Decoders never panic, whatever the input.
 //!
-//! ## Decoding a UART byte stream
+//! ## Decoding a stream: the one loop
 //!
 //! ```
-//! use aeolus_proto::{Decoder, message::Message};
+//! use aeolus_proto::{Decode, Decoder, message::Message};
 //!
 //! // Two frames from the vectors: TOAST "AEOLUS on", then a TOAST sent without CRC.
 //! let stream: &[u8] = &[
@@ -32,14 +32,22 @@
 //! ];
 //! let mut decoder = Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
 //! let mut seen = Vec::new();
-//! for &byte in stream {
-//!     if let Some(Ok(frame)) = decoder.push(byte) {
-//!         if let Ok(Message::Toast(text)) = frame.message() {
-//!             seen.push((text.as_str().unwrap_or("?").to_owned(), frame.has_crc()));
+//! let mut errors = 0;
+//! // Every slice as it comes (a DMA buffer, a read, one byte from an ISR: all the same).
+//! for piece in stream.chunks(4) {
+//!     decoder.feed(piece, |event| match event {
+//!         Ok(frame) => {
+//!             if let Ok(Message::Toast(text)) = frame.message() {
+//!                 seen.push((text.as_str().unwrap_or("?").to_owned(), frame.has_crc()));
+//!             }
 //!         }
-//!     }
+//!         Err(_) => errors += 1, // counted in `stats()` too; the decoder resynchronised
+//!     });
 //! }
+//! // The end of the stream: a frame cut short would be reported here.
+//! decoder.finish(|_| errors += 1);
 //! assert_eq!(seen, [("AEOLUS on".to_owned(), true), ("no crc".to_owned(), false)]);
+//! assert_eq!(errors, 0);
 //! assert_eq!(decoder.stats().frames_ok, 1);
 //! assert_eq!(decoder.stats().frames_no_crc, 1);
 //! ```
@@ -82,6 +90,7 @@ pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::Error;
 pub use frame::Frame;
+pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
 pub use scan::find_flag;

@@ -10,7 +10,7 @@ pub(crate) const fn is_special(byte: u8) -> bool {
 }
 
 /// `SPECIAL[b]` is whether `b` is the flag or the escape byte: the test of [`is_special`] as
-/// one load. `Decoder::push` uses it: at opt-level "s" the arithmetic test compiles to three
+/// one load. The decoder's per-byte path uses it: at opt-level "s" the arithmetic test compiles to three
 /// instructions (the subtraction is narrowed to a byte and zero-extended again) where the
 /// table takes one load, two instructions a byte fewer for 256 bytes of flash.
 pub(crate) static SPECIAL: [bool; 256] = {

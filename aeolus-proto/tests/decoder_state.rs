@@ -2,7 +2,7 @@
 //! (escapes included), strict or not, and counters that `reset_stats` zeroes without touching
 //! the frame in progress, while `reset` drops that frame as discarded bytes.
 
-use aeolus_proto::{Decoder, Error, Stats};
+use aeolus_proto::{Decode, Decoder, Error, Event, Stats};
 
 const HI: [u8; 8] = [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
 
@@ -11,7 +11,7 @@ fn held_bytes_counts_the_wire_bytes_since_the_flag() {
     let mut d = Decoder::<16>::new();
     let mut pending = Vec::new();
     for b in [0x01, 0x7E, 0x52, 0x7D, 0x5E, b'h', 0x7D] {
-        assert!(d.push(b).is_none());
+        d.feed(&[b], |ev| panic!("no event expected, got {:?}", ev.err()));
         pending.push(d.held_bytes());
     }
     // Noise before the flag is not pending; an escape pair is two wire bytes.
@@ -60,30 +60,30 @@ fn reset_drops_the_frame_in_progress_as_discarded_bytes() {
 }
 
 #[test]
-fn flush_gives_up_a_frame_in_progress_and_nothing_else() {
+fn finish_gives_up_a_frame_in_progress_and_nothing_else() {
     let mut d = Decoder::<16>::new();
     let mut events = Vec::new();
-    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.finish(|ev| events.push(ev.map(|f| f.id())));
     d.feed(&HI, |ev| events.push(ev.map(|f| f.id())));
     // Between frames (the closing flag may open the next one): nothing to give up.
-    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.finish(|ev| events.push(ev.map(|f| f.id())));
     assert_eq!(events, [Ok(0x52)]);
     d.feed(&[0x52, 0x7D, 0x5E], |_| {});
-    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.finish(|ev| events.push(ev.map(|f| f.id())));
     assert_eq!(events, [Ok(0x52), Err(Error::Truncated)]);
     assert_eq!((d.held_bytes(), d.stats().bytes_discarded), (0, 3));
     // Only once.
-    d.flush(|ev| events.push(ev.map(|f| f.id())));
+    d.finish(|ev| events.push(ev.map(|f| f.id())));
     assert_eq!(events.len(), 2);
 }
 
-/// The IDs (or errors) of pushing `bytes` one at a time.
+/// The IDs (or errors) of feeding `bytes` one at a time.
 fn push_all(d: &mut Decoder<8>, bytes: &[u8]) -> Vec<Result<u8, Error>> {
     let mut ids = Vec::new();
     for &b in bytes {
-        if let Some(ev) = d.push(b) {
+        d.feed(&[b], |ev| {
             ids.push(ev.map(|f| f.id()));
-        }
+        });
     }
     ids
 }
@@ -97,7 +97,7 @@ fn a_new_decoder_counts_every_garbage_byte_at_once_whatever_comes_next() {
     let garbage: Vec<u8> = (1..=13).collect();
     let mut d = Decoder::<8>::new();
     for (i, &b) in garbage.iter().enumerate() {
-        assert!(d.push(b).is_none());
+        d.feed(&[b], |ev| panic!("no event expected, got {:?}", ev.err()));
         assert_eq!(
             (d.stats().bytes_discarded, d.held_bytes()),
             (i as u32 + 1, 0)
@@ -111,19 +111,22 @@ fn a_new_decoder_counts_every_garbage_byte_at_once_whatever_comes_next() {
     // Garbage pushed, then each of the other calls: the same counts as pushing it all.
     type Next = fn(&mut Decoder<8>) -> Vec<Result<u8, Error>>;
     let nexts: [(&str, Next); 5] = [
-        ("push", |d| push_all(d, &HI)),
+        ("one byte a call", |d| push_all(d, &HI)),
         ("feed", |d| {
             let mut ids = Vec::new();
             d.feed(&HI, |ev| ids.push(ev.map(|f| f.id())));
             ids
         }),
-        ("feed_until", |d| {
-            let (n, ev) = d.feed_until(&HI);
+        ("decode", |d| {
+            let (n, ev) = d.decode(&HI);
             assert_eq!(n, HI.len());
-            ev.into_iter().map(|e| e.map(|f| f.id())).collect()
+            match ev {
+                Some(Event::Found(at)) => vec![Ok(d.item(&HI, at).id())],
+                other => panic!("expected a frame, got {other:?}"),
+            }
         }),
-        ("flush, then push", |d| {
-            d.flush(|_| panic!("nothing to flush in a hunt"));
+        ("finish, then one byte a call", |d| {
+            d.finish(|_| panic!("nothing to give up in a hunt"));
             push_all(d, &HI)
         }),
         ("a clone", |d| {
@@ -136,7 +139,7 @@ fn a_new_decoder_counts_every_garbage_byte_at_once_whatever_comes_next() {
     for (what, next) in nexts {
         let mut d = Decoder::<8>::new();
         for &b in &garbage[..5] {
-            d.push(b);
+            d.feed(&[b], |_| {});
         }
         assert_eq!(next(&mut d), [Ok(0x52)], "{what}");
         assert_eq!(

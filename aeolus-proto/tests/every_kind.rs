@@ -1,6 +1,7 @@
 //! Every message kind of the spec arrives as itself: encoded, framed, decoded and parsed, each
 //! of the 16 kinds (and an unknown ID) gives back the same variant and values, under its name.
 
+use aeolus_proto::Decode;
 use aeolus_proto::message::*;
 use aeolus_proto::{CrcMode, Decoder};
 

@@ -1,11 +1,12 @@
-//! Property tests of the slice path's word-at-a-time copy and running CRC: `feed` must give
-//! exactly the events and counters of `push`, byte by byte, on streams dense in the bytes
+//! Property tests of the slice path's word-at-a-time copy and running CRC: `feed` over whole
+//! slices must give exactly the events and counters of `feed` one byte a call (the per-byte
+//! path), on streams dense in the bytes
 //! that end a run (0x7D, 0x7E) and those that follow an escape (0x5D, 0x5E), at every word
-//! offset, for capacities around the word size, and when `push` and `feed` take turns
-//! within one frame (the running CRC then has bytes to catch up with); and `feed_until`,
-//! called again on what each call left, gives the same events as well.
+//! offset, for capacities around the word size, and when one-byte and longer slices take
+//! turns within one frame (the running CRC then has bytes to catch up with); and the pull
+//! form, `decode` called again on what each call left, gives the same events as well.
 
-use aeolus_proto::{CrcMode, Decoder, Error, Stats, encode_frame};
+use aeolus_proto::{CrcMode, Decode, Decoder, Error, Event, Stats, encode_frame};
 use proptest::prelude::*;
 
 type Events = Vec<Result<Vec<u8>, Error>>;
@@ -60,9 +61,7 @@ fn by_byte<const N: usize>(bytes: &[u8]) -> (Events, Stats) {
     let mut d = Decoder::<N>::new();
     let mut ev = Vec::new();
     for &b in bytes {
-        if let Some(e) = d.push(b) {
-            ev.push(record(e));
-        }
+        d.feed(&[b], |e| ev.push(record(e)));
     }
     (ev, d.stats())
 }
@@ -77,7 +76,7 @@ fn cut_points(bytes: &[u8], splits: &[usize]) -> Vec<usize> {
 }
 
 /// Feeds the pieces between the split points in turn; a piece whose index is in `pushed` is
-/// pushed byte by byte instead.
+/// fed one byte a call instead.
 fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events, Stats) {
     let mut d = Decoder::<N>::new();
     let mut ev = Vec::new();
@@ -86,9 +85,7 @@ fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events
         let piece = &bytes[w[0]..w[1]];
         if pushed & (1 << (i % 32)) != 0 {
             for &b in piece {
-                if let Some(e) = d.push(b) {
-                    ev.push(record(e));
-                }
+                d.feed(&[b], |e| ev.push(record(e)));
             }
         } else {
             d.feed(piece, |e| ev.push(record(e)));
@@ -97,8 +94,9 @@ fn mixed<const N: usize>(bytes: &[u8], splits: &[usize], pushed: u32) -> (Events
     (ev, d.stats())
 }
 
-/// Feeds the pieces between the split points with `feed_until`, again and again on what each
-/// call left, recording its event; every call consumes a byte or more, or ends the piece.
+/// Decodes the pieces between the split points with the pull form, `decode` again and again
+/// on what each call left, recording its event; every call uses a byte or more, or ends the
+/// piece.
 fn until<const N: usize>(bytes: &[u8], splits: &[usize]) -> (Events, Stats) {
     let mut d = Decoder::<N>::new();
     let mut ev = Vec::new();
@@ -106,11 +104,14 @@ fn until<const N: usize>(bytes: &[u8], splits: &[usize]) -> (Events, Stats) {
     for w in cuts.windows(2) {
         let mut piece = &bytes[w[0]..w[1]];
         while !piece.is_empty() {
-            let (n, e) = d.feed_until(piece);
+            let (n, e) = d.decode(piece);
             assert!(n > 0 && n <= piece.len(), "consumed {n} of {}", piece.len());
             let found = e.is_some();
-            if let Some(e) = e {
-                ev.push(record(e));
+            match e {
+                Some(Event::Found(at)) => ev.push(record(Ok(d.item(piece, at)))),
+                Some(Event::Error(e)) => ev.push(Err(e)),
+                Some(Event::Truncated(n)) => panic!("decode never truncates ({n})"),
+                None => {}
             }
             assert!(found || n == piece.len(), "stopped without an event");
             piece = &piece[n..];
@@ -123,7 +124,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
 
     #[test]
-    fn feed_until_again_and_again_is_push_byte_by_byte(
+    fn decode_again_and_again_is_feed_byte_by_byte(
         bytes in stream(),
         splits in prop::collection::vec(any::<usize>(), 0..6),
     ) {
@@ -133,7 +134,7 @@ proptest! {
     }
 
     #[test]
-    fn feed_in_pieces_is_push_byte_by_byte(
+    fn feed_in_pieces_is_feed_byte_by_byte(
         bytes in stream(),
         splits in prop::collection::vec(any::<usize>(), 0..6),
         pushed in any::<u32>(),

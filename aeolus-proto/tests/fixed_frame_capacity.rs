@@ -3,7 +3,7 @@
 //! data byte longer overflows it at the byte that does not fit.
 
 use aeolus_proto::{
-    CrcMode, Decoder, Error, MAX_FIXED_FRAME, encode_frame, max_encoded_len,
+    CrcMode, Decode, Decoder, Error, MAX_FIXED_FRAME, encode_frame, max_encoded_len,
     message::{DEBUGINFO_LEN, Message, id},
 };
 

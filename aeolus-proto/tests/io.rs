@@ -7,6 +7,7 @@ mod common;
 #[path = "support/transport.rs"]
 mod transport;
 
+use aeolus_proto::Decode;
 use aeolus_proto::{
     CrcMode, Decoder, Error, IoError, embedded_io as bio, embedded_io_async as aio, encode_frame,
     max_encoded_len, message::Message,
@@ -30,11 +31,10 @@ fn reference<const N: usize>(stream: &[u8]) -> (Vec<Event>, aeolus_proto::Stats)
     let mut d = Decoder::<N>::new();
     let mut out = Vec::new();
     for &b in stream {
-        match d.push(b) {
-            Some(Ok(f)) => out.push(Event::Frame(f.raw().to_vec(), f.has_crc())),
-            Some(Err(e)) => out.push(Event::Protocol(e)),
-            None => {}
-        }
+        d.feed(&[b], |ev| match ev {
+            Ok(f) => out.push(Event::Frame(f.raw().to_vec(), f.has_crc())),
+            Err(e) => out.push(Event::Protocol(e)),
+        });
     }
     if d.held_bytes() > 0 {
         out.push(Event::UnexpectedEof(d.held_bytes()));

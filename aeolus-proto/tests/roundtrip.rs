@@ -2,6 +2,7 @@
 //! for arbitrary field values, NaN bit patterns included.
 
 mod common;
+use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::{arb_message, same_bits};
 use proptest::prelude::*;

@@ -1,6 +1,7 @@
 //! `Stats::frames_delivered` and `Stats::frames_dropped` are the sums of their counters, on a
 //! stream with one frame of every outcome.
 
+use aeolus_proto::Decode;
 use aeolus_proto::{Decoder, Error, Stats};
 
 /// TOAST "hi" with its CRC, then with `00 00` (no CRC), then with a wrong CRC, then a frame

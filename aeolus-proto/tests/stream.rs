@@ -3,6 +3,7 @@
 //! boundary; 1,000 random messages in random garbage; 1 MiB of random bytes.
 
 mod common;
+use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::{Rng, events, hex};
 
@@ -291,13 +292,13 @@ fn a_mebibyte_of_random_bytes_never_panics_and_the_counters_add_up() {
         let mut events_seen = 0u32;
         let mut delivered = 0u32;
         for &b in &noise {
-            if let Some(ev) = d.push(b) {
+            d.feed(&[b], |ev| {
                 events_seen += 1;
                 if let Ok(frame) = ev {
                     delivered += 1;
                     let _ = frame.message();
                 }
-            }
+            });
         }
         let s = d.stats();
         check_accounting(&d, noise.len());
@@ -343,9 +344,9 @@ fn push_slice_is_exactly_push_byte_by_byte() {
         let mut d = Decoder::<N>::new();
         let mut ev = Vec::new();
         for &b in bytes {
-            if let Some(e) = d.push(b) {
+            d.feed(&[b], |e| {
                 ev.push(e.map(|f| (f.id(), f.raw().to_vec())));
-            }
+            });
         }
         (ev, d.stats())
     }

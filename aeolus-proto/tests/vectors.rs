@@ -3,6 +3,7 @@
 //! behave as their notes say.
 
 mod common;
+use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::hex;
 use serde_json::Value;

@@ -5,7 +5,7 @@
 //! checked like any other (AEOLUS alone reads `00 00` as "no CRC"), and every good frame is
 //! parsed into a [`Message`] before it is handed over.
 
-use aeolus_proto::{Decoder as Framing, Frame};
+use aeolus_proto::{Decode, Decoder as Framing, Event, Frame};
 
 use crate::message::Message;
 use crate::{ESCAPE, Error, FLAG};
@@ -54,27 +54,28 @@ struct Extra {
 /// A byte-at-a-time GDL90 decoder holding at most `N` unescaped bytes per frame (ID, data,
 /// CRC).
 ///
-/// Each byte gives at most one event: `None` (nothing yet), `Some(Ok(message))` or
-/// `Some(Err(error))`. After any error it resynchronises on the next flag, so an intact frame
+/// It implements the decoder contract, [`Decode`]: [`Decode::feed`] every slice of the
+/// stream (one byte, a datagram, a file), [`Decode::finish`] at its end; each event is
+/// `Ok(message)` or `Err(error)`, at most one per byte. After any error it resynchronises on the next flag, so an intact frame
 /// after garbage or after a bad CRC is always delivered. A capacity of
 /// [`crate::TYPED_FRAME`] receives every typed message; [`crate::MAX_FRAME`] receives every
 /// ICD message (the UAT uplink is the longest).
 ///
 /// ```
-/// use gdl90_proto::{Decoder, message::Message};
+/// use gdl90_proto::{Decode, Decoder, message::Message};
 ///
-/// // Noise, then the ICD's heartbeat example.
+/// // Noise, then the ICD's heartbeat example, one byte at a time.
 /// let rx = [0x13, 0x37, 0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
 /// let mut decoder = Decoder::<{ gdl90_proto::TYPED_FRAME }>::new();
 /// let mut seconds = None;
-/// for &byte in &rx {
-///     match decoder.push(byte) {
-///         Some(Ok(Message::Heartbeat(hb))) => seconds = Some(hb.seconds_since_midnight),
-///         Some(Ok(other)) => println!("{}", other.name()),
-///         Some(Err(e)) => println!("error: {e}"),
-///         None => {}
-///     }
+/// for byte in rx {
+///     decoder.feed(&[byte], |event| match event {
+///         Ok(Message::Heartbeat(hb)) => seconds = Some(hb.seconds_since_midnight),
+///         Ok(other) => println!("{}", other.name()),
+///         Err(e) => println!("error: {e}"),
+///     });
 /// }
+/// decoder.finish(|event| println!("cut short: {:?}", event.err()));
 /// assert_eq!(seconds, Some(53467));
 /// assert_eq!(decoder.stats().bytes_discarded, 2);
 /// ```
@@ -104,45 +105,10 @@ impl<const N: usize> Decoder<N> {
         }
     }
 
-    /// Feeds one byte. Returns at most one event.
-    ///
-    /// ```
-    /// use gdl90_proto::{Decoder, Error};
-    /// // A heartbeat whose CRC field was zeroed: GDL90 has no "no CRC" code.
-    /// let mut d = Decoder::<64>::new();
-    /// let mut last = None;
-    /// for &b in &[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0x00, 0x00, 0x7E] {
-    ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|m| m.id())); }
-    /// }
-    /// assert_eq!(last, Some(Err(Error::ChecksumMismatch { id: 0, computed: 0x8BB3, received: 0 })));
-    /// ```
-    #[inline]
-    pub fn push(&mut self, byte: u8) -> Option<Result<Message<'_>, Error>> {
-        let event = self.framing.push(byte)?;
-        Some(accept(&mut self.extra, event))
-    }
-
-    /// Feeds a slice and calls `on_event` for every event, in order: exactly the events of
-    /// pushing the bytes one by one, faster (runs of ordinary bytes are copied in bulk).
-    ///
-    /// ```
-    /// use gdl90_proto::Decoder;
-    /// let mut d = Decoder::<64>::new();
-    /// let mut ids = Vec::new();
-    /// let wire = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
-    /// d.feed(&wire, |ev| ids.push(ev.map(|m| m.id())));
-    /// assert_eq!(ids, [Ok(0)]);
-    /// ```
-    pub fn feed(&mut self, bytes: &[u8], mut on_event: impl FnMut(Result<Message<'_>, Error>)) {
-        let extra = &mut self.extra;
-        self.framing
-            .feed(bytes, |event| on_event(accept(extra, event)));
-    }
-
     /// The counters so far.
     ///
     /// ```
-    /// use gdl90_proto::Decoder;
+    /// use gdl90_proto::{Decode, Decoder};
     /// let mut d = Decoder::<64>::new();
     /// d.feed(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
     /// assert_eq!((d.stats().frames_ok, d.stats().frame_bytes, d.stats().flags), (1, 9, 2));
@@ -179,6 +145,7 @@ impl<const N: usize> Decoder<N> {
     /// dropped).
     ///
     /// ```
+    /// use gdl90_proto::Decode;
     /// let mut d = gdl90_proto::Decoder::<16>::new();
     /// d.feed(&[0x7E, 0x00, 0x81], |_| {});
     /// assert_eq!(d.held_bytes(), 2);
@@ -186,23 +153,78 @@ impl<const N: usize> Decoder<N> {
     pub const fn held_bytes(&self) -> usize {
         self.framing.held_bytes()
     }
+}
 
-    /// The end of the stream: a frame still in progress (no closing flag yet) is dropped, its
-    /// bytes counted as discarded, and reported to `on_event` as [`Error::Truncated`]. The
-    /// decoder then waits for a flag, as after any error. Between frames it does nothing.
-    ///
-    /// ```
-    /// use gdl90_proto::{Decoder, Error};
-    /// let mut d = Decoder::<64>::new();
-    /// let mut events = Vec::new();
-    /// d.feed(&[0x7E, 0x00, 0x81], |ev| events.push(ev.map(|m| m.id())));
-    /// d.flush(|ev| events.push(ev.map(|m| m.id())));
-    /// assert_eq!(events, [Err(Error::Truncated)]);
-    /// assert_eq!(d.stats().bytes_discarded, 2);
-    /// ```
-    pub fn flush(&mut self, mut on_event: impl FnMut(Result<Message<'_>, Error>)) {
+/// **The decoder contract** of `frame-io` ([`Decode`]): [`Decode::feed`] every slice,
+/// [`Decode::finish`] at the end of the stream; the events are `Ok(`[`Message`]`)`,
+/// borrowing the decoder during the call, or `Err(`[`Error`]`)`. `finish` drops a frame still
+/// in progress, counts its bytes as discarded and reports [`Error::Truncated`]; between
+/// frames it reports nothing. The pull form ([`Decode::decode`]) checks and counts a frame
+/// when it finds it; [`Decode::item`] parses it (a second time: `feed` parses once).
+///
+/// ```
+/// use gdl90_proto::{Decode, Decoder, Error};
+/// // A heartbeat whose CRC field was zeroed (GDL90 has no "no CRC" code), then half a frame.
+/// let mut d = Decoder::<64>::new();
+/// let mut events = Vec::new();
+/// let wire = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0x00, 0x00, 0x7E, 0x00, 0x81];
+/// d.feed(&wire, |ev| events.push(ev.map(|m| m.id())));
+/// d.finish(|ev| events.push(ev.map(|m| m.id())));
+/// assert_eq!(
+///     events,
+///     [Err(Error::ChecksumMismatch { id: 0, computed: 0x8BB3, received: 0 }), Err(Error::Truncated)]
+/// );
+/// assert_eq!(d.stats().bytes_discarded, 11);
+/// ```
+impl<const N: usize> Decode for Decoder<N> {
+    type Error = Error;
+    type Found = (usize, bool);
+    type Item<'a> = Message<'a>;
+    const TRUNCATED: Error = Error::Truncated;
+
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Message<'_>, Error>),
+    {
         let extra = &mut self.extra;
-        self.framing.flush(|event| on_event(accept(extra, event)));
+        self.framing
+            .feed(bytes, |event| on_event(accept(extra, event)));
+    }
+
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(usize, bool), Error>>) {
+        let (used, event) = self.framing.decode(bytes);
+        let event = match event {
+            Some(Event::Found(found)) => {
+                let frame = self.framing.item(&[], found);
+                match accept(&mut self.extra, Ok(frame)) {
+                    Ok(_) => Some(Event::Found(found)),
+                    Err(e) => Some(Event::Error(e)),
+                }
+            }
+            Some(Event::Error(e)) => Some(Event::Error(Error::from_framing(e))),
+            Some(Event::Truncated(n)) => Some(Event::Truncated(n)),
+            None => None,
+        };
+        (used, event)
+    }
+
+    fn end(&mut self, first: bool) -> Option<Event<(usize, bool), Error>> {
+        match self.framing.end(first)? {
+            Event::Truncated(n) => Some(Event::Truncated(n)),
+            Event::Error(e) => Some(Event::Error(Error::from_framing(e))),
+            // The framing's end gives up frames, it finds none.
+            Event::Found(found) => Some(Event::Found(found)),
+        }
+    }
+
+    fn item<'a>(&'a self, _input: &'a [u8], found: (usize, bool)) -> Message<'a> {
+        let frame = self.framing.item(&[], found);
+        // `decode` parsed this frame already and found it good, so this parse succeeds too.
+        Message::parse(frame.id(), frame.data()).unwrap_or(Message::Unknown {
+            id: frame.id(),
+            data: frame.data(),
+        })
     }
 }
 

@@ -10,9 +10,10 @@
 //! difference is handled here: GDL90 has no "CRC `00 00` means no CRC" rule, so such a frame
 //! is checked like any other.
 //!
-//! - [`Decoder`]: byte-at-a-time ([`Decoder::push`]) or slice-at-a-time
-//!   ([`Decoder::feed`]) decoding into events, `Ok(Message)` or `Err(Error)`, bounded by
-//!   a const-generic capacity, resynchronising after any error, with [`Stats`] counters.
+//! - [`Decoder`]: the stream decoder, bounded by a const-generic capacity, resynchronising
+//!   after any error, with [`Stats`] counters. It implements [`Decode`], the decoder contract
+//!   every protocol crate of this workspace shares: `feed` every slice of the stream (one
+//!   byte or many), `finish` at its end; each event is `Ok(Message)` or `Err(Error)`.
 //! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
 //!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
 //!   [`message::Message::encode`]: a whole
@@ -21,10 +22,10 @@
 //!
 //! Decoders never panic, whatever the input.
 //!
-//! ## Decoding a byte stream
+//! ## Decoding a stream: the one loop
 //!
 //! ```
-//! use gdl90_proto::{Decoder, message::Message};
+//! use gdl90_proto::{Decode, Decoder, message::Message};
 //!
 //! // The ICD's heartbeat example, a frame with a corrupted CRC, then the heartbeat again.
 //! let heartbeat = [0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E];
@@ -34,17 +35,18 @@
 //!
 //! let mut decoder = Decoder::<{ gdl90_proto::TYPED_FRAME }>::new();
 //! let (mut heartbeats, mut errors) = (0, 0);
-//! for &byte in &stream {
-//!     match decoder.push(byte) {
-//!         Some(Ok(Message::Heartbeat(hb))) => {
+//! // Every slice as it comes: a datagram, a read, one byte from an ISR.
+//! for piece in stream.chunks(5) {
+//!     decoder.feed(piece, |event| match event {
+//!         Ok(Message::Heartbeat(hb)) => {
 //!             assert!(hb.gps_position_valid && hb.utc_ok);
 //!             heartbeats += 1;
 //!         }
-//!         Some(Ok(_)) => {}
-//!         Some(Err(_)) => errors += 1,
-//!         None => {}
-//!     }
+//!         Ok(_) => {}
+//!         Err(_) => errors += 1, // counted in `stats()` too; the decoder resynchronised
+//!     });
 //! }
+//! decoder.finish(|_| errors += 1); // a frame cut short by the end of the stream
 //! assert_eq!((heartbeats, errors), (2, 1));
 //! assert_eq!(decoder.stats().checksum_errors, 1);
 //! ```
@@ -76,6 +78,7 @@ mod error;
 pub mod message;
 
 pub use aeolus_proto::crc;
+pub use aeolus_proto::{Decode, Event};
 pub use decode::{Decoder, Stats};
 pub use encode::{
     MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,

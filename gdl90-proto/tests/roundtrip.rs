@@ -6,7 +6,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading, Heartbeat, LatLon,
     Message, Name, Report, StratuxAhrs, Track,
 };
-use gdl90_proto::{Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
+use gdl90_proto::{Decode, Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
 use proptest::prelude::*;
 
 const DEG_PER_LSB: f64 = 180.0 / 8_388_608.0;

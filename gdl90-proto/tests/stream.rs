@@ -1,7 +1,7 @@
 //! The decoder on streams: every split point, garbage between frames, a bad CRC followed by a
 //! good frame, the byte accounting, and `feed` against `push` on hostile input.
 
-use gdl90_proto::{Decoder, Error, Stats, TYPED_FRAME};
+use gdl90_proto::{Decode, Decoder, Error, Event, Stats, TYPED_FRAME};
 use proptest::prelude::*;
 
 /// Frames from `vectors.rs`: ICD heartbeat, ownship, AHRS with an escaped data byte,
@@ -33,11 +33,11 @@ const FRAMES: &[&[u8]] = &[
 /// An owned, comparable event.
 type Ev = Result<String, Error>;
 
-fn push_all<const N: usize>(d: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev>) {
+fn byte_by_byte<const N: usize>(d: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev>) {
     for &b in bytes {
-        if let Some(ev) = d.push(b) {
+        d.feed(&[b], |ev| {
             out.push(ev.map(|m| format!("{m:?}")));
-        }
+        });
     }
 }
 
@@ -48,7 +48,7 @@ fn slice_all<const N: usize>(d: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Ev>
 fn by_bytes(bytes: &[u8]) -> (Vec<Ev>, Stats) {
     let mut d = Decoder::<TYPED_FRAME>::new();
     let mut out = Vec::new();
-    push_all(&mut d, bytes, &mut out);
+    byte_by_byte(&mut d, bytes, &mut out);
     (out, d.stats())
 }
 
@@ -80,7 +80,7 @@ fn every_split_point_gives_the_same_events() {
             let mut got = Vec::new();
             slice_all(&mut d, &wire[..i], &mut got);
             // The middle piece byte by byte, so both paths hand over to each other.
-            push_all(&mut d, &wire[i..j], &mut got);
+            byte_by_byte(&mut d, &wire[i..j], &mut got);
             slice_all(&mut d, &wire[j..], &mut got);
             assert_eq!(got, want, "split at {i}, {j}");
             assert_eq!(d.stats(), want_stats, "split at {i}, {j}");
@@ -147,7 +147,7 @@ fn overflow_then_resync() {
     wire.extend_from_slice(FRAMES[0]);
     let mut d = Decoder::<16>::new();
     let mut events = Vec::new();
-    push_all(&mut d, &wire, &mut events);
+    byte_by_byte(&mut d, &wire, &mut events);
     assert_eq!(events[0], Err(Error::Overflow));
     assert!(events[1].is_ok(), "{events:?}");
     assert_eq!(d.stats().overflows, 1);
@@ -182,7 +182,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
     #[test]
-    fn push_slice_in_any_chunks_equals_push(wire in hostile(), cuts in proptest::collection::vec(any::<usize>(), 0..6)) {
+    fn feed_in_any_chunks_equals_feed_byte_by_byte(wire in hostile(), cuts in proptest::collection::vec(any::<usize>(), 0..6)) {
         let (want, want_stats) = by_bytes(&wire);
         let mut cuts: Vec<usize> = cuts.into_iter().map(|c| c % (wire.len() + 1)).collect();
         cuts.push(0);
@@ -198,14 +198,52 @@ proptest! {
         check_accounting(&d.stats(), d.held_bytes(), wire.len());
     }
 
+    /// The pull form (`decode` again and again, `item` for a found frame, `end` at the end)
+    /// gives the events and counters of `feed` and `finish`.
+    #[test]
+    fn the_pull_form_equals_the_loop(wire in hostile(), cut in any::<usize>()) {
+        let (mut want, want_stats) = by_bytes(&wire);
+        let mut reference = Decoder::<TYPED_FRAME>::new();
+        reference.feed(&wire, |_| {});
+        reference.finish(|ev| want.push(ev.map(|m| format!("{m:?}"))));
+        let cut = cut % (wire.len() + 1);
+        let mut d = Decoder::<TYPED_FRAME>::new();
+        let mut got = Vec::new();
+        for piece in [&wire[..cut], &wire[cut..]] {
+            let mut rest = piece;
+            loop {
+                let (used, event) = d.decode(rest);
+                match event {
+                    Some(Event::Found(at)) => got.push(Ok(format!("{:?}", d.item(rest, at)))),
+                    Some(Event::Error(e)) => got.push(Err(e)),
+                    Some(Event::Truncated(n)) => panic!("decode never truncates ({n})"),
+                    None => {}
+                }
+                rest = &rest[used..];
+                if event.is_none() {
+                    break;
+                }
+            }
+        }
+        prop_assert_eq!(d.stats(), want_stats);
+        let mut first = true;
+        while let Some(event) = d.end(first) {
+            first = false;
+            match event {
+                Event::Truncated(_) => got.push(Err(Error::Truncated)),
+                other => panic!("the end gives up frames, it finds none: {other:?}"),
+            }
+        }
+        prop_assert_eq!(got, want);
+        prop_assert_eq!(d.stats(), reference.stats());
+    }
+
     #[test]
     fn accounting_holds_after_every_byte(wire in hostile()) {
         let mut d = Decoder::<TYPED_FRAME>::new();
         let mut events = 0u32;
         for (i, &b) in wire.iter().enumerate() {
-            if d.push(b).is_some() {
-                events += 1;
-            }
+            d.feed(&[b], |_| events += 1);
             check_accounting(&d.stats(), d.held_bytes(), i + 1);
         }
         // Every event is counted exactly once.

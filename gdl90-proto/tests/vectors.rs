@@ -7,7 +7,7 @@ use gdl90_proto::message::{
     Heartbeat, LatLon, Message, Report, StratuxAhrs, Track,
 };
 use gdl90_proto::{
-    Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, encode_ahrs, encode_foreflight_id,
+    Decode, Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, encode_ahrs, encode_foreflight_id,
     encode_geo_altitude, encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic,
 };
 
@@ -15,8 +15,8 @@ use gdl90_proto::{
 fn decode_one(wire: &[u8]) -> Message<'static> {
     let mut d = Decoder::<TYPED_FRAME>::new();
     let mut got = Vec::new();
-    for &b in wire {
-        if let Some(ev) = d.push(b) {
+    for b in wire {
+        d.feed(core::slice::from_ref(b), |ev| {
             let msg = ev.expect("a good frame");
             // Leak the raw data of unknown messages so the value outlives the decoder.
             got.push(match msg {
@@ -32,7 +32,7 @@ fn decode_one(wire: &[u8]) -> Message<'static> {
                 Message::Ahrs(m) => Message::Ahrs(m),
                 Message::StratuxAhrs(m) => Message::StratuxAhrs(m),
             });
-        }
+        });
     }
     assert_eq!(got.len(), 1, "{wire:02X?}");
     assert_eq!(d.stats().frames_ok, 1);
@@ -116,10 +116,12 @@ fn a_zeroed_crc_field_is_a_crc_error_not_an_unchecked_frame() {
     wire[8] = 0;
     wire[9] = 0;
     let mut d = Decoder::<TYPED_FRAME>::new();
-    let events: Vec<_> = wire
-        .iter()
-        .filter_map(|&b| d.push(b).map(|ev| ev.map(|m| m.id())))
-        .collect();
+    let mut events = Vec::new();
+    for b in &wire {
+        d.feed(core::slice::from_ref(b), |ev| {
+            events.push(ev.map(|m| m.id()))
+        });
+    }
     assert_eq!(
         events,
         [Err(Error::ChecksumMismatch {

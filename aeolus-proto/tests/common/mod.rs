@@ -1,6 +1,7 @@
 //! Shared test helpers: hex, proptest strategies for every message type, a seeded RNG.
 #![allow(dead_code)]
 
+use aeolus_proto::Decode;
 use aeolus_proto::message::*;
 use proptest::prelude::*;
 

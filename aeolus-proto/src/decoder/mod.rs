@@ -4,6 +4,8 @@
 use crate::scan::special_bytes;
 #[cfg(target_pointer_width = "64")]
 use crate::scan::{WORD, special_in_word};
+use frame_io::{Decode, Event};
+
 use crate::{
     ESCAPE, Error, FLAG, Frame, crc,
     scan::{SPECIAL, find_flag, is_special},
@@ -72,9 +74,11 @@ enum State {
 
 /// A byte-at-a-time AEOLUS decoder holding at most `N` unescaped bytes (ID + data + CRC).
 ///
-/// Feed it bytes one at a time, from an ISR queue or a slice. Each byte gives at most one
-/// event: `None` (nothing yet), `Some(Ok(frame))` or `Some(Err(error))`. After any error it
-/// resynchronises on the next flag, so an intact frame following garbage is always delivered.
+/// It implements the decoder contract, [`Decode`]: [`Decode::feed`] every slice of the
+/// stream (one byte from an ISR queue, a DMA buffer, a datagram: the events are the same),
+/// [`Decode::finish`] at its end. Each byte gives at most one event, `Ok(frame)` or
+/// `Err(error)`. After any error it resynchronises on the next flag, so an intact frame
+/// following garbage is always delivered.
 ///
 /// Decisions (see `docs/protocol-notes.md`):
 /// - garbage before the first flag is dropped and counted;
@@ -90,24 +94,24 @@ enum State {
 /// Decoding a UART byte stream:
 ///
 /// ```
-/// use aeolus_proto::{Decoder, message::Message};
+/// use aeolus_proto::{Decode, Decoder, message::Message};
 ///
 /// // Noise, then a TOAST "hi" frame, as it might arrive from a UART RX queue.
 /// let rx = [0x00, 0x13, 0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E];
 /// let mut decoder = Decoder::<64>::new();
 /// let mut texts = 0;
-/// for &byte in &rx {
-///     match decoder.push(byte) {
-///         Some(Ok(frame)) => {
+/// for byte in rx {
+///     decoder.feed(&[byte], |event| match event {
+///         Ok(frame) => {
 ///             if let Ok(Message::Toast(text)) = frame.message() {
 ///                 assert_eq!(text.as_str(), Some("hi"));
 ///                 texts += 1;
 ///             }
 ///         }
-///         Some(Err(e)) => panic!("unexpected {e}"),
-///         None => {}
-///     }
+///         Err(e) => panic!("unexpected {e}"),
+///     });
 /// }
+/// decoder.finish(|event| panic!("nothing held at the end: {:?}", event.err()));
 /// assert_eq!(texts, 1);
 /// assert_eq!(decoder.stats().bytes_discarded, 2);
 /// ```
@@ -168,12 +172,10 @@ impl<const N: usize> Decoder<N> {
     /// A decoder in strict mode: frames without CRC are rejected with [`Error::MissingCrc`].
     ///
     /// ```
-    /// use aeolus_proto::{Decoder, Error};
+    /// use aeolus_proto::{Decode, Decoder, Error};
     /// let mut d = Decoder::<16>::strict();
     /// let mut last = None;
-    /// for &b in &[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E] {
-    ///     if let Some(ev) = d.push(b) { last = Some(ev.map(|f| f.id())); }
-    /// }
+    /// d.feed(&[0x7E, 0x52, b'x', 0x00, 0x00, 0x00, 0x7E], |ev| last = Some(ev.map(|f| f.id())));
     /// assert_eq!(last, Some(Err(Error::MissingCrc { id: 82 })));
     /// ```
     pub const fn strict() -> Self {
@@ -223,6 +225,7 @@ impl<const N: usize> Decoder<N> {
     /// dropped).
     ///
     /// ```
+    /// use aeolus_proto::Decode;
     /// let mut d = aeolus_proto::Decoder::<16>::new();
     /// d.feed(&[0x7E, 0x52, 0x7D, 0x5E], |_| {});
     /// assert_eq!(d.held_bytes(), 3);
@@ -259,12 +262,13 @@ impl<const N: usize> Decoder<N> {
         self.drop_frame(0, State::Hunt);
     }
 
-    /// Feeds one byte. Returns at most one event.
+    /// Takes one byte; returns at most one event ([`Decode::feed`]'s path for a one-byte
+    /// slice, and the reference its slice path is tested against).
     ///
     /// The common case (an ordinary byte inside a frame that still fits) is a few inlined
     /// instructions; flags, escapes and errors go through an out-of-line slow path.
     #[inline(always)]
-    pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
+    pub(crate) fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>, Error>> {
         // `at` is past the end of `buf` outside the `Frame` state: one bounds check covers both.
         // (Nested rather than a let chain: the crate's MSRV is 1.87.)
         if !SPECIAL[byte as usize] {
@@ -318,56 +322,6 @@ impl<const N: usize> Decoder<N> {
                 }
                 None
             }
-        }
-    }
-
-    /// Feeds a slice and calls `on_event` for every event, in order. The result is exactly
-    /// that of pushing the bytes one by one; runs of ordinary bytes inside a frame are copied
-    /// in bulk, so this is the fastest way to feed a DMA buffer or a datagram.
-    ///
-    /// ```
-    /// use aeolus_proto::Decoder;
-    /// let mut d = Decoder::<64>::new();
-    /// let mut ids = Vec::new();
-    /// d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |ev| {
-    ///     ids.push(ev.map(|f| f.id()))
-    /// });
-    /// assert_eq!(ids, [Ok(82)]);
-    /// ```
-    pub fn feed(&mut self, mut bytes: &[u8], mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
-        bytes = self.hunt(bytes);
-        loop {
-            bytes = self.copy_run(bytes);
-            let Some((&b, rest)) = bytes.split_first() else {
-                return;
-            };
-            bytes = rest;
-            if let Some(ev) = self.push_slow(b) {
-                on_event(ev);
-                // Only an error leaves the decoder hunting.
-                bytes = self.hunt(bytes);
-                bytes = self.open(bytes);
-            }
-        }
-    }
-
-    /// The end of the stream: a frame still in progress (no closing flag yet) is dropped, its
-    /// bytes counted as discarded, and reported to `on_event` as [`Error::Truncated`]. The
-    /// decoder then hunts for a flag, as after any error. Between frames it does nothing.
-    ///
-    /// ```
-    /// use aeolus_proto::{Decoder, Error};
-    /// let mut d = Decoder::<64>::new();
-    /// let mut events = Vec::new();
-    /// d.feed(&[0x7E, 0x52, b'h'], |ev| events.push(ev.map(|f| f.id())));
-    /// d.flush(|ev| events.push(ev.map(|f| f.id())));
-    /// assert_eq!(events, [Err(Error::Truncated)]);
-    /// assert_eq!(d.stats().bytes_discarded, 2);
-    /// ```
-    pub fn flush(&mut self, mut on_event: impl FnMut(Result<Frame<'_>, Error>)) {
-        if self.held_bytes() != 0 {
-            self.reset();
-            on_event(Err(Error::Truncated));
         }
     }
 
@@ -483,34 +437,8 @@ impl<const N: usize> Decoder<N> {
         bytes.get(run..).unwrap_or(&[])
     }
 
-    /// Feeds `bytes` up to and including the first byte that gives an event, with the bulk
-    /// path of [`Decoder::feed`]; returns how many bytes it consumed and the event, if any
-    /// (`None` when every byte was consumed without one). Calling it again on the rest gives
-    /// exactly the events of [`Decoder::push`], byte by byte: a caller that must act between
-    /// two frames (check the room for an answer, stop reading) does so without scanning the
-    /// bytes for flags itself.
-    ///
-    /// ```
-    /// use aeolus_proto::Decoder;
-    /// let mut d = Decoder::<64>::new();
-    /// let two = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
-    /// let (n, ev) = d.feed_until(&two);
-    /// assert_eq!((n, ev.map(|r| r.map(|f| f.id()))), (8, Some(Ok(82))));
-    /// let (m, ev) = d.feed_until(&two[n..]);
-    /// assert_eq!((m, ev.is_some()), (7, true)); // the second frame
-    /// assert_eq!(d.feed_until(&[0x00]), (1, None));
-    /// ```
-    pub fn feed_until(&mut self, bytes: &[u8]) -> (usize, Option<Result<Frame<'_>, Error>>) {
-        let (n, found) = self.push_until(bytes);
-        match found {
-            Found::Nothing => (n, None),
-            Found::Error(e) => (n, Some(Err(e))),
-            Found::Frame { len, has_crc } => (n, Some(Ok(self.found_frame(len, has_crc)))),
-        }
-    }
-
-    /// Feeds `bytes` up to and including the first byte that gives an event, with the fast
-    /// path of [`Decoder::feed`]. Returns how many bytes were consumed and what the
+    /// Takes `bytes` up to and including the first byte that gives an event, with the slice
+    /// path of [`Decode::feed`]. Returns how many bytes were consumed and what the
     /// last of them gave, as a [`Found`] that does not borrow the decoder: a reader keeps
     /// looping over reads and asks for the frame ([`Decoder::found_frame`]) afterwards.
     pub(crate) fn push_until(&mut self, bytes: &[u8]) -> (usize, Found) {
@@ -628,6 +556,97 @@ const STATS0: Stats = Stats {
     frame_bytes: 0,
     flags: 0,
 };
+
+/// **The decoder contract** of `frame-io` ([`Decode`]): the one loop is [`Decode::feed`] for
+/// every slice of the stream (one byte included) and [`Decode::finish`] at its end; the events
+/// are `Ok(`[`Frame`]`)`, borrowing the decoder until the next call, or `Err(`[`Error`]`)`.
+/// `finish` drops a frame still in progress, counts its bytes as discarded and reports it as
+/// [`Error::Truncated`]; between frames it reports nothing.
+///
+/// The pull form: [`Decode::decode`] takes a slice up to the first event (a found frame is
+/// `(length, has_crc)` in the decoder's buffer, [`Decode::item`] its [`Frame`]), for a
+/// caller that acts between two frames.
+///
+/// ```
+/// use aeolus_proto::{Decode, Decoder, Error, Event};
+/// let mut d = Decoder::<64>::new();
+/// let mut events = Vec::new();
+/// d.feed(&[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E, 0x52], |ev| events.push(ev.map(|f| f.id())));
+/// d.finish(|ev| events.push(ev.map(|f| f.id())));
+/// assert_eq!(events, [Ok(0x52), Err(Error::Truncated)]);
+///
+/// // The same frame through the pull form: 8 bytes used, 6 unescaped (ID, data, CRC).
+/// let (used, event) = d.decode(&[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E, 0x52]);
+/// assert_eq!((used, event), (8, Some(Event::Found((6, true)))));
+/// assert_eq!(d.item(&[], (6, true)).id(), 0x52);
+/// assert_eq!(d.decode(&[0x52]), (1, None));
+/// assert_eq!(d.end(true), Some(Event::Truncated(1)));
+/// assert_eq!(d.end(false), None);
+/// ```
+impl<const N: usize> Decode for Decoder<N> {
+    type Error = Error;
+    type Found = (usize, bool);
+    type Item<'a> = Frame<'a>;
+    const TRUNCATED: Error = Error::Truncated;
+
+    /// Runs of ordinary bytes inside a frame are copied in bulk (a machine word tested a
+    /// step), garbage is skipped a word at a time; a one-byte slice takes the per-byte path.
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Frame<'_>, Error>),
+    {
+        if let [byte] = bytes {
+            // One byte (an ISR, a byte-at-a-time reader): the inlined per-byte path.
+            if let Some(event) = self.push(*byte) {
+                on_event(event);
+            }
+            return;
+        }
+        let mut bytes = self.hunt(bytes);
+        loop {
+            bytes = self.copy_run(bytes);
+            let Some((&b, rest)) = bytes.split_first() else {
+                return;
+            };
+            bytes = rest;
+            if let Some(ev) = self.push_slow(b) {
+                on_event(ev);
+                // Only an error leaves the decoder hunting.
+                bytes = self.hunt(bytes);
+                bytes = self.open(bytes);
+            }
+        }
+    }
+
+    #[inline]
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(usize, bool), Error>>) {
+        if bytes.is_empty() {
+            return (0, None);
+        }
+        let (used, found) = self.push_until(bytes);
+        let event = match found {
+            Found::Nothing => None,
+            Found::Frame { len, has_crc } => Some(Event::Found((len, has_crc))),
+            Found::Error(e) => Some(Event::Error(e)),
+        };
+        (used, event)
+    }
+
+    fn end(&mut self, _first: bool) -> Option<Event<(usize, bool), Error>> {
+        let pending = self.held_bytes();
+        if pending == 0 {
+            return None;
+        }
+        self.reset();
+        Some(Event::Truncated(pending))
+    }
+
+    #[inline]
+    fn item<'a>(&'a self, _input: &'a [u8], (len, has_crc): (usize, bool)) -> Frame<'a> {
+        self.found_frame(len, has_crc)
+    }
+}
 
 /// What [`Decoder::push_until`] stopped at.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
