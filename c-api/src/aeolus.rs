@@ -1,7 +1,7 @@
 //! AEOLUS from C: `pl_aeolus_*`. The decoder is `aeolus_proto::Decoder<PL_AEOLUS_CAPACITY>`.
 
 use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
-use aeolus_proto::{CrcMode, Decoder, Error, Frame};
+use aeolus_proto::{CrcMode, Decode, Decoder, Error, Frame};
 
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
@@ -548,10 +548,7 @@ pub unsafe extern "C" fn pl_aeolus_parse_byte(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    match d.push(byte) {
-        None => PL_NOTHING,
-        Some(event) => deliver(event, msg, err),
-    }
+    ffi::one_byte(d, byte, PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// Feeds bytes up to the next event: stops after the byte that completed a message or an
@@ -593,9 +590,9 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     ) else {
         return PL_E_NULL;
     };
-    // The crate's `feed_until`: runs of ordinary bytes copied a word at a time, up to the
-    // first event.
-    let (n, event) = d.feed_until(input);
+    // The decoder contract's pull form: runs of ordinary bytes copied a word at a time, up to
+    // the first event.
+    let (n, event) = ffi::next_event(d, input);
     *used = n;
     event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
@@ -689,7 +686,7 @@ pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut 
         return PL_E_NULL;
     };
     let mut status = PL_NOTHING;
-    d.flush(|e| {
+    d.finish(|e| {
         if let Err(e) = e {
             *err = error(e);
             status = PL_ERROR;

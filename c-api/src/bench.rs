@@ -6,6 +6,8 @@
 
 use core::hint::black_box;
 
+use aeolus_proto::Decode;
+
 use crate::ffi;
 
 /// # Safety
@@ -24,13 +26,15 @@ pub unsafe extern "C" fn pl_bench_rust_aeolus_push(bytes: *const u8, len: usize)
     let mut d = aeolus_proto::Decoder::<{ crate::aeolus::PL_AEOLUS_CAPACITY }>::new();
     let mut n = 0u32;
     // SAFETY: the caller's promise.
-    for &b in unsafe { input(bytes, len) } {
-        if let Some(Ok(frame)) = d.push(b)
-            && let Ok(m) = frame.message()
-        {
-            black_box(&m);
-            n += 1;
-        }
+    for b in unsafe { input(bytes, len) } {
+        d.feed(core::slice::from_ref(b), |ev| {
+            if let Ok(frame) = ev
+                && let Ok(m) = frame.message()
+            {
+                black_box(&m);
+                n += 1;
+            }
+        });
     }
     n
 }

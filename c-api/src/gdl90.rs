@@ -4,7 +4,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading,
     Heartbeat, LatLon, Message, Name, Report, Track,
 };
-use gdl90_proto::{Decoder, Error};
+use gdl90_proto::{Decode, Decoder, Error};
 
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
@@ -521,10 +521,7 @@ pub unsafe extern "C" fn pl_gdl90_parse_byte(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    match d.push(byte) {
-        None => PL_NOTHING,
-        Some(event) => deliver(event, msg, err),
-    }
+    ffi::one_byte(d, byte, PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// Feeds bytes up to the next event; `*used` is the number consumed.
@@ -560,14 +557,9 @@ pub unsafe extern "C" fn pl_gdl90_parse(
     ) else {
         return PL_E_NULL;
     };
-    for (i, &b) in input.iter().enumerate() {
-        if let Some(event) = d.push(b) {
-            *used = i + 1;
-            return deliver(event, msg, err);
-        }
-    }
-    *used = input.len();
-    PL_NOTHING
+    let (n, event) = ffi::next_event(d, input);
+    *used = n;
+    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).

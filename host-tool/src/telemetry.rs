@@ -6,8 +6,8 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::Decoder;
 use aeolus_proto::message::{AeolusInfo, Attitude, Compass, Gps, Message, Pressure, Temp, Wind};
+use aeolus_proto::{Decode, Decoder};
 
 use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;

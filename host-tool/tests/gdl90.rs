@@ -11,8 +11,8 @@ mod common;
 use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::Decoder;
 use aeolus_proto::message::Message;
+use aeolus_proto::{Decode, Decoder};
 use common::*;
 use protolink_tests::gdl90_hand::{icd_crc, stratux_report, unframe};
 
@@ -43,13 +43,13 @@ fn relay(
     let mut buf = [0u8; 2048];
     while let Ok(n) = from_sim.recv(&mut buf) {
         decoder.reset();
-        for &b in &buf[..n] {
-            if let Some(Ok(f)) = decoder.push(b)
+        decoder.feed(&buf[..n], |event| {
+            if let Ok(f) = event
                 && let Ok(m) = f.message()
             {
                 went_in.take(&m);
             }
-        }
+        });
         let _ = to_gdl90.send_to(&buf[..n], ("127.0.0.1", gdl90_in));
     }
 }

@@ -15,8 +15,8 @@ use std::net::{TcpListener, TcpStream, UdpSocket};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use aeolus_proto::Decoder;
 use aeolus_proto::message::Message;
+use aeolus_proto::{Decode, Decoder};
 use common::*;
 use serde_json::Value;
 
@@ -206,13 +206,13 @@ fn run_sim_through_nmea(window: (Duration, Duration)) -> (Inputs, Vec<(f64, Stri
     while started.elapsed() < window.1 + Duration::from_millis(200) {
         while let Ok(n) = from_sim.recv(&mut buf) {
             decoder.reset();
-            for &b in &buf[..n] {
-                if let Some(Ok(f)) = decoder.push(b)
+            decoder.feed(&buf[..n], |event| {
+                if let Ok(f) = event
                     && let Ok(m) = f.message()
                 {
                     went_in.take(&m);
                 }
-            }
+            });
             let _ = to_nmea.send_to(&buf[..n], ("127.0.0.1", nmea_in));
         }
         std::thread::sleep(Duration::from_millis(1));

@@ -3,7 +3,7 @@
 //! millisecond clock (one poll per simulated millisecond, as the firmware's main loop does).
 
 use aeolus_proto::message::{Message, SetTime, Text};
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
+use aeolus_proto::{CrcMode, Decode, Decoder, max_encoded_len};
 use sensor_box::aeolus_link::{AeolusLink, TX_QUEUE};
 use sensor_box::serial::Ring;
 use sensor_box::serial::{PortStats, QueuedSerial, SerialIsr};
@@ -67,13 +67,14 @@ impl<const TX: usize> Peer<TX> {
             let Some(b) = self.isr.next_to_send() else {
                 break;
             };
-            if let Some(event) = self.decoder.push(b) {
+            let frames = &mut self.frames;
+            self.decoder.feed(&[b], |event| {
                 let f = event.expect("every frame the box sends is intact");
-                self.frames.push(Sent {
+                frames.push(Sent {
                     id: f.id(),
                     data: f.data().to_vec(),
                 });
-            }
+            });
         }
     }
 
@@ -397,9 +398,7 @@ fn nominal_byte_rate_and_uart_speed() {
         b.link.poll(b.now, &mut b.port, &mut b.shared);
         while let Some(byte) = b.peer.isr.next_to_send() {
             wire_bytes += 1;
-            if b.peer.decoder.push(byte).is_some() {
-                counted += 1;
-            }
+            b.peer.decoder.feed(&[byte], |_| counted += 1);
         }
         b.now += 1;
     }

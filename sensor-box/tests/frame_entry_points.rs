@@ -3,8 +3,8 @@
 //! same stream, fed byte by byte to `poll` or deframed by the caller and handed over frame by
 //! frame, gives the same bytes on the wire, the same counters and the same shared state.
 
-use aeolus_proto::CrcMode;
 use aeolus_proto::message::{Message, SetTime, Text};
+use aeolus_proto::{CrcMode, Decode};
 use aydp_proto::{
     Decoder, Encoder, Payload, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
@@ -99,15 +99,15 @@ fn aeolus_frame_by_frame_equals_poll() {
     a.poll(3, &mut a_port, &mut a_shared);
     a.poll(10, &mut a_port, &mut a_shared);
 
-    // Deframed by the caller, frame by frame, then the TX half.
+    // Decoded by the caller, frame by frame, then the TX half.
     let (mut b_port, mut b_isr) = port();
     let mut b_shared = Shared::new(Persisted::default(), 0);
     let mut b = AeolusLink::new(0);
     let mut decoder = aeolus_proto::Decoder::<RX_FRAME>::new();
-    for &byte in &stream {
-        if let Some(frame) = decoder.push(byte) {
+    for byte in &stream {
+        decoder.feed(core::slice::from_ref(byte), |frame| {
             b.handle_frame(frame.as_ref().map_err(|e| *e), 3, &mut b_shared);
-        }
+        });
     }
     b.poll_tx(3, &mut b_port, &b_shared);
     b.poll_tx(10, &mut b_port, &b_shared);

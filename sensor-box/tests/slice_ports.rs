@@ -10,7 +10,7 @@ use std::collections::VecDeque;
 use std::convert::Infallible;
 
 use aeolus_proto::message::{Message, SetTime, Text};
-use aeolus_proto::{CrcMode, Decoder};
+use aeolus_proto::{CrcMode, Decode, Decoder};
 use embedded_io::{ErrorType, Write, WriteReady};
 use sensor_box::aeolus_link::{self, AeolusLink};
 use sensor_box::aok_link::{self, AokLink};

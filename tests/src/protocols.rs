@@ -8,7 +8,7 @@ use crate::{
     rng::Rng,
     score::{Figures, score},
 };
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
+use aeolus_proto::{CrcMode, Decode, Decoder, max_encoded_len, message::Message};
 
 /// A protocol under test.
 pub trait Protocol {

@@ -13,8 +13,8 @@
 use std::net::{SocketAddr, UdpSocket};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use aeolus_proto::CrcMode;
 use aeolus_proto::message::{Message, SetTime, Text};
+use aeolus_proto::{CrcMode, Decode};
 use clap::{Args, Subcommand};
 
 use crate::decoders::AEOLUS_CAPACITY;

@@ -11,7 +11,7 @@ use std::sync::mpsc::{SyncSender, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use aeolus_proto::{Decoder, ESCAPE, FLAG};
+use aeolus_proto::{Decode, Decoder, ESCAPE, FLAG};
 use clap::Args;
 use serde_json::json;
 

@@ -5,6 +5,7 @@
 //! parsed, or an error), and [`StreamDecoder`] renders them as [`Event`]s: the Python package
 //! keeps the items' frames and renders the same fields only when they are read.
 
+use aeolus_proto::Decode;
 use serde_json::{Map, Value, json};
 
 use super::{Event, StreamDecoder, error_kind};

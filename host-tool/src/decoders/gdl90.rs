@@ -1,6 +1,7 @@
 //! GDL90 in `decode`: the `gdl90-proto` decoder, each frame placed at its opening flag,
 //! datagram boundaries honoured (EFB apps receive GDL90 on UDP port 4000).
 
+use gdl90_proto::Decode;
 use serde_json::{Map, Value, json};
 
 use super::{Event, StreamDecoder, error_kind};
@@ -48,17 +49,16 @@ impl StreamDecoder for Gdl90Decoder {
             if b == gdl90_proto::FLAG {
                 self.opened_at = at;
             }
-            match self.decoder.push(b) {
-                Some(Ok(m)) => {
+            self.decoder.feed(&[b], |event| match event {
+                Ok(m) => {
                     let (name, fields) = gdl90_fields(&m);
                     let mut meta = Map::new();
                     meta.insert("id".into(), json!(m.id()));
                     meta.insert("len".into(), json!(at + 1 - opened));
                     out.push(Event::message(opened, name, meta, fields));
                 }
-                Some(Err(e)) => out.push(Event::error(opened, error_kind(&e), e.to_string())),
-                None => {}
-            }
+                Err(e) => out.push(Event::error(opened, error_kind(&e), e.to_string())),
+            });
         }
     }
 

@@ -36,7 +36,7 @@
 //! [`Requests::reboot`]: super::state::Requests::reboot
 //!
 //! ```
-//! use aeolus_proto::{Decoder, message::{Message, Text}, CrcMode};
+//! use aeolus_proto::{Decode, Decoder, message::{Message, Text}, CrcMode};
 //! use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
 //! use sensor_box::serial::{PortStats, QueuedSerial};
 //! use sensor_box::serial::Ring;
@@ -62,11 +62,13 @@
 //! let mut toasts = Vec::new();
 //! let mut decoder = Decoder::<256>::new();
 //! while let Some(b) = isr.next_to_send() {
-//!     if let Some(Ok(f)) = decoder.push(b) {
-//!         if let Ok(Message::Toast(t)) = f.message() {
+//!     decoder.feed(&[b], |event| {
+//!         if let Ok(f) = event
+//!             && let Ok(Message::Toast(t)) = f.message()
+//!         {
 //!             toasts.push(t.as_str().unwrap_or("").to_owned());
 //!         }
-//!     }
+//!     });
 //! }
 //! assert_eq!(toasts, ["AEOLUS on", "AEOLUS paused"]);
 //! ```
@@ -313,18 +315,16 @@ impl AeolusLink {
     /// not used on this path: the caller's decoder has the counters.
     ///
     /// ```
-    /// use aeolus_proto::{CrcMode, Decoder, message::{Message, Text}};
+    /// use aeolus_proto::{CrcMode, Decode, Decoder, message::{Message, Text}};
     /// use sensor_box::{aeolus_link::AeolusLink, Persisted, Shared};
     /// let mut shared = Shared::new(Persisted::default(), 0);
     /// let mut link = AeolusLink::new(0);
     /// let mut wire = [0u8; 64];
     /// let n = Message::Command(Text::new("a pause").unwrap()).encode(&mut wire, CrcMode::Compute).unwrap();
     /// let mut decoder = Decoder::<64>::new();
-    /// for &b in &wire[..n] {
-    ///     if let Some(frame) = decoder.push(b) {
-    ///         link.handle_frame(frame.as_ref().map_err(|e| *e), 5, &mut shared);
-    ///     }
-    /// }
+    /// decoder.feed(&wire[..n], |frame| {
+    ///     link.handle_frame(frame.as_ref().map_err(|e| *e), 5, &mut shared);
+    /// });
     /// assert!(shared.paused);
     /// link.handle_frame(Err(aeolus_proto::Error::TooShort), 6, &mut shared);
     /// assert_eq!(link.counters().rx_errors, 1);

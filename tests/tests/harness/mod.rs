@@ -33,7 +33,7 @@
 #![allow(dead_code)]
 
 use aeolus_proto::message::{Message, Text};
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len};
+use aeolus_proto::{CrcMode, Decode, Decoder, max_encoded_len};
 use std::fs::File;
 use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
@@ -574,14 +574,15 @@ impl Aeolus {
             Ok(0) => panic!("QEMU closed UART0"),
             Ok(n) => {
                 self.bytes += n;
-                for &b in &buf[..n] {
-                    if let Some(Ok(f)) = self.decoder.push(b) {
-                        self.frames.push(Frame {
+                let frames = &mut self.frames;
+                self.decoder.feed(&buf[..n], |event| {
+                    if let Ok(f) = event {
+                        frames.push(Frame {
                             id: f.id(),
                             data: f.data().to_vec(),
                         });
                     }
-                }
+                });
             }
             Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
             Err(e) => panic!("UART0: {e}"),
