@@ -30,7 +30,7 @@ pub enum Error {
     },
     /// A frame too short to hold an ID and a CRC (1 or 2 bytes between the flags).
     TooShort,
-    /// The input ended inside a frame ([`crate::Decoder::flush`]).
+    /// The input ended inside a frame ([`crate::Decode::finish`]).
     Truncated,
     /// An escape byte (0x7D) followed by something other than 0x5D or 0x5E.
     InvalidEscape,

@@ -18,7 +18,8 @@
 //!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
 //!   [`message::Message::encode`]: a whole
 //!   frame into a `&mut [u8]`, returning its length; [`MAX_ENCODED_LEN`] bytes always do.
-//! - [`message`]: the typed messages, and their byte tables in [`message::layout`].
+//! - [`message`]: the typed messages (their byte tables live in one private file,
+//!   `src/message/layout.rs`, which every parse and emit reads through).
 //!
 //! Decoders never panic, whatever the input.
 //!

@@ -1,5 +1,5 @@
 //! Typed GDL90 messages: one plain struct per message with `ID`, `LEN`, `parse`, `emit` and
-//! `buffer_len`, their byte tables in [`layout`], and the [`Message`] enum that covers every
+//! `buffer_len`, their byte tables in the private `layout` module, and the [`Message`] enum that covers every
 //! ID (raw for the IDs this crate does not type).
 //!
 //! Physical values carry their unit in their name (`_deg`, `_ft`, `_kt`, `_fpm`, `_m`), and
@@ -11,7 +11,7 @@
 mod foreflight;
 mod geo_altitude;
 mod heartbeat;
-pub mod layout;
+mod layout;
 mod report;
 mod scale;
 mod stratux;
