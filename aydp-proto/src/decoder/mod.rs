@@ -58,14 +58,11 @@
 //! assert_eq!(dec.decode(&[]), (0, None));
 //! assert_eq!(dec.stats().frames_ok, 1);
 //! ```
-//!
-//! # Files
-//!
-//! `step.rs`: the rules, once, and their reports made events; `byte.rs`: the per-byte path
-//! (`feed` of one byte); `bulk.rs`: the slice fast path; `buffer.rs`: the bytes held between
-//! calls. Every path decides through the one step, and the property tests prove them equal on
-//! every split of hostile streams.
 
+// The files: `step.rs`, the rules, once, and their reports made events; `byte.rs`, the
+// per-byte path (`feed` of one byte); `bulk.rs`, the slice fast path; `buffer.rs`, the bytes
+// held between calls. Every path decides through the one step, and the property tests prove
+// them equal on every split of hostile streams.
 mod buffer;
 mod bulk;
 mod byte;
