@@ -3,9 +3,10 @@
 //!
 //! - [`FrameReader`] is `frame-io`'s reader around a [`Decoder`] and a read buffer of `R`
 //!   bytes; each [`FrameReader::read`]`.await` returns the next message. Every read is decoded
-//!   with the bulk path of [`Decoder::feed`] (messages checked in place in the read buffer),
-//!   and the frames and errors are exactly those of [`Decoder::push`] and [`Decoder::poll`]
-//!   byte by byte; at the end of the stream, those of [`Decoder::flush`].
+//!   with the pull form of [`Decode`](crate::Decode) (the slice fast path: messages checked
+//!   in place in the read buffer), and the frames and errors are exactly those of
+//!   [`Decode::feed`](crate::Decode::feed) on the same bytes; at the end of the stream,
+//!   those of [`Decode::finish`](crate::Decode::finish).
 //! - [`FrameWriter`] encodes messages straight into a [`Write`] with the [`Encoder`]'s byte
 //!   iterator, a chunk of at most 32 bytes at a time.
 //!

@@ -3,7 +3,7 @@
 use crate::checksum::xor;
 use crate::error::{Error, Result};
 use crate::header::{Header, HeaderRepr};
-use crate::messages::Message;
+use crate::message::Message;
 use crate::profile::{Profile, Timestamp};
 
 /// A zero-copy view of one whole message whose length and checksum have been verified.

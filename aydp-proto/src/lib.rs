@@ -6,41 +6,63 @@
 //! counts, in the header's sub-second unit, and in which message types are typed. See the
 //! crate README and `docs/protocol-notes.md` for the decisions (Y1..Y9) this crate follows.
 //!
-//! Modules:
+//! # Decoding a stream
+//!
+//! Every decoder of this workspace follows one contract, [`Decode`] (from `frame-io`): feed
+//! every slice of the stream, of any length (one byte included), then finish when the stream
+//! ends. Each event is `Ok(frame)` or `Err(error)`; the events do not depend on how the stream
+//! was cut into slices.
+//!
+//! ```
+//! use aydp_proto::{Decode, Decoder, Encoder, Error, Message, Position, Profile, Timestamp};
+//!
+//! // Noise, a position report, then a message cut short by the end of the stream.
+//! let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
+//! let mut bytes = vec![0x13, 0x37];
+//! let mut buf = [0u8; 64];
+//! let n = Encoder::new(Profile::Spec)
+//!     .encode_normal(&pos, Timestamp::new(1_700_000_000, 250), &mut buf)
+//!     .unwrap();
+//! bytes.extend_from_slice(&buf[..n]);
+//! bytes.extend_from_slice(&[0xFF, 0x89, 0x08]);
+//!
+//! let mut decoder = Decoder::<128>::new(Profile::Spec);
+//! let (mut positions, mut errors) = (Vec::new(), Vec::new());
+//! decoder.feed(&bytes, |event| match event {
+//!     Ok(frame) => {
+//!         assert_eq!(frame.timestamp(), Some(Timestamp::new(1_700_000_000, 250)));
+//!         if let Ok(Message::Position(p)) = frame.message() {
+//!             positions.push(p);
+//!         }
+//!     }
+//!     Err(error) => errors.push(error), // counted; the decoder resynchronised
+//! });
+//! decoder.finish(|event| errors.extend(event.err())); // the end of the stream
+//! assert_eq!(positions, [pos]);
+//! assert_eq!(errors, [Error::Truncated]);
+//! assert_eq!(decoder.stats().bytes_discarded, 5); // every byte outside the frame
+//! ```
+//!
+//! The pull form underneath ([`Decode::decode`], [`Decode::end`], [`Decode::item`]) returns one
+//! event a call, for a caller that must act between two messages; the readers of the
+//! `embedded-io` features are built on it.
+//!
+//! # Modules
+//!
 //! - [`profile`]: the two profiles and the header [`Timestamp`];
-//! - [`layout`]: every message's bytes in one table (field offsets, lengths);
 //! - [`header`]: the header view [`Header`] and [`HeaderRepr`];
 //! - [`frame`]: [`Frame`], a checked whole message;
 //! - [`checksum`]: the XOR checksum;
-//! - [`encoder`]: [`Encoder`] (into a buffer or as a byte iterator) and the [`Payload`] trait;
-//! - [`decoder`]: the [`Decoder`] with lossless resynchronisation, byte at a time or a slice
-//!   at a time;
-//! - [`messages`]: typed messages and the [`Message`] enum;
+//! - [`encode`]: [`Encoder`] (into a buffer or as a byte iterator) and the [`Payload`] trait;
+//! - [`decoder`]: the [`Decoder`], with lossless resynchronisation;
+//! - [`message`]: typed messages and the [`Message`] enum; [`layout`] (also
+//!   `message::layout`): every message's bytes in one table (field offsets, lengths);
 //! - [`uflt16`]: the binary16 conversions;
 //! - [`registry`]: the system-value registry for devices;
 //! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
 //!   `FrameReader` that returns the next message from a `Read` (`frame-io`'s reader over a
-//!   [`Decoder`], which implements `frame_io::Decode`) and a `FrameWriter` that
-//!   encodes into a `Write`, blocking or async, with the error type `IoError`.
-//!
-//! ```
-//! use aydp_proto::{Decoder, Encoder, Message, Position, Profile, Timestamp};
-//!
-//! let enc = Encoder::new(Profile::Spec);
-//! let pos = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
-//! let mut buf = [0u8; 64];
-//! let n = enc.encode_normal(&pos, Timestamp::new(1_700_000_000, 250), &mut buf).unwrap();
-//!
-//! let mut dec = Decoder::<128>::new(Profile::Spec);
-//! let mut seen = 0;
-//! dec.feed(&buf[..n], |ev| {
-//!     let frame = ev.unwrap();
-//!     assert_eq!(frame.timestamp(), Some(Timestamp::new(1_700_000_000, 250)));
-//!     assert_eq!(frame.message(), Ok(Message::Position(pos)));
-//!     seen += 1;
-//! });
-//! assert_eq!(seen, 1);
-//! ```
+//!   [`Decoder`]) and a `FrameWriter` that encodes into a `Write`, blocking or async, with the
+//!   error type `IoError`.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -51,26 +73,27 @@ pub mod decoder;
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
-pub mod encoder;
+pub mod encode;
 mod error;
 pub mod frame;
 pub mod header;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
-pub mod layout;
-pub mod messages;
+pub mod message;
 pub mod profile;
 pub mod registry;
 pub mod uflt16;
 
 pub use decoder::{Decoder, Stats};
-pub use encoder::{Bytes, Encoder, Payload, Raw};
+pub use encode::{Bytes, Encoder, Payload, Raw};
 pub use error::{Error, Result};
 pub use frame::Frame;
+pub use frame_io::{Decode, Event};
 pub use header::{Header, HeaderRepr};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
-pub use messages::{
+pub use message::layout;
+pub use message::{
     DirectOutput, DirectOutputBuilder, Entries, FixDetail, FixDetailBuilder, FixQuality, Message,
     OutputEntry, Position, Satellite, SatelliteList, Satellites, SystemControl, SystemValueUpdate,
     UpdateMode, VesselData, WindDirection, WindSpeed,

@@ -44,7 +44,7 @@
 
 use crate::error::{Error, Result};
 use crate::header::array_at;
-use crate::messages::{SystemValueUpdate, UpdateMode};
+use crate::message::{SystemValueUpdate, UpdateMode};
 
 /// Whether the protocol may write a slot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -1,13 +1,13 @@
-//! The bulk path (`Decoder::feed`) against the byte-at-a-time path (`push`, then `poll` until
-//! `None`): on any byte stream, split at any chunk boundaries, in both profiles and at several
-//! capacities, both give the same events in the same order, the same counters after every
-//! chunk, and the same end state (what `flush` reports); and so does `feed_until`, called again
-//! and again on what each call left.
+//! The slice path (`feed` of a whole chunk) against the byte-at-a-time path (`feed` of
+//! one-byte slices): on any byte stream, split at any chunk boundaries, in both profiles and
+//! at several capacities, both give the same events in the same order, the same counters
+//! after every chunk, and the same end state (what `finish` reports); and so does the pull
+//! form (`decode`, called again and again on what each call left, and `item`).
 
 #[path = "support/streamgen.rs"]
 mod streamgen;
 
-use aydp_proto::{Decoder, Error, Frame, Profile, Stats};
+use aydp_proto::{Decode, Decoder, Error, Event as Pulled, Frame, Profile, Stats};
 use proptest::prelude::*;
 use streamgen::{Rng, garbage, random_message};
 
@@ -17,27 +17,36 @@ fn record(out: &mut Vec<Event>) -> impl FnMut(Result<Frame<'_>, Error>) + '_ {
     |e| out.push(e.map(|f| f.as_bytes().to_vec()))
 }
 
-/// The reference: every byte pushed on its own, every event drained.
+/// The reference: every byte fed on its own.
 fn bytewise<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Event>) {
-    for &b in bytes {
-        let mut ev = dec.push(b);
-        while let Some(e) = ev {
-            out.push(e.map(|f| f.as_bytes().to_vec()));
-            ev = dec.poll();
-        }
+    for b in bytes {
+        dec.feed(core::slice::from_ref(b), record(out));
     }
 }
 
-/// `feed_until` again and again on what each call left, until it finds nothing in what is
-/// left; every call consumes a byte or more, or hands out an event.
-fn feed_until_all<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Event>) {
+/// The event of the pull form as the loop hands it out.
+fn pulled<const N: usize>(
+    dec: &Decoder<N>,
+    input: &[u8],
+    event: Pulled<(Option<usize>, usize), Error>,
+) -> Event {
+    match event {
+        Pulled::Found(found) => Ok(dec.item(input, found).as_bytes().to_vec()),
+        Pulled::Error(e) => Err(e),
+        Pulled::Truncated(_) => Err(Error::Truncated),
+    }
+}
+
+/// `decode` again and again on what each call left, until it finds nothing in what is left;
+/// every call uses a byte or more, or hands out an event.
+fn decode_all<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<Event>) {
     let mut rest = bytes;
     loop {
-        let (n, ev) = dec.feed_until(rest);
+        let (n, ev) = dec.decode(rest);
         assert!(n <= rest.len());
         let found = ev.is_some();
         if let Some(e) = ev {
-            out.push(e.map(|f| f.as_bytes().to_vec()));
+            out.push(pulled(dec, rest, e));
         }
         assert!(found || n == rest.len(), "stopped without an event");
         assert!(
@@ -51,12 +60,21 @@ fn feed_until_all<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut 
     }
 }
 
+/// `end` until `None`: the events of the end of the stream.
+fn end_all<const N: usize>(dec: &mut Decoder<N>, out: &mut Vec<Event>) {
+    let mut first = true;
+    while let Some(e) = dec.end(first) {
+        first = false;
+        out.push(pulled(dec, &[], e));
+    }
+}
+
 /// Feed `stream` in chunks of the given sizes (cycled; 0 is an empty call) both ways and
-/// compare after every chunk and after the final flush.
+/// compare after every chunk and after the end of the stream.
 fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]) {
     let mut slow = Decoder::<N>::new(profile);
     let mut fast = Decoder::<N>::new(profile);
-    let mut until = Decoder::<N>::new(profile);
+    let mut pull = Decoder::<N>::new(profile);
     let mut rest = stream;
     // The extra 1 makes every round of `sizes` consume a byte, so the loop ends.
     let mut sizes = sizes.iter().chain(&[1]).cycle();
@@ -69,18 +87,19 @@ fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]
         bytewise(&mut slow, chunk, &mut want);
         fast.feed(chunk, record(&mut got));
         let mut one_by_one = Vec::new();
-        feed_until_all(&mut until, chunk, &mut one_by_one);
+        decode_all(&mut pull, chunk, &mut one_by_one);
         assert_eq!(
             one_by_one,
             want,
-            "N={N} {profile:?}: feed_until, chunk ending at {}",
+            "N={N} {profile:?}: decode, chunk ending at {}",
             at + n
         );
         assert_eq!(
-            until.stats(),
+            pull.stats(),
             slow.stats(),
-            "N={N} {profile:?}: feed_until's stats"
+            "N={N} {profile:?}: decode's stats"
         );
+        assert_eq!(pull.held_bytes(), slow.held_bytes());
         at += n;
         assert_eq!(
             got, want,
@@ -98,20 +117,24 @@ fn check_chunks<const N: usize>(profile: Profile, stream: &[u8], sizes: &[usize]
             break;
         }
     }
-    let (mut want, mut got) = (Vec::new(), Vec::new());
-    slow.flush(record(&mut want));
-    fast.flush(record(&mut got));
-    assert_eq!(got, want, "N={N} {profile:?}: flush");
+    let (mut want, mut got, mut ended) = (Vec::new(), Vec::new(), Vec::new());
+    slow.finish(record(&mut want));
+    fast.finish(record(&mut got));
+    end_all(&mut pull, &mut ended);
+    assert_eq!(got, want, "N={N} {profile:?}: finish");
+    assert_eq!(ended, want, "N={N} {profile:?}: end");
     assert_eq!(
         fast.stats(),
         slow.stats(),
-        "N={N} {profile:?}: stats after flush"
+        "N={N} {profile:?}: stats after finish"
     );
+    assert_eq!(pull.stats(), slow.stats(), "N={N} {profile:?}: end's stats");
+    assert_eq!((fast.held_bytes(), pull.held_bytes()), (0, 0));
     all.extend(got);
     conserved(stream, &fast.stats(), &all);
 }
 
-/// After a flush every byte fed is either in a delivered frame or discarded (D3).
+/// After `finish` every byte fed is either in a delivered frame or discarded (D3).
 fn conserved(stream: &[u8], stats: &Stats, events: &[Event]) {
     let delivered: usize = events.iter().flatten().map(Vec::len).sum();
     assert_eq!(delivered + stats.bytes_discarded as usize, stream.len());
@@ -218,10 +241,11 @@ proptest! {
         check_all(p, &stream, &sizes);
     }
 
-    /// `feed` after pushes whose events were not polled (queued rescans, a frame still lent
-    /// out) continues exactly as pushing those bytes would.
+    /// `feed` after pull-form calls that left events queued (a rescan found several, and the
+    /// caller took one a call), or that lent a frame out, continues exactly as the pull form
+    /// would, and `finish` as one-byte feeds would: no event is lost or reordered.
     #[test]
-    fn feed_after_undrained_pushes_equals_bytewise(
+    fn feed_after_pull_form_calls_equals_bytewise(
         (p, stream) in framed_stream(),
         ops in prop::collection::vec((0usize..3, 0usize..80), 0..40),
     ) {
@@ -229,19 +253,18 @@ proptest! {
         let mut fast = Decoder::<64>::new(p);
         let (mut want, mut got) = (Vec::new(), Vec::new());
         let mut rest = &stream[..];
-        // Every round of `ops` consumes at least one byte, so this ends.
+        // Every round of `ops` uses at least one byte, so this ends.
         let ops = ops.into_iter().chain([(2, 1)]).collect::<Vec<_>>();
         for (op, n) in ops.into_iter().cycle() {
             if rest.is_empty() {
                 break;
             }
             if op == 1 {
-                // One poll each; no input consumed.
-                if let Some(e) = slow.poll() {
-                    want.push(e.map(|f| f.as_bytes().to_vec()));
-                }
-                if let Some(e) = fast.poll() {
-                    got.push(e.map(|f| f.as_bytes().to_vec()));
+                // One pull-form call each on no input: an event left queued, if any.
+                for (dec, out) in [(&mut slow, &mut want), (&mut fast, &mut got)] {
+                    let (used, e) = dec.decode(&[]);
+                    prop_assert_eq!(used, 0);
+                    out.extend(e.map(|e| pulled(dec, &[], e)));
                 }
                 continue;
             }
@@ -249,24 +272,31 @@ proptest! {
             let (chunk, tail) = rest.split_at(n);
             rest = tail;
             if op == 0 {
-                // Push without polling: only the first event of each byte is taken.
-                for &b in chunk {
-                    if let Some(e) = slow.push(b) {
-                        want.push(e.map(|f| f.as_bytes().to_vec()));
-                    }
-                    if let Some(e) = fast.push(b) {
-                        got.push(e.map(|f| f.as_bytes().to_vec()));
+                // One event a call, byte by byte: a byte is given again while the call takes
+                // an event a rescan left queued (none of it used), and the events behind the
+                // last one stay queued.
+                for (dec, out) in [(&mut slow, &mut want), (&mut fast, &mut got)] {
+                    for b in chunk {
+                        loop {
+                            let (used, e) = dec.decode(core::slice::from_ref(b));
+                            out.extend(e.map(|e| pulled(dec, core::slice::from_ref(b), e)));
+                            if used == 1 {
+                                break;
+                            }
+                        }
                     }
                 }
             } else {
-                bytewise(&mut slow, chunk, &mut want);
+                // `feed` against the loop the contract builds on the pull form: on an empty
+                // chunk too, both hand out what a rescan left queued.
+                decode_all(&mut slow, chunk, &mut want);
                 fast.feed(chunk, record(&mut got));
             }
             prop_assert_eq!(&got, &want);
             prop_assert_eq!(fast.stats(), slow.stats());
         }
-        slow.flush(record(&mut want));
-        fast.flush(record(&mut got));
+        slow.finish(record(&mut want));
+        fast.finish(record(&mut got));
         prop_assert_eq!(&got, &want);
         prop_assert_eq!(fast.stats(), slow.stats());
     }

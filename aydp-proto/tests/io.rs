@@ -1,5 +1,5 @@
-//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `Decoder::push` and
-//! `poll` deliver byte by byte, then what `flush` delivers at the end of the stream, whatever
+//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `Decoder::feed`
+//! delivers byte by byte, then what `finish` delivers at the end of the stream, whatever
 //! the read sizes (1 byte up to more than the buffer), with pending reads, transport errors in
 //! mid-message and EOF; the writers produce exactly the bytes of `Encoder::encode`.
 
@@ -9,7 +9,7 @@ mod streamgen;
 mod transport;
 
 use aydp_proto::{
-    Decoder, Encoder, Error, IoError, Profile, Raw, Stats, Timestamp, embedded_io as bio,
+    Decode, Decoder, Encoder, Error, IoError, Profile, Raw, Stats, Timestamp, embedded_io as bio,
     embedded_io_async as aio,
 };
 use embedded_io::ErrorKind;
@@ -21,12 +21,12 @@ use transport::{Sink, Wire, block_on, sink};
 enum Event {
     Frame(Vec<u8>),
     Protocol(Error),
-    /// `Err(Truncated)` from `flush`; the reader's `UnexpectedEof` (its count is checked apart).
+    /// `Err(Truncated)` from `finish`; the reader's `UnexpectedEof` (its count is checked apart).
     Truncated,
     Eof,
 }
 
-/// The reference: every byte pushed, every event drained with `poll`, then `flush`.
+/// The reference: every byte fed on its own, then `finish`.
 fn reference<const N: usize>(profile: Profile, stream: &[u8]) -> (Vec<Event>, Stats) {
     let mut d = Decoder::<N>::new(profile);
     let mut out = Vec::new();
@@ -35,14 +35,10 @@ fn reference<const N: usize>(profile: Profile, stream: &[u8]) -> (Vec<Event>, St
         Err(Error::Truncated) => Event::Truncated,
         Err(e) => Event::Protocol(e),
     };
-    for &b in stream {
-        let mut ev = d.push(b);
-        while let Some(e) = ev {
-            out.push(conv(e));
-            ev = d.poll();
-        }
+    for b in stream {
+        d.feed(core::slice::from_ref(b), |e| out.push(conv(e)));
     }
-    d.flush(|e| out.push(conv(e)));
+    d.finish(|e| out.push(conv(e)));
     out.push(Event::Eof);
     (out, d.stats())
 }

@@ -2,7 +2,7 @@
 //! The readers and writers keep the parts they were built with: the profile and capacity of
 //! the decoder, a decoder handed over with its counters, the encoder's profile, the transport.
 
-use aydp_proto::{Decoder, Profile, embedded_io as bio, embedded_io_async as aio};
+use aydp_proto::{Decode, Decoder, Profile, embedded_io as bio, embedded_io_async as aio};
 
 /// A frame of type 0x09 (flag 0x80) with one data byte, 0x02.
 const FRAME: [u8; 8] = [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C];

@@ -3,9 +3,9 @@
 //! deterministic runner configuration.
 
 use aydp_proto::{
-    Decoder, DirectOutputBuilder, Encoder, FixDetailBuilder, FixQuality, Message, OutputEntry,
-    Position, Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
-    VesselData, WindDirection, WindSpeed, uflt16,
+    Decode, Decoder, DirectOutputBuilder, Encoder, FixDetailBuilder, FixQuality, Message,
+    OutputEntry, Position, Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp,
+    UpdateMode, VesselData, WindDirection, WindSpeed, uflt16,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};

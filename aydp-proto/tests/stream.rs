@@ -6,7 +6,7 @@ mod naive;
 #[path = "support/streamgen.rs"]
 mod streamgen;
 
-use aydp_proto::{Decoder, Error, Profile};
+use aydp_proto::{Decode, Decoder, Error, Event, Profile};
 use naive::NaiveDecoder;
 use streamgen::{Rng, garbage, random_message};
 
@@ -32,19 +32,25 @@ fn build_stream(
     (stream, msgs)
 }
 
-/// Events of the library decoder: frames as byte vectors, errors as errors.
+/// Events of the library decoder, fed one byte at a time: frames as byte vectors, errors as
+/// errors.
 fn run_lib(stream: &[u8], profile: Profile) -> (Vec<Result<Vec<u8>, Error>>, aydp_proto::Stats) {
     let mut dec = Decoder::<CAP>::new(profile);
     let mut out = Vec::new();
-    for &b in stream {
-        let mut ev = dec.push(b);
-        while let Some(e) = ev {
-            out.push(e.map(|f| f.as_bytes().to_vec()));
-            ev = dec.poll();
-        }
+    for b in stream {
+        dec.feed(core::slice::from_ref(b), |e| {
+            out.push(e.map(|f| f.as_bytes().to_vec()))
+        });
     }
-    dec.flush(|e| out.push(e.map(|f| f.as_bytes().to_vec())));
+    dec.finish(|e| out.push(e.map(|f| f.as_bytes().to_vec())));
     (out, dec.stats())
+}
+
+/// The events of one byte, each as `Err` or `Ok(())`.
+fn byte_events<const N: usize>(dec: &mut Decoder<N>, b: u8) -> Vec<Result<(), Error>> {
+    let mut out = Vec::new();
+    dec.feed(&[b], |e| out.push(e.map(|_| ())));
+    out
 }
 
 fn frames(events: &[Result<Vec<u8>, Error>]) -> Vec<Vec<u8>> {
@@ -151,7 +157,7 @@ fn small_stream_split_at_every_byte_boundary() {
             };
             dec.feed(&stream[..cut], &mut sink);
             dec.feed(&stream[cut..], &mut sink);
-            dec.flush(&mut sink);
+            dec.finish(&mut sink);
             assert_eq!(out, whole, "{profile:?} split at {cut}");
         }
     }
@@ -172,27 +178,37 @@ fn big_stream_in_random_chunks_matches_byte_at_a_time() {
         dec.feed(chunk, |e| out.push(e.map(|f| f.as_bytes().to_vec())));
         rest = tail;
     }
-    dec.flush(|e| out.push(e.map(|f| f.as_bytes().to_vec())));
+    dec.finish(|e| out.push(e.map(|f| f.as_bytes().to_vec())));
     assert_eq!(out, whole);
 }
 
-/// Pushing without polling loses nothing: queued bytes are kept in order ahead of new input.
+/// Taking one event a call loses nothing: the pull form over the whole stream, each call on
+/// what the last one left, events a rescan left queued first (no byte used), then the end.
 #[test]
-fn pushing_without_polling_only_delays_events() {
+fn one_event_a_call_only_delays_events() {
     let (stream, _) = build_stream(5, 500, Profile::Spec, (1, 2));
     let (whole, _) = run_lib(&stream, Profile::Spec);
     let mut dec = Decoder::<CAP>::new(Profile::Spec);
     let mut out = Vec::new();
-    for &b in &stream {
-        // Take only the first event of each push; the rest stay queued.
-        if let Some(e) = dec.push(b) {
-            out.push(e.map(|f| f.as_bytes().to_vec()));
-        }
+    let mut take = |dec: &Decoder<CAP>, input: &[u8], e| {
+        out.push(match e {
+            Event::Found(found) => Ok(dec.item(input, found).as_bytes().to_vec()),
+            Event::Error(e) => Err(e),
+            Event::Truncated(_) => Err(Error::Truncated),
+        })
+    };
+    let mut rest = &stream[..];
+    loop {
+        let (used, e) = dec.decode(rest);
+        let Some(e) = e else { break };
+        take(&dec, rest, e);
+        rest = &rest[used..];
     }
-    while let Some(e) = dec.poll() {
-        out.push(e.map(|f| f.as_bytes().to_vec()));
+    let mut first = true;
+    while let Some(e) = dec.end(first) {
+        first = false;
+        take(&dec, &[], e);
     }
-    dec.flush(|e| out.push(e.map(|f| f.as_bytes().to_vec())));
     assert_eq!(out, whole);
 }
 
@@ -206,7 +222,7 @@ fn one_mib_of_random_bytes_never_panics() {
         // Also through a tiny decoder, where almost every length fails.
         let mut small = Decoder::<8>::new(profile);
         small.feed(&stream, |_| {});
-        small.flush(|_| {});
+        small.finish(|_| {});
         println!(
             "{profile:?}: 1 MiB noise: {stats:?}; 8-byte decoder {:?}",
             small.stats()
@@ -269,22 +285,14 @@ fn a_false_start_hides_a_good_message_and_the_rescan_finds_it() {
 fn length_is_checked_as_soon_as_the_field_is_complete() {
     let mut dec = Decoder::<32>::new(Profile::Spec);
     // Below the Spec minimum for a normal message (23).
-    let ev: Vec<_> = [0xFF, 0x03, 22, 0, 0]
-        .iter()
-        .map(|&b| dec.push(b).map(|e| e.map(|_| ())))
-        .collect();
-    assert!(ev.iter().all(Option::is_none));
-    assert_eq!(
-        dec.push(0).map(|e| e.map(|_| ())),
-        Some(Err(Error::BadLength(22)))
-    );
+    for b in [0xFF, 0x03, 22, 0, 0] {
+        assert_eq!(byte_events(&mut dec, b), []);
+    }
+    assert_eq!(byte_events(&mut dec, 0), [Err(Error::BadLength(22))]);
     // Beyond the capacity.
     let mut dec = Decoder::<32>::new(Profile::Reference);
     dec.feed(&[0xFF, 0x81, 26, 0, 0], |_| panic!("too early"));
-    assert_eq!(
-        dec.push(0).map(|e| e.map(|_| ())),
-        Some(Err(Error::BadLength(26)))
-    );
+    assert_eq!(byte_events(&mut dec, 0), [Err(Error::BadLength(26))]);
     assert_eq!(dec.stats().length_errors, 1);
     // 25 data bytes + 7 = 32 fits exactly.
     let mut dec = Decoder::<32>::new(Profile::Reference);

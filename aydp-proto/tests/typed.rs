@@ -2,8 +2,9 @@
 
 use aydp_proto::registry::{Cell, Registry, Slot};
 use aydp_proto::{
-    DirectOutput, Encoder, Error, FixDetail, FixQuality, Header, HeaderRepr, Message, Position,
-    Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData, uflt16,
+    Decode, DirectOutput, Encoder, Error, FixDetail, FixQuality, Header, HeaderRepr, Message,
+    Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
+    uflt16,
 };
 
 #[test]
@@ -309,10 +310,12 @@ fn reference_profile_refuses_expedited_headers() {
     // A Reference decoder still reads an expedited no-op (length 0 counts data only).
     let mut d = aydp_proto::Decoder::<64>::new(Profile::Reference);
     let mut got = Vec::new();
-    for &x in &[0xFF, 0x80, 0, 0, 0, 0, 0x7F] {
-        if let Some(Ok(f)) = d.push(x) {
-            got.push((f.base_type(), f.timestamp()));
-        }
+    for x in &[0xFF, 0x80, 0, 0, 0, 0, 0x7F] {
+        d.feed(core::slice::from_ref(x), |e| {
+            if let Ok(f) = e {
+                got.push((f.base_type(), f.timestamp()));
+            }
+        });
     }
     assert_eq!(got, [(0, None)]);
     // The error reads as one sentence.

@@ -2,7 +2,7 @@
 //! its `expect` says; every accepted vector is also re-encoded byte for byte.
 
 use aydp_proto::{
-    Decoder, Encoder, Error, Frame, Message, OutputEntry, Payload, Position, Profile,
+    Decode, Decoder, Encoder, Error, Frame, Message, OutputEntry, Payload, Position, Profile,
     SystemControl, SystemValueUpdate, Timestamp, UpdateMode, WindSpeed,
 };
 
@@ -18,7 +18,7 @@ fn hex(s: &str) -> Vec<u8> {
         .collect()
 }
 
-/// Decode a whole vector byte by byte (then flush), returning frames and errors.
+/// Decode a whole vector (then finish the stream), returning frames and errors.
 fn decode(bytes: &[u8], profile: Profile) -> (Vec<Vec<u8>>, Vec<Error>, aydp_proto::Stats) {
     let mut dec = Decoder::<256>::new(profile);
     let (mut frames, mut errors) = (Vec::new(), Vec::new());
@@ -27,7 +27,7 @@ fn decode(bytes: &[u8], profile: Profile) -> (Vec<Vec<u8>>, Vec<Error>, aydp_pro
         Err(e) => errors.push(e),
     };
     dec.feed(bytes, &mut sink);
-    dec.flush(&mut sink);
+    dec.finish(&mut sink);
     (frames, errors, dec.stats())
 }
 
@@ -220,7 +220,7 @@ fn vectors_concatenated_and_split_at_every_boundary() {
         dec.feed(&stream[cut..], |e| {
             frames.extend(e.ok().map(|f| f.as_bytes().to_vec()))
         });
-        dec.flush(|e| frames.extend(e.ok().map(|f| f.as_bytes().to_vec())));
+        dec.finish(|e| frames.extend(e.ok().map(|f| f.as_bytes().to_vec())));
         assert_eq!(frames, whole.0, "split at {cut}");
     }
 }

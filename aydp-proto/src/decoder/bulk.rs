@@ -1,51 +1,29 @@
-//! The slice path: [`Decoder::feed`] runs the step over the input itself while nothing is
-//! held, and copies the input behind the bytes held in runs otherwise.
+//! The slice fast path of [`Decode::feed`](crate::Decode::feed) (and of the pull form): while
+//! the decoder holds nothing, the step runs on the input itself; otherwise the input is copied
+//! behind the bytes held in runs, as many bytes as the step needs before it can decide.
 
 use super::*;
 
 impl<const N: usize> Decoder<N> {
-    /// Feed a slice, handing every event (frames and failures) to `on_event` in order.
-    ///
-    /// This is the bulk path. It behaves exactly like pushing the bytes one at a time with
-    /// [`Decoder::push`] and draining [`Decoder::poll`] after each (same events in the same
-    /// order, same counters, same rescans: the same step decides), but it is several times
-    /// faster:
+    /// Every event of `bytes` (of any length) handed to `on_event` in order, with exactly the
+    /// events, counters and rescans of feeding the bytes one at a time (the same step
+    /// decides), several times faster:
     ///
     /// - while the decoder holds nothing, the step runs **on `bytes` itself** (no copy): the
     ///   0xFF start is searched a machine word at a time, and once the header gives the length
     ///   the whole message is XORed a word at a time. Frames found this way borrow `bytes`;
     /// - a message cut by the end of the slice is copied into the decoder's buffer; the next
     ///   call copies the rest of its body in one go, once its length is known.
-    ///
-    /// Feed it whole DMA buffers, UART FIFOs or datagrams.
-    ///
-    /// ```
-    /// use aydp_proto::{Decoder, Profile};
-    /// let mut dec = Decoder::<32>::new(Profile::Spec);
-    /// let mut n = 0;
-    /// dec.feed(&[0x00, 0xFF, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78], |ev| n += ev.is_ok() as u32);
-    /// assert_eq!(n, 1);
-    /// assert_eq!(dec.stats().bytes_discarded, 2);
-    ///
-    /// // A message split across two calls is delivered by the call that completes it.
-    /// dec.feed(&[0xFF, 0x89, 0x08], |_| unreachable!());
-    /// dec.feed(&[0, 0, 0, 0x02, 0x7C], |ev| n += ev.is_ok() as u32);
-    /// assert_eq!(n, 2);
-    /// ```
-    pub fn feed<F: FnMut(Result<Frame<'_>>)>(&mut self, bytes: &[u8], mut on_event: F) {
+    pub(super) fn feed_bulk<F: FnMut(Result<Frame<'_>>)>(&mut self, bytes: &[u8], mut on_event: F) {
         if N < EXPEDITED_HEADER_LEN {
-            // A decoder too small for a header: keep to the byte-at-a-time path.
-            for &b in bytes {
-                let mut ev = self.push(b);
-                while let Some(e) = ev {
-                    on_event(e);
-                    ev = self.poll();
-                }
+            // A decoder too small for a header: keep to the byte-at-a-time path, events a
+            // pull-form caller left queued first.
+            while let Some(e) = self.poll() {
+                on_event(e);
             }
-            return;
-        }
-        if bytes.is_empty() {
-            // Pushing nothing does nothing, not even hand out events still queued.
+            for &b in bytes {
+                self.feed_byte(b, &mut on_event);
+            }
             return;
         }
         let mut rest = bytes;
@@ -92,20 +70,28 @@ impl<const N: usize> Decoder<N> {
         }
     }
 
-    /// Nothing is held: keep `bytes`, which the step left undecided until it holds `need`.
-    #[inline]
-    pub(super) fn hold(&mut self, bytes: &[u8], need: usize) {
-        self.append(bytes);
-        self.decide_at = self.start.wrapping_add(need);
-    }
-
-    /// The bytes held are one undecided candidate: append the part of `bytes` the step needs
-    /// before it can decide (or all of `bytes` if that is fewer) and return the rest.
-    #[inline]
-    pub(super) fn take_needed<'b>(&mut self, bytes: &'b [u8]) -> &'b [u8] {
-        let want = self.decide_at.saturating_sub(self.len);
-        let (part, rest) = bytes.split_at_checked(want).unwrap_or((bytes, &[]));
-        self.append(part);
-        rest
+    /// The decoder holds nothing: runs the step over `bytes` itself up to and including the
+    /// first frame or failure, and returns how many bytes that took with the step's report (a
+    /// frame reported ends there). Reaching the end undecided, it holds the undecided bytes
+    /// and reports `Need`. A failed candidate's rescan is simply the next position in `bytes`.
+    #[inline(always)]
+    pub(super) fn scan_in_place(&mut self, bytes: &[u8]) -> (usize, Step) {
+        let mut at = 0;
+        loop {
+            let window = bytes.get(at..).unwrap_or(&[]);
+            if window.is_empty() {
+                return (at, Step::Noise(0));
+            }
+            match Self::step(self.profile, &mut self.stats, window) {
+                Step::Need(n) => {
+                    self.hold(window, n);
+                    return (bytes.len(), Step::Need(n));
+                }
+                Step::Noise(n) => at = at.saturating_add(n),
+                Step::Frame(n) => return (at.saturating_add(n), Step::Frame(n)),
+                Step::Failed(e) => return (at.saturating_add(1), Step::Failed(e)),
+                Step::Mismatch(total) => return (at.saturating_add(1), Step::Mismatch(total)),
+            }
+        }
     }
 }

@@ -52,19 +52,51 @@ fn seen(ev: Result<Frame<'_>>) -> Seen {
 /// A decoder of 16 bytes: the held candidates are moved to the front (`compact`) on the way.
 type Small = Decoder<16>;
 
-fn by_push() -> Vec<Seen> {
+/// The reference: one byte a `feed`, then `finish`.
+fn by_byte() -> Vec<Seen> {
     let mut dec = Small::new(Profile::Spec);
     let mut got = Vec::new();
-    for &b in STREAM {
-        if let Some(ev) = dec.push(b) {
-            got.push(seen(ev));
-            while let Some(ev) = dec.poll() {
-                got.push(seen(ev));
-            }
-        }
+    for byte in STREAM {
+        dec.feed(core::slice::from_ref(byte), |ev| got.push(seen(ev)));
     }
-    dec.flush(|ev| got.push(seen(ev)));
+    dec.finish(|ev| got.push(seen(ev)));
     got
+}
+
+/// The pull form at every cut of the stream in two: `decode` on what each call left, until it
+/// returns `(0, None)`, then `end` until `None`. Every call uses a byte or gives an event.
+fn by_decode_at_every_cut() -> Vec<Vec<Seen>> {
+    (0..=STREAM.len())
+        .map(|cut| {
+            let (a, b) = STREAM.split_at(cut);
+            let mut dec = Small::new(Profile::Spec);
+            let mut got = Vec::new();
+            for piece in [a, b] {
+                let mut rest = piece;
+                loop {
+                    let (used, event) = dec.decode(rest);
+                    let input = rest;
+                    rest = rest.get(used..).unwrap_or(&[]);
+                    match event {
+                        None => break,
+                        Some(Event::Found(found)) => got.push(seen(Ok(dec.item(input, found)))),
+                        Some(Event::Error(e)) => got.push(Err(e)),
+                        Some(Event::Truncated(_)) => got.push(Err(Error::Truncated)),
+                    }
+                }
+            }
+            let mut first = true;
+            while let Some(event) = dec.end(first) {
+                first = false;
+                match event {
+                    Event::Found(found) => got.push(seen(Ok(dec.item(&[], found)))),
+                    Event::Error(e) => got.push(Err(e)),
+                    Event::Truncated(_) => got.push(Err(Error::Truncated)),
+                }
+            }
+            got
+        })
+        .collect()
 }
 
 fn by_feed_at_every_cut() -> Vec<Vec<Seen>> {
@@ -75,17 +107,15 @@ fn by_feed_at_every_cut() -> Vec<Vec<Seen>> {
             let mut got = Vec::new();
             dec.feed(a, |ev| got.push(seen(ev)));
             dec.feed(b, |ev| got.push(seen(ev)));
-            while let Some(ev) = dec.flush_next() {
-                got.push(seen(ev));
-            }
+            dec.finish(|ev| got.push(seen(ev)));
             got
         })
         .collect()
 }
 
 #[test]
-fn push_poll_and_flush_return_with_the_streams_events() {
-    let got = returns("push, poll and flush", by_push);
+fn feed_byte_by_byte_and_finish_return_with_the_streams_events() {
+    let got = returns("feed byte by byte and finish", by_byte);
     let frames: Vec<_> = got.iter().filter_map(|e| e.as_ref().ok()).collect();
     assert_eq!(
         frames,
@@ -100,9 +130,20 @@ fn push_poll_and_flush_return_with_the_streams_events() {
 
 #[test]
 fn feed_at_every_cut_returns_with_the_same_events() {
-    let push = returns("push, poll and flush", by_push);
+    let by_byte = returns("feed byte by byte and finish", by_byte);
     for (cut, got) in returns("feed", by_feed_at_every_cut).iter().enumerate() {
-        assert_eq!(got, &push, "cut at {cut}");
+        assert_eq!(got, &by_byte, "cut at {cut}");
+    }
+}
+
+#[test]
+fn decode_and_end_at_every_cut_return_with_the_same_events() {
+    let by_byte = returns("feed byte by byte and finish", by_byte);
+    for (cut, got) in returns("decode and end", by_decode_at_every_cut)
+        .iter()
+        .enumerate()
+    {
+        assert_eq!(got, &by_byte, "cut at {cut}");
     }
 }
 
@@ -171,13 +212,13 @@ fn reader_frames<const R: usize>() -> (Vec<Vec<u8>>, bool) {
 #[cfg(feature = "embedded-io")]
 #[test]
 fn the_reader_returns_the_streams_frames_and_its_end() {
-    let pushed: Vec<Vec<u8>> = by_push().into_iter().filter_map(|s| s.ok()).collect();
-    assert!(!pushed.is_empty());
+    let by_byte: Vec<Vec<u8>> = by_byte().into_iter().filter_map(|s| s.ok()).collect();
+    assert!(!by_byte.is_empty());
     for got in [
         returns("FrameReader::read, 1 byte a read", reader_frames::<1>),
         returns("FrameReader::read, 3 bytes a read", reader_frames::<3>),
         returns("FrameReader::read, 64 bytes a read", reader_frames::<64>),
     ] {
-        assert_eq!(got, (pushed.clone(), true));
+        assert_eq!(got, (by_byte.clone(), true));
     }
 }

@@ -1,6 +1,15 @@
-//! The stream decoder with lossless resynchronisation: byte at a time ([`Decoder::push`]) or
-//! a slice at a time ([`Decoder::feed`], the fast path for DMA buffers and datagrams; it gives
-//! exactly the events and counters of pushing the same bytes one by one).
+//! The stream decoder, with lossless resynchronisation: [`Decoder`] implements the decoder
+//! contract of this workspace, [`Decode`] (stated once in `frame-io`): the one loop
+//!
+//! ```text
+//! decoder.feed(bytes, |event| ..)   // every slice of the stream, of any length (one byte too)
+//! decoder.finish(|event| ..)        // the stream ended: a candidate cut short is Err(Truncated)
+//! ```
+//!
+//! with each event `Ok(frame)` or `Err(error)` (counted; the decoder has resynchronised), and
+//! underneath it the pull form, [`Decode::decode`], [`Decode::end`] and [`Decode::item`], for
+//! a caller that acts between two events. The events depend only on the bytes, never on how
+//! they were cut into slices.
 //!
 //! # How it works
 //!
@@ -14,52 +23,60 @@
 //! only the false start byte and **rescans** the bytes it already holds, from the byte after
 //! the false start. A message hidden behind a false 0xFF start is therefore still found.
 //!
-//! # Events, and why there may be more than one per byte
+//! # Several events from one byte
 //!
-//! A rescan can uncover several complete messages (and further failures) among bytes already
-//! held. [`Decoder::push`] stores the byte and returns the *first* event; the caller must then
-//! call [`Decoder::poll`] until it returns `None` to take the rest. Bytes that are queued for a
-//! rescan are kept in order ahead of any new input, so nothing is lost if the caller pushes
-//! again before polling, but events are only handed out one at a time.
+//! A rescan can uncover several messages (and further failures) among bytes already held, so
+//! one byte can give several events: `feed` hands them all out, in order. The pull form
+//! returns one a call: events a rescan left queued come first, with no byte used, so its
+//! caller calls [`Decode::decode`] again on the rest, and once with an empty slice, until it
+//! returns `(0, None)`. No event is lost either way.
 //!
 //! ```
-//! use aydp_proto::{Decoder, Profile};
-//! // A false start (FF 00 with length 40) swallows a heartbeat; the rescan finds it.
-//! let stream = [0xFF, 0x00, 0x28, 0, 0, 0, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78];
+//! use aydp_proto::{Decode, Decoder, Error, Event, Profile};
+//! // A false start (FF 00, length 40) swallows a heartbeat: when its 40 bytes are in, its
+//! // checksum fails and the rescan finds the heartbeat. The 40th byte gives two events.
+//! let mut stream = vec![0xFF, 0x00, 0x28, 0, 0, 0, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78];
+//! stream.resize(40, 0);
+//!
+//! // The one loop, here a byte at a time.
 //! let mut dec = Decoder::<64>::new(Profile::Spec);
-//! let mut frames = 0;
-//! for &byte in &stream {
-//!     let mut event = dec.push(byte);
-//!     while let Some(ev) = event {
-//!         if let Ok(frame) = ev {
-//!             assert_eq!(frame.type_byte(), 0x80);
-//!             frames += 1;
-//!         }
-//!         event = dec.poll();
-//!     }
+//! let mut seen = Vec::new();
+//! for byte in &stream {
+//!     dec.feed(core::slice::from_ref(byte), |event| seen.push(event.map(|f| f.type_byte())));
 //! }
-//! // The false start is still waiting for 40 bytes; the heartbeat arrives when the false
-//! // candidate fails. Here the stream simply ends: flush reports what is still pending.
-//! assert_eq!(frames, 0);
-//! dec.flush(|ev| if ev.is_ok() { frames += 1 });
-//! assert_eq!(frames, 1);
+//! dec.finish(|event| seen.push(event.map(|f| f.type_byte())));
+//! assert!(matches!(seen[..], [Err(Error::ChecksumMismatch { .. }), Ok(0x80)]));
+//!
+//! // The pull form: the heartbeat comes with no byte used, from the bytes held.
+//! let mut dec = Decoder::<64>::new(Profile::Spec);
+//! assert_eq!(dec.decode(&stream[..39]), (39, None));
+//! let (used, event) = dec.decode(&stream[39..]);
+//! assert!(used == 1 && matches!(event, Some(Event::Error(Error::ChecksumMismatch { .. }))));
+//! let (used, event) = dec.decode(&[]);
+//! assert_eq!((used, event), (0, Some(Event::Found((None, 7)))));
+//! assert_eq!(dec.item(&[], (None, 7)).type_byte(), 0x80);
+//! assert_eq!(dec.decode(&[]), (0, None));
 //! assert_eq!(dec.stats().frames_ok, 1);
 //! ```
 
+// The files: `step.rs`, the rules, once, and their reports made events; `byte.rs`, the
+// per-byte path (`feed` of one byte); `bulk.rs`, the slice fast path; `buffer.rs`, the bytes
+// held between calls. Every path decides through the one step, and the property tests prove
+// them equal on every split of hostile streams.
+mod buffer;
 mod bulk;
+mod byte;
 #[cfg(test)]
 mod liveness;
-mod state;
-mod until;
+mod step;
 
-#[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-pub(crate) use until::Found;
+use frame_io::{Decode, Event};
 
 use crate::checksum::{ff_run, find_ff, xor};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::profile::{EXPEDITED, EXPEDITED_HEADER_LEN, Profile, START};
-use state::discard;
+use step::discard;
 
 /// Decoder counters (MAVLink style). Every counter wraps.
 ///
@@ -100,23 +117,28 @@ pub(super) enum Step {
 
 /// AYDP stream decoder holding at most `N` bytes (the longest message it accepts).
 ///
-/// Feed it byte by byte with [`Decoder::push`] (then [`Decoder::poll`]), or a slice at a time
-/// with [`Decoder::feed`], which is several times faster and otherwise identical. See the
-/// [module documentation](self) for the event protocol.
+/// It implements [`Decode`]: `feed` every slice of the stream (whole DMA buffers, UART
+/// FIFOs, datagrams, or one byte from an interrupt handler), `finish` when the stream ends.
+/// See the [module documentation](self) for how it resynchronises and the pull form.
 ///
 /// ```
-/// use aydp_proto::{Decoder, Message, Profile};
-/// let mut dec = Decoder::<64>::new(Profile::Spec);
-/// let mut heartbeats = 0;
-/// for &b in &[0xFF, 0x80, 0x07, 0, 0, 0, 0x78] {
-///     if let Some(Ok(frame)) = dec.push(b) {
-///         // The frame borrows the decoder: use it (or copy it out) before the next push.
-///         if frame.message() == Ok(Message::Heartbeat) {
-///             heartbeats += 1;
-///         }
-///     }
+/// use aydp_proto::{Decode, Decoder, Error, Message, Profile};
+/// let mut decoder = Decoder::<64>::new(Profile::Spec);
+/// let (mut heartbeats, mut errors) = (0, 0);
+/// // Noise, a heartbeat cut across two reads, then a message cut short by the end.
+/// for bytes in [&[0x13, 0xFF, 0x80, 0x07][..], &[0, 0, 0, 0x78, 0xFF, 0x89]] {
+///     decoder.feed(bytes, |event| match event {
+///         // The frame borrows the decoder or `bytes`: use it (or copy it out) here.
+///         Ok(frame) => heartbeats += u32::from(frame.message() == Ok(Message::Heartbeat)),
+///         Err(_) => errors += 1, // counted; the decoder resynchronised
+///     });
 /// }
-/// assert_eq!(heartbeats, 1);
+/// decoder.finish(|event| {
+///     assert_eq!(event.err(), Some(Error::Truncated)); // the end of the stream
+///     errors += 1;
+/// });
+/// assert_eq!((heartbeats, errors), (1, 1));
+/// assert_eq!(decoder.stats().bytes_discarded, 3); // the noise byte, the cut message's two
 /// ```
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -142,6 +164,12 @@ impl<const N: usize> Default for Decoder<N> {
 
 impl<const N: usize> Decoder<N> {
     /// An empty decoder for `profile`.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// let dec = Decoder::<64>::new(Profile::Reference);
+    /// assert_eq!((dec.profile(), dec.held_bytes()), (Profile::Reference, 0));
+    /// ```
     pub const fn new(profile: Profile) -> Self {
         Self {
             buf: [0; N],
@@ -159,42 +187,66 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// The profile this decoder follows.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// assert_eq!(Decoder::<64>::new(Profile::Spec).profile(), Profile::Spec);
+    /// ```
     pub const fn profile(&self) -> Profile {
         self.profile
     }
 
     /// The capacity `N`: the longest message accepted.
+    ///
+    /// ```
+    /// use aydp_proto::{Decoder, Profile};
+    /// assert_eq!(Decoder::<64>::new(Profile::Spec).capacity(), 64);
+    /// ```
     pub const fn capacity(&self) -> usize {
         N
     }
 
     /// The counters.
+    ///
+    /// ```
+    /// use aydp_proto::{Decode, Decoder, Profile};
+    /// let mut dec = Decoder::<64>::new(Profile::Spec);
+    /// dec.feed(&[0x00, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78], |_| {});
+    /// assert_eq!((dec.stats().frames_ok, dec.stats().bytes_discarded), (1, 1));
+    /// ```
     pub const fn stats(&self) -> Stats {
         self.stats
     }
 
     /// Zero the counters.
+    ///
+    /// ```
+    /// use aydp_proto::{Decode, Decoder, Profile, Stats};
+    /// let mut dec = Decoder::<64>::new(Profile::Spec);
+    /// dec.feed(&[0x00], |_| {});
+    /// dec.reset_stats();
+    /// assert_eq!(dec.stats(), Stats::default());
+    /// ```
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
     }
 
     /// Bytes held: received, and not yet delivered nor dropped (the candidate in progress and
-    /// any bytes behind a failed candidate waiting for the rescan). Right after an event they
-    /// are the bytes after it, so a caller that counts the bytes it pushed finds where each
-    /// event's bytes are: a frame just handed out ends that many bytes before the end of the
-    /// input pushed so far, and a failed candidate (length, checksum, truncation) started one
-    /// byte before those.
+    /// any bytes behind a failed candidate waiting for the rescan). Right after an event of
+    /// the pull form they are the bytes after it, so a caller that counts the bytes
+    /// [`Decode::decode`] used finds where each event's bytes are: a frame just handed out
+    /// ends that many bytes before the end of the input used so far, and a failed candidate
+    /// (length, checksum, truncation) started one byte before those.
     ///
     /// ```
-    /// use aydp_proto::{Decoder, Profile};
+    /// use aydp_proto::{Decode, Decoder, Event, Profile};
     /// let mut dec = Decoder::<64>::new(Profile::Spec);
     /// // A false start whose length (7) takes in a heartbeat's first bytes: it fails, and the
     /// // six bytes after it wait for the rescan.
-    /// for &b in &[0xFF, 0x80, 0x07, 0, 0, 0] {
-    ///     assert!(dec.push(b).is_none());
-    /// }
+    /// assert_eq!(dec.decode(&[0xFF, 0x80, 0x07, 0, 0, 0]), (6, None));
     /// assert_eq!(dec.held_bytes(), 6);
-    /// assert!(dec.push(0xFF).unwrap().is_err());
+    /// let (used, event) = dec.decode(&[0xFF]);
+    /// assert!(used == 1 && matches!(event, Some(Event::Error(_))));
     /// assert_eq!(dec.held_bytes(), 6); // the candidate started at 7 - 6 - 1 = 0
     /// ```
     pub const fn held_bytes(&self) -> usize {
@@ -202,82 +254,137 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Forget everything held (counters are kept).
+    ///
+    /// ```
+    /// use aydp_proto::{Decode, Decoder, Profile};
+    /// let mut dec = Decoder::<64>::new(Profile::Spec);
+    /// dec.feed(&[0xFF, 0x80, 0x07], |_| {});
+    /// dec.reset();
+    /// assert_eq!(dec.held_bytes(), 0);
+    /// ```
     pub fn reset(&mut self) {
         self.start = 0;
         self.len = 0;
         self.decide_at = 0;
     }
 
-    /// Feed one byte. Returns the first event it causes; call [`Decoder::poll`] until `None`
-    /// to take any further events a rescan uncovered.
-    ///
-    /// ```
-    /// use aydp_proto::{Decoder, Profile};
-    /// let mut dec = Decoder::<32>::new(Profile::Spec);
-    /// let ev: Vec<_> = [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]
-    ///     .iter()
-    ///     .filter_map(|&b| dec.push(b).map(|e| e.map(|f| f.data().to_vec())))
-    ///     .collect();
-    /// assert_eq!(ev, vec![Ok(vec![0x02])]);
-    /// ```
+    /// The next event a rescan left queued in the bytes held, in the pull form, or `None`.
     #[inline]
-    pub fn push(&mut self, byte: u8) -> Option<Result<Frame<'_>>> {
-        // The common case, inlined: the step said it cannot decide before more than one
-        // further byte is held, so this byte is only stored.
-        let len = self.len;
-        if len.wrapping_add(1) < self.decide_at {
-            if let Some(slot) = self.buf.get_mut(len) {
-                *slot = byte;
-                self.len = len + 1;
-                return None;
+    fn queued(&mut self) -> Option<Event<(Option<usize>, usize), Error>> {
+        Some(match self.examine() {
+            Step::Frame(total) => Event::Found((None, total)),
+            Step::Failed(e) => Event::Error(e),
+            Step::Mismatch(total) => Event::Error(self.mismatch_held(total)),
+            Step::Need(_) | Step::Noise(_) => return None,
+        })
+    }
+}
+
+/// The contract (see [`Decode`]). An item is a [`Frame`], its length and checksum checked. What
+/// [`Event::Found`] carries says where the frame is: `(Some(at), len)`, in place at `at` in
+/// the slice given to `decode` (checked there, not copied), or `(None, len)`, the last `len`
+/// bytes the decoder delivered from its own buffer. [`Decode::finish`] gives exactly the
+/// events of the end of the stream: the candidate cut short is `Err(Error::Truncated)` (not
+/// counted as a checksum or length error), then what the rescan of its bytes finds; after it
+/// the decoder holds nothing.
+///
+/// ```
+/// use aydp_proto::{Decode, Decoder, Event, Profile};
+/// // An expedited heartbeat (type 0), then the start of another.
+/// let wire = [0xFF, 0x80, 0x07, 0, 0, 0, 0x78, 0xFF, 0x89];
+/// let mut d = Decoder::<32>::new(Profile::Spec);
+/// let (used, event) = d.decode(&wire);
+/// assert_eq!((used, event), (7, Some(Event::Found((Some(0), 7)))));
+/// assert_eq!(d.item(&wire, (Some(0), 7)).as_bytes(), &wire[..7]);
+/// assert_eq!(d.decode(&wire[7..]), (2, None));
+/// assert_eq!(d.end(true), Some(Event::Truncated(2)));
+/// assert_eq!(d.end(false), None);
+/// ```
+impl<const N: usize> Decode for Decoder<N> {
+    type Error = Error;
+    type Found = (Option<usize>, usize);
+    type Item<'a> = Frame<'a>;
+    const TRUNCATED: Error = Error::Truncated;
+
+    /// Up to the first event, with the slice fast path (the step runs on `bytes` itself while
+    /// nothing is held), events a rescan left queued first.
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(Option<usize>, usize), Error>>) {
+        let total = bytes.len();
+        if N < EXPEDITED_HEADER_LEN {
+            // A decoder too small for a header: keep to the byte-at-a-time path.
+            if let Some(event) = self.queued() {
+                return (0, Some(event));
             }
+            for (i, &b) in bytes.iter().enumerate() {
+                let event = match self.push(b) {
+                    None => continue,
+                    Some(Ok(frame)) => Event::Found((None, frame.as_bytes().len())),
+                    Some(Err(e)) => Event::Error(e),
+                };
+                return (i.saturating_add(1), Some(event));
+            }
+            return (total, None);
         }
-        self.advance(Some(byte))
+        let mut rest = bytes;
+        loop {
+            let used = total.saturating_sub(rest.len());
+            if let Some(event) = self.queued() {
+                return (used, Some(event));
+            }
+            if self.len == self.start {
+                let (n, step) = self.scan_in_place(rest);
+                let end = used.saturating_add(n);
+                let event = match step {
+                    Step::Frame(len) => Event::Found((Some(end.saturating_sub(len)), len)),
+                    Step::Failed(e) => Event::Error(e),
+                    Step::Mismatch(len) => {
+                        // The failed candidate started at the byte before `end`.
+                        let at = end.saturating_sub(1);
+                        let candidate = bytes.get(at..at.saturating_add(len)).unwrap_or(&[]);
+                        Event::Error(Error::mismatch(candidate))
+                    }
+                    Step::Need(_) | Step::Noise(_) => return (end, None),
+                };
+                return (end, Some(event));
+            }
+            if rest.is_empty() {
+                return (total, None);
+            }
+            rest = self.take_needed(rest);
+        }
     }
 
-    /// Stores `byte` (if any) behind the bytes held, then runs the step over them: the one
-    /// out-of-line function of `push` and `poll`, so that a byte the fast path of `push` does
-    /// not take costs one call.
-    #[inline(never)]
-    fn advance(&mut self, byte: Option<u8>) -> Option<Result<Frame<'_>>> {
-        if let Some(byte) = byte {
-            if self.start == self.len {
-                self.start = 0;
-                self.len = 0;
-            } else if self.len >= N {
-                self.compact();
-            }
-            if let Some(slot) = self.buf.get_mut(self.len) {
-                *slot = byte;
-                self.len += 1;
-            } else {
-                // Unreachable by construction, as in `append`.
-                discard(&mut self.stats, 1);
-            }
+    /// The events of the end of the stream, one a call: those a rescan left queued, then the
+    /// candidate cut short as [`Event::Truncated`] (its bytes then rescanned), until `None`.
+    fn end(&mut self, _first: bool) -> Option<Event<(Option<usize>, usize), Error>> {
+        if let Some(event) = self.queued() {
+            return Some(event);
         }
-        let step = self.examine();
-        self.event(step)
+        self.give_up().map(Event::Truncated)
     }
 
-    /// Take the next event from bytes already held (after a rescan), or `None`.
-    ///
-    /// ```
-    /// use aydp_proto::{Decoder, Profile};
-    /// let mut dec = Decoder::<32>::new(Profile::Spec);
-    /// assert!(dec.poll().is_none());
-    /// ```
     #[inline]
-    pub fn poll(&mut self) -> Option<Result<Frame<'_>>> {
-        if self.start == self.len {
-            // Nothing held (the usual call after an event): nothing to decide.
-            return None;
-        }
-        self.poll_held()
+    fn item<'a>(&'a self, input: &'a [u8], (at, len): (Option<usize>, usize)) -> Frame<'a> {
+        let bytes = match at {
+            // The last `len` bytes delivered from the buffer end where the bytes held begin.
+            None => self.buf.get(self.start.saturating_sub(len)..self.start),
+            Some(at) => input.get(at..at.saturating_add(len)),
+        };
+        Frame::new_unchecked(bytes.unwrap_or(&[]), self.profile)
     }
 
-    /// [`Decoder::poll`] when bytes are held: the step runs over them.
+    /// The loop of the contract, overridden with the fast paths (same events as the pull
+    /// form): one byte goes the per-byte path (stored; the step runs only where it can
+    /// decide), a longer slice the bulk path.
     #[inline]
-    pub(super) fn poll_held(&mut self) -> Option<Result<Frame<'_>>> {
-        self.advance(None)
+    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
+    where
+        F: FnMut(Result<Frame<'_>>),
+    {
+        if let [byte] = *bytes {
+            self.feed_byte(byte, on_event);
+        } else {
+            self.feed_bulk(bytes, on_event);
+        }
     }
 }

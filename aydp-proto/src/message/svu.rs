@@ -1,10 +1,10 @@
 //! System value update (type 8, Y8): update type u8, address u16, u32, data.
 
 use super::too_short;
-use crate::encoder::Payload;
+use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::layout::system_value_update as at;
+use crate::message::layout::system_value_update as at;
 
 /// Which part of a value an update writes (table 3.7).
 ///

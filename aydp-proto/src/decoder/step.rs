@@ -1,12 +1,13 @@
 //! The step: every rule of the decoder, once, applied to a window of bytes (the decoder's
-//! buffer, or on the slice path the input itself); and the buffer it keeps between calls.
+//! buffer, or on the slice path the input itself); and its reports turned into events.
 
 use super::*;
 
 impl<const N: usize> Decoder<N> {
     /// The rules, applied to the bytes at the front of `window` (the next byte not yet decided
-    /// on comes first). Every path (`push`, `poll`, `feed`, `flush`, the readers) decides
-    /// through this function; they differ only in where the window lies.
+    /// on comes first). Every path (`feed` a byte or a slice at a time, the pull form
+    /// `decode` and `end`, so the readers too) decides through this function; they differ
+    /// only in where the window lies.
     ///
     /// - Bytes before a 0xFF start are noise, dropped and counted.
     /// - Y5: a 0xFF followed by 0xFF is dropped; the last of a run is the start.
@@ -67,7 +68,7 @@ impl<const N: usize> Decoder<N> {
     /// Runs the step over the bytes held until it reports a frame or a failure, or needs more
     /// bytes (`Need`; also when nothing is held). A frame reported is at
     /// `buf[start - total..start]` until the next call.
-    // Inlined into `push_slow` and `poll` on 64-bit hosts, where the call's register saving
+    // Inlined into `advance` (the per-byte path) on 64-bit hosts, where the call's register saving
     // costs more than the code it spares; a call on 32-bit targets, where inlining it costs
     // more (both measured with the x86 callgrind bench and `scripts/cm3-bench.sh`).
     #[cfg_attr(target_pointer_width = "64", inline(always))]
@@ -125,101 +126,18 @@ impl<const N: usize> Decoder<N> {
         Error::mismatch(self.buf.get(at..end).unwrap_or(&[]))
     }
 
-    /// End of stream: fail the incomplete candidate (if any), rescan what it held, and hand
-    /// every resulting event to `on_event`. Afterwards the decoder is empty. An incomplete
-    /// candidate is reported as [`Error::Truncated`] and is not counted as a checksum or
-    /// length error.
-    ///
-    /// ```
-    /// use aydp_proto::{Decoder, Error, Profile};
-    /// let mut dec = Decoder::<32>::new(Profile::Spec);
-    /// let mut evs = Vec::new();
-    /// dec.feed(&[0xFF, 0x80, 0x07], |e| evs.push(e.map(|_| ())));
-    /// dec.flush(|e| evs.push(e.map(|_| ())));
-    /// assert_eq!(evs, vec![Err(Error::Truncated)]);
-    /// ```
-    pub fn flush<F: FnMut(Result<Frame<'_>>)>(&mut self, mut on_event: F) {
-        while let Some(e) = self.flush_next() {
-            on_event(e);
-        }
-    }
-
-    /// End of stream, one event at a time: the next event [`Decoder::flush`] would hand over,
-    /// or `None` once the decoder is empty (it is then reset). Between calls the caller may
-    /// read [`Decoder::held_bytes`] to place each event in the input.
-    ///
-    /// ```
-    /// use aydp_proto::{Decoder, Error, Profile};
-    /// let mut dec = Decoder::<32>::new(Profile::Spec);
-    /// dec.feed(&[0xFF, 0x80, 0x07], |_| {});
-    /// assert!(matches!(dec.flush_next(), Some(Err(Error::Truncated))));
-    /// assert!(dec.flush_next().is_none());
-    /// ```
-    pub fn flush_next(&mut self) -> Option<Result<Frame<'_>>> {
-        let step = self.examine();
-        if let Step::Need(_) = step {
-            return self.give_up().map(Err);
-        }
-        self.event(step)
-    }
-
     /// The stream ended inside the candidate held (if any): its start byte is dropped and the
-    /// rest waits for the rescan, as after any failure.
-    pub(super) fn give_up(&mut self) -> Option<Error> {
-        if self.start == self.len {
+    /// rest waits for the rescan, as after any failure. Returns how many bytes the candidate
+    /// held, or `None` if nothing was held.
+    pub(super) fn give_up(&mut self) -> Option<usize> {
+        let pending = self.held_bytes();
+        if pending == 0 {
             return None;
         }
         discard(&mut self.stats, 1);
         self.start = self.start.wrapping_add(1);
         self.decide_at = 0;
-        Some(Error::Truncated)
-    }
-
-    /// Moves the bytes held to the front of the buffer.
-    pub(super) fn compact(&mut self) {
-        if self.start == 0 {
-            return;
-        }
-        let held = self.len.saturating_sub(self.start);
-        let mut i = 0;
-        while i < held {
-            let v = self
-                .buf
-                .get(self.start.wrapping_add(i))
-                .copied()
-                .unwrap_or(0);
-            if let Some(d) = self.buf.get_mut(i) {
-                *d = v;
-            }
-            i += 1;
-        }
-        if self.decide_at != 0 {
-            self.decide_at = self.decide_at.wrapping_sub(self.start);
-        }
-        self.len = held;
-        self.start = 0;
-    }
-
-    /// Stores `bytes` behind the bytes held, moving those to the front of the buffer first
-    /// if there is no room behind them. Only the step decides what the bytes are.
-    pub(super) fn append(&mut self, bytes: &[u8]) {
-        if self.start == self.len {
-            self.start = 0;
-            self.len = 0;
-        }
-        if self.len.saturating_add(bytes.len()) > N {
-            self.compact();
-        }
-        let room = self.buf.get_mut(self.len..).unwrap_or(&mut []);
-        if let Some(dst) = room.get_mut(..bytes.len()) {
-            dst.copy_from_slice(bytes);
-            self.len = self.len.wrapping_add(bytes.len());
-        } else {
-            // Unreachable by construction (the bytes held never exceed one candidate of at
-            // most `N` bytes, and callers append at most what the step still needs); count
-            // the bytes rather than panic.
-            discard(&mut self.stats, bytes.len());
-        }
+        Some(pending)
     }
 }
 

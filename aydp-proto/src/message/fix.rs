@@ -1,10 +1,10 @@
 //! Position fix quality (type 4) and fix detail (type 5) (Y8), with `uflt16` fields (Y7).
 
 use super::{exact, fixed_payload, too_short};
-use crate::encoder::Payload;
+use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::layout::{fix_quality as fq, satellite as sat};
+use crate::message::layout::{fix_quality as fq, satellite as sat};
 use crate::uflt16;
 
 /// Position fix quality (type 4): 8 bytes.

@@ -2,6 +2,7 @@
 
 mod control;
 mod fix;
+pub mod layout;
 mod output;
 mod position;
 mod reference;
@@ -14,7 +15,7 @@ pub use position::Position;
 pub use reference::{VesselData, WindDirection, WindSpeed};
 pub use svu::{SystemValueUpdate, UpdateMode};
 
-use crate::encoder::{Payload, Raw};
+use crate::encode::{Payload, Raw};
 use crate::error::{Error, Result};
 use crate::profile::Profile;
 
@@ -45,7 +46,7 @@ pub(crate) fn exact<const K: usize>(data: &[u8], msg_type: u8) -> Result<&[u8; K
 /// `Payload` for a fixed-size type with `TYPE`, `LEN` and `to_bytes`.
 macro_rules! fixed_payload {
     ($t:ty) => {
-        impl $crate::encoder::Payload for $t {
+        impl $crate::encode::Payload for $t {
             fn base_type(&self) -> u8 {
                 Self::TYPE
             }

@@ -1,10 +1,10 @@
 //! Direct output control (type 7, Y8): count u16, then count × (device u8, channel u8, f32).
 
 use super::too_short;
-use crate::encoder::Payload;
+use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::layout::{direct_output, output_entry as entry};
+use crate::message::layout::{direct_output, output_entry as entry};
 
 /// One output setting.
 ///

@@ -2,7 +2,7 @@
 //! offset as a named constant (the smoltcp `wire` `mod field` style; AEOLUS has the same in
 //! `aeolus_proto::message::layout`, AOK in `aok_proto::layout`). The header offsets count from
 //! the start byte; the message offsets count from the first data byte (after the header). The
-//! typed messages in [`crate::messages`] and the header in [`crate::header`] read and write
+//! typed messages in [`crate::message`] and the header in [`crate::header`] read and write
 //! bytes only through these offsets.
 //!
 //! Everything is little-endian (Y3, Y8); `uflt16` is binary16 without a sign (Y7). The XOR

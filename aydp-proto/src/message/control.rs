@@ -1,9 +1,9 @@
 //! System control (type 9, Y8): command u8 then arguments.
 
 use super::{too_long, too_short};
-use crate::encoder::Payload;
+use crate::encode::Payload;
 use crate::error::{Error, Result};
-use crate::layout::system_control as at;
+use crate::message::layout::system_control as at;
 
 /// System control commands (table 3.10).
 ///
