@@ -592,7 +592,7 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     };
     // The decoder contract's pull form: runs of ordinary bytes copied a word at a time, up to
     // the first event.
-    let (n, event) = ffi::next_event(d, input);
+    let (n, event) = d.next_event(input);
     *used = n;
     event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }

@@ -1,10 +1,10 @@
 //! AYDP from C: `pl_aydp_*`, both profiles. The decoder is
 //! `aydp_proto::Decoder<PL_AYDP_CAPACITY>`.
 
-use aydp_proto::messages::{OutputEntry, Satellite};
+use aydp_proto::message::{OutputEntry, Satellite};
 use aydp_proto::{
-    Decoder, DirectOutput, Encoder, Error, FixDetail, FixQuality, Frame, Message, Position,
-    Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
+    Decode, Decoder, DirectOutput, Encoder, Error, Event, FixDetail, FixQuality, Frame, Message,
+    Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
     WindDirection, WindSpeed,
 };
 
@@ -497,10 +497,11 @@ pub unsafe extern "C" fn pl_aydp_parse_byte(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    match d.push(byte) {
-        None => PL_NOTHING,
-        Some(event) => deliver(event, msg, err),
-    }
+    // The decoder contract's pull form on one byte. With the events of the bytes before it
+    // drained (as said above), it takes the byte; the further events of a rescan stay queued
+    // for `pl_aydp_poll`.
+    let (_, event) = d.next_event(core::slice::from_ref(&byte));
+    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// The next further event among bytes already held (after a rescan). Returns as
@@ -527,10 +528,8 @@ pub unsafe extern "C" fn pl_aydp_poll(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    match d.poll() {
-        None => PL_NOTHING,
-        Some(event) => deliver(event, msg, err),
-    }
+    let (_, event) = d.next_event(&[]);
+    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// Feeds bytes up to the next event: first any event still held (then `*used` is 0), else
@@ -574,15 +573,13 @@ pub unsafe extern "C" fn pl_aydp_parse(
         return PL_E_NULL;
     };
     *used = 0;
-    if d.held_bytes() > 0
-        && let Some(event) = d.poll()
-    {
+    if let (_, Some(event)) = d.next_event(&[]) {
         return deliver(event, msg, err);
     }
-    // Byte by byte, not the crate's `feed_until`: that one finds a frame in the bytes given
-    // and points at it there, where this call promises `msg->data` inside the decoder.
-    for (i, &b) in input.iter().enumerate() {
-        if let Some(event) = d.push(b) {
+    // Byte by byte, not the whole slice: the pull form finds a frame in the bytes given and
+    // points at it there, where this call promises `msg->data` inside the decoder.
+    for (i, b) in input.iter().enumerate() {
+        if let (_, Some(event)) = d.next_event(core::slice::from_ref(b)) {
             *used = i + 1;
             return deliver(event, msg, err);
         }
@@ -675,10 +672,13 @@ pub unsafe extern "C" fn pl_aydp_flush(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    match d.flush_next() {
-        None => PL_NOTHING,
-        Some(event) => deliver(event, msg, err),
-    }
+    let event = match d.end(true) {
+        None => None,
+        Some(Event::Found(found)) => Some(Ok(d.item(&[], found))),
+        Some(Event::Error(e)) => Some(Err(e)),
+        Some(Event::Truncated(_)) => Some(Err(Error::Truncated)),
+    };
+    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }
 
 /// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.

@@ -70,16 +70,14 @@ pub unsafe extern "C" fn pl_bench_rust_aydp_push(bytes: *const u8, len: usize) -
     let mut n = 0u32;
     // SAFETY: the caller's promise.
     for &b in unsafe { input(bytes, len) } {
-        let mut ev = d.push(b);
-        while let Some(e) = ev {
+        d.feed(&[b], |e| {
             if let Ok(frame) = e
                 && let Ok(m) = frame.message()
             {
                 black_box(&m);
                 n += 1;
             }
-            ev = d.poll();
-        }
+        });
     }
     n
 }
@@ -115,14 +113,12 @@ pub unsafe extern "C" fn pl_bench_rust_aok_pc_push(bytes: *const u8, len: usize)
     let mut n = 0u32;
     // SAFETY: the caller's promise.
     for &b in unsafe { input(bytes, len) } {
-        let mut ev = d.push(b);
-        while let Some(e) = ev {
+        d.feed(&[b], |e| {
             if let Ok(m) = e {
                 black_box(&m);
                 n += 1;
             }
-            ev = d.poll();
-        }
+        });
     }
     n
 }

@@ -2,7 +2,7 @@
 //! pointers to Rust slices and buffers. These and the state checks of `state.rs` are all of
 //! the crate's pointer checks.
 
-use aeolus_proto::{Decode, Event};
+use aeolus_proto::Decode;
 
 use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
 
@@ -80,24 +80,6 @@ pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8]
 /// A frame length as the encoders' `int32_t` return value.
 pub(crate) fn length(n: usize) -> i32 {
     i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
-}
-
-/// The decoder contract's pull form as one call, for the `pl_*_parse` functions: decodes
-/// `input` up to and including the first event and returns how many bytes that used and the
-/// event, as the item (borrowing the decoder or `input`) or the error.
-pub(crate) fn next_event<'a, D: Decode>(
-    d: &'a mut D,
-    input: &'a [u8],
-) -> (usize, Option<Result<D::Item<'a>, D::Error>>) {
-    let (used, event) = d.decode(input);
-    let d: &'a D = d;
-    let event = match event {
-        None => None,
-        Some(Event::Found(found)) => Some(Ok(d.item(input, found))),
-        Some(Event::Error(e)) => Some(Err(e)),
-        Some(Event::Truncated(_)) => Some(Err(D::TRUNCATED)),
-    };
-    (used, event)
 }
 
 /// The one event of a single byte through the decoder contract's `feed` (AEOLUS and GDL90 give

@@ -557,7 +557,7 @@ pub unsafe extern "C" fn pl_gdl90_parse(
     ) else {
         return PL_E_NULL;
     };
-    let (n, event) = ffi::next_event(d, input);
+    let (n, event) = d.next_event(input);
     *used = n;
     event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
 }

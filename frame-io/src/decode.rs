@@ -35,21 +35,22 @@ pub enum Event<F, P> {
 /// the same events in the same order (every crate property-tests and fuzzes this). After
 /// `finish` the decoder starts afresh, as if new.
 ///
-/// Below that loop is the **pull form** the loop itself is built on, for callers that must
-/// act between two events (the firmware checks its TX room before it reads on; the readers of
-/// this crate return one item per call; the C library returns one event per call):
+/// A caller that must act between two events (the firmware checks its TX room before it reads
+/// on; the C library returns one event per call) uses the **pull form** instead:
+/// [`Decode::next_event`] decodes a slice up to and including the byte that gives the first
+/// event and returns how many bytes it used and the event; called again on the rest (and
+/// once with an empty slice, for events a rescan left queued), it gives the events of `feed`.
 ///
-/// - [`Decode::decode`]: decodes a slice up to and including the byte that gives the first
-///   event; returns how many bytes it used and the event (`None`: every byte was used and
-///   nothing came of it). Events a rescan left queued come first, with no byte used, so a
-///   caller calls it again on the rest, and once with an empty slice, until it returns
-///   `(0, None)`.
-/// - [`Decode::end`]: the events of the end of the stream, one a call, until `None`.
+/// An implementation writes three methods, on which all of the above is built (the readers of
+/// this crate use them directly, to return one item per call without holding a borrow):
+///
+/// - [`Decode::decode`]: like `next_event`, but the event is an [`Event`] whose
+///   [`Event::Found`] says where the item is rather than borrowing it;
+/// - [`Decode::end`]: the events of the end of the stream, one a call, until `None`;
 /// - [`Decode::item`]: the item an [`Event::Found`] stands for (it may borrow the decoder or
 ///   the slice given to `decode`).
 ///
-/// An implementation writes the pull form; `feed` and `finish` come with it (a decoder may
-/// override `feed` with a faster loop that gives the same events).
+/// A decoder may override `feed` with a faster loop that gives the same events.
 ///
 /// ```
 /// use frame_io::{Decode, Event};
@@ -168,6 +169,50 @@ pub trait Decode {
     /// assert_eq!(Bytes.item(&[7, 8], 7), 7);
     /// ```
     fn item<'a>(&'a self, input: &'a [u8], found: Self::Found) -> Self::Item<'a>;
+
+    /// The pull form for a caller: decodes `bytes` up to and including the byte that gives
+    /// the first event, and returns how many bytes that used and the event, as the item (it
+    /// may borrow the decoder or `bytes`) or the error. `None`: every byte was used and
+    /// nothing came of it. Call it again on the rest, and once more with an empty slice after
+    /// an event, until it returns `(0, None)`: a protocol that rescans can hold several events
+    /// for one byte. The events are those of [`Decode::feed`] over the same bytes.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// use frame_io::Decode;
+    /// let mut d = Bytes;
+    /// let input = [7, 0, 8];
+    /// let mut rest = &input[..];
+    /// let mut seen = Vec::new();
+    /// loop {
+    ///     let (used, event) = d.next_event(rest);
+    ///     rest = &rest[used..];
+    ///     match event {
+    ///         Some(event) => seen.push(event), // act here: the next byte waits
+    ///         None => break,
+    ///     }
+    /// }
+    /// assert_eq!(seen, [Ok(7), Err(0), Ok(8)]);
+    /// ```
+    #[inline]
+    #[allow(clippy::type_complexity)] // spelt out: it is what a caller matches on
+    fn next_event<'a>(
+        &'a mut self,
+        bytes: &'a [u8],
+    ) -> (usize, Option<Result<Self::Item<'a>, Self::Error>>) {
+        let (used, event) = self.decode(bytes);
+        let this: &'a Self = self;
+        let event = match event {
+            None => None,
+            Some(Event::Found(found)) => Some(Ok(this.item(bytes, found))),
+            Some(Event::Error(error)) => Some(Err(error)),
+            Some(Event::Truncated(_)) => Some(Err(Self::TRUNCATED)),
+        };
+        (used, event)
+    }
 
     /// The loop of the contract for a slice of the stream: calls `on_event` for every event
     /// the bytes give, in order, and returns once every byte is used. Slices of any length,

@@ -58,11 +58,9 @@ fuzz_target!(|input: &[u8]| {
     for (_, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {
-            let mut event = slow.push(b);
-            while let Some(ev) = event {
+            slow.feed(&[b], |ev| {
                 want.push(ev);
-                event = slow.poll();
-            }
+            });
         }
         let mut got = Vec::new();
         fast.feed(chunk, |c| got.push(c));
@@ -90,11 +88,9 @@ fuzz_target!(|input: &[u8]| {
     for (c, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {
-            let mut event = slow.push(b);
-            while let Some(ev) = event {
+            slow.feed(&[b], |ev| {
                 want.push(ev);
-                event = slow.poll();
-            }
+            });
         }
         let mut got = Vec::new();
         fast.feed(chunk, |m| got.push(m));

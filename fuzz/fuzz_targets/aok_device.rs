@@ -8,11 +8,9 @@ fuzz_target!(|data: &[u8]| {
     let mut d = DeviceDecoder::new();
     let mut cmds = Vec::new();
     for &b in data {
-        let mut event = d.push(b);
-        while let Some(ev) = event {
+        d.feed(&[b], |ev| {
             cmds.extend(ev);
-            event = d.poll();
-        }
+        });
     }
     d.idle(|ev| cmds.extend(ev));
     for c in cmds {

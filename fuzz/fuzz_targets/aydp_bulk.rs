@@ -29,11 +29,9 @@ fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
         want.clear();
         got.clear();
         for &b in chunk {
-            let mut ev = slow.push(b);
-            while let Some(e) = ev {
+            slow.feed(&[b], |e| {
                 want.push(e.map(|f| f.as_bytes().to_vec()));
-                ev = slow.poll();
-            }
+            });
         }
         fast.feed(chunk, record(&mut got));
         assert_eq!(got, want);

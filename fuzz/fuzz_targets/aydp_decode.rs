@@ -9,14 +9,12 @@ fuzz_target!(|data: &[u8]| {
         let mut d = Decoder::<96>::new(profile);
         let mut delivered = 0usize;
         for &b in data {
-            let mut ev = d.push(b);
-            while let Some(e) = ev {
+            d.feed(&[b], |e| {
                 if let Ok(frame) = e {
                     delivered += frame.data().len() + 1;
                     let _ = frame.message();
                 }
-                ev = d.poll();
-            }
+            });
         }
         d.flush(|e| {
             if let Ok(frame) = e {

@@ -18,14 +18,12 @@ fuzz_target!(|data: &[u8]| {
             }
         };
         for &b in data {
-            let mut ev = d.push(b);
-            while let Some(e) = ev {
+            d.feed(&[b], |e| {
                 if let Ok(frame) = e {
                     let raw = frame.as_bytes().to_vec();
                     check(frame, &raw);
                 }
-                ev = d.poll();
-            }
+            });
         }
     }
 });

@@ -9,7 +9,9 @@ use std::net::TcpListener;
 use std::thread::JoinHandle;
 
 use aydp_proto::registry::{Cell, Registry, Slot};
-use aydp_proto::{Decoder, Encoder, Message, OutputEntry, Profile, SystemControl, Timestamp};
+use aydp_proto::{
+    Decode, Decoder, Encoder, Message, OutputEntry, Profile, SystemControl, Timestamp,
+};
 use common::*;
 
 /// What the fake device ended with.

@@ -3,8 +3,8 @@
 
 use aeolus_proto::message::SetTime;
 use aydp_proto::{
-    Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload, Position,
-    Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
+    Decode, Decoder, DirectOutputBuilder, Encoder, FixQuality, Message, OutputEntry, Payload,
+    Position, Profile, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
 use sensor_box::aydp_link::{self, addr};
 use sensor_box::serial::Ring;
@@ -93,16 +93,14 @@ impl Rig {
         while let Some(b) = self.uart1.isr.next_to_send() {
             self.wire.push(b);
             let sent = &mut self.sent;
-            let mut ev = self.decoder.push(b);
-            while let Some(e) = ev {
+            self.decoder.feed(&[b], |e| {
                 let f = e.expect("the box sends valid frames");
                 sent.push(Sent {
                     type_byte: f.type_byte(),
                     timestamp: f.timestamp(),
                     data: f.data().to_vec(),
                 });
-                ev = self.decoder.poll();
-            }
+            });
         }
         control
     }

@@ -199,8 +199,7 @@ fn aydp_frame_by_frame_equals_poll() {
     let mut decoder = Decoder::<DECODER_CAPACITY>::new(Profile::Spec);
     for &byte in &stream {
         let stats = decoder.stats();
-        let mut event = decoder.push(byte);
-        while let Some(ev) = event {
+        decoder.feed(&[byte], |ev| {
             b.handle_frame(
                 ev.as_ref().map_err(|e| *e),
                 &stats,
@@ -208,8 +207,7 @@ fn aydp_frame_by_frame_equals_poll() {
                 &mut b_port,
                 &mut b_shared,
             );
-            event = decoder.poll();
-        }
+        });
     }
     b.poll_tx(2, &mut b_port, &b_shared);
     b.poll_tx(1500, &mut b_port, &b_shared);

@@ -169,7 +169,7 @@ impl Protocol for Aydp {
         d.feed(stream, |ev| {
             out.push(ev.ok().map(|f| f.as_bytes().to_vec()))
         });
-        d.flush(|ev| out.push(ev.ok().map(|f| f.as_bytes().to_vec())));
+        d.finish(|ev| out.push(ev.ok().map(|f| f.as_bytes().to_vec())));
         out
     }
 
@@ -263,11 +263,9 @@ impl Protocol for Aok {
             }));
         };
         for &b in stream {
-            let mut event = d.push(b);
-            while let Some(ev) = event {
+            d.feed(&[b], |ev| {
                 keep(ev);
-                event = d.poll();
-            }
+            });
         }
         d.idle(keep);
         out

@@ -37,7 +37,7 @@ mod harness;
 
 use aok_proto::pc::PcDecoder;
 use aok_proto::{FirmwareVersion, Message as AokMessage};
-use aydp_proto::{Decoder as AydpDecoder, Message as AydpMessage, Profile};
+use aydp_proto::{Decode, Decoder as AydpDecoder, Message as AydpMessage, Profile};
 use harness::*;
 use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
@@ -227,15 +227,13 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
         let mut decoder = PcDecoder::new(FirmwareVersion::new(0, 35));
         drain(aok_out, &stop2, |bytes| {
             for &b in bytes {
-                let mut ev = decoder.push(b);
-                while let Some(e) = ev {
+                decoder.feed(&[b], |e| {
                     if let Ok(AokMessage::Parameter(p)) = e
                         && p.number == PARAMETER
                     {
                         replies2.fetch_add(1, Ordering::Relaxed);
                     }
-                    ev = decoder.poll();
-                }
+                });
             }
         });
     });

@@ -81,15 +81,13 @@ pub fn aydp_decode(stream: &[u8]) -> u32 {
     let mut d = Decoder::<128>::new(Profile::Spec);
     let mut n = 0;
     for &b in stream {
-        let mut ev = d.push(b);
-        while let Some(e) = ev {
+        d.feed(&[b], |e| {
             if let Ok(f) = e {
                 if f.message().is_ok() {
                     n += 1;
                 }
             }
-            ev = d.poll();
-        }
+        });
     }
     n
 }
@@ -127,13 +125,11 @@ pub fn aok_pc_decode(stream: &[u8]) -> i64 {
     let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     for &b in stream {
-        let mut event = d.push(b);
-        while let Some(ev) = event {
+        d.feed(&[b], |ev| {
             if let Ok(aok_proto::Message::Debug(v)) = ev {
                 acc += v.value as i64;
             }
-            event = d.poll();
-        }
+        });
     }
     acc
 }
@@ -144,11 +140,9 @@ pub fn aok_device_decode(stream: &[u8]) -> u32 {
     let mut d = aok_proto::DeviceDecoder::new();
     let mut n = 0;
     for &b in stream {
-        let mut event = d.push(b);
-        while let Some(ev) = event {
+        d.feed(&[b], |ev| {
             n += ev.is_ok() as u32;
-            event = d.poll();
-        }
+        });
     }
     n
 }

@@ -10,8 +10,8 @@
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use aydp_proto::{
-    Decoder, DirectOutputBuilder, Encoder, Message, OutputEntry, Payload, Profile, SystemControl,
-    SystemValueUpdate, Timestamp, UpdateMode,
+    Decode, Decoder, DirectOutputBuilder, Encoder, Message, OutputEntry, Payload, Profile,
+    SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
 };
 use clap::{Args, Subcommand};
 use serde_json::Value;

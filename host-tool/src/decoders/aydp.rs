@@ -1,7 +1,7 @@
 //! AYDP in `decode`: the rescanning decoder, each event placed by the bytes it has not
 //! examined yet.
 
-use aydp_proto::Profile;
+use aydp_proto::{Decode, Event as AydpEvent, Profile};
 use serde_json::{Map, Value, json};
 
 use super::{Event, StreamDecoder, error_kind};
@@ -129,16 +129,31 @@ impl StreamDecoder for AydpDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
         for (i, &b) in bytes.iter().enumerate() {
             let fed = offset + i as u64 + 1;
-            let mut event = self.decoder.push(b).map(aydp_outcome);
-            while let Some(ev) = event {
+            // The pull form a byte at a time, then on nothing for what a rescan left queued:
+            // each event is placed by the bytes fed so far and those still held.
+            let mut input = core::slice::from_ref(&b);
+            loop {
+                let (used, event) = self.decoder.next_event(input);
+                input = input.get(used..).unwrap_or(&[]);
+                let Some(ev) = event.map(aydp_outcome) else {
+                    break;
+                };
                 self.place(ev, fed, out);
-                event = self.decoder.poll().map(aydp_outcome);
             }
         }
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        while let Some(ev) = self.decoder.flush_next().map(aydp_outcome) {
+        let mut first = true;
+        loop {
+            let event = match self.decoder.end(first) {
+                None => break,
+                Some(AydpEvent::Found(found)) => Ok(self.decoder.item(&[], found)),
+                Some(AydpEvent::Error(e)) => Err(e),
+                Some(AydpEvent::Truncated(_)) => Err(aydp_proto::Error::Truncated),
+            };
+            first = false;
+            let ev = aydp_outcome(event);
             if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.1.starts_with("input ends")) {
                 self.truncated = self.truncated.wrapping_add(1);
             }

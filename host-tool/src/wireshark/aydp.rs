@@ -7,7 +7,7 @@ use aydp_proto::layout::{
     direct_output, fix_detail, fix_quality, header, output_entry, position, satellite,
     system_control, system_value_update, vessel_data, wind,
 };
-use aydp_proto::messages::{USER_FIRST, USER_LAST};
+use aydp_proto::message::{USER_FIRST, USER_LAST};
 use aydp_proto::profile::{EXPEDITED, START};
 
 use super::fill;

@@ -5,7 +5,7 @@ use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
-use aeolus_proto::{Decode, Event, Frame, TEXT_CAPACITY};
+use aeolus_proto::{Decode, Frame, TEXT_CAPACITY};
 
 /// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
@@ -29,7 +29,7 @@ impl AeolusLink {
         }
     }
 
-    /// Decodes a slice event by event with the decoder contract's pull form (`decode` stops
+    /// Decodes a slice event by event with the decoder contract's pull form (`next_event` stops
     /// after each frame or error): only a frame queues an answer, so the room is checked again before every
     /// frame's last byte, exactly as if the bytes came one at a time. A byte is decoded only
     /// while the longest answer it could complete still fits: when the host reads slowly and
@@ -41,10 +41,10 @@ impl AeolusLink {
             if TX_QUEUE - self.tx.len() < FRAME_BUF {
                 break;
             }
-            let (len, event) = self.decoder.decode(rest);
+            let (len, event) = self.decoder.next_event(rest);
             let incoming_frame = event.map(|ev| match ev {
-                Event::Found(at) => incoming(&self.decoder.item(rest, at)),
-                Event::Error(_) | Event::Truncated(_) => Incoming::Error,
+                Ok(frame) => incoming(&frame),
+                Err(_) => Incoming::Error,
             });
             done += len;
             if let Some(frame) = incoming_frame {

@@ -100,7 +100,7 @@ pub use registry::{
 
 use crate::Shared;
 use crate::port::{Receive, TxQueue, receive_slices};
-use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats};
+use aydp_proto::{Decode, Decoder, Encoder, Frame, Profile, Stats};
 use embedded_io::{Write, WriteReady};
 use periodic::SEND_BUF;
 
@@ -281,25 +281,28 @@ impl AydpLink {
         self.ctx.tx.len()
     }
 
-    /// Pushes `bytes` into the decoder one at a time while one longest reply still fits in the
-    /// TX queue, and handles every event; the count decoded. Byte by byte (`push`), not by
-    /// slice (`feed`): a request for [`addr::LINK_COUNTERS`] reports the decoder's counters as
-    /// of before the byte that completed it, which only the per-byte path can read.
+    /// Decodes `bytes` one at a time while one longest reply still fits in the TX queue, and
+    /// handles every event; the count decoded. The decoder contract's pull form
+    /// (`next_event`) a byte at a time, then on nothing for the events a rescan left queued:
+    /// a request for [`addr::LINK_COUNTERS`] reports the decoder's counters as of before the
+    /// byte that completed it, which only a byte-at-a-time read can tell.
     fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
         let mut done = 0;
-        for &byte in bytes {
+        for byte in bytes {
             if self.ctx.tx.free() < SEND_BUF {
                 break;
             }
             done += 1;
             let stats = self.decoder.stats();
-            let mut event = self.decoder.push(byte);
-            while let Some(ev) = event {
-                match ev {
-                    Ok(frame) => self.ctx.handle(&frame, &stats, now_ms, shared),
-                    Err(e) => self.ctx.rx_error(e),
+            let mut input = core::slice::from_ref(byte);
+            loop {
+                let (used, event) = self.decoder.next_event(input);
+                input = input.get(used..).unwrap_or(&[]);
+                match event {
+                    Some(Ok(frame)) => self.ctx.handle(&frame, &stats, now_ms, shared),
+                    Some(Err(e)) => self.ctx.rx_error(e),
+                    None => break,
                 }
-                event = self.decoder.poll();
             }
         }
         done
