@@ -127,31 +127,16 @@ impl Decode for CommandDecoder {
     /// dec.feed(&[0x02], |event| got.push(event)); // one byte at a time works the same
     /// assert_eq!(got, [Ok(Command::DebugOff), Ok(Command::DebugOn)]);
     /// ```
-    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
     where
         F: FnMut(Result<Command, Error>),
     {
-        let mut rest = bytes;
-        // Bytes held from an earlier call, or a single byte: byte by byte until the buffer is
-        // empty.
-        while self.held.len != 0 || rest.len() == 1 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return;
-            };
-            rest = after;
-            let mut event = self.push(byte);
-            while let Some(item) = event {
-                on_event(item);
-                event = self.poll();
-            }
+        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        if let [byte] = *bytes {
+            return self.feed_byte(byte, on_event);
         }
-        // Nothing held: the step runs on the input itself.
-        while !rest.is_empty() {
-            match Self::judge(&mut self.stats, rest, &mut on_event) {
-                Step::Need(need) => return self.held.keep(rest, need),
-                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
-            }
-        }
+        self.feed_slice(bytes, on_event);
     }
 
     /// The line went quiet: the partial command at the front is given up (its first byte is
@@ -174,6 +159,48 @@ impl Decode for CommandDecoder {
     {
         while let Some(item) = self.step(true) {
             on_event(item);
+        }
+    }
+}
+
+impl CommandDecoder {
+    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
+    #[inline]
+    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        let mut event = self.push(byte);
+        while let Some(item) = event {
+            on_event(item);
+            event = self.poll();
+        }
+    }
+
+    /// `feed` for a slice of any length: the bulk path.
+    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            let mut event = self.push(byte);
+            while let Some(item) = event {
+                on_event(item);
+                event = self.poll();
+            }
+        }
+        // Nothing held: the step runs on the input itself.
+        while !rest.is_empty() {
+            match Self::judge(&mut self.stats, rest, &mut on_event) {
+                Step::Need(need) => return self.held.keep(rest, need),
+                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
+            }
         }
     }
 }

@@ -103,21 +103,29 @@ impl CommandDecoder {
             if self.held.len < self.held.need {
                 return None;
             }
-            // A lone first byte: only its length is known (the rule `judge` applies, asked
-            // here without the call).
-            if self.held.len == 1 {
-                let need = match self.held.buf.first().map(|&b| command_len(b, None)) {
-                    Some(Len::Is(n)) if n > 1 => n,
-                    Some(Len::More) => 2,
-                    _ => 0,
-                };
-                if need != 0 {
-                    self.held.need = need;
-                    return None;
-                }
+            if self.lone_first_byte() {
+                return None;
             }
         }
         self.step_slow(quiet)
+    }
+
+    /// A lone first byte: only its length is known (the rule `judge` applies, asked here
+    /// without the call). True if it waits for more bytes (then `need` is set).
+    #[inline(always)]
+    fn lone_first_byte(&mut self) -> bool {
+        if self.held.len != 1 {
+            return false;
+        }
+        let need = match self.held.buf.first().map(|&b| command_len(b, None)) {
+            Some(Len::Is(n)) if n > 1 => n,
+            Some(Len::More) => 2,
+            _ => 0,
+        };
+        if need != 0 {
+            self.held.need = need;
+        }
+        need != 0
     }
 
     fn step_slow(&mut self, quiet: bool) -> Option<Result<Command, Error>> {

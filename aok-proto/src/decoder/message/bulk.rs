@@ -135,29 +135,16 @@ impl Decode for MessageDecoder {
     /// dec.feed(b"O", |event| got.push(event));
     /// assert_eq!(got, [Ok(Message::Ack(Ack::Ok))]);
     /// ```
-    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
     where
         F: FnMut(Result<Message, Error>),
     {
-        let mut rest = bytes;
-        // Bytes held from an earlier call, or a single byte: byte by byte until the buffer is
-        // empty.
-        while self.held.len != 0 || rest.len() == 1 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return;
-            };
-            rest = after;
-            let mut event = self.push(byte);
-            while let Some(item) = event {
-                on_event(item);
-                event = self.poll();
-            }
+        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        if let [byte] = *bytes {
+            return self.feed_byte(byte, on_event);
         }
-        // Nothing held: the step runs on the input itself.
-        self.judge_in_place(rest, |item| {
-            on_event(item);
-            false
-        });
+        self.feed_slice(bytes, on_event);
     }
 
     /// The line went quiet: the partial frame at the front is given up (its first byte is
@@ -184,5 +171,45 @@ impl Decode for MessageDecoder {
         while let Some(item) = self.quiet_next() {
             on_event(item);
         }
+    }
+}
+
+impl MessageDecoder {
+    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
+    #[inline]
+    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        let mut event = self.push(byte);
+        while let Some(item) = event {
+            on_event(item);
+            event = self.poll();
+        }
+    }
+
+    /// `feed` for a slice of any length: the bulk path.
+    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            let mut event = self.push(byte);
+            while let Some(item) = event {
+                on_event(item);
+                event = self.poll();
+            }
+        }
+        // Nothing held: the step runs on the input itself.
+        self.judge_in_place(rest, |item| {
+            on_event(item);
+            false
+        });
     }
 }

@@ -173,6 +173,10 @@ impl MessageDecoder {
             self.drop_front();
             self.held.append(byte);
         }
+        // Inside a frame of known length (most bytes): nothing to decide yet, and no call.
+        if self.held.len < self.held.need {
+            return None;
+        }
         self.step(false)
     }
 
