@@ -120,24 +120,32 @@ fn pc_by_feed_at_every_cut() -> Vec<Vec<Result<Message, Error>>> {
 
 #[test]
 fn the_device_decoder_returns_with_the_streams_events() {
-    let push = returns("feed byte by byte and finish", device_byte_by_byte);
-    assert_eq!(push.iter().filter(|e| e.is_ok()).count(), 2, "{push:?}");
-    assert!(push.contains(&Err(Error::Truncated)), "{push:?}");
+    let reference = returns("feed byte by byte and finish", device_byte_by_byte);
+    assert_eq!(
+        reference.iter().filter(|e| e.is_ok()).count(),
+        2,
+        "{reference:?}"
+    );
+    assert!(reference.contains(&Err(Error::Truncated)), "{reference:?}");
     for (cut, got) in returns("feed", device_by_feed_at_every_cut)
         .iter()
         .enumerate()
     {
-        assert_eq!(got, &push, "cut at {cut}");
+        assert_eq!(got, &reference, "cut at {cut}");
     }
 }
 
 #[test]
 fn the_pc_decoder_returns_with_the_streams_events() {
-    let push = returns("feed byte by byte and finish", pc_byte_by_byte);
-    assert_eq!(push.iter().filter(|e| e.is_ok()).count(), 2, "{push:?}");
-    assert!(push.contains(&Err(Error::Truncated)), "{push:?}");
+    let reference = returns("feed byte by byte and finish", pc_byte_by_byte);
+    assert_eq!(
+        reference.iter().filter(|e| e.is_ok()).count(),
+        2,
+        "{reference:?}"
+    );
+    assert!(reference.contains(&Err(Error::Truncated)), "{reference:?}");
     for (cut, got) in returns("feed", pc_by_feed_at_every_cut).iter().enumerate() {
-        assert_eq!(got, &push, "cut at {cut}");
+        assert_eq!(got, &reference, "cut at {cut}");
     }
 }
 
