@@ -397,7 +397,7 @@ impl Command {
     /// `73` and `77` are acked, `67`, `47` and `78` are answered with data, the rest get nothing.
     ///
     /// ```
-    /// use aok_proto::{Command, pc::Expect};
+    /// use aok_proto::{Command, Expect};
     /// assert_eq!(Command::ReadParameter(12).expected_reply(), Expect::Parameter(12));
     /// assert_eq!(Command::SaveSet(1).expected_reply(), Expect::Nothing);
     /// ```
@@ -413,11 +413,11 @@ impl Command {
 }
 
 /// What the PC is waiting for after a command ([`Command::expected_reply`]). It tells the PC
-/// decoder ([`crate::PcDecoder`]) how to read headerless parameter replies and whether single
-/// bytes 'O'/'E'/'I' are acks. Also reachable as `pc::Expect`.
+/// decoder ([`crate::MessageDecoder`]) how to read headerless parameter replies and whether
+/// single bytes 'O'/'E'/'I' are acks. Also reachable as `aok_proto::Expect`.
 ///
 /// ```
-/// use aok_proto::pc::Expect;
+/// use aok_proto::Expect;
 /// assert_eq!(Expect::default(), Expect::Nothing);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -1,11 +1,11 @@
 //! Blocking AOK over [`embedded_io`] (feature `embedded-io`).
 //!
-//! - [`MessageReader`] (PC side) around a [`PcDecoder`] and [`CommandReader`] (device side)
-//!   around a [`DeviceDecoder`] are `frame-io`'s reader, each with a read buffer of `R` bytes;
-//!   [`MessageReader::read`] and [`CommandReader::read`] return the next item. Every read is
-//!   decoded with the bulk path of `feed` (frames parsed in place in the read buffer), and the
-//!   items are exactly those of `push` and `poll` byte by byte; at the end of the stream, those
-//!   of `idle`.
+//! - [`MessageReader`] (PC side) around a [`MessageDecoder`] and [`CommandReader`] (device
+//!   side) around a [`CommandDecoder`] are `frame-io`'s reader, each with a read buffer of `R`
+//!   bytes; [`MessageReader::read`] and [`CommandReader::read`] return the next item. Every
+//!   read is decoded with the pull form of the decoder's contract (`decode`, on the bulk path
+//!   of `feed`), and the items are exactly those of `feed` byte by byte; at the end of the
+//!   stream, those of `finish`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //!
 //! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
@@ -13,40 +13,41 @@
 use ::embedded_io::Write;
 
 use crate::io::{command_bytes, message_bytes};
-use crate::{Command, DeviceDecoder, IoError, Message, PcDecoder, ReplyForm};
+use crate::{Command, CommandDecoder, IoError, Message, MessageDecoder, ReplyForm};
 
 /// Reads what the device sends (debug frames, replies, acks) from a blocking
-/// [`Read`](::embedded_io::Read): a [`PcDecoder`] plus an `R`-byte read buffer.
+/// [`Read`](::embedded_io::Read): a [`MessageDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
-/// use aok_proto::{embedded_io::MessageReader, pc::{Expect, PcDecoder}, Ack, DebugValue,
-/// FirmwareVersion,
-///                 IoError, Message};
+/// use aok_proto::{embedded_io::MessageReader, Ack, DebugValue, Expect,
+///                 FirmwareVersion, IoError, Message, MessageDecoder};
 ///
 /// // A debug frame and an ack.
 /// let wire: &[u8] = &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O'];
-/// let mut reader = MessageReader::<_>::new(wire, PcDecoder::new(FirmwareVersion::LATEST));
+/// let mut reader = MessageReader::<_>::new(wire, MessageDecoder::new(FirmwareVersion::LATEST));
 /// reader.decoder_mut().expect(Expect::Ack);
 /// assert_eq!(reader.read(), Ok(Message::Debug(DebugValue { number: 86, value: -2 })));
 /// assert_eq!(reader.read(), Ok(Message::Ack(Ack::Ok)));
 /// assert_eq!(reader.read(), Err(IoError::Eof));
 /// ```
-pub type MessageReader<T, const R: usize = 32> = frame_io::embedded_io::Reader<T, PcDecoder, R>;
+pub type MessageReader<T, const R: usize = 32> =
+    frame_io::embedded_io::Reader<T, MessageDecoder, R>;
 
 /// Reads the PC's commands (device side) from a blocking [`Read`](::embedded_io::Read): a
-/// [`DeviceDecoder`] plus an `R`-byte read buffer.
+/// [`CommandDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
-/// use aok_proto::{embedded_io::CommandReader, Command, DeviceDecoder, Error, IoError};
+/// use aok_proto::{embedded_io::CommandReader, Command, CommandDecoder, Error, IoError};
 /// // A motor-test start whose checksum fails, then "read parameter 12".
 /// let wire: &[u8] = &[0x31, 0x67, 0x0c];
-/// let mut reader = CommandReader::<_>::new(wire, DeviceDecoder::new());
+/// let mut reader = CommandReader::<_>::new(wire, CommandDecoder::new());
 /// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
 /// assert_eq!(reader.read(), Err(IoError::Protocol(mismatch)));
 /// assert_eq!(reader.read(), Ok(Command::ReadParameter(12)));
 /// assert_eq!(reader.read(), Err(IoError::Eof));
 /// ```
-pub type CommandReader<T, const R: usize = 32> = frame_io::embedded_io::Reader<T, DeviceDecoder, R>;
+pub type CommandReader<T, const R: usize = 32> =
+    frame_io::embedded_io::Reader<T, CommandDecoder, R>;
 
 /// Writes AOK frames into a blocking [`Write`]: commands on the PC side, messages (debug
 /// values, acks, replies) on the device side.

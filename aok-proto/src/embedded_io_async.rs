@@ -1,12 +1,12 @@
 //! Async AOK over [`embedded_io_async`] (feature `embedded-io-async`), for embassy
 //! and other executors.
 //!
-//! - [`MessageReader`] (PC side) around a [`PcDecoder`] and [`CommandReader`] (device side)
-//!   around a [`DeviceDecoder`] are `frame-io`'s reader, each with a read buffer of `R` bytes;
-//!   [`MessageReader::read`] and [`CommandReader::read`] return the next item. Every read is
-//!   decoded with the bulk path of `feed` (frames parsed in place in the read buffer), and the
-//!   items are exactly those of `push` and `poll` byte by byte; at the end of the stream, those
-//!   of `idle`.
+//! - [`MessageReader`] (PC side) around a [`MessageDecoder`] and [`CommandReader`] (device
+//!   side) around a [`CommandDecoder`] are `frame-io`'s reader, each with a read buffer of `R`
+//!   bytes; [`MessageReader::read`] and [`CommandReader::read`] return the next item. Every
+//!   read is decoded with the pull form of the decoder's contract (`decode`, on the bulk path
+//!   of `feed`), and the items are exactly those of `feed` byte by byte; at the end of the
+//!   stream, those of `finish`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //! - [`AsyncClient`] is the PC-side [`Client`](crate::Client) over an async port.
 //!
@@ -20,10 +20,10 @@ mod client;
 pub use client::{AsyncClient, Pipe, TICK_MS};
 
 use crate::io::{command_bytes, message_bytes};
-use crate::{Command, DeviceDecoder, IoError, Message, PcDecoder, ReplyForm};
+use crate::{Command, CommandDecoder, IoError, Message, MessageDecoder, ReplyForm};
 
 /// Reads what the device sends (debug frames, replies, acks) from an async
-/// [`Read`](::embedded_io_async::Read): a [`PcDecoder`] plus an `R`-byte read buffer.
+/// [`Read`](::embedded_io_async::Read): a [`MessageDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
 /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -31,23 +31,22 @@ use crate::{Command, DeviceDecoder, IoError, Message, PcDecoder, ReplyForm};
 /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
 /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
 /// # }
-/// use aok_proto::{embedded_io_async::MessageReader, pc::{Expect, PcDecoder}, Ack, DebugValue,
-/// FirmwareVersion,
-///                 IoError, Message};
+/// use aok_proto::{embedded_io_async::MessageReader, Ack, DebugValue, Expect,
+///                 FirmwareVersion, IoError, Message, MessageDecoder};
 ///
 /// // A debug frame and an ack.
 /// let wire: &[u8] = &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O'];
-/// let mut reader = MessageReader::<_>::new(wire, PcDecoder::new(FirmwareVersion::LATEST));
+/// let mut reader = MessageReader::<_>::new(wire, MessageDecoder::new(FirmwareVersion::LATEST));
 /// reader.decoder_mut().expect(Expect::Ack);
 /// assert_eq!(block_on(reader.read()), Ok(Message::Debug(DebugValue { number: 86, value: -2 })));
 /// assert_eq!(block_on(reader.read()), Ok(Message::Ack(Ack::Ok)));
 /// assert_eq!(block_on(reader.read()), Err(IoError::Eof));
 /// ```
 pub type MessageReader<T, const R: usize = 32> =
-    frame_io::embedded_io_async::Reader<T, PcDecoder, R>;
+    frame_io::embedded_io_async::Reader<T, MessageDecoder, R>;
 
 /// Reads the PC's commands (device side) from an async [`Read`](::embedded_io_async::Read): a
-/// [`DeviceDecoder`] plus an `R`-byte read buffer.
+/// [`CommandDecoder`] plus an `R`-byte read buffer.
 ///
 /// ```
 /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -55,17 +54,17 @@ pub type MessageReader<T, const R: usize = 32> =
 /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
 /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
 /// # }
-/// use aok_proto::{embedded_io_async::CommandReader, Command, DeviceDecoder, Error, IoError};
+/// use aok_proto::{embedded_io_async::CommandReader, Command, CommandDecoder, Error, IoError};
 /// // A motor-test start whose checksum fails, then "read parameter 12".
 /// let wire: &[u8] = &[0x31, 0x67, 0x0c];
-/// let mut reader = CommandReader::<_>::new(wire, DeviceDecoder::new());
+/// let mut reader = CommandReader::<_>::new(wire, CommandDecoder::new());
 /// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
 /// assert_eq!(block_on(reader.read()), Err(IoError::Protocol(mismatch)));
 /// assert_eq!(block_on(reader.read()), Ok(Command::ReadParameter(12)));
 /// assert_eq!(block_on(reader.read()), Err(IoError::Eof));
 /// ```
 pub type CommandReader<T, const R: usize = 32> =
-    frame_io::embedded_io_async::Reader<T, DeviceDecoder, R>;
+    frame_io::embedded_io_async::Reader<T, CommandDecoder, R>;
 
 /// Writes AOK frames into an async [`Write`]: commands on the PC side, messages (debug
 /// values, acks, replies) on the device side.

@@ -7,7 +7,7 @@ use core::fmt;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
-    /// The input ends before the frame does (also: a partial frame abandoned by `idle`).
+    /// The input ends before the frame does (also: a partial frame given up at the end of the stream, by a decoder's `finish`).
     Truncated,
     /// The output buffer is too small for the frame.
     BufferTooSmall {

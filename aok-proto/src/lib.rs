@@ -1,17 +1,21 @@
 //! Both ends of the AOK serial protocol (38400 8N1) for `no_std` firmware and host tools.
 //!
-//! * [`device`]: the flight controller's side. [`DeviceDecoder`] reads every command the PC sends,
-//!   byte at a time; encoders write debug values, acks, parameter replies (both firmware forms),
-//!   bulk replies and waypoint replies.
-//! * [`pc`]: the ground tool's side. Command encoders and [`pc::PcDecoder`], which reads the device's
-//!   stream of debug frames, acks and replies, knowing which request is pending.
+//! The decoders are named after what they read, and both implement [`Decode`], the one
+//! decoder contract of this workspace: `feed(bytes, |event| ..)` for every slice of the
+//! stream (one byte included), `finish(|event| ..)` when the line goes quiet.
+//!
+//! * [`CommandDecoder`] runs on the flight controller and reads the PC's commands.
+//! * [`MessageDecoder`] runs on the ground tool and reads the device's debug frames, acks and
+//!   replies, knowing which request is pending ([`Expect`]).
+//! * Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
+//!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
+//!   [`encode_bulk`] and [`encode_waypoint`].
 //! * [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits: debug off,
 //!   drain, request, wait (with timeout), debug back on.
 //! * `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): readers
 //!   that return the next message (PC side) or command (device side) from a `Read`
-//!   (`frame-io`'s reader over [`pc::PcDecoder`] or [`DeviceDecoder`], which implement
-//!   `frame_io::Decode`), a writer
-//!   into a `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
+//!   (`frame-io`'s reader over [`MessageDecoder`] or [`CommandDecoder`]), a writer into a
+//!   `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
 //!   client's async form.
 //! * [`layout`]: every frame's bytes in one table (start byte, length, field offsets, checksum).
 //! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
@@ -19,26 +23,31 @@
 //! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
 //!
 //! ```
-//! use aok_proto::{pc::{Expect, PcDecoder}, Command, DeviceDecoder, FirmwareVersion, Message,
-//!                 ParameterValue};
+//! use aok_proto::{Command, CommandDecoder, Decode, Expect, FirmwareVersion, Message,
+//!                 MessageDecoder, ParameterValue};
 //! // PC: read parameter 12.
 //! let mut wire = [0u8; 19];
 //! let n = Command::ReadParameter(12).emit(&mut wire)?;
-//! // Device: decode it and answer.
-//! let mut device = DeviceDecoder::new();
+//! // Device: decode it (every slice the UART gives, one byte included) and answer.
+//! let mut device = CommandDecoder::new();
+//! let mut asked = Vec::new();
+//! device.feed(&wire[..n], |event| match event {
+//!     Ok(Command::ReadParameter(number)) => asked.push(number),
+//!     Ok(_) => {}
+//!     Err(_) => { /* counted; the decoder resynchronised */ }
+//! });
+//! device.finish(|_| { /* the line went quiet: nothing was left */ });
+//! assert_eq!(asked, [12]);
+//! let m = Message::Parameter(ParameterValue { number: 12, value: 1500 });
 //! let mut reply = [0u8; 7];
-//! let mut reply_len = 0;
-//! for &b in &wire[..n] {
-//!     if let Some(Ok(Command::ReadParameter(num))) = device.push(b) {
-//!         let m = Message::Parameter(ParameterValue { number: num, value: 1500 });
-//!         reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
-//!     }
-//! }
-//! // PC: decode the reply.
-//! let mut pc = PcDecoder::new(FirmwareVersion::LATEST);
+//! let reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
+//! // PC: decode the reply, knowing what it waits for.
+//! let mut pc = MessageDecoder::new(FirmwareVersion::LATEST);
 //! pc.expect(Expect::Parameter(12));
-//! let got = reply[..reply_len].iter().find_map(|&b| pc.push(b));
-//! assert_eq!(got, Some(Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))));
+//! let mut got = Vec::new();
+//! pc.feed(&reply[..reply_len], |event| got.push(event));
+//! pc.finish(|event| got.push(event));
+//! assert_eq!(got, [Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))]);
 //! # Ok::<(), aok_proto::Error>(())
 //! ```
 #![no_std]
@@ -47,32 +56,31 @@
 
 pub mod client;
 pub mod command;
-pub mod device;
+mod decoder;
 #[cfg(feature = "embedded-io")]
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
+mod encode;
 mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
 pub mod layout;
-#[cfg(test)]
-mod liveness;
 pub mod message;
-pub mod pc;
-pub mod stats;
-mod step;
 pub mod values;
 
 pub use client::{Client, Config, Outcome};
-pub use command::{Command, ExternalControl, MotorTest, ParameterValue, Waypoint};
-pub use device::DeviceDecoder;
+pub use command::{Command, Expect, ExternalControl, MotorTest, ParameterValue, Waypoint};
+pub use decoder::{CommandDecoder, MessageDecoder, Stats};
+pub use encode::{
+    DEBUG_OFF, DEBUG_ON, encode_ack, encode_bulk, encode_command, encode_debug, encode_parameter,
+    encode_waypoint,
+};
 pub use error::{Error, SerialError};
+pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
 pub use message::{DebugValue, Message};
-pub use pc::PcDecoder;
-pub use stats::Stats;
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
 };

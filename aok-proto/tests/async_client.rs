@@ -12,9 +12,10 @@ use std::cell::Cell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
+use aok_proto::Decode;
 use aok_proto::embedded_io_async::AsyncClient;
 use aok_proto::{
-    Ack, Command, Config, DebugValue, DeviceDecoder, Error, FirmwareVersion, Message,
+    Ack, Command, CommandDecoder, Config, DebugValue, Error, FirmwareVersion, Message,
     ParameterValue, SerialError,
 };
 use embedded_io::ErrorKind;
@@ -23,7 +24,7 @@ use transport::block_on;
 /// The device at the far end of the wire: decodes commands, answers them, and sends a debug
 /// value on every read while its debug output is on.
 struct Device {
-    decoder: DeviceDecoder,
+    decoder: CommandDecoder,
     to_pc: VecDeque<u8>,
     params: [i32; 256],
     debug: bool,
@@ -39,7 +40,7 @@ struct Device {
 impl Device {
     fn new() -> Self {
         Device {
-            decoder: DeviceDecoder::new(),
+            decoder: CommandDecoder::new(),
             to_pc: VecDeque::new(),
             params: [0; 256],
             debug: true,

@@ -1,15 +1,16 @@
-//! The bulk paths (`DeviceDecoder::feed`, `PcDecoder::feed`) against the byte-at-a-time paths
-//! (`push`, then `poll` until `None`): on any byte stream, split at any chunk boundaries, with the
-//! pending request and the firmware changed between chunks, both give the same items in the
-//! same order, the same counters, the same pending request and the same buffered bytes after
-//! every chunk, and the same result from `idle()` at the end.
+//! The three ways through the contract of both decoders (`CommandDecoder`, `MessageDecoder`):
+//! `feed` with whole chunks (the bulk path), `feed` with one-byte slices (the byte-by-byte
+//! reference) and the pull form (`decode` until it finds nothing): on any byte stream, split
+//! at any chunk boundaries, with the pending request and the firmware changed between chunks,
+//! all give the same items in the same order, the same counters, the same pending request and
+//! the same buffered bytes after every chunk, and the same result from `finish` at the end.
 
 #[path = "support/events.rs"]
 mod events;
-use events::{idle_all, push_bytes};
+use events::{feed_bytes, finish_all};
 
-use aok_proto::pc::{Expect, PcDecoder};
-use aok_proto::{Command, DeviceDecoder, Error, FirmwareVersion, Message, WaypointSlot};
+use aok_proto::{Command, CommandDecoder, Decode, Error, Event, Expect, FirmwareVersion};
+use aok_proto::{Message, MessageDecoder, WaypointSlot};
 use proptest::prelude::*;
 
 fn xor(bytes: &[u8]) -> u8 {
@@ -161,12 +162,12 @@ fn between() -> impl Strategy<Value = Between> {
     ]
 }
 
-fn pc_bytewise(dec: &mut PcDecoder, bytes: &[u8], out: &mut Vec<Result<Message, Error>>) {
-    out.extend(push_bytes(dec, bytes));
+fn pc_bytewise(dec: &mut MessageDecoder, bytes: &[u8], out: &mut Vec<Result<Message, Error>>) {
+    out.extend(feed_bytes(dec, bytes));
 }
 
-fn device_bytewise(dec: &mut DeviceDecoder, bytes: &[u8], out: &mut Vec<Result<Command, Error>>) {
-    out.extend(push_bytes(dec, bytes));
+fn device_bytewise(dec: &mut CommandDecoder, bytes: &[u8], out: &mut Vec<Result<Command, Error>>) {
+    out.extend(feed_bytes(dec, bytes));
 }
 
 /// Chunk sizes, cycled; the extra 1 makes every round consume a byte.
@@ -184,12 +185,26 @@ fn chunks<'a>(stream: &'a [u8], sizes: &'a [usize]) -> impl Iterator<Item = &'a 
     })
 }
 
-/// `feed_until` again and again on what each call left, until it finds nothing in what is
+/// An event of the pull form as `feed` hands it over (the items of both decoders are the
+/// found values themselves).
+fn result<T>(event: Event<T, Error>) -> Result<T, Error> {
+    match event {
+        Event::Found(item) => Ok(item),
+        Event::Error(e) => Err(e),
+        Event::Truncated(_) => Err(Error::Truncated),
+    }
+}
+
+/// `decode` again and again on what each call left, until it finds nothing in what is
 /// left; every call consumes a byte or more, or hands out an event.
-fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: &[u8]) -> Vec<T> {
+fn until_all<T>(
+    mut decode: impl FnMut(&[u8]) -> (usize, Option<Event<T, Error>>),
+    bytes: &[u8],
+) -> Vec<Result<T, Error>> {
     let (mut rest, mut out) = (bytes, Vec::new());
     loop {
-        let (n, ev) = feed_until(rest);
+        let (n, ev) = decode(rest);
+        let ev = ev.map(result);
         assert!(n <= rest.len());
         let found = ev.is_some();
         out.extend(ev);
@@ -202,9 +217,9 @@ fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: 
 }
 
 fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], steps: &[Between]) {
-    let mut slow = PcDecoder::new(fw);
-    let mut fast = PcDecoder::new(fw);
-    let mut until = PcDecoder::new(fw);
+    let mut slow = MessageDecoder::new(fw);
+    let mut fast = MessageDecoder::new(fw);
+    let mut until = MessageDecoder::new(fw);
     slow.expect(first);
     fast.expect(first);
     until.expect(first);
@@ -218,17 +233,13 @@ fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], 
         assert_eq!(fast.expecting(), slow.expecting(), "chunk {i}");
         assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
         assert_eq!(
-            until_all(|b| until.feed_until(b), chunk),
+            until_all(|b| until.decode(b), chunk),
             want,
-            "feed_until, chunk {i}"
+            "decode, chunk {i}"
         );
-        assert_eq!(until.stats(), slow.stats(), "feed_until, chunk {i}");
-        assert_eq!(until.expecting(), slow.expecting(), "feed_until, chunk {i}");
-        assert_eq!(
-            until.held_bytes(),
-            slow.held_bytes(),
-            "feed_until, chunk {i}"
-        );
+        assert_eq!(until.stats(), slow.stats(), "decode, chunk {i}");
+        assert_eq!(until.expecting(), slow.expecting(), "decode, chunk {i}");
+        assert_eq!(until.held_bytes(), slow.held_bytes(), "decode, chunk {i}");
         match steps.next() {
             Some(Between::Expect(e)) => {
                 slow.expect(*e);
@@ -243,17 +254,19 @@ fn check_pc(fw: FirmwareVersion, first: Expect, stream: &[u8], sizes: &[usize], 
             _ => {}
         }
     }
-    let want = idle_all(&mut slow);
-    let got = idle_all(&mut fast);
-    assert_eq!(got, want, "idle");
-    assert_eq!(fast.stats(), slow.stats(), "after idle");
+    let want = finish_all(&mut slow);
+    let got = finish_all(&mut fast);
+    assert_eq!(got, want, "finish");
+    assert_eq!(fast.stats(), slow.stats(), "after finish");
+    assert_eq!(finish_all(&mut until), want, "finish after decode");
+    assert_eq!(until.stats(), slow.stats(), "after finish after decode");
     assert_eq!(fast.expecting(), slow.expecting());
 }
 
 fn check_device(stream: &[u8], sizes: &[usize]) {
-    let mut slow = DeviceDecoder::new();
-    let mut fast = DeviceDecoder::new();
-    let mut until = DeviceDecoder::new();
+    let mut slow = CommandDecoder::new();
+    let mut fast = CommandDecoder::new();
+    let mut until = CommandDecoder::new();
     for (i, chunk) in chunks(stream, sizes).enumerate() {
         let (mut want, mut got) = (Vec::new(), Vec::new());
         device_bytewise(&mut slow, chunk, &mut want);
@@ -262,21 +275,19 @@ fn check_device(stream: &[u8], sizes: &[usize]) {
         assert_eq!(fast.stats(), slow.stats(), "chunk {i}");
         assert_eq!(fast.held_bytes(), slow.held_bytes(), "chunk {i}");
         assert_eq!(
-            until_all(|b| until.feed_until(b), chunk),
+            until_all(|b| until.decode(b), chunk),
             want,
-            "feed_until, chunk {i}"
+            "decode, chunk {i}"
         );
-        assert_eq!(until.stats(), slow.stats(), "feed_until, chunk {i}");
-        assert_eq!(
-            until.held_bytes(),
-            slow.held_bytes(),
-            "feed_until, chunk {i}"
-        );
+        assert_eq!(until.stats(), slow.stats(), "decode, chunk {i}");
+        assert_eq!(until.held_bytes(), slow.held_bytes(), "decode, chunk {i}");
     }
-    let want = idle_all(&mut slow);
-    let got = idle_all(&mut fast);
-    assert_eq!(got, want, "idle");
-    assert_eq!(fast.stats(), slow.stats(), "after idle");
+    let want = finish_all(&mut slow);
+    let got = finish_all(&mut fast);
+    assert_eq!(got, want, "finish");
+    assert_eq!(fast.stats(), slow.stats(), "after finish");
+    assert_eq!(finish_all(&mut until), want, "finish after decode");
+    assert_eq!(until.stats(), slow.stats(), "after finish after decode");
 }
 
 proptest! {
@@ -298,62 +309,77 @@ proptest! {
         check_pc(fw, first, &s, &sizes, &steps);
     }
 
-    /// `feed` after pushes whose further events were not polled continues exactly as
-    /// pushing (and polling) those bytes would.
+    /// `feed` after a `decode` that stopped at an event with more events queued behind it
+    /// (the pull form leaves them for its next call) continues exactly as feeding those
+    /// bytes one at a time does: the queued events come first.
     #[test]
-    fn device_feed_after_undrained_pushes(
+    fn device_feed_after_decode(
         s in stream(command_frame),
         ops in prop::collection::vec((any::<bool>(), 0usize..40), 0..20),
     ) {
-        let mut slow = DeviceDecoder::new();
-        let mut fast = DeviceDecoder::new();
+        let mut slow = CommandDecoder::new();
+        let mut fast = CommandDecoder::new();
         let (mut want, mut got) = (Vec::new(), Vec::new());
         let sizes: Vec<usize> = ops.iter().map(|o| o.1).collect();
-        for (chunk, undrained) in chunks(&s, &sizes).zip(ops.iter().map(|o| o.0).chain([false]).cycle()) {
-            if undrained {
-                for &b in chunk {
-                    // Take at most one item; the iterator is dropped with the rest unread.
-                    want.extend(slow.push(b));
-                    got.extend(fast.push(b));
-                }
-            } else {
-                device_bytewise(&mut slow, chunk, &mut want);
-                fast.feed(chunk, |c| got.push(c));
+        for (chunk, pull) in chunks(&s, &sizes).zip(ops.iter().map(|o| o.0).chain([false]).cycle()) {
+            device_bytewise(&mut slow, chunk, &mut want);
+            let mut rest = chunk;
+            if pull {
+                // One event at most, then `feed` takes the rest.
+                let (n, ev) = fast.decode(rest);
+                got.extend(ev.map(result));
+                rest = &rest[n..];
+            }
+            fast.feed(rest, |c| got.push(c));
+            if rest.is_empty() {
+                // Events the pull form left queued with no byte after them: the end of the
+                // stream finds them (as it does for the bytewise decoder).
+                continue;
             }
             prop_assert_eq!(&got, &want);
             prop_assert_eq!(fast.stats(), slow.stats());
             prop_assert_eq!(fast.held_bytes(), slow.held_bytes());
         }
+        want.extend(finish_all(&mut slow));
+        got.extend(finish_all(&mut fast));
+        prop_assert_eq!(&got, &want);
+        prop_assert_eq!(fast.stats(), slow.stats());
     }
 
     #[test]
-    fn pc_feed_after_undrained_pushes(
+    fn pc_feed_after_decode(
         fw in firmware(),
         first in expect(),
         s in stream(message_frame),
         ops in prop::collection::vec((any::<bool>(), 0usize..40), 0..20),
     ) {
-        let mut slow = PcDecoder::new(fw);
-        let mut fast = PcDecoder::new(fw);
+        let mut slow = MessageDecoder::new(fw);
+        let mut fast = MessageDecoder::new(fw);
         slow.expect(first);
         fast.expect(first);
         let (mut want, mut got) = (Vec::new(), Vec::new());
         let sizes: Vec<usize> = ops.iter().map(|o| o.1).collect();
-        for (chunk, undrained) in chunks(&s, &sizes).zip(ops.iter().map(|o| o.0).chain([false]).cycle()) {
-            if undrained {
-                for &b in chunk {
-                    want.extend(slow.push(b));
-                    got.extend(fast.push(b));
-                }
-            } else {
-                pc_bytewise(&mut slow, chunk, &mut want);
-                fast.feed(chunk, |m| got.push(m));
+        for (chunk, pull) in chunks(&s, &sizes).zip(ops.iter().map(|o| o.0).chain([false]).cycle()) {
+            pc_bytewise(&mut slow, chunk, &mut want);
+            let mut rest = chunk;
+            if pull {
+                let (n, ev) = fast.decode(rest);
+                got.extend(ev.map(result));
+                rest = &rest[n..];
+            }
+            fast.feed(rest, |m| got.push(m));
+            if rest.is_empty() {
+                continue;
             }
             prop_assert_eq!(&got, &want);
             prop_assert_eq!(fast.stats(), slow.stats());
             prop_assert_eq!(fast.held_bytes(), slow.held_bytes());
             prop_assert_eq!(fast.expecting(), slow.expecting());
         }
+        want.extend(finish_all(&mut slow));
+        got.extend(finish_all(&mut fast));
+        prop_assert_eq!(&got, &want);
+        prop_assert_eq!(fast.stats(), slow.stats());
     }
 }
 

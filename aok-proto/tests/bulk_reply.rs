@@ -1,16 +1,16 @@
 //! The device's bulk reply: 16 headed parameter replies, numbered on from `first` (wrapping
 //! past 255), 112 bytes, and nothing written into a buffer one byte short.
 
-use aok_proto::pc::{Expect, PcDecoder};
-use aok_proto::{Error, FirmwareVersion, Message, ParameterValue, device};
+use aok_proto::{Decode, Expect, MessageDecoder};
+use aok_proto::{Error, FirmwareVersion, Message, ParameterValue};
 
 #[test]
 fn sixteen_replies_numbered_on_from_first_in_112_bytes() {
     let values: [i32; 16] = core::array::from_fn(|i| i as i32 * 1000 - 3);
     let mut buf = [0xAAu8; 120];
-    assert_eq!(device::encode_bulk(250, &values, &mut buf), Ok(112));
+    assert_eq!(aok_proto::encode_bulk(250, &values, &mut buf), Ok(112));
     assert_eq!(&buf[112..], &[0xAA; 8]);
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     d.expect(Expect::Bulk(250));
     let mut got = Vec::new();
     d.feed(&buf[..112], |ev| got.push(ev));
@@ -29,7 +29,7 @@ fn sixteen_replies_numbered_on_from_first_in_112_bytes() {
 fn a_buffer_one_byte_short_is_refused_untouched() {
     let mut buf = [0xAAu8; 111];
     assert_eq!(
-        device::encode_bulk(0, &[1; 16], &mut buf),
+        aok_proto::encode_bulk(0, &[1; 16], &mut buf),
         Err(Error::BufferTooSmall { needed: 112 })
     );
     assert_eq!(buf, [0xAA; 111]);

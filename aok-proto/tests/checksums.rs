@@ -1,10 +1,10 @@
 //! Each checksum is the XOR the spec gives, not a look-alike: frames whose checksum byte is
 //! the OR or the AND of the checked bytes (which the XOR is not) are refused, on both sides
-//! and by both paths (`push` and `feed`). Random corruption seldom lands on those values, so
+//! and by both paths (`feed` one byte at a time and `feed` with the whole frame). Random corruption seldom lands on those values, so
 //! they are written out here.
 
-use aok_proto::pc::Expect;
-use aok_proto::{DeviceDecoder, Error, FirmwareVersion, Message, PcDecoder};
+use aok_proto::{CommandDecoder, Error, FirmwareVersion, Message, MessageDecoder};
+use aok_proto::{Decode, Expect};
 
 /// Every motor-test start byte (`1`..`9`, `A`..`C`).
 fn motor_bytes() -> impl Iterator<Item = u8> {
@@ -25,20 +25,15 @@ fn a_motor_test_with_an_or_or_and_checksum_is_refused() {
                 computed: u16::from(xor),
                 received: u16::from(wrong),
             };
-            let mut pushed = DeviceDecoder::new();
+            let mut pushed = CommandDecoder::new();
             let mut by_push = Vec::new();
             for b in frame {
-                if let Some(ev) = pushed.push(b) {
-                    by_push.push(ev);
-                }
-                while let Some(ev) = pushed.poll() {
-                    by_push.push(ev);
-                }
+                pushed.feed(&[b], |ev| by_push.push(ev));
             }
-            let mut fed = DeviceDecoder::new();
+            let mut fed = CommandDecoder::new();
             let mut by_feed = Vec::new();
             fed.feed(&frame, |ev| by_feed.push(ev));
-            for (path, got, dec) in [("push", &by_push, &pushed), ("feed", &by_feed, &fed)] {
+            for (path, got, dec) in [("byte", &by_push, &pushed), ("feed", &by_feed, &fed)] {
                 assert_eq!(got.first(), Some(&Err(mismatch)), "{path} {frame:02x?}");
                 assert!(
                     got.iter().all(Result::is_err),
@@ -49,7 +44,7 @@ fn a_motor_test_with_an_or_or_and_checksum_is_refused() {
             }
         }
         // The XOR itself is a motor test.
-        let mut dec = DeviceDecoder::new();
+        let mut dec = CommandDecoder::new();
         let mut got = Vec::new();
         dec.feed(&[first, value, xor], |ev| got.push(ev));
         assert_eq!(got.len(), 1, "{first:#04x}");
@@ -68,13 +63,13 @@ fn a_failed_headerless_reply_is_a_checksum_mismatch_unless_it_may_be_a_debug_fra
         computed: 0x04, // 0x01 ^ 0x02 ^ 0x03 ^ 0x04
         received: 0,
     };
-    for path in ["push", "feed"] {
-        let mut dec = PcDecoder::new(FirmwareVersion::new(0, 30));
+    for path in ["byte", "feed"] {
+        let mut dec = MessageDecoder::new(FirmwareVersion::new(0, 30));
         dec.expect(Expect::Parameter(12));
         let mut got = Vec::new();
-        if path == "push" {
+        if path == "byte" {
             for b in bad {
-                got.extend(dec.push(b));
+                dec.feed(&[b], |ev| got.push(ev));
             }
         } else {
             dec.feed(&bad, |ev| got.push(ev));

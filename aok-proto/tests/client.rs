@@ -5,19 +5,19 @@ mod watchdog;
 
 use std::collections::VecDeque;
 
-use aok_proto::pc::Expect;
 use aok_proto::{
-    Ack, Action, ActionWord, Client, Command, Config, DebugValue, DeviceDecoder, Error,
+    Ack, Action, ActionWord, Client, Command, CommandDecoder, Config, DebugValue, Error,
     ExternalControl, FirmwareVersion, Message, Motor, MotorTest, Outcome, ParameterValue,
     ReplyForm, SerialError, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
+use aok_proto::{Decode, Expect};
 use embedded_hal_nb::serial::{ErrorKind, ErrorType, Read, Write};
 
 /// A device on the other end of the wire, driven only by what the client writes and reads.
 struct Device {
     to_pc: VecDeque<u8>,
     from_pc: Vec<u8>,
-    decoder: DeviceDecoder,
+    decoder: CommandDecoder,
     form: ReplyForm,
     debug_on: bool,
     /// Debug frames still sent after debug-off (in flight).
@@ -45,7 +45,7 @@ impl Device {
         Self {
             to_pc: VecDeque::new(),
             from_pc: Vec::new(),
-            decoder: DeviceDecoder::new(),
+            decoder: CommandDecoder::new(),
             form,
             debug_on: true,
             late_debug: 2,

@@ -1,7 +1,7 @@
 //! The device's debug frame is 7 bytes, and a PC decoder reads it back as the same value.
 
-use aok_proto::pc::PcDecoder;
-use aok_proto::{DebugValue, FirmwareVersion, Message, device};
+use aok_proto::{DebugValue, FirmwareVersion, Message};
+use aok_proto::{Decode, MessageDecoder};
 
 #[test]
 fn a_debug_value_is_seven_bytes_that_read_back() {
@@ -10,10 +10,10 @@ fn a_debug_value_is_seven_bytes_that_read_back() {
         value: -2,
     };
     let mut buf = [0xAAu8; 9];
-    assert_eq!(device::encode_debug(v, &mut buf), Ok(7));
+    assert_eq!(aok_proto::encode_debug(v, &mut buf), Ok(7));
     assert_eq!(buf[0], 0x1C);
     assert_eq!(buf[7..], [0xAA; 2]);
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();
     d.feed(&buf[..7], |ev| got.push(ev));
     assert_eq!(got, [Ok(Message::Debug(v))]);

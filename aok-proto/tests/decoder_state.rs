@@ -1,10 +1,10 @@
 //! What the two decoders tell of themselves: the bytes they hold, `reset` (which forgets them
 //! and keeps the counters), and the PC decoder's reply form, which follows the firmware.
 
-use aok_proto::pc::{Expect, PcDecoder};
-use aok_proto::{Command, DeviceDecoder, FirmwareVersion, ReplyForm, Stats};
+use aok_proto::{Command, CommandDecoder, FirmwareVersion, ReplyForm, Stats};
+use aok_proto::{Decode, Expect, MessageDecoder};
 
-fn commands(d: &mut DeviceDecoder, bytes: &[u8]) -> Vec<Result<Command, aok_proto::Error>> {
+fn commands(d: &mut CommandDecoder, bytes: &[u8]) -> Vec<Result<Command, aok_proto::Error>> {
     let mut out = Vec::new();
     d.feed(bytes, |ev| out.push(ev));
     out
@@ -12,21 +12,21 @@ fn commands(d: &mut DeviceDecoder, bytes: &[u8]) -> Vec<Result<Command, aok_prot
 
 #[test]
 fn the_device_decoder_holds_a_command_until_it_is_whole() {
-    let mut d = DeviceDecoder::new();
+    let mut d = CommandDecoder::new();
     let mut held = Vec::new();
     for b in [0x63, 0x04, 0x02] {
-        let ev = d.push(b);
+        let ev = commands(&mut d, &[b]);
         held.push((ev, d.held_bytes()));
     }
     assert_eq!(
         held,
-        [(None, 1), (None, 2), (Some(Ok(Command::SaveSet(2))), 0)]
+        [(vec![], 1), (vec![], 2), (vec![Ok(Command::SaveSet(2))], 0)]
     );
 }
 
 #[test]
 fn reset_forgets_the_bytes_held_and_keeps_the_counters() {
-    let mut d = DeviceDecoder::new();
+    let mut d = CommandDecoder::new();
     assert_eq!(commands(&mut d, &[0x63, 0x01]), [Ok(Command::DebugOff)]);
     assert_eq!(commands(&mut d, &[0x63, 0x04]), []);
     d.reset();
@@ -47,7 +47,7 @@ fn reset_forgets_the_bytes_held_and_keeps_the_counters() {
 
 #[test]
 fn the_pc_decoder_reads_the_reply_form_of_its_firmware() {
-    let mut d = PcDecoder::new(FirmwareVersion::new(0, 30));
+    let mut d = MessageDecoder::new(FirmwareVersion::new(0, 30));
     assert_eq!(d.reply_form(), ReplyForm::Headerless);
     d.set_firmware(FirmwareVersion::new(0, 31));
     assert_eq!(d.reply_form(), ReplyForm::Headed);
@@ -59,7 +59,7 @@ fn the_pc_decoder_reads_the_reply_form_of_its_firmware() {
 
 #[test]
 fn the_pc_decoder_reset_forgets_the_bytes_held() {
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();
     d.feed(&[0x1c, 0x56, 0xff], |ev| got.push(ev));
     assert_eq!((got.len(), d.held_bytes()), (0, 3));
@@ -76,7 +76,7 @@ fn reply(m: aok_proto::Message) -> Vec<u8> {
 }
 
 #[test]
-fn the_awaited_reply_settles_the_pc_decoder_by_push_and_by_feed() {
+fn the_awaited_reply_settles_the_pc_decoder_byte_by_byte_and_by_feed() {
     use aok_proto::{Ack, Message, ParameterValue};
     let p = |number| Message::Parameter(ParameterValue { number, value: 5 });
     let cases = [
@@ -86,14 +86,17 @@ fn the_awaited_reply_settles_the_pc_decoder_by_push_and_by_feed() {
     ];
     for (expect, bytes) in cases {
         // Byte by byte.
-        let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+        let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
         d.expect(expect);
-        let events: Vec<_> = bytes.iter().filter_map(|&b| d.push(b)).collect();
+        let mut events = Vec::new();
+        for b in &bytes {
+            d.feed(core::slice::from_ref(b), |ev| events.push(ev));
+        }
         assert_eq!(events.len(), 1, "{expect:?}");
         assert!(events[0].is_ok(), "{expect:?}");
-        assert_eq!(d.expecting(), Expect::Nothing, "{expect:?} by push");
+        assert_eq!(d.expecting(), Expect::Nothing, "{expect:?} byte by byte");
         // In one slice.
-        let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+        let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
         d.expect(expect);
         let mut got = Vec::new();
         d.feed(&bytes, |ev| got.push(ev));
@@ -101,7 +104,7 @@ fn the_awaited_reply_settles_the_pc_decoder_by_push_and_by_feed() {
         assert_eq!(d.expecting(), Expect::Nothing, "{expect:?} by feed");
     }
     // A parameter of another number, or a bulk reply's earlier entry, settles nothing.
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     d.expect(Expect::Parameter(40));
     let mut got = Vec::new();
     d.feed(&reply(p(41)), |ev| got.push(ev));
@@ -114,22 +117,25 @@ fn the_awaited_reply_settles_the_pc_decoder_by_push_and_by_feed() {
 
 #[test]
 fn once_the_ack_came_an_ack_letter_is_an_unknown_byte() {
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     d.expect(Expect::Ack);
-    assert!(matches!(d.push(b'O'), Some(Ok(_))));
-    assert_eq!(d.push(b'O'), None);
-    assert_eq!(d.poll(), None);
+    let mut got = Vec::new();
+    d.feed(b"O", |ev| got.push(ev));
+    assert!(matches!(got[..], [Ok(_)]));
+    d.feed(b"O", |ev| got.push(ev));
+    assert_eq!(got.len(), 1);
     assert_eq!(d.stats().frames_ok, 1);
+    assert_eq!(d.stats().unknown_bytes, 1);
 }
 
 #[test]
 fn a_lone_first_byte_is_given_up_when_the_line_goes_quiet() {
     // 73 (set parameter) announces 7 bytes; only it arrives.
-    let mut d = DeviceDecoder::new();
-    assert_eq!(d.push(0x73), None);
+    let mut d = CommandDecoder::new();
+    assert_eq!(commands(&mut d, &[0x73]), []);
     assert_eq!(d.held_bytes(), 1);
     let mut got = Vec::new();
-    d.idle(|ev| got.push(ev));
+    d.finish(|ev| got.push(ev));
     assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
     assert_eq!((d.held_bytes(), d.stats().abandoned), (0, 1));
 }
@@ -137,10 +143,11 @@ fn a_lone_first_byte_is_given_up_when_the_line_goes_quiet() {
 #[test]
 fn the_pc_decoder_gives_up_a_lone_first_byte_when_the_line_goes_quiet() {
     // 1C (a debug frame) announces 7 bytes; only it arrives.
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
-    assert_eq!(d.push(0x1c), None);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();
-    d.idle(|ev| got.push(ev));
+    d.feed(&[0x1c], |ev| got.push(ev));
+    assert_eq!(got, []);
+    d.finish(|ev| got.push(ev));
     assert_eq!(got, [Err(aok_proto::Error::Truncated)]);
     assert_eq!(d.held_bytes(), 0);
 }
@@ -157,7 +164,7 @@ fn a_waypoint_reply_settles_only_the_slot_asked_for() {
             action2: ActionWord::NONE,
         }))
     };
-    let mut d = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     d.expect(Expect::Waypoint(WaypointSlot::FbcTarget));
     let mut got = Vec::new();
     d.feed(&w(WaypointSlot::MissionPoi), |ev| got.push(ev));

@@ -1,11 +1,13 @@
-//! 1 MiB of random bytes into each decoder: no panic, and the invariants hold.
+//! 1 MiB of random bytes into each decoder: no panic, and the invariants hold; and the three
+//! ways through the contract agree on it: `feed` one byte at a time (the reference), `feed`
+//! with whole segments and the pull form (`decode`), the same events and counters.
 
 #[path = "support/events.rs"]
 mod events;
-use events::{idle_all, push_all};
+use events::{Events, decode_all, feed_byte, finish_all};
 
-use aok_proto::pc::{Expect, PcDecoder};
-use aok_proto::{Command, DeviceDecoder, FirmwareVersion, Message, WaypointSlot};
+use aok_proto::WaypointSlot;
+use aok_proto::{Command, CommandDecoder, Error, Expect, FirmwareVersion, Message, MessageDecoder};
 
 const MIB: usize = 1 << 20;
 
@@ -20,13 +22,47 @@ impl Rng {
     }
 }
 
+/// The bulk path (`feed` with a whole segment) and the pull form beside the reference:
+/// each takes the same segments and gives its events in its own list.
+struct Others<D: Events> {
+    whole: D,
+    pull: D,
+    by_whole: Vec<Result<D::Item, Error>>,
+    by_pull: Vec<Result<D::Item, Error>>,
+}
+
+impl<D: Events + Clone> Others<D> {
+    fn new(d: &D) -> Self {
+        Self {
+            whole: d.clone(),
+            pull: d.clone(),
+            by_whole: Vec::new(),
+            by_pull: Vec::new(),
+        }
+    }
+    fn segment(&mut self, bytes: &[u8]) {
+        self.by_whole.extend(self.whole.feed_vec(bytes));
+        self.by_pull.extend(decode_all(&mut self.pull, bytes));
+    }
+    fn finish(&mut self) {
+        self.by_whole.extend(finish_all(&mut self.whole));
+        self.by_pull.extend(finish_all(&mut self.pull));
+    }
+}
+
 #[test]
 fn device_decoder_survives_random_bytes() {
     let mut rng = Rng(0x1234_5678_9abc_def1);
-    let mut dec = DeviceDecoder::new();
+    let bytes: Vec<u8> = (0..MIB).map(|_| rng.byte()).collect();
+    let mut dec = CommandDecoder::new();
+    let mut others = Others::new(&dec);
+    let mut reference = Vec::new();
+    let mut start = 0;
     let mut ok = 0u32;
-    for i in 0..MIB {
-        for cmd in push_all(&mut dec, rng.byte()).into_iter().flatten() {
+    for (i, &b) in bytes.iter().enumerate() {
+        let events = feed_byte(&mut dec, b);
+        reference.extend(events.iter().cloned());
+        for cmd in events.into_iter().flatten() {
             ok += 1;
             // Whatever was accepted re-encodes and re-parses to itself.
             let mut buf = [0u8; 19];
@@ -34,21 +70,43 @@ fn device_decoder_survives_random_bytes() {
             assert_eq!(Command::parse(&buf[..n]), Ok((cmd, n)));
         }
         if i % 4099 == 0 {
-            ok += idle_all(&mut dec).iter().filter(|e| e.is_ok()).count() as u32;
+            let end = finish_all(&mut dec);
+            ok += end.iter().filter(|e| e.is_ok()).count() as u32;
+            reference.extend(end);
+            others.segment(&bytes[start..=i]);
+            others.finish();
+            start = i + 1;
+            assert_eq!(others.whole.stats(), dec.stats(), "feed whole, byte {i}");
+            assert_eq!(others.pull.stats(), dec.stats(), "decode, byte {i}");
         }
         assert!(dec.held_bytes() < 19);
     }
+    others.segment(&bytes[start..]);
     let s = dec.stats();
     assert_eq!(s.frames_ok, ok);
     assert!(s.frames_ok > 0 && s.checksum_errors > 0 && s.unknown_bytes > 0);
     assert!(s.bytes_discarded as usize <= MIB);
+    assert!(
+        others.by_whole == reference,
+        "feed whole differs from feed byte by byte"
+    );
+    assert!(
+        others.by_pull == reference,
+        "decode differs from feed byte by byte"
+    );
+    assert_eq!(others.whole.stats(), s);
+    assert_eq!(others.pull.stats(), s);
 }
 
 #[test]
 fn pc_decoder_survives_random_bytes() {
     for fw in [FirmwareVersion::new(0, 30), FirmwareVersion::LATEST] {
         let mut rng = Rng(0xdead_beef_cafe_f00d);
-        let mut dec = PcDecoder::new(fw);
+        let bytes: Vec<u8> = (0..MIB).map(|_| rng.byte()).collect();
+        let mut dec = MessageDecoder::new(fw);
+        let mut others = Others::new(&dec);
+        let mut reference = Vec::new();
+        let mut start = 0;
         let expects = [
             Expect::Nothing,
             Expect::Ack,
@@ -57,11 +115,18 @@ fn pc_decoder_survives_random_bytes() {
             Expect::Waypoint(WaypointSlot::FbcTarget),
         ];
         let mut n_msgs = 0u32;
-        for i in 0..MIB {
+        for (i, &b) in bytes.iter().enumerate() {
             if i % 1000 == 0 {
-                dec.expect(expects[(i / 1000) % expects.len()]);
+                let e = expects[(i / 1000) % expects.len()];
+                others.segment(&bytes[start..i]);
+                start = i;
+                dec.expect(e);
+                others.whole.expect(e);
+                others.pull.expect(e);
             }
-            for m in push_all(&mut dec, rng.byte()).into_iter().flatten() {
+            let events = feed_byte(&mut dec, b);
+            reference.extend(events.iter().cloned());
+            for m in events.into_iter().flatten() {
                 n_msgs += 1;
                 if let Message::Waypoint(w) = m {
                     let mut buf = [0u8; 19];
@@ -70,12 +135,30 @@ fn pc_decoder_survives_random_bytes() {
                 }
             }
             if i % 5003 == 0 {
-                n_msgs += idle_all(&mut dec).iter().filter(|e| e.is_ok()).count() as u32;
+                let end = finish_all(&mut dec);
+                n_msgs += end.iter().filter(|e| e.is_ok()).count() as u32;
+                reference.extend(end);
+                others.segment(&bytes[start..=i]);
+                others.finish();
+                start = i + 1;
+                assert_eq!(others.whole.stats(), dec.stats(), "feed whole, byte {i}");
+                assert_eq!(others.pull.stats(), dec.stats(), "decode, byte {i}");
             }
             assert!(dec.held_bytes() < 19);
         }
+        others.segment(&bytes[start..]);
         assert_eq!(dec.stats().frames_ok, n_msgs);
         assert!(n_msgs > 0);
+        assert!(
+            others.by_whole == reference,
+            "feed whole differs from feed byte by byte"
+        );
+        assert!(
+            others.by_pull == reference,
+            "decode differs from feed byte by byte"
+        );
+        assert_eq!(others.whole.stats(), dec.stats());
+        assert_eq!(others.pull.stats(), dec.stats());
     }
 }
 

@@ -5,16 +5,16 @@
 
 #[path = "support/events.rs"]
 mod events;
-use events::{idle_all, push_all};
+use events::{feed_byte, finish_all};
 
 #[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
-use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
-    Ack, Command, DebugValue, DeviceDecoder, Error, FirmwareVersion, IoError, Message,
+    Ack, Command, CommandDecoder, DebugValue, Error, FirmwareVersion, IoError, Message,
     ParameterValue, ReplyForm, Stats, WaypointSlot, embedded_io as bio, embedded_io_async as aio,
 };
+use aok_proto::{Expect, MessageDecoder};
 use embedded_io::ErrorKind;
 use proptest::prelude::*;
 use transport::{Sink, Wire, block_on, sink};
@@ -36,7 +36,7 @@ fn pc_reference(
     expect: Expect,
     stream: &[u8],
 ) -> (Vec<Event<Message>>, Stats) {
-    let mut d = PcDecoder::new(fw);
+    let mut d = MessageDecoder::new(fw);
     d.expect(expect);
     let mut out = Vec::new();
     let conv = |r: Result<Message, Error>| match r {
@@ -44,12 +44,12 @@ fn pc_reference(
         Err(e) => Event::Protocol(e),
     };
     for &b in stream {
-        out.extend(push_all(&mut d, b).into_iter().map(conv));
+        out.extend(feed_byte(&mut d, b).into_iter().map(conv));
     }
     if d.held_bytes() > 0 {
         out.push(Event::UnexpectedEof(d.held_bytes()));
         // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
-        let rest = idle_all(&mut d).into_iter();
+        let rest = finish_all(&mut d).into_iter();
         out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
@@ -57,19 +57,19 @@ fn pc_reference(
 }
 
 fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, Stats) {
-    let mut d = DeviceDecoder::new();
+    let mut d = CommandDecoder::new();
     let mut out = Vec::new();
     let conv = |r: Result<Command, Error>| match r {
         Ok(c) => Event::Item(c),
         Err(e) => Event::Protocol(e),
     };
     for &b in stream {
-        out.extend(push_all(&mut d, b).into_iter().map(conv));
+        out.extend(feed_byte(&mut d, b).into_iter().map(conv));
     }
     if d.held_bytes() > 0 {
         out.push(Event::UnexpectedEof(d.held_bytes()));
         // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
-        let rest = idle_all(&mut d).into_iter();
+        let rest = finish_all(&mut d).into_iter();
         out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
     }
     out.push(Event::Eof);
@@ -106,7 +106,7 @@ fn check_pc<const R: usize>(
 
     let mut r = bio::MessageReader::<_, R>::new(
         Wire::new(stream, sizes, errors),
-        aok_proto::PcDecoder::new(fw),
+        aok_proto::MessageDecoder::new(fw),
     );
     r.decoder_mut().expect(expect);
     let (got, transport) = collect(|| r.read());
@@ -119,7 +119,7 @@ fn check_pc<const R: usize>(
 
     let mut r = aio::MessageReader::<_, R>::new(
         Wire::new(stream, sizes, errors),
-        aok_proto::PcDecoder::new(fw),
+        aok_proto::MessageDecoder::new(fw),
     );
     r.decoder_mut().expect(expect);
     let (got, transport) = collect(|| block_on(r.read()));
@@ -134,7 +134,7 @@ fn check_device<const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]
 
     let mut r = bio::CommandReader::<_, R>::new(
         Wire::new(stream, sizes, errors),
-        aok_proto::DeviceDecoder::new(),
+        aok_proto::CommandDecoder::new(),
     );
     let (got, transport) = collect(|| r.read());
     assert_eq!(
@@ -146,7 +146,7 @@ fn check_device<const R: usize>(stream: &[u8], sizes: &[usize], errors: &[usize]
 
     let mut r = aio::CommandReader::<_, R>::new(
         Wire::new(stream, sizes, errors),
-        aok_proto::DeviceDecoder::new(),
+        aok_proto::CommandDecoder::new(),
     );
     let (got, transport) = collect(|| block_on(r.read()));
     assert_eq!(got, want, "async R={R}, sizes {sizes:?}, errors {errors:?}");
@@ -374,7 +374,7 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
     let s = device_stream();
     let mut r = bio::MessageReader::<_, 16>::new(
         Wire::new(&s, &[4], &[]),
-        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+        aok_proto::MessageDecoder::new(FirmwareVersion::LATEST),
     );
     r.decoder_mut().expect(Expect::Ack);
     let (got, _) = collect(|| r.read());
@@ -401,8 +401,10 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
         ]
     );
     let s = pc_stream();
-    let mut r =
-        aio::CommandReader::<_, 16>::new(Wire::new(&s, &[4], &[]), aok_proto::DeviceDecoder::new());
+    let mut r = aio::CommandReader::<_, 16>::new(
+        Wire::new(&s, &[4], &[]),
+        aok_proto::CommandDecoder::new(),
+    );
     let (got, _) = collect(|| block_on(r.read()));
     assert_eq!(
         &got[got.len() - 3..],

@@ -1,8 +1,8 @@
 //! The device's parameter reply in both firmware forms (K4): 7 bytes headed, 5 headerless,
 //! each read back by a PC decoder of that firmware that waits for that parameter.
 
-use aok_proto::pc::{Expect, PcDecoder};
-use aok_proto::{FirmwareVersion, Message, ParameterValue, ReplyForm, device};
+use aok_proto::{Decode, Expect, MessageDecoder};
+use aok_proto::{FirmwareVersion, Message, ParameterValue, ReplyForm};
 
 #[test]
 fn each_form_has_its_length_and_reads_back() {
@@ -16,18 +16,18 @@ fn each_form_has_its_length_and_reads_back() {
     ] {
         let mut buf = [0xAAu8; 9];
         assert_eq!(
-            device::encode_parameter(p, form, &mut buf),
+            aok_proto::encode_parameter(p, form, &mut buf),
             Ok(len),
             "{form:?}"
         );
         assert_eq!(buf[len..], [0xAA; 9][len..], "{form:?}");
-        let mut d = PcDecoder::new(fw);
+        let mut d = MessageDecoder::new(fw);
         d.expect(Expect::Parameter(12));
         let mut got = Vec::new();
         d.feed(&buf[..len], |ev| got.push(ev));
         assert_eq!(got, [Ok(Message::Parameter(p))], "{form:?}");
     }
     let mut headed = [0u8; 7];
-    device::encode_parameter(p, ReplyForm::Headed, &mut headed).unwrap();
+    aok_proto::encode_parameter(p, ReplyForm::Headed, &mut headed).unwrap();
     assert_eq!(headed[..6], [0xFF, 12, 0xFF, 0xFF, 0xFA, 0x24]);
 }

@@ -18,7 +18,7 @@ const MESSAGES: [u8; 15] = [
 
 #[test]
 fn command_reader_counts_the_bytes_after_each_command() {
-    let mut r = bio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::DeviceDecoder::new());
+    let mut r = bio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::CommandDecoder::new());
     assert_eq!(r.unread(), 0);
     let mut left = Vec::new();
     for _ in 0..3 {
@@ -30,7 +30,7 @@ fn command_reader_counts_the_bytes_after_each_command() {
 
 #[test]
 fn async_command_reader_counts_the_bytes_after_each_command() {
-    let mut r = aio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::DeviceDecoder::new());
+    let mut r = aio::CommandReader::<_>::new(&COMMANDS[..], aok_proto::CommandDecoder::new());
     assert_eq!(r.unread(), 0);
     let mut got = Vec::new();
     for _ in 0..3 {
@@ -45,7 +45,7 @@ fn async_command_reader_counts_the_bytes_after_each_command() {
 fn message_reader_counts_the_bytes_after_each_message() {
     let mut r = bio::MessageReader::<_>::new(
         &MESSAGES[..],
-        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+        aok_proto::MessageDecoder::new(FirmwareVersion::LATEST),
     );
     assert_eq!(r.unread(), 0);
     r.read().unwrap();
@@ -58,7 +58,7 @@ fn message_reader_counts_the_bytes_after_each_message() {
 fn async_message_reader_counts_the_bytes_after_each_message() {
     let mut r = aio::MessageReader::<_>::new(
         &MESSAGES[..],
-        aok_proto::PcDecoder::new(FirmwareVersion::LATEST),
+        aok_proto::MessageDecoder::new(FirmwareVersion::LATEST),
     );
     assert_eq!(r.unread(), 0);
     block_on(r.read()).unwrap();

@@ -3,13 +3,13 @@
 
 #[path = "support/events.rs"]
 mod events;
-use events::push_all;
+use events::feed_byte;
 
-use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
-    Ack, ActionWord, Command, DebugValue, DeviceDecoder, ExternalControl, FirmwareVersion, Message,
-    Motor, MotorTest, ParameterValue, ReplyForm, Stick, Waypoint, WaypointSlot,
+    Ack, ActionWord, Command, CommandDecoder, DebugValue, ExternalControl, FirmwareVersion,
+    Message, Motor, MotorTest, ParameterValue, ReplyForm, Stick, Waypoint, WaypointSlot,
 };
+use aok_proto::{Expect, MessageDecoder};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -107,10 +107,10 @@ fn commands_round_trip() {
             // Too short a buffer is an error, not a panic.
             prop_assert!(cmd.emit(&mut buf[..n - 1]).is_err());
             prop_assert!(Command::parse(&buf[..n - 1]).is_err());
-            let mut dec = DeviceDecoder::new();
+            let mut dec = CommandDecoder::new();
             let items: Vec<_> = buf[..n]
                 .iter()
-                .flat_map(|&b| push_all(&mut dec, b))
+                .flat_map(|&b| feed_byte(&mut dec, b))
                 .collect();
             prop_assert_eq!(items, vec![Ok(cmd)]);
             prop_assert_eq!(dec.held_bytes(), 0);
@@ -142,11 +142,11 @@ fn messages_round_trip_in_both_forms() {
             if form == ReplyForm::Headed || !matches!(msg, Message::Parameter(_)) {
                 prop_assert_eq!(Message::parse(&buf[..n]), Ok((msg, n)));
             }
-            let mut dec = PcDecoder::new(fw);
+            let mut dec = MessageDecoder::new(fw);
             dec.expect(expect);
             let items: Vec<_> = buf[..n]
                 .iter()
-                .flat_map(|&b| push_all(&mut dec, b))
+                .flat_map(|&b| feed_byte(&mut dec, b))
                 .collect();
             prop_assert_eq!(items, vec![Ok(msg)]);
             prop_assert_eq!(dec.expecting(), Expect::Nothing);
@@ -170,8 +170,8 @@ fn command_streams_with_noise_round_trip() {
                 let n = cmd.emit(&mut buf).unwrap();
                 bytes.extend_from_slice(&buf[..n]);
             }
-            let mut dec = DeviceDecoder::new();
-            let got: Vec<_> = bytes.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+            let mut dec = CommandDecoder::new();
+            let got: Vec<_> = bytes.iter().flat_map(|&b| feed_byte(&mut dec, b)).collect();
             let want: Vec<_> = items.iter().map(|(c, _)| Ok(*c)).collect();
             prop_assert_eq!(got, want);
             Ok(())

@@ -1,11 +1,10 @@
-//! The free encoders of the `pc` and `device` modules and the decoders' `idle`: the bytes
+//! The free encoders (`encode_command`, `encode_ack`, ...) and the decoders' `finish`: the bytes
 //! each writes and the events each delivers, as their callers (the desk tool, the sensor box)
 //! rely on them.
 
-use aok_proto::pc::Expect;
 use aok_proto::{
-    Ack, ActionWord, Command, DeviceDecoder, Error, FirmwareVersion, Message, ParameterValue,
-    PcDecoder, Waypoint, WaypointSlot, device, pc,
+    Ack, ActionWord, Command, CommandDecoder, Decode, Error, Expect, FirmwareVersion, Message,
+    MessageDecoder, ParameterValue, Waypoint, WaypointSlot,
 };
 
 #[test]
@@ -15,18 +14,18 @@ fn pc_encode_writes_the_commands_bytes() {
         number: 12,
         value: 1500,
     });
-    let n = pc::encode(&set, &mut buf).unwrap();
+    let n = aok_proto::encode_command(&set, &mut buf).unwrap();
     assert_eq!(&buf[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
-    let n = pc::encode(&Command::DebugOff, &mut buf).unwrap();
-    assert_eq!(&buf[..n], &pc::DEBUG_OFF);
-    assert_eq!(pc::DEBUG_OFF, [0x63, 0x01]);
+    let n = aok_proto::encode_command(&Command::DebugOff, &mut buf).unwrap();
+    assert_eq!(&buf[..n], &aok_proto::DEBUG_OFF);
+    assert_eq!(aok_proto::DEBUG_OFF, [0x63, 0x01]);
 }
 
 #[test]
 fn device_encode_ack_writes_its_letter() {
     for (ack, letter) in [(Ack::Ok, b'O'), (Ack::Error, b'E'), (Ack::InFlight, b'I')] {
         let mut buf = [0u8; 4];
-        assert_eq!(device::encode_ack(ack, &mut buf), Ok(1));
+        assert_eq!(aok_proto::encode_ack(ack, &mut buf), Ok(1));
         assert_eq!(buf, [letter, 0, 0, 0]);
     }
 }
@@ -41,37 +40,38 @@ fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
         action2: ActionWord::NONE,
     };
     let mut buf = [0u8; 19];
-    assert_eq!(device::encode_waypoint(&w, &mut buf), Ok(19));
+    assert_eq!(aok_proto::encode_waypoint(&w, &mut buf), Ok(19));
     assert_eq!(&buf[..2], &[0x77, 0xff]);
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();
     dec.feed(&buf, |ev| got.push(ev));
     assert_eq!(got, [Ok(Message::Waypoint(w))]);
 }
 
 #[test]
-fn device_idle_gives_up_a_cut_command_and_rescans_what_it_hid() {
-    let mut dec = DeviceDecoder::new();
+fn device_finish_gives_up_a_cut_command_and_rescans_what_it_hid() {
+    let mut dec = CommandDecoder::new();
     // 73 (set parameter) waits for 6 more bytes; the line goes quiet after two.
     dec.feed(&[0x73, 0x63, 0x02], |_| {
         panic!("no event before the line is quiet")
     });
     let mut got = Vec::new();
-    dec.idle(|ev| got.push(ev));
+    dec.finish(|ev| got.push(ev));
     assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
     assert_eq!(dec.stats().abandoned, 1);
     assert_eq!(dec.held_bytes(), 0);
 }
 
 #[test]
-fn pc_idle_gives_up_a_cut_debug_frame_and_finds_the_ack_inside() {
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+fn pc_finish_gives_up_a_cut_debug_frame_and_finds_the_ack_inside() {
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Ack);
-    for b in [0x1c, 0x56, b'O'] {
-        assert_eq!(dec.push(b), None);
-    }
     let mut got = Vec::new();
-    dec.idle(|ev| got.push(ev));
+    for b in [0x1c, 0x56, b'O'] {
+        dec.feed(&[b], |ev| got.push(ev));
+    }
+    assert_eq!(got, []);
+    dec.finish(|ev| got.push(ev));
     assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
     assert_eq!(dec.held_bytes(), 0);
 }

@@ -2,14 +2,22 @@
 
 #[path = "support/events.rs"]
 mod events;
-use events::{idle_all, push_all};
+use events::{feed_byte, finish_all};
 
-use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
-    Ack, Action, ActionWord, Command, DebugValue, DeviceDecoder, Error, ExternalControl,
+    Ack, Action, ActionWord, Command, CommandDecoder, DebugValue, Error, ExternalControl,
     FirmwareVersion, Message, Motor, MotorTest, ParameterValue, ReplyForm, Stick, Waypoint,
     WaypointSlot,
 };
+use aok_proto::{Decode, Event, Expect, MessageDecoder};
+
+/// The item of a pull-form event, if it is one.
+fn found<T>(event: Event<T, aok_proto::Error>) -> Option<T> {
+    match event {
+        Event::Found(item) => Some(item),
+        _ => None,
+    }
+}
 
 fn emit_msg(m: Message, form: ReplyForm) -> Vec<u8> {
     let mut buf = [0u8; 19];
@@ -65,25 +73,25 @@ impl Script {
         self.messages.push(m);
         self
     }
-    /// Feed everything (messages only), handing the decoder over (cloned, with events not yet
-    /// polled) at `split`.
+    /// Feed everything (messages only), handing the decoder over (cloned, with events the pull
+    /// form has not handed out yet) at `split`.
     fn run(&self, fw: FirmwareVersion, split: usize) -> Vec<Message> {
-        let mut dec = PcDecoder::new(fw);
+        let mut dec = MessageDecoder::new(fw);
         let mut out = Vec::new();
         for (i, &b) in self.bytes.iter().enumerate() {
             for (_, e) in self.expects.iter().filter(|(at, _)| *at == i) {
                 dec.expect(*e);
             }
             if i + 1 == split {
-                // Take the first event, move the decoder, poll the rest from the copy.
-                out.extend(dec.push(b).and_then(Result::ok));
+                // Take the first event, move the decoder, take the rest from the copy.
+                out.extend(dec.decode(&[b]).1.and_then(found));
                 let mut moved = dec.clone();
-                while let Some(ev) = moved.poll() {
-                    out.extend(ev.ok());
+                while let (_, Some(ev)) = moved.decode(&[]) {
+                    out.extend(found(ev));
                 }
                 dec = moved;
             } else {
-                out.extend(push_all(&mut dec, b).into_iter().filter_map(Result::ok));
+                out.extend(feed_byte(&mut dec, b).into_iter().filter_map(Result::ok));
             }
         }
         out
@@ -154,19 +162,22 @@ fn headerless_ambiguity_prefers_the_reply() {
     // Pinned decision: with a <= 0.30 read pending, a 1C whose next four bytes satisfy the reply
     // checksum is the reply, even if two more bytes would have made a valid debug frame.
     // Debug 1C 00 00 00 00 1C ?? has reply-CRC 1C^0^0^0 = 1C at position 4.
-    let mut dec = PcDecoder::new(FirmwareVersion::new(0, 30));
+    let mut dec = MessageDecoder::new(FirmwareVersion::new(0, 30));
     dec.expect(Expect::Parameter(5));
     let got: Vec<_> = [0x1c, 0x00, 0x00, 0x00, 0x1c]
         .iter()
-        .flat_map(|&b| push_all(&mut dec, b))
+        .flat_map(|&b| feed_byte(&mut dec, b))
         .collect();
     assert_eq!(got, vec![Ok(param(5, 0x1c00_0000))]);
 }
 
 #[test]
 fn ack_bytes_are_unknown_without_a_pending_ack() {
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
-    let got: Vec<_> = b"OEI".iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    let got: Vec<_> = b"OEI"
+        .iter()
+        .flat_map(|&b| feed_byte(&mut dec, b))
+        .collect();
     assert!(got.is_empty());
     assert_eq!(dec.stats().unknown_bytes, 3);
 }
@@ -178,9 +189,9 @@ fn pc_corrupted_debug_frame_hides_an_ack() {
     let mut bytes = emit_msg(debug(b'O', 1), ReplyForm::Headed);
     bytes[6] ^= 0x55;
     bytes.extend(emit_msg(debug(86, 9), ReplyForm::Headed));
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Ack);
-    let got: Vec<_> = bytes.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+    let got: Vec<_> = bytes.iter().flat_map(|&b| feed_byte(&mut dec, b)).collect();
     assert_eq!(
         got,
         vec![
@@ -199,13 +210,13 @@ fn pc_corrupted_debug_frame_hides_an_ack() {
 
 #[test]
 fn pc_idle_releases_a_stuck_ack() {
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Ack);
     // Garbage FF starts a 7-byte reply candidate; the ack after it waits inside.
-    assert_eq!(dec.push(0xff), None);
-    assert_eq!(dec.push(b'E'), None);
+    assert_eq!(feed_byte(&mut dec, 0xff), vec![]);
+    assert_eq!(feed_byte(&mut dec, b'E'), vec![]);
     assert_eq!(
-        idle_all(&mut dec),
+        finish_all(&mut dec),
         vec![Err(Error::Truncated), Ok(Message::Ack(Ack::Error))]
     );
     assert_eq!(dec.stats().abandoned, 1);
@@ -268,18 +279,18 @@ fn device_stream_with_garbage_split_everywhere() {
     // Trailing bytes to push the last false starts out.
     bytes.extend_from_slice(&[0u8; 19]);
     for split in 0..=bytes.len() {
-        let mut dec = DeviceDecoder::new();
+        let mut dec = CommandDecoder::new();
         let mut ok = Vec::new();
         for (i, &b) in bytes.iter().enumerate() {
             if i + 1 == split {
-                ok.extend(dec.push(b).and_then(Result::ok));
+                ok.extend(dec.decode(&[b]).1.and_then(found));
                 let mut moved = dec.clone();
-                while let Some(ev) = moved.poll() {
-                    ok.extend(ev.ok());
+                while let (_, Some(ev)) = moved.decode(&[]) {
+                    ok.extend(found(ev));
                 }
                 dec = moved;
             } else {
-                ok.extend(push_all(&mut dec, b).into_iter().filter_map(Result::ok));
+                ok.extend(feed_byte(&mut dec, b).into_iter().filter_map(Result::ok));
             }
         }
         assert_eq!(ok, cmds, "split at {split}");
@@ -290,7 +301,7 @@ fn device_stream_with_garbage_split_everywhere() {
 
 #[test]
 fn device_reports_checksum_errors_and_invalid_fields() {
-    let mut dec = DeviceDecoder::new();
+    let mut dec = CommandDecoder::new();
     // Bad set-parameter checksum, then a read: the read is not lost.
     let mut bad = emit_cmd(Command::SetParameter(ParameterValue {
         number: 1,
@@ -299,7 +310,7 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     bad[6] ^= 1;
     let mut items = Vec::new();
     for &b in bad.iter().chain(&[0x67, 0x05]) {
-        items.extend(push_all(&mut dec, b));
+        items.extend(feed_byte(&mut dec, b));
     }
     let mismatch = Error::ChecksumMismatch {
         id: 0x73,
@@ -312,7 +323,7 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     // rest (0x64) unknown.
     let items: Vec<_> = [0x78, 100, 0x63, 0x02]
         .iter()
-        .flat_map(|&b| push_all(&mut dec, b))
+        .flat_map(|&b| feed_byte(&mut dec, b))
         .collect();
     assert_eq!(
         items,
@@ -321,7 +332,7 @@ fn device_reports_checksum_errors_and_invalid_fields() {
     // External control with roll 201 and a good checksum.
     let mut f = vec![0x53, 201, 0, 0, 0, 0, 0, 0, 0, 0xf4, 0x01];
     f.push(f[1..].iter().fold(0, |a, b| a ^ b));
-    let items: Vec<_> = f.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+    let items: Vec<_> = f.iter().flat_map(|&b| feed_byte(&mut dec, b)).collect();
     assert_eq!(items, vec![Err(Error::StickOutOfRange(201))]);
     assert_eq!(dec.stats().invalid, 2);
     assert_eq!(dec.held_bytes(), 0);
@@ -329,14 +340,14 @@ fn device_reports_checksum_errors_and_invalid_fields() {
 
 #[test]
 fn device_idle_rescans_a_dead_partial_frame() {
-    let mut dec = DeviceDecoder::new();
+    let mut dec = CommandDecoder::new();
     // A stray 77 holds a read request hostage until 19 bytes are in...
     for &b in &[0x77, 0x67, 0x0c] {
-        assert_eq!(dec.push(b), None);
+        assert_eq!(feed_byte(&mut dec, b), vec![]);
     }
     // ...or until the line is idle.
     assert_eq!(
-        idle_all(&mut dec),
+        finish_all(&mut dec),
         vec![Err(Error::Truncated), Ok(Command::ReadParameter(12))]
     );
     assert_eq!(dec.stats().abandoned, 1);
@@ -344,13 +355,13 @@ fn device_idle_rescans_a_dead_partial_frame() {
 
 #[test]
 fn bulk_pending_ends_at_the_sixteenth_reply() {
-    let mut dec = PcDecoder::new(FirmwareVersion::LATEST);
+    let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Bulk(250));
     let mut buf = [0u8; 112];
-    aok_proto::device::encode_bulk(250, &[1; 16], &mut buf).unwrap();
+    aok_proto::encode_bulk(250, &[1; 16], &mut buf).unwrap();
     let mut numbers = Vec::new();
     for (i, &b) in buf.iter().enumerate() {
-        for m in push_all(&mut dec, b) {
+        for m in feed_byte(&mut dec, b) {
             if let Ok(Message::Parameter(p)) = m {
                 numbers.push(p.number);
             }

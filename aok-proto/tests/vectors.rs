@@ -2,14 +2,14 @@
 
 #[path = "support/events.rs"]
 mod events;
-use events::push_all;
+use events::feed_byte;
 
-use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
-    Ack, Action, ActionWord, Command, DebugValue, DeviceDecoder, ExternalControl, FirmwareVersion,
+    Ack, Action, ActionWord, Command, CommandDecoder, DebugValue, ExternalControl, FirmwareVersion,
     Message, Motor, MotorTest, ParameterValue, ReplyForm, Stick, Waypoint, WaypointNumber,
     WaypointSlot,
 };
+use aok_proto::{Expect, MessageDecoder};
 
 const VECTORS: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -140,9 +140,9 @@ fn to_device_vectors_encode_and_decode() {
             "{name}: parse"
         );
         // Byte-at-a-time device decoder: exactly one item, on the last byte.
-        let mut dec = DeviceDecoder::new();
+        let mut dec = CommandDecoder::new();
         for (i, &b) in bytes.iter().enumerate() {
-            let items: Vec<_> = push_all(&mut dec, b);
+            let items: Vec<_> = feed_byte(&mut dec, b);
             if i + 1 < bytes.len() {
                 assert!(items.is_empty(), "{name}: early item at byte {i}");
             } else {
@@ -163,11 +163,11 @@ fn from_device_vectors_encode_and_decode() {
         let mut buf = [0u8; 19];
         let n = msg.emit(fw.reply_form(), &mut buf).unwrap();
         assert_eq!(&buf[..n], &bytes[..], "{name}: encoding");
-        let mut dec = PcDecoder::new(fw);
+        let mut dec = MessageDecoder::new(fw);
         dec.expect(expect);
         let mut got = Vec::new();
         for (i, &b) in bytes.iter().enumerate() {
-            let items: Vec<_> = push_all(&mut dec, b);
+            let items: Vec<_> = feed_byte(&mut dec, b);
             assert!(i + 1 == bytes.len() || items.is_empty(), "{name}: early");
             got.extend(items);
         }
@@ -179,8 +179,8 @@ fn from_device_vectors_encode_and_decode() {
 #[test]
 fn headerless_reply_is_not_a_message_without_a_pending_read() {
     let bytes = unhex("000005dcd9");
-    let mut dec = PcDecoder::new(FirmwareVersion::new(0, 30));
-    let got: Vec<_> = bytes.iter().flat_map(|&b| push_all(&mut dec, b)).collect();
+    let mut dec = MessageDecoder::new(FirmwareVersion::new(0, 30));
+    let got: Vec<_> = bytes.iter().flat_map(|&b| feed_byte(&mut dec, b)).collect();
     assert!(got.is_empty());
     assert_eq!(dec.stats().unknown_bytes, 5);
 }

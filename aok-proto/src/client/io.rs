@@ -65,7 +65,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     pub(super) fn flush_decoder(&mut self, now_ms: u32) {
-        while let Some(ev) = self.decoder.idle_next() {
+        while let Some(ev) = self.decoder.quiet_next() {
             if let Ok(m) = ev {
                 self.handle(m);
             }

@@ -14,10 +14,11 @@ mod requests;
 
 use embedded_hal_nb::serial::{Read, Write};
 
+use crate::command::Expect;
 use crate::command::{Command, MAX_COMMAND_LEN, MotorTest, ParameterValue, Waypoint};
+use crate::decoder::{MessageDecoder, Stats};
+use crate::encode::{DEBUG_OFF, DEBUG_ON};
 use crate::message::{DebugValue, Message};
-use crate::pc::{DEBUG_OFF, DEBUG_ON, Expect, PcDecoder};
-use crate::stats::Stats;
 use crate::values::{Ack, FirmwareVersion, WaypointSlot};
 use crate::{Error, SerialError};
 
@@ -144,7 +145,7 @@ enum Phase {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Client<S> {
     serial: S,
-    decoder: PcDecoder,
+    decoder: MessageDecoder,
     config: Config,
     debug_on: bool,
     phase: Phase,
@@ -183,7 +184,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     pub fn new(serial: S, config: Config) -> Self {
         Self {
             serial,
-            decoder: PcDecoder::new(config.firmware),
+            decoder: MessageDecoder::new(config.firmware),
             config,
             debug_on: config.debug_on,
             phase: Phase::Idle,

@@ -1,11 +1,12 @@
 //! Decoder counters (MAVLink style, wrapping), the same for both decoders.
 
-/// What a decoder ([`crate::PcDecoder`] or [`crate::DeviceDecoder`]) has seen. Every counter
+/// What a decoder ([`crate::MessageDecoder`] or [`crate::CommandDecoder`]) has seen. Every counter
 /// wraps. The names shared with the other protocol crates (`frames_ok`, `checksum_errors`,
 /// `bytes_discarded`) mean the same there; see `docs/architecture.md`.
 ///
 /// ```
-/// let mut dec = aok_proto::DeviceDecoder::new();
+/// use aok_proto::{CommandDecoder, Decode};
+/// let mut dec = CommandDecoder::new();
 /// dec.feed(&[0x00, 0x67, 0x0c], |_| {});
 /// assert_eq!(dec.stats().frames_ok, 1);
 /// assert_eq!(dec.stats().unknown_bytes, 1);
@@ -23,7 +24,7 @@ pub struct Stats {
     /// Frames with a good checksum but an out-of-range field (slot, stick); only their first
     /// byte is dropped (and counted in `bytes_discarded`), the rest rescanned.
     pub invalid: u32,
-    /// Partial frames abandoned by `idle` (the line went quiet mid-frame).
+    /// Partial frames given up by `finish` (the line went quiet mid-frame).
     pub abandoned: u32,
     /// Bytes thrown away: unknown bytes, false starts and abandoned starts.
     pub bytes_discarded: u32,

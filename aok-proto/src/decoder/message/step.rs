@@ -1,15 +1,16 @@
-//! The step: every rule of the PC's decoder, once (a frame's length from its first byte, the
+//! The step: every rule of the message decoder, once (a frame's length from its first byte, the
 //! headerless reply, acks, the checksum, what is dropped after a failure), applied to a window
 //! of bytes.
 
 use super::*;
 use crate::checked_value;
-use crate::message::DebugValue;
-use crate::step::Step;
+use crate::command::ParameterValue;
+use crate::decoder::Step;
+use crate::message::{DebugValue, HEADERLESS_REPLY_LEN};
 
 /// The rules, applied to the bytes at the front of `window` (the first byte not decided on
-/// yet comes first). `push`, `poll`, `idle` run it over the buffer, `feed` over the input
-/// itself: every path decides through this function. The decoder's fields it reads and
+/// yet comes first). The byte-by-byte path and the end of the stream run it over the buffer,
+/// the slice path over the input itself: every path decides through this function. The decoder's fields it reads and
 /// updates are passed apart from its buffer, which may be the window.
 ///
 /// - While a headerless (<= 0.30) reply is pending, any byte may start one; a `1C` whose
@@ -131,35 +132,35 @@ fn settle(expect: &mut Expect, message: &Message) {
     };
 }
 
-impl PcDecoder {
+impl MessageDecoder {
     /// Runs the step over the buffer until it gives an event or needs more bytes. With
-    /// `flush` (the line went quiet), an undecided front is given up: its first byte is
-    /// dropped and reported as [`Error::Truncated`].
+    /// `quiet` (the line went quiet: the end of the stream), an undecided front is given up:
+    /// its first byte is dropped and reported as [`Error::Truncated`].
     #[inline]
-    pub(super) fn step(&mut self, flush: bool) -> Option<Result<Message, Error>> {
-        if self.len == 0 {
+    pub(super) fn step(&mut self, quiet: bool) -> Option<Result<Message, Error>> {
+        if self.held.len == 0 {
             // Nothing held: nothing to decide (the usual last call to `poll`).
             return None;
         }
-        if !flush {
+        if !quiet {
             // The step's last answer: a frame still short of its known length stays
             // undecided until the line goes quiet.
-            if self.len < self.need {
+            if self.held.len < self.held.need {
                 return None;
             }
             // A lone first byte of a self-describing frame: only its length is known (the
             // rule `judge` applies, asked here without the call). Not while a headerless
             // reply is pending: then any byte may start one.
-            if self.len == 1 && !self.headerless_pending() {
-                let first = self.buf.first().copied().unwrap_or(0);
+            if self.held.len == 1 && !self.headerless_pending() {
+                let first = self.held.buf.first().copied().unwrap_or(0);
                 let need = frame_len(first, self.expect).unwrap_or(0);
                 if need > 1 {
-                    self.need = need;
+                    self.held.need = need;
                     return None;
                 }
             }
         }
-        self.step_slow(flush)
+        self.step_slow(quiet)
     }
 
     /// Whether a headerless (<= 0.30) parameter reply is pending: then any byte may start one.
@@ -168,10 +169,10 @@ impl PcDecoder {
         matches!(self.expect, Expect::Parameter(_)) && self.form == ReplyForm::Headerless
     }
 
-    fn step_slow(&mut self, flush: bool) -> Option<Result<Message, Error>> {
+    fn step_slow(&mut self, quiet: bool) -> Option<Result<Message, Error>> {
         loop {
             let mut event = None;
-            let window = self.buf.get(..self.len).unwrap_or(&self.buf);
+            let window = self.held.window();
             if window.is_empty() {
                 return None;
             }
@@ -185,18 +186,17 @@ impl PcDecoder {
             );
             match step {
                 Step::Need(need) => {
-                    if flush {
+                    if quiet {
                         self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
                         self.drop_front();
                         return Some(Err(Error::Truncated));
                     }
-                    self.need = need;
+                    self.held.need = need;
                     return None;
                 }
                 Step::Used(used) => {
-                    self.need = 0;
                     self.front_not_reply = false;
-                    self.len = shift_left(&mut self.buf, self.len, used);
+                    self.held.consume(used);
                     if event.is_some() {
                         return event;
                     }
@@ -206,20 +206,9 @@ impl PcDecoder {
     }
 
     pub(super) fn drop_front(&mut self) {
-        self.need = 0;
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-        self.len = shift_left(&mut self.buf, self.len, 1);
+        self.held.consume(1);
         self.front_not_reply = false;
-    }
-
-    /// Keeps `bytes`, which the step left undecided until it holds `need` bytes, for the next
-    /// call (the slice path ends with them).
-    pub(super) fn hold(&mut self, bytes: &[u8], need: usize) {
-        if let Some(dst) = self.buf.get_mut(..bytes.len()) {
-            dst.copy_from_slice(bytes);
-            self.len = bytes.len();
-            self.need = need;
-        }
     }
 
     /// Runs the step over `bytes` itself (nothing is held), handing every event to
@@ -244,7 +233,7 @@ impl PcDecoder {
             );
             match step {
                 Step::Need(need) => {
-                    self.hold(rest, need);
+                    self.held.keep(rest, need);
                     return bytes.len();
                 }
                 Step::Used(used) => {

@@ -1,17 +1,18 @@
-//! The step: every rule of the device's decoder, once (a command's length from its first
+//! The step: every rule of the command decoder, once (a command's length from its first
 //! bytes, the checksum, what is dropped after a failure), applied to a window of bytes.
 
 use super::*;
 use crate::checked_value;
-use crate::command::{MotorTest, SET_PARAMETER};
+use crate::command::{Len, MotorTest, ParameterValue, SET_PARAMETER, command_len};
+use crate::decoder::Step;
 use crate::layout::{motor_test as motor, set_parameter as set};
-use crate::step::Step;
 use crate::values::Motor;
 
-impl DeviceDecoder {
+impl CommandDecoder {
     /// The rules, applied to the bytes at the front of `window` (the first byte not decided on
-    /// yet comes first). `push`, `poll`, `idle` run it over the buffer, `feed` over the input
-    /// itself: every path decides through this function.
+    /// yet comes first). The byte-by-byte path and the end of the stream run it over the
+    /// buffer, the slice path over the input itself: every path decides through this
+    /// function.
     ///
     /// - A byte that starts no command is unknown: counted and dropped.
     /// - A command's length follows from its first byte (its first two for `63`).
@@ -88,57 +89,64 @@ impl DeviceDecoder {
     }
 
     /// Runs the step over the buffer until it gives an event or needs more bytes. With
-    /// `flush` (the line went quiet), an undecided front is given up: its first byte is
-    /// dropped and reported as [`Error::Truncated`].
+    /// `quiet` (the line went quiet: the end of the stream), an undecided front is given up:
+    /// its first byte is dropped and reported as [`Error::Truncated`].
     #[inline]
-    pub(super) fn step(&mut self, flush: bool) -> Option<Result<Command, Error>> {
-        if self.len == 0 {
+    pub(super) fn step(&mut self, quiet: bool) -> Option<Result<Command, Error>> {
+        if self.held.len == 0 {
             // Nothing held: nothing to decide (the usual last call to `poll`).
             return None;
         }
-        if !flush {
+        if !quiet {
             // The step's last answer: a frame still short of its known length stays
             // undecided until the line goes quiet.
-            if self.len < self.need {
+            if self.held.len < self.held.need {
                 return None;
             }
-            // A lone first byte: only its length is known (the rule `judge` applies, asked
-            // here without the call).
-            if self.len == 1 {
-                let need = match self.buf.first().map(|&b| command_len(b, None)) {
-                    Some(Len::Is(n)) if n > 1 => n,
-                    Some(Len::More) => 2,
-                    _ => 0,
-                };
-                if need != 0 {
-                    self.need = need;
-                    return None;
-                }
+            if self.lone_first_byte() {
+                return None;
             }
         }
-        self.step_slow(flush)
+        self.step_slow(quiet)
     }
 
-    fn step_slow(&mut self, flush: bool) -> Option<Result<Command, Error>> {
+    /// A lone first byte: only its length is known (the rule `judge` applies, asked here
+    /// without the call). True if it waits for more bytes (then `need` is set).
+    #[inline(always)]
+    fn lone_first_byte(&mut self) -> bool {
+        if self.held.len != 1 {
+            return false;
+        }
+        let need = match self.held.buf.first().map(|&b| command_len(b, None)) {
+            Some(Len::Is(n)) if n > 1 => n,
+            Some(Len::More) => 2,
+            _ => 0,
+        };
+        if need != 0 {
+            self.held.need = need;
+        }
+        need != 0
+    }
+
+    fn step_slow(&mut self, quiet: bool) -> Option<Result<Command, Error>> {
         loop {
             let mut event = None;
-            let window = self.buf.get(..self.len).unwrap_or(&self.buf);
+            let window = self.held.window();
             if window.is_empty() {
                 return None;
             }
             match Self::judge(&mut self.stats, window, &mut |e| event = Some(e)) {
                 Step::Need(need) => {
-                    if flush {
+                    if quiet {
                         self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
                         self.drop_front();
                         return Some(Err(Error::Truncated));
                     }
-                    self.need = need;
+                    self.held.need = need;
                     return None;
                 }
                 Step::Used(used) => {
-                    self.need = 0;
-                    self.len = shift_left(&mut self.buf, self.len, used);
+                    self.held.consume(used);
                     if event.is_some() {
                         return event;
                     }
@@ -148,18 +156,7 @@ impl DeviceDecoder {
     }
 
     pub(super) fn drop_front(&mut self) {
-        self.need = 0;
         self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-        self.len = shift_left(&mut self.buf, self.len, 1);
-    }
-
-    /// Keeps `bytes`, which the step left undecided until it holds `need` bytes, for the next
-    /// call (the slice path ends with them).
-    pub(super) fn hold(&mut self, bytes: &[u8], need: usize) {
-        if let Some(dst) = self.buf.get_mut(..bytes.len()) {
-            dst.copy_from_slice(bytes);
-            self.len = bytes.len();
-            self.need = need;
-        }
+        self.held.consume(1);
     }
 }

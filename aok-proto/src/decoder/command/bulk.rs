@@ -1,0 +1,206 @@
+//! The slice path and the contract: [`CommandDecoder`]'s [`Decode`] implementation. `feed`
+//! and `decode` run the step over the input itself while nothing is held.
+
+use frame_io::{Decode, Event};
+
+use super::*;
+use crate::decoder::{Step, end, event};
+
+/// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
+/// quiet; `decode`, `end` and `item` are the pull form, for a caller that must act between
+/// two commands (the readers of `embedded_io`, a firmware checking its TX room). A found
+/// command is the [`Command`] itself.
+///
+/// `feed` is the bulk path: it gives exactly the events of feeding the bytes one at a time
+/// (same events in the same order, same counters, same bytes held: the same step decides),
+/// but while the decoder holds nothing the step runs on `bytes` itself, without copying, and
+/// a false start's rescan is simply the next position in `bytes`. Bytes held from an earlier
+/// call go through the byte-by-byte path, and so does a one-byte slice (an interrupt
+/// handler's); a command cut by the end of the slice (at most 18 bytes) is copied into the
+/// buffer.
+///
+/// ```
+/// use aok_proto::{Command, CommandDecoder, Decode, Error, Event};
+/// let mut dec = CommandDecoder::new();
+/// let mut got = Vec::new();
+/// // Noise, a motor-test start whose checksum fails, a read, and half a read.
+/// dec.feed(&[0x00, 0x31, 0x67, 0x0c, 0x67], |event| got.push(event));
+/// let mismatch = Error::ChecksumMismatch { id: 0x31, computed: 0x56, received: 0x0c };
+/// assert_eq!(got, [Err(mismatch), Ok(Command::ReadParameter(12))]);
+/// assert_eq!(dec.held_bytes(), 1);
+/// dec.feed(&[0x0d], |event| got.push(event));
+/// assert_eq!(got[2], Ok(Command::ReadParameter(13)));
+/// assert_eq!(dec.stats().unknown_bytes, 1);
+///
+/// // The pull form: up to the first event, then the end of the stream.
+/// assert_eq!(dec.decode(&[0x67, 0x0c, 0x31]), (2, Some(Event::Found(Command::ReadParameter(12)))));
+/// assert_eq!(dec.decode(&[0x31]), (1, None));
+/// assert_eq!(dec.end(true), Some(Event::Truncated(1)));
+/// assert_eq!(dec.end(false), None);
+/// ```
+impl Decode for CommandDecoder {
+    type Error = Error;
+    type Found = Command;
+    type Item<'a> = Command;
+    const TRUNCATED: Error = Error::Truncated;
+
+    /// Decodes `bytes` up to and including the first command or error, with the bulk path
+    /// of `feed`; events a rescan left queued come first. Calling it until it finds nothing
+    /// in an empty slice gives exactly the events of `feed`.
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode, Event};
+    /// let mut dec = CommandDecoder::new();
+    /// // Two reads of parameters 12 and 13.
+    /// let (n, event) = dec.decode(&[0x67, 0x0c, 0x67, 0x0d]);
+    /// assert_eq!((n, event), (2, Some(Event::Found(Command::ReadParameter(12)))));
+    /// let (m, event) = dec.decode(&[0x67, 0x0d]);
+    /// assert_eq!((m, event), (2, Some(Event::Found(Command::ReadParameter(13)))));
+    /// assert_eq!(dec.decode(&[]), (0, None));
+    /// ```
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Command, Error>>) {
+        let total = bytes.len();
+        if let Some(item) = self.poll() {
+            return (0, event(Some(item)));
+        }
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return (total, None);
+            };
+            rest = after;
+            if let Some(item) = self.push(byte) {
+                return (total.saturating_sub(rest.len()), event(Some(item)));
+            }
+        }
+        // Nothing held: the step runs on the input itself.
+        let mut found = None;
+        while !rest.is_empty() {
+            match Self::judge(&mut self.stats, rest, &mut |e| found = Some(e)) {
+                Step::Need(need) => {
+                    self.held.keep(rest, need);
+                    break;
+                }
+                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
+            }
+            if found.is_some() {
+                return (total.saturating_sub(rest.len()), event(found));
+            }
+        }
+        (total, None)
+    }
+
+    /// The end of the stream, one event a call: first the bytes held, as
+    /// [`Event::Truncated`]; then the commands and errors the rescan of those bytes finds.
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode, Event};
+    /// let mut dec = CommandDecoder::new();
+    /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
+    /// assert_eq!(dec.end(true), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(false), Some(Event::Found(Command::DebugOn)));
+    /// assert_eq!(dec.end(false), None);
+    /// ```
+    fn end(&mut self, first: bool) -> Option<Event<Command, Error>> {
+        end(first, self.held.len, || self.step(true))
+    }
+
+    /// The command itself.
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode};
+    /// assert_eq!(CommandDecoder::new().item(&[], Command::DebugOn), Command::DebugOn);
+    /// ```
+    #[inline]
+    fn item<'a>(&'a self, _input: &'a [u8], found: Command) -> Command {
+        found
+    }
+
+    /// Feeds a slice and hands every event to `on_event`, in order (the bulk path).
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode};
+    /// let mut dec = CommandDecoder::new();
+    /// let mut got = Vec::new();
+    /// dec.feed(&[0x63, 0x01, 0x63], |event| got.push(event));
+    /// dec.feed(&[0x02], |event| got.push(event)); // one byte at a time works the same
+    /// assert_eq!(got, [Ok(Command::DebugOff), Ok(Command::DebugOn)]);
+    /// ```
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        if let [byte] = *bytes {
+            return self.feed_byte(byte, on_event);
+        }
+        self.feed_slice(bytes, on_event);
+    }
+
+    /// The line went quiet: the partial command at the front is given up (its first byte is
+    /// dropped, counted as abandoned and reported as `Err(Error::Truncated)`) and what
+    /// followed it rescanned, until nothing is held; every event goes to `on_event`.
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode, Error};
+    /// let mut dec = CommandDecoder::new();
+    /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
+    /// let mut got = Vec::new();
+    /// dec.finish(|event| got.push(event));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
+    /// assert_eq!(dec.stats().abandoned, 1);
+    /// assert_eq!(dec.held_bytes(), 0);
+    /// ```
+    fn finish<F>(&mut self, mut on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        while let Some(item) = self.step(true) {
+            on_event(item);
+        }
+    }
+}
+
+impl CommandDecoder {
+    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
+    #[inline]
+    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        let mut event = self.push(byte);
+        while let Some(item) = event {
+            on_event(item);
+            event = self.poll();
+        }
+    }
+
+    /// `feed` for a slice of any length: the bulk path.
+    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Command, Error>),
+    {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            let mut event = self.push(byte);
+            while let Some(item) = event {
+                on_event(item);
+                event = self.poll();
+            }
+        }
+        // Nothing held: the step runs on the input itself.
+        while !rest.is_empty() {
+            match Self::judge(&mut self.stats, rest, &mut on_event) {
+                Step::Need(need) => return self.held.keep(rest, need),
+                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
+            }
+        }
+    }
+}

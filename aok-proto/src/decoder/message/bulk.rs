@@ -1,0 +1,215 @@
+//! The slice path and the contract: [`MessageDecoder`]'s [`Decode`] implementation. `feed`
+//! and `decode` run the step over the input itself while nothing is held.
+
+use frame_io::{Decode, Event};
+
+use super::*;
+use crate::decoder::{end, event};
+
+/// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
+/// quiet; `decode`, `end` and `item` are the pull form, for a caller that must act between
+/// two messages (the readers of `embedded_io`). A found message is the [`Message`] itself.
+///
+/// `feed` is the bulk path: it gives exactly the events of feeding the bytes one at a time
+/// (same events in the same order, same counters, same pending request, same bytes held: the
+/// same step decides), but while the decoder holds nothing the step runs on `bytes` itself,
+/// without copying, and a false start's rescan is simply the next position in `bytes`. Bytes
+/// held from an earlier call go through the byte-by-byte path, and so does a one-byte slice;
+/// a frame cut by the end of the slice (at most 18 bytes) is copied into the buffer.
+///
+/// ```
+/// use aok_proto::{Ack, DebugValue, Decode, Event, Expect, FirmwareVersion, Message, MessageDecoder};
+/// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+/// dec.expect(Expect::Ack);
+/// let mut got = Vec::new();
+/// // A debug frame, the ack, and the first half of the next debug frame.
+/// dec.feed(&[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, b'O', 0x1c, 0x56], |event| got.push(event));
+/// assert_eq!(got, [
+///     Ok(Message::Debug(DebugValue { number: 86, value: -2 })),
+///     Ok(Message::Ack(Ack::Ok)),
+/// ]);
+/// assert_eq!(dec.expecting(), Expect::Nothing);
+/// assert_eq!(dec.held_bytes(), 2);
+/// dec.feed(&[0, 0, 0, 1, 0x57], |event| got.push(event));
+/// assert_eq!(got[2], Ok(Message::Debug(DebugValue { number: 86, value: 1 })));
+///
+/// // The pull form: up to the first event, then the end of the stream.
+/// let wire = [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x1c];
+/// let debug = Message::Debug(DebugValue { number: 86, value: -2 });
+/// assert_eq!(dec.decode(&wire), (7, Some(Event::Found(debug))));
+/// assert_eq!(dec.decode(&wire[7..]), (1, None));
+/// assert_eq!(dec.end(true), Some(Event::Truncated(1)));
+/// assert_eq!(dec.end(false), None);
+/// ```
+impl Decode for MessageDecoder {
+    type Error = Error;
+    type Found = Message;
+    type Item<'a> = Message;
+    const TRUNCATED: Error = Error::Truncated;
+
+    /// Decodes `bytes` up to and including the first message or error, with the bulk path of
+    /// `feed`; events a rescan left queued come first. Calling it until it finds nothing in
+    /// an empty slice gives exactly the events of `feed`.
+    ///
+    /// ```
+    /// use aok_proto::{DebugValue, Decode, Event, FirmwareVersion, Message, MessageDecoder};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// let two = [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57, 0x1c, 0x56, 0, 0, 0, 1, 0x57];
+    /// let (n, event) = dec.decode(&two);
+    /// assert_eq!((n, event), (7, Some(Event::Found(Message::Debug(DebugValue { number: 86, value: -2 })))));
+    /// let (m, event) = dec.decode(&two[n..]);
+    /// assert_eq!((m, event), (7, Some(Event::Found(Message::Debug(DebugValue { number: 86, value: 1 })))));
+    /// assert_eq!(dec.decode(&[]), (0, None));
+    /// ```
+    fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Message, Error>>) {
+        let total = bytes.len();
+        // Only after an event out of the buffer: a drained decoder is not asked again, since
+        // a pending request changed since (`expect`) could decide its held bytes otherwise
+        // than the next byte will.
+        if self.unpolled {
+            if let Some(item) = self.poll() {
+                return (0, event(Some(item)));
+            }
+            self.unpolled = false;
+        }
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return (total, None);
+            };
+            rest = after;
+            if let Some(item) = self.push(byte) {
+                self.unpolled = true;
+                return (total.saturating_sub(rest.len()), event(Some(item)));
+            }
+        }
+        let mut found = None;
+        let used = self.judge_in_place(rest, |item| {
+            found = Some(item);
+            true
+        });
+        (
+            total.saturating_sub(rest.len()).saturating_add(used),
+            event(found),
+        )
+    }
+
+    /// The end of the stream, one event a call: first the bytes held, as
+    /// [`Event::Truncated`]; then the messages and errors the rescan of those bytes finds.
+    ///
+    /// ```
+    /// use aok_proto::{Ack, Decode, Event, Expect, FirmwareVersion, Message, MessageDecoder};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// dec.feed(&[0x1c, 0x56, b'O'], |_| {}); // the ack inside a debug frame cut short
+    /// assert_eq!(dec.end(true), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(false), Some(Event::Found(Message::Ack(Ack::Ok))));
+    /// assert_eq!(dec.end(false), None);
+    /// ```
+    fn end(&mut self, first: bool) -> Option<Event<Message, Error>> {
+        self.unpolled = false;
+        end(first, self.held.len, || self.quiet_next())
+    }
+
+    /// The message itself.
+    ///
+    /// ```
+    /// use aok_proto::{Ack, Decode, FirmwareVersion, Message, MessageDecoder};
+    /// let dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// assert_eq!(dec.item(&[], Message::Ack(Ack::Ok)), Message::Ack(Ack::Ok));
+    /// ```
+    #[inline]
+    fn item<'a>(&'a self, _input: &'a [u8], found: Message) -> Message {
+        found
+    }
+
+    /// Feeds a slice and hands every event (messages and failures) to `on_event`, in order
+    /// (the bulk path).
+    ///
+    /// ```
+    /// use aok_proto::{Ack, Decode, Expect, FirmwareVersion, Message, MessageDecoder};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// let mut got = Vec::new();
+    /// dec.feed(b"O", |event| got.push(event));
+    /// assert_eq!(got, [Ok(Message::Ack(Ack::Ok))]);
+    /// ```
+    #[inline]
+    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        if let [byte] = *bytes {
+            return self.feed_byte(byte, on_event);
+        }
+        self.feed_slice(bytes, on_event);
+    }
+
+    /// The line went quiet: the partial frame at the front is given up (its first byte is
+    /// dropped, counted as abandoned and reported as `Err(Error::Truncated)`) and what
+    /// followed it rescanned, until nothing is held; every event goes to `on_event`.
+    ///
+    /// ```
+    /// use aok_proto::{Ack, Decode, Error, Expect, FirmwareVersion, Message, MessageDecoder};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// // A debug frame cut short, then the ack: the ack is inside the debug candidate...
+    /// let mut got = Vec::new();
+    /// dec.feed(&[0x1c, 0x56, b'O'], |event| got.push(event));
+    /// assert!(got.is_empty());
+    /// // ...until the line goes quiet.
+    /// dec.finish(|event| got.push(event));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
+    /// ```
+    fn finish<F>(&mut self, mut on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        self.unpolled = false;
+        while let Some(item) = self.quiet_next() {
+            on_event(item);
+        }
+    }
+}
+
+impl MessageDecoder {
+    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
+    #[inline]
+    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        let mut event = self.push(byte);
+        while let Some(item) = event {
+            on_event(item);
+            event = self.poll();
+        }
+    }
+
+    /// `feed` for a slice of any length: the bulk path.
+    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
+    where
+        F: FnMut(Result<Message, Error>),
+    {
+        let mut rest = bytes;
+        // Bytes held from an earlier call: byte by byte until the buffer is empty.
+        while self.held.len != 0 {
+            let Some((&byte, after)) = rest.split_first() else {
+                return;
+            };
+            rest = after;
+            let mut event = self.push(byte);
+            while let Some(item) = event {
+                on_event(item);
+                event = self.poll();
+            }
+        }
+        // Nothing held: the step runs on the input itself.
+        self.judge_in_place(rest, |item| {
+            on_event(item);
+            false
+        });
+    }
+}

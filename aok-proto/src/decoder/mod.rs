@@ -1,0 +1,134 @@
+//! The two decoders, named after what they read, and what they share.
+//!
+//! - [`CommandDecoder`] (`command/`) runs on the device and reads the PC's commands.
+//! - [`MessageDecoder`] (`message/`) runs on the PC and reads the device's messages, knowing
+//!   which request is pending.
+//!
+//! Each implements [`frame_io::Decode`], the contract of every decoder in this workspace:
+//! `feed(bytes, |event| ..)` for every slice of the stream, `finish(|event| ..)` when it ends
+//! (AOK's quiet line), and the pull form (`decode`, `end`, `item`) underneath. In each folder,
+//! `step.rs` holds the rules (one step over a window of bytes, run over the decoder's buffer
+//! byte by byte) and `bulk.rs` the slice fast path (the same step over the input itself) with
+//! the `Decode` implementation. [`Stats`] counts for both.
+
+mod command;
+#[cfg(test)]
+mod liveness;
+mod message;
+mod stats;
+
+use frame_io::Event;
+
+pub use command::CommandDecoder;
+pub use message::MessageDecoder;
+pub use stats::Stats;
+
+use crate::Error;
+use crate::command::MAX_COMMAND_LEN;
+use crate::shift_left;
+
+/// What the rules of a decoder made of the bytes at the front of a window: the decoder's own
+/// buffer (the byte-by-byte path and the end of the stream) or, on the slice path, the input
+/// itself. An event the bytes gave has already been handed to the step's `on_event`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Step {
+    /// Undecided until the window holds this many bytes.
+    Need(usize),
+    /// The front's bytes up to this count are decided on: drop them.
+    Used(usize),
+}
+
+/// The bytes a decoder holds between two calls: a frame waiting for the rest of its bytes,
+/// and any bytes behind it. Both decoders keep it as their first field, so that on 32-bit
+/// targets (`repr(C)`) the buffer's address is the decoder's.
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(target_pointer_width = "32", repr(C))]
+pub(crate) struct Held {
+    pub(crate) buf: [u8; MAX_COMMAND_LEN],
+    pub(crate) len: usize,
+    /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
+    pub(crate) need: usize,
+}
+
+impl Held {
+    /// Nothing held.
+    pub(crate) const EMPTY: Held = Held {
+        buf: [0; MAX_COMMAND_LEN],
+        len: 0,
+        need: 0,
+    };
+
+    /// The bytes held.
+    #[inline(always)]
+    pub(crate) fn window(&self) -> &[u8] {
+        self.buf.get(..self.len).unwrap_or(&self.buf)
+    }
+
+    /// Appends `byte`; returns false if the buffer was full (only when events were left
+    /// undrained, which the contract's loops never do): then the caller drops the front first.
+    #[inline(always)]
+    pub(crate) fn append(&mut self, byte: u8) -> bool {
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = byte;
+            self.len = self.len.wrapping_add(1);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Drops the first `used` bytes held; the length of the new front is not known yet.
+    #[inline(always)]
+    pub(crate) fn consume(&mut self, used: usize) {
+        self.need = 0;
+        self.len = shift_left(&mut self.buf, self.len, used);
+    }
+
+    /// Keeps `bytes`, which the step left undecided until it holds `need` bytes, for the next
+    /// call (the slice path ends with them).
+    #[inline]
+    pub(crate) fn keep(&mut self, bytes: &[u8], need: usize) {
+        if let Some(dst) = self.buf.get_mut(..bytes.len()) {
+            dst.copy_from_slice(bytes);
+            self.len = bytes.len();
+            self.need = need;
+        }
+    }
+
+    /// Forgets every byte held.
+    #[inline]
+    pub(crate) fn clear(&mut self) {
+        self.len = 0;
+        self.need = 0;
+    }
+}
+
+/// The pull form's end of the stream, for either decoder: first the bytes held, as
+/// `Truncated`; then what the quiet line's step finds in them, without the `Truncated` of the
+/// fronts it gives up (the reader has reported the end inside a frame once).
+pub(crate) fn end<T>(
+    first: bool,
+    held: usize,
+    mut quiet_next: impl FnMut() -> Option<Result<T, Error>>,
+) -> Option<Event<T, Error>> {
+    if first && held > 0 {
+        return Some(Event::Truncated(held));
+    }
+    loop {
+        match quiet_next()? {
+            Ok(item) => return Some(Event::Found(item)),
+            Err(Error::Truncated) => {}
+            Err(e) => return Some(Event::Error(e)),
+        }
+    }
+}
+
+/// An event of the byte-by-byte path as the pull form reports it.
+#[inline]
+pub(crate) fn event<T>(found: Option<Result<T, Error>>) -> Option<Event<T, Error>> {
+    Some(match found? {
+        Ok(item) => Event::Found(item),
+        Err(e) => Event::Error(e),
+    })
+}
