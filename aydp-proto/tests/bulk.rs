@@ -62,9 +62,7 @@ fn decode_all<const N: usize>(dec: &mut Decoder<N>, bytes: &[u8], out: &mut Vec<
 
 /// `end` until `None`: the events of the end of the stream.
 fn end_all<const N: usize>(dec: &mut Decoder<N>, out: &mut Vec<Event>) {
-    let mut first = true;
-    while let Some(e) = dec.end(first) {
-        first = false;
+    while let Some(e) = dec.end() {
         out.push(pulled(dec, &[], e));
     }
 }

@@ -76,9 +76,7 @@ fn pulled<const N: usize>(profile: Profile, stream: &[u8]) -> (Vec<Event>, Stats
         queued += 1;
         out.push(take(&d, &[], e));
     }
-    let mut first = true;
-    while let Some(e) = d.end(first) {
-        first = false;
+    while let Some(e) = d.end() {
         out.push(take(&d, &[], e));
     }
     (out, d.stats(), queued)

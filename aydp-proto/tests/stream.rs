@@ -204,9 +204,7 @@ fn one_event_a_call_only_delays_events() {
         take(&dec, rest, e);
         rest = &rest[used..];
     }
-    let mut first = true;
-    while let Some(e) = dec.end(first) {
-        first = false;
+    while let Some(e) = dec.end() {
         take(&dec, &[], e);
     }
     assert_eq!(out, whole);

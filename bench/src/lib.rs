@@ -96,7 +96,7 @@ pub fn aok_debug_stream() -> Vec<u8> {
             number: rng.byte(),
             value: rng.next_u64() as i32,
         };
-        let n = aok_proto::device::encode_debug(v, &mut buf).unwrap();
+        let n = aok_proto::encode_debug(v, &mut buf).unwrap();
         out.extend_from_slice(&buf[..n]);
     }
     out

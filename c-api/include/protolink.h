@@ -210,11 +210,11 @@
 #define PL_AEOLUS_ID_SETTIME 12
 
 // 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-#define PL_AOK_DECODER_WORDS 9
+#define PL_AOK_DECODER_WORDS 10
 
 // Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 // decoder (an upper bound over the supported targets).
-#define PL_AOK_DECODER_SIZE 72
+#define PL_AOK_DECODER_SIZE 80
 
 // Alignment of the AOK decoders in bytes.
 #define PL_AOK_DECODER_ALIGN 8
@@ -393,7 +393,7 @@
 // or tag, a struct's layout, or a function's signature or meaning changes, so a program can
 // compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 is
 // the first with tagged states.
-#define PL_ABI_VERSION 1
+#define PL_ABI_VERSION 2
 
 // State kind: `pl_aeolus_decoder`.
 #define PL_STATE_AEOLUS 1

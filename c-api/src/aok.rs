@@ -2,9 +2,10 @@
 //! `pl_aok_pc_*` reads what the device sends (messages).
 
 use aok_proto::{
-    Ack, ActionWord, Command, DebugValue, DeviceDecoder, Error, ExternalControl, FirmwareVersion,
-    Message, Motor, MotorTest, ParameterValue, PcDecoder, ReplyForm, Stick, Waypoint, WaypointSlot,
-    device, pc,
+    Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, Error, Event, ExternalControl,
+    FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue, ReplyForm, Stick,
+    Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug, encode_parameter,
+    encode_waypoint,
 };
 
 use crate::ffi::{self, pl_error};
@@ -12,10 +13,10 @@ use crate::state::{self, State};
 use crate::*;
 
 /// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-pub const PL_AOK_DECODER_WORDS: usize = 9;
+pub const PL_AOK_DECODER_WORDS: usize = 10;
 /// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 /// decoder (an upper bound over the supported targets).
-pub const PL_AOK_DECODER_SIZE: usize = 72;
+pub const PL_AOK_DECODER_SIZE: usize = 80;
 /// Alignment of the AOK decoders in bytes.
 pub const PL_AOK_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest frame either side sends (a command, or a headed reply).
@@ -37,19 +38,19 @@ pub struct pl_aok_pc_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_device_decoder {
-    type Inner = DeviceDecoder;
+    type Inner = CommandDecoder;
     const KIND: u32 = state::PL_STATE_AOK_DEVICE;
 }
 const _: () = assert!(state::fits::<pl_aok_device_decoder>());
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_pc_decoder {
-    type Inner = PcDecoder;
+    type Inner = MessageDecoder;
     const KIND: u32 = state::PL_STATE_AOK_PC;
 }
 const _: () = assert!(state::fits::<pl_aok_pc_decoder>());
 const _: () = assert!(PL_AOK_DECODER_SIZE == core::mem::size_of::<pl_aok_pc_decoder>());
-const _: () = assert!(core::mem::align_of::<PcDecoder>() <= PL_AOK_DECODER_ALIGN);
-const _: () = assert!(core::mem::align_of::<DeviceDecoder>() <= PL_AOK_DECODER_ALIGN);
+const _: () = assert!(core::mem::align_of::<MessageDecoder>() <= PL_AOK_DECODER_ALIGN);
+const _: () = assert!(core::mem::align_of::<CommandDecoder>() <= PL_AOK_DECODER_ALIGN);
 const _: () = assert!(PL_AOK_MAX_FRAME_LEN == aok_proto::command::MAX_COMMAND_LEN);
 
 /// Command kind: `63 01` debug off.
@@ -388,7 +389,7 @@ unsafe fn args<'a, S: State>(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, DeviceDecoder::new()) }
+    unsafe { state::init(dec, CommandDecoder::new()) }
 }
 
 /// Device side: feeds one byte of the PC's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
@@ -415,7 +416,12 @@ pub unsafe extern "C" fn pl_aok_device_parse_byte(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.push(byte), command_c, i, e)
+    deliver(
+        d.next_event(core::slice::from_ref(&byte)).1,
+        command_c,
+        i,
+        e,
+    )
 }
 
 /// Device side: the next further event among bytes already held.
@@ -437,7 +443,7 @@ pub unsafe extern "C" fn pl_aok_device_poll(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.poll(), command_c, i, e)
+    deliver(d.next_event(&[]).1, command_c, i, e)
 }
 
 /// Device side: the line went quiet; a partial command is given up (`PL_ERR_TRUNCATED`) and
@@ -460,7 +466,7 @@ pub unsafe extern "C" fn pl_aok_device_idle(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.idle_next(), command_c, i, e)
+    deliver(end_event(d), command_c, i, e)
 }
 
 /// Device side: feeds bytes up to the next event (any event still held first, with `*used`
@@ -493,9 +499,9 @@ pub unsafe extern "C" fn pl_aok_device_parse(
     else {
         return PL_E_NULL;
     };
-    // The crate's `feed_until`: an item still held first (0 bytes used), then the bulk path
-    // of `feed` up to the first item.
-    let (n, event) = d.feed_until(input);
+    // The decoder contract's pull form: an item still held first (0 bytes used), then the
+    // bulk path of `feed` up to the first item.
+    let (n, event) = d.next_event(input);
     *used = n;
     deliver(event, command_c, i, e)
 }
@@ -542,7 +548,7 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_init(dec: *mut pl_aok_pc_decoder, major: u8, minor: u8) -> i32 {
     // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, PcDecoder::new(FirmwareVersion::new(major, minor))) }
+    unsafe { state::init(dec, MessageDecoder::new(FirmwareVersion::new(major, minor))) }
 }
 
 /// PC side: tell the decoder which reply the command just sent asks for (an ack, a parameter,
@@ -606,7 +612,12 @@ pub unsafe extern "C" fn pl_aok_pc_parse_byte(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.push(byte), message_c, i, e)
+    deliver(
+        d.next_event(core::slice::from_ref(&byte)).1,
+        message_c,
+        i,
+        e,
+    )
 }
 
 /// PC side: the next further event among bytes already held.
@@ -628,7 +639,7 @@ pub unsafe extern "C" fn pl_aok_pc_poll(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.poll(), message_c, i, e)
+    deliver(d.next_event(&[]).1, message_c, i, e)
 }
 
 /// PC side: the line went quiet; one event per call, call until `PL_NOTHING`.
@@ -650,7 +661,7 @@ pub unsafe extern "C" fn pl_aok_pc_idle(
         Ok(args) => args,
         Err(code) => return code,
     };
-    deliver(d.idle_next(), message_c, i, e)
+    deliver(end_event(d), message_c, i, e)
 }
 
 /// PC side: feeds bytes up to the next event (any event still held first, with `*used` 0).
@@ -682,13 +693,9 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
     else {
         return PL_E_NULL;
     };
-    // Any event still held first, as `pl_aok_pc_poll` gives it (`feed_until` asks only after
-    // an event of its own); then the crate's `feed_until` up to the first event.
-    *used = 0;
-    if let Some(event) = d.poll() {
-        return deliver(Some(event), message_c, i, e);
-    }
-    let (n, event) = d.feed_until(input);
+    // The decoder contract's pull form: an event still held first (0 bytes used), then the
+    // bulk path up to the first event.
+    let (n, event) = d.next_event(input);
     *used = n;
     deliver(event, message_c, i, e)
 }
@@ -856,7 +863,7 @@ pub unsafe extern "C" fn pl_aok_encode_command(
         Ok(c) => c,
         Err(code) => return code,
     };
-    match pc::encode(&c, out) {
+    match encode_command(&c, out) {
         Ok(n) => ffi::length(n),
         Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
@@ -899,7 +906,7 @@ pub unsafe extern "C" fn pl_aok_encode_message(
         ReplyForm::Headerless
     };
     let result = match msg.kind {
-        PL_AOK_DEBUG => device::encode_debug(
+        PL_AOK_DEBUG => encode_debug(
             DebugValue {
                 number: msg.number,
                 value: msg.value,
@@ -907,10 +914,10 @@ pub unsafe extern "C" fn pl_aok_encode_message(
             out,
         ),
         PL_AOK_ACK => match Ack::from_byte(msg.ack) {
-            Some(a) => device::encode_ack(a, out),
+            Some(a) => encode_ack(a, out),
             None => return PL_E_OUT_OF_RANGE,
         },
-        PL_AOK_PARAMETER => device::encode_parameter(
+        PL_AOK_PARAMETER => encode_parameter(
             ParameterValue {
                 number: msg.number,
                 value: msg.value,
@@ -919,7 +926,7 @@ pub unsafe extern "C" fn pl_aok_encode_message(
             out,
         ),
         PL_AOK_WAYPOINT => match waypoint_rust(&msg.waypoint) {
-            Ok(w) => device::encode_waypoint(&w, out),
+            Ok(w) => encode_waypoint(&w, out),
             Err(code) => return code,
         },
         _ => return PL_E_BAD_TAG,
@@ -929,4 +936,17 @@ pub unsafe extern "C" fn pl_aok_encode_message(
         Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
     }
+}
+
+/// The next event of the end of the stream (the pull form's `end`): the bytes held, once, as
+/// `Truncated`, then what the rescan of the bytes after them finds; `None` when done.
+fn end_event<D: Decode>(d: &mut D) -> Option<Result<D::Item<'_>, Error>>
+where
+    D: Decode<Error = Error>,
+{
+    Some(match d.end()? {
+        Event::Found(found) => Ok(d.item(&[], found)),
+        Event::Error(e) => Err(e),
+        Event::Truncated(_) => Err(Error::Truncated),
+    })
 }

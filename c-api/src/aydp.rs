@@ -672,7 +672,7 @@ pub unsafe extern "C" fn pl_aydp_flush(
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    let event = match d.end(true) {
+    let event = match d.end() {
         None => None,
         Some(Event::Found(found)) => Some(Ok(d.item(&[], found))),
         Some(Event::Error(e)) => Some(Err(e)),

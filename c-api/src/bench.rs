@@ -109,7 +109,7 @@ pub unsafe extern "C" fn pl_bench_rust_aydp_feed(bytes: *const u8, len: usize) -
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aok_pc_push(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
+    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
     let mut n = 0u32;
     // SAFETY: the caller's promise.
     for &b in unsafe { input(bytes, len) } {
@@ -129,7 +129,7 @@ pub unsafe extern "C" fn pl_bench_rust_aok_pc_push(bytes: *const u8, len: usize)
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aok_pc_feed(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
+    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
     let mut n = 0u32;
     // SAFETY: the caller's promise.
     d.feed(unsafe { input(bytes, len) }, |ev| {

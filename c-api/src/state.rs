@@ -22,9 +22,9 @@ use crate::{PL_E_INVALID, PL_E_NULL};
 
 /// The ABI version of this archive and header: it changes whenever a state's size, alignment
 /// or tag, a struct's layout, or a function's signature or meaning changes, so a program can
-/// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 is
+/// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
 /// the first with tagged states.
-pub const PL_ABI_VERSION: u32 = 1;
+pub const PL_ABI_VERSION: u32 = 2;
 
 /// State kind: `pl_aeolus_decoder`.
 pub const PL_STATE_AEOLUS: u32 = 1;

@@ -82,7 +82,7 @@ pub enum Event<F, P> {
 ///         (bytes.len(), None)
 ///     }
 ///
-///     fn end(&mut self, _first: bool) -> Option<Event<usize, &'static str>> {
+///     fn end(&mut self) -> Option<Event<usize, &'static str>> {
 ///         let pending = core::mem::take(&mut self.len);
 ///         (pending > 0).then_some(Event::Truncated(pending))
 ///     }
@@ -107,8 +107,8 @@ pub enum Event<F, P> {
 /// // The pull form underneath.
 /// assert_eq!(lines.decode(b"hi\nthere"), (3, Some(Event::Found(2))));
 /// assert_eq!(lines.decode(b"there"), (5, None));
-/// assert_eq!(lines.end(true), Some(Event::Truncated(5)));
-/// assert_eq!(lines.end(false), None);
+/// assert_eq!(lines.end(), Some(Event::Truncated(5)));
+/// assert_eq!(lines.end(), None);
 /// ```
 pub trait Decode {
     /// The protocol's error.
@@ -131,7 +131,7 @@ pub trait Decode {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::{Decode, Event};
     /// // `Bytes`: every non-zero byte is an item, a zero byte an error.
@@ -141,20 +141,20 @@ pub trait Decode {
     #[allow(clippy::type_complexity)] // spelt out: it is what an implementation writes
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Self::Found, Self::Error>>);
 
-    /// The stream ended: the next event of the end of the stream (the decoder's `flush` or
-    /// `idle`), or `None` once there is none. `first` is true on the first call after the
-    /// read that returned 0 bytes.
+    /// The stream ended: the next event of the end of the stream (a frame cut short as
+    /// [`Event::Truncated`], then what a protocol that rescans finds in the bytes after it),
+    /// or `None` once there is none; call it until `None`, after which the decoder is as new.
     ///
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::Decode;
     /// // `Bytes` holds nothing between calls: the end of the stream finds nothing.
-    /// assert_eq!(Bytes.end(true), None);
+    /// assert_eq!(Bytes.end(), None);
     /// ```
-    fn end(&mut self, first: bool) -> Option<Event<Self::Found, Self::Error>>;
+    fn end(&mut self) -> Option<Event<Self::Found, Self::Error>>;
 
     /// The item that `found` stands for. `input` is the slice given to the
     /// [`Decode::decode`] call that reported it (empty for an event of [`Decode::end`]), so
@@ -163,7 +163,7 @@ pub trait Decode {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::Decode;
     /// assert_eq!(Bytes.item(&[7, 8], 7), 7);
@@ -180,7 +180,7 @@ pub trait Decode {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::Decode;
     /// let mut d = Bytes;
@@ -221,7 +221,7 @@ pub trait Decode {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::Decode;
     /// let mut seen = Vec::new();
@@ -254,7 +254,7 @@ pub trait Decode {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::Decode;
     /// let mut seen = 0;
@@ -265,9 +265,7 @@ pub trait Decode {
     where
         F: FnMut(Result<Self::Item<'_>, Self::Error>),
     {
-        let mut first = true;
-        while let Some(event) = self.end(first) {
-            first = false;
+        while let Some(event) = self.end() {
             match event {
                 Event::Found(found) => on_event(Ok(self.item(&[], found))),
                 Event::Error(error) => on_event(Err(error)),

@@ -19,7 +19,7 @@ use crate::{Decode, IoError};
 /// ```
 /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
 /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-/// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+/// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
 /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
 /// use frame_io::{embedded_io::Reader, IoError};
 /// // `Bytes`: every non-zero byte is an item, a zero byte an error.
@@ -41,7 +41,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// assert_eq!(reader.unread(), 0);
@@ -66,7 +66,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// use frame_io::{embedded_io::Reader, IoError};
     /// let mut reader = Reader::<_, _, 1>::new(&[5u8][..], Bytes);
@@ -94,7 +94,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// let _: &Bytes = reader.decoder();
@@ -108,7 +108,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// *reader.decoder_mut() = Bytes;
@@ -122,7 +122,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8, 2, 3][..], Bytes);
     /// assert_eq!(reader.read(), Ok(1));
@@ -137,7 +137,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// assert_eq!(reader.get_ref().len(), 1);
@@ -151,7 +151,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let mut reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// *reader.get_mut() = &[];
@@ -166,7 +166,7 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// ```
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
-    /// # fn end(&mut self, _: bool) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
     /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
     /// let reader = frame_io::embedded_io::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// assert_eq!(reader.into_inner(), &[1]);

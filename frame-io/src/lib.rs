@@ -4,7 +4,7 @@
 //!
 //! - [`Decode`]: the small trait a stream decoder implements to be read from a transport (its
 //!   slice fast path, its end of stream, the item an event stands for). `aeolus-proto`'s and
-//!   `aydp-proto`'s `Decoder<N>` and `aok-proto`'s `PcDecoder` and `DeviceDecoder` implement it.
+//!   `aydp-proto`'s `Decoder<N>` and `aok-proto`'s `MessageDecoder` and `CommandDecoder` implement it.
 //! - `embedded_io::Reader` / `embedded_io_async::Reader` (features `embedded-io`,
 //!   `embedded-io-async`): a decoder plus an `R`-byte read buffer; `read()` returns the next
 //!   item, decoding every read with the decoder's fast path, so the items and errors are
@@ -53,7 +53,7 @@
 //!         (bytes.len(), None)
 //!     }
 //!
-//!     fn end(&mut self, _first: bool) -> Option<Event<usize, &'static str>> {
+//!     fn end(&mut self) -> Option<Event<usize, &'static str>> {
 //!         let pending = core::mem::take(&mut self.len);
 //!         (pending > 0).then_some(Event::Truncated(pending))
 //!     }

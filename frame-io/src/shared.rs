@@ -42,7 +42,7 @@ impl<D: Decode, const R: usize> ReaderCore<D, R> {
     #[inline]
     pub(crate) fn decode(&mut self) -> Option<TokenOf<D>> {
         if self.ending {
-            return Some(self.end_step(false));
+            return Some(self.end_step());
         }
         let from = self.start;
         let unread = self.buf.get(from..self.end).unwrap_or(&[]);
@@ -54,8 +54,8 @@ impl<D: Decode, const R: usize> ReaderCore<D, R> {
         })
     }
 
-    fn end_step(&mut self, first: bool) -> TokenOf<D> {
-        match self.decoder.end(first) {
+    fn end_step(&mut self) -> TokenOf<D> {
+        match self.decoder.end() {
             Some(event) => Token::Event {
                 from: self.end,
                 event,
@@ -83,7 +83,7 @@ impl<D: Decode, const R: usize> ReaderCore<D, R> {
             return None;
         }
         self.ending = true;
-        Some(self.end_step(true))
+        Some(self.end_step())
     }
 
     /// Turns a token into what the reader returns.
@@ -191,7 +191,7 @@ mod liveness {
             self.0 += bytes.len();
             (bytes.len(), None)
         }
-        fn end(&mut self, _first: bool) -> Option<Event<(), ()>> {
+        fn end(&mut self) -> Option<Event<(), ()>> {
             let held = core::mem::take(&mut self.0);
             (held > 0).then_some(Event::Truncated(held))
         }

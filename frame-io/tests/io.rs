@@ -25,6 +25,8 @@ struct Lines {
     buf: [u8; 8],
     len: usize,
     ends: usize,
+    /// The held bytes were reported as `Truncated`; the next `end` hands them out.
+    truncated: bool,
 }
 
 impl Decode for Lines {
@@ -57,14 +59,15 @@ impl Decode for Lines {
         (bytes.len(), None)
     }
 
-    fn end(&mut self, first: bool) -> Option<Event<Found, &'static str>> {
+    fn end(&mut self) -> Option<Event<Found, &'static str>> {
         self.ends += 1;
         if self.len == 0 {
             return None;
         }
-        if first {
+        if !std::mem::replace(&mut self.truncated, true) {
             return Some(Event::Truncated(self.len));
         }
+        self.truncated = false;
         Some(Event::Found(Found::Held(std::mem::take(&mut self.len))))
     }
 
@@ -99,8 +102,7 @@ fn reference(stream: &[u8]) -> Vec<Ev> {
         }
         rest = &rest[used..];
     }
-    let mut first = true;
-    while let Some(event) = d.end(std::mem::take(&mut first)) {
+    while let Some(event) = d.end() {
         match event {
             Event::Found(f) => out.push(Ev::Line(d.item(&[], f).to_vec())),
             Event::Error(e) => out.push(Ev::Protocol(e)),

@@ -1,10 +1,10 @@
-//! The AOK bulk paths (`DeviceDecoder::feed`, `PcDecoder::feed`, and `feed_until` called on the
+//! The AOK bulk paths (`CommandDecoder::feed`, `MessageDecoder::feed`, and `feed_until` called on the
 //! rest until it finds nothing) against pushing byte by byte and draining every iterator: on any
 //! byte stream, in chunks the input chooses, with the PC's pending request switched between
 //! chunks, all give the same items, counters, pending request and buffered bytes after every
 //! chunk, and `feed` the same `idle()`.
 #![no_main]
-use aok_proto::{DeviceDecoder, FirmwareVersion, PcDecoder, WaypointSlot, pc::Expect};
+use aok_proto::{CommandDecoder, FirmwareVersion, MessageDecoder, WaypointSlot, Expect};
 use libfuzzer_sys::fuzz_target;
 
 fn chunks<'a>(cuts: &'a [u8], data: &'a [u8]) -> impl Iterator<Item = (u8, &'a [u8])> + 'a {
@@ -52,9 +52,9 @@ fuzz_target!(|input: &[u8]| {
     };
     let (cuts, data) = rest.split_at((cfg as usize & 7).min(rest.len()));
 
-    let mut slow = DeviceDecoder::new();
-    let mut fast = DeviceDecoder::new();
-    let mut until = DeviceDecoder::new();
+    let mut slow = CommandDecoder::new();
+    let mut fast = CommandDecoder::new();
+    let mut until = CommandDecoder::new();
     for (_, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {
@@ -82,9 +82,9 @@ fuzz_target!(|input: &[u8]| {
         1 => FirmwareVersion::new(0, 31),
         _ => FirmwareVersion::LATEST,
     };
-    let mut slow = PcDecoder::new(fw);
-    let mut fast = PcDecoder::new(fw);
-    let mut until = PcDecoder::new(fw);
+    let mut slow = MessageDecoder::new(fw);
+    let mut fast = MessageDecoder::new(fw);
+    let mut until = MessageDecoder::new(fw);
     for (c, chunk) in chunks(cuts, data) {
         let mut want = Vec::new();
         for &b in chunk {

@@ -1,11 +1,11 @@
 //! The AOK device-side decoder (what the PC sends) on any byte stream: no panic; every
 //! command it yields re-encodes to bytes that decode to the same command.
 #![no_main]
-use aok_proto::{Command, DeviceDecoder};
+use aok_proto::{Command, CommandDecoder};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let mut d = DeviceDecoder::new();
+    let mut d = CommandDecoder::new();
     let mut cmds = Vec::new();
     for &b in data {
         d.feed(&[b], |ev| {

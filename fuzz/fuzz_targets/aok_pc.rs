@@ -1,13 +1,13 @@
 //! The AOK PC-side decoder (the device's stream) on any byte stream, with the pending request
 //! switched by the input itself: no panic, whatever arrives.
 #![no_main]
-use aok_proto::{FirmwareVersion, PcDecoder, ReplyForm, WaypointSlot, pc::Expect};
+use aok_proto::{FirmwareVersion, MessageDecoder, ReplyForm, WaypointSlot, Expect};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let Some((&cfg, rest)) = data.split_first() else { return };
     let fw = if cfg & 1 == 0 { FirmwareVersion::new(0, 30) } else { FirmwareVersion::LATEST };
-    let mut d = PcDecoder::new(fw);
+    let mut d = MessageDecoder::new(fw);
     for (i, &b) in rest.iter().enumerate() {
         if i % 37 == (cfg as usize >> 1) % 37 {
             d.expect(match b & 3 {

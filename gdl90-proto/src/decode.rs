@@ -209,8 +209,8 @@ impl<const N: usize> Decode for Decoder<N> {
         (used, event)
     }
 
-    fn end(&mut self, first: bool) -> Option<Event<(usize, bool), Error>> {
-        match self.framing.end(first)? {
+    fn end(&mut self) -> Option<Event<(usize, bool), Error>> {
+        match self.framing.end()? {
             Event::Truncated(n) => Some(Event::Truncated(n)),
             Event::Error(e) => Some(Event::Error(Error::from_framing(e))),
             // The framing's end gives up frames, it finds none.

@@ -10,11 +10,11 @@ use std::net::TcpListener;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use aok_proto::device::{encode_ack, encode_bulk, encode_debug, encode_parameter, encode_waypoint};
 use aok_proto::{
-    Ack, Action, ActionWord, Command, DebugValue, DeviceDecoder, FirmwareVersion, Waypoint,
-    WaypointSlot,
+    Ack, Action, ActionWord, Command, CommandDecoder, DebugValue, Decode, FirmwareVersion,
+    Waypoint, WaypointSlot,
 };
+use aok_proto::{encode_ack, encode_bulk, encode_debug, encode_parameter, encode_waypoint};
 use common::*;
 
 /// How many debug frames the fake device still sends after debug-off.
@@ -55,7 +55,7 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
             action1: ActionWord::new(Action::HoldAndClimb, 15),
             action2: ActionWord::new(Action::SetFlySpeed, 250),
         }];
-        let mut decoder = DeviceDecoder::new();
+        let mut decoder = CommandDecoder::new();
         let mut debug_on = true;
         let mut tick = 0i32;
         let mut last_debug = Instant::now();

@@ -1,16 +1,16 @@
 //! The AOK link on UART2, driven like a PC would drive it: in-memory serial ports (the
 //! `QueuedSerial`/`SerialIsr` pair the boards use), a simulated clock, commands built with
-//! `aok_proto`'s encoders and the device's output read with its `PcDecoder` (and, end to end,
+//! `aok_proto`'s encoders and the device's output read with its `MessageDecoder` (and, end to end,
 //! with its `Client`).
 
 use std::cell::Cell;
 use std::rc::Rc;
 
-use aok_proto::pc::{Expect, PcDecoder};
 use aok_proto::{
     Action, ActionWord, Client, Command, Config, DebugValue, Error, ExternalControl, Message,
     Motor, MotorTest, ParameterValue, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
+use aok_proto::{Decode, Expect, MessageDecoder};
 use embedded_hal_nb::serial::{ErrorType, Read, Write};
 use sensor_box::aok_link::{
     AokLink, ControlSource, DebugId, FIRMWARE, GAP_MS, MOTOR_LAPSE_MS, STATUS_EXTERNAL,
@@ -137,7 +137,7 @@ impl<const TX: usize> Rig<TX> {
 /// Decodes the device's stream as the PC would with `expect` pending; every byte must belong
 /// to a frame.
 fn decode(bytes: &[u8], expect: Expect) -> Vec<Message> {
-    let mut pc = PcDecoder::new(FIRMWARE);
+    let mut pc = MessageDecoder::new(FIRMWARE);
     pc.expect(expect);
     let mut got = Vec::new();
     for &b in bytes {

@@ -254,7 +254,7 @@ impl Protocol for Aok {
     }
 
     fn decode_events(&self, stream: &[u8]) -> Vec<Option<Vec<u8>>> {
-        let mut d = aok_proto::DeviceDecoder::new();
+        let mut d = aok_proto::CommandDecoder::new();
         let mut out = Vec::new();
         let mut keep = |ev: Result<aok_proto::Command, aok_proto::Error>| {
             out.push(ev.ok().map(|c| {
@@ -262,12 +262,10 @@ impl Protocol for Aok {
                 bytes[..n].to_vec()
             }));
         };
-        for &b in stream {
-            d.feed(&[b], |ev| {
-                keep(ev);
-            });
+        for b in stream {
+            d.feed(core::slice::from_ref(b), &mut keep);
         }
-        d.idle(keep);
+        d.finish(keep);
         out
     }
 

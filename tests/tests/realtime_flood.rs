@@ -35,7 +35,7 @@
 
 mod harness;
 
-use aok_proto::pc::PcDecoder;
+use aok_proto::MessageDecoder;
 use aok_proto::{FirmwareVersion, Message as AokMessage};
 use aydp_proto::{Decode, Decoder as AydpDecoder, Message as AydpMessage, Profile};
 use harness::*;
@@ -224,7 +224,7 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
     let aok_replies = Arc::new(AtomicU32::new(0));
     let (stop2, replies2) = (Arc::clone(&stop), Arc::clone(&aok_replies));
     let aok_reader = thread::spawn(move || {
-        let mut decoder = PcDecoder::new(FirmwareVersion::new(0, 35));
+        let mut decoder = MessageDecoder::new(FirmwareVersion::new(0, 35));
         drain(aok_out, &stop2, |bytes| {
             for &b in bytes {
                 decoder.feed(&[b], |e| {

@@ -580,8 +580,8 @@ const STATS0: Stats = Stats {
 /// assert_eq!((used, event), (8, Some(Event::Found((6, true)))));
 /// assert_eq!(d.item(&[], (6, true)).id(), 0x52);
 /// assert_eq!(d.decode(&[0x52]), (1, None));
-/// assert_eq!(d.end(true), Some(Event::Truncated(1)));
-/// assert_eq!(d.end(false), None);
+/// assert_eq!(d.end(), Some(Event::Truncated(1)));
+/// assert_eq!(d.end(), None);
 /// ```
 impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
@@ -633,7 +633,7 @@ impl<const N: usize> Decode for Decoder<N> {
         (used, event)
     }
 
-    fn end(&mut self, _first: bool) -> Option<Event<(usize, bool), Error>> {
+    fn end(&mut self) -> Option<Event<(usize, bool), Error>> {
         let pending = self.held_bytes();
         if pending == 0 {
             return None;

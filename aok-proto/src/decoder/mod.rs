@@ -49,6 +49,9 @@ pub(crate) struct Held {
     pub(crate) len: usize,
     /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
     pub(crate) need: usize,
+    /// The pull form's end of the stream has reported the bytes held as `Truncated` and is
+    /// now handing out what the quiet line's step finds in them (cleared when it is done).
+    pub(crate) ending: bool,
 }
 
 impl Held {
@@ -57,6 +60,7 @@ impl Held {
         buf: [0; MAX_COMMAND_LEN],
         len: 0,
         need: 0,
+        ending: false,
     };
 
     /// The bytes held.
@@ -104,25 +108,30 @@ impl Held {
     }
 }
 
-/// The pull form's end of the stream, for either decoder: first the bytes held, as
-/// `Truncated`; then what the quiet line's step finds in them, without the `Truncated` of the
-/// fronts it gives up (the reader has reported the end inside a frame once).
-pub(crate) fn end<T>(
-    first: bool,
-    held: usize,
-    mut quiet_next: impl FnMut() -> Option<Result<T, Error>>,
-) -> Option<Event<T, Error>> {
-    if first && held > 0 {
-        return Some(Event::Truncated(held));
-    }
-    loop {
-        match quiet_next()? {
-            Ok(item) => return Some(Event::Found(item)),
-            Err(Error::Truncated) => {}
-            Err(e) => return Some(Event::Error(e)),
+/// The pull form's end of the stream, for either decoder, one call: first the bytes held, as
+/// `Truncated` (once: `Held::ending` remembers it); then what the quiet line's step
+/// (`quiet_next`) finds in them, without the `Truncated` of the fronts it gives up (the end
+/// inside a frame has been reported once); `None` when it is done, which ends the end.
+macro_rules! end_of_stream {
+    ($self:ident, $quiet_next:expr) => {{
+        if !$self.held.ending && $self.held.len > 0 {
+            $self.held.ending = true;
+            return Some(Event::Truncated($self.held.len));
         }
-    }
+        loop {
+            match $quiet_next {
+                None => {
+                    $self.held.ending = false;
+                    return None;
+                }
+                Some(Ok(item)) => return Some(Event::Found(item)),
+                Some(Err(Error::Truncated)) => {}
+                Some(Err(e)) => return Some(Event::Error(e)),
+            }
+        }
+    }};
 }
+pub(crate) use end_of_stream;
 
 /// An event of the byte-by-byte path as the pull form reports it.
 #[inline]

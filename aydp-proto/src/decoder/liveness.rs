@@ -85,9 +85,7 @@ fn by_decode_at_every_cut() -> Vec<Vec<Seen>> {
                     }
                 }
             }
-            let mut first = true;
-            while let Some(event) = dec.end(first) {
-                first = false;
+            while let Some(event) = dec.end() {
                 match event {
                     Event::Found(found) => got.push(seen(Ok(dec.item(&[], found)))),
                     Event::Error(e) => got.push(Err(e)),

@@ -297,8 +297,8 @@ impl<const N: usize> Decoder<N> {
 /// assert_eq!((used, event), (7, Some(Event::Found((Some(0), 7)))));
 /// assert_eq!(d.item(&wire, (Some(0), 7)).as_bytes(), &wire[..7]);
 /// assert_eq!(d.decode(&wire[7..]), (2, None));
-/// assert_eq!(d.end(true), Some(Event::Truncated(2)));
-/// assert_eq!(d.end(false), None);
+/// assert_eq!(d.end(), Some(Event::Truncated(2)));
+/// assert_eq!(d.end(), None);
 /// ```
 impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
@@ -356,7 +356,7 @@ impl<const N: usize> Decode for Decoder<N> {
 
     /// The events of the end of the stream, one a call: those a rescan left queued, then the
     /// candidate cut short as [`Event::Truncated`] (its bytes then rescanned), until `None`.
-    fn end(&mut self, _first: bool) -> Option<Event<(Option<usize>, usize), Error>> {
+    fn end(&mut self) -> Option<Event<(Option<usize>, usize), Error>> {
         if let Some(event) = self.queued() {
             return Some(event);
         }

@@ -122,7 +122,7 @@ pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
 /// PC side: decodes the device's debug stream.
 #[inline(never)]
 pub fn aok_pc_decode(stream: &[u8]) -> i64 {
-    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     for &b in stream {
         d.feed(&[b], |ev| {
@@ -137,7 +137,7 @@ pub fn aok_pc_decode(stream: &[u8]) -> i64 {
 /// Device side: decodes the PC's commands.
 #[inline(never)]
 pub fn aok_device_decode(stream: &[u8]) -> u32 {
-    let mut d = aok_proto::DeviceDecoder::new();
+    let mut d = aok_proto::CommandDecoder::new();
     let mut n = 0;
     for &b in stream {
         d.feed(&[b], |ev| {
@@ -147,10 +147,10 @@ pub fn aok_device_decode(stream: &[u8]) -> u32 {
     n
 }
 
-/// [`aok_pc_decode`] through `PcDecoder::feed`, the bulk path.
+/// [`aok_pc_decode`] through `MessageDecoder::feed`, the bulk path.
 #[inline(never)]
 pub fn aok_pc_decode_feed(stream: &[u8]) -> i64 {
-    let mut d = aok_proto::PcDecoder::new(aok_proto::FirmwareVersion::LATEST);
+    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::LATEST);
     let mut acc = 0i64;
     d.feed(stream, |m| {
         if let Ok(aok_proto::Message::Debug(v)) = m {
@@ -160,10 +160,10 @@ pub fn aok_pc_decode_feed(stream: &[u8]) -> i64 {
     acc
 }
 
-/// [`aok_device_decode`] through `DeviceDecoder::feed`, the bulk path.
+/// [`aok_device_decode`] through `CommandDecoder::feed`, the bulk path.
 #[inline(never)]
 pub fn aok_device_decode_feed(stream: &[u8]) -> u32 {
-    let mut d = aok_proto::DeviceDecoder::new();
+    let mut d = aok_proto::CommandDecoder::new();
     let mut n = 0;
     d.feed(stream, |c| n += c.is_ok() as u32);
     n
@@ -174,7 +174,7 @@ pub fn aok_device_decode_feed(stream: &[u8]) -> u32 {
 pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
     let mut at = 0;
     for v in values {
-        at += aok_proto::device::encode_debug(*v, &mut out[at..]).unwrap();
+        at += aok_proto::encode_debug(*v, &mut out[at..]).unwrap();
     }
     at
 }

@@ -92,8 +92,8 @@ fn fp_aydp_encode() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_decode() {
-    use aok_proto::DeviceDecoder;
-    static mut D: DeviceDecoder = DeviceDecoder::new();
+    use aok_proto::CommandDecoder;
+    static mut D: CommandDecoder = CommandDecoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
     if let Some(Ok(c)) = d.push(byte(0)) {
         sink(c.buffer_len() as u32);
@@ -168,8 +168,8 @@ fn fp_aydp_read() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_read() {
-    use aok_proto::{DeviceDecoder, embedded_io::CommandReader};
-    static mut R: CommandReader<Volatile, 64> = CommandReader::new(Volatile, DeviceDecoder::new());
+    use aok_proto::{CommandDecoder, embedded_io::CommandReader};
+    static mut R: CommandReader<Volatile, 64> = CommandReader::new(Volatile, CommandDecoder::new());
     let r = unsafe { &mut *addr_of_mut!(R) };
     if let Ok(c) = r.read() {
         sink(c.buffer_len() as u32);

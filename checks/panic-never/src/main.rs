@@ -173,15 +173,15 @@ mod aok {
     use super::*;
     use aok_proto::{
         device,
-        pc::{self, Expect, PcDecoder},
+        pc::{self, Expect, MessageDecoder},
         *,
     };
 
     pub fn run() {
         // Device side: every command the PC sends, byte by byte, then idle.
-        let mut dev = DeviceDecoder::new();
+        let mut dev = CommandDecoder::new();
         let fw = FirmwareVersion::new(input_byte(6), input_byte(7));
-        let mut host = PcDecoder::new(fw);
+        let mut host = MessageDecoder::new(fw);
         let slot = WaypointSlot::from_wire(input_byte(8)).unwrap_or(WaypointSlot::FbcTarget);
         for i in 0..len() {
             let b = input_byte(i);
@@ -194,7 +194,7 @@ mod aok {
                 if let Ok(n) = cmd.emit(&mut out[..k]) {
                     sink(n as u32);
                 }
-                if let Ok(n) = pc::encode(&cmd, &mut out[..k]) {
+                if let Ok(n) = encode_command(&cmd, &mut out[..k]) {
                     sink(n as u32);
                 }
                 sink(cmd.buffer_len() as u32);
@@ -234,8 +234,8 @@ mod aok {
         // The bulk paths, in opaque chunks, with the pending request switched between them.
         let bulk: [u8; 512] = input();
         let total = len() % 513;
-        let mut bdev = DeviceDecoder::new();
-        let mut bhost = PcDecoder::new(fw);
+        let mut bdev = CommandDecoder::new();
+        let mut bhost = MessageDecoder::new(fw);
         let mut at = 0;
         while at < total {
             let step = 1 + input_byte(at) as usize % 41;
@@ -264,7 +264,7 @@ mod aok {
         sink(bdev.stats().bytes_discarded ^ bhost.stats().frames_ok);
 
         // Event by event (`feed_until`) over the same bytes, on both sides.
-        let mut udev = DeviceDecoder::new();
+        let mut udev = CommandDecoder::new();
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = udev.feed_until(rest);
             let found = ev.is_some();
@@ -273,7 +273,7 @@ mod aok {
             }
             (n, found)
         });
-        let mut uhost = PcDecoder::new(fw);
+        let mut uhost = MessageDecoder::new(fw);
         uhost.expect(Expect::Parameter(input_byte(5)));
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
             let (n, ev) = uhost.feed_until(rest);
@@ -596,15 +596,15 @@ mod io {
         sink(r.decoder().stats().frames_ok ^ a.decoder().stats().frames_ok);
 
         // AOK readers and writers.
-        use aok_proto::{FirmwareVersion, ReplyForm, pc::Expect};
+        use aok_proto::{FirmwareVersion, ReplyForm, Expect};
         let fw = FirmwareVersion::new(input_byte(44), input_byte(45));
         let mut m = aok_proto::embedded_io::MessageReader::<_, 16>::new(
             opaque(47),
-            aok_proto::PcDecoder::new(fw),
+            aok_proto::MessageDecoder::new(fw),
         );
         let mut c = aok_proto::embedded_io_async::CommandReader::<_, 3>::new(
             opaque(53),
-            aok_proto::DeviceDecoder::new(),
+            aok_proto::CommandDecoder::new(),
         );
         let mut w = aok_proto::embedded_io::Writer::new(opaque(59));
         let mut aw = aok_proto::embedded_io_async::Writer::new(opaque(61));

@@ -302,7 +302,7 @@ impl Session {
     /// A timeout, a refusal, or an I/O error, as one sentence naming `what`.
     pub fn run(&mut self, command: Command, what: &str) -> Result<Outcome> {
         let started = self.started;
-        let _spinner = (command.expected_reply() != aok_proto::pc::Expect::Nothing)
+        let _spinner = (command.expected_reply() != aok_proto::Expect::Nothing)
             .then(|| Spinner::start(&format!("waiting for the answer to {what}")));
         let result = self
             .client
@@ -385,7 +385,7 @@ impl Session {
     pub fn run_acked(&mut self, command: Command, what: &str) -> Result<Answer> {
         let started = self.started;
         self.client
-            .start_expecting(command, aok_proto::pc::Expect::Ack)
+            .start_expecting(command, aok_proto::Expect::Ack)
             .map_err(|source| Error::Aok {
                 what: what.to_string(),
                 source,

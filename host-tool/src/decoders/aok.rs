@@ -1,6 +1,7 @@
 //! AOK in `decode`: either side's decoder, each message placed where the decoder's held bytes
 //! begin.
 
+use aok_proto::{Decode, Event as AokEvent};
 use serde_json::{Map, Value, json};
 
 use super::{Event, StreamDecoder, error_kind};
@@ -11,19 +12,19 @@ use crate::render::{self, to_json, variant};
 #[derive(Debug)]
 pub enum AokDecoder {
     /// Reads what the device sends.
-    FromDevice(aok_proto::PcDecoder),
+    FromDevice(aok_proto::MessageDecoder),
     /// Reads what the PC sends.
-    FromPc(aok_proto::DeviceDecoder),
+    FromPc(aok_proto::CommandDecoder),
 }
 
 impl AokDecoder {
     /// A decoder for bytes sent by `side`.
     pub fn new(side: Side) -> Self {
         match side {
-            Side::Device => AokDecoder::FromDevice(aok_proto::PcDecoder::new(
+            Side::Device => AokDecoder::FromDevice(aok_proto::MessageDecoder::new(
                 aok_proto::FirmwareVersion::LATEST,
             )),
-            Side::Pc => AokDecoder::FromPc(aok_proto::DeviceDecoder::new()),
+            Side::Pc => AokDecoder::FromPc(aok_proto::CommandDecoder::new()),
         }
     }
 
@@ -199,29 +200,36 @@ impl StreamDecoder for AokDecoder {
         }
     }
 
+    /// The end of the stream through the pull form's `end`, one event at a time (so each is
+    /// placed by the bytes still held after it): the bytes held are given up once, as
+    /// "input ends inside a frame", then what the rescan of what followed them finds.
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
         let at = offset.saturating_sub(1);
         loop {
             let first = out.len();
             let mut len = 0;
             let item = match self {
-                AokDecoder::FromDevice(d) => d.idle_next().map(|item| {
-                    item.map(|m| {
+                AokDecoder::FromDevice(d) => d.end().map(|event| match event {
+                    AokEvent::Found(m) => {
                         let (name, fields) = aok_message_fields(&m);
                         len = m.buffer_len(aok_proto::ReplyForm::Headed);
                         let mut meta = Map::new();
                         meta.insert("len".into(), json!(len));
-                        Event::message(at, name, meta, fields)
-                    })
+                        Ok(Event::message(at, name, meta, fields))
+                    }
+                    AokEvent::Error(e) => Err(e),
+                    AokEvent::Truncated(_) => Err(aok_proto::Error::Truncated),
                 }),
-                AokDecoder::FromPc(d) => d.idle_next().map(|item| {
-                    item.map(|c| {
+                AokDecoder::FromPc(d) => d.end().map(|event| match event {
+                    AokEvent::Found(c) => {
                         let (name, fields) = aok_command_fields(&c);
                         len = c.buffer_len();
                         let mut meta = Map::new();
                         meta.insert("len".into(), json!(len));
-                        Event::message(at, name, meta, fields)
-                    })
+                        Ok(Event::message(at, name, meta, fields))
+                    }
+                    AokEvent::Error(e) => Err(e),
+                    AokEvent::Truncated(_) => Err(aok_proto::Error::Truncated),
                 }),
             };
             match item {

@@ -144,15 +144,13 @@ impl StreamDecoder for AydpDecoder {
     }
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        let mut first = true;
         loop {
-            let event = match self.decoder.end(first) {
+            let event = match self.decoder.end() {
                 None => break,
                 Some(AydpEvent::Found(found)) => Ok(self.decoder.item(&[], found)),
                 Some(AydpEvent::Error(e)) => Err(e),
                 Some(AydpEvent::Truncated(_)) => Err(aydp_proto::Error::Truncated),
             };
-            first = false;
             let ev = aydp_outcome(event);
             if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.1.starts_with("input ends")) {
                 self.truncated = self.truncated.wrapping_add(1);

@@ -1,5 +1,5 @@
 //! Receive, gate and dispatch: received bytes through the
-//! [`DeviceDecoder`](aok_proto::DeviceDecoder) into the burst being received; at a silence of
+//! [`CommandDecoder`](aok_proto::CommandDecoder) into the burst being received; at a silence of
 //! [`GAP_MS`] the burst is obeyed whole or discarded whole (the framing policy: [`AokLink`],
 //! "Framing"); then one `match` over the commands that hands each family to its room
 //! (`params`, `waypoints`, `control`, `debug`).
@@ -7,7 +7,7 @@
 use super::{AokLink, GAP_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
-use aok_proto::{Ack, Command, Error as AokError};
+use aok_proto::{Ack, Command, CommandDecoder, Decode, Error as AokError};
 
 impl AokLink {
     /// Obeys what is left of an accepted burst, then decodes received bytes (at most
@@ -39,18 +39,20 @@ impl AokLink {
         }
     }
 
-    /// Pushes `bytes` into the decoder one at a time and collects every event into the open
-    /// burst; the count decoded: all of them.
+    /// Decodes `bytes` with the decoder contract's pull form (`next_event`, event by event)
+    /// and collects every event into the open burst; the count decoded: all of them.
     fn decode(&mut self, bytes: &[u8], now_ms: u64) -> usize {
         if !bytes.is_empty() {
             self.last_rx_ms = now_ms;
             self.burst_open = true;
         }
-        for &byte in bytes {
-            let mut event = self.decoder.push(byte);
-            while let Some(item) = event {
-                self.collect(item);
-                event = self.decoder.poll();
+        let mut rest = bytes;
+        loop {
+            let (used, event) = self.decoder.next_event(rest);
+            rest = rest.get(used..).unwrap_or(&[]);
+            match event {
+                Some(item) => self.collect(item),
+                None => break,
             }
         }
         bytes.len()
@@ -87,9 +89,11 @@ impl AokLink {
     /// a command: unknown bytes, which it skips without an event, false starts, abandoned
     /// starts, unchanged since the last burst ended).
     fn end_burst(&mut self, now_ms: u64, shared: &mut Shared) {
-        while let Some(item) = self.decoder.idle_next() {
-            self.collect(item);
-        }
+        // The end of the stream of the contract (`finish`), with the decoder taken out for the
+        // call so that its events can be collected into `self`; it is put back as it is left.
+        let mut decoder = core::mem::replace(&mut self.decoder, CommandDecoder::new());
+        decoder.finish(|item| self.collect(item));
+        self.decoder = decoder;
         let discarded = self.decoder.stats().bytes_discarded;
         if self.burst_clean && discarded == self.burst_discarded && !self.burst.is_empty() {
             self.obey_next = Some(0);

@@ -1,6 +1,6 @@
 //! AOK on UART2: the flight-controller side of the AOK protocol.
 //!
-//! [`AokLink::poll`] reads the commands the PC sends (through `aok_proto`'s [`DeviceDecoder`]),
+//! [`AokLink::poll`] reads the commands the PC sends (through `aok_proto`'s [`CommandDecoder`]),
 //! answers them, and sends the debug value stream. Nothing in it blocks: replies go into a
 //! small TX queue of [`TX_CAPACITY`] bytes which is handed to the port with non-blocking
 //! writes of slices, and a debug frame is only built when that queue is empty, so a reply never waits
@@ -71,7 +71,7 @@ use crate::Shared;
 use crate::port::{Receive, TxQueue};
 use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{Ack, Command, DeviceDecoder, ExternalControl, FirmwareVersion, Stats};
+use aok_proto::{Ack, Command, CommandDecoder, ExternalControl, FirmwareVersion, Stats};
 use embedded_io::{Write, WriteReady};
 
 /// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
@@ -182,7 +182,7 @@ struct External {
 /// The reply comes about [`GAP_MS`] after the command ([`AokLink::next_wake_ms`] wakes the
 /// poll for it).
 pub struct AokLink {
-    decoder: DeviceDecoder,
+    decoder: CommandDecoder,
     /// The commands of the burst being received, or of the accepted burst being obeyed.
     burst: heapless::Vec<Command, BURST_COMMANDS>,
     /// The next command of an accepted burst to obey, while one is being obeyed.
@@ -230,7 +230,7 @@ impl AokLink {
             }
         };
         let mut link = AokLink {
-            decoder: DeviceDecoder::new(),
+            decoder: CommandDecoder::new(),
             burst: heapless::Vec::new(),
             obey_next: None,
             burst_open: false,

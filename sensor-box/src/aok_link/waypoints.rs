@@ -6,7 +6,7 @@ use super::params::store_ack;
 use super::{AokLink, MISSION_POI};
 use crate::Shared;
 use crate::state::StoredWaypoint;
-use aok_proto::{Ack, ActionWord, Waypoint, WaypointSlot, device};
+use aok_proto::{Ack, ActionWord, Waypoint, WaypointSlot, encode_waypoint};
 
 impl AokLink {
     /// The RAM value of a waypoint slot; the mission POI (31) is read from the flash record.
@@ -99,7 +99,7 @@ impl AokLink {
             action2: ActionWord(s.action2),
         };
         let mut buf = [0u8; 19];
-        if let Ok(n) = device::encode_waypoint(&w, &mut buf) {
+        if let Ok(n) = encode_waypoint(&w, &mut buf) {
             self.queue(buf.get(..n).unwrap_or_default());
         }
     }

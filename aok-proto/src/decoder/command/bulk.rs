@@ -4,7 +4,7 @@
 use frame_io::{Decode, Event};
 
 use super::*;
-use crate::decoder::{Step, end, event};
+use crate::decoder::{Step, end_of_stream, event};
 
 /// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
 /// quiet; `decode`, `end` and `item` are the pull form, for a caller that must act between
@@ -35,8 +35,8 @@ use crate::decoder::{Step, end, event};
 /// // The pull form: up to the first event, then the end of the stream.
 /// assert_eq!(dec.decode(&[0x67, 0x0c, 0x31]), (2, Some(Event::Found(Command::ReadParameter(12)))));
 /// assert_eq!(dec.decode(&[0x31]), (1, None));
-/// assert_eq!(dec.end(true), Some(Event::Truncated(1)));
-/// assert_eq!(dec.end(false), None);
+/// assert_eq!(dec.end(), Some(Event::Truncated(1)));
+/// assert_eq!(dec.end(), None);
 /// ```
 impl Decode for CommandDecoder {
     type Error = Error;
@@ -98,12 +98,12 @@ impl Decode for CommandDecoder {
     /// use aok_proto::{Command, CommandDecoder, Decode, Event};
     /// let mut dec = CommandDecoder::new();
     /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
-    /// assert_eq!(dec.end(true), Some(Event::Truncated(3)));
-    /// assert_eq!(dec.end(false), Some(Event::Found(Command::DebugOn)));
-    /// assert_eq!(dec.end(false), None);
+    /// assert_eq!(dec.end(), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(), Some(Event::Found(Command::DebugOn)));
+    /// assert_eq!(dec.end(), None);
     /// ```
-    fn end(&mut self, first: bool) -> Option<Event<Command, Error>> {
-        end(first, self.held.len, || self.step(true))
+    fn end(&mut self) -> Option<Event<Command, Error>> {
+        end_of_stream!(self, self.step(true))
     }
 
     /// The command itself.

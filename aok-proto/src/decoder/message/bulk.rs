@@ -4,7 +4,7 @@
 use frame_io::{Decode, Event};
 
 use super::*;
-use crate::decoder::{end, event};
+use crate::decoder::{end_of_stream, event};
 
 /// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
 /// quiet; `decode`, `end` and `item` are the pull form, for a caller that must act between
@@ -38,8 +38,8 @@ use crate::decoder::{end, event};
 /// let debug = Message::Debug(DebugValue { number: 86, value: -2 });
 /// assert_eq!(dec.decode(&wire), (7, Some(Event::Found(debug))));
 /// assert_eq!(dec.decode(&wire[7..]), (1, None));
-/// assert_eq!(dec.end(true), Some(Event::Truncated(1)));
-/// assert_eq!(dec.end(false), None);
+/// assert_eq!(dec.end(), Some(Event::Truncated(1)));
+/// assert_eq!(dec.end(), None);
 /// ```
 impl Decode for MessageDecoder {
     type Error = Error;
@@ -103,13 +103,13 @@ impl Decode for MessageDecoder {
     /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     /// dec.expect(Expect::Ack);
     /// dec.feed(&[0x1c, 0x56, b'O'], |_| {}); // the ack inside a debug frame cut short
-    /// assert_eq!(dec.end(true), Some(Event::Truncated(3)));
-    /// assert_eq!(dec.end(false), Some(Event::Found(Message::Ack(Ack::Ok))));
-    /// assert_eq!(dec.end(false), None);
+    /// assert_eq!(dec.end(), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(), Some(Event::Found(Message::Ack(Ack::Ok))));
+    /// assert_eq!(dec.end(), None);
     /// ```
-    fn end(&mut self, first: bool) -> Option<Event<Message, Error>> {
+    fn end(&mut self) -> Option<Event<Message, Error>> {
         self.unpolled = false;
-        end(first, self.held.len, || self.quiet_next())
+        end_of_stream!(self, self.quiet_next())
     }
 
     /// The message itself.
