@@ -47,8 +47,8 @@ fn naive_aeolus(input: Vec<u8>) -> usize {
     black_box(aeolus_naive(black_box(&input)))
 }
 
-// Every decoder twice: byte by byte (`push`, the `_push` rows) and through its slice API
-// (`feed`).
+// Every decoder twice: one byte a `feed` call (the `_push` rows, named after the per-byte call
+// they measured first) and whole slices through `feed`.
 #[library_benchmark]
 #[bench::aydp(aydp_stream())]
 fn decode_aydp_push(input: Vec<u8>) -> u32 {

@@ -2,6 +2,7 @@
 //! 0/1, texts NUL-terminated: what `emit` writes); and parse(emit(m)) == m for every parsed m,
 //! bit for bit, through a full frame encode and deframe.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
 use libfuzzer_sys::fuzz_target;
 
@@ -22,12 +23,12 @@ fuzz_target!(|data: &[u8]| {
     // Capacity for the longest input the fuzzer makes (-max_len=4096).
     let mut d = Decoder::<4100>::strict();
     let mut seen = 0;
-    for &b in &wire[..w] {
-        if let Some(ev) = d.push(b) {
+    for b in &wire[..w] {
+        d.feed(core::slice::from_ref(b), |ev| {
             let frame = ev.unwrap();
             assert_eq!(frame.data(), canon);
             seen += 1;
-        }
+        });
     }
     assert_eq!(seen, 1);
 });

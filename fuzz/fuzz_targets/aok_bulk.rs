@@ -1,9 +1,10 @@
-//! The AOK bulk paths (`CommandDecoder::feed`, `MessageDecoder::feed`, and `feed_until` called on the
-//! rest until it finds nothing) against pushing byte by byte and draining every iterator: on any
-//! byte stream, in chunks the input chooses, with the PC's pending request switched between
-//! chunks, all give the same items, counters, pending request and buffered bytes after every
-//! chunk, and `feed` the same `idle()`.
+//! The AOK slice paths (`CommandDecoder::feed`, `MessageDecoder::feed` on chunks, and the pull
+//! form `next_event` called on the rest until it finds nothing) against `feed` one byte a call:
+//! on any byte stream, in chunks the input chooses, with the PC's pending request switched
+//! between chunks, all give the same items, counters, pending request and bytes held after
+//! every chunk, and the same `finish`.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aok_proto::{CommandDecoder, FirmwareVersion, MessageDecoder, WaypointSlot, Expect};
 use libfuzzer_sys::fuzz_target;
 
@@ -29,11 +30,11 @@ fn chunks<'a>(cuts: &'a [u8], data: &'a [u8]) -> impl Iterator<Item = (u8, &'a [
     })
 }
 
-/// `feed_until` on what each call left, until it finds nothing in what is left.
-fn until_all<T>(mut feed_until: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: &[u8]) -> Vec<T> {
+/// `next_event` on what each call left, until it finds nothing in what is left.
+fn until_all<T>(mut next_event: impl FnMut(&[u8]) -> (usize, Option<T>), bytes: &[u8]) -> Vec<T> {
     let (mut rest, mut out) = (bytes, Vec::new());
     loop {
-        let (n, ev) = feed_until(rest);
+        let (n, ev) = next_event(rest);
         assert!(n <= rest.len());
         let found = ev.is_some();
         assert!(found || n == rest.len());
@@ -67,13 +68,13 @@ fuzz_target!(|input: &[u8]| {
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
-        assert_eq!(until_all(|b| until.feed_until(b), chunk), want);
+        assert_eq!(until_all(|b| until.next_event(b), chunk), want);
         assert_eq!(until.stats(), slow.stats());
         assert_eq!(until.held_bytes(), slow.held_bytes());
     }
     let (mut want, mut got) = (Vec::new(), Vec::new());
-    slow.idle(|ev| want.push(ev));
-    fast.idle(|ev| got.push(ev));
+    slow.finish(|ev| want.push(ev));
+    fast.finish(|ev| got.push(ev));
     assert_eq!(got, want);
     assert_eq!(fast.stats(), slow.stats());
 
@@ -98,7 +99,7 @@ fuzz_target!(|input: &[u8]| {
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
         assert_eq!(fast.expecting(), slow.expecting());
-        assert_eq!(until_all(|b| until.feed_until(b), chunk), want);
+        assert_eq!(until_all(|b| until.next_event(b), chunk), want);
         assert_eq!(until.stats(), slow.stats());
         assert_eq!(until.held_bytes(), slow.held_bytes());
         assert_eq!(until.expecting(), slow.expecting());
@@ -120,8 +121,8 @@ fuzz_target!(|input: &[u8]| {
         }
     }
     let (mut want, mut got) = (Vec::new(), Vec::new());
-    slow.idle(|ev| want.push(ev));
-    fast.idle(|ev| got.push(ev));
+    slow.finish(|ev| want.push(ev));
+    fast.finish(|ev| got.push(ev));
     assert_eq!(got, want);
     assert_eq!(fast.stats(), slow.stats());
 });

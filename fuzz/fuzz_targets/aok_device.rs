@@ -1,6 +1,7 @@
 //! The AOK device-side decoder (what the PC sends) on any byte stream: no panic; every
 //! command it yields re-encodes to bytes that decode to the same command.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aok_proto::{Command, CommandDecoder};
 use libfuzzer_sys::fuzz_target;
 
@@ -12,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
             cmds.extend(ev);
         });
     }
-    d.idle(|ev| cmds.extend(ev));
+    d.finish(|ev| cmds.extend(ev));
     for c in cmds {
         let (bytes, n) = c.to_bytes();
         let (again, used) = Command::parse(&bytes[..n]).unwrap();

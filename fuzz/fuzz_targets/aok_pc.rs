@@ -1,6 +1,7 @@
 //! The AOK PC-side decoder (the device's stream) on any byte stream, with the pending request
 //! switched by the input itself: no panic, whatever arrives.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aok_proto::{FirmwareVersion, MessageDecoder, ReplyForm, WaypointSlot, Expect};
 use libfuzzer_sys::fuzz_target;
 
@@ -17,15 +18,13 @@ fuzz_target!(|data: &[u8]| {
                 _ => Expect::Waypoint(WaypointSlot::from_wire(b).unwrap_or(WaypointSlot::FbcTarget)),
             });
         }
-        let mut event = d.push(b);
-        while let Some(ev) = event {
-            event = d.poll();
-            let Ok(m) = ev else { continue };
+        d.feed(&[b], |ev| {
+            let Ok(m) = ev else { return };
             let mut out = [0u8; 32];
             let form = if fw == FirmwareVersion::LATEST { ReplyForm::Headed } else { ReplyForm::Headerless };
             let n = m.emit(form, &mut out).unwrap();
             assert_eq!(n, m.buffer_len(form));
-        }
+        });
     }
-    d.idle(|_| {});
+    d.finish(|_| {});
 });

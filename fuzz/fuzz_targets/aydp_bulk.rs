@@ -1,8 +1,9 @@
-//! The AYDP bulk path (`Decoder::feed`, and `Decoder::feed_until` called on the rest until it
-//! finds nothing) against pushing byte by byte and draining every event: on any byte stream, in
-//! chunks the input chooses, all give the same events and the same counters after every chunk,
-//! and `feed` the same flush.
+//! The AYDP slice path (`feed` on chunks, and the pull form `next_event` called on the rest
+//! until it finds nothing) against `feed` one byte a call: on any byte stream, in chunks the
+//! input chooses, all give the same events and the same counters after every chunk, and the
+//! same `finish`.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aydp_proto::{Decoder, Error, Frame, Profile};
 use libfuzzer_sys::fuzz_target;
 
@@ -37,11 +38,11 @@ fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
         assert_eq!(got, want);
         assert_eq!(fast.stats(), slow.stats());
         assert_eq!(fast.held_bytes(), slow.held_bytes());
-        // feed_until on what each call left, until it finds nothing in what is left.
+        // next_event on what each call left, until it finds nothing in what is left.
         got.clear();
         let mut part = chunk;
         loop {
-            let (n, ev) = until.feed_until(part);
+            let (n, ev) = until.next_event(part);
             assert!(n <= part.len());
             let found = ev.is_some();
             assert!(found || n == part.len());
@@ -57,8 +58,8 @@ fn run<const N: usize>(profile: Profile, cuts: &[u8], data: &[u8]) {
     }
     want.clear();
     got.clear();
-    slow.flush(record(&mut want));
-    fast.flush(record(&mut got));
+    slow.finish(record(&mut want));
+    fast.finish(record(&mut got));
     assert_eq!(got, want);
     assert_eq!(fast.stats(), slow.stats());
 }

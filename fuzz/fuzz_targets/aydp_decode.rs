@@ -1,6 +1,7 @@
 //! The AYDP decoder on any byte stream in both profiles: no panic; every byte is delivered
 //! or discarded exactly once.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aydp_proto::{Decoder, Profile};
 use libfuzzer_sys::fuzz_target;
 
@@ -16,7 +17,7 @@ fuzz_target!(|data: &[u8]| {
                 }
             });
         }
-        d.flush(|e| {
+        d.finish(|e| {
             if let Ok(frame) = e {
                 let _ = frame.message();
             }

@@ -1,6 +1,7 @@
 //! emit(parse(x)) == x wherever parse succeeds: a frame that the decoder accepts and whose
 //! data parses re-encodes to exactly the bytes received.
 #![no_main]
+use aeolus_proto::Decode as _;
 use aydp_proto::{Decoder, Encoder, Profile};
 use libfuzzer_sys::fuzz_target;
 

@@ -3,6 +3,7 @@
 //! same bytes again (emit . parse is the identity on canonical data); the whole frame goes
 //! through encode and the decoder unchanged.
 #![no_main]
+use aeolus_proto::Decode as _;
 use gdl90_proto::{Decoder, max_encoded_len, message::Message};
 use libfuzzer_sys::fuzz_target;
 
@@ -26,11 +27,11 @@ fuzz_target!(|data: &[u8]| {
     let w = msg.encode(&mut wire).unwrap();
     let mut d = Decoder::<4100>::new();
     let mut seen = 0;
-    for &b in &wire[..w] {
-        if let Some(ev) = d.push(b) {
+    for b in &wire[..w] {
+        d.feed(core::slice::from_ref(b), |ev| {
             assert_eq!(ev.unwrap(), msg);
             seen += 1;
-        }
+        });
     }
     assert_eq!(seen, 1);
 });

@@ -9,18 +9,17 @@
 #![no_std]
 #![allow(clippy::collapsible_if)]
 
-use aeolus_proto::{CrcMode, message::Message};
+use aeolus_proto::{CrcMode, Decode, message::Message};
 use aydp_proto::{Decoder, Encoder, Profile};
 
-/// Deframes `stream`: the measured AEOLUS deframing loop. Returns the frames delivered.
+/// Deframes `stream` one byte a `feed` call (an interrupt handler's loop). Returns the frames
+/// delivered.
 #[inline(never)]
 pub fn aeolus_deframe(stream: &[u8]) -> u32 {
     let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut n = 0;
-    for &b in stream {
-        if let Some(Ok(_)) = d.push(b) {
-            n += 1;
-        }
+    for b in stream {
+        d.feed(core::slice::from_ref(b), |ev| n += ev.is_ok() as u32);
     }
     n
 }
@@ -49,18 +48,18 @@ pub fn aeolus_decode_slice(stream: &[u8]) -> u64 {
     acc
 }
 
-/// Deframes and parses every frame into a typed message. Returns the XOR of the GYRO
-/// timestamps' bit patterns (see [`aeolus_decode_slice`]).
+/// Deframes one byte a `feed` call and parses every frame into a typed message. Returns the
+/// XOR of the GYRO timestamps' bit patterns (see [`aeolus_decode_slice`]).
 #[inline(never)]
 pub fn aeolus_decode(stream: &[u8]) -> u64 {
     let mut d = aeolus_proto::Decoder::<{ aeolus_proto::MAX_FIXED_FRAME }>::new();
     let mut acc = 0;
-    for &b in stream {
-        if let Some(Ok(frame)) = d.push(b) {
-            if let Ok(Message::Gyro(g)) = frame.message() {
+    for b in stream {
+        d.feed(core::slice::from_ref(b), |ev| {
+            if let Ok(Ok(Message::Gyro(g))) = ev.map(|f| f.message()) {
                 acc ^= g.timestamp_ms.to_bits();
             }
-        }
+        });
     }
     acc
 }
@@ -75,7 +74,8 @@ pub fn aeolus_encode(msgs: &[Message<'_>], out: &mut [u8]) -> usize {
     at
 }
 
-/// Decodes `stream` (every event drained) and parses every frame.
+/// Decodes `stream` one byte a `feed` call (every event of a rescan handed over) and parses
+/// every frame.
 #[inline(never)]
 pub fn aydp_decode(stream: &[u8]) -> u32 {
     let mut d = Decoder::<128>::new(Profile::Spec);

@@ -23,6 +23,35 @@ fn byte(i: usize) -> u8 {
 fn sink(v: u32) {
     unsafe { write_volatile(addr_of_mut!(SINK), v) }
 }
+/// A slice of the volatile input whose length is itself read at run time, so that `feed` keeps
+/// both its paths (one byte, and a slice).
+fn input() -> volatile_input::Input {
+    volatile_input::Input::read()
+}
+
+mod volatile_input {
+    /// Up to 8 input bytes and how many of them count.
+    pub struct Input {
+        bytes: [u8; 8],
+        len: usize,
+    }
+    impl Input {
+        pub fn read() -> Self {
+            let mut bytes = [0u8; 8];
+            for (i, b) in bytes.iter_mut().enumerate() {
+                *b = super::byte(i);
+            }
+            Input { bytes, len: super::byte(8) as usize % 9 }
+        }
+    }
+    impl core::ops::Deref for Input {
+        type Target = [u8];
+        fn deref(&self) -> &[u8] {
+            self.bytes.get(..self.len).unwrap_or(&[])
+        }
+    }
+}
+
 fn f32_in(i: usize) -> f32 {
     f32::from_bits(u32::from_le_bytes([byte(i), byte(i + 1), byte(i + 2), byte(i + 3)]))
 }
@@ -31,14 +60,16 @@ fn f32_in(i: usize) -> f32 {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aeolus_decode() {
-    use aeolus_proto::{Decoder, MAX_FIXED_FRAME, message::Message};
+    use aeolus_proto::{Decode, Decoder, MAX_FIXED_FRAME, message::Message};
     static mut D: Decoder<MAX_FIXED_FRAME> = Decoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
-    if let Some(Ok(frame)) = d.push(byte(0)) {
-        if let Ok(Message::Gyro(g)) = frame.message() {
-            sink(g.x.to_bits());
+    d.feed(&input(), |ev| {
+        if let Ok(frame) = ev {
+            if let Ok(Message::Gyro(g)) = frame.message() {
+                sink(g.x.to_bits());
+            }
         }
-    }
+    });
 }
 
 #[cfg(feature = "aeolus-encode")]
@@ -59,18 +90,16 @@ fn fp_aeolus_encode() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aydp_decode() {
-    use aydp_proto::{Decoder, Profile};
+    use aydp_proto::{Decode, Decoder, Profile};
     static mut D: Decoder<128> = Decoder::new(Profile::Spec);
     let d = unsafe { &mut *addr_of_mut!(D) };
-    let mut ev = d.push(byte(0));
-    while let Some(e) = ev {
+    d.feed(&input(), |e| {
         if let Ok(f) = e {
             if let Ok(m) = f.message() {
                 sink(f.base_type() as u32);
             }
         }
-        ev = d.poll();
-    }
+    });
 }
 
 #[cfg(feature = "aydp-encode")]
@@ -92,19 +121,21 @@ fn fp_aydp_encode() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_decode() {
-    use aok_proto::CommandDecoder;
+    use aok_proto::{CommandDecoder, Decode};
     static mut D: CommandDecoder = CommandDecoder::new();
     let d = unsafe { &mut *addr_of_mut!(D) };
-    if let Some(Ok(c)) = d.push(byte(0)) {
-        sink(c.buffer_len() as u32);
-    }
+    d.feed(&input(), |ev| {
+        if let Ok(c) = ev {
+            sink(c.buffer_len() as u32);
+        }
+    });
 }
 
 #[cfg(feature = "aok-encode")]
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_encode() {
-    use aok_proto::{DebugValue, device::encode_debug};
+    use aok_proto::{DebugValue, encode_debug};
     let mut out = [0u8; 8];
     let v = DebugValue { number: byte(0), value: f32_in(1).to_bits() as i32 };
     if let Ok(n) = encode_debug(v, &mut out) {

@@ -58,7 +58,7 @@ fn sink(v: u32) {
     unsafe { core::ptr::write_volatile(core::ptr::addr_of_mut!(SINK), v) }
 }
 
-/// Runs `step` (a decoder's `feed_until`, its event handed to `sink`; the bytes consumed and
+/// Runs `step` (a decoder's `next_event`, its event handed to `sink`; the bytes consumed and
 /// whether it found an event) on what each call left, until it finds nothing in what is left.
 fn until_each(bytes: &[u8], mut step: impl FnMut(&[u8]) -> (usize, bool)) {
     let mut rest = bytes;
@@ -81,15 +81,15 @@ mod aeolus {
         let mut s = Decoder::<16>::strict();
         for i in 0..len() {
             let b = input_byte(i);
-            if let Some(Ok(frame)) = d.push(b) {
-                sink(frame.id() as u32 ^ frame.data().len() as u32 ^ frame.crc() as u32);
-                if let Ok(msg) = frame.message() {
-                    sink(msg.buffer_len() as u32);
+            d.feed(&[b], |ev| {
+                if let Ok(frame) = ev {
+                    sink(frame.id() as u32 ^ frame.data().len() as u32 ^ frame.crc() as u32);
+                    if let Ok(msg) = frame.message() {
+                        sink(msg.buffer_len() as u32);
+                    }
                 }
-            }
-            if let Some(ev) = s.push(b) {
-                sink(ev.is_ok() as u32);
-            }
+            });
+            s.feed(&[b], |ev| { sink(ev.is_ok() as u32); });
         }
         sink(d.stats().bytes_discarded ^ s.stats().frames_ok);
 
@@ -113,10 +113,10 @@ mod aeolus {
         sink(b.stats().frames_ok);
         sink(crc::update_slice(input_byte(3) as u16, bulk.get(..total).unwrap_or(&[])) as u32);
 
-        // Event by event (`feed_until`) over the same bytes.
+        // Event by event (`next_event`) over the same bytes.
         let mut u = Decoder::<{ MAX_FIXED_FRAME }>::new();
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
-            let (n, ev) = u.feed_until(rest);
+            let (n, ev) = u.next_event(rest);
             let found = ev.is_some();
             if let Some(Ok(frame)) = ev {
                 sink(frame.id() as u32 ^ frame.data().len() as u32);
@@ -172,23 +172,20 @@ mod aeolus {
 mod aok {
     use super::*;
     use aok_proto::{
-        device,
-        pc::{self, Expect, MessageDecoder},
+        Expect, MessageDecoder,
         *,
     };
 
     pub fn run() {
-        // Device side: every command the PC sends, byte by byte, then idle.
+        // Device side: every command the PC sends, one byte a `feed`, then `finish`.
         let mut dev = CommandDecoder::new();
         let fw = FirmwareVersion::new(input_byte(6), input_byte(7));
         let mut host = MessageDecoder::new(fw);
         let slot = WaypointSlot::from_wire(input_byte(8)).unwrap_or(WaypointSlot::FbcTarget);
         for i in 0..len() {
             let b = input_byte(i);
-            let mut event = dev.push(b);
-            while let Some(item) = event {
-                event = dev.poll();
-                let Ok(cmd) = item else { continue };
+            dev.feed(&[b], |item| {
+                let Ok(cmd) = item else { return };
                 let mut out = [0u8; 32];
                 let k = input_byte(9) as usize % 33;
                 if let Ok(n) = cmd.emit(&mut out[..k]) {
@@ -198,7 +195,7 @@ mod aok {
                     sink(n as u32);
                 }
                 sink(cmd.buffer_len() as u32);
-            }
+            });
             if b == 0x55 {
                 host.expect(match input_byte(i + 1) & 3 {
                     0 => Expect::Ack,
@@ -208,23 +205,21 @@ mod aok {
                 });
             }
             let form = host.reply_form();
-            let mut event = host.push(b);
-            while let Some(item) = event {
-                event = host.poll();
-                let Ok(msg) = item else { continue };
+            host.feed(&[b], |item| {
+                let Ok(msg) = item else { return };
                 let mut out = [0u8; 32];
                 let k = input_byte(10) as usize % 33;
                 if let Ok(n) = msg.emit(form, &mut out[..k]) {
                     sink(n as u32);
                 }
-            }
+            });
         }
-        dev.idle(|c| {
+        dev.finish(|c| {
             if let Ok(cmd) = c {
                 sink(cmd.buffer_len() as u32);
             }
         });
-        host.idle(|m| {
+        host.finish(|m| {
             if let Ok(msg) = m {
                 sink(msg.buffer_len(ReplyForm::Headed) as u32);
             }
@@ -263,10 +258,10 @@ mod aok {
         }
         sink(bdev.stats().bytes_discarded ^ bhost.stats().frames_ok);
 
-        // Event by event (`feed_until`) over the same bytes, on both sides.
+        // Event by event (`next_event`) over the same bytes, on both sides.
         let mut udev = CommandDecoder::new();
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
-            let (n, ev) = udev.feed_until(rest);
+            let (n, ev) = udev.next_event(rest);
             let found = ev.is_some();
             if let Some(Ok(cmd)) = ev {
                 sink(cmd.buffer_len() as u32);
@@ -276,7 +271,7 @@ mod aok {
         let mut uhost = MessageDecoder::new(fw);
         uhost.expect(Expect::Parameter(input_byte(5)));
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
-            let (n, ev) = uhost.feed_until(rest);
+            let (n, ev) = uhost.next_event(rest);
             let found = ev.is_some();
             if let Some(Ok(m)) = ev {
                 sink(m.buffer_len(ReplyForm::Headed) as u32);
@@ -306,15 +301,15 @@ mod aok {
             input_byte(14),
             input_byte(15),
         ]);
-        let _ = device::encode_debug(
+        let _ = encode_debug(
             DebugValue {
                 number: input_byte(16),
                 value: v,
             },
             &mut out[..k],
         );
-        let _ = device::encode_ack(Ack::Ok, &mut out[..k]);
-        let _ = device::encode_bulk(input_byte(17), &[v; 16], &mut out[..k]);
+        let _ = encode_ack(Ack::Ok, &mut out[..k]);
+        let _ = encode_bulk(input_byte(17), &[v; 16], &mut out[..k]);
         sink(out[0] as u32);
     }
 }
@@ -347,8 +342,7 @@ mod aydp {
         let mut reg = Registry::new(&mut slots);
         let enc = Encoder::new(profile);
         for i in 0..len() {
-            let mut ev = d.push(input_byte(i));
-            while let Some(e) = ev {
+            d.feed(&[input_byte(i)], |e| {
                 if let Ok(frame) = e {
                     sink(frame.base_type() as u32 ^ frame.data().len() as u32);
                     if let Ok(msg) = frame.message() {
@@ -362,10 +356,9 @@ mod aydp {
                         }
                     }
                 }
-                ev = d.poll();
-            }
+            });
         }
-        d.flush(|e| sink(e.is_ok() as u32));
+        d.finish(|e| sink(e.is_ok() as u32));
         sink(d.stats().bytes_discarded);
 
         // The bulk path, in opaque chunks, then a flush.
@@ -386,10 +379,10 @@ mod aydp {
             });
             at = end;
         }
-        // Event by event (`feed_until`) over the same bytes.
+        // Event by event (`next_event`) over the same bytes.
         let mut u = Decoder::<128>::new(profile);
         until_each(bulk.get(..total).unwrap_or(&[]), |rest| {
-            let (n, ev) = u.feed_until(rest);
+            let (n, ev) = u.next_event(rest);
             let found = ev.is_some();
             if let Some(Ok(frame)) = ev {
                 sink(frame.base_type() as u32 ^ frame.data().len() as u32);
@@ -399,7 +392,7 @@ mod aydp {
         sink(u.stats().frames_ok);
         let mut small = Decoder::<4>::new(profile);
         small.feed(bulk.get(..total).unwrap_or(&[]), |e| sink(e.is_ok() as u32));
-        b.flush(|e| sink(e.is_ok() as u32));
+        b.finish(|e| sink(e.is_ok() as u32));
         sink(b.stats().bytes_discarded ^ small.stats().length_errors);
 
         // Typed parse of opaque data, every type, both forms.
@@ -642,12 +635,12 @@ mod gdl90 {
         let mut small = Decoder::<4>::new();
         for i in 0..len() {
             let b = input_byte(i);
-            if let Some(Ok(msg)) = d.push(b) {
-                use_message(&msg);
-            }
-            if let Some(ev) = small.push(b) {
-                sink(ev.is_ok() as u32);
-            }
+            d.feed(&[b], |ev| {
+                if let Ok(msg) = ev {
+                    use_message(&msg);
+                }
+            });
+            small.feed(&[b], |ev| { sink(ev.is_ok() as u32); });
         }
         sink(d.stats().bytes_discarded ^ small.stats().overflows);
 
