@@ -1,8 +1,12 @@
-//! The crate's single error type.
+//! The errors, one type per operation: [`Error`] for what the wire gives (decoding, parsing,
+//! typed values and encoding into a buffer), [`ClientError`] for what the PC-side client's
+//! operations end with.
 
 use core::fmt;
 
-/// Everything that can go wrong in this crate: parsing, emitting, typed values and the client.
+/// What can go wrong with bytes and values: decoding a stream (the decoders' events), parsing a
+/// frame, building a typed value, encoding into a buffer too small. The client's own failures
+/// are [`ClientError`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -36,6 +40,18 @@ pub enum Error {
     StickOutOfRange(i16),
     /// A waypoint action code outside 0..=6.
     InvalidAction(u16),
+}
+
+/// How an operation of the PC-side [`Client`](crate::Client) failed.
+///
+/// ```
+/// use aok_proto::ClientError;
+/// assert_eq!(ClientError::Timeout.to_string(), "the device did not answer in time");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ClientError {
     /// The configured firmware does not support the request (bulk read needs >= 0.35).
     Unsupported,
     /// The client is already running an operation.
@@ -120,6 +136,15 @@ impl fmt::Display for Error {
             Self::InvalidMotor(m) => write!(f, "motor number {m} outside 1..=12"),
             Self::StickOutOfRange(v) => write!(f, "stick value {v} outside -200..=200"),
             Self::InvalidAction(a) => write!(f, "waypoint action {a} outside 0..=6"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+impl fmt::Display for ClientError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
             Self::Unsupported => f.write_str("not supported by the configured firmware"),
             Self::Busy => f.write_str("an operation is already running"),
             Self::Timeout => f.write_str("the device did not answer in time"),
@@ -130,4 +155,4 @@ impl fmt::Display for Error {
     }
 }
 
-impl core::error::Error for Error {}
+impl core::error::Error for ClientError {}

@@ -76,7 +76,7 @@ pub use encode::{
     DEBUG_OFF, DEBUG_ON, encode_ack, encode_bulk, encode_command, encode_debug, encode_parameter,
     encode_waypoint,
 };
-pub use error::{Error, SerialError};
+pub use error::{ClientError, Error, SerialError};
 pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;

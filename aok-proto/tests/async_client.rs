@@ -15,7 +15,7 @@ use std::rc::Rc;
 use aok_proto::Decode;
 use aok_proto::embedded_io_async::AsyncClient;
 use aok_proto::{
-    Ack, Command, CommandDecoder, Config, DebugValue, Error, FirmwareVersion, Message,
+    Ack, ClientError, Command, CommandDecoder, Config, DebugValue, FirmwareVersion, Message,
     ParameterValue, SerialError,
 };
 use embedded_io::ErrorKind;
@@ -200,7 +200,7 @@ fn set_parameter_is_acked_or_refused() {
     let mut c = AsyncClient::new(device, delay, Config::new(FirmwareVersion::LATEST));
     assert_eq!(
         block_on(c.set_parameter(3, 9, || t.get())),
-        Err(Error::RefusedInFlight)
+        Err(ClientError::RefusedInFlight)
     );
     let (device, _) = c.release();
     // Debug output is restored after a refusal too.
@@ -217,7 +217,7 @@ fn a_silent_device_times_out_and_debug_is_restored() {
     let start = t.get();
     assert_eq!(
         block_on(c.read_parameter(1, || t.get())),
-        Err(Error::Timeout)
+        Err(ClientError::Timeout)
     );
     let waited = t.get() - start;
     // The drain (>= 50 ms) and the reply timeout (1000 ms), measured to a tick.
@@ -244,7 +244,7 @@ fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
     c.state_mut().assume_debug(false);
     assert_eq!(
         block_on(c.read_parameter(1, || t.get())),
-        Err(Error::Timeout)
+        Err(ClientError::Timeout)
     );
     // Each read of 0 bytes waits one tick: the reply timeout (1000 ms), to a tick.
     let waited = t.get();
@@ -261,7 +261,7 @@ fn a_failing_transport_is_a_serial_error() {
     let (mut c, t) = client(device);
     assert_eq!(
         block_on(c.read_parameter(1, || t.get())),
-        Err(Error::Serial(SerialError::Other))
+        Err(ClientError::Serial(SerialError::Other))
     );
     assert!(c.state().is_idle());
 }

@@ -6,7 +6,7 @@ mod watchdog;
 use std::collections::VecDeque;
 
 use aok_proto::{
-    Ack, Action, ActionWord, Client, Command, CommandDecoder, Config, DebugValue, Error,
+    Ack, Action, ActionWord, Client, ClientError, Command, CommandDecoder, Config, DebugValue,
     ExternalControl, FirmwareVersion, Message, Motor, MotorTest, Outcome, ParameterValue,
     ReplyForm, SerialError, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
@@ -294,7 +294,7 @@ fn a_waypoint_of_another_slot_is_not_the_answer() {
         action2: ActionWord::NONE,
     };
     c.serial_mut().send(Message::Waypoint(other));
-    assert_eq!(c.wait(clock()), Err(Error::Timeout));
+    assert_eq!(c.wait(clock()), Err(ClientError::Timeout));
 }
 
 #[test]
@@ -325,7 +325,7 @@ fn device_that_never_answers_times_out_and_debug_is_restored() {
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
     let mut c = client(dev, FirmwareVersion::LATEST);
-    assert_eq!(c.read_parameter(12, clock()), Err(Error::Timeout));
+    assert_eq!(c.read_parameter(12, clock()), Err(ClientError::Timeout));
     assert!(c.is_idle());
     assert!(c.debug_enabled());
     assert_eq!(c.serial_mut().from_pc, [0x63, 0x01, 0x67, 0x0c, 0x63, 0x02]);
@@ -348,7 +348,7 @@ fn timeout_is_measured_on_the_callers_clock() {
     c.start(Command::ReadParameter(3)).unwrap();
     assert_eq!(c.poll(1000), Err(nb::Error::WouldBlock));
     assert_eq!(c.poll(1299), Err(nb::Error::WouldBlock));
-    assert_eq!(c.poll(1300), Err(nb::Error::Other(Error::Timeout)));
+    assert_eq!(c.poll(1300), Err(nb::Error::Other(ClientError::Timeout)));
     assert!(c.is_idle());
 }
 
@@ -368,7 +368,7 @@ fn bulk_read_of_sixteen_with_debug_frames_inside() {
 fn bulk_read_needs_firmware_035() {
     watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::new(0, 34));
-    assert_eq!(c.start(Command::BulkRead(0)), Err(Error::Unsupported));
+    assert_eq!(c.start(Command::BulkRead(0)), Err(ClientError::Unsupported));
     assert!(c.is_idle());
 }
 
@@ -377,8 +377,8 @@ fn set_parameter_acks() {
     watchdog::arm();
     for (ack, want) in [
         (Ack::Ok, Ok(())),
-        (Ack::Error, Err(Error::Rejected)),
-        (Ack::InFlight, Err(Error::RefusedInFlight)),
+        (Ack::Error, Err(ClientError::Rejected)),
+        (Ack::InFlight, Err(ClientError::RefusedInFlight)),
     ] {
         let mut dev = Device::new(ReplyForm::Headed);
         dev.ack = ack;
@@ -411,7 +411,7 @@ fn waypoint_set_and_read_back() {
     // A slot the device does not answer for times out.
     assert_eq!(
         c.read_waypoint(WaypointSlot::FbcTarget, clock()),
-        Err(Error::Timeout)
+        Err(ClientError::Timeout)
     );
 }
 
@@ -469,7 +469,7 @@ fn busy_while_running_and_custom_expectation() {
     watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
     c.start(Command::ReadParameter(1)).unwrap();
-    assert_eq!(c.start(Command::ReadParameter(2)), Err(Error::Busy));
+    assert_eq!(c.start(Command::ReadParameter(2)), Err(ClientError::Busy));
     assert_eq!(
         c.wait(clock()),
         Ok(Outcome::Parameter(ParameterValue {
@@ -479,7 +479,7 @@ fn busy_while_running_and_custom_expectation() {
     );
     // A firmware that acks save-set can be waited on explicitly (this device does not: timeout).
     c.start_expecting(Command::SaveSet(1), Expect::Ack).unwrap();
-    assert_eq!(c.wait(clock()), Err(Error::Timeout));
+    assert_eq!(c.wait(clock()), Err(ClientError::Timeout));
 }
 
 #[test]
@@ -517,7 +517,7 @@ fn serial_errors_are_reported() {
     let mut c = Client::new(Broken, Config::new(FirmwareVersion::LATEST));
     assert_eq!(
         c.read_parameter(1, clock()),
-        Err(Error::Serial(SerialError::Noise))
+        Err(ClientError::Serial(SerialError::Noise))
     );
     assert!(c.is_idle());
     assert!(c.stats().read_errors > 0);

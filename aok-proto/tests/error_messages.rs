@@ -1,7 +1,8 @@
-//! What an application shows of an error: the `Display` text of every `Error` and `IoError`,
+//! What an application shows of an error: the `Display` text of every `Error`, `ClientError`
+//! and `IoError`,
 //! and the `SerialError` kind of every `embedded-hal-nb` serial error kind.
 
-use aok_proto::{Error, SerialError};
+use aok_proto::{ClientError, Error, SerialError};
 use embedded_hal_nb::serial::ErrorKind;
 
 #[test]
@@ -32,15 +33,30 @@ fn every_error_has_its_sentence() {
             "stick value -201 outside -200..=200",
         ),
         (Error::InvalidAction(7), "waypoint action 7 outside 0..=6"),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+    }
+}
+
+#[test]
+fn every_client_error_has_its_sentence() {
+    let cases = [
         (
-            Error::Unsupported,
+            ClientError::Unsupported,
             "not supported by the configured firmware",
         ),
-        (Error::Busy, "an operation is already running"),
-        (Error::Timeout, "the device did not answer in time"),
-        (Error::Rejected, "the device answered 'E'"),
-        (Error::RefusedInFlight, "the device refused in flight ('I')"),
-        (Error::Serial(SerialError::Parity), "serial error: Parity"),
+        (ClientError::Busy, "an operation is already running"),
+        (ClientError::Timeout, "the device did not answer in time"),
+        (ClientError::Rejected, "the device answered 'E'"),
+        (
+            ClientError::RefusedInFlight,
+            "the device refused in flight ('I')",
+        ),
+        (
+            ClientError::Serial(SerialError::Parity),
+            "serial error: Parity",
+        ),
     ];
     for (e, want) in cases {
         assert_eq!(e.to_string(), want, "{e:?}");
@@ -68,8 +84,8 @@ fn every_io_error_has_its_sentence() {
     let cases: [(IoError<&str>, &str); 5] = [
         (IoError::Transport("reset"), "transport error: \"reset\""),
         (
-            IoError::Protocol(Error::Busy),
-            "protocol error: an operation is already running",
+            IoError::Protocol(Error::UnknownCommand(0x0c)),
+            "protocol error: unknown command byte 0x0c",
         ),
         (
             IoError::UnexpectedEof { pending: 5 },

@@ -65,13 +65,13 @@ pub enum Error {
         /// The protocol error.
         source: aydp_proto::Error,
     },
-    /// An AOK protocol or client error, with what was being done.
+    /// An AOK client operation that failed, with what was being done.
     #[error("{what}: {source}")]
     Aok {
         /// What was being done.
         what: String,
-        /// The protocol error.
-        source: aok_proto::Error,
+        /// How the client's operation failed.
+        source: aok_proto::ClientError,
     },
     /// A capture file ends inside a block (pcapng) or record (pcap): what `record` leaves
     /// when it is killed mid-write. The records before it were read whole.

@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::rc::Rc;
 
 use aok_proto::{
-    Action, ActionWord, Client, Command, Config, DebugValue, Error, ExternalControl, Message,
+    Action, ActionWord, Client, ClientError, Command, Config, DebugValue, ExternalControl, Message,
     Motor, MotorTest, ParameterValue, Stick, Waypoint, WaypointNumber, WaypointSlot,
 };
 use aok_proto::{Decode, Expect, MessageDecoder};
@@ -1041,9 +1041,12 @@ fn client_reads_and_sets_through_the_debug_stream() {
     assert_eq!(client.read_parameter(3, tick), Ok(-77));
     assert_eq!(
         client.set_parameter(20, 1, tick),
-        Err(Error::RefusedInFlight)
+        Err(ClientError::RefusedInFlight)
     );
-    assert_eq!(client.set_parameter(40, 1, tick), Err(Error::Rejected));
+    assert_eq!(
+        client.set_parameter(40, 1, tick),
+        Err(ClientError::Rejected)
+    );
     let bulk = client.bulk_read(0, tick).unwrap();
     assert_eq!(bulk[3], -77);
     assert_eq!(bulk[15], 0);

@@ -269,7 +269,7 @@ fn aok_parameter_and_waypoint(board: Board) {
     // Parameter 20 is not settable in flight: 'I' while the simulated flight runs.
     assert_eq!(
         client.set_parameter(20, 7, &mut now),
-        Err(aok_proto::Error::RefusedInFlight)
+        Err(aok_proto::ClientError::RefusedInFlight)
     );
 
     // Waypoint 1 (slot 0) set in RAM and read back as the same 77 frame.

@@ -19,7 +19,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     /// Write what is left of `tx`; `Ok(true)` once it is all out and flushed.
-    pub(super) fn transmit(&mut self) -> Result<bool, Error> {
+    pub(super) fn transmit(&mut self) -> Result<bool, ClientError> {
         while let Some(&b) = self
             .tx
             .get(self.tx_pos)
@@ -28,14 +28,18 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
             match self.serial.write(b) {
                 Ok(()) => self.tx_pos = self.tx_pos.wrapping_add(1),
                 Err(nb::Error::WouldBlock) => return Ok(false),
-                Err(nb::Error::Other(e)) => return Err(Error::Serial(SerialError::from_hal(&e))),
+                Err(nb::Error::Other(e)) => {
+                    return Err(ClientError::Serial(SerialError::from_hal(&e)));
+                }
             }
         }
         if !self.flushed {
             match self.serial.flush() {
                 Ok(()) => self.flushed = true,
                 Err(nb::Error::WouldBlock) => return Ok(false),
-                Err(nb::Error::Other(e)) => return Err(Error::Serial(SerialError::from_hal(&e))),
+                Err(nb::Error::Other(e)) => {
+                    return Err(ClientError::Serial(SerialError::from_hal(&e)));
+                }
             }
         }
         Ok(true)
@@ -82,8 +86,8 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
             }
             (Message::Ack(a), true, Expect::Ack) => Some(match a {
                 Ack::Ok => Ok(Outcome::Acked),
-                Ack::Error => Err(Error::Rejected),
-                Ack::InFlight => Err(Error::RefusedInFlight),
+                Ack::Error => Err(ClientError::Rejected),
+                Ack::InFlight => Err(ClientError::RefusedInFlight),
             }),
             (Message::Parameter(p), true, Expect::Parameter(n)) if p.number == n => {
                 Some(Ok(Outcome::Parameter(p)))
@@ -131,7 +135,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     /// Record the result and move on: restore debug output if the client turned it off, else stop.
-    pub(super) fn conclude(&mut self, result: Result<Outcome, Error>) {
+    pub(super) fn conclude(&mut self, result: Result<Outcome, ClientError>) {
         self.result = Some(result);
         self.conclude_pending();
     }
@@ -147,12 +151,15 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         }
     }
 
-    pub(super) fn finish(&mut self, restore_error: Option<Error>) -> nb::Result<Outcome, Error> {
+    pub(super) fn finish(
+        &mut self,
+        restore_error: Option<ClientError>,
+    ) -> nb::Result<Outcome, ClientError> {
         self.phase = Phase::Idle;
         match (self.result.take(), restore_error) {
             (Some(Ok(o)), None) => Ok(o),
             (Some(Err(e)), _) | (_, Some(e)) => Err(nb::Error::Other(e)),
-            (None, None) => Err(nb::Error::Other(Error::Timeout)),
+            (None, None) => Err(nb::Error::Other(ClientError::Timeout)),
         }
     }
 }

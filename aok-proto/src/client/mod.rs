@@ -20,7 +20,7 @@ use crate::decoder::{MessageDecoder, Stats};
 use crate::encode::{DEBUG_OFF, DEBUG_ON};
 use crate::message::{DebugValue, Message};
 use crate::values::{Ack, FirmwareVersion, WaypointSlot};
-use crate::{Error, SerialError};
+use crate::{ClientError, SerialError};
 
 /// How many debug values the client keeps for [`Client::next_debug`]; older ones are dropped.
 pub const DEBUG_QUEUE: usize = 16;
@@ -139,7 +139,7 @@ enum Phase {
 /// // No reply defined for a save-set: it completes when written.
 /// assert_eq!(client.run(Command::SaveSet(1), || { t += 1; t }), Ok(Outcome::Sent));
 /// // Nobody answers the read: a clean timeout after 1000 ms.
-/// assert_eq!(client.read_parameter(12, || { t += 1; t }), Err(aok_proto::Error::Timeout));
+/// assert_eq!(client.read_parameter(12, || { t += 1; t }), Err(aok_proto::ClientError::Timeout));
 /// ```
 #[derive(Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -158,7 +158,7 @@ pub struct Client<S> {
     flushed: bool,
     phase_since: u32,
     last_rx: u32,
-    result: Option<Result<Outcome, Error>>,
+    result: Option<Result<Outcome, ClientError>>,
     bulk: [i32; 16],
     bulk_seen: u16,
     debug: [DebugValue; DEBUG_QUEUE],
@@ -217,20 +217,20 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
 
     /// Start a command, waiting for the reply the spec defines for it ([`Command::expected_reply`]).
     ///
-    /// Fails with [`Error::Busy`] while another operation runs, and with [`Error::Unsupported`] for a
+    /// Fails with [`ClientError::Busy`] while another operation runs, and with [`ClientError::Unsupported`] for a
     /// bulk read on firmware older than 0.35.
-    pub fn start(&mut self, command: Command) -> Result<(), Error> {
+    pub fn start(&mut self, command: Command) -> Result<(), ClientError> {
         self.start_expecting(command, command.expected_reply())
     }
 
     /// Start a command and wait for the given reply instead of the default one (for example an ack
     /// after a save-set, if a firmware sends one).
-    pub fn start_expecting(&mut self, command: Command, expect: Expect) -> Result<(), Error> {
+    pub fn start_expecting(&mut self, command: Command, expect: Expect) -> Result<(), ClientError> {
         if self.phase != Phase::Idle {
-            return Err(Error::Busy);
+            return Err(ClientError::Busy);
         }
         if matches!(command, Command::BulkRead(_)) && !self.config.firmware.has_bulk_read() {
-            return Err(Error::Unsupported);
+            return Err(ClientError::Unsupported);
         }
         self.command = command;
         self.expect = expect;
@@ -254,7 +254,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     ///
     /// Returns the outcome once, when the operation is over; `WouldBlock` while it runs and while the
     /// client is idle (it still collects debug values then).
-    pub fn poll(&mut self, now_ms: u32) -> nb::Result<Outcome, Error> {
+    pub fn poll(&mut self, now_ms: u32) -> nb::Result<Outcome, ClientError> {
         self.receive(now_ms);
         loop {
             match self.phase {
@@ -305,7 +305,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
                     if self.result.is_some() {
                         self.conclude_pending();
                     } else if now_ms.wrapping_sub(self.phase_since) >= self.config.timeout_ms {
-                        self.conclude(Err(Error::Timeout));
+                        self.conclude(Err(ClientError::Timeout));
                     } else if self.decoder.held_bytes() > 0
                         && now_ms.wrapping_sub(self.last_rx) >= self.config.quiet_ms
                     {

@@ -6,15 +6,19 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     /// Start `command` and poll until it is over, reading the time from `now_ms`.
     ///
     /// See the type-level example.
-    pub fn run(&mut self, command: Command, now_ms: impl FnMut() -> u32) -> Result<Outcome, Error> {
+    pub fn run(
+        &mut self,
+        command: Command,
+        now_ms: impl FnMut() -> u32,
+    ) -> Result<Outcome, ClientError> {
         self.start(command)?;
         self.wait(now_ms)
     }
 
     /// Poll the running operation until it is over.
-    pub fn wait(&mut self, mut now_ms: impl FnMut() -> u32) -> Result<Outcome, Error> {
+    pub fn wait(&mut self, mut now_ms: impl FnMut() -> u32) -> Result<Outcome, ClientError> {
         if self.phase == Phase::Idle {
-            return Err(Error::Timeout);
+            return Err(ClientError::Timeout);
         }
         loop {
             match self.poll(now_ms()) {
@@ -30,10 +34,10 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         &mut self,
         number: u8,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<i32, Error> {
+    ) -> Result<i32, ClientError> {
         match self.run(Command::ReadParameter(number), now_ms)? {
             Outcome::Parameter(p) => Ok(p.value),
-            _ => Err(Error::Timeout),
+            _ => Err(ClientError::Timeout),
         }
     }
 
@@ -42,10 +46,10 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         &mut self,
         first: u8,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<[i32; 16], Error> {
+    ) -> Result<[i32; 16], ClientError> {
         match self.run(Command::BulkRead(first), now_ms)? {
             Outcome::Bulk(b) => Ok(b.values),
-            _ => Err(Error::Timeout),
+            _ => Err(ClientError::Timeout),
         }
     }
 
@@ -54,21 +58,21 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         &mut self,
         slot: WaypointSlot,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<Waypoint, Error> {
+    ) -> Result<Waypoint, ClientError> {
         match self.run(Command::ReadWaypoint(slot), now_ms)? {
             Outcome::Waypoint(w) => Ok(w),
-            _ => Err(Error::Timeout),
+            _ => Err(ClientError::Timeout),
         }
     }
 
     /// Set a parameter and wait for the ack (blocking helper). 'E' and 'I' come back as
-    /// [`Error::Rejected`] and [`Error::RefusedInFlight`].
+    /// [`ClientError::Rejected`] and [`ClientError::RefusedInFlight`].
     pub fn set_parameter(
         &mut self,
         number: u8,
         value: i32,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<(), Error> {
+    ) -> Result<(), ClientError> {
         let cmd = Command::SetParameter(ParameterValue { number, value });
         self.run(cmd, now_ms).map(|_| ())
     }
@@ -78,7 +82,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         &mut self,
         waypoint: Waypoint,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<(), Error> {
+    ) -> Result<(), ClientError> {
         self.run(Command::SetWaypoint(waypoint), now_ms).map(|_| ())
     }
 
@@ -87,7 +91,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
         &mut self,
         test: MotorTest,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<(), Error> {
+    ) -> Result<(), ClientError> {
         self.run(Command::MotorTest(test), now_ms).map(|_| ())
     }
 }

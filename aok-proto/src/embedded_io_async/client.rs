@@ -14,7 +14,7 @@ use ::embedded_io_async::{Read, Write};
 use embedded_hal_async::delay::DelayNs;
 use embedded_hal_nb::serial::{self, ErrorKind};
 
-use crate::Error;
+use crate::ClientError;
 use crate::client::{Client, Config, Outcome};
 use crate::command::{Command, ParameterValue};
 
@@ -103,7 +103,7 @@ impl serial::Write<u8> for Pipe {
 /// timeouts. `now_ms` is any wrapping millisecond clock, as for [`Client::run`].
 ///
 /// ```
-/// use aok_proto::{embedded_io_async::AsyncClient, Config, Error, FirmwareVersion, Outcome, Command};
+/// use aok_proto::{embedded_io_async::AsyncClient, ClientError, Config, FirmwareVersion, Outcome, Command};
 /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
 /// #     let mut f = core::pin::pin!(f);
 /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
@@ -134,7 +134,7 @@ impl serial::Write<u8> for Pipe {
 /// // No reply defined for a save-set: done once written.
 /// assert_eq!(block_on(client.run(Command::SaveSet(1), || t.get())), Ok(Outcome::Sent));
 /// // Nobody answers the read: a timeout after 1000 ms of the fake clock.
-/// assert_eq!(block_on(client.read_parameter(12, || t.get())), Err(Error::Timeout));
+/// assert_eq!(block_on(client.read_parameter(12, || t.get())), Err(ClientError::Timeout));
 /// assert!(t.get() >= 1000);
 /// ```
 #[derive(Debug)]
@@ -173,13 +173,13 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// timeout), reading the time from `now_ms`. See the type's example.
     ///
     /// # Errors
-    /// As [`Client::run`]: [`Error::Timeout`], [`Error::Rejected`], [`Error::Busy`],
-    /// [`Error::Serial`] when the transport fails (its error reduced to a kind), ...
+    /// As [`Client::run`]: [`ClientError::Timeout`], [`ClientError::Rejected`], [`ClientError::Busy`],
+    /// [`ClientError::Serial`] when the transport fails (its error reduced to a kind), ...
     pub async fn run(
         &mut self,
         command: Command,
         mut now_ms: impl FnMut() -> u32,
-    ) -> Result<Outcome, Error> {
+    ) -> Result<Outcome, ClientError> {
         self.client.start(command)?;
         loop {
             match self.client.poll(now_ms()) {
@@ -201,15 +201,15 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
         &mut self,
         number: u8,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<i32, Error> {
+    ) -> Result<i32, ClientError> {
         match self.run(Command::ReadParameter(number), now_ms).await? {
             Outcome::Parameter(p) => Ok(p.value),
-            _ => Err(Error::Timeout),
+            _ => Err(ClientError::Timeout),
         }
     }
 
-    /// Sets a parameter and waits for the ack ('E' and 'I' come back as [`Error::Rejected`]
-    /// and [`Error::RefusedInFlight`]).
+    /// Sets a parameter and waits for the ack ('E' and 'I' come back as [`ClientError::Rejected`]
+    /// and [`ClientError::RefusedInFlight`]).
     ///
     /// # Errors
     /// As [`AsyncClient::run`].
@@ -229,19 +229,19 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// use aok_proto::{embedded_io_async::AsyncClient, Config, Error, FirmwareVersion};
+    /// use aok_proto::{embedded_io_async::AsyncClient, ClientError, Config, FirmwareVersion};
     /// // A device that answers every byte with 'E'.
     /// let mut config = Config::new(FirmwareVersion::LATEST);
     /// config.debug_on = false;
     /// let mut client = AsyncClient::new(P, D, config);
-    /// assert_eq!(block_on(client.set_parameter(12, 1500, || 0)), Err(Error::Rejected));
+    /// assert_eq!(block_on(client.set_parameter(12, 1500, || 0)), Err(ClientError::Rejected));
     /// ```
     pub async fn set_parameter(
         &mut self,
         number: u8,
         value: i32,
         now_ms: impl FnMut() -> u32,
-    ) -> Result<(), Error> {
+    ) -> Result<(), ClientError> {
         let command = Command::SetParameter(ParameterValue { number, value });
         self.run(command, now_ms).await.map(|_| ())
     }

@@ -313,18 +313,18 @@ impl Session {
         }
         match result {
             Ok(o) => Ok(o),
-            Err(aok_proto::Error::Timeout) if serial.ended() => Err(Error::Device(format!(
+            Err(aok_proto::ClientError::Timeout) if serial.ended() => Err(Error::Device(format!(
                 "{} closed the connection before answering {what}",
                 serial.name()
             ))),
-            Err(aok_proto::Error::Timeout) => Err(Error::Timeout {
+            Err(aok_proto::ClientError::Timeout) => Err(Error::Timeout {
                 what: format!("{what} from {}", serial.name()),
                 ms: u64::from(self.timeout_ms),
             }),
-            Err(aok_proto::Error::Rejected) => {
+            Err(aok_proto::ClientError::Rejected) => {
                 Err(Error::Refused(format!("the device rejected {what} ('E')")))
             }
-            Err(aok_proto::Error::RefusedInFlight) => Err(Error::Refused(format!(
+            Err(aok_proto::ClientError::RefusedInFlight) => Err(Error::Refused(format!(
                 "the device refused {what} in flight ('I')"
             ))),
             Err(source) => Err(Error::Aok {
@@ -400,14 +400,14 @@ impl Session {
         }
         match result {
             Ok(_) => Ok(Answer::Confirmed("acked 'O'".into())),
-            Err(aok_proto::Error::Timeout) => Ok(Answer::Unconfirmed(format!(
+            Err(aok_proto::ClientError::Timeout) => Ok(Answer::Unconfirmed(format!(
                 "no ack within {} ms; AOK defines no answer to {what}",
                 self.timeout_ms
             ))),
-            Err(aok_proto::Error::Rejected) => {
+            Err(aok_proto::ClientError::Rejected) => {
                 Err(Error::Refused(format!("the device rejected {what} ('E')")))
             }
-            Err(aok_proto::Error::RefusedInFlight) => Err(Error::Refused(format!(
+            Err(aok_proto::ClientError::RefusedInFlight) => Err(Error::Refused(format!(
                 "the device refused {what} in flight ('I')"
             ))),
             Err(source) => Err(Error::Aok {
