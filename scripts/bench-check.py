@@ -11,6 +11,9 @@ The two tables of docs/BENCHMARKS.md it guards:
   (gungraun), measured with scripts/bench.py's own functions (needs valgrind and
   gungraun-runner 0.20, which it installs if missing: `scripts/setup.sh bench`).
 - "Cortex-M3 instruction counts": scripts/cm3-bench.sh, QEMU's `-icount shift=0`.
+Both sections are produced by scripts/bench.py's own functions (`x86_section`, `cm3_section`), so
+`--write` leaves the page as `python3 scripts/bench.py --only x86,cm3` would (except the decoders'
+PERFORMANCE.md files, which only bench.py writes).
 
 Both are counts of executed instructions, exact and repeatable for a given binary, so a rise is
 a change of the code, never noise. Every row is compared by its label, as instructions divided
@@ -21,7 +24,6 @@ next comparison holds the code to; it writes the x86 table first, because the Co
 shows the x86 figures beside its own.
 """
 import importlib.util
-import subprocess
 import sys
 from pathlib import Path
 
@@ -49,20 +51,24 @@ def section(doc, heading):
     return start, (len(doc) if end < 0 else end + 1)
 
 
-def run_x86():
+def bench():
+    """scripts/bench.py as a module: the page's sections are written by its functions."""
     spec = importlib.util.spec_from_file_location("bench", ROOT / "scripts" / "bench.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    return "\n".join(bench.x86_section(bench.instruction_counts())) + "\n"
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def run_x86():
+    b = bench()
+    return "\n".join(b.x86_section(b.instruction_counts())) + "\n"
 
 
 def run_cm3():
-    r = subprocess.run(["bash", "scripts/cm3-bench.sh"], cwd=ROOT, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.stderr.write(r.stderr)
-        sys.exit("bench-check: scripts/cm3-bench.sh failed")
-    # One heading level down, as scripts/bench.py puts it into the page.
-    return "\n".join("#" + l if l.startswith("#") else l for l in r.stdout.splitlines()) + "\n"
+    # The section as scripts/bench.py writes it (its table beside the page's x86 figures);
+    # built where CARGO_TARGET_DIR says, as the script's default.
+    b = bench()
+    return "\n".join(b.cm3_section(b.run_cm3(target_dir=None))) + "\n"
 
 
 # Name, heading of its section in the page, how it is measured, what its figures are.

@@ -7,13 +7,15 @@
 #
 #   scripts/cm3-bench.sh            print the table (and the method) to stdout
 #
-# `python3 scripts/bench.py` runs it and puts its output into docs/BENCHMARKS.md (the x86-64
-# column is read from the x86 section that bench.py has just written there).
+# `python3 scripts/bench.py` runs it and puts its table into docs/BENCHMARKS.md (the x86-64
+# column is read from the x86 section of the same run, X86_DOC below).
 #
 # Environment:
 #   CARGO_TARGET_DIR   where to build (default: checks/cm3-bench/target)
 #   CM3_OPT_LEVEL      override the crate's release opt-level ("s", like the root workspace)
 #   CM3_TIMEOUT        seconds allowed per QEMU run (default 60; a run takes well under 1 s)
+#   X86_DOC            the page whose x86-64 table gives the side-by-side column
+#                      (default docs/BENCHMARKS.md; scripts/bench.py passes its fresh section)
 #
 # Fails (exit 1) if a build or run fails, if a result differs from the x86 bench's on the
 # same input, or if the two runs of a build do not print exactly the same counts.
@@ -132,7 +134,7 @@ x86_opt=$(profile_opt bench)
 # still reported, under its own name.
 cat "$work"/aeolus.1.out "$work"/aydp.1.out "$work"/aok.1.out | awk \
   -v date="$(date -u +%Y-%m-%d)" -v qemu="$qemu_version" -v rustc="$rustc_version" \
-  -v opt="$opt_level" -v flash="${flash_notes[*]:-}" -v x86doc="$root/docs/BENCHMARKS.md" \
+  -v opt="$opt_level" -v flash="${flash_notes[*]:-}" -v x86doc="${X86_DOC:-$root/docs/BENCHMARKS.md}" \
   -v x86opt="$x86_opt" -v crcloop="$crc_loop" -v noploop="$nop_loop" '
 function kv(line, key,    n, i, parts, pair) {
   n = split(line, parts, " ")

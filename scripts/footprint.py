@@ -6,7 +6,7 @@
 --toolchain nightly`).
 
 Flash: each protocol's decode-only (then encode-only) binary minus the empty baseline, from
-llvm-size (text + data). Stack: nightly's -Z emit-stack-sizes gives every function's frame; the
+llvm-size (text + data); static RAM likewise (data + bss: the decoder or reader, static there). Stack: nightly's -Z emit-stack-sizes gives every function's frame; the
 call graph comes from the disassembly (bl/blx/b.w to a symbol); the worst stack of an entry point
 is its frame plus the deepest chain of frames it can call. Prints a Markdown table.
 """
@@ -44,9 +44,10 @@ def build(triple, feature, nightly):
     return os.path.join(tdir, triple, "release", "footprint")
 
 
-def flash(elf):
+def sizes(elf):
+    """(flash, static RAM): text + data, data + bss."""
     out = subprocess.run([size_tool, elf], capture_output=True, text=True, check=True).stdout.split("\n")[1].split()
-    return int(out[0]) + int(out[1])
+    return int(out[0]) + int(out[1]), int(out[1]) + int(out[2])
 
 
 def stack_sizes(elf):
@@ -86,16 +87,17 @@ def worst(fn, sizes, graph, seen=()):
 
 
 def table(triple):
-    base = flash(build(triple, "", False))
-    print("| protocol, direction | flash (B, minus baseline) | worst stack of the entry point (B) |")
-    print("| --- | ---: | ---: |")
+    base, base_ram = sizes(build(triple, "", False))
+    print("| protocol, direction | flash (B, minus baseline) | worst stack of the entry point (B) | static RAM (B, minus baseline) |")
+    print("| --- | ---: | ---: | ---: |")
     for f in features[1:]:
-        size = flash(build(triple, f, False)) - base
+        size, ram = sizes(build(triple, f, False))
+        size, ram = size - base, ram - base_ram
         elf = build(triple, f, True)
         fn = "fp_" + f.replace("-", "_")
         st = worst(fn, stack_sizes(elf), call_graph(elf))
-        print(f"| {f} | {size} | {st} |")
-    print(f"\nbaseline (empty binary): {base} B")
+        print(f"| {f} | {size} | {st} | {ram} |")
+    print(f"\nbaseline (empty binary): {base} B of flash, {base_ram} B of static RAM")
 
 
 add_nightly_targets(targets)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Messages per second of `protolink.aeolus.Decoder.feed` beside pymavlink's `parse_buffer`,
-in one run (issue 31; the figures are in docs/BENCHMARKS.md, "Python (issue 31)").
+in one run (issue 31; the figures are in docs/BENCHMARKS.md, "Python").
 
     python3 python/bench/bench.py            # 100 MB each; about two minutes
     python3 python/bench/bench.py --mb 10    # a quicker look

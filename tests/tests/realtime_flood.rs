@@ -21,7 +21,7 @@
 //! widest gap between two frames of a type is printed as the jitter it left. The rates are
 //! printed in every run but asserted only on request: without icount the box's clock is the
 //! host's, and QEMU 7.2 on this 2-core host does not emulate three floods in real time (its
-//! PL011 takes one byte per round of its main loop; docs/BENCHMARKS.md, "Firmware CPU budget").
+//! PL011 takes one byte per round of its main loop; sensor-box/CHANGELOG.md, "Performance history").
 //!
 //! `REALTIME_FLOOD_SECONDS` sets the flood's length: 6 s by default (CI's short form);
 //! `REALTIME_FLOOD_SECONDS=30 cargo test -p protolink-tests --test realtime_flood --
@@ -400,7 +400,7 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
             "NOT ASSERTED (set REALTIME_FLOOD_STRICT=1): late-skipped slots {skipped}, types \
              below their rate (frames, due) {short:?}; without icount the box's clock is the \
              host's, and a host that cannot emulate the flood in real time makes the box late \
-             (docs/BENCHMARKS.md, \"Firmware CPU budget\")"
+             (sensor-box/CHANGELOG.md, \"Performance history\")"
         );
     }
     assert_eq!(aeolus_answered, aeolus_commands, "AEOLUS commands answered");
