@@ -115,6 +115,7 @@ enum State {
 /// assert_eq!(texts, 1);
 /// assert_eq!(decoder.stats().bytes_discarded, 2);
 /// ```
+#[doc = include_str!("../../PERFORMANCE.md")]
 #[derive(Debug, Clone)]
 pub struct Decoder<const N: usize> {
     buf: [u8; N],

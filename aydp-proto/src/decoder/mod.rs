@@ -140,6 +140,7 @@ pub(super) enum Step {
 /// assert_eq!((heartbeats, errors), (1, 1));
 /// assert_eq!(decoder.stats().bytes_discarded, 3); // the noise byte, the cut message's two
 /// ```
+#[doc = include_str!("../../PERFORMANCE.md")]
 #[derive(Debug, Clone)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Decoder<const N: usize> {

@@ -43,6 +43,7 @@ use crate::values::{FirmwareVersion, ReplyForm};
 // On 32-bit targets `repr(C)` puts the buffer first: its address is the decoder's, so a byte
 // is stored with one `strb` (`scripts/cm3-bench.sh`, issue 29). Not on 64-bit hosts, where
 // it made the byte path slower (x86-64 callgrind, PC side: +5.7 %).
+#[doc = include_str!("../../../PERFORMANCE.md")]
 #[cfg_attr(target_pointer_width = "32", repr(C))]
 pub struct MessageDecoder {
     held: Held,
