@@ -1,5 +1,6 @@
-//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `push` and `poll`
-//! deliver byte by byte, then what `idle` delivers at the end of the stream (but `Truncated`),
+//! The `embedded-io` and `embedded-io-async` readers deliver exactly what `feed` delivers one
+//! byte a call, then what `finish` delivers at the end of the stream (each front given up as
+//! `UnexpectedEof` with its bytes),
 //! whatever the read sizes (1 byte up to more than the buffer), with pending reads, transport
 //! errors in mid-frame and EOF, on both sides; the writers write exactly the encoders' bytes.
 
@@ -14,7 +15,7 @@ use aok_proto::{
     Ack, Command, CommandDecoder, DebugValue, Error, FirmwareVersion, IoError, Message,
     ParameterValue, ReplyForm, Stats, WaypointSlot, embedded_io as bio, embedded_io_async as aio,
 };
-use aok_proto::{Expect, MessageDecoder};
+use aok_proto::{Decode, Expect, MessageDecoder};
 use embedded_io::ErrorKind;
 use proptest::prelude::*;
 use transport::{Sink, Wire, block_on, sink};
@@ -46,12 +47,7 @@ fn pc_reference(
     for &b in stream {
         out.extend(feed_byte(&mut d, b).into_iter().map(conv));
     }
-    if d.held_bytes() > 0 {
-        out.push(Event::UnexpectedEof(d.held_bytes()));
-        // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
-        let rest = finish_all(&mut d).into_iter();
-        out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
-    }
+    out.extend(end_events(&mut d, conv));
     out.push(Event::Eof);
     (out, d.stats())
 }
@@ -66,14 +62,60 @@ fn device_reference(stream: &[u8]) -> (Vec<Event<Command>>, Stats) {
     for &b in stream {
         out.extend(feed_byte(&mut d, b).into_iter().map(conv));
     }
-    if d.held_bytes() > 0 {
-        out.push(Event::UnexpectedEof(d.held_bytes()));
-        // The reader reports the cut frame as `UnexpectedEof`, not as `Truncated`.
-        let rest = finish_all(&mut d).into_iter();
-        out.extend(rest.filter(|e| *e != Err(Error::Truncated)).map(conv));
-    }
+    out.extend(end_events(&mut d, conv));
     out.push(Event::Eof);
     (out, d.stats())
+}
+
+/// The end of the stream as a reader reports it: the events of `finish`, each front given up
+/// as `UnexpectedEof` with the bytes it dropped (read off `held_bytes` around each event of the
+/// pull form's `end`, which must give the events of `finish`: checked here on a clone).
+fn end_events<D, T>(d: &mut D, conv: impl Fn(Result<T, Error>) -> Event<T>) -> Vec<Event<T>>
+where
+    D: for<'a> Decode<Item<'a> = T, Found = T, Error = Error>
+        + Clone
+        + HeldBytes
+        + events::Events<Item = T>,
+    T: PartialEq + Copy + core::fmt::Debug,
+{
+    let want = finish_all(&mut d.clone());
+    let (mut out, mut seen) = (Vec::new(), Vec::new());
+    loop {
+        let held = d.held_bytes();
+        match d.end() {
+            None => break,
+            Some(frame_io::Event::Found(item)) => {
+                seen.push(Ok(d.item(&[], item)));
+                out.push(conv(Ok(d.item(&[], item))));
+            }
+            Some(frame_io::Event::Error(e)) => {
+                seen.push(Err(e));
+                out.push(conv(Err(e)));
+            }
+            Some(frame_io::Event::Truncated(n)) => {
+                assert_eq!(n, held - d.held_bytes(), "the bytes the front dropped");
+                seen.push(Err(Error::Truncated));
+                out.push(Event::UnexpectedEof(n));
+            }
+        }
+    }
+    assert_eq!(seen, want, "the pull form's end gives the events of finish");
+    out
+}
+
+/// `held_bytes` of either decoder.
+trait HeldBytes {
+    fn held_bytes(&self) -> usize;
+}
+impl HeldBytes for MessageDecoder {
+    fn held_bytes(&self) -> usize {
+        MessageDecoder::held_bytes(self)
+    }
+}
+impl HeldBytes for CommandDecoder {
+    fn held_bytes(&self) -> usize {
+        CommandDecoder::held_bytes(self)
+    }
 }
 
 /// Collects a reader's results until EOF; counts transport errors apart.
@@ -370,7 +412,7 @@ fn transport_errors_in_mid_frame_lose_nothing() {
 }
 
 #[test]
-fn eof_mid_frame_is_reported_then_what_idle_finds() {
+fn eof_mid_frame_is_reported_then_what_finish_finds() {
     let s = device_stream();
     let mut r = bio::MessageReader::<_, 16>::new(
         Wire::new(&s, &[4], &[]),
@@ -396,7 +438,9 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
                 computed: 0x05,
                 received: 0
             }),
-            Event::UnexpectedEof(2),
+            // Two bytes held at the end: the front that cannot complete is given up (1 byte);
+            // the byte after it starts no frame and is discarded (counted, no event).
+            Event::UnexpectedEof(1),
             Event::Eof,
         ]
     );
@@ -409,7 +453,9 @@ fn eof_mid_frame_is_reported_then_what_idle_finds() {
     assert_eq!(
         &got[got.len() - 3..],
         [
-            Event::UnexpectedEof(3),
+            // Three bytes held: the front given up (1 byte), then the rescan finds the
+            // command in the two after it.
+            Event::UnexpectedEof(1),
             Event::Item(Command::DebugOn),
             Event::Eof
         ]

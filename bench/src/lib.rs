@@ -5,7 +5,7 @@
 
 pub use bench_kernels::*;
 
-use aeolus_proto::{CrcMode, Decoder, max_encoded_len, message::Message};
+use aeolus_proto::{CrcMode, Decode, Decoder, max_encoded_len, message::Message};
 use aydp_proto::{Encoder, Profile, Timestamp};
 use protolink_tests::aeolus_gen::{self, Kind::*, Values};
 use protolink_tests::rng::Rng;

@@ -49,9 +49,6 @@ pub(crate) struct Held {
     pub(crate) len: usize,
     /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
     pub(crate) need: usize,
-    /// The pull form's end of the stream has reported the bytes held as `Truncated` and is
-    /// now handing out what the quiet line's step finds in them (cleared when it is done).
-    pub(crate) ending: bool,
 }
 
 impl Held {
@@ -60,7 +57,6 @@ impl Held {
         buf: [0; MAX_COMMAND_LEN],
         len: 0,
         need: 0,
-        ending: false,
     };
 
     /// The bytes held.
@@ -108,27 +104,18 @@ impl Held {
     }
 }
 
-/// The pull form's end of the stream, for either decoder, one call: first the bytes held, as
-/// `Truncated` (once: `Held::ending` remembers it); then what the quiet line's step
-/// (`quiet_next`) finds in them, without the `Truncated` of the fronts it gives up (the end
-/// inside a frame has been reported once); `None` when it is done, which ends the end.
+/// The pull form's end of the stream, for either decoder, one call: the next event of the
+/// quiet line's step (`quiet_next`), exactly those `finish` gives; a front given up is
+/// `Truncated` with the bytes it dropped (what a reader reports as the end inside a frame),
+/// `None` when nothing is held any more.
 macro_rules! end_of_stream {
     ($self:ident, $quiet_next:expr) => {{
-        if !$self.held.ending && $self.held.len > 0 {
-            $self.held.ending = true;
-            return Some(Event::Truncated($self.held.len));
-        }
-        loop {
-            match $quiet_next {
-                None => {
-                    $self.held.ending = false;
-                    return None;
-                }
-                Some(Ok(item)) => return Some(Event::Found(item)),
-                Some(Err(Error::Truncated)) => {}
-                Some(Err(e)) => return Some(Event::Error(e)),
-            }
-        }
+        let held = $self.held.len;
+        Some(match $quiet_next? {
+            Ok(item) => Event::Found(item),
+            Err(Error::Truncated) => Event::Truncated(held.saturating_sub($self.held.len)),
+            Err(e) => Event::Error(e),
+        })
     }};
 }
 pub(crate) use end_of_stream;

@@ -91,14 +91,15 @@ impl Decode for CommandDecoder {
         (total, None)
     }
 
-    /// The end of the stream, one event a call: first the bytes held, as
-    /// [`Event::Truncated`]; then the commands and errors the rescan of those bytes finds.
+    /// The end of the stream, one event a call, the events of `finish`: each front that cannot
+    /// complete given up as [`Event::Truncated`] with the bytes it dropped, and the commands
+    /// and errors the rescan of the bytes after it finds.
     ///
     /// ```
     /// use aok_proto::{Command, CommandDecoder, Decode, Event};
     /// let mut dec = CommandDecoder::new();
     /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
-    /// assert_eq!(dec.end(), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(), Some(Event::Truncated(1)));
     /// assert_eq!(dec.end(), Some(Event::Found(Command::DebugOn)));
     /// assert_eq!(dec.end(), None);
     /// ```

@@ -95,15 +95,16 @@ impl Decode for MessageDecoder {
         )
     }
 
-    /// The end of the stream, one event a call: first the bytes held, as
-    /// [`Event::Truncated`]; then the messages and errors the rescan of those bytes finds.
+    /// The end of the stream, one event a call, the events of `finish`: each front that cannot
+    /// complete given up as [`Event::Truncated`] with the bytes it dropped, and the messages
+    /// and errors the rescan of the bytes after it finds.
     ///
     /// ```
     /// use aok_proto::{Ack, Decode, Event, Expect, FirmwareVersion, Message, MessageDecoder};
     /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     /// dec.expect(Expect::Ack);
     /// dec.feed(&[0x1c, 0x56, b'O'], |_| {}); // the ack inside a debug frame cut short
-    /// assert_eq!(dec.end(), Some(Event::Truncated(3)));
+    /// assert_eq!(dec.end(), Some(Event::Truncated(1))); // 0x1c; then 0x56 starts no frame
     /// assert_eq!(dec.end(), Some(Event::Found(Message::Ack(Ack::Ok))));
     /// assert_eq!(dec.end(), None);
     /// ```
