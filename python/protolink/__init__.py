@@ -13,7 +13,10 @@ decoders, capture reading and command line), so a flight decoded here is byte fo
             print(msg.roll_rad, msg.pitch_rad)
 
     dec = protolink.aeolus.Decoder()
-    for msg in dec.feed(chunk):                         # messages and error events
+    for chunk in chunks:                                # the one loop: feed every piece,
+        for msg in dec.feed(chunk):                     # messages and error events
+            ...
+    for msg in dec.finish():                            # then finish at the end of the stream
         ...
     for msg in dec.feed_iter(big_buffer):               # the same, lazily: bounded memory
         ...

@@ -95,73 +95,46 @@ class FeedIter(Iterator[Event]):
     def bytes_left(self) -> int:
         """Bytes of ``data`` not yet fed to the decoder."""
 
-class AeolusDecoder:
+class Decoder:
+    """What every protocol's ``Decoder`` is: ``feed`` every piece of the input, ``finish`` at
+    its end."""
+
+    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
+        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
+        lands between two steps; the decoder is then fed up to a 64 KiB boundary
+        (``bytes_fed``) and keeps those bytes' events for the next call."""
+    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
+        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
+    def finish(self) -> List[Event]:
+        """The end of the input: what the decoder still holds, reported (``truncated``)."""
+    @property
+    def stats(self) -> Dict[str, int]: ...
+    @property
+    def bytes_fed(self) -> int: ...
+
+class AeolusDecoder(Decoder):
     """``protolink.aeolus.Decoder``."""
 
     def __init__(self) -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
-        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
-        lands between two steps; the decoder is then fed up to a 64 KiB boundary
-        (``bytes_fed``) and keeps those bytes' events for the next call."""
-    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
-        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
-    def flush(self) -> List[Event]: ...
-    @property
-    def stats(self) -> Dict[str, int]: ...
-    @property
-    def bytes_fed(self) -> int: ...
 
-class AydpDecoder:
+class AydpDecoder(Decoder):
     """``protolink.aydp.Decoder``."""
 
     def __init__(self, profile: str = "spec") -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
-        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
-        lands between two steps; the decoder is then fed up to a 64 KiB boundary
-        (``bytes_fed``) and keeps those bytes' events for the next call."""
-    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
-        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
-    def flush(self) -> List[Event]: ...
-    @property
-    def stats(self) -> Dict[str, int]: ...
-    @property
-    def bytes_fed(self) -> int: ...
     @property
     def profile(self) -> str: ...
 
-class AokDecoder:
+class AokDecoder(Decoder):
     """``protolink.aok.Decoder``."""
 
     def __init__(self, side: str = "device") -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
-        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
-        lands between two steps; the decoder is then fed up to a 64 KiB boundary
-        (``bytes_fed``) and keeps those bytes' events for the next call."""
-    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
-        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
-    def flush(self) -> List[Event]: ...
-    @property
-    def stats(self) -> Dict[str, int]: ...
-    @property
-    def bytes_fed(self) -> int: ...
     @property
     def side(self) -> str: ...
 
-class Gdl90Decoder:
+class Gdl90Decoder(Decoder):
     """``protolink.gdl90.Decoder``."""
 
     def __init__(self) -> None: ...
-    def feed(self, data: Buffer, /, datagram: bool = False) -> List[Event]:
-        """Every event of ``data`` as one list (use ``feed_iter`` for a big input). Ctrl-C
-        lands between two steps; the decoder is then fed up to a 64 KiB boundary
-        (``bytes_fed``) and keeps those bytes' events for the next call."""
-    def feed_iter(self, data: Buffer, /, datagram: bool = False) -> FeedIter:
-        """The events ``feed`` would return, lazily: memory bounded whatever ``len(data)``."""
-    def flush(self) -> List[Event]: ...
-    @property
-    def stats(self) -> Dict[str, int]: ...
-    @property
-    def bytes_fed(self) -> int: ...
 
 def aeolus_encode(name: str, /, crc: bool = True, **fields: Any) -> bytes: ...
 def aydp_encode(

@@ -6,86 +6,26 @@ use aeolus_proto::{CrcMode, max_encoded_len};
 use protolink::decoders::{AeolusDecoder, AeolusItem, aeolus_fields};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict};
 use serde_json::{Map, Value};
 
-use crate::decoder::{Core, FeedIter, Owner};
+use crate::decoder::Decoder;
 use crate::encode::{self, check_names, data_bytes, invalid, keys, needed, read};
 use crate::stream::Stream;
 
 /// The AEOLUS stream decoder, as `protolink decode --proto aeolus` runs it: frames with or
-/// without a CRC, every message type, errors as events.
-#[pyclass(module = "protolink.aeolus", name = "Decoder")]
+/// without a CRC, every message type, errors as events. `finish()`: a frame still open is a
+/// `truncated` error.
+#[pyclass(extends = Decoder, module = "protolink.aeolus", name = "Decoder")]
 #[derive(Debug)]
-pub(crate) struct AeolusPyDecoder {
-    pub(crate) core: Core,
-}
+pub(crate) struct AeolusPyDecoder;
 
 #[pymethods]
 impl AeolusPyDecoder {
     #[new]
-    fn new() -> Self {
-        AeolusPyDecoder {
-            core: Core::new(Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device)),
-        }
-    }
-
-    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
-    /// completed. `datagram=True`: the bytes are one whole UDP datagram (a frame never spans
-    /// two).
-    ///
-    /// The list holds every message of `data` (a Python object each): over a big input,
-    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
-    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
-    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
-    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed<'py>(
-        &mut self,
-        py: Python<'py>,
-        data: &Bound<'py, PyAny>,
-        datagram: bool,
-    ) -> PyResult<Bound<'py, PyList>> {
-        self.core.feed(py, data, datagram)
-    }
-
-    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
-    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
-    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
-    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
-    /// until it ends (a `RuntimeError` says so).
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed_iter(
-        slf: Bound<'_, Self>,
-        data: &Bound<'_, PyAny>,
-        datagram: bool,
-    ) -> PyResult<FeedIter> {
-        FeedIter::new(Owner::Aeolus(slf.unbind()), data, datagram)
-    }
-
-    /// The end of the input: a frame still open is reported as a `truncated` error.
-    /// Messages an interrupted `feed` kept come first.
-    fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        self.core.flush(py)
-    }
-
-    /// The counters: the crate's `Stats` plus `malformed` and `truncated`.
-    #[getter]
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.core.stats(py)
-    }
-
-    /// Bytes fed so far.
-    #[getter]
-    fn bytes_fed(&self) -> u64 {
-        self.core.bytes_fed()
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "protolink.aeolus.Decoder(bytes_fed={})",
-            self.core.bytes_fed()
-        )
+    fn new() -> PyClassInitializer<Self> {
+        let stream = Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device);
+        Decoder::new("protolink.aeolus.Decoder", stream, None).add_subclass(AeolusPyDecoder)
     }
 }
 

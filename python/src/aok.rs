@@ -3,26 +3,26 @@
 
 use aok_proto::{ActionWord, Command, Message, ReplyForm, Waypoint, WaypointSlot};
 use protolink::commands::aok::{parse_action, parse_slot};
-use protolink::decoders::{AokDecoder, Body, StreamDecoder};
+use protolink::decoders::AokDecoder;
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict};
 use serde_json::{Map, Value, json};
 
-use crate::decoder::choose;
-use crate::decoder::{Core, FeedIter, Owner};
-use crate::encode::{self, camel, check_names, invalid, needed, read};
+use crate::decoder::{Decoder, choice};
+use crate::encode::{self, camel, check_decodes, check_names, invalid, needed, read};
 use crate::stream::Stream;
 
 /// The sides by name: who sent the bytes.
 const SIDES: [(&str, Side); 2] = [("device", Side::Device), ("pc", Side::Pc)];
 
-/// The AOK stream decoder, as `protolink decode --proto aok --side ...` runs it.
-#[pyclass(module = "protolink.aok", name = "Decoder")]
+/// The AOK stream decoder, as `protolink decode --proto aok --side ...` runs it. `finish()`
+/// (the line went quiet, or the input ended): a partial frame is given up (`truncated`) and
+/// what followed its first byte is rescanned.
+#[pyclass(extends = Decoder, module = "protolink.aok", name = "Decoder")]
 #[derive(Debug)]
 pub(crate) struct AokPyDecoder {
-    pub(crate) core: Core,
     side: &'static str,
 }
 
@@ -32,77 +32,20 @@ impl AokPyDecoder {
     /// replies, read as the PC reads them) or `"pc"` (commands, read as the device reads them).
     #[new]
     #[pyo3(signature = (side = None))]
-    fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
-        let s = side.map_or(Ok(Side::Device), |a| choose("side", a, &SIDES))?;
-        Ok(AokPyDecoder {
-            core: Core::new(Stream::new(Proto::Aok, ProfileArg::Spec, s)),
-            side: if s == Side::Device { "device" } else { "pc" },
-        })
-    }
-
-    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
-    /// completed.
-    ///
-    /// The list holds every message of `data` (a Python object each): over a big input,
-    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
-    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
-    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
-    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed<'py>(
-        &mut self,
-        py: Python<'py>,
-        data: &Bound<'py, PyAny>,
-        datagram: bool,
-    ) -> PyResult<Bound<'py, PyList>> {
-        self.core.feed(py, data, datagram)
-    }
-
-    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
-    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
-    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
-    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
-    /// until it ends (a `RuntimeError` says so).
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed_iter(
-        slf: Bound<'_, Self>,
-        data: &Bound<'_, PyAny>,
-        datagram: bool,
-    ) -> PyResult<FeedIter> {
-        FeedIter::new(Owner::Aok(slf.unbind()), data, datagram)
-    }
-
-    /// The line went quiet (or the input ended): a partial frame is given up (`truncated`) and
-    /// what followed its first byte is rescanned.
-    /// Messages an interrupted `feed` kept come first.
-    fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        self.core.flush(py)
-    }
-
-    /// The counters: the crate's `Stats`.
-    #[getter]
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.core.stats(py)
-    }
-
-    /// Bytes fed so far.
-    #[getter]
-    fn bytes_fed(&self) -> u64 {
-        self.core.bytes_fed()
+    fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<PyClassInitializer<Self>> {
+        let (side, s) = match side {
+            Some(a) => choice("side", a, &SIDES)?,
+            None => ("device", Side::Device),
+        };
+        let stream = Stream::new(Proto::Aok, ProfileArg::Spec, s);
+        let base = Decoder::new("protolink.aok.Decoder", stream, Some(("side", side)));
+        Ok(base.add_subclass(AokPyDecoder { side }))
     }
 
     /// Who sent the bytes: `"device"` or `"pc"`.
     #[getter]
     fn side(&self) -> &'static str {
         self.side
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "protolink.aok.Decoder(side={:?}, bytes_fed={})",
-            self.side,
-            self.core.bytes_fed()
-        )
     }
 }
 
@@ -261,25 +204,9 @@ pub(crate) fn encode_aok<'py>(
         Frame::Command(_) => Side::Pc,
         Frame::Message(_) => Side::Device,
     };
-    check_decodes(name, &out, side)?;
+    // A lone ack byte is not decodable passively: only a PC that sent a command expects one.
+    check_decodes(name, &out, AokDecoder::new(side), "", name == "ACK")?;
     Ok(PyBytes::new(py, &out))
-}
-
-/// Refuses a frame the decoder for its direction would not give back as a `name` message (an
-/// out-of-range motor or stick, a reserved slot).
-fn check_decodes(name: &str, frame: &[u8], side: Side) -> PyResult<()> {
-    let mut decoder = AokDecoder::new(side);
-    let mut events = Vec::new();
-    decoder.feed(frame, 0, &mut events);
-    decoder.finish(frame.len() as u64, &mut events);
-    match events.first().map(|e| &e.body) {
-        Some(Body::Message { name: got, .. }) if got == name => Ok(()),
-        Some(Body::Message { name: got, .. }) => Err(invalid(name, format!("it decodes as {got}"))),
-        Some(Body::Error { error, .. }) => Err(invalid(name, error)),
-        // A lone ack byte is not decodable passively: only a PC that sent a command expects one.
-        None if name == "ACK" => Ok(()),
-        None => Err(invalid(name, "the decoder gives nothing back")),
-    }
 }
 
 /// The first byte of the frame a decoded AOK message came in (its command letter, or the

@@ -7,16 +7,15 @@ use aydp_proto::{
     Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
     WindDirection, WindSpeed,
 };
-use protolink::decoders::{AydpDecoder, Body, StreamDecoder};
+use protolink::decoders::AydpDecoder;
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict};
 use serde_json::{Map, Value, json};
 
-use crate::decoder::choose;
-use crate::decoder::{Core, FeedIter, Owner};
-use crate::encode::{self, check_names, data_bytes, invalid, needed, read};
+use crate::decoder::{Decoder, choice, choose};
+use crate::encode::{self, check_decodes, check_names, data_bytes, invalid, needed, read};
 use crate::stream::Stream;
 use crate::value;
 
@@ -27,11 +26,11 @@ const PROFILES: [(&str, ProfileArg); 2] = [
 ];
 
 /// The AYDP stream decoder in one profile, as `protolink decode --proto aydp --profile ...`
-/// runs it: resynchronising, every typed message, errors as events.
-#[pyclass(module = "protolink.aydp", name = "Decoder")]
+/// runs it: resynchronising, every typed message, errors as events. `finish()`: a message
+/// still open is given up (`truncated`) and what followed its start is rescanned.
+#[pyclass(extends = Decoder, module = "protolink.aydp", name = "Decoder")]
 #[derive(Debug)]
 pub(crate) struct AydpPyDecoder {
-    pub(crate) core: Core,
     profile: &'static str,
 }
 
@@ -41,81 +40,20 @@ impl AydpPyDecoder {
     /// sub-seconds in ms) or `"reference"` (the released software: data length, µs).
     #[new]
     #[pyo3(signature = (profile = None))]
-    fn new(profile: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
-        let p = profile.map_or(Ok(ProfileArg::Spec), |a| choose("profile", a, &PROFILES))?;
-        Ok(AydpPyDecoder {
-            core: Core::new(Stream::new(Proto::Aydp, p, Side::Device)),
-            profile: if p == ProfileArg::Spec {
-                "spec"
-            } else {
-                "reference"
-            },
-        })
-    }
-
-    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
-    /// completed. `datagram=True`: the bytes are one whole datagram.
-    ///
-    /// The list holds every message of `data` (a Python object each): over a big input,
-    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
-    /// 20 ms or 4 096 events) and Ctrl-C raises `KeyboardInterrupt` between two: the decoder
-    /// has then been fed `data` up to a 64 KiB boundary (`bytes_fed` says where) and keeps
-    /// the messages of those bytes for the next `feed`, `feed_iter` or `flush`.
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed<'py>(
-        &mut self,
-        py: Python<'py>,
-        data: &Bound<'py, PyAny>,
-        datagram: bool,
-    ) -> PyResult<Bound<'py, PyList>> {
-        self.core.feed(py, data, datagram)
-    }
-
-    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
-    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
-    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
-    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
-    /// until it ends (a `RuntimeError` says so).
-    #[pyo3(signature = (data, /, datagram = false))]
-    fn feed_iter(
-        slf: Bound<'_, Self>,
-        data: &Bound<'_, PyAny>,
-        datagram: bool,
-    ) -> PyResult<FeedIter> {
-        FeedIter::new(Owner::Aydp(slf.unbind()), data, datagram)
-    }
-
-    /// The end of the input: a message still open is given up (`truncated`) and what followed
-    /// its start is rescanned.
-    /// Messages an interrupted `feed` kept come first.
-    fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        self.core.flush(py)
-    }
-
-    /// The counters: the crate's `Stats` plus `malformed` and `truncated`.
-    #[getter]
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.core.stats(py)
-    }
-
-    /// Bytes fed so far.
-    #[getter]
-    fn bytes_fed(&self) -> u64 {
-        self.core.bytes_fed()
+    fn new(profile: Option<&Bound<'_, PyAny>>) -> PyResult<PyClassInitializer<Self>> {
+        let (profile, p) = match profile {
+            Some(a) => choice("profile", a, &PROFILES)?,
+            None => ("spec", ProfileArg::Spec),
+        };
+        let stream = Stream::new(Proto::Aydp, p, Side::Device);
+        let base = Decoder::new("protolink.aydp.Decoder", stream, Some(("profile", profile)));
+        Ok(base.add_subclass(AydpPyDecoder { profile }))
     }
 
     /// The profile: `"spec"` or `"reference"`.
     #[getter]
     fn profile(&self) -> &'static str {
         self.profile
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "protolink.aydp.Decoder(profile={:?}, bytes_fed={})",
-            self.profile,
-            self.core.bytes_fed()
-        )
     }
 }
 
@@ -290,24 +228,15 @@ pub(crate) fn encode_aydp<'py>(
         .encode(&message, header_time, &mut buf)
         .map_err(|e| invalid(name, e))?;
     buf.truncate(n);
-    check_decodes(name, &buf, profile)?;
+    // A reference type in the spec profile, a heartbeat sent normal, a list too long for a
+    // decoder: refused.
+    let decoder = AydpDecoder::new(profile);
+    check_decodes(
+        name,
+        &buf,
+        decoder,
+        " in this profile and header form",
+        false,
+    )?;
     Ok(PyBytes::new(py, &buf))
-}
-
-/// Refuses a message that the decoder would not give back as a `name` message (a reference
-/// type in the spec profile, a heartbeat sent normal, a list too long for a decoder).
-fn check_decodes(name: &str, frame: &[u8], profile: Profile) -> PyResult<()> {
-    let mut decoder = AydpDecoder::new(profile);
-    let mut events = Vec::new();
-    decoder.feed(frame, 0, &mut events);
-    decoder.finish(frame.len() as u64, &mut events);
-    match events.first().map(|e| &e.body) {
-        Some(Body::Message { name: got, .. }) if got == name => Ok(()),
-        Some(Body::Message { name: got, .. }) => Err(invalid(
-            name,
-            format!("it decodes as {got} in this profile and header form"),
-        )),
-        Some(Body::Error { error, .. }) => Err(invalid(name, error)),
-        None => Err(invalid(name, "the decoder gives nothing back")),
-    }
 }

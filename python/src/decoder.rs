@@ -1,5 +1,6 @@
-//! What the four `Decoder` classes share: feeding a buffer in bounded steps with the GIL
-//! released, the lazy `feed_iter`, the end of the input, and the counters as a dict.
+//! The `Decoder` class the four protocols' classes extend: feeding a buffer in bounded steps
+//! with the GIL released, the lazy `feed_iter`, the end of the input (`finish`), and the
+//! counters as a dict, written once.
 //!
 //! A step feeds the decoder 64 KiB pieces (`PIECE`), without the GIL, until it has taken
 //! 20 ms (`STEP_TIME`) or completed 4 096 events (`STEP_EVENTS`), or the input ends; its
@@ -7,7 +8,7 @@
 //! handler that raises) ends a call of any length after at most one step of its work. An
 //! interrupted `feed` leaves the decoder as if it had been fed the input up to a piece
 //! boundary (`bytes_fed` says where), and keeps the messages of those bytes for the next
-//! `feed`, `feed_iter` or `flush`: nothing is lost or decoded twice.
+//! `feed`, `feed_iter` or `finish`: nothing is lost or decoded twice.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -17,10 +18,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use serde_json::Value;
 
-use crate::aeolus::AeolusPyDecoder;
-use crate::aok::AokPyDecoder;
-use crate::aydp::AydpPyDecoder;
-use crate::gdl90::Gdl90PyDecoder;
 use crate::input::{Input, to_bytes};
 use crate::message::to_object;
 use crate::stream::{Pending, Stream};
@@ -60,22 +57,38 @@ fn step(stream: &mut Stream, bytes: &[u8], datagram: bool) -> (usize, Vec<Pendin
     }
 }
 
-/// A decoder and the messages an interrupted `feed` completed, kept for the next call.
+/// The class every protocol's `Decoder` extends (`protolink.aeolus.Decoder`, ...): the
+/// decoding methods, written once. A protocol's class adds only its constructor (and the
+/// getter of its setting, AYDP's `profile` or AOK's `side`).
+///
+/// The one loop: `d.feed(data)` for every piece of the input, `d.finish()` at its end.
+#[pyclass(module = "protolink._native", name = "Decoder", subclass)]
 #[derive(Debug)]
-pub(crate) struct Core {
+pub(crate) struct Decoder {
     stream: Stream,
+    /// The messages an interrupted `feed` completed, kept for the next call.
     held: Option<Py<PyList>>,
+    /// The class's Python name, for `repr`: `protolink.aydp.Decoder`.
+    class: &'static str,
+    /// The constructor's setting, for `repr`: `("profile", "spec")`.
+    setting: Option<(&'static str, &'static str)>,
 }
 
-impl Core {
-    /// A core around `stream`, holding nothing.
-    pub(crate) fn new(stream: Stream) -> Self {
-        Core { stream, held: None }
-    }
-
-    /// Bytes fed so far.
-    pub(crate) fn bytes_fed(&self) -> u64 {
-        self.stream.bytes_fed()
+impl Decoder {
+    /// The base of `class` (its Python name) around `stream`, holding nothing; `setting` is
+    /// the constructor argument its `repr` shows. A protocol's `#[new]` adds its class with
+    /// `add_subclass`.
+    pub(crate) fn new(
+        class: &'static str,
+        stream: Stream,
+        setting: Option<(&'static str, &'static str)>,
+    ) -> PyClassInitializer<Self> {
+        PyClassInitializer::from(Decoder {
+            stream,
+            held: None,
+            class,
+            setting,
+        })
     }
 
     /// The list the next call returns: the held messages, or a new list.
@@ -84,12 +97,22 @@ impl Core {
             .take()
             .map_or_else(|| PyList::empty(py), |l| l.into_bound(py))
     }
+}
 
-    /// Decodes `data` (bytes read in place, another buffer copied once) step by step with the
-    /// GIL released, and returns the messages and error events it completed (after any an
-    /// interrupted call kept). A signal handler's exception between two steps is raised with
-    /// the decoder fed up to that step and its messages kept.
-    pub(crate) fn feed<'py>(
+#[pymethods]
+impl Decoder {
+    /// Decodes `data` (bytes, bytearray, memoryview); returns the messages and error events it
+    /// completed. `datagram=True`: the bytes are one whole UDP datagram (a frame never spans
+    /// two).
+    ///
+    /// The list holds every message of `data` (a Python object each): over a big input,
+    /// `feed_iter` keeps memory bounded. The bytes are decoded in steps (64 KiB pieces until
+    /// 20 ms or 4 096 events) with the GIL released, and Ctrl-C raises `KeyboardInterrupt`
+    /// between two: the decoder has then been fed `data` up to a 64 KiB boundary (`bytes_fed`
+    /// says where) and keeps the messages of those bytes for the next `feed`, `feed_iter` or
+    /// `finish`.
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed<'py>(
         &mut self,
         py: Python<'py>,
         data: &Bound<'py, PyAny>,
@@ -118,9 +141,24 @@ impl Core {
         }
     }
 
-    /// The end of the input: what the decoder still holds, reported (after any messages an
-    /// interrupted `feed` kept).
-    pub(crate) fn flush<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    /// Decodes `data` lazily: an iterator of the messages and error events `feed` would
+    /// return, decoded one step (64 KiB pieces until 20 ms or 4 096 events) at a time as it is
+    /// read, so that memory stays bounded whatever the length of `data`; Ctrl-C lands between
+    /// two steps, and iterating again goes on where it stopped. Feed the decoder nothing else
+    /// until it ends (a `RuntimeError` says so).
+    #[pyo3(signature = (data, /, datagram = false))]
+    fn feed_iter(
+        slf: Bound<'_, Self>,
+        data: &Bound<'_, PyAny>,
+        datagram: bool,
+    ) -> PyResult<FeedIter> {
+        FeedIter::new(slf.unbind(), data, datagram)
+    }
+
+    /// The end of the input: what the decoder still holds is reported (a frame still open is
+    /// a `truncated` error; AYDP and AOK then rescan what followed its first byte). Messages
+    /// an interrupted `feed` kept come first.
+    fn finish<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let proto = self.stream.proto();
         let list = self.take_held(py);
         let mut out = Vec::new();
@@ -132,37 +170,31 @@ impl Core {
     }
 
     /// The counters as a dict, exactly the `"counters"` of `protolink decode --json`'s
-    /// summary.
-    pub(crate) fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// summary: the crate's `Stats` plus the host tool's `malformed` and `truncated` where
+    /// the protocol has them.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         match self.stream.counters() {
             Value::Object(m) => value::dict(py, &m),
             _ => Ok(PyDict::new(py)),
         }
     }
-}
 
-/// The decoder a `FeedIter` feeds: one of the four classes.
-pub(crate) enum Owner {
-    /// `protolink.aeolus.Decoder`.
-    Aeolus(Py<AeolusPyDecoder>),
-    /// `protolink.aydp.Decoder`.
-    Aydp(Py<AydpPyDecoder>),
-    /// `protolink.aok.Decoder`.
-    Aok(Py<AokPyDecoder>),
-    /// `protolink.gdl90.Decoder`.
-    Gdl90(Py<Gdl90PyDecoder>),
-}
+    /// Bytes fed so far.
+    #[getter]
+    fn bytes_fed(&self) -> u64 {
+        self.stream.bytes_fed()
+    }
 
-impl Owner {
-    /// Runs `f` on the decoder's core, borrowed for the call (`RuntimeError` if another
-    /// thread is using the decoder).
-    fn with<R>(&self, py: Python<'_>, f: impl FnOnce(&mut Core) -> R) -> PyResult<R> {
-        Ok(match self {
-            Owner::Aeolus(d) => f(&mut d.bind(py).try_borrow_mut()?.core),
-            Owner::Aydp(d) => f(&mut d.bind(py).try_borrow_mut()?.core),
-            Owner::Aok(d) => f(&mut d.bind(py).try_borrow_mut()?.core),
-            Owner::Gdl90(d) => f(&mut d.bind(py).try_borrow_mut()?.core),
-        })
+    fn __repr__(&self) -> String {
+        let setting = self
+            .setting
+            .map_or_else(String::new, |(key, value)| format!("{key}={value:?}, "));
+        format!(
+            "{}({setting}bytes_fed={})",
+            self.class,
+            self.stream.bytes_fed()
+        )
     }
 }
 
@@ -171,7 +203,7 @@ impl Owner {
 /// before them, any an interrupted `feed` of the decoder kept).
 #[pyclass(module = "protolink", name = "FeedIter")]
 pub(crate) struct FeedIter {
-    owner: Owner,
+    owner: Py<Decoder>,
     data: Py<PyBytes>,
     datagram: bool,
     /// Bytes of `data` fed so far.
@@ -186,10 +218,10 @@ pub(crate) struct FeedIter {
 impl FeedIter {
     /// An iterator over what `owner` decodes of `data` (bytes kept as they are, another
     /// buffer copied once).
-    pub(crate) fn new(owner: Owner, data: &Bound<'_, PyAny>, datagram: bool) -> PyResult<Self> {
+    fn new(owner: Py<Decoder>, data: &Bound<'_, PyAny>, datagram: bool) -> PyResult<Self> {
         let py = data.py();
         let data = to_bytes(data, "feed_iter")?.unbind();
-        let expected = owner.with(py, |core| core.bytes_fed())?;
+        let expected = owner.bind(py).try_borrow()?.bytes_fed();
         Ok(FeedIter {
             owner,
             data,
@@ -219,7 +251,9 @@ impl FeedIter {
             let bytes = self.data.bind(py).as_bytes();
             let rest = bytes.get(self.at..).unwrap_or(&[]);
             let (expected, datagram) = (self.expected, self.datagram);
-            let (held, n, pending, proto, fed) = self.owner.with(py, |core| {
+            let (held, n, pending, proto, fed) = {
+                // `RuntimeError` if another thread is using the decoder.
+                let mut core = self.owner.bind(py).try_borrow_mut()?;
                 if core.bytes_fed() != expected {
                     return Err(PyRuntimeError::new_err(format!(
                         "the decoder was fed elsewhere while feed_iter was feeding it ({} bytes fed, not {expected}): finish the iterator before feeding the decoder again",
@@ -229,8 +263,8 @@ impl FeedIter {
                 let held = core.held.take();
                 let stream = &mut core.stream;
                 let (n, pending) = py.detach(|| step(stream, rest, datagram));
-                Ok((held, n, pending, core.stream.proto(), core.bytes_fed()))
-            })??;
+                (held, n, pending, core.stream.proto(), core.bytes_fed())
+            };
             self.at += n;
             self.expected = fed;
             self.done = self.at >= bytes.len();
@@ -265,8 +299,17 @@ impl FeedIter {
 pub(crate) fn choose<T: Copy>(
     what: &str,
     arg: &Bound<'_, PyAny>,
-    choices: &[(&str, T)],
+    choices: &[(&'static str, T)],
 ) -> PyResult<T> {
+    choice(what, arg, choices).map(|(_, v)| v)
+}
+
+/// [`choose`], with the name chosen: a decoder's setting as its `repr` shows it.
+pub(crate) fn choice<T: Copy>(
+    what: &str,
+    arg: &Bound<'_, PyAny>,
+    choices: &[(&'static str, T)],
+) -> PyResult<(&'static str, T)> {
     let names: Vec<String> = choices.iter().map(|(n, _)| format!("'{n}'")).collect();
     let names = names.join(" or ");
     let Ok(text) = arg.extract::<String>() else {
@@ -279,6 +322,6 @@ pub(crate) fn choose<T: Copy>(
     choices
         .iter()
         .find(|(name, _)| *name == text)
-        .map(|(_, v)| *v)
+        .copied()
         .ok_or_else(|| PyValueError::new_err(format!("{what} is {names}, not '{text}'")))
 }

@@ -1,6 +1,7 @@
 //! What the encoders share: turning keyword arguments into the crates' types through serde,
 //! refusing fields a message does not have, and one sentence for every refusal.
 
+use protolink::decoders::{Body, StreamDecoder};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -121,4 +122,29 @@ pub(crate) fn camel(name: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Refuses a frame that `decoder` (a fresh one, for the frame's direction and profile) would
+/// not give back as a `name` message: `form` ends the sentence when it decodes as another
+/// (`" in this profile and header form"`); `silent` lets a frame the decoder gives nothing
+/// back for pass (an AOK ack, which only the PC that sent a command expects).
+pub(crate) fn check_decodes(
+    name: &str,
+    frame: &[u8],
+    mut decoder: impl StreamDecoder,
+    form: &str,
+    silent: bool,
+) -> PyResult<()> {
+    let mut events = Vec::new();
+    decoder.feed(frame, 0, &mut events);
+    decoder.finish(frame.len() as u64, &mut events);
+    match events.first().map(|e| &e.body) {
+        Some(Body::Message { name: got, .. }) if got == name => Ok(()),
+        Some(Body::Message { name: got, .. }) => {
+            Err(invalid(name, format!("it decodes as {got}{form}")))
+        }
+        Some(Body::Error { error, .. }) => Err(invalid(name, error)),
+        None if silent => Ok(()),
+        None => Err(invalid(name, "the decoder gives nothing back")),
+    }
 }

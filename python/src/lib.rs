@@ -10,8 +10,8 @@
 //! | --- | --- |
 //! | [`stream`] | the host tool's four stream decoders without Python: bytes in, pending events out |
 //! | [`message`] | `Message` and `ErrorEvent`, the Python objects of those events |
-//! | [`decoder`] | what the four `Decoder` classes share: `feed` and `feed_iter` (in bounded steps, GIL released, Ctrl-C between two), `flush`, `stats` |
-//! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` class and encoder |
+//! | [`decoder`] | the `Decoder` class the four protocols' classes extend, its methods written once: `feed` and `feed_iter` (in bounded steps, GIL released, Ctrl-C between two), `finish`, `stats`, `bytes_fed` |
+//! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` (its constructor only) and encoder |
 //! | [`encode`] | what the encoders share: fields through serde, one sentence per refusal |
 //! | [`source`] | `open`: files, captures (a cut one warned about) and live links as an iterator |
 //! | [`input`] | the bytes `feed` takes: `bytes` in place, other buffers copied once |
@@ -45,6 +45,7 @@ pub mod value;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    m.add_class::<decoder::Decoder>()?;
     m.add("AeolusDecoder", py.get_type::<aeolus::AeolusPyDecoder>())?;
     m.add("AydpDecoder", py.get_type::<aydp::AydpPyDecoder>())?;
     m.add("AokDecoder", py.get_type::<aok::AokPyDecoder>())?;

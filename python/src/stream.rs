@@ -42,6 +42,18 @@ enum Core {
     Gdl90(Gdl90Decoder),
 }
 
+impl Core {
+    /// The decoder as the host tool's `StreamDecoder` (AEOLUS's events rendered, not kept raw).
+    fn as_dyn(&mut self) -> &mut dyn StreamDecoder {
+        match self {
+            Core::Aeolus(d) => d,
+            Core::Aydp(d) => d,
+            Core::Aok(d) => d,
+            Core::Gdl90(d) => d,
+        }
+    }
+}
+
 /// A decoder and the bytes it has been fed, so that every event carries its input offset.
 #[derive(Debug)]
 pub(crate) struct Stream {
@@ -90,9 +102,7 @@ impl Stream {
                     d.end_of_datagram_items(end, |at, item| out.push(pending(at, item)));
                 }
             }
-            Core::Aydp(d) => stream_feed(d, bytes, start, datagram, out),
-            Core::Aok(d) => stream_feed(d, bytes, start, datagram, out),
-            Core::Gdl90(d) => stream_feed(d, bytes, start, datagram, out),
+            other => stream_feed(other.as_dyn(), bytes, start, datagram, out),
         }
     }
 
@@ -102,9 +112,7 @@ impl Stream {
         let end = self.offset;
         match &mut self.core {
             Core::Aeolus(d) => d.finish_items(end, |at, item| out.push(pending(at, item))),
-            Core::Aydp(d) => stream_finish(d, end, out),
-            Core::Aok(d) => stream_finish(d, end, out),
-            Core::Gdl90(d) => stream_finish(d, end, out),
+            other => stream_finish(other.as_dyn(), end, out),
         }
     }
 

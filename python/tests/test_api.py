@@ -127,7 +127,7 @@ def test_misuse_raises_one_sentence(call, exc, text):
 def test_bad_bytes_never_raise():
     d = aeolus.Decoder()
     events = d.feed(bytes(range(256)) * 50 + b"\x7e\x7d\x7e\x7d\x01\x7e")
-    events += d.flush()
+    events += d.finish()
     assert all(e.is_error for e in events) and len(events) > 0
 
 

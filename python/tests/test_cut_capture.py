@@ -52,7 +52,7 @@ def expected(bs, cut):
     """What the whole records before `cut` hold, decoded as one stream and ended there."""
     stream = b"".join(p for at, kind, length, p in bs if kind == EPB and at + length <= cut)
     d = protolink.aeolus.Decoder()
-    return summary(d.feed(stream) + d.flush())
+    return summary(d.feed(stream) + d.finish())
 
 
 def cut_points(bs):

@@ -37,7 +37,7 @@ def test_feed_iter_equals_feed(vector_files, kind):
         lazy = list(b.feed_iter(data, datagram=datagram))
         assert summary(lazy) == summary(a.feed(data, datagram=datagram))
         assert a.stats == b.stats and a.bytes_fed == b.bytes_fed == len(data)
-        assert summary(a.flush()) == summary(b.flush())
+        assert summary(a.finish()) == summary(b.finish())
 
 
 @settings(max_examples=60, deadline=None)
@@ -51,7 +51,7 @@ def test_feed_iter_equals_feed_on_any_bytes(chunks, datagram):
         data = frame + chunk + frame
         events_a += a.feed(data, datagram=datagram)
         events_b += list(b.feed_iter(bytearray(data), datagram=datagram))
-    assert summary(events_a + a.flush()) == summary(events_b + b.flush())
+    assert summary(events_a + a.finish()) == summary(events_b + b.finish())
 
 
 def test_feed_iter_of_every_buffer_and_of_nothing():

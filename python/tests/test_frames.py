@@ -43,7 +43,7 @@ def test_rows_of_a_capture(tmp_path):
 def test_rows_of_messages_and_errors():
     d = protolink.aydp.Decoder()
     events = d.feed((TESTDATA / "qemu-uart1-aydp.bin").read_bytes() + b"\xff\x03\x2b\x00\x00\x00\x01")
-    events += d.flush()
+    events += d.finish()
     frames = protolink.to_frames(events)
     assert {k: len(v) for k, v in frames.items()} == {"HEARTBEAT": 5, "POSITION": 5, "FIX_QUALITY": 5, "ERROR": 1}
     assert list(frames["ERROR"].columns) == ["time", "offset", "kind", "error"]

@@ -132,7 +132,7 @@ def alarm():
 def test_interrupted_feed_keeps_its_messages_and_goes_on(alarm):
     data = SAMPLE.read_bytes() * 200  # 15.7 MB
     whole = protolink.aeolus.Decoder()
-    expected = summary(whole.feed(data) + whole.flush())
+    expected = summary(whole.feed(data) + whole.finish())
     d = protolink.aeolus.Decoder()
     alarm(0.02)
     with pytest.raises(Stop):
@@ -141,7 +141,7 @@ def test_interrupted_feed_keeps_its_messages_and_goes_on(alarm):
     # Fed up to a piece boundary, not to the end; what those bytes gave is kept.
     assert 0 < fed < len(data) and fed % PIECE == 0, fed
     assert repr(d) == f"protolink.aeolus.Decoder(bytes_fed={fed})"
-    events = d.feed(data[fed:]) + d.flush()
+    events = d.feed(data[fed:]) + d.finish()
     assert summary(events) == expected
     assert d.stats == whole.stats and d.bytes_fed == len(data)
 
@@ -167,18 +167,18 @@ def test_interrupted_feed_iter_goes_on_where_it_stopped(alarm):
     assert summary(got) == expected and it.bytes_left == 0
 
 
-def test_held_messages_come_first_in_flush_and_feed_iter(alarm):
+def test_held_messages_come_first_in_finish_and_feed_iter(alarm):
     data = SAMPLE.read_bytes() * 200
     expected = summary(protolink.aeolus.Decoder().feed(data))
-    for finish in ("flush", "feed_iter"):
+    for finish in ("finish", "feed_iter"):
         d = protolink.aeolus.Decoder()
         alarm(0.02)
         with pytest.raises(Stop):
             d.feed(data)
         fed = d.bytes_fed
-        if finish == "flush":
-            # As if fed data[:fed] and flushed: the kept messages, then the end of the input.
+        if finish == "finish":
+            # As if fed data[:fed] and finished: the kept messages, then the end of the input.
             ref = protolink.aeolus.Decoder()
-            assert summary(d.flush()) == summary(ref.feed(data[:fed]) + ref.flush())
+            assert summary(d.finish()) == summary(ref.feed(data[:fed]) + ref.finish())
         else:
             assert summary(list(d.feed_iter(data[fed:]))) == expected

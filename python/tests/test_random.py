@@ -55,12 +55,12 @@ def test_random_bytes(kind, data):
     raw = data.draw(stream(kind))
     cuts = sorted(data.draw(st.lists(st.integers(0, len(raw)), max_size=8)))
     whole = decoder(kind)
-    events = whole.feed(raw) + whole.flush()
+    events = whole.feed(raw) + whole.finish()
     pieces = decoder(kind)
     chunked = []
     for a, b in zip([0] + cuts, cuts + [len(raw)]):
         chunked += pieces.feed(memoryview(raw)[a:b] if a % 2 else raw[a:b])
-    chunked += pieces.flush()
+    chunked += pieces.finish()
     # Chunks change nothing.
     assert signature(chunked) == signature(events)
     assert pieces.stats == whole.stats
@@ -102,7 +102,7 @@ def test_counters_literal():
     bad = bytearray(good)
     bad[3] ^= 1
     d = protolink.aeolus.Decoder()
-    events = d.feed(b"\x01\x02" + good + bytes(bad) + good[:5]) + d.flush()
+    events = d.feed(b"\x01\x02" + good + bytes(bad) + good[:5]) + d.finish()
     assert [e.name for e in events] == ["TOAST", "ERROR", "ERROR"]
     assert [e.kind for e in events[1:]] == ["checksum_mismatch", "truncated"]
     assert [e.offset for e in events] == [2, 10, 18]

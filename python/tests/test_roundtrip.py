@@ -66,7 +66,7 @@ def same(a, b):
 
 
 def one(decoder, frame):
-    events = decoder.feed(frame) + decoder.flush()
+    events = decoder.feed(frame) + decoder.finish()
     assert len(events) == 1, events
     assert not events[0].is_error, events
     return events[0]

@@ -39,7 +39,7 @@ def decode_py(kind, data, chunk=None):
     step = chunk or max(len(data), 1)
     for i in range(0, len(data), step):
         events += d.feed(data[i:i + step])
-    events += d.flush()
+    events += d.finish()
     return events, d
 
 
