@@ -77,17 +77,17 @@ def instruction_counts():
 ROWS = [
     ("crc_section_4_3", "AEOLUS CRC alone (section 4.3, const table)", "", None),
     ("crc_crate_table", "peer: `crc` crate, CRC-16/XMODEM table", "same bytes", None),
-    ("deframe", "AEOLUS deframe, `push` byte by byte", "", 20),
-    ("decode_aeolus", "AEOLUS full decode (deframe + typed parse), `push` byte by byte", "", 20),
+    ("deframe", "AEOLUS deframe, `feed` one byte a call", "", 20),
+    ("decode_aeolus", "AEOLUS full decode (deframe + typed parse), `feed` one byte a call", "", 20),
     ("deframe_slice", "AEOLUS deframe, `feed`", "", 10),
     ("decode_aeolus_slice", "AEOLUS full decode (deframe + typed parse), `feed`", "", 10),
     ("naive_aeolus", "peer: naive AEOLUS decoder (trusts the ID's length, allocates)", "", None),
     ("decode_mavlink", "peer: `mavlink` 0.21 v2 parser, ATTITUDE frames (40 B)", "", None),
-    ("decode_aydp_push", "AYDP decode (Spec, typed parse), `push` byte by byte", "", 15),
+    ("decode_aydp_push", "AYDP decode (Spec, typed parse), `feed` one byte a call", "", 15),
     ("decode_aydp", "AYDP decode (Spec, typed parse), `feed`", "", 5),
-    ("decode_aok_pc_push", "AOK PC side (device's debug frames), `push` byte by byte", "", 15),
+    ("decode_aok_pc_push", "AOK PC side (device's debug frames), `feed` one byte a call", "", 15),
     ("decode_aok_pc", "AOK PC side (device's debug frames), `feed`", "", 8),
-    ("decode_aok_device_push", "AOK device side (PC's commands), `push` byte by byte", "", 15),
+    ("decode_aok_device_push", "AOK device side (PC's commands), `feed` one byte a call", "", 15),
     ("decode_aok_device", "AOK device side (PC's commands), `feed`", "", 8),
     ("encode_aeolus", "AEOLUS encode (typed message to escaped frame), per output byte", "", 10),
     ("encode_aydp", "AYDP encode (expedited), per output byte", "", 15),
@@ -175,7 +175,7 @@ def cm3_section(out):
         sec.append(l)
     sec += [""] + [l for l in lines if l.startswith("Total input")] + [""]
     crc = per.get(LABEL["crc_section_4_3"])
-    for key, how in (("decode_aeolus_slice", "`feed`"), ("decode_aeolus", "`push` byte by byte")):
+    for key, how in (("decode_aeolus_slice", "`feed`"), ("decode_aeolus", "`feed` one byte a call")):
         if crc and LABEL[key] in per:
             r = per[LABEL[key]] / crc
             sec.append(f"- AEOLUS full decode ({how}) / CRC alone: {r:.2f} against 2.2, {verdict(r, 2.2)}"

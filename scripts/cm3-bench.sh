@@ -154,15 +154,15 @@ BEGIN {
   order = "aeolus_crc crc_crate_xmodem aeolus_deframe aeolus_decode aeolus_deframe_slice aeolus_decode_slice aydp_decode aydp_decode_feed aok_pc_decode aok_pc_decode_feed aok_device_decode aok_device_decode_feed aeolus_encode aydp_encode aok_encode"
   label["aeolus_crc"] = "AEOLUS CRC alone (section 4.3, const table)"
   label["crc_crate_xmodem"] = "peer: `crc` crate, CRC-16/XMODEM table"; extra["crc_crate_xmodem"] = "same bytes"
-  label["aeolus_deframe"] = "AEOLUS deframe, `push` byte by byte"; target["aeolus_deframe"] = 20
-  label["aeolus_decode"] = "AEOLUS full decode (deframe + typed parse), `push` byte by byte"; target["aeolus_decode"] = 20
+  label["aeolus_deframe"] = "AEOLUS deframe, `feed` one byte a call"; target["aeolus_deframe"] = 20
+  label["aeolus_decode"] = "AEOLUS full decode (deframe + typed parse), `feed` one byte a call"; target["aeolus_decode"] = 20
   label["aeolus_deframe_slice"] = "AEOLUS deframe, `feed`"; target["aeolus_deframe_slice"] = 10
   label["aeolus_decode_slice"] = "AEOLUS full decode (deframe + typed parse), `feed`"; target["aeolus_decode_slice"] = 10
-  label["aydp_decode"] = "AYDP decode (Spec, typed parse), `push` byte by byte"; target["aydp_decode"] = 15
+  label["aydp_decode"] = "AYDP decode (Spec, typed parse), `feed` one byte a call"; target["aydp_decode"] = 15
   label["aydp_decode_feed"] = "AYDP decode (Spec, typed parse), `feed`"; target["aydp_decode_feed"] = 5
-  label["aok_pc_decode"] = "AOK PC side (device'"'"'s debug frames), `push` byte by byte"; target["aok_pc_decode"] = 15
+  label["aok_pc_decode"] = "AOK PC side (device'"'"'s debug frames), `feed` one byte a call"; target["aok_pc_decode"] = 15
   label["aok_pc_decode_feed"] = "AOK PC side (device'"'"'s debug frames), `feed`"; target["aok_pc_decode_feed"] = 8
-  label["aok_device_decode"] = "AOK device side (PC'"'"'s commands), `push` byte by byte"; target["aok_device_decode"] = 15
+  label["aok_device_decode"] = "AOK device side (PC'"'"'s commands), `feed` one byte a call"; target["aok_device_decode"] = 15
   label["aok_device_decode_feed"] = "AOK device side (PC'"'"'s commands), `feed`"; target["aok_device_decode_feed"] = 8
   label["aeolus_encode"] = "AEOLUS encode (typed message to escaped frame), per output byte"; target["aeolus_encode"] = 10
   label["aydp_encode"] = "AYDP encode (expedited), per output byte"; target["aydp_encode"] = 15
@@ -234,7 +234,7 @@ END {
   }
   if (("aeolus_crc" in value) && ("aeolus_decode" in value)) {
     r = value["aeolus_decode"] / value["aeolus_crc"]
-    printf "AEOLUS full decode (`push` byte by byte) / CRC alone = %.2f (target 2.2: %s).\n", r, (r <= 2.2 ? "met" : "missed")
+    printf "AEOLUS full decode (`feed` one byte a call) / CRC alone = %.2f (target 2.2: %s).\n", r, (r <= 2.2 ? "met" : "missed")
   }
   # Total input: each distinct decoder stream once (the AEOLUS rows share one stream).
   total_in = 0; streams = 0

@@ -1,9 +1,11 @@
-//! The crate's single error type.
+//! What bytes and values can give: [`Error`]. The system-value registry's operations fail with
+//! their own type, [`crate::registry::RegistryError`].
 
 use core::fmt;
 
-/// Everything that can go wrong in this crate: framing, typed parsing, encoding and the
-/// system-value registry all report through this one enum.
+/// What can go wrong with bytes and values: a decoder's events (framing, checksum, length), a
+/// typed parse, an encode into a buffer too small. The registry's operations report
+/// [`RegistryError`](crate::registry::RegistryError).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -74,18 +76,6 @@ pub enum Error {
     UnknownCommand(u8),
     /// More satellites than the caller's list can hold.
     TooManySatellites(usize),
-    /// Registry: no slot at this address.
-    UnknownAddress(u16),
-    /// Registry: the slot at this address is read-only.
-    ReadOnly(u16),
-    /// Registry: the update mode does not fit the slot (e.g. element update of a scalar).
-    WrongMode(u16),
-    /// Registry: the data length does not fit the slot's type and element count.
-    WrongSize(u16),
-    /// Registry: element index or array count beyond the slot's length.
-    OutOfBounds(u16),
-    /// Registry: a value is outside the slot's allowed range (or NaN where a range is set).
-    OutOfRange(u16),
 }
 
 impl Error {
@@ -147,12 +137,6 @@ impl fmt::Display for Error {
             }
             Error::UnknownCommand(c) => write!(f, "unknown system control command {c}"),
             Error::TooManySatellites(n) => write!(f, "{n} satellites do not fit the list"),
-            Error::UnknownAddress(a) => write!(f, "no system value at address {a:#06x}"),
-            Error::ReadOnly(a) => write!(f, "address {a:#06x} is read-only"),
-            Error::WrongMode(a) => write!(f, "update mode does not fit address {a:#06x}"),
-            Error::WrongSize(a) => write!(f, "data size does not fit address {a:#06x}"),
-            Error::OutOfBounds(a) => write!(f, "index or count out of bounds at {a:#06x}"),
-            Error::OutOfRange(a) => write!(f, "value out of range for address {a:#06x}"),
         }
     }
 }

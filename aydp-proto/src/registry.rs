@@ -12,8 +12,8 @@
 //! (the document warns that changing an array's length can crash a device).
 //!
 //! ```
-//! use aydp_proto::registry::{Cell, Registry, Slot};
-//! use aydp_proto::{Error, SystemValueUpdate, UpdateMode};
+//! use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+//! use aydp_proto::{SystemValueUpdate, UpdateMode};
 //!
 //! let mut direct = 0u8;
 //! let mut name = *b"demo boat\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
@@ -29,9 +29,9 @@
 //! assert_eq!(reg.apply(&on), Ok(()));
 //! assert_eq!(reg.get::<u8>(0, 0), Some(1));
 //! let bad = SystemValueUpdate { address: 0, mode: UpdateMode::Single, data: &[2] };
-//! assert_eq!(reg.apply(&bad), Err(Error::OutOfRange(0)));
+//! assert_eq!(reg.apply(&bad), Err(RegistryError::OutOfRange(0)));
 //! let rename = SystemValueUpdate { address: 1, mode: UpdateMode::Single, data: b"x" };
-//! assert_eq!(reg.apply(&rename), Err(Error::ReadOnly(1)));
+//! assert_eq!(reg.apply(&rename), Err(RegistryError::ReadOnly(1)));
 //! let elem = SystemValueUpdate { address: 0x100, mode: UpdateMode::Element { index: 2 }, data: &[100, 0] };
 //! assert_eq!(reg.apply(&elem), Ok(()));
 //! assert_eq!(reg.get::<u16>(0x100, 2), Some(100));
@@ -42,7 +42,58 @@
 //! assert_eq!(reply.data, &[10, 0, 20, 0, 100, 0]);
 //! ```
 
-use crate::error::{Error, Result};
+use core::fmt;
+
+/// How a registry operation failed: [`Registry::apply`], [`Registry::read`] and
+/// [`Registry::set`] report nothing else. Each carries the address asked for.
+///
+/// ```
+/// use aydp_proto::registry::RegistryError;
+/// assert_eq!(RegistryError::ReadOnly(1).to_string(), "address 0x0001 is read-only");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum RegistryError {
+    /// No slot at this address.
+    UnknownAddress(u16),
+    /// The slot at this address is read-only.
+    ReadOnly(u16),
+    /// The update mode does not fit the slot (e.g. element update of a scalar).
+    WrongMode(u16),
+    /// The data length does not fit the slot's type and element count.
+    WrongSize(u16),
+    /// Element index or array count beyond the slot's length (or, for `read`, beyond what the
+    /// update's 32-bit count holds).
+    OutOfBounds(u16),
+    /// A value is outside the slot's allowed range (or NaN where a range is set).
+    OutOfRange(u16),
+    /// `read`'s output buffer is too small; a buffer of `needed` bytes holds the value.
+    BufferTooSmall {
+        /// Bytes the value needs.
+        needed: usize,
+    },
+}
+
+impl fmt::Display for RegistryError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::UnknownAddress(a) => write!(f, "no system value at address {a:#06x}"),
+            Self::ReadOnly(a) => write!(f, "address {a:#06x} is read-only"),
+            Self::WrongMode(a) => write!(f, "update mode does not fit address {a:#06x}"),
+            Self::WrongSize(a) => write!(f, "data size does not fit address {a:#06x}"),
+            Self::OutOfBounds(a) => write!(f, "index or count out of bounds at {a:#06x}"),
+            Self::OutOfRange(a) => write!(f, "value out of range for address {a:#06x}"),
+            Self::BufferTooSmall { needed } => {
+                write!(f, "buffer too small: {needed} bytes needed")
+            }
+        }
+    }
+}
+
+impl core::error::Error for RegistryError {}
+
+type Result<T> = core::result::Result<T, RegistryError>;
 use crate::header::array_at;
 use crate::message::{SystemValueUpdate, UpdateMode};
 
@@ -51,7 +102,7 @@ use crate::message::{SystemValueUpdate, UpdateMode};
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Access {
-    /// Updates are rejected with [`Error::ReadOnly`].
+    /// Updates are rejected with [`RegistryError::ReadOnly`].
     ReadOnly,
     /// Updates are applied after the checks.
     ReadWrite,
@@ -244,7 +295,7 @@ impl<'a> Slot<'a> {
     fn check(&self, update: &SystemValueUpdate<'_>) -> Result<(usize, usize)> {
         let a = self.address;
         if self.access == Access::ReadOnly {
-            return Err(Error::ReadOnly(a));
+            return Err(RegistryError::ReadOnly(a));
         }
         let size = self.cell.element_size();
         let n = self.cell.len();
@@ -252,33 +303,33 @@ impl<'a> Slot<'a> {
         let (first, count) = match update.mode {
             UpdateMode::Single if self.is_text() => {
                 if data > n {
-                    return Err(Error::WrongSize(a));
+                    return Err(RegistryError::WrongSize(a));
                 }
                 (0, data)
             }
-            UpdateMode::Single if self.is_array => return Err(Error::WrongMode(a)),
+            UpdateMode::Single if self.is_array => return Err(RegistryError::WrongMode(a)),
             UpdateMode::Single => {
                 if data != size {
-                    return Err(Error::WrongSize(a));
+                    return Err(RegistryError::WrongSize(a));
                 }
                 (0, 1)
             }
-            _ if !self.is_array && !self.is_text() => return Err(Error::WrongMode(a)),
+            _ if !self.is_array && !self.is_text() => return Err(RegistryError::WrongMode(a)),
             UpdateMode::Array { count } => {
                 if count as usize != n || count as u64 > n as u64 {
-                    return Err(Error::OutOfBounds(a));
+                    return Err(RegistryError::OutOfBounds(a));
                 }
                 if Some(data) != n.checked_mul(size) {
-                    return Err(Error::WrongSize(a));
+                    return Err(RegistryError::WrongSize(a));
                 }
                 (0, n)
             }
             UpdateMode::Element { index } => {
                 if index as u64 >= n as u64 {
-                    return Err(Error::OutOfBounds(a));
+                    return Err(RegistryError::OutOfBounds(a));
                 }
                 if data != size {
-                    return Err(Error::WrongSize(a));
+                    return Err(RegistryError::WrongSize(a));
                 }
                 (index as usize, 1)
             }
@@ -288,7 +339,7 @@ impl<'a> Slot<'a> {
                 if let Some(v) = self.cell.wire_value(chunk) {
                     // `!(a <= b)` also rejects NaN.
                     if !(min <= v && v <= max) {
-                        return Err(Error::OutOfRange(a));
+                        return Err(RegistryError::OutOfRange(a));
                     }
                 }
             }
@@ -368,7 +419,7 @@ impl<'s, 'a> Registry<'s, 'a> {
         self.slots
             .iter_mut()
             .find(|s| s.address == address)
-            .ok_or(Error::UnknownAddress(address))
+            .ok_or(RegistryError::UnknownAddress(address))
     }
 
     /// Apply a system value update, or reject it with the reason and change nothing.
@@ -395,19 +446,21 @@ impl<'s, 'a> Registry<'s, 'a> {
     /// value bytes into `out`. Scalars answer in mode 1; arrays and text answer with the whole
     /// array in mode 2.
     pub fn read<'o>(&self, address: u16, out: &'o mut [u8]) -> Result<SystemValueUpdate<'o>> {
-        let slot = self.slot(address).ok_or(Error::UnknownAddress(address))?;
+        let slot = self
+            .slot(address)
+            .ok_or(RegistryError::UnknownAddress(address))?;
         let size = slot.cell.element_size();
         let n = slot.cell.len();
         let total = n.saturating_mul(size);
         let Some(dst) = out.get_mut(..total) else {
-            return Err(Error::BufferTooSmall { needed: total });
+            return Err(RegistryError::BufferTooSmall { needed: total });
         };
         for (i, chunk) in dst.chunks_exact_mut(size).enumerate() {
             slot.cell.load(i, chunk);
         }
         let mode = if slot.is_array || slot.is_text() {
             UpdateMode::Array {
-                count: u32::try_from(n).map_err(|_| Error::TooLong)?,
+                count: u32::try_from(n).map_err(|_| RegistryError::OutOfBounds(address))?,
             }
         } else {
             UpdateMode::Single
@@ -432,15 +485,15 @@ impl<'s, 'a> Registry<'s, 'a> {
         // (Nested rather than a let chain: the crate's MSRV is 1.87.)
         if let (Some((min, max)), Some(v)) = (slot.range, value.as_f64()) {
             if !(min <= v && v <= max) {
-                return Err(Error::OutOfRange(address));
+                return Err(RegistryError::OutOfRange(address));
             }
         }
         if T::write(&mut slot.cell, index, value) {
             Ok(())
         } else if index >= slot.cell.len() {
-            Err(Error::OutOfBounds(address))
+            Err(RegistryError::OutOfBounds(address))
         } else {
-            Err(Error::WrongSize(address))
+            Err(RegistryError::WrongSize(address))
         }
     }
 

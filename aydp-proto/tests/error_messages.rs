@@ -1,6 +1,7 @@
 //! What an application shows of an error: the `Display` text of every `Error` and `IoError`.
 
 use aydp_proto::Error;
+use aydp_proto::registry::RegistryError;
 
 #[test]
 fn every_error_has_its_sentence() {
@@ -57,26 +58,42 @@ fn every_error_has_its_sentence() {
             Error::TooManySatellites(40),
             "40 satellites do not fit the list",
         ),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+    }
+}
+
+#[test]
+fn every_registry_error_has_its_sentence() {
+    let cases = [
         (
-            Error::UnknownAddress(0x1234),
+            RegistryError::UnknownAddress(0x1234),
             "no system value at address 0x1234",
         ),
-        (Error::ReadOnly(0x0001), "address 0x0001 is read-only"),
         (
-            Error::WrongMode(0x0200),
+            RegistryError::ReadOnly(0x0001),
+            "address 0x0001 is read-only",
+        ),
+        (
+            RegistryError::WrongMode(0x0200),
             "update mode does not fit address 0x0200",
         ),
         (
-            Error::WrongSize(0x0200),
+            RegistryError::WrongSize(0x0200),
             "data size does not fit address 0x0200",
         ),
         (
-            Error::OutOfBounds(0x0200),
+            RegistryError::OutOfBounds(0x0200),
             "index or count out of bounds at 0x0200",
         ),
         (
-            Error::OutOfRange(0x0000),
+            RegistryError::OutOfRange(0x0000),
             "value out of range for address 0x0000",
+        ),
+        (
+            RegistryError::BufferTooSmall { needed: 6 },
+            "buffer too small: 6 bytes needed",
         ),
     ];
     for (e, want) in cases {

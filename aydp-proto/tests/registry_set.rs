@@ -2,8 +2,7 @@
 //! index and the element type are checked, and read-only does not apply (the device owns its
 //! values). Nothing changes on an error.
 
-use aydp_proto::Error;
-use aydp_proto::registry::{Cell, Registry, Slot};
+use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
 
 #[test]
 fn set_checks_the_range_inclusive_then_bounds_then_type() {
@@ -31,7 +30,7 @@ fn set_checks_the_range_inclusive_then_bounds_then_type() {
         reg.set(0x0020, 0, 1e300f64),
         reg.set(0x0099, 0, 1u8),
     ];
-    use Error::{OutOfBounds, OutOfRange, UnknownAddress, WrongSize};
+    use RegistryError::{OutOfBounds, OutOfRange, UnknownAddress, WrongSize};
     let want = [
         Ok(()),
         Err(OutOfRange(0x0000)),
@@ -68,7 +67,10 @@ fn apply_takes_a_text_up_to_its_full_length_and_a_whole_array_only() {
     };
     // A text as long as its cell fits; one byte more does not.
     assert_eq!(reg.apply(&text(b"abcd")), Ok(()));
-    assert_eq!(reg.apply(&text(b"abcde")), Err(Error::WrongSize(0x0001)));
+    assert_eq!(
+        reg.apply(&text(b"abcde")),
+        Err(RegistryError::WrongSize(0x0001))
+    );
     let whole = [1.0f32.to_le_bytes(), 2.0f32.to_le_bytes()].concat();
     let array = |count, data| SystemValueUpdate {
         address: 0x0010,
@@ -78,11 +80,11 @@ fn apply_takes_a_text_up_to_its_full_length_and_a_whole_array_only() {
     // The whole array, and only with its own count, even when the bytes are the right size.
     assert_eq!(
         reg.apply(&array(1, &whole)),
-        Err(Error::OutOfBounds(0x0010))
+        Err(RegistryError::OutOfBounds(0x0010))
     );
     assert_eq!(
         reg.apply(&array(3, &whole)),
-        Err(Error::OutOfBounds(0x0010))
+        Err(RegistryError::OutOfBounds(0x0010))
     );
     assert_eq!(reg.apply(&array(2, &whole)), Ok(()));
     assert_eq!(name, *b"abcd");

@@ -1,6 +1,6 @@
 //! Typed parsing errors, uflt16 and the system-value registry.
 
-use aydp_proto::registry::{Cell, Registry, Slot};
+use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
 use aydp_proto::{
     Decode, DirectOutput, Encoder, Error, FixDetail, FixQuality, Header, HeaderRepr, Message,
     Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
@@ -363,7 +363,7 @@ fn registry_read_only_never_changes() {
                     data,
                 })
             });
-            assert_eq!(r, Err(Error::ReadOnly(1)));
+            assert_eq!(r, Err(RegistryError::ReadOnly(1)));
             assert_eq!(&name[..5], b"boat\0");
         }
     }
@@ -379,14 +379,14 @@ fn registry_rejections_change_nothing() {
     let mut bad_range = four.clone();
     bad_range[12..16].copy_from_slice(&f(1000.0));
     let nan = f(f32::NAN);
-    let cases: Vec<(SystemValueUpdate<'_>, Error)> = vec![
+    let cases: Vec<(SystemValueUpdate<'_>, RegistryError)> = vec![
         (
             SystemValueUpdate {
                 address: 0x99,
                 mode: UpdateMode::Single,
                 data: &[1],
             },
-            Error::UnknownAddress(0x99),
+            RegistryError::UnknownAddress(0x99),
         ),
         (
             SystemValueUpdate {
@@ -394,7 +394,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Single,
                 data: &[1, 0],
             },
-            Error::WrongSize(0),
+            RegistryError::WrongSize(0),
         ),
         (
             SystemValueUpdate {
@@ -402,7 +402,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Single,
                 data: &[2],
             },
-            Error::OutOfRange(0),
+            RegistryError::OutOfRange(0),
         ),
         (
             SystemValueUpdate {
@@ -410,7 +410,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Element { index: 0 },
                 data: &[1],
             },
-            Error::WrongMode(0),
+            RegistryError::WrongMode(0),
         ),
         (
             SystemValueUpdate {
@@ -418,7 +418,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Single,
                 data: &four[..4],
             },
-            Error::WrongMode(0x10),
+            RegistryError::WrongMode(0x10),
         ),
         (
             SystemValueUpdate {
@@ -426,7 +426,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Array { count: 5 },
                 data: &four,
             },
-            Error::OutOfBounds(0x10),
+            RegistryError::OutOfBounds(0x10),
         ),
         (
             SystemValueUpdate {
@@ -434,7 +434,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Array { count: 4 },
                 data: &four[..15],
             },
-            Error::WrongSize(0x10),
+            RegistryError::WrongSize(0x10),
         ),
         (
             SystemValueUpdate {
@@ -442,7 +442,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Array { count: 4 },
                 data: &bad_range,
             },
-            Error::OutOfRange(0x10),
+            RegistryError::OutOfRange(0x10),
         ),
         (
             SystemValueUpdate {
@@ -450,7 +450,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Element { index: 4 },
                 data: &four[..4],
             },
-            Error::OutOfBounds(0x10),
+            RegistryError::OutOfBounds(0x10),
         ),
         (
             SystemValueUpdate {
@@ -458,7 +458,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Element { index: u32::MAX },
                 data: &four[..4],
             },
-            Error::OutOfBounds(0x10),
+            RegistryError::OutOfBounds(0x10),
         ),
         (
             SystemValueUpdate {
@@ -466,7 +466,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Element { index: 1 },
                 data: &four[..3],
             },
-            Error::WrongSize(0x10),
+            RegistryError::WrongSize(0x10),
         ),
         (
             SystemValueUpdate {
@@ -474,7 +474,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Element { index: 1 },
                 data: &nan,
             },
-            Error::OutOfRange(0x10),
+            RegistryError::OutOfRange(0x10),
         ),
         (
             SystemValueUpdate {
@@ -482,7 +482,7 @@ fn registry_rejections_change_nothing() {
                 mode: UpdateMode::Single,
                 data: &[0; 4],
             },
-            Error::WrongSize(0x20),
+            RegistryError::WrongSize(0x20),
         ),
     ];
     for (u, want) in cases {
@@ -529,7 +529,7 @@ fn registry_applies_all_three_modes_and_replies() {
         })
         .unwrap();
         assert_eq!(reg.set(0x20, 0, 4.0f64), Ok(()));
-        assert_eq!(reg.set(0x0, 0, 7u8), Err(Error::OutOfRange(0)));
+        assert_eq!(reg.set(0x0, 0, 7u8), Err(RegistryError::OutOfRange(0)));
         assert_eq!(reg.get::<f32>(0x10, 2), Some(-9.5));
         assert_eq!(reg.get::<u8>(0x10, 0), None);
         // Reply to "request data" for each address, encoded as a full message.
@@ -545,11 +545,11 @@ fn registry_applies_all_three_modes_and_replies() {
         }
         assert_eq!(
             reg.read(0x99, &mut [0u8; 8]),
-            Err(Error::UnknownAddress(0x99))
+            Err(RegistryError::UnknownAddress(0x99))
         );
         assert_eq!(
             reg.read(1, &mut [0u8; 8]),
-            Err(Error::BufferTooSmall { needed: 40 })
+            Err(RegistryError::BufferTooSmall { needed: 40 })
         );
         out
     });
@@ -590,7 +590,7 @@ fn registry_text_slot_accepts_shorter_text_nul_padded() {
             mode: UpdateMode::Single,
             data: b"123456789"
         }),
-        Err(Error::WrongSize(0x30))
+        Err(RegistryError::WrongSize(0x30))
     );
     reg.apply(&SystemValueUpdate {
         address: 0x30,

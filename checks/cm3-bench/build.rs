@@ -11,6 +11,7 @@
 
 use std::{env, fmt::Write as _, fs, path::PathBuf};
 
+use aeolus_proto::Decode as _;
 use aydp_proto::Payload as _;
 use protolink_bench as bench;
 

@@ -2,13 +2,15 @@
 //! [`embedded-io-async`](https://docs.rs/embedded-io-async), written once for every protocol
 //! of this workspace: `no_std`, no allocation, no panic.
 //!
-//! - [`Decode`]: the small trait a stream decoder implements to be read from a transport (its
-//!   slice fast path, its end of stream, the item an event stands for). `aeolus-proto`'s and
-//!   `aydp-proto`'s `Decoder<N>` and `aok-proto`'s `MessageDecoder` and `CommandDecoder` implement it.
+//! - [`Decode`]: **the decoder contract** of every protocol crate of this workspace, stated
+//!   once: the one loop (`feed` every slice, `finish` at the end of the stream), the pull form
+//!   (`next_event`), and the three methods an implementation writes (`decode`, `end`, `item`).
+//!   `aeolus-proto`'s, `aydp-proto`'s and `gdl90-proto`'s `Decoder<N>` and `aok-proto`'s
+//!   `MessageDecoder` and `CommandDecoder` implement it.
 //! - `embedded_io::Reader` / `embedded_io_async::Reader` (features `embedded-io`,
 //!   `embedded-io-async`): a decoder plus an `R`-byte read buffer; `read()` returns the next
 //!   item, decoding every read with the decoder's fast path, so the items and errors are
-//!   exactly those of the decoder's byte-at-a-time `push` over the same bytes.
+//!   exactly those of the decoder's `feed` over the same bytes.
 //! - `write_all` and `write_iter` in the same modules: the write loops the protocol crates'
 //!   writers are built on (a slice, or an encoder's byte iterator a chunk of 32 bytes at a time).
 //! - [`IoError`]: the transport's error and the protocol's, kept apart, and the end of the
