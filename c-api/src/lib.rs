@@ -44,6 +44,7 @@ pub mod aok;
 pub mod aydp;
 #[cfg(feature = "bench")]
 pub mod bench;
+mod face;
 mod ffi;
 pub mod gdl90;
 pub mod state;
