@@ -110,6 +110,39 @@ fn deliver<P: Proto>(
     PL_ERROR
 }
 
+/// Decodes `input` up to the first event (`bytewise`: one byte a `decode` call) and hands it
+/// to the caller's structs: the bytes used and the status (`PL_NOTHING`: every byte used, no
+/// event). The one place `decode` is called, for `parse` and `feed` alike: with a second call
+/// site LLVM keeps AOK's `decode` out of line, where a slice copy's length check in it
+/// (`Held::keep`) survives and the panic-never link of `tests/firmware.sh` fails.
+fn step<P: Proto>(
+    f: &mut Face<P::Dec>,
+    input: &[u8],
+    bytewise: bool,
+    msg: &mut P::Msg,
+    err: &mut pl_error,
+) -> (usize, i32) {
+    let mut used = 0;
+    loop {
+        let rest = input.get(used..).unwrap_or(&[]);
+        let chunk = if bytewise {
+            rest.get(..1).unwrap_or(&[])
+        } else {
+            rest
+        };
+        let mark = P::mark(&f.dec);
+        let (n, event) = f.dec.decode(chunk);
+        used += n;
+        match event {
+            Some(event) => return (used, deliver::<P>(f, chunk, n, event, mark, msg, err)),
+            None => f.fed = f.fed.wrapping_add(n as u64),
+        }
+        if used >= input.len() {
+            return (used, PL_NOTHING);
+        }
+    }
+}
+
 /// `pl_*_init`: writes the tag and a fresh decoder `dec`.
 ///
 /// # Safety
@@ -148,25 +181,9 @@ pub(crate) unsafe fn parse<P: Proto>(
     ) else {
         return PL_E_NULL;
     };
-    *used = 0;
-    loop {
-        let rest = input.get(*used..).unwrap_or(&[]);
-        let chunk = if P::BYTEWISE {
-            rest.get(..1).unwrap_or(&[])
-        } else {
-            rest
-        };
-        let mark = P::mark(&f.dec);
-        let (n, event) = f.dec.decode(chunk);
-        *used += n;
-        match event {
-            Some(event) => return deliver::<P>(f, chunk, n, event, mark, msg, err),
-            None => f.fed = f.fed.wrapping_add(n as u64),
-        }
-        if *used >= input.len() {
-            return PL_NOTHING;
-        }
-    }
+    let (n, status) = step::<P>(f, input, P::BYTEWISE, msg, err);
+    *used = n;
+    status
 }
 
 /// `pl_*_feed`: every event of `bytes[..len]` to `on_event`, in order.
@@ -193,15 +210,11 @@ pub(crate) unsafe fn feed<P: Proto>(
     let (mut msg, mut err) = (P::empty(), pl_error::default());
     let mut rest = input;
     loop {
-        let chunk = rest;
-        let mark = P::mark(&f.dec);
-        let (n, event) = f.dec.decode(chunk);
-        rest = chunk.get(n..).unwrap_or(&[]);
-        let Some(event) = event else {
-            f.fed = f.fed.wrapping_add(n as u64);
+        let (n, status) = step::<P>(f, rest, false, &mut msg, &mut err);
+        if status == PL_NOTHING {
             return PL_NOTHING;
-        };
-        let status = deliver::<P>(f, chunk, n, event, mark, &mut msg, &mut err);
+        }
+        rest = rest.get(n..).unwrap_or(&[]);
         // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
         // live locals for the duration of the call.
         unsafe { call(ctx, status, &msg, &err) };
