@@ -465,6 +465,8 @@ impl Proto for pl_aeolus_decoder {
     type Dec = Inner;
     type Msg = pl_aeolus_message;
     type Stats = pl_aeolus_stats;
+    type Ctx = u32;
+    const ONE_EVENT_A_BYTE: bool = true;
 
     fn empty() -> pl_aeolus_message {
         EMPTY
@@ -474,19 +476,16 @@ impl Proto for pl_aeolus_decoder {
         d.held_bytes()
     }
 
-    fn mark(d: &Inner) -> u32 {
+    fn context(d: &Inner) -> u32 {
         d.stats().frame_bytes
     }
 
-    fn message(
-        d: &Inner,
+    fn fill(
         frame: Frame<'_>,
-        mark: u32,
+        _: u32,
         msg: &mut pl_aeolus_message,
         err: &mut pl_error,
     ) -> (i32, usize) {
-        // The frame's wire bytes between its flags, and the two flags.
-        let len = d.stats().frame_bytes.wrapping_sub(mark) as usize + 2;
         match frame.message() {
             Ok(m) => {
                 fill(msg, &m, !frame.has_crc());
@@ -496,7 +495,7 @@ impl Proto for pl_aeolus_decoder {
                     msg.data = text.as_ptr();
                     msg.data_len = text.len();
                 }
-                (PL_MESSAGE, len)
+                (PL_MESSAGE, 0)
             }
             Err(e) => {
                 // The raw frame stays available (DECISIONS.md A4).
@@ -507,13 +506,21 @@ impl Proto for pl_aeolus_decoder {
                 };
                 fill(msg, &raw, !frame.has_crc());
                 *err = error(e);
-                (PL_ERROR, len)
+                (PL_ERROR, 0)
             }
         }
     }
 
-    fn error(_: &Inner, e: Error, _: u32) -> (pl_error, usize) {
-        (error(e), 0)
+    fn error(e: Error) -> pl_error {
+        error(e)
+    }
+
+    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
+        // The frame's wire bytes between its flags, and the two flags.
+        match d.stats().frame_bytes.wrapping_sub(frame_bytes) {
+            0 => 0,
+            n => n as usize + 2,
+        }
     }
 
     fn place(msg: &mut pl_aeolus_message, offset: u64, wire_len: u32) {

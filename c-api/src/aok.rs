@@ -336,19 +336,29 @@ fn error(e: Error) -> pl_error {
 
 /// The two sides' decoders, each with its item's C conversion and wire length.
 trait Side: Decode<Error = Error> {
+    /// The form of the replies the decoder reads (the device side reads commands: any).
+    fn form(&self) -> ReplyForm;
     /// The item as the C struct, and its wire length.
-    fn to_c(&self, item: Self::Item<'_>) -> (pl_aok_item, usize);
+    fn to_c(item: Self::Item<'_>, form: ReplyForm) -> (pl_aok_item, usize);
 }
 
 impl Side for CommandDecoder {
-    fn to_c(&self, c: Command) -> (pl_aok_item, usize) {
+    fn form(&self) -> ReplyForm {
+        ReplyForm::Headed
+    }
+
+    fn to_c(c: Command, _: ReplyForm) -> (pl_aok_item, usize) {
         (command_c(&c), c.buffer_len())
     }
 }
 
 impl Side for MessageDecoder {
-    fn to_c(&self, m: Message) -> (pl_aok_item, usize) {
-        (message_c(&m), m.buffer_len(self.reply_form()))
+    fn form(&self) -> ReplyForm {
+        self.reply_form()
+    }
+
+    fn to_c(m: Message, form: ReplyForm) -> (pl_aok_item, usize) {
+        (message_c(&m), m.buffer_len(form))
     }
 }
 
@@ -359,6 +369,7 @@ macro_rules! aok_proto {
             type Dec = $dec;
             type Msg = pl_aok_item;
             type Stats = pl_aok_stats;
+            type Ctx = ReplyForm;
 
             fn empty() -> pl_aok_item {
                 pl_aok_item::default()
@@ -368,20 +379,23 @@ macro_rules! aok_proto {
                 d.held_bytes()
             }
 
-            fn message(
-                d: &$dec,
+            fn context(d: &$dec) -> ReplyForm {
+                d.form()
+            }
+
+            fn fill(
                 item: <$dec as Decode>::Item<'_>,
-                _: u32,
+                form: ReplyForm,
                 msg: &mut pl_aok_item,
                 _: &mut pl_error,
             ) -> (i32, usize) {
-                let (c, len) = d.to_c(item);
+                let (c, len) = <$dec>::to_c(item, form);
                 *msg = c;
                 (PL_MESSAGE, len)
             }
 
-            fn error(_: &$dec, e: Error, _: u32) -> (pl_error, usize) {
-                (error(e), 0)
+            fn error(e: Error) -> pl_error {
+                error(e)
             }
 
             fn place(msg: &mut pl_aok_item, offset: u64, wire_len: u32) {

@@ -422,6 +422,7 @@ impl Proto for pl_aydp_decoder {
     type Dec = Inner;
     type Msg = pl_aydp_message;
     type Stats = pl_aydp_stats;
+    type Ctx = ();
     const BYTEWISE: bool = true;
 
     fn empty() -> pl_aydp_message {
@@ -435,10 +436,11 @@ impl Proto for pl_aydp_decoder {
         d.held_bytes()
     }
 
-    fn message(
-        _: &Inner,
+    fn context(_: &Inner) {}
+
+    fn fill(
         frame: Frame<'_>,
-        _: u32,
+        _: (),
         msg: &mut pl_aydp_message,
         err: &mut pl_error,
     ) -> (i32, usize) {
@@ -472,8 +474,8 @@ impl Proto for pl_aydp_decoder {
         (status, frame.as_bytes().len())
     }
 
-    fn error(_: &Inner, e: Error, _: u32) -> (pl_error, usize) {
-        (error(e), 0)
+    fn error(e: Error) -> pl_error {
+        error(e)
     }
 
     fn place(msg: &mut pl_aydp_message, offset: u64, wire_len: u32) {

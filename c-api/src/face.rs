@@ -28,9 +28,6 @@ impl<D> Face<D> {
     }
 }
 
-/// The event of a decoder `D`, as its `decode` and `end` give it.
-type EventOf<D> = Event<<D as Decode>::Found, <D as Decode>::Error>;
-
 /// A C state type whose decoder follows the contract, with its C message and stats structs.
 pub(crate) trait Proto: State<Inner = Face<Self::Dec>> {
     /// The protocol crate's decoder.
@@ -39,33 +36,39 @@ pub(crate) trait Proto: State<Inner = Face<Self::Dec>> {
     type Msg;
     /// The C counters struct (`pl_*_stats`).
     type Stats;
+    /// What [`Proto::fill`] and [`Proto::frame_len`] need of the decoder, read before each
+    /// event (AEOLUS and GDL90: `frame_bytes`; the AOK PC side: its reply form).
+    type Ctx: Copy;
     /// The decoder's item may borrow the slice given to `decode` (AYDP): `parse` then decodes
     /// one byte at a time, so that a message's `data` points into the decoder, as promised.
     const BYTEWISE: bool = false;
+    /// The decoder gives at most one event a byte and its `feed` has a per-byte path faster
+    /// than `decode` on one byte (AEOLUS, GDL90): `parse` on one byte takes that path.
+    const ONE_EVENT_A_BYTE: bool = false;
 
     /// A message struct holding nothing: every field 0, pointers NULL (what `PL_ERROR` leaves
     /// in it unless the error concerns a whole frame).
     fn empty() -> Self::Msg;
     /// The bytes fed that the decoder holds, undecided.
     fn held(d: &Self::Dec) -> usize;
-    /// A counter read before each event, from which [`Proto::message`] and [`Proto::error`]
-    /// work out a frame's wire length (AEOLUS and GDL90: `frame_bytes`); 0 where the item
-    /// knows its own length.
-    fn mark(_d: &Self::Dec) -> u32 {
-        0
-    }
+    /// See [`Proto::Ctx`].
+    fn context(d: &Self::Dec) -> Self::Ctx;
     /// Fills `msg` from an item (and `err`, for a frame with a good check whose typed parse
-    /// failed, leaving its raw data in `msg`); returns the status and the frame's wire length.
-    fn message(
-        d: &Self::Dec,
+    /// failed, leaving its raw data in `msg`); returns the status and the item's wire length,
+    /// or 0 where [`Proto::frame_len`] tells it.
+    fn fill(
         item: <Self::Dec as Decode>::Item<'_>,
-        mark: u32,
+        ctx: Self::Ctx,
         msg: &mut Self::Msg,
         err: &mut pl_error,
     ) -> (i32, usize);
-    /// An error as the C struct, and the wire length of the whole frame it concerns (a frame
-    /// with a good check whose typed parse failed), 0 for none.
-    fn error(d: &Self::Dec, e: <Self::Dec as Decode>::Error, mark: u32) -> (pl_error, usize);
+    /// An error as the C struct.
+    fn error(e: <Self::Dec as Decode>::Error) -> pl_error;
+    /// The wire length of the frame an event just ended, from the counters (AEOLUS, GDL90:
+    /// the `frame_bytes` counted since `ctx`, with the two flags), 0 when none was counted.
+    fn frame_len(_d: &Self::Dec, _ctx: Self::Ctx) -> usize {
+        0
+    }
     /// Writes a message's place in the stream into `msg`.
     fn place(msg: &mut Self::Msg, offset: u64, wire_len: u32);
     /// The counters as the C struct.
@@ -76,38 +79,78 @@ pub(crate) trait Proto: State<Inner = Face<Self::Dec>> {
 pub(crate) type Callback<M> =
     Option<unsafe extern "C" fn(*mut core::ffi::c_void, i32, *const M, *const pl_error)>;
 
-/// Hands one event of `decode` (on `input`, `used` bytes of it used) or `end` to the caller's
-/// structs and returns the status. On `PL_ERROR`, `msg` holds only what belongs to the error:
-/// nothing, or the raw frame whose typed parse failed, with its place.
-fn deliver<P: Proto>(
+/// One event into the caller's structs: the status and the item's wire length (0: ask
+/// [`Proto::frame_len`]). On `PL_ERROR`, `msg` holds only what belongs to the error: nothing,
+/// or the raw frame whose typed parse failed.
+#[inline(always)]
+fn convert<P: Proto>(
+    event: Result<<P::Dec as Decode>::Item<'_>, <P::Dec as Decode>::Error>,
+    ctx: P::Ctx,
+    msg: &mut P::Msg,
+    err: &mut pl_error,
+) -> (i32, usize) {
+    match event {
+        Ok(item) => P::fill(item, ctx, msg, err),
+        Err(e) => {
+            *msg = P::empty();
+            *err = P::error(e);
+            (PL_ERROR, 0)
+        }
+    }
+}
+
+/// An event of `decode` on `input` (or of `end`, on nothing) as the item or the error.
+fn result<'a, D: Decode>(
+    d: &'a D,
+    input: &'a [u8],
+    event: Event<D::Found, D::Error>,
+) -> Result<D::Item<'a>, D::Error> {
+    match event {
+        Event::Found(found) => Ok(d.item(input, found)),
+        Event::Error(e) => Err(e),
+        Event::Truncated(_) => Err(D::TRUNCATED),
+    }
+}
+
+/// After an event of `used` bytes: counts them and writes the message's place (it ends where
+/// the bytes the decoder still holds begin). Returns `status`.
+fn placed<P: Proto>(
     f: &mut Face<P::Dec>,
-    input: &[u8],
     used: usize,
-    event: EventOf<P::Dec>,
-    mark: u32,
+    (status, len): (i32, usize),
+    ctx: P::Ctx,
+    msg: &mut P::Msg,
+) -> i32 {
+    f.fed = f.fed.wrapping_add(used as u64);
+    let len = if len > 0 {
+        len
+    } else {
+        P::frame_len(&f.dec, ctx)
+    };
+    if len > 0 {
+        let end = f.fed.wrapping_sub(P::held(&f.dec) as u64);
+        P::place(msg, end.wrapping_sub(len as u64), sat32(len));
+    }
+    status
+}
+
+/// One byte through the crate's per-byte path (`Proto::ONE_EVENT_A_BYTE`: nothing can be
+/// queued, so the byte is used): the status.
+#[inline(always)]
+fn one_byte<P: Proto>(
+    f: &mut Face<P::Dec>,
+    byte: &[u8],
     msg: &mut P::Msg,
     err: &mut pl_error,
 ) -> i32 {
-    f.fed = f.fed.wrapping_add(used as u64);
-    let end = f.fed.wrapping_sub(P::held(&f.dec) as u64);
-    let failure = match event {
-        Event::Found(found) => {
-            let (status, len) = P::message(&f.dec, f.dec.item(input, found), mark, msg, err);
-            if len > 0 {
-                P::place(msg, end.wrapping_sub(len as u64), sat32(len));
-            }
-            return status;
-        }
-        Event::Error(e) => e,
-        Event::Truncated(_) => <P::Dec as Decode>::TRUNCATED,
-    };
-    *msg = P::empty();
-    let (e, len) = P::error(&f.dec, failure, mark);
-    *err = e;
-    if len > 0 {
-        P::place(msg, end.wrapping_sub(len as u64), sat32(len));
+    let ctx = P::context(&f.dec);
+    let mut event = (PL_NOTHING, 0);
+    f.dec.feed(byte, |e| event = convert::<P>(e, ctx, msg, err));
+    if event.0 == PL_NOTHING {
+        f.fed = f.fed.wrapping_add(1);
+        return PL_NOTHING;
     }
-    PL_ERROR
+    placed::<P>(f, 1, event, ctx, msg)
 }
 
 /// Decodes `input` up to the first event (`bytewise`: one byte a `decode` call) and hands it
@@ -130,16 +173,21 @@ fn step<P: Proto>(
         } else {
             rest
         };
-        let mark = P::mark(&f.dec);
+        let ctx = P::context(&f.dec);
         let (n, event) = f.dec.decode(chunk);
         used += n;
-        match event {
-            Some(event) => return (used, deliver::<P>(f, chunk, n, event, mark, msg, err)),
-            None => f.fed = f.fed.wrapping_add(n as u64),
-        }
-        if used >= input.len() {
-            return (used, PL_NOTHING);
-        }
+        let event = match event {
+            None => {
+                f.fed = f.fed.wrapping_add(n as u64);
+                if used >= input.len() {
+                    return (used, PL_NOTHING);
+                }
+                continue;
+            }
+            Some(event) => result(&f.dec, chunk, event),
+        };
+        let event = convert::<P>(event, ctx, msg, err);
+        return (used, placed::<P>(f, n, event, ctx, msg));
     }
 }
 
@@ -181,6 +229,10 @@ pub(crate) unsafe fn parse<P: Proto>(
     ) else {
         return PL_E_NULL;
     };
+    if P::ONE_EVENT_A_BYTE && input.len() == 1 {
+        *used = 1;
+        return one_byte::<P>(f, input, msg, err);
+    }
     let (n, status) = step::<P>(f, input, P::BYTEWISE, msg, err);
     *used = n;
     status
@@ -235,11 +287,13 @@ pub(crate) unsafe fn finish<P: Proto>(state: *mut P, msg: *mut P::Msg, err: *mut
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    let mark = P::mark(&f.dec);
-    match f.dec.end() {
-        Some(event) => deliver::<P>(f, &[], 0, event, mark, msg, err),
-        None => PL_NOTHING,
-    }
+    let ctx = P::context(&f.dec);
+    let Some(event) = f.dec.end() else {
+        return PL_NOTHING;
+    };
+    let event = result(&f.dec, &[], event);
+    let event = convert::<P>(event, ctx, msg, err);
+    placed::<P>(f, 0, event, ctx, msg)
 }
 
 /// `pl_*_get_stats`: copies the counters into `*out`.

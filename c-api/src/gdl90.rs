@@ -464,6 +464,8 @@ impl Proto for pl_gdl90_decoder {
     type Dec = Inner;
     type Msg = pl_gdl90_message;
     type Stats = pl_gdl90_stats;
+    type Ctx = u32;
+    const ONE_EVENT_A_BYTE: bool = true;
 
     fn empty() -> pl_gdl90_message {
         // SAFETY: integers, floats and a raw pointer: all zeros is a valid value.
@@ -476,17 +478,11 @@ impl Proto for pl_gdl90_decoder {
         d.held_bytes()
     }
 
-    fn mark(d: &Inner) -> u32 {
+    fn context(d: &Inner) -> u32 {
         d.stats().frame_bytes
     }
 
-    fn message(
-        d: &Inner,
-        m: Message<'_>,
-        mark: u32,
-        msg: &mut pl_gdl90_message,
-        _: &mut pl_error,
-    ) -> (i32, usize) {
+    fn fill(m: Message<'_>, _: u32, msg: &mut pl_gdl90_message, _: &mut pl_error) -> (i32, usize) {
         let data: &[u8] = match m {
             Message::Unknown { data, .. } => data,
             _ => &[],
@@ -501,17 +497,20 @@ impl Proto for pl_gdl90_decoder {
             data_len: data.len(),
             body,
         };
-        (PL_MESSAGE, frame_len(d, mark))
+        (PL_MESSAGE, 0)
     }
 
-    fn error(d: &Inner, e: Error, mark: u32) -> (pl_error, usize) {
-        // A frame with a good CRC whose typed parse failed counts in `frame_bytes`: its place
-        // is the error's.
-        let len = match d.stats().frame_bytes.wrapping_sub(mark) {
+    fn error(e: Error) -> pl_error {
+        error(e)
+    }
+
+    /// A frame with a good CRC counts in `frame_bytes`, whether it was a message or an error
+    /// (its typed parse failed): either way the event has its place.
+    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
+        match d.stats().frame_bytes.wrapping_sub(frame_bytes) {
             0 => 0,
-            _ => frame_len(d, mark),
-        };
-        (error(e), len)
+            n => n as usize + 2,
+        }
     }
 
     fn place(msg: &mut pl_gdl90_message, offset: u64, wire_len: u32) {
@@ -533,11 +532,6 @@ impl Proto for pl_gdl90_decoder {
             held_bytes: ffi::sat32(d.held_bytes()),
         }
     }
-}
-
-/// The wire length of the frame just counted in `frame_bytes` (from `mark`), with its flags.
-fn frame_len(d: &Inner, mark: u32) -> usize {
-    d.stats().frame_bytes.wrapping_sub(mark) as usize + 2
 }
 
 /// Sets up `dec` as a fresh GDL90 decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
