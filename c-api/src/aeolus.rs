@@ -516,11 +516,7 @@ impl Proto for pl_aeolus_decoder {
     }
 
     fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
-        // The frame's wire bytes between its flags, and the two flags.
-        match d.stats().frame_bytes.wrapping_sub(frame_bytes) {
-            0 => 0,
-            n => n as usize + 2,
-        }
+        face::flagged_len(frame_bytes, d.stats().frame_bytes)
     }
 
     fn place(msg: &mut pl_aeolus_message, offset: u64, wire_len: u32) {

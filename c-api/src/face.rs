@@ -99,6 +99,16 @@ fn convert<P: Proto>(
     }
 }
 
+/// The wire length of a flag-framed frame (AEOLUS, GDL90) from the `frame_bytes` counter
+/// before and after its event (the bytes between its flags): with both flags, 0 when the
+/// event counted no frame.
+pub(crate) fn flagged_len(before: u32, after: u32) -> usize {
+    match after.wrapping_sub(before) {
+        0 => 0,
+        n => n as usize + 2,
+    }
+}
+
 /// An event of `decode` on `input` (or of `end`, on nothing) as the item or the error.
 fn result<'a, D: Decode>(
     d: &'a D,
@@ -114,21 +124,20 @@ fn result<'a, D: Decode>(
 
 /// After an event of `used` bytes: counts them and writes the message's place (it ends where
 /// the bytes the decoder still holds begin). Returns `status`.
+/// It takes the count and the decoder apart, the decoder shared: `msg` may point into the
+/// decoder, and a unique borrow of the whole state here would invalidate that pointer (Miri).
 fn placed<P: Proto>(
-    f: &mut Face<P::Dec>,
+    fed: &mut u64,
+    dec: &P::Dec,
     used: usize,
     (status, len): (i32, usize),
     ctx: P::Ctx,
     msg: &mut P::Msg,
 ) -> i32 {
-    f.fed = f.fed.wrapping_add(used as u64);
-    let len = if len > 0 {
-        len
-    } else {
-        P::frame_len(&f.dec, ctx)
-    };
+    *fed = fed.wrapping_add(used as u64);
+    let len = if len > 0 { len } else { P::frame_len(dec, ctx) };
     if len > 0 {
-        let end = f.fed.wrapping_sub(P::held(&f.dec) as u64);
+        let end = fed.wrapping_sub(P::held(dec) as u64);
         P::place(msg, end.wrapping_sub(len as u64), sat32(len));
     }
     status
@@ -150,7 +159,7 @@ fn one_byte<P: Proto>(
         f.fed = f.fed.wrapping_add(1);
         return PL_NOTHING;
     }
-    placed::<P>(f, 1, event, ctx, msg)
+    placed::<P>(&mut f.fed, &f.dec, 1, event, ctx, msg)
 }
 
 /// Decodes `input` up to the first event (`bytewise`: one byte a `decode` call) and hands it
@@ -187,7 +196,7 @@ fn step<P: Proto>(
             Some(event) => result(&f.dec, chunk, event),
         };
         let event = convert::<P>(event, ctx, msg, err);
-        return (used, placed::<P>(f, n, event, ctx, msg));
+        return (used, placed::<P>(&mut f.fed, &f.dec, n, event, ctx, msg));
     }
 }
 
@@ -293,7 +302,7 @@ pub(crate) unsafe fn finish<P: Proto>(state: *mut P, msg: *mut P::Msg, err: *mut
     };
     let event = result(&f.dec, &[], event);
     let event = convert::<P>(event, ctx, msg, err);
-    placed::<P>(f, 0, event, ctx, msg)
+    placed::<P>(&mut f.fed, &f.dec, 0, event, ctx, msg)
 }
 
 /// `pl_*_get_stats`: copies the counters into `*out`.

@@ -507,10 +507,7 @@ impl Proto for pl_gdl90_decoder {
     /// A frame with a good CRC counts in `frame_bytes`, whether it was a message or an error
     /// (its typed parse failed): either way the event has its place.
     fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
-        match d.stats().frame_bytes.wrapping_sub(frame_bytes) {
-            0 => 0,
-            n => n as usize + 2,
-        }
+        face::flagged_len(frame_bytes, d.stats().frame_bytes)
     }
 
     fn place(msg: &mut pl_gdl90_message, offset: u64, wire_len: u32) {
