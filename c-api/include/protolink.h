@@ -105,7 +105,7 @@
 // Error kind: none (the `pl_error` holds no error).
 #define PL_ERR_NONE 0
 
-// Error kind: the input ended inside a frame (end of stream, `flush`, `idle`).
+// Error kind: the input ended inside a frame (`pl_*_finish`: the end of the stream).
 #define PL_ERR_TRUNCATED 1
 
 // Error kind: a CRC or XOR check failed. AEOLUS and GDL90: `id` the message ID as received,
