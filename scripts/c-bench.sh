@@ -80,7 +80,7 @@ echo "($base_flash B flash, $base_ram B RAM: picolibc's start-up, semihosting ex
 echo
 echo "| receive loop with | flash (B) | static RAM (B) |"
 echo "| --- | ---: | ---: |"
-echo "| one AEOLUS decoder, \`pl_aeolus_parse_byte\` (libprotolink_c.a) | $((pl_flash - base_flash)) | $((pl_ram - base_ram)) |"
+echo "| one AEOLUS decoder, \`pl_aeolus_parse\` a byte at a time (libprotolink_c.a) | $((pl_flash - base_flash)) | $((pl_ram - base_ram)) |"
 echo "| MAVLink C \`mavlink_parse_char\`, common dialect, \`MAVLINK_COMM_NUM_BUFFERS\` 1 | $((mav1_flash - base_flash)) | $((mav1_ram - base_ram)) |"
 echo "| MAVLink C \`mavlink_parse_char\`, common dialect, default channel count | $((mav_flash - base_flash)) | $((mav_ram - base_ram)) |"
 echo
@@ -118,11 +118,11 @@ for line in open(sys.argv[1]):
         if t1 != t2:
             sys.exit(f"{name}: the two runs differ ({t1} and {t2} ticks)")
         rows[name] = (int(nbytes), int(instr), int(msgs))
-print("| protocol (capture) | bytes | messages | C `parse_byte` | Rust `push` | C / Rust | C `parse` (stops at each event) | C `feed` (callback) | Rust `feed` | C feed / Rust feed |")
+print("| protocol (capture) | bytes | messages | C `parse`, 1 byte a call | Rust `push` | C / Rust | C `parse` (stops at each event) | C `feed` (callback) | Rust `feed` | C feed / Rust feed |")
 print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for proto, label in [("aeolus", "AEOLUS (qemu-uart0-aeolus.bin)"), ("aydp", "AYDP Spec (qemu-uart1-aydp.bin)"),
                      ("aok_pc", "AOK PC side (qemu-uart2-aok.bin)")]:
-    names = [f"{proto}_parse_byte", f"rust_{proto}_push", f"{proto}_parse", f"{proto}_feed", f"rust_{proto}_feed"]
+    names = [f"{proto}_parse_1", f"rust_{proto}_push", f"{proto}_parse", f"{proto}_feed", f"rust_{proto}_feed"]
     r = [rows[k] for k in names]
     if len({x[2] for x in r}) != 1:
         sys.exit(f"{proto}: the paths decoded different message counts {[x[2] for x in r]}")

@@ -2,7 +2,7 @@
  * Flash and RAM of one AEOLUS decoder from C, beside MAVLink C's mavlink_parse_char: the same
  * receive loop, built three ways with the same arm-none-eabi-gcc flags (scripts/c-bench.sh):
  *   -DDECODER=0  the loop alone (baseline: bytes read from UART0's data register, a sink)
- *   -DDECODER=1  + one pl_aeolus_decoder (libprotolink_c.a, thumbv7m): parse_byte, typed parse
+ *   -DDECODER=1  + one pl_aeolus_decoder (libprotolink_c.a, thumbv7m): pl_aeolus_parse a byte at a time, typed parse
  *   -DDECODER=2  + MAVLink common dialect, mavlink_parse_char on channel 0 (headers generated
  *                by pymavlink's mavgen; MAVLINK_COMM_NUM_BUFFERS as the build sets it)
  * The figures are each build's size minus the baseline's.
@@ -39,7 +39,8 @@ int main(void) {
 #if DECODER == 0
         sink = byte;
 #elif DECODER == 1
-        if (pl_aeolus_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE) sink = msg.id;
+        size_t used;
+        if (pl_aeolus_parse(&dec, &byte, 1, &used, &msg, &err) == PL_MESSAGE) sink = msg.id;
 #elif DECODER == 2
         if (mavlink_parse_char(MAVLINK_COMM_0, byte, &msg, &status)) sink = msg.msgid;
 #endif

@@ -16,13 +16,40 @@
  * written. Copy a state only as a whole. At start-up, pl_abi_version() == PL_ABI_VERSION and
  * pl_state_size(PL_STATE_*) == sizeof(pl_*_decoder) (and pl_state_align) show that this
  * header and the archive agree.
- * pl_*_parse_byte takes one byte and returns PL_NOTHING, PL_MESSAGE (the message struct is
- * filled) or PL_ERROR (the pl_error is filled with a PL_ERR_* kind). pl_*_parse takes a
- * slice and stops after the byte that completed the next event, reporting how many bytes it
- * used. AYDP and AOK can hold more than one event after a rescan: after an event,
- * call pl_*_poll until it returns PL_NOTHING (pl_*_parse does this for you).
+ * Decoding is the same five calls for every protocol (X is aeolus, aydp, aok_device,
+ * aok_pc or gdl90), and one loop:
+ *
+ *     size_t off = 0, used;
+ *     int32_t st;
+ *     while ((st = pl_X_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+ *         off += used;                       (0 for an event a rescan left queued)
+ *         if (st == PL_MESSAGE) handle(&msg); else count(&err);
+ *     }
+ *     ...                                    (more bytes: the same loop; one byte is len 1)
+ *     while ((st = pl_X_finish(&dec, &msg, &err)) > 0) { ... }   (the stream ended)
+ *
+ * pl_X_parse returns one event per call: PL_MESSAGE (the message struct is filled),
+ * PL_ERROR (the pl_error is filled with a PL_ERR_* kind; the decoder has resynchronised) or
+ * PL_NOTHING (every byte used, nothing more to give). pl_X_feed gives the same events to a
+ * callback; pl_X_finish gives those of the end of the stream (a frame cut short is
+ * PL_ERR_TRUNCATED), after which the decoder starts afresh; pl_X_get_stats copies the counters.
  * Pointers inside a decoded message point into the decoder and stay valid until the next
  * call on that decoder.
+ *
+ * Places. Every decoded message carries `offset`, its first wire byte counted in bytes fed
+ * to this decoder since its init (pl_X_finish does not reset it), and `wire_len`, its bytes
+ * on the wire. On PL_ERROR the message struct never holds an earlier message: it is cleared
+ * (every field 0, pointers NULL, AYDP and GDL90 kind UNKNOWN), except that a frame with a
+ * good check whose typed parse failed leaves its own place there (AEOLUS, AYDP: its ID or
+ * type and raw data too).
+ *
+ * Byte accounting. Every byte fed is, at any time, in exactly one of: the wire_len of a
+ * message handed over (PL_MESSAGE, or PL_ERROR with wire_len > 0), a counter of discarded
+ * bytes, or held_bytes (pl_X_get_stats):
+ *   AEOLUS, GDL90: bytes fed = frame_bytes + flags + bytes_discarded + held_bytes, where
+ *     frame_bytes is the sum of (wire_len - 2) over those messages: wire_len counts both
+ *     flags, and a flag between two frames closes one and opens the next;
+ *   AYDP, AOK (either side): bytes fed = sum of wire_len + bytes_discarded + held_bytes.
  *
  * Interrupts. Use one decoder per UART and call it from one context only: its receive
  * interrupt handler, or the main loop, never both. Decoders share nothing, so two UARTs'
@@ -78,7 +105,7 @@
 // Error kind: none (the `pl_error` holds no error).
 #define PL_ERR_NONE 0
 
-// Error kind: the input ended inside a frame (end of stream, `flush`, `idle`).
+// Error kind: the input ended inside a frame (`pl_*_finish`: the end of the stream).
 #define PL_ERR_TRUNCATED 1
 
 // Error kind: a CRC or XOR check failed. AEOLUS and GDL90: `id` the message ID as received,
@@ -145,11 +172,11 @@
 #define PL_AEOLUS_CAPACITY 256
 
 // 64-bit words in a `pl_aeolus_decoder`.
-#define PL_AEOLUS_DECODER_WORDS 42
+#define PL_AEOLUS_DECODER_WORDS 43
 
 // Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_AEOLUS_DECODER_SIZE 336
+#define PL_AEOLUS_DECODER_SIZE 344
 
 // Alignment of `pl_aeolus_decoder` in bytes.
 #define PL_AEOLUS_DECODER_ALIGN 8
@@ -210,11 +237,11 @@
 #define PL_AEOLUS_ID_SETTIME 12
 
 // 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-#define PL_AOK_DECODER_WORDS 10
+#define PL_AOK_DECODER_WORDS 11
 
 // Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 // decoder (an upper bound over the supported targets).
-#define PL_AOK_DECODER_SIZE 80
+#define PL_AOK_DECODER_SIZE 88
 
 // Alignment of the AOK decoders in bytes.
 #define PL_AOK_DECODER_ALIGN 8
@@ -283,11 +310,11 @@
 #define PL_AYDP_CAPACITY 512
 
 // 64-bit words in a `pl_aydp_decoder`.
-#define PL_AYDP_DECODER_WORDS 71
+#define PL_AYDP_DECODER_WORDS 72
 
 // Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_AYDP_DECODER_SIZE 568
+#define PL_AYDP_DECODER_SIZE 576
 
 // Alignment of `pl_aydp_decoder` in bytes.
 #define PL_AYDP_DECODER_ALIGN 8
@@ -355,11 +382,11 @@
 #define PL_GDL90_CAPACITY 438
 
 // 64-bit words in a `pl_gdl90_decoder`.
-#define PL_GDL90_DECODER_WORDS 66
+#define PL_GDL90_DECODER_WORDS 67
 
 // Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_GDL90_DECODER_SIZE 528
+#define PL_GDL90_DECODER_SIZE 536
 
 // Alignment of `pl_gdl90_decoder` in bytes.
 #define PL_GDL90_DECODER_ALIGN 8
@@ -391,9 +418,10 @@
 
 // The ABI version of this archive and header: it changes whenever a state's size, alignment
 // or tag, a struct's layout, or a function's signature or meaning changes, so a program can
-// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 is
-// the first with tagged states.
-#define PL_ABI_VERSION 2
+// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
+// the first with tagged states; version 3 counts the bytes fed in each state and gives every
+// message its `offset` and `wire_len`.
+#define PL_ABI_VERSION 3
 
 // State kind: `pl_aeolus_decoder`.
 #define PL_STATE_AEOLUS 1
@@ -582,6 +610,12 @@ typedef struct {
   // Decoded: 1 if the frame carried `00 00` instead of a CRC. Encode: 1 sends `00 00`
   // (the spec's "no CRC"), 0 computes the CRC (the default).
   uint8_t no_crc;
+  // Bytes on the wire of the frame, both flags included (a flag between two frames counts
+  // in both); 0 in a message struct `PL_ERROR` cleared.
+  uint32_t wire_len;
+  // Decoded: where the frame starts (its opening flag), in bytes fed to this decoder since
+  // `pl_aeolus_init*`. Encode: ignored.
+  uint64_t offset;
   // Raw data, or the text (see above); may be NULL when `data_len` is 0.
   const uint8_t *data;
   // Bytes at `data`.
@@ -604,8 +638,8 @@ typedef struct {
 } pl_error;
 
 // An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
-// or `PL_ERROR` (`*err` holds the error; for a good frame whose typed parse failed, `*msg`
-// holds its ID and raw data). Both pointers are valid only during the call.
+// or `PL_ERROR` (`*err` holds the error, `*msg` as `pl_aeolus_parse` leaves it). Both
+// pointers are valid only during the call.
 typedef void (*pl_aeolus_callback)(void *ctx,
                                    int32_t status,
                                    const pl_aeolus_message *msg,
@@ -633,6 +667,8 @@ typedef struct {
   uint32_t frame_bytes;
   // Flag bytes seen.
   uint32_t flags;
+  // Bytes of a frame in progress, held (not yet in any other counter).
+  uint32_t held_bytes;
 } pl_aeolus_stats;
 
 // The device side: decodes the commands a PC sends. Set it up with `pl_aok_device_init`.
@@ -688,7 +724,20 @@ typedef struct {
   pl_aok_waypoint waypoint;
   // External control.
   pl_aok_external external;
+  // Decoded: bytes of the frame on the wire; 0 in an item `PL_ERROR` cleared.
+  uint32_t wire_len;
+  // Decoded: where the frame starts, in bytes fed to this decoder since its init. Encode:
+  // ignored.
+  uint64_t offset;
 } pl_aok_item;
+
+// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
+// (`*item` holds the command or message) or `PL_ERROR` (`*err`; `*item` cleared). Both
+// pointers are valid only during the call.
+typedef void (*pl_aok_callback)(void *ctx,
+                                int32_t status,
+                                const pl_aok_item *item,
+                                const pl_error *err);
 
 // The counters of an AOK decoder (either side).
 typedef struct {
@@ -704,6 +753,8 @@ typedef struct {
   uint32_t abandoned;
   // Bytes thrown away.
   uint32_t bytes_discarded;
+  // Bytes held, undecided (a frame in progress, or bytes a rescan has still to read).
+  uint32_t held_bytes;
 } pl_aok_stats;
 
 // The PC side: decodes what the device sends. Set it up with `pl_aok_pc_init`.
@@ -711,14 +762,6 @@ typedef struct {
   // Opaque.
   uint64_t opaque[PL_AOK_DECODER_WORDS];
 } pl_aok_pc_decoder;
-
-// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
-// (`*item` holds the command or message) or `PL_ERROR` (`*err`). Both pointers are valid
-// only during the call.
-typedef void (*pl_aok_callback)(void *ctx,
-                                int32_t status,
-                                const pl_aok_item *item,
-                                const pl_error *err);
 
 // An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
 typedef struct {
@@ -837,6 +880,12 @@ typedef struct {
   uint8_t msg_type;
   // 1 for an expedited message (6-byte header, no time), 0 for a normal one.
   uint8_t expedited;
+  // Bytes of the message on the wire (header, data, checksum); 0 in a message struct
+  // `PL_ERROR` cleared.
+  uint32_t wire_len;
+  // Decoded: where the message starts, in bytes fed to this decoder since `pl_aydp_init`.
+  // Encode: ignored.
+  uint64_t offset;
   // Normal messages: seconds of the header's time.
   int64_t seconds;
   // Normal messages: sub-seconds (milliseconds in Spec, microseconds in Reference).
@@ -865,6 +914,8 @@ typedef struct {
   uint32_t length_errors;
   // Bytes thrown away.
   uint32_t bytes_discarded;
+  // Bytes held, undecided (a message in progress, or bytes a rescan has still to read).
+  uint32_t held_bytes;
 } pl_aydp_stats;
 
 // One satellite of a fix detail message.
@@ -1048,6 +1099,12 @@ typedef struct {
   uint8_t kind;
   // The message ID.
   uint8_t id;
+  // Bytes of the frame on the wire, both flags included (a flag between two frames counts
+  // in both); 0 in a message struct `PL_ERROR` cleared.
+  uint32_t wire_len;
+  // Decoded: where the frame starts (its opening flag), in bytes fed to this decoder since
+  // `pl_gdl90_init`. Encode: ignored.
+  uint64_t offset;
   // Raw data of an unknown message (a ForeFlight sub-ID is its first byte).
   const uint8_t *data;
   // Bytes at `data`.
@@ -1082,6 +1139,8 @@ typedef struct {
   uint32_t frame_bytes;
   // Flag bytes seen.
   uint32_t flags;
+  // Bytes of a frame in progress, held (not yet in any other counter).
+  uint32_t held_bytes;
 } pl_gdl90_stats;
 
 #ifdef __cplusplus
@@ -1112,42 +1171,26 @@ int32_t pl_aeolus_init(pl_aeolus_decoder *dec);
 // `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
 int32_t pl_aeolus_init_strict(pl_aeolus_decoder *dec);
 
-// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg` filled), `PL_ERROR` (`*err`
-// filled; for a good frame whose typed parse failed, `*msg` also holds its ID and raw data),
-// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a message
+// or an error and sets `*used` to the bytes it took (all of `len` with `PL_NOTHING`). One
+// byte at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled; `*msg`
+// cleared, or for a good frame whose typed parse failed its ID, raw data and place),
+// `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
-// pl_aeolus_message msg;
-// pl_error err;
-// if (pl_aeolus_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) {
-//     use_rates(msg.body.motion.x, msg.body.motion.y, msg.body.motion.z);
+// size_t off = 0, used;
+// int32_t st;
+// while ((st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+//     off += used;
+//     if (st == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) use_rates(&msg.body.motion);
 // }
 // ```
 //
 // # Safety
 // `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
-int32_t pl_aeolus_parse_byte(pl_aeolus_decoder *dec,
-                             uint8_t byte,
-                             pl_aeolus_message *msg,
-                             pl_error *err);
-
-// Feeds bytes up to the next event: stops after the byte that completed a message or an
-// error. `*used` is the number of bytes consumed (all of `len` when it returns
-// `PL_NOTHING`); call again with the rest. Returns as `pl_aeolus_parse_byte`.
-//
-// ```c
-// size_t off = 0, used;
-// while (off < len) {
-//     int st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err);
-//     off += used;
-//     if (st == PL_MESSAGE) handle(&msg);
-// }
-// ```
-//
-// # Safety
-// As `pl_aeolus_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-// `used` is NULL or writable.
+// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
                         const uint8_t *bytes,
                         size_t len,
@@ -1155,12 +1198,9 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
                         pl_aeolus_message *msg,
                         pl_error *err);
 
-// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
-// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
-// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, `PL_E_NULL` or
-// `PL_E_INVALID`.
-// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
-// message.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+// exactly the events of `pl_aeolus_parse` over the same bytes. Returns `PL_NOTHING`,
+// `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
 // static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
@@ -1179,18 +1219,17 @@ int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
                        pl_aeolus_callback on_event,
                        void *ctx);
 
-// End of stream (or of a datagram): a partial frame still held is given up. Returns
-// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, `PL_E_NULL` or
-// `PL_E_INVALID`.
+// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED`.
+// Returns as `pl_aeolus_parse`; afterwards the decoder starts afresh (offsets go on).
 //
 // ```c
-// if (pl_aeolus_flush(&dec, &err) == PL_ERROR) count_truncated();
+// while ((st = pl_aeolus_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-// `PL_E_INVALID`); `err` is NULL or writable.
-int32_t pl_aeolus_flush(pl_aeolus_decoder *dec, pl_error *err);
+// As `pl_aeolus_parse`, for `dec`, `msg` and `err`.
+int32_t pl_aeolus_finish(pl_aeolus_decoder *dec, pl_aeolus_message *msg, pl_error *err);
 
 // Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
@@ -1244,61 +1283,59 @@ size_t pl_aeolus_max_encoded_len(size_t data_len);
 // `dec` is NULL or points to writable memory for a `pl_aok_device_decoder`.
 int32_t pl_aok_device_init(pl_aok_device_decoder *dec);
 
-// Device side: feeds one byte of the PC's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-// (`*cmd` holds a command), `PL_ERROR` (`*err`), `PL_E_NULL` or `PL_E_INVALID`; after an
-// event call `pl_aok_device_poll` until `PL_NOTHING`.
+// Device side: decodes the PC's bytes `bytes[..len]` up to the next event, as
+// `pl_aeolus_parse` (`*cmd` holds a command; a rescan's further events come first with
+// `*used` 0: call until `PL_NOTHING`). `PL_ERROR` clears `*cmd`.
 //
 // ```c
-// pl_aok_item cmd;
-// if (pl_aok_device_parse_byte(&dec, byte, &cmd, &err) == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
+// size_t off = 0, used;
+// int32_t st;
+// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &cmd, &err)) > 0) {
+//     off += used;
+//     if (st == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
+// }
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-// gets `PL_E_INVALID`); `cmd`, `err` are NULL or writable.
-int32_t pl_aok_device_parse_byte(pl_aok_device_decoder *dec,
-                                 uint8_t byte,
-                                 pl_aok_item *cmd,
-                                 pl_error *err);
-
-// Device side: the next further event among bytes already held.
-//
-// ```c
-// while (pl_aok_device_poll(&dec, &cmd, &err) > 0) { /* ... */ }
-// ```
-//
-// # Safety
-// As `pl_aok_device_parse_byte`.
-int32_t pl_aok_device_poll(pl_aok_device_decoder *dec, pl_aok_item *cmd, pl_error *err);
-
-// Device side: the line went quiet; a partial command is given up (`PL_ERR_TRUNCATED`) and
-// what followed it rescanned. One event per call; call until `PL_NOTHING`.
-//
-// ```c
-// while (pl_aok_device_idle(&dec, &cmd, &err) > 0) { /* ... */ }
-// ```
-//
-// # Safety
-// As `pl_aok_device_parse_byte`.
-int32_t pl_aok_device_idle(pl_aok_device_decoder *dec, pl_aok_item *cmd, pl_error *err);
-
-// Device side: feeds bytes up to the next event (any event still held first, with `*used`
-// 0). `*used` is the number of bytes consumed.
-//
-// ```c
-// size_t used;
-// int st = pl_aok_device_parse(&dec, buf, len, &used, &cmd, &err);
-// ```
-//
-// # Safety
-// As `pl_aok_device_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-// `used` is writable.
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set
+// up gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `cmd` and `err` are NULL or writable.
 int32_t pl_aok_device_parse(pl_aok_device_decoder *dec,
                             const uint8_t *bytes,
                             size_t len,
                             size_t *used,
                             pl_aok_item *cmd,
                             pl_error *err);
+
+// Device side: decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event,
+// in order (exactly those of `pl_aok_device_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or
+// `PL_E_INVALID`.
+//
+// ```c
+// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
+// ```
+//
+// # Safety
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
+// be called with `ctx` and does not use `dec`.
+int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
+                           const uint8_t *bytes,
+                           size_t len,
+                           pl_aok_callback on_event,
+                           void *ctx);
+
+// Device side: the PC's stream ended or its line went quiet: a partial command is given up
+// (`PL_ERR_TRUNCATED`) and what followed it rescanned. One event per call; call until
+// `PL_NOTHING`.
+//
+// ```c
+// while ((st = pl_aok_device_finish(&dec, &cmd, &err)) > 0) if (st == PL_MESSAGE) run(&cmd);
+// ```
+//
+// # Safety
+// As `pl_aok_device_parse`, for `dec`, `cmd` and `err`.
+int32_t pl_aok_device_finish(pl_aok_device_decoder *dec, pl_aok_item *cmd, pl_error *err);
 
 // Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
@@ -1341,59 +1378,52 @@ int32_t pl_aok_pc_init(pl_aok_pc_decoder *dec, uint8_t major, uint8_t minor);
 // `PL_E_INVALID`); `cmd` is NULL or readable.
 int32_t pl_aok_pc_expect_reply(pl_aok_pc_decoder *dec, const pl_aok_item *cmd);
 
-// PC side: feeds one byte of the device's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`),
-// `PL_E_NULL` or `PL_E_INVALID`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
+// PC side: decodes the device's bytes `bytes[..len]` up to the next event, as
+// `pl_aok_device_parse` (`*msg` holds a debug value, an ack, a parameter or a waypoint).
 //
 // ```c
-// pl_aok_item msg;
-// if (pl_aok_pc_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
+// size_t off = 0, used;
+// int32_t st;
+// while ((st = pl_aok_pc_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+//     off += used;
+//     if (st == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
+// }
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-// `PL_E_INVALID`); `msg`, `err` are NULL or writable.
-int32_t pl_aok_pc_parse_byte(pl_aok_pc_decoder *dec,
-                             uint8_t byte,
-                             pl_aok_item *msg,
-                             pl_error *err);
-
-// PC side: the next further event among bytes already held.
-//
-// ```c
-// while (pl_aok_pc_poll(&dec, &msg, &err) > 0) { /* ... */ }
-// ```
-//
-// # Safety
-// As `pl_aok_pc_parse_byte`.
-int32_t pl_aok_pc_poll(pl_aok_pc_decoder *dec, pl_aok_item *msg, pl_error *err);
-
-// PC side: the line went quiet; one event per call, call until `PL_NOTHING`.
-//
-// ```c
-// while (pl_aok_pc_idle(&dec, &msg, &err) > 0) { /* ... */ }
-// ```
-//
-// # Safety
-// As `pl_aok_pc_parse_byte`.
-int32_t pl_aok_pc_idle(pl_aok_pc_decoder *dec, pl_aok_item *msg, pl_error *err);
-
-// PC side: feeds bytes up to the next event (any event still held first, with `*used` 0).
-//
-// ```c
-// size_t used;
-// int st = pl_aok_pc_parse(&dec, buf, len, &used, &msg, &err);
-// ```
-//
-// # Safety
-// As `pl_aok_pc_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-// `used` is writable.
+// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
 int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
                         const uint8_t *bytes,
                         size_t len,
                         size_t *used,
                         pl_aok_item *msg,
                         pl_error *err);
+
+// PC side: decodes all of `bytes[..len]`, `on_event(ctx, ...)` for every event in order
+// (exactly those of `pl_aok_pc_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
+//
+// ```c
+// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
+// ```
+//
+// # Safety
+// As `pl_aok_device_feed`, with a `pl_aok_pc_decoder`.
+int32_t pl_aok_pc_feed(pl_aok_pc_decoder *dec,
+                       const uint8_t *bytes,
+                       size_t len,
+                       pl_aok_callback on_event,
+                       void *ctx);
+
+// PC side: the device's stream ended or its line went quiet; one event per call, call until
+// `PL_NOTHING` (as `pl_aok_device_finish`).
+//
+// ```c
+// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
+// ```
+//
+// # Safety
+// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
+int32_t pl_aok_pc_finish(pl_aok_pc_decoder *dec, pl_aok_item *msg, pl_error *err);
 
 // PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
@@ -1403,45 +1433,8 @@ int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-// `PL_E_INVALID`); `stats` is NULL or writable.
+// As `pl_aok_device_get_stats`, with a `pl_aok_pc_decoder`.
 int32_t pl_aok_pc_get_stats(const pl_aok_pc_decoder *dec, pl_aok_stats *stats);
-
-// Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
-// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
-// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-//
-// ```c
-// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
-// ```
-//
-// # Safety
-// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
-// be called with `ctx` and does not use `dec`.
-int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
-                           const uint8_t *bytes,
-                           size_t len,
-                           pl_aok_callback on_event,
-                           void *ctx);
-
-// PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
-// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
-// `pl_aok_pc_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-//
-// ```c
-// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
-// ```
-//
-// # Safety
-// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-// called with `ctx` and does not use `dec`.
-int32_t pl_aok_pc_feed(pl_aok_pc_decoder *dec,
-                       const uint8_t *bytes,
-                       size_t len,
-                       pl_aok_callback on_event,
-                       void *ctx);
 
 // Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
 // `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
@@ -1486,52 +1479,25 @@ int32_t pl_aok_encode_message(const pl_aok_item *msg, uint8_t headed, uint8_t *o
 // `dec` is NULL or points to writable memory for a `pl_aydp_decoder`.
 int32_t pl_aydp_init(pl_aydp_decoder *dec, uint32_t profile);
 
-// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`; for a
-// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data),
-// `PL_E_NULL` or `PL_E_INVALID`. After any event, call `pl_aydp_poll` until it returns
-// `PL_NOTHING`: a rescan after an error can uncover further messages among bytes already held.
-//
-// ```c
-// int st = pl_aydp_parse_byte(&dec, byte, &msg, &err);
-// while (st > 0) {
-//     if (st == PL_MESSAGE) handle(&msg);
-//     st = pl_aydp_poll(&dec, &msg, &err);
-// }
-// ```
-//
-// # Safety
-// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
-int32_t pl_aydp_parse_byte(pl_aydp_decoder *dec, uint8_t byte, pl_aydp_message *msg, pl_error *err);
-
-// The next further event among bytes already held (after a rescan). Returns as
-// `pl_aydp_parse_byte`.
-//
-// ```c
-// while (pl_aydp_poll(&dec, &msg, &err) > 0) { /* ... */ }
-// ```
-//
-// # Safety
-// As `pl_aydp_parse_byte`.
-int32_t pl_aydp_poll(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err);
-
-// Feeds bytes up to the next event: first any event still held (then `*used` is 0), else
-// bytes until one completes an event. `*used` is the number of bytes consumed (all of `len`
-// with `PL_NOTHING`). Call again with the rest; the events are exactly those of
-// `pl_aydp_parse_byte` plus `pl_aydp_poll`.
+// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. A rescan after an error
+// can find further messages among bytes already held: they come first, one a call, with
+// `*used` 0, so call again (with the rest, or `len` 0) until `PL_NOTHING`. `PL_ERROR` with a
+// good checksum but a failed typed parse leaves the raw data and place in `*msg`; any other
+// error clears it.
 //
 // ```c
 // size_t off = 0, used;
-// while (off < len) {
-//     int st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err);
+// int32_t st;
+// while ((st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
 //     off += used;
 //     if (st == PL_MESSAGE) handle(&msg);
 // }
 // ```
 //
 // # Safety
-// As `pl_aydp_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-// `used` is writable.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aydp_parse(pl_aydp_decoder *dec,
                       const uint8_t *bytes,
                       size_t len,
@@ -1539,9 +1505,8 @@ int32_t pl_aydp_parse(pl_aydp_decoder *dec,
                       pl_aydp_message *msg,
                       pl_error *err);
 
-// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
-// `on_event(ctx, ...)` for every event, in order: exactly the events of
-// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, `PL_E_NULL` or
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+// exactly the events of `pl_aydp_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
 // `PL_E_INVALID`.
 //
 // ```c
@@ -1558,16 +1523,16 @@ int32_t pl_aydp_feed(pl_aydp_decoder *dec,
                      pl_aydp_callback on_event,
                      void *ctx);
 
-// End of stream: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. Returns
-// one event per call (as `pl_aydp_parse_byte`); call until `PL_NOTHING`.
+// The stream ended: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. One
+// event per call (as `pl_aydp_parse`); call until `PL_NOTHING`.
 //
 // ```c
-// while (pl_aydp_flush(&dec, &msg, &err) > 0) { /* ... */ }
+// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
 // ```
 //
 // # Safety
-// As `pl_aydp_parse_byte`.
-int32_t pl_aydp_flush(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err);
+// As `pl_aydp_parse`, for `dec`, `msg` and `err`.
+int32_t pl_aydp_finish(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err);
 
 // Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
@@ -1639,31 +1604,23 @@ int32_t pl_aydp_encode(uint32_t profile, const pl_aydp_message *msg, uint8_t *ou
 // `dec` is NULL or points to writable memory for a `pl_gdl90_decoder`.
 int32_t pl_gdl90_init(pl_gdl90_decoder *dec);
 
-// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`),
-// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
+// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. `PL_ERROR` clears
+// `*msg`; for a frame with a good CRC whose typed parse failed (`PL_ERR_WRONG_LENGTH`,
+// `PL_ERR_OUT_OF_RANGE`) it also gives that frame's `offset` and `wire_len`.
 //
 // ```c
-// if (pl_gdl90_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_GDL90_TRAFFIC) draw(&msg.body.report);
+// size_t off = 0, used;
+// int32_t st;
+// while ((st = pl_gdl90_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+//     off += used;
+//     if (st == PL_MESSAGE && msg.kind == PL_GDL90_OWNSHIP) show(&msg.body.report);
+// }
 // ```
 //
 // # Safety
 // `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-// `PL_E_INVALID`); `msg`, `err` are NULL or writable; nothing else uses `dec` during the call.
-int32_t pl_gdl90_parse_byte(pl_gdl90_decoder *dec,
-                            uint8_t byte,
-                            pl_gdl90_message *msg,
-                            pl_error *err);
-
-// Feeds bytes up to the next event; `*used` is the number consumed.
-//
-// ```c
-// size_t used;
-// int st = pl_gdl90_parse(&dec, buf, len, &used, &msg, &err);
-// ```
-//
-// # Safety
-// As `pl_gdl90_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-// `used` is writable.
+// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
@@ -1671,9 +1628,9 @@ int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
                        pl_gdl90_message *msg,
                        pl_error *err);
 
-// The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
-// for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
-// `PL_E_NULL` or `PL_E_INVALID`.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+// exactly the events of `pl_gdl90_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // pl_gdl90_feed(&dec, datagram, n, on_event, &app);
@@ -1688,6 +1645,17 @@ int32_t pl_gdl90_feed(pl_gdl90_decoder *dec,
                       size_t len,
                       pl_gdl90_callback on_event,
                       void *ctx);
+
+// The stream (or a datagram) ended: a frame still held is given up as `PL_ERR_TRUNCATED`.
+// One event per call; call until `PL_NOTHING`. Afterwards the decoder starts afresh.
+//
+// ```c
+// while ((st = pl_gdl90_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
+// ```
+//
+// # Safety
+// As `pl_gdl90_parse`, for `dec`, `msg` and `err`.
+int32_t pl_gdl90_finish(pl_gdl90_decoder *dec, pl_gdl90_message *msg, pl_error *err);
 
 // Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //

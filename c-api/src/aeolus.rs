@@ -1,8 +1,9 @@
 //! AEOLUS from C: `pl_aeolus_*`. The decoder is `aeolus_proto::Decoder<PL_AEOLUS_CAPACITY>`.
 
 use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
-use aeolus_proto::{CrcMode, Decode, Decoder, Error, Frame};
+use aeolus_proto::{CrcMode, Decoder, Error, Frame};
 
+use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
@@ -11,10 +12,10 @@ use crate::*;
 /// every TOAST and COMMAND text, LOG messages up to 253 data bytes.
 pub const PL_AEOLUS_CAPACITY: usize = 256;
 /// 64-bit words in a `pl_aeolus_decoder`.
-pub const PL_AEOLUS_DECODER_WORDS: usize = 42;
+pub const PL_AEOLUS_DECODER_WORDS: usize = 43;
 /// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_AEOLUS_DECODER_SIZE: usize = 336;
+pub const PL_AEOLUS_DECODER_SIZE: usize = 344;
 /// Alignment of `pl_aeolus_decoder` in bytes.
 pub const PL_AEOLUS_DECODER_ALIGN: usize = 8;
 /// The longest TOAST or COMMAND text (without its NUL).
@@ -35,7 +36,7 @@ pub struct pl_aeolus_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aeolus_decoder {
-    type Inner = Inner;
+    type Inner = Face<Inner>;
     const KIND: u32 = state::PL_STATE_AEOLUS;
 }
 const _: () = assert!(state::fits::<pl_aeolus_decoder>());
@@ -231,6 +232,12 @@ pub struct pl_aeolus_message {
     /// Decoded: 1 if the frame carried `00 00` instead of a CRC. Encode: 1 sends `00 00`
     /// (the spec's "no CRC"), 0 computes the CRC (the default).
     pub no_crc: u8,
+    /// Bytes on the wire of the frame, both flags included (a flag between two frames counts
+    /// in both); 0 in a message struct `PL_ERROR` cleared.
+    pub wire_len: u32,
+    /// Decoded: where the frame starts (its opening flag), in bytes fed to this decoder since
+    /// `pl_aeolus_init*`. Encode: ignored.
+    pub offset: u64,
     /// Raw data, or the text (see above); may be NULL when `data_len` is 0.
     pub data: *const u8,
     /// Bytes at `data`.
@@ -296,6 +303,8 @@ pub struct pl_aeolus_stats {
     pub frame_bytes: u32,
     /// Flag bytes seen.
     pub flags: u32,
+    /// Bytes of a frame in progress, held (not yet in any other counter).
+    pub held_bytes: u32,
 }
 
 fn motion(valid: bool, timestamp_ms: f64, x: f32, y: f32, z: f32) -> pl_aeolus_motion {
@@ -448,14 +457,36 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-/// Hands one decoder event to the caller's structs; returns the status.
-fn deliver(
-    event: Result<Frame<'_>, Error>,
-    msg: &mut pl_aeolus_message,
-    err: &mut pl_error,
-) -> i32 {
-    match event {
-        Ok(frame) => match frame.message() {
+/// The empty message: what `PL_ERROR` leaves in `*msg` when the error is not about a frame.
+// SAFETY: integers, floats and a raw pointer: all zeros is a valid value (NULL for `data`).
+const EMPTY: pl_aeolus_message = unsafe { core::mem::zeroed() };
+
+impl Proto for pl_aeolus_decoder {
+    type Dec = Inner;
+    type Msg = pl_aeolus_message;
+    type Stats = pl_aeolus_stats;
+    type Ctx = u32;
+    const ONE_EVENT_A_BYTE: bool = true;
+
+    fn empty() -> pl_aeolus_message {
+        EMPTY
+    }
+
+    fn held(d: &Inner) -> usize {
+        d.held_bytes()
+    }
+
+    fn context(d: &Inner) -> u32 {
+        d.stats().frame_bytes
+    }
+
+    fn fill(
+        frame: Frame<'_>,
+        _: u32,
+        msg: &mut pl_aeolus_message,
+        err: &mut pl_error,
+    ) -> (i32, usize) {
+        match frame.message() {
             Ok(m) => {
                 fill(msg, &m, !frame.has_crc());
                 if let Message::Toast(t) | Message::Command(t) = &m {
@@ -464,22 +495,48 @@ fn deliver(
                     msg.data = text.as_ptr();
                     msg.data_len = text.len();
                 }
-                PL_MESSAGE
+                (PL_MESSAGE, 0)
             }
             Err(e) => {
                 // The raw frame stays available (DECISIONS.md A4).
+                *msg = EMPTY;
                 let raw = Message::Unknown {
                     id: frame.id(),
                     data: frame.data(),
                 };
                 fill(msg, &raw, !frame.has_crc());
                 *err = error(e);
-                PL_ERROR
+                (PL_ERROR, 0)
             }
-        },
-        Err(e) => {
-            *err = error(e);
-            PL_ERROR
+        }
+    }
+
+    fn error(e: Error) -> pl_error {
+        error(e)
+    }
+
+    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
+        face::flagged_len(frame_bytes, d.stats().frame_bytes)
+    }
+
+    fn place(msg: &mut pl_aeolus_message, offset: u64, wire_len: u32) {
+        (msg.offset, msg.wire_len) = (offset, wire_len);
+    }
+
+    fn stats(d: &Inner) -> pl_aeolus_stats {
+        let s = d.stats();
+        pl_aeolus_stats {
+            frames_ok: s.frames_ok,
+            frames_no_crc: s.frames_no_crc,
+            checksum_errors: s.checksum_errors,
+            missing_crc: s.missing_crc,
+            overflows: s.overflows,
+            too_short: s.too_short,
+            bad_escapes: s.bad_escapes,
+            bytes_discarded: s.bytes_discarded,
+            frame_bytes: s.frame_bytes,
+            flags: s.flags,
+            held_bytes: ffi::sat32(d.held_bytes()),
         }
     }
 }
@@ -496,8 +553,8 @@ fn deliver(
 /// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, Inner::new()) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, Inner::new()) }
 }
 
 /// Sets up `dec` as a fresh strict decoder: frames without a CRC are errors
@@ -512,61 +569,30 @@ pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
 /// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i32 {
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, Inner::strict()) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, Inner::strict()) }
 }
 
-/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg` filled), `PL_ERROR` (`*err`
-/// filled; for a good frame whose typed parse failed, `*msg` also holds its ID and raw data),
-/// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
+/// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a message
+/// or an error and sets `*used` to the bytes it took (all of `len` with `PL_NOTHING`). One
+/// byte at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+/// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled; `*msg`
+/// cleared, or for a good frame whose typed parse failed its ID, raw data and place),
+/// `PL_E_NULL` or `PL_E_INVALID`.
 ///
 /// ```c
-/// pl_aeolus_message msg;
-/// pl_error err;
-/// if (pl_aeolus_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) {
-///     use_rates(msg.body.motion.x, msg.body.motion.y, msg.body.motion.z);
+/// size_t off = 0, used;
+/// int32_t st;
+/// while ((st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+///     off += used;
+///     if (st == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) use_rates(&msg.body.motion);
 /// }
 /// ```
 ///
 /// # Safety
 /// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_parse_byte(
-    dec: *mut pl_aeolus_decoder,
-    byte: u8,
-    msg: *mut pl_aeolus_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises: `msg` and `err` are NULL or writable, and none of the
-    // pointers alias.
-    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    ffi::one_byte(d, byte, PL_NOTHING, |event| deliver(event, msg, err))
-}
-
-/// Feeds bytes up to the next event: stops after the byte that completed a message or an
-/// error. `*used` is the number of bytes consumed (all of `len` when it returns
-/// `PL_NOTHING`); call again with the rest. Returns as `pl_aeolus_parse_byte`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// while (off < len) {
-///     int st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err);
-///     off += used;
-///     if (st == PL_MESSAGE) handle(&msg);
-/// }
-/// ```
-///
-/// # Safety
-/// As `pl_aeolus_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-/// `used` is NULL or writable.
+/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aeolus_parse(
     dec: *mut pl_aeolus_decoder,
@@ -576,30 +602,13 @@ pub unsafe extern "C" fn pl_aeolus_parse(
     msg: *mut pl_aeolus_message,
     err: *mut pl_error,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises, as in `pl_aeolus_parse_byte` and for `bytes[..len]`.
-    let (Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-        unsafe { ffi::bytes(bytes, len) },
-        unsafe { used.as_mut() },
-    ) else {
-        return PL_E_NULL;
-    };
-    // The decoder contract's pull form: runs of ordinary bytes copied a word at a time, up to
-    // the first event.
-    let (n, event) = d.next_event(input);
-    *used = n;
-    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
+    // SAFETY: the caller's promises.
+    unsafe { face::parse(dec, bytes, len, used, msg, err) }
 }
 
 /// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
-/// or `PL_ERROR` (`*err` holds the error; for a good frame whose typed parse failed, `*msg`
-/// holds its ID and raw data). Both pointers are valid only during the call.
+/// or `PL_ERROR` (`*err` holds the error, `*msg` as `pl_aeolus_parse` leaves it). Both
+/// pointers are valid only during the call.
 pub type pl_aeolus_callback = Option<
     unsafe extern "C" fn(
         ctx: *mut core::ffi::c_void,
@@ -609,12 +618,9 @@ pub type pl_aeolus_callback = Option<
     ),
 >;
 
-/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` (runs of
-/// ordinary bytes copied a word at a time) and calls `on_event(ctx, ...)` for every event, in
-/// order: exactly the events of `pl_aeolus_parse_byte`. Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-/// Use it for a DMA buffer or a datagram; `pl_aeolus_parse` when you want to stop at each
-/// message.
+/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+/// exactly the events of `pl_aeolus_parse` over the same bytes. Returns `PL_NOTHING`,
+/// `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 ///
 /// ```c
 /// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
@@ -635,64 +641,28 @@ pub unsafe extern "C" fn pl_aeolus_feed(
     on_event: pl_aeolus_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
-        return PL_E_NULL;
-    };
-    let mut msg = pl_aeolus_message {
-        id: 0,
-        no_crc: 0,
-        data: core::ptr::null(),
-        data_len: 0,
-        body: pl_aeolus_body {
-            settime: pl_aeolus_settime::default(),
-        },
-    };
-    let mut err = pl_error::default();
-    d.feed(input, |event| {
-        let status = deliver(event, &mut msg, &mut err);
-        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
-        // live locals for the duration of the call.
-        unsafe { call(ctx, status, &msg, &err) };
-    });
-    PL_NOTHING
+    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
 }
 
-/// End of stream (or of a datagram): a partial frame still held is given up. Returns
-/// `PL_ERROR` with `PL_ERR_TRUNCATED` then, `PL_NOTHING` if nothing was held, `PL_E_NULL` or
-/// `PL_E_INVALID`.
+/// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+/// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED`.
+/// Returns as `pl_aeolus_parse`; afterwards the decoder starts afresh (offsets go on).
 ///
 /// ```c
-/// if (pl_aeolus_flush(&dec, &err) == PL_ERROR) count_truncated();
+/// while ((st = pl_aeolus_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
 /// ```
 ///
 /// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `err` is NULL or writable.
+/// As `pl_aeolus_parse`, for `dec`, `msg` and `err`.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_flush(dec: *mut pl_aeolus_decoder, err: *mut pl_error) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
+pub unsafe extern "C" fn pl_aeolus_finish(
+    dec: *mut pl_aeolus_decoder,
+    msg: *mut pl_aeolus_message,
+    err: *mut pl_error,
+) -> i32 {
     // SAFETY: the caller's promises.
-    let Some(err) = (unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let mut status = PL_NOTHING;
-    d.finish(|e| {
-        if let Err(e) = e {
-            *err = error(e);
-            status = PL_ERROR;
-        }
-    });
-    status
+    unsafe { face::finish(dec, msg, err) }
 }
 
 /// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
@@ -711,31 +681,9 @@ pub unsafe extern "C" fn pl_aeolus_get_stats(
     dec: *const pl_aeolus_decoder,
     stats: *mut pl_aeolus_stats,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked_ref(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises (the decoder is only read).
-    let Some(out) = (unsafe { stats.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let s = d.stats();
-    *out = pl_aeolus_stats {
-        frames_ok: s.frames_ok,
-        frames_no_crc: s.frames_no_crc,
-        checksum_errors: s.checksum_errors,
-        missing_crc: s.missing_crc,
-        overflows: s.overflows,
-        too_short: s.too_short,
-        bad_escapes: s.bad_escapes,
-        bytes_discarded: s.bytes_discarded,
-        frame_bytes: s.frame_bytes,
-        flags: s.flags,
-    };
-    0
+    // SAFETY: the caller's promises.
+    unsafe { face::get_stats(dec, stats) }
 }
-
 fn text(data: &[u8]) -> Result<Text, i32> {
     Text::from_bytes(data).map_err(|_| PL_E_INVALID)
 }

@@ -2,21 +2,22 @@
 //! `pl_aok_pc_*` reads what the device sends (messages).
 
 use aok_proto::{
-    Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, Error, Event, ExternalControl,
+    Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, Error, ExternalControl,
     FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue, ReplyForm, Stick,
     Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug, encode_parameter,
     encode_waypoint,
 };
 
+use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
 
 /// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-pub const PL_AOK_DECODER_WORDS: usize = 10;
+pub const PL_AOK_DECODER_WORDS: usize = 11;
 /// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 /// decoder (an upper bound over the supported targets).
-pub const PL_AOK_DECODER_SIZE: usize = 80;
+pub const PL_AOK_DECODER_SIZE: usize = 88;
 /// Alignment of the AOK decoders in bytes.
 pub const PL_AOK_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest frame either side sends (a command, or a headed reply).
@@ -38,13 +39,13 @@ pub struct pl_aok_pc_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_device_decoder {
-    type Inner = CommandDecoder;
+    type Inner = Face<CommandDecoder>;
     const KIND: u32 = state::PL_STATE_AOK_DEVICE;
 }
 const _: () = assert!(state::fits::<pl_aok_device_decoder>());
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_pc_decoder {
-    type Inner = MessageDecoder;
+    type Inner = Face<MessageDecoder>;
     const KIND: u32 = state::PL_STATE_AOK_PC;
 }
 const _: () = assert!(state::fits::<pl_aok_pc_decoder>());
@@ -146,6 +147,11 @@ pub struct pl_aok_item {
     pub waypoint: pl_aok_waypoint,
     /// External control.
     pub external: pl_aok_external,
+    /// Decoded: bytes of the frame on the wire; 0 in an item `PL_ERROR` cleared.
+    pub wire_len: u32,
+    /// Decoded: where the frame starts, in bytes fed to this decoder since its init. Encode:
+    /// ignored.
+    pub offset: u64,
 }
 
 /// The counters of an AOK decoder (either side).
@@ -164,6 +170,8 @@ pub struct pl_aok_stats {
     pub abandoned: u32,
     /// Bytes thrown away.
     pub bytes_discarded: u32,
+    /// Bytes held, undecided (a frame in progress, or bytes a rescan has still to read).
+    pub held_bytes: u32,
 }
 
 fn waypoint_c(w: &Waypoint) -> pl_aok_waypoint {
@@ -326,55 +334,91 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-fn deliver<T>(
-    event: Option<Result<T, Error>>,
-    to_c: impl FnOnce(&T) -> pl_aok_item,
-    item: &mut pl_aok_item,
-    err: &mut pl_error,
-) -> i32 {
-    match event {
-        None => PL_NOTHING,
-        Some(Ok(v)) => {
-            *item = to_c(&v);
-            PL_MESSAGE
-        }
-        Some(Err(e)) => {
-            *err = error(e);
-            PL_ERROR
-        }
+/// The two sides' decoders, each with its item's C conversion and wire length.
+trait Side: Decode<Error = Error> {
+    /// The form of the replies the decoder reads (the device side reads commands: any).
+    fn form(&self) -> ReplyForm;
+    /// The item as the C struct, and its wire length.
+    fn to_c(item: Self::Item<'_>, form: ReplyForm) -> (pl_aok_item, usize);
+}
+
+impl Side for CommandDecoder {
+    fn form(&self) -> ReplyForm {
+        ReplyForm::Headed
+    }
+
+    fn to_c(c: Command, _: ReplyForm) -> (pl_aok_item, usize) {
+        (command_c(&c), c.buffer_len())
     }
 }
 
-fn stats_c(s: &aok_proto::Stats) -> pl_aok_stats {
-    pl_aok_stats {
-        frames_ok: s.frames_ok,
-        checksum_errors: s.checksum_errors,
-        unknown_bytes: s.unknown_bytes,
-        invalid: s.invalid,
-        abandoned: s.abandoned,
-        bytes_discarded: s.bytes_discarded,
+impl Side for MessageDecoder {
+    fn form(&self) -> ReplyForm {
+        self.reply_form()
+    }
+
+    fn to_c(m: Message, form: ReplyForm) -> (pl_aok_item, usize) {
+        (message_c(&m), m.buffer_len(form))
     }
 }
 
-/// The decoder, the item and the error behind three C pointers, or the code to return:
-/// the decoder is checked first (`PL_E_NULL`, `PL_E_INVALID`), then the others (`PL_E_NULL`).
-///
-/// # Safety
-/// `dec` is NULL or a state (see `state::checked`); `item` and `err` are NULL or writable;
-/// none alias.
-unsafe fn args<'a, S: State>(
-    dec: *mut S,
-    item: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> Result<(&'a mut S::Inner, &'a mut pl_aok_item, &'a mut pl_error), i32> {
-    // SAFETY: the caller's promises.
-    let d = unsafe { state::checked(dec) }?;
-    // SAFETY: the caller's promises.
-    let (Some(i), Some(e)) = (unsafe { item.as_mut() }, unsafe { err.as_mut() }) else {
-        return Err(PL_E_NULL);
+/// Both AOK states are one `Proto` over their side's decoder.
+macro_rules! aok_proto {
+    ($state:ty, $dec:ty) => {
+        impl Proto for $state {
+            type Dec = $dec;
+            type Msg = pl_aok_item;
+            type Stats = pl_aok_stats;
+            type Ctx = ReplyForm;
+
+            fn empty() -> pl_aok_item {
+                pl_aok_item::default()
+            }
+
+            fn held(d: &$dec) -> usize {
+                d.held_bytes()
+            }
+
+            fn context(d: &$dec) -> ReplyForm {
+                d.form()
+            }
+
+            fn fill(
+                item: <$dec as Decode>::Item<'_>,
+                form: ReplyForm,
+                msg: &mut pl_aok_item,
+                _: &mut pl_error,
+            ) -> (i32, usize) {
+                let (c, len) = <$dec>::to_c(item, form);
+                *msg = c;
+                (PL_MESSAGE, len)
+            }
+
+            fn error(e: Error) -> pl_error {
+                error(e)
+            }
+
+            fn place(msg: &mut pl_aok_item, offset: u64, wire_len: u32) {
+                (msg.offset, msg.wire_len) = (offset, wire_len);
+            }
+
+            fn stats(d: &$dec) -> pl_aok_stats {
+                let s = d.stats();
+                pl_aok_stats {
+                    frames_ok: s.frames_ok,
+                    checksum_errors: s.checksum_errors,
+                    unknown_bytes: s.unknown_bytes,
+                    invalid: s.invalid,
+                    abandoned: s.abandoned,
+                    bytes_discarded: s.bytes_discarded,
+                    held_bytes: ffi::sat32(d.held_bytes()),
+                }
+            }
+        }
     };
-    Ok((d, i, e))
 }
+aok_proto!(pl_aok_device_decoder, CommandDecoder);
+aok_proto!(pl_aok_pc_decoder, MessageDecoder);
 
 /// Sets up the device side's decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
 /// aligned for its type).
@@ -388,98 +432,27 @@ unsafe fn args<'a, S: State>(
 /// `dec` is NULL or points to writable memory for a `pl_aok_device_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> i32 {
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, CommandDecoder::new()) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, CommandDecoder::new()) }
 }
 
-/// Device side: feeds one byte of the PC's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*cmd` holds a command), `PL_ERROR` (`*err`), `PL_E_NULL` or `PL_E_INVALID`; after an
-/// event call `pl_aok_device_poll` until `PL_NOTHING`.
+/// Device side: decodes the PC's bytes `bytes[..len]` up to the next event, as
+/// `pl_aeolus_parse` (`*cmd` holds a command; a rescan's further events come first with
+/// `*used` 0: call until `PL_NOTHING`). `PL_ERROR` clears `*cmd`.
 ///
 /// ```c
-/// pl_aok_item cmd;
-/// if (pl_aok_device_parse_byte(&dec, byte, &cmd, &err) == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
+/// size_t off = 0, used;
+/// int32_t st;
+/// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &cmd, &err)) > 0) {
+///     off += used;
+///     if (st == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
+/// }
 /// ```
 ///
 /// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `cmd`, `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_parse_byte(
-    dec: *mut pl_aok_device_decoder,
-    byte: u8,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(
-        d.next_event(core::slice::from_ref(&byte)).1,
-        command_c,
-        i,
-        e,
-    )
-}
-
-/// Device side: the next further event among bytes already held.
-///
-/// ```c
-/// while (pl_aok_device_poll(&dec, &cmd, &err) > 0) { /* ... */ }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse_byte`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_poll(
-    dec: *mut pl_aok_device_decoder,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(d.next_event(&[]).1, command_c, i, e)
-}
-
-/// Device side: the line went quiet; a partial command is given up (`PL_ERR_TRUNCATED`) and
-/// what followed it rescanned. One event per call; call until `PL_NOTHING`.
-///
-/// ```c
-/// while (pl_aok_device_idle(&dec, &cmd, &err) > 0) { /* ... */ }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse_byte`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_idle(
-    dec: *mut pl_aok_device_decoder,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(end_event(d), command_c, i, e)
-}
-
-/// Device side: feeds bytes up to the next event (any event still held first, with `*used`
-/// 0). `*used` is the number of bytes consumed.
-///
-/// ```c
-/// size_t used;
-/// int st = pl_aok_device_parse(&dec, buf, len, &used, &cmd, &err);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-/// `used` is writable.
+/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set
+/// up gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+/// 0) or readable for `len` bytes; `used`, `cmd` and `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_device_parse(
     dec: *mut pl_aok_device_decoder,
@@ -490,20 +463,51 @@ pub unsafe extern "C" fn pl_aok_device_parse(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, cmd, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises for `bytes[..len]` and `used`.
-    let (Some(input), Some(used)) = (unsafe { ffi::bytes(bytes, len) }, unsafe { used.as_mut() })
-    else {
-        return PL_E_NULL;
-    };
-    // The decoder contract's pull form: an item still held first (0 bytes used), then the
-    // bulk path of `feed` up to the first item.
-    let (n, event) = d.next_event(input);
-    *used = n;
-    deliver(event, command_c, i, e)
+    unsafe { face::parse(dec, bytes, len, used, cmd, err) }
+}
+
+/// Device side: decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event,
+/// in order (exactly those of `pl_aok_device_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or
+/// `PL_E_INVALID`.
+///
+/// ```c
+/// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
+/// ```
+///
+/// # Safety
+/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+/// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
+/// be called with `ctx` and does not use `dec`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_device_feed(
+    dec: *mut pl_aok_device_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aok_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
+}
+
+/// Device side: the PC's stream ended or its line went quiet: a partial command is given up
+/// (`PL_ERR_TRUNCATED`) and what followed it rescanned. One event per call; call until
+/// `PL_NOTHING`.
+///
+/// ```c
+/// while ((st = pl_aok_device_finish(&dec, &cmd, &err)) > 0) if (st == PL_MESSAGE) run(&cmd);
+/// ```
+///
+/// # Safety
+/// As `pl_aok_device_parse`, for `dec`, `cmd` and `err`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_device_finish(
+    dec: *mut pl_aok_device_decoder,
+    cmd: *mut pl_aok_item,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    unsafe { face::finish(dec, cmd, err) }
 }
 
 /// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
@@ -521,17 +525,8 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
     dec: *const pl_aok_device_decoder,
     stats: *mut pl_aok_stats,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked_ref(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises (the decoder is only read).
-    let Some(out) = (unsafe { stats.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    *out = stats_c(&d.stats());
-    0
+    // SAFETY: the caller's promises.
+    unsafe { face::get_stats(dec, stats) }
 }
 
 /// Sets up the PC side's decoder for a device running firmware `major.minor` (<= 0.30 sends
@@ -547,8 +542,8 @@ pub unsafe extern "C" fn pl_aok_device_get_stats(
 /// `dec` is NULL or points to writable memory for a `pl_aok_pc_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_init(dec: *mut pl_aok_pc_decoder, major: u8, minor: u8) -> i32 {
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, MessageDecoder::new(FirmwareVersion::new(major, minor))) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, MessageDecoder::new(FirmwareVersion::new(major, minor))) }
 }
 
 /// PC side: tell the decoder which reply the command just sent asks for (an ack, a parameter,
@@ -581,99 +576,27 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
     };
     match command_rust(cmd) {
         Ok(c) => {
-            d.expect(c.expected_reply());
+            d.dec.expect(c.expected_reply());
             0
         }
         Err(code) => code,
     }
 }
 
-/// PC side: feeds one byte of the device's stream. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*msg` holds a debug value, an ack, a parameter or a waypoint), `PL_ERROR` (`*err`),
-/// `PL_E_NULL` or `PL_E_INVALID`; after an event call `pl_aok_pc_poll` until `PL_NOTHING`.
+/// PC side: decodes the device's bytes `bytes[..len]` up to the next event, as
+/// `pl_aok_device_parse` (`*msg` holds a debug value, an ack, a parameter or a waypoint).
 ///
 /// ```c
-/// pl_aok_item msg;
-/// if (pl_aok_pc_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
+/// size_t off = 0, used;
+/// int32_t st;
+/// while ((st = pl_aok_pc_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+///     off += used;
+///     if (st == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
+/// }
 /// ```
 ///
 /// # Safety
-/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-/// `PL_E_INVALID`); `msg`, `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_parse_byte(
-    dec: *mut pl_aok_pc_decoder,
-    byte: u8,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, msg, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(
-        d.next_event(core::slice::from_ref(&byte)).1,
-        message_c,
-        i,
-        e,
-    )
-}
-
-/// PC side: the next further event among bytes already held.
-///
-/// ```c
-/// while (pl_aok_pc_poll(&dec, &msg, &err) > 0) { /* ... */ }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_pc_parse_byte`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_poll(
-    dec: *mut pl_aok_pc_decoder,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, msg, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(d.next_event(&[]).1, message_c, i, e)
-}
-
-/// PC side: the line went quiet; one event per call, call until `PL_NOTHING`.
-///
-/// ```c
-/// while (pl_aok_pc_idle(&dec, &msg, &err) > 0) { /* ... */ }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_pc_parse_byte`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_idle(
-    dec: *mut pl_aok_pc_decoder,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, msg, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    deliver(end_event(d), message_c, i, e)
-}
-
-/// PC side: feeds bytes up to the next event (any event still held first, with `*used` 0).
-///
-/// ```c
-/// size_t used;
-/// int st = pl_aok_pc_parse(&dec, buf, len, &used, &msg, &err);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_pc_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-/// `used` is writable.
+/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_parse(
     dec: *mut pl_aok_pc_decoder,
@@ -684,20 +607,47 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
     err: *mut pl_error,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let (d, i, e) = match unsafe { args(dec, msg, err) } {
-        Ok(args) => args,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises for `bytes[..len]` and `used`.
-    let (Some(input), Some(used)) = (unsafe { ffi::bytes(bytes, len) }, unsafe { used.as_mut() })
-    else {
-        return PL_E_NULL;
-    };
-    // The decoder contract's pull form: an event still held first (0 bytes used), then the
-    // bulk path up to the first event.
-    let (n, event) = d.next_event(input);
-    *used = n;
-    deliver(event, message_c, i, e)
+    unsafe { face::parse(dec, bytes, len, used, msg, err) }
+}
+
+/// PC side: decodes all of `bytes[..len]`, `on_event(ctx, ...)` for every event in order
+/// (exactly those of `pl_aok_pc_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
+///
+/// ```c
+/// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
+/// ```
+///
+/// # Safety
+/// As `pl_aok_device_feed`, with a `pl_aok_pc_decoder`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_pc_feed(
+    dec: *mut pl_aok_pc_decoder,
+    bytes: *const u8,
+    len: usize,
+    on_event: pl_aok_callback,
+    ctx: *mut core::ffi::c_void,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
+}
+
+/// PC side: the device's stream ended or its line went quiet; one event per call, call until
+/// `PL_NOTHING` (as `pl_aok_device_finish`).
+///
+/// ```c
+/// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
+/// ```
+///
+/// # Safety
+/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_aok_pc_finish(
+    dec: *mut pl_aok_pc_decoder,
+    msg: *mut pl_aok_item,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    unsafe { face::finish(dec, msg, err) }
 }
 
 /// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
@@ -708,29 +658,19 @@ pub unsafe extern "C" fn pl_aok_pc_parse(
 /// ```
 ///
 /// # Safety
-/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
+/// As `pl_aok_device_get_stats`, with a `pl_aok_pc_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aok_pc_get_stats(
     dec: *const pl_aok_pc_decoder,
     stats: *mut pl_aok_stats,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked_ref(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises (the decoder is only read).
-    let Some(out) = (unsafe { stats.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    *out = stats_c(&d.stats());
-    0
+    // SAFETY: the caller's promises.
+    unsafe { face::get_stats(dec, stats) }
 }
 
 /// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
-/// (`*item` holds the command or message) or `PL_ERROR` (`*err`). Both pointers are valid
-/// only during the call.
+/// (`*item` holds the command or message) or `PL_ERROR` (`*err`; `*item` cleared). Both
+/// pointers are valid only during the call.
 pub type pl_aok_callback = Option<
     unsafe extern "C" fn(
         ctx: *mut core::ffi::c_void,
@@ -739,99 +679,6 @@ pub type pl_aok_callback = Option<
         err: *const pl_error,
     ),
 >;
-
-/// Calls `call` for one event of a `feed`. Inlined into the crate's `feed` and reading the
-/// event in place (no copy of it to pass on): the per-event cost is what the C face adds.
-///
-/// # Safety
-/// `call` may be called with `ctx`.
-#[inline(always)]
-unsafe fn callback<T>(
-    call: unsafe extern "C" fn(*mut core::ffi::c_void, i32, *const pl_aok_item, *const pl_error),
-    ctx: *mut core::ffi::c_void,
-    event: &Result<T, Error>,
-    to_c: impl FnOnce(&T) -> pl_aok_item,
-) {
-    let (status, item, err) = match event {
-        Ok(v) => (PL_MESSAGE, to_c(v), pl_error::default()),
-        Err(e) => (PL_ERROR, pl_aok_item::default(), error(*e)),
-    };
-    // SAFETY: the caller's promise; both pointers are to live locals during the call.
-    unsafe { call(ctx, status, &item, &err) };
-}
-
-/// Device side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
-/// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_device_parse_byte`
-/// plus `pl_aok_device_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
-/// be called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_feed(
-    dec: *mut pl_aok_device_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises.
-    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `on_event`.
-    d.feed(input, |event| unsafe {
-        callback(call, ctx, &event, command_c)
-    });
-    PL_NOTHING
-}
-
-/// PC side, the fast slice call: all of `bytes[..len]` through the crate's `feed`,
-/// `on_event(ctx, ...)` for every event in order (exactly those of `pl_aok_pc_parse_byte` plus
-/// `pl_aok_pc_poll`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-/// called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_feed(
-    dec: *mut pl_aok_pc_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises.
-    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `on_event`.
-    d.feed(input, |event| unsafe {
-        callback(call, ctx, &event, message_c)
-    });
-    PL_NOTHING
-}
-
 /// Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
 /// `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
 /// range) or `PL_E_BUFFER_TOO_SMALL` (`PL_AOK_MAX_FRAME_LEN` is always enough).
@@ -936,17 +783,4 @@ pub unsafe extern "C" fn pl_aok_encode_message(
         Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
         Err(_) => PL_E_OUT_OF_RANGE,
     }
-}
-
-/// The next event of the end of the stream (the pull form's `end`): the bytes held, once, as
-/// `Truncated`, then what the rescan of the bytes after them finds; `None` when done.
-fn end_event<D: Decode>(d: &mut D) -> Option<Result<D::Item<'_>, Error>>
-where
-    D: Decode<Error = Error>,
-{
-    Some(match d.end()? {
-        Event::Found(found) => Ok(d.item(&[], found)),
-        Event::Error(e) => Err(e),
-        Event::Truncated(_) => Err(Error::Truncated),
-    })
 }

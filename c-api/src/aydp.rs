@@ -3,11 +3,12 @@
 
 use aydp_proto::message::{OutputEntry, Satellite};
 use aydp_proto::{
-    Decode, Decoder, DirectOutput, Encoder, Error, Event, FixDetail, FixQuality, Frame, Message,
-    Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
+    Decoder, DirectOutput, Encoder, Error, FixDetail, FixQuality, Frame, Message, Position,
+    Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
     WindDirection, WindSpeed,
 };
 
+use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error, sat32};
 use crate::state::{self, State};
 use crate::*;
@@ -15,10 +16,10 @@ use crate::*;
 /// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
 pub const PL_AYDP_CAPACITY: usize = 512;
 /// 64-bit words in a `pl_aydp_decoder`.
-pub const PL_AYDP_DECODER_WORDS: usize = 71;
+pub const PL_AYDP_DECODER_WORDS: usize = 72;
 /// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_AYDP_DECODER_SIZE: usize = 568;
+pub const PL_AYDP_DECODER_SIZE: usize = 576;
 /// Alignment of `pl_aydp_decoder` in bytes.
 pub const PL_AYDP_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest message the decoder accepts: a buffer this long holds any frame
@@ -43,7 +44,7 @@ pub struct pl_aydp_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aydp_decoder {
-    type Inner = Inner;
+    type Inner = Face<Inner>;
     const KIND: u32 = state::PL_STATE_AYDP;
 }
 const _: () = assert!(state::fits::<pl_aydp_decoder>());
@@ -234,6 +235,12 @@ pub struct pl_aydp_message {
     pub msg_type: u8,
     /// 1 for an expedited message (6-byte header, no time), 0 for a normal one.
     pub expedited: u8,
+    /// Bytes of the message on the wire (header, data, checksum); 0 in a message struct
+    /// `PL_ERROR` cleared.
+    pub wire_len: u32,
+    /// Decoded: where the message starts, in bytes fed to this decoder since `pl_aydp_init`.
+    /// Encode: ignored.
+    pub offset: u64,
     /// Normal messages: seconds of the header's time.
     pub seconds: i64,
     /// Normal messages: sub-seconds (milliseconds in Spec, microseconds in Reference).
@@ -258,6 +265,8 @@ pub struct pl_aydp_stats {
     pub length_errors: u32,
     /// Bytes thrown away.
     pub bytes_discarded: u32,
+    /// Bytes held, undecided (a message in progress, or bytes a rescan has still to read).
+    pub held_bytes: u32,
 }
 
 fn profile(p: u32) -> Option<Profile> {
@@ -409,40 +418,80 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-fn deliver(event: Result<Frame<'_>, Error>, msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
-    let frame = match event {
-        Ok(frame) => frame,
-        Err(e) => {
-            *err = error(e);
-            return PL_ERROR;
+impl Proto for pl_aydp_decoder {
+    type Dec = Inner;
+    type Msg = pl_aydp_message;
+    type Stats = pl_aydp_stats;
+    type Ctx = ();
+    const BYTEWISE: bool = true;
+
+    fn empty() -> pl_aydp_message {
+        // SAFETY: integers and a raw pointer: all zeros is a valid value (NULL for `data`).
+        let mut m: pl_aydp_message = unsafe { core::mem::zeroed() };
+        m.kind = PL_AYDP_UNKNOWN;
+        m
+    }
+
+    fn held(d: &Inner) -> usize {
+        d.held_bytes()
+    }
+
+    fn context(_: &Inner) {}
+
+    fn fill(
+        frame: Frame<'_>,
+        _: (),
+        msg: &mut pl_aydp_message,
+        err: &mut pl_error,
+    ) -> (i32, usize) {
+        let t = frame.timestamp().unwrap_or_default();
+        let data = frame.data();
+        let mut c = pl_aydp_message {
+            kind: PL_AYDP_UNKNOWN,
+            msg_type: frame.base_type(),
+            expedited: frame.is_expedited().into(),
+            wire_len: 0,
+            offset: 0,
+            seconds: t.seconds,
+            subsec: t.subsec,
+            data: data.as_ptr(),
+            data_len: data.len(),
+            body: NO_BODY,
+        };
+        let status = match frame.message() {
+            Ok(m) => {
+                (c.kind, c.body) = body_of(&m);
+                PL_MESSAGE
+            }
+            Err(e) => {
+                // The frame's checksum was good; its typed parse failed. `*msg` keeps the raw
+                // data (kind unknown).
+                *err = error(e);
+                PL_ERROR
+            }
+        };
+        *msg = c;
+        (status, frame.as_bytes().len())
+    }
+
+    fn error(e: Error) -> pl_error {
+        error(e)
+    }
+
+    fn place(msg: &mut pl_aydp_message, offset: u64, wire_len: u32) {
+        (msg.offset, msg.wire_len) = (offset, wire_len);
+    }
+
+    fn stats(d: &Inner) -> pl_aydp_stats {
+        let s = d.stats();
+        pl_aydp_stats {
+            frames_ok: s.frames_ok,
+            checksum_errors: s.checksum_errors,
+            length_errors: s.length_errors,
+            bytes_discarded: s.bytes_discarded,
+            held_bytes: sat32(d.held_bytes()),
         }
-    };
-    let t = frame.timestamp().unwrap_or_default();
-    let data = frame.data();
-    let mut c = pl_aydp_message {
-        kind: PL_AYDP_UNKNOWN,
-        msg_type: frame.base_type(),
-        expedited: frame.is_expedited().into(),
-        seconds: t.seconds,
-        subsec: t.subsec,
-        data: data.as_ptr(),
-        data_len: data.len(),
-        body: NO_BODY,
-    };
-    let status = match frame.message() {
-        Ok(m) => {
-            (c.kind, c.body) = body_of(&m);
-            PL_MESSAGE
-        }
-        Err(e) => {
-            // The frame's checksum was good; its typed parse failed. `*msg` keeps the raw
-            // data (kind unknown).
-            *err = error(e);
-            PL_ERROR
-        }
-    };
-    *msg = c;
-    status
+    }
 }
 
 /// Sets up `dec` as a fresh decoder for `profile` (`PL_AYDP_SPEC` or `PL_AYDP_REFERENCE`).
@@ -461,94 +510,29 @@ pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -
     let Some(p) = self::profile(profile) else {
         return PL_E_BAD_TAG;
     };
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, Inner::new(p)) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, Inner::new(p)) }
 }
 
-/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`; for a
-/// frame with a good checksum whose typed parse failed, `*msg` also holds its raw data),
-/// `PL_E_NULL` or `PL_E_INVALID`. After any event, call `pl_aydp_poll` until it returns
-/// `PL_NOTHING`: a rescan after an error can uncover further messages among bytes already held.
-///
-/// ```c
-/// int st = pl_aydp_parse_byte(&dec, byte, &msg, &err);
-/// while (st > 0) {
-///     if (st == PL_MESSAGE) handle(&msg);
-///     st = pl_aydp_poll(&dec, &msg, &err);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`); `msg` and `err` are NULL or writable; nothing else uses `dec` during the call.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_parse_byte(
-    dec: *mut pl_aydp_decoder,
-    byte: u8,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises.
-    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    // The decoder contract's pull form on one byte. With the events of the bytes before it
-    // drained (as said above), it takes the byte; the further events of a rescan stay queued
-    // for `pl_aydp_poll`.
-    let (_, event) = d.next_event(core::slice::from_ref(&byte));
-    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
-}
-
-/// The next further event among bytes already held (after a rescan). Returns as
-/// `pl_aydp_parse_byte`.
-///
-/// ```c
-/// while (pl_aydp_poll(&dec, &msg, &err) > 0) { /* ... */ }
-/// ```
-///
-/// # Safety
-/// As `pl_aydp_parse_byte`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_poll(
-    dec: *mut pl_aydp_decoder,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises.
-    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let (_, event) = d.next_event(&[]);
-    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
-}
-
-/// Feeds bytes up to the next event: first any event still held (then `*used` is 0), else
-/// bytes until one completes an event. `*used` is the number of bytes consumed (all of `len`
-/// with `PL_NOTHING`). Call again with the rest; the events are exactly those of
-/// `pl_aydp_parse_byte` plus `pl_aydp_poll`.
+/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. A rescan after an error
+/// can find further messages among bytes already held: they come first, one a call, with
+/// `*used` 0, so call again (with the rest, or `len` 0) until `PL_NOTHING`. `PL_ERROR` with a
+/// good checksum but a failed typed parse leaves the raw data and place in `*msg`; any other
+/// error clears it.
 ///
 /// ```c
 /// size_t off = 0, used;
-/// while (off < len) {
-///     int st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err);
+/// int32_t st;
+/// while ((st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
 ///     off += used;
 ///     if (st == PL_MESSAGE) handle(&msg);
 /// }
 /// ```
 ///
 /// # Safety
-/// As `pl_aydp_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-/// `used` is writable.
+/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
+/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_aydp_parse(
     dec: *mut pl_aydp_decoder,
@@ -558,34 +542,8 @@ pub unsafe extern "C" fn pl_aydp_parse(
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-        unsafe { ffi::bytes(bytes, len) },
-        unsafe { used.as_mut() },
-    ) else {
-        return PL_E_NULL;
-    };
-    *used = 0;
-    if let (_, Some(event)) = d.next_event(&[]) {
-        return deliver(event, msg, err);
-    }
-    // Byte by byte, not the whole slice: the pull form finds a frame in the bytes given and
-    // points at it there, where this call promises `msg->data` inside the decoder.
-    for (i, b) in input.iter().enumerate() {
-        if let (_, Some(event)) = d.next_event(core::slice::from_ref(b)) {
-            *used = i + 1;
-            return deliver(event, msg, err);
-        }
-    }
-    *used = input.len();
-    PL_NOTHING
+    unsafe { face::parse(dec, bytes, len, used, msg, err) }
 }
 
 /// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
@@ -598,9 +556,8 @@ pub type pl_aydp_callback = Option<
     ),
 >;
 
-/// The fast slice call: feeds all of `bytes[..len]` through the crate's `feed` and calls
-/// `on_event(ctx, ...)` for every event, in order: exactly the events of
-/// `pl_aydp_parse_byte` plus `pl_aydp_poll`. Returns `PL_NOTHING`, `PL_E_NULL` or
+/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+/// exactly the events of `pl_aydp_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
 /// `PL_E_INVALID`.
 ///
 /// ```c
@@ -619,66 +576,27 @@ pub unsafe extern "C" fn pl_aydp_feed(
     on_event: pl_aydp_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
-        return PL_E_NULL;
-    };
-    let mut msg = pl_aydp_message {
-        kind: PL_AYDP_UNKNOWN,
-        msg_type: 0,
-        expedited: 0,
-        seconds: 0,
-        subsec: 0,
-        data: core::ptr::null(),
-        data_len: 0,
-        body: NO_BODY,
-    };
-    let mut err = pl_error::default();
-    d.feed(input, |event| {
-        let status = deliver(event, &mut msg, &mut err);
-        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
-        // live locals for the duration of the call.
-        unsafe { call(ctx, status, &msg, &err) };
-    });
-    PL_NOTHING
+    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
 }
 
-/// End of stream: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. Returns
-/// one event per call (as `pl_aydp_parse_byte`); call until `PL_NOTHING`.
+/// The stream ended: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. One
+/// event per call (as `pl_aydp_parse`); call until `PL_NOTHING`.
 ///
 /// ```c
-/// while (pl_aydp_flush(&dec, &msg, &err) > 0) { /* ... */ }
+/// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
 /// ```
 ///
 /// # Safety
-/// As `pl_aydp_parse_byte`.
+/// As `pl_aydp_parse`, for `dec`, `msg` and `err`.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_flush(
+pub unsafe extern "C" fn pl_aydp_finish(
     dec: *mut pl_aydp_decoder,
     msg: *mut pl_aydp_message,
     err: *mut pl_error,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let event = match d.end() {
-        None => None,
-        Some(Event::Found(found)) => Some(Ok(d.item(&[], found))),
-        Some(Event::Error(e)) => Some(Err(e)),
-        Some(Event::Truncated(_)) => Some(Err(Error::Truncated)),
-    };
-    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
+    unsafe { face::finish(dec, msg, err) }
 }
 
 /// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
@@ -696,25 +614,9 @@ pub unsafe extern "C" fn pl_aydp_get_stats(
     dec: *const pl_aydp_decoder,
     stats: *mut pl_aydp_stats,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked_ref(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises (the decoder is only read).
-    let Some(out) = (unsafe { stats.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let s = d.stats();
-    *out = pl_aydp_stats {
-        frames_ok: s.frames_ok,
-        checksum_errors: s.checksum_errors,
-        length_errors: s.length_errors,
-        bytes_discarded: s.bytes_discarded,
-    };
-    0
+    // SAFETY: the caller's promises.
+    unsafe { face::get_stats(dec, stats) }
 }
-
 /// The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
 /// `PL_E_BAD_TAG` (not a fix detail message, or `index` beyond its count).
 ///

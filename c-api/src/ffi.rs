@@ -2,8 +2,6 @@
 //! pointers to Rust slices and buffers. These and the state checks of `state.rs` are all of
 //! the crate's pointer checks.
 
-use aeolus_proto::Decode;
-
 use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
 
 /// An error event: its kind (`PL_ERR_*`) and, where the kind has them, the message ID and two
@@ -80,18 +78,4 @@ pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8]
 /// A frame length as the encoders' `int32_t` return value.
 pub(crate) fn length(n: usize) -> i32 {
     i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
-}
-
-/// The one event of a single byte through the decoder contract's `feed` (AEOLUS and GDL90 give
-/// at most one a byte), as a `pl_*` status:
-/// `nothing` when the byte gave none, else what `deliver` made of the event.
-pub(crate) fn one_byte<D: Decode>(
-    d: &mut D,
-    byte: u8,
-    nothing: i32,
-    mut deliver: impl FnMut(Result<D::Item<'_>, D::Error>) -> i32,
-) -> i32 {
-    let mut status = nothing;
-    d.feed(&[byte], |event| status = deliver(event));
-    status
 }

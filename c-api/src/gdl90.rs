@@ -4,8 +4,9 @@ use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading,
     Heartbeat, LatLon, Message, Name, Report, Track,
 };
-use gdl90_proto::{Decode, Decoder, Error};
+use gdl90_proto::{Decoder, Error};
 
+use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
@@ -13,10 +14,10 @@ use crate::*;
 /// Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
 pub const PL_GDL90_CAPACITY: usize = 438;
 /// 64-bit words in a `pl_gdl90_decoder`.
-pub const PL_GDL90_DECODER_WORDS: usize = 66;
+pub const PL_GDL90_DECODER_WORDS: usize = 67;
 /// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_GDL90_DECODER_SIZE: usize = 528;
+pub const PL_GDL90_DECODER_SIZE: usize = 536;
 /// Alignment of `pl_gdl90_decoder` in bytes.
 pub const PL_GDL90_DECODER_ALIGN: usize = 8;
 /// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
@@ -34,7 +35,7 @@ pub struct pl_gdl90_decoder {
 const _: () = assert!(PL_GDL90_CAPACITY == gdl90_proto::MAX_FRAME);
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_gdl90_decoder {
-    type Inner = Inner;
+    type Inner = Face<Inner>;
     const KIND: u32 = state::PL_STATE_GDL90;
 }
 const _: () = assert!(state::fits::<pl_gdl90_decoder>());
@@ -225,6 +226,12 @@ pub struct pl_gdl90_message {
     pub kind: u8,
     /// The message ID.
     pub id: u8,
+    /// Bytes of the frame on the wire, both flags included (a flag between two frames counts
+    /// in both); 0 in a message struct `PL_ERROR` cleared.
+    pub wire_len: u32,
+    /// Decoded: where the frame starts (its opening flag), in bytes fed to this decoder since
+    /// `pl_gdl90_init`. Encode: ignored.
+    pub offset: u64,
     /// Raw data of an unknown message (a ForeFlight sub-ID is its first byte).
     pub data: *const u8,
     /// Bytes at `data`.
@@ -255,6 +262,8 @@ pub struct pl_gdl90_stats {
     pub frame_bytes: u32,
     /// Flag bytes seen.
     pub flags: u32,
+    /// Bytes of a frame in progress, held (not yet in any other counter).
+    pub held_bytes: u32,
 }
 
 fn report_c(r: &Report) -> pl_gdl90_report {
@@ -451,30 +460,73 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-fn deliver(
-    event: Result<Message<'_>, Error>,
-    msg: &mut pl_gdl90_message,
-    err: &mut pl_error,
-) -> i32 {
-    match event {
-        Ok(m) => {
-            let data: &[u8] = match m {
-                Message::Unknown { data, .. } => data,
-                _ => &[],
-            };
-            let (kind, body) = body_of(&m);
-            *msg = pl_gdl90_message {
-                kind,
-                id: m.id(),
-                data: data.as_ptr(),
-                data_len: data.len(),
-                body,
-            };
-            PL_MESSAGE
-        }
-        Err(e) => {
-            *err = error(e);
-            PL_ERROR
+impl Proto for pl_gdl90_decoder {
+    type Dec = Inner;
+    type Msg = pl_gdl90_message;
+    type Stats = pl_gdl90_stats;
+    type Ctx = u32;
+    const ONE_EVENT_A_BYTE: bool = true;
+
+    fn empty() -> pl_gdl90_message {
+        // SAFETY: integers, floats and a raw pointer: all zeros is a valid value.
+        let mut m: pl_gdl90_message = unsafe { core::mem::zeroed() };
+        m.kind = PL_GDL90_UNKNOWN;
+        m
+    }
+
+    fn held(d: &Inner) -> usize {
+        d.held_bytes()
+    }
+
+    fn context(d: &Inner) -> u32 {
+        d.stats().frame_bytes
+    }
+
+    fn fill(m: Message<'_>, _: u32, msg: &mut pl_gdl90_message, _: &mut pl_error) -> (i32, usize) {
+        let data: &[u8] = match m {
+            Message::Unknown { data, .. } => data,
+            _ => &[],
+        };
+        let (kind, body) = body_of(&m);
+        *msg = pl_gdl90_message {
+            kind,
+            id: m.id(),
+            wire_len: 0,
+            offset: 0,
+            data: data.as_ptr(),
+            data_len: data.len(),
+            body,
+        };
+        (PL_MESSAGE, 0)
+    }
+
+    fn error(e: Error) -> pl_error {
+        error(e)
+    }
+
+    /// A frame with a good CRC counts in `frame_bytes`, whether it was a message or an error
+    /// (its typed parse failed): either way the event has its place.
+    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
+        face::flagged_len(frame_bytes, d.stats().frame_bytes)
+    }
+
+    fn place(msg: &mut pl_gdl90_message, offset: u64, wire_len: u32) {
+        (msg.offset, msg.wire_len) = (offset, wire_len);
+    }
+
+    fn stats(d: &Inner) -> pl_gdl90_stats {
+        let s = d.stats();
+        pl_gdl90_stats {
+            frames_ok: s.frames_ok,
+            invalid: s.invalid,
+            checksum_errors: s.checksum_errors,
+            overflows: s.overflows,
+            too_short: s.too_short,
+            bad_escapes: s.bad_escapes,
+            bytes_discarded: s.bytes_discarded,
+            frame_bytes: s.frame_bytes,
+            flags: s.flags,
+            held_bytes: ffi::sat32(d.held_bytes()),
         }
     }
 }
@@ -491,49 +543,27 @@ fn deliver(
 /// `dec` is NULL or points to writable memory for a `pl_gdl90_decoder`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_init(dec: *mut pl_gdl90_decoder) -> i32 {
-    // SAFETY: the caller's promise; `fits` is asserted above.
-    unsafe { state::init(dec, Inner::new()) }
+    // SAFETY: the caller's promise.
+    unsafe { face::init(dec, Inner::new()) }
 }
 
-/// Feeds one byte. Returns `PL_NOTHING`, `PL_MESSAGE` (`*msg`), `PL_ERROR` (`*err`),
-/// `PL_E_NULL` or `PL_E_INVALID`. At most one event per byte.
+/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. `PL_ERROR` clears
+/// `*msg`; for a frame with a good CRC whose typed parse failed (`PL_ERR_WRONG_LENGTH`,
+/// `PL_ERR_OUT_OF_RANGE`) it also gives that frame's `offset` and `wire_len`.
 ///
 /// ```c
-/// if (pl_gdl90_parse_byte(&dec, byte, &msg, &err) == PL_MESSAGE && msg.kind == PL_GDL90_TRAFFIC) draw(&msg.body.report);
+/// size_t off = 0, used;
+/// int32_t st;
+/// while ((st = pl_gdl90_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
+///     off += used;
+///     if (st == PL_MESSAGE && msg.kind == PL_GDL90_OWNSHIP) show(&msg.body.report);
+/// }
 /// ```
 ///
 /// # Safety
 /// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`); `msg`, `err` are NULL or writable; nothing else uses `dec` during the call.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_parse_byte(
-    dec: *mut pl_gdl90_decoder,
-    byte: u8,
-    msg: *mut pl_gdl90_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises.
-    let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    ffi::one_byte(d, byte, PL_NOTHING, |event| deliver(event, msg, err))
-}
-
-/// Feeds bytes up to the next event; `*used` is the number consumed.
-///
-/// ```c
-/// size_t used;
-/// int st = pl_gdl90_parse(&dec, buf, len, &used, &msg, &err);
-/// ```
-///
-/// # Safety
-/// As `pl_gdl90_parse_byte`; `bytes` is NULL (with `len` 0) or readable for `len` bytes;
-/// `used` is writable.
+/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
+/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_gdl90_parse(
     dec: *mut pl_gdl90_decoder,
@@ -543,23 +573,8 @@ pub unsafe extern "C" fn pl_gdl90_parse(
     msg: *mut pl_gdl90_message,
     err: *mut pl_error,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(msg), Some(err), Some(input), Some(used)) = (
-        unsafe { msg.as_mut() },
-        unsafe { err.as_mut() },
-        unsafe { ffi::bytes(bytes, len) },
-        unsafe { used.as_mut() },
-    ) else {
-        return PL_E_NULL;
-    };
-    let (n, event) = d.next_event(input);
-    *used = n;
-    event.map_or(PL_NOTHING, |event| deliver(event, msg, err))
+    unsafe { face::parse(dec, bytes, len, used, msg, err) }
 }
 
 /// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
@@ -572,9 +587,9 @@ pub type pl_gdl90_callback = Option<
     ),
 >;
 
-/// The fast slice call: all of `bytes[..len]` through the crate's `feed`, `on_event(ctx, ...)`
-/// for every event in order (exactly those of `pl_gdl90_parse_byte`). Returns `PL_NOTHING`,
-/// `PL_E_NULL` or `PL_E_INVALID`.
+/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
+/// exactly the events of `pl_gdl90_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
+/// `PL_E_INVALID`.
 ///
 /// ```c
 /// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
@@ -592,32 +607,27 @@ pub unsafe extern "C" fn pl_gdl90_feed(
     on_event: pl_gdl90_callback,
     ctx: *mut core::ffi::c_void,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
     // SAFETY: the caller's promises.
-    let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
-        return PL_E_NULL;
-    };
-    let mut msg = pl_gdl90_message {
-        kind: PL_GDL90_UNKNOWN,
-        id: 0,
-        data: core::ptr::null(),
-        data_len: 0,
-        body: pl_gdl90_body {
-            geo_altitude: pl_gdl90_geo_altitude::default(),
-        },
-    };
-    let mut err = pl_error::default();
-    d.feed(input, |event| {
-        let status = deliver(event, &mut msg, &mut err);
-        // SAFETY: the caller's promise: `call` may be called with `ctx`; both pointers are to
-        // live locals for the duration of the call.
-        unsafe { call(ctx, status, &msg, &err) };
-    });
-    PL_NOTHING
+    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
+}
+
+/// The stream (or a datagram) ended: a frame still held is given up as `PL_ERR_TRUNCATED`.
+/// One event per call; call until `PL_NOTHING`. Afterwards the decoder starts afresh.
+///
+/// ```c
+/// while ((st = pl_gdl90_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
+/// ```
+///
+/// # Safety
+/// As `pl_gdl90_parse`, for `dec`, `msg` and `err`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn pl_gdl90_finish(
+    dec: *mut pl_gdl90_decoder,
+    msg: *mut pl_gdl90_message,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises.
+    unsafe { face::finish(dec, msg, err) }
 }
 
 /// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
@@ -635,30 +645,9 @@ pub unsafe extern "C" fn pl_gdl90_get_stats(
     dec: *const pl_gdl90_decoder,
     stats: *mut pl_gdl90_stats,
 ) -> i32 {
-    // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
-    let d = match unsafe { state::checked_ref(dec) } {
-        Ok(d) => d,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises (the decoder is only read).
-    let Some(out) = (unsafe { stats.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    let s = d.stats();
-    *out = pl_gdl90_stats {
-        frames_ok: s.frames_ok,
-        invalid: s.invalid,
-        checksum_errors: s.checksum_errors,
-        overflows: s.overflows,
-        too_short: s.too_short,
-        bad_escapes: s.bad_escapes,
-        bytes_discarded: s.bytes_discarded,
-        frame_bytes: s.frame_bytes,
-        flags: s.flags,
-    };
-    0
+    // SAFETY: the caller's promises.
+    unsafe { face::get_stats(dec, stats) }
 }
-
 /// The C struct as a Rust message.
 ///
 /// # Safety

@@ -13,10 +13,12 @@
 //!   a state never set up, set up for another protocol, or misaligned gets `PL_E_INVALID`;
 //! - [`state::pl_abi_version`], [`state::pl_state_size`] and [`state::pl_state_align`] let a
 //!   C program compare the header it was compiled with and the archive it links;
-//! - `pl_*_parse_byte` takes one byte and answers [`PL_NOTHING`], [`PL_MESSAGE`] or
-//!   [`PL_ERROR`] (the kind in a [`pl_error`]); `pl_*_parse` takes a slice, stops after the
-//!   byte that completed the next event and says how many bytes it used; `pl_*_feed` hands a
-//!   whole buffer to the crate's fast `feed` and every event to a C callback;
+//! - the same five decoding calls for every protocol, written once in `face.rs` over the
+//!   decoder contract: `pl_*_parse` takes a slice (one byte too), answers [`PL_NOTHING`],
+//!   [`PL_MESSAGE`] or [`PL_ERROR`] (the kind in a [`pl_error`]) for the next event and says
+//!   how many bytes it used; `pl_*_feed` hands every event of a buffer to a C callback;
+//!   `pl_*_finish` gives the events of the end of the stream; `pl_*_get_stats` the counters;
+//!   every message carries its `offset` and `wire_len`;
 //! - messages are plain C structs, a tag plus a union over the message types, fields in the
 //!   units of the Rust types; pointers in a decoded message point into the decoder and stay
 //!   valid until the next call on that decoder;
@@ -44,6 +46,7 @@ pub mod aok;
 pub mod aydp;
 #[cfg(feature = "bench")]
 pub mod bench;
+mod face;
 mod ffi;
 pub mod gdl90;
 pub mod state;
@@ -76,7 +79,7 @@ pub const PL_E_INVALID: i32 = -5;
 
 /// Error kind: none (the `pl_error` holds no error).
 pub const PL_ERR_NONE: u32 = 0;
-/// Error kind: the input ended inside a frame (end of stream, `flush`, `idle`).
+/// Error kind: the input ended inside a frame (`pl_*_finish`: the end of the stream).
 pub const PL_ERR_TRUNCATED: u32 = 1;
 /// Error kind: a CRC or XOR check failed. AEOLUS and GDL90: `id` the message ID as received,
 /// `expected` the CRC computed, `actual` the CRC received.

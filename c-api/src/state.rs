@@ -23,8 +23,9 @@ use crate::{PL_E_INVALID, PL_E_NULL};
 /// The ABI version of this archive and header: it changes whenever a state's size, alignment
 /// or tag, a struct's layout, or a function's signature or meaning changes, so a program can
 /// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
-/// the first with tagged states.
-pub const PL_ABI_VERSION: u32 = 2;
+/// the first with tagged states; version 3 counts the bytes fed in each state and gives every
+/// message its `offset` and `wire_len`.
+pub const PL_ABI_VERSION: u32 = 3;
 
 /// State kind: `pl_aeolus_decoder`.
 pub const PL_STATE_AEOLUS: u32 = 1;
@@ -202,7 +203,7 @@ pub(crate) unsafe fn checked_ref<'a, S: State>(state: *const S) -> Result<&'a S:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aeolus::{pl_aeolus_decoder, pl_aeolus_init, pl_aeolus_parse_byte};
+    use crate::aeolus::{pl_aeolus_decoder, pl_aeolus_init, pl_aeolus_parse};
     use crate::{PL_NOTHING, pl_error};
     use core::mem::MaybeUninit;
 
@@ -239,14 +240,15 @@ mod tests {
                 .write(tag_of(PL_STATE_AEOLUS, PL_ABI_VERSION + 1));
         }
         let (mut msg, mut err) = (MaybeUninit::uninit(), pl_error::new(7, 7, 7, 7));
+        let mut used = 0;
         // SAFETY: a state (refused), live outputs.
-        let st = unsafe { pl_aeolus_parse_byte(p, 0x7E, msg.as_mut_ptr(), &mut err) };
+        let st = unsafe { pl_aeolus_parse(p, &0x7E, 1, &mut used, msg.as_mut_ptr(), &mut err) };
         assert_eq!((st, err), (PL_E_INVALID, pl_error::new(7, 7, 7, 7)));
         // The same state with this version's tag back is a decoder again.
         // SAFETY: as above.
         unsafe { p.cast::<u64>().write(tag(PL_STATE_AEOLUS)) };
         // SAFETY: a set-up state, live outputs.
-        let st = unsafe { pl_aeolus_parse_byte(p, 0x7E, msg.as_mut_ptr(), &mut err) };
+        let st = unsafe { pl_aeolus_parse(p, &0x7E, 1, &mut used, msg.as_mut_ptr(), &mut err) };
         assert_eq!(st, PL_NOTHING);
     }
 }

@@ -12,8 +12,35 @@ use crate::aydp::*;
 use crate::gdl90::*;
 use crate::*;
 
+mod place;
+
 /// The "gyro" vector of ../shared/vectors/aeolus-frames.json.
 const GYRO: &str = "7e3e0100000000000000000000000824fe400000003f0000a0bf0000003c00000000bf267e";
+
+/// A `pl_*_parse` function.
+type Parse<D, M> =
+    unsafe extern "C" fn(*mut D, *const u8, usize, *mut usize, *mut M, *mut pl_error) -> i32;
+
+/// One byte through `parse`, the C API's one-byte path (an event a rescan left queued comes
+/// first, with the byte unused: the callers drain them with [`queued`] first).
+///
+/// # Safety
+/// As `parse`.
+unsafe fn byte<D, M>(parse: Parse<D, M>, d: *mut D, b: u8, msg: *mut M, err: *mut pl_error) -> i32 {
+    let mut used = 0;
+    // SAFETY: the caller's promises; `b` is one readable byte.
+    unsafe { parse(d, &b, 1, &mut used, msg, err) }
+}
+
+/// The next event a rescan left queued: `parse` on no bytes.
+///
+/// # Safety
+/// As `parse`.
+unsafe fn queued<D, M>(parse: Parse<D, M>, d: *mut D, msg: *mut M, err: *mut pl_error) -> i32 {
+    let mut used = 0;
+    // SAFETY: the caller's promises; no bytes.
+    unsafe { parse(d, null(), 0, &mut used, msg, err) }
+}
 
 fn unhex(s: &str) -> Vec<u8> {
     (0..s.len())
@@ -113,7 +140,7 @@ fn aeolus_bad_crc_is_an_error_event_with_its_details() {
     let mut statuses = Vec::new();
     for &b in &frame {
         // SAFETY: valid pointers.
-        statuses.push(unsafe { pl_aeolus_parse_byte(d.as_mut_ptr(), b, &mut msg, &mut err) });
+        statuses.push(unsafe { byte(pl_aeolus_parse, d.as_mut_ptr(), b, &mut msg, &mut err) });
     }
     assert_eq!(statuses.iter().filter(|&&s| s != PL_NOTHING).count(), 1);
     assert_eq!(*statuses.last().unwrap(), PL_ERROR);
@@ -132,7 +159,7 @@ fn every_function_refuses_null() {
     unsafe {
         assert_eq!(pl_aeolus_init(null_mut()), PL_E_NULL);
         assert_eq!(
-            pl_aeolus_parse_byte(null_mut(), 0, null_mut(), &mut err),
+            byte(pl_aeolus_parse, null_mut(), 0, null_mut(), &mut err),
             PL_E_NULL
         );
         assert_eq!(pl_aydp_init(null_mut(), PL_AYDP_SPEC), PL_E_NULL);
@@ -180,7 +207,7 @@ fn aydp_round_trips_in_both_profiles_and_polls_after_a_rescan() {
         let mut positions = 0;
         for &b in &stream {
             // SAFETY: `d` was set up by init; valid pointers.
-            let mut st = unsafe { pl_aydp_parse_byte(d, b, &mut got, &mut err) };
+            let mut st = unsafe { byte(pl_aydp_parse, d, b, &mut got, &mut err) };
             while st > 0 {
                 if st == PL_MESSAGE {
                     positions += 1;
@@ -190,11 +217,11 @@ fn aydp_round_trips_in_both_profiles_and_polls_after_a_rescan() {
                     assert_eq!((got.seconds, got.subsec), (42, 500));
                 }
                 // SAFETY: as above.
-                st = unsafe { pl_aydp_poll(d, &mut got, &mut err) };
+                st = unsafe { queued(pl_aydp_parse, d, &mut got, &mut err) };
             }
         }
         // SAFETY: as above.
-        while unsafe { pl_aydp_flush(d, &mut got, &mut err) } > 0 {
+        while unsafe { pl_aydp_finish(d, &mut got, &mut err) } > 0 {
             positions += (got.kind == PL_AYDP_POSITION) as i32;
         }
         assert_eq!(positions, 1, "profile {profile}");
@@ -233,7 +260,12 @@ fn aok_command_round_trip_and_expected_reply() {
             &mut err,
         )
     };
-    assert_eq!((st, used, got), (PL_MESSAGE, n as usize, cmd));
+    let placed = pl_aok_item {
+        wire_len: n as u32,
+        offset: 0,
+        ..cmd
+    };
+    assert_eq!((st, used, got), (PL_MESSAGE, n as usize, placed));
 
     // The PC side reads an ack only once told one is expected.
     let mut pc = MaybeUninit::<pl_aok_pc_decoder>::uninit();
@@ -242,7 +274,7 @@ fn aok_command_round_trip_and_expected_reply() {
     // SAFETY: set up by init; valid pointers.
     unsafe {
         assert_eq!(pl_aok_pc_expect_reply(pc.as_mut_ptr(), &cmd), 0);
-        let st = pl_aok_pc_parse_byte(pc.as_mut_ptr(), b'O', &mut got, &mut err);
+        let st = byte(pl_aok_pc_parse, pc.as_mut_ptr(), b'O', &mut got, &mut err);
         assert_eq!((st, got.kind, got.ack), (PL_MESSAGE, PL_AOK_ACK, b'O'));
     }
 }
@@ -459,7 +491,7 @@ fn aeolus_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     let mut expected = Vec::new();
     for &b in &stream {
         // SAFETY: a set-up decoder, live outputs.
-        let st = unsafe { pl_aeolus_parse_byte(d.as_mut_ptr(), b, &mut msg, &mut err) };
+        let st = unsafe { byte(pl_aeolus_parse, d.as_mut_ptr(), b, &mut msg, &mut err) };
         if st != PL_NOTHING {
             expected.push(event(st, &msg, &err));
         }
@@ -506,8 +538,6 @@ fn aok_event(st: i32, item: &pl_aok_item, err: &pl_error) -> Event {
 /// One side of the AOK C face: its decoder's set-up and calls.
 struct AokSide<D> {
     init: fn(*mut D) -> i32,
-    parse_byte: unsafe extern "C" fn(*mut D, u8, *mut pl_aok_item, *mut pl_error) -> i32,
-    poll: unsafe extern "C" fn(*mut D, *mut pl_aok_item, *mut pl_error) -> i32,
     parse: unsafe extern "C" fn(
         *mut D,
         *const u8,
@@ -551,18 +581,18 @@ impl<D> AokSide<D> {
     }
 
     /// `parse` over `stream` in pieces of each of `chunks` gives the events and counters of
-    /// `parse_byte` with `poll`.
+    /// `parse` a byte at a time, drained with `queued`.
     fn parse_matches_the_byte_calls(&self, stream: &[u8], chunks: &[usize]) {
         let mut d = self.init();
         let (mut item, mut err) = (pl_aok_item::default(), pl_error::default());
         let mut expected = Vec::new();
         for &b in stream {
             // SAFETY: a set-up decoder, live outputs.
-            let mut st = unsafe { (self.parse_byte)(d.as_mut_ptr(), b, &mut item, &mut err) };
+            let mut st = unsafe { byte(self.parse, d.as_mut_ptr(), b, &mut item, &mut err) };
             while st > 0 {
                 expected.push(aok_event(st, &item, &err));
                 // SAFETY: as above.
-                st = unsafe { (self.poll)(d.as_mut_ptr(), &mut item, &mut err) };
+                st = unsafe { queued(self.parse, d.as_mut_ptr(), &mut item, &mut err) };
             }
         }
         let expected_stats = self.stats(&d);
@@ -576,7 +606,7 @@ impl<D> AokSide<D> {
             assert!(got == expected, "pieces of {chunk}: the events differ");
             assert_eq!(self.stats(&d), expected_stats, "pieces of {chunk}");
         }
-        // The calls mixed: the first byte of every 5 by `parse_byte`, without the `poll` its
+        // The calls mixed: the first byte of every 5 by `byte`, without the `queued` its
         // contract asks for, then `parse` on the other four, which must give what that byte
         // left held first.
         let mut d = self.init();
@@ -588,7 +618,7 @@ impl<D> AokSide<D> {
             let (mut one, mut one_err) = (pl_aok_item::default(), pl_error::default());
             // SAFETY: a set-up decoder (the one `parse` uses, not used at the same time),
             // live outputs.
-            let st = unsafe { (self.parse_byte)(d_ptr, first, &mut one, &mut one_err) };
+            let st = unsafe { byte(self.parse, d_ptr, first, &mut one, &mut one_err) };
             if st > 0 {
                 got.push(aok_event(st, &one, &one_err));
                 // What `poll` would give now, asked of a copy of the decoder: the next
@@ -596,7 +626,7 @@ impl<D> AokSide<D> {
                 // SAFETY: the decoder is plain words, set up; the copy is its own.
                 let mut copy = unsafe { d_ptr.cast::<MaybeUninit<D>>().read() };
                 // SAFETY: the copy is a set-up decoder, live outputs.
-                let held = unsafe { (self.poll)(copy.as_mut_ptr(), &mut one, &mut one_err) };
+                let held = unsafe { queued(self.parse, copy.as_mut_ptr(), &mut one, &mut one_err) };
                 if held > 0 {
                     let (st, used, event) = parse(rest);
                     assert_eq!(
@@ -632,8 +662,6 @@ fn aok_device_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     let side = AokSide {
         // SAFETY: writable storage.
         init: |d| unsafe { pl_aok_device_init(d) },
-        parse_byte: pl_aok_device_parse_byte,
-        poll: pl_aok_device_poll,
         parse: pl_aok_device_parse,
         get_stats: pl_aok_device_get_stats,
         rescans: true,
@@ -653,8 +681,6 @@ fn aok_pc_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     let side = AokSide {
         // SAFETY: writable storage.
         init: |d| unsafe { pl_aok_pc_init(d, 0, 35) },
-        parse_byte: pl_aok_pc_parse_byte,
-        poll: pl_aok_pc_poll,
         parse: pl_aok_pc_parse,
         get_stats: pl_aok_pc_get_stats,
         rescans: false,
@@ -730,10 +756,10 @@ unsafe fn aeolus_calls(p: *mut u8) -> (Vec<i32>, bool) {
     // SAFETY: the state at `p` is what is tested; the other arguments are live.
     let st = unsafe {
         std::vec![
-            pl_aeolus_parse_byte(d, BYTES[0], msg.ptr(), err.ptr()),
+            byte(pl_aeolus_parse, d, BYTES[0], msg.ptr(), err.ptr()),
             pl_aeolus_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
             pl_aeolus_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aeolus_message>), ctx),
-            pl_aeolus_flush(d, err.ptr()),
+            pl_aeolus_finish(d, msg.ptr(), err.ptr()),
             pl_aeolus_get_stats(d, stats.ptr()),
         ]
     };
@@ -752,11 +778,11 @@ unsafe fn aydp_calls(p: *mut u8) -> (Vec<i32>, bool) {
     // SAFETY: as in `aeolus_calls`.
     let st = unsafe {
         std::vec![
-            pl_aydp_parse_byte(d, BYTES[2], msg.ptr(), err.ptr()),
-            pl_aydp_poll(d, msg.ptr(), err.ptr()),
+            byte(pl_aydp_parse, d, BYTES[2], msg.ptr(), err.ptr()),
+            queued(pl_aydp_parse, d, msg.ptr(), err.ptr()),
             pl_aydp_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
             pl_aydp_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aydp_message>), ctx),
-            pl_aydp_flush(d, msg.ptr(), err.ptr()),
+            pl_aydp_finish(d, msg.ptr(), err.ptr()),
             pl_aydp_get_stats(d, stats.ptr()),
         ]
     };
@@ -775,9 +801,9 @@ unsafe fn aok_device_calls(p: *mut u8) -> (Vec<i32>, bool) {
     // SAFETY: as in `aeolus_calls`.
     let st = unsafe {
         std::vec![
-            pl_aok_device_parse_byte(d, BYTES[3], item.ptr(), err.ptr()),
-            pl_aok_device_poll(d, item.ptr(), err.ptr()),
-            pl_aok_device_idle(d, item.ptr(), err.ptr()),
+            byte(pl_aok_device_parse, d, BYTES[3], item.ptr(), err.ptr()),
+            queued(pl_aok_device_parse, d, item.ptr(), err.ptr()),
+            pl_aok_device_finish(d, item.ptr(), err.ptr()),
             pl_aok_device_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
             pl_aok_device_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
             pl_aok_device_get_stats(d, stats.ptr()),
@@ -807,9 +833,9 @@ unsafe fn aok_pc_calls(p: *mut u8) -> (Vec<i32>, bool) {
     let st = unsafe {
         std::vec![
             pl_aok_pc_expect_reply(d, &get),
-            pl_aok_pc_parse_byte(d, 0x1C, item.ptr(), err.ptr()),
-            pl_aok_pc_poll(d, item.ptr(), err.ptr()),
-            pl_aok_pc_idle(d, item.ptr(), err.ptr()),
+            byte(pl_aok_pc_parse, d, 0x1C, item.ptr(), err.ptr()),
+            queued(pl_aok_pc_parse, d, item.ptr(), err.ptr()),
+            pl_aok_pc_finish(d, item.ptr(), err.ptr()),
             pl_aok_pc_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
             pl_aok_pc_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
             pl_aok_pc_get_stats(d, stats.ptr()),
@@ -833,9 +859,10 @@ unsafe fn gdl90_calls(p: *mut u8) -> (Vec<i32>, bool) {
     // SAFETY: as in `aeolus_calls`.
     let st = unsafe {
         std::vec![
-            pl_gdl90_parse_byte(d, BYTES[0], msg.ptr(), err.ptr()),
+            byte(pl_gdl90_parse, d, BYTES[0], msg.ptr(), err.ptr()),
             pl_gdl90_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
             pl_gdl90_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_gdl90_message>), ctx),
+            pl_gdl90_finish(d, msg.ptr(), err.ptr()),
             pl_gdl90_get_stats(d, stats.ptr()),
         ]
     };
@@ -962,7 +989,7 @@ fn a_state_never_set_up_filled_with_zeros_is_refused() {
     refused_untouched(|| AnyState::filled(0x00), "filled with 0x00");
 }
 
-/// Issue 44's case: before the tag, `pl_aok_pc_parse_byte` on this state built an invalid
+/// Issue 44's case: before the tag, `pl_aok_pc_parse_byte` (since removed) on this state built an invalid
 /// `ReplyForm` (Miri: "constructing invalid value of type aok_proto::ReplyForm: at
 /// .<enum-tag>, encountered 0xa5, but expected a valid enum tag").
 #[test]
@@ -976,7 +1003,7 @@ fn an_aok_pc_state_never_set_up_filled_with_0xa5_is_refused() {
     };
     let (mut item, mut err) = (Out::new(), Out::new());
     // SAFETY: the state is what is tested; live outputs.
-    let st = unsafe { pl_aok_pc_parse_byte(p, 0x1C, item.ptr(), err.ptr()) };
+    let st = unsafe { byte(pl_aok_pc_parse, p, 0x1C, item.ptr(), err.ptr()) };
     assert_eq!(st, PL_E_INVALID);
     assert!(item.untouched() && err.untouched());
 }

@@ -5,7 +5,8 @@ compare.py HOST_TEST PROTOLINK PROTO:FILE...
 
 For each file, `HOST_TEST dump PROTO FILE` (the C API) and `protolink decode --json` (the Rust
 crates through the host tool) must give the same sequence of messages and errors, every
-message with the same name and the same value in every field, and the same decoder counters.
+message with the same name, the same place in the input (offset and wire length) and the same
+value in every field, and the same decoder counters.
 protolink's renderings (enum names, slot and action names, texts) are turned back into the
 raw values the C structs carry before comparing. f64 fields must be equal exactly; f32 fields
 equal as f32. Exit status 1 with one line per difference.
@@ -152,7 +153,9 @@ def compare(host_test, protolink, proto, path):
         if c["name"] != r["name"]:
             problems.append(f"{where}: C {c['name']}, protolink {r['name']}")
             continue
-        for meta in ("id", "type", "expedited", "crc", "time"):
+        # "offset" and "len": the message's first byte and wire length (the C struct's offset
+        # and wire_len).
+        for meta in ("id", "type", "expedited", "crc", "time", "offset", "len"):
             if meta in r and not same(meta, c.get(meta), r[meta]):
                 problems.append(f"{where} {c['name']}: {meta} C {c.get(meta)}, protolink {r[meta]}")
         want = normalise(proto, r["name"], r["fields"])

@@ -36,14 +36,14 @@ static void null_checks(void) {
     CHECK(pl_aeolus_init(NULL) == PL_E_NULL);
     CHECK(pl_aeolus_init_strict(NULL) == PL_E_NULL);
     pl_aeolus_init(&ad);
-    CHECK(pl_aeolus_parse_byte(NULL, 0, &am, &err) == PL_E_NULL);
-    CHECK(pl_aeolus_parse_byte(&ad, 0, NULL, &err) == PL_E_NULL);
-    CHECK(pl_aeolus_parse_byte(&ad, 0, &am, NULL) == PL_E_NULL);
+    CHECK(BYTE(pl_aeolus_parse, NULL, 0, &am, &err) == PL_E_NULL);
+    CHECK(BYTE(pl_aeolus_parse, &ad, 0, NULL, &err) == PL_E_NULL);
+    CHECK(BYTE(pl_aeolus_parse, &ad, 0, &am, NULL) == PL_E_NULL);
     CHECK(pl_aeolus_parse(&ad, NULL, 5, &used, &am, &err) == PL_E_NULL);
     CHECK(pl_aeolus_parse(&ad, NULL, 0, &used, &am, &err) == PL_NOTHING && used == 0);
     CHECK(pl_aeolus_parse(&ad, buf, SIZE_MAX, &used, &am, &err) == PL_E_NULL);
     CHECK(pl_aeolus_parse(&ad, buf, 1, NULL, &am, &err) == PL_E_NULL);
-    CHECK(pl_aeolus_flush(NULL, &err) == PL_E_NULL);
+    CHECK(pl_aeolus_finish(NULL, &am, &err) == PL_E_NULL);
     CHECK(pl_aeolus_get_stats(&ad, NULL) == PL_E_NULL);
     CHECK(pl_aeolus_get_stats(NULL, &as) == PL_E_NULL);
     memset(&am, 0, sizeof am);
@@ -66,9 +66,9 @@ static void null_checks(void) {
     CHECK(pl_aydp_init(NULL, PL_AYDP_SPEC) == PL_E_NULL);
     CHECK(pl_aydp_init(&yd, 2) == PL_E_BAD_TAG);
     pl_aydp_init(&yd, PL_AYDP_SPEC);
-    CHECK(pl_aydp_parse_byte(&yd, 0, NULL, &err) == PL_E_NULL);
-    CHECK(pl_aydp_poll(&yd, &ym, NULL) == PL_E_NULL);
-    CHECK(pl_aydp_flush(NULL, &ym, &err) == PL_E_NULL);
+    CHECK(BYTE(pl_aydp_parse, &yd, 0, NULL, &err) == PL_E_NULL);
+    CHECK(QUEUED(pl_aydp_parse, &yd, &ym, NULL) == PL_E_NULL);
+    CHECK(pl_aydp_finish(NULL, &ym, &err) == PL_E_NULL);
     CHECK(pl_aydp_parse(&yd, NULL, 3, &used, &ym, &err) == PL_E_NULL);
     CHECK(pl_aydp_get_stats(&yd, NULL) == PL_E_NULL);
     CHECK(pl_aydp_feed(&yd, buf, 1, NULL, NULL) == PL_E_NULL);
@@ -94,14 +94,14 @@ static void null_checks(void) {
     CHECK(pl_aok_pc_init(NULL, 0, 35) == PL_E_NULL);
     pl_aok_device_init(&kd);
     pl_aok_pc_init(&kp, 0, 30);
-    CHECK(pl_aok_device_parse_byte(&kd, 0, NULL, &err) == PL_E_NULL);
-    CHECK(pl_aok_device_poll(NULL, &it, &err) == PL_E_NULL);
-    CHECK(pl_aok_device_idle(&kd, &it, NULL) == PL_E_NULL);
+    CHECK(BYTE(pl_aok_device_parse, &kd, 0, NULL, &err) == PL_E_NULL);
+    CHECK(QUEUED(pl_aok_device_parse, NULL, &it, &err) == PL_E_NULL);
+    CHECK(pl_aok_device_finish(&kd, &it, NULL) == PL_E_NULL);
     CHECK(pl_aok_device_parse(&kd, buf, 1, NULL, &it, &err) == PL_E_NULL);
     CHECK(pl_aok_device_get_stats(NULL, &ks) == PL_E_NULL);
-    CHECK(pl_aok_pc_parse_byte(NULL, 0, &it, &err) == PL_E_NULL);
-    CHECK(pl_aok_pc_poll(&kp, NULL, &err) == PL_E_NULL);
-    CHECK(pl_aok_pc_idle(&kp, &it, NULL) == PL_E_NULL);
+    CHECK(BYTE(pl_aok_pc_parse, NULL, 0, &it, &err) == PL_E_NULL);
+    CHECK(QUEUED(pl_aok_pc_parse, &kp, NULL, &err) == PL_E_NULL);
+    CHECK(pl_aok_pc_finish(&kp, &it, NULL) == PL_E_NULL);
     CHECK(pl_aok_pc_parse(&kp, NULL, 2, &used, &it, &err) == PL_E_NULL);
     CHECK(pl_aok_pc_get_stats(&kp, NULL) == PL_E_NULL);
     CHECK(pl_aok_pc_expect_reply(&kp, NULL) == PL_E_NULL);
@@ -116,8 +116,11 @@ static void null_checks(void) {
     pl_gdl90_message gm;
     CHECK(pl_gdl90_init(NULL) == PL_E_NULL);
     pl_gdl90_init(&gd);
-    CHECK(pl_gdl90_parse_byte(&gd, 0, &gm, NULL) == PL_E_NULL);
+    CHECK(BYTE(pl_gdl90_parse, &gd, 0, &gm, NULL) == PL_E_NULL);
     CHECK(pl_gdl90_parse(&gd, NULL, 1, &used, &gm, &err) == PL_E_NULL);
+    CHECK(pl_gdl90_finish(NULL, &gm, &err) == PL_E_NULL);
+    CHECK(pl_gdl90_finish(&gd, NULL, &err) == PL_E_NULL);
+    CHECK(pl_gdl90_finish(&gd, &gm, NULL) == PL_E_NULL);
     CHECK(pl_gdl90_get_stats(NULL, NULL) == PL_E_NULL);
     CHECK(pl_gdl90_encode(NULL, buf, sizeof buf) == PL_E_NULL);
     CHECK(pl_gdl90_feed(&gd, buf, 1, NULL, NULL) == PL_E_NULL);
@@ -186,7 +189,7 @@ static void oversized(void) {
         if (st == PL_MESSAGE && ym.kind == PL_AYDP_HEARTBEAT) heartbeat++;
         if (st == PL_NOTHING && used == 0) break;
     }
-    while (pl_aydp_flush(&yd, &ym, &err) > 0)
+    while (pl_aydp_finish(&yd, &ym, &err) > 0)
         if (ym.kind == PL_AYDP_HEARTBEAT) heartbeat++;
     CHECK(bad_length == 1 && heartbeat == 1);
 }

@@ -90,41 +90,42 @@ static int state_calls(uint32_t kind, void *p, struct outputs *o, int32_t *st) {
     int n = 0;
     switch (kind) {
     case PL_STATE_AEOLUS:
-        st[n++] = pl_aeolus_parse_byte(p, 0x7E, &o->aeolus, &o->err);
+        st[n++] = BYTE(pl_aeolus_parse, p, 0x7E, &o->aeolus, &o->err);
         st[n++] = pl_aeolus_parse(p, bytes, 4, &o->used, &o->aeolus, &o->err);
         st[n++] = pl_aeolus_feed(p, bytes, 4, fed_aeolus, o);
-        st[n++] = pl_aeolus_flush(p, &o->err);
+        st[n++] = pl_aeolus_finish(p, &o->aeolus, &o->err);
         st[n++] = pl_aeolus_get_stats(p, &o->aeolus_stats);
         break;
     case PL_STATE_AYDP:
-        st[n++] = pl_aydp_parse_byte(p, 0xFF, &o->aydp, &o->err);
-        st[n++] = pl_aydp_poll(p, &o->aydp, &o->err);
+        st[n++] = BYTE(pl_aydp_parse, p, 0xFF, &o->aydp, &o->err);
+        st[n++] = QUEUED(pl_aydp_parse, p, &o->aydp, &o->err);
         st[n++] = pl_aydp_parse(p, bytes, 4, &o->used, &o->aydp, &o->err);
         st[n++] = pl_aydp_feed(p, bytes, 4, fed_aydp, o);
-        st[n++] = pl_aydp_flush(p, &o->aydp, &o->err);
+        st[n++] = pl_aydp_finish(p, &o->aydp, &o->err);
         st[n++] = pl_aydp_get_stats(p, &o->aydp_stats);
         break;
     case PL_STATE_AOK_DEVICE:
-        st[n++] = pl_aok_device_parse_byte(p, 0x63, &o->item, &o->err);
-        st[n++] = pl_aok_device_poll(p, &o->item, &o->err);
-        st[n++] = pl_aok_device_idle(p, &o->item, &o->err);
+        st[n++] = BYTE(pl_aok_device_parse, p, 0x63, &o->item, &o->err);
+        st[n++] = QUEUED(pl_aok_device_parse, p, &o->item, &o->err);
+        st[n++] = pl_aok_device_finish(p, &o->item, &o->err);
         st[n++] = pl_aok_device_parse(p, bytes, 4, &o->used, &o->item, &o->err);
         st[n++] = pl_aok_device_feed(p, bytes, 4, fed_aok, o);
         st[n++] = pl_aok_device_get_stats(p, &o->aok_stats);
         break;
     case PL_STATE_AOK_PC:
         st[n++] = pl_aok_pc_expect_reply(p, &get);
-        st[n++] = pl_aok_pc_parse_byte(p, 0x1C, &o->item, &o->err);
-        st[n++] = pl_aok_pc_poll(p, &o->item, &o->err);
-        st[n++] = pl_aok_pc_idle(p, &o->item, &o->err);
+        st[n++] = BYTE(pl_aok_pc_parse, p, 0x1C, &o->item, &o->err);
+        st[n++] = QUEUED(pl_aok_pc_parse, p, &o->item, &o->err);
+        st[n++] = pl_aok_pc_finish(p, &o->item, &o->err);
         st[n++] = pl_aok_pc_parse(p, bytes, 4, &o->used, &o->item, &o->err);
         st[n++] = pl_aok_pc_feed(p, bytes, 4, fed_aok, o);
         st[n++] = pl_aok_pc_get_stats(p, &o->aok_stats);
         break;
     default:
-        st[n++] = pl_gdl90_parse_byte(p, 0x7E, &o->gdl90, &o->err);
+        st[n++] = BYTE(pl_gdl90_parse, p, 0x7E, &o->gdl90, &o->err);
         st[n++] = pl_gdl90_parse(p, bytes, 4, &o->used, &o->gdl90, &o->err);
         st[n++] = pl_gdl90_feed(p, bytes, 4, fed_gdl90, o);
+        st[n++] = pl_gdl90_finish(p, &o->gdl90, &o->err);
         st[n++] = pl_gdl90_get_stats(p, &o->gdl90_stats);
         break;
     }

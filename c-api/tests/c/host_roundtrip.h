@@ -25,7 +25,7 @@ static int aeolus_rt(FILE *out, const pl_aeolus_message *m) {
     pl_aeolus_init(&d);
     int events = 0;
     for (int32_t i = 0; i < n; i++) {
-        int st = pl_aeolus_parse_byte(&d, a[i], &got, &err);
+        int st = BYTE(pl_aeolus_parse, &d, a[i], &got, &err);
         if (st == PL_MESSAGE) {
             events++;
             CHECK(i == n - 1);
@@ -53,7 +53,7 @@ static int aydp_rt(FILE *out, uint32_t profile, const pl_aydp_message *m) {
     pl_aydp_init(&d, profile);
     int events = 0;
     for (int32_t i = 0; i < n; i++) {
-        for (int st = pl_aydp_parse_byte(&d, a[i], &got, &err); st > 0; st = pl_aydp_poll(&d, &got, &err)) {
+        for (int st = BYTE(pl_aydp_parse, &d, a[i], &got, &err); st > 0; st = QUEUED(pl_aydp_parse, &d, &got, &err)) {
             CHECK(st == PL_MESSAGE);
             events++;
             CHECK(got.kind == m->kind && got.expedited == m->expedited);
@@ -78,8 +78,8 @@ static int aok_cmd_rt(FILE *out, const pl_aok_item *c) {
     pl_aok_device_init(&d);
     int events = 0;
     for (int32_t i = 0; i < n; i++)
-        for (int st = pl_aok_device_parse_byte(&d, a[i], &got, &err); st > 0;
-             st = pl_aok_device_poll(&d, &got, &err)) {
+        for (int st = BYTE(pl_aok_device_parse, &d, a[i], &got, &err); st > 0;
+             st = QUEUED(pl_aok_device_parse, &d, &got, &err)) {
             CHECK(st == PL_MESSAGE);
             events++;
             CHECK(memcmp(&got, c, sizeof got) == 0 || got.kind == c->kind);
@@ -105,7 +105,7 @@ static int aok_msg_rt(FILE *out, const pl_aok_item *m, const pl_aok_item *asked)
     if (asked) CHECK(pl_aok_pc_expect_reply(&d, asked) == 0);
     int events = 0;
     for (int32_t i = 0; i < n; i++)
-        for (int st = pl_aok_pc_parse_byte(&d, a[i], &got, &err); st > 0; st = pl_aok_pc_poll(&d, &got, &err)) {
+        for (int st = BYTE(pl_aok_pc_parse, &d, a[i], &got, &err); st > 0; st = QUEUED(pl_aok_pc_parse, &d, &got, &err)) {
             CHECK(st == PL_MESSAGE);
             events++;
             CHECK(got.kind == m->kind);
@@ -130,7 +130,7 @@ static int gdl90_rt(FILE *out, const pl_gdl90_message *m) {
     pl_gdl90_init(&d);
     int events = 0;
     for (int32_t i = 0; i < n; i++) {
-        int st = pl_gdl90_parse_byte(&d, a[i], &got, &err);
+        int st = BYTE(pl_gdl90_parse, &d, a[i], &got, &err);
         if (st == PL_MESSAGE) {
             events++;
             CHECK(got.kind == m->kind);
@@ -460,7 +460,7 @@ static int cmd_roundtrip(const char *dir) {
         pl_gdl90_init(&d);
         int seen = 0;
         for (int32_t i = 0; i < n; i++)
-            if (pl_gdl90_parse_byte(&d, buf[i], &got, &err) == PL_MESSAGE) {
+            if (BYTE(pl_gdl90_parse, &d, buf[i], &got, &err) == PL_MESSAGE) {
                 seen++;
                 CHECK(got.kind == PL_GDL90_AHRS && got.body.ahrs.roll_deg == 180.0f);
             }

@@ -35,6 +35,11 @@ static int failures;
         }                                                                             \
     } while (0)
 
+/* One byte through pl_*_parse (the one-byte path), and what a rescan left queued (no bytes). */
+static size_t scratch_used;
+#define BYTE(PARSE, D, B, M, E) PARSE((D), &(const uint8_t){(B)}, 1, &scratch_used, (M), (E))
+#define QUEUED(PARSE, D, M, E) PARSE((D), NULL, 0, &scratch_used, (M), (E))
+
 /* ---------- JSON output ---------- */
 
 static void hex(const uint8_t *p, size_t n) {
@@ -58,6 +63,11 @@ static void u8s(const char *name, const uint8_t *v, int n, int last) {
     printf("\"%s\":[", name);
     for (int i = 0; i < n; i++) printf("%u%s", v[i], i + 1 < n ? "," : "");
     printf("]%s", last ? "" : ",");
+}
+
+/* A message line's start: its kind and its place in the input (offset, wire length). */
+static void place(uint64_t offset, uint32_t wire_len) {
+    printf("{\"kind\":\"message\",\"offset\":%" PRIu64 ",\"len\":%" PRIu32 ",", offset, wire_len);
 }
 
 static void error_line(const pl_error *e) {
@@ -90,7 +100,8 @@ static const char *aeolus_name(uint8_t id) {
 }
 
 static void print_aeolus(const pl_aeolus_message *m) {
-    printf("{\"kind\":\"message\",\"name\":\"%s\",\"id\":%u,\"crc\":\"%s\",\"fields\":{", aeolus_name(m->id), m->id,
+    place(m->offset, m->wire_len);
+    printf("\"name\":\"%s\",\"id\":%u,\"crc\":\"%s\",\"fields\":{", aeolus_name(m->id), m->id,
            m->no_crc ? "none" : "ok");
     const pl_aeolus_body *b = &m->body;
     switch (m->id) {
@@ -198,7 +209,8 @@ static const char *aydp_name(uint8_t kind) {
 }
 
 static void print_aydp(const pl_aydp_message *m) {
-    printf("{\"kind\":\"message\",\"name\":\"%s\",\"type\":%u,\"expedited\":%s,", aydp_name(m->kind), m->msg_type,
+    place(m->offset, m->wire_len);
+    printf("\"name\":\"%s\",\"type\":%u,\"expedited\":%s,", aydp_name(m->kind), m->msg_type,
            m->expedited ? "true" : "false");
     if (!m->expedited) printf("\"time\":{\"seconds\":%" PRId64 ",\"subsec\":%" PRId64 "},", m->seconds, m->subsec);
     printf("\"fields\":{");
@@ -315,7 +327,8 @@ static void print_aok(const pl_aok_item *it) {
                        : it->kind == PL_AOK_PARAMETER ? "PARAMETER"
                        : it->kind == PL_AOK_WAYPOINT  ? "WAYPOINT"
                                                       : "?";
-    printf("{\"kind\":\"message\",\"name\":\"%s\",\"fields\":{", name);
+    place(it->offset, it->wire_len);
+    printf("\"name\":\"%s\",\"fields\":{", name);
     switch (it->kind) {
     case PL_AOK_LOAD_SET:
     case PL_AOK_SAVE_SET:
@@ -385,7 +398,8 @@ static void print_report(const pl_gdl90_report *r) {
 
 static void print_gdl90(const pl_gdl90_message *m) {
     static const char *names[] = {"HEARTBEAT", "OWNSHIP", "GEO_ALTITUDE", "TRAFFIC", "FOREFLIGHT_ID", "FOREFLIGHT_AHRS", "UNKNOWN"};
-    printf("{\"kind\":\"message\",\"name\":\"%s\",\"id\":%u,\"fields\":{", m->kind < 7 ? names[m->kind] : "?", m->id);
+    place(m->offset, m->wire_len);
+    printf("\"name\":\"%s\",\"id\":%u,\"fields\":{", m->kind < 7 ? names[m->kind] : "?", m->id);
     const pl_gdl90_body *b = &m->body;
     switch (m->kind) {
     case PL_GDL90_HEARTBEAT: {
@@ -477,27 +491,28 @@ static uint8_t *read_file(const char *path, size_t *len) {
 #define SLICE_LOOP(PARSE, DEC, MSG, PRINT_MSG)                                                  \
     do {                                                                                        \
         size_t off = 0;                                                                         \
-        while (off < len) {                                                                     \
+        for (;;) {                                                                              \
             size_t n = chunk && len - off > chunk ? chunk : len - off, used = 0;                \
-            int st = PARSE(&DEC, buf + off, n, &used, &MSG, &err);                              \
+            st = PARSE(&DEC, buf + off, n, &used, &MSG, &err);                                  \
             CHECK(st >= 0 && used <= n);                                                        \
             if (st < 0) break;                                                                  \
             off += used;                                                                        \
             if (st == PL_MESSAGE) { events++; if (print) PRINT_MSG(&MSG); }                     \
             if (st == PL_ERROR) { events++; if (print) error_line(&err); }                      \
+            if (st == PL_NOTHING && off >= len) break;                                          \
         }                                                                                       \
     } while (0)
 
 static int dump(const char *proto, const uint8_t *buf, size_t len, size_t chunk, int print) {
     pl_error err;
-    int events = 0;
+    int events = 0, st;
     if (!strcmp(proto, "aeolus")) {
         pl_aeolus_decoder d;
         pl_aeolus_message m;
         pl_aeolus_stats s;
         CHECK(pl_aeolus_init(&d) == 0);
         SLICE_LOOP(pl_aeolus_parse, d, m, print_aeolus);
-        if (pl_aeolus_flush(&d, &err) == PL_ERROR) { events++; if (print) error_line(&err); }
+        while ((st = pl_aeolus_finish(&d, &m, &err)) > 0) { events++; if (print) error_line(&err); }
         pl_aeolus_get_stats(&d, &s);
         if (print)
             printf("{\"kind\":\"summary\",\"counters\":{\"frames_ok\":%u,\"frames_no_crc\":%u,\"checksum_errors\":%u,"
@@ -511,8 +526,7 @@ static int dump(const char *proto, const uint8_t *buf, size_t len, size_t chunk,
         pl_aydp_stats s;
         CHECK(pl_aydp_init(&d, strcmp(proto, "aydp-reference") ? PL_AYDP_SPEC : PL_AYDP_REFERENCE) == 0);
         SLICE_LOOP(pl_aydp_parse, d, m, print_aydp);
-        int st;
-        while ((st = pl_aydp_flush(&d, &m, &err)) > 0) {
+        while ((st = pl_aydp_finish(&d, &m, &err)) > 0) {
             events++;
             if (print) { if (st == PL_MESSAGE) print_aydp(&m); else error_line(&err); }
         }
@@ -524,12 +538,11 @@ static int dump(const char *proto, const uint8_t *buf, size_t len, size_t chunk,
     } else if (!strcmp(proto, "aok-pc") || !strcmp(proto, "aok-device")) {
         pl_aok_item it;
         pl_aok_stats s;
-        int st;
         if (!strcmp(proto, "aok-pc")) {
             pl_aok_device_decoder d;
             CHECK(pl_aok_device_init(&d) == 0);
             SLICE_LOOP(pl_aok_device_parse, d, it, print_aok);
-            while ((st = pl_aok_device_idle(&d, &it, &err)) > 0) {
+            while ((st = pl_aok_device_finish(&d, &it, &err)) > 0) {
                 events++;
                 if (print) { if (st == PL_MESSAGE) print_aok(&it); else error_line(&err); }
             }
@@ -538,7 +551,7 @@ static int dump(const char *proto, const uint8_t *buf, size_t len, size_t chunk,
             pl_aok_pc_decoder d;
             CHECK(pl_aok_pc_init(&d, 0, 35) == 0);
             SLICE_LOOP(pl_aok_pc_parse, d, it, print_aok);
-            while ((st = pl_aok_pc_idle(&d, &it, &err)) > 0) {
+            while ((st = pl_aok_pc_finish(&d, &it, &err)) > 0) {
                 events++;
                 if (print) { if (st == PL_MESSAGE) print_aok(&it); else error_line(&err); }
             }
@@ -554,6 +567,10 @@ static int dump(const char *proto, const uint8_t *buf, size_t len, size_t chunk,
         pl_gdl90_stats s;
         CHECK(pl_gdl90_init(&d) == 0);
         SLICE_LOOP(pl_gdl90_parse, d, m, print_gdl90);
+        while ((st = pl_gdl90_finish(&d, &m, &err)) > 0) {
+            events++;
+            if (print) { if (st == PL_MESSAGE) print_gdl90(&m); else error_line(&err); }
+        }
         pl_gdl90_get_stats(&d, &s);
         if (print)
             printf("{\"kind\":\"summary\",\"counters\":{\"frames_ok\":%u,\"invalid\":%u,\"checksum_errors\":%u,"
@@ -577,35 +594,36 @@ static int count_bytewise(const char *proto, const uint8_t *buf, size_t len) {
         pl_aeolus_decoder d;
         pl_aeolus_message m;
         pl_aeolus_init(&d);
-        for (size_t i = 0; i < len; i++) events += pl_aeolus_parse_byte(&d, buf[i], &m, &err) > 0;
-        events += pl_aeolus_flush(&d, &err) > 0;
+        for (size_t i = 0; i < len; i++) events += BYTE(pl_aeolus_parse, &d, buf[i], &m, &err) > 0;
+        while (pl_aeolus_finish(&d, &m, &err) > 0) events++;
     } else if (!strncmp(proto, "aydp-", 5)) {
         pl_aydp_decoder d;
         pl_aydp_message m;
         pl_aydp_init(&d, strcmp(proto, "aydp-reference") ? PL_AYDP_SPEC : PL_AYDP_REFERENCE);
         for (size_t i = 0; i < len; i++)
-            for (st = pl_aydp_parse_byte(&d, buf[i], &m, &err); st > 0; st = pl_aydp_poll(&d, &m, &err)) events++;
-        while (pl_aydp_flush(&d, &m, &err) > 0) events++;
+            for (st = BYTE(pl_aydp_parse, &d, buf[i], &m, &err); st > 0; st = QUEUED(pl_aydp_parse, &d, &m, &err)) events++;
+        while (pl_aydp_finish(&d, &m, &err) > 0) events++;
     } else if (!strcmp(proto, "aok-pc")) {
         pl_aok_device_decoder d;
         pl_aok_item it;
         pl_aok_device_init(&d);
         for (size_t i = 0; i < len; i++)
-            for (st = pl_aok_device_parse_byte(&d, buf[i], &it, &err); st > 0; st = pl_aok_device_poll(&d, &it, &err))
+            for (st = BYTE(pl_aok_device_parse, &d, buf[i], &it, &err); st > 0; st = QUEUED(pl_aok_device_parse, &d, &it, &err))
                 events++;
-        while (pl_aok_device_idle(&d, &it, &err) > 0) events++;
+        while (pl_aok_device_finish(&d, &it, &err) > 0) events++;
     } else if (!strcmp(proto, "aok-device")) {
         pl_aok_pc_decoder d;
         pl_aok_item it;
         pl_aok_pc_init(&d, 0, 35);
         for (size_t i = 0; i < len; i++)
-            for (st = pl_aok_pc_parse_byte(&d, buf[i], &it, &err); st > 0; st = pl_aok_pc_poll(&d, &it, &err)) events++;
-        while (pl_aok_pc_idle(&d, &it, &err) > 0) events++;
+            for (st = BYTE(pl_aok_pc_parse, &d, buf[i], &it, &err); st > 0; st = QUEUED(pl_aok_pc_parse, &d, &it, &err)) events++;
+        while (pl_aok_pc_finish(&d, &it, &err) > 0) events++;
     } else {
         pl_gdl90_decoder d;
         pl_gdl90_message m;
         pl_gdl90_init(&d);
-        for (size_t i = 0; i < len; i++) events += pl_gdl90_parse_byte(&d, buf[i], &m, &err) > 0;
+        for (size_t i = 0; i < len; i++) events += BYTE(pl_gdl90_parse, &d, buf[i], &m, &err) > 0;
+        while (pl_gdl90_finish(&d, &m, &err) > 0) events++;
     }
     return events;
 }
@@ -648,30 +666,33 @@ static int count_feed(const char *proto, const uint8_t *buf, size_t len, size_t 
     if (!strcmp(proto, "aeolus")) {
         pl_aeolus_decoder d;
         pl_aeolus_init(&d);
+        pl_aeolus_message m;
         FEED_LOOP(pl_aeolus_feed, d, count_aeolus);
-        c.events += pl_aeolus_flush(&d, &err) > 0;
+        while (pl_aeolus_finish(&d, &m, &err) > 0) c.events++;
     } else if (!strncmp(proto, "aydp-", 5)) {
         pl_aydp_decoder d;
         pl_aydp_message m;
         pl_aydp_init(&d, strcmp(proto, "aydp-reference") ? PL_AYDP_SPEC : PL_AYDP_REFERENCE);
         FEED_LOOP(pl_aydp_feed, d, count_aydp);
-        while (pl_aydp_flush(&d, &m, &err) > 0) c.events++;
+        while (pl_aydp_finish(&d, &m, &err) > 0) c.events++;
     } else if (!strcmp(proto, "aok-pc")) {
         pl_aok_device_decoder d;
         pl_aok_item it;
         pl_aok_device_init(&d);
         FEED_LOOP(pl_aok_device_feed, d, count_aok);
-        while (pl_aok_device_idle(&d, &it, &err) > 0) c.events++;
+        while (pl_aok_device_finish(&d, &it, &err) > 0) c.events++;
     } else if (!strcmp(proto, "aok-device")) {
         pl_aok_pc_decoder d;
         pl_aok_item it;
         pl_aok_pc_init(&d, 0, 35);
         FEED_LOOP(pl_aok_pc_feed, d, count_aok);
-        while (pl_aok_pc_idle(&d, &it, &err) > 0) c.events++;
+        while (pl_aok_pc_finish(&d, &it, &err) > 0) c.events++;
     } else {
         pl_gdl90_decoder d;
         pl_gdl90_init(&d);
+        pl_gdl90_message m;
         FEED_LOOP(pl_gdl90_feed, d, count_gdl90);
+        while (pl_gdl90_finish(&d, &m, &err) > 0) c.events++;
     }
 #undef FEED_LOOP
     return c.events;

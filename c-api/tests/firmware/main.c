@@ -2,7 +2,8 @@
  * The C firmware test: a Cortex-M3 program for QEMU lm3s6965evb, built with Debian's
  * arm-none-eabi-gcc and picolibc and linked with libprotolink_c.a (thumbv7m). It decodes the
  * three UART captures of testdata/ (built into the image by capture.S) through the C API,
- * AEOLUS byte by byte, AYDP and AOK with the slice calls (after checking that the header and
+ * AEOLUS a byte at a time (pl_aeolus_parse on one byte, as a receive interrupt would), AYDP and
+ * AOK a capture at a time (the same call, the one loop), after checking that the header and
  * the archive agree: ABI version, state sizes), and prints the decoders' counters
  * over semihosting; c-api/tests/firmware.sh compares them with the Rust decoder's
  * (`protolink decode --json`).
@@ -36,23 +37,24 @@ int main(void) {
 
     pl_aeolus_message am;
     pl_aeolus_init(&aeolus);
+    size_t used;
     for (const uint8_t *p = aeolus_capture; p < aeolus_capture_end; p++) {
-        int st = pl_aeolus_parse_byte(&aeolus, *p, &am, &err);
+        /* One byte: AEOLUS gives at most one event a byte, so nothing stays queued. */
+        int st = pl_aeolus_parse(&aeolus, p, 1, &used, &am, &err);
         aeolus_messages += st == PL_MESSAGE;
         errors += st == PL_ERROR;
     }
-    if (pl_aeolus_flush(&aeolus, &err) == PL_ERROR) errors++;
+    for (int st; (st = pl_aeolus_finish(&aeolus, &am, &err)) > 0;) errors += st == PL_ERROR;
 
     pl_aydp_message ym;
     pl_aydp_init(&aydp, PL_AYDP_SPEC);
-    size_t len = (size_t)(aydp_capture_end - aydp_capture), off = 0, used;
-    while (off < len) {
-        int st = pl_aydp_parse(&aydp, aydp_capture + off, len - off, &used, &ym, &err);
+    size_t len = (size_t)(aydp_capture_end - aydp_capture), off = 0;
+    for (int st; (st = pl_aydp_parse(&aydp, aydp_capture + off, len - off, &used, &ym, &err)) > 0;) {
         off += used;
         aydp_messages += st == PL_MESSAGE;
         errors += st == PL_ERROR;
     }
-    for (int st; (st = pl_aydp_flush(&aydp, &ym, &err)) > 0;) {
+    for (int st; (st = pl_aydp_finish(&aydp, &ym, &err)) > 0;) {
         aydp_messages += st == PL_MESSAGE;
         errors += st == PL_ERROR;
     }
@@ -61,13 +63,12 @@ int main(void) {
     pl_aok_pc_init(&aok, 0, 35);
     len = (size_t)(aok_capture_end - aok_capture);
     off = 0;
-    while (off < len) {
-        int st = pl_aok_pc_parse(&aok, aok_capture + off, len - off, &used, &it, &err);
+    for (int st; (st = pl_aok_pc_parse(&aok, aok_capture + off, len - off, &used, &it, &err)) > 0;) {
         off += used;
         aok_messages += st == PL_MESSAGE;
         errors += st == PL_ERROR;
     }
-    for (int st; (st = pl_aok_pc_idle(&aok, &it, &err)) > 0;) {
+    for (int st; (st = pl_aok_pc_finish(&aok, &it, &err)) > 0;) {
         aok_messages += st == PL_MESSAGE;
         errors += st == PL_ERROR;
     }
