@@ -622,8 +622,17 @@ impl<const N: usize> Decode for Decoder<N> {
 
     #[inline]
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(usize, bool), Error>>) {
-        if bytes.is_empty() {
-            return (0, None);
+        match bytes {
+            [] => return (0, None),
+            // One byte (a caller that acts after every byte): the inlined per-byte path.
+            [byte] => {
+                let event = self.push(*byte).map(|event| match event {
+                    Ok(frame) => Event::Found((frame.raw().len(), frame.has_crc())),
+                    Err(e) => Event::Error(e),
+                });
+                return (1, event);
+            }
+            _ => {}
         }
         let (used, found) = self.push_until(bytes);
         let event = match found {

@@ -89,8 +89,13 @@ impl Held {
     /// call (the slice path ends with them).
     #[inline]
     pub(crate) fn keep(&mut self, bytes: &[u8], need: usize) {
-        if let Some(dst) = self.buf.get_mut(..bytes.len()) {
-            dst.copy_from_slice(bytes);
+        if bytes.len() <= self.buf.len() {
+            // A byte at a time, not `copy_from_slice`: its length check is only proven away
+            // where the compiler sees both lengths, and a panic path must not survive
+            // (`checks/panic-never`, the C library's decode).
+            for (slot, &byte) in self.buf.iter_mut().zip(bytes) {
+                *slot = byte;
+            }
             self.len = bytes.len();
             self.need = need;
         }
