@@ -68,15 +68,15 @@
 #![deny(missing_docs)]
 
 pub mod checksum;
-pub mod decoder;
+mod decoder;
 #[cfg(feature = "embedded-io")]
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
-pub mod encode;
+mod encode;
 mod error;
-pub mod frame;
-pub mod header;
+mod frame;
+mod header;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
 pub mod message;
@@ -89,10 +89,8 @@ pub use encode::{Bytes, Encoder, Payload, Raw};
 pub use error::{Error, Result};
 pub use frame::Frame;
 pub use frame_io::{Decode, Event};
-pub use header::{Header, HeaderRepr};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
-pub use message::layout;
 pub use message::{
     DirectOutput, DirectOutputBuilder, Entries, FixDetail, FixDetailBuilder, FixQuality, Message,
     OutputEntry, Position, Satellite, SatelliteList, Satellites, SystemControl, SystemValueUpdate,
