@@ -1,5 +1,5 @@
 //! What the PC sends: every command as a plain `Repr` with `parse`, `emit` and `buffer_len`.
-//! The bytes of every frame are in [`crate::layout`].
+//! The bytes of every frame are in the crate's private `layout` (published as [`Command::FRAMES`]).
 
 use crate::layout::{
     bulk_read, control, external_control as ext, motor_test, read_parameter, read_waypoint,

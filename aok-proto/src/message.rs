@@ -1,5 +1,5 @@
 //! What the device sends: debug values, acks, parameter replies and waypoint replies. The bytes
-//! of every frame are in [`crate::layout`].
+//! of every frame are in the crate's private `layout` (published as [`Message::FRAMES`]).
 
 use crate::command::{ParameterValue, WAYPOINT, Waypoint, copy_out};
 use crate::layout::{

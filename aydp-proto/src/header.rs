@@ -163,7 +163,7 @@ impl HeaderRepr {
     /// [`Error::BadType`] for a base type over 126, [`Error::TooLong`] when the length does
     /// not fit its field, and [`Error::ExpeditedInReference`] for an expedited header in a
     /// profile without one ([`Profile::has_expedited`]).
-    pub(crate) fn to_bytes(&self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
+    pub(crate) fn to_bytes(self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
         if self.is_expedited() && !profile.has_expedited() {
             return Err(Error::ExpeditedInReference);
         }
