@@ -172,6 +172,9 @@ python3 scripts/check-paths.py
 step "docs: no stale name of a removed type or method outside the CHANGELOGs (scripts/check-words.py)"
 python3 scripts/check-words.py
 
+step "surface: at most 200 public items in each protocol crate (scripts/surface.py)"
+python3 scripts/surface.py
+
 step "format"
 cargo fmt --all -- --check
 (cd firmware-embassy && cargo fmt -- --check)

@@ -1,5 +1,5 @@
 //! What the PC sends: every command as a plain `Repr` with `parse`, `emit` and `buffer_len`.
-//! The bytes of every frame are in [`crate::layout`].
+//! The bytes of every frame are in the crate's private `layout` (published as [`Command::FRAMES`]).
 
 use crate::layout::{
     bulk_read, control, external_control as ext, motor_test, read_parameter, read_waypoint,
@@ -210,6 +210,35 @@ fn fixed<const N: usize>(bytes: &[u8]) -> Result<&[u8; N], Error> {
 }
 
 impl Command {
+    /// The frames the PC sends with a fixed layout, one [`FrameLayout`](crate::FrameLayout)
+    /// each: set parameter, read parameter, bulk read, read waypoint, set waypoint, external
+    /// control (control and motor test: [`Command::CONTROL`], [`Command::MOTOR_TEST`]).
+    ///
+    /// ```
+    /// use aok_proto::Command;
+    /// let names: Vec<_> = Command::FRAMES.iter().map(|f| f.name).collect();
+    /// assert_eq!(names[0], "SET_PARAMETER");
+    /// assert_eq!(Command::FRAMES[0].fields[1], ("value", "i32be", 2));
+    /// ```
+    pub const FRAMES: &'static [crate::FrameLayout] = &crate::layout::PC_FRAMES;
+    /// The control commands' frame (`63 SUB [SET]`, K5): its longest form, with the set
+    /// number; a sub-command without one is two bytes.
+    ///
+    /// ```
+    /// use aok_proto::Command;
+    /// assert_eq!((Command::CONTROL.start, Command::CONTROL.len), (0x63, 3));
+    /// assert_eq!(Command::CONTROL.fields[1], ("set", "u8", 2));
+    /// ```
+    pub const CONTROL: crate::FrameLayout = crate::layout::CONTROL;
+    /// The motor test frame (K7): the start byte names the motor (motor 1's, `0x31`, here).
+    ///
+    /// ```
+    /// use aok_proto::Command;
+    /// assert_eq!(Command::MOTOR_TEST.len, 3);
+    /// assert_eq!(Command::MOTOR_TEST.checksum, Some((0..2, 2)));
+    /// ```
+    pub const MOTOR_TEST: crate::FrameLayout = crate::layout::MOTOR_TEST;
+
     /// Parse the command at the start of `bytes`; returns it and the number of bytes it took.
     ///
     /// Checksums are verified; field values are range-checked (slots, sticks).

@@ -17,7 +17,8 @@
 //!   (`frame-io`'s reader over [`MessageDecoder`] or [`CommandDecoder`]), a writer into a
 //!   `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
 //!   client's async form.
-//! * [`layout`]: every frame's bytes in one table (start byte, length, field offsets, checksum).
+//! * [`FrameLayout`]: every frame's bytes as a table (start byte, length, field offsets,
+//!   checksum): [`Command::FRAMES`], [`Message::FRAMES`], for tools that describe the wire.
 //! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
 //!
 //! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
@@ -65,7 +66,7 @@ mod encode;
 mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
-pub mod layout;
+mod layout;
 pub mod message;
 pub mod values;
 
@@ -80,6 +81,7 @@ pub use error::{ClientError, Error, SerialError};
 pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
+pub use layout::FrameLayout;
 pub use message::{DebugValue, Message};
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,

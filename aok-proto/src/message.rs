@@ -1,5 +1,5 @@
 //! What the device sends: debug values, acks, parameter replies and waypoint replies. The bytes
-//! of every frame are in [`crate::layout`].
+//! of every frame are in the crate's private `layout` (published as [`Message::FRAMES`]).
 
 use crate::command::{ParameterValue, WAYPOINT, Waypoint, copy_out};
 use crate::layout::{
@@ -79,6 +79,17 @@ fn value_frame(head: u8, number: u8, value: i32) -> [u8; debug::LEN] {
 }
 
 impl Message {
+    /// The frames the device sends with a fixed layout, as the PC reads them, one
+    /// [`FrameLayout`](crate::FrameLayout) each: debug value, parameter reply (firmware >=
+    /// 0.31), waypoint.
+    ///
+    /// ```
+    /// use aok_proto::Message;
+    /// let names: Vec<_> = Message::FRAMES.iter().map(|f| f.name).collect();
+    /// assert_eq!(names, ["DEBUG", "PARAMETER", "WAYPOINT"]);
+    /// ```
+    pub const FRAMES: &'static [crate::FrameLayout] = &crate::layout::DEVICE_FRAMES;
+
     /// The number of bytes [`Message::emit`] writes in the given reply form.
     ///
     /// ```

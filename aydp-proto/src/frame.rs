@@ -2,7 +2,7 @@
 
 use crate::checksum::xor;
 use crate::error::{Error, Result};
-use crate::header::{Header, HeaderRepr};
+use crate::header::Header;
 use crate::message::Message;
 use crate::profile::{Profile, Timestamp};
 
@@ -26,6 +26,19 @@ pub struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
+    /// The header's layout: `(field, wire type, offset from the start byte)` per field, for
+    /// tools that describe the wire format (the Wireshark dissector `protolink wireshark`
+    /// writes). An expedited header ([`EXPEDITED_HEADER_LEN`](crate::profile::EXPEDITED_HEADER_LEN)
+    /// bytes) ends before `seconds`; a normal one is
+    /// [`NORMAL_HEADER_LEN`](crate::profile::NORMAL_HEADER_LEN) bytes. Little-endian.
+    ///
+    /// ```
+    /// use aydp_proto::Frame;
+    /// assert_eq!(Frame::HEADER_FIELDS[2], ("length", "u32", 2));
+    /// ```
+    pub const HEADER_FIELDS: &'static [(&'static str, &'static str, usize)] =
+        crate::message::layout::header::FIELDS;
+
     /// Check that `bytes` is exactly one message in `profile`: start byte, type not 0xFF,
     /// length field agreeing with `bytes.len()`, and the XOR checksum.
     pub fn new_checked(bytes: &'a [u8], profile: Profile) -> Result<Self> {
@@ -63,17 +76,8 @@ impl<'a> Frame<'a> {
 
     /// The header view.
     #[inline]
-    pub const fn header(&self) -> Header<&'a [u8]> {
+    pub(crate) const fn header(&self) -> Header<&'a [u8]> {
         Header::new_unchecked(self.bytes)
-    }
-
-    /// The header as plain values.
-    pub fn repr(&self) -> HeaderRepr {
-        HeaderRepr {
-            base_type: self.base_type(),
-            timestamp: self.timestamp(),
-            data_len: self.data().len(),
-        }
     }
 
     /// The type byte as sent.

@@ -36,36 +36,28 @@ pub(crate) fn put(buf: &mut [u8], at: usize, src: &[u8]) {
 }
 
 /// A read-only view of a header at the start of a buffer.
-///
-/// ```
-/// use aydp_proto::Header;
-/// let h = Header::new_checked(&[0xFF, 0x80, 0x07, 0, 0, 0, 0x78][..]).unwrap();
-/// assert!(h.is_expedited());
-/// assert_eq!(h.base_type(), 0);
-/// assert_eq!(h.length_field(), 7);
-/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Header<T: AsRef<[u8]>> {
+pub(crate) struct Header<T: AsRef<[u8]>> {
     buffer: T,
 }
 
 impl<T: AsRef<[u8]>> Header<T> {
     /// Wrap a buffer without checks. Accessors never panic; on a short buffer they read zeros.
-    pub const fn new_unchecked(buffer: T) -> Self {
+    pub(crate) const fn new_unchecked(buffer: T) -> Self {
         Self { buffer }
     }
 
     /// Wrap a buffer after checking the start byte, that the type is not 0xFF, and that the
     /// buffer holds the whole header (6 or 22 bytes).
-    pub fn new_checked(buffer: T) -> Result<Self> {
+    pub(crate) fn new_checked(buffer: T) -> Result<Self> {
         let h = Self::new_unchecked(buffer);
         h.check()?;
         Ok(h)
     }
 
     /// The checks [`Header::new_checked`] performs.
-    pub fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let b = self.buffer.as_ref();
         match b {
             [] | [_] => Err(Error::Truncated),
@@ -76,43 +68,38 @@ impl<T: AsRef<[u8]>> Header<T> {
         }
     }
 
-    /// The underlying buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
-    }
-
     /// The type byte as sent (with the expedited bit).
     #[inline]
-    pub fn type_byte(&self) -> u8 {
+    pub(crate) fn type_byte(&self) -> u8 {
         self.buffer.as_ref().get(1).copied().unwrap_or(0)
     }
 
     /// Whether the expedited bit (0x80) is set.
     #[inline]
-    pub fn is_expedited(&self) -> bool {
+    pub(crate) fn is_expedited(&self) -> bool {
         self.type_byte() & EXPEDITED != 0
     }
 
     /// The type without the expedited bit.
     #[inline]
-    pub fn base_type(&self) -> u8 {
+    pub(crate) fn base_type(&self) -> u8 {
         self.type_byte() & !EXPEDITED
     }
 
     /// Header length: 6 if expedited, else 22.
     #[inline]
-    pub fn header_len(&self) -> usize {
+    pub(crate) fn header_len(&self) -> usize {
         Profile::header_len(self.is_expedited())
     }
 
     /// The raw u32 length field (its meaning depends on the profile).
     #[inline]
-    pub fn length_field(&self) -> u32 {
+    pub(crate) fn length_field(&self) -> u32 {
         u32::from_le_bytes(array_at(self.buffer.as_ref(), layout::LENGTH))
     }
 
     /// Seconds from the epoch, or `None` for an expedited header.
-    pub fn timestamp(&self) -> Option<Timestamp> {
+    pub(crate) fn timestamp(&self) -> Option<Timestamp> {
         if self.is_expedited() {
             return None;
         }
@@ -125,20 +112,10 @@ impl<T: AsRef<[u8]>> Header<T> {
 }
 
 /// A header as plain values. Expedited iff `timestamp` is `None`.
-///
-/// ```
-/// use aydp_proto::{HeaderRepr, Profile, Timestamp};
-/// let repr = HeaderRepr { base_type: 1, timestamp: Some(Timestamp::new(42, 500_000)), data_len: 4 };
-/// let mut buf = [0u8; 22];
-/// repr.emit(&mut buf, Profile::Reference).unwrap();
-/// assert_eq!(&buf[..6], &[0xFF, 0x01, 0x04, 0, 0, 0]);
-/// assert_eq!(repr.buffer_len(), 22);
-/// assert_eq!(repr.frame_len(), 27);
-/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct HeaderRepr {
+pub(crate) struct HeaderRepr {
     /// Base type, 0..=126 (the expedited bit is derived from `timestamp`).
     pub base_type: u8,
     /// Header time for a normal message; `None` makes the message expedited.
@@ -148,41 +125,16 @@ pub struct HeaderRepr {
 }
 
 impl HeaderRepr {
-    /// Parse a checked header in the given profile. Fails if the length field is below the
-    /// profile's minimum.
-    pub fn parse<T: AsRef<[u8]>>(header: &Header<T>, profile: Profile) -> Result<Self> {
-        header.check()?;
-        let expedited = header.is_expedited();
-        let field = header.length_field();
-        let frame = profile
-            .frame_len(field, expedited)
-            .ok_or(Error::BadLength(field))?;
-        Ok(Self {
-            base_type: header.base_type(),
-            timestamp: header.timestamp(),
-            data_len: frame.saturating_sub(Profile::overhead(expedited)),
-        })
-    }
-
     /// Whether this header is expedited (no time fields).
     #[inline]
-    pub const fn is_expedited(&self) -> bool {
+    pub(crate) const fn is_expedited(&self) -> bool {
         self.timestamp.is_none()
     }
 
     /// The type byte on the wire, or `None` for a base type over 126, which has no type byte
     /// (Y3; [`HeaderRepr::to_bytes`] refuses it with [`Error::BadType`]).
-    ///
-    /// ```
-    /// use aydp_proto::{HeaderRepr, Timestamp};
-    /// let expedited = HeaderRepr { base_type: 9, timestamp: None, data_len: 1 };
-    /// assert_eq!(expedited.type_byte(), Some(0x89));
-    /// let normal = HeaderRepr { timestamp: Some(Timestamp::new(0, 0)), ..expedited };
-    /// assert_eq!(normal.type_byte(), Some(0x09));
-    /// assert_eq!(HeaderRepr { base_type: 0x85, ..expedited }.type_byte(), None);
-    /// ```
     #[inline]
-    pub const fn type_byte(&self) -> Option<u8> {
+    pub(crate) const fn type_byte(&self) -> Option<u8> {
         if self.base_type > MAX_BASE_TYPE {
             None
         } else if self.is_expedited() {
@@ -194,13 +146,13 @@ impl HeaderRepr {
 
     /// Header length: 6 (expedited) or 22 (normal).
     #[inline]
-    pub const fn buffer_len(&self) -> usize {
+    pub(crate) const fn buffer_len(&self) -> usize {
         Profile::header_len(self.is_expedited())
     }
 
     /// Whole message length: header, data and checksum (saturating).
     #[inline]
-    pub const fn frame_len(&self) -> usize {
+    pub(crate) const fn frame_len(&self) -> usize {
         self.data_len
             .saturating_add(Profile::overhead(self.is_expedited()))
     }
@@ -211,7 +163,7 @@ impl HeaderRepr {
     /// [`Error::BadType`] for a base type over 126, [`Error::TooLong`] when the length does
     /// not fit its field, and [`Error::ExpeditedInReference`] for an expedited header in a
     /// profile without one ([`Profile::has_expedited`]).
-    pub fn to_bytes(&self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
+    pub(crate) fn to_bytes(self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
         if self.is_expedited() && !profile.has_expedited() {
             return Err(Error::ExpeditedInReference);
         }
@@ -234,7 +186,7 @@ impl HeaderRepr {
     ///
     /// # Errors
     /// [`Error::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
-    pub fn emit(&self, buf: &mut [u8], profile: Profile) -> Result<usize> {
+    pub(crate) fn emit(&self, buf: &mut [u8], profile: Profile) -> Result<usize> {
         let n = self.buffer_len();
         if buf.len() < n {
             return Err(Error::BufferTooSmall { needed: n });
@@ -242,5 +194,115 @@ impl HeaderRepr {
         let bytes = self.to_bytes(profile)?;
         put(buf, 0, bytes.get(..n).unwrap_or(&[]));
         Ok(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_view_reads_and_checks_a_header() {
+        let h = Header::new_checked(&[0xFF, 0x80, 0x07, 0, 0, 0, 0x78][..]).unwrap();
+        assert!(h.is_expedited());
+        assert_eq!(h.base_type(), 0);
+        assert_eq!(h.length_field(), 7);
+        assert_eq!(
+            Header::new_checked(&[0xFF, 0xFF, 0, 0, 0, 0][..]),
+            Err(Error::ReservedType)
+        );
+        assert_eq!(
+            Header::new_checked(&[0xFE, 0x80, 0, 0, 0, 0][..]),
+            Err(Error::BadStart)
+        );
+        assert_eq!(
+            Header::new_checked(&[0xFF, 0x00, 0, 0, 0, 0][..]),
+            Err(Error::Truncated)
+        );
+        // Fewer than two bytes are too short to judge, whatever the first one is.
+        assert_eq!(Header::new_checked(&[][..]), Err(Error::Truncated));
+        assert_eq!(Header::new_checked(&[0xFE][..]), Err(Error::Truncated));
+        assert_eq!(Header::new_checked(&[0xFF][..]), Err(Error::Truncated));
+    }
+
+    #[test]
+    fn the_repr_writes_a_header() {
+        let repr = HeaderRepr {
+            base_type: 1,
+            timestamp: Some(Timestamp::new(42, 500_000)),
+            data_len: 4,
+        };
+        let mut buf = [0u8; 22];
+        repr.emit(&mut buf, Profile::Reference).unwrap();
+        assert_eq!(&buf[..6], &[0xFF, 0x01, 0x04, 0, 0, 0]);
+        assert_eq!(repr.buffer_len(), 22);
+        assert_eq!(repr.frame_len(), 27);
+        let expedited = HeaderRepr {
+            base_type: 9,
+            timestamp: None,
+            data_len: 1,
+        };
+        assert_eq!(expedited.type_byte(), Some(0x89));
+        let normal = HeaderRepr {
+            timestamp: Some(Timestamp::new(0, 0)),
+            ..expedited
+        };
+        assert_eq!(normal.type_byte(), Some(0x09));
+        assert_eq!(
+            HeaderRepr {
+                base_type: 0x85,
+                ..expedited
+            }
+            .type_byte(),
+            None
+        );
+        // The Reference profile has no expedited header.
+        let none = HeaderRepr {
+            base_type: 0,
+            timestamp: None,
+            data_len: 0,
+        };
+        assert_eq!(
+            none.to_bytes(Profile::Reference),
+            Err(Error::ExpeditedInReference)
+        );
+        assert_eq!(
+            none.emit(&mut buf, Profile::Reference),
+            Err(Error::ExpeditedInReference)
+        );
+    }
+
+    /// `emit` writes 6 (expedited) or 22 (normal) bytes into a buffer of at least that size
+    /// and refuses a shorter one, naming the size it needs, with nothing written.
+    #[test]
+    fn emit_needs_exactly_the_header_length() {
+        let expedited = HeaderRepr {
+            base_type: 9,
+            timestamp: None,
+            data_len: 1,
+        };
+        let normal = HeaderRepr {
+            timestamp: Some(Timestamp::new(1, 2)),
+            ..expedited
+        };
+        for (h, n) in [(expedited, 6), (normal, 22)] {
+            let mut short = [0xAA; 22];
+            let short = &mut short[..n - 1];
+            assert_eq!(
+                h.emit(short, Profile::Spec),
+                Err(Error::BufferTooSmall { needed: n })
+            );
+            assert!(short.iter().all(|&b| b == 0xAA));
+            let mut exact = [0xAA; 22];
+            assert_eq!(h.emit(&mut exact[..n], Profile::Spec), Ok(n));
+            let mut long = [0xAA; 25];
+            assert_eq!(h.emit(&mut long[..n + 3], Profile::Spec), Ok(n));
+            assert_eq!(long[..n], exact[..n]);
+            assert_eq!(long[n..n + 3], [0xAA; 3]);
+        }
+        let mut exact = [0u8; 6];
+        expedited.emit(&mut exact, Profile::Spec).unwrap();
+        // FF, type 9 with the expedited bit, length 8 (whole message, Spec) little-endian.
+        assert_eq!(exact, [0xFF, 0x89, 0x08, 0, 0, 0]);
     }
 }

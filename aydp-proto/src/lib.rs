@@ -47,22 +47,26 @@
 //! event a call, for a caller that must act between two messages; the readers of the
 //! `embedded-io` features are built on it.
 //!
-//! # Modules
+//! # Contents
 //!
-//! - [`profile`]: the two profiles and the header [`Timestamp`];
-//! - [`header`]: the header view [`Header`] and [`HeaderRepr`];
-//! - [`frame`]: [`Frame`], a checked whole message;
+//! - at the root: the [`Decoder`] (with lossless resynchronisation) and its [`Stats`]; the
+//!   [`Encoder`] (into a buffer or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
+//!   ([`Raw`] for any type); [`Frame`], a checked whole message; the typed messages and the
+//!   [`Message`] enum; [`Profile`] and the header [`Timestamp`];
+//! - [`decoder`]: how the [`Decoder`] resynchronises, and its pull form;
+//! - [`profile`]: the profiles' constants (start byte, header lengths);
+//! - [`message`]: the type numbers of the special and user-defined messages;
 //! - [`checksum`]: the XOR checksum;
-//! - [`encode`]: [`Encoder`] (into a buffer or as a byte iterator) and the [`Payload`] trait;
-//! - [`decoder`]: the [`Decoder`], with lossless resynchronisation;
-//! - [`message`]: typed messages and the [`Message`] enum; [`layout`] (also
-//!   `message::layout`): every message's bytes in one table (field offsets, lengths);
 //! - [`uflt16`]: the binary16 conversions;
 //! - [`registry`]: the system-value registry for devices;
 //! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
 //!   `FrameReader` that returns the next message from a `Read` (`frame-io`'s reader over a
 //!   [`Decoder`]) and a `FrameWriter` that encodes into a `Write`, blocking or async, with the
 //!   error type `IoError`.
+//!
+//! Each typed message gives its bytes as a table, `FIELDS` (name, wire type, offset) and
+//! `LEN` ([`Position::FIELDS`], [`Frame::HEADER_FIELDS`] for the header), for tools that
+//! describe the wire format.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -73,10 +77,10 @@ pub mod decoder;
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
-pub mod encode;
+mod encode;
 mod error;
-pub mod frame;
-pub mod header;
+mod frame;
+mod header;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
 pub mod message;
@@ -89,10 +93,8 @@ pub use encode::{Bytes, Encoder, Payload, Raw};
 pub use error::{Error, Result};
 pub use frame::Frame;
 pub use frame_io::{Decode, Event};
-pub use header::{Header, HeaderRepr};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::IoError;
-pub use message::layout;
 pub use message::{
     DirectOutput, DirectOutputBuilder, Entries, FixDetail, FixDetailBuilder, FixQuality, Message,
     OutputEntry, Position, Satellite, SatelliteList, Satellites, SystemControl, SystemValueUpdate,

@@ -9,7 +9,7 @@ pub const NORMAL_HEADER_LEN: usize = crate::message::layout::header::NORMAL_LEN;
 /// Length of an expedited header: start, type, u32 length (Y3).
 pub const EXPEDITED_HEADER_LEN: usize = crate::message::layout::header::EXPEDITED_LEN;
 /// Highest base type (Y3).
-pub const MAX_BASE_TYPE: u8 = 126;
+pub(crate) const MAX_BASE_TYPE: u8 = 126;
 
 /// Which AYDP convention an encoder or decoder follows.
 ///

@@ -28,6 +28,21 @@ pub enum SystemControl {
 impl SystemControl {
     /// Base type.
     pub const TYPE: u8 = 9;
+    /// The data length of [`SystemControl::RequestData`].
+    pub const REQUEST_DATA_LEN: usize = at::REQUEST_DATA_LEN;
+    /// The data length of [`SystemControl::StoreConfiguration`].
+    pub const STORE_CONFIGURATION_LEN: usize = at::STORE_CONFIGURATION_LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::SystemControl;
+    /// // The command byte; request data (1) is followed by the address.
+    /// assert_eq!(SystemControl::FIELDS, [("command", "u8", 0), ("address", "u16", 1)]);
+    /// assert_eq!(SystemControl::REQUEST_DATA_LEN, 3);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse: request data is exactly 3 bytes, store configuration exactly 1.
     pub fn parse(data: &[u8]) -> Result<Self> {

@@ -4,7 +4,7 @@ use super::{exact, fixed_payload, too_short};
 use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::message::layout::{fix_quality as fq, satellite as sat};
+use crate::message::layout::{fix_detail as fd, fix_quality as fq, satellite as sat};
 use crate::uflt16;
 
 /// Position fix quality (type 4): 8 bytes.
@@ -39,6 +39,15 @@ impl FixQuality {
     pub const TYPE: u8 = 4;
     /// Data length.
     pub const LEN: usize = fq::LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::FixQuality;
+    /// assert_eq!(FixQuality::FIELDS[1], ("mean_dop", "uflt16", 1));
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = fq::FIELDS;
 
     /// Parse exactly 8 data bytes; a negative `uflt16` is an error.
     pub fn parse(data: &[u8]) -> Result<Self> {
@@ -94,6 +103,16 @@ pub struct Satellite {
 impl Satellite {
     /// Bytes per satellite.
     pub const LEN: usize = sat::LEN;
+    /// The layout: `(field, wire type, offset in the entry)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::Satellite;
+    /// // Offsets inside one entry of a fix detail.
+    /// assert_eq!(Satellite::FIELDS[3], ("snr", "uflt16", 5));
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = sat::FIELDS;
 
     /// Parse 7 bytes.
     pub fn parse(b: &[u8; Self::LEN]) -> Result<Self> {
@@ -150,6 +169,19 @@ pub struct FixDetail<'a> {
 impl<'a> FixDetail<'a> {
     /// Base type.
     pub const TYPE: u8 = 5;
+    /// The head's length: the first [`Satellite`] entry starts here.
+    pub const HEADER_LEN: usize = fd::ENTRIES;
+    /// The layout: `(field, wire type, data offset)` per field of the head, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::{FixDetail, Satellite};
+    /// assert_eq!(FixDetail::FIELDS, [("count", "u8", 0)]);
+    /// // The count, then that many entries.
+    /// assert_eq!(FixDetail::HEADER_LEN + 2 * Satellite::LEN, 15);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = fd::FIELDS;
 
     /// Validate: the count must match the length and no `uflt16` may be negative.
     pub fn parse(data: &'a [u8]) -> Result<Self> {

@@ -2,7 +2,7 @@
 
 mod control;
 mod fix;
-pub mod layout;
+pub(crate) mod layout;
 mod output;
 mod position;
 mod reference;

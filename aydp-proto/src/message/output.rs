@@ -28,6 +28,16 @@ pub struct OutputEntry {
 impl OutputEntry {
     /// Bytes per entry.
     pub const LEN: usize = entry::LEN;
+    /// The layout: `(field, wire type, offset in the entry)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::OutputEntry;
+    /// // Offsets inside one entry of a direct output control.
+    /// assert_eq!(OutputEntry::FIELDS[2], ("value", "f32", 2));
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = entry::FIELDS;
 
     /// The 6 bytes of this entry.
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
@@ -70,6 +80,19 @@ pub struct DirectOutput<'a> {
 impl<'a> DirectOutput<'a> {
     /// Base type.
     pub const TYPE: u8 = 7;
+    /// The head's length: the first [`OutputEntry`] starts here.
+    pub const HEADER_LEN: usize = direct_output::ENTRIES;
+    /// The layout: `(field, wire type, data offset)` per field of the head, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::{DirectOutput, OutputEntry};
+    /// assert_eq!(DirectOutput::FIELDS, [("count", "u16", 0)]);
+    /// // The count, then that many entries.
+    /// assert_eq!(DirectOutput::HEADER_LEN + 2 * OutputEntry::LEN, 14);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = direct_output::FIELDS;
 
     /// Validate: the u16 count must match the data length exactly.
     pub fn parse(data: &'a [u8]) -> Result<Self> {

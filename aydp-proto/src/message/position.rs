@@ -29,6 +29,15 @@ impl Position {
     pub const TYPE: u8 = 3;
     /// Data length.
     pub const LEN: usize = at::LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::Position;
+    /// assert_eq!(Position::FIELDS[2], ("altitude", "f32", 16));
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse exactly 20 data bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {

@@ -21,6 +21,15 @@ impl WindSpeed {
     pub const TYPE: u8 = 1;
     /// Data length.
     pub const LEN: usize = wind::LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::WindSpeed;
+    /// assert_eq!(WindSpeed::FIELDS, [("value", "f32", 0)]);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = wind::FIELDS;
     /// Parse exactly 4 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
         Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
@@ -51,6 +60,15 @@ impl WindDirection {
     pub const TYPE: u8 = 2;
     /// Data length.
     pub const LEN: usize = wind::LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::WindDirection;
+    /// assert_eq!(WindDirection::FIELDS, [("value", "f32", 0)]);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = wind::FIELDS;
     /// Parse exactly 4 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {
         Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
@@ -113,6 +131,15 @@ impl VesselData {
     pub const TYPE: u8 = 17;
     /// Data length.
     pub const LEN: usize = at::LEN;
+    /// The layout: `(field, wire type, data offset)` per field, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::VesselData;
+    /// assert_eq!(VesselData::FIELDS[6], ("latitude", "f64", 24));
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse exactly 68 bytes.
     pub fn parse(data: &[u8]) -> Result<Self> {

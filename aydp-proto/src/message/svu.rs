@@ -74,6 +74,17 @@ impl<'a> SystemValueUpdate<'a> {
     pub const TYPE: u8 = 8;
     /// Bytes before the value data.
     pub const HEADER_LEN: usize = at::VALUE;
+    /// The layout: `(field, wire type, data offset)` per field of the head, for tools that describe the
+    /// wire format (the Wireshark dissector `protolink wireshark` writes). Little-endian;
+    /// `uflt16` is binary16 without a sign.
+    ///
+    /// ```
+    /// use aydp_proto::SystemValueUpdate;
+    /// assert_eq!(SystemValueUpdate::FIELDS[2], ("field", "u32", 3));
+    /// // The value bytes follow the head.
+    /// assert_eq!(SystemValueUpdate::HEADER_LEN, 7);
+    /// ```
+    pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse: at least 7 bytes, a known mode, and a zero field for single-value updates.
     pub fn parse(data: &'a [u8]) -> Result<Self> {

@@ -1,14 +1,11 @@
-//! The AOK part of the generated dissector: the frames of `aok_proto::layout` in both
-//! directions, the `63` control sub-commands and the motor bytes found by asking the crate's own
+//! The AOK part of the generated dissector: the frames in both directions as the crate
+//! publishes them (`aok_proto::Message::FRAMES`, `Command::FRAMES`, built from its private
+//! layout), the `63` control sub-commands and the motor bytes found by asking the crate's own
 //! `Command::parse`, and the hand-written scan (each direction's decoder rules, passively).
 
 use std::fmt::Write as _;
 
-use aok_proto::layout::{
-    bulk_read, control, debug, external_control, motor_test, parameter_reply, read_parameter,
-    read_waypoint, set_parameter, waypoint,
-};
-use aok_proto::{Command, MotorTest};
+use aok_proto::{Command, FrameLayout, Message, MotorTest};
 
 use super::fill;
 use crate::decoders::aok_command_fields;
@@ -26,109 +23,34 @@ pub type AokFrame = (
     &'static [Field],
 );
 
-const WAYPOINT_FIELDS: &[Field] = &[
-    ("slot", "slot", waypoint::SLOT),
-    ("longitude", "i32be", waypoint::LONGITUDE),
-    ("latitude", "i32be", waypoint::LATITUDE),
-    ("action1", "action", waypoint::ACTION1),
-    ("action2", "action", waypoint::ACTION2),
-];
-
-/// What the device sends (USER4), read as the PC reads it.
-pub fn device_frames() -> [AokFrame; 3] {
-    [
-        (
-            debug::START,
-            "DEBUG",
-            debug::LEN,
-            Some((debug::CHECKED, debug::CHECKSUM)),
-            &[
-                ("number", "u8", debug::NUMBER),
-                ("value", "i32be", debug::VALUE),
-            ],
-        ),
-        (
-            parameter_reply::START,
-            "PARAMETER",
-            parameter_reply::LEN,
-            Some((parameter_reply::CHECKED, parameter_reply::CHECKSUM)),
-            &[
-                ("number", "u8", parameter_reply::NUMBER),
-                ("value", "i32be", parameter_reply::VALUE),
-            ],
-        ),
-        (
-            waypoint::START,
-            "WAYPOINT",
-            waypoint::LEN,
-            Some((waypoint::CHECKED, waypoint::CHECKSUM)),
-            WAYPOINT_FIELDS,
-        ),
-    ]
+fn frame(f: &FrameLayout) -> AokFrame {
+    (f.start, f.name, f.len, f.checksum.clone(), f.fields)
 }
 
-/// What the PC sends (USER3), read as the device reads it (control and motor test apart).
-pub fn pc_frames() -> [AokFrame; 6] {
-    [
-        (
-            set_parameter::START,
-            "SET_PARAMETER",
-            set_parameter::LEN,
-            Some((set_parameter::CHECKED, set_parameter::CHECKSUM)),
-            &[
-                ("number", "u8", set_parameter::NUMBER),
-                ("value", "i32be", set_parameter::VALUE),
-            ],
-        ),
-        (
-            read_parameter::START,
-            "READ_PARAMETER",
-            read_parameter::LEN,
-            None,
-            &[("number", "u8", read_parameter::NUMBER)],
-        ),
-        (
-            bulk_read::START,
-            "BULK_READ",
-            bulk_read::LEN,
-            None,
-            &[("first", "u8", bulk_read::FIRST)],
-        ),
-        (
-            read_waypoint::START,
-            "READ_WAYPOINT",
-            read_waypoint::LEN,
-            None,
-            &[("slot", "slot", read_waypoint::SLOT)],
-        ),
-        (
-            waypoint::START,
-            "SET_WAYPOINT",
-            waypoint::LEN,
-            Some((waypoint::CHECKED, waypoint::CHECKSUM)),
-            WAYPOINT_FIELDS,
-        ),
-        (
-            external_control::START,
-            "EXTERNAL_CONTROL",
-            external_control::LEN,
-            Some((external_control::CHECKED, external_control::CHECKSUM)),
-            &[
-                ("roll", "stick", external_control::ROLL),
-                ("nick", "stick", external_control::NICK),
-                ("yaw", "stick", external_control::YAW),
-                ("pitch", "i16le", external_control::PITCH),
-                ("expiry_ms", "u16le", external_control::EXPIRY),
-            ],
-        ),
-    ]
+/// What the device sends (USER4), read as the PC reads it: `Message::FRAMES`.
+pub fn device_frames() -> Vec<AokFrame> {
+    Message::FRAMES.iter().map(frame).collect()
+}
+
+/// What the PC sends (USER3), read as the device reads it (control and motor test apart):
+/// `Command::FRAMES`.
+pub fn pc_frames() -> Vec<AokFrame> {
+    Command::FRAMES.iter().map(frame).collect()
+}
+
+/// The offset of the field `name` of `f`.
+fn offset(f: &FrameLayout, name: &str) -> usize {
+    f.fields
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map_or(usize::MAX, |x| x.2)
 }
 
 /// The `63` sub-commands (K5), by asking the crate: sub-command, name, length.
 pub fn control_subs() -> Vec<(u8, String, usize)> {
     (0..=255u8)
         .filter_map(|sub| {
-            let (cmd, n) = Command::parse(&[control::START, sub, 0]).ok()?;
+            let (cmd, n) = Command::parse(&[Command::CONTROL.start, sub, 0]).ok()?;
             Some((sub, aok_command_fields(&cmd).0, n))
         })
         .collect()
@@ -209,7 +131,7 @@ pub fn lua(w: &mut String) {
         }
     }
     for (_, name, len) in &subs {
-        if *len == control::LEN_WITH_SET {
+        if *len == Command::CONTROL.len {
             let key = format!("aok.{}.set", name.to_lowercase());
             if declared.insert(key.clone()) {
                 declare(w, &key, "u8");
@@ -218,20 +140,26 @@ pub fn lua(w: &mut String) {
     }
     w.push_str(&fill(
         include_str!("lua/aok_experts.lua"),
-        &[("CONTROL", &control::START)],
+        &[("CONTROL", &Command::CONTROL.start)],
     ));
     for (sub, name, len) in &subs {
         let _ = writeln!(
             w,
             "  [{sub}] = {{ name = \"{name}\", len = {len}, set = {} }},",
-            if *len == control::LEN_WITH_SET {
+            if *len == Command::CONTROL.len {
                 format!("\"aok.{}.set\"", name.to_lowercase())
             } else {
                 "nil".into()
             }
         );
     }
-    let _ = writeln!(w, "}}\nlocal AOK_CONTROL_SET = {}", control::SET);
+    let _ = writeln!(
+        w,
+        "}}\nlocal AOK_CONTROL_SET = {}",
+        offset(&Command::CONTROL, "set")
+    );
+    let motor = Command::MOTOR_TEST;
+    let (check, check_at) = motor.checksum.clone().unwrap_or((0..0, 0));
     let _ = write!(w, "local AOK_MOTOR = {{");
     for (b, m) in &motors {
         let _ = write!(w, " [{b}] = {m},");
@@ -239,11 +167,11 @@ pub fn lua(w: &mut String) {
     let _ = writeln!(
         w,
         " }}\nlocal AOK_MOTOR_VALUE, AOK_MOTOR_LEN, AOK_MOTOR_CHECK = {}, {}, {{ {}, {}, {} }}",
-        motor_test::VALUE,
-        motor_test::LEN,
-        motor_test::CHECKED.start,
-        motor_test::CHECKED.end,
-        motor_test::CHECKSUM
+        offset(&motor, "value"),
+        motor.len,
+        check.start,
+        check.end,
+        check_at
     );
     table(w, "AOK_DEVICE", &device);
     table(w, "AOK_PC", &pc);
@@ -307,6 +235,13 @@ mod tests {
     }
 
     #[test]
+    fn every_field_the_generator_looks_up_is_in_the_crates_tables() {
+        assert_eq!(offset(&Command::CONTROL, "set"), 2);
+        assert_eq!(offset(&Command::MOTOR_TEST, "value"), 1);
+        assert!(Command::MOTOR_TEST.checksum.is_some());
+    }
+
+    #[test]
     fn the_device_tables_read_what_the_pcs_parse_reads() {
         for f in device_frames() {
             let b = build(&f, 3);
@@ -339,8 +274,8 @@ mod tests {
         assert_eq!(motor_bytes().len(), 12);
         let b = [0x33, 9, 0x33 ^ 9];
         let (c, n) = Command::parse(&b).unwrap();
-        assert_eq!((n, motor_test::LEN), (3, 3));
+        assert_eq!((n, Command::MOTOR_TEST.len), (3, 3));
         let (_, fields) = aok_command_fields(&c);
-        assert_eq!(fields["value"], b[motor_test::VALUE]);
+        assert_eq!(fields["value"], b[offset(&Command::MOTOR_TEST, "value")]);
     }
 }

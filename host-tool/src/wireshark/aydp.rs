@@ -1,14 +1,15 @@
-//! The AYDP part of the generated dissector: tables from `aydp_proto::layout` and the
-//! hand-written framing (profiles, XOR checksum, resync).
+//! The AYDP part of the generated dissector: tables from the typed messages' `FIELDS` and
+//! `LEN` (`aydp_proto::Position::FIELDS`, ..., `Frame::HEADER_FIELDS`), which the crate builds
+//! from its private layout, and the hand-written framing (profiles, XOR checksum, resync).
 
 use std::fmt::Write as _;
 
-use aydp_proto::layout::{
-    direct_output, fix_detail, fix_quality, header, output_entry, position, satellite,
-    system_control, system_value_update, vessel_data, wind,
-};
 use aydp_proto::message::{USER_FIRST, USER_LAST};
-use aydp_proto::profile::{EXPEDITED, START};
+use aydp_proto::profile::{EXPEDITED, EXPEDITED_HEADER_LEN, NORMAL_HEADER_LEN, START};
+use aydp_proto::{
+    DirectOutput, FixDetail, FixQuality, Frame, OutputEntry, Position, Satellite, SystemControl,
+    SystemValueUpdate, VesselData, WindDirection, WindSpeed,
+};
 
 use super::fill;
 use crate::decoders::AYDP_CAPACITY;
@@ -25,68 +26,42 @@ pub type AydpFixed = (
     &'static [Field],
 );
 
-/// The fixed-size typed messages, from the layout.
+/// The fixed-size typed messages, from their `FIELDS`.
 pub const AYDP_FIXED: [AydpFixed; 5] = [
     (
-        3,
+        Position::TYPE,
         None,
         "POSITION",
-        position::LEN,
-        &[
-            ("latitude", "f64", position::LATITUDE),
-            ("longitude", "f64", position::LONGITUDE),
-            ("altitude", "f32", position::ALTITUDE),
-        ],
+        Position::LEN,
+        Position::FIELDS,
     ),
     (
-        4,
+        FixQuality::TYPE,
         None,
         "FIX_QUALITY",
-        fix_quality::LEN,
-        &[
-            ("fix_type", "u8", fix_quality::FIX_TYPE),
-            ("mean_dop", "uflt16", fix_quality::MEAN_DOP),
-            ("hdop", "uflt16", fix_quality::HDOP),
-            ("vdop", "uflt16", fix_quality::VDOP),
-            ("satellites", "u8", fix_quality::SATELLITES),
-        ],
+        FixQuality::LEN,
+        FixQuality::FIELDS,
     ),
     (
-        1,
+        WindSpeed::TYPE,
         Some("reference"),
         "WIND_SPEED",
-        wind::LEN,
-        &[("value", "f32", wind::VALUE)],
+        WindSpeed::LEN,
+        WindSpeed::FIELDS,
     ),
     (
-        2,
+        WindDirection::TYPE,
         Some("reference"),
         "WIND_DIRECTION",
-        wind::LEN,
-        &[("value", "f32", wind::VALUE)],
+        WindDirection::LEN,
+        WindDirection::FIELDS,
     ),
     (
-        17,
+        VesselData::TYPE,
         Some("reference"),
         "VESSEL_DATA",
-        vessel_data::LEN,
-        &[
-            ("roll", "f32", vessel_data::ROLL),
-            ("pitch", "f32", vessel_data::PITCH),
-            ("heading", "f32", vessel_data::HEADING),
-            ("roll_rate", "f32", vessel_data::ROLL_RATE),
-            ("pitch_rate", "f32", vessel_data::PITCH_RATE),
-            ("heading_rate", "f32", vessel_data::HEADING_RATE),
-            ("latitude", "f64", vessel_data::LATITUDE),
-            ("longitude", "f64", vessel_data::LONGITUDE),
-            ("track", "f32", vessel_data::TRACK),
-            ("speed_over_ground", "f32", vessel_data::SPEED_OVER_GROUND),
-            ("fix_type", "i32", vessel_data::FIX_TYPE),
-            ("satellites", "i32", vessel_data::SATELLITES),
-            ("mean_dop", "f32", vessel_data::MEAN_DOP),
-            ("hdop", "f32", vessel_data::HDOP),
-            ("vdop", "f32", vessel_data::VDOP),
-        ],
+        VesselData::LEN,
+        VesselData::FIELDS,
     ),
 ];
 
@@ -103,45 +78,40 @@ pub type AydpList = (
     &'static [Field],
 );
 
-/// Fix detail and direct output, from the layout.
+/// Fix detail and direct output, from their `FIELDS` (the count) and their entries' `FIELDS`.
 pub const AYDP_LISTS: [AydpList; 2] = [
     (
-        5,
+        FixDetail::TYPE,
         "FIX_DETAIL",
         "satellites",
-        "u8",
-        fix_detail::COUNT,
-        fix_detail::ENTRIES,
-        satellite::LEN,
-        &[
-            ("id", "u8", satellite::ID),
-            ("azimuth", "uflt16", satellite::AZIMUTH),
-            ("elevation", "uflt16", satellite::ELEVATION),
-            ("snr", "uflt16", satellite::SNR),
-        ],
+        FixDetail::FIELDS[0].1,
+        FixDetail::FIELDS[0].2,
+        FixDetail::HEADER_LEN,
+        Satellite::LEN,
+        Satellite::FIELDS,
     ),
     (
-        7,
+        DirectOutput::TYPE,
         "DIRECT_OUTPUT",
         "entries",
-        "u16",
-        direct_output::COUNT,
-        direct_output::ENTRIES,
-        output_entry::LEN,
-        &[
-            ("device", "u8", output_entry::DEVICE),
-            ("channel", "u8", output_entry::CHANNEL),
-            ("value", "f32", output_entry::VALUE),
-        ],
+        DirectOutput::FIELDS[0].1,
+        DirectOutput::FIELDS[0].2,
+        DirectOutput::HEADER_LEN,
+        OutputEntry::LEN,
+        OutputEntry::FIELDS,
     ),
 ];
 
-/// System value update (8): its head, from the layout.
-pub const AYDP_SVU: [Field; 3] = [
-    ("mode", "u8", system_value_update::MODE),
-    ("address", "u16", system_value_update::ADDRESS),
-    ("field", "u32", system_value_update::FIELD),
-];
+/// System value update (8): its head, from its `FIELDS`.
+pub const AYDP_SVU: &[Field] = SystemValueUpdate::FIELDS;
+
+/// The offset of the field `name` in `fields` (a header or message table of the crate).
+fn offset(fields: &[Field], name: &str) -> usize {
+    fields
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map_or(usize::MAX, |f| f.2)
+}
 
 /// A type name and size for a ProtoField constructor.
 pub fn lua_kind(ty: &str) -> Option<(&'static str, usize)> {
@@ -207,21 +177,21 @@ pub fn lua(w: &mut String) {
         &[
             ("START", &START),
             ("EXPEDITED", &EXPEDITED),
-            ("TYPE", &header::TYPE),
-            ("LENGTH", &header::LENGTH),
-            ("SECONDS", &header::SECONDS),
-            ("SUBSEC", &header::SUBSEC),
-            ("EXPEDITED_LEN", &header::EXPEDITED_LEN),
-            ("NORMAL_LEN", &header::NORMAL_LEN),
+            ("TYPE", &offset(Frame::HEADER_FIELDS, "type")),
+            ("LENGTH", &offset(Frame::HEADER_FIELDS, "length")),
+            ("SECONDS", &offset(Frame::HEADER_FIELDS, "seconds")),
+            ("SUBSEC", &offset(Frame::HEADER_FIELDS, "subsec")),
+            ("EXPEDITED_LEN", &EXPEDITED_HEADER_LEN),
+            ("NORMAL_LEN", &NORMAL_HEADER_LEN),
             ("CAPACITY", &AYDP_CAPACITY),
             ("USER_FIRST", &USER_FIRST),
             ("USER_LAST", &USER_LAST),
-            ("SVU_VALUE", &system_value_update::VALUE),
-            ("CONTROL_ADDRESS", &system_control::ADDRESS),
-            ("REQUEST_DATA_LEN", &system_control::REQUEST_DATA_LEN),
+            ("SVU_VALUE", &SystemValueUpdate::HEADER_LEN),
+            ("CONTROL_ADDRESS", &offset(SystemControl::FIELDS, "address")),
+            ("REQUEST_DATA_LEN", &SystemControl::REQUEST_DATA_LEN),
             (
                 "STORE_CONFIGURATION_LEN",
-                &system_control::STORE_CONFIGURATION_LEN,
+                &SystemControl::STORE_CONFIGURATION_LEN,
             ),
         ],
     ));
@@ -247,7 +217,7 @@ pub fn lua(w: &mut String) {
         let _ = writeln!(w, " }},");
     }
     let _ = write!(w, "}}\nlocal AYDP_SVU = ");
-    field_list(w, "aydp.system_value_update", &AYDP_SVU);
+    field_list(w, "aydp.system_value_update", AYDP_SVU);
     let _ = writeln!(w);
     w.push_str(DISSECT_AYDP);
 }
@@ -300,6 +270,15 @@ mod tests {
                 data[base + off + 1] &= 0x3F;
             }
         }
+    }
+
+    #[test]
+    fn every_field_the_generator_looks_up_is_in_the_crates_tables() {
+        for name in ["type", "length", "seconds", "subsec"] {
+            assert_ne!(offset(Frame::HEADER_FIELDS, name), usize::MAX, "{name}");
+        }
+        assert_eq!(offset(SystemControl::FIELDS, "address"), 1);
+        assert_eq!(offset(Frame::HEADER_FIELDS, "nothing"), usize::MAX);
     }
 
     #[test]
@@ -386,6 +365,6 @@ mod tests {
             read(&data, AYDP_SVU[2].1, AYDP_SVU[2].2),
             f64::from(u.mode.field())
         );
-        assert_eq!(&data[system_value_update::VALUE..], u.data);
+        assert_eq!(&data[SystemValueUpdate::HEADER_LEN..], u.data);
     }
 }

@@ -1,6 +1,7 @@
 //! The Wireshark Lua dissector (printed by `protolink wireshark`), generated from the protocol crates' own
-//! layout tables (`aeolus_proto::message::*::FIELDS`, `aydp_proto::layout`,
-//! `aok_proto::layout`), so it cannot drift from the code.
+//! layout tables (`aeolus_proto::message::*::FIELDS`, `aydp_proto::Position::FIELDS` and the
+//! other typed messages' `FIELDS`, `aok_proto::Command::FRAMES` and `Message::FRAMES`), which
+//! each crate builds from its private layout, so it cannot drift from the code.
 //!
 //! The dissector reads AEOLUS on UDP ports 5001 and 5002 and on the AEOLUS stream link type
 //! (USER0, 147): every message per datagram, escapes undone (the unescaped frame is shown as its
