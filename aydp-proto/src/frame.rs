@@ -37,7 +37,7 @@ impl<'a> Frame<'a> {
     /// assert_eq!(Frame::HEADER_FIELDS[2], ("length", "u32", 2));
     /// ```
     pub const HEADER_FIELDS: &'static [(&'static str, &'static str, usize)] =
-        crate::message::layout::header::FIELDS;
+        crate::layout::header::FIELDS;
 
     /// Check that `bytes` is exactly one message in `profile`: start byte, type not 0xFF,
     /// length field agreeing with `bytes.len()`, and the XOR checksum.

@@ -6,7 +6,7 @@
 //! ```
 
 use crate::error::{Error, Result};
-use crate::message::layout::header as layout;
+use crate::layout::header as layout;
 use crate::profile::{EXPEDITED, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START, Timestamp};
 
 /// Read `K` bytes at a constant offset; zeros if the buffer is short (never panics).

@@ -83,6 +83,7 @@ mod frame;
 mod header;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+mod layout;
 pub mod message;
 pub mod profile;
 pub mod registry;

@@ -5,9 +5,9 @@ pub const START: u8 = 0xFF;
 /// Bit set in the type byte of an expedited message (no time fields).
 pub const EXPEDITED: u8 = 0x80;
 /// Length of a normal header: start, type, u32 length, i64 seconds, i64 sub-seconds (Y3).
-pub const NORMAL_HEADER_LEN: usize = crate::message::layout::header::NORMAL_LEN;
+pub const NORMAL_HEADER_LEN: usize = crate::layout::header::NORMAL_LEN;
 /// Length of an expedited header: start, type, u32 length (Y3).
-pub const EXPEDITED_HEADER_LEN: usize = crate::message::layout::header::EXPEDITED_LEN;
+pub const EXPEDITED_HEADER_LEN: usize = crate::layout::header::EXPEDITED_LEN;
 /// Highest base type (Y3).
 pub(crate) const MAX_BASE_TYPE: u8 = 126;
 

@@ -334,9 +334,9 @@ fn aok_layers_as_documented() {
     let uses = |m: &str, d: &str| g.get(m).is_some_and(|s| s.contains(d));
     // Wire values and frames below the decoders, decoders below the client.
     assert!(uses("message", "command") && !uses("command", "message"));
-    assert!(!uses("command", "pc") && !uses("message", "pc"));
-    assert!(uses("pc", "message") && uses("device", "command"));
-    assert!(uses("client", "pc") && !uses("pc", "client"));
+    assert!(!uses("command", "decoder") && !uses("message", "decoder"));
+    assert!(uses("decoder", "message") && uses("decoder", "command"));
+    assert!(uses("client", "decoder") && !uses("decoder", "client"));
 }
 
 #[test]

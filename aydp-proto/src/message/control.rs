@@ -3,7 +3,7 @@
 use super::{too_long, too_short};
 use crate::encode::Payload;
 use crate::error::{Error, Result};
-use crate::message::layout::system_control as at;
+use crate::layout::system_control as at;
 
 /// System control commands (table 3.10).
 ///

@@ -4,7 +4,7 @@ use super::{exact, fixed_payload, too_short};
 use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::message::layout::{fix_detail as fd, fix_quality as fq, satellite as sat};
+use crate::layout::{fix_detail as fd, fix_quality as fq, satellite as sat};
 use crate::uflt16;
 
 /// Position fix quality (type 4): 8 bytes.

@@ -2,7 +2,6 @@
 
 mod control;
 mod fix;
-pub(crate) mod layout;
 mod output;
 mod position;
 mod reference;

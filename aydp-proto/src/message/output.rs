@@ -4,7 +4,7 @@ use super::too_short;
 use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::message::layout::{direct_output, output_entry as entry};
+use crate::layout::{direct_output, output_entry as entry};
 
 /// One output setting.
 ///

@@ -3,7 +3,7 @@
 use super::{exact, fixed_payload};
 use crate::error::Result;
 use crate::header::{array_at, put};
-use crate::message::layout::position as at;
+use crate::layout::position as at;
 
 /// Position (type 3).
 ///

@@ -3,7 +3,7 @@
 use super::{exact, fixed_payload};
 use crate::error::Result;
 use crate::header::{array_at, put};
-use crate::message::layout::{vessel_data as at, wind};
+use crate::layout::{vessel_data as at, wind};
 
 /// Wind speed (type 1 in `Reference`): one f32, mph.
 ///

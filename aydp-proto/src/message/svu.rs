@@ -4,7 +4,7 @@ use super::too_short;
 use crate::encode::Payload;
 use crate::error::{Error, Result};
 use crate::header::{array_at, put};
-use crate::message::layout::system_value_update as at;
+use crate::layout::system_value_update as at;
 
 /// Which part of a value an update writes (table 3.7).
 ///
