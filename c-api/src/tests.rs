@@ -989,7 +989,7 @@ fn a_state_never_set_up_filled_with_zeros_is_refused() {
     refused_untouched(|| AnyState::filled(0x00), "filled with 0x00");
 }
 
-/// Issue 44's case: before the tag, `pl_aok_pc_parse_byte` (since removed) on this state built an invalid
+/// Issue 44's case: before the tag, the PC side's one-byte parse call on this state built an invalid
 /// `ReplyForm` (Miri: "constructing invalid value of type aok_proto::ReplyForm: at
 /// .<enum-tag>, encountered 0xa5, but expected a valid enum tag").
 #[test]
