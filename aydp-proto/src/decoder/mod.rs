@@ -311,8 +311,10 @@ impl<const N: usize> Decode for Decoder<N> {
     /// nothing is held), events a rescan left queued first.
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(Option<usize>, usize), Error>>) {
         let total = bytes.len();
-        if N < EXPEDITED_HEADER_LEN {
-            // A decoder too small for a header: keep to the byte-at-a-time path.
+        if N < EXPEDITED_HEADER_LEN || total <= 1 {
+            // A decoder too small for a header, or one byte (a caller that acts after every
+            // byte, as the box's AYDP link, which then links no slice path): the
+            // byte-at-a-time path.
             if let Some(event) = self.queued() {
                 return (0, Some(event));
             }

@@ -39,20 +39,21 @@ impl AokLink {
         }
     }
 
-    /// Decodes `bytes` with the decoder contract's pull form (`next_event`, event by event)
-    /// and collects every event into the open burst; the count decoded: all of them.
+    /// Decodes `bytes` with the decoder contract's pull form (`next_event`), a byte at a time
+    /// (the byte path alone: the firmware links no slice path for AOK's short frames), and
+    /// collects every event into the open burst; the count decoded: all of them.
     fn decode(&mut self, bytes: &[u8], now_ms: u64) -> usize {
         if !bytes.is_empty() {
             self.last_rx_ms = now_ms;
             self.burst_open = true;
         }
-        let mut rest = bytes;
-        loop {
-            let (used, event) = self.decoder.next_event(rest);
-            rest = rest.get(used..).unwrap_or(&[]);
-            match event {
-                Some(item) => self.collect(item),
-                None => break,
+        for byte in bytes {
+            // Every event of the byte before it was taken, so the byte is used at once; the
+            // events a rescan left queued come with nothing (`&[]`).
+            let (_, mut event) = self.decoder.next_event(core::slice::from_ref(byte));
+            while let Some(item) = event {
+                self.collect(item);
+                event = self.decoder.next_event(&[]).1;
             }
         }
         bytes.len()

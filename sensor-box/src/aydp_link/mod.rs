@@ -62,7 +62,7 @@
 //! sending into the port.
 //!
 //! ```
-//! use aydp_proto::{Decoder, Message, Profile};
+//! use aydp_proto::{Decode, Decoder, Message, Profile};
 //! use sensor_box::{Persisted, Shared, aydp_link::AydpLink};
 //!
 //! /// A port that takes nothing in and keeps what goes out.
@@ -294,15 +294,16 @@ impl AydpLink {
             }
             done += 1;
             let stats = self.decoder.stats();
+            // Every event of the byte before it was taken, so the byte is used at once; the
+            // events a rescan left queued come with nothing (`&[]`).
             let mut input = core::slice::from_ref(byte);
             loop {
-                let (used, event) = self.decoder.next_event(input);
-                input = input.get(used..).unwrap_or(&[]);
-                match event {
+                match self.decoder.next_event(input).1 {
                     Some(Ok(frame)) => self.ctx.handle(&frame, &stats, now_ms, shared),
                     Some(Err(e)) => self.ctx.rx_error(e),
                     None => break,
                 }
+                input = &[];
             }
         }
         done
@@ -319,7 +320,7 @@ impl AydpLink {
     /// link's own, and so [`AydpLink::decoder_stats`], is not used on this path).
     ///
     /// ```
-    /// use aydp_proto::{Decoder, Profile, Stats};
+    /// use aydp_proto::{Decode, Decoder, Profile, Stats};
     /// use sensor_box::{aydp_link::AydpLink, Persisted, Shared};
     /// use sensor_box::serial::{PortStats, QueuedSerial};
     /// let (rxq, txq) = (sensor_box::serial::Ring::<2>::new(), sensor_box::serial::Ring::<256>::new());
@@ -330,11 +331,9 @@ impl AydpLink {
     /// // Expedited request data at 0x0110 (airspeed).
     /// let request = [0xFF, 0x89, 0x0A, 0, 0, 0, 0x01, 0x10, 0x01, 0x6C];
     /// let mut decoder = Decoder::<128>::new(Profile::Spec);
-    /// for &b in &request {
-    ///     if let Some(frame) = decoder.push(b) {
-    ///         link.handle_frame(frame.as_ref().map_err(|e| *e), &Stats::default(), 5, &mut port, &mut shared);
-    ///     }
-    /// }
+    /// decoder.feed(&request, |frame| {
+    ///     link.handle_frame(frame.as_ref().map_err(|e| *e), &Stats::default(), 5, &mut port, &mut shared);
+    /// });
     /// assert_eq!(link.counters().requests_answered, 1);
     /// assert_eq!(isr.next_to_send(), Some(0xFF)); // the reply
     /// link.handle_frame(Err(aydp_proto::Error::ChecksumMismatch { id: 0x80, computed: 0x12, received: 0x13 }), &Stats::default(), 6, &mut port, &mut shared);

@@ -63,6 +63,13 @@ impl Decode for CommandDecoder {
         if let Some(item) = self.poll() {
             return (0, event(Some(item)));
         }
+        // One byte (a caller that acts after every byte, as the box's AOK link): the byte path
+        // alone, so such a caller links no slice path.
+        match *bytes {
+            [] => return (0, None),
+            [byte] => return (1, event(self.push(byte))),
+            _ => {}
+        }
         let mut rest = bytes;
         // Bytes held from an earlier call: byte by byte until the buffer is empty.
         while self.held.len != 0 {

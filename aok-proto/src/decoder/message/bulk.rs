@@ -72,6 +72,17 @@ impl Decode for MessageDecoder {
             }
             self.unpolled = false;
         }
+        // One byte (a caller that acts after every byte): the byte path alone, so such a
+        // caller links no slice path.
+        match *bytes {
+            [] => return (0, None),
+            [byte] => {
+                let found = self.push(byte);
+                self.unpolled = found.is_some();
+                return (1, event(found));
+            }
+            _ => {}
+        }
         let mut rest = bytes;
         // Bytes held from an earlier call: byte by byte until the buffer is empty.
         while self.held.len != 0 {
