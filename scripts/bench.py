@@ -471,11 +471,12 @@ def c_section():
             ratio = float(r[9])
             line = f"- {r[0]}: {ratio:.2f} times, {verdict(ratio, 1.10)}"
             if ratio > 1.10:
-                line += (": the C face adds about 70 instructions a frame (the item filled, the callback called),"
-                         " much against short frames" if "AOK" in r[0] or "AYDP" in r[0] else
-                         ": the item filled and the callback called for each frame")
+                line += (": the C `feed` takes the pull form (`decode`) an event at a time, to give each"
+                         " message its offset and wire length, and fills the item and calls back for each;"
+                         " AOK's `decode` costs several times its `feed`, and the frames are short")
             sec.append(line + ".")
-    sec += ["- (no target) `parse_byte` pays a call per byte: prologue, pointer checks, the state check.", ""]
+    sec += ["- (no target) `parse` a byte at a time pays a call per byte: prologue, pointer checks, the"
+            " state check, the byte count of each message's place.", ""]
     return sec
 
 

@@ -118,7 +118,7 @@ for line in open(sys.argv[1]):
         if t1 != t2:
             sys.exit(f"{name}: the two runs differ ({t1} and {t2} ticks)")
         rows[name] = (int(nbytes), int(instr), int(msgs))
-print("| protocol (capture) | bytes | messages | C `parse`, 1 byte a call | Rust `push` | C / Rust | C `parse` (stops at each event) | C `feed` (callback) | Rust `feed` | C feed / Rust feed |")
+print("| protocol (capture) | bytes | messages | C `parse`, 1 byte a call | Rust `feed`, 1 byte a call | C / Rust | C `parse` (stops at each event) | C `feed` (callback) | Rust `feed` | C feed / Rust feed |")
 print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for proto, label in [("aeolus", "AEOLUS (qemu-uart0-aeolus.bin)"), ("aydp", "AYDP Spec (qemu-uart1-aydp.bin)"),
                      ("aok_pc", "AOK PC side (qemu-uart2-aok.bin)")]:
