@@ -110,6 +110,19 @@ impl Decode for CommandDecoder {
     /// assert_eq!(dec.end(), Some(Event::Found(Command::DebugOn)));
     /// assert_eq!(dec.end(), None);
     /// ```
+    ///
+    /// `finish`, the trait's loop over `end`, hands out the same events:
+    ///
+    /// ```
+    /// use aok_proto::{Command, CommandDecoder, Decode, Error};
+    /// let mut dec = CommandDecoder::new();
+    /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
+    /// let mut got = Vec::new();
+    /// dec.finish(|event| got.push(event));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
+    /// assert_eq!(dec.stats().abandoned, 1);
+    /// assert_eq!(dec.held_bytes(), 0);
+    /// ```
     fn end(&mut self) -> Option<Event<Command, Error>> {
         end_of_stream!(self, self.step(true))
     }
@@ -145,29 +158,6 @@ impl Decode for CommandDecoder {
             return self.feed_byte(byte, on_event);
         }
         self.feed_slice(bytes, on_event);
-    }
-
-    /// The line went quiet: the partial command at the front is given up (its first byte is
-    /// dropped, counted as abandoned and reported as `Err(Error::Truncated)`) and what
-    /// followed it rescanned, until nothing is held; every event goes to `on_event`.
-    ///
-    /// ```
-    /// use aok_proto::{Command, CommandDecoder, Decode, Error};
-    /// let mut dec = CommandDecoder::new();
-    /// dec.feed(&[0x73, 0x63, 0x02], |_| {}); // 73 waits for 4 more bytes
-    /// let mut got = Vec::new();
-    /// dec.finish(|event| got.push(event));
-    /// assert_eq!(got, [Err(Error::Truncated), Ok(Command::DebugOn)]);
-    /// assert_eq!(dec.stats().abandoned, 1);
-    /// assert_eq!(dec.held_bytes(), 0);
-    /// ```
-    fn finish<F>(&mut self, mut on_event: F)
-    where
-        F: FnMut(Result<Command, Error>),
-    {
-        while let Some(item) = self.step(true) {
-            on_event(item);
-        }
     }
 }
 

@@ -119,6 +119,21 @@ impl Decode for MessageDecoder {
     /// assert_eq!(dec.end(), Some(Event::Found(Message::Ack(Ack::Ok))));
     /// assert_eq!(dec.end(), None);
     /// ```
+    ///
+    /// `finish`, the trait's loop over `end`, hands out the same events:
+    ///
+    /// ```
+    /// use aok_proto::{Ack, Decode, Error, Expect, FirmwareVersion, Message, MessageDecoder};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// // A debug frame cut short, then the ack: the ack is inside the debug candidate...
+    /// let mut got = Vec::new();
+    /// dec.feed(&[0x1c, 0x56, b'O'], |event| got.push(event));
+    /// assert!(got.is_empty());
+    /// // ...until the line goes quiet.
+    /// dec.finish(|event| got.push(event));
+    /// assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
+    /// ```
     fn end(&mut self) -> Option<Event<Message, Error>> {
         self.unpolled = false;
         end_of_stream!(self, self.quiet_next())
@@ -157,32 +172,6 @@ impl Decode for MessageDecoder {
             return self.feed_byte(byte, on_event);
         }
         self.feed_slice(bytes, on_event);
-    }
-
-    /// The line went quiet: the partial frame at the front is given up (its first byte is
-    /// dropped, counted as abandoned and reported as `Err(Error::Truncated)`) and what
-    /// followed it rescanned, until nothing is held; every event goes to `on_event`.
-    ///
-    /// ```
-    /// use aok_proto::{Ack, Decode, Error, Expect, FirmwareVersion, Message, MessageDecoder};
-    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
-    /// dec.expect(Expect::Ack);
-    /// // A debug frame cut short, then the ack: the ack is inside the debug candidate...
-    /// let mut got = Vec::new();
-    /// dec.feed(&[0x1c, 0x56, b'O'], |event| got.push(event));
-    /// assert!(got.is_empty());
-    /// // ...until the line goes quiet.
-    /// dec.finish(|event| got.push(event));
-    /// assert_eq!(got, [Err(Error::Truncated), Ok(Message::Ack(Ack::Ok))]);
-    /// ```
-    fn finish<F>(&mut self, mut on_event: F)
-    where
-        F: FnMut(Result<Message, Error>),
-    {
-        self.unpolled = false;
-        while let Some(item) = self.quiet_next() {
-            on_event(item);
-        }
     }
 }
 
