@@ -7,13 +7,13 @@
 //! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
 //!   a time, with no frame buffer.
 //!
-//! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
+//! The async twins are in [`crate::embedded_io_async`]. A reader fails with [`IoError`](crate::IoError), a writer with [`WriteError`].
 
 use ::embedded_io::Write;
 
 use crate::io::{frame_bytes, message_data, scratch};
 use crate::message::Message;
-use crate::{CrcMode, Decoder, IoError};
+use crate::{CrcMode, Decoder, WriteError};
 
 /// Reads AEOLUS frames from a blocking [`Read`](::embedded_io::Read): a [`Decoder<N>`] plus an
 /// `R`-byte read buffer ([`frame_io::embedded_io::Reader`] over a [`Decoder<N>`]: its methods are
@@ -63,7 +63,7 @@ impl<W: Write> FrameWriter<W> {
     /// It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Transport`] or [`IoError::WriteZero`]; the frame may then be partly sent.
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`]; the frame may then be partly sent.
     ///
     /// ```
     /// use aeolus_proto::{embedded_io::FrameWriter, CrcMode};
@@ -77,7 +77,7 @@ impl<W: Write> FrameWriter<W> {
         id: u8,
         data: &[u8],
         crc: CrcMode,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         frame_io::embedded_io::write_iter(&mut self.inner, frame_bytes(id, data, crc))
     }
 
@@ -99,24 +99,24 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         message: &Message<'_>,
         crc: CrcMode,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         let mut scratch = scratch();
-        let data = message_data(message, &mut scratch).map_err(IoError::Protocol)?;
+        let data = message_data(message, &mut scratch);
         self.write_frame(message.id(), data, crc)
     }
 
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// let mut buf = [0u8; 8];
     /// let mut writer = aeolus_proto::embedded_io::FrameWriter::new(&mut buf[..]);
     /// assert!(writer.flush().is_ok());
     /// ```
-    pub fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().map_err(IoError::Transport)
+    pub fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

@@ -8,15 +8,15 @@
 //! - [`FrameWriter`] encodes frames straight into a [`Write`], a chunk of at most 32 bytes at
 //!   a time, with no frame buffer.
 //!
-//! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
-//! [`IoError`]. Cancelling `read` loses no decoded state; it loses the bytes of a read in
+//! The blocking twins are in [`crate::embedded_io`] and behave the same. A reader fails with
+//! [`IoError`](crate::IoError), a writer with [`WriteError`]. Cancelling `read` loses no decoded state; it loses the bytes of a read in
 //! progress only if the transport's `read` is not cancel-safe.
 
 use ::embedded_io_async::Write;
 
 use crate::io::{frame_bytes, message_data, scratch};
 use crate::message::Message;
-use crate::{CrcMode, Decoder, IoError};
+use crate::{CrcMode, Decoder, WriteError};
 
 /// Reads AEOLUS frames from an async [`Read`](::embedded_io_async::Read): a [`Decoder<N>`] plus an
 /// `R`-byte read buffer ([`frame_io::embedded_io_async::Reader`] over a [`Decoder<N>`]: its methods
@@ -76,7 +76,7 @@ impl<W: Write> FrameWriter<W> {
     /// It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Transport`] or [`IoError::WriteZero`]; the frame may then be partly sent.
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`]; the frame may then be partly sent.
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -96,7 +96,7 @@ impl<W: Write> FrameWriter<W> {
         id: u8,
         data: &[u8],
         crc: CrcMode,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         frame_io::embedded_io_async::write_iter(&mut self.inner, frame_bytes(id, data, crc)).await
     }
 
@@ -124,16 +124,16 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         message: &Message<'_>,
         crc: CrcMode,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         let mut scratch = scratch();
-        let data = message_data(message, &mut scratch).map_err(IoError::Protocol)?;
+        let data = message_data(message, &mut scratch);
         self.write_frame(message.id(), data, crc).await
     }
 
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -145,8 +145,8 @@ impl<W: Write> FrameWriter<W> {
     /// let mut writer = aeolus_proto::embedded_io_async::FrameWriter::new(&mut buf[..]);
     /// assert!(block_on(writer.flush()).is_ok());
     /// ```
-    pub async fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().await.map_err(IoError::Transport)
+    pub async fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().await.map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

@@ -1,7 +1,7 @@
 //! Building frames: flag, ID, data and CRC, escaped, flag (spec section 4.1).
 
 use crate::{
-    ESCAPE, Error, FLAG, crc,
+    ESCAPE, EncodeError, FLAG, crc,
     scan::{is_special, special_bytes},
 };
 
@@ -107,17 +107,17 @@ fn put_escaped_byte(out: &mut [u8], at: usize, byte: u8) -> Option<usize> {
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`] if `out` cannot hold the escaped frame; `out` then holds a
+/// [`EncodeError::BufferTooSmall`] if `out` cannot hold the escaped frame; `out` then holds a
 /// partial frame that must not be sent. Its `needed` is [`max_encoded_len`] of the data: a
 /// buffer that long always holds the frame. (The exact length depends on how many bytes the
 /// escapes double, the CRC's included; counting them on this path cost the firmware 150 B of
 /// flash, more than its budget had left.)
 ///
 /// ```
-/// use aeolus_proto::{encode_frame, max_encoded_len, CrcMode, Error};
+/// use aeolus_proto::{encode_frame, max_encoded_len, CrcMode, EncodeError};
 /// let mut out = [0u8; 7];
 /// let e = encode_frame(82, &[0x7E, 0], &[], CrcMode::Compute, &mut out);
-/// assert_eq!(e, Err(Error::BufferTooSmall { needed: max_encoded_len(2) }));
+/// assert_eq!(e, Err(EncodeError::BufferTooSmall { needed: max_encoded_len(2) }));
 /// let mut out = [0u8; max_encoded_len(2)];
 /// assert_eq!(encode_frame(82, &[0x7E, 0], &[], CrcMode::Compute, &mut out), Ok(8));
 /// ```
@@ -127,8 +127,8 @@ pub fn encode_frame(
     tail: &[u8],
     crc_mode: CrcMode,
     out: &mut [u8],
-) -> Result<usize, Error> {
-    write_frame(id, head, tail, crc_mode, out).ok_or(Error::BufferTooSmall {
+) -> Result<usize, EncodeError> {
+    write_frame(id, head, tail, crc_mode, out).ok_or(EncodeError::BufferTooSmall {
         needed: max_encoded_len(head.len().saturating_add(tail.len())),
     })
 }

@@ -1,20 +1,16 @@
-//! The crate's single error type.
+//! The crate's errors, one type per operation: [`Error`] for decoding, [`EncodeError`] for
+//! building and encoding what is sent.
 
 use core::fmt;
 
-/// Everything that can go wrong while framing, deframing, parsing or emitting AEOLUS data.
+/// What decoding can report: deframing a stream or a datagram, checking a frame, parsing a
+/// message.
 ///
 /// Decoders report these and carry on: no input makes them panic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
-    /// The output buffer cannot hold what was asked for; a buffer of `needed` bytes does.
-    BufferTooSmall {
-        /// Bytes that hold the output: exactly the data's length for `emit`, the worst case
-        /// ([`crate::max_encoded_len`]) for an escaped frame.
-        needed: usize,
-    },
     /// A frame grew past the decoder's capacity. Its bytes were dropped and the decoder
     /// waits for the next flag.
     Overflow,
@@ -62,9 +58,6 @@ pub enum Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::BufferTooSmall { needed } => {
-                write!(f, "output buffer too small: {needed} bytes needed")
-            }
             Error::Overflow => f.write_str("frame longer than the decoder capacity"),
             Error::ChecksumMismatch {
                 id,
@@ -97,3 +90,48 @@ impl fmt::Display for Error {
 }
 
 impl core::error::Error for Error {}
+
+/// What building or encoding a message to send can fail with.
+///
+/// ```
+/// use aeolus_proto::{message::Text, EncodeError};
+/// let e = Text::new(&"x".repeat(300)).unwrap_err();
+/// assert_eq!(e, EncodeError::TextTooLong { len: 300 });
+/// let mut out = [0u8; 2];
+/// assert_eq!(Text::new("hi").unwrap().emit(&mut out), Err(EncodeError::BufferTooSmall { needed: 3 }));
+/// assert_eq!(e.to_string(), "a 300-byte text, more than 120 allowed");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum EncodeError {
+    /// The output buffer cannot hold what was asked for; a buffer of `needed` bytes does.
+    BufferTooSmall {
+        /// Bytes that hold the output: exactly the data's length for `emit`, the worst case
+        /// ([`crate::max_encoded_len`]) for an escaped frame.
+        needed: usize,
+    },
+    /// A TOAST or COMMAND text given to [`crate::message::Text::new`] is longer than
+    /// [`crate::TEXT_CAPACITY`].
+    TextTooLong {
+        /// The text's length in bytes.
+        len: usize,
+    },
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            EncodeError::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
+            EncodeError::TextTooLong { len } => write!(
+                f,
+                "a {len}-byte text, more than {} allowed",
+                crate::TEXT_CAPACITY
+            ),
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}

@@ -29,17 +29,18 @@ pub type IoError<E> = frame_io::IoError<E, Error>;
 const SCRATCH: usize = TEXT_CAPACITY + 1;
 const _: () = assert!(crate::message::Compass::LEN <= SCRATCH);
 
-/// Message data, emitted into `scratch` unless the message holds its bytes already.
+/// Message data, emitted into `scratch` unless the message holds its bytes already. `scratch`
+/// holds every typed message's data (checked above), so emitting into it cannot fail.
 pub(crate) fn message_data<'m>(
     message: &'m Message<'_>,
     scratch: &'m mut [u8; SCRATCH],
-) -> Result<&'m [u8], Error> {
+) -> &'m [u8] {
     match message {
-        Message::CalibInfo(d) | Message::DebugInfo(d) | Message::Log(d) => Ok(d),
-        Message::Unknown { data, .. } => Ok(data),
+        Message::CalibInfo(d) | Message::DebugInfo(d) | Message::Log(d) => d,
+        Message::Unknown { data, .. } => data,
         other => {
-            let n = other.emit(scratch)?;
-            Ok(scratch.get(..n).unwrap_or(&[]))
+            let n = other.emit(scratch).unwrap_or(0);
+            scratch.get(..n).unwrap_or(&[])
         }
     }
 }
@@ -53,3 +54,19 @@ pub(crate) const fn scratch() -> [u8; SCRATCH] {
 pub(crate) fn frame_bytes(id: u8, data: &[u8], crc: CrcMode) -> FrameBytes<'_> {
     FrameBytes::new(id, data, crc)
 }
+
+/// The error of a writer over `embedded-io` or `embedded-io-async`: the transport's error `E`
+/// ([`frame_io::IoError::Transport`] or [`frame_io::IoError::WriteZero`]). Encoding cannot
+/// fail here (every message fits the writer's buffer), so the protocol side is
+/// [`Infallible`](core::convert::Infallible) and a `match` needs no arm for it.
+///
+/// ```
+/// use aeolus_proto::WriteError;
+/// let e: WriteError<&str> = WriteError::Transport("reset");
+/// let text = match e {
+///     WriteError::Transport(t) => t,
+///     WriteError::WriteZero | WriteError::Eof | WriteError::UnexpectedEof { .. } => "",
+/// };
+/// assert_eq!(text, "reset");
+/// ```
+pub type WriteError<E> = frame_io::IoError<E, core::convert::Infallible>;

@@ -88,11 +88,11 @@ mod scan;
 pub use datagram::{DatagramFrames, decode_datagram};
 pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
-pub use error::Error;
+pub use error::{EncodeError, Error};
 pub use frame::Frame;
 pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-pub use io::IoError;
+pub use io::{IoError, WriteError};
 pub use scan::find_flag;
 
 /// The flag byte that opens and closes every frame.

@@ -1,7 +1,7 @@
 //! `max_encoded_len` is the exact worst case: two flags plus the ID, the data and the CRC,
 //! every one of them escaped; a frame that escapes all of them fills it to the byte.
 
-use aeolus_proto::{CrcMode, Error, encode_frame, max_encoded_len};
+use aeolus_proto::{CrcMode, EncodeError, encode_frame, max_encoded_len};
 use proptest::prelude::Just;
 
 #[test]
@@ -27,7 +27,7 @@ fn a_frame_that_escapes_every_byte_fills_max_encoded_len_exactly() {
     let mut short = vec![0u8; max_encoded_len(1) - 1];
     assert_eq!(
         encode_frame(0x7D, &[0x7D], &[], CrcMode::Compute, &mut short),
-        Err(Error::BufferTooSmall {
+        Err(EncodeError::BufferTooSmall {
             needed: max_encoded_len(1),
         })
     );
@@ -56,7 +56,7 @@ proptest::proptest! {
         let mut short = vec![0u8; len.saturating_sub(short_by)];
         proptest::prop_assert_eq!(
             encode_frame(id, head, tail, mode, &mut short),
-            Err(Error::BufferTooSmall { needed: worst })
+            Err(EncodeError::BufferTooSmall { needed: worst })
         );
         let mut exact = vec![0u8; len];
         proptest::prop_assert_eq!(encode_frame(id, head, tail, mode, &mut exact), Ok(len));

@@ -1,18 +1,14 @@
 //! What an application shows of an error: the `Display` text of every `Error` and `IoError`,
 //! and the `Debug` form of a `Text` (a string when it is UTF-8, bytes otherwise).
 
-use aeolus_proto::{Error, TEXT_CAPACITY, message::Text};
+use aeolus_proto::{EncodeError, Error, TEXT_CAPACITY, message::Text};
 
 #[test]
 fn every_error_has_its_sentence() {
     let cases = [
         (
-            Error::BufferTooSmall { needed: 9 },
-            "output buffer too small: 9 bytes needed".to_string(),
-        ),
-        (
             Error::Overflow,
-            "frame longer than the decoder capacity".into(),
+            "frame longer than the decoder capacity".to_string(),
         ),
         (
             Error::ChecksumMismatch {
@@ -56,6 +52,23 @@ fn every_error_has_its_sentence() {
         assert_eq!(e.to_string(), want, "{e:?}");
     }
     assert_eq!(TEXT_CAPACITY, 120);
+}
+
+#[test]
+fn every_encode_error_has_its_sentence() {
+    let cases = [
+        (
+            EncodeError::BufferTooSmall { needed: 9 },
+            "output buffer too small: 9 bytes needed",
+        ),
+        (
+            EncodeError::TextTooLong { len: 200 },
+            "a 200-byte text, more than 120 allowed",
+        ),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+    }
 }
 
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]

@@ -255,7 +255,7 @@ fn writer_errors_are_the_transports() {
     });
     assert_eq!(
         w.write_message(&msg, CrcMode::Compute),
-        Err(IoError::Transport(ErrorKind::BrokenPipe))
+        Err(aeolus_proto::WriteError::Transport(ErrorKind::BrokenPipe))
     );
     let mut w = aio::FrameWriter::new(Sink {
         zero: true,
@@ -263,7 +263,7 @@ fn writer_errors_are_the_transports() {
     });
     assert_eq!(
         block_on(w.write_message(&msg, CrcMode::Compute)),
-        Err(IoError::WriteZero)
+        Err(aeolus_proto::WriteError::WriteZero)
     );
     assert_eq!(block_on(w.flush()), Ok(()));
 }

@@ -194,7 +194,7 @@ fn encode_reports_buffer_too_small() {
         let mut out = vec![0u8; len];
         assert_eq!(
             msg.encode(&mut out, CrcMode::Compute),
-            Err(Error::BufferTooSmall {
+            Err(EncodeError::BufferTooSmall {
                 needed: max_encoded_len(10)
             }),
             "len {len}"
@@ -204,11 +204,11 @@ fn encode_reports_buffer_too_small() {
     assert_eq!(msg.encode(&mut out, CrcMode::Compute), Ok(15));
     assert_eq!(
         Gyro::default().emit(&mut [0u8; 31]),
-        Err(Error::BufferTooSmall { needed: Gyro::LEN })
+        Err(EncodeError::BufferTooSmall { needed: Gyro::LEN })
     );
     // A text's data is the text and its NUL.
     assert_eq!(
         Text::new("AEOLUS on").unwrap().emit(&mut [0u8; 9]),
-        Err(Error::BufferTooSmall { needed: 10 })
+        Err(EncodeError::BufferTooSmall { needed: 10 })
     );
 }

@@ -1,11 +1,11 @@
 #![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! The writers' `flush` reaches the transport, once per call, and hands its error back as
-//! `IoError::Transport`, blocking and async.
+//! `WriteError::Transport`, blocking and async.
 
 #[path = "support/transport.rs"]
 mod transport;
 
-use aeolus_proto::{IoError, embedded_io as bio, embedded_io_async as aio};
+use aeolus_proto::{WriteError, embedded_io as bio, embedded_io_async as aio};
 use embedded_io::ErrorKind;
 use transport::{Flushes, block_on};
 
@@ -13,7 +13,7 @@ use transport::{Flushes, block_on};
 fn a_blocking_flush_reaches_the_transport_and_returns_its_error() {
     let mut w = bio::FrameWriter::new(Flushes { count: 0, ok: 1 });
     assert_eq!(w.flush(), Ok(()));
-    assert_eq!(w.flush(), Err(IoError::Transport(ErrorKind::TimedOut)));
+    assert_eq!(w.flush(), Err(WriteError::Transport(ErrorKind::TimedOut)));
     assert_eq!(w.into_inner().count, 2);
 }
 
@@ -23,7 +23,7 @@ fn an_async_flush_reaches_the_transport_and_returns_its_error() {
     assert_eq!(block_on(w.flush()), Ok(()));
     assert_eq!(
         block_on(w.flush()),
-        Err(IoError::Transport(ErrorKind::TimedOut))
+        Err(WriteError::Transport(ErrorKind::TimedOut))
     );
     assert_eq!(w.into_inner().count, 2);
 }

@@ -7,7 +7,7 @@ use crate::layout::{
 };
 use crate::layout::{bytes, put};
 use crate::values::{ActionWord, Motor, Stick, WaypointSlot};
-use crate::{Error, checked_value, xor};
+use crate::{EncodeError, Error, checked_value, xor};
 
 /// `63`: the two- and three-byte control commands (no checksum, K5).
 pub const CONTROL: u8 = control::START;
@@ -132,7 +132,7 @@ pub struct ExternalControl {
 /// let n = Command::ReadParameter(12).emit(&mut buf)?;
 /// assert_eq!(&buf[..n], &[0x67, 0x0c]);
 /// assert_eq!(Command::parse(&buf[..n])?, (Command::ReadParameter(12), 2));
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -414,9 +414,9 @@ impl Command {
     /// assert_eq!(cmd.emit(&mut buf)?, 3);
     /// assert_eq!(buf, [0x33, 0x28, 0x1b]);
     /// assert!(cmd.emit(&mut [0u8; 2]).is_err());
-    /// # Ok::<(), aok_proto::Error>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, Error> {
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, EncodeError> {
         let (f, n) = self.to_bytes();
         copy_out(&f, n, buf)
     }
@@ -477,11 +477,13 @@ fn control_n(f: &mut [u8; MAX_COMMAND_LEN], sub: u8, n: u8) {
 }
 
 /// Copy the first `n` bytes of `src` into `buf`.
-pub(crate) fn copy_out(src: &[u8], n: usize, buf: &mut [u8]) -> Result<usize, Error> {
-    let src = src.get(..n).ok_or(Error::BufferTooSmall { needed: n })?;
+pub(crate) fn copy_out(src: &[u8], n: usize, buf: &mut [u8]) -> Result<usize, EncodeError> {
+    let src = src
+        .get(..n)
+        .ok_or(EncodeError::BufferTooSmall { needed: n })?;
     let dst = buf
         .get_mut(..src.len())
-        .ok_or(Error::BufferTooSmall { needed: n })?;
+        .ok_or(EncodeError::BufferTooSmall { needed: n })?;
     // Zipped: no length check left to a panic when the copy is not inlined (libprotolink.a
     // roots every entry point, and at opt-level "z" this copy stays out of line).
     dst.iter_mut().zip(src).for_each(|(d, s)| *d = *s);

@@ -8,12 +8,12 @@
 //!   stream, those of `finish`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //!
-//! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
+//! The async twins are in [`crate::embedded_io_async`]. A reader fails with [`IoError`](crate::IoError), a writer with [`WriteError`].
 
 use ::embedded_io::Write;
 
 use crate::io::{command_bytes, message_bytes};
-use crate::{Command, CommandDecoder, IoError, Message, MessageDecoder, ReplyForm};
+use crate::{Command, CommandDecoder, Message, MessageDecoder, ReplyForm, WriteError};
 
 /// Reads what the device sends (debug frames, replies, acks) from a blocking
 /// [`Read`](::embedded_io::Read): a [`MessageDecoder`] plus an `R`-byte read buffer.
@@ -59,7 +59,7 @@ pub type CommandReader<T, const R: usize = 32> =
 /// let n = writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value: 1500
 ///     }))?;
 /// assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
-/// # Ok::<(), aok_proto::IoError<embedded_io::SliceWriteError>>(())
+/// # Ok::<(), aok_proto::WriteError<embedded_io::SliceWriteError>>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct Writer<W> {
@@ -81,7 +81,7 @@ impl<W: Write> Writer<W> {
     /// Writes a command (PC side); returns the bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Transport`] or [`IoError::WriteZero`]; the command may be partly sent.
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`]; the command may be partly sent.
     ///
     /// ```
     /// use aok_proto::{embedded_io::Writer, Command};
@@ -89,7 +89,7 @@ impl<W: Write> Writer<W> {
     /// assert_eq!(Writer::new(&mut wire[..]).write_command(&Command::DebugOff), Ok(2));
     /// assert_eq!(&wire[..2], &[0x63, 0x01]);
     /// ```
-    pub fn write_command(&mut self, command: &Command) -> Result<usize, IoError<W::Error>> {
+    pub fn write_command(&mut self, command: &Command) -> Result<usize, WriteError<W::Error>> {
         let (frame, n) = command_bytes(command);
         let bytes = frame.get(..n).unwrap_or(&[]);
         frame_io::embedded_io::write_all(&mut self.inner, bytes).map(|()| n)
@@ -99,8 +99,7 @@ impl<W: Write> Writer<W> {
     /// bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Protocol`] if the message cannot be encoded (nothing is written);
-    /// [`IoError::Transport`] or [`IoError::WriteZero`].
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`].
     ///
     /// ```
     /// use aok_proto::{embedded_io::Writer, Ack, Message, ReplyForm};
@@ -113,8 +112,8 @@ impl<W: Write> Writer<W> {
         &mut self,
         message: &Message,
         form: ReplyForm,
-    ) -> Result<usize, IoError<W::Error>> {
-        let (frame, n) = message_bytes(message, form).map_err(IoError::Protocol)?;
+    ) -> Result<usize, WriteError<W::Error>> {
+        let (frame, n) = message_bytes(message, form);
         let bytes = frame.get(..n).unwrap_or(&[]);
         frame_io::embedded_io::write_all(&mut self.inner, bytes).map(|()| n)
     }
@@ -122,14 +121,14 @@ impl<W: Write> Writer<W> {
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// let mut buf = [0u8; 8];
     /// assert!(aok_proto::embedded_io::Writer::new(&mut buf[..]).flush().is_ok());
     /// ```
-    pub fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().map_err(IoError::Transport)
+    pub fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

@@ -10,8 +10,8 @@
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
 //! - [`AsyncClient`] is the PC-side [`Client`](crate::Client) over an async port.
 //!
-//! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
-//! [`IoError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
+//! The blocking twins are in [`crate::embedded_io`] and behave the same. A reader fails with
+//! [`IoError`](crate::IoError), a writer with [`WriteError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
 //! in progress only if the transport's `read` is not cancel-safe.
 
 use ::embedded_io_async::Write;
@@ -20,7 +20,7 @@ mod client;
 pub use client::{AsyncClient, Pipe, TICK_MS};
 
 use crate::io::{command_bytes, message_bytes};
-use crate::{Command, CommandDecoder, IoError, Message, MessageDecoder, ReplyForm};
+use crate::{Command, CommandDecoder, Message, MessageDecoder, ReplyForm, WriteError};
 
 /// Reads what the device sends (debug frames, replies, acks) from an async
 /// [`Read`](::embedded_io_async::Read): a [`MessageDecoder`] plus an `R`-byte read buffer.
@@ -81,7 +81,7 @@ pub type CommandReader<T, const R: usize = 32> =
 /// let n = block_on(writer.write_command(&Command::SetParameter(ParameterValue { number: 12, value:
 ///     1500 })))?;
 /// assert_eq!(&wire[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
-/// # Ok::<(), aok_proto::IoError<embedded_io::SliceWriteError>>(())
+/// # Ok::<(), aok_proto::WriteError<embedded_io::SliceWriteError>>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct Writer<W> {
@@ -103,7 +103,7 @@ impl<W: Write> Writer<W> {
     /// Writes a command (PC side); returns the bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Transport`] or [`IoError::WriteZero`]; the command may be partly sent.
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`]; the command may be partly sent.
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -116,7 +116,10 @@ impl<W: Write> Writer<W> {
     /// assert_eq!(block_on(Writer::new(&mut wire[..]).write_command(&Command::DebugOff)), Ok(2));
     /// assert_eq!(&wire[..2], &[0x63, 0x01]);
     /// ```
-    pub async fn write_command(&mut self, command: &Command) -> Result<usize, IoError<W::Error>> {
+    pub async fn write_command(
+        &mut self,
+        command: &Command,
+    ) -> Result<usize, WriteError<W::Error>> {
         let (frame, n) = command_bytes(command);
         let bytes = frame.get(..n).unwrap_or(&[]);
         frame_io::embedded_io_async::write_all(&mut self.inner, bytes)
@@ -128,8 +131,7 @@ impl<W: Write> Writer<W> {
     /// bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Protocol`] if the message cannot be encoded (nothing is written);
-    /// [`IoError::Transport`] or [`IoError::WriteZero`].
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`].
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -147,8 +149,8 @@ impl<W: Write> Writer<W> {
         &mut self,
         message: &Message,
         form: ReplyForm,
-    ) -> Result<usize, IoError<W::Error>> {
-        let (frame, n) = message_bytes(message, form).map_err(IoError::Protocol)?;
+    ) -> Result<usize, WriteError<W::Error>> {
+        let (frame, n) = message_bytes(message, form);
         let bytes = frame.get(..n).unwrap_or(&[]);
         frame_io::embedded_io_async::write_all(&mut self.inner, bytes)
             .await
@@ -158,7 +160,7 @@ impl<W: Write> Writer<W> {
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -169,8 +171,8 @@ impl<W: Write> Writer<W> {
     /// let mut buf = [0u8; 8];
     /// assert!(block_on(aok_proto::embedded_io_async::Writer::new(&mut buf[..]).flush()).is_ok());
     /// ```
-    pub async fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().await.map_err(IoError::Transport)
+    pub async fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().await.map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

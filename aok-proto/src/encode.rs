@@ -1,9 +1,9 @@
 //! The encoders of both sides: [`encode_command`] (the PC's commands, and the ready-made
 //! [`DEBUG_OFF`] and [`DEBUG_ON`]) and the device's replies ([`encode_debug`],
 //! [`encode_ack`], [`encode_parameter`], [`encode_bulk`], [`encode_waypoint`]). Each writes
-//! into `buf` and returns the bytes written, or [`Error::BufferTooSmall`].
+//! into `buf` and returns the bytes written, or [`EncodeError::BufferTooSmall`].
 
-use crate::Error;
+use crate::EncodeError;
 use crate::command::{Command, ParameterValue, Waypoint};
 use crate::message::{DebugValue, HEADED_REPLY_LEN, Message};
 use crate::values::{Ack, ReplyForm};
@@ -30,9 +30,9 @@ pub const DEBUG_ON: [u8; 2] = [0x63, 0x02];
 /// let mut buf = [0u8; 19];
 /// let n = encode_command(&Command::SetParameter(ParameterValue { number: 12, value: 1500 }), &mut buf)?;
 /// assert_eq!(&buf[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn encode_command(command: &Command, buf: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_command(command: &Command, buf: &mut [u8]) -> Result<usize, EncodeError> {
     command.emit(buf)
 }
 
@@ -43,9 +43,9 @@ pub fn encode_command(command: &Command, buf: &mut [u8]) -> Result<usize, Error>
 /// let mut buf = [0u8; 7];
 /// encode_debug(DebugValue { number: 3, value: 305419896 }, &mut buf)?;
 /// assert_eq!(buf, [0x1c, 0x03, 0x12, 0x34, 0x56, 0x78, 0x0b]);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn encode_debug(value: DebugValue, buf: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_debug(value: DebugValue, buf: &mut [u8]) -> Result<usize, EncodeError> {
     Message::Debug(value).emit(ReplyForm::Headed, buf)
 }
 
@@ -55,9 +55,9 @@ pub fn encode_debug(value: DebugValue, buf: &mut [u8]) -> Result<usize, Error> {
 /// let mut buf = [0u8; 1];
 /// aok_proto::encode_ack(aok_proto::Ack::Ok, &mut buf)?;
 /// assert_eq!(buf, [b'O']);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn encode_ack(ack: Ack, buf: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_ack(ack: Ack, buf: &mut [u8]) -> Result<usize, EncodeError> {
     Message::Ack(ack).emit(ReplyForm::Headed, buf)
 }
 
@@ -69,13 +69,13 @@ pub fn encode_ack(ack: Ack, buf: &mut [u8]) -> Result<usize, Error> {
 /// let p = ParameterValue { number: 12, value: 1500 };
 /// assert_eq!(encode_parameter(p, ReplyForm::Headed, &mut buf)?, 7);
 /// assert_eq!(buf, [0xff, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd9]);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn encode_parameter(
     value: ParameterValue,
     form: ReplyForm,
     buf: &mut [u8],
-) -> Result<usize, Error> {
+) -> Result<usize, EncodeError> {
     Message::Parameter(value).emit(form, buf)
 }
 
@@ -89,12 +89,12 @@ pub fn encode_parameter(
 /// assert_eq!(&buf[..7], &[0xff, 10, 0, 0, 0, 7, 7]);
 /// assert_eq!(buf[105], 0xff);
 /// assert_eq!(buf[106], 25);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usize, EncodeError> {
     let out = buf
         .get_mut(..HEADED_REPLY_LEN * 16)
-        .ok_or(Error::BufferTooSmall {
+        .ok_or(EncodeError::BufferTooSmall {
             needed: HEADED_REPLY_LEN * 16,
         })?;
     let mut number = first;
@@ -114,8 +114,8 @@ pub fn encode_bulk(first: u8, values: &[i32; 16], buf: &mut [u8]) -> Result<usiz
 /// let mut buf = [0u8; 19];
 /// assert_eq!(encode_waypoint(&w, &mut buf)?, 19);
 /// assert_eq!(&buf[..2], &[0x77, 0xff]);
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn encode_waypoint(waypoint: &Waypoint, buf: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_waypoint(waypoint: &Waypoint, buf: &mut [u8]) -> Result<usize, EncodeError> {
     Message::Waypoint(*waypoint).emit(ReplyForm::Headed, buf)
 }

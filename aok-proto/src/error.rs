@@ -1,23 +1,18 @@
 //! The errors, one type per operation: [`Error`] for what the wire gives (decoding, parsing,
-//! typed values and encoding into a buffer), [`ClientError`] for what the PC-side client's
-//! operations end with.
+//! typed values), [`EncodeError`] for encoding into a buffer, [`ClientError`] for what the
+//! PC-side client's operations end with.
 
 use core::fmt;
 
-/// What can go wrong with bytes and values: decoding a stream (the decoders' events), parsing a
-/// frame, building a typed value, encoding into a buffer too small. The client's own failures
-/// are [`ClientError`].
+/// What can go wrong with received bytes and values: decoding a stream (the decoders' events),
+/// parsing a frame, building a typed value. Encoding fails with [`EncodeError`], the client
+/// with [`ClientError`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
     /// The input ends before the frame does (also: a partial frame given up at the end of the stream, by a decoder's `finish`).
     Truncated,
-    /// The output buffer is too small for the frame.
-    BufferTooSmall {
-        /// Bytes the output needs.
-        needed: usize,
-    },
     /// The first byte is not the start of any frame this side understands.
     UnknownCommand(u8),
     /// The frame's XOR checksum does not match. The same fields as in every protocol crate.
@@ -126,9 +121,6 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Truncated => f.write_str("frame truncated"),
-            Self::BufferTooSmall { needed } => {
-                write!(f, "output buffer too small: {needed} bytes needed")
-            }
             Self::UnknownCommand(b) => write!(f, "unknown command byte 0x{b:02x}"),
             Self::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
             Self::InvalidSlot(s) => write!(f, "invalid waypoint slot {s}"),
@@ -156,3 +148,33 @@ impl fmt::Display for ClientError {
 }
 
 impl core::error::Error for ClientError {}
+
+/// What encoding into a buffer can fail with.
+///
+/// ```
+/// use aok_proto::{encode_ack, Ack, EncodeError};
+/// let mut out = [0u8; 0];
+/// assert_eq!(encode_ack(Ack::Ok, &mut out), Err(EncodeError::BufferTooSmall { needed: 1 }));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum EncodeError {
+    /// The output buffer is too small for the frame.
+    BufferTooSmall {
+        /// Bytes the output needs.
+        needed: usize,
+    },
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}

@@ -36,12 +36,26 @@ pub(crate) fn command_bytes(command: &Command) -> ([u8; MAX_COMMAND_LEN], usize)
     command.to_bytes()
 }
 
-/// The wire bytes of a device message in `form`.
-pub(crate) fn message_bytes(
-    message: &Message,
-    form: ReplyForm,
-) -> Result<([u8; MAX_COMMAND_LEN], usize), Error> {
+/// The wire bytes of a device message in `form`. Every message is one frame, and the longest
+/// frame (a waypoint) is [`MAX_COMMAND_LEN`] bytes, so emitting into the buffer cannot fail.
+pub(crate) fn message_bytes(message: &Message, form: ReplyForm) -> ([u8; MAX_COMMAND_LEN], usize) {
     let mut buf = [0u8; MAX_COMMAND_LEN];
-    let n = message.emit(form, &mut buf)?;
-    Ok((buf, n))
+    let n = message.emit(form, &mut buf).unwrap_or(0);
+    (buf, n)
 }
+
+/// The error of a writer over `embedded-io` or `embedded-io-async`: the transport's error `E`
+/// ([`frame_io::IoError::Transport`] or [`frame_io::IoError::WriteZero`]). Encoding cannot
+/// fail here (every message fits the writer's buffer), so the protocol side is
+/// [`Infallible`](core::convert::Infallible) and a `match` needs no arm for it.
+///
+/// ```
+/// use aok_proto::WriteError;
+/// let e: WriteError<&str> = WriteError::Transport("reset");
+/// let text = match e {
+///     WriteError::Transport(t) => t,
+///     WriteError::WriteZero | WriteError::Eof | WriteError::UnexpectedEof { .. } => "",
+/// };
+/// assert_eq!(text, "reset");
+/// ```
+pub type WriteError<E> = frame_io::IoError<E, core::convert::Infallible>;

@@ -49,7 +49,7 @@
 //! pc.feed(&reply[..reply_len], |event| got.push(event));
 //! pc.finish(|event| got.push(event));
 //! assert_eq!(got, [Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))]);
-//! # Ok::<(), aok_proto::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![no_std]
 #![forbid(unsafe_code)]
@@ -77,10 +77,10 @@ pub use encode::{
     DEBUG_OFF, DEBUG_ON, encode_ack, encode_bulk, encode_command, encode_debug, encode_parameter,
     encode_waypoint,
 };
-pub use error::{ClientError, Error, SerialError};
+pub use error::{ClientError, EncodeError, Error, SerialError};
 pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-pub use io::IoError;
+pub use io::{IoError, WriteError};
 pub use layout::FrameLayout;
 pub use message::{DebugValue, Message};
 pub use values::{

@@ -6,7 +6,7 @@ use crate::layout::{
     ack, bytes, debug, headerless_reply as headerless, parameter_reply as reply, put, waypoint,
 };
 use crate::values::{Ack, ReplyForm};
-use crate::{Error, checked_value, xor};
+use crate::{EncodeError, Error, checked_value, xor};
 
 /// `1C`: the start of a debug-value frame.
 pub const DEBUG: u8 = debug::START;
@@ -46,7 +46,7 @@ impl DebugValue {
 /// let n = m.emit(ReplyForm::Headed, &mut buf)?;
 /// assert_eq!(&buf[..n], &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57]);
 /// assert_eq!(Message::parse(&buf[..n])?, (m, 7));
-/// # Ok::<(), aok_proto::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -116,9 +116,9 @@ impl Message {
     /// let mut buf = [0u8; 7];
     /// assert_eq!(m.emit(ReplyForm::Headerless, &mut buf)?, 5);
     /// assert_eq!(&buf[..5], &[0x00, 0x00, 0x05, 0xdc, 0xd9]);
-    /// # Ok::<(), aok_proto::Error>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn emit(&self, form: ReplyForm, buf: &mut [u8]) -> Result<usize, Error> {
+    pub fn emit(&self, form: ReplyForm, buf: &mut [u8]) -> Result<usize, EncodeError> {
         match *self {
             Self::Debug(d) => copy_out(&value_frame(DEBUG, d.number, d.value), DEBUG_LEN, buf),
             Self::Ack(a) => copy_out(&[a.byte()], ack::LEN, buf),
@@ -146,7 +146,7 @@ impl Message {
     /// let bytes = [0xff, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd9];
     /// assert_eq!(Message::parse(&bytes)?,
     ///            (Message::Parameter(ParameterValue { number: 12, value: 1500 }), 7));
-    /// # Ok::<(), aok_proto::Error>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn parse(bytes: &[u8]) -> Result<(Self, usize), Error> {
         let first = *bytes.first().ok_or(Error::Truncated)?;
@@ -201,7 +201,7 @@ impl ParameterValue {
     /// use aok_proto::ParameterValue;
     /// let p = ParameterValue::parse_headerless(&[0x00, 0x00, 0x05, 0xdc, 0xd9], 12)?;
     /// assert_eq!(p, ParameterValue { number: 12, value: 1500 });
-    /// # Ok::<(), aok_proto::Error>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn parse_headerless(bytes: &[u8], number: u8) -> Result<Self, Error> {
         let f = bytes

@@ -30,7 +30,7 @@ fn a_buffer_one_byte_short_is_refused_untouched() {
     let mut buf = [0xAAu8; 111];
     assert_eq!(
         aok_proto::encode_bulk(0, &[1; 16], &mut buf),
-        Err(Error::BufferTooSmall { needed: 112 })
+        Err(aok_proto::EncodeError::BufferTooSmall { needed: 112 })
     );
     assert_eq!(buf, [0xAA; 111]);
 }

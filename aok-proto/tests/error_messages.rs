@@ -1,18 +1,22 @@
-//! What an application shows of an error: the `Display` text of every `Error`, `ClientError`
+//! What an application shows of an error: the `Display` text of every `Error`, `EncodeError`, `ClientError`
 //! and `IoError`,
 //! and the `SerialError` kind of every `embedded-hal-nb` serial error kind.
 
-use aok_proto::{ClientError, Error, SerialError};
+use aok_proto::{ClientError, EncodeError, Error, SerialError};
 use embedded_hal_nb::serial::ErrorKind;
+
+#[test]
+fn the_encode_error_has_its_sentence() {
+    assert_eq!(
+        EncodeError::BufferTooSmall { needed: 7 }.to_string(),
+        "output buffer too small: 7 bytes needed"
+    );
+}
 
 #[test]
 fn every_error_has_its_sentence() {
     let cases = [
         (Error::Truncated, "frame truncated"),
-        (
-            Error::BufferTooSmall { needed: 7 },
-            "output buffer too small: 7 bytes needed",
-        ),
         (Error::UnknownCommand(0x0c), "unknown command byte 0x0c"),
         (
             Error::ChecksumMismatch {

@@ -512,7 +512,7 @@ fn writer_errors_are_the_transports() {
     });
     assert_eq!(
         w.write_command(&Command::DebugOn),
-        Err(IoError::Transport(ErrorKind::BrokenPipe))
+        Err(aok_proto::WriteError::Transport(ErrorKind::BrokenPipe))
     );
     let mut w = aio::Writer::new(Sink {
         zero: true,
@@ -520,6 +520,6 @@ fn writer_errors_are_the_transports() {
     });
     assert_eq!(
         block_on(w.write_command(&Command::DebugOn)),
-        Err(IoError::WriteZero)
+        Err(aok_proto::WriteError::WriteZero)
     );
 }

@@ -9,11 +9,11 @@
 //! - [`FrameWriter`] encodes messages straight into a [`Write`] with the [`Encoder`]'s byte
 //!   iterator, a chunk of at most 32 bytes at a time.
 //!
-//! The async twins are in [`crate::embedded_io_async`]. Errors are [`IoError`].
+//! The async twins are in [`crate::embedded_io_async`]. A reader fails with [`IoError`](crate::IoError), a writer with [`WriteError`].
 
 use ::embedded_io::Write;
 
-use crate::{Decoder, Encoder, IoError, Payload, Profile, Timestamp};
+use crate::{Decoder, Encoder, Payload, Profile, Timestamp, WriteError};
 
 /// Reads AYDP messages from a blocking [`Read`](::embedded_io::Read): a [`Decoder<N>`] plus an
 /// `R`-byte read buffer.
@@ -78,8 +78,8 @@ impl<W: Write> FrameWriter<W> {
     /// transport; returns the bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Protocol`] if the payload cannot be encoded (nothing is written then);
-    /// [`IoError::Transport`] or [`IoError::WriteZero`], and the message may be partly sent.
+    /// [`WriteError::Protocol`] if the payload cannot be encoded (nothing is written then);
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`], and the message may be partly sent.
     ///
     /// ```
     /// use aydp_proto::embedded_io::{FrameReader, FrameWriter};
@@ -95,11 +95,11 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         payload: &P,
         timestamp: Option<Timestamp>,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         let bytes = self
             .encoder
             .iter(payload, timestamp)
-            .map_err(IoError::Protocol)?;
+            .map_err(WriteError::Protocol)?;
         frame_io::embedded_io::write_iter(&mut self.inner, bytes)
     }
 
@@ -118,7 +118,7 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         payload: &P,
         timestamp: Timestamp,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         self.write_message(payload, Some(timestamp))
     }
 
@@ -136,22 +136,22 @@ impl<W: Write> FrameWriter<W> {
     pub fn write_expedited<P: Payload + ?Sized>(
         &mut self,
         payload: &P,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         self.write_message(payload, None)
     }
 
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// use aydp_proto::{embedded_io::FrameWriter, Profile};
     /// let mut buf = [0u8; 8];
     /// assert!(FrameWriter::new(&mut buf[..], Profile::Spec).flush().is_ok());
     /// ```
-    pub fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().map_err(IoError::Transport)
+    pub fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

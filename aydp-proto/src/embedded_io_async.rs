@@ -10,13 +10,13 @@
 //! - [`FrameWriter`] encodes messages straight into a [`Write`] with the [`Encoder`]'s byte
 //!   iterator, a chunk of at most 32 bytes at a time.
 //!
-//! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are
-//! [`IoError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
+//! The blocking twins are in [`crate::embedded_io`] and behave the same. A reader fails with
+//! [`IoError`](crate::IoError), a writer with [`WriteError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
 //! in progress only if the transport's `read` is not cancel-safe.
 
 use ::embedded_io_async::Write;
 
-use crate::{Decoder, Encoder, IoError, Payload, Profile, Timestamp};
+use crate::{Decoder, Encoder, Payload, Profile, Timestamp, WriteError};
 
 /// Reads AYDP messages from an async [`Read`](::embedded_io_async::Read): a [`Decoder<N>`] plus an
 /// `R`-byte read buffer.
@@ -91,8 +91,8 @@ impl<W: Write> FrameWriter<W> {
     /// transport; returns the bytes written. It does not flush.
     ///
     /// # Errors
-    /// [`IoError::Protocol`] if the payload cannot be encoded (nothing is written then);
-    /// [`IoError::Transport`] or [`IoError::WriteZero`], and the message may be partly sent.
+    /// [`WriteError::Protocol`] if the payload cannot be encoded (nothing is written then);
+    /// [`WriteError::Transport`] or [`WriteError::WriteZero`], and the message may be partly sent.
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -114,11 +114,11 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         payload: &P,
         timestamp: Option<Timestamp>,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         let bytes = self
             .encoder
             .iter(payload, timestamp)
-            .map_err(IoError::Protocol)?;
+            .map_err(WriteError::Protocol)?;
         frame_io::embedded_io_async::write_iter(&mut self.inner, bytes).await
     }
 
@@ -143,7 +143,7 @@ impl<W: Write> FrameWriter<W> {
         &mut self,
         payload: &P,
         timestamp: Timestamp,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         self.write_message(payload, Some(timestamp)).await
     }
 
@@ -166,14 +166,14 @@ impl<W: Write> FrameWriter<W> {
     pub async fn write_expedited<P: Payload + ?Sized>(
         &mut self,
         payload: &P,
-    ) -> Result<usize, IoError<W::Error>> {
+    ) -> Result<usize, WriteError<W::Error>> {
         self.write_message(payload, None).await
     }
 
     /// Flushes the transport.
     ///
     /// # Errors
-    /// [`IoError::Transport`].
+    /// [`WriteError::Transport`].
     ///
     /// ```
     /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
@@ -185,8 +185,8 @@ impl<W: Write> FrameWriter<W> {
     /// let mut buf = [0u8; 8];
     /// assert!(block_on(FrameWriter::new(&mut buf[..], Profile::Spec).flush()).is_ok());
     /// ```
-    pub async fn flush(&mut self) -> Result<(), IoError<W::Error>> {
-        self.inner.flush().await.map_err(IoError::Transport)
+    pub async fn flush(&mut self) -> Result<(), WriteError<W::Error>> {
+        self.inner.flush().await.map_err(WriteError::Transport)
     }
 
     /// The transport, mutably.

@@ -1,7 +1,7 @@
 //! Encoding: into a caller's buffer, or as a byte iterator that needs no buffer at all.
 
 use crate::checksum::xor;
-use crate::error::{Error, Result};
+use crate::error::EncodeError;
 use crate::header::HeaderRepr;
 use crate::profile::{NORMAL_HEADER_LEN, Profile, Timestamp};
 
@@ -109,36 +109,36 @@ impl Encoder {
         payload: &P,
         timestamp: Timestamp,
         buf: &mut [u8],
-    ) -> Result<usize> {
+    ) -> Result<usize, EncodeError> {
         self.encode(payload, Some(timestamp), buf)
     }
 
     /// Encode an expedited message (6-byte header, type | 0x80) into `buf`; returns its length.
     ///
     /// # Errors
-    /// [`Error::ExpeditedInReference`] in the `Reference` profile, which has no expedited
+    /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile, which has no expedited
     /// header; otherwise as [`Encoder::encode`].
     pub fn encode_expedited<P: Payload + ?Sized>(
         &self,
         payload: &P,
         buf: &mut [u8],
-    ) -> Result<usize> {
+    ) -> Result<usize, EncodeError> {
         self.encode(payload, None, buf)
     }
 
     /// Encode into `buf`: normal with `Some(timestamp)`, expedited with `None`.
     ///
     /// # Errors
-    /// [`Error::ExpeditedInReference`] for `None` in the `Reference` profile (checked
-    /// first), [`Error::BufferTooSmall`], [`Error::BadType`] and [`Error::TooLong`].
+    /// [`EncodeError::ExpeditedInReference`] for `None` in the `Reference` profile (checked
+    /// first), [`EncodeError::BufferTooSmall`], [`EncodeError::BadType`] and [`EncodeError::TooLong`].
     pub fn encode<P: Payload + ?Sized>(
         &self,
         payload: &P,
         timestamp: Option<Timestamp>,
         buf: &mut [u8],
-    ) -> Result<usize> {
+    ) -> Result<usize, EncodeError> {
         if timestamp.is_none() && !self.profile.has_expedited() {
-            return Err(Error::ExpeditedInReference);
+            return Err(EncodeError::ExpeditedInReference);
         }
         let repr = HeaderRepr {
             base_type: payload.base_type(),
@@ -147,11 +147,11 @@ impl Encoder {
         };
         let total = repr.frame_len();
         let Some(frame) = buf.get_mut(..total) else {
-            return Err(Error::BufferTooSmall { needed: total });
+            return Err(EncodeError::BufferTooSmall { needed: total });
         };
         let hlen = repr.emit(frame, self.profile)?;
         let Some((last, body)) = frame.split_last_mut() else {
-            return Err(Error::BufferTooSmall { needed: total });
+            return Err(EncodeError::BufferTooSmall { needed: total });
         };
         if let Some(data) = body.get_mut(hlen..) {
             payload.write_data(data);
@@ -165,29 +165,32 @@ impl Encoder {
         &self,
         payload: &'p P,
         timestamp: Timestamp,
-    ) -> Result<Bytes<'p, P>> {
+    ) -> Result<Bytes<'p, P>, EncodeError> {
         self.iter(payload, Some(timestamp))
     }
 
     /// The message as a byte iterator, expedited, without any output buffer.
     ///
     /// # Errors
-    /// [`Error::ExpeditedInReference`] in the `Reference` profile; otherwise as
+    /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile; otherwise as
     /// [`Encoder::iter`].
-    pub fn iter_expedited<'p, P: Payload + ?Sized>(&self, payload: &'p P) -> Result<Bytes<'p, P>> {
+    pub fn iter_expedited<'p, P: Payload + ?Sized>(
+        &self,
+        payload: &'p P,
+    ) -> Result<Bytes<'p, P>, EncodeError> {
         self.iter(payload, None)
     }
 
     /// The message as a byte iterator: normal with `Some(timestamp)`, expedited with `None`.
     ///
     /// # Errors
-    /// [`Error::ExpeditedInReference`] for `None` in the `Reference` profile,
-    /// [`Error::BadType`] and [`Error::TooLong`].
+    /// [`EncodeError::ExpeditedInReference`] for `None` in the `Reference` profile,
+    /// [`EncodeError::BadType`] and [`EncodeError::TooLong`].
     pub fn iter<'p, P: Payload + ?Sized>(
         &self,
         payload: &'p P,
         timestamp: Option<Timestamp>,
-    ) -> Result<Bytes<'p, P>> {
+    ) -> Result<Bytes<'p, P>, EncodeError> {
         let repr = HeaderRepr {
             base_type: payload.base_type(),
             timestamp,

@@ -1,27 +1,24 @@
-//! What bytes and values can give: [`Error`]. The system-value registry's operations fail with
-//! their own type, [`crate::registry::RegistryError`].
+//! The errors, one type per operation: [`Error`] for what received bytes give, [`EncodeError`]
+//! for encoding. The system-value registry's operations fail with their own type,
+//! [`crate::registry::RegistryError`].
 
 use core::fmt;
 
-/// What can go wrong with bytes and values: a decoder's events (framing, checksum, length), a
-/// typed parse, an encode into a buffer too small. The registry's operations report
+/// What can go wrong with received bytes: a decoder's events (framing, checksum, length) and a
+/// typed parse. Encoding fails with [`EncodeError`], the registry's operations with
 /// [`RegistryError`](crate::registry::RegistryError).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Error {
-    /// The output buffer is too small; `needed` bytes are required.
-    BufferTooSmall {
-        /// Bytes the message needs.
-        needed: usize,
-    },
     /// The input ends before the header or the message it announces is complete.
     Truncated,
     /// The first byte is not the 0xFF start byte.
     BadStart,
     /// The type byte is 0xFF, which is never a type (Y3, Y5).
     ReservedType,
-    /// A base type above 126 was given to an encoder (base types are 0..=126).
+    /// A base type above 126 was given to [`crate::message::Message::parse`] (base types are
+    /// 0..=126).
     BadType(u8),
     /// The length field is below the profile minimum, beyond the decoder capacity, or does not
     /// match the bytes present.
@@ -35,12 +32,6 @@ pub enum Error {
         /// The checksum byte carried by the message.
         received: u16,
     },
-    /// The message data is too long to be described by the 32-bit length field.
-    TooLong,
-    /// An expedited header was asked of an encoder in the `Reference` profile: the AYDP
-    /// reference software has no expedited header (its receiver loses the frame after one),
-    /// so that profile only encodes normal messages ([`crate::Profile::has_expedited`]).
-    ExpeditedInReference,
     /// The data is shorter than the message type needs.
     PayloadTooShort {
         /// Base message type.
@@ -95,19 +86,12 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::BufferTooSmall { needed } => {
-                write!(f, "buffer too small: {needed} bytes needed")
-            }
             Error::Truncated => f.write_str("input truncated"),
             Error::BadStart => f.write_str("missing 0xFF start byte"),
             Error::ReservedType => f.write_str("type byte 0xFF is reserved"),
             Error::BadType(t) => write!(f, "base type {t} is outside 0..=126"),
             Error::BadLength(l) => write!(f, "bad length field {l}"),
             Error::ChecksumMismatch { .. } => f.write_str("checksum mismatch"),
-            Error::TooLong => f.write_str("message too long for the length field"),
-            Error::ExpeditedInReference => f.write_str(
-                "the Reference profile has no expedited header: send a normal message with a timestamp",
-            ),
             Error::PayloadTooShort {
                 msg_type,
                 expected,
@@ -145,3 +129,51 @@ impl core::error::Error for Error {}
 
 /// Result alias used throughout the crate.
 pub type Result<T> = core::result::Result<T, Error>;
+
+/// What encoding a message (or building its data) can fail with.
+///
+/// ```
+/// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+/// let ping = Raw { msg_type: 5, data: &[1, 2] };
+/// let mut buf = [0u8; 4];
+/// let e = Encoder::new(Profile::Spec).encode_expedited(&ping, &mut buf);
+/// assert_eq!(e, Err(EncodeError::BufferTooSmall { needed: 9 }));
+/// let e = Encoder::new(Profile::Reference).encode_expedited(&ping, &mut buf);
+/// assert_eq!(e, Err(EncodeError::ExpeditedInReference));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum EncodeError {
+    /// The output buffer is too small; `needed` bytes are required.
+    BufferTooSmall {
+        /// Bytes the message needs.
+        needed: usize,
+    },
+    /// A base type above 126 was given to an encoder (base types are 0..=126).
+    BadType(u8),
+    /// The message data is too long for its 32-bit length field, or a list builder's count
+    /// field is full.
+    TooLong,
+    /// An expedited header was asked of an encoder in the `Reference` profile: the AYDP
+    /// reference software has no expedited header (its receiver loses the frame after one),
+    /// so that profile only encodes normal messages ([`crate::Profile::has_expedited`]).
+    ExpeditedInReference,
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            EncodeError::BufferTooSmall { needed } => {
+                write!(f, "buffer too small: {needed} bytes needed")
+            }
+            EncodeError::BadType(t) => write!(f, "base type {t} is outside 0..=126"),
+            EncodeError::TooLong => f.write_str("message too long for the length field"),
+            EncodeError::ExpeditedInReference => f.write_str(
+                "the Reference profile has no expedited header: send a normal message with a timestamp",
+            ),
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}

@@ -5,7 +5,7 @@
 //! expedited  FF | type|0x80 | length u32 LE                                     ( 6 bytes)
 //! ```
 
-use crate::error::{Error, Result};
+use crate::error::{EncodeError, Error, Result};
 use crate::layout::header as layout;
 use crate::profile::{EXPEDITED, MAX_BASE_TYPE, NORMAL_HEADER_LEN, Profile, START, Timestamp};
 
@@ -160,17 +160,22 @@ impl HeaderRepr {
     /// The header bytes; only the first [`HeaderRepr::buffer_len`] are meaningful.
     ///
     /// # Errors
-    /// [`Error::BadType`] for a base type over 126, [`Error::TooLong`] when the length does
-    /// not fit its field, and [`Error::ExpeditedInReference`] for an expedited header in a
+    /// [`EncodeError::BadType`] for a base type over 126, [`EncodeError::TooLong`] when the length does
+    /// not fit its field, and [`EncodeError::ExpeditedInReference`] for an expedited header in a
     /// profile without one ([`Profile::has_expedited`]).
-    pub(crate) fn to_bytes(self, profile: Profile) -> Result<[u8; NORMAL_HEADER_LEN]> {
+    pub(crate) fn to_bytes(
+        self,
+        profile: Profile,
+    ) -> core::result::Result<[u8; NORMAL_HEADER_LEN], EncodeError> {
         if self.is_expedited() && !profile.has_expedited() {
-            return Err(Error::ExpeditedInReference);
+            return Err(EncodeError::ExpeditedInReference);
         }
-        let type_byte = self.type_byte().ok_or(Error::BadType(self.base_type))?;
+        let type_byte = self
+            .type_byte()
+            .ok_or(EncodeError::BadType(self.base_type))?;
         let length = profile
             .length_field(self.data_len, self.is_expedited())
-            .ok_or(Error::TooLong)?;
+            .ok_or(EncodeError::TooLong)?;
         let mut out = [0u8; NORMAL_HEADER_LEN];
         out[layout::START] = START;
         out[layout::TYPE] = type_byte;
@@ -185,11 +190,15 @@ impl HeaderRepr {
     /// Write the header into the start of `buf`; returns the bytes written.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
-    pub(crate) fn emit(&self, buf: &mut [u8], profile: Profile) -> Result<usize> {
+    /// [`EncodeError::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
+    pub(crate) fn emit(
+        &self,
+        buf: &mut [u8],
+        profile: Profile,
+    ) -> core::result::Result<usize, EncodeError> {
         let n = self.buffer_len();
         if buf.len() < n {
-            return Err(Error::BufferTooSmall { needed: n });
+            return Err(EncodeError::BufferTooSmall { needed: n });
         }
         let bytes = self.to_bytes(profile)?;
         put(buf, 0, bytes.get(..n).unwrap_or(&[]));
@@ -264,11 +273,11 @@ mod tests {
         };
         assert_eq!(
             none.to_bytes(Profile::Reference),
-            Err(Error::ExpeditedInReference)
+            Err(EncodeError::ExpeditedInReference)
         );
         assert_eq!(
             none.emit(&mut buf, Profile::Reference),
-            Err(Error::ExpeditedInReference)
+            Err(EncodeError::ExpeditedInReference)
         );
     }
 
@@ -290,7 +299,7 @@ mod tests {
             let short = &mut short[..n - 1];
             assert_eq!(
                 h.emit(short, Profile::Spec),
-                Err(Error::BufferTooSmall { needed: n })
+                Err(EncodeError::BufferTooSmall { needed: n })
             );
             assert!(short.iter().all(|&b| b == 0xAA));
             let mut exact = [0xAA; 22];

@@ -3,7 +3,7 @@
 //! implementation; the two feature modules only name them and add the writers' calls
 //! (blocking or `.await`) around `frame-io`'s write loop.
 
-use crate::error::Error;
+use crate::error::{EncodeError, Error};
 
 /// The error of a reader or writer over `embedded-io` or `embedded-io-async`
 /// ([`frame_io::IoError`] with this crate's [`Error`]): the transport's error `E` and the
@@ -27,3 +27,14 @@ use crate::error::Error;
 /// assert_eq!(e.to_string(), "protocol error: checksum mismatch");
 /// ```
 pub type IoError<E> = frame_io::IoError<E, Error>;
+
+/// The error of a writer over `embedded-io` or `embedded-io-async` ([`frame_io::IoError`] with
+/// this crate's [`EncodeError`]): the transport's error `E`, or the message could not be
+/// encoded (nothing was written).
+///
+/// ```
+/// use aydp_proto::{EncodeError, WriteError};
+/// let e: WriteError<core::convert::Infallible> = WriteError::Protocol(EncodeError::TooLong);
+/// assert_eq!(e.to_string(), "protocol error: message too long for the length field");
+/// ```
+pub type WriteError<E> = frame_io::IoError<E, EncodeError>;

@@ -91,11 +91,11 @@ pub mod uflt16;
 
 pub use decoder::{Decoder, Stats};
 pub use encode::{Bytes, Encoder, Payload, Raw};
-pub use error::{Error, Result};
+pub use error::{EncodeError, Error, Result};
 pub use frame::Frame;
 pub use frame_io::{Decode, Event};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
-pub use io::IoError;
+pub use io::{IoError, WriteError};
 pub use message::{
     DirectOutput, DirectOutputBuilder, Entries, FixDetail, FixDetailBuilder, FixQuality, Message,
     OutputEntry, Position, Satellite, SatelliteList, Satellites, SystemControl, SystemValueUpdate,

@@ -92,18 +92,18 @@ impl Profile {
     /// Whether this profile has the expedited header (type | 0x80, no time fields). `Spec`
     /// does; `Reference` does not: the AYDP reference software never sends one, and a model of
     /// its receiver loses the frame that follows one. An encoder in `Reference` refuses an
-    /// expedited message with [`Error::ExpeditedInReference`](crate::Error::ExpeditedInReference);
+    /// expedited message with [`EncodeError::ExpeditedInReference`](crate::EncodeError::ExpeditedInReference);
     /// decoders in either profile still read one.
     ///
     /// ```
-    /// use aydp_proto::{Encoder, Error, Profile, Raw};
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
     /// assert!(Profile::Spec.has_expedited());
     /// assert!(!Profile::Reference.has_expedited());
     /// let mut buf = [0u8; 16];
     /// let no_op = Raw { msg_type: 0, data: &[] };
     /// assert_eq!(
     ///     Encoder::new(Profile::Reference).encode_expedited(&no_op, &mut buf),
-    ///     Err(Error::ExpeditedInReference)
+    ///     Err(EncodeError::ExpeditedInReference)
     /// );
     /// ```
     #[inline]

@@ -19,7 +19,7 @@ fn len_is_the_count_and_entries_follow_it() {
 
 #[test]
 fn the_builder_writes_the_same_bytes_that_parse_reads() {
-    use aydp_proto::{DirectOutputBuilder, Error, OutputEntry};
+    use aydp_proto::{DirectOutputBuilder, OutputEntry};
     let a = OutputEntry {
         device: 1,
         channel: 2,
@@ -38,7 +38,7 @@ fn the_builder_writes_the_same_bytes_that_parse_reads() {
     // A third entry needs 6 more bytes; 5 are left.
     assert_eq!(
         builder.push(a),
-        Err(Error::BufferTooSmall { needed: 2 + 3 * 6 })
+        Err(aydp_proto::EncodeError::BufferTooSmall { needed: 2 + 3 * 6 })
     );
     let out = builder.finish();
     assert_eq!(

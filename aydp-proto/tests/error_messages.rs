@@ -1,15 +1,37 @@
-//! What an application shows of an error: the `Display` text of every `Error` and `IoError`.
+//! What an application shows of an error: the `Display` text of every `Error`, `EncodeError`
+//! and `IoError`.
 
-use aydp_proto::Error;
 use aydp_proto::registry::RegistryError;
+use aydp_proto::{EncodeError, Error};
+
+#[test]
+fn every_encode_error_has_its_sentence() {
+    let cases = [
+        (
+            EncodeError::BufferTooSmall { needed: 9 },
+            "buffer too small: 9 bytes needed",
+        ),
+        (
+            EncodeError::BadType(127),
+            "base type 127 is outside 0..=126",
+        ),
+        (
+            EncodeError::TooLong,
+            "message too long for the length field",
+        ),
+        (
+            EncodeError::ExpeditedInReference,
+            "the Reference profile has no expedited header: send a normal message with a timestamp",
+        ),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want, "{e:?}");
+    }
+}
 
 #[test]
 fn every_error_has_its_sentence() {
     let cases = [
-        (
-            Error::BufferTooSmall { needed: 9 },
-            "buffer too small: 9 bytes needed",
-        ),
         (Error::Truncated, "input truncated"),
         (Error::BadStart, "missing 0xFF start byte"),
         (Error::ReservedType, "type byte 0xFF is reserved"),
@@ -23,7 +45,6 @@ fn every_error_has_its_sentence() {
             },
             "checksum mismatch",
         ),
-        (Error::TooLong, "message too long for the length field"),
         (
             Error::PayloadTooShort {
                 msg_type: 4,

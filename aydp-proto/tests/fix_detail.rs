@@ -72,7 +72,7 @@ fn the_builder_refuses_a_satellite_past_its_buffer() {
     assert_eq!(b.push(sats()[0]), Ok(()));
     assert_eq!(
         b.push(sats()[1]),
-        Err(Error::BufferTooSmall { needed: 1 + 2 * 7 })
+        Err(aydp_proto::EncodeError::BufferTooSmall { needed: 1 + 2 * 7 })
     );
     let fix = b.finish();
     assert_eq!(fix.len(), 1);
@@ -86,7 +86,7 @@ fn the_builder_holds_at_most_255_satellites() {
     for i in 0..255 {
         assert_eq!(b.push(sats()[i % 3]), Ok(()), "satellite {i}");
     }
-    assert_eq!(b.push(sats()[0]), Err(Error::TooManySatellites(256)));
+    assert_eq!(b.push(sats()[0]), Err(aydp_proto::EncodeError::TooLong));
     let fix = b.finish();
     assert_eq!(fix.len(), 255);
     assert_eq!(fix.satellites().count(), 255);

@@ -2,7 +2,7 @@
 //! profiles (the `Reference` encoder refuses the expedited form, and `frame_len` still says
 //! how long it would be).
 
-use aydp_proto::{Encoder, Error, Profile, Raw, Timestamp};
+use aydp_proto::{Encoder, Profile, Raw, Timestamp};
 
 #[test]
 fn frame_len_is_what_the_encoder_writes() {
@@ -19,7 +19,7 @@ fn frame_len_is_what_the_encoder_writes() {
         let want_expedited = if profile.has_expedited() {
             Ok(10)
         } else {
-            Err(Error::ExpeditedInReference)
+            Err(aydp_proto::EncodeError::ExpeditedInReference)
         };
         assert_eq!((normal, expedited), (Ok(26), want_expedited), "{profile:?}");
         assert_eq!(lens, (26, 10), "{profile:?}");

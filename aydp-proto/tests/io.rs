@@ -283,10 +283,10 @@ proptest! {
         let mut want = vec![0u8; 200];
         if reference && expedited {
             // The Reference profile has no expedited header: refused, and nothing written.
-            let refused = Err(IoError::Protocol(aydp_proto::Error::ExpeditedInReference));
+            let refused = Err(aydp_proto::WriteError::Protocol(aydp_proto::EncodeError::ExpeditedInReference));
             prop_assert_eq!(
                 Encoder::new(profile).encode(&payload, ts, &mut want),
-                Err(aydp_proto::Error::ExpeditedInReference)
+                Err(aydp_proto::EncodeError::ExpeditedInReference)
             );
             let mut w = bio::FrameWriter::new(sink(max), profile);
             prop_assert_eq!(w.write_message(&payload, ts), refused);
@@ -322,7 +322,7 @@ fn writer_errors_are_kept_apart() {
             msg_type: 3,
             data: &long
         }),
-        Err(IoError::Transport(ErrorKind::BrokenPipe))
+        Err(aydp_proto::WriteError::Transport(ErrorKind::BrokenPipe))
     );
     // A type byte beyond 126 is the protocol's error, and nothing is written.
     let mut w = aio::FrameWriter::new(sink(8), Profile::Spec);
@@ -331,7 +331,9 @@ fn writer_errors_are_kept_apart() {
             msg_type: 200,
             data: &[]
         })),
-        Err(IoError::Protocol(Error::BadType(200)))
+        Err(aydp_proto::WriteError::Protocol(
+            aydp_proto::EncodeError::BadType(200)
+        ))
     );
     assert!(w.get_mut().out.is_empty());
     let mut w = aio::FrameWriter::new(
@@ -346,6 +348,6 @@ fn writer_errors_are_kept_apart() {
             msg_type: 3,
             data: &long
         })),
-        Err(IoError::WriteZero)
+        Err(aydp_proto::WriteError::WriteZero)
     );
 }

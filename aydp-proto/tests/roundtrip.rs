@@ -179,7 +179,7 @@ fn check(s: &Spec, profile: Profile, ts: Option<Timestamp>) -> Result<(), TestCa
         // The Reference profile has no expedited header: every encoding path refuses it.
         prop_assert_eq!(
             enc.encode(&msg, ts, &mut buf),
-            Err(aydp_proto::Error::ExpeditedInReference)
+            Err(aydp_proto::EncodeError::ExpeditedInReference)
         );
         prop_assert!(enc.iter(&msg, ts).is_err());
         return Ok(());

@@ -212,7 +212,7 @@ fn encoder_and_header_errors() {
     let pos = Position::default();
     assert_eq!(
         enc.encode_normal(&pos, Timestamp::default(), &mut small),
-        Err(Error::BufferTooSmall { needed: 43 })
+        Err(aydp_proto::EncodeError::BufferTooSmall { needed: 43 })
     );
     assert_eq!(
         enc.encode_expedited(
@@ -222,7 +222,7 @@ fn encoder_and_header_errors() {
             },
             &mut small
         ),
-        Err(Error::BadType(127))
+        Err(aydp_proto::EncodeError::BadType(127))
     );
     assert!(
         enc.iter_expedited(&Raw {
@@ -248,7 +248,7 @@ fn encoder_and_header_errors() {
 #[test]
 fn reference_profile_refuses_expedited_headers() {
     let enc = Encoder::new(Profile::Reference);
-    let refused = Err(Error::ExpeditedInReference);
+    let refused = Err(aydp_proto::EncodeError::ExpeditedInReference);
     let mut b = [0xAAu8; 100];
     assert_eq!(enc.encode_expedited(&Message::NoOp, &mut b), refused);
     assert_eq!(enc.encode(&VesselData::default(), None, &mut b), refused);
@@ -257,11 +257,11 @@ fn reference_profile_refuses_expedited_headers() {
     assert!(b.iter().all(|&x| x == 0xAA), "nothing written");
     assert_eq!(
         enc.iter_expedited(&Message::NoOp).err(),
-        Some(Error::ExpeditedInReference)
+        Some(aydp_proto::EncodeError::ExpeditedInReference)
     );
     assert_eq!(
         enc.iter(&Message::NoOp, None).err(),
-        Some(Error::ExpeditedInReference)
+        Some(aydp_proto::EncodeError::ExpeditedInReference)
     );
     assert!(!Profile::Reference.has_expedited() && Profile::Spec.has_expedited());
     // The same message, normal, encodes; and Spec still encodes the expedited form.
@@ -287,7 +287,7 @@ fn reference_profile_refuses_expedited_headers() {
     assert_eq!(got, [(0, None)]);
     // The error reads as one sentence.
     assert!(
-        Error::ExpeditedInReference
+        aydp_proto::EncodeError::ExpeditedInReference
             .to_string()
             .contains("no expedited header")
     );

@@ -6,9 +6,7 @@
 #[path = "../../aeolus-proto/tests/support/transport.rs"]
 mod transport;
 
-use aydp_proto::{
-    Encoder, Error, IoError, Profile, Raw, Timestamp, embedded_io as bio, embedded_io_async as aio,
-};
+use aydp_proto::{Encoder, Profile, Raw, Timestamp, embedded_io as bio, embedded_io_async as aio};
 use transport::block_on;
 
 const PAYLOAD: Raw<'static> = Raw {
@@ -56,7 +54,9 @@ fn the_async_writer_writes_both_forms() {
 
 #[test]
 fn the_reference_writers_refuse_the_expedited_form() {
-    let refused = Err(IoError::Protocol(Error::ExpeditedInReference));
+    let refused = Err(aydp_proto::WriteError::Protocol(
+        aydp_proto::EncodeError::ExpeditedInReference,
+    ));
     let mut wire = [0u8; 16];
     let mut w = bio::FrameWriter::new(&mut wire[..], Profile::Reference);
     assert_eq!(w.write_expedited(&PAYLOAD), refused);

@@ -1,7 +1,7 @@
 //! AEOLUS from C: `pl_aeolus_*`. The decoder is `aeolus_proto::Decoder<PL_AEOLUS_CAPACITY>`.
 
 use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
-use aeolus_proto::{CrcMode, Decoder, Error, Frame};
+use aeolus_proto::{CrcMode, Decoder, EncodeError, Error, Frame};
 
 use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error};
@@ -424,7 +424,6 @@ fn fill(out: &mut pl_aeolus_message, msg: &Message<'_>, no_crc: bool) {
 /// An error as the C struct.
 fn error(e: Error) -> pl_error {
     match e {
-        Error::BufferTooSmall { .. } => pl_error::kind(PL_ERR_OTHER),
         Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
         Error::ChecksumMismatch {
             id,
@@ -890,8 +889,8 @@ pub unsafe extern "C" fn pl_aeolus_encode(
     };
     match m.encode(out, mode) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(_) => PL_E_INVALID,
+        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
+        Err(EncodeError::TextTooLong { .. }) => PL_E_INVALID,
     }
 }
 

@@ -2,10 +2,10 @@
 //! `pl_aok_pc_*` reads what the device sends (messages).
 
 use aok_proto::{
-    Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, Error, ExternalControl,
-    FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue, ReplyForm, Stick,
-    Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug, encode_parameter,
-    encode_waypoint,
+    Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, EncodeError, Error,
+    ExternalControl, FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue,
+    ReplyForm, Stick, Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug,
+    encode_parameter, encode_waypoint,
 };
 
 use crate::face::{self, Face, Proto};
@@ -330,7 +330,6 @@ fn error(e: Error) -> pl_error {
         }
         Error::StickOutOfRange(v) => pl_error::new(PL_ERR_INVALID_VALUE, 0, 0, v as u16 as u32),
         Error::InvalidAction(v) => pl_error::new(PL_ERR_INVALID_VALUE, 0, 0, v.into()),
-        _ => pl_error::kind(PL_ERR_OTHER),
     }
 }
 
@@ -712,8 +711,7 @@ pub unsafe extern "C" fn pl_aok_encode_command(
     };
     match encode_command(&c, out) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(_) => PL_E_OUT_OF_RANGE,
+        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
     }
 }
 
@@ -780,7 +778,6 @@ pub unsafe extern "C" fn pl_aok_encode_message(
     };
     match result {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(_) => PL_E_OUT_OF_RANGE,
+        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
     }
 }

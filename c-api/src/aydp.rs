@@ -3,8 +3,8 @@
 
 use aydp_proto::message::{OutputEntry, Satellite};
 use aydp_proto::{
-    Decoder, DirectOutput, Encoder, Error, FixDetail, FixQuality, Frame, Message, Position,
-    Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
+    Decoder, DirectOutput, EncodeError, Encoder, Error, FixDetail, FixQuality, Frame, Message,
+    Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
     WindDirection, WindSpeed,
 };
 
@@ -860,8 +860,8 @@ pub unsafe extern "C" fn pl_aydp_encode(
     let time = (msg.expedited == 0).then_some(Timestamp::new(msg.seconds, msg.subsec));
     match Encoder::new(p).encode(&m, time, out) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(Error::BadType(_)) => PL_E_OUT_OF_RANGE,
-        Err(_) => PL_E_INVALID,
+        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
+        Err(EncodeError::BadType(_)) => PL_E_OUT_OF_RANGE,
+        Err(EncodeError::TooLong | EncodeError::ExpeditedInReference) => PL_E_INVALID,
     }
 }

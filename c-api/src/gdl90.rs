@@ -4,7 +4,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading,
     Heartbeat, LatLon, Message, Name, Report, Track,
 };
-use gdl90_proto::{Decoder, Error};
+use gdl90_proto::{Decoder, EncodeError, Error};
 
 use crate::face::{self, Face, Proto};
 use crate::ffi::{self, pl_error};
@@ -456,7 +456,6 @@ fn error(e: Error) -> pl_error {
             actual.into(),
         ),
         Error::OutOfRange { id, .. } => pl_error::new(PL_ERR_OUT_OF_RANGE, id.into(), 0, 0),
-        Error::BufferTooSmall { .. } => pl_error::kind(PL_ERR_OTHER),
     }
 }
 
@@ -767,7 +766,6 @@ pub unsafe extern "C" fn pl_gdl90_encode(
     };
     match m.encode(out) {
         Ok(n) => ffi::length(n),
-        Err(Error::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(_) => PL_E_OUT_OF_RANGE,
+        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
     }
 }

@@ -25,8 +25,8 @@ pub enum IoError<E, P> {
     /// be encoded.
     Protocol(P),
     /// The stream ended (a read returned 0 bytes) inside a frame, of which `pending` bytes
-    /// were held. What becomes of them is the protocol's rule (its decoder's `flush` or
-    /// `idle`): dropped, or given up and rescanned, so items hidden in them may still follow;
+    /// were held. What becomes of them is the protocol's rule (its decoder's `finish`):
+    /// dropped, or given up and rescanned, so items hidden in them may still follow;
     /// then [`IoError::Eof`].
     UnexpectedEof {
         /// The bytes of the unfinished frame.

@@ -14,7 +14,7 @@ fuzz_target!(|data: &[u8]| {
         let ts = Timestamp { seconds: 1, subsec: 2 };
         match enc.encode(&msg, if expedited { None } else { Some(ts) }, &mut out) {
             // The Reference profile has no expedited header: its encoder refuses one.
-            Err(aydp_proto::Error::ExpeditedInReference) => {
+            Err(aydp_proto::EncodeError::ExpeditedInReference) => {
                 assert!(expedited && !profile.has_expedited())
             }
             n => assert_eq!(n.unwrap(), enc.frame_len(&msg, expedited)),

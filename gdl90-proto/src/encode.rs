@@ -3,7 +3,7 @@
 //! The framing is AEOLUS's ([`aeolus_proto::encode_frame`]), which is GDL90's: the same
 //! flags, escapes and CRC. GDL90 frames always carry a computed CRC.
 
-use crate::Error;
+use crate::EncodeError;
 use crate::message::{
     Ahrs, ForeFlightId, GeoAltitude, Heartbeat, MAX_TYPED_DATA, Report, StratuxAhrs,
 };
@@ -36,11 +36,11 @@ pub const MAX_ENCODED_LEN: usize = max_encoded_len(MAX_TYPED_DATA);
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`] if `out` cannot hold the escaped frame; `out` then holds a
+/// [`EncodeError::BufferTooSmall`] if `out` cannot hold the escaped frame; `out` then holds a
 /// partial frame that must not be sent.
-pub fn encode_frame(id: u8, data: &[u8], out: &mut [u8]) -> Result<usize, Error> {
+pub fn encode_frame(id: u8, data: &[u8], out: &mut [u8]) -> Result<usize, EncodeError> {
     aeolus_proto::encode_frame(id, data, &[], aeolus_proto::CrcMode::Compute, out)
-        .map_err(Error::from_framing)
+        .map_err(EncodeError::from_framing)
 }
 
 /// Encodes a Heartbeat (ID 0) frame into `out`; returns its length.
@@ -63,8 +63,8 @@ pub fn encode_frame(id: u8, data: &[u8], out: &mut [u8]) -> Result<usize, Error>
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_heartbeat(msg: &Heartbeat, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_heartbeat(msg: &Heartbeat, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode(out)
 }
 
@@ -78,8 +78,8 @@ pub fn encode_heartbeat(msg: &Heartbeat, out: &mut [u8]) -> Result<usize, Error>
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_ownship(msg: &Report, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_ownship(msg: &Report, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode_ownship(out)
 }
 
@@ -93,8 +93,8 @@ pub fn encode_ownship(msg: &Report, out: &mut [u8]) -> Result<usize, Error> {
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_traffic(msg: &Report, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_traffic(msg: &Report, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode_traffic(out)
 }
 
@@ -110,8 +110,8 @@ pub fn encode_traffic(msg: &Report, out: &mut [u8]) -> Result<usize, Error> {
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_geo_altitude(msg: &GeoAltitude, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_geo_altitude(msg: &GeoAltitude, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode(out)
 }
 
@@ -127,8 +127,8 @@ pub fn encode_geo_altitude(msg: &GeoAltitude, out: &mut [u8]) -> Result<usize, E
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_foreflight_id(msg: &ForeFlightId, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_foreflight_id(msg: &ForeFlightId, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode(out)
 }
 
@@ -145,8 +145,8 @@ pub fn encode_foreflight_id(msg: &ForeFlightId, out: &mut [u8]) -> Result<usize,
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_ahrs(msg: &Ahrs, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_ahrs(msg: &Ahrs, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode(out)
 }
 
@@ -164,7 +164,7 @@ pub fn encode_ahrs(msg: &Ahrs, out: &mut [u8]) -> Result<usize, Error> {
 /// ```
 ///
 /// # Errors
-/// [`Error::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
-pub fn encode_stratux_ahrs(msg: &StratuxAhrs, out: &mut [u8]) -> Result<usize, Error> {
+/// [`EncodeError::BufferTooSmall`]; [`MAX_ENCODED_LEN`] is always enough.
+pub fn encode_stratux_ahrs(msg: &StratuxAhrs, out: &mut [u8]) -> Result<usize, EncodeError> {
     msg.encode(out)
 }

@@ -1,20 +1,15 @@
-//! The crate's single error type.
+//! The crate's errors, one type per operation: [`Error`] for decoding, [`EncodeError`] for
+//! encoding.
 
 use core::fmt;
 
-/// Everything that can go wrong while decoding, parsing or encoding GDL90 data.
+/// What decoding can report: deframing a stream, checking a frame, parsing a message.
 ///
 /// Decoders report these as events and carry on: no input makes them panic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub enum Error {
-    /// The output buffer cannot hold what was asked for; a buffer of `needed` bytes does.
-    BufferTooSmall {
-        /// Bytes that hold the output: exactly the data's length for `emit`, the worst case
-        /// ([`crate::max_encoded_len`]) for an escaped frame.
-        needed: usize,
-    },
     /// A frame grew past the decoder's capacity. Its bytes were dropped and the decoder waits
     /// for the next flag.
     Overflow,
@@ -66,7 +61,6 @@ impl Error {
     pub(crate) fn from_framing(e: aeolus_proto::Error) -> Self {
         use aeolus_proto::Error as A;
         match e {
-            A::BufferTooSmall { needed } => Error::BufferTooSmall { needed },
             A::Overflow => Error::Overflow,
             A::ChecksumMismatch {
                 id,
@@ -107,9 +101,6 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::BufferTooSmall { needed } => {
-                write!(f, "output buffer too small: {needed} bytes needed")
-            }
             Error::Overflow => f.write_str("frame longer than the decoder capacity"),
             Error::ChecksumMismatch {
                 id,
@@ -139,3 +130,48 @@ impl fmt::Display for Error {
 }
 
 impl core::error::Error for Error {}
+
+/// What encoding can fail with.
+///
+/// ```
+/// use gdl90_proto::{message::GeoAltitude, EncodeError};
+/// let alt = GeoAltitude { altitude_ft: 1500, vertical_warning: false, vfom_m: Some(10) };
+/// let mut out = [0u8; 4];
+/// assert_eq!(alt.encode(&mut out), Err(EncodeError::BufferTooSmall { needed: 16 }));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum EncodeError {
+    /// The output buffer cannot hold what was asked for; a buffer of `needed` bytes does.
+    BufferTooSmall {
+        /// Bytes that hold the output: exactly the data's length for `emit`, the worst case
+        /// ([`crate::max_encoded_len`]) for an escaped frame.
+        needed: usize,
+    },
+}
+
+impl EncodeError {
+    /// The AEOLUS framing layer's encode error: only `BufferTooSmall` comes from framing (a
+    /// text's length is checked when a text is built, which this crate never does).
+    pub(crate) fn from_framing(e: aeolus_proto::EncodeError) -> Self {
+        match e {
+            aeolus_proto::EncodeError::BufferTooSmall { needed }
+            | aeolus_proto::EncodeError::TextTooLong { len: needed } => {
+                EncodeError::BufferTooSmall { needed }
+            }
+        }
+    }
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            EncodeError::BufferTooSmall { needed } => {
+                write!(f, "output buffer too small: {needed} bytes needed")
+            }
+        }
+    }
+}
+
+impl core::error::Error for EncodeError {}

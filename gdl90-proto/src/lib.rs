@@ -85,7 +85,7 @@ pub use encode::{
     MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,
     encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic, max_encoded_len,
 };
-pub use error::Error;
+pub use error::{EncodeError, Error};
 
 /// The flag byte that opens and closes every frame.
 pub const FLAG: u8 = aeolus_proto::FLAG;

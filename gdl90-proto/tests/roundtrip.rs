@@ -6,7 +6,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading, Heartbeat, LatLon,
     Message, Name, Report, StratuxAhrs, Track,
 };
-use gdl90_proto::{Decode, Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
+use gdl90_proto::{Decode, Decoder, EncodeError, MAX_ENCODED_LEN, TYPED_FRAME, max_encoded_len};
 use proptest::prelude::*;
 
 const DEG_PER_LSB: f64 = 180.0 / 8_388_608.0;
@@ -340,9 +340,9 @@ proptest! {
         let mut short = vec![0u8; n.saturating_sub(short_by)];
         let worst = max_encoded_len(msg.buffer_len());
         prop_assert!(n <= worst);
-        prop_assert_eq!(msg.encode(&mut short), Err(Error::BufferTooSmall { needed: worst }));
+        prop_assert_eq!(msg.encode(&mut short), Err(EncodeError::BufferTooSmall { needed: worst }));
         let len = msg.buffer_len();
         let mut data = vec![0u8; len.saturating_sub(short_by)];
-        prop_assert_eq!(msg.emit(&mut data), Err(Error::BufferTooSmall { needed: len }));
+        prop_assert_eq!(msg.emit(&mut data), Err(EncodeError::BufferTooSmall { needed: len }));
     }
 }

@@ -57,13 +57,13 @@ pub enum Error {
     /// something else. The sentence names the reason.
     #[error("{0}")]
     Refused(String),
-    /// An AYDP protocol error, with what was being done.
+    /// An AYDP message that could not be encoded, with what was being done.
     #[error("{what}: {source}")]
     Aydp {
         /// What was being done.
         what: String,
-        /// The protocol error.
-        source: aydp_proto::Error,
+        /// Why encoding failed.
+        source: aydp_proto::EncodeError,
     },
     /// An AOK client operation that failed, with what was being done.
     #[error("{what}: {source}")]

@@ -1,7 +1,7 @@
 //! The fixed-size messages, each declared as the table of section 7 declares it.
 
 use super::{CalibrationStatus, field::Field};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 /// Declares a fixed-size message: a plain struct plus `ID`, `LEN`, `parse`, `emit` and
 /// `buffer_len`. Offsets are data offsets (after the ID); bytes not listed are reserved,
@@ -53,10 +53,10 @@ macro_rules! fixed_message {
             /// Writes the data bytes into `out`, reserved bytes zeroed; returns [`Self::LEN`].
             ///
             /// # Errors
-            /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-            pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+            /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+            pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
                 let Some(out) = out.get_mut(..Self::LEN) else {
-                    return Err(Error::BufferTooSmall { needed: Self::LEN });
+                    return Err(EncodeError::BufferTooSmall { needed: Self::LEN });
                 };
                 out.copy_from_slice(&self.data());
                 Ok(Self::LEN)

@@ -11,7 +11,7 @@ pub use layout::{
 };
 pub use text::Text;
 
-use crate::{CrcMode, Error, encode_frame};
+use crate::{CrcMode, EncodeError, Error, encode_frame};
 
 /// Message IDs of the table in section 6.
 pub mod id {
@@ -314,8 +314,8 @@ impl<'a> Message<'a> {
     /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         match self {
             Self::AeolusInfo(m) => m.emit(out),
             Self::Pressure(m) => m.emit(out),
@@ -336,7 +336,7 @@ impl<'a> Message<'a> {
                 let needed = d.len();
                 let dst = out
                     .get_mut(..needed)
-                    .ok_or(Error::BufferTooSmall { needed })?;
+                    .ok_or(EncodeError::BufferTooSmall { needed })?;
                 dst.copy_from_slice(d);
                 Ok(d.len())
             }
@@ -347,8 +347,8 @@ impl<'a> Message<'a> {
     /// [`crate::max_encoded_len`] of [`Message::buffer_len`] is always enough.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`].
-    pub fn encode(&self, out: &mut [u8], crc: CrcMode) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`].
+    pub fn encode(&self, out: &mut [u8], crc: CrcMode) -> Result<usize, EncodeError> {
         let id = self.id();
         match self {
             Self::Toast(t) | Self::Command(t) => encode_frame(id, t.as_bytes(), &[0], crc, out),

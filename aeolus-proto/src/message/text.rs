@@ -1,6 +1,6 @@
 //! TOAST and COMMAND texts (sections 7.14, 7.15, DECISIONS.md A6).
 
-use crate::{Error, TEXT_CAPACITY};
+use crate::{EncodeError, Error, TEXT_CAPACITY};
 
 /// A bounded text: TOAST (82) and COMMAND (11) carry a NUL-terminated string.
 ///
@@ -22,27 +22,21 @@ impl Text {
     /// A text from a string.
     ///
     /// # Errors
-    /// [`Error::TextTooLong`] (with ID 0) if it is longer than [`TEXT_CAPACITY`].
-    pub fn new(text: &str) -> Result<Self, Error> {
-        Self::from_bytes(text.as_bytes()).map_err(|_| Error::TextTooLong {
-            id: 0,
-            len: text.len().min(u16::MAX as usize) as u16,
-        })
+    /// [`EncodeError::TextTooLong`] if it is longer than [`TEXT_CAPACITY`].
+    pub fn new(text: &str) -> Result<Self, EncodeError> {
+        Self::from_bytes(text.as_bytes()).map_err(|_| EncodeError::TextTooLong { len: text.len() })
     }
 
     /// A text from raw bytes (not necessarily UTF-8), up to a NUL if one is present.
     ///
     /// # Errors
-    /// [`Error::TextTooLong`] (with ID 0) if the bytes before the NUL exceed [`TEXT_CAPACITY`].
-    pub fn from_bytes(bytes: &[u8]) -> Result<Self, Error> {
+    /// [`EncodeError::TextTooLong`] if the bytes before the NUL exceed [`TEXT_CAPACITY`].
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, EncodeError> {
         let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
         let text = bytes.get(..end).unwrap_or(&[]);
         heapless::Vec::from_slice(text)
             .map(Text)
-            .map_err(|_| Error::TextTooLong {
-                id: 0,
-                len: end.min(u16::MAX as usize) as u16,
-            })
+            .map_err(|_| EncodeError::TextTooLong { len: end })
     }
 
     /// Parses message data: the string runs to the first NUL, or over all the data if there is
@@ -52,8 +46,12 @@ impl Text {
     /// [`Error::TextTooLong`] carrying `id`.
     pub fn parse(id: u8, data: &[u8]) -> Result<Self, Error> {
         Self::from_bytes(data).map_err(|e| match e {
-            Error::TextTooLong { len, .. } => Error::TextTooLong { id, len },
-            other => other,
+            EncodeError::TextTooLong { len } | EncodeError::BufferTooSmall { needed: len } => {
+                Error::TextTooLong {
+                    id,
+                    len: len.min(u16::MAX as usize) as u16,
+                }
+            }
         })
     }
 
@@ -75,12 +73,12 @@ impl Text {
     /// Writes the text and its NUL into `out`; returns [`Text::buffer_len`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         let n = self.0.len();
         let out = out
             .get_mut(..=n)
-            .ok_or(Error::BufferTooSmall { needed: n + 1 })?;
+            .ok_or(EncodeError::BufferTooSmall { needed: n + 1 })?;
         let (text, nul) = out.split_at_mut(n);
         text.copy_from_slice(&self.0);
         nul.fill(0);

@@ -2,7 +2,7 @@
 
 use super::{exact, fixed_payload, too_short};
 use crate::encode::Payload;
-use crate::error::{Error, Result};
+use crate::error::{EncodeError, Error, Result};
 use crate::header::{array_at, put};
 use crate::layout::{fix_detail as fd, fix_quality as fq, satellite as sat};
 use crate::uflt16;
@@ -295,14 +295,15 @@ impl<'b> FixDetailBuilder<'b> {
         Self { buf, count: 0 }
     }
 
-    /// Append a satellite; fails if the buffer is full or 255 are already held.
-    pub fn push(&mut self, sat: Satellite) -> Result<()> {
+    /// Append a satellite; fails ([`EncodeError::BufferTooSmall`], [`EncodeError::TooLong`]) if
+    /// the buffer is full or 255 are already held.
+    pub fn push(&mut self, sat: Satellite) -> core::result::Result<(), EncodeError> {
         let at = 1 + self.count as usize * Satellite::LEN;
         if self.count == u8::MAX {
-            return Err(Error::TooManySatellites(256));
+            return Err(EncodeError::TooLong);
         }
         let Some(dst) = self.buf.get_mut(at..at + Satellite::LEN) else {
-            return Err(Error::BufferTooSmall {
+            return Err(EncodeError::BufferTooSmall {
                 needed: at + Satellite::LEN,
             });
         };

@@ -2,7 +2,7 @@
 
 use super::too_short;
 use crate::encode::Payload;
-use crate::error::{Error, Result};
+use crate::error::{EncodeError, Error, Result};
 use crate::header::{array_at, put};
 use crate::layout::{direct_output, output_entry as entry};
 
@@ -193,14 +193,15 @@ impl<'b> DirectOutputBuilder<'b> {
         Self { buf, count: 0 }
     }
 
-    /// Append an entry; fails if the buffer is full or 65 535 entries are held.
-    pub fn push(&mut self, entry: OutputEntry) -> Result<()> {
+    /// Append an entry; fails ([`EncodeError::BufferTooSmall`], [`EncodeError::TooLong`]) if the
+    /// buffer is full or 65 535 entries are held.
+    pub fn push(&mut self, entry: OutputEntry) -> core::result::Result<(), EncodeError> {
         if self.count == u16::MAX {
-            return Err(Error::TooLong);
+            return Err(EncodeError::TooLong);
         }
         let at = 2 + self.count as usize * OutputEntry::LEN;
         let Some(dst) = self.buf.get_mut(at..at + OutputEntry::LEN) else {
-            return Err(Error::BufferTooSmall {
+            return Err(EncodeError::BufferTooSmall {
                 needed: at + OutputEntry::LEN,
             });
         };

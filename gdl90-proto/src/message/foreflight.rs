@@ -3,7 +3,7 @@
 use super::layout::{ahrs as a, foreflight_id as f};
 use super::scale::round_f32;
 use super::{Name, check_len, emit_into};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 /// The ForeFlight message ID.
 pub const FOREFLIGHT_ID: u8 = 0x65;
@@ -110,8 +110,8 @@ impl ForeFlightId {
     /// Writes the data bytes into `out`; returns [`Self::LEN`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             f::SUB_ID.put(d, Self::SUB_ID as u64);
             f::VERSION.put(d, self.version as u64);
@@ -267,8 +267,8 @@ impl Ahrs {
     /// says); returns [`Self::LEN`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             a::SUB_ID.put(d, Self::SUB_ID as u64);
             let angle = |deg: Option<f32>| {

@@ -3,7 +3,7 @@
 use super::layout::geo_altitude as f;
 use super::scale::div_round;
 use super::{check_len, emit_into};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 const STEP_FT: i64 = 5;
 const VFOM_NOT_AVAILABLE: u64 = 0x7FFF;
@@ -56,8 +56,8 @@ impl GeoAltitude {
     /// Writes the data bytes into `out` (values clamped); returns [`Self::LEN`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             let steps =
                 div_round(self.altitude_ft as i64, STEP_FT).clamp(i16::MIN as i64, i16::MAX as i64);

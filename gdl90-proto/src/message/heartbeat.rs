@@ -2,7 +2,7 @@
 
 use super::layout::heartbeat as f;
 use super::{check_len, emit_into};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 /// Heartbeat (ID 0): the unit's status, the UTC time stamp and last second's receive counts.
 ///
@@ -83,8 +83,8 @@ impl Heartbeat {
     /// returns [`Self::LEN`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             f::GPS_POSITION_VALID.put_flag(d, self.gps_position_valid);
             f::MAINTENANCE_REQUIRED.put_flag(d, self.maintenance_required);

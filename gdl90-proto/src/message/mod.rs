@@ -24,7 +24,7 @@ pub use report::{AddressType, Emergency, LatLon, Report, Track};
 pub use stratux::{STRATUX_AHRS_HEADER, STRATUX_AHRS_ID, StratuxAhrs};
 pub use text::{CallSign, Name};
 
-use crate::{Error, encode_frame};
+use crate::{EncodeError, Error, encode_frame};
 
 /// Message IDs (ICD table 2, ForeFlight's 0x65 and Stratux's 0x4C).
 pub mod id {
@@ -166,8 +166,8 @@ impl<'a> Message<'a> {
     /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         match self {
             Self::Heartbeat(m) => m.emit(out),
             Self::Ownship(m) | Self::Traffic(m) => m.emit(out),
@@ -179,7 +179,7 @@ impl<'a> Message<'a> {
                 let needed = data.len();
                 let dst = out
                     .get_mut(..needed)
-                    .ok_or(Error::BufferTooSmall { needed })?;
+                    .ok_or(EncodeError::BufferTooSmall { needed })?;
                 // Zipped: no length check left to a panic when the copy is not inlined.
                 dst.iter_mut().zip(*data).for_each(|(d, s)| *d = *s);
                 Ok(data.len())
@@ -192,8 +192,8 @@ impl<'a> Message<'a> {
     /// [`crate::max_encoded_len`] of [`Message::buffer_len`] for any message.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`].
-    pub fn encode(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`].
+    pub fn encode(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         match self {
             Self::Unknown { id, data } => encode_frame(*id, data, out),
             _ => {
@@ -222,10 +222,14 @@ fn check_len(id: u8, len: usize, data: &[u8]) -> Result<(), Error> {
 }
 
 /// Zeroes `out[..len]`, lets `fill` write the fields, returns `len`.
-fn emit_into(out: &mut [u8], len: usize, fill: impl FnOnce(&mut [u8])) -> Result<usize, Error> {
+fn emit_into(
+    out: &mut [u8],
+    len: usize,
+    fill: impl FnOnce(&mut [u8]),
+) -> Result<usize, EncodeError> {
     let d = out
         .get_mut(..len)
-        .ok_or(Error::BufferTooSmall { needed: len })?;
+        .ok_or(EncodeError::BufferTooSmall { needed: len })?;
     d.fill(0);
     fill(d);
     Ok(len)
@@ -235,8 +239,8 @@ fn emit_into(out: &mut [u8], len: usize, fill: impl FnOnce(&mut [u8])) -> Result
 fn encode_fixed<const LEN: usize>(
     id: u8,
     out: &mut [u8],
-    emit: impl FnOnce(&mut [u8]) -> Result<usize, Error>,
-) -> Result<usize, Error> {
+    emit: impl FnOnce(&mut [u8]) -> Result<usize, EncodeError>,
+) -> Result<usize, EncodeError> {
     let mut data = [0u8; LEN];
     let n = emit(&mut data)?;
     encode_frame(id, data.get(..n).unwrap_or(&[]), out)
@@ -251,8 +255,8 @@ macro_rules! encode_method {
             #[doc = $example]
             ///
             /// # Errors
-            /// [`Error::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-            pub fn encode(&self, out: &mut [u8]) -> Result<usize, Error> {
+            /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
+            pub fn encode(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
                 encode_fixed::<{ <$ty>::LEN }>(<$ty>::ID, out, |d| self.emit(d))
             }
         }

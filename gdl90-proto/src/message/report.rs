@@ -3,7 +3,7 @@
 use super::layout::report as f;
 use super::scale::{div_round, round_f32, round_f64};
 use super::{CallSign, check_len, emit_into};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 /// Degrees per latitude/longitude step: 180 / 2^23.
 const DEG_PER_LSB: f64 = 180.0 / 8_388_608.0;
@@ -312,8 +312,8 @@ impl Report {
     /// says); returns [`Self::LEN`].
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             f::ALERT_STATUS.put(d, self.traffic_alert as u64);
             f::ADDRESS_TYPE.put(d, self.address_type.to_nibble() as u64);
@@ -395,8 +395,8 @@ impl Report {
     /// ```
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-    pub fn encode_ownship(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
+    pub fn encode_ownship(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         super::encode_fixed::<{ Self::LEN }>(Self::OWNSHIP_ID, out, |d| self.emit(d))
     }
 
@@ -410,8 +410,8 @@ impl Report {
     /// ```
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-    pub fn encode_traffic(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
+    pub fn encode_traffic(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         super::encode_fixed::<{ Self::LEN }>(Self::TRAFFIC_ID, out, |d| self.emit(d))
     }
 }

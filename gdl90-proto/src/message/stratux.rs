@@ -10,7 +10,7 @@
 use super::layout::stratux_ahrs as f;
 use super::scale::round_f32;
 use super::{check_len, emit_into};
-use crate::Error;
+use crate::{EncodeError, Error};
 
 /// The message ID.
 pub const STRATUX_AHRS_ID: u8 = 0x4C;
@@ -151,8 +151,8 @@ impl StratuxAhrs {
     /// ```
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
-    pub fn emit(&self, out: &mut [u8]) -> Result<usize, Error> {
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
+    pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
         emit_into(out, Self::LEN, |d| {
             if let Some(h) = d.get_mut(f::HEADER) {
                 h.copy_from_slice(&STRATUX_AHRS_HEADER);

@@ -593,7 +593,7 @@ impl Sender {
     fn send(
         &mut self,
         to: SocketAddr,
-        encode: impl FnOnce(&mut [u8]) -> std::result::Result<usize, gdl90_proto::Error>,
+        encode: impl FnOnce(&mut [u8]) -> std::result::Result<usize, gdl90_proto::EncodeError>,
     ) -> u64 {
         let Ok(n) = encode(&mut self.wire) else {
             return 0;
