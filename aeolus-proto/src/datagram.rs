@@ -5,6 +5,16 @@ use crate::{ESCAPE, Error, FLAG, Frame};
 /// An iterator over the frames of one datagram, unescaped in place (no copy, no buffer).
 ///
 /// Created by [`decode_datagram`].
+///
+/// ```
+/// use aeolus_proto::{Error, decode_datagram};
+/// // TOAST "hi", then the start of another frame.
+/// let mut datagram = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x7E, 0x52, b'h'];
+/// let mut frames = decode_datagram(&mut datagram, true);
+/// assert_eq!(frames.next().map(|f| f.map(|f| f.id())), Some(Ok(82)));
+/// assert_eq!(frames.next().map(|f| f.map(|f| f.id())), Some(Err(Error::Truncated)));
+/// assert_eq!(frames.next().map(|f| f.map(|f| f.id())), None);
+/// ```
 #[derive(Debug)]
 pub struct DatagramFrames<'a> {
     rest: &'a mut [u8],

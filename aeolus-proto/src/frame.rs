@@ -30,6 +30,18 @@ impl<'a> Frame<'a> {
     /// unchecked, unless `strict` is set. A frame whose real CRC happens to be `0x0000` is
     /// recognised as checked in both modes.
     ///
+    /// ```
+    /// use aeolus_proto::{Error, Frame};
+    /// // TOAST "hi": ID 82, the data, the CRC 0xEC73 LSB first.
+    /// assert!(Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).is_ok());
+    /// let bad = Frame::check(&[0x52, b'h', b'i', 0, 0x74, 0xEC], true);
+    /// assert_eq!(bad, Err(Error::ChecksumMismatch { id: 82, computed: 0xEC73, received: 0xEC74 }));
+    /// let no_crc = [0x52, b'h', b'i', 0, 0, 0];
+    /// assert_eq!(Frame::check(&no_crc, true), Err(Error::MissingCrc { id: 82 }));
+    /// assert!(!Frame::check(&no_crc, false).unwrap().has_crc());
+    /// assert_eq!(Frame::check(&[0x52, 0], false), Err(Error::TooShort));
+    /// ```
+    ///
     /// # Errors
     /// [`Error::TooShort`], [`Error::ChecksumMismatch`], or [`Error::MissingCrc`] in strict mode.
     pub const fn check(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
@@ -76,6 +88,12 @@ impl<'a> Frame<'a> {
     }
 
     /// The message ID.
+    ///
+    /// ```
+    /// # use aeolus_proto::Frame;
+    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// assert_eq!(frame.id(), 82);
+    /// ```
     pub const fn id(&self) -> u8 {
         match self.raw {
             [id, ..] => *id,
@@ -84,6 +102,12 @@ impl<'a> Frame<'a> {
     }
 
     /// The message data (between the ID and the CRC).
+    ///
+    /// ```
+    /// # use aeolus_proto::Frame;
+    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// assert_eq!(frame.data(), b"hi\0");
+    /// ```
     pub const fn data(&self) -> &'a [u8] {
         match self.raw {
             [_, data @ .., _, _] => data,
@@ -92,6 +116,12 @@ impl<'a> Frame<'a> {
     }
 
     /// The CRC as received (`0` for a frame sent without CRC).
+    ///
+    /// ```
+    /// # use aeolus_proto::Frame;
+    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// assert_eq!(frame.crc(), 0xEC73);
+    /// ```
     pub const fn crc(&self) -> u16 {
         match self.raw {
             [.., lo, hi] => u16::from_le_bytes([*lo, *hi]),
@@ -100,12 +130,24 @@ impl<'a> Frame<'a> {
     }
 
     /// Whether the frame carried a CRC that was checked (`false`: sent as `00 00`, unchecked).
+    ///
+    /// ```
+    /// # use aeolus_proto::Frame;
+    /// assert!(Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], false).unwrap().has_crc());
+    /// assert!(!Frame::check(&[0x52, b'h', b'i', 0, 0, 0], false).unwrap().has_crc());
+    /// ```
     pub const fn has_crc(&self) -> bool {
         self.has_crc
     }
 
     /// The whole unescaped frame: ID, data and CRC. Kept for callers that want the bytes even
     /// when the typed parse fails.
+    ///
+    /// ```
+    /// # use aeolus_proto::Frame;
+    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// assert_eq!(frame.raw(), &[0x52, b'h', b'i', 0, 0x73, 0xEC]);
+    /// ```
     pub const fn raw(&self) -> &'a [u8] {
         self.raw
     }

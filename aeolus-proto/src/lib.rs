@@ -2,23 +2,8 @@
 //!
 //! A zero-allocation, `no_std` encoder and decoder for the AEOLUS sensor-box telemetry
 //! protocol: GDL90-style framing (`0x7E` flags, `0x7D` escapes, a CRC-16) carrying the 16
-//! message types of the AEOLUS communications document.
-//!
-//! - [`Decoder`]: the stream decoder, bounded by a const-generic capacity, resynchronising
-//!   after any error, with [`Stats`] counters. It implements [`Decode`], the decoder contract
-//!   every protocol crate of this workspace shares (from `frame-io`): `feed` every slice of
-//!   the stream, one byte or many, and `finish` at its end.
-//! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
-//! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
-//!   [`max_encoded_len`] sizes buffers at compile time.
-//! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`.
-//! - [`crc`]: the frame check exactly as section 4.3 prints it.
-//! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
-//!   `FrameReader` that returns the next frame from a `Read` (`frame-io`'s reader over a
-//!   [`Decoder`], which implements `frame_io::Decode`) and a `FrameWriter` that encodes into a
-//!   `Write`, blocking or async, with the error type `IoError`.
-//!
-//! Byte order is little-endian (DECISIONS.md A1). Decoders never panic, whatever the input.
+//! message types of the AEOLUS communications document. Decoders never panic, whatever the
+//! input.
 //!
 //! ## Decoding a stream: the one loop
 //!
@@ -52,18 +37,22 @@
 //! assert_eq!(decoder.stats().frames_no_crc, 1);
 //! ```
 //!
-//! ## Encoding a GYRO message into a buffer
+//! ## Contents
 //!
-//! ```
-//! use aeolus_proto::{encode_frame, max_encoded_len, CrcMode, message::Gyro};
+//! - [`Decoder`], the stream decoder, and its [`Stats`]. It implements [`Decode`], the
+//!   decoder contract every protocol crate of this workspace shares (from `frame-io`).
+//! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
+//! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
+//!   [`max_encoded_len`] sizes buffers at compile time.
+//! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`; [`Frame`], a checked
+//!   frame; [`crc`]: the frame check exactly as section 4.3 prints it.
 //!
-//! let gyro = Gyro { valid: true, timestamp_ms: 7.0, x: 0.01, y: 0.0, z: -0.02 };
-//! let mut data = [0u8; Gyro::LEN];
-//! gyro.emit(&mut data).unwrap();
-//! let mut frame = [0u8; max_encoded_len(Gyro::LEN)];
-//! let n = encode_frame(Gyro::ID, &data, &[], CrcMode::Compute, &mut frame).unwrap();
-//! assert_eq!((frame[0], frame[1], frame[n - 1]), (0x7E, 62, 0x7E));
-//! ```
+//! ## Features
+//!
+//! - `embedded-io`, `embedded-io-async`: the modules `embedded_io` and `embedded_io_async`,
+//!   a `FrameReader` from a `Read` and a `FrameWriter` into a `Write`, blocking or async,
+//!   with the error type `IoError`.
+//! - `defmt`, `serde`: `defmt::Format` and serde's traits derived on the public types.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

@@ -28,6 +28,15 @@ pub const EXTERNAL_CONTROL: u8 = ext::START;
 pub const MAX_COMMAND_LEN: usize = crate::layout::MAX_FRAME_LEN;
 
 /// A parameter number and value (`73` set, and the parameter reply).
+///
+/// ```
+/// use aok_proto::{Command, ParameterValue};
+/// let set = Command::SetParameter(ParameterValue { number: 12, value: 1500 });
+/// let mut wire = [0u8; 7];
+/// let n = set.emit(&mut wire)?;
+/// assert_eq!(&wire[..n], &[0x73, 0x0C, 0x00, 0x00, 0x05, 0xDC, 0xD5]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -39,6 +48,15 @@ pub struct ParameterValue {
 }
 
 /// A motor-test value (K7): lapses after 500 ms unless repeated.
+///
+/// ```
+/// use aok_proto::{Command, Motor, MotorTest};
+/// let test = MotorTest { motor: Motor::new(3)?, value: 40 };
+/// let mut wire = [0u8; 3];
+/// let n = Command::MotorTest(test).emit(&mut wire)?;
+/// assert_eq!(&wire[..n], &[0x33, 0x28, 0x1B]); // motor 3's start byte, the value, the XOR
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -50,6 +68,16 @@ pub struct MotorTest {
 }
 
 /// A waypoint, POI or FBC target (K8). Set with `77`, and the device's reply to `78`.
+///
+/// ```
+/// use aok_proto::{ActionWord, Command, Waypoint, WaypointSlot};
+/// let poi = Waypoint { slot: WaypointSlot::MissionPoi, longitude: 100, latitude: -100,
+///                      action1: ActionWord::NONE, action2: ActionWord::NONE };
+/// let (wire, n) = Command::SetWaypoint(poi).to_bytes();
+/// assert_eq!(n, 19);
+/// // Start, slot 31, then longitude and latitude, MSB first.
+/// assert_eq!(&wire[..10], &[0x77, 0x1F, 0, 0, 0, 0x64, 0xFF, 0xFF, 0xFF, 0x9C]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -108,6 +136,18 @@ impl Waypoint {
 }
 
 /// External control (K9): sticks, the unused pitch, and how long the values hold.
+///
+/// ```
+/// use aok_proto::{Command, ExternalControl, Stick};
+/// let sticks = ExternalControl {
+///     roll: Stick::new(10)?, nick: Stick::new(-10)?, yaw: Stick::new(0)?, pitch: 0, expiry_ms: 500,
+/// };
+/// let mut wire = [0u8; 12];
+/// let n = Command::ExternalControl(sticks).emit(&mut wire)?;
+/// // Two bytes a field, least significant first (K9), then the XOR.
+/// assert_eq!(&wire[..n], &[0x53, 0x0A, 0x00, 0xF6, 0xFF, 0, 0, 0, 0, 0xF4, 0x01, 0xF6]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -357,6 +397,12 @@ impl Command {
     }
 
     /// The encoded frame in a fixed array, and its length.
+    ///
+    /// ```
+    /// use aok_proto::Command;
+    /// let (wire, n) = Command::DebugOn.to_bytes();
+    /// assert_eq!(&wire[..n], &[0x63, 0x02]);
+    /// ```
     pub fn to_bytes(&self) -> ([u8; MAX_COMMAND_LEN], usize) {
         let mut f = [0u8; MAX_COMMAND_LEN];
         match *self {

@@ -1,27 +1,7 @@
-//! Both ends of the AOK serial protocol (38400 8N1) for `no_std` firmware and host tools.
+//! Both ends of the AOK serial protocol (38400 8N1) for `no_std` firmware and host tools. The
+//! wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
 //!
-//! The decoders are named after what they read, and both implement [`Decode`], the one
-//! decoder contract of this workspace: `feed(bytes, |event| ..)` for every slice of the
-//! stream (one byte included), `finish(|event| ..)` when the line goes quiet.
-//!
-//! * [`CommandDecoder`] runs on the flight controller and reads the PC's commands.
-//! * [`MessageDecoder`] runs on the ground tool and reads the device's debug frames, acks and
-//!   replies, knowing which request is pending ([`Expect`]).
-//! * Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
-//!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
-//!   [`encode_bulk`] and [`encode_waypoint`].
-//! * [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits: debug off,
-//!   drain, request, wait (with timeout), debug back on.
-//! * `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): readers
-//!   that return the next message (PC side) or command (device side) from a `Read`
-//!   (`frame-io`'s reader over [`MessageDecoder`] or [`CommandDecoder`]), a writer into a
-//!   `Write`, blocking or async, with the error type `IoError`; and `AsyncClient`, the
-//!   client's async form.
-//! * [`FrameLayout`]: every frame's bytes as a table (start byte, length, field offsets,
-//!   checksum): [`Command::FRAMES`], [`Message::FRAMES`], for tools that describe the wire.
-//! * [`values`]: motor numbers, stick values, waypoint slots, action words, acks, firmware versions.
-//!
-//! The wire formats follow `DECISIONS.md` K1..K9; the crate README lists the extra decisions.
+//! # The one loop
 //!
 //! ```
 //! use aok_proto::{Command, CommandDecoder, Decode, Expect, FirmwareVersion, Message,
@@ -51,6 +31,26 @@
 //! assert_eq!(got, [Ok(Message::Parameter(ParameterValue { number: 12, value: 1500 }))]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! # Contents
+//!
+//! - The decoders, named after what they read, both implementing [`Decode`], the one decoder
+//!   contract of this workspace: [`CommandDecoder`] runs on the flight controller and reads the
+//!   PC's commands; [`MessageDecoder`] runs on the ground tool and reads the device's debug
+//!   frames, acks and replies, knowing which request is pending ([`Expect`]).
+//! - Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
+//!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
+//!   [`encode_bulk`] and [`encode_waypoint`].
+//! - [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits.
+//! - [`FrameLayout`]: every frame's bytes as a table ([`Command::FRAMES`], [`Message::FRAMES`]).
+//! - [`values`]: motor numbers, sticks, waypoint slots, action words, acks, firmware versions.
+//!
+//! # Features
+//!
+//! - `embedded-io`, `embedded-io-async`: `embedded_io` and `embedded_io_async`, readers of the
+//!   next message (PC side) or command (device side) from a `Read`, a writer into a `Write`,
+//!   and `AsyncClient`, the client's async form; the error type is `IoError`.
+//! - `defmt`, `serde`: `defmt::Format` and serde's traits derived on the public types.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

@@ -22,6 +22,14 @@ pub const HEADERLESS_REPLY_LEN: usize = headerless::LEN;
 pub const WAYPOINT_LEN: usize = waypoint::LEN;
 
 /// A debug value (K2): `1C NUM B1 B2 B3 B4 CRC`.
+///
+/// ```
+/// use aok_proto::{DebugValue, Message};
+/// let (message, used) = Message::parse(&[0x1C, 0x56, 0x00, 0x00, 0x00, 0x03, 0x55])?;
+/// assert_eq!(message, Message::Debug(DebugValue { number: DebugValue::FLIGHT_STATUS, value: 3 }));
+/// assert_eq!(used, 7);
+/// # Ok::<(), aok_proto::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -460,6 +460,17 @@ impl Ack {
 }
 
 /// Which of the two parameter-reply forms the device sends (K4).
+///
+/// ```
+/// use aok_proto::{Message, ParameterValue, ReplyForm};
+/// let reply = Message::Parameter(ParameterValue { number: 12, value: 1500 });
+/// let mut wire = [0u8; 7];
+/// let n = reply.emit(ReplyForm::Headerless, &mut wire)?;
+/// assert_eq!(&wire[..n], &[0x00, 0x00, 0x05, 0xDC, 0xD9]);
+/// let n = reply.emit(ReplyForm::Headed, &mut wire)?;
+/// assert_eq!(&wire[..n], &[0xFF, 0x0C, 0x00, 0x00, 0x05, 0xDC, 0xD9]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -1,17 +1,10 @@
 //! `aydp-proto`: a zero-allocation, `no_std`, panic-free encoder and decoder for AYDP, the
-//! Autonomous Yacht Development Project's binary protocol.
+//! Autonomous Yacht Development Project's binary protocol, in both of its conventions
+//! ([`Profile`]): the 2016 document (`Spec`, the default) and the project's released software
+//! (`Reference`). The decisions it follows (Y1..Y9) are in the crate README and
+//! `docs/protocol-notes.md`.
 //!
-//! AYDP exists in two conventions ([`Profile`]): the 2016 document (`Spec`, the default) and
-//! the project's released software (`Reference`). They differ in what the length field
-//! counts, in the header's sub-second unit, and in which message types are typed. See the
-//! crate README and `docs/protocol-notes.md` for the decisions (Y1..Y9) this crate follows.
-//!
-//! # Decoding a stream
-//!
-//! Every decoder of this workspace follows one contract, [`Decode`] (from `frame-io`): feed
-//! every slice of the stream, of any length (one byte included), then finish when the stream
-//! ends. Each event is `Ok(frame)` or `Err(error)`; the events do not depend on how the stream
-//! was cut into slices.
+//! # Decoding a stream: the one loop
 //!
 //! ```
 //! use aydp_proto::{Decode, Decoder, Encoder, Error, Message, Position, Profile, Timestamp};
@@ -43,30 +36,25 @@
 //! assert_eq!(decoder.stats().bytes_discarded, 5); // every byte outside the frame
 //! ```
 //!
-//! The pull form underneath ([`Decode::decode`], [`Decode::end`], [`Decode::item`]) returns one
-//! event a call, for a caller that must act between two messages; the readers of the
-//! `embedded-io` features are built on it.
-//!
 //! # Contents
 //!
-//! - at the root: the [`Decoder`] (with lossless resynchronisation) and its [`Stats`]; the
-//!   [`Encoder`] (into a buffer or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
-//!   ([`Raw`] for any type); [`Frame`], a checked whole message; the typed messages and the
-//!   [`Message`] enum; [`Profile`] and the header [`Timestamp`];
-//! - [`decoder`]: how the [`Decoder`] resynchronises, and its pull form;
-//! - [`profile`]: the profiles' constants (start byte, header lengths);
-//! - [`message`]: the type numbers of the special and user-defined messages;
-//! - [`checksum`]: the XOR checksum;
-//! - [`uflt16`]: the binary16 conversions;
-//! - [`registry`]: the system-value registry for devices;
-//! - `embedded_io` / `embedded_io_async` (features `embedded-io`, `embedded-io-async`): a
-//!   `FrameReader` that returns the next message from a `Read` (`frame-io`'s reader over a
-//!   [`Decoder`]) and a `FrameWriter` that encodes into a `Write`, blocking or async, with the
-//!   error type `IoError`.
+//! - [`Decoder`] and its [`Stats`]: the stream decoder. It implements [`Decode`], the decoder
+//!   contract of every protocol crate of this workspace (from `frame-io`); [`decoder`]: how it
+//!   resynchronises, and its pull form.
+//! - [`Encoder`] (into a buffer, or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
+//!   ([`Raw`] for any type).
+//! - [`Frame`], a checked whole message; the typed messages and the [`Message`] enum
+//!   ([`message`]: the type numbers).
+//! - [`Profile`] and the header [`Timestamp`] ([`profile`]: the start byte, header lengths).
+//! - [`checksum`]: the XOR checksum; [`uflt16`]: the binary16 conversions; [`registry`]: the
+//!   system-value registry for devices.
 //!
-//! Each typed message gives its bytes as a table, `FIELDS` (name, wire type, offset) and
-//! `LEN` ([`Position::FIELDS`], [`Frame::HEADER_FIELDS`] for the header), for tools that
-//! describe the wire format.
+//! # Features
+//!
+//! - `embedded-io`, `embedded-io-async`: the modules `embedded_io` and `embedded_io_async`,
+//!   a `FrameReader` that returns the next message from a `Read` and a `FrameWriter` that
+//!   encodes into a `Write`, blocking or async, with the error type `IoError`.
+//! - `defmt`, `serde`: `defmt::Format` and serde's traits derived on the public types.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

@@ -35,6 +35,12 @@ pub enum Profile {
 
 impl Profile {
     /// Header length for a normal (`expedited == false`) or expedited message.
+    ///
+    /// ```
+    /// use aydp_proto::Profile;
+    /// assert_eq!(Profile::header_len(false), 22);
+    /// assert_eq!(Profile::header_len(true), 6);
+    /// ```
     #[inline]
     pub const fn header_len(expedited: bool) -> usize {
         if expedited {
@@ -45,12 +51,26 @@ impl Profile {
     }
 
     /// Bytes a message adds around its data: header plus checksum byte.
+    ///
+    /// ```
+    /// use aydp_proto::Profile;
+    /// assert_eq!(Profile::overhead(false), 23);
+    /// assert_eq!(Profile::overhead(true), 7);
+    /// ```
     #[inline]
     pub const fn overhead(expedited: bool) -> usize {
         Self::header_len(expedited) + 1
     }
 
     /// The length field for `data_len` data bytes, or `None` if it does not fit in a u32.
+    ///
+    /// ```
+    /// use aydp_proto::Profile;
+    /// // A position report: 20 data bytes.
+    /// assert_eq!(Profile::Spec.length_field(20, false), Some(43));
+    /// assert_eq!(Profile::Reference.length_field(20, false), Some(20));
+    /// assert_eq!(Profile::Spec.length_field(usize::MAX, false), None);
+    /// ```
     #[inline]
     pub const fn length_field(self, data_len: usize, expedited: bool) -> Option<u32> {
         let n = match self {
@@ -69,6 +89,14 @@ impl Profile {
 
     /// Whole message length (start to checksum) announced by a length field, or `None` if the
     /// field is below this profile's minimum or the sum overflows `usize`.
+    ///
+    /// ```
+    /// use aydp_proto::Profile;
+    /// assert_eq!(Profile::Spec.frame_len(43, false), Some(43));
+    /// assert_eq!(Profile::Reference.frame_len(20, false), Some(43));
+    /// // Below `Spec`'s minimum for an expedited message (7: header and checksum).
+    /// assert_eq!(Profile::Spec.frame_len(6, true), None);
+    /// ```
     #[inline]
     pub const fn frame_len(self, length_field: u32, expedited: bool) -> Option<usize> {
         let field = length_field as usize;
@@ -113,6 +141,12 @@ impl Profile {
 
     /// Sub-second units per second in the header: 1000 (ms) for `Spec`, 1 000 000 (µs) for
     /// `Reference`.
+    ///
+    /// ```
+    /// use aydp_proto::Profile;
+    /// assert_eq!(Profile::Spec.subsec_per_second(), 1_000);
+    /// assert_eq!(Profile::Reference.subsec_per_second(), 1_000_000);
+    /// ```
     #[inline]
     pub const fn subsec_per_second(self) -> i64 {
         match self {
@@ -143,12 +177,24 @@ pub struct Timestamp {
 
 impl Timestamp {
     /// A timestamp from raw header fields.
+    ///
+    /// ```
+    /// use aydp_proto::Timestamp;
+    /// let t = Timestamp::new(1_700_000_000, 250);
+    /// assert_eq!((t.seconds, t.subsec), (1_700_000_000, 250));
+    /// ```
     pub const fn new(seconds: i64, subsec: i64) -> Self {
         Self { seconds, subsec }
     }
 
     /// A timestamp from seconds and microseconds, converted to the profile's sub-second unit
     /// (truncating to milliseconds for `Spec`).
+    ///
+    /// ```
+    /// use aydp_proto::{Profile, Timestamp};
+    /// assert_eq!(Timestamp::from_micros(42, 1_999, Profile::Spec), Timestamp::new(42, 1));
+    /// assert_eq!(Timestamp::from_micros(42, 1_999, Profile::Reference), Timestamp::new(42, 1_999));
+    /// ```
     pub const fn from_micros(seconds: i64, micros: i64, profile: Profile) -> Self {
         let subsec = match profile {
             Profile::Spec => micros / 1000,
@@ -158,6 +204,14 @@ impl Timestamp {
     }
 
     /// The sub-second field in microseconds, read in the given profile (saturating).
+    ///
+    /// ```
+    /// use aydp_proto::{Profile, Timestamp};
+    /// let t = Timestamp::new(42, 250);
+    /// assert_eq!(t.subsec_micros(Profile::Spec), 250_000);
+    /// assert_eq!(t.subsec_micros(Profile::Reference), 250);
+    /// assert_eq!(Timestamp::new(0, i64::MAX).subsec_micros(Profile::Spec), i64::MAX);
+    /// ```
     pub const fn subsec_micros(&self, profile: Profile) -> i64 {
         match profile {
             Profile::Spec => self.subsec.saturating_mul(1000),

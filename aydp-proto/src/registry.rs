@@ -98,6 +98,12 @@ use crate::header::array_at;
 use crate::message::{SystemValueUpdate, UpdateMode};
 
 /// Whether the protocol may write a slot.
+///
+/// ```
+/// use aydp_proto::registry::{Access, Cell, Slot};
+/// let mut serial = 1234u32;
+/// assert_eq!(Slot::value(0x0002, Cell::u32(&mut serial)).read_only().access, Access::ReadOnly);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -110,6 +116,13 @@ pub enum Access {
 
 /// Caller-owned storage of a slot: a slice of elements (one element for a scalar).
 /// `Chars` is a fixed `char[N]` text, NUL-padded.
+///
+/// ```
+/// use aydp_proto::registry::Cell;
+/// let mut rates = [10u16, 20, 50];
+/// let cell = Cell::U16(&mut rates);
+/// assert_eq!((cell.len(), cell.element_size()), (3, 2));
+/// ```
 #[derive(Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -133,6 +146,15 @@ pub enum Cell<'a> {
 macro_rules! scalar_ctor {
     ($name:ident, $t:ty, $v:ident) => {
         #[doc = concat!("A one-element `", stringify!($t), "` cell over `value`.")]
+        ///
+        /// ```
+        /// use aydp_proto::registry::Cell;
+        #[doc = concat!("let mut value = ", stringify!($t), "::MAX;")]
+        #[doc = concat!("let cell = Cell::", stringify!($name), "(&mut value);")]
+        #[doc = concat!(
+            "assert_eq!(cell, Cell::", stringify!($v), "(&mut [", stringify!($t), "::MAX]));"
+        )]
+        /// ```
         pub fn $name(value: &'a mut $t) -> Self {
             Cell::$v(core::slice::from_mut(value))
         }
@@ -148,6 +170,13 @@ impl<'a> Cell<'a> {
     scalar_ctor!(f64, f64, F64);
 
     /// Bytes per element on the wire.
+    ///
+    /// ```
+    /// use aydp_proto::registry::Cell;
+    /// let (mut a, mut b) = (0u16, 0f64);
+    /// assert_eq!(Cell::u16(&mut a).element_size(), 2);
+    /// assert_eq!(Cell::f64(&mut b).element_size(), 8);
+    /// ```
     pub const fn element_size(&self) -> usize {
         match self {
             Cell::U8(_) | Cell::Chars(_) => 1,
@@ -158,6 +187,12 @@ impl<'a> Cell<'a> {
     }
 
     /// Number of elements.
+    ///
+    /// ```
+    /// use aydp_proto::registry::Cell;
+    /// let mut name = *b"boat\0\0\0\0";
+    /// assert_eq!(Cell::Chars(&mut name).len(), 8);
+    /// ```
     pub const fn len(&self) -> usize {
         match self {
             Cell::U8(s) | Cell::Chars(s) => s.len(),
@@ -170,6 +205,11 @@ impl<'a> Cell<'a> {
     }
 
     /// Whether the cell holds no element.
+    ///
+    /// ```
+    /// use aydp_proto::registry::Cell;
+    /// assert!(Cell::F32(&mut []).is_empty());
+    /// ```
     pub const fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -254,6 +294,13 @@ pub struct Slot<'a> {
 
 impl<'a> Slot<'a> {
     /// A read-write single value (use a one-element cell) or a `Chars` text.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Access, Cell, Slot};
+    /// let mut direct = 0u8;
+    /// let slot = Slot::value(0x0000, Cell::u8(&mut direct));
+    /// assert_eq!((slot.address, slot.access, slot.is_array), (0x0000, Access::ReadWrite, false));
+    /// ```
     pub const fn value(address: u16, cell: Cell<'a>) -> Self {
         Self {
             address,
@@ -265,6 +312,14 @@ impl<'a> Slot<'a> {
     }
 
     /// A read-write fixed-length array.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Slot};
+    /// let mut rates = [10u16, 20, 50];
+    /// let slot = Slot::array(0x0100, Cell::U16(&mut rates));
+    /// assert!(slot.is_array);
+    /// assert_eq!(slot.cell.len(), 3);
+    /// ```
     pub const fn array(address: u16, cell: Cell<'a>) -> Self {
         Self {
             address,
@@ -276,12 +331,32 @@ impl<'a> Slot<'a> {
     }
 
     /// Make the slot read-only for the protocol.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+    /// use aydp_proto::{SystemValueUpdate, UpdateMode};
+    /// let mut serial = 1234u32;
+    /// let mut slots = [Slot::value(0x0002, Cell::u32(&mut serial)).read_only()];
+    /// let mut reg = Registry::new(&mut slots);
+    /// let update = SystemValueUpdate { address: 2, mode: UpdateMode::Single, data: &[0; 4] };
+    /// assert_eq!(reg.apply(&update), Err(RegistryError::ReadOnly(2)));
+    /// ```
     pub const fn read_only(mut self) -> Self {
         self.access = Access::ReadOnly;
         self
     }
 
     /// Restrict numeric values to `min..=max` (NaN is then rejected too).
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+    /// let mut gain = 1.0f32;
+    /// let mut slots = [Slot::value(0x0300, Cell::f32(&mut gain)).with_range(0.0, 2.0)];
+    /// let mut reg = Registry::new(&mut slots);
+    /// assert_eq!(reg.set(0x0300, 0, 1.5f32), Ok(()));
+    /// assert_eq!(reg.set(0x0300, 0, 2.5f32), Err(RegistryError::OutOfRange(0x0300)));
+    /// assert_eq!(reg.set(0x0300, 0, f32::NAN), Err(RegistryError::OutOfRange(0x0300)));
+    /// ```
     pub const fn with_range(mut self, min: f64, max: f64) -> Self {
         self.range = Some((min, max));
         self
@@ -351,6 +426,15 @@ impl<'a> Slot<'a> {
 /// A table of slots, searched by address.
 ///
 /// See the [module documentation](self) for a full example.
+///
+/// ```
+/// use aydp_proto::registry::{Cell, Registry, Slot};
+/// let mut direct = 0u8;
+/// let mut slots = [Slot::value(0x0000, Cell::u8(&mut direct))];
+/// let mut reg = Registry::new(&mut slots);
+/// reg.set(0x0000, 0, 1u8).unwrap();
+/// assert_eq!(reg.get::<u8>(0x0000, 0), Some(1));
+/// ```
 #[derive(Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -359,12 +443,43 @@ pub struct Registry<'s, 'a> {
 }
 
 /// Element types that [`Registry::get`] and [`Registry::set`] read and write.
+///
+/// ```
+/// use aydp_proto::registry::{Cell, Registry, Slot};
+/// let mut rates = [10u16, 20];
+/// let mut slots = [Slot::array(0x0100, Cell::U16(&mut rates))];
+/// let reg = Registry::new(&mut slots);
+/// assert_eq!(reg.get::<u16>(0x0100, 1), Some(20));
+/// assert_eq!(reg.get::<u32>(0x0100, 1), None); // another type
+/// ```
 pub trait Element: Copy + Sized {
     /// Read element `index` of a cell of the matching type.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Element};
+    /// let mut rates = [10u16, 20];
+    /// let cell = Cell::U16(&mut rates);
+    /// assert_eq!(<u16 as Element>::read(&cell, 1), Some(20));
+    /// assert_eq!(<u8 as Element>::read(&cell, 1), None);
+    /// ```
     fn read(cell: &Cell<'_>, index: usize) -> Option<Self>;
     /// Write element `index`; `false` if the type or index does not fit.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Element};
+    /// let mut rates = [10u16, 20];
+    /// let mut cell = Cell::U16(&mut rates);
+    /// assert!(<u16 as Element>::write(&mut cell, 1, 25));
+    /// assert!(!<u16 as Element>::write(&mut cell, 2, 25));
+    /// assert_eq!(rates, [10, 25]);
+    /// ```
     fn write(cell: &mut Cell<'_>, index: usize, value: Self) -> bool;
     /// The value as f64, for range checks (`None`: no range applies).
+    ///
+    /// ```
+    /// use aydp_proto::registry::Element;
+    /// assert_eq!(Element::as_f64(7u8), Some(7.0));
+    /// ```
     fn as_f64(self) -> Option<f64>;
 }
 
@@ -406,11 +521,27 @@ element!(f64, F64);
 
 impl<'s, 'a> Registry<'s, 'a> {
     /// Wrap a table. Addresses should be unique; the first match wins.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, Slot};
+    /// let (mut a, mut b) = (1u8, 2u8);
+    /// let mut slots = [Slot::value(5, Cell::u8(&mut a)), Slot::value(5, Cell::u8(&mut b))];
+    /// assert_eq!(Registry::new(&mut slots).get::<u8>(5, 0), Some(1));
+    /// ```
     pub fn new(slots: &'s mut [Slot<'a>]) -> Self {
         Self { slots }
     }
 
     /// The slot at `address`.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, Slot};
+    /// let mut rates = [10u16, 20, 50];
+    /// let mut slots = [Slot::array(0x0100, Cell::U16(&mut rates))];
+    /// let reg = Registry::new(&mut slots);
+    /// assert_eq!(reg.slot(0x0100).map(|s| s.cell.len()), Some(3));
+    /// assert!(reg.slot(0x0200).is_none());
+    /// ```
     pub fn slot(&self, address: u16) -> Option<&Slot<'a>> {
         self.slots.iter().find(|s| s.address == address)
     }
@@ -423,6 +554,21 @@ impl<'s, 'a> Registry<'s, 'a> {
     }
 
     /// Apply a system value update, or reject it with the reason and change nothing.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+    /// use aydp_proto::{SystemValueUpdate, UpdateMode};
+    /// let mut rates = [10u16, 20, 50];
+    /// let mut slots = [Slot::array(0x0100, Cell::U16(&mut rates))];
+    /// let mut reg = Registry::new(&mut slots);
+    /// let all = [1, 0, 2, 0, 3, 0];
+    /// let update = SystemValueUpdate { address: 0x100, mode: UpdateMode::Array { count: 3 }, data: &all };
+    /// assert_eq!(reg.apply(&update), Ok(()));
+    /// let single = SystemValueUpdate { address: 0x100, mode: UpdateMode::Single, data: &[9, 0] };
+    /// assert_eq!(reg.apply(&single), Err(RegistryError::WrongMode(0x100)));
+    /// drop(reg);
+    /// assert_eq!(rates, [1, 2, 3]);
+    /// ```
     pub fn apply(&mut self, update: &SystemValueUpdate<'_>) -> Result<()> {
         let slot = self.slot_mut(update.address)?;
         let (first, count) = slot.check(update)?;
@@ -445,6 +591,18 @@ impl<'s, 'a> Registry<'s, 'a> {
     /// Build the system value update that answers "request data" for `address`, writing the
     /// value bytes into `out`. Scalars answer in mode 1; arrays and text answer with the whole
     /// array in mode 2.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+    /// use aydp_proto::UpdateMode;
+    /// let mut interval_ms = 1000u32;
+    /// let mut slots = [Slot::value(0x0200, Cell::u32(&mut interval_ms))];
+    /// let reg = Registry::new(&mut slots);
+    /// let mut out = [0u8; 8];
+    /// let reply = reg.read(0x0200, &mut out).unwrap();
+    /// assert_eq!((reply.mode, reply.data), (UpdateMode::Single, &[0xE8, 0x03, 0, 0][..]));
+    /// assert_eq!(reg.read(0x0200, &mut [0u8; 2]), Err(RegistryError::BufferTooSmall { needed: 4 }));
+    /// ```
     pub fn read<'o>(&self, address: u16, out: &'o mut [u8]) -> Result<SystemValueUpdate<'o>> {
         let slot = self
             .slot(address)
@@ -474,12 +632,33 @@ impl<'s, 'a> Registry<'s, 'a> {
     }
 
     /// Read element `index` at `address` as `T` (`None` if absent or of another type).
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, Slot};
+    /// let mut rates = [10u16, 20, 50];
+    /// let mut slots = [Slot::array(0x0100, Cell::U16(&mut rates))];
+    /// let reg = Registry::new(&mut slots);
+    /// assert_eq!(reg.get::<u16>(0x0100, 2), Some(50));
+    /// assert_eq!(reg.get::<u16>(0x0100, 3), None);
+    /// assert_eq!(reg.get::<f32>(0x0100, 0), None);
+    /// ```
     pub fn get<T: Element>(&self, address: u16, index: usize) -> Option<T> {
         T::read(&self.slot(address)?.cell, index)
     }
 
     /// Set element `index` at `address` from the device itself: read-only does not apply
     /// (the device owns its values), but the type, bounds and range checks do.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, RegistryError, Slot};
+    /// let mut serial = 0u32;
+    /// let mut slots = [Slot::value(0x0002, Cell::u32(&mut serial)).read_only()];
+    /// let mut reg = Registry::new(&mut slots);
+    /// assert_eq!(reg.set(0x0002, 0, 1234u32), Ok(())); // read-only binds the protocol only
+    /// assert_eq!(reg.set(0x0002, 0, 1u8), Err(RegistryError::WrongSize(0x0002)));
+    /// assert_eq!(reg.set(0x0002, 1, 1u32), Err(RegistryError::OutOfBounds(0x0002)));
+    /// assert_eq!(reg.set(0x0009, 0, 1u32), Err(RegistryError::UnknownAddress(0x0009)));
+    /// ```
     pub fn set<T: Element>(&mut self, address: u16, index: usize, value: T) -> Result<()> {
         let slot = self.slot_mut(address)?;
         // (Nested rather than a let chain: the crate's MSRV is 1.87.)
@@ -498,6 +677,15 @@ impl<'s, 'a> Registry<'s, 'a> {
     }
 
     /// All slots.
+    ///
+    /// ```
+    /// use aydp_proto::registry::{Cell, Registry, Slot};
+    /// let (mut a, mut b) = (0u8, 0u16);
+    /// let mut slots = [Slot::value(1, Cell::u8(&mut a)), Slot::value(2, Cell::u16(&mut b))];
+    /// let reg = Registry::new(&mut slots);
+    /// let addresses: Vec<u16> = reg.slots().iter().map(|s| s.address).collect();
+    /// assert_eq!(addresses, [1, 2]);
+    /// ```
     pub fn slots(&self) -> &[Slot<'a>] {
         self.slots
     }

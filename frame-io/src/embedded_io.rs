@@ -1,7 +1,8 @@
 //! Blocking frames over [`embedded_io`] (feature `embedded-io`).
 //!
 //! - [`Reader`] owns a [`Decode`]r and a read buffer of `R` bytes; each [`Reader::read`]
-//!   returns the next item, decoding every read with the decoder's slice fast path.
+//!   returns the next item, decoding every read with the decoder's slice fast path, so the
+//!   items and errors are exactly those of the decoder's `feed` over the same bytes.
 //! - [`write_all`] writes a slice, [`write_iter`] the bytes of an iterator a chunk of at most
 //!   32 bytes at a time (an encoder's byte iterator: no frame buffer); the protocol crates'
 //!   writers are built on them.

@@ -2,15 +2,24 @@
 //! executors.
 //!
 //! - [`Reader`] owns a [`Decode`]r and a read buffer of `R` bytes; each [`Reader::read`]
-//!   returns the next item, decoding every read with the decoder's slice fast path.
+//!   returns the next item, decoding every read with the decoder's slice fast path, so the
+//!   items and errors are exactly those of the decoder's `feed` over the same bytes.
 //! - [`write_all`] writes a slice, [`write_iter`] the bytes of an iterator a chunk of at most
 //!   32 bytes at a time (an encoder's byte iterator: no frame buffer); the protocol crates'
 //!   writers are built on them.
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. Errors are [`IoError`].
 //! Dropping a read future loses no decoded state; it loses the bytes of a read in progress only
-//! if the transport's `read` is not cancel-safe. Each loop has one `.await`, on the transport:
-//! the state machines stay small enough for LLVM to see through (`checks/panic-never`).
+//! if the transport's `read` is not cancel-safe.
+//!
+//! **Blocking and async from one source.** Everything but the calls to `read` and `write` is in
+//! one shared core (the read buffer and its bookkeeping, the decode step, the end-of-stream
+//! state, turning an event into an item or an error, the chunking of the writers), plain
+//! synchronous code tested once. Each feature module adds only the loops around it, a few
+//! lines each, identical but for `.await`. This was chosen over one macro body expanded
+//! twice: the public items keep ordinary source, documentation and compiler messages, and each
+//! async loop keeps exactly one `.await` (on the transport), which keeps its state machine
+//! small enough for LLVM to prove panic-free (`checks/panic-never`).
 
 use ::embedded_io_async::{Read, Write};
 

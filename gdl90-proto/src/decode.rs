@@ -15,6 +15,17 @@ use crate::{ESCAPE, Error, FLAG};
 /// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
 /// or is still held by the decoder ([`Decoder::held_bytes`]). Each counted frame was
 /// also reported as exactly one event.
+///
+/// ```
+/// use gdl90_proto::{Decode, Decoder};
+/// let mut decoder = Decoder::<64>::new();
+/// // The ICD's heartbeat, then a geometric altitude frame with a corrupted CRC.
+/// decoder.feed(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
+/// decoder.feed(&[0x0B, 0x01, 0x2C, 0x00, 0x0A, 0x12, 0x34, 0x7E], |_| {});
+/// let stats = decoder.stats();
+/// assert_eq!((stats.frames_ok, stats.checksum_errors), (1, 1));
+/// assert_eq!((stats.frame_bytes, stats.bytes_discarded, stats.flags), (9, 7, 3));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -57,7 +68,8 @@ struct Extra {
 /// It implements the decoder contract, [`Decode`]: [`Decode::feed`] every slice of the
 /// stream (one byte, a datagram, a file), [`Decode::finish`] at its end; each event is
 /// `Ok(message)` or `Err(error)`, at most one per byte. After any error it resynchronises on the next flag, so an intact frame
-/// after garbage or after a bad CRC is always delivered. A capacity of
+/// after garbage or after a bad CRC is always delivered. Unlike AEOLUS, GDL90 has no "CRC
+/// `00 00` means no CRC" rule: such a frame is checked like any other. A capacity of
 /// [`crate::TYPED_FRAME`] receives every typed message; [`crate::MAX_FRAME`] receives every
 /// ICD message (the UAT uplink is the longest).
 ///
@@ -93,6 +105,12 @@ impl<const N: usize> Default for Decoder<N> {
 
 impl<const N: usize> Decoder<N> {
     /// An empty decoder, waiting for a flag.
+    ///
+    /// ```
+    /// use gdl90_proto::{Decoder, Stats};
+    /// let decoder = Decoder::<{ gdl90_proto::TYPED_FRAME }>::new();
+    /// assert_eq!((decoder.held_bytes(), decoder.stats()), (0, Stats::default()));
+    /// ```
     pub const fn new() -> Self {
         Decoder {
             // Lenient mode, so that a `00 00` frame reaches `accept` whole and its real CRC
@@ -131,12 +149,29 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Zeroes the counters.
+    ///
+    /// ```
+    /// use gdl90_proto::{Decode, Decoder, Stats};
+    /// let mut decoder = Decoder::<64>::new();
+    /// decoder.feed(&[0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E], |_| {});
+    /// decoder.reset_stats();
+    /// assert_eq!(decoder.stats(), Stats::default());
+    /// ```
     pub fn reset_stats(&mut self) {
         self.framing.reset_stats();
         self.extra = Extra::default();
     }
 
     /// Drops the frame in progress (counting its bytes as discarded) and waits for a flag.
+    ///
+    /// ```
+    /// use gdl90_proto::{Decode, Decoder};
+    /// let mut decoder = Decoder::<64>::new();
+    /// decoder.feed(&[0x7E, 0x00, 0x81, 0x41], |_| {});
+    /// decoder.reset();
+    /// assert_eq!(decoder.held_bytes(), 0);
+    /// assert_eq!(decoder.stats().bytes_discarded, 3);
+    /// ```
     pub fn reset(&mut self) {
         self.framing.reset();
     }

@@ -3,25 +3,9 @@
 //! A zero-allocation, `no_std` encoder and decoder for GDL90 (FAA GDL 90 Public ICD Rev A)
 //! and ForeFlight's GDL 90 extensions: Heartbeat, Ownship and Traffic Reports, Ownship
 //! Geometric Altitude, ForeFlight ID, ForeFlight AHRS and the Stratux AHRS report (0x4C),
-//! typed with physical units; every other ID delivered raw.
-//!
-//! GDL90 framing is AEOLUS framing (`0x7E` flags, `0x7D` escapes, the same CRC-16 sent LSB
-//! first), so this crate reuses `aeolus-proto`'s decoder, frame encoder and CRC. The one
-//! difference is handled here: GDL90 has no "CRC `00 00` means no CRC" rule, so such a frame
-//! is checked like any other.
-//!
-//! - [`Decoder`]: the stream decoder, bounded by a const-generic capacity, resynchronising
-//!   after any error, with [`Stats`] counters. It implements [`Decode`], the decoder contract
-//!   every protocol crate of this workspace shares: `feed` every slice of the stream (one
-//!   byte or many), `finish` at its end; each event is `Ok(Message)` or `Err(Error)`.
-//! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
-//!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
-//!   [`message::Message::encode`]: a whole
-//!   frame into a `&mut [u8]`, returning its length; [`MAX_ENCODED_LEN`] bytes always do.
-//! - [`message`]: the typed messages (their byte tables live in one private file,
-//!   `src/message/layout.rs`, which every parse and emit reads through).
-//!
-//! Decoders never panic, whatever the input.
+//! typed with physical units; every other ID delivered raw. GDL90 framing is AEOLUS framing
+//! (`0x7E` flags, `0x7D` escapes, the same CRC-16 sent LSB first), so this crate reuses
+//! `aeolus-proto`'s decoder, frame encoder and CRC. Decoders never panic, whatever the input.
 //!
 //! ## Decoding a stream: the one loop
 //!
@@ -52,23 +36,20 @@
 //! assert_eq!(decoder.stats().checksum_errors, 1);
 //! ```
 //!
-//! ## Encoding an AHRS message
+//! ## Contents
 //!
-//! ```
-//! use gdl90_proto::{encode_ahrs, MAX_ENCODED_LEN, message::{Ahrs, Heading}};
+//! - [`Decoder`] and its [`Stats`]: the stream decoder. It implements [`Decode`], the decoder
+//!   contract every protocol crate of this workspace shares.
+//! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
+//!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
+//!   [`message::Message::encode`]: a whole frame into a `&mut [u8]`, returning its length;
+//!   [`MAX_ENCODED_LEN`] bytes always do.
+//! - [`message`]: the typed messages; [`crc`]: the frame check.
 //!
-//! let ahrs = Ahrs {
-//!     roll_deg: Some(15.0),
-//!     pitch_deg: Some(-2.5),
-//!     heading: Some(Heading::Magnetic(90.0)),
-//!     indicated_airspeed_kt: Some(110),
-//!     true_airspeed_kt: None,
-//! };
-//! let mut wire = [0u8; MAX_ENCODED_LEN];
-//! let n = encode_ahrs(&ahrs, &mut wire).unwrap();
-//! assert_eq!(&wire[..3], &[0x7E, 0x65, 0x01]);
-//! assert_eq!(wire[n - 1], 0x7E);
-//! ```
+//! ## Features
+//!
+//! - `defmt`: `defmt::Format` derived on the public types.
+//! - `serde`: `serde::Serialize` derived on the public types (for host tools).
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

@@ -15,6 +15,20 @@ use crate::{
 ///
 /// Every byte pushed ends up in exactly one of `bytes_discarded`, `frame_bytes` or `flags`,
 /// or is still held by the decoder ([`Decoder::held_bytes`]).
+///
+/// ```
+/// use aeolus_proto::{Decode, Decoder};
+/// let mut decoder = Decoder::<16>::new();
+/// // Two noise bytes, a good TOAST "hi", then one with a bad CRC.
+/// let wire = [
+///     0x00, 0x13, 0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x52, b'h', b'i', 0, 0x74, 0xEC,
+///     0x7E,
+/// ];
+/// decoder.feed(&wire, |_| {});
+/// let stats = decoder.stats();
+/// assert_eq!((stats.frames_ok, stats.checksum_errors), (1, 1));
+/// assert_eq!((stats.bytes_discarded, stats.frame_bytes, stats.flags), (2 + 6, 6, 3));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -43,11 +57,23 @@ pub struct Stats {
 
 impl Stats {
     /// Frames delivered, with or without CRC.
+    ///
+    /// ```
+    /// use aeolus_proto::Stats;
+    /// let stats = Stats { frames_ok: 3, frames_no_crc: 2, ..Stats::default() };
+    /// assert_eq!(stats.frames_delivered(), 5);
+    /// ```
     pub const fn frames_delivered(&self) -> u32 {
         self.frames_ok.wrapping_add(self.frames_no_crc)
     }
 
     /// Frames dropped for any reason.
+    ///
+    /// ```
+    /// use aeolus_proto::Stats;
+    /// let stats = Stats { checksum_errors: 3, overflows: 1, frames_ok: 9, ..Stats::default() };
+    /// assert_eq!(stats.frames_dropped(), 4);
+    /// ```
     pub const fn frames_dropped(&self) -> u32 {
         self.checksum_errors
             .wrapping_add(self.missing_crc)
@@ -186,11 +212,24 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Whether frames without CRC are rejected.
+    ///
+    /// ```
+    /// use aeolus_proto::Decoder;
+    /// assert!(Decoder::<16>::strict().is_strict());
+    /// assert!(!Decoder::<16>::new().is_strict());
+    /// ```
     pub const fn is_strict(&self) -> bool {
         self.strict
     }
 
     /// The counters so far.
+    ///
+    /// ```
+    /// use aeolus_proto::{Decode, Decoder};
+    /// let mut decoder = Decoder::<16>::new();
+    /// decoder.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |_| {});
+    /// assert_eq!(decoder.stats().frames_ok, 1);
+    /// ```
     pub const fn stats(&self) -> Stats {
         let mut stats = self.stats;
         stats.bytes_discarded = stats.bytes_discarded.wrapping_add(self.fresh() as u32);
@@ -198,6 +237,14 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Zeroes the counters.
+    ///
+    /// ```
+    /// use aeolus_proto::{Decode, Decoder, Stats};
+    /// let mut decoder = Decoder::<16>::new();
+    /// decoder.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], |_| {});
+    /// decoder.reset_stats();
+    /// assert_eq!(decoder.stats(), Stats::default());
+    /// ```
     pub fn reset_stats(&mut self) {
         self.settle();
         self.stats = Stats::default();
@@ -258,6 +305,15 @@ impl<const N: usize> Decoder<N> {
     }
 
     /// Drops the frame in progress (counting its bytes as discarded) and hunts for a flag.
+    ///
+    /// ```
+    /// use aeolus_proto::{Decode, Decoder};
+    /// let mut decoder = Decoder::<16>::new();
+    /// decoder.feed(&[0x7E, 0x52, b'h'], |_| {});
+    /// decoder.reset();
+    /// assert_eq!(decoder.held_bytes(), 0);
+    /// assert_eq!(decoder.stats().bytes_discarded, 2);
+    /// ```
     pub fn reset(&mut self) {
         self.settle();
         self.drop_frame(0, State::Hunt);

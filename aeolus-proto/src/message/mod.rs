@@ -1,5 +1,6 @@
 //! Typed AEOLUS messages (sections 6 and 7): one plain struct per message with `parse`,
-//! `emit` and `buffer_len`, and the [`Message`] enum that covers every ID.
+//! `emit` and `buffer_len`, and the [`Message`] enum that covers every ID. Multi-byte fields
+//! are little-endian (DECISIONS.md A1).
 
 mod field;
 mod layout;
@@ -50,6 +51,15 @@ pub mod id {
 }
 
 /// COMPASS calibration status (section 7.9): a signed byte (DECISIONS.md A7).
+///
+/// ```
+/// use aeolus_proto::message::{CalibrationStatus, Compass};
+/// let compass = Compass { calibration: CalibrationStatus::FieldWeak, ..Compass::default() };
+/// let mut data = [0u8; Compass::LEN];
+/// compass.emit(&mut data).unwrap();
+/// assert_eq!(data[1], 0xFE); // -2
+/// assert_eq!(Compass::parse(&data).unwrap().calibration, CalibrationStatus::FieldWeak);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -98,6 +108,12 @@ impl CalibrationStatus {
     }
 
     /// The status byte.
+    ///
+    /// ```
+    /// use aeolus_proto::message::CalibrationStatus;
+    /// assert_eq!(CalibrationStatus::FieldWeak.to_i8(), -2);
+    /// assert_eq!(CalibrationStatus::Other(9).to_i8(), 9);
+    /// ```
     pub const fn to_i8(self) -> i8 {
         match self {
             Self::NoCalibration => 1,
@@ -244,6 +260,12 @@ impl<'a> Message<'a> {
     }
 
     /// The message ID.
+    ///
+    /// ```
+    /// use aeolus_proto::message::Message;
+    /// assert_eq!(Message::parse(82, b"hi\0").unwrap().id(), 82);
+    /// assert_eq!(Message::Unknown { id: 200, data: &[] }.id(), 200);
+    /// ```
     pub const fn id(&self) -> u8 {
         match self {
             Self::AeolusInfo(_) => id::AEOLUSINFO,
@@ -267,6 +289,12 @@ impl<'a> Message<'a> {
     }
 
     /// The spec's name of the message (`"UNKNOWN"` for an undefined ID).
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, SetTime};
+    /// assert_eq!(Message::SetTime(SetTime::default()).name(), "SETTIME");
+    /// assert_eq!(Message::Unknown { id: 200, data: &[] }.name(), "UNKNOWN");
+    /// ```
     pub const fn name(&self) -> &'static str {
         match self {
             Self::AeolusInfo(_) => "AEOLUSINFO",
@@ -290,6 +318,12 @@ impl<'a> Message<'a> {
     }
 
     /// The data length [`Message::emit`] writes.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Gyro, Message, Text};
+    /// assert_eq!(Message::Toast(Text::new("hi").unwrap()).buffer_len(), 3); // with its NUL
+    /// assert_eq!(Message::Gyro(Gyro::default()).buffer_len(), Gyro::LEN);
+    /// ```
     pub fn buffer_len(&self) -> usize {
         match self {
             Self::Toast(t) | Self::Command(t) => t.buffer_len(),
@@ -312,6 +346,15 @@ impl<'a> Message<'a> {
     }
 
     /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
+    ///
+    /// ```
+    /// use aeolus_proto::{EncodeError, message::{Message, Text}};
+    /// let toast = Message::Toast(Text::new("hi").unwrap());
+    /// let mut out = [0u8; 8];
+    /// assert_eq!(toast.emit(&mut out), Ok(3));
+    /// assert_eq!(&out[..3], b"hi\0");
+    /// assert_eq!(toast.emit(&mut out[..2]), Err(EncodeError::BufferTooSmall { needed: 3 }));
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`].
@@ -345,6 +388,14 @@ impl<'a> Message<'a> {
 
     /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns its length.
     /// [`crate::max_encoded_len`] of [`Message::buffer_len`] is always enough.
+    ///
+    /// ```
+    /// use aeolus_proto::{CrcMode, max_encoded_len, message::{Message, Text}};
+    /// let toast = Message::Toast(Text::new("hi").unwrap());
+    /// let mut wire = [0u8; max_encoded_len(3)];
+    /// let n = toast.encode(&mut wire, CrcMode::Omit).unwrap();
+    /// assert_eq!(&wire[..n], &[0x7E, 0x52, b'h', b'i', 0x00, 0x00, 0x00, 0x7E]);
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`].

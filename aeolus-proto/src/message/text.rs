@@ -21,6 +21,13 @@ pub struct Text(heapless::Vec<u8, TEXT_CAPACITY>);
 impl Text {
     /// A text from a string.
     ///
+    /// ```
+    /// use aeolus_proto::{EncodeError, message::Text};
+    /// assert_eq!(Text::new("a reboot").unwrap().as_str(), Some("a reboot"));
+    /// let long = "x".repeat(121);
+    /// assert_eq!(Text::new(&long), Err(EncodeError::TextTooLong { len: 121 }));
+    /// ```
+    ///
     /// # Errors
     /// [`EncodeError::TextTooLong`] if it is longer than [`TEXT_CAPACITY`].
     pub fn new(text: &str) -> Result<Self, EncodeError> {
@@ -28,6 +35,12 @@ impl Text {
     }
 
     /// A text from raw bytes (not necessarily UTF-8), up to a NUL if one is present.
+    ///
+    /// ```
+    /// use aeolus_proto::message::Text;
+    /// assert_eq!(Text::from_bytes(b"ok\0junk").unwrap().as_bytes(), b"ok");
+    /// assert_eq!(Text::from_bytes(&[0xFF, b'a']).unwrap().as_bytes(), &[0xFF, b'a']);
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::TextTooLong`] if the bytes before the NUL exceed [`TEXT_CAPACITY`].
@@ -41,6 +54,13 @@ impl Text {
 
     /// Parses message data: the string runs to the first NUL, or over all the data if there is
     /// none (A6). Bytes after the NUL are ignored (they stay in the raw frame).
+    ///
+    /// ```
+    /// use aeolus_proto::{Error, message::Text};
+    /// assert_eq!(Text::parse(82, b"hi\0").unwrap().as_str(), Some("hi"));
+    /// assert_eq!(Text::parse(82, b"no nul").unwrap().as_str(), Some("no nul"));
+    /// assert_eq!(Text::parse(82, &[b'x'; 130]), Err(Error::TextTooLong { id: 82, len: 130 }));
+    /// ```
     ///
     /// # Errors
     /// [`Error::TextTooLong`] carrying `id`.
@@ -56,21 +76,46 @@ impl Text {
     }
 
     /// The text bytes, without the NUL.
+    ///
+    /// ```
+    /// use aeolus_proto::message::Text;
+    /// assert_eq!(Text::parse(82, b"hi\0").unwrap().as_bytes(), b"hi");
+    /// ```
     pub fn as_bytes(&self) -> &[u8] {
         &self.0
     }
 
     /// The text, if it is UTF-8.
+    ///
+    /// ```
+    /// use aeolus_proto::message::Text;
+    /// assert_eq!(Text::new("hi").unwrap().as_str(), Some("hi"));
+    /// assert_eq!(Text::from_bytes(&[0xFF]).unwrap().as_str(), None);
+    /// ```
     pub fn as_str(&self) -> Option<&str> {
         core::str::from_utf8(&self.0).ok()
     }
 
     /// The data length on the wire: the text and its NUL terminator.
+    ///
+    /// ```
+    /// use aeolus_proto::message::Text;
+    /// assert_eq!(Text::new("hi").unwrap().buffer_len(), 3);
+    /// ```
     pub fn buffer_len(&self) -> usize {
         self.0.len() + 1
     }
 
     /// Writes the text and its NUL into `out`; returns [`Text::buffer_len`].
+    ///
+    /// ```
+    /// use aeolus_proto::{EncodeError, message::Text};
+    /// let text = Text::new("hi").unwrap();
+    /// let mut out = [0xAA; 4];
+    /// assert_eq!(text.emit(&mut out), Ok(3));
+    /// assert_eq!(out, [b'h', b'i', 0, 0xAA]);
+    /// assert_eq!(text.emit(&mut out[..2]), Err(EncodeError::BufferTooSmall { needed: 3 }));
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`].

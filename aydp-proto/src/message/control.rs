@@ -45,6 +45,14 @@ impl SystemControl {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse: request data is exactly 3 bytes, store configuration exactly 1.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, SystemControl};
+    /// assert_eq!(SystemControl::parse(&[1, 0x00, 0x01]), Ok(SystemControl::RequestData { address: 0x100 }));
+    /// let short = Error::PayloadTooShort { msg_type: 9, expected: 3, actual: 2 };
+    /// assert_eq!(SystemControl::parse(&[1, 8]), Err(short));
+    /// assert_eq!(SystemControl::parse(&[3]), Err(Error::UnknownCommand(3)));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         match data {
             [] => Err(too_short(Self::TYPE, 1, 0)),

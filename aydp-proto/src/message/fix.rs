@@ -50,6 +50,14 @@ impl FixQuality {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = fq::FIELDS;
 
     /// Parse exactly 8 data bytes; a negative `uflt16` is an error.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, FixQuality};
+    /// let q = FixQuality::parse(&[3, 0x00, 0x3E, 0x00, 0x3C, 0x00, 0x40, 9]).unwrap();
+    /// assert_eq!((q.fix_type, q.mean_dop, q.hdop, q.vdop, q.satellites), (3, 1.5, 1.0, 2.0, 9));
+    /// // 0x8000 as the mean DOP: a negative uflt16.
+    /// assert_eq!(FixQuality::parse(&[3, 0x00, 0x80, 0, 0, 0, 0, 9]), Err(Error::NegativeUflt16));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         Ok(Self {
@@ -62,6 +70,14 @@ impl FixQuality {
     }
 
     /// The 8 data bytes (DOPs rounded to binary16, negatives clamped to 0).
+    ///
+    /// ```
+    /// use aydp_proto::FixQuality;
+    /// let q = FixQuality { fix_type: 3, mean_dop: 1.5, hdop: 1.0, vdop: 2.0, satellites: 9 };
+    /// assert_eq!(q.to_bytes(), [3, 0x00, 0x3E, 0x00, 0x3C, 0x00, 0x40, 9]);
+    /// let negative = FixQuality { hdop: -1.0, ..q };
+    /// assert_eq!(&negative.to_bytes()[3..5], &[0x00, 0x00]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[fq::FIX_TYPE] = self.fix_type;
@@ -115,6 +131,13 @@ impl Satellite {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = sat::FIELDS;
 
     /// Parse 7 bytes.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, Satellite};
+    /// let s = Satellite::parse(&[7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap();
+    /// assert_eq!((s.id, s.azimuth, s.elevation, s.snr), (7, 180.0, 45.0, 38.0));
+    /// assert_eq!(Satellite::parse(&[7, 0x00, 0x80, 0, 0, 0, 0]), Err(Error::NegativeUflt16));
+    /// ```
     pub fn parse(b: &[u8; Self::LEN]) -> Result<Self> {
         Ok(Self {
             id: b[sat::ID],
@@ -125,6 +148,12 @@ impl Satellite {
     }
 
     /// The 7 bytes.
+    ///
+    /// ```
+    /// use aydp_proto::Satellite;
+    /// let s = Satellite { id: 7, azimuth: 180.0, elevation: 45.0, snr: 38.0 };
+    /// assert_eq!(s.to_bytes(), [7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[sat::ID] = self.id;
@@ -184,6 +213,14 @@ impl<'a> FixDetail<'a> {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = fd::FIELDS;
 
     /// Validate: the count must match the length and no `uflt16` may be negative.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, FixDetail};
+    /// assert_eq!(FixDetail::parse(&[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap().len(), 1);
+    /// // A count of 2 with one entry's bytes.
+    /// let mismatch = Error::CountMismatch { msg_type: 5, count: 2 };
+    /// assert_eq!(FixDetail::parse(&[2, 0, 0, 0, 0, 0, 0, 0]), Err(mismatch));
+    /// ```
     pub fn parse(data: &'a [u8]) -> Result<Self> {
         let Some((&count, rest)) = data.split_first() else {
             return Err(too_short(Self::TYPE, 1, 0));
@@ -204,21 +241,44 @@ impl<'a> FixDetail<'a> {
     }
 
     /// Number of satellites.
+    ///
+    /// ```
+    /// use aydp_proto::FixDetail;
+    /// assert_eq!(FixDetail::parse(&[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap().len(), 1);
+    /// ```
     pub fn len(&self) -> usize {
         self.data.first().copied().unwrap_or(0) as usize
     }
 
     /// Whether the list is empty.
+    ///
+    /// ```
+    /// use aydp_proto::FixDetail;
+    /// assert!(FixDetail::parse(&[0]).unwrap().is_empty());
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// The data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::FixDetail;
+    /// let data = [1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50];
+    /// assert_eq!(FixDetail::parse(&data).unwrap().as_bytes(), &data);
+    /// ```
     pub fn as_bytes(&self) -> &'a [u8] {
         self.data
     }
 
     /// Iterate over the satellites without copying the message.
+    ///
+    /// ```
+    /// use aydp_proto::FixDetail;
+    /// let detail = FixDetail::parse(&[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap();
+    /// let ids: Vec<(u8, f32)> = detail.satellites().map(|s| (s.id, s.snr)).collect();
+    /// assert_eq!(ids, [(7, 38.0)]);
+    /// ```
     pub fn satellites(&self) -> Satellites<'a> {
         Satellites {
             chunks: self
@@ -230,6 +290,13 @@ impl<'a> FixDetail<'a> {
     }
 
     /// Collect into a bounded list; fails if more than `M` satellites.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, FixDetail};
+    /// let detail = FixDetail::parse(&[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap();
+    /// assert_eq!(detail.to_list::<4>().unwrap()[0].id, 7);
+    /// assert_eq!(detail.to_list::<0>(), Err(Error::TooManySatellites(1)));
+    /// ```
     pub fn to_list<const M: usize>(&self) -> Result<SatelliteList<M>> {
         let mut out = SatelliteList::<M>::new();
         for s in self.satellites() {
@@ -256,6 +323,14 @@ impl Payload for FixDetail<'_> {
 }
 
 /// Iterator over the satellites of a [`FixDetail`].
+///
+/// ```
+/// use aydp_proto::FixDetail;
+/// let detail = FixDetail::parse(&[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]).unwrap();
+/// let mut satellites = detail.satellites();
+/// assert_eq!(satellites.next().map(|s| s.azimuth), Some(180.0));
+/// assert_eq!(satellites.next(), None);
+/// ```
 #[derive(Debug, Clone)]
 pub struct Satellites<'a> {
     chunks: core::slice::ChunksExact<'a, u8>,
@@ -291,12 +366,26 @@ pub struct FixDetailBuilder<'b> {
 
 impl<'b> FixDetailBuilder<'b> {
     /// Start an empty list in `buf` (needs at least 1 byte to finish).
+    ///
+    /// ```
+    /// use aydp_proto::FixDetailBuilder;
+    /// let mut buf = [0xAA; 8];
+    /// assert_eq!(FixDetailBuilder::new(&mut buf).finish().as_bytes(), &[0]);
+    /// ```
     pub fn new(buf: &'b mut [u8]) -> Self {
         Self { buf, count: 0 }
     }
 
     /// Append a satellite; fails ([`EncodeError::BufferTooSmall`], [`EncodeError::TooLong`]) if
     /// the buffer is full or 255 are already held.
+    ///
+    /// ```
+    /// use aydp_proto::{EncodeError, FixDetailBuilder, Satellite};
+    /// let mut buf = [0u8; 8];
+    /// let mut builder = FixDetailBuilder::new(&mut buf);
+    /// assert_eq!(builder.push(Satellite::default()), Ok(()));
+    /// assert_eq!(builder.push(Satellite::default()), Err(EncodeError::BufferTooSmall { needed: 15 }));
+    /// ```
     pub fn push(&mut self, sat: Satellite) -> core::result::Result<(), EncodeError> {
         let at = 1 + self.count as usize * Satellite::LEN;
         if self.count == u8::MAX {
@@ -313,6 +402,14 @@ impl<'b> FixDetailBuilder<'b> {
     }
 
     /// The finished view.
+    ///
+    /// ```
+    /// use aydp_proto::{FixDetailBuilder, Satellite};
+    /// let mut buf = [0u8; 16];
+    /// let mut builder = FixDetailBuilder::new(&mut buf);
+    /// builder.push(Satellite { id: 7, azimuth: 180.0, elevation: 45.0, snr: 38.0 }).unwrap();
+    /// assert_eq!(builder.finish().as_bytes(), &[1, 7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]);
+    /// ```
     pub fn finish(self) -> FixDetail<'b> {
         let n = 1 + self.count as usize * Satellite::LEN;
         if let Some(c) = self.buf.first_mut() {

@@ -1,4 +1,8 @@
 //! Typed messages and the [`Message`] enum that ties them to type numbers per profile.
+//!
+//! Each typed message gives its bytes as a table, `FIELDS` (name, wire type, offset) and `LEN`
+//! ([`Position::FIELDS`], [`Frame::HEADER_FIELDS`](crate::Frame::HEADER_FIELDS) for the
+//! header), for tools that describe the wire format.
 
 mod control;
 mod fix;
@@ -142,6 +146,15 @@ fn empty(msg_type: u8, data: &[u8]) -> Result<()> {
 
 impl<'a> Message<'a> {
     /// Parse the data of a message of `base_type` (without the expedited bit).
+    ///
+    /// ```
+    /// use aydp_proto::{Error, Message, Profile, SystemControl};
+    /// let store = Message::SystemControl(SystemControl::StoreConfiguration);
+    /// assert_eq!(Message::parse(9, false, &[2], Profile::Spec), Ok(store));
+    /// assert_eq!(Message::parse(0, true, &[], Profile::Spec), Ok(Message::Heartbeat));
+    /// assert_eq!(Message::parse(0, true, &[], Profile::Reference), Ok(Message::NoOp));
+    /// assert_eq!(Message::parse(127, false, &[], Profile::Spec), Err(Error::BadType(127)));
+    /// ```
     // Out of line: a caller that parses in several places keeps one copy (inlined into the
     // firmware's main loop, it cost 416 B of flash more once VESSEL DATA moved out of it).
     #[inline(never)]

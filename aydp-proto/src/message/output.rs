@@ -40,6 +40,12 @@ impl OutputEntry {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = entry::FIELDS;
 
     /// The 6 bytes of this entry.
+    ///
+    /// ```
+    /// use aydp_proto::OutputEntry;
+    /// let e = OutputEntry { device: 1, channel: 2, value: -1.0 };
+    /// assert_eq!(e.to_bytes(), [1, 2, 0x00, 0x00, 0x80, 0xBF]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[entry::DEVICE] = self.device;
@@ -95,6 +101,16 @@ impl<'a> DirectOutput<'a> {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = direct_output::FIELDS;
 
     /// Validate: the u16 count must match the data length exactly.
+    ///
+    /// ```
+    /// use aydp_proto::{DirectOutput, Error};
+    /// // Count 1 (u16), then device 1, channel 2, value 10.0.
+    /// assert_eq!(DirectOutput::parse(&[1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]).unwrap().len(), 1);
+    /// let mismatch = Error::CountMismatch { msg_type: 7, count: 2 };
+    /// assert_eq!(DirectOutput::parse(&[2, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]), Err(mismatch));
+    /// let short = Error::PayloadTooShort { msg_type: 7, expected: 2, actual: 1 };
+    /// assert_eq!(DirectOutput::parse(&[1]), Err(short));
+    /// ```
     pub fn parse(data: &'a [u8]) -> Result<Self> {
         let Some(rest) = data.get(2..) else {
             return Err(too_short(Self::TYPE, 2, data.len()));
@@ -110,21 +126,44 @@ impl<'a> DirectOutput<'a> {
     }
 
     /// Number of entries.
+    ///
+    /// ```
+    /// use aydp_proto::DirectOutput;
+    /// assert_eq!(DirectOutput::parse(&[1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]).unwrap().len(), 1);
+    /// ```
     pub fn len(&self) -> usize {
         u16::from_le_bytes(array_at(self.data, direct_output::COUNT)) as usize
     }
 
     /// Whether there are no entries.
+    ///
+    /// ```
+    /// use aydp_proto::DirectOutput;
+    /// assert!(DirectOutput::parse(&[0, 0]).unwrap().is_empty());
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// The data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::DirectOutput;
+    /// let data = [1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41];
+    /// assert_eq!(DirectOutput::parse(&data).unwrap().as_bytes(), &data);
+    /// ```
     pub fn as_bytes(&self) -> &'a [u8] {
         self.data
     }
 
     /// The entries, in message order, without copying.
+    ///
+    /// ```
+    /// use aydp_proto::{DirectOutput, OutputEntry};
+    /// let out = DirectOutput::parse(&[1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]).unwrap();
+    /// let first = out.entries().next();
+    /// assert_eq!(first, Some(OutputEntry { device: 1, channel: 2, value: 10.0 }));
+    /// ```
     pub fn entries(&self) -> Entries<'a> {
         Entries {
             chunks: self
@@ -152,6 +191,15 @@ impl Payload for DirectOutput<'_> {
 }
 
 /// Iterator over [`DirectOutput`] entries.
+///
+/// ```
+/// use aydp_proto::DirectOutput;
+/// let out = DirectOutput::parse(&[1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]).unwrap();
+/// let mut entries = out.entries();
+/// assert_eq!(entries.len(), 1);
+/// assert_eq!(entries.next().map(|e| e.value), Some(10.0));
+/// assert_eq!(entries.next(), None);
+/// ```
 #[derive(Debug, Clone)]
 pub struct Entries<'a> {
     chunks: core::slice::ChunksExact<'a, u8>,
@@ -189,12 +237,26 @@ pub struct DirectOutputBuilder<'b> {
 
 impl<'b> DirectOutputBuilder<'b> {
     /// Start an empty list in `buf` (needs at least 2 bytes to finish).
+    ///
+    /// ```
+    /// use aydp_proto::DirectOutputBuilder;
+    /// let mut buf = [0xAA; 8];
+    /// assert_eq!(DirectOutputBuilder::new(&mut buf).finish().as_bytes(), &[0, 0]);
+    /// ```
     pub fn new(buf: &'b mut [u8]) -> Self {
         Self { buf, count: 0 }
     }
 
     /// Append an entry; fails ([`EncodeError::BufferTooSmall`], [`EncodeError::TooLong`]) if the
     /// buffer is full or 65 535 entries are held.
+    ///
+    /// ```
+    /// use aydp_proto::{DirectOutputBuilder, EncodeError, OutputEntry};
+    /// let mut buf = [0u8; 8];
+    /// let mut builder = DirectOutputBuilder::new(&mut buf);
+    /// assert_eq!(builder.push(OutputEntry::default()), Ok(()));
+    /// assert_eq!(builder.push(OutputEntry::default()), Err(EncodeError::BufferTooSmall { needed: 14 }));
+    /// ```
     pub fn push(&mut self, entry: OutputEntry) -> core::result::Result<(), EncodeError> {
         if self.count == u16::MAX {
             return Err(EncodeError::TooLong);
@@ -211,6 +273,14 @@ impl<'b> DirectOutputBuilder<'b> {
     }
 
     /// The finished view.
+    ///
+    /// ```
+    /// use aydp_proto::{DirectOutputBuilder, OutputEntry};
+    /// let mut buf = [0u8; 8];
+    /// let mut builder = DirectOutputBuilder::new(&mut buf);
+    /// builder.push(OutputEntry { device: 1, channel: 2, value: 10.0 }).unwrap();
+    /// assert_eq!(builder.finish().as_bytes(), &[1, 0, 1, 2, 0x00, 0x00, 0x20, 0x41]);
+    /// ```
     pub fn finish(self) -> DirectOutput<'b> {
         let n = 2 + self.count as usize * OutputEntry::LEN;
         put(self.buf, 0, &self.count.to_le_bytes());

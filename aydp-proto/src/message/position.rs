@@ -40,6 +40,15 @@ impl Position {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse exactly 20 data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, Position};
+    /// let data = [0, 0, 0, 0, 0, 0x40, 0x49, 0x40, 0, 0, 0, 0, 0, 0, 0xF4, 0xBF, 0, 0, 0x48, 0x41];
+    /// let p = Position::parse(&data).unwrap();
+    /// assert_eq!((p.latitude, p.longitude, p.altitude), (50.5, -1.25, 12.5));
+    /// let short = Error::PayloadTooShort { msg_type: 3, expected: 20, actual: 19 };
+    /// assert_eq!(Position::parse(&data[..19]), Err(short));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         Ok(Self {
@@ -50,6 +59,13 @@ impl Position {
     }
 
     /// The 20 data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::Position;
+    /// let p = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
+    /// // latitude f64, longitude f64, altitude f32, little-endian
+    /// assert_eq!(p.to_bytes(), [0, 0, 0, 0, 0, 0x40, 0x49, 0x40, 0, 0, 0, 0, 0, 0, 0xF4, 0xBF, 0, 0, 0x48, 0x41]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         put(&mut out, at::LATITUDE, &self.latitude.to_le_bytes());

@@ -31,6 +31,12 @@ impl WindSpeed {
     /// ```
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = wind::FIELDS;
     /// Parse exactly 4 bytes.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, WindSpeed};
+    /// let short = Error::PayloadTooShort { msg_type: 1, expected: 4, actual: 3 };
+    /// assert_eq!(WindSpeed::parse(&[0, 0, 0x60]), Err(short));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
             data,
@@ -38,6 +44,11 @@ impl WindSpeed {
         )?)))
     }
     /// The 4 data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::WindSpeed;
+    /// assert_eq!(WindSpeed(3.5).to_bytes(), [0x00, 0x00, 0x60, 0x40]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         self.0.to_le_bytes()
     }
@@ -70,6 +81,13 @@ impl WindDirection {
     /// ```
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = wind::FIELDS;
     /// Parse exactly 4 bytes.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, WindDirection};
+    /// assert_eq!(WindDirection::parse(&[0x00, 0x00, 0x87, 0x43]), Ok(WindDirection(270.0)));
+    /// let long = Error::PayloadTooLong { msg_type: 2, expected: 4, actual: 5 };
+    /// assert_eq!(WindDirection::parse(&[0; 5]), Err(long));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         Ok(Self(f32::from_le_bytes(*exact::<{ Self::LEN }>(
             data,
@@ -77,6 +95,11 @@ impl WindDirection {
         )?)))
     }
     /// The 4 data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::WindDirection;
+    /// assert_eq!(WindDirection(270.0).to_bytes(), [0x00, 0x00, 0x87, 0x43]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         self.0.to_le_bytes()
     }
@@ -142,6 +165,15 @@ impl VesselData {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse exactly 68 bytes.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, VesselData};
+    /// let mut data = [0u8; 68];
+    /// data[8..12].copy_from_slice(&[0x00, 0x00, 0xB4, 0x42]); // heading 90.0
+    /// assert_eq!(VesselData::parse(&data).unwrap().heading, 90.0);
+    /// let short = Error::PayloadTooShort { msg_type: 17, expected: 68, actual: 67 };
+    /// assert_eq!(VesselData::parse(&data[..67]), Err(short));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self> {
         let b = exact::<{ Self::LEN }>(data, Self::TYPE)?;
         let f = |at| f32::from_le_bytes(array_at(b, at));
@@ -165,6 +197,15 @@ impl VesselData {
     }
 
     /// The 68 data bytes.
+    ///
+    /// ```
+    /// use aydp_proto::VesselData;
+    /// let v = VesselData { heading: 90.0, latitude: 50.5, satellites: 8, ..Default::default() };
+    /// let b = v.to_bytes();
+    /// assert_eq!(&b[8..12], &[0x00, 0x00, 0xB4, 0x42]);
+    /// assert_eq!(&b[24..32], &[0, 0, 0, 0, 0, 0x40, 0x49, 0x40]);
+    /// assert_eq!(&b[52..56], &[8, 0, 0, 0]);
+    /// ```
     pub fn to_bytes(&self) -> [u8; Self::LEN] {
         let mut o = [0u8; Self::LEN];
         let fs = [

@@ -32,6 +32,12 @@ pub enum UpdateMode {
 
 impl UpdateMode {
     /// The update type byte.
+    ///
+    /// ```
+    /// use aydp_proto::UpdateMode;
+    /// assert_eq!(UpdateMode::Single.code(), 1);
+    /// assert_eq!(UpdateMode::Array { count: 3 }.code(), 2);
+    /// ```
     pub const fn code(&self) -> u8 {
         match self {
             UpdateMode::Single => 1,
@@ -41,6 +47,13 @@ impl UpdateMode {
     }
 
     /// The "array size or element" field.
+    ///
+    /// ```
+    /// use aydp_proto::UpdateMode;
+    /// assert_eq!(UpdateMode::Single.field(), 0);
+    /// assert_eq!(UpdateMode::Array { count: 3 }.field(), 3);
+    /// assert_eq!(UpdateMode::Element { index: 4 }.field(), 4);
+    /// ```
     pub const fn field(&self) -> u32 {
         match *self {
             UpdateMode::Single => 0,
@@ -87,6 +100,15 @@ impl<'a> SystemValueUpdate<'a> {
     pub const FIELDS: &'static [(&'static str, &'static str, usize)] = at::FIELDS;
 
     /// Parse: at least 7 bytes, a known mode, and a zero field for single-value updates.
+    ///
+    /// ```
+    /// use aydp_proto::{Error, SystemValueUpdate, UpdateMode};
+    /// // Mode 3 (element 2) at address 0x0100, then the value bytes.
+    /// let u = SystemValueUpdate::parse(&[3, 0x00, 0x01, 2, 0, 0, 0, 100, 0]).unwrap();
+    /// assert_eq!((u.address, u.mode, u.data), (0x100, UpdateMode::Element { index: 2 }, &[100, 0][..]));
+    /// assert_eq!(SystemValueUpdate::parse(&[1, 0, 0, 5, 0, 0, 0, 1]), Err(Error::NonZeroSingleIndex(5)));
+    /// assert_eq!(SystemValueUpdate::parse(&[4, 0, 0, 0, 0, 0, 0]), Err(Error::UnknownUpdateMode(4)));
+    /// ```
     pub fn parse(data: &'a [u8]) -> Result<Self> {
         let Some(value) = data.get(Self::HEADER_LEN..) else {
             return Err(too_short(Self::TYPE, Self::HEADER_LEN, data.len()));

@@ -9,6 +9,14 @@ use crate::{EncodeError, Error};
 pub const FOREFLIGHT_ID: u8 = 0x65;
 
 /// The datum of the geometric altitude (ID 11) a device sends: capabilities bit 0.
+///
+/// ```
+/// use gdl90_proto::message::{AltitudeDatum, ForeFlightId};
+/// let id = ForeFlightId { altitude_datum: AltitudeDatum::Msl, ..ForeFlightId::default() };
+/// let mut data = [0u8; ForeFlightId::LEN];
+/// id.emit(&mut data).unwrap();
+/// assert_eq!(&data[34..], &[0, 0, 0, 0x01]); // the capabilities, big-endian
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -80,6 +88,15 @@ impl ForeFlightId {
 
     /// Parses the data bytes (sub-ID included).
     ///
+    /// ```
+    /// use gdl90_proto::{Error, message::ForeFlightId};
+    /// let mut data = [0u8; ForeFlightId::LEN];
+    /// data[1] = 1; // version 1, serial 0, no names
+    /// assert_eq!(ForeFlightId::parse(&data).unwrap().serial, Some(0));
+    /// let short = ForeFlightId::parse(&data[..37]);
+    /// assert_eq!(short, Err(Error::WrongLength { id: 0x65, expected: 38, actual: 37 }));
+    /// ```
+    ///
     /// # Errors
     /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes.
     pub fn parse(data: &[u8]) -> Result<Self, Error> {
@@ -109,6 +126,14 @@ impl ForeFlightId {
 
     /// Writes the data bytes into `out`; returns [`Self::LEN`].
     ///
+    /// ```
+    /// use gdl90_proto::message::ForeFlightId;
+    /// let mut data = [0u8; ForeFlightId::LEN];
+    /// assert_eq!(ForeFlightId::default().emit(&mut data), Ok(38));
+    /// // Sub-ID 0, version 1, then the serial: all ones, "invalid".
+    /// assert_eq!(&data[..10], &[0, 1, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]);
+    /// ```
+    ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
     pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
@@ -132,12 +157,26 @@ impl ForeFlightId {
     }
 
     /// The data length [`Self::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::ForeFlightId;
+    /// assert_eq!(ForeFlightId::default().buffer_len(), 38);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
     }
 }
 
 /// An AHRS heading and its reference.
+///
+/// ```
+/// use gdl90_proto::message::{Ahrs, Heading};
+/// let mut data = [0u8; Ahrs::LEN];
+/// Ahrs { heading: Some(Heading::True(90.0)), ..Ahrs::default() }.emit(&mut data).unwrap();
+/// assert_eq!(&data[5..7], &[0x03, 0x84]); // 900 tenths of a degree
+/// Ahrs { heading: Some(Heading::Magnetic(90.0)), ..Ahrs::default() }.emit(&mut data).unwrap();
+/// assert_eq!(&data[5..7], &[0x83, 0x84]); // bit 15: magnetic
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -150,6 +189,11 @@ pub enum Heading {
 
 impl Heading {
     /// The angle in degrees, whatever its reference.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Heading;
+    /// assert_eq!(Heading::Magnetic(271.3).degrees(), 271.3);
+    /// ```
     pub const fn degrees(&self) -> f32 {
         match *self {
             Heading::True(d) | Heading::Magnetic(d) => d,
@@ -218,6 +262,16 @@ impl Ahrs {
     /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes;
     /// [`Error::OutOfRange`] for a roll or pitch beyond ±180 degrees or a heading beyond
     /// ±360 degrees.
+    ///
+    /// ```
+    /// use gdl90_proto::{Error, message::Ahrs};
+    /// // Every field marked invalid.
+    /// let none = [1, 0x7F, 0xFF, 0x7F, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF];
+    /// assert_eq!(Ahrs::parse(&none), Ok(Ahrs::default()));
+    /// // A roll of 180.1 degrees (1801 tenths).
+    /// let roll = [1, 0x07, 0x09, 0x7F, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF];
+    /// assert_eq!(Ahrs::parse(&roll), Err(Error::OutOfRange { id: 0x65, field: "roll" }));
+    /// ```
     pub fn parse(data: &[u8]) -> Result<Self, Error> {
         check_len(Self::ID, Self::LEN, data)?;
         let angle = |bits: &super::layout::Bits, field| {
@@ -266,6 +320,14 @@ impl Ahrs {
     /// Writes the data bytes into `out` (values clamped or marked invalid as each field
     /// says); returns [`Self::LEN`].
     ///
+    /// ```
+    /// use gdl90_proto::message::Ahrs;
+    /// let mut data = [0u8; Ahrs::LEN];
+    /// Ahrs { roll_deg: Some(200.0), pitch_deg: Some(f32::NAN), ..Ahrs::default() }.emit(&mut data).unwrap();
+    /// // Roll clamped to 180 degrees (0x0708 tenths), NaN pitch sent as invalid (0x7FFF).
+    /// assert_eq!(&data[..5], &[1, 0x07, 0x08, 0x7F, 0xFF]);
+    /// ```
+    ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
     pub fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
@@ -286,6 +348,11 @@ impl Ahrs {
     }
 
     /// The data length [`Self::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Ahrs;
+    /// assert_eq!(Ahrs::default().buffer_len(), 11);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
     }

@@ -41,6 +41,14 @@ impl GeoAltitude {
 
     /// Parses the data bytes.
     ///
+    /// ```
+    /// use gdl90_proto::{Error, message::GeoAltitude};
+    /// let alt = GeoAltitude::parse(&[0xFF, 0xFF, 0x80, 0x0A]).unwrap();
+    /// assert_eq!(alt, GeoAltitude { altitude_ft: -5, vertical_warning: true, vfom_m: Some(10) });
+    /// let e = GeoAltitude::parse(&[0xFF, 0xFF]);
+    /// assert_eq!(e, Err(Error::WrongLength { id: 11, expected: 4, actual: 2 }));
+    /// ```
+    ///
     /// # Errors
     /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes.
     pub fn parse(data: &[u8]) -> Result<Self, Error> {
@@ -54,6 +62,14 @@ impl GeoAltitude {
     }
 
     /// Writes the data bytes into `out` (values clamped); returns [`Self::LEN`].
+    ///
+    /// ```
+    /// use gdl90_proto::message::GeoAltitude;
+    /// let alt = GeoAltitude { altitude_ft: 1502, vertical_warning: false, vfom_m: None };
+    /// let mut data = [0u8; GeoAltitude::LEN];
+    /// alt.emit(&mut data).unwrap();
+    /// assert_eq!(data, [0x01, 0x2C, 0x7F, 0xFF]); // 1500 ft, VFOM not available
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
@@ -72,6 +88,11 @@ impl GeoAltitude {
     }
 
     /// The data length [`Self::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::GeoAltitude;
+    /// assert_eq!(GeoAltitude::default().buffer_len(), 4);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
     }

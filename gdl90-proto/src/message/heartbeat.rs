@@ -57,6 +57,14 @@ impl Heartbeat {
 
     /// Parses the data bytes. Reserved bits are ignored.
     ///
+    /// ```
+    /// use gdl90_proto::{Error, message::Heartbeat};
+    /// let hb = Heartbeat::parse(&[0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]).unwrap();
+    /// assert_eq!(hb.seconds_since_midnight, 53467);
+    /// let short = Heartbeat::parse(&[0x81, 0x41, 0xDB, 0xD0, 0x08]);
+    /// assert_eq!(short, Err(Error::WrongLength { id: 0, expected: 6, actual: 5 }));
+    /// ```
+    ///
     /// # Errors
     /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes.
     pub fn parse(data: &[u8]) -> Result<Self, Error> {
@@ -81,6 +89,15 @@ impl Heartbeat {
 
     /// Writes the data bytes into `out` (reserved bits zero, out-of-range values clamped);
     /// returns [`Self::LEN`].
+    ///
+    /// ```
+    /// use gdl90_proto::message::Heartbeat;
+    /// let hb = Heartbeat { seconds_since_midnight: 200_000, uplink_messages: 40, ..Heartbeat::default() };
+    /// let mut data = [0u8; Heartbeat::LEN];
+    /// assert_eq!(hb.emit(&mut data), Ok(6));
+    /// // Both clamped: 131071 s (the time stamp's bit 16 is in status 2), 31 uplink messages.
+    /// assert_eq!(data, [0x00, 0x80, 0xFF, 0xFF, 0xF8, 0x00]);
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
@@ -107,6 +124,11 @@ impl Heartbeat {
     }
 
     /// The data length [`Self::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Heartbeat;
+    /// assert_eq!(Heartbeat::default().buffer_len(), 6);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
     }

@@ -124,6 +124,12 @@ impl<'a> Message<'a> {
     }
 
     /// The message ID.
+    ///
+    /// ```
+    /// use gdl90_proto::message::{Ahrs, Message};
+    /// assert_eq!(Message::Ahrs(Ahrs::default()).id(), 0x65);
+    /// assert_eq!(Message::Unknown { id: 7, data: &[] }.id(), 7);
+    /// ```
     pub const fn id(&self) -> u8 {
         match self {
             Self::Heartbeat(_) => id::HEARTBEAT,
@@ -137,6 +143,12 @@ impl<'a> Message<'a> {
     }
 
     /// A short name for logs and desk tools (`"UNKNOWN"` for a raw message).
+    ///
+    /// ```
+    /// use gdl90_proto::message::{Ahrs, Message};
+    /// assert_eq!(Message::Ahrs(Ahrs::default()).name(), "FOREFLIGHT_AHRS");
+    /// assert_eq!(Message::Unknown { id: 7, data: &[] }.name(), "UNKNOWN");
+    /// ```
     pub const fn name(&self) -> &'static str {
         match self {
             Self::Heartbeat(_) => "HEARTBEAT",
@@ -151,6 +163,12 @@ impl<'a> Message<'a> {
     }
 
     /// The data length [`Message::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::{Heartbeat, Message};
+    /// assert_eq!(Message::Heartbeat(Heartbeat::default()).buffer_len(), 6);
+    /// assert_eq!(Message::Unknown { id: 7, data: &[1, 2, 3] }.buffer_len(), 3);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         match self {
             Self::Heartbeat(_) => Heartbeat::LEN,
@@ -164,6 +182,16 @@ impl<'a> Message<'a> {
     }
 
     /// Writes the message data (without ID, CRC or escaping) into `out`; returns its length.
+    ///
+    /// ```
+    /// use gdl90_proto::{EncodeError, message::Message};
+    /// // The ICD's example heartbeat, as parsed.
+    /// let msg = Message::parse(0, &[0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]).unwrap();
+    /// let mut data = [0u8; 6];
+    /// assert_eq!(msg.emit(&mut data), Ok(6));
+    /// assert_eq!(data, [0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02]);
+    /// assert_eq!(msg.emit(&mut data[..5]), Err(EncodeError::BufferTooSmall { needed: 6 }));
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`].
@@ -190,6 +218,15 @@ impl<'a> Message<'a> {
     /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns its
     /// length. [`crate::MAX_ENCODED_LEN`] is enough for every typed message;
     /// [`crate::max_encoded_len`] of [`Message::buffer_len`] for any message.
+    ///
+    /// ```
+    /// use gdl90_proto::{max_encoded_len, message::Message};
+    /// // An ID this crate keeps raw (UAT uplink), framed as it is.
+    /// let uplink = Message::Unknown { id: 7, data: &[1, 2, 3] };
+    /// let mut wire = [0u8; max_encoded_len(3)];
+    /// let n = uplink.encode(&mut wire).unwrap();
+    /// assert_eq!(&wire[..n], &[0x7E, 0x07, 1, 2, 3, 0xB5, 0x8B, 0x7E]);
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`].

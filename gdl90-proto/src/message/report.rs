@@ -21,6 +21,15 @@ const VRATE_STEP_FPM: i64 = 64;
 const VRATE_MAX_STEPS: i64 = 510;
 
 /// A position in degrees (WGS-84).
+///
+/// ```
+/// use gdl90_proto::message::{LatLon, Report};
+/// let own = Report { position: Some(LatLon { lat_deg: 45.0, lon_deg: -90.0 }), nic: 8, ..Report::default() };
+/// let mut data = [0u8; Report::LEN];
+/// own.emit(&mut data).unwrap();
+/// // 24-bit signed steps of 180/2^23 degrees: 0x200000 and -0x400000.
+/// assert_eq!(&data[4..10], &[0x20, 0x00, 0x00, 0xC0, 0x00, 0x00]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -33,6 +42,15 @@ pub struct LatLon {
 }
 
 /// What the report's track byte holds (the `m` field's track type).
+///
+/// ```
+/// use gdl90_proto::message::{Report, Track};
+/// let own = Report { track: Some(Track::TrueTrack(90.0)), ..Report::default() };
+/// let mut data = [0u8; Report::LEN];
+/// own.emit(&mut data).unwrap();
+/// assert_eq!((data[11] & 0x03, data[16]), (1, 64)); // track type 1, 64 x 360/256 degrees
+/// assert_eq!(Report::parse(10, &data).unwrap().track, Some(Track::TrueTrack(90.0)));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -47,6 +65,11 @@ pub enum Track {
 
 impl Track {
     /// The angle in degrees, whatever its reference.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Track;
+    /// assert_eq!(Track::MagneticHeading(271.5).degrees(), 271.5);
+    /// ```
     pub const fn degrees(&self) -> f32 {
         match *self {
             Track::TrueTrack(d) | Track::MagneticHeading(d) | Track::TrueHeading(d) => d,
@@ -55,6 +78,14 @@ impl Track {
 }
 
 /// The `t` field: what kind of address the report carries.
+///
+/// ```
+/// use gdl90_proto::message::{AddressType, Report};
+/// let traffic = Report { address_type: AddressType::TisbIcao, ..Report::default() };
+/// let mut data = [0u8; Report::LEN];
+/// traffic.emit(&mut data).unwrap();
+/// assert_eq!(data[0], 0x02); // the low nibble of byte 0
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -78,6 +109,12 @@ pub enum AddressType {
 
 impl AddressType {
     /// Decodes the nibble.
+    ///
+    /// ```
+    /// use gdl90_proto::message::AddressType;
+    /// assert_eq!(AddressType::from_nibble(2), AddressType::TisbIcao);
+    /// assert_eq!(AddressType::from_nibble(9), AddressType::Reserved(9));
+    /// ```
     pub const fn from_nibble(v: u8) -> Self {
         match v {
             0 => Self::AdsbIcao,
@@ -91,6 +128,12 @@ impl AddressType {
     }
 
     /// The nibble (a reserved value above 15 is clamped to 15).
+    ///
+    /// ```
+    /// use gdl90_proto::message::AddressType;
+    /// assert_eq!(AddressType::TisbIcao.to_nibble(), 2);
+    /// assert_eq!(AddressType::Reserved(20).to_nibble(), 15);
+    /// ```
     pub const fn to_nibble(self) -> u8 {
         match self {
             Self::AdsbIcao => 0,
@@ -111,6 +154,14 @@ impl AddressType {
 }
 
 /// The `p` field: emergency / priority code.
+///
+/// ```
+/// use gdl90_proto::message::{Emergency, Report};
+/// let own = Report { emergency: Emergency::Medical, ..Report::default() };
+/// let mut data = [0u8; Report::LEN];
+/// own.emit(&mut data).unwrap();
+/// assert_eq!(data[26], 0x20); // the high nibble of the last byte
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -136,6 +187,12 @@ pub enum Emergency {
 
 impl Emergency {
     /// Decodes the nibble.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Emergency;
+    /// assert_eq!(Emergency::from_nibble(2), Emergency::Medical);
+    /// assert_eq!(Emergency::from_nibble(7), Emergency::Reserved(7));
+    /// ```
     pub const fn from_nibble(v: u8) -> Self {
         match v {
             0 => Self::None,
@@ -150,6 +207,12 @@ impl Emergency {
     }
 
     /// The nibble (a reserved value above 15 is clamped to 15).
+    ///
+    /// ```
+    /// use gdl90_proto::message::Emergency;
+    /// assert_eq!(Emergency::Downed.to_nibble(), 6);
+    /// assert_eq!(Emergency::Reserved(20).to_nibble(), 15);
+    /// ```
     pub const fn to_nibble(self) -> u8 {
         match self {
             Self::None => 0,
@@ -252,6 +315,17 @@ impl Report {
     /// Parses the data bytes of a report with ID `id` (10 or 20; the ID only goes into
     /// errors).
     ///
+    /// ```
+    /// use gdl90_proto::{Error, message::Report};
+    /// let mut data = [0u8; Report::LEN];
+    /// data[1..4].copy_from_slice(&[0xAB, 0x45, 0x49]); // the address
+    /// data[10] = 0x0F; // pressure altitude 0x0F0: 240 x 25 ft - 1000 ft
+    /// let r = Report::parse(20, &data).unwrap();
+    /// assert_eq!((r.address, r.pressure_altitude_ft, r.position), (0xAB4549, Some(5000), None));
+    /// data[4..7].copy_from_slice(&[0x7F, 0xFF, 0xFF]); // a latitude beyond 90 degrees
+    /// assert_eq!(Report::parse(20, &data), Err(Error::OutOfRange { id: 20, field: "latitude" }));
+    /// ```
+    ///
     /// # Errors
     /// [`Error::WrongLength`] unless `data` is exactly [`Self::LEN`] bytes;
     /// [`Error::OutOfRange`] for a latitude beyond ±90 degrees (a corrupt report: nothing in
@@ -310,6 +384,15 @@ impl Report {
 
     /// Writes the data bytes into `out` (spare bits zero, values clamped as each field
     /// says); returns [`Self::LEN`].
+    ///
+    /// ```
+    /// use gdl90_proto::message::Report;
+    /// let mut data = [0u8; Report::LEN];
+    /// assert_eq!(Report::default().emit(&mut data), Ok(27));
+    /// // Altitude 0xFFF, ground speed 0xFFF, vertical rate 0x800: all "not available".
+    /// assert_eq!(&data[10..16], &[0xFF, 0xF0, 0x00, 0xFF, 0xF8, 0x00]);
+    /// assert_eq!(&data[18..26], b"        "); // no call sign
+    /// ```
     ///
     /// # Errors
     /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Self::LEN`].
@@ -381,6 +464,11 @@ impl Report {
     }
 
     /// The data length [`Self::emit`] writes.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Report;
+    /// assert_eq!(Report::default().buffer_len(), 27);
+    /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
     }

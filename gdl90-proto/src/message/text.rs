@@ -24,6 +24,12 @@ impl Default for CallSign {
 impl CallSign {
     /// The call sign `s`, space padded; `None` if it is longer than 8 bytes or not printable
     /// ASCII (the ICD allows `0-9`, `A-Z` and space; other printable ASCII is let through).
+    ///
+    /// ```
+    /// use gdl90_proto::message::CallSign;
+    /// assert_eq!(CallSign::new("N825V").unwrap().as_bytes(), b"N825V   ");
+    /// assert!(CallSign::new("N825É").is_none());
+    /// ```
     pub fn new(s: &str) -> Option<Self> {
         let bytes = s.as_bytes();
         if bytes.len() > 8 || !bytes.iter().all(|b| (0x20..0x7F).contains(b)) {
@@ -35,16 +41,32 @@ impl CallSign {
     }
 
     /// Wraps eight bytes as received.
+    ///
+    /// ```
+    /// use gdl90_proto::message::CallSign;
+    /// assert_eq!(CallSign::from_bytes(*b"N825V   ").as_str(), Some("N825V"));
+    /// ```
     pub const fn from_bytes(bytes: [u8; 8]) -> Self {
         CallSign(bytes)
     }
 
     /// The eight bytes, padding included.
+    ///
+    /// ```
+    /// use gdl90_proto::message::CallSign;
+    /// assert_eq!(CallSign::default().as_bytes(), b"        ");
+    /// ```
     pub const fn as_bytes(&self) -> &[u8; 8] {
         &self.0
     }
 
     /// The call sign without its trailing spaces; `None` if the bytes are not UTF-8.
+    ///
+    /// ```
+    /// use gdl90_proto::message::CallSign;
+    /// assert_eq!(CallSign::new("AB").unwrap().as_str(), Some("AB"));
+    /// assert_eq!(CallSign::from_bytes([0xFF, b' ', b' ', b' ', b' ', b' ', b' ', b' ']).as_str(), None);
+    /// ```
     pub fn as_str(&self) -> Option<&str> {
         let end = self.0.iter().rposition(|&b| b != b' ').map_or(0, |i| i + 1);
         core::str::from_utf8(self.0.get(..end)?).ok()
@@ -73,6 +95,12 @@ impl<const N: usize> Default for Name<N> {
 
 impl<const N: usize> Name<N> {
     /// The name `s`, NUL padded; `None` if it is longer than `N` bytes or holds a NUL.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Name;
+    /// assert_eq!(Name::<4>::new("ab").unwrap().as_bytes(), b"ab\0\0");
+    /// assert!(Name::<4>::new("a\0b").is_none());
+    /// ```
     pub fn new(s: &str) -> Option<Self> {
         let bytes = s.as_bytes();
         if bytes.len() > N || bytes.contains(&0) {
@@ -84,16 +112,32 @@ impl<const N: usize> Name<N> {
     }
 
     /// Wraps `N` bytes as received.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Name;
+    /// assert_eq!(Name::from_bytes(*b"abc\0").as_str(), Some("abc"));
+    /// ```
     pub const fn from_bytes(bytes: [u8; N]) -> Self {
         Name(bytes)
     }
 
     /// The `N` bytes, padding included.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Name;
+    /// assert_eq!(Name::<4>::default().as_bytes(), &[0; 4]);
+    /// ```
     pub const fn as_bytes(&self) -> &[u8; N] {
         &self.0
     }
 
     /// The name up to its first NUL; `None` if those bytes are not UTF-8.
+    ///
+    /// ```
+    /// use gdl90_proto::message::Name;
+    /// assert_eq!(Name::from_bytes([b'a', 0, b'b', 0]).as_str(), Some("a"));
+    /// assert_eq!(Name::from_bytes([0xFF, 0, 0, 0]).as_str(), None);
+    /// ```
     pub fn as_str(&self) -> Option<&str> {
         let end = self.0.iter().position(|&b| b == 0).unwrap_or(N);
         core::str::from_utf8(self.0.get(..end)?).ok()
