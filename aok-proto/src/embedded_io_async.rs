@@ -8,16 +8,14 @@
 //!   of `feed`), and the items are exactly those of `feed` byte by byte; at the end of the
 //!   stream, those of `finish`.
 //! - [`Writer`] writes commands (PC side) and messages (device side) into a [`Write`].
-//! - [`AsyncClient`] is the PC-side [`Client`](crate::Client) over an async port.
+//! - The PC-side client over an async port is [`crate::client::AsyncClient`].
 //!
 //! The blocking twins are in [`crate::embedded_io`] and behave the same. A reader fails with
-//! [`IoError`](crate::IoError), a writer with [`WriteError`]. Dropping a read future loses no decoded state; it loses the bytes of a read
-//! in progress only if the transport's `read` is not cancel-safe.
+//! [`IoError`](crate::IoError), a writer with [`WriteError`]. Dropping a read future loses no
+//! decoded state; it loses the bytes of a read in progress only if the transport's `read` is
+//! not cancel-safe.
 
 use ::embedded_io_async::Write;
-
-mod client;
-pub use client::{AsyncClient, Pipe, TICK_MS};
 
 use crate::io::{command_bytes, message_bytes};
 use crate::{Command, CommandDecoder, Message, MessageDecoder, ReplyForm, WriteError};

@@ -41,7 +41,9 @@
 //! - Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
 //!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
 //!   [`encode_bulk`] and [`encode_waypoint`].
-//! - [`client`]: a non-blocking PC-side state machine over `embedded-hal-nb` serial traits.
+//! - [`client`]: the PC-side client: [`Client`], a non-blocking state machine over
+//!   `embedded-hal-nb` serial traits, and its async form `client::AsyncClient` (feature
+//!   `embedded-io-async`).
 //! - [`FrameLayout`]: every frame's bytes as a table ([`Command::FRAMES`], [`Message::FRAMES`]).
 //! - [`values`]: motor numbers, sticks, waypoint slots, action words, acks, firmware versions.
 //!
@@ -49,7 +51,7 @@
 //!
 //! - `embedded-io`, `embedded-io-async`: `embedded_io` and `embedded_io_async`, readers of the
 //!   next message (PC side) or command (device side) from a `Read`, a writer into a `Write`,
-//!   and `AsyncClient`, the client's async form; the error type is `IoError`.
+//!   and (async) `client::AsyncClient`; a reader fails with `IoError`, a writer with `WriteError`.
 //! - `defmt`, `serde`: `defmt::Format` and serde's traits derived on the public types.
 #![no_std]
 #![forbid(unsafe_code)]

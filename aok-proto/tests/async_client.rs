@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 use std::rc::Rc;
 
 use aok_proto::Decode;
-use aok_proto::embedded_io_async::AsyncClient;
+use aok_proto::client::AsyncClient;
 use aok_proto::{
     Ack, ClientError, Command, CommandDecoder, Config, DebugValue, FirmwareVersion, Message,
     ParameterValue, SerialError,

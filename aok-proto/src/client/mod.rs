@@ -1,4 +1,6 @@
-//! A PC-side client: a non-blocking state machine over `embedded-hal-nb` serial traits.
+//! The PC-side client: [`Client`], a non-blocking state machine over `embedded-hal-nb` serial
+//! traits, and its async form `AsyncClient` over `embedded-io-async` (feature
+//! `embedded-io-async`), the same state machine driven by an async port and a delay.
 //!
 //! For a request with a reply (`73`, `77`, `67`, `47`, `78`) while debug output is on, the client
 //! sends debug-off, drains until the line has been quiet for [`Config::quiet_ms`] (the spec warns
@@ -9,8 +11,13 @@
 //! Drive it with [`Client::poll`], passing the time in milliseconds (any wrapping `u32` clock), or use
 //! the blocking helpers ([`Client::run`] and friends) with a clock closure.
 
+#[cfg(feature = "embedded-io-async")]
+mod async_client;
 mod io;
 mod requests;
+
+#[cfg(feature = "embedded-io-async")]
+pub use async_client::{AsyncClient, Pipe, TICK_MS};
 
 use embedded_hal_nb::serial::{Read, Write};
 

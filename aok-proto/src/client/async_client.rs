@@ -14,8 +14,8 @@ use ::embedded_io_async::{Read, Write};
 use embedded_hal_async::delay::DelayNs;
 use embedded_hal_nb::serial::{self, ErrorKind};
 
+use super::{Client, Config, Outcome};
 use crate::ClientError;
-use crate::client::{Client, Config, Outcome};
 use crate::command::{Command, ParameterValue};
 
 /// The longest the async client waits for input before it looks at the clock again, in ms.
@@ -103,7 +103,7 @@ impl serial::Write<u8> for Pipe {
 /// timeouts. `now_ms` is any wrapping millisecond clock, as for [`Client::run`].
 ///
 /// ```
-/// use aok_proto::{embedded_io_async::AsyncClient, ClientError, Config, FirmwareVersion, Outcome, Command};
+/// use aok_proto::{client::AsyncClient, ClientError, Config, FirmwareVersion, Outcome, Command};
 /// # fn block_on<F: core::future::Future>(f: F) -> F::Output {
 /// #     let mut f = core::pin::pin!(f);
 /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
@@ -157,7 +157,7 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// #     async fn flush(&mut self) -> Result<(), Self::Error> { Ok(()) } }
     /// # struct D;
     /// # impl embedded_hal_async::delay::DelayNs for D { async fn delay_ns(&mut self, _: u32) {} }
-    /// use aok_proto::{embedded_io_async::AsyncClient, Config, FirmwareVersion};
+    /// use aok_proto::{client::AsyncClient, Config, FirmwareVersion};
     /// let client = AsyncClient::new(P, D, Config::new(FirmwareVersion::LATEST));
     /// assert!(client.state().debug_enabled());
     /// ```
@@ -229,7 +229,7 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// #     let mut cx = core::task::Context::from_waker(core::task::Waker::noop());
     /// #     loop { if let core::task::Poll::Ready(v) = f.as_mut().poll(&mut cx) { return v; } }
     /// # }
-    /// use aok_proto::{embedded_io_async::AsyncClient, ClientError, Config, FirmwareVersion};
+    /// use aok_proto::{client::AsyncClient, ClientError, Config, FirmwareVersion};
     /// // A device that answers every byte with 'E'.
     /// let mut config = Config::new(FirmwareVersion::LATEST);
     /// config.debug_on = false;
@@ -259,7 +259,7 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// #     async fn flush(&mut self) -> Result<(), Self::Error> { Ok(()) } }
     /// # struct D;
     /// # impl embedded_hal_async::delay::DelayNs for D { async fn delay_ns(&mut self, _: u32) {} }
-    /// use aok_proto::{embedded_io_async::AsyncClient, Config, FirmwareVersion};
+    /// use aok_proto::{client::AsyncClient, Config, FirmwareVersion};
     /// let mut client = AsyncClient::new(P, D, Config::new(FirmwareVersion::LATEST));
     /// assert_eq!(client.state().stats().read_errors, 0);
     /// assert_eq!(client.state_mut().next_debug(), None);
@@ -286,7 +286,7 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// #     async fn flush(&mut self) -> Result<(), Self::Error> { Ok(()) } }
     /// # struct D;
     /// # impl embedded_hal_async::delay::DelayNs for D { async fn delay_ns(&mut self, _: u32) {} }
-    /// use aok_proto::{embedded_io_async::AsyncClient, Config, FirmwareVersion};
+    /// use aok_proto::{client::AsyncClient, Config, FirmwareVersion};
     /// let client = AsyncClient::new(P, D, Config::new(FirmwareVersion::LATEST));
     /// let (_port, _delay) = client.release();
     /// ```
