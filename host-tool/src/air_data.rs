@@ -30,56 +30,31 @@ use serde::Serialize;
 use crate::fresh::{FRESH_SLOW, fresh, fresh_within};
 
 /// Air density of the ISA at sea level, kg/m³: the density indicated airspeed assumes.
-pub const SEA_LEVEL_DENSITY: f64 = 1.225;
+pub(crate) const SEA_LEVEL_DENSITY: f64 = 1.225;
 /// The specific gas constant of dry air, J/(kg·K).
 const R_AIR: f64 = 287.05;
 
 /// Air density, kg/m³, from static pressure in hPa (mbar) and temperature in °C (the ideal
 /// gas law).
-///
-/// ```
-/// let rho = protolink::air_data::air_density(1013.25, 15.0);
-/// assert!((rho - 1.225).abs() < 0.001);
-/// ```
-pub fn air_density(static_hpa: f64, celsius: f64) -> f64 {
+pub(crate) fn air_density(static_hpa: f64, celsius: f64) -> f64 {
     static_hpa * 100.0 / (R_AIR * (celsius + 273.15))
 }
 
 /// Pressure altitude in the ISA, m, from static pressure in hPa (mbar).
-///
-/// ```
-/// use protolink::air_data::isa_altitude_m;
-/// assert!(isa_altitude_m(1013.25).abs() < 0.01);
-/// assert!((isa_altitude_m(898.76) - 1000.0).abs() < 1.0);
-/// ```
-pub fn isa_altitude_m(static_hpa: f32) -> f64 {
+pub(crate) fn isa_altitude_m(static_hpa: f32) -> f64 {
     44_330.77 * (1.0 - (f64::from(static_hpa) / 1013.25).powf(0.190_263))
 }
 
 /// Indicated airspeed, m/s, from the dynamic pressure in Pa: `sqrt(2 q / ρ0)`. A negative
 /// pressure (a sensor's offset at rest) reads 0; `None` when it is not finite.
-///
-/// ```
-/// use protolink::air_data::indicated_airspeed_mps;
-/// // 1531.25 Pa is 50 m/s at sea-level density.
-/// assert!((indicated_airspeed_mps(1531.25).unwrap() - 50.0).abs() < 1e-9);
-/// assert_eq!(indicated_airspeed_mps(-3.0), Some(0.0));
-/// ```
-pub fn indicated_airspeed_mps(dynamic_pa: f64) -> Option<f64> {
+pub(crate) fn indicated_airspeed_mps(dynamic_pa: f64) -> Option<f64> {
     airspeed(dynamic_pa, SEA_LEVEL_DENSITY)
 }
 
 /// True airspeed, m/s, from the dynamic pressure in Pa and the air's static pressure (hPa) and
 /// temperature (°C): `sqrt(2 q / ρ)`. `None` when a value is not finite or the density is not
 /// positive.
-///
-/// ```
-/// use protolink::air_data::true_airspeed_mps;
-/// assert!((true_airspeed_mps(1531.25, 1013.25, 15.0).unwrap() - 50.0).abs() < 0.01);
-/// // The same dynamic pressure in thinner air is a higher true airspeed.
-/// assert!(true_airspeed_mps(1531.25, 700.0, -10.0).unwrap() > 55.0);
-/// ```
-pub fn true_airspeed_mps(dynamic_pa: f64, static_hpa: f64, celsius: f64) -> Option<f64> {
+pub(crate) fn true_airspeed_mps(dynamic_pa: f64, static_hpa: f64, celsius: f64) -> Option<f64> {
     airspeed(dynamic_pa, air_density(static_hpa, celsius))
 }
 
@@ -93,39 +68,31 @@ fn airspeed(dynamic_pa: f64, density: f64) -> Option<f64> {
 /// The air data at one moment; each value `None` when its source is stale, invalid or not
 /// usable.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct AirData {
+pub(crate) struct AirData {
     /// Static pressure, hPa.
-    pub static_hpa: Option<f64>,
+    pub(crate) static_hpa: Option<f64>,
     /// Dynamic (pitot minus static) pressure, Pa.
-    pub dynamic_pa: Option<f64>,
+    pub(crate) dynamic_pa: Option<f64>,
     /// Outside air temperature, °C.
-    pub celsius: Option<f64>,
+    pub(crate) celsius: Option<f64>,
     /// Indicated airspeed, m/s.
-    pub ias_mps: Option<f64>,
+    pub(crate) ias_mps: Option<f64>,
     /// True airspeed, m/s.
-    pub tas_mps: Option<f64>,
+    pub(crate) tas_mps: Option<f64>,
     /// Pressure altitude (ISA, 1013.25 hPa datum), m.
-    pub pressure_altitude_m: Option<f64>,
+    pub(crate) pressure_altitude_m: Option<f64>,
     /// Vertical speed from the pressure altitude, m/s, positive up.
-    pub vertical_speed_mps: Option<f64>,
+    pub(crate) vertical_speed_mps: Option<f64>,
 }
 
 impl AirData {
     /// The air data of one PRESSURE and TEMP (each already known fresh and valid, or `None`)
     /// and a vertical speed.
-    ///
-    /// ```
-    /// use aeolus_proto::message::{Pressure, Temp};
-    /// use protolink::air_data::AirData;
-    /// let p = Pressure { valid: true, timestamp_ms: 0.0, static_mbar: 1013.25, pitot_mbar: 15.3125,
-    ///                    airspeed_mps: 0.0 };
-    /// let t = Temp { valid: true, timestamp_ms: 0.0, celsius: 15.0 };
-    /// let air = AirData::of(Some(&p), Some(&t), None);
-    /// assert!((air.ias_mps.unwrap() - 50.0).abs() < 1e-4);
-    /// assert!((air.tas_mps.unwrap() - 50.0).abs() < 0.01);
-    /// assert_eq!(AirData::of(Some(&p), None, None).tas_mps, None);
-    /// ```
-    pub fn of(pressure: Option<&Pressure>, temp: Option<&Temp>, vertical: Option<f64>) -> Self {
+    pub(crate) fn of(
+        pressure: Option<&Pressure>,
+        temp: Option<&Temp>,
+        vertical: Option<f64>,
+    ) -> Self {
         let pressure = pressure.filter(|p| p.valid);
         let static_hpa = pressure
             .map(|p| f64::from(p.static_mbar))
@@ -159,21 +126,8 @@ impl AirData {
 
 /// The latest PRESSURE and TEMP with when they arrived, and the vertical speed: what every
 /// face asks for the [`AirData`] of a moment.
-///
-/// ```
-/// use std::time::{Duration, Instant};
-/// use aeolus_proto::message::{Message, Pressure};
-/// use protolink::air_data::AirDataSource;
-/// let mut air = AirDataSource::default();
-/// let t0 = Instant::now();
-/// air.take(&Message::Pressure(Pressure { valid: true, timestamp_ms: 0.0, static_mbar: 1013.25,
-///     pitot_mbar: 15.3125, airspeed_mps: 0.0 }), t0);
-/// assert!((air.at(t0).ias_mps.unwrap() - 50.0).abs() < 1e-4);
-/// // More than a second later the PRESSURE is stale: no airspeed at all.
-/// assert_eq!(air.at(t0 + Duration::from_millis(1001)).ias_mps, None);
-/// ```
 #[derive(Debug, Default, Clone)]
-pub struct AirDataSource {
+pub(crate) struct AirDataSource {
     pressure: Option<(Pressure, Instant)>,
     temp: Option<(Temp, Instant)>,
     vertical: VerticalSpeed,
@@ -181,7 +135,7 @@ pub struct AirDataSource {
 
 impl AirDataSource {
     /// Takes a PRESSURE or TEMP that arrived at `at`; other messages are ignored.
-    pub fn take(&mut self, m: &Message<'_>, at: Instant) {
+    pub(crate) fn take(&mut self, m: &Message<'_>, at: Instant) {
         match m {
             Message::Pressure(p) => self.take_pressure(p, at),
             Message::Temp(t) => self.temp = Some((*t, at)),
@@ -190,36 +144,31 @@ impl AirDataSource {
     }
 
     /// Takes a PRESSURE that arrived at `at`.
-    pub fn take_pressure(&mut self, p: &Pressure, at: Instant) {
+    pub(crate) fn take_pressure(&mut self, p: &Pressure, at: Instant) {
         self.pressure = Some((*p, at));
         self.vertical.take_valid(p);
     }
 
     /// The air data at `now`, from the messages still fresh then.
-    pub fn at(&self, now: Instant) -> AirData {
+    pub(crate) fn at(&self, now: Instant) -> AirData {
         AirData::of(
             fresh(&self.pressure, now).as_ref(),
             fresh_within(&self.temp, now, FRESH_SLOW).as_ref(),
             self.vertical.mps(),
         )
     }
-
-    /// The last PRESSURE, fresh or not (for a view that marks staleness itself).
-    pub fn last_pressure(&self) -> Option<Pressure> {
-        self.pressure.map(|(p, _)| p)
-    }
 }
 
 /// The vertical speed is the change of the pressure altitude over this much of the box's
 /// clock (at most; the first estimate needs half of it).
-pub const VERTICAL_SPEED_WINDOW_MS: f64 = 1000.0;
+pub(crate) const VERTICAL_SPEED_WINDOW_MS: f64 = 1000.0;
 /// Pressure altitudes closer together than this (box clock) are not kept.
 const VERTICAL_SPEED_STEP_MS: f64 = 100.0;
 
 /// The vertical speed from the pressure altitude: samples at least
 /// `VERTICAL_SPEED_STEP_MS` apart over the last [`VERTICAL_SPEED_WINDOW_MS`], bounded.
 #[derive(Debug, Default, Clone)]
-pub struct VerticalSpeed {
+pub(crate) struct VerticalSpeed {
     samples: VecDeque<(f64, f64)>,
 }
 
@@ -228,7 +177,7 @@ impl VerticalSpeed {
 
     /// Takes a PRESSURE message the box marked valid: its ISA pressure altitude at its box
     /// time.
-    pub fn take_valid(&mut self, p: &Pressure) {
+    pub(crate) fn take_valid(&mut self, p: &Pressure) {
         if p.valid && p.static_mbar.is_finite() && p.static_mbar > 0.0 {
             self.take(p.timestamp_ms, isa_altitude_m(p.static_mbar));
         }
@@ -236,16 +185,7 @@ impl VerticalSpeed {
 
     /// Takes a pressure altitude (m) at a box time (ms). A step back in time (a reboot)
     /// starts again; values that are not finite are ignored.
-    ///
-    /// ```
-    /// use protolink::air_data::VerticalSpeed;
-    /// let mut v = VerticalSpeed::default();
-    /// for ms in (0..=1000).step_by(100) {
-    ///     v.take(f64::from(ms), 1000.0 + 2.5 * f64::from(ms) / 1000.0);
-    /// }
-    /// assert!((v.mps().unwrap() - 2.5).abs() < 1e-9);
-    /// ```
-    pub fn take(&mut self, box_ms: f64, altitude_m: f64) {
+    pub(crate) fn take(&mut self, box_ms: f64, altitude_m: f64) {
         if !(box_ms.is_finite() && altitude_m.is_finite()) {
             return;
         }
@@ -263,7 +203,7 @@ impl VerticalSpeed {
     }
 
     /// m/s, positive up, once the samples span half the window.
-    pub fn mps(&self) -> Option<f64> {
+    pub(crate) fn mps(&self) -> Option<f64> {
         let (&(t0, a0), &(t1, a1)) = (self.samples.front()?, self.samples.back()?);
         (t1 - t0 >= VERTICAL_SPEED_WINDOW_MS / 2.0).then(|| (a1 - a0) / (t1 - t0) * 1000.0)
     }
@@ -352,5 +292,97 @@ mod tests {
         assert!(src.at(at).tas_mps.is_some());
         assert_eq!(src.at(t0 + Duration::from_millis(2600)).tas_mps, None);
         assert!(src.at(t0 + Duration::from_millis(2600)).ias_mps.is_some());
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn air_density_example() -> Result<(), Box<dyn std::error::Error>> {
+        let rho = air_density(1013.25, 15.0);
+        assert!((rho - 1.225).abs() < 0.001);
+        Ok(())
+    }
+
+    #[test]
+    fn isa_altitude_m_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert!(isa_altitude_m(1013.25).abs() < 0.01);
+        assert!((isa_altitude_m(898.76) - 1000.0).abs() < 1.0);
+        Ok(())
+    }
+
+    #[test]
+    fn indicated_airspeed_mps_example() -> Result<(), Box<dyn std::error::Error>> {
+        // 1531.25 Pa is 50 m/s at sea-level density.
+        assert!((indicated_airspeed_mps(1531.25).unwrap() - 50.0).abs() < 1e-9);
+        assert_eq!(indicated_airspeed_mps(-3.0), Some(0.0));
+        Ok(())
+    }
+
+    #[test]
+    fn true_airspeed_mps_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert!((true_airspeed_mps(1531.25, 1013.25, 15.0).unwrap() - 50.0).abs() < 0.01);
+        // The same dynamic pressure in thinner air is a higher true airspeed.
+        assert!(true_airspeed_mps(1531.25, 700.0, -10.0).unwrap() > 55.0);
+        Ok(())
+    }
+
+    #[test]
+    fn of_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aeolus_proto::message::{Pressure, Temp};
+        let p = Pressure {
+            valid: true,
+            timestamp_ms: 0.0,
+            static_mbar: 1013.25,
+            pitot_mbar: 15.3125,
+            airspeed_mps: 0.0,
+        };
+        let t = Temp {
+            valid: true,
+            timestamp_ms: 0.0,
+            celsius: 15.0,
+        };
+        let air = AirData::of(Some(&p), Some(&t), None);
+        assert!((air.ias_mps.unwrap() - 50.0).abs() < 1e-4);
+        assert!((air.tas_mps.unwrap() - 50.0).abs() < 0.01);
+        assert_eq!(AirData::of(Some(&p), None, None).tas_mps, None);
+        Ok(())
+    }
+
+    #[test]
+    fn airdatasource_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aeolus_proto::message::{Message, Pressure};
+        use std::time::{Duration, Instant};
+        let mut air = AirDataSource::default();
+        let t0 = Instant::now();
+        air.take(
+            &Message::Pressure(Pressure {
+                valid: true,
+                timestamp_ms: 0.0,
+                static_mbar: 1013.25,
+                pitot_mbar: 15.3125,
+                airspeed_mps: 0.0,
+            }),
+            t0,
+        );
+        assert!((air.at(t0).ias_mps.unwrap() - 50.0).abs() < 1e-4);
+        // More than a second later the PRESSURE is stale: no airspeed at all.
+        assert_eq!(air.at(t0 + Duration::from_millis(1001)).ias_mps, None);
+        Ok(())
+    }
+
+    #[test]
+    fn take_example() -> Result<(), Box<dyn std::error::Error>> {
+        let mut v = VerticalSpeed::default();
+        for ms in (0..=1000).step_by(100) {
+            v.take(f64::from(ms), 1000.0 + 2.5 * f64::from(ms) / 1000.0);
+        }
+        assert!((v.mps().unwrap() - 2.5).abs() < 1e-9);
+        Ok(())
     }
 }

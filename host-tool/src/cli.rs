@@ -36,12 +36,12 @@ const ENDPOINTS: &str = "Endpoints (same syntax everywhere):
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
-    pub command: Command,
+    pub(crate) command: Command,
 }
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {
+pub(crate) enum Command {
     /// Decode a stream: one line per message, errors with their byte offset, counters at the end.
     #[command(after_help = "Examples:
   protolink decode --proto aeolus --from tcp:127.0.0.1:7000 --seconds 5
@@ -133,7 +133,7 @@ impl Cli {
     ///
     /// # Errors
     /// Whatever the subcommand reports.
-    pub fn run(&self) -> Result<()> {
+    pub(crate) fn run(&self) -> Result<()> {
         match &self.command {
             Command::Decode(a) => crate::commands::decode::run(a),
             Command::Bridge(a) => crate::commands::bridge::run(a),

@@ -13,45 +13,32 @@ use crate::error::{Error, Result};
 
 /// The largest datagram a pack may grow to: one Ethernet MTU less the IP and UDP headers, so
 /// datagrams are never fragmented. A single larger frame still goes out, alone.
-pub const MAX_DATAGRAM: usize = 1472;
+pub(crate) const MAX_DATAGRAM: usize = 1472;
 /// How long a partly filled pack may wait for more frames.
-pub const PACK_HOLD: Duration = Duration::from_millis(20);
+pub(crate) const PACK_HOLD: Duration = Duration::from_millis(20);
 
 /// The UDP side of a box, shared by `bridge` and `sim`: where datagrams go, where they arrive,
 /// how many frames a datagram packs.
 #[derive(Debug, Clone, Args)]
-pub struct UdpArgs {
+pub(crate) struct UdpArgs {
     /// Where datagrams go: PORT (on 127.0.0.1) or ADDR:PORT.
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:5001", value_parser = parse_local_addr)]
-    pub udp_out: SocketAddr,
+    pub(crate) udp_out: SocketAddr,
     /// The port datagrams for the box arrive on: PORT (bound to 127.0.0.1) or ADDR:PORT
     /// (0.0.0.0:5002 listens on every interface).
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "5002", value_parser = parse_local_addr)]
-    pub udp_in: SocketAddr,
+    pub(crate) udp_in: SocketAddr,
     /// Pack up to N frames into one datagram (1: one frame per datagram).
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..))]
-    pub pack: u16,
+    pub(crate) pack: u16,
     /// Send to this broadcast address instead (on the --udp-out port). Never a default.
     #[arg(long, value_name = "ADDR")]
-    pub broadcast: Option<IpAddr>,
+    pub(crate) broadcast: Option<IpAddr>,
 }
 
 impl UdpArgs {
     /// Where datagrams go: `--udp-out`, or the `--broadcast` address on its port.
-    ///
-    /// ```
-    /// use clap::Parser;
-    /// #[derive(Parser)]
-    /// struct Cli {
-    ///     #[command(flatten)]
-    ///     udp: protolink::datagrams::UdpArgs,
-    /// }
-    /// let cli = Cli::parse_from(["x", "--udp-out", "6001"]);
-    /// assert_eq!(cli.udp.destination().to_string(), "127.0.0.1:6001");
-    /// let cli = Cli::parse_from(["x", "--broadcast", "10.0.0.255"]);
-    /// assert_eq!(cli.udp.destination().to_string(), "10.0.0.255:5001");
-    /// ```
-    pub fn destination(&self) -> SocketAddr {
+    pub(crate) fn destination(&self) -> SocketAddr {
         match self.broadcast {
             Some(addr) => SocketAddr::new(addr, self.udp_out.port()),
             None => self.udp_out,
@@ -62,7 +49,7 @@ impl UdpArgs {
     ///
     /// # Errors
     /// A socket cannot be bound.
-    pub fn open(&self) -> Result<(Packer, UdpSocket)> {
+    pub(crate) fn open(&self) -> Result<(Packer, UdpSocket)> {
         let packer = Packer::open(self.destination(), self.broadcast.is_some(), self.pack)?;
         Ok((packer, bind_in_port(self.udp_in)?))
     }
@@ -70,37 +57,23 @@ impl UdpArgs {
 
 /// What a [`Packer`] has sent.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct SendCounters {
+pub(crate) struct SendCounters {
     /// Frames that went out inside a datagram.
-    pub frames: u64,
+    pub(crate) frames: u64,
     /// Datagrams sent.
-    pub datagrams: u64,
+    pub(crate) datagrams: u64,
     /// Datagrams whose send failed.
-    pub errors: u64,
+    pub(crate) errors: u64,
 }
 
 /// Most datagrams taken from the in-port per turn of a loop, so a flood cannot keep the loop
 /// from its other work.
-pub const DATAGRAMS_PER_TURN: usize = 64;
+pub(crate) const DATAGRAMS_PER_TURN: usize = 64;
 /// Packs escaped AEOLUS frames into UDP datagrams and sends them: up to `pack` frames per
 /// datagram, never more than [`MAX_DATAGRAM`] bytes (a single longer frame goes out alone),
 /// and a partly filled pack waits at most [`PACK_HOLD`]. Used by `bridge` and `sim`.
-///
-/// ```
-/// use std::net::UdpSocket;
-/// use protolink::datagrams::Packer;
-/// let rx = UdpSocket::bind("127.0.0.1:0")?;
-/// let mut packer = Packer::open(rx.local_addr()?, false, 2)?;
-/// let toast = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
-/// packer.push(&toast); // held: the pack takes two frames
-/// packer.push(&toast); // full: sent
-/// let mut buf = [0u8; 64];
-/// assert_eq!(rx.recv(&mut buf)?, 16);
-/// assert_eq!(packer.counters().frames, 2);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
 #[derive(Debug)]
-pub struct Packer {
+pub(crate) struct Packer {
     socket: UdpSocket,
     to: SocketAddr,
     limit: usize,
@@ -118,7 +91,7 @@ impl Packer {
     ///
     /// # Errors
     /// Binding the socket or allowing broadcast fails.
-    pub fn open(to: SocketAddr, broadcast: bool, pack: u16) -> Result<Self> {
+    pub(crate) fn open(to: SocketAddr, broadcast: bool, pack: u16) -> Result<Self> {
         let bind = if to.ip().is_loopback() {
             SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), 0)
         } else {
@@ -145,12 +118,12 @@ impl Packer {
     }
 
     /// Where the datagrams go.
-    pub fn destination(&self) -> SocketAddr {
+    pub(crate) fn destination(&self) -> SocketAddr {
         self.to
     }
 
     /// What has been sent so far.
-    pub fn counters(&self) -> SendCounters {
+    pub(crate) fn counters(&self) -> SendCounters {
         self.counters
     }
 
@@ -159,7 +132,7 @@ impl Packer {
     ///
     /// # Errors
     /// [`Error::Io`] with the last send error.
-    pub fn check(&mut self) -> Result<()> {
+    pub(crate) fn check(&mut self) -> Result<()> {
         match self.last_error.take() {
             Some(source) if self.counters.datagrams == 0 => Err(Error::Io {
                 what: format!(
@@ -173,7 +146,7 @@ impl Packer {
     }
 
     /// Adds one escaped frame (flags included); sends the pack when it is full.
-    pub fn push(&mut self, wire: &[u8]) {
+    pub(crate) fn push(&mut self, wire: &[u8]) {
         if !self.pack.is_empty() && self.pack.len() + wire.len() > MAX_DATAGRAM {
             self.flush();
         }
@@ -186,14 +159,14 @@ impl Packer {
     }
 
     /// Sends a partly filled pack that has waited [`PACK_HOLD`].
-    pub fn poll(&mut self) {
+    pub(crate) fn poll(&mut self) {
         if self.since.is_some_and(|t| t.elapsed() >= PACK_HOLD) {
             self.flush();
         }
     }
 
     /// Sends what is packed now.
-    pub fn flush(&mut self) {
+    pub(crate) fn flush(&mut self) {
         if self.pack.is_empty() {
             return;
         }
@@ -217,7 +190,7 @@ impl Packer {
 ///
 /// # Errors
 /// The address is taken or cannot be bound.
-pub fn bind_in_port(udp_in: SocketAddr) -> Result<UdpSocket> {
+pub(crate) fn bind_in_port(udp_in: SocketAddr) -> Result<UdpSocket> {
     let open_err = |source| Error::Open {
         endpoint: format!("udp:{udp_in}"),
         source,
@@ -232,7 +205,11 @@ pub fn bind_in_port(udp_in: SocketAddr) -> Result<UdpSocket> {
 ///
 /// # Errors
 /// Receiving fails for another reason than "nothing waiting".
-pub fn receive_some(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8])) -> Result<usize> {
+pub(crate) fn receive_some(
+    socket: &UdpSocket,
+    buf: &mut [u8],
+    mut f: impl FnMut(&[u8]),
+) -> Result<usize> {
     let mut taken = 0;
     while taken < DATAGRAMS_PER_TURN {
         match socket.recv_from(buf) {
@@ -256,4 +233,41 @@ pub fn receive_some(socket: &UdpSocket, buf: &mut [u8], mut f: impl FnMut(&[u8])
         }
     }
     Ok(taken)
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn destination_example() -> Result<(), Box<dyn std::error::Error>> {
+        use clap::Parser;
+        #[derive(Parser)]
+        struct Cli {
+            #[command(flatten)]
+            udp: UdpArgs,
+        }
+        let cli = Cli::parse_from(["x", "--udp-out", "6001"]);
+        assert_eq!(cli.udp.destination().to_string(), "127.0.0.1:6001");
+        let cli = Cli::parse_from(["x", "--broadcast", "10.0.0.255"]);
+        assert_eq!(cli.udp.destination().to_string(), "10.0.0.255:5001");
+        Ok(())
+    }
+
+    #[test]
+    fn packer_example() -> Result<(), Box<dyn std::error::Error>> {
+        use std::net::UdpSocket;
+        let rx = UdpSocket::bind("127.0.0.1:0")?;
+        let mut packer = Packer::open(rx.local_addr()?, false, 2)?;
+        let toast = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
+        packer.push(&toast); // held: the pack takes two frames
+        packer.push(&toast); // full: sent
+        let mut buf = [0u8; 64];
+        assert_eq!(rx.recv(&mut buf)?, 16);
+        assert_eq!(packer.counters().frames, 2);
+        Ok(())
+    }
 }

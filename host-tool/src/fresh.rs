@@ -5,11 +5,11 @@ use std::time::{Duration, Instant};
 
 /// How long PRESSURE, GPS, COMPASS, ATTITUDE and ACCEL stay current (they come 10 to 200 times
 /// a second, GPS about once).
-pub const FRESH: Duration = Duration::from_secs(1);
+pub(crate) const FRESH: Duration = Duration::from_secs(1);
 
 /// How long a TEMP or WIND stays current, which the box sends about once a second (spec
 /// figure 1c: 829 ms and 1000 ms): two and a half of their intervals.
-pub const FRESH_SLOW: Duration = Duration::from_millis(2500);
+pub(crate) const FRESH_SLOW: Duration = Duration::from_millis(2500);
 
 /// `v` if it arrived within `limit` of `now`.
 pub(crate) fn fresh_within<T: Copy>(

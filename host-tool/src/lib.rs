@@ -3,6 +3,12 @@
 //! The host-side companion of the AEOLUS, AYDP and AOK protocol crates: a `std` command-line
 //! tool (the `protolink` binary) and the library it is built from.
 //!
+//! The library's public face is what the Python package (`python/`) and this crate's
+//! integration tests build on: [`cli::main_with`], the stream [`decoders`], [`proto`], the
+//! [`endpoint`] syntax, [`capture`] reading and writing, [`render`], and the few items of
+//! [`commands`], [`nmea`], [`telemetry`] and [`wireshark`] the tests check. Everything else
+//! is crate-private; `cargo doc -p protolink --document-private-items` documents it all.
+//!
 //! The modules stand on four floors, and a module uses only modules on floors below its own
 //! (`tests/tests/module_layers.rs` checks it, and that there is no import cycle):
 //!
@@ -38,27 +44,31 @@
 //! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+#![warn(unreachable_pub)]
+// The table above and the modules' docs name crate-private modules too: they resolve in the
+// maintainers' build (`--document-private-items`, checked by scripts/test.sh).
+#![allow(rustdoc::private_intra_doc_links)]
 
 pub mod cli;
 pub mod commands;
 pub mod wireshark;
 
-pub mod air_data;
-pub mod args;
+pub(crate) mod air_data;
+pub(crate) mod args;
 pub mod capture;
-pub mod datagrams;
+pub(crate) mod datagrams;
 pub mod decoders;
 pub mod endpoint;
-pub mod error;
-pub mod fresh;
-pub mod nb_serial;
+pub(crate) mod error;
+pub(crate) mod fresh;
+pub(crate) mod nb_serial;
 pub mod nmea;
-pub mod progress;
+pub(crate) mod progress;
 pub mod proto;
 pub mod render;
-pub mod stop;
+pub(crate) mod stop;
 pub mod telemetry;
-pub mod units;
-pub mod value_type;
+pub(crate) mod units;
+pub(crate) mod value_type;
 
 pub use error::{Error, Result};

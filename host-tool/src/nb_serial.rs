@@ -11,11 +11,11 @@ use crate::error::Error;
 
 /// How long one `read` waits for bytes before answering `WouldBlock`. It paces the client's
 /// polling loop, so the loop does not spin.
-pub const READ_SLICE: Duration = Duration::from_millis(1);
+pub(crate) const READ_SLICE: Duration = Duration::from_millis(1);
 
 /// A [`Link`] with non-blocking byte reads and buffered writes (sent on `flush`).
 #[derive(Debug)]
-pub struct NbSerial {
+pub(crate) struct NbSerial {
     link: Link,
     rx: VecDeque<u8>,
     tx: Vec<u8>,
@@ -23,12 +23,12 @@ pub struct NbSerial {
     ended: bool,
     error: Option<Error>,
     /// How many bytes have been received.
-    pub received: u64,
+    pub(crate) received: u64,
 }
 
 impl NbSerial {
     /// Wraps an open link.
-    pub fn new(link: Link) -> Self {
+    pub(crate) fn new(link: Link) -> Self {
         NbSerial {
             link,
             rx: VecDeque::new(),
@@ -41,17 +41,17 @@ impl NbSerial {
     }
 
     /// Whether the other end closed the stream.
-    pub fn ended(&self) -> bool {
+    pub(crate) fn ended(&self) -> bool {
         self.ended
     }
 
     /// The first I/O error met, taken out.
-    pub fn take_error(&mut self) -> Option<Error> {
+    pub(crate) fn take_error(&mut self) -> Option<Error> {
         self.error.take()
     }
 
     /// The endpoint's name.
-    pub fn name(&self) -> &str {
+    pub(crate) fn name(&self) -> &str {
         self.link.name()
     }
 }

@@ -7,24 +7,19 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// How long a wait must last before progress shows.
-pub const SHOW_AFTER: Duration = Duration::from_secs(1);
+pub(crate) const SHOW_AFTER: Duration = Duration::from_secs(1);
 
 /// A spinner on stderr that appears once a wait has lasted [`SHOW_AFTER`], and disappears when
 /// dropped. On a terminal it spins in place; otherwise it prints one line, then a dot a second.
-///
-/// ```
-/// let spinner = protolink::progress::Spinner::start("waiting for the reply");
-/// drop(spinner); // finished quickly: nothing was shown
-/// ```
 #[derive(Debug)]
-pub struct Spinner {
+pub(crate) struct Spinner {
     done: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Spinner {
     /// Starts waiting on `what`.
-    pub fn start(what: &str) -> Self {
+    pub(crate) fn start(what: &str) -> Self {
         let done = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&done);
         let what = what.to_owned();

@@ -26,15 +26,7 @@ pub fn hex(bytes: &[u8]) -> String {
 /// Text from the wire made safe and lossless for a terminal: printable characters stay,
 /// a backslash becomes `\\`, control characters and bytes that are not UTF-8 become `\xNN`
 /// (C1 controls `\u{NN}`). Different byte strings always give different text.
-///
-/// ```
-/// use protolink::render::escape_text;
-/// assert_eq!(escape_text(b"AEOLUS on"), "AEOLUS on");
-/// assert_eq!(escape_text(b"\x1b[2Jhi\xff"), "\\x1b[2Jhi\\xff");
-/// assert_eq!(escape_text("a\\b".as_bytes()), "a\\\\b");
-/// assert_eq!(escape_text("Grüße".as_bytes()), "Grüße");
-/// ```
-pub fn escape_text(bytes: &[u8]) -> String {
+pub(crate) fn escape_text(bytes: &[u8]) -> String {
     use std::fmt::Write as _;
     let mut out = String::with_capacity(bytes.len());
     for chunk in bytes.utf8_chunks() {
@@ -59,12 +51,7 @@ pub fn escape_text(bytes: &[u8]) -> String {
 
 /// Whether `bytes` is text that [`escape_text`] leaves unchanged (UTF-8 without controls or
 /// backslashes); when it is not, JSON output carries the raw bytes in hex beside the text.
-///
-/// ```
-/// assert!(protolink::render::is_clean_text(b"a pause"));
-/// assert!(!protolink::render::is_clean_text(b"\xff"));
-/// ```
-pub fn is_clean_text(bytes: &[u8]) -> bool {
+pub(crate) fn is_clean_text(bytes: &[u8]) -> bool {
     std::str::from_utf8(bytes).is_ok_and(|s| !s.chars().any(|c| c.is_control() || c == '\\'))
 }
 
@@ -83,12 +70,7 @@ fn no_controls(s: &str) -> String {
 }
 
 /// `CamelCase` to `UPPER_SNAKE` (`SystemValueUpdate` -> `SYSTEM_VALUE_UPDATE`).
-///
-/// ```
-/// assert_eq!(protolink::render::upper_snake("SystemValueUpdate"), "SYSTEM_VALUE_UPDATE");
-/// assert_eq!(protolink::render::upper_snake("Debug"), "DEBUG");
-/// ```
-pub fn upper_snake(name: &str) -> String {
+pub(crate) fn upper_snake(name: &str) -> String {
     let mut out = String::with_capacity(name.len() + 4);
     for (i, c) in name.chars().enumerate() {
         if c.is_uppercase() && i > 0 {
@@ -137,13 +119,7 @@ fn tidy_floats(v: &mut Value) {
 
 /// Splits an externally tagged enum value (`{"Gyro": {...}}` or `"Heartbeat"`) into its
 /// variant name and its fields (always an object; a bare inner value becomes `{"value": ...}`).
-///
-/// ```
-/// use serde_json::json;
-/// let (name, fields) = protolink::render::variant(json!({"WindSpeed": 3.5}));
-/// assert_eq!((name.as_str(), fields), ("WindSpeed", json!({"value": 3.5})));
-/// ```
-pub fn variant(value: Value) -> (String, Value) {
+pub(crate) fn variant(value: Value) -> (String, Value) {
     match value {
         Value::String(name) => (name, Value::Object(Map::new())),
         Value::Object(map) if map.len() == 1 => {
@@ -170,7 +146,7 @@ pub fn variant(value: Value) -> (String, Value) {
 }
 
 /// Replaces every `"data"` array of bytes in an object tree by its hex string.
-pub fn data_as_hex(v: &mut Value) {
+pub(crate) fn data_as_hex(v: &mut Value) {
     match v {
         Value::Object(map) => {
             for (key, item) in map.iter_mut() {
@@ -197,13 +173,7 @@ fn as_bytes(v: &Value) -> Option<Vec<u8>> {
 
 /// Renders a JSON value the way a person reads it: objects as `key=value` pairs separated by
 /// spaces, nested objects in braces, arrays in brackets, plain strings unquoted.
-///
-/// ```
-/// use serde_json::json;
-/// let v = json!({"valid": true, "x": 0.5, "mode": {"Array": {"count": 3}}, "mac": [1, 2]});
-/// assert_eq!(protolink::render::text(&v), "valid=true x=0.5 mode={Array={count=3}} mac=[1,2]");
-/// ```
-pub fn text(v: &Value) -> String {
+pub(crate) fn text(v: &Value) -> String {
     match v {
         Value::Object(map) => map
             .iter()
@@ -233,7 +203,7 @@ fn inner_text(v: &Value) -> String {
 
 /// Buffered standard output. A closed pipe (`protolink decode ... | head`) becomes an
 /// [`Error::Output`] instead of a panic.
-pub struct Out {
+pub(crate) struct Out {
     inner: BufWriter<Box<dyn Write>>,
 }
 
@@ -251,7 +221,7 @@ impl Default for Out {
 
 impl Out {
     /// Standard output, buffered.
-    pub fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Out {
             inner: BufWriter::with_capacity(64 * 1024, Box::new(io::stdout())),
         }
@@ -259,7 +229,7 @@ impl Out {
 
     /// The output for result lines of a command whose frames go to `to`: standard error when
     /// the frames take standard output (`--to -`), so text never mixes with binary frames.
-    pub fn beside(to: &crate::endpoint::Endpoint) -> Self {
+    pub(crate) fn beside(to: &crate::endpoint::Endpoint) -> Self {
         if *to == crate::endpoint::Endpoint::Stdio {
             Out {
                 inner: BufWriter::new(Box::new(io::stderr())),
@@ -273,7 +243,7 @@ impl Out {
     ///
     /// # Errors
     /// [`Error::Output`] when stdout is closed or fails.
-    pub fn line(&mut self, line: &str) -> Result<()> {
+    pub(crate) fn line(&mut self, line: &str) -> Result<()> {
         self.inner
             .write_all(line.as_bytes())
             .and_then(|()| self.inner.write_all(b"\n"))
@@ -284,7 +254,7 @@ impl Out {
     ///
     /// # Errors
     /// [`Error::Output`] when stdout is closed or fails.
-    pub fn raw(&mut self, text: &str) -> Result<()> {
+    pub(crate) fn raw(&mut self, text: &str) -> Result<()> {
         self.inner.write_all(text.as_bytes()).map_err(Error::Output)
     }
 
@@ -292,7 +262,60 @@ impl Out {
     ///
     /// # Errors
     /// [`Error::Output`] when stdout is closed or fails.
-    pub fn flush(&mut self) -> Result<()> {
+    pub(crate) fn flush(&mut self) -> Result<()> {
         self.inner.flush().map_err(Error::Output)
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn escape_text_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(escape_text(b"AEOLUS on"), "AEOLUS on");
+        assert_eq!(escape_text(b"\x1b[2Jhi\xff"), "\\x1b[2Jhi\\xff");
+        assert_eq!(escape_text("a\\b".as_bytes()), "a\\\\b");
+        assert_eq!(escape_text("Grüße".as_bytes()), "Grüße");
+        Ok(())
+    }
+
+    #[test]
+    fn is_clean_text_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert!(is_clean_text(b"a pause"));
+        assert!(!is_clean_text(b"\xff"));
+        Ok(())
+    }
+
+    #[test]
+    fn upper_snake_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(upper_snake("SystemValueUpdate"), "SYSTEM_VALUE_UPDATE");
+        assert_eq!(upper_snake("Debug"), "DEBUG");
+        Ok(())
+    }
+
+    #[test]
+    fn variant_example() -> Result<(), Box<dyn std::error::Error>> {
+        use serde_json::json;
+        let (name, fields) = variant(json!({"WindSpeed": 3.5}));
+        assert_eq!(
+            (name.as_str(), fields),
+            ("WindSpeed", json!({"value": 3.5}))
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn text_example() -> Result<(), Box<dyn std::error::Error>> {
+        use serde_json::json;
+        let v = json!({"valid": true, "x": 0.5, "mode": {"Array": {"count": 3}}, "mac": [1, 2]});
+        assert_eq!(
+            text(&v),
+            "valid=true x=0.5 mode={Array={count=3}} mac=[1,2]"
+        );
+        Ok(())
     }
 }

@@ -15,7 +15,7 @@ use crate::units::Units;
 
 /// The message IDs the box sends as events, not on a schedule: LOG, TOAST, COMMAND, SETTIME.
 /// They are shown as "event N s ago", never as stale.
-pub const EVENTS: [u8; 4] = [
+pub(crate) const EVENTS: [u8; 4] = [
     aeolus_proto::message::id::LOG,
     aeolus_proto::message::id::TOAST,
     aeolus_proto::message::id::COMMAND,
@@ -23,9 +23,9 @@ pub const EVENTS: [u8; 4] = [
 ];
 
 /// A type is never called stale sooner than this after its last message (host jitter).
-pub const STALE_FLOOR: Duration = Duration::from_millis(100);
+pub(crate) const STALE_FLOOR: Duration = Duration::from_millis(100);
 /// With no byte at all after this long, the view says so and names the likely causes.
-pub const NO_DATA_AFTER: Duration = Duration::from_secs(2);
+pub(crate) const NO_DATA_AFTER: Duration = Duration::from_secs(2);
 
 /// Arrivals of one message type.
 #[derive(Debug, Clone, Copy)]
@@ -84,7 +84,7 @@ pub struct View {
     /// The air data (airspeeds, pressure altitude, vertical speed) every face shares.
     pub(crate) air: AirDataSource,
     /// The units the views show.
-    pub units: Units,
+    pub(crate) units: Units,
 }
 
 impl View {
@@ -136,7 +136,7 @@ impl View {
     /// Decodes `bytes` (one read of the endpoint; a whole datagram when `datagram`) with
     /// `decoder` and takes every message into the view, handing each to `also` as well.
     /// Bytes, malformed messages and datagrams that end inside a frame are counted.
-    pub fn feed(
+    pub(crate) fn feed(
         &mut self,
         decoder: &mut Decoder<AEOLUS_CAPACITY>,
         bytes: &[u8],
@@ -158,9 +158,9 @@ impl View {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) struct Read {
     /// Frames with a good check whose data did not parse as their type.
-    pub malformed: u32,
+    pub(crate) malformed: u32,
     /// A datagram ended inside a frame.
-    pub truncated: bool,
+    pub(crate) truncated: bool,
 }
 
 /// Decodes one read of AEOLUS telemetry with `decoder` (its `feed` fast path) and hands every

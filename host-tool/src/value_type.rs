@@ -8,7 +8,7 @@ use serde_json::{Value, json};
 
 /// One element type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Scalar {
+pub(crate) enum Scalar {
     /// `u8`.
     U8,
     /// `u16`.
@@ -25,7 +25,7 @@ pub enum Scalar {
 
 impl Scalar {
     /// Bytes per element.
-    pub const fn size(self) -> usize {
+    pub(crate) const fn size(self) -> usize {
         match self {
             Scalar::U8 => 1,
             Scalar::U16 => 2,
@@ -47,16 +47,9 @@ impl Scalar {
 
     /// Little-endian bytes of one value written as text (integers also as `0x..`).
     ///
-    /// ```
-    /// use protolink::value_type::Scalar;
-    /// assert_eq!(Scalar::U16.encode("0x1234").unwrap(), [0x34, 0x12]);
-    /// assert_eq!(Scalar::F32.encode("10").unwrap(), 10f32.to_le_bytes());
-    /// assert!(Scalar::U8.encode("256").is_err());
-    /// ```
-    ///
     /// # Errors
     /// A sentence saying why the text is not a value of this type.
-    pub fn encode(self, text: &str) -> Result<Vec<u8>, String> {
+    pub(crate) fn encode(self, text: &str) -> Result<Vec<u8>, String> {
         let t = text.trim();
         let int = || -> Option<i128> {
             match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
@@ -106,16 +99,8 @@ impl Scalar {
 }
 
 /// A system value's type: a scalar, a fixed-length array, or a `char[N]` text.
-///
-/// ```
-/// use protolink::value_type::{Scalar, ValueType};
-/// assert_eq!("f32[3]".parse::<ValueType>(), Ok(ValueType::Array(Scalar::F32, 3)));
-/// assert_eq!("char[40]".parse::<ValueType>(), Ok(ValueType::Chars(40)));
-/// assert_eq!("u16".parse::<ValueType>(), Ok(ValueType::Scalar(Scalar::U16)));
-/// assert!("float".parse::<ValueType>().is_err());
-/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ValueType {
+pub(crate) enum ValueType {
     /// One value.
     Scalar(Scalar),
     /// `N` values.
@@ -177,7 +162,7 @@ impl fmt::Display for ValueType {
 
 impl ValueType {
     /// The element type (`u8` for text).
-    pub const fn element(self) -> Scalar {
+    pub(crate) const fn element(self) -> Scalar {
         match self {
             ValueType::Scalar(s) | ValueType::Array(s, _) => s,
             ValueType::Chars(_) => Scalar::U8,
@@ -187,19 +172,9 @@ impl ValueType {
     /// The value bytes for a whole value written as text: one value, a comma-separated list of
     /// exactly `N` values for an array, or the text itself for `char[N]`.
     ///
-    /// ```
-    /// use protolink::value_type::ValueType;
-    /// let t: ValueType = "u16[3]".parse().unwrap();
-    /// assert_eq!(t.encode("10,20,100").unwrap(), [10, 0, 20, 0, 100, 0]);
-    /// assert!(t.encode("10,20").is_err());
-    /// let c: ValueType = "char[4]".parse().unwrap();
-    /// assert_eq!(c.encode("boat").unwrap(), b"boat");
-    /// assert!(c.encode("yacht").is_err());
-    /// ```
-    ///
     /// # Errors
     /// A sentence saying why the text does not fit the type.
-    pub fn encode(self, text: &str) -> Result<Vec<u8>, String> {
+    pub(crate) fn encode(self, text: &str) -> Result<Vec<u8>, String> {
         match self {
             ValueType::Scalar(s) => s.encode(text),
             ValueType::Array(s, n) => {
@@ -231,20 +206,9 @@ impl ValueType {
     /// The value in `data` (the bytes of a system value update): a number, a list, or a string
     /// cut at the first NUL.
     ///
-    /// ```
-    /// use protolink::value_type::ValueType;
-    /// let t: ValueType = "f32[2]".parse().unwrap();
-    /// let mut data = 1.5f32.to_le_bytes().to_vec();
-    /// data.extend(0.1f32.to_le_bytes());
-    /// assert_eq!(t.decode(&data).unwrap().to_string(), "[1.5,0.1]");
-    /// assert!(t.decode(&data[..4]).is_err()); // one element short of f32[2]
-    /// let c: ValueType = "char[8]".parse().unwrap();
-    /// assert_eq!(c.decode(b"boat\0\0\0\0").unwrap(), "boat");
-    /// ```
-    ///
     /// # Errors
     /// A sentence when the length does not fit the type.
-    pub fn decode(self, data: &[u8]) -> Result<Value, String> {
+    pub(crate) fn decode(self, data: &[u8]) -> Result<Value, String> {
         let size = self.element().size();
         match self {
             ValueType::Chars(n) if data.len() == n => {
@@ -260,5 +224,59 @@ impl ValueType {
                 data.len()
             )),
         }
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn encode_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(Scalar::U16.encode("0x1234").unwrap(), [0x34, 0x12]);
+        assert_eq!(Scalar::F32.encode("10").unwrap(), 10f32.to_le_bytes());
+        assert!(Scalar::U8.encode("256").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn valuetype_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(
+            "f32[3]".parse::<ValueType>(),
+            Ok(ValueType::Array(Scalar::F32, 3))
+        );
+        assert_eq!("char[40]".parse::<ValueType>(), Ok(ValueType::Chars(40)));
+        assert_eq!(
+            "u16".parse::<ValueType>(),
+            Ok(ValueType::Scalar(Scalar::U16))
+        );
+        assert!("float".parse::<ValueType>().is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn encode_2_example() -> Result<(), Box<dyn std::error::Error>> {
+        let t: ValueType = "u16[3]".parse().unwrap();
+        assert_eq!(t.encode("10,20,100").unwrap(), [10, 0, 20, 0, 100, 0]);
+        assert!(t.encode("10,20").is_err());
+        let c: ValueType = "char[4]".parse().unwrap();
+        assert_eq!(c.encode("boat").unwrap(), b"boat");
+        assert!(c.encode("yacht").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn decode_example() -> Result<(), Box<dyn std::error::Error>> {
+        let t: ValueType = "f32[2]".parse().unwrap();
+        let mut data = 1.5f32.to_le_bytes().to_vec();
+        data.extend(0.1f32.to_le_bytes());
+        assert_eq!(t.decode(&data).unwrap().to_string(), "[1.5,0.1]");
+        assert!(t.decode(&data[..4]).is_err()); // one element short of f32[2]
+        let c: ValueType = "char[8]".parse().unwrap();
+        assert_eq!(c.decode(b"boat\0\0\0\0").unwrap(), "boat");
+        Ok(())
     }
 }

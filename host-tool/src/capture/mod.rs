@@ -28,54 +28,35 @@ use crate::proto::{ProfileArg, Proto, Side};
 mod read;
 mod write;
 
-pub use read::{CaptureReader, file_is_capture, is_capture, parse_payload};
+pub use read::{CaptureReader, file_is_capture, is_capture};
 pub use write::{CaptureWriter, MAX_UDP_PAYLOAD, ethernet_udp};
 
 /// UDP port of AEOLUS telemetry (box -> app).
 pub const PORT_AEOLUS_OUT: u16 = 5001;
 /// UDP port of AEOLUS commands (app -> box).
-pub const PORT_AEOLUS_IN: u16 = 5002;
+pub(crate) const PORT_AEOLUS_IN: u16 = 5002;
 /// UDP port of GDL90 for EFB apps.
-pub const PORT_GDL90: u16 = 4000;
+pub(crate) const PORT_GDL90: u16 = 4000;
 /// TCP port of the AYDP reference software.
-pub const PORT_AYDP: u16 = 6321;
+pub(crate) const PORT_AYDP: u16 = 6321;
 
 /// The largest payload stored in one record.
-pub const SNAPLEN: u32 = 65_535;
+pub(crate) const SNAPLEN: u32 = 65_535;
 
 /// What a byte-stream interface carries, named by its link type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct StreamKind {
+pub(crate) struct StreamKind {
     /// The protocol.
-    pub proto: Proto,
+    pub(crate) proto: Proto,
     /// The AYDP profile (only for AYDP).
-    pub profile: ProfileArg,
+    pub(crate) profile: ProfileArg,
     /// Who sent the AOK bytes (only for AOK).
-    pub side: Side,
+    pub(crate) side: Side,
 }
-
-/// The link-type mapping, `(USER n, link type number, what it carries)`, for docs and the
-/// dissector.
-pub const LINK_TYPES: [(u32, &str); 6] = [
-    (147, "AEOLUS byte stream"),
-    (148, "AYDP byte stream, spec profile"),
-    (149, "AYDP byte stream, reference profile"),
-    (150, "AOK, PC -> device"),
-    (151, "AOK, device -> PC"),
-    (152, "GDL90 byte stream"),
-];
 
 impl StreamKind {
     /// The link type number (USER0 = 147 ...) for this stream.
-    ///
-    /// ```
-    /// use protolink::capture::StreamKind;
-    /// use protolink::proto::{Proto, ProfileArg, Side};
-    /// let k = StreamKind { proto: Proto::Aok, profile: ProfileArg::Spec, side: Side::Device };
-    /// assert_eq!(k.link_type(), 151);
-    /// assert_eq!(StreamKind::from_link_type(151), Some(k));
-    /// ```
-    pub fn link_type(&self) -> u32 {
+    pub(crate) fn link_type(&self) -> u32 {
         match (self.proto, self.profile, self.side) {
             (Proto::Aeolus, _, _) => 147,
             (Proto::Aydp, ProfileArg::Spec, _) => 148,
@@ -88,7 +69,7 @@ impl StreamKind {
 
     /// The stream a link type number names, if it is one of ours. Fields that do not apply
     /// take their defaults (spec profile, device side).
-    pub fn from_link_type(link: u32) -> Option<Self> {
+    pub(crate) fn from_link_type(link: u32) -> Option<Self> {
         let (proto, profile, side) = match link {
             147 => (Proto::Aeolus, ProfileArg::Spec, Side::Device),
             148 => (Proto::Aydp, ProfileArg::Spec, Side::Device),
@@ -104,22 +85,10 @@ impl StreamKind {
             side,
         })
     }
-
-    /// The same stream with the fields that do not apply set to their defaults.
-    pub fn normalized(self) -> Self {
-        Self::from_link_type(self.link_type()).unwrap_or(self)
-    }
 }
 
 /// The protocol a UDP or TCP port carries, if it is one of ours.
-///
-/// ```
-/// use protolink::capture::proto_for_port;
-/// use protolink::proto::Proto;
-/// assert_eq!(proto_for_port(5001), Some(Proto::Aeolus));
-/// assert_eq!(proto_for_port(53), None);
-/// ```
-pub fn proto_for_port(port: u16) -> Option<Proto> {
+pub(crate) fn proto_for_port(port: u16) -> Option<Proto> {
     match port {
         PORT_AEOLUS_OUT | PORT_AEOLUS_IN => Some(Proto::Aeolus),
         PORT_GDL90 => Some(Proto::Gdl90),
@@ -130,7 +99,7 @@ pub fn proto_for_port(port: u16) -> Option<Proto> {
 
 /// The IP transport of a payload found in a capture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Transport {
+pub(crate) enum Transport {
     /// A UDP datagram.
     Udp,
     /// A TCP segment (no reassembly: payloads in capture order).
@@ -139,7 +108,7 @@ pub enum Transport {
 
 /// What one capture record holds.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Payload {
+pub(crate) enum Payload {
     /// A UDP datagram or TCP segment's payload, with its addresses.
     Ip {
         /// UDP or TCP.
@@ -168,11 +137,11 @@ pub enum Payload {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Record {
     /// 1-based record number, as Wireshark numbers frames.
-    pub frame: u64,
+    pub(crate) frame: u64,
     /// Arrival time since the Unix epoch.
-    pub time: Duration,
+    pub(crate) time: Duration,
     /// What it holds.
-    pub payload: Payload,
+    pub(crate) payload: Payload,
 }
 
 /// A `pcap-file` error as one of ours, saying what was being done.
@@ -186,5 +155,34 @@ pub(crate) fn pcap_err(what: String) -> impl Fn(pcap_file::PcapError) -> Error {
             what: what.clone(),
             source: std::io::Error::other(other.to_string()),
         },
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn link_type_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::proto::{ProfileArg, Proto, Side};
+        let k = StreamKind {
+            proto: Proto::Aok,
+            profile: ProfileArg::Spec,
+            side: Side::Device,
+        };
+        assert_eq!(k.link_type(), 151);
+        assert_eq!(StreamKind::from_link_type(151), Some(k));
+        Ok(())
+    }
+
+    #[test]
+    fn proto_for_port_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::proto::Proto;
+        assert_eq!(proto_for_port(5001), Some(Proto::Aeolus));
+        assert_eq!(proto_for_port(53), None);
+        Ok(())
     }
 }

@@ -325,15 +325,7 @@ fn section_header_len(head: &[u8; 12]) -> u64 {
 }
 
 /// Finds the UDP or TCP payload (or our stream chunk) in a packet of link type `link`.
-///
-/// ```
-/// use protolink::capture::{ethernet_udp, parse_payload, Payload, Transport};
-/// let src = "127.0.0.1:40000".parse().unwrap();
-/// let dst = "127.0.0.1:5001".parse().unwrap();
-/// let p = parse_payload(1, 0, &ethernet_udp(src, dst, b"hi"));
-/// assert_eq!(p, Payload::Ip { transport: Transport::Udp, src, dst, bytes: b"hi".to_vec() });
-/// ```
-pub fn parse_payload(link: u32, interface: u32, data: &[u8]) -> Payload {
+pub(crate) fn parse_payload(link: u32, interface: u32, data: &[u8]) -> Payload {
     if let Some(kind) = StreamKind::from_link_type(link) {
         return Payload::Stream {
             interface,
@@ -402,4 +394,30 @@ fn parse_ipv4(ip: &[u8]) -> Option<Payload> {
         dst: SocketAddrV4::new(dst_ip, dst_port),
         bytes: bytes.to_vec(),
     })
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn parse_payload_reads_a_udp_frame_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::capture::{Payload, Transport, ethernet_udp};
+        let src = "127.0.0.1:40000".parse().unwrap();
+        let dst = "127.0.0.1:5001".parse().unwrap();
+        let p = parse_payload(1, 0, &ethernet_udp(src, dst, b"hi"));
+        assert_eq!(
+            p,
+            Payload::Ip {
+                transport: Transport::Udp,
+                src,
+                dst,
+                bytes: b"hi".to_vec()
+            }
+        );
+        Ok(())
+    }
 }

@@ -25,26 +25,26 @@ use crate::render::{Out, escape_text};
 
 /// Arguments of `protolink aeolus`.
 #[derive(Debug, Clone, Args)]
-pub struct AeolusArgs {
+pub(crate) struct AeolusArgs {
     /// The box: `udp:ADDR:PORT` sends a datagram to its command port (5002), `tcp:` or
     /// `serial:` writes to its UART.
     #[arg(long, value_name = "ENDPOINT")]
-    pub to: Endpoint,
+    pub(crate) to: Endpoint,
     /// Where its answers arrive, if not on the `--to` link: its telemetry port, e.g. `udp:5001`.
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Option<Endpoint>,
+    pub(crate) from: Option<Endpoint>,
     /// How long to wait for the answer: `2000` (ms), `2s` (1 ms to 1 h).
     #[arg(long, visible_alias = "timeout", value_name = "DURATION", default_value = "2000",
           value_parser = crate::args::timeout_ms)]
-    pub timeout_ms: Duration,
+    pub(crate) timeout_ms: Duration,
     /// What to send.
     #[command(subcommand)]
-    pub action: AeolusAction,
+    pub(crate) action: AeolusAction,
 }
 
 /// The AEOLUS actions.
 #[derive(Debug, Clone, Subcommand)]
-pub enum AeolusAction {
+pub(crate) enum AeolusAction {
     /// Send a COMMAND text (the box knows `a pause`, `a resume`, `a reboot`).
     #[command(after_help = "Examples:
   protolink aeolus --to udp:127.0.0.1:5002 --from udp:5001 command \"a pause\"
@@ -66,16 +66,9 @@ pub enum AeolusAction {
 
 /// Parses `now` or `YYYY-MM-DDTHH:MM:SS` (UTC) into a SETTIME.
 ///
-/// ```
-/// let t = protolink::commands::aeolus::parse_time("2026-11-23T09:30:05").unwrap();
-/// assert_eq!((t.year_since_1900, t.month0, t.day, t.hour, t.minute, t.second), (126, 10, 23, 9, 30, 5));
-/// assert!(protolink::commands::aeolus::parse_time("2026-13-01T00:00:00").is_err());
-/// assert!(protolink::commands::aeolus::parse_time("now").is_ok());
-/// ```
-///
 /// # Errors
 /// A sentence when the text is neither form or a field is out of range.
-pub fn parse_time(text: &str) -> std::result::Result<SetTime, String> {
+pub(crate) fn parse_time(text: &str) -> std::result::Result<SetTime, String> {
     if text == "now" {
         let secs = SystemTime::now()
             .duration_since(UNIX_EPOCH)
@@ -146,7 +139,7 @@ enum Target {
 ///
 /// # Errors
 /// Opening an endpoint, sending, or a refusal by the box.
-pub fn run(args: &AeolusArgs) -> Result<()> {
+pub(crate) fn run(args: &AeolusArgs) -> Result<()> {
     let (message_name, message) = match &args.action {
         AeolusAction::Command { text } => {
             let t = Text::new(text).map_err(|_| {
@@ -266,4 +259,31 @@ fn wait_for_toast(link: &mut Link, timeout: Duration, what: &str) -> Result<Opti
         }
     }
     Ok(None)
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn parse_time_example() -> Result<(), Box<dyn std::error::Error>> {
+        let t = parse_time("2026-11-23T09:30:05").unwrap();
+        assert_eq!(
+            (
+                t.year_since_1900,
+                t.month0,
+                t.day,
+                t.hour,
+                t.minute,
+                t.second
+            ),
+            (126, 10, 23, 9, 30, 5)
+        );
+        assert!(parse_time("2026-13-01T00:00:00").is_err());
+        assert!(parse_time("now").is_ok());
+        Ok(())
+    }
 }

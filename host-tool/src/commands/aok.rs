@@ -21,33 +21,33 @@ use crate::render::Out;
 
 /// Arguments of `protolink aok`.
 #[derive(Debug, Clone, Args)]
-pub struct AokArgs {
+pub(crate) struct AokArgs {
     /// The device (serial:PATH@38400, tcp:HOST:PORT, udp:PORT, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub to: Endpoint,
+    pub(crate) to: Endpoint,
     /// The device's firmware version: <= 0.30 answers parameter reads without a header, bulk
     /// read needs >= 0.35.
     #[arg(long, value_name = "MAJOR.MINOR", default_value = "0.35", value_parser = parse_firmware)]
-    pub firmware: FirmwareVersion,
+    pub(crate) firmware: FirmwareVersion,
     /// How long to wait for a reply: `2000` (ms), `2s`, `500ms` (1 ms to 1 h).
     #[arg(long, visible_alias = "timeout", value_name = "DURATION", default_value = "2000",
           value_parser = crate::args::timeout_ms)]
-    pub timeout_ms: Duration,
+    pub(crate) timeout_ms: Duration,
     /// How long the line must stay quiet after debug-off before a request goes out: `50` (ms),
     /// `0.1s` (0 ms to 1 h).
     #[arg(long, value_name = "DURATION", default_value = "50", value_parser = crate::args::period_ms)]
-    pub quiet_ms: Duration,
+    pub(crate) quiet_ms: Duration,
     /// The device is not sending debug values (skip the debug-off/on around requests).
     #[arg(long)]
-    pub debug_is_off: bool,
+    pub(crate) debug_is_off: bool,
     /// What to do.
     #[command(subcommand)]
-    pub action: AokAction,
+    pub(crate) action: AokAction,
 }
 
 /// The AOK actions.
 #[derive(Debug, Clone, Subcommand)]
-pub enum AokAction {
+pub(crate) enum AokAction {
     /// Switch the debug value stream on or off.
     #[command(after_help = "Example:\n  protolink aok --to tcp:127.0.0.1:7002 debug off")]
     Debug {
@@ -144,7 +144,7 @@ pub enum AokAction {
 
 /// The waypoint actions.
 #[derive(Debug, Clone, Subcommand)]
-pub enum WaypointAction {
+pub(crate) enum WaypointAction {
     /// Read a slot: 1..=31, poi (mission POI), ram-poi or fbc.
     #[command(after_help = "Example:\n  protolink aok --to tcp:127.0.0.1:7002 waypoint get 1")]
     Get {
@@ -252,7 +252,7 @@ pub fn parse_action(text: &str) -> std::result::Result<ActionWord, String> {
 ///
 /// # Errors
 /// A sentence when out of range.
-pub fn parse_motor(text: &str) -> std::result::Result<Motor, String> {
+pub(crate) fn parse_motor(text: &str) -> std::result::Result<Motor, String> {
     text.parse::<u8>()
         .ok()
         .and_then(|n| Motor::new(n).ok())
@@ -263,7 +263,7 @@ pub fn parse_motor(text: &str) -> std::result::Result<Motor, String> {
 ///
 /// # Errors
 /// A sentence when out of range.
-pub fn parse_stick(text: &str) -> std::result::Result<Stick, String> {
+pub(crate) fn parse_stick(text: &str) -> std::result::Result<Stick, String> {
     text.parse::<i16>()
         .ok()
         .and_then(|v| Stick::new(v).ok())
@@ -272,7 +272,7 @@ pub fn parse_stick(text: &str) -> std::result::Result<Stick, String> {
 
 /// An AOK conversation over one endpoint.
 #[derive(Debug)]
-pub struct Session {
+pub(crate) struct Session {
     client: Client<NbSerial>,
     started: Instant,
     timeout_ms: u32,
@@ -283,7 +283,7 @@ impl Session {
     ///
     /// # Errors
     /// Opening the endpoint.
-    pub fn open(args: &AokArgs) -> Result<Self> {
+    pub(crate) fn open(args: &AokArgs) -> Result<Self> {
         let link = args.to.open()?;
         let mut config = Config::new(args.firmware);
         config.timeout_ms = millis(args.timeout_ms);
@@ -300,7 +300,7 @@ impl Session {
     ///
     /// # Errors
     /// A timeout, a refusal, or an I/O error, as one sentence naming `what`.
-    pub fn run(&mut self, command: Command, what: &str) -> Result<Outcome> {
+    pub(crate) fn run(&mut self, command: Command, what: &str) -> Result<Outcome> {
         let started = self.started;
         let _spinner = (command.expected_reply() != aok_proto::Expect::Nothing)
             .then(|| Spinner::start(&format!("waiting for the answer to {what}")));
@@ -353,7 +353,7 @@ fn waypoint_line(w: &Waypoint) -> String {
 
 /// How a command that changes the box ended, when it did not fail.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Answer {
+pub(crate) enum Answer {
     /// The box said yes (an ack, or a read-back that matches).
     Confirmed(String),
     /// The protocol gives no answer to this command; the sentence says what is known.
@@ -362,12 +362,7 @@ pub enum Answer {
 
 impl Answer {
     /// The outcome as the end of an output line.
-    ///
-    /// ```
-    /// use protolink::commands::aok::Answer;
-    /// assert_eq!(Answer::Confirmed("acked 'O'".into()).show(), "confirmed (acked 'O')");
-    /// ```
-    pub fn show(&self) -> String {
+    pub(crate) fn show(&self) -> String {
         match self {
             Answer::Confirmed(why) => format!("confirmed ({why})"),
             Answer::Unconfirmed(why) => format!("unconfirmed ({why})"),
@@ -382,7 +377,7 @@ impl Session {
     ///
     /// # Errors
     /// A refusal, or an I/O error.
-    pub fn run_acked(&mut self, command: Command, what: &str) -> Result<Answer> {
+    pub(crate) fn run_acked(&mut self, command: Command, what: &str) -> Result<Answer> {
         let started = self.started;
         self.client
             .start_expecting(command, aok_proto::Expect::Ack)
@@ -422,7 +417,7 @@ impl Session {
     ///
     /// # Errors
     /// The box is flying, or an I/O error.
-    pub fn verify_motor(&mut self, motor: Motor, value: u8) -> Result<Answer> {
+    pub(crate) fn verify_motor(&mut self, motor: Motor, value: u8) -> Result<Answer> {
         let started = Instant::now();
         let limit = Duration::from_millis(u64::from(self.timeout_ms));
         let now = self.started;
@@ -467,7 +462,7 @@ impl Session {
 ///
 /// # Errors
 /// Opening the endpoint, a timeout, or a refusal.
-pub fn run(args: &AokArgs) -> Result<()> {
+pub(crate) fn run(args: &AokArgs) -> Result<()> {
     let mut s = Session::open(args)?;
     let lines = match &args.action {
         AokAction::Debug { state } => vec![debug(&mut s, state)?],
@@ -657,4 +652,21 @@ fn external_control(s: &mut Session, control: ExternalControl) -> Result<String>
 
 fn unexpected(what: &str, outcome: Outcome) -> Error {
     Error::Device(format!("unexpected answer to {what}: {outcome:?}"))
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn show_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(
+            Answer::Confirmed("acked 'O'".into()).show(),
+            "confirmed (acked 'O')"
+        );
+        Ok(())
+    }
 }

@@ -25,32 +25,32 @@ use crate::render::{Out, hex};
 use crate::value_type::ValueType;
 
 /// Address of "enable direct control" (DECISIONS.md Y9).
-pub const DIRECT_CONTROL: u16 = 0x0000;
+pub(crate) const DIRECT_CONTROL: u16 = 0x0000;
 
 /// Arguments of `protolink aydp`.
 #[derive(Debug, Clone, Args)]
-pub struct AydpArgs {
+pub(crate) struct AydpArgs {
     /// The device (serial:PATH@BAUD, tcp:HOST:PORT, udp:PORT, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub to: Endpoint,
+    pub(crate) to: Endpoint,
     /// AYDP profile of the device.
     #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
-    pub profile: ProfileArg,
+    pub(crate) profile: ProfileArg,
     /// How long to wait for each reply: `2000` (ms), `2s`, `500ms` (1 ms to 1 h).
     #[arg(long, visible_alias = "timeout", value_name = "DURATION", default_value = "2000",
           value_parser = crate::args::timeout_ms)]
-    pub timeout_ms: Duration,
+    pub(crate) timeout_ms: Duration,
     /// Do not read values back after changing them.
     #[arg(long)]
-    pub no_verify: bool,
+    pub(crate) no_verify: bool,
     /// What to do.
     #[command(subcommand)]
-    pub action: AydpAction,
+    pub(crate) action: AydpAction,
 }
 
 /// The AYDP actions.
 #[derive(Debug, Clone, Subcommand)]
-pub enum AydpAction {
+pub(crate) enum AydpAction {
     /// Read a system value (request data).
     #[command(
         after_help = "Example:\n  protolink aydp --to tcp:127.0.0.1:7001 get 0x0001 --as char[40]"
@@ -119,24 +119,18 @@ pub enum AydpAction {
 
 /// An address, and an element index for the element form.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Target {
+pub(crate) struct Target {
     /// The address.
-    pub address: u16,
+    pub(crate) address: u16,
     /// The element, for `ADDR[INDEX]`.
-    pub index: Option<u32>,
+    pub(crate) index: Option<u32>,
 }
 
 /// Parses an address: decimal or `0x` hex, 0..=0xFFFF.
 ///
-/// ```
-/// assert_eq!(protolink::commands::aydp::parse_address("0x0100"), Ok(256));
-/// assert_eq!(protolink::commands::aydp::parse_address("8"), Ok(8));
-/// assert!(protolink::commands::aydp::parse_address("0x10000").is_err());
-/// ```
-///
 /// # Errors
 /// A sentence when the text is not an address.
-pub fn parse_address(text: &str) -> std::result::Result<u16, String> {
+pub(crate) fn parse_address(text: &str) -> std::result::Result<u16, String> {
     let parsed = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
         Some(hex) => u16::from_str_radix(hex, 16),
         None => text.parse::<u16>(),
@@ -146,15 +140,9 @@ pub fn parse_address(text: &str) -> std::result::Result<u16, String> {
 
 /// Parses `ADDR` or `ADDR[INDEX]`.
 ///
-/// ```
-/// use protolink::commands::aydp::{parse_target, Target};
-/// assert_eq!(parse_target("0x0101[2]"), Ok(Target { address: 0x101, index: Some(2) }));
-/// assert_eq!(parse_target("5"), Ok(Target { address: 5, index: None }));
-/// ```
-///
 /// # Errors
 /// A sentence when the text is neither form.
-pub fn parse_target(text: &str) -> std::result::Result<Target, String> {
+pub(crate) fn parse_target(text: &str) -> std::result::Result<Target, String> {
     match text.strip_suffix(']').and_then(|t| t.split_once('[')) {
         Some((addr, index)) => Ok(Target {
             address: parse_address(addr)?,
@@ -173,17 +161,9 @@ pub fn parse_target(text: &str) -> std::result::Result<Target, String> {
 
 /// Parses `DEVICE:CHANNEL=VALUE`.
 ///
-/// ```
-/// use aydp_proto::OutputEntry;
-/// assert_eq!(protolink::commands::aydp::parse_output("1:2=10.0"),
-///            Ok(OutputEntry { device: 1, channel: 2, value: 10.0 }));
-/// assert!(protolink::commands::aydp::parse_output("1=10").is_err());
-/// assert!(protolink::commands::aydp::parse_output("1:2=nan").is_err());
-/// ```
-///
 /// # Errors
 /// A sentence when the text is not that form.
-pub fn parse_output(text: &str) -> std::result::Result<OutputEntry, String> {
+pub(crate) fn parse_output(text: &str) -> std::result::Result<OutputEntry, String> {
     let bad = || format!("'{text}' is not DEVICE:CHANNEL=VALUE (e.g. 1:2=10.0)");
     let (dc, value) = text.split_once('=').ok_or_else(bad)?;
     let (device, channel) = dc.split_once(':').ok_or_else(bad)?;
@@ -200,24 +180,9 @@ pub fn parse_output(text: &str) -> std::result::Result<OutputEntry, String> {
 /// software reads every frame with the 22-byte header), so there it is a normal message
 /// stamped with `now` (seconds and microseconds since 1970).
 ///
-/// ```
-/// use aydp_proto::{Encoder, Profile, SystemControl};
-/// use std::time::{Duration, UNIX_EPOCH};
-/// let now = UNIX_EPOCH + Duration::from_micros(1_700_000_000_250_000);
-/// let store = SystemControl::StoreConfiguration;
-/// let spec = protolink::commands::aydp::request(&Encoder::new(Profile::Spec), &store, now)?;
-/// assert_eq!(spec, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
-/// let reference = protolink::commands::aydp::request(&Encoder::new(Profile::Reference), &store, now)?;
-/// assert_eq!(reference.len(), 22 + 1 + 1);
-/// assert_eq!(&reference[..6], &[0xFF, 0x09, 1, 0, 0, 0]); // type 9, 1 data byte
-/// assert_eq!(i64::from_le_bytes(reference[6..14].try_into()?), 1_700_000_000);
-/// assert_eq!(i64::from_le_bytes(reference[14..22].try_into()?), 250_000);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-///
 /// # Errors
 /// The payload does not encode.
-pub fn request<P: Payload + ?Sized>(
+pub(crate) fn request<P: Payload + ?Sized>(
     encoder: &Encoder,
     payload: &P,
     now: SystemTime,
@@ -241,24 +206,24 @@ pub fn request<P: Payload + ?Sized>(
 
 /// A system value as the device reported it.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Reading {
+pub(crate) struct Reading {
     /// The address.
-    pub address: u16,
+    pub(crate) address: u16,
     /// The update mode of the reply.
-    pub mode: UpdateMode,
+    pub(crate) mode: UpdateMode,
     /// The value bytes.
-    pub data: Vec<u8>,
+    pub(crate) data: Vec<u8>,
 }
 
 /// An AYDP conversation with one device.
 #[derive(Debug)]
-pub struct Session {
+pub(crate) struct Session {
     link: Link,
     encoder: Encoder,
     decoder: Box<Decoder<AYDP_CAPACITY>>,
     timeout: Duration,
     /// Messages received that were not the awaited reply (heartbeats, positions...).
-    pub skipped: u32,
+    pub(crate) skipped: u32,
 }
 
 impl Session {
@@ -266,7 +231,11 @@ impl Session {
     ///
     /// # Errors
     /// Opening the endpoint.
-    pub fn open(endpoint: &Endpoint, profile: ProfileArg, timeout: Duration) -> Result<Self> {
+    pub(crate) fn open(
+        endpoint: &Endpoint,
+        profile: ProfileArg,
+        timeout: Duration,
+    ) -> Result<Self> {
         Ok(Session {
             link: endpoint.open()?,
             encoder: Encoder::new(profile.into()),
@@ -280,7 +249,7 @@ impl Session {
     ///
     /// # Errors
     /// Encoding or writing.
-    pub fn send<P: Payload + ?Sized>(&mut self, payload: &P) -> Result<()> {
+    pub(crate) fn send<P: Payload + ?Sized>(&mut self, payload: &P) -> Result<()> {
         let frame = request(&self.encoder, payload, SystemTime::now())?;
         self.link.write_all(&frame)
     }
@@ -289,7 +258,7 @@ impl Session {
     ///
     /// # Errors
     /// [`Error::Timeout`] when no answer comes, or a read error.
-    pub fn read(&mut self, address: u16) -> Result<Reading> {
+    pub(crate) fn read(&mut self, address: u16) -> Result<Reading> {
         self.send(&SystemControl::RequestData { address })?;
         let what = format!("request data for address {address:#06x}");
         let _spinner = Spinner::start(&format!("waiting for the answer to {what}"));
@@ -331,7 +300,7 @@ impl Session {
     ///
     /// # Errors
     /// No answer, or an answer too short to hold them.
-    pub fn output_counters(&mut self, address: u16) -> Result<(u32, u32)> {
+    pub(crate) fn output_counters(&mut self, address: u16) -> Result<(u32, u32)> {
         let r = self.read(address)?;
         let word = |i: usize| {
             r.data
@@ -353,7 +322,7 @@ impl Session {
     ///
     /// # Errors
     /// No answer, or an answer too short to hold them.
-    pub fn store_counters(&mut self, address: u16) -> Result<[u32; 5]> {
+    pub(crate) fn store_counters(&mut self, address: u16) -> Result<[u32; 5]> {
         let r = self.read(address)?;
         let mut out = [0u32; 5];
         for (i, slot) in out.iter_mut().enumerate() {
@@ -441,7 +410,7 @@ fn usage(e: String) -> Error {
 ///
 /// # Errors
 /// Opening the endpoint, a bad value, a timeout, or a value the device did not take.
-pub fn run(args: &AydpArgs) -> Result<()> {
+pub(crate) fn run(args: &AydpArgs) -> Result<()> {
     let mut s = Session::open(&args.to, args.profile, args.timeout_ms)?;
     let check = !args.no_verify;
     let lines = match &args.action {
@@ -547,16 +516,10 @@ fn store(s: &mut Session, check: bool, counters: Option<u16>) -> Result<String> 
 /// written or the unchanged one moved, refused or failed (an error) when another did,
 /// unconfirmed (an error too: the box did not count it) when none did.
 ///
-/// ```
-/// use protolink::commands::aydp::stored;
-/// assert!(stored(&[3, 0, 0, 0, 0], &[4, 0, 0, 0, 0]).unwrap().contains("confirmed"));
-/// assert!(stored(&[3, 0, 0, 0, 0], &[3, 0, 0, 1, 0]).is_err()); // refused: flying
-/// ```
-///
 /// # Errors
 /// [`Error::Refused`] when the box refused the store or its flash write failed, or counted
 /// nothing.
-pub fn stored(before: &[u32; 5], after: &[u32; 5]) -> Result<String> {
+pub(crate) fn stored(before: &[u32; 5], after: &[u32; 5]) -> Result<String> {
     let moved = |i: usize| after[i] != before[i];
     if moved(3) {
         return Err(Error::Refused(
@@ -705,5 +668,86 @@ fn verify(reading: &Reading, target: &Target, value_type: ValueType, sent: &[u8]
             "the device did not take the value (read back: {now}); the address may be read-only, \
              or the value out of range or of another type"
         )))
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn parse_address_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(parse_address("0x0100"), Ok(256));
+        assert_eq!(parse_address("8"), Ok(8));
+        assert!(parse_address("0x10000").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn parse_target_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(
+            parse_target("0x0101[2]"),
+            Ok(Target {
+                address: 0x101,
+                index: Some(2)
+            })
+        );
+        assert_eq!(
+            parse_target("5"),
+            Ok(Target {
+                address: 5,
+                index: None
+            })
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn parse_output_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aydp_proto::OutputEntry;
+        assert_eq!(
+            parse_output("1:2=10.0"),
+            Ok(OutputEntry {
+                device: 1,
+                channel: 2,
+                value: 10.0
+            })
+        );
+        assert!(parse_output("1=10").is_err());
+        assert!(parse_output("1:2=nan").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn request_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aydp_proto::{Encoder, Profile, SystemControl};
+        use std::time::{Duration, UNIX_EPOCH};
+        let now = UNIX_EPOCH + Duration::from_micros(1_700_000_000_250_000);
+        let store = SystemControl::StoreConfiguration;
+        let spec = request(&Encoder::new(Profile::Spec), &store, now)?;
+        assert_eq!(spec, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
+        let reference = request(&Encoder::new(Profile::Reference), &store, now)?;
+        assert_eq!(reference.len(), 22 + 1 + 1);
+        assert_eq!(&reference[..6], &[0xFF, 0x09, 1, 0, 0, 0]); // type 9, 1 data byte
+        assert_eq!(
+            i64::from_le_bytes(reference[6..14].try_into()?),
+            1_700_000_000
+        );
+        assert_eq!(i64::from_le_bytes(reference[14..22].try_into()?), 250_000);
+        Ok(())
+    }
+
+    #[test]
+    fn stored_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert!(
+            stored(&[3, 0, 0, 0, 0], &[4, 0, 0, 0, 0])
+                .unwrap()
+                .contains("confirmed")
+        );
+        assert!(stored(&[3, 0, 0, 0, 0], &[3, 0, 0, 1, 0]).is_err()); // refused: flying
+        Ok(())
     }
 }

@@ -24,48 +24,42 @@ use crate::stop::{self, Deadline};
 
 /// Arguments of `protolink bridge`.
 #[derive(Debug, Clone, Args)]
-pub struct BridgeArgs {
+pub(crate) struct BridgeArgs {
     /// The box's UART (serial:PATH@BAUD, tcp:HOST:PORT, file:PATH, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub uart: Endpoint,
+    pub(crate) uart: Endpoint,
     /// The UDP side.
     #[command(flatten)]
-    pub udp: UdpArgs,
+    pub(crate) udp: UdpArgs,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or when the UART ends).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<std::time::Duration>,
+    pub(crate) seconds: Option<std::time::Duration>,
 }
 
 /// What the bridge did, printed on exit.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct Counters {
+pub(crate) struct Counters {
     /// Bytes read from the UART.
-    pub uart_bytes: u64,
+    pub(crate) uart_bytes: u64,
     /// Frames forwarded to UDP.
-    pub frames_forwarded: u64,
+    pub(crate) frames_forwarded: u64,
     /// Datagrams sent.
-    pub datagrams_sent: u64,
+    pub(crate) datagrams_sent: u64,
     /// Datagrams whose send failed.
-    pub send_errors: u64,
+    pub(crate) send_errors: u64,
     /// Datagrams received on the in-port.
-    pub datagrams_received: u64,
+    pub(crate) datagrams_received: u64,
     /// Bytes written to the UART.
-    pub bytes_to_uart: u64,
+    pub(crate) bytes_to_uart: u64,
     /// Datagrams that could not be written to the UART.
-    pub uart_write_errors: u64,
+    pub(crate) uart_write_errors: u64,
     /// Datagrams dropped because the UART writer's queue was full (the UART is slower than
     /// the datagrams arriving).
-    pub uart_queue_dropped: u64,
+    pub(crate) uart_queue_dropped: u64,
 }
 
 /// Appends `raw` (ID, data and CRC, unescaped) as one escaped frame with its two flags.
-///
-/// ```
-/// let mut wire = Vec::new();
-/// protolink::commands::bridge::push_frame(&[0x52, 0x7e, 0x00, 0x7d], &mut wire);
-/// assert_eq!(wire, [0x7e, 0x52, 0x7d, 0x5e, 0x00, 0x7d, 0x5d, 0x7e]);
-/// ```
-pub fn push_frame(raw: &[u8], wire: &mut Vec<u8>) {
+pub(crate) fn push_frame(raw: &[u8], wire: &mut Vec<u8>) {
     wire.push(FLAG);
     for &b in raw {
         if b == FLAG || b == ESCAPE {
@@ -78,9 +72,9 @@ pub fn push_frame(raw: &[u8], wire: &mut Vec<u8>) {
 }
 
 /// Datagrams that may wait for the UART writer; more are dropped and counted.
-pub const UART_QUEUE: usize = 256;
+pub(crate) const UART_QUEUE: usize = 256;
 /// How long the bridge waits at exit for datagrams still queued for the UART.
-pub const UART_DRAIN: Duration = Duration::from_secs(1);
+pub(crate) const UART_DRAIN: Duration = Duration::from_secs(1);
 
 /// Writes datagrams to the UART from a thread of its own through a bounded queue, so a slow
 /// UART never holds up reading it, and a flood is dropped (and counted) instead of queued.
@@ -177,7 +171,7 @@ impl UartWriter {
 ///
 /// # Errors
 /// Opening the UART or the sockets, reading the UART, or writing the output.
-pub fn run(args: &BridgeArgs) -> Result<()> {
+pub(crate) fn run(args: &BridgeArgs) -> Result<()> {
     let mut uart = args.uart.open()?;
     let (mut packer, in_socket) = args.udp.open()?;
     let to = packer.destination();
@@ -244,4 +238,20 @@ pub fn run(args: &BridgeArgs) -> Result<()> {
         );
     }
     packer.check()
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn push_frame_example() -> Result<(), Box<dyn std::error::Error>> {
+        let mut wire = Vec::new();
+        push_frame(&[0x52, 0x7e, 0x00, 0x7d], &mut wire);
+        assert_eq!(wire, [0x7e, 0x52, 0x7d, 0x5e, 0x00, 0x7d, 0x5d, 0x7e]);
+        Ok(())
+    }
 }

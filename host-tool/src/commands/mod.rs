@@ -18,16 +18,16 @@
 //! | [`nmea`] | `nmea`: the box's telemetry as NMEA 0183 for gliding and moving-map apps |
 //! | [`wireshark`] | `wireshark`: prints the generated Lua dissector |
 
-pub mod aeolus;
+pub(crate) mod aeolus;
 pub mod aok;
-pub mod aydp;
-pub mod bridge;
+pub(crate) mod aydp;
+pub(crate) mod bridge;
 pub mod decode;
 pub mod gdl90;
 pub mod nmea;
-pub mod record;
-pub mod replay;
-pub mod sim;
+pub(crate) mod record;
+pub(crate) mod replay;
+pub(crate) mod sim;
 pub mod watch;
 pub mod web;
-pub mod wireshark;
+pub(crate) mod wireshark;

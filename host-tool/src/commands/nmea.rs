@@ -46,13 +46,11 @@ use crate::telemetry::decode_read;
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
 /// The period of RMC, GGA, PGRMZ and LXWP0 (1 Hz).
-pub const SECOND: Duration = Duration::from_secs(1);
+pub(crate) const SECOND: Duration = Duration::from_secs(1);
 /// The period of POV (5 Hz).
-pub const AIR_PERIOD: Duration = Duration::from_millis(200);
+pub(crate) const AIR_PERIOD: Duration = Duration::from_millis(200);
 /// The longest the loop waits for input before it serves the clients again.
 const TURN: Duration = Duration::from_millis(20);
-/// XCSoar's default TCP port.
-pub const DEFAULT_PORT: u16 = 4353;
 
 const KMH_PER_MPS: f64 = 3.6;
 
@@ -63,17 +61,9 @@ const KMH_PER_MPS: f64 = 3.6;
 /// | `xcsoar` (default) | RMC, GGA, `$LXWP0`, `$POV` | XCSoar reads `$PGRMZ` as a QNH altitude unless a FLARM (`$PFLAU`) was seen; it takes the pressure altitude from `$LXWP0` (LX driver) or `$POV`'s `P` (OpenVario driver) |
 /// | `lk8000` | RMC, GGA, `$PGRMZ`, `$LXWP0`, `$POV` | none: LK8000 reads `$PGRMZ` as the pressure altitude (QNE) |
 /// | `gpsd` | RMC, GGA | gpsd reads `$PGRMZ` as a GPS altitude and its last field as the fix dimension (a 2D fix during an outage); a plain GPS reader (moving map, chart plotter) wants nothing else |
-///
-/// ```
-/// use protolink::commands::nmea::Reader;
-/// assert!(!Reader::Xcsoar.sends().pgrmz && Reader::Xcsoar.sends().lxwp0);
-/// assert!(Reader::Lk8000.sends().pgrmz);
-/// let gpsd = Reader::Gpsd.sends();
-/// assert!(gpsd.rmc && gpsd.gga && !gpsd.pgrmz && !gpsd.pov && !gpsd.lxwp0);
-/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Reader {
+pub(crate) enum Reader {
     /// XCSoar (also on Kobo varios and OpenVario): RMC, GGA, $LXWP0 and $POV; no $PGRMZ,
     /// which XCSoar reads as a QNH altitude without a FLARM.
     #[default]
@@ -86,22 +76,22 @@ pub enum Reader {
 
 /// Which sentences a [`Reader`] gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Sentences {
+pub(crate) struct Sentences {
     /// `$GPRMC`.
-    pub rmc: bool,
+    pub(crate) rmc: bool,
     /// `$GPGGA`.
-    pub gga: bool,
+    pub(crate) gga: bool,
     /// `$PGRMZ`.
-    pub pgrmz: bool,
+    pub(crate) pgrmz: bool,
     /// `$POV`.
-    pub pov: bool,
+    pub(crate) pov: bool,
     /// `$LXWP0`.
-    pub lxwp0: bool,
+    pub(crate) lxwp0: bool,
 }
 
 impl Reader {
     /// Its name on the command line.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Reader::Xcsoar => "xcsoar",
             Reader::Lk8000 => "lk8000",
@@ -110,7 +100,7 @@ impl Reader {
     }
 
     /// The sentences this reader gets.
-    pub fn sends(self) -> Sentences {
+    pub(crate) fn sends(self) -> Sentences {
         let gliding = self != Reader::Gpsd;
         Sentences {
             rmc: true,
@@ -124,39 +114,32 @@ impl Reader {
 
 /// Arguments of `protolink nmea`.
 #[derive(Debug, Clone, Args)]
-pub struct NmeaArgs {
+pub(crate) struct NmeaArgs {
     /// Where the box's AEOLUS telemetry comes from (udp:5001, tcp:127.0.0.1:7000, ...).
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Endpoint,
+    pub(crate) from: Endpoint,
     /// The TCP server the apps connect to: PORT (on 127.0.0.1) or ADDR:PORT.
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:4353", value_parser = parse_local_addr)]
-    pub listen: SocketAddr,
+    pub(crate) listen: SocketAddr,
     /// Send UDP datagrams (one sentence each) to PORT (on 127.0.0.1) or ADDR:PORT instead of
     /// serving TCP.
     #[arg(long, value_name = "[ADDR:]PORT", value_parser = destination, conflicts_with = "listen")]
-    pub to: Option<SocketAddr>,
+    pub(crate) to: Option<SocketAddr>,
     /// The reader the sentences are for: each gets only what it reads as meant (default
     /// `xcsoar`, the most used gliding app).
     #[arg(long = "for", value_name = "READER", value_enum, default_value_t = Reader::Xcsoar)]
-    pub reader: Reader,
+    pub(crate) reader: Reader,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
     /// end of the input).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<Duration>,
+    pub(crate) seconds: Option<Duration>,
 }
 
 /// A destination: PORT (on 127.0.0.1) or ADDR:PORT, never port 0 or an unspecified address.
 ///
-/// ```
-/// use protolink::commands::nmea::destination;
-/// assert_eq!(destination("10110").unwrap().to_string(), "127.0.0.1:10110");
-/// assert!(destination("0").unwrap_err().contains("port 0"));
-/// assert!(destination("0.0.0.0:10110").is_err());
-/// ```
-///
 /// # Errors
 /// A sentence naming what is wrong.
-pub fn destination(text: &str) -> std::result::Result<SocketAddr, String> {
+pub(crate) fn destination(text: &str) -> std::result::Result<SocketAddr, String> {
     let addr = parse_local_addr(text)?;
     if addr.port() == 0 {
         return Err(format!(
@@ -231,7 +214,7 @@ impl Picture {
     }
 
     /// A fresh, valid GPS fix, as RMC and GGA carry it.
-    pub fn fix(&self, now: Instant) -> Option<Fix> {
+    pub(crate) fn fix(&self, now: Instant) -> Option<Fix> {
         let g = fresh(&self.gps, now).filter(|g| g.valid && g.has_fix)?;
         Some(Fix {
             lat_deg: f64::from(g.latitude_deg),
@@ -261,7 +244,7 @@ impl Picture {
     }
 
     /// The pressure altitude in feet, for `$PGRMZ`.
-    pub fn pressure_altitude_ft(&self, now: Instant) -> Option<f64> {
+    pub(crate) fn pressure_altitude_ft(&self, now: Instant) -> Option<f64> {
         self.air.at(now).pressure_altitude_m.map(|m| m * FEET_PER_M)
     }
 
@@ -307,22 +290,22 @@ fn bearing_deg(a: &Gps, b: &Gps) -> Option<f64> {
 
 /// What `nmea` sent, printed on exit.
 #[derive(Debug, Default, Clone, Copy, serde::Serialize)]
-pub struct Counters {
+pub(crate) struct Counters {
     /// The reader the sentences were for.
     #[serde(rename = "for")]
-    pub reader: Reader,
+    pub(crate) reader: Reader,
     /// AEOLUS messages taken in.
-    pub telemetry_in: u64,
+    pub(crate) telemetry_in: u64,
     /// `$GPRMC` sentences.
-    pub rmc: u64,
+    pub(crate) rmc: u64,
     /// `$GPGGA` sentences.
-    pub gga: u64,
+    pub(crate) gga: u64,
     /// `$PGRMZ` sentences.
-    pub pgrmz: u64,
+    pub(crate) pgrmz: u64,
     /// `$POV` sentences.
-    pub pov: u64,
+    pub(crate) pov: u64,
     /// `$LXWP0` sentences.
-    pub lxwp0: u64,
+    pub(crate) lxwp0: u64,
 }
 
 fn utc_now() -> Utc {
@@ -360,7 +343,7 @@ fn each_second(out: &mut Fanout, picture: &Picture, now: Instant, counters: &mut
 ///
 /// # Errors
 /// Opening the input or the server, reading the input, or every datagram failing.
-pub fn run(args: &NmeaArgs) -> Result<()> {
+pub(crate) fn run(args: &NmeaArgs) -> Result<()> {
     let mut link = args.from.open()?;
     let mut out = match args.to {
         Some(to) => Fanout::udp(to)?,
@@ -436,4 +419,29 @@ fn finish(mut out: Fanout, counters: Counters) -> Result<()> {
     ))?;
     o.flush()?;
     out.check()
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn reader_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert!(!Reader::Xcsoar.sends().pgrmz && Reader::Xcsoar.sends().lxwp0);
+        assert!(Reader::Lk8000.sends().pgrmz);
+        let gpsd = Reader::Gpsd.sends();
+        assert!(gpsd.rmc && gpsd.gga && !gpsd.pgrmz && !gpsd.pov && !gpsd.lxwp0);
+        Ok(())
+    }
+
+    #[test]
+    fn destination_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(destination("10110").unwrap().to_string(), "127.0.0.1:10110");
+        assert!(destination("0").unwrap_err().contains("port 0"));
+        assert!(destination("0.0.0.0:10110").is_err());
+        Ok(())
+    }
 }

@@ -18,36 +18,36 @@ use crate::stop::{self, Deadline};
 
 /// Arguments of `protolink record`.
 #[derive(Debug, Clone, Args)]
-pub struct RecordArgs {
+pub(crate) struct RecordArgs {
     /// What to record (udp:PORT, serial:PATH@BAUD, tcp:HOST:PORT, file:PATH, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Endpoint,
+    pub(crate) from: Endpoint,
     /// The pcapng file to write (replaced if it exists).
     #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Byte streams: the protocol they carry, which picks the link type (UDP ignores it).
     #[arg(long, value_enum, default_value_t = Proto::Aeolus)]
-    pub proto: Proto,
+    pub(crate) proto: Proto,
     /// Byte streams of AYDP: the profile (link type USER1 spec, USER2 reference).
     #[arg(long, value_enum, default_value_t = ProfileArg::Spec)]
-    pub profile: ProfileArg,
+    pub(crate) profile: ProfileArg,
     /// Byte streams of AOK: who sent the bytes (link type USER3 pc, USER4 device).
     #[arg(long, value_enum, default_value_t = Side::Device)]
-    pub side: Side,
+    pub(crate) side: Side,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the input, or on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<Duration>,
+    pub(crate) seconds: Option<Duration>,
 }
 
 /// What `record` wrote, for its last line and for tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Recorded {
+pub(crate) struct Recorded {
     /// Records written.
-    pub packets: u64,
+    pub(crate) packets: u64,
     /// Payload bytes written.
-    pub bytes: u64,
+    pub(crate) bytes: u64,
     /// UDP datagrams from an IPv6 sender, which an IPv4 record cannot hold: dropped, counted.
-    pub dropped_ipv6: u64,
+    pub(crate) dropped_ipv6: u64,
 }
 
 fn now() -> Duration {
@@ -60,7 +60,7 @@ fn now() -> Duration {
 ///
 /// # Errors
 /// Opening the endpoint or the file, reading, or writing.
-pub fn run(args: &RecordArgs) -> Result<()> {
+pub(crate) fn run(args: &RecordArgs) -> Result<()> {
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
     let r = record(args, deadline)?;
@@ -82,7 +82,7 @@ pub fn run(args: &RecordArgs) -> Result<()> {
 ///
 /// # Errors
 /// Opening the endpoint or the file, reading, or writing.
-pub fn record(args: &RecordArgs, deadline: Deadline) -> Result<Recorded> {
+pub(crate) fn record(args: &RecordArgs, deadline: Deadline) -> Result<Recorded> {
     match &args.from {
         Endpoint::Udp(addr) => record_udp(*addr, args, deadline),
         other => record_stream(other, args, deadline),

@@ -21,35 +21,29 @@ use crate::stop::{self, Deadline};
 
 /// Arguments of `protolink replay`.
 #[derive(Debug, Clone, Args)]
-pub struct ReplayArgs {
+pub(crate) struct ReplayArgs {
     /// The capture (pcapng or pcap).
     #[arg(value_name = "FILE")]
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// Where to send it: udp:ADDR:PORT (a datagram each), tcp:HOST:PORT, serial:PATH@BAUD, file:PATH, -.
     #[arg(long, value_name = "ENDPOINT")]
-    pub to: Endpoint,
+    pub(crate) to: Endpoint,
     /// How much faster than recorded: 2 is twice as fast, 0.5 half (0.01 to 1000).
     #[arg(long, value_name = "X", default_value = "1", value_parser = speed)]
-    pub speed: f64,
+    pub(crate) speed: f64,
     /// Start again at the end, until --seconds or Ctrl-C.
     #[arg(long = "loop")]
-    pub repeat: bool,
+    pub(crate) repeat: bool,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the capture, or on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<Duration>,
+    pub(crate) seconds: Option<Duration>,
 }
 
 /// Parses `--speed`: a finite number from 0.01 to 1000.
 ///
-/// ```
-/// assert_eq!(protolink::commands::replay::speed("4"), Ok(4.0));
-/// assert!(protolink::commands::replay::speed("0").is_err());
-/// assert!(protolink::commands::replay::speed("NaN").is_err());
-/// ```
-///
 /// # Errors
 /// One sentence naming the range.
-pub fn speed(text: &str) -> std::result::Result<f64, String> {
+pub(crate) fn speed(text: &str) -> std::result::Result<f64, String> {
     crate::args::number_in(text, 0.01, 1000.0, "times the recorded speed").map(f64::from)
 }
 
@@ -119,22 +113,22 @@ impl Sink {
 
 /// What `replay` sent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Replayed {
+pub(crate) struct Replayed {
     /// Payloads sent.
-    pub sent: u64,
+    pub(crate) sent: u64,
     /// Payload bytes sent.
-    pub bytes: u64,
+    pub(crate) bytes: u64,
     /// Records skipped (not UDP, TCP or one of our stream link types, or empty).
-    pub skipped: u64,
+    pub(crate) skipped: u64,
     /// Passes through the capture begun.
-    pub passes: u64,
+    pub(crate) passes: u64,
 }
 
 /// Runs `protolink replay`.
 ///
 /// # Errors
 /// Opening or reading the capture, or sending.
-pub fn run(args: &ReplayArgs) -> Result<()> {
+pub(crate) fn run(args: &ReplayArgs) -> Result<()> {
     stop::install_ctrl_c();
     let r = replay(args, Deadline::after(args.seconds))?;
     eprintln!(
@@ -162,7 +156,7 @@ fn wait_until(at: Instant, deadline: Deadline) -> bool {
 ///
 /// # Errors
 /// Opening or reading the capture, or sending.
-pub fn replay(args: &ReplayArgs, deadline: Deadline) -> Result<Replayed> {
+pub(crate) fn replay(args: &ReplayArgs, deadline: Deadline) -> Result<Replayed> {
     // Checked before anything is sent, so a wrong file is reported at once.
     CaptureReader::open(&args.file)?;
     let mut sink = Sink::open(&args.to)?;
@@ -203,4 +197,20 @@ pub fn replay(args: &ReplayArgs, deadline: Deadline) -> Result<Replayed> {
     }
     sink.flush()?;
     Ok(r)
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn speed_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(speed("4"), Ok(4.0));
+        assert!(speed("0").is_err());
+        assert!(speed("NaN").is_err());
+        Ok(())
+    }
 }

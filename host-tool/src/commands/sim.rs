@@ -39,36 +39,36 @@ use crate::stop::{self, Deadline};
 
 /// Arguments of `protolink sim`.
 #[derive(Debug, Clone, Args)]
-pub struct SimArgs {
+pub(crate) struct SimArgs {
     /// The UDP side: telemetry out, COMMAND and SETTIME in.
     #[command(flatten)]
-    pub udp: UdpArgs,
+    pub(crate) udp: UdpArgs,
     /// Simulated true airspeed, m/s (5..=150; the firmware's default otherwise).
     #[arg(long, value_name = "M/S", value_parser = |t: &str| crate::args::number_in(t, 5.0, 150.0, "m/s"))]
-    pub airspeed: Option<f32>,
+    pub(crate) airspeed: Option<f32>,
     /// Simulated bank angle, degrees (-60..=60; positive turns right).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true,
           value_parser = |t: &str| crate::args::number_in(t, -60.0, 60.0, "degrees"))]
-    pub bank: Option<f32>,
+    pub(crate) bank: Option<f32>,
     /// Simulated altitude, m (the ISA troposphere: -500..=11000).
     #[arg(long, value_name = "M", allow_negative_numbers = true,
           value_parser = |t: &str| crate::args::number_in(t, -500.0, 11000.0, "m"))]
-    pub altitude: Option<f32>,
+    pub(crate) altitude: Option<f32>,
     /// Simulated vertical speed, m/s, positive up (at most half the airspeed): the box climbs
     /// or descends at this rate to the edge of the ISA troposphere (11000 m, -500 m), then
     /// flies level (default 0: level).
     #[arg(long, value_name = "M/S", allow_negative_numbers = true,
           value_parser = |t: &str| crate::args::number_in(t, -75.0, 75.0, "m/s"))]
-    pub climb: Option<f32>,
+    pub(crate) climb: Option<f32>,
     /// A GPS outage from FROM to TO seconds after the sim starts (`4..8`; 0..=86400, FROM
     /// before TO; a reboot does not restart this clock): every GPS message in the window says
     /// "no fix" (still valid, 0 satellites, position, altitude and ground speed zero).
     #[arg(long, value_name = "FROM..TO", allow_hyphen_values = true,
           value_parser = crate::args::time_window)]
-    pub gps_outage: Option<Range<Duration>>,
+    pub(crate) gps_outage: Option<Range<Duration>>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<std::time::Duration>,
+    pub(crate) seconds: Option<std::time::Duration>,
 }
 
 impl SimArgs {
@@ -76,7 +76,7 @@ impl SimArgs {
     ///
     /// # Errors
     /// A flight option out of range, as one sentence.
-    pub fn settings(&self) -> Result<Settings> {
+    pub(crate) fn settings(&self) -> Result<Settings> {
         let mut s = Settings::default();
         if let Some(v) = self.airspeed {
             s.airspeed_mps = v;
@@ -171,38 +171,7 @@ impl DatagramPort {
 }
 
 /// The virtual box: the firmware's AEOLUS link and shared state, without sockets or clock.
-///
-/// ```
-/// use aeolus_proto::{decode_datagram, message::{Message, Text}, CrcMode};
-/// use sensor_box::Settings;
-/// use protolink::commands::sim::Sim;
-///
-/// let mut sim = Sim::new(Settings::default(), 0);
-/// let mut frames = Vec::new();
-/// for now_ms in 0..1_000 {
-///     sim.poll(now_ms, |wire| frames.push(wire.to_vec()));
-/// }
-/// // The boot TOAST, then one second at the spec rates (as the firmware sends them).
-/// assert_eq!(frames.len(), 1 + 5 * 143 + 200 + 11 + 2 + 1 + 1);
-///
-/// // "a pause" arrives as a datagram: the box answers and telemetry stops.
-/// let mut datagram = [0u8; 32];
-/// let n = Message::Command(Text::new("a pause").unwrap())
-///     .encode(&mut datagram, CrcMode::Compute)
-///     .unwrap();
-/// sim.receive(&datagram[..n]);
-/// frames.clear();
-/// for now_ms in 1_000..1_500 {
-///     sim.poll(now_ms, |wire| frames.push(wire.to_vec()));
-/// }
-/// assert_eq!(frames.len(), 1);
-/// let frame = decode_datagram(&mut frames[0], true).next().unwrap().unwrap();
-/// match frame.message() {
-///     Ok(Message::Toast(t)) => assert_eq!(t.as_bytes(), b"AEOLUS paused"),
-///     other => panic!("{other:?}"),
-/// }
-/// ```
-pub struct Sim {
+pub(crate) struct Sim {
     shared: Shared,
     link: AeolusLink,
     port: DatagramPort,
@@ -220,11 +189,11 @@ pub struct Sim {
 
 /// Bytes the virtual box holds for its link to read (the link reads up to
 /// `aeolus_link::RX_BUDGET` per millisecond poll).
-pub const RX_QUEUE: usize = 4 * sensor_box::aeolus_link::RX_BUDGET;
+pub(crate) const RX_QUEUE: usize = 4 * sensor_box::aeolus_link::RX_BUDGET;
 
 impl Sim {
     /// A box booting at `now_ms` with `settings` (its TOAST "AEOLUS on" goes out first).
-    pub fn new(settings: Settings, now_ms: u64) -> Self {
+    pub(crate) fn new(settings: Settings, now_ms: u64) -> Self {
         let persisted = Persisted {
             settings,
             ..Persisted::default()
@@ -248,38 +217,8 @@ impl Sim {
     /// without a fix says: still `valid`, `has_fix` false, 0 satellites, and position,
     /// altitude and ground speed zero (its timestamp stays). The box itself always has a fix,
     /// so the sim rewrites its frames; the firmware knows no outage.
-    ///
-    /// ```
-    /// use aeolus_proto::{decode_datagram, message::Message};
-    /// use protolink::commands::sim::Sim;
-    ///
-    /// let mut sim = Sim::new(sensor_box::Settings::default(), 0).gps_outage(1_000..2_000);
-    /// // (time after the start, has a fix, satellites, latitude) of every GPS frame in 3 s.
-    /// let mut gps = Vec::new();
-    /// for now_ms in 0..3_000 {
-    ///     sim.poll(now_ms, |wire| {
-    ///         let mut frame = wire.to_vec();
-    ///         let f = decode_datagram(&mut frame, true).next().unwrap().unwrap();
-    ///         if let Ok(Message::Gps(g)) = f.message() {
-    ///             assert!(g.valid, "the receiver works, fix or not");
-    ///             gps.push((now_ms, g.has_fix, g.satellites, g.latitude_deg));
-    ///         }
-    ///     });
-    /// }
-    /// let mut inside = 0;
-    /// for &(now_ms, has_fix, satellites, latitude) in &gps {
-    ///     if (1_000..2_000).contains(&now_ms) {
-    ///         inside += 1;
-    ///         assert!(!has_fix && satellites == 0 && latitude == 0.0, "no fix at {now_ms} ms");
-    ///     } else {
-    ///         assert!(has_fix && satellites > 0 && latitude != 0.0, "a fix at {now_ms} ms");
-    ///     }
-    /// }
-    /// // GPS every 92 ms: about 10 frames in the window and 20 outside it.
-    /// assert!(inside >= 10 && gps.len() - inside >= 20);
-    /// ```
     #[must_use]
-    pub fn gps_outage(mut self, window_ms: Range<u64>) -> Self {
+    pub(crate) fn gps_outage(mut self, window_ms: Range<u64>) -> Self {
         self.gps_outage_ms = Some(window_ms);
         self
     }
@@ -290,21 +229,15 @@ impl Sim {
     ///
     /// # Errors
     /// The climb is steeper than the flight allows (more than half the airspeed).
-    ///
-    /// ```
-    /// use protolink::commands::sim::Sim;
-    /// let sim = Sim::new(sensor_box::Settings::default(), 0).climbing(2.5)?;
-    /// assert_eq!(sim.flight().altitude_m(60_000), 1150.0);
-    /// # Ok::<(), protolink::error::Error>(())
-    /// ```
-    pub fn climbing(mut self, climb_mps: f32) -> Result<Self> {
+    pub(crate) fn climbing(mut self, climb_mps: f32) -> Result<Self> {
         self.climb_mps = climb_mps;
         self.apply_climb()?;
         Ok(self)
     }
 
     /// The flight the box simulates.
-    pub fn flight(&self) -> &flight_sim::Flight {
+    #[cfg(test)]
+    pub(crate) fn flight(&self) -> &flight_sim::Flight {
         &self.shared.flight
     }
 
@@ -325,7 +258,7 @@ impl Sim {
     /// its decoder and ignored). A datagram that does not fit whole into the box's receive
     /// queue ([`RX_QUEUE`] bytes, about four of the box's polls) is dropped and counted, as a
     /// real box's full UART FIFO would drop it; returns whether it was taken.
-    pub fn receive(&mut self, datagram: &[u8]) -> bool {
+    pub(crate) fn receive(&mut self, datagram: &[u8]) -> bool {
         if self.port.rx.len() + datagram.len() > RX_QUEUE {
             self.dropped = self.dropped.wrapping_add(1);
             return false;
@@ -334,16 +267,11 @@ impl Sim {
         true
     }
 
-    /// Datagrams dropped because the receive queue was full.
-    pub fn dropped(&self) -> u64 {
-        self.dropped
-    }
-
     /// Runs the box at `now_ms`: acts on what was received, and hands each frame it sends
     /// (escaped, flags included) to `send`. A `a reboot` command restarts the box, which
     /// keeps its settings and starts again with its boot TOAST. In a GPS outage
     /// ([`Sim::gps_outage`]) its GPS frames go out without a fix.
-    pub fn poll(&mut self, now_ms: u64, mut send: impl FnMut(&[u8])) {
+    pub(crate) fn poll(&mut self, now_ms: u64, mut send: impl FnMut(&[u8])) {
         self.link.poll(now_ms, &mut self.port, &mut self.shared);
         let outage = self
             .gps_outage_ms
@@ -368,24 +296,24 @@ impl Sim {
     }
 
     /// Whether telemetry is paused ("a pause").
-    pub fn paused(&self) -> bool {
+    pub(crate) fn paused(&self) -> bool {
         self.shared.paused
     }
 
     /// The link's counters since the sim started (across reboots).
-    pub fn counters(&self) -> LinkCounters {
+    pub(crate) fn counters(&self) -> LinkCounters {
         let mut all = self.before_reboots;
         add_counters(&mut all, self.link.counters());
         all
     }
 
     /// How often the box rebooted.
-    pub fn reboots(&self) -> u32 {
+    pub(crate) fn reboots(&self) -> u32 {
         self.reboots
     }
 
     /// The counters as JSON: per-kind telemetry, TOASTs, commands, SETTIMEs, reboots.
-    pub fn counters_json(&self) -> Value {
+    pub(crate) fn counters_json(&self) -> Value {
         let c = self.counters();
         let mut sent = Map::new();
         for kind in Kind::ALL {
@@ -467,7 +395,7 @@ const MAX_BEHIND: Duration = Duration::from_millis(50);
 ///
 /// # Errors
 /// A flight option out of range, the sockets cannot be opened, or the output fails.
-pub fn run(args: &SimArgs) -> Result<()> {
+pub(crate) fn run(args: &SimArgs) -> Result<()> {
     let settings = args.settings()?;
     let (mut packer, in_socket) = args.udp.open()?;
     let to = packer.destination();
@@ -632,5 +560,95 @@ mod tests {
         // GPS every 92 ms, on both sides of the reboot.
         let inside = gps.iter().filter(|g| in_window(g.0)).count();
         assert!(inside >= 15 && gps.len() - inside >= 20, "{gps:?}");
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn sim_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aeolus_proto::{
+            CrcMode, decode_datagram,
+            message::{Message, Text},
+        };
+        use sensor_box::Settings;
+
+        let mut sim = Sim::new(Settings::default(), 0);
+        let mut frames = Vec::new();
+        for now_ms in 0..1_000 {
+            sim.poll(now_ms, |wire| frames.push(wire.to_vec()));
+        }
+        // The boot TOAST, then one second at the spec rates (as the firmware sends them).
+        assert_eq!(frames.len(), 1 + 5 * 143 + 200 + 11 + 2 + 1 + 1);
+
+        // "a pause" arrives as a datagram: the box answers and telemetry stops.
+        let mut datagram = [0u8; 32];
+        let n = Message::Command(Text::new("a pause").unwrap())
+            .encode(&mut datagram, CrcMode::Compute)
+            .unwrap();
+        sim.receive(&datagram[..n]);
+        frames.clear();
+        for now_ms in 1_000..1_500 {
+            sim.poll(now_ms, |wire| frames.push(wire.to_vec()));
+        }
+        assert_eq!(frames.len(), 1);
+        let frame = decode_datagram(&mut frames[0], true)
+            .next()
+            .unwrap()
+            .unwrap();
+        match frame.message() {
+            Ok(Message::Toast(t)) => assert_eq!(t.as_bytes(), b"AEOLUS paused"),
+            other => panic!("{other:?}"),
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn gps_outage_example() -> Result<(), Box<dyn std::error::Error>> {
+        use aeolus_proto::{decode_datagram, message::Message};
+
+        let mut sim = Sim::new(sensor_box::Settings::default(), 0).gps_outage(1_000..2_000);
+        // (time after the start, has a fix, satellites, latitude) of every GPS frame in 3 s.
+        let mut gps = Vec::new();
+        for now_ms in 0..3_000 {
+            sim.poll(now_ms, |wire| {
+                let mut frame = wire.to_vec();
+                let f = decode_datagram(&mut frame, true).next().unwrap().unwrap();
+                if let Ok(Message::Gps(g)) = f.message() {
+                    assert!(g.valid, "the receiver works, fix or not");
+                    gps.push((now_ms, g.has_fix, g.satellites, g.latitude_deg));
+                }
+            });
+        }
+        let mut inside = 0;
+        for &(now_ms, has_fix, satellites, latitude) in &gps {
+            if (1_000..2_000).contains(&now_ms) {
+                inside += 1;
+                assert!(
+                    !has_fix && satellites == 0 && latitude == 0.0,
+                    "no fix at {now_ms} ms"
+                );
+            } else {
+                assert!(
+                    has_fix && satellites > 0 && latitude != 0.0,
+                    "a fix at {now_ms} ms"
+                );
+            }
+        }
+        // GPS every 92 ms: about 10 frames in the window and 20 outside it.
+        assert!(inside >= 10 && gps.len() - inside >= 20);
+        Ok(())
+    }
+
+    #[test]
+    fn climbing_example() -> Result<(), Box<dyn std::error::Error>> {
+        let sim = Sim::new(sensor_box::Settings::default(), 0).climbing(2.5)?;
+        assert_eq!(sim.flight().altitude_m(60_000), 1150.0);
+        Ok(())
     }
 }

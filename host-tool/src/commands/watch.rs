@@ -16,26 +16,26 @@ use crate::telemetry::{EVENTS, NO_DATA_AFTER, View};
 use crate::units::Units;
 
 /// How often the terminal view redraws.
-pub const TTY_REFRESH: Duration = Duration::from_millis(250);
+pub(crate) const TTY_REFRESH: Duration = Duration::from_millis(250);
 /// How often the plain summary prints when stdout is not a terminal.
-pub const PLAIN_REFRESH: Duration = Duration::from_secs(1);
+pub(crate) const PLAIN_REFRESH: Duration = Duration::from_secs(1);
 
 /// Arguments of `protolink watch`.
 #[derive(Debug, Clone, Args)]
-pub struct WatchArgs {
+pub(crate) struct WatchArgs {
     /// Where the AEOLUS telemetry comes from (tcp:HOST:PORT, udp:PORT, serial:PATH@BAUD, file:PATH, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Endpoint,
+    pub(crate) from: Endpoint,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the end of the input).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<std::time::Duration>,
+    pub(crate) seconds: Option<std::time::Duration>,
     /// Print the plain summary even on a terminal.
     #[arg(long)]
-    pub plain: bool,
+    pub(crate) plain: bool,
     /// Display units: `si` (m/s, m, mbar, as the box sends them) or `aviation` (knots, feet,
     /// feet per minute, hPa and inHg).
     #[arg(long, value_enum, default_value_t = Units::Si)]
-    pub units: Units,
+    pub(crate) units: Units,
 }
 
 /// The view as lines of text: what came in, one line per reading, the message types with
@@ -270,7 +270,7 @@ fn valid(v: bool) -> &'static str {
 ///
 /// # Errors
 /// Opening or reading the endpoint, or writing the output.
-pub fn run(args: &WatchArgs) -> Result<()> {
+pub(crate) fn run(args: &WatchArgs) -> Result<()> {
     let mut link = args.from.open()?;
     stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);

@@ -8,13 +8,13 @@ use crate::render::Out;
 
 /// Arguments of `protolink wireshark` (none: the dissector goes to stdout).
 #[derive(Debug, Clone, Args)]
-pub struct WiresharkArgs {}
+pub(crate) struct WiresharkArgs {}
 
 /// Runs `protolink wireshark`: the dissector on stdout.
 ///
 /// # Errors
 /// Writing the output, or a layout the generator does not know.
-pub fn run(_args: &WiresharkArgs) -> Result<()> {
+pub(crate) fn run(_args: &WiresharkArgs) -> Result<()> {
     let mut out = Out::new();
     let text = crate::wireshark::lua()?;
     for line in text.lines() {

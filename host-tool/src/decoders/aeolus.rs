@@ -41,11 +41,6 @@ impl AeolusDecoder {
         }
     }
 
-    /// The decoder's counters.
-    pub fn stats(&self) -> aeolus_proto::Stats {
-        self.decoder.stats()
-    }
-
     /// Feeds bytes that start at input offset `offset`, handing every item to `on_item` with
     /// the offset of its frame's opening flag (for an error: of the latest flag before it).
     ///

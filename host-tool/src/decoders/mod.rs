@@ -55,14 +55,7 @@ pub enum Body {
 }
 
 /// The kind of a protocol crate's error: its variant's name in snake case.
-///
-/// ```
-/// use protolink::decoders::error_kind;
-/// assert_eq!(error_kind(&aeolus_proto::Error::InvalidEscape), "invalid_escape");
-/// assert_eq!(error_kind(&aydp_proto::Error::BadLength(3)), "bad_length");
-/// assert_eq!(error_kind(&aok_proto::Error::ChecksumMismatch { id: 0x73, computed: 1, received: 2 }), "checksum_mismatch");
-/// ```
-pub fn error_kind<E: serde::Serialize>(error: &E) -> String {
+pub(crate) fn error_kind<E: serde::Serialize>(error: &E) -> String {
     render::upper_snake(&render::variant(render::to_json(error)).0).to_lowercase()
 }
 
@@ -94,13 +87,7 @@ impl Event {
     }
 
     /// The event as one JSON object.
-    ///
-    /// ```
-    /// # use protolink::decoders::{Body, Event};
-    /// let e = Event { offset: 7, body: Body::Error { kind: "checksum_mismatch".into(), error: "checksum mismatch".into() } };
-    /// assert_eq!(e.to_json().to_string(), r#"{"offset":7,"kind":"error","error":"checksum mismatch"}"#);
-    /// ```
-    pub fn to_json(&self) -> Value {
+    pub(crate) fn to_json(&self) -> Value {
         let mut m = Map::new();
         m.insert("offset".into(), json!(self.offset));
         match &self.body {
@@ -119,12 +106,6 @@ impl Event {
     }
 
     /// The event as one readable line.
-    ///
-    /// ```
-    /// # use protolink::decoders::{Body, Event};
-    /// let e = Event { offset: 7, body: Body::Error { kind: "checksum_mismatch".into(), error: "checksum mismatch".into() } };
-    /// assert_eq!(e.to_text(), "@7 error: checksum mismatch");
-    /// ```
     pub fn to_text(&self) -> String {
         match &self.body {
             Body::Message { name, meta, fields } => {
@@ -164,5 +145,60 @@ pub fn decoder_for(proto: Proto, profile: ProfileArg, side: Side) -> Box<dyn Str
         Proto::Aydp => Box::new(AydpDecoder::new(profile.into())),
         Proto::Aok => Box::new(AokDecoder::new(side)),
         Proto::Gdl90 => Box::new(Gdl90Decoder::default()),
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn error_kind_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(
+            error_kind(&aeolus_proto::Error::InvalidEscape),
+            "invalid_escape"
+        );
+        assert_eq!(error_kind(&aydp_proto::Error::BadLength(3)), "bad_length");
+        assert_eq!(
+            error_kind(&aok_proto::Error::ChecksumMismatch {
+                id: 0x73,
+                computed: 1,
+                received: 2
+            }),
+            "checksum_mismatch"
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn to_json_example() -> Result<(), Box<dyn std::error::Error>> {
+        let e = Event {
+            offset: 7,
+            body: Body::Error {
+                kind: "checksum_mismatch".into(),
+                error: "checksum mismatch".into(),
+            },
+        };
+        assert_eq!(
+            e.to_json().to_string(),
+            r#"{"offset":7,"kind":"error","error":"checksum mismatch"}"#
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn to_text_example() -> Result<(), Box<dyn std::error::Error>> {
+        let e = Event {
+            offset: 7,
+            body: Body::Error {
+                kind: "checksum_mismatch".into(),
+                error: "checksum mismatch".into(),
+            },
+        };
+        assert_eq!(e.to_text(), "@7 error: checksum mismatch");
+        Ok(())
     }
 }

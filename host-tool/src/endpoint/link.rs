@@ -147,7 +147,7 @@ impl Endpoint {
 
 impl Link {
     /// The endpoint as written, for messages.
-    pub fn name(&self) -> &str {
+    pub(crate) fn name(&self) -> &str {
         &self.name
     }
 
@@ -258,7 +258,7 @@ impl Link {
     /// # Errors
     /// [`Error::Unsupported`] for `file:` and `udp:` endpoints; [`Error::Io`] when the
     /// operating system cannot duplicate the handle.
-    pub fn writer(&self) -> Result<Box<dyn Write + Send>> {
+    pub(crate) fn writer(&self) -> Result<Box<dyn Write + Send>> {
         let io_err = |source| Error::Io {
             what: format!("duplicating {}", self.name),
             source,

@@ -16,8 +16,8 @@
 //! | [`address`] | the syntax: [`Endpoint`] from and to text, [`parse_local_addr`] |
 //! | [`link`] | opening an endpoint as a byte stream: [`Link`], [`Input`] |
 
-pub mod address;
-pub mod link;
+pub(crate) mod address;
+pub(crate) mod link;
 
 pub use address::{DEFAULT_BAUD, Endpoint, parse_local_addr};
 pub use link::{CONNECT_TIMEOUT, Input, Link, STDIN_CHUNKS};

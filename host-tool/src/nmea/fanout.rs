@@ -26,34 +26,34 @@ use std::time::{Duration, Instant};
 use crate::error::{Error, Result};
 
 /// Most clients served at once.
-pub const MAX_CLIENTS: usize = 8;
+pub(crate) const MAX_CLIENTS: usize = 8;
 /// Bytes queued for one client at most (about 200 sentences: several seconds of output).
-pub const QUEUE_BYTES: usize = 16 * 1024;
+pub(crate) const QUEUE_BYTES: usize = 16 * 1024;
 /// Bytes read (and discarded) from one client per turn: what a client sends is not used.
 const READ_PER_TURN: usize = 4096;
 /// How long a client may stay behind (its socket full, or lines dropped for it) before it is
 /// let go.
-pub const STALL_LIMIT: Duration = Duration::from_secs(15);
+pub(crate) const STALL_LIMIT: Duration = Duration::from_secs(15);
 /// The kernel send buffer asked for each client's socket, bytes (Linux doubles it).
-pub const SEND_BUFFER: usize = 4096;
+pub(crate) const SEND_BUFFER: usize = 4096;
 
 /// What a [`Fanout`] has done.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct Counters {
+pub(crate) struct Counters {
     /// Lines handed to [`Fanout::send`].
-    pub lines: u64,
+    pub(crate) lines: u64,
     /// Clients accepted (TCP).
-    pub clients: u64,
+    pub(crate) clients: u64,
     /// Clients turned away because [`MAX_CLIENTS`] were connected (TCP).
-    pub refused: u64,
+    pub(crate) refused: u64,
     /// Clients gone (closed by them, a write failed, or evicted).
-    pub disconnected: u64,
+    pub(crate) disconnected: u64,
     /// Clients let go after [`STALL_LIMIT`] behind (also counted as disconnected).
-    pub evicted: u64,
+    pub(crate) evicted: u64,
     /// Lines dropped for a client whose queue was full, summed over the clients.
-    pub dropped: u64,
+    pub(crate) dropped: u64,
     /// Datagrams whose send failed (UDP).
-    pub send_errors: u64,
+    pub(crate) send_errors: u64,
 }
 
 /// One TCP client and the bytes waiting for it.
@@ -90,24 +90,8 @@ enum Sink {
 }
 
 /// A TCP server or a UDP sender for lines.
-///
-/// ```
-/// use std::io::Read;
-/// use protolink::nmea::fanout::Fanout;
-/// let mut out = Fanout::listen("127.0.0.1:0".parse()?)?;
-/// let mut client = std::net::TcpStream::connect(out.local_addr()?)?;
-/// while out.counters().clients == 0 {
-///     out.poll(|_| {});
-/// }
-/// out.send(b"$PGRMZ,2282,f,2*20\r\n");
-/// out.poll(|_| {});
-/// let mut line = [0u8; 20];
-/// client.read_exact(&mut line)?;
-/// assert_eq!(&line, b"$PGRMZ,2282,f,2*20\r\n");
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
 #[derive(Debug)]
-pub struct Fanout {
+pub(crate) struct Fanout {
     sink: Sink,
     counters: Counters,
     last_error: Option<io::Error>,
@@ -119,7 +103,7 @@ impl Fanout {
     ///
     /// # Errors
     /// The address cannot be bound.
-    pub fn listen(addr: SocketAddr) -> Result<Self> {
+    pub(crate) fn listen(addr: SocketAddr) -> Result<Self> {
         let open_err = |source| Error::Open {
             endpoint: format!("a TCP server on {addr}"),
             source,
@@ -137,7 +121,7 @@ impl Fanout {
     ///
     /// # Errors
     /// No socket can be bound.
-    pub fn udp(to: SocketAddr) -> Result<Self> {
+    pub(crate) fn udp(to: SocketAddr) -> Result<Self> {
         let ip = if to.ip().is_loopback() {
             Ipv4Addr::LOCALHOST
         } else {
@@ -161,14 +145,8 @@ impl Fanout {
     }
 
     /// The same with another stall limit than [`STALL_LIMIT`] (a test's short one).
-    ///
-    /// ```
-    /// use std::time::Duration;
-    /// use protolink::nmea::fanout::Fanout;
-    /// let out = Fanout::listen("127.0.0.1:0".parse()?)?.with_stall_limit(Duration::from_secs(1));
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn with_stall_limit(mut self, limit: Duration) -> Self {
+    #[cfg(test)]
+    pub(crate) fn with_stall_limit(mut self, limit: Duration) -> Self {
         self.stall_limit = limit;
         self
     }
@@ -177,7 +155,7 @@ impl Fanout {
     ///
     /// # Errors
     /// The operating system cannot tell the bound address.
-    pub fn local_addr(&self) -> io::Result<SocketAddr> {
+    pub(crate) fn local_addr(&self) -> io::Result<SocketAddr> {
         match &self.sink {
             Sink::Tcp { listener, .. } => listener.local_addr(),
             Sink::Udp { to, .. } => Ok(*to),
@@ -185,12 +163,12 @@ impl Fanout {
     }
 
     /// What has been done so far.
-    pub fn counters(&self) -> Counters {
+    pub(crate) fn counters(&self) -> Counters {
         self.counters
     }
 
     /// Queues `line` for every client (TCP) or sends it as one datagram (UDP).
-    pub fn send(&mut self, line: &[u8]) {
+    pub(crate) fn send(&mut self, line: &[u8]) {
         self.counters.lines += 1;
         match &mut self.sink {
             Sink::Tcp { clients, .. } => {
@@ -216,7 +194,7 @@ impl Fanout {
     /// One turn of the server: accepts waiting clients, writes what each can take, reads and
     /// discards what they sent, and lets go of the ones that left. `note` gets one sentence
     /// for each client that comes or goes.
-    pub fn poll(&mut self, mut note: impl FnMut(&str)) {
+    pub(crate) fn poll(&mut self, mut note: impl FnMut(&str)) {
         let Sink::Tcp { listener, clients } = &mut self.sink else {
             return;
         };
@@ -275,7 +253,7 @@ impl Fanout {
     ///
     /// # Errors
     /// [`Error::Io`] with the last send error.
-    pub fn check(&mut self) -> Result<()> {
+    pub(crate) fn check(&mut self) -> Result<()> {
         match self.last_error.take() {
             Some(source) if self.counters.send_errors == self.counters.lines => Err(Error::Io {
                 what: format!(
@@ -469,5 +447,29 @@ mod tests {
             out.poll(|_| {});
         }
         assert_eq!(out.counters().disconnected, 1, "the one closed client");
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn fanout_example() -> Result<(), Box<dyn std::error::Error>> {
+        use std::io::Read;
+        let mut out = Fanout::listen("127.0.0.1:0".parse()?)?;
+        let mut client = std::net::TcpStream::connect(out.local_addr()?)?;
+        while out.counters().clients == 0 {
+            out.poll(|_| {});
+        }
+        out.send(b"$PGRMZ,2282,f,2*20\r\n");
+        out.poll(|_| {});
+        let mut line = [0u8; 20];
+        client.read_exact(&mut line)?;
+        assert_eq!(&line, b"$PGRMZ,2282,f,2*20\r\n");
+        Ok(())
     }
 }

@@ -6,5 +6,5 @@
 //! | [`sentence`] | the checksum, the frame, and `$GPRMC`, `$GPGGA`, `$PGRMZ`, `$POV`, `$LXWP0` from plain values |
 //! | [`fanout`] | a TCP server that serves every client through a bounded queue, or a UDP sender |
 
-pub mod fanout;
+pub(crate) mod fanout;
 pub mod sentence;

@@ -3,7 +3,7 @@
 //!
 //! A value that is `None` (stale, invalid, not finite or outside its field's range) becomes
 //! an empty field, or, where a reader stops at an empty field (`$POV`), its pair is left out.
-//! No sentence exceeds [`MAX_LEN`] characters.
+//! No sentence exceeds 82 (`MAX_LEN`) characters.
 //!
 //! | sentence | fields | read by |
 //! | --- | --- | --- |
@@ -17,32 +17,22 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 /// The longest sentence NMEA 0183 allows, `$` and CR LF included.
-pub const MAX_LEN: usize = 82;
+#[cfg(test)]
+pub(crate) const MAX_LEN: usize = 82;
 
 /// The checksum: the XOR of every byte between `$` and `*`.
-///
-/// ```
-/// use protolink::nmea::sentence::checksum;
-/// // The NMEA 0183 standard's RMC example ends in *6A.
-/// assert_eq!(checksum("GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W"), 0x6A);
-/// ```
-pub fn checksum(body: &str) -> u8 {
+pub(crate) fn checksum(body: &str) -> u8 {
     body.bytes().fold(0, |x, b| x ^ b)
 }
 
 /// The whole sentence for `body` (the text between `$` and `*`): `$BODY*HH\r\n`.
-///
-/// ```
-/// use protolink::nmea::sentence::frame;
-/// assert_eq!(frame("PGRMZ,2282,f,2"), "$PGRMZ,2282,f,2*20\r\n");
-/// ```
-pub fn frame(body: &str) -> String {
+pub(crate) fn frame(body: &str) -> String {
     format!("${body}*{:02X}\r\n", checksum(body))
 }
 
 /// A UTC time and date, as RMC and GGA carry them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Utc {
+pub(crate) struct Utc {
     /// Days since 1970-01-01.
     days: u64,
     /// Hundredths of a second since midnight.
@@ -51,15 +41,7 @@ pub struct Utc {
 
 impl Utc {
     /// The time `since_epoch` after 1970-01-01 00:00:00 UTC.
-    ///
-    /// ```
-    /// use std::time::Duration;
-    /// use protolink::nmea::sentence::Utc;
-    /// // 2024-02-29 12:35:19.5
-    /// let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
-    /// assert_eq!((t.time(), t.date()), ("123519.50".to_owned(), "290224".to_owned()));
-    /// ```
-    pub fn from_unix(since_epoch: Duration) -> Utc {
+    pub(crate) fn from_unix(since_epoch: Duration) -> Utc {
         let centis = since_epoch.as_millis() / 10;
         Utc {
             days: (centis / 8_640_000) as u64,
@@ -68,7 +50,7 @@ impl Utc {
     }
 
     /// `hhmmss.ss`.
-    pub fn time(&self) -> String {
+    pub(crate) fn time(&self) -> String {
         let s = self.centis / 100;
         format!(
             "{:02}{:02}{:02}.{:02}",
@@ -80,7 +62,7 @@ impl Utc {
     }
 
     /// `ddmmyy`, from the proleptic Gregorian calendar (civil-from-days).
-    pub fn date(&self) -> String {
+    pub(crate) fn date(&self) -> String {
         let z = self.days as i64 + 719_468;
         let era = z.div_euclid(146_097);
         let doe = z - era * 146_097;
@@ -96,19 +78,19 @@ impl Utc {
 
 /// A GPS fix as RMC and GGA carry it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Fix {
+pub(crate) struct Fix {
     /// Latitude, degrees north (-90..=90).
-    pub lat_deg: f64,
+    pub(crate) lat_deg: f64,
     /// Longitude, degrees east (-180..=180).
-    pub lon_deg: f64,
+    pub(crate) lon_deg: f64,
     /// Altitude, metres (the box's GPS altitude).
-    pub altitude_m: f64,
+    pub(crate) altitude_m: f64,
     /// Satellites in use.
-    pub satellites: u8,
+    pub(crate) satellites: u8,
     /// Ground speed, knots.
-    pub ground_speed_kt: f64,
+    pub(crate) ground_speed_kt: f64,
     /// Track over ground, degrees true, when known.
-    pub track_deg: Option<f64>,
+    pub(crate) track_deg: Option<f64>,
 }
 
 /// `ddmm.mmmmm,N` (or `dddmm.mmmmm,E` with `degree_digits` 3): 1e-5 minute steps, about
@@ -133,7 +115,7 @@ fn angle(value: f64, limit: f64, degree_digits: usize, hemispheres: [char; 2]) -
 
 /// A number with `decimals` digits after the point, or nothing when it is unknown, not
 /// finite, or outside `range` (its field's plausible values, which also keep every sentence
-/// within [`MAX_LEN`]).
+/// within `MAX_LEN`).
 fn number(value: Option<f64>, range: (f64, f64), decimals: usize) -> String {
     value
         .filter(|v| v.is_finite() && (range.0..=range.1).contains(v))
@@ -163,14 +145,7 @@ fn position(fix: Option<&Fix>) -> Option<String> {
 
 /// `$GPRMC`: with a fix, status `A` and mode `A`; without, status `V`, mode `N`, and empty
 /// position, speed and track (the time and date are the host's and stay).
-///
-/// ```
-/// use std::time::Duration;
-/// use protolink::nmea::sentence::{rmc, Fix, Utc};
-/// let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
-/// assert_eq!(rmc(&t, None), "$GPRMC,123519.50,V,,,,,,,290224,,,N*7A\r\n");
-/// ```
-pub fn rmc(utc: &Utc, fix: Option<&Fix>) -> String {
+pub(crate) fn rmc(utc: &Utc, fix: Option<&Fix>) -> String {
     let body = match (position(fix), fix) {
         (Some(pos), Some(f)) => format!(
             "GPRMC,{},A,{pos},{},{},{},,,A",
@@ -187,14 +162,7 @@ pub fn rmc(utc: &Utc, fix: Option<&Fix>) -> String {
 /// `$GPGGA`: with a fix, quality 1, the satellites and the altitude in metres; without,
 /// quality 0, empty position and altitude, and `satellites` as the receiver reports them (or
 /// empty).
-///
-/// ```
-/// use std::time::Duration;
-/// use protolink::nmea::sentence::{gga, Utc};
-/// let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
-/// assert_eq!(gga(&t, None, Some(3)), "$GPGGA,123519.50,,,,,0,03,,,M,,M,,*43\r\n");
-/// ```
-pub fn gga(utc: &Utc, fix: Option<&Fix>, satellites: Option<u8>) -> String {
+pub(crate) fn gga(utc: &Utc, fix: Option<&Fix>, satellites: Option<u8>) -> String {
     let body = match (position(fix), fix) {
         (Some(pos), Some(f)) => format!(
             "GPGGA,{},{pos},1,{:02},,{},M,,M,,",
@@ -213,12 +181,7 @@ pub fn gga(utc: &Utc, fix: Option<&Fix>, satellites: Option<u8>) -> String {
 
 /// `$PGRMZ`: the pressure altitude in whole feet, `f`, and `2` (a barometric, not a GPS
 /// altitude, as FLARM sends it); empty when unknown.
-///
-/// ```
-/// assert_eq!(protolink::nmea::sentence::pgrmz(Some(2282.4)), "$PGRMZ,2282,f,2*20\r\n");
-/// assert_eq!(protolink::nmea::sentence::pgrmz(None), "$PGRMZ,,f,2*2A\r\n");
-/// ```
-pub fn pgrmz(pressure_altitude_ft: Option<f64>) -> String {
+pub(crate) fn pgrmz(pressure_altitude_ft: Option<f64>) -> String {
     frame(&format!(
         "PGRMZ,{},f,2",
         number(pressure_altitude_ft, (-32_000.0, 320_000.0), 0)
@@ -229,22 +192,15 @@ pub fn pgrmz(pressure_altitude_ft: Option<f64>) -> String {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Pov {
     /// `P`: static pressure, hPa.
-    pub static_hpa: Option<f64>,
+    pub(crate) static_hpa: Option<f64>,
     /// `Q`: dynamic (pitot minus static) pressure, Pa.
-    pub dynamic_pa: Option<f64>,
+    pub(crate) dynamic_pa: Option<f64>,
     /// `T`: outside air temperature, °C.
-    pub celsius: Option<f64>,
+    pub(crate) celsius: Option<f64>,
 }
 
 /// `$POV` with a pair for each known value, or `None` when none is known. A reader stops at
 /// the first pair without a number, so an unknown value is left out, not sent empty.
-///
-/// ```
-/// use protolink::nmea::sentence::{pov, Pov};
-/// let a = Pov { static_hpa: Some(898.746), dynamic_pa: None, celsius: Some(8.5) };
-/// assert_eq!(pov(&a).unwrap(), "$POV,P,898.75,T,8.50*4B\r\n");
-/// assert_eq!(pov(&Pov::default()), None);
-/// ```
 pub fn pov(air: &Pov) -> Option<String> {
     let mut body = String::from("POV");
     for (kind, value, range) in [
@@ -264,17 +220,17 @@ pub fn pov(air: &Pov) -> Option<String> {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Lxwp0 {
     /// True airspeed, km/h (XCSoar and LK8000 read this field as TAS).
-    pub tas_kmh: Option<f64>,
+    pub(crate) tas_kmh: Option<f64>,
     /// Pressure altitude, metres (1013.25 hPa datum).
-    pub pressure_altitude_m: Option<f64>,
+    pub(crate) pressure_altitude_m: Option<f64>,
     /// Vertical speed, m/s, positive up (sent in all six vario fields).
-    pub vario_mps: Option<f64>,
+    pub(crate) vario_mps: Option<f64>,
     /// Heading, degrees (magnetic: the compass).
-    pub heading_deg: Option<f64>,
+    pub(crate) heading_deg: Option<f64>,
     /// Direction the wind blows from, degrees.
-    pub wind_from_deg: Option<f64>,
+    pub(crate) wind_from_deg: Option<f64>,
     /// Wind speed, km/h.
-    pub wind_kmh: Option<f64>,
+    pub(crate) wind_kmh: Option<f64>,
 }
 
 /// `$LXWP0,N,tas,alt,v1..v6,hdg,wind_dir,wind_speed`: logger not recording (`N`); each
@@ -282,12 +238,6 @@ pub struct Lxwp0 {
 /// device; here each holds the current vertical speed, so a reader that filters the six
 /// (XCSoar) or takes the last (LK8000) reads the same value. Wind direction and speed go out
 /// together or not at all.
-///
-/// ```
-/// use protolink::nmea::sentence::{lxwp0, Lxwp0};
-/// let v = Lxwp0 { tas_kmh: Some(180.04), pressure_altitude_m: Some(1000.0), ..Lxwp0::default() };
-/// assert_eq!(lxwp0(&v), "$LXWP0,N,180.0,1000.0,,,,,,,,,*55\r\n");
-/// ```
 pub fn lxwp0(v: &Lxwp0) -> String {
     // Two decimals below 10 m/s, one above: six fields of at most six characters.
     let vario = match v.vario_mps {
@@ -479,5 +429,90 @@ mod tests {
         ] {
             assert_eq!(Utc::from_unix(Duration::from_secs(unix_s)).date(), date);
         }
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn checksum_example() -> Result<(), Box<dyn std::error::Error>> {
+        // The NMEA 0183 standard's RMC example ends in *6A.
+        assert_eq!(
+            checksum("GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W"),
+            0x6A
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn frame_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(frame("PGRMZ,2282,f,2"), "$PGRMZ,2282,f,2*20\r\n");
+        Ok(())
+    }
+
+    #[test]
+    fn from_unix_example() -> Result<(), Box<dyn std::error::Error>> {
+        use std::time::Duration;
+        // 2024-02-29 12:35:19.5
+        let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
+        assert_eq!(
+            (t.time(), t.date()),
+            ("123519.50".to_owned(), "290224".to_owned())
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn rmc_example() -> Result<(), Box<dyn std::error::Error>> {
+        use std::time::Duration;
+        let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
+        assert_eq!(rmc(&t, None), "$GPRMC,123519.50,V,,,,,,,290224,,,N*7A\r\n");
+        Ok(())
+    }
+
+    #[test]
+    fn gga_example() -> Result<(), Box<dyn std::error::Error>> {
+        use std::time::Duration;
+        let t = Utc::from_unix(Duration::from_millis(1_709_210_119_500));
+        assert_eq!(
+            gga(&t, None, Some(3)),
+            "$GPGGA,123519.50,,,,,0,03,,,M,,M,,*43\r\n"
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn pgrmz_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(pgrmz(Some(2282.4)), "$PGRMZ,2282,f,2*20\r\n");
+        assert_eq!(pgrmz(None), "$PGRMZ,,f,2*2A\r\n");
+        Ok(())
+    }
+
+    #[test]
+    fn pov_example() -> Result<(), Box<dyn std::error::Error>> {
+        let a = Pov {
+            static_hpa: Some(898.746),
+            dynamic_pa: None,
+            celsius: Some(8.5),
+        };
+        assert_eq!(pov(&a).unwrap(), "$POV,P,898.75,T,8.50*4B\r\n");
+        assert_eq!(pov(&Pov::default()), None);
+        Ok(())
+    }
+
+    #[test]
+    fn lxwp0_example() -> Result<(), Box<dyn std::error::Error>> {
+        let v = Lxwp0 {
+            tas_kmh: Some(180.04),
+            pressure_altitude_m: Some(1000.0),
+            ..Lxwp0::default()
+        };
+        assert_eq!(lxwp0(&v), "$LXWP0,N,180.0,1000.0,,,,,,,,,*55\r\n");
+        Ok(())
     }
 }

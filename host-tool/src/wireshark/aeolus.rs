@@ -40,9 +40,9 @@ pub const FIXED: [Fixed; 11] = [
 ];
 
 /// Messages carried as text (to the first NUL).
-pub const TEXT: [(u8, &str); 2] = [(id::TOAST, "TOAST"), (id::COMMAND, "COMMAND")];
+pub(crate) const TEXT: [(u8, &str); 2] = [(id::TOAST, "TOAST"), (id::COMMAND, "COMMAND")];
 /// Messages carried as raw bytes, with their fixed length (`None`: any length).
-pub const RAW: [(u8, &str, Option<usize>); 3] = [
+pub(crate) const RAW: [(u8, &str, Option<usize>); 3] = [
     (id::CALIBINFO, "CALIBINFO", Some(CALIBINFO_LEN)),
     (id::DEBUGINFO, "DEBUGINFO", Some(DEBUGINFO_LEN)),
     (id::LOG, "LOG", None),
@@ -97,7 +97,7 @@ fn crc_table() -> Vec<u16> {
 /// # Errors
 /// [`Error::Unsupported`] if a layout names a field type the generator does not know (a test
 /// keeps this from ever shipping).
-pub fn lua(w: &mut String) -> Result<()> {
+pub(crate) fn lua(w: &mut String) -> Result<()> {
     w.push_str(include_str!("lua/aeolus_head.lua"));
     // Per-message fields.
     for (_, name, _, fields) in FIXED {

@@ -11,11 +11,11 @@ use super::fill;
 use crate::decoders::aok_command_fields;
 
 /// A field: name, type (`u8`, `i32be`, `i16le`, `u16le`, `slot`, `action`, `stick`), offset.
-pub type Field = (&'static str, &'static str, usize);
+pub(crate) type Field = (&'static str, &'static str, usize);
 
 /// A frame: start byte, name, length, the checked bytes and the checksum's offset (`None`: no
 /// checksum), fields.
-pub type AokFrame = (
+pub(crate) type AokFrame = (
     u8,
     &'static str,
     usize,
@@ -28,13 +28,13 @@ fn frame(f: &FrameLayout) -> AokFrame {
 }
 
 /// What the device sends (USER4), read as the PC reads it: `Message::FRAMES`.
-pub fn device_frames() -> Vec<AokFrame> {
+pub(crate) fn device_frames() -> Vec<AokFrame> {
     Message::FRAMES.iter().map(frame).collect()
 }
 
 /// What the PC sends (USER3), read as the device reads it (control and motor test apart):
 /// `Command::FRAMES`.
-pub fn pc_frames() -> Vec<AokFrame> {
+pub(crate) fn pc_frames() -> Vec<AokFrame> {
     Command::FRAMES.iter().map(frame).collect()
 }
 
@@ -47,7 +47,7 @@ fn offset(f: &FrameLayout, name: &str) -> usize {
 }
 
 /// The `63` sub-commands (K5), by asking the crate: sub-command, name, length.
-pub fn control_subs() -> Vec<(u8, String, usize)> {
+pub(crate) fn control_subs() -> Vec<(u8, String, usize)> {
     (0..=255u8)
         .filter_map(|sub| {
             let (cmd, n) = Command::parse(&[Command::CONTROL.start, sub, 0]).ok()?;
@@ -57,7 +57,7 @@ pub fn control_subs() -> Vec<(u8, String, usize)> {
 }
 
 /// The motor test command bytes (K7), by asking the crate: byte, motor number.
-pub fn motor_bytes() -> Vec<(u8, u8)> {
+pub(crate) fn motor_bytes() -> Vec<(u8, u8)> {
     (0..=255u8)
         .filter_map(|b| match Command::parse(&[b, 0, b]) {
             Ok((Command::MotorTest(MotorTest { motor, .. }), _)) => Some((b, motor.get())),
@@ -115,7 +115,7 @@ fn table(w: &mut String, var: &str, frames: &[AokFrame]) {
 }
 
 /// The AOK part of the Lua source.
-pub fn lua(w: &mut String) {
+pub(crate) fn lua(w: &mut String) {
     let device = device_frames();
     let pc = pc_frames();
     let subs = control_subs();

@@ -15,10 +15,10 @@ use super::fill;
 use crate::decoders::AYDP_CAPACITY;
 
 /// A field: name, type (`u8`, `u16`, `u32`, `i32`, `f32`, `f64`, `uflt16`), offset.
-pub type Field = (&'static str, &'static str, usize);
+pub(crate) type Field = (&'static str, &'static str, usize);
 
 /// A fixed-size AYDP message: base type, profile (`None`: both), name, data length, fields.
-pub type AydpFixed = (
+pub(crate) type AydpFixed = (
     u8,
     Option<&'static str>,
     &'static str,
@@ -27,7 +27,7 @@ pub type AydpFixed = (
 );
 
 /// The fixed-size typed messages, from their `FIELDS`.
-pub const AYDP_FIXED: [AydpFixed; 5] = [
+pub(crate) const AYDP_FIXED: [AydpFixed; 5] = [
     (
         Position::TYPE,
         None,
@@ -67,7 +67,7 @@ pub const AYDP_FIXED: [AydpFixed; 5] = [
 
 /// A counted list: base type, name, the list's JSON key, count type and offset, first entry,
 /// entry length, entry fields.
-pub type AydpList = (
+pub(crate) type AydpList = (
     u8,
     &'static str,
     &'static str,
@@ -79,7 +79,7 @@ pub type AydpList = (
 );
 
 /// Fix detail and direct output, from their `FIELDS` (the count) and their entries' `FIELDS`.
-pub const AYDP_LISTS: [AydpList; 2] = [
+pub(crate) const AYDP_LISTS: [AydpList; 2] = [
     (
         FixDetail::TYPE,
         "FIX_DETAIL",
@@ -103,7 +103,7 @@ pub const AYDP_LISTS: [AydpList; 2] = [
 ];
 
 /// System value update (8): its head, from its `FIELDS`.
-pub const AYDP_SVU: &[Field] = SystemValueUpdate::FIELDS;
+pub(crate) const AYDP_SVU: &[Field] = SystemValueUpdate::FIELDS;
 
 /// The offset of the field `name` in `fields` (a header or message table of the crate).
 fn offset(fields: &[Field], name: &str) -> usize {
@@ -114,7 +114,7 @@ fn offset(fields: &[Field], name: &str) -> usize {
 }
 
 /// A type name and size for a ProtoField constructor.
-pub fn lua_kind(ty: &str) -> Option<(&'static str, usize)> {
+pub(crate) fn lua_kind(ty: &str) -> Option<(&'static str, usize)> {
     Some(match ty {
         "u8" => ("uint8", 1),
         "u16" => ("uint16", 2),
@@ -151,7 +151,7 @@ fn field_list(w: &mut String, prefix: &str, fields: &[Field]) {
 }
 
 /// The AYDP part of the Lua source.
-pub fn lua(w: &mut String) {
+pub(crate) fn lua(w: &mut String) {
     w.push_str(&fill(
         include_str!("lua/aydp_head.lua"),
         &[("EXPEDITED", &EXPEDITED)],

@@ -17,8 +17,8 @@
 //! between those files, and fills their few `@NAME@` slots with the crates' constants.
 
 pub mod aeolus;
-pub mod aok;
-pub mod aydp;
+pub(crate) mod aok;
+pub(crate) mod aydp;
 
 use std::fmt::Display;
 
@@ -29,7 +29,7 @@ use crate::error::Result;
 /// # Errors
 /// [`Error::Unsupported`](crate::error::Error::Unsupported) if a layout names a field type
 /// the generator does not know (a test keeps this from ever shipping).
-pub fn lua() -> Result<String> {
+pub(crate) fn lua() -> Result<String> {
     let mut s = String::new();
     aeolus::lua(&mut s)?;
     aydp::lua(&mut s);

@@ -22,7 +22,7 @@ use crate::stop::Deadline;
 
 /// At most this many flows are decoded at once; payloads of further flows are dropped and
 /// counted (`flows_dropped`), so a capture of a busy network cannot fill memory.
-pub const MAX_FLOWS: usize = 64;
+pub(crate) const MAX_FLOWS: usize = 64;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum FlowKey {
@@ -51,7 +51,13 @@ pub fn proto_name(p: Proto) -> &'static str {
 
 /// One event of a capture as a JSON object: the live decoder's object with `frame`, `capture_time`
 /// (seconds since the Unix epoch), `flow` and `proto` added after `offset`.
-pub fn capture_json(event: &Event, frame: u64, time: f64, flow: &str, proto: Proto) -> Value {
+pub(crate) fn capture_json(
+    event: &Event,
+    frame: u64,
+    time: f64,
+    flow: &str,
+    proto: Proto,
+) -> Value {
     let mut v = event.to_json();
     if let Value::Object(m) = &mut v {
         let rest = std::mem::take(m);
@@ -66,13 +72,13 @@ pub fn capture_json(event: &Event, frame: u64, time: f64, flow: &str, proto: Pro
 
 /// Counters of a capture decode, beside each flow's decoder counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct CaptureCounters {
+pub(crate) struct CaptureCounters {
     /// Records read.
-    pub frames: u64,
+    pub(crate) frames: u64,
     /// Records carrying none of our protocols (other ports, other link types, empty).
-    pub skipped: u64,
+    pub(crate) skipped: u64,
     /// Payloads dropped because [`MAX_FLOWS`] flows were already open.
-    pub flows_dropped: u64,
+    pub(crate) flows_dropped: u64,
 }
 
 /// One thing a capture decode reports, in the order `decode` prints it.
@@ -195,12 +201,12 @@ impl CaptureEvents {
     }
 
     /// The capture's counters so far.
-    pub fn counters(&self) -> CaptureCounters {
+    pub(crate) fn counters(&self) -> CaptureCounters {
         self.flows.counters
     }
 
     /// The flows opened so far.
-    pub fn flow_count(&self) -> usize {
+    pub(crate) fn flow_count(&self) -> usize {
         self.flows.flows.len()
     }
 
@@ -219,7 +225,7 @@ impl CaptureEvents {
 ///
 /// # Errors
 /// Opening or reading the capture, or writing the output.
-pub fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
+pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
     let mut capture = CaptureEvents::open(path, args)?;
     let mut out = Out::new();
     let mut items = Vec::new();

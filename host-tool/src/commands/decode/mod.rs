@@ -49,7 +49,7 @@ pub struct DecodeArgs {
 }
 
 /// The summary line printed at the end.
-pub fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
+pub(crate) fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
     if json_out {
         json!({ "kind": "summary", "bytes": bytes, "counters": counters }).to_string()
     } else {
@@ -61,7 +61,7 @@ pub fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
 ///
 /// # Errors
 /// Opening or reading the endpoint, or writing the output.
-pub fn run(args: &DecodeArgs) -> Result<()> {
+pub(crate) fn run(args: &DecodeArgs) -> Result<()> {
     // Ctrl-C ends the input: the counters are still printed.
     crate::stop::install_ctrl_c();
     let deadline = Deadline::after(args.seconds);
@@ -106,7 +106,7 @@ pub fn run(args: &DecodeArgs) -> Result<()> {
 ///
 /// # Errors
 /// Reading the endpoint, or whatever `emit` returns.
-pub fn pump(
+pub(crate) fn pump(
     link: &mut Link,
     decoder: &mut dyn StreamDecoder,
     deadline: Deadline,

@@ -25,17 +25,7 @@ use crate::error::{Error, Result};
 use crate::proto::Proto;
 
 /// The flat object for one event, or `None` for an error event or a message without numbers.
-///
-/// ```
-/// use protolink::decoders::{Body, Event};
-/// use protolink::commands::decode::plot::flat;
-/// let e = Event { offset: 0, body: Body::Message {
-///     name: "GYRO".into(), meta: Default::default(),
-///     fields: serde_json::json!({"valid": true, "x": 0.5, "m": [1, 2], "t": "x"}) } };
-/// assert_eq!(flat(&e, 2.5).unwrap().to_string(),
-///     r#"{"timestamp":2.5,"GYRO/valid":1,"GYRO/x":0.5,"GYRO/m/0":1,"GYRO/m/1":2}"#);
-/// ```
-pub fn flat(event: &Event, timestamp: f64) -> Option<Value> {
+pub(crate) fn flat(event: &Event, timestamp: f64) -> Option<Value> {
     let Body::Message { name, fields, .. } = &event.body else {
         return None;
     };
@@ -69,16 +59,7 @@ fn add(m: &mut Map<String, Value>, key: &str, v: &Value) {
 
 /// The `AIR` object of `air` stamped `timestamp`: each known value as `AIR/name`, or `None`
 /// when nothing is known.
-///
-/// ```
-/// use protolink::air_data::AirData;
-/// use protolink::commands::decode::plot::air_flat;
-/// let air = AirData { ias_mps: Some(48.5), tas_mps: Some(50.0), ..AirData::default() };
-/// assert_eq!(air_flat(&air, 2.5).unwrap().to_string(),
-///     r#"{"timestamp":2.5,"AIR/ias_mps":48.5,"AIR/tas_mps":50.0}"#);
-/// assert_eq!(air_flat(&AirData::default(), 2.5), None);
-/// ```
-pub fn air_flat(air: &AirData, timestamp: f64) -> Option<Value> {
+pub(crate) fn air_flat(air: &AirData, timestamp: f64) -> Option<Value> {
     let mut m = Map::new();
     m.insert("timestamp".into(), json!(timestamp));
     for (name, v) in [
@@ -129,7 +110,7 @@ fn air_message(event: &Event) -> Option<AirMessage> {
 }
 
 /// The host's clock as seconds since the Unix epoch.
-pub fn now() -> f64 {
+pub(crate) fn now() -> f64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .unwrap_or(Duration::ZERO)
@@ -142,9 +123,9 @@ pub struct PlotSender {
     socket: UdpSocket,
     to: SocketAddr,
     /// Datagrams sent.
-    pub sent: u64,
+    pub(crate) sent: u64,
     /// Datagrams the socket could not take at once (dropped).
-    pub dropped: u64,
+    pub(crate) dropped: u64,
     /// The AEOLUS air data, on the plot's clock.
     air: AirDataSource,
     /// The first timestamp and when it was seen: the plot's clock as an [`Instant`].
@@ -224,10 +205,52 @@ impl PlotSender {
     }
 
     /// The line printed on stderr at the end.
-    pub fn report(&self) -> String {
+    pub(crate) fn report(&self) -> String {
         format!(
             "udp-json to {}: {} datagrams sent, {} dropped",
             self.to, self.sent, self.dropped
         )
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn flat_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::decoders::{Body, Event};
+        let e = Event {
+            offset: 0,
+            body: Body::Message {
+                name: "GYRO".into(),
+                meta: Default::default(),
+                fields: serde_json::json!({"valid": true, "x": 0.5, "m": [1, 2], "t": "x"}),
+            },
+        };
+        assert_eq!(
+            flat(&e, 2.5).unwrap().to_string(),
+            r#"{"timestamp":2.5,"GYRO/valid":1,"GYRO/x":0.5,"GYRO/m/0":1,"GYRO/m/1":2}"#
+        );
+        Ok(())
+    }
+
+    #[test]
+    fn air_flat_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::air_data::AirData;
+        let air = AirData {
+            ias_mps: Some(48.5),
+            tas_mps: Some(50.0),
+            ..AirData::default()
+        };
+        assert_eq!(
+            air_flat(&air, 2.5).unwrap().to_string(),
+            r#"{"timestamp":2.5,"AIR/ias_mps":48.5,"AIR/tas_mps":50.0}"#
+        );
+        assert_eq!(air_flat(&AirData::default(), 2.5), None);
+        Ok(())
     }
 }

@@ -40,7 +40,7 @@ use gdl90_proto::message::{
 };
 use serde_json::json;
 
-use crate::air_data::{AirDataSource, isa_altitude_m};
+use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
@@ -50,21 +50,21 @@ use crate::stop::{self, Deadline};
 use crate::telemetry::decode_read;
 use crate::units::{FT_PER_M as FEET_PER_M, KT_PER_MPS as KNOTS_PER_MPS};
 
-pub mod ownship;
+pub(crate) mod ownship;
 
 /// The AHRS period (5 Hz).
-pub const AHRS_PERIOD: Duration = Duration::from_millis(200);
+pub(crate) const AHRS_PERIOD: Duration = Duration::from_millis(200);
 /// The heartbeat, ID, ownship and geometric altitude period (1 Hz).
-pub const SECOND: Duration = Duration::from_secs(1);
+pub(crate) const SECOND: Duration = Duration::from_secs(1);
 /// The port ForeFlight announces itself on.
-pub const DISCOVERY_PORT: u16 = 63093;
+pub(crate) const DISCOVERY_PORT: u16 = 63093;
 
 /// Standard gravity, m/s².
 const G0: f64 = 9.806_65;
 
 /// Whom `--discover` sends to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Discover {
+pub(crate) enum Discover {
     /// The first host that announces itself; later announcements from other hosts are
     /// ignored (counted and named on stderr), so nobody else can take the stream over.
     First,
@@ -74,7 +74,7 @@ pub enum Discover {
 
 /// Which AHRS messages `gdl90` sends.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum AhrsKind {
+pub(crate) enum AhrsKind {
     /// ForeFlight's AHRS (0x65, sub-ID 1): ForeFlight, Garmin Pilot and most EFB apps.
     Foreflight,
     /// The Stratux AHRS report (0x4C): WingX, iFly, AvPlan and other apps that read Stratux.
@@ -85,38 +85,38 @@ pub enum AhrsKind {
 
 /// Arguments of `protolink gdl90`.
 #[derive(Debug, Clone, Args)]
-pub struct Gdl90Args {
+pub(crate) struct Gdl90Args {
     /// Where the box's AEOLUS telemetry comes from (udp:5001, tcp:127.0.0.1:7000, ...).
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Endpoint,
+    pub(crate) from: Endpoint,
     /// Where the GDL90 datagrams go: PORT (on 127.0.0.1) or ADDR:PORT.
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:4000", value_parser = parse_local_addr)]
-    pub to: SocketAddr,
+    pub(crate) to: SocketAddr,
     /// Send to this broadcast address instead (on the --to port). Never a default.
     #[arg(long, value_name = "ADDR")]
-    pub broadcast: Option<IpAddr>,
+    pub(crate) broadcast: Option<IpAddr>,
     /// Listen on UDP 63093 for ForeFlight's announcement and send to the host it came from,
     /// on the port it names: the first host to announce itself (`--discover`, the same as
     /// `--discover=first`), or whichever announced itself last (`--discover=follow`).
     #[arg(long, value_enum, value_name = "WHOM", num_args = 0..=1, require_equals = true,
           default_missing_value = "first")]
-    pub discover: Option<Discover>,
+    pub(crate) discover: Option<Discover>,
     /// Which AHRS messages to send.
     #[arg(long, value_enum, default_value = "both")]
-    pub ahrs: AhrsKind,
+    pub(crate) ahrs: AhrsKind,
     /// The aircraft's 24-bit ICAO address (hex, such as A1B2C3): the ownship report then
     /// carries it as an ICAO address, so apps match it with the aircraft's own transponder
     /// in traffic. Kept for this --from box for later runs.
     #[arg(long, value_name = "HEX", value_parser = ownship::parse_icao)]
-    pub icao: Option<u32>,
+    pub(crate) icao: Option<u32>,
     /// The ownship call sign (1 to 8 of 0-9, A-Z), such as the registration without its
     /// dash. Kept for this --from box for later runs.
     #[arg(long, value_name = "CALLSIGN", value_parser = ownship::parse_callsign)]
-    pub callsign: Option<String>,
+    pub(crate) callsign: Option<String>,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C, or at the
     /// end of the input).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<Duration>,
+    pub(crate) seconds: Option<Duration>,
 }
 
 /// The latest of each telemetry message, with when it arrived, and the GPS fix before it.
@@ -132,19 +132,7 @@ pub struct Picture {
     /// Airspeeds, pressure altitude and its rate.
     air: AirDataSource,
     /// `--icao` and `--callsign`, given or kept.
-    pub identity: ownship::Identity,
-}
-
-/// Pressure altitude in feet for a static pressure in mbar, in the standard atmosphere
-/// (1013.25 mbar = 29.92 inHg at 0 ft).
-///
-/// ```
-/// use protolink::commands::gdl90::pressure_altitude_ft;
-/// assert!(pressure_altitude_ft(1013.25).abs() < 0.5);
-/// assert!((pressure_altitude_ft(843.07) - 5000.0).abs() < 5.0);
-/// ```
-pub fn pressure_altitude_ft(static_mbar: f32) -> f64 {
-    isa_altitude_m(static_mbar) * FEET_PER_M
+    pub(crate) identity: ownship::Identity,
 }
 
 fn knots(mps: f64) -> Option<u16> {
@@ -230,7 +218,7 @@ impl Picture {
     }
 
     /// The ownship report for `now`.
-    pub fn ownship(&self, now: Instant) -> Report {
+    pub(crate) fn ownship(&self, now: Instant) -> Report {
         let fix = self.fix(now);
         let (track, vertical_rate_fpm) = match (fix, self.previous_fix) {
             (Some(g), Some(p)) if g.timestamp_ms > p.timestamp_ms => {
@@ -281,7 +269,7 @@ impl Picture {
 
     /// The ownship geometric altitude, only with a fresh fix (the message has no invalid
     /// marker for the altitude).
-    pub fn geo_altitude(&self, now: Instant) -> Option<GeoAltitude> {
+    pub(crate) fn geo_altitude(&self, now: Instant) -> Option<GeoAltitude> {
         self.fix(now).map(|g| GeoAltitude {
             altitude_ft: (f64::from(g.altitude_m) * FEET_PER_M).round() as i32,
             vertical_warning: false,
@@ -290,7 +278,7 @@ impl Picture {
     }
 
     /// The heartbeat, with the host's UTC time of day.
-    pub fn heartbeat(&self, now: Instant, seconds_since_midnight: u32) -> Heartbeat {
+    pub(crate) fn heartbeat(&self, now: Instant, seconds_since_midnight: u32) -> Heartbeat {
         Heartbeat {
             gps_position_valid: self.fix(now).is_some(),
             uat_initialized: true,
@@ -301,7 +289,7 @@ impl Picture {
     }
 
     /// The ForeFlight ID of this bridge.
-    pub fn foreflight_id(&self) -> ForeFlightId {
+    pub(crate) fn foreflight_id(&self) -> ForeFlightId {
         ForeFlightId {
             version: 1,
             serial: self.address.map(u64::from),
@@ -328,26 +316,26 @@ fn bearing_deg(a: &Gps, b: &Gps) -> Option<f32> {
 
 /// What `gdl90` sent, printed on exit.
 #[derive(Debug, Default, Clone, Copy, serde::Serialize)]
-pub struct Counters {
+pub(crate) struct Counters {
     /// AEOLUS messages taken in.
-    pub telemetry_in: u64,
+    pub(crate) telemetry_in: u64,
     /// Heartbeats sent.
-    pub heartbeats: u64,
+    pub(crate) heartbeats: u64,
     /// ForeFlight AHRS messages sent.
-    pub ahrs: u64,
+    pub(crate) ahrs: u64,
     /// Stratux AHRS reports sent.
-    pub stratux_ahrs: u64,
+    pub(crate) stratux_ahrs: u64,
     /// Ownship reports sent.
-    pub ownship: u64,
+    pub(crate) ownship: u64,
     /// Geometric altitudes sent.
-    pub geo_altitude: u64,
+    pub(crate) geo_altitude: u64,
     /// ForeFlight IDs sent.
-    pub foreflight_id: u64,
+    pub(crate) foreflight_id: u64,
     /// Datagrams whose send failed.
-    pub send_errors: u64,
+    pub(crate) send_errors: u64,
     /// ForeFlight announcements ignored: from another host than the one followed
     /// (`--discover`), or not an announcement.
-    pub announcements_ignored: u64,
+    pub(crate) announcements_ignored: u64,
 }
 
 fn seconds_since_midnight() -> u32 {
@@ -360,7 +348,7 @@ fn seconds_since_midnight() -> u32 {
 ///
 /// # Errors
 /// Opening the endpoints, reading the input, or every send failing.
-pub fn run(args: &Gdl90Args) -> Result<()> {
+pub(crate) fn run(args: &Gdl90Args) -> Result<()> {
     let mut link = args.from.open()?;
     let (mut to, mut sender) = Sender::open(args)?;
     let mut discovery = args.discover.map(Discovery::open).transpose()?;
@@ -611,14 +599,7 @@ impl Sender {
 
 /// The port a ForeFlight announcement names (`{"App":"ForeFlight","GDL90":{"port":4000}}`),
 /// or `None` for anything else.
-///
-/// ```
-/// use protolink::commands::gdl90::announced_port;
-/// assert_eq!(announced_port(br#"{"App":"ForeFlight","GDL90":{"port":4000}}"#), Some(4000));
-/// assert_eq!(announced_port(br#"{"App":"Other","GDL90":{"port":4000}}"#), None);
-/// assert_eq!(announced_port(b"not json"), None);
-/// ```
-pub fn announced_port(datagram: &[u8]) -> Option<u16> {
+pub(crate) fn announced_port(datagram: &[u8]) -> Option<u16> {
     let v: serde_json::Value = serde_json::from_slice(datagram).ok()?;
     let port = v["GDL90"]["port"]
         .as_u64()
@@ -653,5 +634,27 @@ mod tests {
         assert!(bound(&["t", "--from", "udp:0"]).is_loopback());
         assert!(bound(&["t", "--from", "udp:0", "--discover"]).is_unspecified());
         assert!(bound(&["t", "--from", "udp:0", "--discover=follow"]).is_unspecified());
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn announced_port_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(
+            announced_port(br#"{"App":"ForeFlight","GDL90":{"port":4000}}"#),
+            Some(4000)
+        );
+        assert_eq!(
+            announced_port(br#"{"App":"Other","GDL90":{"port":4000}}"#),
+            None
+        );
+        assert_eq!(announced_port(b"not json"), None);
+        Ok(())
     }
 }

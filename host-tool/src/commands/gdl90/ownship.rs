@@ -14,25 +14,16 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 
 /// Boxes the file remembers at most.
-pub const MAX_BOXES: usize = 256;
+pub(crate) const MAX_BOXES: usize = 256;
 /// The largest file read.
-pub const MAX_FILE_BYTES: u64 = 64 * 1024;
+pub(crate) const MAX_FILE_BYTES: u64 = 64 * 1024;
 
 /// Parses a 24-bit ICAO address: 1 to 6 hex digits, with or without `0x`; 000000 and FFFFFF
 /// are refused (no aircraft has them).
 ///
-/// ```
-/// use protolink::commands::gdl90::ownship::parse_icao;
-/// assert_eq!(parse_icao("A1B2C3"), Ok(0xA1B2C3));
-/// assert_eq!(parse_icao("0x3c6586"), Ok(0x3C6586));
-/// assert!(parse_icao("1234567").unwrap_err().contains("24-bit"));
-/// assert!(parse_icao("000000").is_err());
-/// assert!(parse_icao("G12345").is_err());
-/// ```
-///
 /// # Errors
 /// One sentence naming what is wrong.
-pub fn parse_icao(text: &str) -> std::result::Result<u32, String> {
+pub(crate) fn parse_icao(text: &str) -> std::result::Result<u32, String> {
     let t = text.trim();
     let digits = t
         .strip_prefix("0x")
@@ -56,16 +47,9 @@ pub fn parse_icao(text: &str) -> std::result::Result<u32, String> {
 /// Parses a GDL90 call sign: 1 to 8 characters of `0-9`, `A-Z` (lower case is taken as upper
 /// case), no spaces inside.
 ///
-/// ```
-/// use protolink::commands::gdl90::ownship::parse_callsign;
-/// assert_eq!(parse_callsign("n123ab").unwrap(), "N123AB");
-/// assert!(parse_callsign("D-EKAB").unwrap_err().contains("only 0-9 and A-Z"));
-/// assert!(parse_callsign("TOOLONG99").is_err());
-/// ```
-///
 /// # Errors
 /// One sentence naming what is wrong.
-pub fn parse_callsign(text: &str) -> std::result::Result<String, String> {
+pub(crate) fn parse_callsign(text: &str) -> std::result::Result<String, String> {
     let upper = text.trim().to_ascii_uppercase();
     if upper.is_empty() || upper.len() > 8 {
         return Err(format!("'{text}' is not a call sign of 1 to 8 characters"));
@@ -80,18 +64,18 @@ pub fn parse_callsign(text: &str) -> std::result::Result<String, String> {
 
 /// What is kept for one box.
 #[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct Identity {
+pub(crate) struct Identity {
     /// The 24-bit ICAO address, when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub icao: Option<u32>,
+    pub(crate) icao: Option<u32>,
     /// The call sign, when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub callsign: Option<String>,
+    pub(crate) callsign: Option<String>,
 }
 
 /// The file the identities are kept in: `$XDG_STATE_HOME/protolink/ownship.json`, or
 /// `$HOME/.local/state/protolink/ownship.json`; `None` when neither variable is set.
-pub fn state_file() -> Option<PathBuf> {
+pub(crate) fn state_file() -> Option<PathBuf> {
     let base = std::env::var_os("XDG_STATE_HOME")
         .filter(|v| !v.is_empty())
         .map(PathBuf::from)
@@ -147,22 +131,10 @@ fn save(file: &Path, map: &BTreeMap<String, Identity>) -> Result<()> {
 /// what `file` kept from an earlier run, else nothing. Without a file (no home directory)
 /// only what was given now.
 ///
-/// ```
-/// use protolink::commands::gdl90::ownship::{resolve, Identity};
-/// let file = std::env::temp_dir().join(format!("ownship-doc-{}.json", std::process::id()));
-/// let given = Identity { icao: Some(0xA1B2C3), callsign: Some("N123AB".into()) };
-/// assert_eq!(resolve("udp:127.0.0.1:5001", given.clone(), Some(&file))?, given);
-/// // The next run, without the options, sends the same identity.
-/// assert_eq!(resolve("udp:127.0.0.1:5001", Identity::default(), Some(&file))?, given);
-/// assert_eq!(resolve("udp:127.0.0.1:6001", Identity::default(), Some(&file))?, Identity::default());
-/// std::fs::remove_file(&file)?;
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-///
 /// # Errors
 /// The file cannot be read or written, is not this map, or already holds [`MAX_BOXES`] other
 /// boxes.
-pub fn resolve(key: &str, given: Identity, file: Option<&Path>) -> Result<Identity> {
+pub(crate) fn resolve(key: &str, given: Identity, file: Option<&Path>) -> Result<Identity> {
     let Some(file) = file else {
         return Ok(given);
     };
@@ -184,4 +156,58 @@ pub fn resolve(key: &str, given: Identity, file: Option<&Path>) -> Result<Identi
     map.insert(key.to_owned(), merged.clone());
     save(file, &map)?;
     Ok(merged)
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn parse_icao_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(parse_icao("A1B2C3"), Ok(0xA1B2C3));
+        assert_eq!(parse_icao("0x3c6586"), Ok(0x3C6586));
+        assert!(parse_icao("1234567").unwrap_err().contains("24-bit"));
+        assert!(parse_icao("000000").is_err());
+        assert!(parse_icao("G12345").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn parse_callsign_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(parse_callsign("n123ab").unwrap(), "N123AB");
+        assert!(
+            parse_callsign("D-EKAB")
+                .unwrap_err()
+                .contains("only 0-9 and A-Z")
+        );
+        assert!(parse_callsign("TOOLONG99").is_err());
+        Ok(())
+    }
+
+    #[test]
+    fn resolve_example() -> Result<(), Box<dyn std::error::Error>> {
+        let file = std::env::temp_dir().join(format!("ownship-doc-{}.json", std::process::id()));
+        let given = Identity {
+            icao: Some(0xA1B2C3),
+            callsign: Some("N123AB".into()),
+        };
+        assert_eq!(
+            resolve("udp:127.0.0.1:5001", given.clone(), Some(&file))?,
+            given
+        );
+        // The next run, without the options, sends the same identity.
+        assert_eq!(
+            resolve("udp:127.0.0.1:5001", Identity::default(), Some(&file))?,
+            given
+        );
+        assert_eq!(
+            resolve("udp:127.0.0.1:6001", Identity::default(), Some(&file))?,
+            Identity::default()
+        );
+        std::fs::remove_file(&file)?;
+        Ok(())
+    }
 }

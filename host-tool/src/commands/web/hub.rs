@@ -7,7 +7,7 @@ use std::time::Duration;
 
 /// The latest snapshot, shared by the decoder (which publishes) and the streams (which wait).
 #[derive(Debug, Default)]
-pub struct Hub {
+pub(crate) struct Hub {
     latest: Mutex<Latest>,
     changed: Condvar,
 }
@@ -21,7 +21,7 @@ struct Latest {
 
 impl Hub {
     /// Replaces the latest snapshot and wakes every waiting stream.
-    pub fn publish(&self, json: String) {
+    pub(crate) fn publish(&self, json: String) {
         let mut l = self.latest.lock().unwrap_or_else(PoisonError::into_inner);
         l.seq = l.seq.wrapping_add(1);
         l.json = json.into();
@@ -30,7 +30,7 @@ impl Hub {
     }
 
     /// Ends every stream (the command is stopping).
-    pub fn close(&self) {
+    pub(crate) fn close(&self) {
         self.latest
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
@@ -39,7 +39,7 @@ impl Hub {
     }
 
     /// The latest snapshot and its number.
-    pub fn latest(&self) -> (u64, Arc<str>) {
+    pub(crate) fn latest(&self) -> (u64, Arc<str>) {
         let l = self.latest.lock().unwrap_or_else(PoisonError::into_inner);
         (l.seq, l.json.clone())
     }
@@ -47,7 +47,11 @@ impl Hub {
     /// Waits up to `timeout` for a snapshot newer than `seen`: `Ok(Some(..))` a newer one,
     /// `Ok(None)` none yet, `Err(())` the hub was closed.
     #[allow(clippy::result_unit_err)]
-    pub fn newer(&self, seen: u64, timeout: Duration) -> Result<Option<(u64, Arc<str>)>, ()> {
+    pub(crate) fn newer(
+        &self,
+        seen: u64,
+        timeout: Duration,
+    ) -> Result<Option<(u64, Arc<str>)>, ()> {
         let l = self.latest.lock().unwrap_or_else(PoisonError::into_inner);
         let (l, _) = self
             .changed

@@ -11,9 +11,9 @@
 //! snapshot [`DISPLAY_RATE_HZ`] times a second; the server sends each client the newest one
 //! when it is ready for it. So 1,000 messages a second cost the browser 20 updates.
 
-pub mod assets;
-pub mod hub;
-pub mod server;
+pub(crate) mod assets;
+pub(crate) mod hub;
+pub(crate) mod server;
 pub mod state;
 
 use std::io::Write as _;
@@ -30,43 +30,35 @@ use server::Server;
 use state::Cockpit;
 
 /// How many snapshots a second the page gets.
-pub const DISPLAY_RATE_HZ: u32 = 20;
+pub(crate) const DISPLAY_RATE_HZ: u32 = 20;
 
 /// The address `protolink web` listens on unless told otherwise.
-pub const DEFAULT_LISTEN: &str = "127.0.0.1:8080";
+pub(crate) const DEFAULT_LISTEN: &str = "127.0.0.1:8080";
 
 /// Arguments of `protolink web`.
 #[derive(Debug, Clone, Args)]
-pub struct WebArgs {
+pub(crate) struct WebArgs {
     /// Where the AEOLUS telemetry comes from (tcp:HOST:PORT, udp:PORT, serial:PATH@BAUD, file:PATH, -).
     #[arg(long, value_name = "ENDPOINT")]
-    pub from: Endpoint,
+    pub(crate) from: Endpoint,
     /// The address the page is served on: IP:PORT (port 0 picks a free one). Anything but a
     /// loopback address shows the page to the network.
     #[arg(long, value_name = "IP:PORT", default_value = DEFAULT_LISTEN, value_parser = listen_addr)]
-    pub listen: SocketAddr,
+    pub(crate) listen: SocketAddr,
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
-    pub seconds: Option<Duration>,
+    pub(crate) seconds: Option<Duration>,
     /// Display units: `si` (m/s, m, as the box sends them) or `aviation` (knots, feet, feet
     /// per minute).
     #[arg(long, value_enum, default_value_t = crate::units::Units::Si)]
-    pub units: crate::units::Units,
+    pub(crate) units: crate::units::Units,
 }
 
 /// Parses `--listen`: an IP address and a port, such as `127.0.0.1:8080` or `[::1]:8080`.
 ///
-/// ```
-/// use protolink::commands::web::listen_addr;
-/// assert_eq!(listen_addr("127.0.0.1:8080").unwrap().port(), 8080);
-/// assert!(listen_addr("localhost:8080").unwrap_err().contains("IP:PORT"));
-/// assert!(listen_addr("127.0.0.1").is_err());
-/// assert!(listen_addr("127.0.0.1:65536").is_err());
-/// ```
-///
 /// # Errors
 /// A sentence naming the expected form.
-pub fn listen_addr(text: &str) -> std::result::Result<SocketAddr, String> {
+pub(crate) fn listen_addr(text: &str) -> std::result::Result<SocketAddr, String> {
     text.trim().parse::<SocketAddr>().map_err(|_| {
         format!(
             "'{text}' is not an address to listen on: expected IP:PORT, such as 127.0.0.1:8080 \
@@ -83,7 +75,7 @@ fn is_loopback(ip: IpAddr) -> bool {
 ///
 /// # Errors
 /// Opening or reading the endpoint, binding the address, or writing the output.
-pub fn run(args: &WebArgs) -> Result<()> {
+pub(crate) fn run(args: &WebArgs) -> Result<()> {
     let mut link = args.from.open()?;
     let server = Server::start(args.listen)?;
     stop::install_ctrl_c();
@@ -153,4 +145,25 @@ pub fn run(args: &WebArgs) -> Result<()> {
     }
     out.line(&format!("web: {}", text(&summary)))?;
     out.flush()
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn listen_addr_example() -> Result<(), Box<dyn std::error::Error>> {
+        assert_eq!(listen_addr("127.0.0.1:8080").unwrap().port(), 8080);
+        assert!(
+            listen_addr("localhost:8080")
+                .unwrap_err()
+                .contains("IP:PORT")
+        );
+        assert!(listen_addr("127.0.0.1").is_err());
+        assert!(listen_addr("127.0.0.1:65536").is_err());
+        Ok(())
+    }
 }

@@ -38,30 +38,30 @@ use super::state::ServerState;
 use crate::error::{Error, Result};
 
 /// The most live-update streams served at once.
-pub const MAX_STREAMS: u64 = 8;
+pub(crate) const MAX_STREAMS: u64 = 8;
 /// The most connections served at once (streams included).
-pub const MAX_CONNECTIONS: u64 = 24;
+pub(crate) const MAX_CONNECTIONS: u64 = 24;
 /// The most connections from one address at once (a browser opens six per host).
-pub const MAX_PER_PEER: u64 = 12;
+pub(crate) const MAX_PER_PEER: u64 = 12;
 /// The most connections still sending their request head at once: more than one address may
 /// hold, so another address always finds room.
-pub const MAX_PENDING: usize = 16;
+pub(crate) const MAX_PENDING: usize = 16;
 /// How long a connection may send its head before a new one may close it to take its place.
-pub const PENDING_GRACE: Duration = Duration::from_millis(250);
+pub(crate) const PENDING_GRACE: Duration = Duration::from_millis(250);
 /// The longest request head (request line and headers) accepted, bytes.
-pub const MAX_HEAD: usize = 8 * 1024;
+pub(crate) const MAX_HEAD: usize = 8 * 1024;
 /// The most headers accepted in one request.
-pub const MAX_HEADERS: usize = 32;
+pub(crate) const MAX_HEADERS: usize = 32;
 /// How long a client has to send its whole request head (a browser sends it at once).
-pub const HEAD_TIMEOUT: Duration = Duration::from_secs(2);
+pub(crate) const HEAD_TIMEOUT: Duration = Duration::from_secs(2);
 /// How long one write to a client may take before the connection is given up.
-pub const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
+pub(crate) const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
 /// A stream with nothing new sends a comment this often (so a gone client is noticed).
-pub const KEEPALIVE: Duration = Duration::from_secs(1);
+pub(crate) const KEEPALIVE: Duration = Duration::from_secs(1);
 
 /// The server's counters (shown on the page and in `/api/state`).
 #[derive(Debug, Default)]
-pub struct Counters {
+pub(crate) struct Counters {
     connections: AtomicU64,
     streams: AtomicU64,
     refused: AtomicU64,
@@ -84,7 +84,7 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 
 impl Counters {
     /// A copy for the state.
-    pub fn state(&self) -> ServerState {
+    pub(crate) fn state(&self) -> ServerState {
         ServerState {
             clients: self.streams.load(Ordering::Relaxed),
             refused: self.refused.load(Ordering::Relaxed),
@@ -120,7 +120,7 @@ impl Drop for Slot<'_> {
 
 /// A running server: the listening socket's address, the hub and the counters.
 #[derive(Debug)]
-pub struct Server {
+pub(crate) struct Server {
     addr: SocketAddr,
     hub: Arc<Hub>,
     counters: Arc<Counters>,
@@ -132,7 +132,7 @@ impl Server {
     ///
     /// # Errors
     /// [`Error::Open`] when the address cannot be bound (in use, not this machine's).
-    pub fn start(addr: SocketAddr) -> Result<Server> {
+    pub(crate) fn start(addr: SocketAddr) -> Result<Server> {
         let open_err = |source| Error::Open {
             endpoint: format!("http://{addr}/"),
             source,
@@ -163,17 +163,17 @@ impl Server {
     }
 
     /// The address it listens on (the real port when `:0` was asked for).
-    pub fn addr(&self) -> SocketAddr {
+    pub(crate) fn addr(&self) -> SocketAddr {
         self.addr
     }
 
     /// Where the decoder publishes snapshots.
-    pub fn hub(&self) -> &Hub {
+    pub(crate) fn hub(&self) -> &Hub {
         &self.hub
     }
 
     /// The counters as the state shows them.
-    pub fn counters(&self) -> ServerState {
+    pub(crate) fn counters(&self) -> ServerState {
         self.counters.state()
     }
 }

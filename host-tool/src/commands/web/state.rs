@@ -18,11 +18,11 @@ use crate::telemetry::{EVENTS, NO_DATA_AFTER, View};
 use crate::units::{UnitScales, Units};
 
 /// How many track points the page keeps: five minutes at [`TRACK_STEP_MS`].
-pub const TRACK_POINTS: usize = 600;
+pub(crate) const TRACK_POINTS: usize = 600;
 /// The box time between two track points (GPS fixes closer together are skipped).
-pub const TRACK_STEP_MS: f64 = 500.0;
+pub(crate) const TRACK_STEP_MS: f64 = 500.0;
 /// How many recent intervals of each message type the jitter sparkline shows.
-pub const JITTER_INTERVALS: usize = 48;
+pub(crate) const JITTER_INTERVALS: usize = 48;
 
 /// The live model behind the page: the telemetry model ([`View`]), the decoder that feeds it, the
 /// ground track and the recent intervals. Every part is bounded.
@@ -85,15 +85,7 @@ impl Cockpit {
     }
 
     /// The same cockpit showing `units` on the page (SI unless told).
-    ///
-    /// ```
-    /// use protolink::units::Units;
-    /// use protolink::commands::web::state::Cockpit;
-    /// let now = std::time::Instant::now();
-    /// let c = Cockpit::new("udp:5001", now).with_units(Units::Aviation);
-    /// assert_eq!(c.state(now, Default::default()).units.altitude.unit, "ft");
-    /// ```
-    pub fn with_units(mut self, units: Units) -> Self {
+    pub(crate) fn with_units(mut self, units: Units) -> Self {
         self.view.units = units;
         self
     }
@@ -200,7 +192,7 @@ impl Cockpit {
     }
 
     /// How long ago the cockpit started.
-    pub fn uptime(&self, now: Instant) -> Duration {
+    pub(crate) fn uptime(&self, now: Instant) -> Duration {
         now.saturating_duration_since(self.started)
     }
 }
@@ -291,177 +283,177 @@ fn calibration(c: CalibrationStatus) -> String {
 #[derive(Debug, Clone, Serialize)]
 pub struct State {
     /// The endpoint, as named on the command line.
-    pub source: String,
+    pub(crate) source: String,
     /// Seconds since `protolink web` started.
-    pub uptime_s: f64,
+    pub(crate) uptime_s: f64,
     /// Bytes read from the endpoint.
-    pub bytes: u64,
+    pub(crate) bytes: u64,
     /// Set when nothing at all has arrived for [`NO_DATA_AFTER`]: the sentence to show.
-    pub no_data: Option<String>,
+    pub(crate) no_data: Option<String>,
     /// The last ATTITUDE.
-    pub attitude: Option<AttitudeState>,
+    pub(crate) attitude: Option<AttitudeState>,
     /// The last PRESSURE, with its ISA pressure altitude.
-    pub air: Option<AirState>,
+    pub(crate) air: Option<AirState>,
     /// The last COMPASS.
-    pub heading: Option<HeadingState>,
+    pub(crate) heading: Option<HeadingState>,
     /// The last GPS.
-    pub gps: Option<GpsState>,
+    pub(crate) gps: Option<GpsState>,
     /// The last WIND.
-    pub wind: Option<WindState>,
+    pub(crate) wind: Option<WindState>,
     /// The last TEMP, °C.
-    pub temp_c: Option<f32>,
+    pub(crate) temp_c: Option<f32>,
     /// The box's identity (AEOLUSINFO).
-    pub info: Option<InfoState>,
+    pub(crate) info: Option<InfoState>,
     /// The last TOAST's text.
-    pub toast: Option<String>,
+    pub(crate) toast: Option<String>,
     /// Every message type seen, by ID.
-    pub types: Vec<TypeState>,
+    pub(crate) types: Vec<TypeState>,
     /// The decoder's error counters.
-    pub errors: ErrorState,
+    pub(crate) errors: ErrorState,
     /// The ground track, oldest first: `[latitude, longitude]` in degrees.
-    pub track: Vec<[f64; 2]>,
+    pub(crate) track: Vec<[f64; 2]>,
     /// The web server's own counters.
-    pub server: ServerState,
+    pub(crate) server: ServerState,
     /// The units the page shows, and the factors from the SI values above.
-    pub units: UnitScales,
+    pub(crate) units: UnitScales,
 }
 
 /// The last ATTITUDE, in degrees.
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
-pub struct AttitudeState {
-    pub valid: bool,
-    pub timestamp_ms: f64,
-    pub roll_deg: f32,
-    pub pitch_deg: f32,
-    pub yaw_deg: f32,
-    pub slip_ball: f32,
-    pub turn_coordinator: f32,
+pub(crate) struct AttitudeState {
+    pub(crate) valid: bool,
+    pub(crate) timestamp_ms: f64,
+    pub(crate) roll_deg: f32,
+    pub(crate) pitch_deg: f32,
+    pub(crate) yaw_deg: f32,
+    pub(crate) slip_ball: f32,
+    pub(crate) turn_coordinator: f32,
 }
 
 /// The last PRESSURE as the box sent it, and the air data ([`crate::air_data`]) at the
 /// moment of the state: `null` where stale or invalid.
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
-pub struct AirState {
-    pub valid: bool,
-    pub timestamp_ms: f64,
+pub(crate) struct AirState {
+    pub(crate) valid: bool,
+    pub(crate) timestamp_ms: f64,
     /// Indicated airspeed from the pitot's dynamic pressure, m/s.
-    pub ias_mps: Option<f64>,
+    pub(crate) ias_mps: Option<f64>,
     /// True airspeed from the dynamic pressure and the air density (static pressure, TEMP),
     /// m/s.
-    pub tas_mps: Option<f64>,
-    pub static_mbar: f32,
-    pub pitot_mbar: f32,
+    pub(crate) tas_mps: Option<f64>,
+    pub(crate) static_mbar: f32,
+    pub(crate) pitot_mbar: f32,
     /// The ISA altitude of the static pressure, m.
-    pub pressure_altitude_m: Option<f64>,
+    pub(crate) pressure_altitude_m: Option<f64>,
     /// The vertical speed: the pressure altitude's change over the last second of the box's
     /// clock, m/s, positive up (`null` until half a second of PRESSURE has arrived).
-    pub vertical_speed_mps: Option<f64>,
+    pub(crate) vertical_speed_mps: Option<f64>,
 }
 
 /// The last COMPASS.
 #[derive(Debug, Clone, Serialize)]
 #[allow(missing_docs)]
-pub struct HeadingState {
+pub(crate) struct HeadingState {
     /// Valid and carrying a value.
-    pub valid: bool,
-    pub timestamp_ms: f64,
-    pub heading_deg: f32,
-    pub calibration: String,
+    pub(crate) valid: bool,
+    pub(crate) timestamp_ms: f64,
+    pub(crate) heading_deg: f32,
+    pub(crate) calibration: String,
 }
 
 /// The last GPS.
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
-pub struct GpsState {
-    pub valid: bool,
-    pub fix: bool,
-    pub satellites: u8,
-    pub timestamp_ms: f64,
-    pub latitude_deg: f64,
-    pub longitude_deg: f64,
-    pub altitude_m: f32,
-    pub ground_speed_mps: f32,
+pub(crate) struct GpsState {
+    pub(crate) valid: bool,
+    pub(crate) fix: bool,
+    pub(crate) satellites: u8,
+    pub(crate) timestamp_ms: f64,
+    pub(crate) latitude_deg: f64,
+    pub(crate) longitude_deg: f64,
+    pub(crate) altitude_m: f32,
+    pub(crate) ground_speed_mps: f32,
 }
 
 /// The last WIND: where it blows from, and how fast.
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
-pub struct WindState {
-    pub valid: bool,
-    pub speed_mps: f32,
-    pub direction_deg: f32,
+pub(crate) struct WindState {
+    pub(crate) valid: bool,
+    pub(crate) speed_mps: f32,
+    pub(crate) direction_deg: f32,
 }
 
 /// The box's identity.
 #[derive(Debug, Clone, Serialize)]
 #[allow(missing_docs)]
-pub struct InfoState {
-    pub model: String,
-    pub firmware: String,
-    pub mac: String,
+pub(crate) struct InfoState {
+    pub(crate) model: String,
+    pub(crate) firmware: String,
+    pub(crate) mac: String,
 }
 
 /// One message type's arrivals.
 #[derive(Debug, Clone, Serialize)]
-pub struct TypeState {
+pub(crate) struct TypeState {
     /// The message ID.
-    pub id: u8,
+    pub(crate) id: u8,
     /// The message name.
-    pub name: &'static str,
+    pub(crate) name: &'static str,
     /// Messages received.
-    pub count: u64,
+    pub(crate) count: u64,
     /// The rate over the recent intervals, Hz.
-    pub rate_hz: Option<f64>,
+    pub(crate) rate_hz: Option<f64>,
     /// Mean interval on the box's clock since the start, ms.
-    pub interval_box_ms: Option<f64>,
+    pub(crate) interval_box_ms: Option<f64>,
     /// Mean interval of arrival on the host since the start, ms.
-    pub interval_host_ms: Option<f64>,
+    pub(crate) interval_host_ms: Option<f64>,
     /// The last [`JITTER_INTERVALS`] intervals, oldest first, ms.
-    pub intervals_ms: Option<Vec<f32>>,
+    pub(crate) intervals_ms: Option<Vec<f32>>,
     /// Whether the box sends it on a schedule (telemetry), not as an event (TOAST, LOG,
     /// COMMAND, SETTIME): only a scheduled type can be stale.
-    pub periodic: bool,
+    pub(crate) periodic: bool,
     /// A scheduled type that missed three intervals (`watch`'s rule).
-    pub stale: bool,
+    pub(crate) stale: bool,
     /// Seconds since the last one arrived.
-    pub age_s: f64,
+    pub(crate) age_s: f64,
 }
 
 /// The decoder's error counters (`watch` shows the same).
 #[derive(Debug, Clone, Copy, Serialize)]
 #[allow(missing_docs)]
-pub struct ErrorState {
-    pub checksum_errors: u32,
-    pub frames_no_crc: u32,
-    pub overflows: u32,
-    pub too_short: u32,
-    pub bad_escapes: u32,
-    pub bytes_discarded: u32,
+pub(crate) struct ErrorState {
+    pub(crate) checksum_errors: u32,
+    pub(crate) frames_no_crc: u32,
+    pub(crate) overflows: u32,
+    pub(crate) too_short: u32,
+    pub(crate) bad_escapes: u32,
+    pub(crate) bytes_discarded: u32,
     /// Frames with a good check whose content did not parse.
-    pub malformed: u32,
+    pub(crate) malformed: u32,
     /// Datagrams that ended inside a frame.
-    pub truncated: u32,
+    pub(crate) truncated: u32,
 }
 
 /// The web server's counters.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct ServerState {
     /// Live-update streams open now.
-    pub clients: u64,
+    pub(crate) clients: u64,
     /// Connections refused with 503 (too many clients, connections, or from one address).
-    pub refused: u64,
+    pub(crate) refused: u64,
     /// Requests answered with an error status (bad request, too large, unknown path, not GET).
-    pub bad_requests: u64,
+    pub(crate) bad_requests: u64,
     /// Requests refused with 403 as made by another site's page.
-    pub cross_site: u64,
+    pub(crate) cross_site: u64,
     /// Connections closed while still sending their request head, to let a newer one in.
-    pub evicted: u64,
+    pub(crate) evicted: u64,
     /// Snapshots sent on live-update streams.
-    pub frames_sent: u64,
+    pub(crate) frames_sent: u64,
     /// Snapshots a slow client never got (it got a newer one instead).
-    pub frames_dropped: u64,
+    pub(crate) frames_dropped: u64,
 }
 
 #[cfg(test)]
@@ -515,5 +507,22 @@ mod tests {
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert!(v["gps"]["latitude_deg"].is_null(), "{v}");
         assert!(v["track"].as_array().unwrap().is_empty());
+    }
+}
+
+/// The examples of this module's items, as tests (the items are crate-private, so rustdoc
+/// does not run them).
+#[cfg(test)]
+#[allow(unused_imports, clippy::unnecessary_wraps)]
+mod examples {
+    use super::*;
+
+    #[test]
+    fn with_units_example() -> Result<(), Box<dyn std::error::Error>> {
+        use crate::units::Units;
+        let now = std::time::Instant::now();
+        let c = Cockpit::new("udp:5001", now).with_units(Units::Aviation);
+        assert_eq!(c.state(now, Default::default()).units.altitude.unit, "ft");
+        Ok(())
     }
 }
