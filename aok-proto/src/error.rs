@@ -7,6 +7,21 @@ use core::fmt;
 /// What can go wrong with received bytes and values: decoding a stream (the decoders' events),
 /// parsing a frame, building a typed value. Encoding fails with [`EncodeError`], the client
 /// with [`ClientError`].
+///
+/// ```
+/// use aok_proto::{Command, CommandDecoder, Decode, Error, Motor};
+/// // A typed value out of range.
+/// assert_eq!(Motor::new(13), Err(Error::InvalidMotor(13)));
+/// assert_eq!(Error::InvalidMotor(13).to_string(), "motor number 13 outside 1..=12");
+/// // A frame cut short.
+/// assert_eq!(Command::parse(&[0x73, 0x0C]), Err(Error::Truncated));
+/// // A decoder's events: motor 3 at 40 with a bad checksum (00, not 1B), then a read of 12.
+/// let mut decoder = CommandDecoder::new();
+/// let mut events = Vec::new();
+/// decoder.feed(&[0x33, 0x28, 0x00, 0x67, 0x0C], |event| events.push(event));
+/// let mismatch = Error::ChecksumMismatch { id: 0x33, computed: 0x1B, received: 0x00 };
+/// assert_eq!(events, [Err(mismatch), Ok(Command::ReadParameter(12))]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -62,6 +77,21 @@ pub enum ClientError {
 }
 
 /// A serial port error, reduced to its kind (mirrors `embedded_hal_nb::serial::ErrorKind`).
+///
+/// ```
+/// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+/// # fn main() {
+/// use aok_proto::{Client, ClientError, Command, Config, FirmwareVersion, SerialError};
+/// use embedded_hal_nb::serial::ErrorKind;
+/// // A fake device (hidden here) whose port fails every write with a framing error.
+/// let mut device = FakeDevice::new();
+/// device.write_error = Some(ErrorKind::FrameFormat);
+/// let mut client = Client::new(device, Config::new(FirmwareVersion::LATEST));
+/// let failed = client.run(Command::SaveSet(1), fake_clock());
+/// assert_eq!(failed, Err(ClientError::Serial(SerialError::FrameFormat)));
+/// assert_eq!(failed.unwrap_err().to_string(), "serial error: FrameFormat");
+/// # }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -20,12 +20,52 @@ use crate::command::{Command, ParameterValue};
 
 /// The longest the async client waits for input before it looks at the clock again, in ms.
 /// Timeouts and quiet times are measured to within this.
+///
+/// ```
+/// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+/// # fn main() {
+/// use aok_proto::client::{AsyncClient, TICK_MS};
+/// use aok_proto::{ClientError, Command, Config, FirmwareVersion};
+/// // A fake device (hidden here) that has no waypoint to send, and a delay that moves a fake
+/// // clock.
+/// let delay = FakeDelay::new();
+/// let mut config = Config::new(FirmwareVersion::LATEST);
+/// config.debug_on = false;
+/// let mut client = AsyncClient::new(FakeDevice::new(), delay.clone(), config);
+/// let read = client.run(Command::ReadWaypoint(aok_proto::WaypointSlot::RamPoi), delay.clock());
+/// assert_eq!(block_on(read), Err(ClientError::Timeout));
+/// // The client waited in ticks of TICK_MS, and gave up at the first tick past 1000 ms.
+/// assert_eq!(delay.now() % TICK_MS, 0);
+/// assert!((1000..1000 + TICK_MS).contains(&delay.now()));
+/// # }
+/// ```
 pub const TICK_MS: u32 = 5;
 
 /// Bytes the in-memory port holds in each direction.
 const PIPE: usize = 32;
 
-/// The in-memory port between the state machine and the async transport.
+/// The in-memory port between the state machine and the async transport: the serial port of
+/// the [`Client`] inside an [`AsyncClient`] ([`AsyncClient::state`]). Only the async client
+/// makes one.
+///
+/// ```
+/// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+/// # fn main() {
+/// use aok_proto::client::{AsyncClient, Pipe};
+/// use aok_proto::{Client, Config, DebugValue, FirmwareVersion, Message};
+/// /// Takes the debug values the state machine has received.
+/// fn debug_values(state: &mut Client<Pipe>) -> Vec<DebugValue> {
+///     core::iter::from_fn(|| state.next_debug()).collect()
+/// }
+/// // A fake device (hidden here) sends the flight status before the client turns debug off.
+/// let mut device = FakeDevice::new();
+/// device.send(Message::Debug(DebugValue { number: 86, value: 3 }));
+/// let delay = FakeDelay::new();
+/// let mut client = AsyncClient::new(device, delay.clone(), Config::new(FirmwareVersion::LATEST));
+/// assert_eq!(block_on(client.read_parameter(12, delay.clock())), Ok(120));
+/// assert_eq!(debug_values(client.state_mut()), [DebugValue { number: 86, value: 3 }]);
+/// # }
+/// ```
 #[derive(Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Pipe {
@@ -175,6 +215,32 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// # Errors
     /// As [`Client::run`]: [`ClientError::Timeout`], [`ClientError::Rejected`], [`ClientError::Busy`],
     /// [`ClientError::Serial`] when the transport fails (its error reduced to a kind), ...
+    ///
+    /// ```
+    /// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+    /// # fn main() {
+    /// use aok_proto::client::AsyncClient;
+    /// use aok_proto::{ClientError, Command, Config, FirmwareVersion, Outcome, ParameterValue,
+    ///                 SerialError};
+    /// // A fake device (hidden here) where parameter n holds n * 10, and a delay that moves a
+    /// // fake clock, which `delay.clock()` reads.
+    /// let delay = FakeDelay::new();
+    /// let mut client = AsyncClient::new(FakeDevice::new(), delay.clone(),
+    ///                                   Config::new(FirmwareVersion::LATEST));
+    /// let outcome = block_on(client.run(Command::ReadParameter(12), delay.clock()));
+    /// assert_eq!(outcome, Ok(Outcome::Parameter(ParameterValue { number: 12, value: 120 })));
+    /// // The drain after debug-off waited for 50 quiet ms.
+    /// assert!(delay.now() >= 50);
+    /// let (mut device, delay) = client.release();
+    /// assert_eq!(device.take_sent(), [0x63, 0x01, 0x67, 0x0C, 0x63, 0x02]);
+    ///
+    /// // The port fails: the transport's error, reduced to a kind.
+    /// device.unplug();
+    /// let mut client = AsyncClient::new(device, delay.clone(), Config::new(FirmwareVersion::LATEST));
+    /// let failed = block_on(client.run(Command::SaveSet(1), delay.clock()));
+    /// assert_eq!(failed, Err(ClientError::Serial(SerialError::Other)));
+    /// # }
+    /// ```
     pub async fn run(
         &mut self,
         command: Command,
@@ -196,7 +262,22 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// # Errors
     /// As [`AsyncClient::run`].
     ///
-    /// See the type's example.
+    /// ```
+    /// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+    /// # fn main() {
+    /// use aok_proto::client::AsyncClient;
+    /// use aok_proto::{Config, FirmwareVersion};
+    /// // A fake device (hidden here) and a delay that moves a fake clock.
+    /// let mut device = FakeDevice::new();
+    /// device.params[12] = 1500;
+    /// let delay = FakeDelay::new();
+    /// let mut client = AsyncClient::new(device, delay.clone(), Config::new(FirmwareVersion::LATEST));
+    /// assert_eq!(block_on(client.read_parameter(12, delay.clock())), Ok(1500));
+    /// assert_eq!(block_on(client.read_parameter(13, delay.clock())), Ok(130));
+    /// // Debug output is on again after each read.
+    /// assert!(client.state().debug_enabled());
+    /// # }
+    /// ```
     pub async fn read_parameter(
         &mut self,
         number: u8,
@@ -268,8 +349,24 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
         &self.client
     }
 
-    /// The state machine, mutably (take debug values, [`Client::assume_debug`]). See
-    /// [`AsyncClient::state`].
+    /// The state machine, mutably (take debug values, [`Client::assume_debug`]).
+    ///
+    /// ```
+    /// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+    /// # fn main() {
+    /// use aok_proto::client::AsyncClient;
+    /// use aok_proto::{Config, FirmwareVersion};
+    /// // A fake device (hidden here) reconnected with debug output off, and a fake delay.
+    /// let delay = FakeDelay::new();
+    /// let mut client = AsyncClient::new(FakeDevice::new(), delay.clone(),
+    ///                                   Config::new(FirmwareVersion::LATEST));
+    /// client.state_mut().assume_debug(false);
+    /// assert_eq!(block_on(client.read_parameter(12, delay.clock())), Ok(120));
+    /// // Only the request went out: no debug off and on, no drain.
+    /// assert_eq!(client.release().0.take_sent(), [0x67, 0x0C]);
+    /// assert!(delay.now() < 50);
+    /// # }
+    /// ```
     pub fn state_mut(&mut self) -> &mut Client<Pipe> {
         &mut self.client
     }
@@ -277,18 +374,19 @@ impl<S: Read + Write, D: DelayNs> AsyncClient<S, D> {
     /// Gives the port and the delay back.
     ///
     /// ```
-    /// # struct P;
-    /// # impl embedded_io_async::ErrorType for P { type Error = core::convert::Infallible; }
-    /// # impl embedded_io_async::Read for P {
-    /// #     async fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> { Ok(0) } }
-    /// # impl embedded_io_async::Write for P {
-    /// #     async fn write(&mut self, b: &[u8]) -> Result<usize, Self::Error> { Ok(b.len()) }
-    /// #     async fn flush(&mut self) -> Result<(), Self::Error> { Ok(()) } }
-    /// # struct D;
-    /// # impl embedded_hal_async::delay::DelayNs for D { async fn delay_ns(&mut self, _: u32) {} }
-    /// use aok_proto::{client::AsyncClient, Config, FirmwareVersion};
-    /// let client = AsyncClient::new(P, D, Config::new(FirmwareVersion::LATEST));
-    /// let (_port, _delay) = client.release();
+    /// # include!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/client/doc_device.rs"));
+    /// # fn main() {
+    /// use aok_proto::client::AsyncClient;
+    /// use aok_proto::{Config, FirmwareVersion};
+    /// // A fake device (hidden here) and a delay that moves a fake clock.
+    /// let delay = FakeDelay::new();
+    /// let mut client = AsyncClient::new(FakeDevice::new(), delay.clone(),
+    ///                                   Config::new(FirmwareVersion::LATEST));
+    /// assert_eq!(block_on(client.set_parameter(12, 1500, delay.clock())), Ok(()));
+    /// let (device, _delay) = client.release();
+    /// assert_eq!(device.params[12], 1500);
+    /// assert!(device.debug_on);
+    /// # }
     /// ```
     pub fn release(self) -> (S, D) {
         (self.serial, self.delay)
