@@ -48,7 +48,7 @@ def test_aeolus_roundtrip(name, data):
     fields = data.draw(AEOLUS[name])
     frame = aeolus.encode(name, **fields)
     m = one(aeolus.Decoder(), frame)
-    assert m.name == name and m.len == len(frame) and m.meta["crc"] == "ok"
+    assert m.name == name and m.wire_len == len(frame) and m.meta["crc"] == "ok"
     got = m.to_dict()
     if name in ("TOAST", "COMMAND"):
         raw = bytes.fromhex(fields["hex"]) if "hex" in fields else fields["text"].encode()
@@ -63,7 +63,7 @@ def test_aeolus_roundtrip(name, data):
 def test_aeolus_unknown_roundtrip(id, data):
     frame = aeolus.encode("UNKNOWN", id=id, data=data)
     m = one(aeolus.Decoder(), frame)
-    assert (m.name, m.id, m.data, m.len) == ("UNKNOWN", id, data.hex(), len(frame))
+    assert (m.name, m.id, m.data, m.len, m.wire_len) == ("UNKNOWN", id, data.hex(), len(data), len(frame))
     assert aeolus.encode("UNKNOWN", id=m.id, **m.to_dict()) == frame
 
 
@@ -105,7 +105,7 @@ def test_aydp_roundtrip(profile, name, data):
                                    "subsec": data.draw(st.integers(0, SUBSEC[profile]))}
     frame = aydp.encode(name, profile=profile, expedited=expedited, time=time, **fields)
     m = one(aydp.Decoder(profile=profile), frame)
-    assert m.name == name and m.len == len(frame)
+    assert m.name == name and m.wire_len == len(frame)
     assert m.meta["expedited"] == expedited and m.meta.get("time") == time
     assert same(m.to_dict(), fields), (m.to_dict(), fields)
     again = aydp.encode(m.name, profile=profile, expedited=m.meta["expedited"], time=m.meta.get("time"), **m.to_dict())
@@ -117,7 +117,7 @@ def test_aydp_vectors_bytes():
     checked = 0
     for v in vectors("aydp-messages.json"):
         events = aydp.Decoder(v["profile"]).feed(bytes.fromhex(v["bytes"]))
-        if len(events) != 1 or events[0].is_error or len(bytes.fromhex(v["bytes"])) != events[0].len:
+        if len(events) != 1 or events[0].is_error or len(bytes.fromhex(v["bytes"])) != events[0].wire_len:
             continue
         m = events[0]
         frame = aydp.encode(m.name, profile=v["profile"], expedited=m.meta["expedited"],
@@ -136,7 +136,7 @@ def test_aok_roundtrip(side, name, data):
     fields = data.draw((COMMANDS if side == "pc" else MESSAGES)[name])
     frame = aok.encode(name, **fields)
     m = one(aok.Decoder(side=side), frame)
-    assert m.name == name and m.len == len(frame) and m.id == frame[0]
+    assert m.name == name and m.wire_len == len(frame) and m.id == frame[0]
     assert m.to_dict() == fields
     assert aok.encode(m.name, **m.to_dict()) == frame
 
