@@ -9,16 +9,29 @@ Event = Union["Message", "ErrorEvent"]
 Buffer = Union[bytes, bytearray, memoryview, Any]
 
 class Message:
-    """A decoded message: one attribute per field in the protocol crate's units."""
+    """A decoded message: one attribute per field in the protocol crate's units. A field wins
+    over the attribute of its name: ``m.x`` is ``m["x"]`` whenever the message has a field
+    ``x`` (GDL90 FOREFLIGHT_ID's ``name``, GDL90 UNKNOWN's ``id``, the ``len`` of the AEOLUS
+    raw messages)."""
 
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The message's name; the field ``name`` where there is one (``get_type()`` is
+        always the message's name)."""
     @property
-    def id(self) -> Optional[int]: ...
+    def id(self) -> Optional[int]:
+        """The message's identifier on the wire; the field ``id`` where there is one (GDL90
+        UNKNOWN: the same number)."""
     @property
     def offset(self) -> int: ...
     @property
-    def len(self) -> Optional[int]: ...
+    def wire_len(self) -> Optional[int]:
+        """The message's length on the wire, in bytes: ``meta["len"]``."""
+    @property
+    def len(self) -> Any:
+        """The field ``len`` where there is one (AEOLUS CALIBINFO, DEBUGINFO, LOG, UNKNOWN:
+        the data's length); elsewhere the deprecated name of ``wire_len``
+        (``DeprecationWarning``)."""
     @property
     def proto(self) -> str: ...
     @property
@@ -51,7 +64,10 @@ class ErrorEvent:
     @property
     def id(self) -> None: ...
     @property
-    def len(self) -> None: ...
+    def wire_len(self) -> None: ...
+    @property
+    def len(self) -> None:
+        """The deprecated name of ``wire_len`` (``DeprecationWarning``)."""
     @property
     def proto(self) -> str: ...
     @property

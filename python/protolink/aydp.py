@@ -2,7 +2,8 @@
 profile): the stream ``Decoder`` and ``encode``.
 
 Fields are the Rust crate's (``aydp-proto``), exactly the ``"fields"`` of ``protolink decode
---json``; the header (``type``, ``expedited``, ``len``, ``time``) is in ``Message.meta``.
+--json``; the header (``type``, ``expedited``, ``len``, ``time``) is in ``Message.meta``
+(``to_frames``: the columns ``meta.type``, ..., ``meta.time.seconds``, ``meta.time.subsec``).
 """
 
 from typing import Any, Mapping, Optional, Tuple, Union

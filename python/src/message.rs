@@ -5,11 +5,19 @@
 //! the first time one is read, once: an AEOLUS message keeps its frame's data and renders it
 //! with the host tool's `aeolus_fields`; the others keep the host tool's rendered fields. Either
 //! way the fields are exactly the `"fields"` of `protolink decode --json`.
+//!
+//! A field wins over the attribute of its name: `m.x` is `m["x"]` whenever the message has a
+//! field `x`. Three attributes have a field of their name in some message type (`name`: GDL90
+//! FOREFLIGHT_ID; `id`: GDL90 UNKNOWN; `len`: the AEOLUS raw messages); each reads that field
+//! there, and what the attribute stands for has a name no field has (`get_type()`,
+//! `wire_len`; the ID is the same number). `python/tests/test_field_names.py` checks every
+//! message type for it.
 
 use protolink::commands::decode::capture::proto_name;
 use protolink::decoders::{Body as EventBody, aeolus_fields, aeolus_meta};
 use protolink::proto::Proto;
-use pyo3::exceptions::{PyAttributeError, PyKeyError};
+use pyo3::IntoPyObjectExt;
+use pyo3::exceptions::{PyAttributeError, PyDeprecationWarning, PyKeyError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList, PyString};
@@ -45,7 +53,8 @@ enum Body {
 }
 
 /// A decoded message: `name`, `id`, `offset`, and one attribute per field in the protocol
-/// crate's units (also `msg["field"]` and `to_dict()`).
+/// crate's units (also `msg["field"]` and `to_dict()`); a field wins over the attribute of
+/// its name.
 #[pyclass(frozen, module = "protolink", name = "Message")]
 pub(crate) struct Message {
     proto: Proto,
@@ -131,12 +140,13 @@ fn aeolus_typed<'py>(py: Python<'py>, f: &AeolusFrame) -> Option<PyResult<Bound<
     Some(fields.and_then(|d| d.cast_into::<PyDict>().map_err(PyErr::from)))
 }
 
-/// The attributes every message has, beside its fields (for `dir()`).
+/// The attributes every message has, beside its fields (for `dir()`; not the deprecated
+/// `len`, which is listed only where it is a field).
 const MESSAGE_ATTRIBUTES: [&str; 12] = [
     "name",
     "id",
     "offset",
-    "len",
+    "wire_len",
     "proto",
     "meta",
     "capture_time",
@@ -147,7 +157,55 @@ const MESSAGE_ATTRIBUTES: [&str; 12] = [
     "is_error",
 ];
 
+/// What `Message.len` and `ErrorEvent.len` warn where they are not a field.
+const LEN_DEPRECATED: &std::ffi::CStr = c"Message.len is deprecated: use wire_len, the length on the wire (on a message with a field named len, m.len is that field, as m[\"len\"])";
+
+/// Warns that `len` is deprecated (an exception if warnings are errors).
+fn warn_len(py: Python<'_>) -> PyResult<()> {
+    PyErr::warn(
+        py,
+        py.get_type::<PyDeprecationWarning>().as_any(),
+        LEN_DEPRECATED,
+        1,
+    )
+}
+
 impl Message {
+    /// The field `key` when the message has one: a field wins over the attribute of its name.
+    /// Looks without building the Python fields where it can: of the AEOLUS messages, only the
+    /// texts and raw data (rendered by the host tool) have a field named like an attribute;
+    /// the typed ones have none (`python/tests/test_field_names.py` checks every type).
+    fn field_named<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let has = match &self.body {
+            Body::Aeolus(f) => {
+                use aeolus_proto::message::Message as M;
+                matches!(
+                    M::parse(f.id, &f.data),
+                    Ok(M::CalibInfo(_)
+                        | M::DebugInfo(_)
+                        | M::Log(_)
+                        | M::Toast(_)
+                        | M::Command(_)
+                        | M::Unknown { .. })
+                )
+            }
+            Body::Rendered { fields, .. } => fields.get(key).is_some(),
+        };
+        if has {
+            self.fields(py)?.get_item(key)
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// The message's length on the wire.
+    fn wire_len_value(&self) -> Option<u64> {
+        match &self.body {
+            Body::Aeolus(f) => Some(f.len),
+            Body::Rendered { meta, .. } => meta.get("len").and_then(Value::as_u64),
+        }
+    }
+
     /// The message's fields, rendered as `protolink decode --json` renders them.
     fn rendered(&self) -> Value {
         match &self.body {
@@ -202,9 +260,20 @@ impl Message {
 
 #[pymethods]
 impl Message {
-    /// The message's name, e.g. `GYRO`, `POSITION`, `SET_PARAMETER`, `HEARTBEAT`.
+    /// The message's name, e.g. `GYRO`, `POSITION`, `SET_PARAMETER`, `HEARTBEAT`; the field
+    /// `name` where the message has one (GDL90 FOREFLIGHT_ID: the device's name), as
+    /// `m["name"]`.
     #[getter]
-    fn name<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
+    fn name<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        if let Some(field) = self.field_named(py, "name")? {
+            return Ok(field);
+        }
+        Ok(self.get_type(py).into_any())
+    }
+
+    /// The message's name, as pymavlink's `get_type()` gives it: always the message's, even
+    /// where a field is named `name`.
+    fn get_type<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
         match &self.body {
             Body::Aeolus(f) => PyString::intern(
                 py,
@@ -215,23 +284,23 @@ impl Message {
         }
     }
 
-    /// The name, as pymavlink's `get_type()` gives it.
-    fn get_type<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
-        self.name(py)
-    }
-
     /// The message's identifier on the wire: the AEOLUS and GDL90 message ID, the AYDP base
     /// type, the first byte of an AOK frame (its command letter, or the reply's start byte).
+    /// The field `id` where the message has one (GDL90 UNKNOWN: the same ID), as `m["id"]`.
     #[getter]
-    fn id(&self) -> Option<u64> {
-        match &self.body {
+    fn id<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        if let Some(field) = self.field_named(py, "id")? {
+            return Ok(Some(field));
+        }
+        let id = match &self.body {
             Body::Aeolus(f) => Some(u64::from(f.id)),
             Body::Rendered { name, meta, fields } => match self.proto {
                 Proto::Aydp => meta.get("type").and_then(Value::as_u64),
                 Proto::Aok => crate::aok::first_byte(name, fields).map(u64::from),
                 Proto::Aeolus | Proto::Gdl90 => meta.get("id").and_then(Value::as_u64),
             },
-        }
+        };
+        id.map(|id| id.into_bound_py_any(py)).transpose()
     }
 
     /// Offset of the message's first byte in the input (within its flow, for a capture).
@@ -240,13 +309,25 @@ impl Message {
         self.offset
     }
 
-    /// The message's length on the wire, in bytes (AEOLUS and GDL90: both flags included).
+    /// The message's length on the wire, in bytes (AEOLUS and GDL90: both flags and the
+    /// escapes included): `meta["len"]`.
     #[getter]
-    fn len(&self) -> Option<u64> {
-        match &self.body {
-            Body::Aeolus(f) => Some(f.len),
-            Body::Rendered { meta, .. } => meta.get("len").and_then(Value::as_u64),
+    fn wire_len(&self) -> Option<u64> {
+        self.wire_len_value()
+    }
+
+    /// The field `len` where the message has one (the AEOLUS raw messages CALIBINFO,
+    /// DEBUGINFO, LOG and UNKNOWN: their data's length), as `m["len"]`; elsewhere the
+    /// deprecated name of `wire_len` (with a `DeprecationWarning`).
+    #[getter]
+    fn len<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        if let Some(field) = self.field_named(py, "len")? {
+            return Ok(Some(field));
         }
+        warn_len(py)?;
+        self.wire_len_value()
+            .map(|n| n.into_bound_py_any(py))
+            .transpose()
     }
 
     /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
@@ -376,8 +457,15 @@ impl ErrorEvent {
 
     /// None: the bytes of a failed frame are counted in the decoder's stats.
     #[getter]
-    fn len(&self) -> Option<u64> {
+    fn wire_len(&self) -> Option<u64> {
         None
+    }
+
+    /// None, the deprecated name of `wire_len` (with a `DeprecationWarning`).
+    #[getter]
+    fn len(&self, py: Python<'_>) -> PyResult<Option<u64>> {
+        warn_len(py)?;
+        Ok(None)
     }
 
     /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.

@@ -350,7 +350,8 @@ impl Reader {
             let matches = match &names {
                 None => true,
                 Some(names) => {
-                    let name: String = b.getattr("name")?.extract()?;
+                    // The message's name, even where a field is named `name`.
+                    let name: String = b.call_method0("get_type")?.extract()?;
                     names.contains(&name)
                 }
             };

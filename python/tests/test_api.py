@@ -27,7 +27,7 @@ def test_names():
 def test_message_attributes():
     d = aeolus.Decoder()
     (m,) = d.feed(b"\x00" * 3 + GYRO)
-    assert (m.name, m.get_type(), m.id, m.offset, m.len, m.proto) == ("GYRO", "GYRO", 62, 3, len(GYRO), "aeolus")
+    assert (m.name, m.get_type(), m.id, m.offset, m.wire_len, m.proto) == ("GYRO", "GYRO", 62, 3, len(GYRO), "aeolus")
     assert (m.valid, m.timestamp_ms, m.x, m.y, m.z) == (True, 7.0, 0.5, -1.25, 0.0078125)
     assert m["y"] == -1.25 and "z" in m and "w" not in m
     assert m.meta == {"id": 62, "len": 38, "crc": "ok"}  # one byte escaped
@@ -48,7 +48,7 @@ def test_error_event_attributes():
     bad = bytearray(GYRO)
     bad[5] ^= 0xFF
     (e,) = aeolus.Decoder().feed(bytes(bad))
-    assert (e.name, e.get_type(), e.is_error, e.kind, e.offset, e.id, e.len) == (
+    assert (e.name, e.get_type(), e.is_error, e.kind, e.offset, e.id, e.wire_len) == (
         "ERROR", "ERROR", True, "checksum_mismatch", 0, None, None)
     assert e.error.startswith("CRC mismatch on message 62")
     assert e.to_dict() == {"kind": "checksum_mismatch", "error": e.error}

@@ -1,5 +1,6 @@
-"""`to_frames`: one pandas DataFrame per message type, with the right number of rows, a time
-column, and the README's three-line example working as printed."""
+"""`to_frames`: one pandas DataFrame per message type, with the right number of rows, the
+metadata columns and the README's three-line example working as printed (test_frames_agree.py
+checks every cell against the iterator)."""
 
 import random
 import re
@@ -26,18 +27,22 @@ def test_rows_of_a_raw_file():
     frames = protolink.to_frames(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")
     assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
     gyro = frames["GYRO"]
-    assert list(gyro.columns) == ["time", "offset", "valid", "timestamp_ms", "x", "y", "z"]
+    assert list(gyro.columns) == ["capture_time", "offset", "meta.id", "meta.len", "meta.crc",
+                                  "valid", "timestamp_ms", "x", "y", "z"]
     assert gyro["offset"].iloc[0] == 15 and gyro["y"].iloc[0] == pytest.approx(0.024415644)
-    assert gyro["time"].isna().all()  # a plain byte file has no clock
+    assert gyro["capture_time"].isna().all()  # a plain byte file has no clock
+    assert set(gyro["meta.id"]) == {62} and set(gyro["meta.crc"]) == {"ok"}
 
 
 def test_rows_of_a_capture(tmp_path):
     frames = protolink.to_frames(recorded(tmp_path))
     assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
     gyro = frames["GYRO"]
-    assert list(gyro.columns[:3]) == ["time", "offset", "flow"]
-    assert gyro["time"].notna().all() and (gyro["time"] > 1e9).all()
-    assert set(gyro["flow"]) == {"stream 0 linktype 147"}
+    assert list(gyro.columns[:8]) == ["capture_time", "offset", "flow", "frame", "proto", "meta.id", "meta.len",
+                                      "meta.crc"]
+    assert gyro["capture_time"].notna().all() and (gyro["capture_time"] > 1e9).all()
+    assert set(gyro["flow"]) == {"stream 0 linktype 147"} and set(gyro["proto"]) == {"aeolus"}
+    assert gyro["frame"].iloc[0] == 1
 
 
 def test_rows_of_messages_and_errors():
@@ -46,7 +51,7 @@ def test_rows_of_messages_and_errors():
     events += d.finish()
     frames = protolink.to_frames(events)
     assert {k: len(v) for k, v in frames.items()} == {"HEARTBEAT": 5, "POSITION": 5, "FIX_QUALITY": 5, "ERROR": 1}
-    assert list(frames["ERROR"].columns) == ["time", "offset", "kind", "error"]
+    assert list(frames["ERROR"].columns) == ["capture_time", "offset", "kind", "error"]
     assert frames["ERROR"]["kind"].iloc[0] == "truncated"
     assert list(frames["POSITION"]["altitude"]) == [1000.0] * 5
     # errors=False leaves them out (an option of open).
@@ -77,18 +82,23 @@ def test_readme_example(tmp_path):
     assert len(block.strip().splitlines()) == 3
     recorded(tmp_path)
     out = subprocess.run([PYTHON, "-c", block], capture_output=True, check=True, cwd=tmp_path).stdout.decode()
-    assert "[248 rows x 8 columns]" in out and out.split()[:2] == ["time", "offset"]
+    assert "[248 rows x 13 columns]" in out and out.split()[:2] == ["capture_time", "offset"]
 
 
 def from_records(messages):
-    """to_frames as it was before issue 44: a dict per row, then DataFrame.from_records."""
+    """to_frames as it was before issue 44: a dict per row, then DataFrame.from_records (with
+    the columns of issue 46)."""
     rows = {}
     for m in messages:
-        row = {"time": m.capture_time, "offset": m.offset}
+        row = {"capture_time": m.capture_time, "offset": m.offset}
         if m.flow is not None:
-            row["flow"] = m.flow
+            row.update(flow=m.flow, frame=m.frame, proto=m.proto)
+        if not m.is_error:
+            row.update({f"meta.{k}": v for k, v in m.meta.items()})
+            if "meta.time" in row:
+                row.update({f"meta.time.{k}": v for k, v in row.pop("meta.time").items()})
         row.update(m.to_dict())
-        rows.setdefault(m.name, []).append(row)
+        rows.setdefault(m.get_type(), []).append(row)
     return {name: pd.DataFrame.from_records(r) for name, r in rows.items()}
 
 

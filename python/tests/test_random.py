@@ -69,7 +69,7 @@ def test_random_bytes(kind, data):
     messages = [e for e in events if not e.is_error]
     errors = [e for e in events if e.is_error]
     assert all(e.kind and e.error for e in errors)
-    assert all(isinstance(m.name, str) and m.len > 0 for m in messages)
+    assert all(isinstance(m.name, str) and m.wire_len > 0 for m in messages)
     assert whole.bytes_fed == len(raw)
     if kind in ("aeolus", "gdl90"):
         # Every byte is noise, frame or flag.
@@ -88,11 +88,11 @@ def test_random_bytes(kind, data):
         assert len(malformed) == s["malformed"]
         assert len(messages) + s["malformed"] == s["frames_ok"]
         assert len(errors) == s["checksum_errors"] + s["length_errors"] + s["malformed"] + s["truncated"]
-        frames = sum(m.len for m in messages) + sum(aydp_frame_len(raw, e, profile) for e in malformed)
+        frames = sum(m.wire_len for m in messages) + sum(aydp_frame_len(raw, e, profile) for e in malformed)
         assert s["bytes_discarded"] + frames == len(raw)
     else:
         # Every byte is part of a message or discarded.
-        assert s["bytes_discarded"] + sum(m.len for m in messages) == len(raw)
+        assert s["bytes_discarded"] + sum(m.wire_len for m in messages) == len(raw)
         assert len(errors) == s["checksum_errors"] + s["invalid"] + s["abandoned"]
 
 

@@ -198,7 +198,7 @@ def test_recorded_gdl90_capture(tmp_path):
     run_protolink("sim", "--udp-out", f"127.0.0.1:{aeolus_port}", "--udp-in", str(port_in), "--seconds", "3")
     assert bridge.wait(timeout=20) == 0 and rec.wait(timeout=20) == 0
     events = check_capture(cap, "--proto", "gdl90", proto="gdl90")
-    names = {m.name for m in events}
+    names = {m.get_type() for m in events}  # FOREFLIGHT_ID's `name` is the device's
     assert {"HEARTBEAT", "OWNSHIP", "FOREFLIGHT_AHRS"} <= names, names
 
 

@@ -1,0 +1,196 @@
+"""`to_frames` gives what the iterator gives: for each protocol and each message type, every
+field and every metadata value of every message (`offset`, `capture_time`, the capture's
+`flow`, `frame` and `proto`, and each entry of `Message.meta`, AYDP's header `time` among
+them) in the columns python/README.md names, on the sample streams of testdata/ as byte files
+and as pcapng captures, on GDL90 frames of every type, and on streams of every message type
+drawn by hypothesis."""
+
+import math
+import pathlib
+import subprocess
+import tempfile
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import protolink
+from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA
+from strategies import KINDS, every_type
+
+# The options of `open` (and so of `to_frames`) for each stream kind.
+OPTIONS = {
+    "aeolus": {"proto": "aeolus"},
+    "aydp-spec": {"proto": "aydp", "profile": "spec"},
+    "aydp-reference": {"proto": "aydp", "profile": "reference"},
+    "aok-pc": {"proto": "aok", "side": "pc"},
+    "aok-device": {"proto": "aok", "side": "device"},
+    "gdl90": {"proto": "gdl90"},
+}
+# `protolink record`'s options for a byte stream of each kind.
+RECORD = {
+    "aeolus": ["--proto", "aeolus"],
+    "aydp-spec": ["--proto", "aydp", "--profile", "spec"],
+    "aydp-reference": ["--proto", "aydp", "--profile", "reference"],
+    "aok-pc": ["--proto", "aok"],
+    "aok-device": ["--proto", "aok"],
+    "gdl90": ["--proto", "gdl90"],
+}
+SAMPLES = [
+    ("qemu-uart0-aeolus.bin", "aeolus"),
+    ("qemu-uart1-aydp.bin", "aydp-spec"),
+    ("qemu-uart2-aok.bin", "aok-device"),
+    # Another side's or profile's view of the same bytes: error events among the messages.
+    ("qemu-uart2-aok.bin", "aok-pc"),
+    ("qemu-uart1-aydp.bin", "aydp-reference"),
+]
+
+
+def decoder(kind):
+    options = {k: v for k, v in OPTIONS[kind].items() if k != "proto"}
+    return getattr(protolink, OPTIONS[kind]["proto"]).Decoder(**options)
+
+
+def expected_row(m):
+    """The row `to_frames` gives message or error event `m`, as python/README.md words the
+    rule: `capture_time`, `offset`; from a capture `flow`, `frame` and `proto`; each entry of
+    `meta` as `meta.KEY` (a nested one as `meta.KEY.SUB`); then the fields under their own
+    names. (metadata columns, field columns)."""
+    meta = {"capture_time": m.capture_time, "offset": m.offset}
+    if m.flow is not None:
+        meta.update(flow=m.flow, frame=m.frame, proto=m.proto)
+    if not m.is_error:
+        for key, value in m.meta.items():
+            if isinstance(value, dict):
+                meta.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
+            else:
+                meta[f"meta.{key}"] = value
+    fields = m.to_dict()
+    assert not meta.keys() & fields.keys(), (m, fields)  # no field is named like metadata
+    return meta, fields
+
+
+def same(got, want):
+    """A frame's cell equals the message's value (pandas reads None as NaN in a number column,
+    and gives an int column with a None as floats)."""
+    if want is None:
+        return got is None or (isinstance(got, float) and math.isnan(got))
+    if isinstance(want, float) and math.isnan(want):
+        return isinstance(got, float) and math.isnan(got)
+    return type(got) is type(want) and got == want if isinstance(want, (bool, str)) else got == want
+
+
+def assert_agree(frames, events):
+    """`frames` (from to_frames) holds `events` (from the iterator): one frame per type, one
+    row per message in order, metadata columns first, then fields, each in the order they first
+    appear; every cell the message's value."""
+    by_type = {}
+    for e in events:
+        by_type.setdefault(e.get_type(), []).append(e)
+    assert sorted(frames) == sorted(by_type)
+    for name, messages in by_type.items():
+        frame = frames[name]
+        rows = [expected_row(m) for m in messages]
+        meta_columns, field_columns = {}, {}
+        for meta, fields in rows:
+            meta_columns.update(dict.fromkeys(meta))
+            field_columns.update(dict.fromkeys(fields))
+        assert list(frame.columns) == [*meta_columns, *field_columns], name
+        assert len(frame) == len(messages), name
+        for column in frame.columns:
+            cells = frame[column].tolist()
+            for i, (meta, fields) in enumerate(rows):
+                want = meta.get(column, fields.get(column))
+                assert same(cells[i], want), (name, column, i, cells[i], want)
+
+
+def record(path, kind, out):
+    subprocess.run([PROTOLINK, "record", "--from", f"file:{path}", *RECORD[kind], "--out", str(out)],
+                   check=True, capture_output=True)
+    return out
+
+
+def check_byte_file(path, kind):
+    """to_frames of a byte file agrees with `open` and with `Decoder.feed`; so does to_frames
+    of the file recorded as a pcapng capture with `open` of that capture."""
+    frames = protolink.to_frames(path, **OPTIONS[kind])
+    assert_agree(frames, list(protolink.open(path, **OPTIONS[kind])))
+    d = decoder(kind)
+    assert_agree(frames, d.feed(path.read_bytes()) + d.finish())
+    cap = record(path, kind, path.with_suffix(".pcapng"))
+    captured = protolink.to_frames(cap, **OPTIONS[kind])
+    events = list(protolink.open(cap, **OPTIONS[kind]))
+    assert events and all(e.capture_time is not None and e.flow is not None for e in events)
+    assert_agree(captured, events)
+    return frames, captured
+
+
+@pytest.mark.parametrize("name,kind", SAMPLES)
+def test_samples_agree(tmp_path, name, kind):
+    path = tmp_path / name
+    path.write_bytes((TESTDATA / name).read_bytes())
+    check_byte_file(path, kind)
+
+
+def test_aydp_header_time_of_a_byte_file(tmp_path):
+    # A plain byte file has no capture time, but AYDP's header has its own: the columns
+    # meta.time.seconds and meta.time.subsec (the normal header's; the expedited HEARTBEAT has
+    # none), what Message.meta["time"] holds.
+    frames = protolink.to_frames(TESTDATA / "qemu-uart1-aydp.bin", proto="aydp")
+    position = frames["POSITION"]
+    messages = [m for m in protolink.open(TESTDATA / "qemu-uart1-aydp.bin", proto="aydp") if m.name == "POSITION"]
+    assert list(position["meta.time.seconds"]) == [m.meta["time"]["seconds"] for m in messages] == [0, 1, 2, 3, 4]
+    assert list(position["meta.time.subsec"]) == [m.meta["time"]["subsec"] for m in messages]
+    assert position["capture_time"].isna().all()
+    assert list(position.columns[:6]) == ["capture_time", "offset", "meta.type", "meta.expedited", "meta.len",
+                                          "meta.time.seconds"]
+    assert "meta.time.seconds" not in frames["HEARTBEAT"]
+
+
+def test_gdl90_frames_agree(tmp_path):
+    # testdata/ holds no GDL90: a stream of every GDL90 type, twice, with a frame cut short.
+    path = tmp_path / "gdl90.bin"
+    path.write_bytes(b"".join(GDL90_FRAMES.values()) * 2 + GDL90_FRAMES["OWNSHIP"][:9])
+    frames, captured = check_byte_file(path, "gdl90")
+    assert set(frames) == set(GDL90_FRAMES) | {"ERROR"}
+    assert frames["FOREFLIGHT_ID"]["name"].tolist() == ["Box", "Box"]
+    assert frames["UNKNOWN"][["meta.id", "id", "meta.len"]].values.tolist() == [[7, 7, 8]] * 2
+
+
+class Named:
+    """A message whose fields are named like metadata columns, which no protocol's are."""
+
+    flow = frame = proto = capture_time = None
+    is_error = False
+    meta = {"len": 3}
+
+    def __init__(self, offset):
+        self.offset = offset
+
+    def get_type(self):
+        return "ODD"
+
+    def to_dict(self):
+        return {"offset": 99, "meta.len": 98, "field.x": 97, "x": self.offset}
+
+
+def test_a_field_named_like_metadata():
+    # The rule's other half: such a field would be the column `field.` and its name.
+    (frame,) = protolink.to_frames([Named(1), Named(2)]).values()
+    assert list(frame.columns) == ["capture_time", "offset", "meta.len", "field.offset", "field.meta.len",
+                                   "field.field.x", "x"]
+    assert frame.values.tolist() == [[None, 1, 3, 99, 98, 97, 1], [None, 2, 3, 99, 98, 97, 2]]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@settings(max_examples=15, deadline=None)
+@given(data=st.data())
+def test_every_type_agrees(kind, data):
+    # One message of every type the kind's decoder reads, in a drawn order, drawn fields.
+    frames = data.draw(every_type(kind))
+    stream = b"".join(f for _, f in frames) * data.draw(st.integers(1, 3))
+    with tempfile.TemporaryDirectory() as tmp:
+        path = pathlib.Path(tmp) / "every-type.bin"
+        path.write_bytes(stream)
+        got, _ = check_byte_file(path, kind)
+    assert set(got) == {name for name, _ in frames}
