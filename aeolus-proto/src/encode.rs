@@ -6,6 +6,13 @@ use crate::{
 };
 
 /// Whether an encoded frame carries a real CRC.
+///
+/// ```
+/// use aeolus_proto::{encode_frame, CrcMode};
+/// let mut out = [0u8; 16];
+/// let n = encode_frame(82, b"hi\0", &[], CrcMode::Omit, &mut out).unwrap();
+/// assert_eq!(&out[..n], &[0x7E, 0x52, b'h', b'i', 0x00, 0x00, 0x00, 0x7E]); // `00 00`: no CRC
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -178,6 +185,12 @@ pub struct FrameBytes<'a> {
 
 impl<'a> FrameBytes<'a> {
     /// Prepares the frame `id` + `data` (+ CRC).
+    ///
+    /// ```
+    /// use aeolus_proto::{CrcMode, FrameBytes};
+    /// let bytes: Vec<u8> = FrameBytes::new(82, b"hi\0", CrcMode::Compute).collect();
+    /// assert_eq!(bytes, [0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E]);
+    /// ```
     pub const fn new(id: u8, data: &'a [u8], mode: CrcMode) -> Self {
         FrameBytes {
             id,

@@ -7,6 +7,14 @@ use core::fmt;
 /// message.
 ///
 /// Decoders report these and carry on: no input makes them panic.
+///
+/// ```
+/// use aeolus_proto::{Decode, Decoder, Error};
+/// let mut d = Decoder::<64>::new();
+/// let mut got = Vec::new();
+/// d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x00, 0x01, 0x7E], |e| got.push(e.err()));
+/// assert!(matches!(got[0], Some(Error::ChecksumMismatch { id: 82, .. })));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -87,16 +87,34 @@ pub struct Encoder {
 
 impl Encoder {
     /// An encoder for `profile`.
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile};
+    /// assert_eq!(Encoder::new(Profile::Reference).profile(), Profile::Reference);
+    /// ```
     pub const fn new(profile: Profile) -> Self {
         Self { profile }
     }
 
     /// The profile this encoder follows.
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile};
+    /// assert_eq!(Encoder::default().profile(), Profile::Spec);
+    /// ```
     pub const fn profile(&self) -> Profile {
         self.profile
     }
 
     /// Whole message length for `payload`, normal or expedited.
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile, Raw};
+    /// let two = Raw { msg_type: 9, data: &[1, 2] };
+    /// // 6-byte header or 22-byte header, the data, the checksum.
+    /// assert_eq!(Encoder::new(Profile::Spec).frame_len(&two, true), 9);
+    /// assert_eq!(Encoder::new(Profile::Spec).frame_len(&two, false), 25);
+    /// ```
     pub fn frame_len<P: Payload + ?Sized>(&self, payload: &P, expedited: bool) -> usize {
         payload
             .data_len()
@@ -104,6 +122,19 @@ impl Encoder {
     }
 
     /// Encode a normal message (22-byte header with `timestamp`) into `buf`; returns its length.
+    ///
+    /// # Errors
+    /// As [`Encoder::encode`].
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile, Raw, Timestamp};
+    /// let mut buf = [0u8; 32];
+    /// let n = Encoder::new(Profile::Spec)
+    ///     .encode_normal(&Raw { msg_type: 9, data: &[2] }, Timestamp::new(1, 0), &mut buf)
+    ///     .unwrap();
+    /// assert_eq!(n, 24);
+    /// assert_eq!(&buf[..2], &[0xFF, 0x09]); // the start byte, the type without the 0x80 bit
+    /// ```
     pub fn encode_normal<P: Payload + ?Sized>(
         &self,
         payload: &P,
@@ -118,6 +149,18 @@ impl Encoder {
     /// # Errors
     /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile, which has no expedited
     /// header; otherwise as [`Encoder::encode`].
+    ///
+    /// ```
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+    /// let mut buf = [0u8; 16];
+    /// let raw = Raw { msg_type: 9, data: &[2] };
+    /// assert_eq!(Encoder::new(Profile::Spec).encode_expedited(&raw, &mut buf), Ok(8));
+    /// assert_eq!(buf[1], 0x89); // type 9 with the expedited bit
+    /// assert_eq!(
+    ///     Encoder::new(Profile::Reference).encode_expedited(&raw, &mut buf),
+    ///     Err(EncodeError::ExpeditedInReference)
+    /// );
+    /// ```
     pub fn encode_expedited<P: Payload + ?Sized>(
         &self,
         payload: &P,
@@ -131,6 +174,21 @@ impl Encoder {
     /// # Errors
     /// [`EncodeError::ExpeditedInReference`] for `None` in the `Reference` profile (checked
     /// first), [`EncodeError::BufferTooSmall`], [`EncodeError::BadType`] and [`EncodeError::TooLong`].
+    ///
+    /// ```
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+    /// let enc = Encoder::new(Profile::Spec);
+    /// let mut buf = [0u8; 8];
+    /// assert_eq!(enc.encode(&Raw { msg_type: 9, data: &[2] }, None, &mut buf), Ok(8));
+    /// assert_eq!(
+    ///     enc.encode(&Raw { msg_type: 9, data: &[2, 3] }, None, &mut buf),
+    ///     Err(EncodeError::BufferTooSmall { needed: 9 })
+    /// );
+    /// assert_eq!(
+    ///     enc.encode(&Raw { msg_type: 127, data: &[] }, None, &mut buf),
+    ///     Err(EncodeError::BadType(127))
+    /// );
+    /// ```
     pub fn encode<P: Payload + ?Sized>(
         &self,
         payload: &P,
@@ -161,6 +219,16 @@ impl Encoder {
     }
 
     /// The message as a byte iterator, normal, without any output buffer.
+    ///
+    /// # Errors
+    /// As [`Encoder::iter`].
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile, Raw, Timestamp};
+    /// let raw = Raw { msg_type: 9, data: &[2] };
+    /// let it = Encoder::new(Profile::Spec).iter_normal(&raw, Timestamp::new(1, 0)).unwrap();
+    /// assert_eq!(it.len(), 24);
+    /// ```
     pub fn iter_normal<'p, P: Payload + ?Sized>(
         &self,
         payload: &'p P,
@@ -174,6 +242,13 @@ impl Encoder {
     /// # Errors
     /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile; otherwise as
     /// [`Encoder::iter`].
+    ///
+    /// ```
+    /// use aydp_proto::{Encoder, Profile, Raw};
+    /// let raw = Raw { msg_type: 9, data: &[2] };
+    /// let bytes: Vec<u8> = Encoder::new(Profile::Spec).iter_expedited(&raw).unwrap().collect();
+    /// assert_eq!(bytes, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
+    /// ```
     pub fn iter_expedited<'p, P: Payload + ?Sized>(
         &self,
         payload: &'p P,
@@ -186,6 +261,16 @@ impl Encoder {
     /// # Errors
     /// [`EncodeError::ExpeditedInReference`] for `None` in the `Reference` profile,
     /// [`EncodeError::BadType`] and [`EncodeError::TooLong`].
+    ///
+    /// ```
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+    /// let enc = Encoder::new(Profile::Reference);
+    /// assert!(enc.iter(&Raw { msg_type: 9, data: &[2] }, None).is_err()); // no expedited form
+    /// assert_eq!(
+    ///     enc.iter(&Raw { msg_type: 200, data: &[] }, None).err(),
+    ///     Some(EncodeError::ExpeditedInReference)
+    /// );
+    /// ```
     pub fn iter<'p, P: Payload + ?Sized>(
         &self,
         payload: &'p P,
@@ -211,6 +296,15 @@ impl Encoder {
 /// Iterator over the bytes of one message, computing the checksum on the fly.
 ///
 /// Made by [`Encoder::iter`]; it holds the 22 header bytes and a reference to the payload.
+///
+/// ```
+/// use aydp_proto::{Encoder, Profile, Raw};
+/// let raw = Raw { msg_type: 9, data: &[2] };
+/// let mut it = Encoder::new(Profile::Spec).iter_expedited(&raw).unwrap();
+/// assert_eq!(it.len(), 8);
+/// assert_eq!(it.next(), Some(0xFF));
+/// assert_eq!(it.last(), Some(0x7C)); // the XOR checksum, computed on the way
+/// ```
 #[derive(Debug, Clone)]
 pub struct Bytes<'p, P: ?Sized> {
     payload: &'p P,

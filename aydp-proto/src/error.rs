@@ -7,6 +7,14 @@ use core::fmt;
 /// What can go wrong with received bytes: a decoder's events (framing, checksum, length) and a
 /// typed parse. Encoding fails with [`EncodeError`], the registry's operations with
 /// [`RegistryError`](crate::registry::RegistryError).
+///
+/// ```
+/// use aydp_proto::{Decode, Decoder, Error, Profile};
+/// let mut d = Decoder::<64>::new(Profile::Spec);
+/// let mut got = Vec::new();
+/// d.feed(&[0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7D], |e| got.push(e.err()));
+/// assert!(matches!(got[0], Some(Error::ChecksumMismatch { id: 0x89, .. })));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

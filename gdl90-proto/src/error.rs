@@ -6,6 +6,14 @@ use core::fmt;
 /// What decoding can report: deframing a stream, checking a frame, parsing a message.
 ///
 /// Decoders report these as events and carry on: no input makes them panic.
+///
+/// ```
+/// use gdl90_proto::{Decode, Decoder, Error};
+/// let mut d = Decoder::<64>::new();
+/// let mut got = Vec::new();
+/// d.feed(&[0x7E, 0x00, 0x7E], |e| got.push(e.err()));
+/// assert_eq!(got, [Some(Error::TooShort)]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
