@@ -104,8 +104,8 @@ REASON = {
     "decode_aeolus_slice": "the deframing's 11 a byte and the typed parse, about 67 instructions a frame; 10 would leave 110 a frame for both, which take 227",
     "decode_aydp_push": "18 of a frame's 22 bytes take the inline store path at 15 instructions, each of the other 4 a call returning its event through memory (65 to 110), and the typed parse 73 a frame",
     "decode_aydp": "the deframing alone is 4.35 a byte (95 instructions a 22-byte frame); the typed parse takes 73 a frame where 5 a byte leaves 14",
-    "decode_aok_pc_push": "a 7-byte frame is about 200 instructions: five body bytes at 15 each, and the length at the first byte and the check and a 20-byte event through memory at the last (128)",
-    "decode_aok_device_push": "frames of 5 bytes on average at about 190 instructions: the first byte (the command's length) and the last (the check, a 20-byte event through memory) alone take more than 75",
+    "decode_aok_pc_push": "a 7-byte frame is about 138 instructions: five body bytes at 11 each, the first byte (the frame's length) 28, and the last (the check, the counters and the event, handed over in line) 55",
+    "decode_aok_device_push": "frames of 5 bytes on average at about 112 instructions: body bytes at 11, the first byte (the command's length) 25 to 31, and the last (the check, the counters and the event, handed over in line) about 50",
     "encode_aeolus": "the word loop is 28 instructions per 4 bytes (the escape test 9, the table CRC 13) and each frame's header, CRC and flags the rest",
     "encode_aydp": "every encode checks the form against the profile first, about 8 instructions a message",
 }

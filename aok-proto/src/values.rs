@@ -68,10 +68,21 @@ impl Motor {
     /// assert_eq!(aok_proto::Motor::from_command_byte(0x40), None);
     /// ```
     pub const fn from_command_byte(byte: u8) -> Option<Self> {
-        match byte {
-            0x31..=0x39 => Some(Self(byte - 0x30)),
-            0x41..=0x43 => Some(Self(byte - 0x37)),
-            _ => None,
+        // Bit `i` set: `0x31 + i` addresses a motor (bits 0 to 8: `31`..`39`, motors 1 to 9;
+        // bits 16 to 18: `41`..`43`, motors 10 to 12). One shift of a mask: the decoders ask
+        // this of every command's first byte, and two range tests cost about twice the
+        // instructions on Cortex-M.
+        const MOTOR_BYTES: u32 = 0x0007_01ff;
+        let bit = match MOTOR_BYTES.checked_shr(byte.wrapping_sub(0x31) as u32) {
+            Some(mask) => mask & 1,
+            None => 0,
+        };
+        if bit == 0 {
+            None
+        } else if byte < 0x41 {
+            Some(Self(byte - 0x30))
+        } else {
+            Some(Self(byte - 0x37))
         }
     }
 }

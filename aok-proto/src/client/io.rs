@@ -1,6 +1,7 @@
 //! The wire side: loading frames to send, writing them, reading and handling what arrives.
 
 use super::*;
+use crate::decoder::Rules;
 
 impl<S: Read<u8> + Write<u8>> Client<S> {
     pub(super) fn load(&mut self, bytes: &[u8]) {

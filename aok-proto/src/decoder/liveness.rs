@@ -156,6 +156,7 @@ fn the_pc_decoder_returns_with_the_streams_events() {
 /// the quiet line's rule step.
 #[test]
 fn the_end_gives_up_the_bytes_held_once() {
+    use crate::decoder::Rules;
     use frame_io::Event;
     let mut d = CommandDecoder::new();
     assert_eq!(Decode::decode(&mut d, &[0x31]), (1, None));

@@ -7,10 +7,13 @@
 //! Each implements [`frame_io::Decode`], the contract of every decoder in this workspace:
 //! `feed(bytes, |event| ..)` for every slice of the stream, `finish(|event| ..)` when it ends
 //! (AOK's quiet line), and the pull form (`decode`, `end`, `item`) underneath. In each folder,
-//! `step.rs` holds the rules (one step over a window of bytes, run over the decoder's buffer
-//! byte by byte) and `bulk.rs` the slice fast path (the same step over the input itself) with
-//! the `Decode` implementation. [`Stats`] counts for both.
+//! `step.rs` holds the rules (one step over a window of bytes) and what the paths written
+//! once in `byte.rs` need of the decoder (`Rules`), and `bulk.rs` the `Decode`
+//! implementation. `byte.rs` runs the step over the decoder's buffer byte by byte (the byte
+//! path) and over the input itself while nothing is held (the slice fast path of `feed` and
+//! `decode`). [`Stats`] counts for both.
 
+mod byte;
 mod command;
 #[cfg(test)]
 mod liveness;
@@ -19,6 +22,7 @@ mod stats;
 
 use frame_io::Event;
 
+pub(crate) use byte::Rules;
 pub use command::CommandDecoder;
 pub use message::MessageDecoder;
 pub use stats::Stats;
@@ -65,13 +69,16 @@ impl Held {
         self.buf.get(..self.len).unwrap_or(&self.buf)
     }
 
-    /// Appends `byte`; returns false if the buffer was full (only when events were left
-    /// undrained, which the contract's loops never do): then the caller drops the front first.
+    /// Appends `byte`; returns false if the buffer was full, which no path lets happen (each
+    /// decides on a frame as soon as it is whole, and none is longer than the buffer): then
+    /// the caller drops the front first.
     #[inline(always)]
     pub(crate) fn append(&mut self, byte: u8) -> bool {
-        if let Some(slot) = self.buf.get_mut(self.len) {
+        // The length read once: the compiler cannot tell that storing the byte leaves it.
+        let len = self.len;
+        if let Some(slot) = self.buf.get_mut(len) {
             *slot = byte;
-            self.len = self.len.wrapping_add(1);
+            self.len = len.wrapping_add(1);
             true
         } else {
             false

@@ -1,10 +1,11 @@
-//! The slice path and the contract: [`CommandDecoder`]'s [`Decode`] implementation. `feed`
-//! and `decode` run the step over the input itself while nothing is held.
+//! The contract: [`CommandDecoder`]'s [`Decode`] implementation, on the paths of `../byte.rs`.
+//! `feed` and `decode` run the step over the input itself while nothing is held.
 
 use frame_io::{Decode, Event};
 
 use super::*;
-use crate::decoder::{Step, end_of_stream, event};
+use crate::decoder::byte::Rules;
+use crate::decoder::{end_of_stream, event};
 
 /// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
 /// quiet; `decode`, `end` and `item` are the pull form, for a caller that must act between
@@ -59,7 +60,6 @@ impl Decode for CommandDecoder {
     /// assert_eq!(dec.decode(&[]), (0, None));
     /// ```
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Command, Error>>) {
-        let total = bytes.len();
         if let Some(item) = self.poll() {
             return (0, event(Some(item)));
         }
@@ -70,32 +70,8 @@ impl Decode for CommandDecoder {
             [byte] => return (1, event(self.push(byte))),
             _ => {}
         }
-        let mut rest = bytes;
-        // Bytes held from an earlier call: byte by byte until the buffer is empty.
-        while self.held.len != 0 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return (total, None);
-            };
-            rest = after;
-            if let Some(item) = self.push(byte) {
-                return (total.saturating_sub(rest.len()), event(Some(item)));
-            }
-        }
-        // Nothing held: the step runs on the input itself.
-        let mut found = None;
-        while !rest.is_empty() {
-            match Self::judge(&mut self.stats, rest, &mut |e| found = Some(e)) {
-                Step::Need(need) => {
-                    self.held.keep(rest, need);
-                    break;
-                }
-                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
-            }
-            if found.is_some() {
-                return (total.saturating_sub(rest.len()), event(found));
-            }
-        }
-        (total, None)
+        let (used, found) = self.decode_slice(bytes);
+        (used, event(found))
     }
 
     /// The end of the stream, one event a call, the events of `finish`: each front that cannot
@@ -124,7 +100,7 @@ impl Decode for CommandDecoder {
     /// assert_eq!(dec.held_bytes(), 0);
     /// ```
     fn end(&mut self) -> Option<Event<Command, Error>> {
-        end_of_stream!(self, self.step(true))
+        end_of_stream!(self, self.quiet_next())
     }
 
     /// The command itself.
@@ -149,56 +125,14 @@ impl Decode for CommandDecoder {
     /// assert_eq!(got, [Ok(Command::DebugOff), Ok(Command::DebugOn)]);
     /// ```
     #[inline]
-    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
+    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
     where
         F: FnMut(Result<Command, Error>),
     {
-        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        // One byte (an interrupt handler's): the byte path alone.
         if let [byte] = *bytes {
-            return self.feed_byte(byte, on_event);
+            return self.feed_byte(byte, &mut on_event);
         }
         self.feed_slice(bytes, on_event);
-    }
-}
-
-impl CommandDecoder {
-    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
-    #[inline]
-    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
-    where
-        F: FnMut(Result<Command, Error>),
-    {
-        let mut event = self.push(byte);
-        while let Some(item) = event {
-            on_event(item);
-            event = self.poll();
-        }
-    }
-
-    /// `feed` for a slice of any length: the bulk path.
-    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
-    where
-        F: FnMut(Result<Command, Error>),
-    {
-        let mut rest = bytes;
-        // Bytes held from an earlier call: byte by byte until the buffer is empty.
-        while self.held.len != 0 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return;
-            };
-            rest = after;
-            let mut event = self.push(byte);
-            while let Some(item) = event {
-                on_event(item);
-                event = self.poll();
-            }
-        }
-        // Nothing held: the step runs on the input itself.
-        while !rest.is_empty() {
-            match Self::judge(&mut self.stats, rest, &mut on_event) {
-                Step::Need(need) => return self.held.keep(rest, need),
-                Step::Used(used) => rest = rest.get(used..).unwrap_or(&[]),
-            }
-        }
     }
 }

@@ -101,26 +101,4 @@ impl CommandDecoder {
     pub const fn stats(&self) -> Stats {
         self.stats
     }
-
-    /// One byte (the byte-by-byte path): the first event it causes; [`CommandDecoder::poll`]
-    /// takes any further events a rescan uncovered.
-    #[inline]
-    pub(crate) fn push(&mut self, byte: u8) -> Option<Result<Command, Error>> {
-        if !self.held.append(byte) {
-            // Only reachable when earlier events were not polled.
-            self.drop_front();
-            self.held.append(byte);
-        }
-        // Inside a frame of known length (most bytes): nothing to decide yet, and no call.
-        if self.held.len < self.held.need {
-            return None;
-        }
-        self.step(false)
-    }
-
-    /// The next event from bytes already held (after a rescan), or `None`.
-    #[inline]
-    pub(crate) fn poll(&mut self) -> Option<Result<Command, Error>> {
-        self.step(false)
-    }
 }

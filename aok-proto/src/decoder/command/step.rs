@@ -1,10 +1,12 @@
 //! The step: every rule of the command decoder, once (a command's length from its first
-//! bytes, the checksum, what is dropped after a failure), applied to a window of bytes.
+//! bytes, the checksum, what is dropped after a failure), applied to a window of bytes; and
+//! `Rules`, what the paths of `../byte.rs` need of the decoder.
 
 use super::*;
 use crate::checked_value;
 use crate::command::{Len, MotorTest, ParameterValue, SET_PARAMETER, command_len};
 use crate::decoder::Step;
+use crate::decoder::byte::Rules;
 use crate::layout::{motor_test as motor, set_parameter as set};
 use crate::values::Motor;
 
@@ -87,76 +89,93 @@ impl CommandDecoder {
             }
         }
     }
+}
 
-    /// Runs the step over the buffer until it gives an event or needs more bytes. With
-    /// `quiet` (the line went quiet: the end of the stream), an undecided front is given up:
-    /// its first byte is dropped and reported as [`Error::Truncated`].
-    #[inline]
-    pub(super) fn step(&mut self, quiet: bool) -> Option<Result<Command, Error>> {
-        if self.held.len == 0 {
-            // Nothing held: nothing to decide (the usual last call to `poll`).
-            return None;
-        }
-        if !quiet {
-            // The step's last answer: a frame still short of its known length stays
-            // undecided until the line goes quiet.
-            if self.held.len < self.held.need {
-                return None;
-            }
-            if self.lone_first_byte() {
-                return None;
-            }
-        }
-        self.step_slow(quiet)
-    }
+impl Rules for CommandDecoder {
+    type Item = Command;
 
-    /// A lone first byte: only its length is known (the rule `judge` applies, asked here
-    /// without the call). True if it waits for more bytes (then `need` is set).
     #[inline(always)]
-    fn lone_first_byte(&mut self) -> bool {
-        if self.held.len != 1 {
-            return false;
-        }
-        let need = match self.held.buf.first().map(|&b| command_len(b, None)) {
-            Some(Len::Is(n)) if n > 1 => n,
-            Some(Len::More) => 2,
-            _ => 0,
-        };
-        if need != 0 {
-            self.held.need = need;
-        }
-        need != 0
+    fn held(&self) -> &Held {
+        &self.held
     }
 
-    fn step_slow(&mut self, quiet: bool) -> Option<Result<Command, Error>> {
-        loop {
-            let mut event = None;
-            let window = self.held.window();
-            if window.is_empty() {
-                return None;
-            }
-            match Self::judge(&mut self.stats, window, &mut |e| event = Some(e)) {
-                Step::Need(need) => {
-                    if quiet {
-                        self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
-                        self.drop_front();
-                        return Some(Err(Error::Truncated));
-                    }
-                    self.held.need = need;
-                    return None;
-                }
-                Step::Used(used) => {
-                    self.held.consume(used);
-                    if event.is_some() {
-                        return event;
-                    }
-                }
-            }
+    #[inline(always)]
+    fn held_mut(&mut self) -> &mut Held {
+        &mut self.held
+    }
+
+    #[inline(always)]
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    #[inline(always)]
+    fn judge_held<F: FnMut(Result<Command, Error>)>(&mut self, on_event: &mut F) -> Step {
+        Self::judge(&mut self.stats, self.held.window(), on_event)
+    }
+
+    /// A command's length from its first byte (2 for `63`, whose second byte tells).
+    #[inline(always)]
+    fn lone_need(&self, first: u8) -> usize {
+        match command_len(first, None) {
+            Len::Is(n) => n,
+            Len::More => 2,
+            Len::Unknown => 0,
         }
     }
 
-    pub(super) fn drop_front(&mut self) {
-        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-        self.held.consume(1);
+    /// Nothing is kept about the front.
+    #[inline(always)]
+    fn front_gone(&mut self) {}
+
+    /// Nothing to note: `decode` asks the buffer first on every call.
+    #[inline(always)]
+    fn held_event_out(&mut self) {}
+
+    #[inline(always)]
+    fn judge_in_place<const MANY: bool, F: FnMut(Result<Command, Error>) -> bool>(
+        &mut self,
+        bytes: &[u8],
+        on_event: F,
+    ) -> usize {
+        if MANY {
+            // `on_event` cannot reach the decoder: its counters can live in a copy meanwhile.
+            let mut stats = self.stats;
+            let used = in_place(&mut self.held, &mut stats, bytes, on_event);
+            self.stats = stats;
+            used
+        } else {
+            in_place(&mut self.held, &mut self.stats, bytes, on_event)
+        }
     }
+}
+
+/// The slice path's loop: the rules over `bytes` itself (nothing is held), every event handed
+/// to `on_event` until it returns true (stop after that event), an undecided tail kept in
+/// `held`. Returns the bytes used. The counters come apart from the decoder, so that they
+/// may be a copy.
+#[inline(always)]
+fn in_place<F: FnMut(Result<Command, Error>) -> bool>(
+    held: &mut Held,
+    stats: &mut Stats,
+    bytes: &[u8],
+    mut on_event: F,
+) -> usize {
+    let mut rest = bytes;
+    let mut stop = false;
+    while !rest.is_empty() && !stop {
+        match CommandDecoder::judge(stats, rest, &mut |e| stop = on_event(e)) {
+            Step::Need(need) => {
+                // The undecided tail is kept: every byte is used.
+                held.keep(rest, need);
+                return bytes.len();
+            }
+            // `used` is within `rest` (the step decides on bytes it holds).
+            Step::Used(used) => match rest.get(used..) {
+                Some(after) => rest = after,
+                None => break,
+            },
+        }
+    }
+    bytes.len().saturating_sub(rest.len())
 }

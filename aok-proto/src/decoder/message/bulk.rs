@@ -1,9 +1,10 @@
-//! The slice path and the contract: [`MessageDecoder`]'s [`Decode`] implementation. `feed`
-//! and `decode` run the step over the input itself while nothing is held.
+//! The contract: [`MessageDecoder`]'s [`Decode`] implementation, on the paths of `../byte.rs`.
+//! `feed` and `decode` run the step over the input itself while nothing is held.
 
 use frame_io::{Decode, Event};
 
 use super::*;
+use crate::decoder::byte::Rules;
 use crate::decoder::{end_of_stream, event};
 
 /// The contract ([`Decode`]): `feed` every slice of the stream, `finish` when the line goes
@@ -62,7 +63,6 @@ impl Decode for MessageDecoder {
     /// assert_eq!(dec.decode(&[]), (0, None));
     /// ```
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<Message, Error>>) {
-        let total = bytes.len();
         // Only after an event out of the buffer: a drained decoder is not asked again, since
         // a pending request changed since (`expect`) could decide its held bytes otherwise
         // than the next byte will.
@@ -83,27 +83,8 @@ impl Decode for MessageDecoder {
             }
             _ => {}
         }
-        let mut rest = bytes;
-        // Bytes held from an earlier call: byte by byte until the buffer is empty.
-        while self.held.len != 0 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return (total, None);
-            };
-            rest = after;
-            if let Some(item) = self.push(byte) {
-                self.unpolled = true;
-                return (total.saturating_sub(rest.len()), event(Some(item)));
-            }
-        }
-        let mut found = None;
-        let used = self.judge_in_place(rest, |item| {
-            found = Some(item);
-            true
-        });
-        (
-            total.saturating_sub(rest.len()).saturating_add(used),
-            event(found),
-        )
+        let (used, found) = self.decode_slice(bytes);
+        (used, event(found))
     }
 
     /// The end of the stream, one event a call, the events of `finish`: each front that cannot
@@ -163,54 +144,14 @@ impl Decode for MessageDecoder {
     /// assert_eq!(got, [Ok(Message::Ack(Ack::Ok))]);
     /// ```
     #[inline]
-    fn feed<F>(&mut self, bytes: &[u8], on_event: F)
+    fn feed<F>(&mut self, bytes: &[u8], mut on_event: F)
     where
         F: FnMut(Result<Message, Error>),
     {
-        // One byte (an interrupt handler's): the byte path, as cheap as it was as `push`.
+        // One byte (an interrupt handler's): the byte path alone.
         if let [byte] = *bytes {
-            return self.feed_byte(byte, on_event);
+            return self.feed_byte(byte, &mut on_event);
         }
         self.feed_slice(bytes, on_event);
-    }
-}
-
-impl MessageDecoder {
-    /// `feed` for one byte: the byte path, then the events a rescan uncovered.
-    #[inline]
-    fn feed_byte<F>(&mut self, byte: u8, mut on_event: F)
-    where
-        F: FnMut(Result<Message, Error>),
-    {
-        let mut event = self.push(byte);
-        while let Some(item) = event {
-            on_event(item);
-            event = self.poll();
-        }
-    }
-
-    /// `feed` for a slice of any length: the bulk path.
-    fn feed_slice<F>(&mut self, bytes: &[u8], mut on_event: F)
-    where
-        F: FnMut(Result<Message, Error>),
-    {
-        let mut rest = bytes;
-        // Bytes held from an earlier call: byte by byte until the buffer is empty.
-        while self.held.len != 0 {
-            let Some((&byte, after)) = rest.split_first() else {
-                return;
-            };
-            rest = after;
-            let mut event = self.push(byte);
-            while let Some(item) = event {
-                on_event(item);
-                event = self.poll();
-            }
-        }
-        // Nothing held: the step runs on the input itself.
-        self.judge_in_place(rest, |item| {
-            on_event(item);
-            false
-        });
     }
 }

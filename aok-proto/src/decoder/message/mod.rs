@@ -164,34 +164,6 @@ impl MessageDecoder {
     pub const fn stats(&self) -> Stats {
         self.stats
     }
-
-    /// One byte (the byte-by-byte path): the first event it causes;
-    /// [`MessageDecoder::poll`] takes any further events a rescan uncovered.
-    #[inline]
-    pub(crate) fn push(&mut self, byte: u8) -> Option<Result<Message, Error>> {
-        if !self.held.append(byte) {
-            // Only reachable when earlier events were not polled.
-            self.drop_front();
-            self.held.append(byte);
-        }
-        // Inside a frame of known length (most bytes): nothing to decide yet, and no call.
-        if self.held.len < self.held.need {
-            return None;
-        }
-        self.step(false)
-    }
-
-    /// The next event from bytes already held (after a rescan), or `None`.
-    #[inline]
-    pub(crate) fn poll(&mut self) -> Option<Result<Message, Error>> {
-        self.step(false)
-    }
-
-    /// The next event of the quiet line (the end of the stream), or `None` once nothing is
-    /// held: the partial frame at the front is given up as [`Error::Truncated`].
-    pub(crate) fn quiet_next(&mut self) -> Option<Result<Message, Error>> {
-        self.step(true)
-    }
 }
 
 /// The length of the frame that `first` starts while `expect` is pending (with a header: the

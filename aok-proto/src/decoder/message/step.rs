@@ -1,11 +1,12 @@
 //! The step: every rule of the message decoder, once (a frame's length from its first byte, the
 //! headerless reply, acks, the checksum, what is dropped after a failure), applied to a window
-//! of bytes.
+//! of bytes; and `Rules`, what the paths of `../byte.rs` need of the decoder.
 
 use super::*;
 use crate::checked_value;
 use crate::command::ParameterValue;
 use crate::decoder::Step;
+use crate::decoder::byte::Rules;
 use crate::message::{DebugValue, HEADERLESS_REPLY_LEN};
 
 /// The rules, applied to the bytes at the front of `window` (the first byte not decided on
@@ -132,116 +133,134 @@ fn settle(expect: &mut Expect, message: &Message) {
     };
 }
 
-impl MessageDecoder {
-    /// Runs the step over the buffer until it gives an event or needs more bytes. With
-    /// `quiet` (the line went quiet: the end of the stream), an undecided front is given up:
-    /// its first byte is dropped and reported as [`Error::Truncated`].
-    #[inline]
-    pub(super) fn step(&mut self, quiet: bool) -> Option<Result<Message, Error>> {
-        if self.held.len == 0 {
-            // Nothing held: nothing to decide (the usual last call to `poll`).
-            return None;
-        }
-        if !quiet {
-            // The step's last answer: a frame still short of its known length stays
-            // undecided until the line goes quiet.
-            if self.held.len < self.held.need {
-                return None;
-            }
-            // A lone first byte of a self-describing frame: only its length is known (the
-            // rule `judge` applies, asked here without the call). Not while a headerless
-            // reply is pending: then any byte may start one.
-            if self.held.len == 1 && !self.headerless_pending() {
-                let first = self.held.buf.first().copied().unwrap_or(0);
-                let need = frame_len(first, self.expect).unwrap_or(0);
-                if need > 1 {
-                    self.held.need = need;
-                    return None;
-                }
-            }
-        }
-        self.step_slow(quiet)
+impl Rules for MessageDecoder {
+    type Item = Message;
+
+    #[inline(always)]
+    fn held(&self) -> &Held {
+        &self.held
     }
 
-    /// Whether a headerless (<= 0.30) parameter reply is pending: then any byte may start one.
-    #[inline]
-    fn headerless_pending(&self) -> bool {
-        matches!(self.expect, Expect::Parameter(_)) && self.form == ReplyForm::Headerless
+    #[inline(always)]
+    fn held_mut(&mut self) -> &mut Held {
+        &mut self.held
     }
 
-    fn step_slow(&mut self, quiet: bool) -> Option<Result<Message, Error>> {
-        loop {
-            let mut event = None;
-            let window = self.held.window();
-            if window.is_empty() {
-                return None;
-            }
-            let step = judge(
-                &mut self.stats,
-                &mut self.expect,
-                &mut self.front_not_reply,
-                self.form,
-                window,
-                &mut |e| event = Some(e),
-            );
-            match step {
-                Step::Need(need) => {
-                    if quiet {
-                        self.stats.abandoned = self.stats.abandoned.wrapping_add(1);
-                        self.drop_front();
-                        return Some(Err(Error::Truncated));
-                    }
-                    self.held.need = need;
-                    return None;
-                }
-                Step::Used(used) => {
-                    self.front_not_reply = false;
-                    self.held.consume(used);
-                    if event.is_some() {
-                        return event;
-                    }
-                }
-            }
+    #[inline(always)]
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    #[inline(always)]
+    fn judge_held<F: FnMut(Result<Message, Error>)>(&mut self, on_event: &mut F) -> Step {
+        judge(
+            &mut self.stats,
+            &mut self.expect,
+            &mut self.front_not_reply,
+            self.form,
+            self.held.window(),
+            on_event,
+        )
+    }
+
+    /// The length of a self-describing frame from its first byte. Not while a headerless
+    /// (<= 0.30) reply is pending: then any byte may start one, decided on its own rule.
+    #[inline(always)]
+    fn lone_need(&self, first: u8) -> usize {
+        let headerless =
+            matches!(self.expect, Expect::Parameter(_)) && self.form == ReplyForm::Headerless;
+        if headerless {
+            return 0;
         }
+        frame_len(first, self.expect).unwrap_or(0)
     }
 
-    pub(super) fn drop_front(&mut self) {
-        self.stats.bytes_discarded = self.stats.bytes_discarded.wrapping_add(1);
-        self.held.consume(1);
+    /// The front's failed reply check goes with it.
+    #[inline(always)]
+    fn front_gone(&mut self) {
         self.front_not_reply = false;
     }
 
-    /// Runs the step over `bytes` itself (nothing is held), handing every event to
-    /// `on_event`, until `stop` says so after an event; keeps an undecided tail. Returns the
-    /// bytes consumed.
+    /// `decode` takes the events after it from the buffer first (see `unpolled`).
     #[inline(always)]
-    pub(super) fn judge_in_place<F: FnMut(Result<Message, Error>) -> bool>(
+    fn held_event_out(&mut self) {
+        self.unpolled = true;
+    }
+
+    #[inline(always)]
+    fn judge_in_place<const MANY: bool, F: FnMut(Result<Message, Error>) -> bool>(
         &mut self,
         bytes: &[u8],
-        mut on_event: F,
+        on_event: F,
     ) -> usize {
-        let mut rest = bytes;
-        let mut stop = false;
-        while !rest.is_empty() && !stop {
-            let step = judge(
+        let form = self.form;
+        if MANY {
+            // `on_event` cannot reach the decoder: the fields the rules update can live in
+            // copies meanwhile.
+            let (mut stats, mut expect, mut front_not_reply) =
+                (self.stats, self.expect, self.front_not_reply);
+            let used = in_place(
+                &mut self.held,
+                &mut stats,
+                &mut expect,
+                &mut front_not_reply,
+                form,
+                bytes,
+                on_event,
+            );
+            self.stats = stats;
+            self.expect = expect;
+            self.front_not_reply = front_not_reply;
+            used
+        } else {
+            in_place(
+                &mut self.held,
                 &mut self.stats,
                 &mut self.expect,
                 &mut self.front_not_reply,
-                self.form,
-                rest,
-                &mut |e| stop = on_event(e),
-            );
-            match step {
-                Step::Need(need) => {
-                    self.held.keep(rest, need);
-                    return bytes.len();
-                }
-                Step::Used(used) => {
-                    self.front_not_reply = false;
-                    rest = rest.get(used..).unwrap_or(&[]);
+                form,
+                bytes,
+                on_event,
+            )
+        }
+    }
+}
+
+/// The slice path's loop: the rules over `bytes` itself (nothing is held), every event handed
+/// to `on_event` until it returns true (stop after that event), an undecided tail kept in
+/// `held`. Returns the bytes used. The fields the rules update come apart from the decoder,
+/// so that they may be copies.
+#[inline(always)]
+fn in_place<F: FnMut(Result<Message, Error>) -> bool>(
+    held: &mut Held,
+    stats: &mut Stats,
+    expect: &mut Expect,
+    front_not_reply: &mut bool,
+    form: ReplyForm,
+    bytes: &[u8],
+    mut on_event: F,
+) -> usize {
+    let mut rest = bytes;
+    let mut stop = false;
+    while !rest.is_empty() && !stop {
+        let step = judge(stats, expect, front_not_reply, form, rest, &mut |e| {
+            stop = on_event(e)
+        });
+        match step {
+            Step::Need(need) => {
+                // The undecided tail is kept: every byte is used.
+                held.keep(rest, need);
+                return bytes.len();
+            }
+            Step::Used(used) => {
+                *front_not_reply = false;
+                // `used` is within `rest` (the step decides on bytes it holds).
+                match rest.get(used..) {
+                    Some(after) => rest = after,
+                    None => break,
                 }
             }
         }
-        bytes.len().saturating_sub(rest.len())
     }
+    bytes.len().saturating_sub(rest.len())
 }
