@@ -215,11 +215,13 @@ step "publish dry run: every library packages and builds as crates.io would see 
 for c in frame-io aeolus-proto aydp-proto aok-proto gdl90-proto; do
   rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/-*/"$c"-0.1.0
 done
-# The same for the verify builds: cargo takes a registry package as never changing, so an rlib of
-# an earlier run's aeolus-proto 0.1.0 under target/package/ is reused when the profile matches
-# (seen: gdl90-proto verified against an aeolus-proto without EncodeError).
-rm -rf target/package
-cargo publish --dry-run -q --allow-dirty -p frame-io -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
+# The same for the verify builds, which go to the target directory: cargo takes a registry
+# package as never changing, so an rlib of an earlier run's aeolus-proto 0.1.0 is reused when the
+# profile matches (seen: gdl90-proto verified against an aeolus-proto without EncodeError). They
+# get a target directory of their own, emptied first.
+rm -rf target/package target/publish-check
+CARGO_TARGET_DIR=target/publish-check cargo publish --dry-run -q --allow-dirty -p frame-io -p aeolus-proto -p aydp-proto -p aok-proto -p gdl90-proto
+rm -rf target/publish-check
 
 step "panic-never: link-time proof that no panic path survives (checks/panic-never, thumbv7m and thumbv6m)"
 if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --release --target thumbv6m-none-eabi); then
