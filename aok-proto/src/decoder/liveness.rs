@@ -8,30 +8,11 @@ extern crate std;
 
 use crate::{Command, CommandDecoder, DebugValue, Error, FirmwareVersion, Message, MessageDecoder};
 use crate::{Decode, ParameterValue, encode_command, encode_debug};
-use std::sync::mpsc::{self, RecvTimeoutError};
-use std::time::Duration;
 use std::vec::Vec;
 
-/// Far above the work (microseconds): only a loop that never ends reaches it.
-const DEADLINE: Duration = Duration::from_secs(10);
-
-/// Runs `work` on its own thread and returns its result, or fails the test if it has not
-/// returned by the deadline: then the test binary exits with status 101 at once.
-fn returns<T: Send + 'static>(what: &'static str, work: fn() -> T) -> T {
-    let (tx, rx) = mpsc::sync_channel(1);
-    std::thread::spawn(move || tx.send(work()));
-    match rx.recv_timeout(DEADLINE) {
-        Ok(v) => v,
-        Err(RecvTimeoutError::Timeout) => {
-            // Ends the whole test binary, not only this test: another test of the same
-            // binary spinning in the same loop would otherwise hold it open until an outer
-            // timeout, and a mutation run would count a hang instead of a failure.
-            std::eprintln!("{what} did not return within {DEADLINE:?}: a loop makes no progress");
-            std::process::exit(101)
-        }
-        Err(RecvTimeoutError::Disconnected) => panic!("{what} panicked"),
-    }
-}
+#[path = "../../../frame-io/tests/support/deadline.rs"]
+mod deadline;
+use deadline::returns;
 
 /// The PC's commands: noise, a motor test, a parameter set, a motor test with a bad checksum,
 /// and a parameter set cut short by the end of the stream.
