@@ -13,6 +13,7 @@ use crate::commands::aok::AokArgs;
 use crate::commands::aydp::AydpArgs;
 use crate::commands::bridge::BridgeArgs;
 use crate::commands::decode::DecodeArgs;
+use crate::commands::export::ExportArgs;
 use crate::commands::gdl90::Gdl90Args;
 use crate::commands::nmea::NmeaArgs;
 use crate::commands::record::RecordArgs;
@@ -121,6 +122,12 @@ Examples:
   protolink replay flight.pcapng --to udp:127.0.0.1:5001
   protolink replay flight.pcapng --to udp:127.0.0.1:5001 --speed 4 --loop --seconds 60")]
     Replay(ReplayArgs),
+    /// Write captures and byte files as Parquet or Arrow IPC tables, one per message type.
+    #[command(after_help = "Examples:
+  protolink export --out tables flight1.pcapng flight2.pcapng
+  protolink export --format arrow --out tables --proto aeolus uart.bin
+  duckdb -c \"SELECT source, count(*) FROM read_parquet('tables/GYRO/*.parquet', union_by_name = true) GROUP BY source\"")]
+    Export(ExportArgs),
     /// Print the Wireshark Lua dissector for AEOLUS, generated from the protocol crates' layouts.
     #[command(after_help = "Examples:
   protolink wireshark    (save it as ~/.local/lib/wireshark/plugins/protolink.lua)
@@ -136,6 +143,7 @@ impl Cli {
     pub(crate) fn run(&self) -> Result<()> {
         match &self.command {
             Command::Decode(a) => crate::commands::decode::run(a),
+            Command::Export(a) => crate::commands::export::run(a),
             Command::Bridge(a) => crate::commands::bridge::run(a),
             Command::Aeolus(a) => crate::commands::aeolus::run(a),
             Command::Aydp(a) => crate::commands::aydp::run(a),

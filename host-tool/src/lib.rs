@@ -56,6 +56,7 @@ pub mod wireshark;
 pub(crate) mod air_data;
 pub(crate) mod args;
 pub mod capture;
+pub mod columns;
 pub(crate) mod datagrams;
 pub mod decoders;
 pub mod endpoint;

@@ -7,6 +7,8 @@ decoders, capture reading and command line), so a flight decoded here is byte fo
     import protolink
     frames = protolink.to_frames("flight.pcapng")      # one pandas DataFrame per message type
     print(frames["GYRO"])
+    tables = protolink.to_arrow("flight.pcapng")       # the same as pyarrow Tables
+    protolink.export(["a.pcapng", "b.pcapng"], "tables")   # Parquet: tables/GYRO/part-00000.parquet
 
     for msg in protolink.open("udp:5001", proto="aeolus"):   # like mavutil.mavlink_connection
         if msg.name == "ATTITUDE":
@@ -28,7 +30,7 @@ Modules: :mod:`protolink.aeolus`, :mod:`protolink.aydp`, :mod:`protolink.aok`,
 from . import aeolus, aok, aydp, gdl90
 from ._native import ErrorEvent, FeedIter, Message, Reader, open
 from ._warnings import TruncatedCaptureWarning
-from .frames import to_frames
+from .frames import export, to_arrow, to_frames
 
 __version__ = "0.1.0"
 
@@ -41,7 +43,9 @@ __all__ = [
     "aeolus",
     "aok",
     "aydp",
+    "export",
     "gdl90",
     "open",
+    "to_arrow",
     "to_frames",
 ]

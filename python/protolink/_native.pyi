@@ -3,7 +3,7 @@
 ``protolink.gdl90`` re-export."""
 
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 Event = Union["Message", "ErrorEvent"]
 Buffer = Union[bytes, bytearray, memoryview, Any]
@@ -172,3 +172,33 @@ def open(
     strict: bool = False,
 ) -> Reader: ...
 def run_cli(args: List[str]) -> int: ...
+
+class ArrowTable:
+    """One message type's rows as Arrow record batches (the Arrow PyCapsule interface)."""
+
+    def __arrow_c_stream__(self, requested_schema: Optional[object] = None) -> object: ...
+    def __len__(self) -> int: ...
+    @property
+    def column_names(self) -> List[str]: ...
+
+def file_tables(
+    source: Union[str, "os.PathLike[str]"],
+    proto: Optional[str] = None,
+    *,
+    profile: Optional[str] = None,
+    side: str = "device",
+    errors: bool = True,
+    strict: bool = False,
+    row_group: int = 65536,
+) -> Optional[Dict[str, ArrowTable]]: ...
+def message_tables(messages: Iterable[Any], *, errors: bool = True) -> Dict[str, ArrowTable]: ...
+def export(
+    sources: List[str],
+    out: str,
+    format: str = "parquet",
+    proto: Optional[str] = None,
+    *,
+    profile: Optional[str] = None,
+    side: str = "device",
+    row_group: int = 65536,
+) -> List[Tuple[str, int, List[str]]]: ...

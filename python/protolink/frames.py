@@ -1,138 +1,125 @@
-"""``to_frames``: a capture, file or list of messages as pandas DataFrames, one per message
-type. pandas is an optional extra (``pip install "protolink[pandas]"``), imported only here."""
+"""Tables: a capture, file or list of messages as one table per message type, built in typed
+columns by the native module (no Python object per message) and handed to pyarrow through the
+Arrow C stream interface.
+
+- :func:`to_arrow`: ``pyarrow.Table`` objects; :func:`to_frames`: pandas DataFrames of them;
+- :func:`export`: Parquet or Arrow IPC files, as ``protolink export`` writes them.
+
+pyarrow (and pandas for ``to_frames``) are optional extras (``pip install
+"protolink[arrow]"``, ``"protolink[pandas]"``), imported only here."""
 
 import os
-from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Set, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Sequence, Tuple, Union
 
-from ._native import open as _open
+from . import _native
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas
+    import pyarrow
+
+Source = Union[str, "os.PathLike[str]", Iterable[Any]]
 
 
-def _pandas() -> Any:
+def _pyarrow() -> Any:
     try:
-        import pandas
+        import pyarrow
+    except ImportError as e:
+        raise ImportError(
+            "protolink.to_arrow and to_frames need pyarrow, which is not installed: "
+            'pip install pyarrow (or pip install "protolink[arrow]")'
+        ) from e
+    return pyarrow
+
+
+def _tables(source: Source, proto: Union[str, None], options: Dict[str, Any]) -> Dict[str, Any]:
+    """The native tables of ``source``, by message type."""
+    errors = options.get("errors", True)
+    if isinstance(source, (str, bytes, os.PathLike)):
+        if isinstance(source, bytes):
+            source = os.fsdecode(source)
+        tables = _native.file_tables(source, proto, **options)
+        if tables is not None:
+            return tables
+        # Not a file: an endpoint that ends (tcp:..., udp:... with a deadline), read as messages.
+        reader_options = {k: v for k, v in options.items() if k != "row_group"}
+        with _native.open(source, proto, **reader_options) as reader:
+            return _native.message_tables(reader, errors=errors)
+    if proto is not None or options.keys() - {"errors"}:
+        raise TypeError("to_arrow and to_frames take proto= and options only with a path to open")
+    return _native.message_tables(source, errors=errors)
+
+
+def to_arrow(
+    source: Source,
+    proto: Union[str, None] = None,
+    **options: Any,
+) -> Dict[str, "pyarrow.Table"]:
+    """One ``pyarrow.Table`` per message type, keyed by its name, ``get_type()`` (``"GYRO"``,
+    ``"POSITION"``, ...).
+
+    ``source`` is what :func:`protolink.open` opens (a capture, a raw file with ``proto=``, a
+    live endpoint that ends), or messages already decoded (a ``Reader``, a list from
+    ``Decoder.feed``). A file is read by the native module with the GIL released, a step at a
+    time (Ctrl-C between two), its rows built into typed columns with no Python object per
+    message. Options: ``profile=``, ``side=``, ``errors=`` (``False``: no ``ERROR`` table),
+    ``strict=`` (a cut capture raises ``OSError`` instead of a
+    :class:`protolink.TruncatedCaptureWarning`), ``row_group=`` (rows per record batch).
+
+    Each row is one message: first its metadata, then its fields.
+
+    - ``capture_time``: the capture record's time, seconds since the Unix epoch (null from a
+      byte file);
+    - ``offset``: its first byte in the input (in its flow, for a capture);
+    - ``flow``, ``frame``, ``proto``: the capture's flow, record number and protocol (only from
+      a capture);
+    - ``meta.KEY`` for each entry of ``Message.meta``, a nested one as ``meta.KEY.SUB``: AEOLUS
+      ``meta.id``, ``meta.len``, ``meta.crc``; AYDP ``meta.type``, ``meta.expedited``,
+      ``meta.len``, ``meta.time.seconds``, ``meta.time.subsec``; AOK ``meta.len``; GDL90
+      ``meta.id``, ``meta.len`` (``meta.len`` is ``wire_len``);
+    - then the fields under the names of ``to_dict()``, a nested one as ``outer.inner``.
+
+    An AEOLUS message of a fixed layout keeps the wire's types (Float32, UInt16, lists of
+    them); the other fields are Int64, Float64, Boolean or strings, as ``decode --json``
+    writes them, a list of objects as its JSON text. Error events make the table ``"ERROR"``
+    (``kind``, ``error``). docs/columns.md lists every table's columns.
+    """
+    pa = _pyarrow()
+    return {name: pa.table(t) for name, t in _tables(source, proto, options).items()}
+
+
+def to_frames(
+    source: Source,
+    proto: Union[str, None] = None,
+    **options: Any,
+) -> Dict[str, "pandas.DataFrame"]:
+    """One pandas DataFrame per message type: :func:`to_arrow`'s tables, converted by pyarrow
+    (columns of numbers without a null keep their type; an integer column with nulls becomes
+    float64 with NaN, as pandas has it)."""
+    try:
+        import pandas  # noqa: F401
     except ImportError as e:
         raise ImportError(
             "protolink.to_frames needs pandas, which is not installed: "
             'pip install pandas (or pip install "protolink[pandas]")'
         ) from e
-    return pandas
+    return {name: t.to_pandas() for name, t in to_arrow(source, proto, **options).items()}
 
 
-# The columns of every row before its fields, in this order: where and when the message came
-# (`flow`, `frame` and `proto` only from a capture); then `Message.meta`, each entry KEY as the
-# column `meta.KEY` (a nested one, AYDP's header time, as `meta.KEY.SUB`).
-_METADATA_COLUMNS = ("capture_time", "offset", "flow", "frame", "proto")
-
-
-def to_frames(
-    source: Union[str, "os.PathLike[str]", Iterable[Any]],
+def export(
+    sources: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]],
+    out: Union[str, "os.PathLike[str]"],
+    format: str = "parquet",
     proto: Union[str, None] = None,
     **options: Any,
-) -> Dict[str, "pandas.DataFrame"]:
-    """One DataFrame per message type, keyed by its name, ``get_type()`` (``"GYRO"``,
-    ``"POSITION"``, ...).
-
-    ``source`` is what :func:`protolink.open` opens (a capture, a raw file with ``proto=``, a
-    live endpoint that ends), or messages already decoded (a ``Reader``, a list from
-    ``Decoder.feed``). Each row is one message: first its metadata, then its fields.
-
-    - ``capture_time``: its capture time, seconds since the Unix epoch (``Message.capture_time``;
-      None from a plain byte file);
-    - ``offset``: its first byte in the input (``Message.offset``);
-    - ``flow``, ``frame``, ``proto``: the capture's flow, record number and protocol (only from
-      a capture);
-    - ``meta.KEY`` for each entry of ``Message.meta``, a nested one as ``meta.KEY.SUB``:
-      AEOLUS ``meta.id``, ``meta.len``, ``meta.crc``; AYDP ``meta.type``, ``meta.expedited``,
-      ``meta.len`` and the normal header's time, ``meta.time.seconds`` and ``meta.time.subsec``;
-      AOK ``meta.len``; GDL90 ``meta.id``, ``meta.len`` (``meta.len`` is ``wire_len``);
-    - then the fields under their own names, exactly ``to_dict()``'s keys.
-
-    No field of the four protocols is named like a metadata column (the tests check every
-    message type); were one named ``capture_time``, ``offset``, ``flow``, ``frame``, ``proto`` or
-    ``meta.``/``field.`` anything, its column would be ``field.`` and its name. Columns come
-    in the order they first appear, the metadata's before the fields'; a row without a column
-    holds None (NaN in a column of numbers). Error events go to the frame ``"ERROR"`` (its fields
-    ``kind`` and ``error``) unless ``errors=False``.
-
-    A capture cut inside a block (``protolink record`` killed mid-write) gives the frames of
-    its whole records, then a :class:`protolink.TruncatedCaptureWarning` naming the byte
-    offset where the cut block starts; ``strict=True`` raises ``OSError`` instead. Ctrl-C
-    interrupts the reading within one step of the reader (``KeyboardInterrupt``).
-    """
-    pd = _pandas()
-    if isinstance(source, (str, bytes, os.PathLike)):
-        messages: Iterable[Any] = _open(source, proto, **options)
-    else:
-        if proto is not None or options:
-            raise TypeError(
-                "to_frames takes proto= and options only with a path or endpoint to open"
-            )
-        messages = source
-    tables: Dict[str, _Columns] = {}
-    for m in messages:
-        name = m.get_type()
-        table = tables.get(name)
-        if table is None:
-            table = tables[name] = _Columns()
-        meta: Dict[str, Any] = {"capture_time": m.capture_time, "offset": m.offset}
-        if m.flow is not None:
-            meta["flow"] = m.flow
-            meta["frame"] = m.frame
-            meta["proto"] = m.proto
-        if not m.is_error:
-            for key, value in m.meta.items():
-                if isinstance(value, dict):
-                    for sub, v in value.items():
-                        meta[f"meta.{key}.{sub}"] = v
-                else:
-                    meta[f"meta.{key}"] = value
-        table.add(meta, m.to_dict())
-    return {name: pd.DataFrame(table.columns()) for name, table in tables.items()}
-
-
-def _field_column(name: str) -> str:
-    """The column of the field ``name``: its name, unless that is a metadata column's."""
-    if name in _METADATA_COLUMNS or name.startswith(("meta.", "field.")):
-        return "field." + name
-    return name
-
-
-class _Columns:
-    """One message type's rows, kept as one list per column (in the order the columns first
-    appear, the metadata's before the fields'; None where a row lacks one): no dict per row
-    held, and pandas builds the frame a column at a time, each conversion short, so Ctrl-C
-    lands between two. A metadata string (``meta.crc``, ``flow``, ``proto``) is kept once per
-    value, not once per row."""
-
-    def __init__(self) -> None:
-        self.meta: Dict[str, List[Any]] = {}
-        self.fields: Dict[str, List[Any]] = {}
-        self.strings: Dict[str, str] = {}
-        self.plain: Set[str] = set()  # the fields seen whose column is their name
-        self.rows = 0
-
-    def add(self, meta: Dict[str, Any], fields: Dict[str, Any]) -> None:
-        for key in meta:
-            if key not in self.meta:
-                self.meta[key] = [None] * self.rows
-        for key, column in self.meta.items():
-            value = meta.get(key)
-            if isinstance(value, str):
-                value = self.strings.setdefault(value, value)
-            column.append(value)
-        row = fields
-        if not fields.keys() <= self.plain:  # a field not seen yet: is it named like metadata?
-            row = {_field_column(k): v for k, v in fields.items()}
-            self.plain.update(k for k in fields if _field_column(k) == k)
-        for key in row:
-            if key not in self.fields:
-                self.fields[key] = [None] * self.rows
-        for key, column in self.fields.items():
-            column.append(row.get(key))
-        self.rows += 1
-
-    def columns(self) -> Dict[str, List[Any]]:
-        return {**self.meta, **self.fields}
+) -> List[Tuple[str, int, List[str]]]:
+    """Writes captures and byte files (``proto=`` names their protocol) as tables under
+    ``out``, one directory per message type, each row naming its file in ``source``:
+    ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
+    export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
+    ``[(type, rows, [part paths])]``; a part that exists already is never overwritten
+    (``ValueError``)."""
+    if isinstance(sources, (str, bytes, os.PathLike)):
+        sources = [sources]
+    return _native.export(
+        [os.fspath(s) for s in sources], os.fspath(out), format, proto, **options
+    )

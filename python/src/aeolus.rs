@@ -30,7 +30,7 @@ impl AeolusPyDecoder {
 }
 
 /// The typed messages read through serde: the spec's name and the message from its fields.
-fn typed(name: &str, fields: Value) -> PyResult<Option<Message<'static>>> {
+pub(crate) fn typed(name: &str, fields: Value) -> PyResult<Option<Message<'static>>> {
     Ok(Some(match name {
         "AEOLUSINFO" => Message::AeolusInfo(read::<msg::AeolusInfo>(name, fields)?),
         "PRESSURE" => Message::Pressure(read::<msg::Pressure>(name, fields)?),

@@ -14,6 +14,7 @@
 //! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` (its constructor only) and encoder |
 //! | [`encode`] | what the encoders share: fields through serde, one sentence per refusal |
 //! | [`source`] | `open`: files, captures (a cut one warned about) and live links as an iterator |
+//! | [`columns`] | `to_arrow`'s tables and `export`: the host tool's typed columns handed to pyarrow through the Arrow C stream interface |
 //! | [`input`] | the bytes `feed` takes: `bytes` in place, other buffers copied once |
 //! | [`value`] | JSON values and Python objects |
 //! | [`to_python`] | crate values straight to Python objects, rendered as `decode --json` renders them |
@@ -31,6 +32,7 @@ pub mod aeolus;
 pub mod aok;
 pub mod aydp;
 pub mod cli;
+pub mod columns;
 pub mod decoder;
 pub mod encode;
 pub mod gdl90;
@@ -58,6 +60,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(aydp::encode_aydp, m)?)?;
     m.add_function(wrap_pyfunction!(aok::encode_aok, m)?)?;
     m.add_function(wrap_pyfunction!(source::open, m)?)?;
+    m.add_class::<columns::ArrowTable>()?;
+    m.add_function(wrap_pyfunction!(columns::file_tables, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::message_tables, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::export, m)?)?;
     m.add_function(wrap_pyfunction!(cli::run_cli, m)?)?;
     Ok(())
 }

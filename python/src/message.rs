@@ -13,6 +13,7 @@
 //! `wire_len`; the ID is the same number). `python/tests/test_field_names.py` checks every
 //! message type for it.
 
+use protolink::columns::Tables;
 use protolink::commands::decode::capture::proto_name;
 use protolink::decoders::{Body as EventBody, aeolus_fields, aeolus_meta};
 use protolink::proto::Proto;
@@ -110,6 +111,76 @@ pub(crate) fn to_object<'py>(
         fields: PyOnceLock::new(),
     };
     Ok(Bound::new(py, m)?.into_any())
+}
+
+/// Adds a `Message` or `ErrorEvent` to `tables` as a row (its type's table, or `ERROR`).
+///
+/// # Errors
+/// `TypeError` for any other object.
+pub(crate) fn add_row(obj: &Bound<'_, PyAny>, tables: &mut Tables) -> PyResult<()> {
+    if let Ok(m) = obj.cast::<Message>() {
+        let m = m.get();
+        let origin = columns_origin(m.origin.as_deref(), m.proto);
+        match &m.body {
+            Body::Aeolus(f) => match aeolus_proto::message::Message::parse(f.id, &f.data) {
+                Ok(message) => {
+                    tables.add_aeolus_message(&origin, f.offset, f.id, f.has_crc, f.len, &message)
+                }
+                Err(e) => tables.add_error(&origin, f.offset, "malformed", &e.to_string()),
+            },
+            Body::Rendered { name, meta, fields } => {
+                // An AEOLUS message of a capture arrives rendered: read back into its typed
+                // value (exact: a rendered f32 is its shortest decimal), its columns have the
+                // wire's types, as those of a byte file.
+                let typed = if m.proto == Proto::Aeolus {
+                    crate::aeolus::typed(name, fields.clone()).ok().flatten()
+                } else {
+                    None
+                };
+                match typed {
+                    Some(message) => {
+                        let number = |k: &str| meta.get(k).and_then(Value::as_u64).unwrap_or(0);
+                        let id = u8::try_from(number("id")).unwrap_or(0);
+                        let has_crc = meta.get("crc").and_then(Value::as_str) != Some("none");
+                        tables.add_aeolus_message(
+                            &origin,
+                            m.offset,
+                            id,
+                            has_crc,
+                            number("len"),
+                            &message,
+                        );
+                    }
+                    None => tables.add_rendered(&origin, m.offset, name, meta, fields),
+                }
+            }
+        }
+        return Ok(());
+    }
+    if let Ok(e) = obj.cast::<ErrorEvent>() {
+        let e = e.get();
+        let origin = columns_origin(e.origin.as_deref(), e.proto);
+        tables.add_error(&origin, e.offset, &e.kind, &e.error);
+        return Ok(());
+    }
+    Err(pyo3::exceptions::PyTypeError::new_err(format!(
+        "to_frames and to_arrow take messages (Message, ErrorEvent), not {}",
+        value::type_name(obj)
+    )))
+}
+
+/// A message's origin as the tables' metadata (the protocol only from a capture).
+fn columns_origin(origin: Option<&Origin>, proto: Proto) -> protolink::columns::Origin {
+    let Some(o) = origin else {
+        return protolink::columns::Origin::default();
+    };
+    protolink::columns::Origin {
+        source: None,
+        capture_time: o.capture_time,
+        flow: o.flow.clone(),
+        frame: o.frame,
+        proto: o.flow.as_ref().map(|_| proto),
+    }
 }
 
 /// The fields of an AEOLUS message of a fixed layout, straight from its typed value to Python

@@ -15,6 +15,7 @@ use std::ffi::CString;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use protolink::columns::read::Select;
 use protolink::commands::decode::DecodeArgs;
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
 use protolink::decoders::Body;
@@ -70,13 +71,13 @@ pub(crate) fn error(e: protolink::Error) -> PyErr {
 /// Where a capture is cut: the file ends inside the block at `offset`, after `frames` whole
 /// records.
 #[derive(Debug, Clone)]
-struct Cut {
+pub(crate) struct Cut {
     /// The capture's path, as shown.
-    path: String,
+    pub(crate) path: String,
     /// Where the cut block starts.
-    offset: u64,
+    pub(crate) offset: u64,
     /// The whole records before it.
-    frames: u64,
+    pub(crate) frames: u64,
 }
 
 impl Cut {
@@ -283,7 +284,7 @@ impl Reader {
 
 /// Issues a `protolink.TruncatedCaptureWarning` about `cut` (an exception if warnings are
 /// errors).
-fn warn_cut(py: Python<'_>, cut: &Cut) -> PyResult<()> {
+pub(crate) fn warn_cut(py: Python<'_>, cut: &Cut) -> PyResult<()> {
     let category = py
         .import("protolink._warnings")?
         .getattr("TruncatedCaptureWarning")?;
@@ -429,7 +430,7 @@ impl Reader {
 
 /// The endpoint `source` names: a path (str or os.PathLike) or `udp:`, `tcp:`, `serial:`,
 /// `file:`, `-`.
-fn endpoint(source: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
+pub(crate) fn endpoint(source: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
     if let Ok(s) = source.cast::<PyString>() {
         return s.to_cow()?.parse::<Endpoint>().map_err(error);
     }
@@ -442,20 +443,12 @@ fn endpoint(source: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
     }
 }
 
-/// Opens `source` for reading: see the module's documentation. `strict=True`: a cut capture
-/// raises `OSError` instead of ending with a `TruncatedCaptureWarning`.
-#[pyfunction(name = "open")]
-#[pyo3(signature = (source, proto = None, *, profile = None, side = None, errors = true, strict = false))]
-pub(crate) fn open(
-    py: Python<'_>,
-    source: &Bound<'_, PyAny>,
+/// The decoder choice of `proto=`, `profile=` and `side=` (each a name, or None).
+pub(crate) fn select(
     proto: Option<&Bound<'_, PyAny>>,
     profile: Option<&Bound<'_, PyAny>>,
     side: Option<&Bound<'_, PyAny>>,
-    errors: bool,
-    strict: bool,
-) -> PyResult<Reader> {
-    let endpoint = endpoint(source)?;
+) -> PyResult<Select> {
     let proto = proto.map(|p| choose("proto", p, &PROTOS)).transpose()?;
     let profile = profile
         .map(|p| {
@@ -472,6 +465,32 @@ pub(crate) fn open(
     let side = side.map_or(Ok(Side::Device), |s| {
         choose("side", s, &[("device", Side::Device), ("pc", Side::Pc)])
     })?;
+    Ok(Select {
+        proto,
+        profile,
+        side,
+    })
+}
+
+/// Opens `source` for reading: see the module's documentation. `strict=True`: a cut capture
+/// raises `OSError` instead of ending with a `TruncatedCaptureWarning`.
+#[pyfunction(name = "open")]
+#[pyo3(signature = (source, proto = None, *, profile = None, side = None, errors = true, strict = false))]
+pub(crate) fn open(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+    proto: Option<&Bound<'_, PyAny>>,
+    profile: Option<&Bound<'_, PyAny>>,
+    side: Option<&Bound<'_, PyAny>>,
+    errors: bool,
+    strict: bool,
+) -> PyResult<Reader> {
+    let endpoint = endpoint(source)?;
+    let Select {
+        proto,
+        profile,
+        side,
+    } = select(proto, profile, side)?;
     let name = endpoint.to_string();
     let source = match &endpoint {
         Endpoint::File(path) if protolink::capture::file_is_capture(path) => {

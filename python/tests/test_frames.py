@@ -60,7 +60,7 @@ def test_rows_of_messages_and_errors():
 
 
 def test_to_frames_misuse():
-    with pytest.raises(TypeError, match="to_frames takes proto= and options only with a path"):
+    with pytest.raises(TypeError, match="to_arrow and to_frames take proto= and options only with a path"):
         protolink.to_frames([], proto="aeolus")
 
 
@@ -85,28 +85,11 @@ def test_readme_example(tmp_path):
     assert "[248 rows x 13 columns]" in out and out.split()[:2] == ["capture_time", "offset"]
 
 
-def from_records(messages):
-    """to_frames as it was before issue 44: a dict per row, then DataFrame.from_records (with
-    the columns of issue 46)."""
-    rows = {}
-    for m in messages:
-        row = {"capture_time": m.capture_time, "offset": m.offset}
-        if m.flow is not None:
-            row.update(flow=m.flow, frame=m.frame, proto=m.proto)
-        if not m.is_error:
-            row.update({f"meta.{k}": v for k, v in m.meta.items()})
-            if "meta.time" in row:
-                row.update({f"meta.time.{k}": v for k, v in row.pop("meta.time").items()})
-        row.update(m.to_dict())
-        rows.setdefault(m.get_type(), []).append(row)
-    return {name: pd.DataFrame.from_records(r) for name, r in rows.items()}
-
-
-def test_columns_give_the_frames_rows_gave(tmp_path):
-    # to_frames keeps a list per column (issue 44, half the memory): the same frames, columns,
-    # dtypes and values as a dict per row, on every sample, a capture, and streams of
-    # messages and garbage (TOAST with and without `hex`, so that rows lack columns) read by
-    # every decoder.
+def test_columns_of_a_file_and_of_its_messages(tmp_path):
+    # The frames of a file (built natively, no object per message) equal the frames of the
+    # messages `open` gives for it (the same columns, dtypes and values), on every sample, a
+    # capture, and streams of messages and garbage (TOAST with and without `hex`, so that rows
+    # lack columns) read by every decoder.
     rnd = random.Random(44)
     pieces = [protolink.aeolus.encode("TOAST", text="hi"), protolink.aeolus.encode("TOAST", hex="ff00"),
               protolink.aeolus.encode("LOG", data=b"\xff\xfe")]
@@ -119,9 +102,26 @@ def test_columns_give_the_frames_rows_gave(tmp_path):
              (recorded(tmp_path), {})]
     cases += [(junk, {"proto": p}) for p in ("aeolus", "aydp", "aok", "gdl90")]
     for path, options in cases:
-        rows = from_records(protolink.open(path, **options))
-        columns = protolink.to_frames(path, **options)
-        assert rows.keys() == columns.keys()
-        for name in rows:
-            pd.testing.assert_frame_equal(columns[name], rows[name], check_dtype=True)
-    assert set(protolink.to_frames(junk, proto="aeolus")["TOAST"].columns) >= {"text", "hex"}
+        of_messages = protolink.to_frames(list(protolink.open(path, **options)))
+        of_file = protolink.to_frames(path, **options)
+        assert of_file.keys() == of_messages.keys()
+        for name in of_file:
+            pd.testing.assert_frame_equal(of_file[name], of_messages[name], check_dtype=True)
+    toast = protolink.to_frames(junk, proto="aeolus")["TOAST"]
+    assert set(toast.columns) >= {"text", "hex"} and toast["hex"].isna().any() and toast["hex"].notna().any()
+
+
+def test_typed_columns():
+    # An AEOLUS message of a fixed layout keeps the wire's types; rendered fields are int64,
+    # float64, bool and strings.
+    gyro = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["GYRO"]
+    assert [(f.name, str(f.type)) for f in gyro.schema] == [
+        ("capture_time", "double"), ("offset", "int64"), ("meta.id", "int64"), ("meta.len", "int64"),
+        ("meta.crc", "string"), ("valid", "bool"), ("timestamp_ms", "double"), ("x", "float"), ("y", "float"),
+        ("z", "float")]
+    info = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["AEOLUSINFO"]
+    assert str(info.schema.field("mac").type) == "list<item: uint8>"
+    assert info.column("mac").to_pylist()[0] == [2, 174, 1, 5, 0, 1]
+    position = protolink.to_arrow(TESTDATA / "qemu-uart1-aydp.bin", proto="aydp")["POSITION"]
+    assert [str(position.schema.field(c).type) for c in ("latitude", "meta.time.seconds", "meta.expedited")] == [
+        "double", "int64", "bool"]

@@ -9,6 +9,7 @@ use aeolus_proto::Decode;
 use serde_json::{Map, Value, json};
 
 use super::{Event, StreamDecoder, error_kind};
+use crate::columns::{Origin, Tables};
 use crate::render::{self, hex, to_json, variant};
 
 /// Capacity of the AEOLUS decoder: every message, long LOG messages included.
@@ -257,6 +258,27 @@ impl StreamDecoder for AeolusDecoder {
 
     fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
         self.finish_items(offset, |at, item| out.push(item.to_event(at)));
+    }
+
+    fn feed_columns(
+        &mut self,
+        bytes: &[u8],
+        offset: u64,
+        datagram: bool,
+        origin: &Origin,
+        tables: &mut Tables,
+    ) {
+        self.feed_items(bytes, offset, |at, item| {
+            tables.add_aeolus(origin, at, &item)
+        });
+        if datagram {
+            let end = offset + bytes.len() as u64;
+            self.end_of_datagram_items(end, |at, item| tables.add_aeolus(origin, at, &item));
+        }
+    }
+
+    fn finish_columns(&mut self, offset: u64, origin: &Origin, tables: &mut Tables) {
+        self.finish_items(offset, |at, item| tables.add_aeolus(origin, at, &item));
     }
 
     fn counters(&self) -> Value {

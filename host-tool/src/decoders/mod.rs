@@ -20,6 +20,7 @@ pub use aok::{
 pub use aydp::{AYDP_CAPACITY, AydpDecoder, AydpRendered, ErrorText, aydp_fields};
 pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
 
+use crate::columns::{Origin, Tables};
 use crate::proto::{ProfileArg, Proto, Side};
 use crate::render;
 
@@ -136,6 +137,35 @@ pub trait StreamDecoder: Send {
     fn finish(&mut self, _offset: u64, _out: &mut Vec<Event>) {}
     /// The counters, as a JSON object.
     fn counters(&self) -> Value;
+    /// Feeds bytes that start at input offset `offset` (`datagram`: they are one whole
+    /// datagram), each event a row of `tables` from `origin`. AEOLUS hands its typed messages
+    /// over unrendered.
+    fn feed_columns(
+        &mut self,
+        bytes: &[u8],
+        offset: u64,
+        datagram: bool,
+        origin: &Origin,
+        tables: &mut Tables,
+    ) {
+        let mut events = Vec::new();
+        self.feed(bytes, offset, &mut events);
+        if datagram {
+            self.end_of_datagram(offset + bytes.len() as u64, &mut events);
+        }
+        for e in &events {
+            tables.add_event(origin, e);
+        }
+    }
+    /// The input ended at `offset`: what is held is given up as [`StreamDecoder::finish`]
+    /// does, into `tables`.
+    fn finish_columns(&mut self, offset: u64, origin: &Origin, tables: &mut Tables) {
+        let mut events = Vec::new();
+        self.finish(offset, &mut events);
+        for e in &events {
+            tables.add_event(origin, e);
+        }
+    }
 }
 
 /// Builds the decoder the arguments ask for.

@@ -14,6 +14,7 @@ use serde_json::{Value, json};
 
 use super::{DecodeArgs, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
+use crate::columns::{Origin, Tables};
 use crate::decoders::{Event, StreamDecoder, decoder_for};
 use crate::error::Result;
 use crate::proto::{ProfileArg, Proto};
@@ -197,6 +198,55 @@ impl CaptureEvents {
         let time = rec.time.as_secs_f64();
         self.last_time = time;
         out.extend(events.drain(..).map(|e| flow.item(e, rec.frame, time)));
+        Ok(true)
+    }
+
+    /// Reads the next record and adds its events to `tables` as rows, each from its record
+    /// (and from `source` when given); at the end of the capture adds every flow's last
+    /// events. Returns `false`, adding nothing, once all is done. The rows are those of
+    /// [`CaptureEvents::next_items`]' events, AEOLUS messages straight from their typed values.
+    ///
+    /// # Errors
+    /// A damaged or cut capture.
+    pub fn next_columns(&mut self, tables: &mut Tables, source: Option<&str>) -> Result<bool> {
+        if self.finished {
+            return Ok(false);
+        }
+        let record = if self.stopped {
+            None
+        } else {
+            self.reader.next_record()?
+        };
+        let origin = |flow: &Flow, frame: u64, time: f64| Origin {
+            source: source.map(str::to_owned),
+            capture_time: Some(time),
+            flow: Some(flow.name.clone()),
+            frame: Some(frame),
+            proto: Some(flow.proto),
+        };
+        let Some(rec) = record else {
+            self.finished = true;
+            let (frames, time) = (self.flows.counters.frames, self.last_time);
+            for flow in &mut self.flows.flows {
+                let o = origin(flow, frames, time);
+                flow.decoder.finish_columns(flow.offset, &o, tables);
+            }
+            return Ok(true);
+        };
+        self.flows.counters.frames += 1;
+        let Some((key, kind, bytes)) = classify(rec.payload, &self.select) else {
+            self.flows.counters.skipped += 1;
+            return Ok(true);
+        };
+        let Some(flow) = self.flows.open(key, kind) else {
+            return Ok(true);
+        };
+        let time = rec.time.as_secs_f64();
+        self.last_time = time;
+        let o = origin(flow, rec.frame, time);
+        flow.decoder
+            .feed_columns(&bytes, flow.offset, flow.datagrams, &o, tables);
+        flow.offset += bytes.len() as u64;
         Ok(true)
     }
 

@@ -1,0 +1,395 @@
+//! One column of a table: its values of one type, appended a row at a time, with nulls where a
+//! row has none, turned into an Arrow array when a row group is full.
+
+use std::sync::Arc;
+
+use arrow_array::builder::{
+    BooleanBuilder, Float32Builder, Float64Builder, Int8Builder, Int16Builder, Int32Builder,
+    Int64Builder, StringBuilder, UInt8Builder, UInt16Builder, UInt32Builder, UInt64Builder,
+};
+use arrow_array::{ArrayRef, ListArray, NullArray};
+use arrow_buffer::{NullBuffer, OffsetBuffer};
+use arrow_schema::{DataType, Field};
+
+/// One value as the decoders give it: a number of its own width, a flag, a text, or none.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Scalar<'a> {
+    /// No value (an absent option).
+    Null,
+    /// A flag.
+    Bool(bool),
+    /// Signed integers.
+    I8(i8),
+    /// Signed integers.
+    I16(i16),
+    /// Signed integers.
+    I32(i32),
+    /// Signed integers.
+    I64(i64),
+    /// Unsigned integers.
+    U8(u8),
+    /// Unsigned integers.
+    U16(u16),
+    /// Unsigned integers.
+    U32(u32),
+    /// Unsigned integers.
+    U64(u64),
+    /// A single-precision real, as the wire carries it.
+    F32(f32),
+    /// A double-precision real.
+    F64(f64),
+    /// A text.
+    Str(&'a str),
+}
+
+impl Scalar<'_> {
+    /// The value as an integer, when it is one.
+    fn integer(self) -> Option<i128> {
+        Some(match self {
+            Scalar::I8(v) => v.into(),
+            Scalar::I16(v) => v.into(),
+            Scalar::I32(v) => v.into(),
+            Scalar::I64(v) => v.into(),
+            Scalar::U8(v) => v.into(),
+            Scalar::U16(v) => v.into(),
+            Scalar::U32(v) => v.into(),
+            Scalar::U64(v) => v.into(),
+            _ => return None,
+        })
+    }
+
+    /// The value as a real, when it is a number.
+    #[allow(clippy::cast_precision_loss)]
+    fn real(self) -> Option<f64> {
+        match self {
+            Scalar::F32(v) => Some(v.into()),
+            Scalar::F64(v) => Some(v),
+            other => other.integer().map(|i| i as f64),
+        }
+    }
+}
+
+/// The values of a column so far, in the Arrow type of its first value.
+pub(crate) enum Data {
+    /// Only nulls so far (the type is not known yet).
+    Null(usize),
+    /// Flags.
+    Bool(BooleanBuilder),
+    /// `i8`.
+    I8(Int8Builder),
+    /// `i16`.
+    I16(Int16Builder),
+    /// `i32`.
+    I32(Int32Builder),
+    /// `i64`.
+    I64(Int64Builder),
+    /// `u8`.
+    U8(UInt8Builder),
+    /// `u16`.
+    U16(UInt16Builder),
+    /// `u32`.
+    U32(UInt32Builder),
+    /// `u64`.
+    U64(UInt64Builder),
+    /// `f32`.
+    F32(Float32Builder),
+    /// `f64`.
+    F64(Float64Builder),
+    /// UTF-8 texts.
+    Str(StringBuilder),
+    /// Lists of numbers or flags, each list a run of `items`.
+    List(Box<List>),
+}
+
+/// A list column: every row's items, one after another, and where each row's run ends.
+pub(crate) struct List {
+    items: Data,
+    /// `ends[i]` is the end of row `i`'s items (row `i` starts where row `i - 1` ends).
+    offsets: Vec<i32>,
+    valid: Vec<bool>,
+}
+
+macro_rules! each_primitive {
+    ($data:expr, $b:ident => $body:expr, $other:pat => $otherwise:expr) => {
+        match $data {
+            Data::Bool($b) => $body,
+            Data::I8($b) => $body,
+            Data::I16($b) => $body,
+            Data::I32($b) => $body,
+            Data::I64($b) => $body,
+            Data::U8($b) => $body,
+            Data::U16($b) => $body,
+            Data::U32($b) => $body,
+            Data::U64($b) => $body,
+            Data::F32($b) => $body,
+            Data::F64($b) => $body,
+            Data::Str($b) => $body,
+            $other => $otherwise,
+        }
+    };
+}
+
+impl Data {
+    /// A column for values like `v`, with `nulls` nulls before them.
+    fn for_value(v: Scalar<'_>, nulls: usize) -> Data {
+        let mut d = match v {
+            Scalar::Null => return Data::Null(nulls),
+            Scalar::Bool(_) => Data::Bool(BooleanBuilder::new()),
+            Scalar::I8(_) => Data::I8(Int8Builder::new()),
+            Scalar::I16(_) => Data::I16(Int16Builder::new()),
+            Scalar::I32(_) => Data::I32(Int32Builder::new()),
+            Scalar::I64(_) => Data::I64(Int64Builder::new()),
+            Scalar::U8(_) => Data::U8(UInt8Builder::new()),
+            Scalar::U16(_) => Data::U16(UInt16Builder::new()),
+            Scalar::U32(_) => Data::U32(UInt32Builder::new()),
+            Scalar::U64(_) => Data::U64(UInt64Builder::new()),
+            Scalar::F32(_) => Data::F32(Float32Builder::new()),
+            Scalar::F64(_) => Data::F64(Float64Builder::new()),
+            Scalar::Str(_) => Data::Str(StringBuilder::new()),
+        };
+        d.nulls(nulls);
+        d
+    }
+
+    /// A list column for items like `first`, with `nulls` null rows before it.
+    fn list_for(first: Scalar<'_>, nulls: usize) -> Data {
+        Data::List(Box::new(List {
+            items: Data::for_value(first, 0),
+            offsets: vec![0; nulls + 1],
+            valid: vec![false; nulls],
+        }))
+    }
+
+    /// Appends `n` nulls.
+    fn nulls(&mut self, n: usize) {
+        match self {
+            Data::Null(count) => *count += n,
+            Data::List(list) => {
+                let end = list.offsets.last().copied().unwrap_or(0);
+                list.offsets.extend(std::iter::repeat_n(end, n));
+                list.valid.extend(std::iter::repeat_n(false, n));
+            }
+            other => each_primitive!(other, b => b.append_nulls(n), _ => {}),
+        }
+    }
+
+    /// Appends `v`, converted to the column's type when that loses nothing (an integer into a
+    /// column of another integer width or of reals). `false` (and a null appended) when it
+    /// cannot be: a text into a column of numbers, a real into one of integers, a value out of
+    /// the column's range.
+    fn push(&mut self, v: Scalar<'_>) -> bool {
+        if v == Scalar::Null {
+            self.nulls(1);
+            return true;
+        }
+        let fits = match self {
+            Data::Null(_) | Data::List(_) => false,
+            Data::Bool(b) => match v {
+                Scalar::Bool(x) => {
+                    b.append_value(x);
+                    true
+                }
+                _ => false,
+            },
+            Data::Str(b) => match v {
+                Scalar::Str(x) => {
+                    b.append_value(x);
+                    true
+                }
+                _ => false,
+            },
+            #[allow(clippy::cast_possible_truncation)]
+            Data::F32(b) => match v {
+                Scalar::F32(x) => {
+                    b.append_value(x);
+                    true
+                }
+                // An f64 or an integer only when the f32 holds it exactly.
+                other => match other.real() {
+                    Some(x) if f64::from(x as f32) == x || x.is_nan() => {
+                        b.append_value(x as f32);
+                        true
+                    }
+                    _ => false,
+                },
+            },
+            Data::F64(b) => match v.real() {
+                Some(x) => {
+                    b.append_value(x);
+                    true
+                }
+                None => false,
+            },
+            Data::I8(b) => int(b, v),
+            Data::I16(b) => int(b, v),
+            Data::I32(b) => int(b, v),
+            Data::I64(b) => int(b, v),
+            Data::U8(b) => int(b, v),
+            Data::U16(b) => int(b, v),
+            Data::U32(b) => int(b, v),
+            Data::U64(b) => int(b, v),
+        };
+        if !fits {
+            self.nulls(1);
+        }
+        fits
+    }
+
+    /// The Arrow type of the values.
+    fn data_type(&self) -> DataType {
+        match self {
+            Data::Null(_) => DataType::Null,
+            Data::Bool(_) => DataType::Boolean,
+            Data::I8(_) => DataType::Int8,
+            Data::I16(_) => DataType::Int16,
+            Data::I32(_) => DataType::Int32,
+            Data::I64(_) => DataType::Int64,
+            Data::U8(_) => DataType::UInt8,
+            Data::U16(_) => DataType::UInt16,
+            Data::U32(_) => DataType::UInt32,
+            Data::U64(_) => DataType::UInt64,
+            Data::F32(_) => DataType::Float32,
+            Data::F64(_) => DataType::Float64,
+            Data::Str(_) => DataType::Utf8,
+            Data::List(list) => DataType::List(Arc::new(item_field(&list.items))),
+        }
+    }
+
+    /// The values so far as an array; the column starts again, empty, of the same type.
+    fn finish(&mut self) -> ArrayRef {
+        match self {
+            Data::Null(n) => Arc::new(NullArray::new(std::mem::take(n))),
+            Data::List(list) => {
+                let field = Arc::new(item_field(&list.items));
+                let items = list.items.finish();
+                let offsets =
+                    OffsetBuffer::new(std::mem::replace(&mut list.offsets, vec![0]).into());
+                let valid = std::mem::take(&mut list.valid);
+                let nulls = valid.contains(&false).then(|| NullBuffer::from(valid));
+                match ListArray::try_new(field, offsets, items, nulls) {
+                    Ok(a) => Arc::new(a),
+                    // The offsets are built here, ascending from 0 to the items' length.
+                    Err(_) => Arc::new(NullArray::new(0)),
+                }
+            }
+            other => {
+                each_primitive!(other, b => Arc::new(b.finish()), _ => Arc::new(NullArray::new(0)))
+            }
+        }
+    }
+}
+
+/// The field of a list's items.
+fn item_field(items: &Data) -> Field {
+    Field::new("item", items.data_type(), true)
+}
+
+/// Appends an integer to a column of integers when it is in the column's range.
+fn int<T>(b: &mut arrow_array::builder::PrimitiveBuilder<T>, v: Scalar<'_>) -> bool
+where
+    T: arrow_array::ArrowPrimitiveType,
+    T::Native: TryFrom<i128>,
+{
+    match v.integer().map(T::Native::try_from) {
+        Some(Ok(x)) => {
+            b.append_value(x);
+            true
+        }
+        _ => false,
+    }
+}
+
+/// A named column and the rows it has a value (or a null) for.
+pub(crate) struct Column {
+    /// Its name: a field's, a nested one's as `outer.inner`, or a metadata column's.
+    pub(crate) name: Box<str>,
+    pub(crate) data: Data,
+    /// Rows filled so far (a row not yet ended may have filled it).
+    pub(crate) filled: usize,
+}
+
+impl Column {
+    /// A column whose first value, in row `row`, is `v`.
+    pub(crate) fn new(name: &str, v: Scalar<'_>, row: usize) -> Column {
+        Column {
+            name: name.into(),
+            data: Data::for_value(v, row),
+            filled: row,
+        }
+    }
+
+    /// A list column whose first list, in row `row`, is `items`.
+    pub(crate) fn new_list(name: &str, items: &[Scalar<'_>], row: usize) -> Column {
+        let first = items
+            .iter()
+            .copied()
+            .find(|v| *v != Scalar::Null)
+            .unwrap_or(Scalar::Null);
+        Column {
+            name: name.into(),
+            data: Data::list_for(first, row),
+            filled: row,
+        }
+    }
+
+    /// Sets this row's value; `false` when it had to be a null (a value of another type).
+    pub(crate) fn push(&mut self, v: Scalar<'_>) -> bool {
+        self.filled += 1;
+        if let Data::Null(n) = &mut self.data
+            && v != Scalar::Null
+        {
+            let nulls = *n;
+            self.data = Data::for_value(v, nulls);
+        }
+        self.data.push(v)
+    }
+
+    /// Sets this row's value to a list; `false` when it had to be a null (the column is not a
+    /// list, or an item is of another type).
+    pub(crate) fn push_list(&mut self, items: &[Scalar<'_>]) -> bool {
+        self.filled += 1;
+        if let Data::Null(n) = &self.data {
+            let nulls = *n;
+            *self = Column::new_list(&self.name, items, nulls);
+            self.filled += 1;
+        }
+        let Data::List(list) = &mut self.data else {
+            self.data.nulls(1);
+            return false;
+        };
+        if let Data::Null(n) = &list.items
+            && let Some(first) = items.iter().copied().find(|v| *v != Scalar::Null)
+        {
+            let nulls = *n;
+            list.items = Data::for_value(first, nulls);
+        }
+        let mut ok = true;
+        for &item in items {
+            ok &= list.items.push(item);
+        }
+        let end = list.offsets.last().copied().unwrap_or(0);
+        list.offsets
+            .push(end.saturating_add(i32::try_from(items.len()).unwrap_or(i32::MAX)));
+        list.valid.push(true);
+        ok
+    }
+
+    /// Fills this row with a null when it has no value.
+    pub(crate) fn end_row(&mut self, rows: usize) {
+        if self.filled == rows {
+            self.data.nulls(1);
+            self.filled += 1;
+        }
+    }
+
+    /// The Arrow field of the column.
+    pub(crate) fn field(&self) -> Field {
+        Field::new(self.name.as_ref(), self.data.data_type(), true)
+    }
+
+    /// The values so far as an array; the column starts again empty.
+    pub(crate) fn finish(&mut self) -> ArrayRef {
+        self.filled = 0;
+        self.data.finish()
+    }
+}

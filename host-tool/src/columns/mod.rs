@@ -1,0 +1,425 @@
+//! Decoded messages as typed columns, one table per message type, cut into Arrow record
+//! batches of at most a row group each: what `protolink export` writes as Parquet or Arrow IPC
+//! files and what the Python package hands pyarrow (`protolink.to_arrow`, `to_frames`).
+//!
+//! A row is one message: first its metadata, then its fields.
+//!
+//! | column | type | what |
+//! |---|---|---|
+//! | `source` | Utf8 | the file it was read from (`export`; only when given) |
+//! | `capture_time` | Float64 | the capture record's time, seconds since the Unix epoch (null from a byte file) |
+//! | `offset` | Int64 | its first byte in the input (in its flow, for a capture) |
+//! | `flow`, `frame`, `proto` | Utf8, Int64, Utf8 | the capture's flow, record number (from 1) and protocol (only from a capture) |
+//! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
+//! | each field | its own | the `"fields"` of `decode --json`, a nested one as `outer.inner` |
+//!
+//! The fields' types: an AEOLUS message of a fixed layout keeps the wire's types (`f32` as
+//! Float32, `u16` as UInt16, an array as a List); the other messages' fields are rendered JSON
+//! values, whose integers become Int64, reals Float64, flags Boolean, texts Utf8 and lists of
+//! numbers Lists; a list of objects is kept as its JSON text. Error events make the table
+//! `ERROR` (`kind`, `error`). A field named like a metadata column is written as
+//! `field.NAME` (no field of the four protocols is).
+//!
+//! ```
+//! use protolink::columns::{Origin, Tables};
+//! use protolink::decoders::{AeolusDecoder, AeolusItem};
+//!
+//! let mut tables = Tables::new(1024);
+//! let mut d = AeolusDecoder::new();
+//! let origin = Origin::default();
+//! d.feed_items(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |at, item| {
+//!     tables.add_aeolus(&origin, at, &item);
+//! });
+//! let batches = tables.finish();
+//! let (name, batch) = &batches[0];
+//! assert_eq!((name.as_str(), batch.num_rows()), ("TOAST", 1));
+//! let names: Vec<_> = batch.schema().fields().iter().map(|f| f.name().clone()).collect();
+//! assert_eq!(names, ["capture_time", "offset", "meta.id", "meta.len", "meta.crc", "text"]);
+//! ```
+
+mod column;
+pub mod read;
+mod row;
+mod table;
+pub mod write;
+
+use std::collections::HashMap;
+
+use arrow_array::RecordBatch;
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+use self::column::Scalar;
+use self::row::{Ints, write_fields};
+use self::table::Table;
+use crate::commands::decode::capture::proto_name;
+use crate::decoders::{AeolusItem, Body, Event, aeolus_fields};
+use crate::proto::Proto;
+
+/// Rows per row group (record batch) unless asked otherwise: 64 Ki rows of one type, a few
+/// megabytes of columns.
+pub const ROW_GROUP: usize = 65_536;
+
+/// The metadata columns a field's name must not take.
+const METADATA: [&str; 6] = ["source", "capture_time", "offset", "flow", "frame", "proto"];
+
+/// Where a message came from: its source file, and for a capture its record.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Origin {
+    /// The file it was read from (`export` names every row's).
+    pub source: Option<String>,
+    /// The capture record's time, seconds since the Unix epoch (or the host's clock on a live
+    /// link).
+    pub capture_time: Option<f64>,
+    /// The capture's flow, e.g. `udp 127.0.0.1:40000 > 127.0.0.1:5001`.
+    pub flow: Option<String>,
+    /// The capture record's number, from 1.
+    pub frame: Option<u64>,
+    /// The flow's protocol (from a capture).
+    pub proto: Option<Proto>,
+}
+
+/// The tables being filled, one per message type (in the order the types first came), and
+/// the batches cut from them.
+pub struct Tables {
+    tables: Vec<(String, Table)>,
+    index: HashMap<String, usize>,
+    row_group: usize,
+    full: Vec<(String, RecordBatch)>,
+    rows: u64,
+}
+
+impl std::fmt::Debug for Tables {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Tables")
+            .field("types", &self.tables.len())
+            .field("rows", &self.rows)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Tables {
+    /// No tables yet; each is cut into a batch whenever it holds `row_group` rows (at least 1).
+    ///
+    /// ```
+    /// let tables = protolink::columns::Tables::new(protolink::columns::ROW_GROUP);
+    /// assert_eq!(tables.rows(), 0);
+    /// ```
+    pub fn new(row_group: usize) -> Tables {
+        Tables {
+            tables: Vec::new(),
+            index: HashMap::new(),
+            row_group: row_group.max(1),
+            full: Vec::new(),
+            rows: 0,
+        }
+    }
+
+    /// Rows added so far.
+    ///
+    /// ```
+    /// let tables = protolink::columns::Tables::new(8);
+    /// assert_eq!(tables.rows(), 0);
+    /// ```
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Values stored as null because they did not fit the type their column had from its first
+    /// value (none in the four protocols' messages: each field keeps one type).
+    ///
+    /// ```
+    /// assert_eq!(protolink::columns::Tables::new(8).mismatches(), 0);
+    /// ```
+    pub fn mismatches(&self) -> u64 {
+        self.tables.iter().map(|(_, t)| t.mismatches).sum()
+    }
+
+    /// The table of `name`, and its row begun with the metadata of `origin` and `offset`.
+    fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> &mut Table {
+        let i = match self.index.get(name) {
+            Some(&i) => i,
+            None => {
+                self.index.insert(name.to_owned(), self.tables.len());
+                self.tables.push((name.to_owned(), Table::new()));
+                self.tables.len() - 1
+            }
+        };
+        let table = &mut self.tables[i].1;
+        if let Some(s) = &origin.source {
+            table.set("source", Scalar::Str(s));
+            // An export's tables have every metadata column from the first row, so that byte
+            // files and captures give the same columns.
+            table.declare("flow", Scalar::Str(""));
+            table.declare("frame", Scalar::I64(0));
+            table.declare("proto", Scalar::Str(""));
+        }
+        table.set_typed(
+            "capture_time",
+            origin.capture_time.map(Scalar::F64),
+            Scalar::F64(0.0),
+        );
+        table.set(
+            "offset",
+            Scalar::I64(i64::try_from(offset).unwrap_or(i64::MAX)),
+        );
+        if let Some(flow) = &origin.flow {
+            table.set("flow", Scalar::Str(flow));
+            let frame = origin.frame.and_then(|f| i64::try_from(f).ok());
+            table.set_typed("frame", frame.map(Scalar::I64), Scalar::I64(0));
+            let proto = origin.proto.map(|p| Scalar::Str(proto_name(p)));
+            table.set_typed("proto", proto, Scalar::Str(""));
+        }
+        table
+    }
+
+    /// Ends the row of the table `name`, and cuts a batch when it is full.
+    fn end(&mut self, name: &str) {
+        let Some(&i) = self.index.get(name) else {
+            return;
+        };
+        let (name, table) = &mut self.tables[i];
+        table.end_row();
+        self.rows += 1;
+        if table.rows() >= self.row_group
+            && let Some(batch) = table.take_batch()
+        {
+            self.full.push((name.clone(), batch));
+        }
+    }
+
+    /// Adds a decoder's event: a message to its type's table, an error to `ERROR`.
+    ///
+    /// ```
+    /// use protolink::columns::{Origin, Tables};
+    /// use protolink::decoders::{AydpDecoder, StreamDecoder};
+    /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
+    /// let mut events = Vec::new();
+    /// d.feed(&[0xFF, 0x00, 0x07, 0x00, 0x00, 0x00, 0xF8], 0, &mut events);
+    /// let mut tables = Tables::new(8);
+    /// for e in &events {
+    ///     tables.add_event(&Origin::default(), e);
+    /// }
+    /// let batches = tables.finish();
+    /// assert_eq!(batches[0].0, "HEARTBEAT");
+    /// ```
+    pub fn add_event(&mut self, origin: &Origin, event: &Event) {
+        match &event.body {
+            Body::Message { name, meta, fields } => {
+                self.add_rendered(origin, event.offset, name, meta, fields);
+            }
+            Body::Error { kind, error } => self.add_error(origin, event.offset, kind, error),
+        }
+    }
+
+    /// Adds a message as the host tool renders it (`decode --json`'s `name`, metadata and
+    /// `fields`).
+    ///
+    /// ```
+    /// use protolink::columns::{Origin, Tables};
+    /// let meta = serde_json::json!({"len": 7});
+    /// let meta = meta.as_object().cloned().unwrap_or_default();
+    /// let mut tables = Tables::new(8);
+    /// tables.add_rendered(&Origin::default(), 0, "DEBUG", &meta, &serde_json::json!({"number": 1, "value": 2000}));
+    /// let batches = tables.finish();
+    /// assert_eq!(batches[0].1.num_columns(), 5);
+    /// ```
+    pub fn add_rendered(
+        &mut self,
+        origin: &Origin,
+        offset: u64,
+        name: &str,
+        meta: &Map<String, Value>,
+        fields: &Value,
+    ) {
+        let table = self.begin(name, origin, offset);
+        for (key, value) in meta {
+            match value {
+                Value::Object(inner) => {
+                    for (sub, v) in inner {
+                        write_meta(table, &format!("meta.{key}.{sub}"), v);
+                    }
+                }
+                v => write_meta(table, &format!("meta.{key}"), v),
+            }
+        }
+        write_checked(table, fields, Ints::Wide);
+        self.end(name);
+    }
+
+    /// Adds an error event to the table `ERROR`: its `kind` and `error` sentence.
+    ///
+    /// ```
+    /// use protolink::columns::{Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// tables.add_error(&Origin::default(), 3, "checksum_mismatch", "checksum mismatch");
+    /// assert_eq!(tables.finish()[0].0, "ERROR");
+    /// ```
+    pub fn add_error(&mut self, origin: &Origin, offset: u64, kind: &str, error: &str) {
+        let table = self.begin("ERROR", origin, offset);
+        table.set("kind", Scalar::Str(kind));
+        table.set("error", Scalar::Str(error));
+        self.end("ERROR");
+    }
+
+    /// Adds an AEOLUS decoder's item placed at `offset`: a message of a fixed layout straight
+    /// from its typed value (its columns of the wire's types), a text or raw message as the host
+    /// tool renders it, an error to `ERROR`.
+    ///
+    /// ```
+    /// use protolink::columns::{Origin, Tables};
+    /// use protolink::decoders::AeolusDecoder;
+    /// let mut tables = Tables::new(8);
+    /// AeolusDecoder::new().feed_items(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |at, item| {
+    ///     tables.add_aeolus(&Origin::default(), at, &item)
+    /// });
+    /// assert_eq!(tables.rows(), 1);
+    /// ```
+    pub fn add_aeolus(&mut self, origin: &Origin, offset: u64, item: &AeolusItem<'_>) {
+        let AeolusItem::Message {
+            frame,
+            message,
+            len,
+        } = item
+        else {
+            let (kind, error) = item.error().unwrap_or_default();
+            self.add_error(origin, offset, &kind, &error);
+            return;
+        };
+        self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), *len, message);
+    }
+
+    /// Adds an AEOLUS message of ID `id` (`has_crc`: it carried a CRC; `len`: its length on the
+    /// wire) placed at `offset`.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, Text};
+    /// use protolink::columns::{Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// let toast = Message::Toast(Text::new("hi").unwrap());
+    /// tables.add_aeolus_message(&Origin::default(), 0, 82, true, 8, &toast);
+    /// assert_eq!(tables.finish()[0].0, "TOAST");
+    /// ```
+    pub fn add_aeolus_message(
+        &mut self,
+        origin: &Origin,
+        offset: u64,
+        id: u8,
+        has_crc: bool,
+        len: u64,
+        message: &aeolus_proto::message::Message<'_>,
+    ) {
+        use aeolus_proto::message::Message as M;
+        let name = message.name();
+        let table = self.begin(name, origin, offset);
+        table.set("meta.id", Scalar::I64(id.into()));
+        table.set(
+            "meta.len",
+            Scalar::I64(i64::try_from(len).unwrap_or(i64::MAX)),
+        );
+        table.set("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
+        match message {
+            M::AeolusInfo(v) => write_checked(table, v, Ints::Own),
+            M::Pressure(v) => write_checked(table, v, Ints::Own),
+            M::Gyro(v) => write_checked(table, v, Ints::Own),
+            M::Accel(v) => write_checked(table, v, Ints::Own),
+            M::Magnet(v) => write_checked(table, v, Ints::Own),
+            M::Temp(v) => write_checked(table, v, Ints::Own),
+            M::Gps(v) => write_checked(table, v, Ints::Own),
+            M::Attitude(v) => write_checked(table, v, Ints::Own),
+            M::Compass(v) => write_checked(table, v, Ints::Own),
+            M::Wind(v) => write_checked(table, v, Ints::Own),
+            M::SetTime(v) => write_checked(table, v, Ints::Own),
+            other => write_checked(table, &aeolus_fields(other).1, Ints::Wide),
+        }
+        self.end(name);
+    }
+
+    /// The batches cut so far (full row groups), in the order they were cut.
+    ///
+    /// ```
+    /// let mut tables = protolink::columns::Tables::new(1);
+    /// tables.add_error(&Default::default(), 0, "truncated", "input ends inside a frame");
+    /// assert_eq!(tables.take_full().len(), 1);
+    /// ```
+    pub fn take_full(&mut self) -> Vec<(String, RecordBatch)> {
+        std::mem::take(&mut self.full)
+    }
+
+    /// Every batch not taken yet: the full ones, then each table's last rows (in the order
+    /// the types first came).
+    ///
+    /// ```
+    /// let mut tables = protolink::columns::Tables::new(8);
+    /// tables.add_error(&Default::default(), 0, "truncated", "input ends inside a frame");
+    /// assert_eq!(tables.finish()[0].1.num_rows(), 1);
+    /// ```
+    pub fn finish(&mut self) -> Vec<(String, RecordBatch)> {
+        let mut out = std::mem::take(&mut self.full);
+        for (name, table) in &mut self.tables {
+            if let Some(batch) = table.take_batch() {
+                out.push((name.clone(), batch));
+            }
+        }
+        out
+    }
+}
+
+/// The batches of one table with one schema: the last batch's (a table's columns only grow),
+/// each earlier batch given the columns it lacks as nulls.
+///
+/// ```
+/// let mut tables = protolink::columns::Tables::new(1);
+/// tables.add_error(&Default::default(), 0, "truncated", "input ends inside a frame");
+/// tables.add_error(&Default::default(), 9, "truncated", "input ends inside a frame");
+/// let batches: Vec<_> = tables.finish().into_iter().map(|(_, b)| b).collect();
+/// let (schema, batches) = protolink::columns::unify(batches);
+/// assert_eq!((schema.fields().len(), batches.len()), (4, 2));
+/// ```
+pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordBatch>) {
+    let Some(schema) = batches.last().map(RecordBatch::schema) else {
+        return (std::sync::Arc::new(arrow_schema::Schema::empty()), batches);
+    };
+    let batches = batches
+        .into_iter()
+        .map(|b| {
+            if b.schema() == schema {
+                return b;
+            }
+            let columns = schema
+                .fields()
+                .iter()
+                .map(|f| match b.column_by_name(f.name()) {
+                    Some(c) if c.data_type() == f.data_type() => c.clone(),
+                    _ => arrow_array::new_null_array(f.data_type(), b.num_rows()),
+                })
+                .collect();
+            let options = arrow_array::RecordBatchOptions::new().with_row_count(Some(b.num_rows()));
+            RecordBatch::try_new_with_options(schema.clone(), columns, &options).unwrap_or(b)
+        })
+        .collect();
+    (schema, batches)
+}
+
+/// A metadata value (a number, flag or text) into the column `name`.
+fn write_meta(table: &mut Table, name: &str, v: &Value) {
+    let s = match v {
+        Value::Bool(b) => Scalar::Bool(*b),
+        Value::Number(n) => match (n.as_i64(), n.as_u64(), n.as_f64()) {
+            (Some(i), _, _) => Scalar::I64(i),
+            (None, Some(u), _) => Scalar::U64(u),
+            (_, _, Some(f)) => Scalar::F64(f),
+            _ => Scalar::Null,
+        },
+        Value::String(s) => Scalar::Str(s),
+        _ => Scalar::Null,
+    };
+    table.set(name, s);
+}
+
+/// The fields into the row, a field named like a metadata column under `field.NAME`.
+fn write_checked<T: Serialize + ?Sized>(table: &mut Table, fields: &T, ints: Ints) {
+    write_fields(table, fields, ints, |name| {
+        METADATA.contains(&name) || name.starts_with("meta.") || name.starts_with("field.")
+    });
+}

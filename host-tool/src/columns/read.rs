@@ -1,0 +1,149 @@
+//! A file's messages into the tables: a pcapng or pcap capture decoded per flow, or a file of
+//! raw bytes of one protocol, read a little at a time so that the caller can write out the full
+//! batches (and look for Ctrl-C) between two steps.
+
+use std::io::Read;
+use std::path::Path;
+
+use super::{Origin, Tables};
+use crate::commands::decode::DecodeArgs;
+use crate::commands::decode::capture::CaptureEvents;
+use crate::decoders::decoder_for;
+use crate::endpoint::Endpoint;
+use crate::error::{Error, Result};
+use crate::proto::{ProfileArg, Proto, Side};
+
+/// Bytes read from a byte file per step.
+const CHUNK: usize = 256 * 1024;
+
+/// Capture records read per step.
+const RECORDS_PER_STEP: usize = 1024;
+
+/// Which decoder reads a file: a capture names its protocols (`proto` picks one), a byte file
+/// needs `proto`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Select {
+    /// The protocol (of a byte file; in a capture, only its flows of this protocol).
+    pub proto: Option<Proto>,
+    /// The AYDP profile.
+    pub profile: Option<ProfileArg>,
+    /// The AOK side.
+    pub side: Side,
+}
+
+/// What was read of a file.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Report {
+    /// Bytes of the file read (the whole file, or up to a capture's cut).
+    pub bytes: u64,
+    /// Rows it gave (messages and errors).
+    pub rows: u64,
+    /// A capture cut inside a block (`protolink record` killed mid-write): the byte where the
+    /// cut block starts. Every whole record before it was read.
+    pub cut_at: Option<u64>,
+    /// The whole records before the cut.
+    pub records_before_cut: u64,
+}
+
+/// Reads the file at `path` into `tables`, every row's `source` set to `source` when given;
+/// `step` runs after each step with the tables (to take their full batches), and an error it
+/// returns ends the reading.
+///
+/// # Errors
+/// The file cannot be opened or read, a byte file without `proto`, a damaged capture, or
+/// `step`'s error.
+///
+/// ```
+/// use protolink::columns::Tables;
+/// use protolink::columns::read::{Select, read_file};
+/// use protolink::proto::Proto;
+/// let path = std::env::temp_dir().join(format!("protolink-doc-read-{}", std::process::id()));
+/// std::fs::write(&path, [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E])?;
+/// let mut tables = Tables::new(1024);
+/// let select = Select { proto: Some(Proto::Aeolus), ..Select::default() };
+/// let report = read_file(&path, &select, None, &mut tables, |_| Ok(()))?;
+/// assert_eq!((report.bytes, report.rows), (8, 1));
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_file(
+    path: &Path,
+    select: &Select,
+    source: Option<&str>,
+    tables: &mut Tables,
+    mut step: impl FnMut(&mut Tables) -> Result<()>,
+) -> Result<Report> {
+    let rows_before = tables.rows();
+    let mut report = Report::default();
+    if crate::capture::file_is_capture(path) {
+        let args = DecodeArgs {
+            proto: select.proto,
+            profile: select.profile,
+            side: select.side,
+            from: Endpoint::File(path.to_owned()),
+            json: false,
+            udp_json: None,
+            seconds: None,
+        };
+        let mut capture = CaptureEvents::open(path, &args)?;
+        'records: loop {
+            for _ in 0..RECORDS_PER_STEP {
+                match capture.next_columns(tables, source) {
+                    Ok(true) => {}
+                    Ok(false) => break 'records,
+                    Err(Error::CaptureCut { offset, frames, .. }) => {
+                        report.cut_at = Some(offset);
+                        report.records_before_cut = frames;
+                        capture.stop();
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
+            step(tables)?;
+        }
+        report.bytes = report.cut_at.unwrap_or_else(|| file_len(path));
+    } else {
+        let Some(proto) = select.proto else {
+            return Err(Error::Usage(format!(
+                "{} is no pcapng or pcap capture: say which protocol its bytes are (--proto)",
+                path.display()
+            )));
+        };
+        let mut file = std::fs::File::open(path).map_err(|e| Error::Open {
+            endpoint: path.display().to_string(),
+            source: e,
+        })?;
+        let mut decoder = decoder_for(proto, select.profile.unwrap_or_default(), select.side);
+        let origin = Origin {
+            source: source.map(str::to_owned),
+            ..Origin::default()
+        };
+        let mut buf = vec![0u8; CHUNK];
+        loop {
+            let n = match file.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => n,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => {
+                    return Err(Error::Io {
+                        what: format!("reading {}", path.display()),
+                        source: e,
+                    });
+                }
+            };
+            let bytes = buf.get(..n).unwrap_or_default();
+            decoder.feed_columns(bytes, report.bytes, false, &origin, tables);
+            report.bytes += n as u64;
+            step(tables)?;
+        }
+        decoder.finish_columns(report.bytes, &origin, tables);
+    }
+    report.rows = tables.rows() - rows_before;
+    step(tables)?;
+    Ok(report)
+}
+
+/// The file's length (0 when it cannot be read).
+fn file_len(path: &Path) -> u64 {
+    std::fs::metadata(path).map_or(0, |m| m.len())
+}

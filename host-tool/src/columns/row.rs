@@ -1,0 +1,650 @@
+//! A message's fields into a table row, through serde: each number, flag and text into the
+//! column of its path (a nested field as `outer.inner`), a list of numbers or flags into a list
+//! column, anything else (a list of objects, an enum carrying data) as its JSON text.
+//!
+//! The protocol crates' typed messages serialize with their own widths (`f32`, `u16`, ...), so
+//! their columns have those types; a rendered field (`serde_json::Value`) has only integers and
+//! reals, which become `Int64` and `Float64` columns.
+
+use serde::Serialize;
+use serde::ser::{self, Impossible};
+
+use super::column::Scalar;
+use super::table::Table;
+
+/// Why a value is not written as columns: it is written as its JSON text instead.
+#[derive(Debug)]
+pub(crate) struct NotColumns;
+
+impl std::fmt::Display for NotColumns {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("not a value of columns")
+    }
+}
+
+impl std::error::Error for NotColumns {}
+
+impl ser::Error for NotColumns {
+    fn custom<T: std::fmt::Display>(_: T) -> Self {
+        NotColumns
+    }
+}
+
+/// Writes `fields` (a struct or a map) into the row of `table`, each field in the column of its
+/// name; a top-level name that `clashes` in the column `field.NAME`.
+pub(crate) fn write_fields<T: Serialize + ?Sized>(
+    table: &mut Table,
+    fields: &T,
+    integers: Ints,
+    clashes: impl Fn(&str) -> bool,
+) {
+    let mut path = String::new();
+    let value = Value {
+        table,
+        path: &mut path,
+        ints: integers,
+        clashes: Some(&clashes),
+    };
+    if fields.serialize(value).is_err() {
+        // A top level that is no struct nor map: one column, `value`.
+        let text = serde_json::to_string(fields).unwrap_or_default();
+        table.set("value", Scalar::Str(&text));
+    }
+}
+
+/// How integers are kept: at their own width (typed messages), or all as `i64` (rendered
+/// JSON values, whose integers carry no width).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Ints {
+    /// `u8` as `UInt8`, `i32` as `Int32`, ...
+    Own,
+    /// Every integer as `Int64` (an unsigned one beyond it as `UInt64`).
+    Wide,
+}
+
+/// The value of the column (or columns) at `path`.
+struct Value<'a> {
+    table: &'a mut Table,
+    path: &'a mut String,
+    ints: Ints,
+    /// At the top level: which names are a metadata column's.
+    clashes: Option<&'a dyn Fn(&str) -> bool>,
+}
+
+impl Value<'_> {
+    fn set(self, v: Scalar<'_>) -> Result<(), NotColumns> {
+        let v = match (self.ints, v) {
+            (Ints::Wide, Scalar::U64(x)) => i64::try_from(x).map_or(v, Scalar::I64),
+            (Ints::Wide, other) => match other {
+                Scalar::I8(x) => Scalar::I64(x.into()),
+                Scalar::I16(x) => Scalar::I64(x.into()),
+                Scalar::I32(x) => Scalar::I64(x.into()),
+                Scalar::U8(x) => Scalar::I64(x.into()),
+                Scalar::U16(x) => Scalar::I64(x.into()),
+                Scalar::U32(x) => Scalar::I64(x.into()),
+                other => other,
+            },
+            (Ints::Own, other) => other,
+        };
+        self.table.set(self.path, v);
+        Ok(())
+    }
+}
+
+/// A field under `path`: written as columns, or as its JSON text when it cannot be.
+fn field<T: Serialize + ?Sized>(
+    table: &mut Table,
+    path: &mut String,
+    name: &str,
+    value: &T,
+    ints: Ints,
+    clashes: Option<&dyn Fn(&str) -> bool>,
+) {
+    let len = path.len();
+    if !path.is_empty() {
+        path.push('.');
+    }
+    if clashes.is_some_and(|c| c(name)) {
+        path.push_str("field.");
+    }
+    path.push_str(name);
+    let ok = value
+        .serialize(Value {
+            table: &mut *table,
+            path: &mut *path,
+            ints,
+            clashes: None,
+        })
+        .is_ok();
+    if !ok {
+        let text = serde_json::to_string(value).unwrap_or_default();
+        table.set(path, Scalar::Str(&text));
+    }
+    path.truncate(len);
+}
+
+/// The fields of a struct or map under the path.
+struct Fields<'a> {
+    table: &'a mut Table,
+    path: &'a mut String,
+    ints: Ints,
+    clashes: Option<&'a dyn Fn(&str) -> bool>,
+    /// A map's key, kept until its value comes.
+    key: String,
+}
+
+impl ser::SerializeStruct for Fields<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+
+    fn serialize_field<T: Serialize + ?Sized>(
+        &mut self,
+        key: &'static str,
+        value: &T,
+    ) -> Result<(), NotColumns> {
+        field(self.table, self.path, key, value, self.ints, self.clashes);
+        Ok(())
+    }
+
+    fn end(self) -> Result<(), NotColumns> {
+        Ok(())
+    }
+}
+
+impl ser::SerializeMap for Fields<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+
+    fn serialize_key<T: Serialize + ?Sized>(&mut self, key: &T) -> Result<(), NotColumns> {
+        self.key.clear();
+        key.serialize(KeyText(&mut self.key))
+    }
+
+    fn serialize_value<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
+        field(
+            self.table,
+            self.path,
+            &self.key,
+            value,
+            self.ints,
+            self.clashes,
+        );
+        Ok(())
+    }
+
+    fn end(self) -> Result<(), NotColumns> {
+        Ok(())
+    }
+}
+
+/// The items of a list of numbers or flags, collected before the list is written.
+struct Items<'a> {
+    value: Value<'a>,
+    items: Vec<Scalar<'static>>,
+}
+
+impl ser::SerializeSeq for Items<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+
+    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
+        let item = value.serialize(Item)?;
+        self.items.push(match (self.value.ints, item) {
+            (Ints::Wide, Scalar::U64(x)) => i64::try_from(x).map_or(item, Scalar::I64),
+            _ => item,
+        });
+        Ok(())
+    }
+
+    fn end(self) -> Result<(), NotColumns> {
+        self.value.table.set_list(self.value.path, &self.items);
+        Ok(())
+    }
+}
+
+impl ser::SerializeTuple for Items<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+
+    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
+        ser::SerializeSeq::serialize_element(self, value)
+    }
+
+    fn end(self) -> Result<(), NotColumns> {
+        ser::SerializeSeq::end(self)
+    }
+}
+
+macro_rules! scalar_methods {
+    ($( $method:ident($t:ty) => $variant:ident ),* $(,)?) => {
+        $( fn $method(self, v: $t) -> Result<Self::Ok, NotColumns> { self.put(Scalar::$variant(v)) } )*
+    };
+}
+
+/// What both the value and the list item serializers do with a number or flag.
+trait Put: Sized {
+    type Done;
+    fn put(self, v: Scalar<'_>) -> Result<Self::Done, NotColumns>;
+}
+
+impl Put for Value<'_> {
+    type Done = ();
+    fn put(self, v: Scalar<'_>) -> Result<(), NotColumns> {
+        self.set(v)
+    }
+}
+
+impl<'a> ser::Serializer for Value<'a> {
+    type Ok = ();
+    type Error = NotColumns;
+    type SerializeSeq = Items<'a>;
+    type SerializeTuple = Items<'a>;
+    type SerializeTupleStruct = Impossible<(), NotColumns>;
+    type SerializeTupleVariant = Impossible<(), NotColumns>;
+    type SerializeMap = Fields<'a>;
+    type SerializeStruct = Fields<'a>;
+    type SerializeStructVariant = Impossible<(), NotColumns>;
+
+    scalar_methods!(
+        serialize_bool(bool) => Bool,
+        serialize_i8(i8) => I8,
+        serialize_i16(i16) => I16,
+        serialize_i32(i32) => I32,
+        serialize_i64(i64) => I64,
+        serialize_u8(u8) => U8,
+        serialize_u16(u16) => U16,
+        serialize_u32(u32) => U32,
+        serialize_u64(u64) => U64,
+        serialize_f32(f32) => F32,
+        serialize_f64(f64) => F64,
+    );
+
+    fn serialize_char(self, v: char) -> Result<(), NotColumns> {
+        self.set(Scalar::Str(v.encode_utf8(&mut [0; 4])))
+    }
+
+    fn serialize_str(self, v: &str) -> Result<(), NotColumns> {
+        self.set(Scalar::Str(v))
+    }
+
+    fn serialize_bytes(self, _: &[u8]) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+
+    fn serialize_none(self) -> Result<(), NotColumns> {
+        self.set(Scalar::Null)
+    }
+
+    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<(), NotColumns> {
+        value.serialize(self)
+    }
+
+    fn serialize_unit(self) -> Result<(), NotColumns> {
+        self.set(Scalar::Null)
+    }
+
+    fn serialize_unit_struct(self, _: &'static str) -> Result<(), NotColumns> {
+        self.set(Scalar::Null)
+    }
+
+    fn serialize_unit_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+    ) -> Result<(), NotColumns> {
+        self.set(Scalar::Str(variant))
+    }
+
+    fn serialize_newtype_struct<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        value: &T,
+    ) -> Result<(), NotColumns> {
+        value.serialize(self)
+    }
+
+    /// A variant carrying a value: the value under `path.Variant`, as the JSON object
+    /// `{"Variant": value}` that `decode --json` renders flattens.
+    fn serialize_newtype_variant<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+        value: &T,
+    ) -> Result<(), NotColumns> {
+        field(self.table, self.path, variant, value, self.ints, None);
+        Ok(())
+    }
+
+    fn serialize_seq(self, len: Option<usize>) -> Result<Items<'a>, NotColumns> {
+        Ok(Items {
+            value: self,
+            items: Vec::with_capacity(len.unwrap_or(0)),
+        })
+    }
+
+    fn serialize_tuple(self, len: usize) -> Result<Items<'a>, NotColumns> {
+        self.serialize_seq(Some(len))
+    }
+
+    fn serialize_tuple_struct(
+        self,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleStruct, NotColumns> {
+        Err(NotColumns)
+    }
+
+    fn serialize_tuple_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleVariant, NotColumns> {
+        Err(NotColumns)
+    }
+
+    fn serialize_map(self, _: Option<usize>) -> Result<Fields<'a>, NotColumns> {
+        Ok(Fields {
+            table: self.table,
+            path: self.path,
+            ints: self.ints,
+            clashes: self.clashes,
+            key: String::new(),
+        })
+    }
+
+    fn serialize_struct(self, _: &'static str, _: usize) -> Result<Fields<'a>, NotColumns> {
+        self.serialize_map(None)
+    }
+
+    fn serialize_struct_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeStructVariant, NotColumns> {
+        Err(NotColumns)
+    }
+}
+
+/// One item of a list: a number or a flag, nothing else.
+struct Item;
+
+impl Put for Item {
+    type Done = Scalar<'static>;
+    fn put(self, v: Scalar<'_>) -> Result<Scalar<'static>, NotColumns> {
+        Ok(match v {
+            Scalar::Null => Scalar::Null,
+            Scalar::Bool(x) => Scalar::Bool(x),
+            Scalar::I8(x) => Scalar::I8(x),
+            Scalar::I16(x) => Scalar::I16(x),
+            Scalar::I32(x) => Scalar::I32(x),
+            Scalar::I64(x) => Scalar::I64(x),
+            Scalar::U8(x) => Scalar::U8(x),
+            Scalar::U16(x) => Scalar::U16(x),
+            Scalar::U32(x) => Scalar::U32(x),
+            Scalar::U64(x) => Scalar::U64(x),
+            Scalar::F32(x) => Scalar::F32(x),
+            Scalar::F64(x) => Scalar::F64(x),
+            Scalar::Str(_) => return Err(NotColumns),
+        })
+    }
+}
+
+impl ser::Serializer for Item {
+    type Ok = Scalar<'static>;
+    type Error = NotColumns;
+    type SerializeSeq = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeTuple = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeTupleStruct = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeTupleVariant = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeMap = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeStruct = Impossible<Scalar<'static>, NotColumns>;
+    type SerializeStructVariant = Impossible<Scalar<'static>, NotColumns>;
+
+    scalar_methods!(
+        serialize_bool(bool) => Bool,
+        serialize_i8(i8) => I8,
+        serialize_i16(i16) => I16,
+        serialize_i32(i32) => I32,
+        serialize_i64(i64) => I64,
+        serialize_u8(u8) => U8,
+        serialize_u16(u16) => U16,
+        serialize_u32(u32) => U32,
+        serialize_u64(u64) => U64,
+        serialize_f32(f32) => F32,
+        serialize_f64(f64) => F64,
+    );
+
+    fn serialize_char(self, _: char) -> Result<Self::Ok, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_str(self, _: &str) -> Result<Self::Ok, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_bytes(self, _: &[u8]) -> Result<Self::Ok, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_none(self) -> Result<Self::Ok, NotColumns> {
+        Ok(Scalar::Null)
+    }
+    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<Self::Ok, NotColumns> {
+        value.serialize(self)
+    }
+    fn serialize_unit(self) -> Result<Self::Ok, NotColumns> {
+        Ok(Scalar::Null)
+    }
+    fn serialize_unit_struct(self, _: &'static str) -> Result<Self::Ok, NotColumns> {
+        Ok(Scalar::Null)
+    }
+    fn serialize_unit_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+    ) -> Result<Self::Ok, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_newtype_struct<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        value: &T,
+    ) -> Result<Self::Ok, NotColumns> {
+        value.serialize(self)
+    }
+    fn serialize_newtype_variant<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: &T,
+    ) -> Result<Self::Ok, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple(self, _: usize) -> Result<Self::SerializeTuple, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple_struct(
+        self,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleStruct, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleVariant, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_struct(
+        self,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeStruct, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_struct_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeStructVariant, NotColumns> {
+        Err(NotColumns)
+    }
+}
+
+/// A map key as text (JSON objects' keys are strings).
+struct KeyText<'a>(&'a mut String);
+
+impl ser::Serializer for KeyText<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+    type SerializeSeq = Impossible<(), NotColumns>;
+    type SerializeTuple = Impossible<(), NotColumns>;
+    type SerializeTupleStruct = Impossible<(), NotColumns>;
+    type SerializeTupleVariant = Impossible<(), NotColumns>;
+    type SerializeMap = Impossible<(), NotColumns>;
+    type SerializeStruct = Impossible<(), NotColumns>;
+    type SerializeStructVariant = Impossible<(), NotColumns>;
+
+    fn serialize_str(self, v: &str) -> Result<(), NotColumns> {
+        self.0.push_str(v);
+        Ok(())
+    }
+    fn serialize_bool(self, v: bool) -> Result<(), NotColumns> {
+        self.0.push_str(if v { "true" } else { "false" });
+        Ok(())
+    }
+    fn serialize_i8(self, v: i8) -> Result<(), NotColumns> {
+        self.serialize_i64(v.into())
+    }
+    fn serialize_i16(self, v: i16) -> Result<(), NotColumns> {
+        self.serialize_i64(v.into())
+    }
+    fn serialize_i32(self, v: i32) -> Result<(), NotColumns> {
+        self.serialize_i64(v.into())
+    }
+    fn serialize_i64(self, v: i64) -> Result<(), NotColumns> {
+        self.0.push_str(&v.to_string());
+        Ok(())
+    }
+    fn serialize_u8(self, v: u8) -> Result<(), NotColumns> {
+        self.serialize_u64(v.into())
+    }
+    fn serialize_u16(self, v: u16) -> Result<(), NotColumns> {
+        self.serialize_u64(v.into())
+    }
+    fn serialize_u32(self, v: u32) -> Result<(), NotColumns> {
+        self.serialize_u64(v.into())
+    }
+    fn serialize_u64(self, v: u64) -> Result<(), NotColumns> {
+        self.0.push_str(&v.to_string());
+        Ok(())
+    }
+    fn serialize_f32(self, _: f32) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_f64(self, _: f64) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_char(self, v: char) -> Result<(), NotColumns> {
+        self.0.push(v);
+        Ok(())
+    }
+    fn serialize_bytes(self, _: &[u8]) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_none(self) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<(), NotColumns> {
+        value.serialize(self)
+    }
+    fn serialize_unit(self) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_unit_struct(self, _: &'static str) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_unit_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+    ) -> Result<(), NotColumns> {
+        self.0.push_str(variant);
+        Ok(())
+    }
+    fn serialize_newtype_struct<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        value: &T,
+    ) -> Result<(), NotColumns> {
+        value.serialize(self)
+    }
+    fn serialize_newtype_variant<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: &T,
+    ) -> Result<(), NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple(self, _: usize) -> Result<Self::SerializeTuple, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple_struct(
+        self,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleStruct, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_tuple_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeTupleVariant, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_struct(
+        self,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeStruct, NotColumns> {
+        Err(NotColumns)
+    }
+    fn serialize_struct_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self::SerializeStructVariant, NotColumns> {
+        Err(NotColumns)
+    }
+}

@@ -1,0 +1,155 @@
+//! One message type's table: its columns, filled a row at a time, and cut into Arrow record
+//! batches (row groups).
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use arrow_array::RecordBatch;
+use arrow_schema::{Schema, SchemaRef};
+
+use super::column::{Column, Scalar};
+
+/// The columns of one message type. A column appears with the first row that has it (the rows
+/// before hold nulls in it) and stays: every batch cut from the table has all columns seen so
+/// far, in the order they first appeared.
+pub(crate) struct Table {
+    columns: Vec<Column>,
+    index: HashMap<Box<str>, usize>,
+    /// Rows ended since the last batch.
+    rows: usize,
+    /// Where the next value of this row is looked for first: rows of one type name their
+    /// columns in the same order, so the lookup is one comparison.
+    cursor: usize,
+    /// Values that did not fit their column's type (a null was stored instead).
+    pub(crate) mismatches: u64,
+}
+
+impl Table {
+    pub(crate) fn new() -> Table {
+        Table {
+            columns: Vec::new(),
+            index: HashMap::new(),
+            rows: 0,
+            cursor: 0,
+            mismatches: 0,
+        }
+    }
+
+    /// Rows ended since the last batch.
+    pub(crate) fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// The index of the column `name`, if it exists.
+    fn find(&mut self, name: &str) -> Option<usize> {
+        let i = match self.columns.get(self.cursor) {
+            Some(c) if *c.name == *name => self.cursor,
+            _ => *self.index.get(name)?,
+        };
+        self.cursor = i + 1;
+        Some(i)
+    }
+
+    /// Sets the value of the column `name` in this row (a column it creates when new). A value
+    /// for a column already set in this row is dropped (a field named like a nested one's path).
+    pub(crate) fn set(&mut self, name: &str, v: Scalar<'_>) {
+        match self.find(name) {
+            Some(i) => self.put(i, v),
+            None => {
+                let mut c = Column::new(name, v, self.rows);
+                c.push(v);
+                self.add(c);
+            }
+        }
+    }
+
+    /// Makes sure the column `name` exists, of the type of `like` (all nulls so far when it is
+    /// new); sets nothing in this row.
+    pub(crate) fn declare(&mut self, name: &str, like: Scalar<'_>) {
+        if self.find(name).is_none() {
+            self.add(Column::new(name, like, self.rows));
+        }
+    }
+
+    /// Sets the value of the column `name` in this row, or a null: a column it creates is of the
+    /// type of `like`.
+    pub(crate) fn set_typed(&mut self, name: &str, v: Option<Scalar<'_>>, like: Scalar<'_>) {
+        let i = match self.find(name) {
+            Some(i) => i,
+            None => {
+                self.add(Column::new(name, like, self.rows));
+                self.columns.len() - 1
+            }
+        };
+        self.put(i, v.unwrap_or(Scalar::Null));
+    }
+
+    /// Sets this row's value of column `i`, unless it has one.
+    fn put(&mut self, i: usize, v: Scalar<'_>) {
+        let rows = self.rows;
+        if let Some(c) = self.columns.get_mut(i)
+            && c.filled == rows
+            && !c.push(v)
+        {
+            self.mismatches += 1;
+        }
+    }
+
+    /// Sets the column `name` of this row to a list of `items`.
+    pub(crate) fn set_list(&mut self, name: &str, items: &[Scalar<'_>]) {
+        let rows = self.rows;
+        match self.find(name) {
+            Some(i) => {
+                if let Some(c) = self.columns.get_mut(i)
+                    && c.filled == rows
+                    && !c.push_list(items)
+                {
+                    self.mismatches += 1;
+                }
+            }
+            None => {
+                let mut c = Column::new_list(name, items, rows);
+                if !c.push_list(items) {
+                    self.mismatches += 1;
+                }
+                self.add(c);
+            }
+        }
+    }
+
+    fn add(&mut self, c: Column) {
+        self.index.insert(c.name.clone(), self.columns.len());
+        self.columns.push(c);
+        self.cursor = self.columns.len();
+    }
+
+    /// Ends this row: every column it did not set holds a null.
+    pub(crate) fn end_row(&mut self) {
+        let rows = self.rows;
+        for c in &mut self.columns {
+            c.end_row(rows);
+        }
+        self.rows += 1;
+        self.cursor = 0;
+    }
+
+    /// The schema of the next batch.
+    pub(crate) fn schema(&self) -> SchemaRef {
+        Arc::new(Schema::new(
+            self.columns.iter().map(Column::field).collect::<Vec<_>>(),
+        ))
+    }
+
+    /// The rows since the last batch as a record batch; the table starts again empty, with the
+    /// same columns.
+    pub(crate) fn take_batch(&mut self) -> Option<RecordBatch> {
+        if self.rows == 0 {
+            return None;
+        }
+        let schema = self.schema();
+        let arrays = self.columns.iter_mut().map(Column::finish).collect();
+        let rows = std::mem::take(&mut self.rows);
+        let options = arrow_array::RecordBatchOptions::new().with_row_count(Some(rows));
+        RecordBatch::try_new_with_options(schema, arrays, &options).ok()
+    }
+}

@@ -1,0 +1,309 @@
+//! The tables as files: one directory per message type under the output directory, its rows
+//! in Parquet (snappy-compressed, a row group per batch) or Arrow IPC files (LZ4 frames).
+//!
+//! A table's rows go to `OUT/TYPE/part-00000.parquet` (or `.arrow`). A new part begins only
+//! when the table's columns change (a column first seen after the part began, or a column of
+//! nulls so far that gets its type), so the parts of one type differ only by columns added:
+//! DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`, Polars with
+//! `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed when it is
+//! complete, so a reader never sees half a file; a part that exists already is never
+//! overwritten.
+
+use std::collections::HashMap;
+use std::fs::{File, OpenOptions};
+use std::path::{Path, PathBuf};
+
+use arrow_array::RecordBatch;
+use arrow_ipc::writer::{FileWriter, IpcWriteOptions};
+use arrow_schema::SchemaRef;
+use parquet::arrow::ArrowWriter;
+use parquet::basic::Compression;
+use parquet::file::properties::WriterProperties;
+
+use crate::error::{Error, Result};
+
+/// The file format of an export.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Apache Parquet, snappy-compressed: DuckDB, Polars, Spark, pandas and pyarrow read it.
+    Parquet,
+    /// Arrow IPC files (Feather v2), LZ4-compressed: pyarrow and Polars map them.
+    Arrow,
+}
+
+impl Format {
+    /// The file name extension.
+    fn extension(self) -> &'static str {
+        match self {
+            Format::Parquet => "parquet",
+            Format::Arrow => "arrow",
+        }
+    }
+}
+
+/// What was written of one message type.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Written {
+    /// The message type (the table's directory).
+    pub name: String,
+    /// Its parts, in order.
+    pub parts: Vec<PathBuf>,
+    /// Its rows.
+    pub rows: u64,
+}
+
+enum Writer {
+    Parquet(ArrowWriter<File>),
+    Ipc(FileWriter<File>),
+}
+
+/// The part being written of one type.
+struct Part {
+    schema: SchemaRef,
+    writer: Writer,
+    partial: PathBuf,
+    path: PathBuf,
+}
+
+impl Part {
+    fn close(self) -> Result<PathBuf> {
+        let failed = |e: &dyn std::fmt::Display| Error::Io {
+            what: format!("writing {}", self.partial.display()),
+            source: std::io::Error::other(e.to_string()),
+        };
+        match self.writer {
+            Writer::Parquet(w) => {
+                w.close().map_err(|e| failed(&e))?;
+            }
+            Writer::Ipc(mut w) => w.finish().map_err(|e| failed(&e))?,
+        }
+        std::fs::rename(&self.partial, &self.path).map_err(|source| Error::Io {
+            what: format!(
+                "renaming {} to {}",
+                self.partial.display(),
+                self.path.display()
+            ),
+            source,
+        })?;
+        Ok(self.path)
+    }
+}
+
+/// Batches of many message types written as files under one directory.
+pub struct Export {
+    dir: PathBuf,
+    format: Format,
+    open: HashMap<String, Part>,
+    written: Vec<Written>,
+}
+
+impl std::fmt::Debug for Export {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Export")
+            .field("dir", &self.dir)
+            .field("format", &self.format)
+            .field("open", &self.open.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Export {
+    /// An export into `dir` (created when missing).
+    ///
+    /// # Errors
+    /// The directory cannot be created.
+    ///
+    /// ```
+    /// use protolink::columns::write::{Export, Format};
+    /// let dir = std::env::temp_dir().join(format!("protolink-doc-export-{}", std::process::id()));
+    /// let export = Export::new(&dir, Format::Parquet)?;
+    /// assert!(export.finish()?.is_empty());
+    /// # std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(dir: &Path, format: Format) -> Result<Export> {
+        std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+            what: format!("creating the directory {}", dir.display()),
+            source,
+        })?;
+        Ok(Export {
+            dir: dir.to_owned(),
+            format,
+            open: HashMap::new(),
+            written: Vec::new(),
+        })
+    }
+
+    /// Writes a batch of the type `name`: into its open part when the columns are the same,
+    /// else into a new part.
+    ///
+    /// # Errors
+    /// A file cannot be created or written, or the part exists already.
+    ///
+    /// ```
+    /// use protolink::columns::{Origin, Tables};
+    /// use protolink::columns::write::{Export, Format};
+    /// let dir = std::env::temp_dir().join(format!("protolink-doc-write-{}", std::process::id()));
+    /// let mut tables = Tables::new(8);
+    /// tables.add_error(&Origin::default(), 0, "truncated", "input ends inside a frame");
+    /// let mut export = Export::new(&dir, Format::Arrow)?;
+    /// for (name, batch) in tables.finish() {
+    ///     export.write(&name, &batch)?;
+    /// }
+    /// let written = export.finish()?;
+    /// assert_eq!((written[0].name.as_str(), written[0].rows), ("ERROR", 1));
+    /// assert!(dir.join("ERROR").join("part-00000.arrow").exists());
+    /// # std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn write(&mut self, name: &str, batch: &RecordBatch) -> Result<()> {
+        let same = self
+            .open
+            .get(name)
+            .is_some_and(|p| p.schema == batch.schema());
+        if !same {
+            if let Some(part) = self.open.remove(name) {
+                let path = part.close()?;
+                self.entry(name).parts.push(path);
+            }
+            let number = self.entry(name).parts.len();
+            let part = self.begin(name, number, batch.schema())?;
+            self.open.insert(name.to_owned(), part);
+        }
+        let Some(part) = self.open.get_mut(name) else {
+            return Ok(());
+        };
+        let failed = |e: &dyn std::fmt::Display| Error::Io {
+            what: format!("writing {}", part.partial.display()),
+            source: std::io::Error::other(e.to_string()),
+        };
+        match &mut part.writer {
+            // One row group per batch: the writer holds at most one batch's pages.
+            Writer::Parquet(w) => {
+                w.write(batch).map_err(|e| failed(&e))?;
+                w.flush().map_err(|e| failed(&e))?;
+            }
+            Writer::Ipc(w) => w.write(batch).map_err(|e| failed(&e))?,
+        }
+        self.entry(name).rows += batch.num_rows() as u64;
+        Ok(())
+    }
+
+    /// Closes every part, and says what was written (in the order the types first came).
+    ///
+    /// # Errors
+    /// A part cannot be completed or renamed.
+    ///
+    /// ```
+    /// use protolink::columns::write::{Export, Format};
+    /// let dir = std::env::temp_dir().join(format!("protolink-doc-finish-{}", std::process::id()));
+    /// assert!(Export::new(&dir, Format::Parquet)?.finish()?.is_empty());
+    /// # std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn finish(mut self) -> Result<Vec<Written>> {
+        let mut first_error = None;
+        for w in &mut self.written {
+            if let Some(part) = self.open.remove(&w.name) {
+                match part.close() {
+                    Ok(path) => w.parts.push(path),
+                    Err(e) => {
+                        first_error.get_or_insert(e);
+                    }
+                }
+            }
+        }
+        match first_error {
+            Some(e) => Err(e),
+            None => Ok(self.written),
+        }
+    }
+
+    /// What was written of `name` so far.
+    fn entry(&mut self, name: &str) -> &mut Written {
+        let i = match self.written.iter().position(|w| w.name == name) {
+            Some(i) => i,
+            None => {
+                self.written.push(Written {
+                    name: name.to_owned(),
+                    parts: Vec::new(),
+                    rows: 0,
+                });
+                self.written.len() - 1
+            }
+        };
+        &mut self.written[i]
+    }
+
+    /// Opens part `number` of the type `name`.
+    fn begin(&self, name: &str, number: usize, schema: SchemaRef) -> Result<Part> {
+        let dir = self.dir.join(safe_name(name));
+        std::fs::create_dir_all(&dir).map_err(|source| Error::Io {
+            what: format!("creating the directory {}", dir.display()),
+            source,
+        })?;
+        let ext = self.format.extension();
+        let path = dir.join(format!("part-{number:05}.{ext}"));
+        if path.exists() {
+            return Err(Error::Usage(format!(
+                "{} exists already: export writes into a directory of its own (choose another --out)",
+                path.display()
+            )));
+        }
+        let partial = dir.join(format!("part-{number:05}.{ext}.partial"));
+        let file = OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&partial)
+            .map_err(|source| Error::Io {
+                what: format!("creating {}", partial.display()),
+                source,
+            })?;
+        let failed = |e: &dyn std::fmt::Display| Error::Io {
+            what: format!("writing {}", partial.display()),
+            source: std::io::Error::other(e.to_string()),
+        };
+        let writer = match self.format {
+            Format::Parquet => {
+                let props = WriterProperties::builder()
+                    .set_compression(Compression::SNAPPY)
+                    .set_created_by(format!("protolink {}", env!("CARGO_PKG_VERSION")))
+                    .build();
+                Writer::Parquet(
+                    ArrowWriter::try_new(file, schema.clone(), Some(props))
+                        .map_err(|e| failed(&e))?,
+                )
+            }
+            Format::Arrow => {
+                let options = IpcWriteOptions::default()
+                    .try_with_compression(Some(arrow_ipc::CompressionType::LZ4_FRAME))
+                    .map_err(|e| failed(&e))?;
+                Writer::Ipc(
+                    FileWriter::try_new_with_options(file, &schema, options)
+                        .map_err(|e| failed(&e))?,
+                )
+            }
+        };
+        Ok(Part {
+            schema,
+            writer,
+            partial,
+            path,
+        })
+    }
+}
+
+/// A message type's name as a directory name: letters, digits, `_` and `-` kept, anything
+/// else `_` (the names are upper-case words, `ERROR` and `UNKNOWN_3`).
+fn safe_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
