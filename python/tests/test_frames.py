@@ -120,8 +120,9 @@ def test_typed_columns():
         ("meta.crc", "string"), ("valid", "bool"), ("timestamp_ms", "double"), ("x", "float"), ("y", "float"),
         ("z", "float")]
     info = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["AEOLUSINFO"]
-    assert str(info.schema.field("mac").type) == "list<item: uint8>"
-    assert info.column("mac").to_pylist()[0] == [2, 174, 1, 5, 0, 1]
+    # A fixed-size array is a column per element.
+    assert [info.column(f"mac.{i}").to_pylist()[0] for i in range(6)] == [2, 174, 1, 5, 0, 1]
+    assert str(info.schema.field("mac.0").type) == "uint8" and "mac.6" not in info.column_names
     position = protolink.to_arrow(TESTDATA / "qemu-uart1-aydp.bin", proto="aydp")["POSITION"]
     assert [str(position.schema.field(c).type) for c in ("latitude", "meta.time.seconds", "meta.expedited")] == [
         "double", "int64", "bool"]

@@ -55,7 +55,7 @@ def decoder(kind):
     return getattr(protolink, OPTIONS[kind]["proto"]).Decoder(**options)
 
 
-def expected_row(m):
+def expected_row(m, columns=()):
     """The row `to_frames` gives message or error event `m`, as python/README.md words the
     rule: `capture_time`, `offset`; from a capture `flow`, `frame` and `proto`; each entry of
     `meta` as `meta.KEY` (a nested one as `meta.KEY.SUB`); then the fields under their own
@@ -69,7 +69,13 @@ def expected_row(m):
                 meta.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
             else:
                 meta[f"meta.{key}"] = value
-    fields = flat(m.to_dict())
+    fields = {}
+    for key, value in flat(m.to_dict()).items():
+        if isinstance(value, list) and f"{key}.0" in columns:
+            # An AEOLUS fixed-size array (soft_iron, mac, ...): a column per element.
+            fields.update({f"{key}.{i}": v for i, v in enumerate(value)})
+        else:
+            fields[key] = value
     assert not meta.keys() & fields.keys(), (m, fields)  # no field is named like metadata
     return meta, fields
 
@@ -126,7 +132,7 @@ def assert_agree(frames, events):
     assert sorted(frames) == sorted(by_type)
     for name, messages in by_type.items():
         frame = frames[name]
-        rows = [expected_row(m) for m in messages]
+        rows = [expected_row(m, set(frame.columns)) for m in messages]
         meta_columns, field_columns = {}, {}
         for meta, fields in rows:
             meta_columns.update(dict.fromkeys(meta))

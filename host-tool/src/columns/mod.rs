@@ -38,18 +38,18 @@
 //! ```
 
 mod column;
+mod fnv;
 pub mod read;
 mod row;
 mod table;
 pub mod write;
-
-use std::collections::HashMap;
 
 use arrow_array::RecordBatch;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
 use self::column::Scalar;
+use self::fnv::FnvMap;
 use self::row::{Ints, write_fields};
 use self::table::Table;
 use crate::commands::decode::capture::proto_name;
@@ -83,7 +83,7 @@ pub struct Origin {
 /// the batches cut from them.
 pub struct Tables {
     tables: Vec<(String, Table)>,
-    index: HashMap<String, usize>,
+    index: FnvMap<String, usize>,
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
@@ -108,7 +108,7 @@ impl Tables {
     pub fn new(row_group: usize) -> Tables {
         Tables {
             tables: Vec::new(),
-            index: HashMap::new(),
+            index: FnvMap::default(),
             row_group: row_group.max(1),
             full: Vec::new(),
             rows: 0,
@@ -135,8 +135,9 @@ impl Tables {
         self.tables.iter().map(|(_, t)| t.mismatches).sum()
     }
 
-    /// The table of `name`, and its row begun with the metadata of `origin` and `offset`.
-    fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> &mut Table {
+    /// The table of `name` (its index), its row begun with the metadata of `origin` and
+    /// `offset`.
+    fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> (usize, &mut Table) {
         let i = match self.index.get(name) {
             Some(&i) => i,
             None => {
@@ -170,15 +171,14 @@ impl Tables {
             let proto = origin.proto.map(|p| Scalar::Str(proto_name(p)));
             table.set_typed("proto", proto, Scalar::Str(""));
         }
-        table
+        (i, table)
     }
 
-    /// Ends the row of the table `name`, and cuts a batch when it is full.
-    fn end(&mut self, name: &str) {
-        let Some(&i) = self.index.get(name) else {
+    /// Ends the row of table `i`, and cuts a batch when it is full.
+    fn end(&mut self, i: usize) {
+        let Some((name, table)) = self.tables.get_mut(i) else {
             return;
         };
-        let (name, table) = &mut self.tables[i];
         table.end_row();
         self.rows += 1;
         if table.rows() >= self.row_group
@@ -232,7 +232,7 @@ impl Tables {
         meta: &Map<String, Value>,
         fields: &Value,
     ) {
-        let table = self.begin(name, origin, offset);
+        let (i, table) = self.begin(name, origin, offset);
         for (key, value) in meta {
             match value {
                 Value::Object(inner) => {
@@ -243,8 +243,8 @@ impl Tables {
                 v => write_meta(table, &format!("meta.{key}"), v),
             }
         }
-        write_checked(table, fields, Ints::Wide);
-        self.end(name);
+        write_checked(table, fields);
+        self.end(i);
     }
 
     /// Adds an error event to the table `ERROR`: its `kind` and `error` sentence.
@@ -256,10 +256,10 @@ impl Tables {
     /// assert_eq!(tables.finish()[0].0, "ERROR");
     /// ```
     pub fn add_error(&mut self, origin: &Origin, offset: u64, kind: &str, error: &str) {
-        let table = self.begin("ERROR", origin, offset);
+        let (i, table) = self.begin("ERROR", origin, offset);
         table.set("kind", Scalar::Str(kind));
         table.set("error", Scalar::Str(error));
-        self.end("ERROR");
+        self.end(i);
     }
 
     /// Adds an AEOLUS decoder's item placed at `offset`: a message of a fixed layout straight
@@ -311,28 +311,30 @@ impl Tables {
     ) {
         use aeolus_proto::message::Message as M;
         let name = message.name();
-        let table = self.begin(name, origin, offset);
+        let (i, table) = self.begin(name, origin, offset);
         table.set("meta.id", Scalar::I64(id.into()));
         table.set(
             "meta.len",
             Scalar::I64(i64::try_from(len).unwrap_or(i64::MAX)),
         );
         table.set("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
+        // The typed messages' field names are fixed, and none is a metadata column's
+        // (python/tests/test_field_names.py): no check per row.
         match message {
-            M::AeolusInfo(v) => write_checked(table, v, Ints::Own),
-            M::Pressure(v) => write_checked(table, v, Ints::Own),
-            M::Gyro(v) => write_checked(table, v, Ints::Own),
-            M::Accel(v) => write_checked(table, v, Ints::Own),
-            M::Magnet(v) => write_checked(table, v, Ints::Own),
-            M::Temp(v) => write_checked(table, v, Ints::Own),
-            M::Gps(v) => write_checked(table, v, Ints::Own),
-            M::Attitude(v) => write_checked(table, v, Ints::Own),
-            M::Compass(v) => write_checked(table, v, Ints::Own),
-            M::Wind(v) => write_checked(table, v, Ints::Own),
-            M::SetTime(v) => write_checked(table, v, Ints::Own),
-            other => write_checked(table, &aeolus_fields(other).1, Ints::Wide),
+            M::AeolusInfo(v) => write_fields(table, v, Ints::Own, None),
+            M::Pressure(v) => write_fields(table, v, Ints::Own, None),
+            M::Gyro(v) => write_fields(table, v, Ints::Own, None),
+            M::Accel(v) => write_fields(table, v, Ints::Own, None),
+            M::Magnet(v) => write_fields(table, v, Ints::Own, None),
+            M::Temp(v) => write_fields(table, v, Ints::Own, None),
+            M::Gps(v) => write_fields(table, v, Ints::Own, None),
+            M::Attitude(v) => write_fields(table, v, Ints::Own, None),
+            M::Compass(v) => write_fields(table, v, Ints::Own, None),
+            M::Wind(v) => write_fields(table, v, Ints::Own, None),
+            M::SetTime(v) => write_fields(table, v, Ints::Own, None),
+            other => write_checked(table, &aeolus_fields(other).1),
         }
-        self.end(name);
+        self.end(i);
     }
 
     /// The batches cut so far (full row groups), in the order they were cut.
@@ -417,9 +419,13 @@ fn write_meta(table: &mut Table, name: &str, v: &Value) {
     table.set(name, s);
 }
 
-/// The fields into the row, a field named like a metadata column under `field.NAME`.
-fn write_checked<T: Serialize + ?Sized>(table: &mut Table, fields: &T, ints: Ints) {
-    write_fields(table, fields, ints, |name| {
-        METADATA.contains(&name) || name.starts_with("meta.") || name.starts_with("field.")
-    });
+/// Rendered fields into the row (integers as Int64), a field named like a metadata column
+/// under `field.NAME`.
+fn write_checked<T: Serialize + ?Sized>(table: &mut Table, fields: &T) {
+    write_fields(table, fields, Ints::Wide, Some(&clashes));
+}
+
+/// Whether a field's name is a metadata column's (or looks like one).
+fn clashes(name: &str) -> bool {
+    METADATA.contains(&name) || name.starts_with("meta.") || name.starts_with("field.")
 }

@@ -1,6 +1,8 @@
 //! A message's fields into a table row, through serde: each number, flag and text into the
-//! column of its path (a nested field as `outer.inner`), a list of numbers or flags into a list
-//! column, anything else (a list of objects, an enum carrying data) as its JSON text.
+//! column of its path (a nested field as `outer.inner`, an element of a fixed-size array as
+//! `array.0`, `array.1`, ..., the value of an enum variant that carries one as
+//! `field.Variant`), a list of numbers or flags into a list column, anything else (a list of
+//! objects) as its JSON text.
 //!
 //! The protocol crates' typed messages serialize with their own widths (`f32`, `u16`, ...), so
 //! their columns have those types; a rendered field (`serde_json::Value`) has only integers and
@@ -31,19 +33,19 @@ impl ser::Error for NotColumns {
 }
 
 /// Writes `fields` (a struct or a map) into the row of `table`, each field in the column of its
-/// name; a top-level name that `clashes` in the column `field.NAME`.
+/// name; a top-level name that `clashes` (when given) in the column `field.NAME`.
 pub(crate) fn write_fields<T: Serialize + ?Sized>(
     table: &mut Table,
     fields: &T,
     integers: Ints,
-    clashes: impl Fn(&str) -> bool,
+    clashes: Option<&dyn Fn(&str) -> bool>,
 ) {
     let mut path = String::new();
     let value = Value {
         table,
         path: &mut path,
         ints: integers,
-        clashes: Some(&clashes),
+        clashes,
     };
     if fields.serialize(value).is_err() {
         // A top level that is no struct nor map: one column, `value`.
@@ -73,6 +75,10 @@ struct Value<'a> {
 
 impl Value<'_> {
     fn set(self, v: Scalar<'_>) -> Result<(), NotColumns> {
+        if self.ints == Ints::Own {
+            self.table.set(self.path, v);
+            return Ok(());
+        }
         let v = match (self.ints, v) {
             (Ints::Wide, Scalar::U64(x)) => i64::try_from(x).map_or(v, Scalar::I64),
             (Ints::Wide, other) => match other {
@@ -202,16 +208,42 @@ impl ser::SerializeSeq for Items<'_> {
     }
 }
 
-impl ser::SerializeTuple for Items<'_> {
+/// The items of a fixed-size array (a tuple to serde), each its own column `path.0`, `path.1`, ...
+struct Elements<'a> {
+    table: &'a mut Table,
+    path: &'a mut String,
+    ints: Ints,
+    next: usize,
+}
+
+/// The names of the first elements' columns.
+const INDEX: [&str; 16] = [
+    "0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "10", "11", "12", "13", "14", "15",
+];
+
+impl ser::SerializeTuple for Elements<'_> {
     type Ok = ();
     type Error = NotColumns;
 
     fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
-        ser::SerializeSeq::serialize_element(self, value)
+        let i = self.next;
+        self.next += 1;
+        match INDEX.get(i) {
+            Some(name) => field(self.table, self.path, name, value, self.ints, None),
+            None => field(
+                self.table,
+                self.path,
+                &i.to_string(),
+                value,
+                self.ints,
+                None,
+            ),
+        }
+        Ok(())
     }
 
     fn end(self) -> Result<(), NotColumns> {
-        ser::SerializeSeq::end(self)
+        Ok(())
     }
 }
 
@@ -238,7 +270,7 @@ impl<'a> ser::Serializer for Value<'a> {
     type Ok = ();
     type Error = NotColumns;
     type SerializeSeq = Items<'a>;
-    type SerializeTuple = Items<'a>;
+    type SerializeTuple = Elements<'a>;
     type SerializeTupleStruct = Impossible<(), NotColumns>;
     type SerializeTupleVariant = Impossible<(), NotColumns>;
     type SerializeMap = Fields<'a>;
@@ -324,8 +356,13 @@ impl<'a> ser::Serializer for Value<'a> {
         })
     }
 
-    fn serialize_tuple(self, len: usize) -> Result<Items<'a>, NotColumns> {
-        self.serialize_seq(Some(len))
+    fn serialize_tuple(self, _: usize) -> Result<Elements<'a>, NotColumns> {
+        Ok(Elements {
+            table: self.table,
+            path: self.path,
+            ints: self.ints,
+            next: 0,
+        })
     }
 
     fn serialize_tuple_struct(

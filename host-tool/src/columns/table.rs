@@ -1,20 +1,20 @@
 //! One message type's table: its columns, filled a row at a time, and cut into Arrow record
 //! batches (row groups).
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use arrow_array::RecordBatch;
 use arrow_schema::{Schema, SchemaRef};
 
 use super::column::{Column, Scalar};
+use super::fnv::FnvMap;
 
 /// The columns of one message type. A column appears with the first row that has it (the rows
 /// before hold nulls in it) and stays: every batch cut from the table has all columns seen so
 /// far, in the order they first appeared.
 pub(crate) struct Table {
     columns: Vec<Column>,
-    index: HashMap<Box<str>, usize>,
+    index: FnvMap<Box<str>, usize>,
     /// Rows ended since the last batch.
     rows: usize,
     /// Where the next value of this row is looked for first: rows of one type name their
@@ -28,7 +28,7 @@ impl Table {
     pub(crate) fn new() -> Table {
         Table {
             columns: Vec::new(),
-            index: HashMap::new(),
+            index: FnvMap::default(),
             rows: 0,
             cursor: 0,
             mismatches: 0,
