@@ -149,11 +149,6 @@ impl Tables {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
             table.set("source", Scalar::Str(s));
-            // An export's tables have every metadata column from the first row, so that byte
-            // files and captures give the same columns.
-            table.declare("flow", Scalar::Str(""));
-            table.declare("frame", Scalar::I64(0));
-            table.declare("proto", Scalar::Str(""));
         }
         table.set_typed(
             "capture_time",
@@ -164,6 +159,13 @@ impl Tables {
             "offset",
             Scalar::I64(i64::try_from(offset).unwrap_or(i64::MAX)),
         );
+        if origin.source.is_some() {
+            // An export's tables have every metadata column from the first row, so that byte
+            // files and captures give the same columns.
+            table.declare("flow", Scalar::Str(""));
+            table.declare("frame", Scalar::I64(0));
+            table.declare("proto", Scalar::Str(""));
+        }
         if let Some(flow) = &origin.flow {
             table.set("flow", Scalar::Str(flow));
             let frame = origin.frame.and_then(|f| i64::try_from(f).ok());

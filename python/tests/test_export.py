@@ -1,0 +1,208 @@
+"""`protolink export` and `protolink.export`: several captures at once into Parquet and Arrow IPC
+tables, read back by the engines an analyst runs (DuckDB, Polars, pyarrow) and compared with
+`protolink decode --json` of each capture: per message type, the rows of each source (their
+count, their metadata and every field's value)."""
+
+import json
+import subprocess
+
+import duckdb
+import numpy as np
+import polars as pl
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+import protolink
+from conftest import PROTOLINK, TESTDATA, decode_json
+from test_frames_agree import Json, flat
+
+# (capture name, the byte file it records, `protolink record`'s options, the decode options)
+CAPTURES = [
+    ("flight1.pcapng", "qemu-uart0-aeolus.bin", ["--proto", "aeolus"], 0),
+    ("aydp.pcapng", "qemu-uart1-aydp.bin", ["--proto", "aydp", "--profile", "spec"], 0),
+    ("aok.pcapng", "qemu-uart2-aok.bin", ["--proto", "aok"], 0),
+    # A second, shorter AEOLUS flight: its first 30,001 bytes (the last frame cut).
+    ("flight2.pcapng", "qemu-uart0-aeolus.bin", ["--proto", "aeolus"], 30_001),
+]
+
+
+@pytest.fixture(scope="module")
+def fleet(tmp_path_factory):
+    """Four captures recorded by `protolink record`, and the paths as export names them."""
+    tmp = tmp_path_factory.mktemp("fleet")
+    paths = []
+    for name, sample, options, cut in CAPTURES:
+        data = (TESTDATA / sample).read_bytes()
+        raw = tmp / (name + ".bin")
+        raw.write_bytes(data[:cut] if cut else data)
+        out = tmp / name
+        subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", *options, "--out", str(out)],
+                       check=True, capture_output=True)
+        paths.append(out)
+    return paths
+
+
+def expected(paths):
+    """`decode --json` of each capture: {type: [(source, event)]}, in the order read."""
+    by_type = {}
+    for path in paths:
+        events, _ = decode_json(path)
+        for e in events:
+            name = e["name"] if e["kind"] == "message" else "ERROR"
+            by_type.setdefault(name, []).append((str(path), e))
+    return by_type
+
+
+def expected_row(source, e, columns):
+    """The row a `decode --json` event makes: metadata, then fields as columns."""
+    row = {"source": source, "capture_time": e["capture_time"], "offset": e["offset"], "flow": e["flow"],
+           "frame": e["frame"], "proto": e["proto"]}
+    if e["kind"] == "error":
+        row["error"] = e["error"]
+        return row
+    for key, value in e.items():
+        if key in ("offset", "kind", "name", "fields") or key in row:
+            continue
+        if isinstance(value, dict):
+            row.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
+        else:
+            row[f"meta.{key}"] = value
+    for key, value in flat(e["fields"]).items():
+        if isinstance(value, list) and f"{key}.0" in columns:
+            row.update({f"{key}.{i}": v for i, v in enumerate(value)})
+        else:
+            row[key] = value
+    return row
+
+
+def equal(got, want, kind):
+    """A value read back equals `decode --json`'s: a FLOAT column holds the f32 the printed
+    decimal stands for; a list of objects is kept as its JSON text."""
+    if isinstance(want, Json):
+        return json.loads(got) == want.value
+    if isinstance(want, list):
+        return list(got) == want
+    if kind == "FLOAT" and want is not None:
+        return got == float(np.float32(want))
+    if isinstance(want, float) or isinstance(got, float):
+        return got == want
+    return type(got) is type(want) and got == want
+
+
+def check_duckdb(out, want):
+    """Every table of `out`, read by DuckDB, holds the rows of `want`."""
+    con = duckdb.connect()
+    for name, rows in want.items():
+        glob = f"{out}/{name}/*.parquet"
+        counts = dict(con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
+                              "GROUP BY source").fetchall())
+        per_source = {}
+        for source, _ in rows:
+            per_source[source] = per_source.get(source, 0) + 1
+        assert counts == per_source, name
+        rel = con.sql(f"SELECT * FROM read_parquet('{glob}', union_by_name = true)")
+        kinds = dict(zip(rel.columns, (str(t) for t in rel.types)))
+        got = rel.fetchall()
+        assert len(got) == len(rows)
+        for cells, (source, e) in zip(got, rows):
+            row = dict(zip(rel.columns, cells))
+            want_row = expected_row(source, e, kinds)
+            for column, value in want_row.items():
+                assert column in row, (name, column)
+                assert equal(row[column], value, kinds[column]), (name, column, row[column], value)
+            if e["kind"] == "error":
+                assert row["kind"] and row["kind"] == row["kind"].lower()
+
+
+def test_cli_export_read_by_duckdb_and_polars(fleet, tmp_path):
+    out = tmp_path / "tables"
+    run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, fleet)],
+                         capture_output=True, check=True, text=True)
+    want = expected(fleet)
+    assert set(p.name for p in out.iterdir()) == set(want)
+    check_duckdb(out, want)
+    total = sum(len(rows) for rows in want.values())
+    assert run.stdout.splitlines()[-1] == (
+        f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want)} tables")
+    # Polars reads every table as it is: the same rows as DuckDB, per source.
+    for name, rows in want.items():
+        frame = pl.read_parquet(f"{out}/{name}/*.parquet")
+        assert frame.height == len(rows)
+        assert frame["source"].to_list() == [s for s, _ in rows]
+        assert frame["offset"].to_list() == [e["offset"] for _, e in rows]
+        assert frame["frame"].to_list() == [e["frame"] for _, e in rows]
+    gyro = pl.read_parquet(f"{out}/GYRO/*.parquet")
+    assert gyro.schema["x"] == pl.Float32 and gyro.schema["timestamp_ms"] == pl.Float64
+    assert gyro.group_by("source").len().sort("source")["len"].to_list() == [
+        sum(1 for s, _ in want["GYRO"] if s == str(p)) for p in sorted(fleet) if "flight" in p.name]
+
+
+def test_arrow_ipc_and_python_export(fleet, tmp_path):
+    # The Arrow IPC files hold what the Parquet files hold; protolink.export writes what the
+    # command line writes.
+    cli = tmp_path / "cli"
+    subprocess.run([PROTOLINK, "export", "--out", str(cli), *map(str, fleet)], capture_output=True, check=True)
+    ipc = tmp_path / "ipc"
+    written = protolink.export(fleet, ipc, format="arrow")
+    want = expected(fleet)
+    assert [(name, rows) for name, rows, _ in written] == [(n, len(r)) for n, r in want.items()]
+    py = tmp_path / "py"
+    protolink.export([str(p) for p in fleet], py)
+    for name in want:
+        parquet = pq.read_table(cli / name / "part-00000.parquet")
+        assert pq.read_table(py / name / "part-00000.parquet").equals(parquet)
+        with pa.memory_map(str(ipc / name / "part-00000.arrow")) as f:
+            arrow = pa.ipc.open_file(f).read_all()
+        assert arrow.equals(parquet), name
+        assert pl.read_ipc(ipc / name / "part-00000.arrow").height == len(want[name])
+    # to_arrow of one capture: that capture's rows of the export, without the source column.
+    one = protolink.to_arrow(fleet[1])
+    exported = pq.read_table(cli / "POSITION" / "part-00000.parquet")
+    mine = exported.filter(pa.compute.equal(exported["source"], str(fleet[1])))
+    assert one["POSITION"].equals(mine.drop_columns(["source"]))
+
+
+def test_byte_files_and_row_groups(tmp_path):
+    # Byte files (their protocol named), small row groups: every batch a row group, the same
+    # rows as decode --json, the metadata columns of a capture present (null).
+    out = tmp_path / "t"
+    sample = TESTDATA / "qemu-uart0-aeolus.bin"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), "--proto", "aeolus", "--row-group", "100",
+                    str(sample), str(sample)], capture_output=True, check=True)
+    f = pq.ParquetFile(out / "PRESSURE" / "part-00000.parquet")
+    events, _ = decode_json(sample, "--proto", "aeolus")
+    n = sum(1 for e in events if e.get("name") == "PRESSURE")
+    assert f.metadata.num_rows == 2 * n and f.metadata.num_row_groups == -(-2 * n // 100)
+    table = f.read()
+    assert table["flow"].null_count == 2 * n and str(table.schema.field("frame").type) == "int64"
+    assert table["offset"].to_pylist() == 2 * [e["offset"] for e in events if e.get("name") == "PRESSURE"]
+    assert f.metadata.row_group(0).column(0).compression == "SNAPPY"
+
+
+@pytest.mark.parametrize("args,sentence", [
+    ([], "the following required arguments were not provided"),
+    (["/nonexistent.pcapng"], "/nonexistent.pcapng is no file to export"),
+    (["--row-group", "0", "X"], "'0' is not a row count from 1 to 1048576"),
+    (["--format", "csv", "X"], "invalid value 'csv' for '--format <FORMAT>'"),
+])
+def test_cli_refusals(tmp_path, args, sentence):
+    run = subprocess.run([PROTOLINK, "export", "--out", str(tmp_path / "o"), *args], capture_output=True, text=True)
+    assert run.returncode != 0 and sentence in run.stderr
+
+
+def test_no_protocol_and_no_overwrite(fleet, tmp_path):
+    raw = tmp_path / "raw.bin"
+    raw.write_bytes((TESTDATA / "qemu-uart0-aeolus.bin").read_bytes())
+    run = subprocess.run([PROTOLINK, "export", "--out", str(tmp_path / "o"), str(raw)], capture_output=True, text=True)
+    assert run.returncode == 2
+    assert f"error: {raw} is no pcapng or pcap capture: say which protocol its bytes are (--proto)" in run.stderr
+    out = tmp_path / "again"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, check=True)
+    before = (out / "GYRO" / "part-00000.parquet").read_bytes()
+    run = subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, text=True)
+    assert run.returncode != 0
+    assert "part-00000.parquet exists already: export writes into a directory of its own" in run.stderr
+    assert (out / "GYRO" / "part-00000.parquet").read_bytes() == before
+    with pytest.raises(ValueError, match="exists already"):
+        protolink.export(fleet[0], out)
