@@ -20,7 +20,9 @@
 #                               NMEA test has an outside library parse `protolink nmea`'s output),
 #                               maturin 1.16.0 (builds the Python package, python/), pytest 9.2.0,
 #                               hypothesis 6.170.17 and pandas 3.1.1 (its tests), pymavlink 2.4.50
-#                               (the peer of python/bench/bench.py)
+#                               (the peer of python/bench/bench.py), pyarrow 26.0.1 (to_arrow and
+#                               to_frames), duckdb 2.0.1 and polars 2.1.0 (the engines that read
+#                               `protolink export`'s tables in python/tests/test_export.py)
 #   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/gpsd.rs
 #                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
@@ -42,8 +44,9 @@ rustup +"$MSRV" target list --installed | grep -q thumbv6m-none-eabi \
 need_apt=()
 want_pypi=0
 # PyPI packages of the `python` component: the pinned version of each, and the module it imports.
-PYPI=(pynmea2==1.19.0 maturin==1.16.0 pytest==9.2.0 hypothesis==6.170.17 pandas==3.1.1 pymavlink==2.4.50)
-PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink)
+PYPI=(pynmea2==1.19.0 maturin==1.16.0 pytest==9.2.0 hypothesis==6.170.17 pandas==3.1.1 pymavlink==2.4.50
+      pyarrow==26.0.1 duckdb==2.0.1 polars==2.1.0)
+PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink pyarrow duckdb polars)
 need_pypi=()
 for want in "$@"; do
   case "$want" in

@@ -13,7 +13,7 @@ use crate::commands::aok::AokArgs;
 use crate::commands::aydp::AydpArgs;
 use crate::commands::bridge::BridgeArgs;
 use crate::commands::decode::DecodeArgs;
-use crate::commands::export::ExportArgs;
+use crate::commands::decode::export::ExportArgs;
 use crate::commands::gdl90::Gdl90Args;
 use crate::commands::nmea::NmeaArgs;
 use crate::commands::record::RecordArgs;
@@ -143,7 +143,7 @@ impl Cli {
     pub(crate) fn run(&self) -> Result<()> {
         match &self.command {
             Command::Decode(a) => crate::commands::decode::run(a),
-            Command::Export(a) => crate::commands::export::run(a),
+            Command::Export(a) => crate::commands::decode::export::run(a),
             Command::Bridge(a) => crate::commands::bridge::run(a),
             Command::Aeolus(a) => crate::commands::aeolus::run(a),
             Command::Aydp(a) => crate::commands::aydp::run(a),

@@ -46,3 +46,14 @@ pub enum Side {
     #[default]
     Device,
 }
+
+/// The protocol's name as `decode --json` writes it (`"proto"`): `aeolus`, `aydp`, `aok`,
+/// `gdl90`.
+pub fn proto_name(p: Proto) -> &'static str {
+    match p {
+        Proto::Aeolus => "aeolus",
+        Proto::Aydp => "aydp",
+        Proto::Aok => "aok",
+        Proto::Gdl90 => "gdl90",
+    }
+}

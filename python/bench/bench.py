@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Messages per second of `protolink.aeolus.Decoder.feed` beside pymavlink's `parse_buffer`,
-in one run (issue 31; the figures are in docs/BENCHMARKS.md, "Python").
+and of the columns (`protolink.to_frames`, `protolink export` to Parquet), in one run (the
+figures are in docs/BENCHMARKS.md, "Python").
 
     python3 python/bench/bench.py            # 100 MB each; about two minutes
     python3 python/bench/bench.py --mb 10    # a quicker look
@@ -21,6 +22,13 @@ read), `feed` then `name` and one field of each message, and `feed` then `to_dic
 (every field a Python object, as pymavlink's messages hold them). Each protolink figure is the
 best of --repeat runs (the machine is shared); each pymavlink figure one run of the whole
 stream.
+
+The columns: `protolink.to_frames` of the AEOLUS stream written as a file (one DataFrame per
+message type, every field a column), each run in a process of its own, with its peak RSS above
+that process's after its imports; beside it pymavlink's pure-Python `parse_buffer` with every
+field of every message read (`getattr` of each of its `_fieldnames`). Then `protolink export`
+(target/release/protolink, or $PROTOLINK) of ten copies of the file, 1 GB, to Parquet, with
+its peak RSS.
 """
 
 import argparse
@@ -139,8 +147,9 @@ def protolink_rates(data, repeat):
     return out
 
 
-def pymavlink_rate(path, pure):
-    """Runs in its own process: pymavlink's parse_buffer over the file at `path`."""
+def pymavlink_rate(path, pure, fields=False):
+    """Runs in its own process: pymavlink's parse_buffer over the file at `path` (`fields`:
+    and every field of every message read)."""
     if pure:
         sys.modules["fastcrc"] = None  # pymavlink falls back to its Python CRC
     from pymavlink.dialects.v20 import common as mav
@@ -154,10 +163,80 @@ def pymavlink_rate(path, pure):
         got = link.parse_buffer(data[i:i + CHUNK])
         if got:
             n += len(got)
+            if fields:
+                for m in got:
+                    for f in m._fieldnames:
+                        getattr(m, f)
     took = time.perf_counter() - start
     assert "pymavlink.mavnative" not in sys.modules
     bad = link.total_receive_errors
     return {"messages": n, "seconds": took, "crc": mavcrc.x25crc.__name__, "bad": bad}
+
+
+def frames_run(path):
+    """Runs in its own process: `to_frames` of the AEOLUS file at `path`, once; its time, rows,
+    columns, the frames' size and the peak RSS above the process's after the imports."""
+    import resource
+
+    import pandas  # noqa: F401  (imported before the baseline, as an analyst's script has it)
+    import pyarrow  # noqa: F401
+    import protolink
+
+    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    start = time.perf_counter()
+    frames = protolink.to_frames(path, proto="aeolus")
+    took = time.perf_counter() - start
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return {"seconds": took, "rows": sum(len(f) for f in frames.values()),
+            "columns": sum(len(f.columns) for f in frames.values()),
+            "frames_mb": sum(int(f.memory_usage(deep=True).sum()) for f in frames.values()) / 1e6,
+            "peak_mb": (peak - base) * 1024 / 1e6}
+
+
+def columns_bench(aeolus, expected, repeat, mav_file, mav_expected):
+    """to_frames of a 100 MB capture beside pymavlink reading every field, and export of ten
+    such captures (1 GB) to Parquet by `protolink export`."""
+    path = ROOT / "target" / "bench-aeolus.bin"
+    path.write_bytes(aeolus)
+    runs = []
+    for _ in range(repeat):
+        out = subprocess.run([sys.executable, __file__, "--frames", str(path)], check=True, capture_output=True,
+                             text=True).stdout
+        runs.append(json.loads(out))
+        assert runs[-1]["rows"] == expected, runs[-1]
+    best = min(runs, key=lambda r: r["seconds"])
+    out = subprocess.run([sys.executable, __file__, "--peer", "pure-fields", "--file", str(mav_file)],
+                         check=True, capture_output=True, text=True).stdout
+    peer = json.loads(out)
+    assert peer["messages"] == mav_expected and peer["bad"] == 0, peer
+    out_dir = ROOT / "target" / "bench-export"
+    export_runs = []
+    for _ in range(repeat):
+        subprocess.run(["rm", "-rf", str(out_dir)], check=True)
+        out = subprocess.run([sys.executable, __file__, "--export", str(out_dir), "--file", str(path)],
+                             check=True, capture_output=True, text=True).stdout
+        run = json.loads(out)
+        written = sum(f.stat().st_size for f in out_dir.rglob("*.parquet"))
+        export_runs.append((run["seconds"], written, run["line"], run["peak_mb"]))
+    path.unlink()
+    took, written, line, rss = min(export_runs)
+    assert line.startswith(f"export: 10 sources, {10 * len(aeolus)} bytes, {10 * expected} rows"), line
+    subprocess.run(["rm", "-rf", str(out_dir)], check=True)
+    return best, peer, (took, written, rss)
+
+
+def export_run(out_dir, path):
+    """Runs in its own process: `protolink export` of ten copies of the file at `path` (1 GB)
+    into `out_dir`; its time, last line and peak RSS (the only child of this process)."""
+    import resource
+
+    binary = os.environ.get("PROTOLINK") or str(ROOT / "target" / "release" / "protolink")
+    start = time.perf_counter()
+    run = subprocess.run([binary, "export", "--out", out_dir, "--proto", "aeolus", *[path] * 10],
+                         check=True, capture_output=True, text=True)
+    took = time.perf_counter() - start
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024 / 1e6
+    return {"seconds": took, "line": run.stdout.splitlines()[-1], "peak_mb": peak}
 
 
 def main():
@@ -166,9 +245,17 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="protolink runs per figure (the best is kept)")
     ap.add_argument("--peer", choices=["pure", "installed"], help=argparse.SUPPRESS)
     ap.add_argument("--file", help=argparse.SUPPRESS)
+    ap.add_argument("--frames", help=argparse.SUPPRESS)
+    ap.add_argument("--export", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.peer:
-        print(json.dumps(pymavlink_rate(args.file, args.peer == "pure")))
+        print(json.dumps(pymavlink_rate(args.file, args.peer != "installed", args.peer == "pure-fields")))
+        return
+    if args.frames:
+        print(json.dumps(frames_run(args.frames)))
+        return
+    if args.export:
+        print(json.dumps(export_run(args.export, args.file)))
         return
 
     import pymavlink
@@ -194,6 +281,8 @@ def main():
                              check=True, capture_output=True, text=True).stdout
         peers[peer] = json.loads(out)
         assert peers[peer]["messages"] == mav_expected and peers[peer]["bad"] == 0, peers[peer]
+    frames, fields_peer, (export_s, export_bytes, export_rss) = columns_bench(
+        aeolus, expected, args.repeat, mav_file, mav_expected)
     mav_file.unlink()
 
     ours = protolink_rates(aeolus, args.repeat)
@@ -214,6 +303,20 @@ def main():
         p = peers[peer]
         r = p["messages"] / p["seconds"]
         print(f"| {label} | {r:,.0f} | {len(mavlink) / p['seconds'] / 1e6:.1f} | {r / pure:.1f}x | {r / installed:.1f}x |")
+
+    print()
+    fr = expected / frames["seconds"]
+    fp = fields_peer["messages"] / fields_peer["seconds"]
+    print("| columns | seconds | messages/s | MB/s | vs pymavlink pure Python, every field read | memory |")
+    print("| --- | ---: | ---: | ---: | ---: | --- |")
+    print(f"| protolink.to_frames, {len(aeolus) / 1e6:.0f} MB AEOLUS file to {frames['columns']} columns in "
+          f"DataFrames per type | {frames['seconds']:.2f} | {fr:,.0f} | {len(aeolus) / frames['seconds'] / 1e6:.1f} "
+          f"| {fr / fp:.1f}x | peak RSS +{frames['peak_mb']:.0f} MB, the frames {frames['frames_mb']:.0f} MB |")
+    print(f"| pymavlink parse_buffer, pure Python, every field read (getattr) | {fields_peer['seconds']:.2f} | "
+          f"{fp:,.0f} | {len(mavlink) / fields_peer['seconds'] / 1e6:.1f} | 1.0x | |")
+    print(f"| protolink export, 10 x {len(aeolus) / 1e6:.0f} MB AEOLUS files to Parquet (snappy) | {export_s:.2f} | "
+          f"{10 * expected / export_s:,.0f} | {10 * len(aeolus) / export_s / 1e6:.1f} | | peak RSS {export_rss:.0f} MB, "
+          f"{export_bytes / 1e6:.0f} MB written |")
 
 
 if __name__ == "__main__":

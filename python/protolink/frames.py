@@ -79,8 +79,8 @@ def to_arrow(
     - then the fields under the names of ``to_dict()``, a nested one as ``outer.inner``.
 
     An AEOLUS message of a fixed layout keeps the wire's types (Float32, UInt16, lists of
-    them); the other fields are Int64, Float64, Boolean or strings, as ``decode --json``
-    writes them, a list of objects as its JSON text. Error events make the table ``"ERROR"``
+    them, a fixed-size array as a column per element); the other fields are Int64, Float64,
+    Boolean or strings, as ``decode --json`` writes them, a list as its JSON text. Error events make the table ``"ERROR"``
     (``kind``, ``error``). docs/columns.md lists every table's columns.
     """
     pa = _pyarrow()

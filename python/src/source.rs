@@ -15,9 +15,9 @@ use std::ffi::CString;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use protolink::columns::read::Select;
 use protolink::commands::decode::DecodeArgs;
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
+use protolink::commands::decode::tables::Select;
 use protolink::decoders::Body;
 use protolink::endpoint::{Endpoint, Input, Link};
 use protolink::proto::{ProfileArg, Proto, Side};

@@ -69,29 +69,35 @@ def expected_row(m, columns=()):
                 meta.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
             else:
                 meta[f"meta.{key}"] = value
-    fields = {}
-    for key, value in flat(m.to_dict()).items():
-        if isinstance(value, list) and f"{key}.0" in columns:
-            # An AEOLUS fixed-size array (soft_iron, mac, ...): a column per element.
-            fields.update({f"{key}.{i}": v for i, v in enumerate(value)})
-        else:
-            fields[key] = value
+    fields = columns_of(flat(m.to_dict()), columns)
     assert not meta.keys() & fields.keys(), (m, fields)  # no field is named like metadata
     return meta, fields
 
 
 def flat(fields, prefix=""):
-    """The fields as columns: a nested object's fields as `outer.inner`, a list of numbers or
-    flags as it is, a list of anything else as its JSON text (marked to be compared parsed)."""
+    """The fields as columns: a nested object's fields as `outer.inner` (a list as it is: see
+    `columns_of`)."""
     out = {}
     for key, value in fields.items():
         name = prefix + key
         if isinstance(value, dict):
             out.update(flat(value, name + "."))
-        elif isinstance(value, list) and not all(v is None or isinstance(v, (int, float)) for v in value):
-            out[name] = Json(value)
         else:
             out[name] = value
+    return out
+
+
+def columns_of(fields, columns):
+    """`flat` fields as the table's columns: an AEOLUS fixed-size array (its column `name.0`
+    exists) a column per element, any other list its JSON text (compared parsed)."""
+    out = {}
+    for key, value in fields.items():
+        if isinstance(value, list) and f"{key}.0" in columns:
+            out.update({f"{key}.{i}": v for i, v in enumerate(value)})
+        elif isinstance(value, list):
+            out[key] = Json(value)
+        else:
+            out[key] = value
     return out
 
 

@@ -7,8 +7,7 @@ use arrow_array::builder::{
     BooleanBuilder, Float32Builder, Float64Builder, Int8Builder, Int16Builder, Int32Builder,
     Int64Builder, StringBuilder, UInt8Builder, UInt16Builder, UInt32Builder, UInt64Builder,
 };
-use arrow_array::{ArrayRef, ListArray, NullArray};
-use arrow_buffer::{NullBuffer, OffsetBuffer};
+use arrow_array::{ArrayRef, NullArray};
 use arrow_schema::{DataType, Field};
 
 /// One value as the decoders give it: a number of its own width, a flag, a text, or none.
@@ -97,16 +96,6 @@ pub(crate) enum Data {
     F64(Float64Builder),
     /// UTF-8 texts.
     Str(StringBuilder),
-    /// Lists of numbers or flags, each list a run of `items`.
-    List(Box<List>),
-}
-
-/// A list column: every row's items, one after another, and where each row's run ends.
-pub(crate) struct List {
-    items: Data,
-    /// `ends[i]` is the end of row `i`'s items (row `i` starts where row `i - 1` ends).
-    offsets: Vec<i32>,
-    valid: Vec<bool>,
 }
 
 macro_rules! each_primitive {
@@ -151,24 +140,10 @@ impl Data {
         d
     }
 
-    /// A list column for items like `first`, with `nulls` null rows before it.
-    fn list_for(first: Scalar<'_>, nulls: usize) -> Data {
-        Data::List(Box::new(List {
-            items: Data::for_value(first, 0),
-            offsets: vec![0; nulls + 1],
-            valid: vec![false; nulls],
-        }))
-    }
-
     /// Appends `n` nulls.
     fn nulls(&mut self, n: usize) {
         match self {
             Data::Null(count) => *count += n,
-            Data::List(list) => {
-                let end = list.offsets.last().copied().unwrap_or(0);
-                list.offsets.extend(std::iter::repeat_n(end, n));
-                list.valid.extend(std::iter::repeat_n(false, n));
-            }
             other => each_primitive!(other, b => b.append_nulls(n), _ => {}),
         }
     }
@@ -183,7 +158,7 @@ impl Data {
             return true;
         }
         let fits = match self {
-            Data::Null(_) | Data::List(_) => false,
+            Data::Null(_) => false,
             Data::Bool(b) => match v {
                 Scalar::Bool(x) => {
                     b.append_value(x);
@@ -251,7 +226,6 @@ impl Data {
             Data::F32(_) => DataType::Float32,
             Data::F64(_) => DataType::Float64,
             Data::Str(_) => DataType::Utf8,
-            Data::List(list) => DataType::List(Arc::new(item_field(&list.items))),
         }
     }
 
@@ -259,29 +233,11 @@ impl Data {
     fn finish(&mut self) -> ArrayRef {
         match self {
             Data::Null(n) => Arc::new(NullArray::new(std::mem::take(n))),
-            Data::List(list) => {
-                let field = Arc::new(item_field(&list.items));
-                let items = list.items.finish();
-                let offsets =
-                    OffsetBuffer::new(std::mem::replace(&mut list.offsets, vec![0]).into());
-                let valid = std::mem::take(&mut list.valid);
-                let nulls = valid.contains(&false).then(|| NullBuffer::from(valid));
-                match ListArray::try_new(field, offsets, items, nulls) {
-                    Ok(a) => Arc::new(a),
-                    // The offsets are built here, ascending from 0 to the items' length.
-                    Err(_) => Arc::new(NullArray::new(0)),
-                }
-            }
             other => {
                 each_primitive!(other, b => Arc::new(b.finish()), _ => Arc::new(NullArray::new(0)))
             }
         }
     }
-}
-
-/// The field of a list's items.
-fn item_field(items: &Data) -> Field {
-    Field::new("item", items.data_type(), true)
 }
 
 /// Appends an integer to a column of integers when it is in the column's range.
@@ -306,6 +262,9 @@ pub(crate) struct Column {
     pub(crate) data: Data,
     /// Rows filled so far (a row not yet ended may have filled it).
     pub(crate) filled: usize,
+    /// The address of the `&'static str` its name was last looked up with (0: none): the same
+    /// address is the same name, found without comparing the text.
+    pub(crate) key: usize,
 }
 
 impl Column {
@@ -315,20 +274,7 @@ impl Column {
             name: name.into(),
             data: Data::for_value(v, row),
             filled: row,
-        }
-    }
-
-    /// A list column whose first list, in row `row`, is `items`.
-    pub(crate) fn new_list(name: &str, items: &[Scalar<'_>], row: usize) -> Column {
-        let first = items
-            .iter()
-            .copied()
-            .find(|v| *v != Scalar::Null)
-            .unwrap_or(Scalar::Null);
-        Column {
-            name: name.into(),
-            data: Data::list_for(first, row),
-            filled: row,
+            key: 0,
         }
     }
 
@@ -342,36 +288,6 @@ impl Column {
             self.data = Data::for_value(v, nulls);
         }
         self.data.push(v)
-    }
-
-    /// Sets this row's value to a list; `false` when it had to be a null (the column is not a
-    /// list, or an item is of another type).
-    pub(crate) fn push_list(&mut self, items: &[Scalar<'_>]) -> bool {
-        self.filled += 1;
-        if let Data::Null(n) = &self.data {
-            let nulls = *n;
-            *self = Column::new_list(&self.name, items, nulls);
-            self.filled += 1;
-        }
-        let Data::List(list) = &mut self.data else {
-            self.data.nulls(1);
-            return false;
-        };
-        if let Data::Null(n) = &list.items
-            && let Some(first) = items.iter().copied().find(|v| *v != Scalar::Null)
-        {
-            let nulls = *n;
-            list.items = Data::for_value(first, nulls);
-        }
-        let mut ok = true;
-        for &item in items {
-            ok &= list.items.push(item);
-        }
-        let end = list.offsets.last().copied().unwrap_or(0);
-        list.offsets
-            .push(end.saturating_add(i32::try_from(items.len()).unwrap_or(i32::MAX)));
-        list.valid.push(true);
-        ok
     }
 
     /// Fills this row with a null when it has no value.

@@ -14,9 +14,9 @@
 //! | each field | its own | the `"fields"` of `decode --json`, a nested one as `outer.inner` |
 //!
 //! The fields' types: an AEOLUS message of a fixed layout keeps the wire's types (`f32` as
-//! Float32, `u16` as UInt16, an array as a List); the other messages' fields are rendered JSON
-//! values, whose integers become Int64, reals Float64, flags Boolean, texts Utf8 and lists of
-//! numbers Lists; a list of objects is kept as its JSON text. Error events make the table
+//! Float32, `u16` as UInt16, a fixed-size array as a column per element); the other messages'
+//! fields are rendered JSON values, whose integers become Int64, reals Float64, flags Boolean
+//! and texts Utf8; a list is kept as its JSON text. Error events make the table
 //! `ERROR` (`kind`, `error`). A field named like a metadata column is written as
 //! `field.NAME` (no field of the four protocols is).
 //!
@@ -39,7 +39,6 @@
 
 mod column;
 mod fnv;
-pub mod read;
 mod row;
 mod table;
 pub mod write;
@@ -52,9 +51,8 @@ use self::column::Scalar;
 use self::fnv::FnvMap;
 use self::row::{Ints, write_fields};
 use self::table::Table;
-use crate::commands::decode::capture::proto_name;
-use crate::decoders::{AeolusItem, Body, Event, aeolus_fields};
-use crate::proto::Proto;
+use crate::decoders::{AeolusItem, Body, Event, EventSink, aeolus_fields};
+use crate::proto::{Proto, proto_name};
 
 /// Rows per row group (record batch) unless asked otherwise: 64 Ki rows of one type, a few
 /// megabytes of columns.
@@ -79,11 +77,34 @@ pub struct Origin {
     pub proto: Option<Proto>,
 }
 
+/// A decoder's events as rows of `tables`, each from `origin` (what
+/// [`StreamDecoder::feed_to`](crate::decoders::StreamDecoder::feed_to) hands them to).
+#[derive(Debug)]
+pub struct Sink<'a> {
+    /// The tables the rows go to.
+    pub tables: &'a mut Tables,
+    /// Where the events come from.
+    pub origin: &'a Origin,
+}
+
+impl EventSink for Sink<'_> {
+    fn event(&mut self, event: &Event) {
+        self.tables.add_event(self.origin, event);
+    }
+
+    fn aeolus(&mut self, offset: u64, item: &AeolusItem<'_>) {
+        self.tables.add_aeolus(self.origin, offset, item);
+    }
+}
+
 /// The tables being filled, one per message type (in the order the types first came), and
 /// the batches cut from them.
 pub struct Tables {
     tables: Vec<(String, Table)>,
     index: FnvMap<String, usize>,
+    /// The tables of names the program holds (AEOLUS's), by the name's address: found
+    /// without hashing the text.
+    by_address: Vec<(usize, usize)>,
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
@@ -109,6 +130,7 @@ impl Tables {
         Tables {
             tables: Vec::new(),
             index: FnvMap::default(),
+            by_address: Vec::new(),
             row_group: row_group.max(1),
             full: Vec::new(),
             rows: 0,
@@ -138,24 +160,53 @@ impl Tables {
     /// The table of `name` (its index), its row begun with the metadata of `origin` and
     /// `offset`.
     fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> (usize, &mut Table) {
-        let i = match self.index.get(name) {
+        let i = self.index_of(name);
+        self.begin_at(i, origin, offset)
+    }
+
+    /// The index of the table `name`, a table it creates when new.
+    fn index_of(&mut self, name: &str) -> usize {
+        match self.index.get(name) {
             Some(&i) => i,
             None => {
                 self.index.insert(name.to_owned(), self.tables.len());
                 self.tables.push((name.to_owned(), Table::new()));
                 self.tables.len() - 1
             }
+        }
+    }
+
+    /// [`Tables::begin`] for a name the program holds.
+    fn begin_static(
+        &mut self,
+        name: &'static str,
+        origin: &Origin,
+        offset: u64,
+    ) -> (usize, &mut Table) {
+        let key = name.as_ptr() as usize;
+        let i = match self.by_address.iter().find(|(k, _)| *k == key) {
+            Some(&(_, i)) => i,
+            None => {
+                let i = self.index_of(name);
+                self.by_address.push((key, i));
+                i
+            }
         };
+        self.begin_at(i, origin, offset)
+    }
+
+    /// Table `i`, its row begun with the metadata.
+    fn begin_at(&mut self, i: usize, origin: &Origin, offset: u64) -> (usize, &mut Table) {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
-            table.set("source", Scalar::Str(s));
+            table.set_static("source", Scalar::Str(s));
         }
         table.set_typed(
             "capture_time",
             origin.capture_time.map(Scalar::F64),
             Scalar::F64(0.0),
         );
-        table.set(
+        table.set_static(
             "offset",
             Scalar::I64(i64::try_from(offset).unwrap_or(i64::MAX)),
         );
@@ -167,7 +218,7 @@ impl Tables {
             table.declare("proto", Scalar::Str(""));
         }
         if let Some(flow) = &origin.flow {
-            table.set("flow", Scalar::Str(flow));
+            table.set_static("flow", Scalar::Str(flow));
             let frame = origin.frame.and_then(|f| i64::try_from(f).ok());
             table.set_typed("frame", frame.map(Scalar::I64), Scalar::I64(0));
             let proto = origin.proto.map(|p| Scalar::Str(proto_name(p)));
@@ -197,7 +248,7 @@ impl Tables {
     /// use protolink::decoders::{AydpDecoder, StreamDecoder};
     /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
     /// let mut events = Vec::new();
-    /// d.feed(&[0xFF, 0x00, 0x07, 0x00, 0x00, 0x00, 0xF8], 0, &mut events);
+    /// d.feed(&[0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78], 0, &mut events);
     /// let mut tables = Tables::new(8);
     /// for e in &events {
     ///     tables.add_event(&Origin::default(), e);
@@ -259,8 +310,8 @@ impl Tables {
     /// ```
     pub fn add_error(&mut self, origin: &Origin, offset: u64, kind: &str, error: &str) {
         let (i, table) = self.begin("ERROR", origin, offset);
-        table.set("kind", Scalar::Str(kind));
-        table.set("error", Scalar::Str(error));
+        table.set_static("kind", Scalar::Str(kind));
+        table.set_static("error", Scalar::Str(error));
         self.end(i);
     }
 
@@ -312,14 +363,13 @@ impl Tables {
         message: &aeolus_proto::message::Message<'_>,
     ) {
         use aeolus_proto::message::Message as M;
-        let name = message.name();
-        let (i, table) = self.begin(name, origin, offset);
-        table.set("meta.id", Scalar::I64(id.into()));
+        let (i, table) = self.begin_static(message.name(), origin, offset);
+        table.set_static("meta.id", Scalar::I64(id.into()));
         table.set(
             "meta.len",
             Scalar::I64(i64::try_from(len).unwrap_or(i64::MAX)),
         );
-        table.set("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
+        table.set_static("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
         // The typed messages' field names are fixed, and none is a metadata column's
         // (python/tests/test_field_names.py): no check per row.
         match message {

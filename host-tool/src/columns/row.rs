@@ -1,8 +1,8 @@
 //! A message's fields into a table row, through serde: each number, flag and text into the
 //! column of its path (a nested field as `outer.inner`, an element of a fixed-size array as
 //! `array.0`, `array.1`, ..., the value of an enum variant that carries one as
-//! `field.Variant`), a list of numbers or flags into a list column, anything else (a list of
-//! objects) as its JSON text.
+//! `field.Variant`); a list (of any length, of anything) as its JSON text, so that its column
+//! has one type whatever the lists hold.
 //!
 //! The protocol crates' typed messages serialize with their own widths (`f32`, `u16`, ...), so
 //! their columns have those types; a rendered field (`serde_json::Value`) has only integers and
@@ -46,6 +46,7 @@ pub(crate) fn write_fields<T: Serialize + ?Sized>(
         path: &mut path,
         ints: integers,
         clashes,
+        name: None,
     };
     if fields.serialize(value).is_err() {
         // A top level that is no struct nor map: one column, `value`.
@@ -71,10 +72,25 @@ struct Value<'a> {
     ints: Ints,
     /// At the top level: which names are a metadata column's.
     clashes: Option<&'a dyn Fn(&str) -> bool>,
+    /// A top-level field's name, held by the program: the column's name (`path` is empty and
+    /// takes it only when the value nests).
+    name: Option<&'static str>,
 }
 
 impl Value<'_> {
+    /// The value nests: its columns are under the path, which takes the top-level name.
+    fn nest(mut self) -> Self {
+        if let Some(name) = self.name.take() {
+            self.path.push_str(name);
+        }
+        self
+    }
+
     fn set(self, v: Scalar<'_>) -> Result<(), NotColumns> {
+        if let Some(name) = self.name {
+            self.table.set_static(name, v);
+            return Ok(());
+        }
         if self.ints == Ints::Own {
             self.table.set(self.path, v);
             return Ok(());
@@ -120,6 +136,7 @@ fn field<T: Serialize + ?Sized>(
             path: &mut *path,
             ints,
             clashes: None,
+            name: None,
         })
         .is_ok();
     if !ok {
@@ -148,6 +165,22 @@ impl ser::SerializeStruct for Fields<'_> {
         key: &'static str,
         value: &T,
     ) -> Result<(), NotColumns> {
+        if self.path.is_empty() && self.clashes.is_none() {
+            // A top-level field of a typed message: its column found by the name's address.
+            let direct = Value {
+                table: &mut *self.table,
+                path: &mut *self.path,
+                ints: self.ints,
+                clashes: None,
+                name: Some(key),
+            };
+            if value.serialize(direct).is_err() {
+                let text = serde_json::to_string(value).unwrap_or_default();
+                self.table.set_static(key, Scalar::Str(&text));
+            }
+            self.path.clear();
+            return Ok(());
+        }
         field(self.table, self.path, key, value, self.ints, self.clashes);
         Ok(())
     }
@@ -179,31 +212,6 @@ impl ser::SerializeMap for Fields<'_> {
     }
 
     fn end(self) -> Result<(), NotColumns> {
-        Ok(())
-    }
-}
-
-/// The items of a list of numbers or flags, collected before the list is written.
-struct Items<'a> {
-    value: Value<'a>,
-    items: Vec<Scalar<'static>>,
-}
-
-impl ser::SerializeSeq for Items<'_> {
-    type Ok = ();
-    type Error = NotColumns;
-
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
-        let item = value.serialize(Item)?;
-        self.items.push(match (self.value.ints, item) {
-            (Ints::Wide, Scalar::U64(x)) => i64::try_from(x).map_or(item, Scalar::I64),
-            _ => item,
-        });
-        Ok(())
-    }
-
-    fn end(self) -> Result<(), NotColumns> {
-        self.value.table.set_list(self.value.path, &self.items);
         Ok(())
     }
 }
@@ -269,7 +277,7 @@ impl Put for Value<'_> {
 impl<'a> ser::Serializer for Value<'a> {
     type Ok = ();
     type Error = NotColumns;
-    type SerializeSeq = Items<'a>;
+    type SerializeSeq = Impossible<(), NotColumns>;
     type SerializeTuple = Elements<'a>;
     type SerializeTupleStruct = Impossible<(), NotColumns>;
     type SerializeTupleVariant = Impossible<(), NotColumns>;
@@ -345,22 +353,23 @@ impl<'a> ser::Serializer for Value<'a> {
         variant: &'static str,
         value: &T,
     ) -> Result<(), NotColumns> {
-        field(self.table, self.path, variant, value, self.ints, None);
+        let v = self.nest();
+        field(v.table, v.path, variant, value, v.ints, None);
         Ok(())
     }
 
-    fn serialize_seq(self, len: Option<usize>) -> Result<Items<'a>, NotColumns> {
-        Ok(Items {
-            value: self,
-            items: Vec::with_capacity(len.unwrap_or(0)),
-        })
+    /// A list of any length: its JSON text (the field's fallback), one column of one type
+    /// whatever the list holds.
+    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
+        Err(NotColumns)
     }
 
     fn serialize_tuple(self, _: usize) -> Result<Elements<'a>, NotColumns> {
+        let v = self.nest();
         Ok(Elements {
-            table: self.table,
-            path: self.path,
-            ints: self.ints,
+            table: v.table,
+            path: v.path,
+            ints: v.ints,
             next: 0,
         })
     }
@@ -384,11 +393,12 @@ impl<'a> ser::Serializer for Value<'a> {
     }
 
     fn serialize_map(self, _: Option<usize>) -> Result<Fields<'a>, NotColumns> {
+        let v = self.nest();
         Ok(Fields {
-            table: self.table,
-            path: self.path,
-            ints: self.ints,
-            clashes: self.clashes,
+            table: v.table,
+            path: v.path,
+            ints: v.ints,
+            clashes: v.clashes,
             key: String::new(),
         })
     }
@@ -397,143 +407,6 @@ impl<'a> ser::Serializer for Value<'a> {
         self.serialize_map(None)
     }
 
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStructVariant, NotColumns> {
-        Err(NotColumns)
-    }
-}
-
-/// One item of a list: a number or a flag, nothing else.
-struct Item;
-
-impl Put for Item {
-    type Done = Scalar<'static>;
-    fn put(self, v: Scalar<'_>) -> Result<Scalar<'static>, NotColumns> {
-        Ok(match v {
-            Scalar::Null => Scalar::Null,
-            Scalar::Bool(x) => Scalar::Bool(x),
-            Scalar::I8(x) => Scalar::I8(x),
-            Scalar::I16(x) => Scalar::I16(x),
-            Scalar::I32(x) => Scalar::I32(x),
-            Scalar::I64(x) => Scalar::I64(x),
-            Scalar::U8(x) => Scalar::U8(x),
-            Scalar::U16(x) => Scalar::U16(x),
-            Scalar::U32(x) => Scalar::U32(x),
-            Scalar::U64(x) => Scalar::U64(x),
-            Scalar::F32(x) => Scalar::F32(x),
-            Scalar::F64(x) => Scalar::F64(x),
-            Scalar::Str(_) => return Err(NotColumns),
-        })
-    }
-}
-
-impl ser::Serializer for Item {
-    type Ok = Scalar<'static>;
-    type Error = NotColumns;
-    type SerializeSeq = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeTuple = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeTupleStruct = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeTupleVariant = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeMap = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeStruct = Impossible<Scalar<'static>, NotColumns>;
-    type SerializeStructVariant = Impossible<Scalar<'static>, NotColumns>;
-
-    scalar_methods!(
-        serialize_bool(bool) => Bool,
-        serialize_i8(i8) => I8,
-        serialize_i16(i16) => I16,
-        serialize_i32(i32) => I32,
-        serialize_i64(i64) => I64,
-        serialize_u8(u8) => U8,
-        serialize_u16(u16) => U16,
-        serialize_u32(u32) => U32,
-        serialize_u64(u64) => U64,
-        serialize_f32(f32) => F32,
-        serialize_f64(f64) => F64,
-    );
-
-    fn serialize_char(self, _: char) -> Result<Self::Ok, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_str(self, _: &str) -> Result<Self::Ok, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_bytes(self, _: &[u8]) -> Result<Self::Ok, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_none(self) -> Result<Self::Ok, NotColumns> {
-        Ok(Scalar::Null)
-    }
-    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<Self::Ok, NotColumns> {
-        value.serialize(self)
-    }
-    fn serialize_unit(self) -> Result<Self::Ok, NotColumns> {
-        Ok(Scalar::Null)
-    }
-    fn serialize_unit_struct(self, _: &'static str) -> Result<Self::Ok, NotColumns> {
-        Ok(Scalar::Null)
-    }
-    fn serialize_unit_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-    ) -> Result<Self::Ok, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_newtype_struct<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        value: &T,
-    ) -> Result<Self::Ok, NotColumns> {
-        value.serialize(self)
-    }
-    fn serialize_newtype_variant<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: &T,
-    ) -> Result<Self::Ok, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple(self, _: usize) -> Result<Self::SerializeTuple, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleStruct, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleVariant, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStruct, NotColumns> {
-        Err(NotColumns)
-    }
     fn serialize_struct_variant(
         self,
         _: &'static str,

@@ -50,6 +50,37 @@ impl Table {
         Some(i)
     }
 
+    /// The index of the column `name`, if it exists: a name the program holds (a field's,
+    /// a metadata column's) is found by its address when it was looked up before.
+    fn find_static(&mut self, name: &'static str) -> Option<usize> {
+        let key = name.as_ptr() as usize;
+        if let Some(c) = self.columns.get(self.cursor)
+            && c.key == key
+            && c.name.len() == name.len()
+        {
+            self.cursor += 1;
+            return Some(self.cursor - 1);
+        }
+        let i = self.find(name)?;
+        if let Some(c) = self.columns.get_mut(i) {
+            c.key = key;
+        }
+        Some(i)
+    }
+
+    /// [`Table::set`] of a name the program holds (found by its address).
+    pub(crate) fn set_static(&mut self, name: &'static str, v: Scalar<'_>) {
+        match self.find_static(name) {
+            Some(i) => self.put(i, v),
+            None => {
+                let mut c = Column::new(name, v, self.rows);
+                c.key = name.as_ptr() as usize;
+                c.push(v);
+                self.add(c);
+            }
+        }
+    }
+
     /// Sets the value of the column `name` in this row (a column it creates when new). A value
     /// for a column already set in this row is dropped (a field named like a nested one's path).
     pub(crate) fn set(&mut self, name: &str, v: Scalar<'_>) {
@@ -65,19 +96,28 @@ impl Table {
 
     /// Makes sure the column `name` exists, of the type of `like` (all nulls so far when it is
     /// new); sets nothing in this row.
-    pub(crate) fn declare(&mut self, name: &str, like: Scalar<'_>) {
-        if self.find(name).is_none() {
-            self.add(Column::new(name, like, self.rows));
+    pub(crate) fn declare(&mut self, name: &'static str, like: Scalar<'_>) {
+        if self.find_static(name).is_none() {
+            let mut c = Column::new(name, like, self.rows);
+            c.key = name.as_ptr() as usize;
+            self.add(c);
         }
     }
 
     /// Sets the value of the column `name` in this row, or a null: a column it creates is of the
     /// type of `like`.
-    pub(crate) fn set_typed(&mut self, name: &str, v: Option<Scalar<'_>>, like: Scalar<'_>) {
-        let i = match self.find(name) {
+    pub(crate) fn set_typed(
+        &mut self,
+        name: &'static str,
+        v: Option<Scalar<'_>>,
+        like: Scalar<'_>,
+    ) {
+        let i = match self.find_static(name) {
             Some(i) => i,
             None => {
-                self.add(Column::new(name, like, self.rows));
+                let mut c = Column::new(name, like, self.rows);
+                c.key = name.as_ptr() as usize;
+                self.add(c);
                 self.columns.len() - 1
             }
         };
@@ -92,28 +132,6 @@ impl Table {
             && !c.push(v)
         {
             self.mismatches += 1;
-        }
-    }
-
-    /// Sets the column `name` of this row to a list of `items`.
-    pub(crate) fn set_list(&mut self, name: &str, items: &[Scalar<'_>]) {
-        let rows = self.rows;
-        match self.find(name) {
-            Some(i) => {
-                if let Some(c) = self.columns.get_mut(i)
-                    && c.filled == rows
-                    && !c.push_list(items)
-                {
-                    self.mismatches += 1;
-                }
-            }
-            None => {
-                let mut c = Column::new_list(name, items, rows);
-                if !c.push_list(items) {
-                    self.mismatches += 1;
-                }
-                self.add(c);
-            }
         }
     }
 

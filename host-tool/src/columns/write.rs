@@ -266,10 +266,21 @@ impl Export {
         };
         let writer = match self.format {
             Format::Parquet => {
-                let props = WriterProperties::builder()
+                // Dictionary encoding for texts (source, flow, names of states), which repeat;
+                // numbers are measurements, rarely repeated: plain, then snappy.
+                let mut props = WriterProperties::builder()
                     .set_compression(Compression::SNAPPY)
-                    .set_created_by(format!("protolink {}", env!("CARGO_PKG_VERSION")))
-                    .build();
+                    .set_dictionary_enabled(false)
+                    .set_created_by(format!("protolink {}", env!("CARGO_PKG_VERSION")));
+                for f in schema.fields() {
+                    if f.data_type() == &arrow_schema::DataType::Utf8 {
+                        props = props.set_column_dictionary_enabled(
+                            parquet::schema::types::ColumnPath::from(f.name().as_str()),
+                            true,
+                        );
+                    }
+                }
+                let props = props.build();
                 Writer::Parquet(
                     ArrowWriter::try_new(file, schema.clone(), Some(props))
                         .map_err(|e| failed(&e))?,

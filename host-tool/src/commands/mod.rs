@@ -23,7 +23,6 @@ pub mod aok;
 pub(crate) mod aydp;
 pub(crate) mod bridge;
 pub mod decode;
-pub(crate) mod export;
 pub mod gdl90;
 pub mod nmea;
 pub(crate) mod record;

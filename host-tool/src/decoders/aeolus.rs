@@ -8,8 +8,7 @@
 use aeolus_proto::Decode;
 use serde_json::{Map, Value, json};
 
-use super::{Event, StreamDecoder, error_kind};
-use crate::columns::{Origin, Tables};
+use super::{Event, EventSink, StreamDecoder, error_kind};
 use crate::render::{self, hex, to_json, variant};
 
 /// Capacity of the AEOLUS decoder: every message, long LOG messages included.
@@ -260,25 +259,16 @@ impl StreamDecoder for AeolusDecoder {
         self.finish_items(offset, |at, item| out.push(item.to_event(at)));
     }
 
-    fn feed_columns(
-        &mut self,
-        bytes: &[u8],
-        offset: u64,
-        datagram: bool,
-        origin: &Origin,
-        tables: &mut Tables,
-    ) {
-        self.feed_items(bytes, offset, |at, item| {
-            tables.add_aeolus(origin, at, &item)
-        });
+    fn feed_to(&mut self, bytes: &[u8], offset: u64, datagram: bool, sink: &mut dyn EventSink) {
+        self.feed_items(bytes, offset, |at, item| sink.aeolus(at, &item));
         if datagram {
             let end = offset + bytes.len() as u64;
-            self.end_of_datagram_items(end, |at, item| tables.add_aeolus(origin, at, &item));
+            self.end_of_datagram_items(end, |at, item| sink.aeolus(at, &item));
         }
     }
 
-    fn finish_columns(&mut self, offset: u64, origin: &Origin, tables: &mut Tables) {
-        self.finish_items(offset, |at, item| tables.add_aeolus(origin, at, &item));
+    fn finish_to(&mut self, offset: u64, sink: &mut dyn EventSink) {
+        self.finish_items(offset, |at, item| sink.aeolus(at, &item));
     }
 
     fn counters(&self) -> Value {

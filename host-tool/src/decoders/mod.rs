@@ -20,7 +20,6 @@ pub use aok::{
 pub use aydp::{AYDP_CAPACITY, AydpDecoder, AydpRendered, ErrorText, aydp_fields};
 pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
 
-use crate::columns::{Origin, Tables};
 use crate::proto::{ProfileArg, Proto, Side};
 use crate::render;
 
@@ -138,34 +137,36 @@ pub trait StreamDecoder: Send {
     /// The counters, as a JSON object.
     fn counters(&self) -> Value;
     /// Feeds bytes that start at input offset `offset` (`datagram`: they are one whole
-    /// datagram), each event a row of `tables` from `origin`. AEOLUS hands its typed messages
-    /// over unrendered.
-    fn feed_columns(
-        &mut self,
-        bytes: &[u8],
-        offset: u64,
-        datagram: bool,
-        origin: &Origin,
-        tables: &mut Tables,
-    ) {
+    /// datagram), each event handed to `sink` as it comes. AEOLUS hands its typed messages over
+    /// unrendered ([`EventSink::aeolus`]).
+    fn feed_to(&mut self, bytes: &[u8], offset: u64, datagram: bool, sink: &mut dyn EventSink) {
         let mut events = Vec::new();
         self.feed(bytes, offset, &mut events);
         if datagram {
             self.end_of_datagram(offset + bytes.len() as u64, &mut events);
         }
         for e in &events {
-            tables.add_event(origin, e);
+            sink.event(e);
         }
     }
     /// The input ended at `offset`: what is held is given up as [`StreamDecoder::finish`]
-    /// does, into `tables`.
-    fn finish_columns(&mut self, offset: u64, origin: &Origin, tables: &mut Tables) {
+    /// does, into `sink`.
+    fn finish_to(&mut self, offset: u64, sink: &mut dyn EventSink) {
         let mut events = Vec::new();
         self.finish(offset, &mut events);
         for e in &events {
-            tables.add_event(origin, e);
+            sink.event(e);
         }
     }
+}
+
+/// Where a decoder's events go when they are not collected (the tables of
+/// [`crate::columns`]): rendered events, and AEOLUS's items before they are rendered.
+pub trait EventSink {
+    /// An event, rendered.
+    fn event(&mut self, event: &Event);
+    /// An AEOLUS item placed at `offset`, not rendered.
+    fn aeolus(&mut self, offset: u64, item: &AeolusItem<'_>);
 }
 
 /// Builds the decoder the arguments ask for.

@@ -14,7 +14,7 @@ use serde_json::{Value, json};
 
 use super::{DecodeArgs, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
-use crate::columns::{Origin, Tables};
+use crate::columns::{Origin, Sink, Tables};
 use crate::decoders::{Event, StreamDecoder, decoder_for};
 use crate::error::Result;
 use crate::proto::{ProfileArg, Proto};
@@ -39,16 +39,7 @@ struct Flow {
     offset: u64,
 }
 
-/// The protocol's name as `decode --json` writes it (`"proto"`): `aeolus`, `aydp`, `aok`,
-/// `gdl90`.
-pub fn proto_name(p: Proto) -> &'static str {
-    match p {
-        Proto::Aeolus => "aeolus",
-        Proto::Aydp => "aydp",
-        Proto::Aok => "aok",
-        Proto::Gdl90 => "gdl90",
-    }
-}
+pub use crate::proto::proto_name;
 
 /// One event of a capture as a JSON object: the live decoder's object with `frame`, `capture_time`
 /// (seconds since the Unix epoch), `flow` and `proto` added after `offset`.
@@ -229,7 +220,11 @@ impl CaptureEvents {
             let (frames, time) = (self.flows.counters.frames, self.last_time);
             for flow in &mut self.flows.flows {
                 let o = origin(flow, frames, time);
-                flow.decoder.finish_columns(flow.offset, &o, tables);
+                let mut sink = Sink {
+                    tables: &mut *tables,
+                    origin: &o,
+                };
+                flow.decoder.finish_to(flow.offset, &mut sink);
             }
             return Ok(true);
         };
@@ -244,8 +239,9 @@ impl CaptureEvents {
         let time = rec.time.as_secs_f64();
         self.last_time = time;
         let o = origin(flow, rec.frame, time);
+        let mut sink = Sink { tables, origin: &o };
         flow.decoder
-            .feed_columns(&bytes, flow.offset, flow.datagrams, &o, tables);
+            .feed_to(&bytes, flow.offset, flow.datagrams, &mut sink);
         flow.offset += bytes.len() as u64;
         Ok(true)
     }

@@ -13,7 +13,9 @@ use clap::Args;
 use serde_json::{Value, json};
 
 pub mod capture;
+pub(crate) mod export;
 pub mod plot;
+pub mod tables;
 
 use crate::decoders::{Event, StreamDecoder, decoder_for};
 use crate::endpoint::{Endpoint, Input, Link};

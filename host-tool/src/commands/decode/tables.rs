@@ -1,13 +1,14 @@
-//! A file's messages into the tables: a pcapng or pcap capture decoded per flow, or a file of
-//! raw bytes of one protocol, read a little at a time so that the caller can write out the full
-//! batches (and look for Ctrl-C) between two steps.
+//! A file's messages into tables ([`crate::columns`]): a pcapng or pcap capture decoded per
+//! flow, or a file of raw bytes of one protocol, read a little at a time so that the caller can
+//! write out the full batches (and look for Ctrl-C) between two steps. What `export` and the
+//! Python package's `to_arrow` read files with.
 
 use std::io::Read;
 use std::path::Path;
 
-use super::{Origin, Tables};
-use crate::commands::decode::DecodeArgs;
-use crate::commands::decode::capture::CaptureEvents;
+use super::DecodeArgs;
+use super::capture::CaptureEvents;
+use crate::columns::{Origin, Sink, Tables};
 use crate::decoders::decoder_for;
 use crate::endpoint::Endpoint;
 use crate::error::{Error, Result};
@@ -55,7 +56,7 @@ pub struct Report {
 ///
 /// ```
 /// use protolink::columns::Tables;
-/// use protolink::columns::read::{Select, read_file};
+/// use protolink::commands::decode::tables::{Select, read_file};
 /// use protolink::proto::Proto;
 /// let path = std::env::temp_dir().join(format!("protolink-doc-read-{}", std::process::id()));
 /// std::fs::write(&path, [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E])?;
@@ -132,11 +133,19 @@ pub fn read_file(
                 }
             };
             let bytes = buf.get(..n).unwrap_or_default();
-            decoder.feed_columns(bytes, report.bytes, false, &origin, tables);
+            let mut sink = Sink {
+                tables: &mut *tables,
+                origin: &origin,
+            };
+            decoder.feed_to(bytes, report.bytes, false, &mut sink);
             report.bytes += n as u64;
             step(tables)?;
         }
-        decoder.finish_columns(report.bytes, &origin, tables);
+        let mut sink = Sink {
+            tables: &mut *tables,
+            origin: &origin,
+        };
+        decoder.finish_to(report.bytes, &mut sink);
     }
     report.rows = tables.rows() - rows_before;
     step(tables)?;

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::columns::read::{Select, read_file};
+use super::tables::{Select, read_file};
 use crate::columns::write::{Export, Format};
 use crate::columns::{ROW_GROUP, Tables};
 use crate::error::{Error, Result};

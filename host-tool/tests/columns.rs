@@ -1,0 +1,245 @@
+//! The tables of `protolink export` and `to_arrow`, built from decoded messages: column names and
+//! types, the rule for a field named like a metadata column, values of another type, row
+//! groups, and the parts of an export when a table's columns change.
+
+use arrow_array::cast::AsArray;
+use arrow_array::types::{Float32Type, Int64Type, UInt8Type};
+use arrow_array::{Array, RecordBatch};
+use arrow_schema::DataType;
+use protolink::columns::write::{Export, Format};
+use protolink::columns::{Origin, Tables, unify};
+use protolink::decoders::AeolusDecoder;
+use serde_json::{Map, Value, json};
+
+fn names(batch: &RecordBatch) -> Vec<String> {
+    batch
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| f.name().clone())
+        .collect()
+}
+
+fn meta(v: Value) -> Map<String, Value> {
+    v.as_object().cloned().unwrap_or_default()
+}
+
+/// The AEOLUS sample: the frames of the firmware's telemetry.
+fn sample() -> Vec<(String, RecordBatch)> {
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../testdata/qemu-uart0-aeolus.bin"
+    ))
+    .unwrap_or_default();
+    assert!(!bytes.is_empty());
+    let mut tables = Tables::new(100);
+    let origin = Origin::default();
+    let mut d = AeolusDecoder::new();
+    d.feed_items(&bytes, 0, |at, item| tables.add_aeolus(&origin, at, &item));
+    d.finish_items(bytes.len() as u64, |at, item| {
+        tables.add_aeolus(&origin, at, &item)
+    });
+    assert_eq!(tables.mismatches(), 0);
+    tables.finish()
+}
+
+#[test]
+fn typed_aeolus_columns_keep_the_wire_types() {
+    let batches = sample();
+    let (_, compass) = batches
+        .iter()
+        .find(|(n, _)| n == "COMPASS")
+        .expect("a COMPASS table");
+    let names = names(compass);
+    assert_eq!(
+        names[..8],
+        [
+            "capture_time",
+            "offset",
+            "meta.id",
+            "meta.len",
+            "meta.crc",
+            "valid",
+            "calibration",
+            "has_value"
+        ]
+    );
+    // A fixed-size array is a column per element.
+    assert!(names.iter().any(|n| n == "hard_iron.8") && !names.iter().any(|n| n == "hard_iron"));
+    let schema = compass.schema();
+    let kind = |n: &str| {
+        schema
+            .field_with_name(n)
+            .map(|f| f.data_type().clone())
+            .ok()
+    };
+    assert_eq!(kind("heading_deg"), Some(DataType::Float32));
+    assert_eq!(kind("calibration_percent"), Some(DataType::UInt8));
+    assert_eq!(kind("calibration"), Some(DataType::Utf8));
+    assert_eq!(kind("capture_time"), Some(DataType::Float64));
+    // 248 COMPASS rows in batches of at most 100 rows.
+    let rows: Vec<usize> = batches
+        .iter()
+        .filter(|(n, _)| n == "COMPASS")
+        .map(|(_, b)| b.num_rows())
+        .collect();
+    assert_eq!(rows, [100, 100, 48]);
+    let first = compass.column_by_name("heading_deg").expect("heading");
+    assert_eq!(first.as_primitive::<Float32Type>().value(0), 357.290_04);
+    let info = batches
+        .iter()
+        .find(|(n, _)| n == "AEOLUSINFO")
+        .map(|(_, b)| b.clone())
+        .expect("AEOLUSINFO");
+    let mac: Vec<u8> = (0..6)
+        .map(|i| {
+            info.column_by_name(&format!("mac.{i}"))
+                .expect("mac")
+                .as_primitive::<UInt8Type>()
+                .value(0)
+        })
+        .collect();
+    assert_eq!(mac, [2, 174, 1, 5, 0, 1]);
+}
+
+#[test]
+fn a_field_named_like_metadata_is_field_and_its_name() {
+    let mut tables = Tables::new(8);
+    let fields =
+        json!({"offset": 99, "meta.len": 98, "field.x": 97, "source": "s", "x": 1, "t": {"a": 2}});
+    tables.add_rendered(
+        &Origin::default(),
+        5,
+        "ODD",
+        &meta(json!({"len": 3})),
+        &fields,
+    );
+    let (name, batch) = tables.finish().remove(0);
+    assert_eq!(name, "ODD");
+    assert_eq!(
+        names(&batch),
+        [
+            "capture_time",
+            "offset",
+            "meta.len",
+            "field.offset",
+            "field.meta.len",
+            "field.field.x",
+            "field.source",
+            "x",
+            "t.a"
+        ]
+    );
+    let int = |n: &str| {
+        batch
+            .column_by_name(n)
+            .map(|c| c.as_primitive::<Int64Type>().value(0))
+    };
+    assert_eq!(
+        (int("offset"), int("field.offset"), int("t.a")),
+        (Some(5), Some(99), Some(2))
+    );
+}
+
+#[test]
+fn a_value_of_another_type_is_a_counted_null() {
+    let mut tables = Tables::new(8);
+    let origin = Origin::default();
+    for v in [json!(1), json!("one"), json!(2.5), json!(3)] {
+        tables.add_rendered(&origin, 0, "T", &Map::new(), &json!({ "v": v }));
+    }
+    // The text is no integer; 2.5 is none either.
+    assert_eq!(tables.mismatches(), 2);
+    let (_, batch) = tables.finish().remove(0);
+    let v = batch.column_by_name("v").expect("v");
+    assert_eq!(v.data_type(), &DataType::Int64);
+    let got: Vec<Option<i64>> = v.as_primitive::<Int64Type>().iter().collect();
+    assert_eq!(got, [Some(1), None, None, Some(3)]);
+}
+
+#[test]
+fn a_list_is_its_json_text() {
+    // Whatever the lists hold (numbers, objects, nothing), the column is a string.
+    let mut tables = Tables::new(8);
+    let origin = Origin::default();
+    let fields = json!({"n": [1, 2.5, 3], "o": [{"a": 1}], "e": []});
+    tables.add_rendered(&origin, 0, "L", &Map::new(), &fields);
+    let (_, batch) = tables.finish().remove(0);
+    let text = |n: &str| {
+        batch
+            .column_by_name(n)
+            .map(|c| c.as_string::<i32>().value(0).to_owned())
+    };
+    assert_eq!(text("n").as_deref(), Some("[1,2.5,3]"));
+    assert_eq!(text("o").as_deref(), Some(r#"[{"a":1}]"#));
+    assert_eq!(text("e").as_deref(), Some("[]"));
+    assert_eq!(tables.mismatches(), 0);
+}
+
+#[test]
+fn a_column_seen_later_is_null_before_and_unify_pads_earlier_batches() {
+    let mut tables = Tables::new(2);
+    let origin = Origin::default();
+    for (i, f) in [json!({"a": 1}), json!({"a": 2}), json!({"a": 3, "b": true})]
+        .iter()
+        .enumerate()
+    {
+        tables.add_rendered(&origin, i as u64, "T", &Map::new(), f);
+    }
+    let batches: Vec<RecordBatch> = tables.finish().into_iter().map(|(_, b)| b).collect();
+    assert_eq!(batches.len(), 2);
+    assert!(batches[0].column_by_name("b").is_none());
+    let (schema, batches) = unify(batches);
+    assert_eq!(schema.fields().len(), 4);
+    assert_eq!(
+        batches[0].column_by_name("b").map(|c| c.null_count()),
+        Some(2)
+    );
+}
+
+#[test]
+fn export_starts_a_new_part_when_the_columns_change() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = std::env::temp_dir().join(format!("protolink-columns-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut tables = Tables::new(1);
+    let origin = Origin::default();
+    let mut export = Export::new(&dir, Format::Parquet)?;
+    for f in [json!({"a": 1}), json!({"a": 2}), json!({"a": 3, "b": true})] {
+        tables.add_rendered(&origin, 0, "T", &Map::new(), &f);
+        for (name, batch) in tables.take_full() {
+            export.write(&name, &batch)?;
+        }
+    }
+    let written = export.finish()?;
+    assert_eq!(written.len(), 1);
+    assert_eq!(written[0].rows, 3);
+    let parts: Vec<_> = written[0]
+        .parts
+        .iter()
+        .map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    assert_eq!(
+        parts,
+        [
+            Some("part-00000.parquet".to_string()),
+            Some("part-00001.parquet".to_string())
+        ]
+    );
+    // Nothing half-written is left.
+    let left: Vec<_> = std::fs::read_dir(dir.join("T"))?
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".partial"))
+        .collect();
+    assert!(left.is_empty());
+    // The next export into the same place refuses to overwrite.
+    let mut again = Export::new(&dir, Format::Parquet)?;
+    let mut tables = Tables::new(8);
+    tables.add_rendered(&origin, 0, "T", &Map::new(), &json!({"a": 1}));
+    let (name, batch) = tables.finish().remove(0);
+    let e = again.write(&name, &batch).expect_err("refused");
+    assert!(e.to_string().ends_with(
+        "part-00000.parquet exists already: export writes into a directory of its own (choose another --out)"
+    ));
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}
