@@ -94,7 +94,9 @@ def to_frames(
 ) -> Dict[str, "pandas.DataFrame"]:
     """One pandas DataFrame per message type: :func:`to_arrow`'s tables, converted by pyarrow
     (columns of numbers without a null keep their type; an integer column with nulls becomes
-    float64 with NaN, as pandas has it)."""
+    float64 with NaN, as pandas has it). Each table's Arrow columns are released as it is
+    converted: at any time the tables not converted yet and the frames made so far are held,
+    about the size of the frames plus the largest table."""
     try:
         import pandas  # noqa: F401
     except ImportError as e:
@@ -102,7 +104,11 @@ def to_frames(
             "protolink.to_frames needs pandas, which is not installed: "
             'pip install pandas (or pip install "protolink[pandas]")'
         ) from e
-    return {name: t.to_pandas() for name, t in to_arrow(source, proto, **options).items()}
+    tables = to_arrow(source, proto, **options)
+    frames = {}
+    for name in list(tables):
+        frames[name] = tables.pop(name).to_pandas(self_destruct=True, split_blocks=True)
+    return frames
 
 
 def export(

@@ -10,7 +10,7 @@ fields' suffixes where the crates give them one, and listed here for the rest.""
 import os
 import re
 
-from hypothesis import find
+from hypothesis import HealthCheck, find, settings
 
 import protolink
 from conftest import GDL90_FRAMES, ROOT
@@ -21,12 +21,14 @@ BEGIN, END = "<!-- columns: begin (python/tests/test_columns_doc.py) -->", "<!--
 
 # Units by a column's last name part's suffix, then by (message type, column) for the rest.
 SUFFIX = [("_ms", "ms"), ("_mps", "m/s"), ("_mbar", "mbar"), ("_deg", "deg"), ("_rad", "rad"),
-          ("_m", "m"), ("celsius", "°C"), ("_percent", "%"), ("_ft", "ft"), ("_kt", "kt"), ("_fpm", "ft/min")]
+          ("_m", "m"), ("celsius", "°C"), ("_percent", "%"), ("_ft", "ft"), ("_kt", "kt"), ("_fpm", "ft/min"),
+          ("_dps", "deg/s"), ("g_load", "g")]
 UNITS = {
     ("GYRO", "x"): "rad/s", ("GYRO", "y"): "rad/s", ("GYRO", "z"): "rad/s",
     ("ACCEL", "x"): "m/s²", ("ACCEL", "y"): "m/s²", ("ACCEL", "z"): "m/s²",
     ("MAGNET", "x"): "gauss", ("MAGNET", "y"): "gauss", ("MAGNET", "z"): "gauss",
     ("POSITION", "latitude"): "deg", ("POSITION", "longitude"): "deg", ("POSITION", "altitude"): "m",
+    ("OWNSHIP", "track.TrueTrack"): "deg", ("TRAFFIC", "track.TrueTrack"): "deg",
     ("capture_time", None): "s since 1970", ("offset", None): "byte", ("meta.len", None): "byte",
     ("meta.time.seconds", None): "s", ("meta.time.subsec", None): "ms (spec) or µs (reference)",
 }
@@ -49,7 +51,9 @@ def stream(kind, tmp_path):
     """A file of one message of every type `kind`'s decoder reads: hypothesis's simplest such
     stream, the same on every run."""
     path = tmp_path / f"{kind}.bin"
-    path.write_bytes(b"".join(f for _, f in find(every_type(kind), lambda _: True)))
+    # Derandomized and without the example database: the same stream on every run.
+    fixed = settings(database=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    path.write_bytes(b"".join(f for _, f in find(every_type(kind), lambda _: True, settings=fixed)))
     return path
 
 
