@@ -537,8 +537,9 @@ def python_section():
         if export:
             rate = float(export[3])
             sec.append(f"Target, export to Parquet at least 50 MB/s: {rate:.1f} MB/s, {verdict(50, rate)}.")
-        sec += ["Memory of `to_frames` is the frames themselves plus a row group (65,536 rows) per type being filled;",
-                "`export` holds a row group per type and the 256 KiB read buffer, whatever the sources' size.", ""]
+        sec += ["Memory: `to_frames` holds each type's Arrow table until it converts it into its frame, so its peak is",
+                "about the frames plus the largest table; `export` holds a row group (65,536 rows) per type and the",
+                "256 KiB read buffer, whatever the sources' size.", ""]
     return sec
 
 

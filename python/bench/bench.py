@@ -243,7 +243,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--mb", type=float, default=100.0, help="stream length in megabytes (default 100)")
     ap.add_argument("--repeat", type=int, default=3, help="protolink runs per figure (the best is kept)")
-    ap.add_argument("--peer", choices=["pure", "installed"], help=argparse.SUPPRESS)
+    ap.add_argument("--peer", choices=["pure", "installed", "pure-fields"], help=argparse.SUPPRESS)
     ap.add_argument("--file", help=argparse.SUPPRESS)
     ap.add_argument("--frames", help=argparse.SUPPRESS)
     ap.add_argument("--export", help=argparse.SUPPRESS)
