@@ -110,6 +110,23 @@ pub fn adapt(args: &[String], env: &Env, seconds: &str) -> Vec<String> {
         })
         .collect();
     let sub = subcommand(&w).to_owned();
+    if sub == "export" {
+        // Its tables go to the temporary directory; a byte file is the protocol's sample.
+        let mut out_next = false;
+        for a in w.iter_mut() {
+            if out_next {
+                *a = env.tmp.join(a.as_str()).display().to_string();
+            } else if a.ends_with(".bin") && !a.contains('/') {
+                let name = match proto.as_str() {
+                    "aydp" => "qemu-uart1-aydp.bin",
+                    "aok" => "qemu-uart2-aok.bin",
+                    _ => "qemu-uart0-aeolus.bin",
+                };
+                *a = env.root.join("testdata").join(name).display().to_string();
+            }
+            out_next = a == "--out";
+        }
+    }
     let runs_on = matches!(
         sub.as_str(),
         "decode" | "watch" | "web" | "bridge" | "sim" | "gdl90" | "nmea" | "record" | "replay"
@@ -152,6 +169,20 @@ pub fn adapt(args: &[String], env: &Env, seconds: &str) -> Vec<String> {
         }
     }
     w
+}
+
+/// An `export` example (as [`adapt`] made it) made ready to run: its output directory
+/// emptied, and each capture it reads that does not exist yet recorded by `record` (which
+/// writes the sample UART capture of `testdata/` as that capture).
+pub fn prepare_export(args: &[String], record: impl Fn(&Path)) {
+    if let Some(out) = flag(args, "--out") {
+        let _ = std::fs::remove_dir_all(out);
+    }
+    for a in args.iter().skip(1) {
+        if a.ends_with(".pcapng") && !Path::new(a).exists() {
+            record(Path::new(a));
+        }
+    }
 }
 
 /// Whether an example talks to a box on UDP (reads its telemetry port or sends to its
@@ -265,6 +296,13 @@ pub fn check_outcome(
             positive("frames_ok in the capture", counter(&summary, "frames_ok"))
         }
         "replay" => positive("payloads replayed", number_before(&stderr, "payloads")),
+        "export" => {
+            let last = stdout.lines().last().unwrap_or("");
+            if !last.starts_with("export: ") {
+                return Err(format!("no export summary: {stdout}"));
+            }
+            positive("rows exported", number_before(last, "rows"))
+        }
         "aeolus" if second == "command" || args.iter().any(|a| a == "command") => {
             if stdout.contains(": confirmed") {
                 Ok(())

@@ -15,7 +15,7 @@ mod harness;
 
 use harness::*;
 use protolink_tests::examples::{
-    Env, adapt, check_outcome, flag, needs_udp_box, subcommand, words,
+    Env, adapt, check_outcome, flag, needs_udp_box, prepare_export, subcommand, words,
 };
 use std::net::Shutdown;
 use std::process::{Output, Stdio};
@@ -112,6 +112,22 @@ fn every_help_example_runs_against_the_firmware() {
                 w[1].clone(),
             ]);
             assert!(rec.status.success(), "recording {} for `{line}`", w[1]);
+        }
+        // An export reads captures recorded from the sample UART capture, into a fresh directory.
+        if subcommand(&w) == "export" {
+            prepare_export(&w, |capture| {
+                let rec = run(&[
+                    "record".into(),
+                    "--from".into(),
+                    format!(
+                        "file:{}",
+                        env.root.join("testdata/qemu-uart0-aeolus.bin").display()
+                    ),
+                    "--out".into(),
+                    capture.display().to_string(),
+                ]);
+                assert!(rec.status.success(), "recording {capture:?} for `{line}`");
+            });
         }
         // The examples that talk to a box on UDP get `protolink sim` as that box.
         let sim = needs_udp_box(&w, &env).then(|| start_sim(&env));

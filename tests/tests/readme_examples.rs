@@ -8,14 +8,18 @@
 //!   what it printed (the counters of a `summary:`, `gdl90:` or `nmea:` line may differ, so digits are
 //!   compared as "a number" there). `...` stands for lines left out.
 //! * `curl` of the page runs against a `protolink web` on this test's page port, `tshark` on
-//!   the capture the block recorded, `protolink wireshark > FILE` into a temporary file.
+//!   the capture the block recorded, `protolink wireshark > FILE` into a temporary file, a
+//!   `duckdb -c "QUERY"` through DuckDB's Python package (`scripts/setup.sh python`) in the
+//!   directory the block's `protolink export` wrote its tables to.
 //! * Anything else (building and flashing firmware, the demo, `cd`) is listed with the reason
 //!   it is not run here: a line of a form the test does not know fails it.
 
 mod harness;
 
 use harness::*;
-use protolink_tests::examples::{Env, adapt, check_outcome, needs_udp_box, words};
+use protolink_tests::examples::{
+    Env, adapt, check_outcome, needs_udp_box, prepare_export, subcommand, words,
+};
 use std::net::Shutdown;
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
@@ -288,6 +292,8 @@ fn every_readme_example_runs_as_written() {
             run_curl(&line, &env)
         } else if line.starts_with("tshark ") {
             run_tshark(&line, &env)
+        } else if line.starts_with("duckdb ") {
+            run_duckdb(&line, &env)
         } else {
             Err(
                 "a line this test does not know how to run (add it to NOT_RUN with a reason, \
@@ -332,6 +338,20 @@ fn run_protolink(ex: &Example, line: &str, env: &Env) -> Result<(), String> {
         };
     }
     let w = adapt(&given, env, "2");
+    if subcommand(&w) == "export" {
+        prepare_export(&w, |capture| {
+            let _ = run(&[
+                "record".into(),
+                "--from".into(),
+                format!(
+                    "file:{}",
+                    env.root.join("testdata/qemu-uart0-aeolus.bin").display()
+                ),
+                "--out".into(),
+                capture.display().to_string(),
+            ]);
+        });
+    }
     let _sim = needs_udp_box(&w, env).then(|| start_sim(env));
     let efb = format!("udp:{}", env.efb);
     let _sim_for_gdl90 = w.contains(&efb).then(|| start_sim(env));
@@ -361,6 +381,32 @@ fn run_protolink(ex: &Example, line: &str, env: &Env) -> Result<(), String> {
     }
     check_outcome(&w, &out, decode_summary).map_err(|e| format!("{e}\n{printed}"))?;
     check_shown(ex, &printed, env)
+}
+
+/// `duckdb -c "QUERY"`: the query, through DuckDB's Python package, in the temporary directory
+/// where the README's `protolink export` wrote its tables; it must print a row of a capture.
+fn run_duckdb(line: &str, env: &Env) -> Result<(), String> {
+    let w = words(line);
+    let query = w
+        .iter()
+        .position(|a| a == "-c")
+        .and_then(|i| w.get(i + 1))
+        .ok_or("no -c QUERY")?;
+    let out = Command::new("python3")
+        .args([
+            "-c",
+            "import sys, duckdb; print(duckdb.sql(sys.argv[1]).fetchall())",
+            query,
+        ])
+        .current_dir(&env.tmp)
+        .output()
+        .map_err(|e| format!("python3: {e}"))?;
+    let printed = String::from_utf8_lossy(&out.stdout);
+    if out.status.success() && printed.contains(".pcapng") {
+        Ok(())
+    } else {
+        Err(format!("{printed}{}", String::from_utf8_lossy(&out.stderr)))
+    }
 }
 
 /// `curl` of the page: a `protolink web` (fed by `protolink sim`) on this test's page port.
