@@ -185,6 +185,21 @@ pub fn prepare_export(args: &[String], record: impl Fn(&Path)) {
     }
 }
 
+/// The arguments of `protolink record` that write the sample UART capture of `testdata/`
+/// (AEOLUS) as the pcapng `capture`: what a `replay` or `export` example reads.
+pub fn record_sample(env: &Env, capture: &Path) -> Vec<String> {
+    vec![
+        "record".into(),
+        "--from".into(),
+        format!(
+            "file:{}",
+            env.root.join("testdata/qemu-uart0-aeolus.bin").display()
+        ),
+        "--out".into(),
+        capture.display().to_string(),
+    ]
+}
+
 /// Whether an example talks to a box on UDP (reads its telemetry port or sends to its
 /// command port), which `protolink sim` then plays.
 pub fn needs_udp_box(args: &[String], env: &Env) -> bool {

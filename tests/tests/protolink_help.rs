@@ -15,7 +15,8 @@ mod harness;
 
 use harness::*;
 use protolink_tests::examples::{
-    Env, adapt, check_outcome, flag, needs_udp_box, prepare_export, subcommand, words,
+    Env, adapt, check_outcome, flag, needs_udp_box, prepare_export, record_sample, subcommand,
+    words,
 };
 use std::net::Shutdown;
 use std::process::{Output, Stdio};
@@ -101,31 +102,13 @@ fn every_help_example_runs_against_the_firmware() {
         let w = adapt(&given, &env, "1");
         // A replay gets a capture recorded from the sample UART capture first.
         if subcommand(&w) == "replay" && !std::path::Path::new(&w[1]).exists() {
-            let rec = run(&[
-                "record".into(),
-                "--from".into(),
-                format!(
-                    "file:{}",
-                    env.root.join("testdata/qemu-uart0-aeolus.bin").display()
-                ),
-                "--out".into(),
-                w[1].clone(),
-            ]);
+            let rec = run(&record_sample(&env, std::path::Path::new(&w[1])));
             assert!(rec.status.success(), "recording {} for `{line}`", w[1]);
         }
         // An export reads captures recorded from the sample UART capture, into a fresh directory.
         if subcommand(&w) == "export" {
             prepare_export(&w, |capture| {
-                let rec = run(&[
-                    "record".into(),
-                    "--from".into(),
-                    format!(
-                        "file:{}",
-                        env.root.join("testdata/qemu-uart0-aeolus.bin").display()
-                    ),
-                    "--out".into(),
-                    capture.display().to_string(),
-                ]);
+                let rec = run(&record_sample(&env, capture));
                 assert!(rec.status.success(), "recording {capture:?} for `{line}`");
             });
         }

@@ -18,7 +18,7 @@ mod harness;
 
 use harness::*;
 use protolink_tests::examples::{
-    Env, adapt, check_outcome, needs_udp_box, prepare_export, subcommand, words,
+    Env, adapt, check_outcome, needs_udp_box, prepare_export, record_sample, subcommand, words,
 };
 use std::net::Shutdown;
 use std::path::Path;
@@ -340,16 +340,7 @@ fn run_protolink(ex: &Example, line: &str, env: &Env) -> Result<(), String> {
     let w = adapt(&given, env, "2");
     if subcommand(&w) == "export" {
         prepare_export(&w, |capture| {
-            let _ = run(&[
-                "record".into(),
-                "--from".into(),
-                format!(
-                    "file:{}",
-                    env.root.join("testdata/qemu-uart0-aeolus.bin").display()
-                ),
-                "--out".into(),
-                capture.display().to_string(),
-            ]);
+            let _ = run(&record_sample(env, capture));
         });
     }
     let _sim = needs_udp_box(&w, env).then(|| start_sim(env));
