@@ -257,21 +257,8 @@ impl ser::SerializeTuple for Elements<'_> {
 
 macro_rules! scalar_methods {
     ($( $method:ident($t:ty) => $variant:ident ),* $(,)?) => {
-        $( fn $method(self, v: $t) -> Result<Self::Ok, NotColumns> { self.put(Scalar::$variant(v)) } )*
+        $( fn $method(self, v: $t) -> Result<Self::Ok, NotColumns> { self.set(Scalar::$variant(v)) } )*
     };
-}
-
-/// What both the value and the list item serializers do with a number or flag.
-trait Put: Sized {
-    type Done;
-    fn put(self, v: Scalar<'_>) -> Result<Self::Done, NotColumns>;
-}
-
-impl Put for Value<'_> {
-    type Done = ();
-    fn put(self, v: Scalar<'_>) -> Result<(), NotColumns> {
-        self.set(v)
-    }
 }
 
 impl<'a> ser::Serializer for Value<'a> {
