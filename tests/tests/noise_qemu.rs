@@ -36,7 +36,7 @@
 mod harness;
 
 use aok_proto::WaypointSlot;
-use aok_proto::{Client, Command, Config, FirmwareVersion, Motor, MotorTest, Waypoint};
+use aok_proto::{Client, Command, Motor, MotorTest, Waypoint};
 use harness::*;
 use protolink_tests::rng::Rng;
 use std::io::{ErrorKind, Read, Write};
@@ -334,7 +334,7 @@ fn client(uart2: &TcpStream) -> Client<OneWrite> {
             stream,
             out: Vec::new(),
         },
-        Config::new(FirmwareVersion::new(0, 35)),
+        emulated_aok_config(),
     )
 }
 

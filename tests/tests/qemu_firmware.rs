@@ -249,7 +249,7 @@ fn aydp_setting_survives_store_and_reboot(board: Board) {
 // ------------------------------------------------------------------ AOK over UART2
 
 fn aok_parameter_and_waypoint(board: Board) {
-    use aok_proto::{ActionWord, Client, Config, FirmwareVersion, Waypoint, WaypointSlot};
+    use aok_proto::{ActionWord, Client, Waypoint, WaypointSlot};
     let Some(mut q) = boot(board, Ports::AOK.on(board)) else {
         return;
     };
@@ -257,7 +257,7 @@ fn aok_parameter_and_waypoint(board: Board) {
     q.uart0.read_until(Duration::from_secs(10), |_| true);
     let port = q.uart2.try_clone().expect("clone UART2");
     port.set_nonblocking(true).expect("nonblocking");
-    let mut client = Client::new(NbSerial(port), Config::new(FirmwareVersion::new(0, 35)));
+    let mut client = Client::new(NbSerial(port), emulated_aok_config());
     let t0 = Instant::now();
     let mut now = || t0.elapsed().as_millis() as u32;
 

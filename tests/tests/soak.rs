@@ -12,7 +12,7 @@
 
 mod harness;
 
-use aok_proto::{Client, Config, FirmwareVersion};
+use aok_proto::Client;
 use harness::*;
 use std::io::Write;
 use std::net::TcpStream;
@@ -137,7 +137,7 @@ fn hostile_soak() {
     let uart2_sent = Arc::new(AtomicUsize::new(0));
     let mut aok = Client::new(
         CountingSerial(NbSerial(aok_port), uart2_sent.clone()),
-        Config::new(FirmwareVersion::new(0, 35)),
+        emulated_aok_config(),
     );
     let t0 = Instant::now();
     let mut rng = Rng(0x50A4_0000_0000_0001);

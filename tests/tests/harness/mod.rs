@@ -841,6 +841,18 @@ pub fn store_airspeed(q: &mut Qemu, mps: f32, log: &str) {
     std::thread::sleep(Duration::from_millis(300));
 }
 
+/// The AOK client's settings against an emulated box. The defaults (a reply within 1 s, a
+/// partial frame abandoned after a 50 ms gap) suit a real board; QEMU is a host process, and
+/// under the parallel test load it can stall for longer mid-reply (a CI run timed out setting
+/// parameter 12 that way), so the client waits 10 s for a reply and 500 ms inside one.
+pub fn emulated_aok_config() -> aok_proto::Config {
+    aok_proto::Config {
+        timeout_ms: 10_000,
+        quiet_ms: 500,
+        ..aok_proto::Config::new(aok_proto::FirmwareVersion::new(0, 35))
+    }
+}
+
 /// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
 pub struct NbSerial(pub TcpStream);
 
