@@ -153,42 +153,33 @@ impl CaptureEvents {
     /// # Errors
     /// A damaged or cut capture.
     pub fn next_items(&mut self, out: &mut Vec<CaptureItem>) -> Result<bool> {
-        if self.finished {
-            return Ok(false);
-        }
         let mut events = Vec::new();
-        let record = if self.stopped {
-            None
-        } else {
-            self.reader.next_record()?
-        };
-        let Some(rec) = record else {
-            self.finished = true;
-            let (frames, time) = (self.flows.counters.frames, self.last_time);
-            for flow in &mut self.flows.flows {
-                flow.decoder.finish(flow.offset, &mut events);
-                out.extend(events.drain(..).map(|e| flow.item(e, frames, time)));
-                out.push(CaptureItem::FlowEnd {
-                    flow: flow.name.clone(),
-                    proto: flow.proto,
-                    bytes: flow.offset,
-                    counters: flow.decoder.counters(),
-                });
+        match self.step()? {
+            Step::Done => return Ok(false),
+            Step::Nothing => {}
+            Step::End => {
+                let (frames, time) = (self.flows.counters.frames, self.last_time);
+                for flow in &mut self.flows.flows {
+                    flow.decoder.finish(flow.offset, &mut events);
+                    out.extend(events.drain(..).map(|e| flow.item(e, frames, time)));
+                    out.push(CaptureItem::FlowEnd {
+                        flow: flow.name.clone(),
+                        proto: flow.proto,
+                        bytes: flow.offset,
+                        counters: flow.decoder.counters(),
+                    });
+                }
             }
-            return Ok(true);
-        };
-        self.flows.counters.frames += 1;
-        let Some((key, kind, bytes)) = classify(rec.payload, &self.select) else {
-            self.flows.counters.skipped += 1;
-            return Ok(true);
-        };
-        let Some(flow) = self.flows.open(key, kind) else {
-            return Ok(true);
-        };
-        flow.feed(&bytes, &mut events);
-        let time = rec.time.as_secs_f64();
-        self.last_time = time;
-        out.extend(events.drain(..).map(|e| flow.item(e, rec.frame, time)));
+            Step::Bytes {
+                flow,
+                bytes,
+                frame,
+                time,
+            } => {
+                flow.feed(&bytes, &mut events);
+                out.extend(events.drain(..).map(|e| flow.item(e, frame, time)));
+            }
+        }
         Ok(true)
     }
 
@@ -200,14 +191,6 @@ impl CaptureEvents {
     /// # Errors
     /// A damaged or cut capture.
     pub fn next_columns(&mut self, tables: &mut Tables, source: Option<&str>) -> Result<bool> {
-        if self.finished {
-            return Ok(false);
-        }
-        let record = if self.stopped {
-            None
-        } else {
-            self.reader.next_record()?
-        };
         let origin = |flow: &Flow, frame: u64, time: f64| Origin {
             source: source.map(str::to_owned),
             capture_time: Some(time),
@@ -215,35 +198,66 @@ impl CaptureEvents {
             frame: Some(frame),
             proto: Some(flow.proto),
         };
+        match self.step()? {
+            Step::Done => return Ok(false),
+            Step::Nothing => {}
+            Step::End => {
+                let (frames, time) = (self.flows.counters.frames, self.last_time);
+                for flow in &mut self.flows.flows {
+                    let o = origin(flow, frames, time);
+                    let mut sink = Sink {
+                        tables: &mut *tables,
+                        origin: &o,
+                    };
+                    flow.decoder.finish_to(flow.offset, &mut sink);
+                }
+            }
+            Step::Bytes {
+                flow,
+                bytes,
+                frame,
+                time,
+            } => {
+                let o = origin(flow, frame, time);
+                let mut sink = Sink { tables, origin: &o };
+                flow.decoder
+                    .feed_to(&bytes, flow.offset, flow.datagrams, &mut sink);
+                flow.offset += bytes.len() as u64;
+            }
+        }
+        Ok(true)
+    }
+
+    /// Reads the next record and says what it holds for the flows; counts it, and its skip.
+    fn step(&mut self) -> Result<Step<'_>> {
+        if self.finished {
+            return Ok(Step::Done);
+        }
+        let record = if self.stopped {
+            None
+        } else {
+            self.reader.next_record()?
+        };
         let Some(rec) = record else {
             self.finished = true;
-            let (frames, time) = (self.flows.counters.frames, self.last_time);
-            for flow in &mut self.flows.flows {
-                let o = origin(flow, frames, time);
-                let mut sink = Sink {
-                    tables: &mut *tables,
-                    origin: &o,
-                };
-                flow.decoder.finish_to(flow.offset, &mut sink);
-            }
-            return Ok(true);
+            return Ok(Step::End);
         };
         self.flows.counters.frames += 1;
+        let (frame, time) = (rec.frame, rec.time.as_secs_f64());
         let Some((key, kind, bytes)) = classify(rec.payload, &self.select) else {
             self.flows.counters.skipped += 1;
-            return Ok(true);
+            return Ok(Step::Nothing);
         };
         let Some(flow) = self.flows.open(key, kind) else {
-            return Ok(true);
+            return Ok(Step::Nothing);
         };
-        let time = rec.time.as_secs_f64();
         self.last_time = time;
-        let o = origin(flow, rec.frame, time);
-        let mut sink = Sink { tables, origin: &o };
-        flow.decoder
-            .feed_to(&bytes, flow.offset, flow.datagrams, &mut sink);
-        flow.offset += bytes.len() as u64;
-        Ok(true)
+        Ok(Step::Bytes {
+            flow,
+            bytes,
+            frame,
+            time,
+        })
     }
 
     /// The capture's counters so far.
@@ -320,6 +334,23 @@ pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<
         args.json,
     ))?;
     out.flush()
+}
+
+/// What one record of a capture holds for its flows ([`CaptureEvents::step`]).
+enum Step<'a> {
+    /// All was said before: the end was handled already.
+    Done,
+    /// The capture ended, or reading was stopped: every flow is to be finished.
+    End,
+    /// A record of no flow: skipped, or beyond the flow limit.
+    Nothing,
+    /// A flow's bytes, from the record of this frame number at this capture time.
+    Bytes {
+        flow: &'a mut Flow,
+        bytes: Vec<u8>,
+        frame: u64,
+        time: f64,
+    },
 }
 
 /// The flow a record's payload belongs to, what it carries and its bytes; `None` for a
