@@ -195,8 +195,12 @@ impl ser::SerializeMap for Fields<'_> {
     type Error = NotColumns;
 
     fn serialize_key<T: Serialize + ?Sized>(&mut self, key: &T) -> Result<(), NotColumns> {
-        self.key.clear();
-        key.serialize(KeyText(&mut self.key))
+        // The key as `decode --json` writes it: a JSON object's keys are text.
+        self.key = match serde_json::to_value(key).map_err(|_| NotColumns)? {
+            serde_json::Value::String(text) => text,
+            other => other.to_string(),
+        };
+        Ok(())
     }
 
     fn serialize_value<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
@@ -394,147 +398,6 @@ impl<'a> ser::Serializer for Value<'a> {
         self.serialize_map(None)
     }
 
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStructVariant, NotColumns> {
-        Err(NotColumns)
-    }
-}
-
-/// A map key as text (JSON objects' keys are strings).
-struct KeyText<'a>(&'a mut String);
-
-impl ser::Serializer for KeyText<'_> {
-    type Ok = ();
-    type Error = NotColumns;
-    type SerializeSeq = Impossible<(), NotColumns>;
-    type SerializeTuple = Impossible<(), NotColumns>;
-    type SerializeTupleStruct = Impossible<(), NotColumns>;
-    type SerializeTupleVariant = Impossible<(), NotColumns>;
-    type SerializeMap = Impossible<(), NotColumns>;
-    type SerializeStruct = Impossible<(), NotColumns>;
-    type SerializeStructVariant = Impossible<(), NotColumns>;
-
-    fn serialize_str(self, v: &str) -> Result<(), NotColumns> {
-        self.0.push_str(v);
-        Ok(())
-    }
-    fn serialize_bool(self, v: bool) -> Result<(), NotColumns> {
-        self.0.push_str(if v { "true" } else { "false" });
-        Ok(())
-    }
-    fn serialize_i8(self, v: i8) -> Result<(), NotColumns> {
-        self.serialize_i64(v.into())
-    }
-    fn serialize_i16(self, v: i16) -> Result<(), NotColumns> {
-        self.serialize_i64(v.into())
-    }
-    fn serialize_i32(self, v: i32) -> Result<(), NotColumns> {
-        self.serialize_i64(v.into())
-    }
-    fn serialize_i64(self, v: i64) -> Result<(), NotColumns> {
-        self.0.push_str(&v.to_string());
-        Ok(())
-    }
-    fn serialize_u8(self, v: u8) -> Result<(), NotColumns> {
-        self.serialize_u64(v.into())
-    }
-    fn serialize_u16(self, v: u16) -> Result<(), NotColumns> {
-        self.serialize_u64(v.into())
-    }
-    fn serialize_u32(self, v: u32) -> Result<(), NotColumns> {
-        self.serialize_u64(v.into())
-    }
-    fn serialize_u64(self, v: u64) -> Result<(), NotColumns> {
-        self.0.push_str(&v.to_string());
-        Ok(())
-    }
-    fn serialize_f32(self, _: f32) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_f64(self, _: f64) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_char(self, v: char) -> Result<(), NotColumns> {
-        self.0.push(v);
-        Ok(())
-    }
-    fn serialize_bytes(self, _: &[u8]) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_none(self) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<(), NotColumns> {
-        value.serialize(self)
-    }
-    fn serialize_unit(self) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_unit_struct(self, _: &'static str) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_unit_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        variant: &'static str,
-    ) -> Result<(), NotColumns> {
-        self.0.push_str(variant);
-        Ok(())
-    }
-    fn serialize_newtype_struct<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        value: &T,
-    ) -> Result<(), NotColumns> {
-        value.serialize(self)
-    }
-    fn serialize_newtype_variant<T: Serialize + ?Sized>(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: &T,
-    ) -> Result<(), NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple(self, _: usize) -> Result<Self::SerializeTuple, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleStruct, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleVariant, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, NotColumns> {
-        Err(NotColumns)
-    }
-    fn serialize_struct(
-        self,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStruct, NotColumns> {
-        Err(NotColumns)
-    }
     fn serialize_struct_variant(
         self,
         _: &'static str,
