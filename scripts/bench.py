@@ -466,16 +466,17 @@ def c_section():
             first = False
         sec.append(l)
     sec += ["", "Target, the C `feed` call within 10 % of the Rust `feed` loop:", ""]
+    missed = False
     for r in table_rows(tables):
         if len(r) == 10:
             ratio = float(r[9])
-            line = f"- {r[0]}: {ratio:.2f} times, {verdict(ratio, 1.10)}"
-            if ratio > 1.10:
-                line += (": the C `feed` takes the pull form (`decode`) an event at a time, to give each"
-                         " message its offset and wire length, and fills the item and calls back for each;"
-                         " AOK's `decode` costs several times its `feed`, and the frames are short")
-            sec.append(line + ".")
-    sec += ["- (no target) `parse` a byte at a time pays a call per byte: prologue, pointer checks, the"
+            missed |= ratio > 1.10
+            sec.append(f"- {r[0]}: {ratio:.2f} times, {verdict(ratio, 1.10)}.")
+    if missed:
+        sec += ["", "Why missed: the C `feed` takes the pull form (`decode`) an event at a time, to give each"
+                " message its offset and wire length, and fills the item and calls back for each; AOK's"
+                " `decode` costs several times its `feed`, and its frames are short."]
+    sec += ["", "`parse` a byte at a time (no target) pays a call per byte: prologue, pointer checks, the"
             " state check, the byte count of each message's place.", ""]
     return sec
 
