@@ -21,8 +21,10 @@
 #                               maturin 1.16.0 (builds the Python package, python/), pytest 9.2.0,
 #                               hypothesis 6.170.17 and pandas 3.1.1 (its tests), pymavlink 2.4.50
 #                               (the peer of python/bench/bench.py), pyarrow 26.0.1 (to_arrow and
-#                               to_frames), duckdb 2.0.1 and polars 2.1.0 (the engines that read
-#                               `protolink export`'s tables in python/tests/test_export.py)
+#                               to_frames), duckdb 2.0.1, polars 2.1.0 and pyspark 4.0.1 (the
+#                               engines that read `protolink export`'s tables in python/tests:
+#                               test_export.py, test_spark.py), and Java 17 for Spark (Debian's
+#                               openjdk-17-jre-headless, where no java is on the PATH)
 #   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/gpsd.rs
 #                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
@@ -45,8 +47,8 @@ need_apt=()
 want_pypi=0
 # PyPI packages of the `python` component: the pinned version of each, and the module it imports.
 PYPI=(pynmea2==1.19.0 maturin==1.16.0 pytest==9.2.0 hypothesis==6.170.17 pandas==3.1.1 pymavlink==2.4.50
-      pyarrow==26.0.1 duckdb==2.0.1 polars==2.1.0)
-PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink pyarrow duckdb polars)
+      pyarrow==26.0.1 duckdb==2.0.1 polars==2.1.0 pyspark==4.0.1)
+PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink pyarrow duckdb polars pyspark)
 need_pypi=()
 for want in "$@"; do
   case "$want" in
@@ -76,6 +78,8 @@ for want in "$@"; do
       python3 -m pip --version >/dev/null 2>&1 || need_apt+=(python3-pip)
       # Debian's python3 makes venvs (scripts/test-python.sh) only with python3-venv.
       python3 -c 'import ensurepip' 2>/dev/null || need_apt+=(python3-venv)
+      # pyspark 4 runs its engine in a JVM: Java 17 or later.
+      command -v java >/dev/null || need_apt+=(openjdk-17-jre-headless)
       want_pypi=1 ;;
     gpsd)
       # gpsd lives in /usr/sbin, which a user's PATH may lack.

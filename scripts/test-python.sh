@@ -5,18 +5,19 @@
 # runs pytest with the `protolink` binary of this checkout as the reference.
 #
 # pytest's last line ("N passed, M failed, ...") is what scripts/test.sh adds to its summary.
-# Without maturin, pytest, hypothesis, pandas, pyarrow, duckdb or polars the step prints a
-# SKIPPED line and succeeds; under CI=true it fails instead.
+# Without maturin, pytest, hypothesis, pandas, pyarrow, duckdb, polars, pyspark or java (Spark's
+# JVM) the step prints a SKIPPED line and succeeds; under CI=true it fails instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 venv=target/py-venv
-if ! python3 -c 'import maturin, pytest, hypothesis, pandas, pyarrow, duckdb, polars' 2>/dev/null; then
+if ! { python3 -c 'import maturin, pytest, hypothesis, pandas, pyarrow, duckdb, polars, pyspark' 2>/dev/null \
+       && command -v java >/dev/null; }; then
   if [ "${CI:-}" = true ]; then
-    echo "FAILED: maturin, pytest, hypothesis, pandas, pyarrow, duckdb or polars is missing (scripts/setup.sh python installs them)"
+    echo "FAILED: maturin, pytest, hypothesis, pandas, pyarrow, duckdb, polars or pyspark is missing, or java (scripts/setup.sh python installs them)"
     exit 1
   fi
-  echo "SKIPPED python/tests: maturin, pytest, hypothesis, pandas, pyarrow, duckdb or polars is missing (scripts/setup.sh python)"
+  echo "SKIPPED python/tests: maturin, pytest, hypothesis, pandas, pyarrow, duckdb, polars or pyspark is missing, or java (scripts/setup.sh python)"
   exit 0
 fi
 [ -x "$venv/bin/python" ] || python3 -m venv --system-site-packages "$venv"

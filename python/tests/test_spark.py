@@ -1,0 +1,47 @@
+"""Spark reads `protolink export`'s tables as they are, with the read the README shows
+(`spark.read.option("mergeSchema", "true").parquet(DIR)`): per message type, the rows of four
+captures equal `protolink decode --json`'s, value for value. Spark has no unsigned integers:
+it widens uint8 to smallint and uint16 to int, so the values are the same."""
+
+import subprocess
+
+import pytest
+
+from test_export import equal, expected, expected_row, fleet  # noqa: F401 (fleet: a fixture)
+from conftest import PROTOLINK
+
+pyspark_sql = pytest.importorskip("pyspark.sql")
+
+
+@pytest.fixture(scope="module")
+def spark():
+    """A Spark session in this process's JVM, one core, bound to loopback, no web UI."""
+    session = (pyspark_sql.SparkSession.builder.master("local[1]")
+               .config("spark.ui.enabled", "false")
+               .config("spark.driver.bindAddress", "127.0.0.1")
+               .config("spark.driver.host", "127.0.0.1")
+               .getOrCreate())
+    session.sparkContext.setLogLevel("ERROR")
+    yield session
+    session.stop()
+
+
+def test_spark_reads_the_export_as_it_is(fleet, spark, tmp_path):  # noqa: F811
+    out = tmp_path / "tables"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, fleet)], capture_output=True, check=True)
+    want = expected(fleet)
+    for name, rows in want.items():
+        frame = spark.read.option("mergeSchema", "true").parquet(str(out / name))
+        kinds = {f.name: "FLOAT" if f.dataType.simpleString() == "float" else f.dataType.simpleString()
+                 for f in frame.schema.fields}
+        got = [r.asDict() for r in frame.collect()]
+        assert len(got) == len(rows), name
+        for row, (source, e) in zip(got, rows):
+            for column, value in expected_row(source, e, kinds).items():
+                assert column in row, (name, column)
+                assert equal(row[column], value, kinds[column]), (name, column, row[column], value)
+    # The README's kind of query, in Spark SQL: dotted names in backticks, one row per source.
+    spark.read.option("mergeSchema", "true").parquet(str(out / "PRESSURE")).createOrReplaceTempView("pressure")
+    per_source = spark.sql("SELECT source, count(*) AS n, max(`meta.len`) AS len FROM pressure GROUP BY source")
+    assert {r["source"]: r["n"] for r in per_source.collect()} == {
+        str(p): sum(1 for s, _ in want["PRESSURE"] if s == str(p)) for p in fleet if "flight" in p.name}
