@@ -77,6 +77,26 @@ fn typed_aeolus_columns_keep_the_wire_types() {
     assert_eq!(kind("calibration_percent"), Some(DataType::UInt8));
     assert_eq!(kind("calibration"), Some(DataType::Utf8));
     assert_eq!(kind("capture_time"), Some(DataType::Float64));
+    // Units ride in the fields' metadata: by suffix, by name, none for a flag.
+    let unit = |n: &str| {
+        schema
+            .field_with_name(n)
+            .ok()
+            .and_then(|f| f.metadata().get("unit").cloned())
+    };
+    assert_eq!(unit("heading_deg").as_deref(), Some("deg"));
+    assert_eq!(unit("calibration_percent").as_deref(), Some("%"));
+    assert_eq!(unit("capture_time").as_deref(), Some("s since 1970"));
+    assert_eq!(unit("valid"), None);
+    let gyro = batches
+        .iter()
+        .find(|(n, _)| n == "GYRO")
+        .map(|(_, b)| b.schema())
+        .expect("GYRO");
+    let x = gyro
+        .field_with_name("x")
+        .map(|f| f.metadata().get("unit").cloned());
+    assert_eq!(x.ok().flatten().as_deref(), Some("rad/s"));
     // 248 COMPASS rows in batches of at most 100 rows.
     let rows: Vec<usize> = batches
         .iter()

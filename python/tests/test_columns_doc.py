@@ -4,11 +4,10 @@ stream of every message type of AEOLUS, AYDP and AOK (hypothesis's simplest) and
 frame of every type have them. The schema is part of the contract: a change to it fails this test until the
 document says it (`PROTOLINK_WRITE_DOCS=1` rewrites the document's tables).
 
-Units are the protocol crates' (SI as the box sends: m, m/s, mbar, rad, deg, ms), named by the
-fields' suffixes where the crates give them one, and listed here for the rest."""
+Each column's unit is the one its Arrow field carries (metadata key `unit`, written by the host
+tool's `columns::unit`), so the files say what the document says."""
 
 import os
-import re
 
 from hypothesis import HealthCheck, find, settings
 
@@ -19,32 +18,7 @@ from strategies import every_type
 DOC = ROOT / "docs" / "columns.md"
 BEGIN, END = "<!-- columns: begin (python/tests/test_columns_doc.py) -->", "<!-- columns: end -->"
 
-# Units by a column's last name part's suffix, then by (message type, column) for the rest.
-SUFFIX = [("_ms", "ms"), ("_mps", "m/s"), ("_mbar", "mbar"), ("_deg", "deg"), ("_rad", "rad"),
-          ("_m", "m"), ("celsius", "°C"), ("_percent", "%"), ("_ft", "ft"), ("_kt", "kt"), ("_fpm", "ft/min"),
-          ("_dps", "deg/s"), ("g_load", "g")]
-UNITS = {
-    ("GYRO", "x"): "rad/s", ("GYRO", "y"): "rad/s", ("GYRO", "z"): "rad/s",
-    ("ACCEL", "x"): "m/s²", ("ACCEL", "y"): "m/s²", ("ACCEL", "z"): "m/s²",
-    ("MAGNET", "x"): "gauss", ("MAGNET", "y"): "gauss", ("MAGNET", "z"): "gauss",
-    ("POSITION", "latitude"): "deg", ("POSITION", "longitude"): "deg", ("POSITION", "altitude"): "m",
-    ("OWNSHIP", "track.TrueTrack"): "deg", ("TRAFFIC", "track.TrueTrack"): "deg",
-    ("capture_time", None): "s since 1970", ("offset", None): "byte", ("meta.len", None): "byte",
-    ("meta.time.seconds", None): "s", ("meta.time.subsec", None): "ms (spec) or µs (reference)",
-}
 METADATA = {"source", "capture_time", "offset", "flow", "frame", "proto"}
-
-
-def unit(name, column):
-    if (column, None) in UNITS:
-        return UNITS[(column, None)]
-    if (name, column) in UNITS:
-        return UNITS[(name, column)]
-    last = column.split(".")[0] if re.fullmatch(r".*\.\d+", column) else column.split(".")[-1]
-    for suffix, u in SUFFIX:
-        if last.endswith(suffix):
-            return u
-    return ""
 
 
 def stream(kind, tmp_path):
@@ -58,7 +32,7 @@ def stream(kind, tmp_path):
 
 
 def schemas(tmp_path):
-    """{protocol: {type: [(column, type)]}}, the columns of every kind's tables merged."""
+    """{protocol: {type: {column: (type, unit)}}}, the columns of every kind's tables merged."""
     gdl90 = tmp_path / "gdl90.bin"
     gdl90.write_bytes(b"".join(GDL90_FRAMES.values()))
     sources = [("aeolus", stream("aeolus", tmp_path), {"proto": "aeolus"}),
@@ -72,7 +46,8 @@ def schemas(tmp_path):
         for name, table in protolink.to_arrow(path, errors=False, **options).items():
             columns = out.setdefault(proto, {}).setdefault(name, {})
             for field in table.schema:
-                columns.setdefault(field.name, str(field.type))
+                unit = (field.metadata or {}).get(b"unit", b"").decode()
+                columns.setdefault(field.name, (str(field.type), unit))
     return out
 
 
@@ -81,9 +56,9 @@ def render(found):
     for proto, types in found.items():
         lines += [f"### {proto.upper()}", ""]
         for name in sorted(types):
-            fields = [(c, t) for c, t in types[name].items() if c not in METADATA]
+            fields = [(c, t, u) for c, (t, u) in types[name].items() if c not in METADATA]
             lines += [f"**{name}**", "", "| column | type | unit |", "| --- | --- | --- |"]
-            lines += [f"| `{c}` | {t} | {unit(name, c)} |" for c, t in fields]
+            lines += [f"| `{c}` | {t} | {u} |" for c, t, u in fields]
             lines.append("")
     return "\n".join(lines).rstrip() + "\n"
 

@@ -172,6 +172,10 @@ def test_byte_files_and_row_groups(tmp_path):
     assert table["flow"].null_count == 2 * n and str(table.schema.field("frame").type) == "int64"
     assert table["offset"].to_pylist() == 2 * [e["offset"] for e in events if e.get("name") == "PRESSURE"]
     assert f.metadata.row_group(0).column(0).compression == "SNAPPY"
+    # Each column with a unit carries it in its field's metadata, as docs/columns.md lists it.
+    units = {field.name: (field.metadata or {}).get(b"unit") for field in table.schema}
+    assert (units["airspeed_mps"], units["static_mbar"], units["offset"], units["frame"]) == (
+        b"m/s", b"mbar", b"byte", None)
 
 
 @pytest.mark.parametrize("args,sentence", [

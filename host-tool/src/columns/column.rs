@@ -265,6 +265,8 @@ pub(crate) struct Column {
     /// The address of the `&'static str` its name was last looked up with (0: none): the same
     /// address is the same name, found without comparing the text.
     pub(crate) key: usize,
+    /// Its unit, kept in its Arrow field's metadata.
+    pub(crate) unit: Option<&'static str>,
 }
 
 impl Column {
@@ -275,6 +277,7 @@ impl Column {
             data: Data::for_value(v, row),
             filled: row,
             key: 0,
+            unit: None,
         }
     }
 
@@ -298,9 +301,16 @@ impl Column {
         }
     }
 
-    /// The Arrow field of the column.
+    /// The Arrow field of the column, its unit in its metadata (`unit`).
     pub(crate) fn field(&self) -> Field {
-        Field::new(self.name.as_ref(), self.data.data_type(), true)
+        let field = Field::new(self.name.as_ref(), self.data.data_type(), true);
+        match self.unit {
+            Some(unit) => field.with_metadata(std::collections::BTreeMap::from([(
+                super::unit::KEY.to_owned(),
+                unit.to_owned(),
+            )])),
+            None => field,
+        }
     }
 
     /// The values so far as an array; the column starts again empty.

@@ -41,6 +41,7 @@ mod column;
 mod fnv;
 mod row;
 mod table;
+mod unit;
 pub mod write;
 
 use arrow_array::RecordBatch;
@@ -170,7 +171,7 @@ impl Tables {
             Some(&i) => i,
             None => {
                 self.index.insert(name.to_owned(), self.tables.len());
-                self.tables.push((name.to_owned(), Table::new()));
+                self.tables.push((name.to_owned(), Table::new(name)));
                 self.tables.len() - 1
             }
         }

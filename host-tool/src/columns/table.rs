@@ -8,11 +8,14 @@ use arrow_schema::{Schema, SchemaRef};
 
 use super::column::{Column, Scalar};
 use super::fnv::FnvMap;
+use super::unit;
 
 /// The columns of one message type. A column appears with the first row that has it (the rows
 /// before hold nulls in it) and stays: every batch cut from the table has all columns seen so
 /// far, in the order they first appeared.
 pub(crate) struct Table {
+    /// The message type: it tells some columns' units.
+    kind: Box<str>,
     columns: Vec<Column>,
     index: FnvMap<Box<str>, usize>,
     /// Rows ended since the last batch.
@@ -25,8 +28,10 @@ pub(crate) struct Table {
 }
 
 impl Table {
-    pub(crate) fn new() -> Table {
+    /// The empty table of message type `kind`.
+    pub(crate) fn new(kind: &str) -> Table {
         Table {
+            kind: kind.into(),
             columns: Vec::new(),
             index: FnvMap::default(),
             rows: 0,
@@ -135,7 +140,8 @@ impl Table {
         }
     }
 
-    fn add(&mut self, c: Column) {
+    fn add(&mut self, mut c: Column) {
+        c.unit = unit::unit(&self.kind, &c.name);
         self.index.insert(c.name.clone(), self.columns.len());
         self.columns.push(c);
         self.cursor = self.columns.len();
