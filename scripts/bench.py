@@ -382,6 +382,19 @@ def llvm_size(elf):
     return sections
 
 
+def double_float(elf):
+    """The bytes of double-precision software floating point in `elf`: compiler_builtins'
+    arithmetic (`__adddf3`, `__muldf3`, `__divdf3`, `__subdf3`), the EABI conversions and
+    comparisons (`__aeabi_d*`, `__aeabi_*2d`) and libm's `fmax`/`fmin`."""
+    total = 0
+    for line in sh(["llvm-nm", "-C", "-S", "--radix=d", elf]).splitlines():
+        p = line.split(None, 3)
+        if len(p) == 4 and p[1].isdigit() and re.fullmatch(
+                r"(.*::)?(__(add|sub|mul|div)df3|__aeabi_d\w+|__aeabi_\w+2d|fmax|fmin)", p[3]):
+            total += int(p[1])
+    return total
+
+
 def boot_stack(elf):
     """The stack high-water the firmware logs at boot (`booted: ...`), from a QEMU boot."""
     spec = importlib.util.spec_from_file_location("budget", os.path.join(root, "scripts", "budget.py"))
@@ -413,7 +426,7 @@ def firmware_section():
         flash = [s.get(k, 0) for k in (".vector_table", ".text", ".rodata")]
         ram = [s.get(k, 0) for k in (".data", ".bss", ".uninit")]
         stack = boot_stack(elf) if alias == "qemu-build" else None
-        figs.append((name, flash, ram, stack))
+        figs.append((name, flash, ram, stack, double_float(elf)))
     sec = [
         "## Firmware sizes",
         "",
@@ -431,9 +444,14 @@ def firmware_section():
             f"{f[3][0]} / {f[3][1]}" if f[3] else "not measured here (RTT log)" for f in figs) + " |",
         "",
     ]
-    name, flash, ram, stack = figs[0]
+    name, flash, ram, stack, double = figs[0]
     sec.append(f"- lm3s6965evb flash at most 48 KiB (49 152 B): {sum(flash)} B, {verdict(sum(flash), 49152)}"
-               + (f", {49152 - sum(flash)} B spare." if sum(flash) <= 49152 else "."))
+               + (f", {49152 - sum(flash)} B spare." if sum(flash) <= 49152 else
+                  f". Why: {double} B of it is double-precision software floating point (compiler_builtins'"
+                  " `__adddf3`, `__muldf3`, `__divdf3`, the EABI conversions and comparisons, `fmax`;"
+                  " `llvm-nm -S`), which the flight simulation's `f64` positions and angles (`flight_sim`)"
+                  " and a few `f64` scalings in `sensor-box` (the AOK debug values among them) bring in;"
+                  " the Cortex-M3 has no FPU."))
     if stack:
         total = sum(ram) + stack[1]
         sec.append(f"- lm3s6965evb RAM at most 16 KiB: static {sum(ram)} B and stack {stack[1]} B = {total} B, "
