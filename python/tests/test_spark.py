@@ -3,6 +3,7 @@
 captures equal `protolink decode --json`'s, value for value. Spark has no unsigned integers:
 it widens uint8 to smallint and uint16 to int, so the values are the same."""
 
+import os
 import subprocess
 
 import pytest
@@ -16,6 +17,8 @@ pyspark_sql = pytest.importorskip("pyspark.sql")
 @pytest.fixture(scope="module")
 def spark():
     """A Spark session in this process's JVM, one core, bound to loopback, no web UI."""
+    # Spark looks up the machine's own address unless told; the tests stay on loopback.
+    os.environ.setdefault("SPARK_LOCAL_IP", "127.0.0.1")
     session = (pyspark_sql.SparkSession.builder.master("local[1]")
                .config("spark.ui.enabled", "false")
                .config("spark.driver.bindAddress", "127.0.0.1")
