@@ -843,8 +843,8 @@ pub fn store_airspeed(q: &mut Qemu, mps: f32, log: &str) {
 
 /// The AOK client's settings against an emulated box. The defaults (a reply within 1 s, a
 /// partial frame abandoned after a 50 ms gap) suit a real board; QEMU is a host process, and
-/// under the parallel test load it can stall for longer mid-reply (a CI run timed out setting
-/// parameter 12 that way), so the client waits 10 s for a reply and 500 ms inside one.
+/// under the parallel test load it can stall for longer mid-reply, so the client waits 10 s
+/// for a reply and 500 ms inside one.
 pub fn emulated_aok_config() -> aok_proto::Config {
     aok_proto::Config {
         timeout_ms: 10_000,

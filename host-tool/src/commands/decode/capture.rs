@@ -157,8 +157,7 @@ impl CaptureEvents {
         match self.step()? {
             Step::Done => return Ok(false),
             Step::Nothing => {}
-            Step::End => {
-                let (frames, time) = (self.flows.counters.frames, self.last_time);
+            Step::End { frames, time } => {
                 for flow in &mut self.flows.flows {
                     flow.decoder.finish(flow.offset, &mut events);
                     out.extend(events.drain(..).map(|e| flow.item(e, frames, time)));
@@ -201,8 +200,7 @@ impl CaptureEvents {
         match self.step()? {
             Step::Done => return Ok(false),
             Step::Nothing => {}
-            Step::End => {
-                let (frames, time) = (self.flows.counters.frames, self.last_time);
+            Step::End { frames, time } => {
                 for flow in &mut self.flows.flows {
                     let o = origin(flow, frames, time);
                     let mut sink = Sink {
@@ -240,7 +238,10 @@ impl CaptureEvents {
         };
         let Some(rec) = record else {
             self.finished = true;
-            return Ok(Step::End);
+            return Ok(Step::End {
+                frames: self.flows.counters.frames,
+                time: self.last_time,
+            });
         };
         self.flows.counters.frames += 1;
         let (frame, time) = (rec.frame, rec.time.as_secs_f64());
@@ -340,8 +341,9 @@ pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<
 enum Step<'a> {
     /// All was said before: the end was handled already.
     Done,
-    /// The capture ended, or reading was stopped: every flow is to be finished.
-    End,
+    /// The capture ended, or reading was stopped: every flow is to be finished, its last
+    /// events as of the capture's record count and last record time.
+    End { frames: u64, time: f64 },
     /// A record of no flow: skipped, or beyond the flow limit.
     Nothing,
     /// A flow's bytes, from the record of this frame number at this capture time.
