@@ -48,6 +48,7 @@ pub mod serial;
 pub mod state;
 pub mod storage;
 pub mod store_policy;
+pub mod supervisor;
 pub mod telemetry;
 
 pub use state::{Persisted, Settings, Shared};
