@@ -3,6 +3,7 @@
 //!
 //! ```text
 //!   UART RX (DMA ring) --> FrameReader --> AeolusLink::handle_frame / AydpLink::handle_frame
+//!   UART RX (DMA ring) --> aok::aok --> AokLink::poll (on bytes and at its wake)
 //!   ticker (1 ms)  --> AeolusLink::poll_tx, AydpLink::poll_tx, App::service_requests
 //!   links --> QueuedSerial (TX queue) --kick--> pump_tx --> UART TX (DMA)
 //! ```
@@ -14,14 +15,16 @@
 //! Only the RX side differs in shape: the protocol crates' async `FrameReader`s decode what
 //! the DMA ring holds, and each frame is handed to the link's per-frame entry point.
 //!
-//! The watchdog is fed by one supervisor ([`supervise`]), and only when every task that must
-//! make progress has shown it since the last feed ([`Heartbeat`]): the tick ([`run`]) on every
-//! tick, each TX pump ([`pump_tx`]) after every transfer or while it waits with nothing to
-//! send. The RX tasks wait for as long as nothing is received, so they have no heartbeat; a
-//! hang inside one (or anywhere: the tasks share one executor) stops the tick's too.
+//! The watchdog is fed by one supervisor ([`supervise`]), and only while every task that must
+//! make progress shows it within its limit (`sensor_box::supervisor`: a [`Heartbeat`] per
+//! task, the verdict of [`Supervisor::check`]): the tick ([`run`]) beats on every tick, each
+//! TX pump ([`pump_tx`]) after every transfer and waits ([`Heartbeat::wait`]) while it has
+//! nothing to send, the AOK task ([`aok`](crate::aok::aok)) on every poll. The AEOLUS and AYDP
+//! RX tasks wait for as long as nothing is received, so they have no heartbeat; a hang inside
+//! one (or anywhere: the tasks share one executor) stops the tick's too.
 
 use core::cell::RefCell;
-use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
+use core::sync::atomic::{AtomicU32, Ordering};
 
 use aeolus_proto::IoError;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -30,6 +33,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
 use embedded_storage::nor_flash::NorFlash;
 use firmware_example::{QueuedSerial, SerialIsr};
+use sensor_box::supervisor::{Heartbeat, Supervisor, Verdict};
 use sensor_box::{App, Control, aeolus_link, aydp_link};
 
 /// How often the links' TX halves run (the telemetry schedule's resolution), ms. The
@@ -65,7 +69,7 @@ pub type PortIsr = SerialIsr<'static, UNUSED_RX_LEN, TX_QUEUE>;
 /// A wake-up for a TX pump: set by the port's `kick` whenever a link queues a byte.
 pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
 
-/// What the tasks share: the application and the TX halves of its two ports.
+/// What the tasks share: the application and the TX halves of its three ports.
 pub struct Application {
     /// The sensor-box application (settings, the links, the simulated flight).
     pub app: App,
@@ -73,6 +77,9 @@ pub struct Application {
     pub aeolus_tx: Port,
     /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
     pub aydp_tx: Port,
+    /// Where the AOK link queues its replies and debug frames (drained by [`pump_tx`] on
+    /// USART6).
+    pub aok_tx: Port,
     /// The AEOLUS reader's decoder counters as of its last frame.
     pub aeolus_rx: aeolus_proto::Stats,
     /// The AYDP reader's decoder counters as of its last message.
@@ -105,7 +112,8 @@ impl RxErrors {
         RxErrors(AtomicU32::new(0))
     }
 
-    fn bump(&self) {
+    /// One more.
+    pub fn bump(&self) {
         self.0.store(
             self.0.load(Ordering::Relaxed).wrapping_add(1),
             Ordering::Relaxed,
@@ -123,52 +131,36 @@ impl RxErrors {
 /// `embassy-stm32` programs), feeds are at most 4.5 s apart: below the IWDG's 8 s time-out
 /// at the LSI's fastest (47 kHz: 5.4 s).
 pub const FEED_MS: u64 = 500;
+/// The longest the tick ([`run`]) may show no progress, ms; it beats every [`TICK_MS`].
+pub const TICK_SILENCE_MS: u64 = 500;
+/// The longest a TX pump ([`pump_tx`]) may show no progress while it has bytes to send, ms;
+/// one transfer of [`TX_CHUNK`] bytes lasts 33 ms at 38 400 Bd.
+pub const PUMP_SILENCE_MS: u64 = 1_000;
+/// The longest the AOK task may show no progress, ms; it polls at least every
+/// [`MAX_SLEEP_MS`](crate::aok::MAX_SLEEP_MS).
+pub const AOK_SILENCE_MS: u64 = 1_000;
 
-/// A task's sign of progress for the watchdog's supervisor: a beat since the supervisor last
-/// looked, or waiting (with nothing to do, which is progress too).
-pub struct Heartbeat(AtomicU8);
-
-const BEAT: u8 = 1;
-const WAITING: u8 = 2;
-
-impl Heartbeat {
-    /// No beat yet.
-    pub const fn new() -> Self {
-        Heartbeat(AtomicU8::new(0))
-    }
-
-    /// The task made progress.
-    pub fn beat(&self) {
-        self.0.fetch_or(BEAT, Ordering::Relaxed);
-    }
-
-    /// The task waits with nothing to do (`true`), or has work again (`false`, also a beat).
-    pub fn waiting(&self, waiting: bool) {
-        self.0
-            .store(if waiting { WAITING } else { BEAT }, Ordering::Relaxed);
-    }
-
-    /// Whether the task beat, or is waiting, since the last call; clears the beat.
-    fn take(&self) -> bool {
-        self.0.fetch_and(!BEAT, Ordering::Relaxed) != 0
-    }
-}
-
-/// The watchdog's supervisor: every [`FEED_MS`], `feed` runs if every one of `hearts` beat or
-/// waits since the last look. One that did not is logged once per look (by its index), and
-/// the watchdog resets the box unless it comes back before the time-out.
-pub async fn supervise(hearts: &[&Heartbeat], mut feed: impl FnMut()) -> ! {
+/// The watchdog's supervisor: every [`FEED_MS`] a [`Supervisor::check`], and `feed` on
+/// [`Verdict::Feed`] only. A stall is logged once, with the task's name; the verdict stays,
+/// and the watchdog resets the box at its time-out.
+pub async fn supervise<const N: usize>(
+    mut supervisor: Supervisor<'_, N>,
+    mut feed: impl FnMut(),
+) -> ! {
+    let mut logged = false;
     loop {
         Timer::after_millis(FEED_MS).await;
-        let mut all = true;
-        for (i, heart) in hearts.iter().enumerate() {
-            if !heart.take() {
-                defmt::warn!("watchdog: task {=usize} shows no progress, not fed", i);
-                all = false;
+        match supervisor.check(now_ms()) {
+            Verdict::Feed => feed(),
+            Verdict::Starve { task, silent_ms } => {
+                if !core::mem::replace(&mut logged, true) {
+                    defmt::error!(
+                        "watchdog: {=str} shows no progress for {=u64} ms: not fed, the box resets",
+                        task,
+                        silent_ms
+                    );
+                }
             }
-        }
-        if all {
-            feed();
         }
     }
 }
@@ -257,7 +249,7 @@ pub async fn aydp_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! 
 
 /// Moves what the links queued on one port to `uart`, [`TX_CHUNK`] bytes per write (one DMA
 /// transfer each); sleeps on `ready` while the queue is empty. `heart` beats after every
-/// transfer and waits with it.
+/// transfer, and waits ([`Heartbeat::wait`]) while the pump sleeps.
 pub async fn pump_tx<W: Write>(
     mut isr: PortIsr,
     mut uart: W,
@@ -268,9 +260,9 @@ pub async fn pump_tx<W: Write>(
     loop {
         let n = isr.take_to_send(&mut chunk);
         if n == 0 {
-            heart.waiting(true);
+            heart.wait();
             ready.wait().await;
-            heart.waiting(false);
+            heart.resume();
             continue;
         }
         if uart.write_all(chunk.get(..n).unwrap_or(&[])).await.is_err() {
@@ -287,7 +279,7 @@ pub async fn pump_tx<W: Write>(
 pub async fn run<F: NorFlash>(
     shared: &Shared,
     store: &mut F,
-    rx_errors: [&RxErrors; 2],
+    rx_errors: [&RxErrors; 3],
     heart: &Heartbeat,
 ) {
     let mut tick = Instant::now();
@@ -329,10 +321,14 @@ pub async fn run<F: NorFlash>(
 }
 
 /// The periodic status lines.
-fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 2]) {
+fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3]) {
     defmt::info!("uptime {=u64} ms", now);
-    let [aeolus_errors, aydp_errors] = rx_errors;
-    let (t0, t1) = (a.aeolus_tx.counters(), a.aydp_tx.counters());
+    let [aeolus_errors, aydp_errors, aok_errors] = rx_errors;
+    let (t0, t1, t2) = (
+        a.aeolus_tx.counters(),
+        a.aydp_tx.counters(),
+        a.aok_tx.counters(),
+    );
     let c = a.app.aeolus.counters();
     let rx = &a.aeolus_rx;
     defmt::info!(
@@ -362,5 +358,17 @@ fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 2]) {
         y.updates_applied,
         y.rejected,
         y.requests_answered
+    );
+    let k = a.app.aok.counters();
+    let d = a.app.aok.decoder_stats();
+    defmt::info!(
+        "AOK (USART6): tx {=u32} bytes, replies dropped {=u32}; commands {=u32}, rx errors {=u32}, uart errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}",
+        t2.tx_bytes,
+        k.replies_dropped,
+        d.frames_ok,
+        k.rx_errors,
+        aok_errors.get(),
+        d.abandoned,
+        k.bursts_discarded
     );
 }

@@ -1,22 +1,23 @@
 //! `sensor-box-embassy`: the sensor box on an STM32F411 (Black Pill F411CE / Nucleo-F411RE)
 //! with `embassy-stm32`. This file is the board: clocks, pins, DMA streams, interrupts, the
 //! flash store, and one task per job; the application is the `sensor-box` crate and the
-//! async glue is [`links`].
+//! async glue is [`links`] and [`aok`].
 //!
 //! | job | UART | pins (TX, RX) | baud | DMA (RX ring, TX) |
 //! |---|---|---|---|---|
 //! | AEOLUS | USART2 | PA2, PA3 | 921 600 | DMA1 stream 5, stream 6 |
 //! | AYDP | USART1 | PA9, PA10 | 115 200 | DMA2 stream 2, stream 7 |
-//!
-//! AOK (USART6 on the blocking board) is not wired here.
+//! | AOK | USART6 | PA11, PA12 | 38 400 | DMA2 stream 1, stream 6 |
 //!
 //! The IWDG resets the box [`WATCHDOG_US`] (8 s at the LSI's nominal 32 kHz; 5.4 s to 15 s
-//! over its 17-47 kHz) after the last feed. Only the supervisor task feeds it, and only when
-//! the tick and both TX pumps have shown progress ([`links::supervise`]). The boot log has
-//! RCC_CSR (IWDGRSTF, bit 29: the last reset was the watchdog's).
+//! over its 17-47 kHz) after the last feed. Only the supervisor task feeds it, and only while
+//! the tick, the three TX pumps and the AOK task show progress ([`links::supervise`],
+//! `sensor_box::supervisor`). The boot log has RCC_CSR (IWDGRSTF, bit 29: the last reset was
+//! the watchdog's).
 #![no_std]
 #![no_main]
 
+mod aok;
 mod links;
 
 use defmt_rtt as _;
@@ -29,9 +30,10 @@ use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
 use embedded_storage::nor_flash::ReadNorFlash;
 use firmware_example::serial::Ring;
 use firmware_example::{FlashWindow, PortStats, QueuedSerial};
-use links::{Application, Heartbeat, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
+use links::{Application, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
 use panic_probe as _;
 use sensor_box::App;
+use sensor_box::supervisor::{Heartbeat, Supervisor, Task};
 use static_cell::{ConstStaticCell, StaticCell};
 
 /// USART2 (AEOLUS) baud rate: the spec schedule needs about 453 kbit/s (see
@@ -39,6 +41,8 @@ use static_cell::{ConstStaticCell, StaticCell};
 const AEOLUS_BAUD: u32 = 921_600;
 /// USART1 (AYDP) baud rate.
 const AYDP_BAUD: u32 = 115_200;
+/// USART6 (AOK) baud rate, as on the blocking board.
+const AOK_BAUD: u32 = 38_400;
 /// Bytes of each DMA receive ring. The links receive little (commands, requests); the ring
 /// bridges the time between two reads, and the idle line ends a read early.
 const RX_RING: usize = 256;
@@ -52,27 +56,35 @@ const STORE_LEN: u32 = 0x4_0000;
 bind_interrupts!(struct Irqs {
     USART1 => usart::InterruptHandler<peripherals::USART1>;
     USART2 => usart::InterruptHandler<peripherals::USART2>;
+    USART6 => usart::InterruptHandler<peripherals::USART6>;
     DMA1_STREAM5 => dma::InterruptHandler<peripherals::DMA1_CH5>;
     DMA1_STREAM6 => dma::InterruptHandler<peripherals::DMA1_CH6>;
+    DMA2_STREAM1 => dma::InterruptHandler<peripherals::DMA2_CH1>;
     DMA2_STREAM2 => dma::InterruptHandler<peripherals::DMA2_CH2>;
+    DMA2_STREAM6 => dma::InterruptHandler<peripherals::DMA2_CH6>;
     DMA2_STREAM7 => dma::InterruptHandler<peripherals::DMA2_CH7>;
 });
 
 static AEOLUS_READY: TxReady = TxReady::new();
 static AYDP_READY: TxReady = TxReady::new();
+static AOK_READY: TxReady = TxReady::new();
 static AEOLUS_RX_ERRORS: RxErrors = RxErrors::new();
 static AYDP_RX_ERRORS: RxErrors = RxErrors::new();
-static STATS: [PortStats; 2] = [const { PortStats::new() }; 2];
+static AOK_RX_ERRORS: RxErrors = RxErrors::new();
+static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
 static AEOLUS_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
 static AYDP_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
+static AOK_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
 static AEOLUS_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
 static AYDP_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
+static AOK_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
 /// The ports' RX rings are unused: the readers take the UARTs' bytes directly.
-static UNUSED_RX: ConstStaticCell<[Ring<UNUSED_RX_LEN>; 2]> =
-    ConstStaticCell::new([const { Ring::new() }; 2]);
+static UNUSED_RX: ConstStaticCell<[Ring<UNUSED_RX_LEN>; 3]> =
+    ConstStaticCell::new([const { Ring::new() }; 3]);
 static SHARED: StaticCell<Shared> = StaticCell::new();
-/// The heartbeats the watchdog's supervisor checks: the tick, the AEOLUS and the AYDP pumps.
-static HEARTS: [Heartbeat; 3] = [const { Heartbeat::new() }; 3];
+/// The heartbeats the watchdog's supervisor checks: the tick, the AEOLUS, AYDP and AOK
+/// pumps, the AOK task.
+static HEARTS: [Heartbeat; 5] = [const { Heartbeat::new() }; 5];
 
 /// The IWDG's time-out at the LSI's nominal 32 kHz, µs: above the longest stall (a 128 KiB
 /// sector erase, up to 4 s at x8 parallelism) plus the supervisor's [`links::FEED_MS`] even at
@@ -133,7 +145,7 @@ async fn main(spawner: Spawner) {
     let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_US);
     watchdog.unleash();
 
-    let (Ok(aeolus), Ok(aydp)) = (
+    let (Ok(aeolus), Ok(aydp), Ok(aok)) = (
         Uart::new(
             p.USART2,
             p.PA3,
@@ -152,14 +164,25 @@ async fn main(spawner: Spawner) {
             Irqs,
             uart_config(AYDP_BAUD),
         ),
+        Uart::new(
+            p.USART6,
+            p.PA12,
+            p.PA11,
+            p.DMA2_CH6,
+            p.DMA2_CH1,
+            Irqs,
+            uart_config(AOK_BAUD),
+        ),
     ) else {
         defmt::error!("UART set-up failed (baud rate out of range): resetting");
         cortex_m::peripheral::SCB::sys_reset();
     };
     let (aeolus_tx, aeolus_rx) = aeolus.split();
     let (aydp_tx, aydp_rx) = aydp.split();
+    let (aok_tx, aok_rx) = aok.split();
     let aeolus_rx = aeolus_rx.into_ring_buffered(AEOLUS_RING.take());
     let aydp_rx = aydp_rx.into_ring_buffered(AYDP_RING.take());
+    let aok_rx = aok_rx.into_ring_buffered(AOK_RING.take());
 
     let Ok(mut store) = FlashWindow::new(Flash::new_blocking(p.FLASH), STORE_OFFSET, STORE_LEN)
     else {
@@ -168,12 +191,14 @@ async fn main(spawner: Spawner) {
     };
     defmt::info!("flash store {=usize} bytes", store.capacity());
 
-    let [rx0, rx1] = UNUSED_RX.take();
-    let [st0, st1] = &STATS;
+    let [rx0, rx1, rx2] = UNUSED_RX.take();
+    let [st0, st1, st2] = &STATS;
     let (aeolus_port, aeolus_isr) =
         QueuedSerial::split(rx0, AEOLUS_QUEUE.take(), st0, || AEOLUS_READY.signal(()));
     let (aydp_port, aydp_isr) =
         QueuedSerial::split(rx1, AYDP_QUEUE.take(), st1, || AYDP_READY.signal(()));
+    let (aok_port, aok_isr) =
+        QueuedSerial::split(rx2, AOK_QUEUE.take(), st2, || AOK_READY.signal(()));
 
     let app = App::new(&mut store, links::now_ms());
     defmt::info!("booted: App {=usize} bytes", core::mem::size_of::<App>());
@@ -181,13 +206,21 @@ async fn main(spawner: Spawner) {
         app,
         aeolus_tx: aeolus_port,
         aydp_tx: aydp_port,
+        aok_tx: aok_port,
         aeolus_rx: aeolus_proto::Stats::default(),
         aydp_rx: aydp_proto::Stats::default(),
     }));
 
     spawn(&spawner, aeolus_rx_task(aeolus_rx, shared));
     spawn(&spawner, aydp_rx_task(aydp_rx, shared));
-    let [tick_heart, aeolus_heart, aydp_heart] = &HEARTS;
+    let [
+        tick_heart,
+        aeolus_heart,
+        aydp_heart,
+        aok_pump_heart,
+        aok_heart,
+    ] = &HEARTS;
+    spawn(&spawner, aok_task(aok_rx, shared, aok_heart));
     spawn(
         &spawner,
         tx_task(aeolus_isr, aeolus_tx, &AEOLUS_READY, aeolus_heart),
@@ -196,23 +229,38 @@ async fn main(spawner: Spawner) {
         &spawner,
         tx_task(aydp_isr, aydp_tx, &AYDP_READY, aydp_heart),
     );
+    spawn(
+        &spawner,
+        tx_task(aok_isr, aok_tx, &AOK_READY, aok_pump_heart),
+    );
     spawn(&spawner, watchdog_task(watchdog));
     links::run(
         shared,
         &mut store,
-        [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS],
+        [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS, &AOK_RX_ERRORS],
         tick_heart,
     )
     .await;
     cortex_m::peripheral::SCB::sys_reset();
 }
 
-/// The watchdog's supervisor ([`links::supervise`]): feeds the IWDG while the tick and both
-/// TX pumps show progress.
+/// The watchdog's supervisor ([`links::supervise`]): feeds the IWDG while the tick, the TX
+/// pumps and the AOK task show progress, each within its limit.
 #[embassy_executor::task]
 async fn watchdog_task(mut watchdog: IndependentWatchdog<'static, peripherals::IWDG>) {
-    let [tick, aeolus, aydp] = &HEARTS;
-    links::supervise(&[tick, aeolus, aydp], || watchdog.pet()).await
+    let [tick, aeolus, aydp, aok_pump, aok] = &HEARTS;
+    let supervisor = Supervisor::new(
+        [
+            Task::new("tick", tick, links::TICK_SILENCE_MS),
+            Task::new("AEOLUS TX pump", aeolus, links::PUMP_SILENCE_MS),
+            Task::new("AYDP TX pump", aydp, links::PUMP_SILENCE_MS),
+            Task::new("AOK TX pump", aok_pump, links::PUMP_SILENCE_MS),
+            Task::new("AOK", aok, links::AOK_SILENCE_MS),
+        ],
+        links::FEED_MS,
+        links::now_ms(),
+    );
+    links::supervise(supervisor, || watchdog.pet()).await
 }
 
 /// Starts a task; a task that is already running (none is spawned twice beyond its pool) is
@@ -236,8 +284,18 @@ async fn aydp_rx_task(uart: RingBufferedUartRx<'static>, shared: &'static Shared
     links::aydp_rx(uart, shared, &AYDP_RX_ERRORS).await
 }
 
+/// AOK: the USART6 DMA ring into the AOK link, polled on bytes and at its wake ([`aok::aok`]).
+#[embassy_executor::task]
+async fn aok_task(
+    uart: RingBufferedUartRx<'static>,
+    shared: &'static Shared,
+    heart: &'static Heartbeat,
+) {
+    aok::aok(uart, shared, &AOK_RX_ERRORS, heart).await
+}
+
 /// Transmit: one port's TX queue to its UART by DMA ([`links::pump_tx`]); one per UART.
-#[embassy_executor::task(pool_size = 2)]
+#[embassy_executor::task(pool_size = 3)]
 async fn tx_task(
     isr: PortIsr,
     uart: UartTx<'static, Async>,
