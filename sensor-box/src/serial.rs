@@ -451,6 +451,12 @@ impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_,
         }
         Ok(n)
     }
+
+    /// [`PortCounters::rx_errors`] plus [`PortCounters::rx_dropped`], wrapping.
+    fn receive_faults(&self) -> u32 {
+        let errors = self.stats.rx_errors.load(Ordering::Relaxed);
+        errors.wrapping_add(self.stats.rx_dropped.load(Ordering::Relaxed))
+    }
 }
 
 impl<const RX: usize, const TX: usize> crate::port::Transmit for QueuedSerial<'_, RX, TX> {

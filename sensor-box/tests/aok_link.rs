@@ -737,8 +737,12 @@ fn mission_poi_in_flash_is_refused_while_flying() {
     };
     assert_eq!(rig.exchange_cmd(Command::SetWaypoint(w)), b"I");
     assert!(!rig.shared.requests.store);
-    // 63 09 (no flash write) is allowed in flight.
-    assert_eq!(rig.exchange(&[0x63, 0x09]), b"O");
+    // 63 09 (no flash write, but no check of its own either: `67 09` with one bit flipped)
+    // is refused in flight, and the RAM waypoints stay as they are.
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(WP3)), b"O");
+    assert_eq!(rig.exchange(&[0x63, 0x09]), b"I");
+    assert_eq!(rig.exchange(&[0x78, 0x00]), WP3_FRAME);
+    assert_eq!(rig.link.counters().refused_in_flight, 2);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -749,8 +753,13 @@ fn motor_test_values_lapse_500_ms_after_the_last_frame() {
     let mut rig = Rig::new();
     rig.quiet();
     land(&mut rig);
-    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32. Obeyed when the
-    // silence after them is observed, GAP_MS after they arrived: `start`.
+    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32. The first burst
+    // arms both motors, the second, 20 ms later, runs them when the silence after it is
+    // observed, GAP_MS after it arrived: `start`.
+    rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
+    rig.run(20);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(rig.link.counters().motor_frames_armed, 2);
     let start = rig.now + GAP_MS;
     rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
     rig.run(GAP_MS);
@@ -812,7 +821,57 @@ fn motor_test_is_ignored_while_flying() {
     assert_eq!(rig.link.counters().refused_in_flight, 1);
     land(&mut rig);
     rig.exchange_cmd(Command::MotorTest(test));
+    rig.exchange_cmd(Command::MotorTest(test));
     assert_eq!(rig.link.motor_outputs()[3], 200);
+}
+
+/// A motor at rest runs only from the second valid frame for it, in a later burst within the
+/// 500 ms hold of the first: a glitch (one burst) never starts one. Once it runs, each frame
+/// holds it; value 0 stops it at once; after a lapse it needs two frames again.
+#[test]
+fn a_motor_runs_only_from_a_second_frame_within_the_hold() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    let frame = |motor: u8, value: u8| {
+        let test = MotorTest {
+            motor: Motor::new(motor).unwrap(),
+            value,
+        };
+        let (bytes, n) = Command::MotorTest(test).to_bytes();
+        bytes[..n].to_vec()
+    };
+    // One frame: armed, nothing driven, however long the box waits.
+    assert_eq!(rig.exchange(&frame(2, 50)), []);
+    rig.run(MOTOR_LAPSE_MS);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // The second frame comes too late (over 500 ms after the first): armed again, no output.
+    assert_eq!(rig.exchange(&frame(2, 50)), []);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // Two frames for the same motor in one burst are one burst: no output.
+    rig.run(MOTOR_LAPSE_MS);
+    let mut twice = frame(5, 60);
+    twice.extend(frame(5, 60));
+    rig.exchange(&twice);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // A frame for another motor does not complete motor 5's pair.
+    rig.exchange(&frame(6, 60));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // Motor 5's own repeat, within the hold of its first frame and in a later burst: it runs.
+    rig.run(100);
+    rig.exchange(&frame(5, 70));
+    assert_eq!(rig.link.motor_outputs()[4], 70);
+    assert_eq!(rig.link.counters().motor_frames_armed, 5);
+    // Running: one frame sets the value; value 0 stops it at once.
+    rig.exchange(&frame(5, 80));
+    assert_eq!(rig.link.motor_outputs()[4], 80);
+    rig.exchange(&frame(5, 0));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // After the stop (or a lapse) one frame is not enough again.
+    rig.run(10);
+    rig.exchange(&frame(5, 80));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(rig.link.counters().motor_frames_armed, 6);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1237,8 +1296,9 @@ fn commands_a_rescan_uncovers_are_not_obeyed() {
 /// Every AOK command, sent in one write as `protolink aok` (through `aok_proto`'s `Client`)
 /// and the reference PC software send it, flying and landed: nothing happens until the poll
 /// that observes the silence after it (GAP_MS after the poll that took its last byte), then it
-/// is obeyed, or refused in flight with 'I' where it changes what must not change in the air,
-/// and the reply arrives at once.
+/// is obeyed (a motor test arms its motor, which runs from a second frame), or refused in
+/// flight with 'I' where it changes what must not change in the air, and the reply arrives at
+/// once.
 #[test]
 fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
     let motor = MotorTest {
@@ -1336,9 +1396,9 @@ fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
         (
             Command::LoadWaypoints,
             b"O".to_vec(),
-            None,
+            Some(b"I".to_vec()),
             |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
-            |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == WP3.longitude,
         ),
         (
             Command::SetWaypoint(WP3),
@@ -1358,8 +1418,10 @@ fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
             Command::MotorTest(motor),
             vec![],
             None,
-            |r| r.link.motor_outputs()[3] == 9,
-            |r| r.link.motor_outputs() == [0; 12],
+            // One frame arms the motor (it runs from the second, see
+            // `a_motor_runs_only_from_a_second_frame_within_the_hold`).
+            |r| r.link.motor_outputs() == [0; 12] && r.link.counters().motor_frames_armed == 1,
+            |r| r.link.motor_outputs() == [0; 12] && r.link.counters().motor_frames_armed == 0,
         ),
         (
             Command::ExternalControl(sticks),

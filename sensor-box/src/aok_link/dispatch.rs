@@ -24,6 +24,8 @@ impl AokLink {
             }
         }
         let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms));
+        // Read after the bytes: a fault counted while they arrived is seen with them.
+        self.check_line(port.receive_faults(), now_ms);
         self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         let port_empty = match taken {
             Ok(n) => n < RX_BUDGET,
@@ -37,6 +39,21 @@ impl AokLink {
         if port_empty && self.burst_open && now_ms.saturating_sub(self.last_rx_ms) >= GAP_MS {
             self.end_burst(now_ms, shared);
         }
+    }
+
+    /// A change of the port's fault count since the last poll is line activity now: it opens
+    /// a burst if none is open and spoils it (discarded at the next silence).
+    fn check_line(&mut self, faults: u32, now_ms: u64) {
+        let new = faults.wrapping_sub(self.faults_seen);
+        if new == 0 {
+            return;
+        }
+        crate::debug!("AOK: {=u32} line fault(s): the burst is spoilt", new);
+        self.faults_seen = faults;
+        self.counters.line_faults = self.counters.line_faults.wrapping_add(new);
+        self.last_rx_ms = now_ms;
+        self.burst_open = true;
+        self.burst_clean = false;
     }
 
     /// Decodes `bytes` with the decoder contract's pull form (`next_event`), a byte at a time
@@ -97,6 +114,7 @@ impl AokLink {
         self.decoder = decoder;
         let discarded = self.decoder.stats().bytes_discarded;
         if self.burst_clean && discarded == self.burst_discarded && !self.burst.is_empty() {
+            self.bursts_obeyed = self.bursts_obeyed.wrapping_add(1);
             self.obey_next = Some(0);
             self.obey(now_ms, shared);
         } else {
@@ -135,8 +153,10 @@ impl AokLink {
         let flying = flying(shared);
         match command {
             Command::DebugOff | Command::DebugOn => self.switch_debug(command, now_ms),
-            Command::Reset if flying => {
-                crate::warn!("AOK reset refused: flying");
+            // The `63` family has no check of its own: nothing of it but debug off/on in
+            // flight (the sets and the waypoint store answer 'I' through the store policy).
+            Command::Reset | Command::LoadWaypoints if flying => {
+                crate::warn!("AOK control command refused: flying");
                 self.ack(Ack::InFlight);
             }
             Command::Reset => {
