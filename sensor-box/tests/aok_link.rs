@@ -971,6 +971,71 @@ fn external_control_with_a_stick_beyond_200_is_ignored() {
 // ---------------------------------------------------------------------------------------------
 // Robustness
 
+/// A UART receive error (framing, noise, overrun, parity) or a byte dropped by a full ring
+/// is line activity that spoils the burst it falls in: inside a command, or between the last
+/// silence and the command, the command is discarded; after a silence it is obeyed again.
+#[test]
+fn a_line_fault_inside_or_before_a_burst_discards_it() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    // `63 07` with a framing error between its bytes (the UART hands both bytes over).
+    let mut uart = [Ok(0x63), Err(()), Ok(0x07)].into_iter();
+    rig.isr.receive_while(|| uart.next());
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().line_faults, 1);
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+    // A fault a poll sees before the command arrives, with no silence between them.
+    rig.run(10);
+    rig.isr.receive_error();
+    rig.poll();
+    rig.now += 1;
+    rig.send(&[0x63, 0x07]);
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 2);
+    // A fault in the poll right after the command's bytes, before the silence is observed.
+    rig.run(10);
+    rig.send(&[0x63, 0x07]);
+    rig.poll();
+    rig.isr.receive_error();
+    rig.now += 1;
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+    // After the silence that follows a fault, the same command is obeyed.
+    rig.run(10);
+    assert_eq!(rig.exchange(&[0x63, 0x07]), []);
+    assert!(std::mem::take(&mut rig.shared.requests.reboot));
+    assert_eq!(rig.link.counters().line_faults, 3);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+}
+
+/// A byte lost to a full RX ring spoils its burst too: `63 07 00` is garbage (the decoder
+/// throws the `00` away, so the burst is discarded), but with the `00` dropped the rest reads
+/// as a reset.
+#[test]
+fn a_byte_dropped_by_a_full_ring_discards_the_burst() {
+    let (rxq, txq, stats) = (Ring::<2>::new(), Ring::<64>::new(), PortStats::new());
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    let mut shared = Shared::new(Persisted::default(), 0);
+    let mut link = AokLink::new(&shared);
+    shared.paused = true;
+    // The ring holds two bytes here: the `00` is dropped.
+    assert_eq!(
+        [0x63, 0x07, 0x00].map(|b| isr.received(b)),
+        [true, true, false]
+    );
+    for now in 0..5 {
+        link.poll(now, &mut port, &mut shared);
+    }
+    assert_eq!(port.counters().rx_dropped, 1);
+    assert!(!shared.requests.reboot);
+    assert_eq!(link.counters().line_faults, 1);
+    assert_eq!(link.counters().bursts_discarded, 1);
+}
+
 #[test]
 fn garbage_before_a_command_and_a_dead_partial_frame() {
     let mut rig = Rig::new();
