@@ -81,6 +81,14 @@ pub trait Receive: ErrorType {
     fn receive_faults(&self) -> u32 {
         0
     }
+
+    /// Whether the next byte to take begins a burst: the receive side saw the line silent
+    /// before it by its own clock ([`crate::burst_marks`]), however late the application takes
+    /// it. A port lends no slice across such a point. The default, for a port with no such
+    /// clock, is `false`: the link observes silence itself.
+    fn burst_starts(&self) -> bool {
+        false
+    }
 }
 
 impl<P: Receive> Receive for &mut P {
@@ -90,6 +98,9 @@ impl<P: Receive> Receive for &mut P {
 
     fn receive_faults(&self) -> u32 {
         (**self).receive_faults()
+    }
+    fn burst_starts(&self) -> bool {
+        (**self).burst_starts()
     }
 }
 

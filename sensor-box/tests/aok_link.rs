@@ -1012,6 +1012,102 @@ fn a_line_fault_inside_or_before_a_burst_discards_it() {
     assert_eq!(rig.link.counters().bursts_discarded, 3);
 }
 
+/// A PC polling the box while it stores (a flash erase stalls the main loop for 1.5 s): 7 reads
+/// and a set, one write each, 150 ms apart, wait in the RX ring. The UART handler, told the
+/// board's millisecond (`SerialIsr::at`), marks where the line fell silent, and when the main
+/// loop comes back every command is answered, late, in order. A handler that marks nothing
+/// (the boards before) loses them all: 8 commands in one burst are discarded unanswered.
+#[test]
+fn a_pc_polling_through_a_store_stall_gets_every_answer() {
+    for marked in [true, false] {
+        let mut rig = Rig::new();
+        rig.quiet();
+        land(&mut rig);
+        let t0 = rig.now;
+        let mut commands: Vec<Command> = (0..7).map(Command::ReadParameter).collect();
+        commands.insert(
+            3,
+            Command::SetParameter(ParameterValue {
+                number: 20,
+                value: 77,
+            }),
+        );
+        for (i, c) in commands.iter().enumerate() {
+            let (frame, n) = c.to_bytes();
+            for &b in &frame[..n] {
+                if marked {
+                    rig.isr.at(t0 + 150 * i as u64);
+                }
+                assert!(rig.isr.received(b));
+            }
+        }
+        // The stall ends 1.5 s later: the polls resume.
+        rig.now = t0 + 1_500;
+        rig.run(10);
+        let out = rig.take();
+        if marked {
+            let mut want = Vec::new();
+            for n in 0..7u8 {
+                want.extend([0xff, n, 0, 0, 0, 0, 0]);
+                if n == 2 {
+                    want.push(b'O');
+                }
+            }
+            assert_eq!(out, want);
+            assert_eq!(rig.link.parameters()[20], 77);
+            assert_eq!(rig.link.counters().bursts_discarded, 0);
+        } else {
+            assert_eq!(out, []);
+            assert_eq!(rig.link.parameters()[20], 0);
+            assert_eq!(rig.link.counters().bursts_discarded, 1);
+        }
+    }
+}
+
+/// Burst marks are as strict as the link's own silence: bytes with less than `GAP_MS` between
+/// them by the handler's clock stay one burst (a stray byte before a reset spoils it), a line
+/// fault among commands that waited spoils every burst taken in that poll, and noise that
+/// waited in the ring obeys nothing.
+#[test]
+fn burst_marks_frame_nothing_the_link_would_not() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    let t0 = rig.now;
+    // `00` then `63 07` 1 ms later: one burst, discarded.
+    rig.isr.at(t0);
+    rig.isr.received(0x00);
+    rig.isr.at(t0 + 1);
+    rig.send(&[0x63, 0x07]);
+    rig.now = t0 + 500;
+    rig.run(5);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+    // Two commands apart in time, a receive error among them: both discarded.
+    let t1 = rig.now + 10;
+    rig.isr.at(t1);
+    rig.send(&[0x63, 0x07]);
+    rig.isr.at(t1 + 100);
+    rig.isr.receive_error();
+    rig.isr.at(t1 + 200);
+    rig.send(&[0x67, 0x01]);
+    rig.now = t1 + 1_000;
+    rig.run(5);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.take(), []);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+    // And with nothing wrong, the same two are obeyed.
+    let t2 = rig.now + 10;
+    rig.isr.at(t2);
+    rig.send(&[0x63, 0x07]);
+    rig.isr.at(t2 + 200);
+    rig.send(&[0x67, 0x01]);
+    rig.now = t2 + 1_000;
+    rig.run(5);
+    assert!(rig.shared.requests.reboot);
+    assert_eq!(rig.take(), [0xff, 0x01, 0, 0, 0, 0, 0]);
+}
+
 /// A byte lost to a full RX ring spoils its burst too: `63 07 00` is garbage (the decoder
 /// throws the `00` away, so the burst is discarded), but with the `00` dropped the rest reads
 /// as a reset.

@@ -6,7 +6,7 @@
 
 use super::{AokLink, GAP_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
-use crate::port::{Receive, receive_slices};
+use crate::port::Receive;
 use aok_proto::{Ack, Command, CommandDecoder, Decode, Error as AokError};
 
 impl AokLink {
@@ -23,9 +23,15 @@ impl AokLink {
                 return;
             }
         }
-        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms));
+        // A fault counted before these bytes were taken may sit in any burst of them.
+        let faulted = port.receive_faults() != self.faults_seen;
+        let taken = self.take(now_ms, port, shared, faulted);
         // Read after the bytes: a fault counted while they arrived is seen with them.
         self.check_line(port.receive_faults(), now_ms);
+        if self.obey_next.is_some() {
+            // A burst the receive side framed waits to be obeyed: the rest waits in the port.
+            return;
+        }
         self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         let port_empty = match taken {
             Ok(n) => n < RX_BUDGET,
@@ -39,6 +45,44 @@ impl AokLink {
         if port_empty && self.burst_open && now_ms.saturating_sub(self.last_rx_ms) >= GAP_MS {
             self.end_burst(now_ms, shared);
         }
+    }
+
+    /// Takes received bytes from the port into the open burst, a slice at a time and at most
+    /// [`RX_BUDGET`], and ends the open burst where the port says the receive side saw silence
+    /// before the next byte ([`Receive::burst_starts`]: the commands that waited in the ring
+    /// while the main loop stalled); stops when a burst so ended waits to be obeyed (its
+    /// replies need room in the TX queue). `faulted`: the port counted a line fault that this
+    /// poll has not seen yet, which may sit in any of the bursts taken now: each is discarded.
+    /// The count taken, or the port's error.
+    fn take<P: Receive>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+        faulted: bool,
+    ) -> Result<usize, P::Error> {
+        let mut total = 0;
+        while total < RX_BUDGET {
+            if self.burst_open && port.burst_starts() {
+                if faulted {
+                    self.burst_clean = false;
+                }
+                self.end_burst(now_ms, shared);
+                if self.obey_next.is_some() {
+                    break;
+                }
+            }
+            let budget = RX_BUDGET - total;
+            let n = port.receive(|bytes| {
+                let piece = bytes.get(..budget).unwrap_or(bytes);
+                self.decode(piece, now_ms)
+            })?;
+            if n == 0 {
+                break;
+            }
+            total += n;
+        }
+        Ok(total)
     }
 
     /// A change of the port's fault count since the last poll is line activity now: it opens
