@@ -149,10 +149,12 @@ pub struct SerialIsr<'q, const RX: usize, const TX: usize> {
     /// The run of free RX ring that [`SerialIsr::receive_batched`] keeps open across
     /// interrupts (a write grant, never full) and how many of its bytes are filled.
     open: Option<(StreamGrantW<&'q Ring<RX>>, usize)>,
-    /// The millisecond the board last gave ([`SerialIsr::at`]); `None`: no marks.
-    now_ms: Option<u64>,
-    /// The millisecond of the last byte (or receive error) taken, by that clock.
-    last_rx_ms: Option<u64>,
+    /// The millisecond the board last gave ([`SerialIsr::at`]); [`NEVER`]: no marks. (Plain
+    /// `u64`s, not `Option`s: an `Option` would give a board's `static` of
+    /// `Option<SerialIsr>` a non-zero `None`, in `.data` instead of `.bss`.)
+    now_ms: u64,
+    /// The millisecond of the last byte (or receive error) taken, by that clock; [`NEVER`].
+    last_rx_ms: u64,
 }
 
 impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
@@ -189,8 +191,8 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
                 tx: tx_queue.stream_consumer(),
                 stats,
                 open: None,
-                now_ms: None,
-                last_rx_ms: None,
+                now_ms: NEVER,
+                last_rx_ms: NEVER,
             },
         )
     }
@@ -389,6 +391,9 @@ fn marking<'a>(
         item
     }
 }
+
+/// "No such millisecond" in [`SerialIsr`]'s clock fields.
+const NEVER: u64 = u64::MAX;
 
 /// Adds `n` to a wrapping count one side keeps to itself.
 fn add_local(counter: &mut u32, n: usize) {
@@ -852,22 +857,22 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     ///
     /// [`GAP_MS`]: crate::aok_link::GAP_MS
     pub fn at(&mut self, now_ms: u64) {
-        self.now_ms = Some(now_ms);
+        self.now_ms = now_ms.min(NEVER - 1);
     }
 
     /// Whether, by the board's clock, the line has been silent long enough for the next byte
     /// to begin a burst.
     fn silent(&self) -> bool {
         match (self.now_ms, self.last_rx_ms) {
-            (Some(_), None) => true,
-            (Some(now), Some(last)) => now.saturating_sub(last) >= crate::aok_link::GAP_MS,
-            (None, _) => false,
+            (NEVER, _) => false,
+            (_, NEVER) => true,
+            (now, last) => now.saturating_sub(last) >= crate::aok_link::GAP_MS,
         }
     }
 
     /// The line was active now (`active`: a byte or a receive error was taken).
     fn heard(&mut self, active: bool) {
-        if active && self.now_ms.is_some() {
+        if active && self.now_ms != NEVER {
             self.last_rx_ms = self.now_ms;
         }
     }
