@@ -28,11 +28,6 @@ impl AokLink {
         let taken = self.take(now_ms, port, shared, faulted);
         // Read after the bytes: a fault counted while they arrived is seen with them.
         self.check_line(port.receive_faults(), now_ms);
-        if self.obey_next.is_some() {
-            // A burst the receive side framed waits to be obeyed: the rest waits in the port.
-            return;
-        }
-        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         let port_empty = match taken {
             Ok(n) => n < RX_BUDGET,
             Err(_) => {
@@ -40,6 +35,11 @@ impl AokLink {
                 false
             }
         };
+        if self.obey_next.is_some() {
+            // A burst the receive side framed waits to be obeyed: the rest waits in the port.
+            return;
+        }
+        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         // Silence only counts when the port has nothing more: bytes left in it (the budget, a
         // port error) may be the rest of the burst.
         if port_empty && self.burst_open && now_ms.saturating_sub(self.last_rx_ms) >= GAP_MS {
