@@ -189,7 +189,10 @@ struct External {
 /// ([`AokCounters::bursts_discarded`]; one 'E' if a checksum or a waypoint slot was bad).
 /// Silence is observed, never inferred: the port is empty after the poll's receive and no byte
 /// was taken for [`GAP_MS`], so a main loop that stalls and then finds many bytes at once
-/// sees no gap, nor do bytes left in the port by [`RX_BUDGET`]. Reads go through the gate too.
+/// sees no gap, nor do bytes left in the port by [`RX_BUDGET`]; there the gap is where the
+/// UART handler saw it by its own clock, if its board tells it the time ([`crate::burst_marks`]:
+/// commands that waited in the ring through a store stall are obeyed one by one). Reads go
+/// through the gate too.
 /// The reply comes about [`GAP_MS`] after the command ([`AokLink::next_wake_ms`] wakes the
 /// poll for it).
 ///
