@@ -40,6 +40,7 @@ pub mod aeolus_link;
 pub mod aok_link;
 pub mod aydp_link;
 pub mod budget;
+pub mod burst_marks;
 pub mod log;
 pub mod persist;
 pub mod port;

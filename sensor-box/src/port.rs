@@ -23,6 +23,10 @@
 //!   which; the link counts events, never differences of counters.
 //! * `port_errors`: every error the port itself reports, on either side. A port error ends
 //!   that side of the poll; the next poll tries again.
+//! * Line faults ([`Receive::receive_faults`]: a UART receive error, a byte dropped for want
+//!   of room) are counted by the port. The AOK link, which frames commands by silence, reads
+//!   them as line activity: a fault spoils the burst it falls in, so a command with a
+//!   damaged or lost byte is never obeyed (its counters: `line_faults`).
 //!
 //! A frame whose check is good but whose data does not parse as its type is not a receive
 //! error: the AEOLUS and AYDP links count it as `malformed`.
@@ -55,11 +59,48 @@ pub trait Receive: ErrorType {
     /// assert_eq!(port.receive(|_| unreachable!()), Ok(0));
     /// ```
     fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error>;
+
+    /// The bytes the line lost or damaged since the port was made, a wrapping count: receive
+    /// errors the UART reported (framing, noise, overrun, parity, break) and bytes dropped
+    /// for want of room. A link that frames commands by silence compares it from poll to
+    /// poll: a change is line activity that spoils the burst it falls in (see "Receive
+    /// errors" above). The default, for a port that cannot lose or damage a byte (a socket,
+    /// a test's port), is 0 for ever.
+    ///
+    /// ```
+    /// use sensor_box::port::Receive;
+    /// use sensor_box::serial::{PortStats, QueuedSerial, Ring};
+    /// let (rxq, txq) = (Ring::<1>::new(), Ring::<8>::new());
+    /// let stats = PortStats::new();
+    /// let (port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    /// isr.receive_error(); // a framing error
+    /// isr.received(1);
+    /// isr.received(2); // the ring is full: dropped
+    /// assert_eq!(port.receive_faults(), 2);
+    /// ```
+    fn receive_faults(&self) -> u32 {
+        0
+    }
+
+    /// Whether the next byte to take begins a burst: the receive side saw the line silent
+    /// before it by its own clock ([`crate::burst_marks`]), however late the application takes
+    /// it. A port lends no slice across such a point. The default, for a port with no such
+    /// clock, is `false`: the link observes silence itself.
+    fn burst_starts(&self) -> bool {
+        false
+    }
 }
 
 impl<P: Receive> Receive for &mut P {
     fn receive(&mut self, take: impl FnOnce(&[u8]) -> usize) -> Result<usize, Self::Error> {
         (**self).receive(take)
+    }
+
+    fn receive_faults(&self) -> u32 {
+        (**self).receive_faults()
+    }
+    fn burst_starts(&self) -> bool {
+        (**self).burst_starts()
     }
 }
 

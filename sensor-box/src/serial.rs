@@ -34,6 +34,7 @@
 //! where its read and write positions stand). The same types run in host tests: the test
 //! plays the interrupt handler.
 
+use crate::burst_marks::BurstMarks;
 use crate::port::copy_prefix;
 use bbqueue::prod_cons::stream::{StreamConsumer, StreamGrantW, StreamProducer};
 use bbqueue::traits::{coordination::cs::CsCoord, notifier::polling::Polling, storage::Inline};
@@ -57,6 +58,8 @@ pub struct PortStats {
     tx_bytes: AtomicU32,
     /// The handler found the RX ring full and left bytes in the UART: the next read kicks it.
     rx_held: AtomicBool,
+    /// Where the handler saw the line fall silent ([`SerialIsr::at`]).
+    marks: BurstMarks,
 }
 
 /// A copy of the counters at one instant.
@@ -87,6 +90,7 @@ impl PortStats {
             rx_errors: AtomicU32::new(0),
             tx_bytes: AtomicU32::new(0),
             rx_held: AtomicBool::new(false),
+            marks: BurstMarks::new(),
         }
     }
 
@@ -145,6 +149,12 @@ pub struct SerialIsr<'q, const RX: usize, const TX: usize> {
     /// The run of free RX ring that [`SerialIsr::receive_batched`] keeps open across
     /// interrupts (a write grant, never full) and how many of its bytes are filled.
     open: Option<(StreamGrantW<&'q Ring<RX>>, usize)>,
+    /// The millisecond the board last gave ([`SerialIsr::at`]); [`NEVER`]: no marks. (Plain
+    /// `u64`s, not `Option`s: an `Option` would give a board's `static` of
+    /// `Option<SerialIsr>` a non-zero `None`, in `.data` instead of `.bss`.)
+    now_ms: u64,
+    /// The millisecond of the last byte (or receive error) taken, by that clock; [`NEVER`].
+    last_rx_ms: u64,
 }
 
 impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
@@ -181,6 +191,8 @@ impl<'q, const RX: usize, const TX: usize> QueuedSerial<'q, RX, TX> {
                 tx: tx_queue.stream_consumer(),
                 stats,
                 open: None,
+                now_ms: NEVER,
+                last_rx_ms: NEVER,
             },
         )
     }
@@ -359,6 +371,30 @@ fn fill_run(
     stored
 }
 
+/// `next` (the UART's bytes, as [`SerialIsr::receive_while`] takes them), noting in `active`
+/// whether it gave anything and, with `mark`, leaving the burst mark at the given position
+/// before the first thing it gives.
+#[inline(always)]
+fn marking<'a>(
+    active: &'a mut bool,
+    mark: Option<(&'a PortStats, u32)>,
+    mut next: impl FnMut() -> Option<Result<u8, ()>> + 'a,
+) -> impl FnMut() -> Option<Result<u8, ()>> + 'a {
+    move || {
+        let item = next();
+        if item.is_some() && !*active {
+            *active = true;
+            if let Some((stats, position)) = mark {
+                stats.marks.push(position);
+            }
+        }
+        item
+    }
+}
+
+/// "No such millisecond" in [`SerialIsr`]'s clock fields.
+const NEVER: u64 = u64::MAX;
+
 /// Adds `n` to a wrapping count one side keeps to itself.
 fn add_local(counter: &mut u32, n: usize) {
     *counter = counter.wrapping_add(u32::try_from(n).unwrap_or(u32::MAX));
@@ -443,13 +479,27 @@ impl<const RX: usize, const TX: usize> crate::port::Receive for QueuedSerial<'_,
         let Ok(grant) = self.rx.read() else {
             return Ok(0);
         };
-        let n = take(&grant).min(grant.len());
+        // No slice across a burst mark.
+        let (_, limit) = self.stats.marks.next(self.rx_taken);
+        let len = limit.map_or(grant.len(), |l| l.min(grant.len()));
+        let n = take(grant.get(..len).unwrap_or(&grant)).min(len);
         grant.release(n);
         add_local(&mut self.rx_taken, n);
         if n > 0 && self.stats.rx_held.swap(false, Ordering::Relaxed) {
             (self.kick)();
         }
         Ok(n)
+    }
+
+    /// Whether the handler left a burst mark before the next byte ([`SerialIsr::at`]).
+    fn burst_starts(&self) -> bool {
+        self.rx_pending() > 0 && self.stats.marks.next(self.rx_taken).0
+    }
+
+    /// [`PortCounters::rx_errors`] plus [`PortCounters::rx_dropped`], wrapping.
+    fn receive_faults(&self) -> u32 {
+        let errors = self.stats.rx_errors.load(Ordering::Relaxed);
+        errors.wrapping_add(self.stats.rx_dropped.load(Ordering::Relaxed))
     }
 }
 
@@ -588,6 +638,11 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// ```
     pub fn received(&mut self, byte: u8) -> bool {
         self.publish();
+        if self.silent() {
+            let position = self.stats.rx_bytes.load(Ordering::Relaxed);
+            self.stats.marks.push(position);
+        }
+        self.heard(true);
         match self.rx.grant_exact(1) {
             Ok(mut grant) => {
                 copy_prefix(&mut grant, &[byte]);
@@ -620,9 +675,13 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// assert_eq!(uart.next(), Some(Ok(5))); // still in the UART
     /// assert_eq!((port.rx_pending(), port.counters().rx_errors), (4, 1));
     /// ```
-    pub fn receive_while(&mut self, mut next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
+    pub fn receive_while(&mut self, next: impl FnMut() -> Option<Result<u8, ()>>) -> usize {
         // Bytes a `receive_batched` left unpublished come first.
         self.publish();
+        let position = self.stats.rx_bytes.load(Ordering::Relaxed);
+        let mark = self.silent().then_some((self.stats, position));
+        let mut active = false;
+        let mut next = marking(&mut active, mark, next);
         // Errors are counted in a register, added to the shared counter once at the end (and
         // only when there were any).
         let (mut total, mut errors) = (0, 0);
@@ -638,6 +697,8 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
                 break;
             }
         }
+        drop(next);
+        self.heard(active);
         self.count_received(total, errors);
         total
     }
@@ -670,9 +731,16 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
         &mut self,
         publish_at: usize,
         publish: bool,
-        mut next: impl FnMut() -> Option<Result<u8, ()>>,
+        next: impl FnMut() -> Option<Result<u8, ()>>,
     ) -> usize {
         let (mut published, mut errors) = (0, 0);
+        let unpublished = u32::try_from(self.unpublished()).unwrap_or(u32::MAX);
+        let position = self.stats.rx_bytes.load(Ordering::Relaxed);
+        let mark = self
+            .silent()
+            .then_some((self.stats, position.wrapping_add(unpublished)));
+        let mut active = false;
+        let mut next = marking(&mut active, mark, next);
         loop {
             if self.open.is_none() {
                 match self.rx.grant_max_remaining(usize::MAX) {
@@ -698,6 +766,8 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
                 break;
             }
         }
+        drop(next);
+        self.heard(active);
         self.count_received(published, errors);
         published
     }
@@ -757,6 +827,54 @@ impl<const RX: usize, const TX: usize> SerialIsr<'_, RX, TX> {
     /// ```
     pub fn receive_error(&mut self) {
         bump(&self.stats.rx_errors);
+        self.heard(true);
+    }
+
+    /// Tells the handler the board's millisecond (its SysTick count) before it takes the
+    /// UART's bytes. From the first call on, the first byte after [`GAP_MS`] of silence by
+    /// this clock (no byte and no receive error since) leaves a burst mark
+    /// ([`crate::burst_marks`]): a link that frames commands by silence then tells apart the
+    /// commands that waited in the ring while the main loop stalled. A board that never calls
+    /// it leaves no mark.
+    ///
+    /// ```
+    /// use sensor_box::port::Receive;
+    /// # use sensor_box::serial::{QueuedSerial, Ring};
+    /// # let (a, b) = (Ring::<16>::new(), Ring::<2>::new());
+    /// # let stats = sensor_box::serial::PortStats::new();
+    /// let (mut port, mut isr) = QueuedSerial::split(&a, &b, &stats, || {});
+    /// for (ms, byte) in [(0, 0x67), (0, 0x01), (5, 0x67), (5, 0x02)] {
+    ///     isr.at(ms);
+    ///     isr.received(byte);
+    /// }
+    /// // The main loop comes late: the port lends the first command alone, then says that the
+    /// // next byte begins a burst.
+    /// assert!(port.burst_starts());
+    /// assert_eq!(port.receive(|bytes| bytes.len()), Ok(2));
+    /// assert!(port.burst_starts());
+    /// assert_eq!(port.receive(|bytes| bytes.len()), Ok(2));
+    /// ```
+    ///
+    /// [`GAP_MS`]: crate::aok_link::GAP_MS
+    pub fn at(&mut self, now_ms: u64) {
+        self.now_ms = now_ms.min(NEVER - 1);
+    }
+
+    /// Whether, by the board's clock, the line has been silent long enough for the next byte
+    /// to begin a burst.
+    fn silent(&self) -> bool {
+        match (self.now_ms, self.last_rx_ms) {
+            (NEVER, _) => false,
+            (_, NEVER) => true,
+            (now, last) => now.saturating_sub(last) >= crate::aok_link::GAP_MS,
+        }
+    }
+
+    /// The line was active now (`active`: a byte or a receive error was taken).
+    fn heard(&mut self, active: bool) {
+        if active && self.now_ms != NEVER {
+            self.last_rx_ms = self.now_ms;
+        }
     }
 
     /// The next byte to hand to the UART, if any.

@@ -656,7 +656,7 @@ fn pause_stops_telemetry_and_resume_restarts_it() {
 }
 
 #[test]
-fn reboot_answers_then_asks_the_main_loop_for_a_reset() {
+fn reboot_is_refused_in_flight_and_landed_answers_then_asks_for_a_reset() {
     let mut mem = vec![0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     let mut app = App::new(&mut flash, 0);
@@ -674,19 +674,37 @@ fn reboot_answers_then_asks_the_main_loop_for_a_reset() {
             Control::Run
         );
     }
+    // Flying: refused, answered and counted (a COMMAND may come unchecked, CRC 00 00).
     peer.send(&command("a reboot"));
     assert_eq!(
         app.poll(50, &mut u0, &mut u1, &mut u2, &mut flash),
+        Control::Run
+    );
+    assert!(!app.shared.requests.reboot);
+    assert_eq!(app.aeolus.counters().refused_in_flight, 1);
+    // Landed ("a pause"): obeyed.
+    peer.send(&command("a pause"));
+    peer.send(&command("a reboot"));
+    assert_eq!(
+        app.poll(60, &mut u0, &mut u1, &mut u2, &mut flash),
         Control::Reboot
     );
     peer.drain(usize::MAX);
-    assert_eq!(peer.toasts(), ["AEOLUS on", "AEOLUS rebooting"]);
+    assert_eq!(
+        peer.toasts(),
+        [
+            "AEOLUS on",
+            "AEOLUS reboot refused: flying",
+            "AEOLUS paused",
+            "AEOLUS rebooting"
+        ]
+    );
     // The request is consumed: had the main loop not reset, the box would carry on.
     assert_eq!(
-        app.poll(51, &mut u0, &mut u1, &mut u2, &mut flash),
+        app.poll(61, &mut u0, &mut u1, &mut u2, &mut flash),
         Control::Run
     );
-    assert_eq!(app.aeolus.counters().commands, 1);
+    assert_eq!(app.aeolus.counters().commands, 2);
 }
 
 #[test]

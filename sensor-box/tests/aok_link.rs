@@ -737,8 +737,12 @@ fn mission_poi_in_flash_is_refused_while_flying() {
     };
     assert_eq!(rig.exchange_cmd(Command::SetWaypoint(w)), b"I");
     assert!(!rig.shared.requests.store);
-    // 63 09 (no flash write) is allowed in flight.
-    assert_eq!(rig.exchange(&[0x63, 0x09]), b"O");
+    // 63 09 (no flash write, but no check of its own either: `67 09` with one bit flipped)
+    // is refused in flight, and the RAM waypoints stay as they are.
+    assert_eq!(rig.exchange_cmd(Command::SetWaypoint(WP3)), b"O");
+    assert_eq!(rig.exchange(&[0x63, 0x09]), b"I");
+    assert_eq!(rig.exchange(&[0x78, 0x00]), WP3_FRAME);
+    assert_eq!(rig.link.counters().refused_in_flight, 2);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -749,8 +753,13 @@ fn motor_test_values_lapse_500_ms_after_the_last_frame() {
     let mut rig = Rig::new();
     rig.quiet();
     land(&mut rig);
-    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32. Obeyed when the
-    // silence after them is observed, GAP_MS after they arrived: `start`.
+    // 31 64 55: motor 1 = 100 (CRC = 0x31 ^ 0x64); 43 20 63: motor 12 = 32. The first burst
+    // arms both motors, the second, 20 ms later, runs them when the silence after it is
+    // observed, GAP_MS after it arrived: `start`.
+    rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
+    rig.run(20);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(rig.link.counters().motor_frames_armed, 2);
     let start = rig.now + GAP_MS;
     rig.send(&[0x31, 0x64, 0x55, 0x43, 0x20, 0x63]);
     rig.run(GAP_MS);
@@ -812,7 +821,57 @@ fn motor_test_is_ignored_while_flying() {
     assert_eq!(rig.link.counters().refused_in_flight, 1);
     land(&mut rig);
     rig.exchange_cmd(Command::MotorTest(test));
+    rig.exchange_cmd(Command::MotorTest(test));
     assert_eq!(rig.link.motor_outputs()[3], 200);
+}
+
+/// A motor at rest runs only from the second valid frame for it, in a later burst within the
+/// 500 ms hold of the first: a glitch (one burst) never starts one. Once it runs, each frame
+/// holds it; value 0 stops it at once; after a lapse it needs two frames again.
+#[test]
+fn a_motor_runs_only_from_a_second_frame_within_the_hold() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    let frame = |motor: u8, value: u8| {
+        let test = MotorTest {
+            motor: Motor::new(motor).unwrap(),
+            value,
+        };
+        let (bytes, n) = Command::MotorTest(test).to_bytes();
+        bytes[..n].to_vec()
+    };
+    // One frame: armed, nothing driven, however long the box waits.
+    assert_eq!(rig.exchange(&frame(2, 50)), []);
+    rig.run(MOTOR_LAPSE_MS);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // The second frame comes too late (over 500 ms after the first): armed again, no output.
+    assert_eq!(rig.exchange(&frame(2, 50)), []);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // Two frames for the same motor in one burst are one burst: no output.
+    rig.run(MOTOR_LAPSE_MS);
+    let mut twice = frame(5, 60);
+    twice.extend(frame(5, 60));
+    rig.exchange(&twice);
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // A frame for another motor does not complete motor 5's pair.
+    rig.exchange(&frame(6, 60));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // Motor 5's own repeat, within the hold of its first frame and in a later burst: it runs.
+    rig.run(100);
+    rig.exchange(&frame(5, 70));
+    assert_eq!(rig.link.motor_outputs()[4], 70);
+    assert_eq!(rig.link.counters().motor_frames_armed, 5);
+    // Running: one frame sets the value; value 0 stops it at once.
+    rig.exchange(&frame(5, 80));
+    assert_eq!(rig.link.motor_outputs()[4], 80);
+    rig.exchange(&frame(5, 0));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    // After the stop (or a lapse) one frame is not enough again.
+    rig.run(10);
+    rig.exchange(&frame(5, 80));
+    assert_eq!(rig.link.motor_outputs(), [0; 12]);
+    assert_eq!(rig.link.counters().motor_frames_armed, 6);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -911,6 +970,167 @@ fn external_control_with_a_stick_beyond_200_is_ignored() {
 
 // ---------------------------------------------------------------------------------------------
 // Robustness
+
+/// A UART receive error (framing, noise, overrun, parity) or a byte dropped by a full ring
+/// is line activity that spoils the burst it falls in: inside a command, or between the last
+/// silence and the command, the command is discarded; after a silence it is obeyed again.
+#[test]
+fn a_line_fault_inside_or_before_a_burst_discards_it() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    // `63 07` with a framing error between its bytes (the UART hands both bytes over).
+    let mut uart = [Ok(0x63), Err(()), Ok(0x07)].into_iter();
+    rig.isr.receive_while(|| uart.next());
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().line_faults, 1);
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+    // A fault a poll sees before the command arrives, with no silence between them.
+    rig.run(10);
+    rig.isr.receive_error();
+    rig.poll();
+    rig.now += 1;
+    rig.send(&[0x63, 0x07]);
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 2);
+    // A fault in the poll right after the command's bytes, before the silence is observed.
+    rig.run(10);
+    rig.send(&[0x63, 0x07]);
+    rig.poll();
+    rig.isr.receive_error();
+    rig.now += 1;
+    rig.settle();
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+    // After the silence that follows a fault, the same command is obeyed.
+    rig.run(10);
+    assert_eq!(rig.exchange(&[0x63, 0x07]), []);
+    assert!(std::mem::take(&mut rig.shared.requests.reboot));
+    assert_eq!(rig.link.counters().line_faults, 3);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+}
+
+/// A PC polling the box while it stores (a flash erase stalls the main loop for 1.5 s): 7 reads
+/// and a set, one write each, 150 ms apart, wait in the RX ring. The UART handler, told the
+/// board's millisecond (`SerialIsr::at`), marks where the line fell silent, and when the main
+/// loop comes back every command is answered, late, in order. A handler that marks nothing
+/// (the boards before) loses them all: 8 commands in one burst are discarded unanswered.
+#[test]
+fn a_pc_polling_through_a_store_stall_gets_every_answer() {
+    for marked in [true, false] {
+        let mut rig = Rig::new();
+        rig.quiet();
+        land(&mut rig);
+        let t0 = rig.now;
+        let mut commands: Vec<Command> = (0..7).map(Command::ReadParameter).collect();
+        commands.insert(
+            3,
+            Command::SetParameter(ParameterValue {
+                number: 20,
+                value: 77,
+            }),
+        );
+        for (i, c) in commands.iter().enumerate() {
+            let (frame, n) = c.to_bytes();
+            for &b in &frame[..n] {
+                if marked {
+                    rig.isr.at(t0 + 150 * i as u64);
+                }
+                assert!(rig.isr.received(b));
+            }
+        }
+        // The stall ends 1.5 s later: the polls resume.
+        rig.now = t0 + 1_500;
+        rig.run(10);
+        let out = rig.take();
+        if marked {
+            let mut want = Vec::new();
+            for n in 0..7u8 {
+                want.extend([0xff, n, 0, 0, 0, 0, 0]);
+                if n == 2 {
+                    want.push(b'O');
+                }
+            }
+            assert_eq!(out, want);
+            assert_eq!(rig.link.parameters()[20], 77);
+            assert_eq!(rig.link.counters().bursts_discarded, 0);
+        } else {
+            assert_eq!(out, []);
+            assert_eq!(rig.link.parameters()[20], 0);
+            assert_eq!(rig.link.counters().bursts_discarded, 1);
+        }
+    }
+}
+
+/// Burst marks are as strict as the link's own silence: bytes with less than `GAP_MS` between
+/// them by the handler's clock stay one burst (a stray byte before a reset spoils it), a line
+/// fault among commands that waited spoils every burst taken in that poll, and noise that
+/// waited in the ring obeys nothing.
+#[test]
+fn burst_marks_frame_nothing_the_link_would_not() {
+    let mut rig = Rig::new();
+    rig.quiet();
+    land(&mut rig);
+    let t0 = rig.now;
+    // `00` then `63 07` 1 ms later: one burst, discarded.
+    rig.isr.at(t0);
+    rig.isr.received(0x00);
+    rig.isr.at(t0 + 1);
+    rig.send(&[0x63, 0x07]);
+    rig.now = t0 + 500;
+    rig.run(5);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.link.counters().bursts_discarded, 1);
+    // Two commands apart in time, a receive error among them: both discarded.
+    let t1 = rig.now + 10;
+    rig.isr.at(t1);
+    rig.send(&[0x63, 0x07]);
+    rig.isr.at(t1 + 100);
+    rig.isr.receive_error();
+    rig.isr.at(t1 + 200);
+    rig.send(&[0x67, 0x01]);
+    rig.now = t1 + 1_000;
+    rig.run(5);
+    assert!(!rig.shared.requests.reboot);
+    assert_eq!(rig.take(), []);
+    assert_eq!(rig.link.counters().bursts_discarded, 3);
+    // And with nothing wrong, the same two are obeyed.
+    let t2 = rig.now + 10;
+    rig.isr.at(t2);
+    rig.send(&[0x63, 0x07]);
+    rig.isr.at(t2 + 200);
+    rig.send(&[0x67, 0x01]);
+    rig.now = t2 + 1_000;
+    rig.run(5);
+    assert!(rig.shared.requests.reboot);
+    assert_eq!(rig.take(), [0xff, 0x01, 0, 0, 0, 0, 0]);
+}
+
+/// A byte lost to a full RX ring spoils its burst too: `63 07 00` is garbage (the decoder
+/// throws the `00` away, so the burst is discarded), but with the `00` dropped the rest reads
+/// as a reset.
+#[test]
+fn a_byte_dropped_by_a_full_ring_discards_the_burst() {
+    let (rxq, txq, stats) = (Ring::<2>::new(), Ring::<64>::new(), PortStats::new());
+    let (mut port, mut isr) = QueuedSerial::split(&rxq, &txq, &stats, || {});
+    let mut shared = Shared::new(Persisted::default(), 0);
+    let mut link = AokLink::new(&shared);
+    shared.paused = true;
+    // The ring holds two bytes here: the `00` is dropped.
+    assert_eq!(
+        [0x63, 0x07, 0x00].map(|b| isr.received(b)),
+        [true, true, false]
+    );
+    for now in 0..5 {
+        link.poll(now, &mut port, &mut shared);
+    }
+    assert_eq!(port.counters().rx_dropped, 1);
+    assert!(!shared.requests.reboot);
+    assert_eq!(link.counters().line_faults, 1);
+    assert_eq!(link.counters().bursts_discarded, 1);
+}
 
 #[test]
 fn garbage_before_a_command_and_a_dead_partial_frame() {
@@ -1237,8 +1457,9 @@ fn commands_a_rescan_uncovers_are_not_obeyed() {
 /// Every AOK command, sent in one write as `protolink aok` (through `aok_proto`'s `Client`)
 /// and the reference PC software send it, flying and landed: nothing happens until the poll
 /// that observes the silence after it (GAP_MS after the poll that took its last byte), then it
-/// is obeyed, or refused in flight with 'I' where it changes what must not change in the air,
-/// and the reply arrives at once.
+/// is obeyed (a motor test arms its motor, which runs from a second frame), or refused in
+/// flight with 'I' where it changes what must not change in the air, and the reply arrives at
+/// once.
 #[test]
 fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
     let motor = MotorTest {
@@ -1336,9 +1557,9 @@ fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
         (
             Command::LoadWaypoints,
             b"O".to_vec(),
-            None,
+            Some(b"I".to_vec()),
             |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
-            |r| r.link.waypoint(WP3.slot, &r.shared).lon == 77,
+            |r| r.link.waypoint(WP3.slot, &r.shared).lon == WP3.longitude,
         ),
         (
             Command::SetWaypoint(WP3),
@@ -1358,8 +1579,10 @@ fn every_command_sent_as_one_write_is_obeyed_after_the_gap() {
             Command::MotorTest(motor),
             vec![],
             None,
-            |r| r.link.motor_outputs()[3] == 9,
-            |r| r.link.motor_outputs() == [0; 12],
+            // One frame arms the motor (it runs from the second, see
+            // `a_motor_runs_only_from_a_second_frame_within_the_hold`).
+            |r| r.link.motor_outputs() == [0; 12] && r.link.counters().motor_frames_armed == 1,
+            |r| r.link.motor_outputs() == [0; 12] && r.link.counters().motor_frames_armed == 0,
         ),
         (
             Command::ExternalControl(sticks),

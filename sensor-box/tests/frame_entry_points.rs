@@ -76,6 +76,11 @@ fn aeolus_stream() -> Vec<u8> {
         &Message::Command(Text::new("a resume").unwrap()),
         CrcMode::Compute,
     ));
+    // Landed again, so that the reboot is obeyed (it is refused in flight).
+    s.extend(aeolus(
+        &Message::Command(Text::new("a pause").unwrap()),
+        CrcMode::Compute,
+    ));
     s.extend(aeolus(
         &Message::Command(Text::new("a reboot").unwrap()),
         CrcMode::Compute,
@@ -122,6 +127,7 @@ fn aeolus_frame_by_frame_equals_poll() {
     assert_eq!(a.counters().unknown_commands, 1);
     assert_eq!(a.counters().settime_rejected, 1);
     assert_eq!(a_shared.requests.reboot, b_shared.requests.reboot);
+    assert!(a_shared.requests.reboot);
 
     // The reboot request is served the same way by both paths' App.
     let mut app = App::new(&mut flash, 0);

@@ -1,4 +1,4 @@
-//! Line noise on the AOK UART commands nothing (issue 42): uniformly random bytes into UART2 of
+//! Line noise on the AOK UART commands nothing (issues 42 and 53): random bytes into UART2 of
 //! the real firmware in QEMU (lm3s6965evb), flying and landed, continuous and in bursts, and the
 //! box must neither reset, nor store, nor load, nor run a motor, nor toggle its debug stream,
 //! nor hand the sticks to external control, nor change a parameter or the mission POI. Then
@@ -13,6 +13,12 @@
 //! | 2 | flying | bursts of 20-200 bytes, then 5-200 ms of silence | [`BURSTS`] |
 //! | 3 | landed (`a pause` over AEOLUS) | continuous | [`CONTINUOUS`] |
 //! | 4 | landed | bursts | [`BURSTS`] |
+//! | 5 | flying | [`GLITCHES`] glitches of 1-8 bytes, each one write with 10-40 ms of silence after it, then every one-bit-flip and lost-byte variant of [`FLIPPED`] | about 15 s |
+//! | 6 | landed | as 5, with the variants of the motor tests [`FLIPPED_LANDED`] and one genuine motor-test frame alone | about 10 s |
+//!
+//! Phases 5 and 6 are the glitch and bit-flip models of `sensor-box/tests/noise.rs` through the
+//! real UART (`docs/protocol-notes.md` PL41): in flight nothing may change but the debug stream
+//! (`63 01`/`63 02` stay obeyed in flight, and are counted apart), and landed no motor may run.
 //!
 //! QEMU's UART model delivers the bytes of one socket write back to back, so the pace is kept
 //! by the writes: [`CHUNK`] bytes every [`CHUNK`] byte times (10.4 ms), never fewer than
@@ -26,7 +32,7 @@
 //! when it obeys), from the boot TOASTs on UART0, and from reading the parameters and the
 //! mission POI back over AOK before and after the noise. The test prints every count.
 //!
-//! It takes about 70 s. Before the AOK line-noise gate (issue 42) the box obeys this noise and
+//! It takes about 100 s. Before the AOK line-noise gate (issue 42) the box obeys this noise and
 //! the test fails: with this seed, a waypoint load from flash in flight; landed, a reset,
 //! waypoint saves and loads, motor-test outputs and debug toggles.
 //!
@@ -59,6 +65,21 @@ const CONTINUOUS: Duration = Duration::from_secs(20);
 const BURSTS: Duration = Duration::from_secs(12);
 /// Silence before and after a genuine command (and after the noise).
 const QUIET: Duration = Duration::from_millis(150);
+/// Glitches per glitch phase.
+const GLITCHES: usize = 300;
+/// Genuine commands whose one-bit-flip and lost-byte variants are sent in flight: read
+/// waypoint 9 (`63 09` a bit away), read parameter 7 (`63 07`), load waypoints, save
+/// waypoints, set parameter 12 to 1500, a motor test.
+const FLIPPED: [&[u8]; 6] = [
+    &[0x67, 0x09],
+    &[0x67, 0x07],
+    &[0x63, 0x09],
+    &[0x63, 0x08],
+    &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5],
+    &[0x31, 0x28, 0x19],
+];
+/// The motor tests whose variants are sent landed: motor 1 = 40, motor 12 = 32.
+const FLIPPED_LANDED: [&[u8]; 2] = [&[0x31, 0x28, 0x19], &[0x43, 0x20, 0x63]];
 
 /// What the box logs when it obeys a state-changing AOK command (`sensor-box/src/aok_link`),
 /// and what it logs when an AOK reply did not fit (reported, not a state change).
@@ -119,6 +140,10 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
         noise(&uart2, &mut rng, BURSTS, true);
         mark(2);
         let after_flying = read_state(&uart2);
+        mark(5);
+        glitches(&uart2, &mut rng, &FLIPPED);
+        mark(6);
+        let after_glitches = read_state(&uart2);
         // In flight: a parameter settable in flight, set and read back.
         let flying_set = genuine_set_parameter(&uart2, 12, 1500);
 
@@ -129,6 +154,11 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
         noise(&uart2, &mut rng, BURSTS, true);
         mark(4);
         let after_landed = read_state(&uart2);
+        mark(7);
+        glitches(&uart2, &mut rng, &FLIPPED_LANDED);
+        // One genuine motor-test frame alone: it arms motor 3, it does not run it.
+        writes(&uart2, [(vec![0x33, 0x28, 0x1b], QUIET)].into_iter());
+        mark(8);
         // Landed (again, if the noise reset the box, which boots flying): the state-changing
         // commands a PC sends.
         to_uart0.send("a pause".into()).expect("UART0 reader");
@@ -137,8 +167,14 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
         std::thread::sleep(QUIET);
         stop.store(true, Ordering::Relaxed);
         reader.join().expect("UART0 reader");
-        (before, after_flying, after_landed, (flying_set, landed))
+        (
+            before,
+            (after_flying, after_glitches),
+            after_landed,
+            (flying_set, landed),
+        )
     });
+    let (after_flying, after_glitches) = after_flying;
     let boot_toasts = q
         .uart0
         .frames
@@ -153,7 +189,9 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
     let at = |n: usize| log.find(&marker_line(n)).unwrap_or(log.len());
     let flying_log = log.get(at(1)..at(2)).unwrap_or_default();
     let landed_log = log.get(at(3)..at(4)).unwrap_or_default();
-    let genuine_log = log.get(at(4)..).unwrap_or_default();
+    let glitch_flying_log = log.get(at(5)..at(6)).unwrap_or_default();
+    let glitch_landed_log = log.get(at(7)..at(8)).unwrap_or_default();
+    let genuine_log = log.get(at(8)..).unwrap_or_default();
 
     println!("what the noise made the box do (flying | landed):");
     let mut obeyed = 0;
@@ -181,6 +219,27 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
         "motor tests",
         flying_log.matches("AOK motor test refused: flying").count()
     );
+    println!("what glitches and flipped bits made the box do (flying | landed):");
+    let (mut glitch_flying, mut glitch_motor) = (0, 0);
+    for (what, line) in OBEYED {
+        let (f, l) = (
+            obeyed_lines(glitch_flying_log, line),
+            obeyed_lines(glitch_landed_log, line),
+        );
+        println!("{what:>22}: {f:5} | {l:5}");
+        if !what.starts_with("debug") {
+            glitch_flying += f;
+        }
+        if what == "motor test output" {
+            glitch_motor += l;
+        }
+    }
+    println!(
+        "{:>22}: {:5} | {:5}",
+        "refused in flight",
+        glitch_flying_log.matches("refused: flying").count(),
+        glitch_landed_log.matches("refused: flying").count()
+    );
     println!("parameters and mission POI before: {before:?}");
     println!("after the flying noise: {after_flying:?}");
     println!("after the landed noise: {after_landed:?}");
@@ -197,6 +256,15 @@ fn line_noise_on_the_aok_uart_commands_nothing() {
         after_flying, before,
         "the noise in flight changed the state"
     );
+    assert_eq!(
+        glitch_flying, 0,
+        "glitches or flipped bits changed a flying box's state"
+    );
+    assert_eq!(
+        after_glitches, before,
+        "glitches or flipped bits in flight changed the state"
+    );
+    assert_eq!(glitch_motor, 0, "a glitch or a flipped bit ran a motor");
     // Landed, the state is the one before with the genuine in-flight parameter set.
     let mut expected = before;
     if let Some(p) = expected.params.as_mut().and_then(|p| p.get_mut(12)) {
@@ -380,8 +448,9 @@ fn genuine_set_parameter(uart2: &TcpStream, number: u8, value: i32) -> Option<i3
     back
 }
 
-/// Landed: save the parameters to set 1 and a motor-test value (neither has a reply; the log
-/// shows them). Whether each was sent.
+/// Landed: save the parameters to set 1 and a motor-test value, sent twice 100 ms apart as a PC
+/// holding a test does (a motor at rest runs from its second frame; neither command has a
+/// reply, the log shows them). Whether each was sent.
 fn genuine_landed(uart2: &TcpStream) -> (bool, bool) {
     let mut c = client(uart2);
     let mut now = now();
@@ -391,6 +460,73 @@ fn genuine_landed(uart2: &TcpStream) -> (bool, bool) {
         motor: Motor::new(1).expect("motor 1"),
         value: 50,
     };
-    let motor = c.motor_test(test, &mut now).is_ok();
+    let first = c.motor_test(test, &mut now).is_ok();
+    std::thread::sleep(Duration::from_millis(100));
+    let motor = first && c.motor_test(test, &mut now).is_ok();
     (saved, motor)
+}
+
+/// [`GLITCHES`] glitches of 1-8 random bytes, each one write with 10-40 ms of silence after
+/// it, then every one-bit-flip and lost-byte variant of each of `genuine`, each one write with
+/// 40 ms of silence after it.
+fn glitches(uart2: &TcpStream, rng: &mut Rng, genuine: &[&[u8]]) {
+    let mut all = Vec::new();
+    for _ in 0..GLITCHES {
+        let n = 1 + rng.below(8) as usize;
+        let silence = Duration::from_millis(10 + rng.below(31));
+        all.push((rng.bytes(n), silence));
+    }
+    for bytes in genuine {
+        for v in variants(bytes) {
+            all.push((v, Duration::from_millis(40)));
+        }
+    }
+    writes(uart2, all.into_iter());
+}
+
+/// Every variant of `bytes` with one bit flipped, then every variant with one byte lost.
+fn variants(bytes: &[u8]) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for i in 0..bytes.len() {
+        for bit in 0..8 {
+            let mut v = bytes.to_vec();
+            v[i] ^= 1 << bit;
+            out.push(v);
+        }
+    }
+    for i in 0..bytes.len() {
+        let mut v = bytes.to_vec();
+        v.remove(i);
+        out.push(v);
+    }
+    out
+}
+
+/// Sends each write with the silence after it, while another thread drains what the box sends
+/// back on UART2.
+fn writes(uart2: &TcpStream, all: impl Iterator<Item = (Vec<u8>, Duration)>) {
+    let mut out = uart2.try_clone().expect("clone UART2");
+    let mut back = uart2.try_clone().expect("clone UART2");
+    back.set_read_timeout(Some(Duration::from_millis(20)))
+        .expect("timeout");
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let mut buf = [0u8; 4096];
+            while !stop.load(Ordering::Relaxed) {
+                match back.read(&mut buf) {
+                    Ok(0) => break,
+                    Ok(_) => {}
+                    Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
+                    Err(e) => panic!("UART2: {e}"),
+                }
+            }
+        });
+        for (bytes, silence) in all {
+            out.write_all(&bytes).expect("write UART2");
+            std::thread::sleep(silence);
+        }
+        std::thread::sleep(QUIET);
+        stop.store(true, Ordering::Relaxed);
+    });
 }

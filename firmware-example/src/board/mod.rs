@@ -243,13 +243,20 @@ pub fn wake_at(deadline_ms: u64) {
     });
 }
 
+/// The SysTick millisecond, for the UART handlers: each tells its `SerialIsr` the time before
+/// it takes bytes (`SerialIsr::at`), so that the AOK link tells apart the commands that waited
+/// in the RX ring while the main loop stalled (a flash store).
+fn now_ms() -> u64 {
+    critical_section::with(|cs| MILLIS.borrow(cs).get())
+}
+
 /// The SysTick millisecond clock (a handle; the count lives in a static).
 #[derive(Clone, Copy)]
 pub struct SysTickClock(());
 
 impl Clock for SysTickClock {
     fn now_ms(&self) -> u64 {
-        critical_section::with(|cs| MILLIS.borrow(cs).get())
+        now_ms()
     }
 }
 

@@ -377,6 +377,7 @@ fn service(index: usize) {
             PUBLISH.fetch_and(!bit, Ordering::Relaxed);
         }
         if publish || read_volatile(reg(base, FR)) & FR_RXFE == 0 {
+            isr.at(super::now_ms());
             let published = isr.receive_batched(super::WAKE_BYTES, publish, || {
                 if read_volatile(reg(base, FR)) & FR_RXFE != 0 {
                     return None;

@@ -321,6 +321,7 @@ fn service<U: Instance>(index: usize, port: &mut IsrPort<U>) {
     // A few rounds at most: each read either returns a byte, clears an error
     // (the HAL reads DR), or says the register is empty.
     let mut n = 0;
+    port.half.at(super::now_ms());
     for _ in 0..4 {
         match port.rx.read() {
             Ok(b) => {

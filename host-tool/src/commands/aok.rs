@@ -79,7 +79,8 @@ pub(crate) enum AokAction {
     /// Read or write a waypoint, the POIs or the FBC target.
     #[command(subcommand)]
     Waypoint(WaypointAction),
-    /// Motor test: one value, which lapses after 500 ms unless repeated (see --hold-ms).
+    /// Motor test: one value, sent twice 20 ms apart (the box runs a motor from its second
+    /// frame), which lapses after 500 ms unless repeated (see --hold-ms).
     #[command(
         after_help = "Example:\n  protolink aok --to tcp:127.0.0.1:7002 motor 3 40 --hold-ms 2000"
     )]
@@ -602,8 +603,13 @@ fn waypoint_set(s: &mut Session, w: Waypoint) -> Result<String> {
     Ok(format!("{}: confirmed (acked 'O')", waypoint_line(&w)))
 }
 
-/// `motor N VALUE`: sent every 200 ms for `hold` (once without it); with `verify`, the
-/// debug values after the first frame say whether the box took it.
+/// How soon `motor` sends its second frame: the box runs a motor at rest only from a second
+/// frame for it, in a later burst within the 500 ms hold of the first (`sensor-box`'s AOK
+/// link, "Motor test"; `docs/protocol-notes.md` PL41). This is the latency the rule adds.
+const MOTOR_SECOND_FRAME: Duration = Duration::from_millis(20);
+
+/// `motor N VALUE`: sent twice, [`MOTOR_SECOND_FRAME`] apart, then every 200 ms for `hold`;
+/// with `verify`, the debug values after the second frame say whether the box took it.
 fn motor_test(
     s: &mut Session,
     motor: Motor,
@@ -621,7 +627,11 @@ fn motor_test(
     loop {
         s.run(cmd, "the motor test")?;
         sent += 1;
-        if verify && sent == 1 {
+        if sent == 1 {
+            std::thread::sleep(MOTOR_SECOND_FRAME);
+            continue;
+        }
+        if verify && sent == 2 {
             answer = s.verify_motor(motor, value)?;
         }
         if started.elapsed() >= hold {

@@ -1,7 +1,11 @@
 //! What UART0 receives: the decoder, COMMAND (`a pause`, `a resume`, `a reboot`, anything
-//! else answered as unknown) and SETTIME.
+//! else answered as unknown) and SETTIME. `a reboot` is refused in flight (answered with the
+//! TOAST [`REBOOT_REFUSED`](super::REBOOT_REFUSED), counted in
+//! [`LinkCounters::refused_in_flight`](super::LinkCounters::refused_in_flight)): a COMMAND is
+//! checked by a 16-bit CRC, but AEOLUS lets a frame go unchecked (a CRC of `00 00`, A3), and
+//! nothing in flight needs a reboot.
 
-use super::{AeolusLink, FRAME_BUF, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
+use super::{AeolusLink, FRAME_BUF, REBOOT_REFUSED, RX_BUDGET, TX_QUEUE, UNKNOWN_PREFIX, bump};
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
@@ -75,6 +79,12 @@ impl AeolusLink {
                 crate::info!("AEOLUS: a resume");
                 shared.paused = false;
                 self.toast(b"AEOLUS resumed");
+            }
+            b"a reboot" if crate::aok_link::flying(shared) => {
+                crate::warn!("AEOLUS: a reboot refused: flying");
+                self.toast(REBOOT_REFUSED);
+                bump(&mut self.counters.refused_in_flight);
+                return;
             }
             b"a reboot" => {
                 crate::info!("AEOLUS: a reboot");

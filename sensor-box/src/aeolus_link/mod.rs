@@ -116,6 +116,10 @@ pub const BOOT_TOAST: &str = "AEOLUS on";
 /// Prefix of the answer to a COMMAND the box does not know.
 pub const UNKNOWN_PREFIX: &[u8] = b"unknown command: ";
 
+/// The answer (a TOAST) to `a reboot` in flight, which is refused ("flying": AEOLUS
+/// telemetry not paused).
+pub const REBOOT_REFUSED: &[u8] = b"AEOLUS reboot refused: flying";
+
 /// What the link has done since boot (wrapping counters). The decoder keeps its own
 /// ([`AeolusLink::rx_stats`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -129,6 +133,9 @@ pub struct LinkCounters {
     pub tx_dropped: u32,
     /// COMMANDs obeyed ("a pause", "a resume", "a reboot").
     pub commands: u32,
+    /// COMMANDs refused because the box is flying (`a reboot`, answered with
+    /// [`REBOOT_REFUSED`]).
+    pub refused_in_flight: u32,
     /// COMMANDs answered "unknown command".
     pub unknown_commands: u32,
     /// SETTIMEs stored.

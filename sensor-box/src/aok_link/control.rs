@@ -25,6 +25,9 @@ impl AokLink {
         }
     }
 
+    /// A motor-test frame: refused in flight; a motor at rest is armed by the first frame and
+    /// runs from the second of a later burst within [`MOTOR_LAPSE_MS`] (see [`AokLink`],
+    /// "Motor test"); value 0 stops it at once.
     pub(super) fn motor_test(&mut self, m: MotorTest, now_ms: u64, flying: bool) {
         if flying {
             crate::warn!("AOK motor test refused: flying");
@@ -32,18 +35,30 @@ impl AokLink {
             return;
         }
         let index = usize::from(m.motor.get()).wrapping_sub(1);
-        if let Some(out) = self.motors.get_mut(index) {
-            if out.value != m.value {
-                crate::info!(
-                    "AOK motor test: motor {=u8} {=u8} -> {=u8}",
-                    m.motor.get(),
-                    out.value,
-                    m.value
-                );
-            }
-            out.value = m.value;
-            out.until_ms = now_ms.saturating_add(MOTOR_LAPSE_MS);
+        let burst = self.bursts_obeyed;
+        let Some(out) = self.motors.get_mut(index) else {
+            return;
+        };
+        let running = out.value != 0;
+        let repeat = out.armed_until_ms > now_ms && out.armed_burst != burst;
+        if m.value != 0 && !running && !repeat {
+            // The first frame for a motor at rest: armed, not driven.
+            out.armed_until_ms = now_ms.saturating_add(MOTOR_LAPSE_MS);
+            out.armed_burst = burst;
+            self.counters.motor_frames_armed = self.counters.motor_frames_armed.wrapping_add(1);
+            return;
         }
+        if out.value != m.value {
+            crate::info!(
+                "AOK motor test: motor {=u8} {=u8} -> {=u8}",
+                m.motor.get(),
+                out.value,
+                m.value
+            );
+        }
+        out.value = m.value;
+        out.until_ms = now_ms.saturating_add(MOTOR_LAPSE_MS);
+        out.armed_until_ms = 0;
     }
 
     /// `53`: external control takes over (or goes on) until `expiry_ms` from now.

@@ -6,7 +6,7 @@
 
 use super::{AokLink, GAP_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
-use crate::port::{Receive, receive_slices};
+use crate::port::Receive;
 use aok_proto::{Ack, Command, CommandDecoder, Decode, Error as AokError};
 
 impl AokLink {
@@ -23,8 +23,11 @@ impl AokLink {
                 return;
             }
         }
-        let taken = receive_slices(port, RX_BUDGET, |bytes| self.decode(bytes, now_ms));
-        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
+        // A fault counted before these bytes were taken may sit in any burst of them.
+        let faulted = port.receive_faults() != self.faults_seen;
+        let taken = self.take(now_ms, port, shared, faulted);
+        // Read after the bytes: a fault counted while they arrived is seen with them.
+        self.check_line(port.receive_faults(), now_ms);
         let port_empty = match taken {
             Ok(n) => n < RX_BUDGET,
             Err(_) => {
@@ -32,11 +35,69 @@ impl AokLink {
                 false
             }
         };
+        if self.obey_next.is_some() {
+            // A burst the receive side framed waits to be obeyed: the rest waits in the port.
+            return;
+        }
+        self.rx_more = matches!(taken, Ok(n) if n >= RX_BUDGET);
         // Silence only counts when the port has nothing more: bytes left in it (the budget, a
         // port error) may be the rest of the burst.
         if port_empty && self.burst_open && now_ms.saturating_sub(self.last_rx_ms) >= GAP_MS {
             self.end_burst(now_ms, shared);
         }
+    }
+
+    /// Takes received bytes from the port into the open burst, a slice at a time and at most
+    /// [`RX_BUDGET`], and ends the open burst where the port says the receive side saw silence
+    /// before the next byte ([`Receive::burst_starts`]: the commands that waited in the ring
+    /// while the main loop stalled); stops when a burst so ended waits to be obeyed (its
+    /// replies need room in the TX queue). `faulted`: the port counted a line fault that this
+    /// poll has not seen yet, which may sit in any of the bursts taken now: each is discarded.
+    /// The count taken, or the port's error.
+    fn take<P: Receive>(
+        &mut self,
+        now_ms: u64,
+        port: &mut P,
+        shared: &mut Shared,
+        faulted: bool,
+    ) -> Result<usize, P::Error> {
+        let mut total = 0;
+        while total < RX_BUDGET {
+            if self.burst_open && port.burst_starts() {
+                if faulted {
+                    self.burst_clean = false;
+                }
+                self.end_burst(now_ms, shared);
+                if self.obey_next.is_some() {
+                    break;
+                }
+            }
+            let budget = RX_BUDGET - total;
+            let n = port.receive(|bytes| {
+                let piece = bytes.get(..budget).unwrap_or(bytes);
+                self.decode(piece, now_ms)
+            })?;
+            if n == 0 {
+                break;
+            }
+            total += n;
+        }
+        Ok(total)
+    }
+
+    /// A change of the port's fault count since the last poll is line activity now: it opens
+    /// a burst if none is open and spoils it (discarded at the next silence).
+    fn check_line(&mut self, faults: u32, now_ms: u64) {
+        let new = faults.wrapping_sub(self.faults_seen);
+        if new == 0 {
+            return;
+        }
+        crate::debug!("AOK: {=u32} line fault(s): the burst is spoilt", new);
+        self.faults_seen = faults;
+        self.counters.line_faults = self.counters.line_faults.wrapping_add(new);
+        self.last_rx_ms = now_ms;
+        self.burst_open = true;
+        self.burst_clean = false;
     }
 
     /// Decodes `bytes` with the decoder contract's pull form (`next_event`), a byte at a time
@@ -97,6 +158,7 @@ impl AokLink {
         self.decoder = decoder;
         let discarded = self.decoder.stats().bytes_discarded;
         if self.burst_clean && discarded == self.burst_discarded && !self.burst.is_empty() {
+            self.bursts_obeyed = self.bursts_obeyed.wrapping_add(1);
             self.obey_next = Some(0);
             self.obey(now_ms, shared);
         } else {
@@ -135,8 +197,10 @@ impl AokLink {
         let flying = flying(shared);
         match command {
             Command::DebugOff | Command::DebugOn => self.switch_debug(command, now_ms),
-            Command::Reset if flying => {
-                crate::warn!("AOK reset refused: flying");
+            // The `63` family has no check of its own: nothing of it but debug off/on in
+            // flight (the sets and the waypoint store answer 'I' through the store policy).
+            Command::Reset | Command::LoadWaypoints if flying => {
+                crate::warn!("AOK control command refused: flying");
                 self.ack(Ack::InFlight);
             }
             Command::Reset => {

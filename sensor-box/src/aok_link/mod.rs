@@ -147,14 +147,25 @@ pub struct AokCounters {
     /// Errors reported by the port itself, on either side.
     pub port_errors: u32,
     /// Bursts received but not obeyed: not framed by silence as a PC sends a command (garbage
-    /// skipped, a decode error, a frame cut short, or more than [`BURST_COMMANDS`] commands).
+    /// skipped, a decode error, a frame cut short, a line fault, or more than
+    /// [`BURST_COMMANDS`] commands).
     pub bursts_discarded: u32,
+    /// Line faults the port reported ([`Receive::receive_faults`]: UART receive errors,
+    /// bytes dropped); each spoils the burst it falls in.
+    pub line_faults: u32,
+    /// Motor-test frames that armed a motor without driving it: the first frame for a motor
+    /// at rest (it runs from the second, see [`AokLink`], "Motor test").
+    pub motor_frames_armed: u32,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
 struct MotorOutput {
     value: u8,
     until_ms: u64,
+    /// A first frame for this motor at rest arms it until this instant (0: not armed).
+    armed_until_ms: u64,
+    /// The burst ([`AokLink`]'s `bursts_obeyed`) whose frame armed it.
+    armed_burst: u32,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -178,9 +189,32 @@ struct External {
 /// ([`AokCounters::bursts_discarded`]; one 'E' if a checksum or a waypoint slot was bad).
 /// Silence is observed, never inferred: the port is empty after the poll's receive and no byte
 /// was taken for [`GAP_MS`], so a main loop that stalls and then finds many bytes at once
-/// sees no gap, nor do bytes left in the port by [`RX_BUDGET`]. Reads go through the gate too.
+/// sees no gap, nor do bytes left in the port by [`RX_BUDGET`]; there the gap is where the
+/// UART handler saw it by its own clock, if its board tells it the time ([`crate::burst_marks`]:
+/// commands that waited in the ring through a store stall are obeyed one by one). Reads go
+/// through the gate too.
 /// The reply comes about [`GAP_MS`] after the command ([`AokLink::next_wake_ms`] wakes the
 /// poll for it).
+///
+/// A line fault (a UART receive error or a dropped byte, [`Receive::receive_faults`]) is line
+/// activity: it opens a burst if none is open and spoils it, so a command with a damaged or
+/// lost byte, or one that follows a fault without silence between, is discarded.
+///
+/// # In flight
+///
+/// A command without a check of its own changes nothing in flight: every `63` command but
+/// debug off/on (`63 01`, `63 02`) answers 'I' ([`AokCounters::refused_in_flight`]), so a
+/// glitch or one flipped bit (`67 09` read as `63 09`) cannot reset the box, load or store
+/// anything. The checked commands keep their own rules: `73` only for the in-flight
+/// parameters, `77` for the RAM slots, `53` always, the motor test never.
+///
+/// # Motor test
+///
+/// A motor at rest runs only from the second valid frame for it, in a later burst within
+/// [`MOTOR_LAPSE_MS`] of the first (a PC holding a test sends a frame every 200 ms or so);
+/// the first frame arms it ([`AokCounters::motor_frames_armed`]). While it runs each frame
+/// sets its value and holds it [`MOTOR_LAPSE_MS`] more; a frame with value 0 stops it at
+/// once. A glitch, which is one burst, never starts a motor.
 pub struct AokLink {
     decoder: CommandDecoder,
     /// The commands of the burst being received, or of the accepted burst being obeyed.
@@ -195,6 +229,10 @@ pub struct AokLink {
     burst_discarded: u32,
     /// The open burst held a frame with a bad checksum or waypoint slot (answered 'E').
     burst_bad_check: bool,
+    /// Bursts accepted and obeyed (wrapping): tells a motor-test frame from its repeat.
+    bursts_obeyed: u32,
+    /// The port's [`Receive::receive_faults`] at the last poll.
+    faults_seen: u32,
     tx: TxQueue<TX_CAPACITY>,
     debug_on: bool,
     next_debug_ms: u64,
@@ -237,6 +275,8 @@ impl AokLink {
             burst_clean: true,
             burst_discarded: 0,
             burst_bad_check: false,
+            bursts_obeyed: 0,
+            faults_seen: 0,
             tx: TxQueue::new(),
             debug_on: true,
             next_debug_ms: 0,
