@@ -63,7 +63,7 @@ struct Rig {
 
 impl Rig {
     fn new() -> Rig {
-        let mem: &'static mut [u8; 4096] = Box::leak(Box::new([0u8; 4096]));
+        let mem: &'static mut [u8; 8192] = Box::leak(Box::new([0u8; 8192]));
         let mut flash = MemFlash::new(mem);
         let app = App::new(&mut flash, 0);
         Rig {

@@ -9,8 +9,9 @@ mod common;
 
 use common::cut_flash::{CutFlash, Tear};
 use embedded_storage::nor_flash::NorFlash;
+use sensor_box::Persisted;
+use sensor_box::persist::legacy as persist;
 use sensor_box::state::{AOK_PARAMS, StoredWaypoint};
-use sensor_box::{Persisted, persist};
 
 /// Records of different sizes (about 330 bytes to the largest, 1 504), some repeated.
 fn records() -> Vec<Persisted> {

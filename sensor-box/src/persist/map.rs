@@ -1,0 +1,443 @@
+//! The settings map: one `sequential-storage` item per setting group, each with a generation
+//! number, two directory items that name every group's newest generation, and a read-back of
+//! every item written. This file is the async core (generic over
+//! [`embedded_storage_async::nor_flash::NorFlash`]); `mod.rs` drives it from blocking code.
+
+use super::StoreError;
+use crate::Persisted;
+use crate::state::{AOK_PARAMS, AOK_SETS, StoredWaypoint};
+use core::ops::Range;
+use embedded_storage_async::nor_flash::NorFlash;
+use sequential_storage::cache::{Cache, Uncached};
+use sequential_storage::map::{MapConfig, MapStorage};
+
+/// Setting groups, each one map item: the settings, the five AOK parameter sets, the start
+/// set, the 32 waypoint slots in eight groups of four, the store policy's debt.
+pub const GROUPS: usize = 1 + AOK_SETS + 1 + WAYPOINT_GROUPS + 1;
+/// Waypoint slots per item.
+pub const WAYPOINTS_PER_GROUP: usize = 4;
+/// Waypoint items.
+const WAYPOINT_GROUPS: usize = crate::state::AOK_FLASH_WAYPOINTS / WAYPOINTS_PER_GROUP;
+/// Largest group payload (a parameter set: 32 `i32`), bytes.
+const PAYLOAD_MAX: usize = AOK_PARAMS * 4;
+/// An item's value: its generation (`u32`, little-endian), then the payload.
+const VALUE_MAX: usize = 4 + PAYLOAD_MAX;
+/// A directory's value: its sequence number, then every group's generation.
+const DIR_LEN: usize = 4 + 4 * GROUPS;
+/// The library's work buffer: the key (one byte) and the largest value, rounded up to a word
+/// of up to 16 bytes.
+const WORK_LEN: usize = 1 + VALUE_MAX + 15;
+/// Keys of the two directory copies.
+const DIR_KEYS: [u8; 2] = [0xD0, 0xD1];
+/// Writes of one item before a store gives up on it ([`StoreError::Verify`]).
+pub const WRITE_ATTEMPTS: usize = 3;
+/// Index of the store policy's debt among the groups.
+const DEBT_GROUP: usize = GROUPS - 1;
+
+/// The map over `S`, uncached (every fetch scans the pages: no RAM per page or key).
+pub type Map<S> = MapStorage<u8, S, Cache<Uncached, Uncached, Uncached, u8>>;
+
+/// The map over `flash` in `range` (whole erase pages, at least two).
+///
+/// # Errors
+/// [`StoreError::TooLarge`] when the range is not at least two whole erase pages.
+pub fn open<S: NorFlash>(flash: S, range: Range<u32>) -> Result<Map<S>, StoreError> {
+    let config = MapConfig::<S>::try_new(range).map_err(|_| StoreError::TooLarge)?;
+    Ok(MapStorage::new(flash, config, Cache::new_uncached()))
+}
+
+/// The map key of group `g`.
+const fn key(g: usize) -> u8 {
+    match g {
+        0 => 0x01,
+        1..=AOK_SETS => 0x10 + (g - 1) as u8,
+        6 => 0x18,
+        DEBT_GROUP => 0x30,
+        _ => 0x20 + (g - 7) as u8,
+    }
+}
+
+/// Encodes group `g` of `record` (and the policy `debt_ms`) into `out`; its length.
+fn encode(record: &Persisted, debt_ms: u64, g: usize, out: &mut [u8; PAYLOAD_MAX]) -> usize {
+    let mut w = Put { out, at: 0 };
+    match g {
+        0 => {
+            let s = &record.settings;
+            for v in s.intervals.to_array() {
+                w.bytes(&v.to_le_bytes());
+            }
+            for v in [s.airspeed_mps, s.bank_deg, s.altitude_m] {
+                w.bytes(&v.to_le_bytes());
+            }
+            w.bytes(&s.aok_debug_period_ms.to_le_bytes());
+        }
+        1..=AOK_SETS => {
+            for v in record.aok.sets.get(g - 1).into_iter().flatten() {
+                w.bytes(&v.to_le_bytes());
+            }
+        }
+        6 => w.bytes(&[record.aok.start_set]),
+        DEBT_GROUP => w.bytes(&debt_ms.to_le_bytes()),
+        _ => {
+            let first = (g - 7) * WAYPOINTS_PER_GROUP;
+            let slots = record
+                .aok
+                .waypoints
+                .get(first..first + WAYPOINTS_PER_GROUP)
+                .unwrap_or(&[]);
+            for p in slots {
+                w.bytes(&p.lon.to_le_bytes());
+                w.bytes(&p.lat.to_le_bytes());
+                w.bytes(&p.action1.to_le_bytes());
+                w.bytes(&p.action2.to_le_bytes());
+            }
+        }
+    }
+    w.at
+}
+
+/// A bounded writer into a payload buffer.
+struct Put<'a> {
+    out: &'a mut [u8; PAYLOAD_MAX],
+    at: usize,
+}
+
+impl Put<'_> {
+    fn bytes(&mut self, b: &[u8]) {
+        if let Some(dst) = self.out.get_mut(self.at..self.at + b.len()) {
+            dst.copy_from_slice(b);
+            self.at += b.len();
+        }
+    }
+}
+
+/// The little-endian words of `b`, four bytes each.
+fn words(b: &[u8]) -> impl Iterator<Item = [u8; 4]> + '_ {
+    b.chunks_exact(4)
+        .map(|c| <[u8; 4]>::try_from(c).unwrap_or([0; 4]))
+}
+
+/// Decodes group `g` from `p` into `record` (or `debt_ms`). `false` (nothing changed) when
+/// the length is not the group's.
+fn decode(record: &mut Persisted, debt_ms: &mut u64, g: usize, p: &[u8]) -> bool {
+    let mut scratch = [0u8; PAYLOAD_MAX];
+    if p.len() != encode(record, 0, g, &mut scratch) {
+        return false;
+    }
+    match g {
+        0 => {
+            let mut w = [0u32; 10];
+            for (d, b) in w.iter_mut().zip(words(p)) {
+                *d = u32::from_le_bytes(b);
+            }
+            let [a, b, c, d, e, f, air, bank, alt, dbg] = w;
+            let s = &mut record.settings;
+            s.intervals = crate::state::Intervals::from_array([a, b, c, d, e, f]);
+            s.airspeed_mps = f32::from_bits(air);
+            s.bank_deg = f32::from_bits(bank);
+            s.altitude_m = f32::from_bits(alt);
+            s.aok_debug_period_ms = dbg;
+        }
+        1..=AOK_SETS => {
+            if let Some(set) = record.aok.sets.get_mut(g - 1) {
+                for (d, b) in set.iter_mut().zip(words(p)) {
+                    *d = i32::from_le_bytes(b);
+                }
+            }
+        }
+        6 => record.aok.start_set = p.first().copied().unwrap_or(0),
+        DEBT_GROUP => {
+            let mut b = [0u8; 8];
+            b.copy_from_slice(p.get(..8).unwrap_or(&[0; 8]));
+            *debt_ms = u64::from_le_bytes(b);
+        }
+        _ => {
+            let first = (g - 7) * WAYPOINTS_PER_GROUP;
+            let mut w = words(p);
+            let slots = record
+                .aok
+                .waypoints
+                .get_mut(first..first + WAYPOINTS_PER_GROUP)
+                .unwrap_or(&mut []);
+            for slot in slots {
+                let mut next = || w.next().map_or(0, u32::from_le_bytes);
+                let (lon, lat, action1, action2) = (next(), next(), next(), next());
+                *slot = StoredWaypoint {
+                    lon: lon as i32,
+                    lat: lat as i32,
+                    action1,
+                    action2,
+                };
+            }
+        }
+    }
+    true
+}
+
+/// The directory: which generation of each group the last complete store wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Directory {
+    /// One more with every store that wrote something.
+    pub seq: u32,
+    /// Each group's generation (0: never written).
+    pub gens: [u32; GROUPS],
+}
+
+impl Directory {
+    fn to_bytes(self) -> [u8; DIR_LEN] {
+        let mut b = [0u8; DIR_LEN];
+        for (d, v) in b
+            .chunks_exact_mut(4)
+            .zip(core::iter::once(self.seq).chain(self.gens))
+        {
+            d.copy_from_slice(&v.to_le_bytes());
+        }
+        b
+    }
+
+    fn from_bytes(b: &[u8]) -> Option<Directory> {
+        if b.len() != DIR_LEN {
+            return None;
+        }
+        let mut w = words(b).map(u32::from_le_bytes);
+        let seq = w.next()?;
+        let mut gens = [0u32; GROUPS];
+        for (g, v) in gens.iter_mut().zip(w) {
+            *g = v;
+        }
+        Some(Directory { seq, gens })
+    }
+}
+
+/// What [`load`] found in the map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapLoad {
+    /// Groups whose newest copy the directory names did not verify: an older copy (or, with
+    /// none, the default) was used.
+    pub corrupt: u32,
+    /// The store policy's debt stored with the last store, ms.
+    pub debt_ms: u64,
+}
+
+fn flash_err<E>(e: &sequential_storage::Error<E>) -> StoreError {
+    match e {
+        sequential_storage::Error::Storage { .. } => StoreError::Flash,
+        _ => StoreError::Map,
+    }
+}
+
+/// The value of `key` into `out` (`None`: no valid item); its length.
+async fn fetch<S: NorFlash>(
+    map: &mut Map<S>,
+    key: u8,
+    out: &mut [u8; VALUE_MAX],
+) -> Result<Option<usize>, StoreError> {
+    let mut work = [0u8; WORK_LEN];
+    match map.fetch_item::<&[u8]>(&mut work, &key).await {
+        Ok(Some(v)) => {
+            let n = v.len().min(VALUE_MAX);
+            if let (Some(d), Some(s)) = (out.get_mut(..n), v.get(..n)) {
+                d.copy_from_slice(s);
+            }
+            Ok(Some(n).filter(|&m| m == v.len()))
+        }
+        Ok(None) => Ok(None),
+        Err(sequential_storage::Error::Storage { .. }) => Err(StoreError::Flash),
+        // Corruption the library could not repair reads as no item: the directory tells
+        // whether one should have been there.
+        Err(_) => Ok(None),
+    }
+}
+
+/// The newest directory of the two copies, if either verifies.
+pub async fn directory<S: NorFlash>(map: &mut Map<S>) -> Result<Option<Directory>, StoreError> {
+    let mut best: Option<Directory> = None;
+    let mut buf = [0u8; VALUE_MAX];
+    for k in DIR_KEYS {
+        let found = fetch(map, k, &mut buf).await?;
+        if let Some(d) = found
+            .and_then(|n| buf.get(..n))
+            .and_then(Directory::from_bytes)
+            && best.is_none_or(|b| d.seq > b.seq)
+        {
+            best = Some(d);
+        }
+    }
+    Ok(best)
+}
+
+/// Loads every group into `record`. `Ok(None)`: the map holds no directory (never written, or
+/// a migration that did not finish), and `record` is untouched.
+///
+/// # Errors
+/// [`StoreError::Flash`] when the driver fails.
+pub async fn load<S: NorFlash>(
+    map: &mut Map<S>,
+    record: &mut Persisted,
+) -> Result<Option<MapLoad>, StoreError> {
+    let Some(dir) = directory(map).await? else {
+        return Ok(None);
+    };
+    let mut out = MapLoad {
+        corrupt: 0,
+        debt_ms: 0,
+    };
+    let mut buf = [0u8; VALUE_MAX];
+    for (g, &want) in dir.gens.iter().enumerate() {
+        let got = match fetch(map, key(g), &mut buf).await? {
+            Some(n) if n >= 4 => {
+                let gen_now = u32::from_le_bytes([buf[0], buf[1], buf[2], buf[3]]);
+                let payload = buf.get(4..n).unwrap_or(&[]);
+                if decode(record, &mut out.debt_ms, g, payload) {
+                    gen_now
+                } else {
+                    0
+                }
+            }
+            _ => 0,
+        };
+        if got < want {
+            out.corrupt = out.corrupt.saturating_add(1);
+        }
+    }
+    Ok(Some(out))
+}
+
+/// Writes `value` under `key`, then reads it back twice; again (up to [`WRITE_ATTEMPTS`]
+/// times) while a read differs.
+async fn write_verified<S: NorFlash>(
+    map: &mut Map<S>,
+    key: u8,
+    value: &[u8],
+) -> Result<(), StoreError> {
+    let mut work = [0u8; WORK_LEN];
+    let mut back = [0u8; VALUE_MAX];
+    for _ in 0..WRITE_ATTEMPTS {
+        map.store_item(&mut work, &key, &value)
+            .await
+            .map_err(|e| flash_err(&e))?;
+        let mut same = true;
+        for _ in 0..2 {
+            let n = fetch(map, key, &mut back).await?;
+            same &= n.and_then(|n| back.get(..n)) == Some(value);
+        }
+        if same {
+            return Ok(());
+        }
+    }
+    Err(StoreError::Verify)
+}
+
+/// What a successful store did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Stored {
+    /// The map already holds every group as the record has it: nothing was written.
+    Unchanged,
+    /// This many groups were written (and the directory).
+    Written(u8),
+}
+
+/// Erases the pages of `range` that are not erased already, one at a time (a board's
+/// watchdog sees one erase per call, not the whole range).
+async fn erase_pages<S: NorFlash>(flash: &mut S, range: Range<u32>) -> Result<(), StoreError> {
+    let page = u32::try_from(S::ERASE_SIZE).map_err(|_| StoreError::TooLarge)?;
+    let mut at = range.start;
+    let mut buf = [0u8; 64];
+    let unit = S::READ_SIZE.max(1);
+    if page == 0 || !buf.len().is_multiple_of(unit) {
+        return Err(StoreError::Unsupported);
+    }
+    while at < range.end {
+        let end = at.saturating_add(page).min(range.end);
+        let mut blank = true;
+        let mut p = at;
+        while blank && p < end {
+            let n = usize::try_from(end - p).unwrap_or(buf.len()).min(buf.len());
+            let chunk = buf.get_mut(..n).ok_or(StoreError::Unsupported)?;
+            flash.read(p, chunk).await.map_err(|_| StoreError::Flash)?;
+            blank = chunk.iter().all(|&b| b == 0xFF);
+            p = p.saturating_add(u32::try_from(n).map_err(|_| StoreError::TooLarge)?);
+        }
+        if !blank {
+            flash.erase(at, end).await.map_err(|_| StoreError::Flash)?;
+        }
+        at = end;
+    }
+    Ok(())
+}
+
+/// Stores the groups of `record` that differ from the map's (with the policy's `debt_ms`
+/// when any does), each read back; then the directory, twice. With `fresh` (the map's
+/// range), erases the pages of the range that are not blank first and writes every group
+/// (the first store, or a migration).
+///
+/// # Errors
+/// [`StoreError::Flash`] from the driver, [`StoreError::Verify`] when an item never reads
+/// back as written, [`StoreError::Map`] for a map the library refuses.
+pub async fn store<S: NorFlash>(
+    map: &mut Map<S>,
+    record: &Persisted,
+    debt_ms: u64,
+    fresh: Option<Range<u32>>,
+) -> Result<Stored, StoreError> {
+    let mut dir = Directory {
+        seq: 0,
+        gens: [0; GROUPS],
+    };
+    if let Some(range) = fresh.clone() {
+        erase_pages(map.flash(), range).await?;
+    } else if let Some(d) = directory(map).await? {
+        dir = d;
+    }
+    let mut payload = [0u8; PAYLOAD_MAX];
+    let mut value = [0u8; VALUE_MAX];
+    let mut now = [0u8; VALUE_MAX];
+    let mut written = 0u8;
+    for g in 0..GROUPS {
+        if g == DEBT_GROUP && written == 0 {
+            break; // the debt alone is never worth a write
+        }
+        let n = encode(record, debt_ms, g, &mut payload);
+        let current = if fresh.is_some() {
+            None
+        } else {
+            fetch(map, key(g), &mut now).await?
+        };
+        let cur_gen = match current {
+            Some(m) if m >= 4 => {
+                if now.get(4..m) == payload.get(..n) {
+                    continue;
+                }
+                u32::from_le_bytes([now[0], now[1], now[2], now[3]])
+            }
+            _ => 0,
+        };
+        let gen_new = dir
+            .gens
+            .get(g)
+            .copied()
+            .unwrap_or(0)
+            .max(cur_gen)
+            .wrapping_add(1);
+        value[..4].copy_from_slice(&gen_new.to_le_bytes());
+        let total = 4 + n;
+        if let (Some(d), Some(s)) = (value.get_mut(4..total), payload.get(..n)) {
+            d.copy_from_slice(s);
+        }
+        write_verified(map, key(g), value.get(..total).unwrap_or(&[])).await?;
+        if let Some(slot) = dir.gens.get_mut(g) {
+            *slot = gen_new;
+        }
+        written = written.saturating_add(1);
+    }
+    if written == 0 {
+        return Ok(Stored::Unchanged);
+    }
+    dir.seq = dir.seq.wrapping_add(1);
+    let bytes = dir.to_bytes();
+    for k in DIR_KEYS {
+        write_verified(map, k, &bytes).await?;
+    }
+    Ok(Stored::Written(written))
+}
