@@ -810,3 +810,19 @@ fn a_port_that_stops_taking_bytes_keeps_messages_whole_and_never_blocks() {
     assert_eq!(dropped, 1);
     assert_eq!(decoder.stats().bytes_discarded, 0);
 }
+
+#[test]
+fn the_corrupt_items_of_the_boot_are_register_0x0311() {
+    let mut rig = Rig::booted();
+    assert_eq!(
+        rig.read(addr::CORRUPT_ITEMS).map(|(_, v)| v),
+        Some(0u32.to_le_bytes().to_vec()),
+        "a clean boot"
+    );
+    // What `persist::boot` counted (`tests/flash_faults.rs` counts them from a real flip).
+    rig.app.shared.counters.corrupt_items = 3;
+    assert_eq!(
+        rig.read(addr::CORRUPT_ITEMS).map(|(_, v)| v),
+        Some(3u32.to_le_bytes().to_vec())
+    );
+}

@@ -593,3 +593,68 @@ fn one_cut() {
         show(&mut f, "boot");
     }
 }
+
+/// `set + save + reset` repeated (the AOK `63 07` stream of issue 53): one boot a second, each
+/// changes a setting and asks for a store at once, then resets. Flash writes may not outrun
+/// the rate limit of one uninterrupted run: [`STORE_BURST`] plus one per
+/// [`STORE_INTERVAL_MS`] of uptime.
+///
+/// [`STORE_BURST`]: sensor_box::store_policy::STORE_BURST
+/// [`STORE_INTERVAL_MS`]: sensor_box::store_policy::STORE_INTERVAL_MS
+#[test]
+fn set_save_reset_cannot_outrun_the_rate_limit() {
+    use sensor_box::App;
+    use sensor_box::store_policy::{STORE_BURST, STORE_INTERVAL_MS, Verdict};
+    const BOOTS: u64 = 3_334;
+    const UPTIME_MS: u64 = 1_000;
+    let mut mem = vec![0xFFu8; CAPACITY];
+    let mut flash = sensor_box::storage::MemFlash::new(&mut mem);
+    let mut written = 0u64;
+    for boot in 0..BOOTS {
+        let mut app = App::new(&mut flash, 0);
+        app.shared.persisted.settings.airspeed_mps = 20.0 + (boot % 100) as f32;
+        if app.shared.request_store(10, false) == Verdict::Accepted {
+            app.service_requests(&mut flash);
+        }
+        written += u64::from(app.shared.counters.stores_written);
+    }
+    let allowed = STORE_BURST + BOOTS * UPTIME_MS / STORE_INTERVAL_MS;
+    eprintln!("set + save + reset: {written} flash writes in {BOOTS} boots (limit {allowed})");
+    assert!(written <= allowed, "{written} writes > {allowed}");
+    // Uptime refills the bucket: a boot that runs a minute past the burst's slack may store.
+    let mut app = App::new(&mut flash, 0);
+    assert_eq!(app.shared.request_store(10, false), Verdict::TooSoon);
+    assert_eq!(
+        app.shared.request_store(STORE_INTERVAL_MS, false),
+        Verdict::Accepted
+    );
+}
+
+/// A bit flipped at rest in the newest settings item: the App boots with the previous value,
+/// and counts the corrupt item (AYDP 0x0311) instead of rolling back silently.
+#[test]
+fn the_app_counts_a_corrupt_item() {
+    use sensor_box::App;
+    let mut flash = Hostile::new(9);
+    let mut r = first_record();
+    assert!(api::store(&mut flash, &r));
+    let before = flash.mem.clone();
+    r.settings.airspeed_mps = 77.25;
+    assert!(api::store(&mut flash, &r));
+    // The new settings item holds the new airspeed's bytes: flip a bit of them.
+    let pattern = 77.25f32.to_le_bytes();
+    let at = (0..CAPACITY - 4)
+        .find(|&i| flash.mem[i..i + 4] == pattern && before[i..i + 4] != pattern)
+        .expect("the new settings item");
+    flash.flipped[at] |= 0x01;
+    let app = App::with_layout(
+        &mut flash,
+        sensor_box::persist::Layout::halves(8192, 1024),
+        0,
+    );
+    assert_eq!(app.shared.counters.corrupt_items, 1);
+    assert_eq!(
+        app.shared.persisted.settings.airspeed_mps, 33.5,
+        "the older copy"
+    );
+}

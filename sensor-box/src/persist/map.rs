@@ -441,3 +441,42 @@ pub async fn store<S: NorFlash>(
     }
     Ok(Stored::Written(written))
 }
+
+/// One operation on the map, so that a blocking caller drives one future type
+/// ([`run`]): one state machine in the image instead of one per operation.
+#[derive(Debug)]
+pub enum Op<'a> {
+    /// [`load`] into the record.
+    Load(&'a mut Persisted),
+    /// Whether the map holds a [`directory`].
+    HasDirectory,
+    /// [`store`] the record with the policy's debt (`fresh`: the map's range, to start over).
+    Store(&'a Persisted, u64, Option<Range<u32>>),
+}
+
+/// What [`run`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Done {
+    /// [`Op::Load`]'s result.
+    Loaded(Option<MapLoad>),
+    /// [`Op::HasDirectory`]'s answer.
+    HasDirectory(bool),
+    /// [`Op::Store`]'s result.
+    Stored(Stored),
+}
+
+/// Runs `op` on the map.
+///
+/// # Errors
+/// The operation's.
+pub async fn run<S: NorFlash>(map: &mut Map<S>, op: Op<'_>) -> Result<Done, StoreError> {
+    match op {
+        Op::Load(record) => load(map, record).await.map(Done::Loaded),
+        Op::HasDirectory => directory(map)
+            .await
+            .map(|d| Done::HasDirectory(d.is_some())),
+        Op::Store(record, debt_ms, fresh) => {
+            store(map, record, debt_ms, fresh).await.map(Done::Stored)
+        }
+    }
+}

@@ -92,8 +92,9 @@ mod map;
 
 pub use legacy::{PersistedV1, SettingsV1};
 pub use map::{
-    Directory, GROUPS, Map, MapLoad, Stored, WAYPOINTS_PER_GROUP, WRITE_ATTEMPTS,
-    directory as map_directory, load as load_map, open as open_map, store as store_map,
+    Directory, Done, GROUPS, Map, MapLoad, Op, Stored, WAYPOINTS_PER_GROUP, WRITE_ATTEMPTS,
+    directory as map_directory, load as load_map, open as open_map, run as run_map,
+    store as store_map,
 };
 
 use crate::Persisted;
@@ -239,6 +240,22 @@ pub struct Boot {
     pub store_debt_ms: u64,
 }
 
+/// Runs one map operation on the blocking `flash`: the one place that wraps it
+/// (`BlockingAsync`) and drives the async core (`block_on`), so the image holds one copy of
+/// the map's state machine.
+fn exec<F: NorFlash>(flash: &mut F, range: Range<u32>, op: Op<'_>) -> Result<Done, StoreError> {
+    let mut map = open_map(BlockingAsync::new(flash), range)?;
+    block_on(run_map(&mut map, op))
+}
+
+/// The store's outcome from [`exec`].
+fn stored(done: Result<Done, StoreError>) -> Result<Stored, StoreError> {
+    match done? {
+        Done::Stored(s) => Ok(s),
+        _ => Err(StoreError::Map),
+    }
+}
+
 /// Reads of the map's range by [`settle`]: a torn word with one random bit reads the same
 /// every time with odds of 2^-15.
 const SETTLE_READS: usize = 16;
@@ -344,17 +361,16 @@ pub fn boot<F: NorFlash>(flash: &mut F, layout: &Layout) -> Boot {
             Ok(n) => crate::warn!("flash store: {=u32} torn words finished", n),
             Err(e) => crate::warn!("flash store: reading the map for torn words: {}", e),
         }
-        let found = open_map(BlockingAsync::new(&mut *flash), range)
-            .and_then(|mut m| block_on(load_map(&mut m, &mut boot.record)));
+        let found = exec(flash, range, Op::Load(&mut boot.record));
         match found {
-            Ok(Some(l)) => {
+            Ok(Done::Loaded(Some(l))) => {
                 boot.source = Source::Map;
                 boot.corrupt_items = l.corrupt;
                 boot.store_debt_ms = l.debt_ms;
                 log_boot(&boot);
                 return boot;
             }
-            Ok(None) => {}
+            Ok(_) => {}
             Err(e) => {
                 crate::warn!("flash store: settings map: {}", e);
                 boot.record = Persisted::default();
@@ -432,12 +448,48 @@ fn fresh<F: NorFlash>(
             let start = layout.legacy.start.saturating_add(area.start);
             let end = layout.legacy.start.saturating_add(area.end);
             if start < range.end && range.start < end {
-                legacy::store_in_other_area(&mut w, record)?;
+                move_out(&mut w, record)?;
             }
         }
     }
-    let mut map = open_map(BlockingAsync::new(&mut *flash), range.clone())?;
-    block_on(store_map(&mut map, record, debt_ms, Some(range)))
+    stored(exec(
+        flash,
+        range.clone(),
+        Op::Store(record, debt_ms, Some(range)),
+    ))
+}
+
+/// Writes `record` into the old store's area that does not hold its newest image (feature
+/// `legacy-writer`).
+#[cfg(feature = "legacy-writer")]
+fn move_out<F: NorFlash>(w: &mut F, record: &Persisted) -> Result<(), StoreError> {
+    legacy::store_in_other_area(w, record).map(|_| ())
+}
+
+/// Without the feature `legacy-writer`, a layout whose map overlaps the old store is refused.
+#[cfg(not(feature = "legacy-writer"))]
+fn move_out<F: NorFlash>(_: &mut F, _: &Persisted) -> Result<(), StoreError> {
+    Err(StoreError::Unsupported)
+}
+
+/// The format 3 store alone, for a layout without a map (feature `legacy-writer`).
+#[cfg(feature = "legacy-writer")]
+fn store_legacy<F: NorFlash>(
+    flash: &mut F,
+    layout: &Layout,
+    record: &Persisted,
+) -> Result<Stored, StoreError> {
+    let mut w = legacy_window(flash, layout)?;
+    match legacy::store(&mut w, record)? {
+        legacy::Stored::Unchanged => Ok(Stored::Unchanged),
+        _ => Ok(Stored::Written(1)),
+    }
+}
+
+/// Without the feature `legacy-writer`, a layout without a map cannot store.
+#[cfg(not(feature = "legacy-writer"))]
+fn store_legacy<F: NorFlash>(_: &mut F, _: &Layout, _: &Persisted) -> Result<Stored, StoreError> {
+    Err(StoreError::TooLarge)
 }
 
 /// Stores `record` ([`store_in`] over [`Layout::for_flash`], no policy debt).
@@ -488,17 +540,12 @@ pub fn store_in<F: NorFlash>(
     debt_ms: u64,
 ) -> Result<Stored, StoreError> {
     let Some(range) = layout.map.clone() else {
-        let mut w = legacy_window(flash, layout)?;
-        return match legacy::store(&mut w, record)? {
-            legacy::Stored::Unchanged => Ok(Stored::Unchanged),
-            _ => Ok(Stored::Written(1)),
-        };
+        return store_legacy(flash, layout, record);
     };
     settle(flash, &range)?;
     let has_dir = {
-        let mut map = open_map(BlockingAsync::new(&mut *flash), range)?;
-        match block_on(map_directory(&mut map)) {
-            Ok(d) => d.is_some(),
+        match exec(flash, range, Op::HasDirectory) {
+            Ok(d) => d == Done::HasDirectory(true),
             Err(StoreError::Flash) => return Err(StoreError::Flash),
             Err(_) => false,
         }
@@ -507,6 +554,5 @@ pub fn store_in<F: NorFlash>(
         return fresh(flash, layout, record, debt_ms);
     }
     let range = layout.map.clone().ok_or(StoreError::TooLarge)?;
-    let mut map = open_map(BlockingAsync::new(&mut *flash), range)?;
-    block_on(store_map(&mut map, record, debt_ms, None))
+    stored(exec(flash, range, Op::Store(record, debt_ms, None)))
 }
