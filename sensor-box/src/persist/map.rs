@@ -57,8 +57,19 @@ const fn key(g: usize) -> u8 {
     }
 }
 
+/// The payload length of group `g`, bytes.
+const fn payload_len(g: usize) -> usize {
+    match g {
+        0 => 40,
+        1..=AOK_SETS => PAYLOAD_MAX,
+        6 => 1,
+        DEBT_GROUP => 8,
+        _ => WAYPOINTS_PER_GROUP * 16,
+    }
+}
+
 /// Encodes group `g` of `record` (and the policy `debt_ms`) into `out`; its length.
-fn encode(record: &Persisted, debt_ms: u64, g: usize, out: &mut [u8; PAYLOAD_MAX]) -> usize {
+fn encode(record: &Persisted, debt_ms: u64, g: usize, out: &mut [u8]) -> usize {
     let mut w = Put { out, at: 0 };
     match g {
         0 => {
@@ -98,7 +109,7 @@ fn encode(record: &Persisted, debt_ms: u64, g: usize, out: &mut [u8; PAYLOAD_MAX
 
 /// A bounded writer into a payload buffer.
 struct Put<'a> {
-    out: &'a mut [u8; PAYLOAD_MAX],
+    out: &'a mut [u8],
     at: usize,
 }
 
@@ -120,8 +131,7 @@ fn words(b: &[u8]) -> impl Iterator<Item = [u8; 4]> + '_ {
 /// Decodes group `g` from `p` into `record` (or `debt_ms`). `false` (nothing changed) when
 /// the length is not the group's.
 fn decode(record: &mut Persisted, debt_ms: &mut u64, g: usize, p: &[u8]) -> bool {
-    let mut scratch = [0u8; PAYLOAD_MAX];
-    if p.len() != encode(record, 0, g, &mut scratch) {
+    if p.len() != payload_len(g) {
         return false;
     }
     match g {
@@ -226,14 +236,41 @@ fn flash_err<E>(e: &sequential_storage::Error<E>) -> StoreError {
     }
 }
 
+/// The buffers of the map operations, kept by the caller (one frame on the blocking boards)
+/// rather than in the futures, so that every operation shares them: the library's work
+/// buffer (a key and the largest value), the value being written and a value read.
+#[derive(Debug)]
+pub struct Scratch {
+    work: [u8; WORK_LEN],
+    item: [u8; VALUE_MAX],
+    back: [u8; VALUE_MAX],
+}
+
+impl Scratch {
+    /// Zeroed buffers (about 430 bytes).
+    pub const fn new() -> Self {
+        Scratch {
+            work: [0; WORK_LEN],
+            item: [0; VALUE_MAX],
+            back: [0; VALUE_MAX],
+        }
+    }
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// The value of `key` into `out` (`None`: no valid item); its length.
 async fn fetch<S: NorFlash>(
     map: &mut Map<S>,
     key: u8,
+    work: &mut [u8; WORK_LEN],
     out: &mut [u8; VALUE_MAX],
 ) -> Result<Option<usize>, StoreError> {
-    let mut work = [0u8; WORK_LEN];
-    match map.fetch_item::<&[u8]>(&mut work, &key).await {
+    match map.fetch_item::<&[u8]>(work, &key).await {
         Ok(Some(v)) => {
             let n = v.len().min(VALUE_MAX);
             if let (Some(d), Some(s)) = (out.get_mut(..n), v.get(..n)) {
@@ -249,14 +286,24 @@ async fn fetch<S: NorFlash>(
     }
 }
 
+/// The generation at the start of a fetched value.
+fn generation(v: &[u8; VALUE_MAX]) -> u32 {
+    u32::from_le_bytes([v[0], v[1], v[2], v[3]])
+}
+
 /// The newest directory of the two copies, if either verifies.
-pub async fn directory<S: NorFlash>(map: &mut Map<S>) -> Result<Option<Directory>, StoreError> {
+///
+/// # Errors
+/// [`StoreError::Flash`] when the driver fails.
+pub async fn directory<S: NorFlash>(
+    map: &mut Map<S>,
+    s: &mut Scratch,
+) -> Result<Option<Directory>, StoreError> {
     let mut best: Option<Directory> = None;
-    let mut buf = [0u8; VALUE_MAX];
     for k in DIR_KEYS {
-        let found = fetch(map, k, &mut buf).await?;
+        let found = fetch(map, k, &mut s.work, &mut s.back).await?;
         if let Some(d) = found
-            .and_then(|n| buf.get(..n))
+            .and_then(|n| s.back.get(..n))
             .and_then(Directory::from_bytes)
             && best.is_none_or(|b| d.seq > b.seq)
         {
@@ -274,22 +321,21 @@ pub async fn directory<S: NorFlash>(map: &mut Map<S>) -> Result<Option<Directory
 pub async fn load<S: NorFlash>(
     map: &mut Map<S>,
     record: &mut Persisted,
+    s: &mut Scratch,
 ) -> Result<Option<MapLoad>, StoreError> {
-    let Some(dir) = directory(map).await? else {
+    let Some(dir) = directory(map, s).await? else {
         return Ok(None);
     };
     let mut out = MapLoad {
         corrupt: 0,
         debt_ms: 0,
     };
-    let mut buf = [0u8; VALUE_MAX];
     for (g, &want) in dir.gens.iter().enumerate() {
-        let got = match fetch(map, key(g), &mut buf).await? {
+        let got = match fetch(map, key(g), &mut s.work, &mut s.back).await? {
             Some(n) if n >= 4 => {
-                let gen_now = u32::from_le_bytes([buf[0], buf[1], buf[2], buf[3]]);
-                let payload = buf.get(4..n).unwrap_or(&[]);
+                let payload = s.back.get(4..n).unwrap_or(&[]);
                 if decode(record, &mut out.debt_ms, g, payload) {
-                    gen_now
+                    generation(&s.back)
                 } else {
                     0
                 }
@@ -303,23 +349,23 @@ pub async fn load<S: NorFlash>(
     Ok(Some(out))
 }
 
-/// Writes `value` under `key`, then reads it back twice; again (up to [`WRITE_ATTEMPTS`]
-/// times) while a read differs.
+/// Writes the first `len` bytes of `s.item` under `key`, then reads them back twice; again
+/// (up to [`WRITE_ATTEMPTS`] times) while a read differs.
 async fn write_verified<S: NorFlash>(
     map: &mut Map<S>,
     key: u8,
-    value: &[u8],
+    len: usize,
+    s: &mut Scratch,
 ) -> Result<(), StoreError> {
-    let mut work = [0u8; WORK_LEN];
-    let mut back = [0u8; VALUE_MAX];
     for _ in 0..WRITE_ATTEMPTS {
-        map.store_item(&mut work, &key, &value)
+        let value = s.item.get(..len).unwrap_or(&[]);
+        map.store_item(&mut s.work, &key, &value)
             .await
             .map_err(|e| flash_err(&e))?;
         let mut same = true;
         for _ in 0..2 {
-            let n = fetch(map, key, &mut back).await?;
-            same &= n.and_then(|n| back.get(..n)) == Some(value);
+            let n = fetch(map, key, &mut s.work, &mut s.back).await?;
+            same &= n.and_then(|n| s.back.get(..n)) == s.item.get(..len);
         }
         if same {
             return Ok(());
@@ -380,6 +426,7 @@ pub async fn store<S: NorFlash>(
     record: &Persisted,
     debt_ms: u64,
     fresh: Option<Range<u32>>,
+    s: &mut Scratch,
 ) -> Result<Stored, StoreError> {
     let mut dir = Directory {
         seq: 0,
@@ -387,29 +434,27 @@ pub async fn store<S: NorFlash>(
     };
     if let Some(range) = fresh.clone() {
         erase_pages(map.flash(), range).await?;
-    } else if let Some(d) = directory(map).await? {
+    } else if let Some(d) = directory(map, s).await? {
         dir = d;
     }
-    let mut payload = [0u8; PAYLOAD_MAX];
-    let mut value = [0u8; VALUE_MAX];
-    let mut now = [0u8; VALUE_MAX];
     let mut written = 0u8;
     for g in 0..GROUPS {
         if g == DEBT_GROUP && written == 0 {
             break; // the debt alone is never worth a write
         }
-        let n = encode(record, debt_ms, g, &mut payload);
+        let n = encode(record, debt_ms, g, s.item.get_mut(4..).unwrap_or(&mut []));
+        let total = 4 + n;
         let current = if fresh.is_some() {
             None
         } else {
-            fetch(map, key(g), &mut now).await?
+            fetch(map, key(g), &mut s.work, &mut s.back).await?
         };
         let cur_gen = match current {
             Some(m) if m >= 4 => {
-                if now.get(4..m) == payload.get(..n) {
+                if s.back.get(4..m) == s.item.get(4..total) {
                     continue;
                 }
-                u32::from_le_bytes([now[0], now[1], now[2], now[3]])
+                generation(&s.back)
             }
             _ => 0,
         };
@@ -420,12 +465,8 @@ pub async fn store<S: NorFlash>(
             .unwrap_or(0)
             .max(cur_gen)
             .wrapping_add(1);
-        value[..4].copy_from_slice(&gen_new.to_le_bytes());
-        let total = 4 + n;
-        if let (Some(d), Some(s)) = (value.get_mut(4..total), payload.get(..n)) {
-            d.copy_from_slice(s);
-        }
-        write_verified(map, key(g), value.get(..total).unwrap_or(&[])).await?;
+        s.item[..4].copy_from_slice(&gen_new.to_le_bytes());
+        write_verified(map, key(g), total, s).await?;
         if let Some(slot) = dir.gens.get_mut(g) {
             *slot = gen_new;
         }
@@ -436,8 +477,11 @@ pub async fn store<S: NorFlash>(
     }
     dir.seq = dir.seq.wrapping_add(1);
     let bytes = dir.to_bytes();
+    if let Some(d) = s.item.get_mut(..DIR_LEN) {
+        d.copy_from_slice(&bytes);
+    }
     for k in DIR_KEYS {
-        write_verified(map, k, &bytes).await?;
+        write_verified(map, k, DIR_LEN, s).await?;
     }
     Ok(Stored::Written(written))
 }
@@ -469,14 +513,18 @@ pub enum Done {
 ///
 /// # Errors
 /// The operation's.
-pub async fn run<S: NorFlash>(map: &mut Map<S>, op: Op<'_>) -> Result<Done, StoreError> {
+pub async fn run<S: NorFlash>(
+    map: &mut Map<S>,
+    op: Op<'_>,
+    s: &mut Scratch,
+) -> Result<Done, StoreError> {
     match op {
-        Op::Load(record) => load(map, record).await.map(Done::Loaded),
-        Op::HasDirectory => directory(map)
+        Op::Load(record) => load(map, record, s).await.map(Done::Loaded),
+        Op::HasDirectory => directory(map, s)
             .await
             .map(|d| Done::HasDirectory(d.is_some())),
-        Op::Store(record, debt_ms, fresh) => {
-            store(map, record, debt_ms, fresh).await.map(Done::Stored)
-        }
+        Op::Store(record, debt_ms, fresh) => store(map, record, debt_ms, fresh, s)
+            .await
+            .map(Done::Stored),
     }
 }

@@ -92,8 +92,8 @@ mod map;
 
 pub use legacy::{PersistedV1, SettingsV1};
 pub use map::{
-    Directory, Done, GROUPS, Map, MapLoad, Op, Stored, WAYPOINTS_PER_GROUP, WRITE_ATTEMPTS,
-    directory as map_directory, load as load_map, open as open_map, run as run_map,
+    Directory, Done, GROUPS, Map, MapLoad, Op, Scratch, Stored, WAYPOINTS_PER_GROUP,
+    WRITE_ATTEMPTS, directory as map_directory, load as load_map, open as open_map, run as run_map,
     store as store_map,
 };
 
@@ -245,7 +245,8 @@ pub struct Boot {
 /// the map's state machine.
 fn exec<F: NorFlash>(flash: &mut F, range: Range<u32>, op: Op<'_>) -> Result<Done, StoreError> {
     let mut map = open_map(BlockingAsync::new(flash), range)?;
-    block_on(run_map(&mut map, op))
+    let mut scratch = Scratch::new();
+    block_on(run_map(&mut map, op, &mut scratch))
 }
 
 /// The store's outcome from [`exec`].
@@ -348,9 +349,45 @@ fn legacy_window<'f, F: NorFlash>(
 /// assert_eq!(persist::boot(&mut flash, &layout).source, persist::Source::Map);
 /// # Ok::<(), sensor_box::storage::Error>(())
 /// ```
+#[inline(always)]
 pub fn boot<F: NorFlash>(flash: &mut F, layout: &Layout) -> Boot {
-    let mut boot = Boot {
-        record: Persisted::default(),
+    // Inlined, so the record is built where the caller wants it (1.2 KiB of boot stack).
+    let mut record = Persisted::default();
+    let info = boot_into(flash, layout, &mut record);
+    Boot {
+        record,
+        source: info.source,
+        corrupt_items: info.corrupt_items,
+        store_debt_ms: info.store_debt_ms,
+    }
+}
+
+/// What [`boot_into`] found, besides the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BootInfo {
+    /// Where the record came from.
+    pub source: Source,
+    /// Groups whose newest copy did not verify, loaded from an older copy (or the default).
+    pub corrupt_items: u32,
+    /// The store policy's debt stored with the last store, ms.
+    pub store_debt_ms: u64,
+}
+
+/// [`boot`] into `record` (which must hold the defaults), in place: the App builds its
+/// record once.
+///
+/// ```
+/// use sensor_box::storage::MemFlash;
+/// use sensor_box::{Persisted, persist};
+/// let mut mem = [0xFFu8; 8192];
+/// let mut flash = MemFlash::new(&mut mem);
+/// let mut record = Persisted::default();
+/// let info = persist::boot_into(&mut flash, &persist::Layout::for_flash(&flash), &mut record);
+/// assert_eq!((info.source, info.corrupt_items), (persist::Source::Defaults, 0));
+/// ```
+#[inline(never)]
+pub fn boot_into<F: NorFlash>(flash: &mut F, layout: &Layout, record: &mut Persisted) -> BootInfo {
+    let mut info = BootInfo {
         source: Source::Defaults,
         corrupt_items: 0,
         store_debt_ms: 0,
@@ -361,30 +398,28 @@ pub fn boot<F: NorFlash>(flash: &mut F, layout: &Layout) -> Boot {
             Ok(n) => crate::warn!("flash store: {=u32} torn words finished", n),
             Err(e) => crate::warn!("flash store: reading the map for torn words: {}", e),
         }
-        let found = exec(flash, range, Op::Load(&mut boot.record));
-        match found {
+        match exec(flash, range, Op::Load(record)) {
             Ok(Done::Loaded(Some(l))) => {
-                boot.source = Source::Map;
-                boot.corrupt_items = l.corrupt;
-                boot.store_debt_ms = l.debt_ms;
-                log_boot(&boot);
-                return boot;
+                info.source = Source::Map;
+                info.corrupt_items = l.corrupt;
+                info.store_debt_ms = l.debt_ms;
+                log_boot(&info);
+                return info;
             }
             Ok(_) => {}
             Err(e) => {
                 crate::warn!("flash store: settings map: {}", e);
-                boot.record = Persisted::default();
+                *record = Persisted::default();
             }
         }
     }
-    let old =
-        legacy_window(flash, layout).and_then(|mut w| legacy::load_into(&mut w, &mut boot.record));
+    let old = legacy_window(flash, layout).and_then(|mut w| legacy::load_into(&mut w, record));
     match old {
         Ok(version) => {
-            boot.source = Source::Legacy(version);
+            info.source = Source::Legacy(version);
             if layout.map.is_some() {
-                match migrate(flash, layout, &boot.record) {
-                    Ok(()) => boot.source = Source::Migrated(version),
+                match migrate(flash, layout, record) {
+                    Ok(()) => info.source = Source::Migrated(version),
                     Err(e) => crate::warn!("flash store: migration failed: {}", e),
                 }
             }
@@ -392,11 +427,11 @@ pub fn boot<F: NorFlash>(flash: &mut F, layout: &Layout) -> Boot {
         Err(StoreError::Empty) => {}
         Err(e) => crate::warn!("flash store: format 1-3 store: {}", e),
     }
-    log_boot(&boot);
-    boot
+    log_boot(&info);
+    info
 }
 
-fn log_boot(boot: &Boot) {
+fn log_boot(boot: &BootInfo) {
     match boot.source {
         Source::Map if boot.corrupt_items == 0 => crate::info!("flash store: settings loaded"),
         Source::Map => crate::warn!(
