@@ -90,7 +90,7 @@ pub const NAME: &str = "stm32f411";
 #[cfg(feature = "qemu-stm32")]
 pub const NAME: &str = "stm32f411 (simulated: QEMU netduinoplus2)";
 
-/// The settings store: sectors 6 and 7 of the internal flash.
+/// The settings store: sectors 5 to 7 of the internal flash.
 #[cfg(not(feature = "qemu-stm32"))]
 pub type Store = FlashWindow<Stm32Flash>;
 /// `qemu-stm32`: the settings store is NOR flash emulated in the model's RAM.

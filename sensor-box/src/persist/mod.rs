@@ -74,7 +74,8 @@
 //!
 //! let mut mem = [0xFFu8; 8192];
 //! let mut flash = MemFlash::new(&mut mem);
-//! let boot = persist::boot(&mut flash, &persist::Layout::for_flash(&flash));
+//! let layout = persist::Layout::for_flash(&flash);
+//! let boot = persist::boot(&mut flash, &layout);
 //! assert_eq!(boot.source, persist::Source::Defaults);
 //!
 //! let mut record = Persisted::default();
@@ -83,7 +84,7 @@
 //! assert_eq!(persist::load_or_default(&mut flash), record);
 //! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Unchanged);
 //! record.settings.airspeed_mps = 55.0;
-//! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Written(2)); // the settings, the debt
+//! assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Written(1)); // the settings group
 //! # Ok::<(), persist::StoreError>(())
 //! ```
 
@@ -382,7 +383,8 @@ pub struct BootInfo {
 /// let mut mem = [0xFFu8; 8192];
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut record = Persisted::default();
-/// let info = persist::boot_into(&mut flash, &persist::Layout::for_flash(&flash), &mut record);
+/// let layout = persist::Layout::for_flash(&flash);
+/// let info = persist::boot_into(&mut flash, &layout, &mut record);
 /// assert_eq!((info.source, info.corrupt_items), (persist::Source::Defaults, 0));
 /// ```
 #[inline(never)]
