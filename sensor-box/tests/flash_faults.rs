@@ -37,8 +37,10 @@ mod api {
     use super::Hostile;
     use sensor_box::{Persisted, persist};
 
-    /// The flash as the firmware before the map left it: a format 3 store holding `r`.
+    /// The flash as the firmware before the map left it: a format 3 store holding `r`, and
+    /// the map's range as QEMU's RAM is at power-on (zeros: every page must be erased).
     pub fn seed(f: &mut Hostile, r: &Persisted) {
+        f.mem[..4096].fill(0);
         let mut w = sensor_box::storage::FlashWindow::new(f, 4096, 4096).expect("window");
         persist::legacy::store(&mut w, r).expect("seed");
     }

@@ -238,21 +238,20 @@ fn flash_err<E>(e: &sequential_storage::Error<E>) -> StoreError {
 
 /// The buffers of the map operations, kept by the caller (one frame on the blocking boards)
 /// rather than in the futures, so that every operation shares them: the library's work
-/// buffer (a key and the largest value), the value being written and a value read.
+/// buffer (a key and the largest value, where a fetched value is read in place) and the value
+/// being written.
 #[derive(Debug)]
 pub struct Scratch {
     work: [u8; WORK_LEN],
     item: [u8; VALUE_MAX],
-    back: [u8; VALUE_MAX],
 }
 
 impl Scratch {
-    /// Zeroed buffers (about 430 bytes).
+    /// Zeroed buffers (about 280 bytes).
     pub const fn new() -> Self {
         Scratch {
             work: [0; WORK_LEN],
             item: [0; VALUE_MAX],
-            back: [0; VALUE_MAX],
         }
     }
 }
@@ -263,22 +262,14 @@ impl Default for Scratch {
     }
 }
 
-/// The value of `key` into `out` (`None`: no valid item); its length.
-async fn fetch<S: NorFlash>(
+/// The value of `key`, read into `work` (`None`: no valid item).
+async fn fetch<'w, S: NorFlash>(
     map: &mut Map<S>,
     key: u8,
-    work: &mut [u8; WORK_LEN],
-    out: &mut [u8; VALUE_MAX],
-) -> Result<Option<usize>, StoreError> {
-    match map.fetch_item::<&[u8]>(work, &key).await {
-        Ok(Some(v)) => {
-            let n = v.len().min(VALUE_MAX);
-            if let (Some(d), Some(s)) = (out.get_mut(..n), v.get(..n)) {
-                d.copy_from_slice(s);
-            }
-            Ok(Some(n).filter(|&m| m == v.len()))
-        }
-        Ok(None) => Ok(None),
+    work: &'w mut [u8; WORK_LEN],
+) -> Result<Option<&'w [u8]>, StoreError> {
+    match map.fetch_item::<&'w [u8]>(work, &key).await {
+        Ok(v) => Ok(v),
         Err(sequential_storage::Error::Storage { .. }) => Err(StoreError::Flash),
         // Corruption the library could not repair reads as no item: the directory tells
         // whether one should have been there.
@@ -286,9 +277,11 @@ async fn fetch<S: NorFlash>(
     }
 }
 
-/// The generation at the start of a fetched value.
-fn generation(v: &[u8; VALUE_MAX]) -> u32 {
-    u32::from_le_bytes([v[0], v[1], v[2], v[3]])
+/// The generation at the start of a fetched value (0 for a value shorter than one).
+fn generation(v: &[u8]) -> u32 {
+    v.get(..4)
+        .and_then(|b| <[u8; 4]>::try_from(b).ok())
+        .map_or(0, u32::from_le_bytes)
 }
 
 /// The newest directory of the two copies, if either verifies.
@@ -301,10 +294,8 @@ pub async fn directory<S: NorFlash>(
 ) -> Result<Option<Directory>, StoreError> {
     let mut best: Option<Directory> = None;
     for k in DIR_KEYS {
-        let found = fetch(map, k, &mut s.work, &mut s.back).await?;
-        if let Some(d) = found
-            .and_then(|n| s.back.get(..n))
-            .and_then(Directory::from_bytes)
+        let found = fetch(map, k, &mut s.work).await?;
+        if let Some(d) = found.and_then(Directory::from_bytes)
             && best.is_none_or(|b| d.seq > b.seq)
         {
             best = Some(d);
@@ -331,11 +322,11 @@ pub async fn load<S: NorFlash>(
         debt_ms: 0,
     };
     for (g, &want) in dir.gens.iter().enumerate() {
-        let got = match fetch(map, key(g), &mut s.work, &mut s.back).await? {
-            Some(n) if n >= 4 => {
-                let payload = s.back.get(4..n).unwrap_or(&[]);
+        let got = match fetch(map, key(g), &mut s.work).await? {
+            Some(v) if v.len() >= 4 => {
+                let payload = v.get(4..).unwrap_or(&[]);
                 if decode(record, &mut out.debt_ms, g, payload) {
-                    generation(&s.back)
+                    generation(v)
                 } else {
                     0
                 }
@@ -364,8 +355,8 @@ async fn write_verified<S: NorFlash>(
             .map_err(|e| flash_err(&e))?;
         let mut same = true;
         for _ in 0..2 {
-            let n = fetch(map, key, &mut s.work, &mut s.back).await?;
-            same &= n.and_then(|n| s.back.get(..n)) == s.item.get(..len);
+            let back = fetch(map, key, &mut s.work).await?;
+            same &= back == s.item.get(..len);
         }
         if same {
             return Ok(());
@@ -447,14 +438,14 @@ pub async fn store<S: NorFlash>(
         let current = if fresh.is_some() {
             None
         } else {
-            fetch(map, key(g), &mut s.work, &mut s.back).await?
+            fetch(map, key(g), &mut s.work).await?
         };
         let cur_gen = match current {
-            Some(m) if m >= 4 => {
-                if s.back.get(4..m) == s.item.get(4..total) {
+            Some(v) if v.len() >= 4 => {
+                if v.get(4..) == s.item.get(4..total) {
                     continue;
                 }
-                generation(&s.back)
+                generation(v)
             }
             _ => 0,
         };
