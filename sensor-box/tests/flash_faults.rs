@@ -88,10 +88,14 @@ struct Hostile {
 
 impl Hostile {
     fn new(seed: u64) -> Self {
+        Self::with_capacity(seed, CAPACITY)
+    }
+
+    fn with_capacity(seed: u64, capacity: usize) -> Self {
         Hostile {
-            mem: vec![0xFF; CAPACITY],
-            unstable: vec![0; CAPACITY],
-            flipped: vec![0; CAPACITY],
+            mem: vec![0xFF; capacity],
+            unstable: vec![0; capacity],
+            flipped: vec![0; capacity],
             rng: seed | 1,
             budget: None,
             off: false,
@@ -163,7 +167,7 @@ impl ReadNorFlash for Hostile {
     }
 
     fn capacity(&self) -> usize {
-        CAPACITY
+        self.mem.len()
     }
 }
 
@@ -706,4 +710,62 @@ fn a_torn_page_marker_makes_the_bare_map_load_different_records() {
         assert_eq!(api::boot(&mut f).0, first);
     }
     assert!(first == seq.records[k] || first == seq.records[k - 1]);
+}
+
+/// The STM32F411's layout, scaled to 1 KiB pages: the map on 8 pages (sectors 5 and 6), the
+/// format 1-3 store on the last 8 (sectors 6 and 7), overlapping by 4. The old newest image
+/// lies in the overlap (area A, sector 6), so the migration moves it into area B first. A cut
+/// at every byte of that boot: the next boot loads the old record, and a boot without cuts
+/// finishes the migration.
+#[test]
+fn the_stm32_layout_migration_survives_cuts() {
+    use sensor_box::persist::{self, Layout, Source};
+    let layout = Layout {
+        map: Some(0..8192),
+        legacy: 4096..12288,
+    };
+    let r0 = first_record();
+    let mut seeded = Hostile::with_capacity(11, 12288);
+    {
+        let mut w = sensor_box::storage::FlashWindow::new(&mut seeded, 4096, 8192).expect("window");
+        persist::legacy::store(&mut w, &r0).expect("seed");
+        assert_eq!(
+            persist::legacy::newest_area(&mut w),
+            Some(0..4096),
+            "in area A"
+        );
+    }
+    let mut clean = seeded.clone();
+    let boot = persist::boot(&mut clean, &layout);
+    assert_eq!(
+        (boot.record == r0, boot.source),
+        (true, Source::Migrated(3))
+    );
+    let work = clean.work - seeded.work;
+    assert!(work > 4096, "the migration erases and writes: {work}");
+    let mut cuts = 0;
+    let mut cut = 0;
+    while cut < work {
+        let mut f = seeded.clone();
+        f.rng ^= cut.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        f.budget = Some(cut);
+        let _ = persist::boot(&mut f, &layout);
+        f.power_on();
+        assert_eq!(persist::boot(&mut f, &layout).record, r0, "cut at {cut}");
+        assert_eq!(
+            persist::boot(&mut f, &layout).record,
+            r0,
+            "cut at {cut}, again"
+        );
+        cuts += 1;
+        cut += 1;
+    }
+    eprintln!(
+        "STM32 layout: {cuts} cuts of the migration ({work} bytes), every boot the old record"
+    );
+    let mut next = r0.clone();
+    next.aok.start_set = 1;
+    assert!(persist::store_in(&mut clean, &layout, &next, 0).is_ok());
+    let boot = persist::boot(&mut clean, &layout);
+    assert_eq!((boot.record == next, boot.source), (true, Source::Map));
 }
