@@ -39,6 +39,15 @@ pub type Map<S> = MapStorage<u8, S, Cache<Uncached, Uncached, Uncached, u8>>;
 
 /// The map over `flash` in `range` (whole erase pages, at least two).
 ///
+/// ```
+/// use embassy_embedded_hal::adapter::BlockingAsync;
+/// use sensor_box::{persist, storage::MemFlash};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// assert!(persist::open_map(BlockingAsync::new(&mut flash), 0..4096).is_ok());
+/// assert!(persist::open_map(BlockingAsync::new(&mut flash), 0..1024).is_err()); // one page
+/// ```
+///
 /// # Errors
 /// [`StoreError::TooLarge`] when the range is not at least two whole erase pages.
 pub fn open<S: NorFlash>(flash: S, range: Range<u32>) -> Result<Map<S>, StoreError> {
@@ -248,6 +257,11 @@ pub struct Scratch {
 
 impl Scratch {
     /// Zeroed buffers (about 280 bytes).
+    ///
+    /// ```
+    /// let s = sensor_box::persist::Scratch::new();
+    /// assert!(core::mem::size_of_val(&s) < 300);
+    /// ```
     pub const fn new() -> Self {
         Scratch {
             work: [0; WORK_LEN],
@@ -288,6 +302,20 @@ fn generation(v: &[u8]) -> u32 {
 ///
 /// # Errors
 /// [`StoreError::Flash`] when the driver fails.
+///
+/// ```
+/// use embassy_embedded_hal::adapter::BlockingAsync;
+/// use embassy_futures::block_on;
+/// use sensor_box::{Persisted, persist, storage::MemFlash};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// let mut map = persist::open_map(BlockingAsync::new(&mut flash), 0..4096)?;
+/// let mut s = persist::Scratch::new();
+/// assert_eq!(block_on(persist::map_directory(&mut map, &mut s))?, None);
+/// block_on(persist::store_map(&mut map, &Persisted::default(), 0, Some(0..4096), &mut s))?;
+/// assert_eq!(block_on(persist::map_directory(&mut map, &mut s))?.map(|d| d.seq), Some(1));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
 pub async fn directory<S: NorFlash>(
     map: &mut Map<S>,
     s: &mut Scratch,
@@ -309,6 +337,24 @@ pub async fn directory<S: NorFlash>(
 ///
 /// # Errors
 /// [`StoreError::Flash`] when the driver fails.
+///
+/// ```
+/// use embassy_embedded_hal::adapter::BlockingAsync;
+/// use embassy_futures::block_on;
+/// use sensor_box::{Persisted, persist, storage::MemFlash};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// let mut map = persist::open_map(BlockingAsync::new(&mut flash), 0..4096)?;
+/// let mut s = persist::Scratch::new();
+/// let mut stored = Persisted::default();
+/// stored.aok.sets[2][5] = -40;
+/// block_on(persist::store_map(&mut map, &stored, 60_000, Some(0..4096), &mut s))?;
+/// let mut record = Persisted::default();
+/// let found = block_on(persist::load_map(&mut map, &mut record, &mut s))?;
+/// assert_eq!(found.map(|l| (l.corrupt, l.debt_ms)), Some((0, 60_000)));
+/// assert_eq!(record, stored);
+/// # Ok::<(), persist::StoreError>(())
+/// ```
 pub async fn load<S: NorFlash>(
     map: &mut Map<S>,
     record: &mut Persisted,
@@ -412,6 +458,23 @@ async fn erase_pages<S: NorFlash>(flash: &mut S, range: Range<u32>) -> Result<()
 /// # Errors
 /// [`StoreError::Flash`] from the driver, [`StoreError::Verify`] when an item never reads
 /// back as written, [`StoreError::Map`] for a map the library refuses.
+///
+/// ```
+/// use embassy_embedded_hal::adapter::BlockingAsync;
+/// use embassy_futures::block_on;
+/// use sensor_box::{Persisted, persist, storage::MemFlash};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// let mut map = persist::open_map(BlockingAsync::new(&mut flash), 0..4096)?;
+/// let mut s = persist::Scratch::new();
+/// let mut r = Persisted::default();
+/// block_on(persist::store_map(&mut map, &r, 0, Some(0..4096), &mut s))?;
+/// assert_eq!(block_on(persist::store_map(&mut map, &r, 0, None, &mut s))?, persist::Stored::Unchanged);
+/// r.aok.start_set = 2;
+/// // The start set, and the debt with it.
+/// assert_eq!(block_on(persist::store_map(&mut map, &r, 0, None, &mut s))?, persist::Stored::Written(1));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
 pub async fn store<S: NorFlash>(
     map: &mut Map<S>,
     record: &Persisted,
@@ -456,7 +519,9 @@ pub async fn store<S: NorFlash>(
             .unwrap_or(0)
             .max(cur_gen)
             .wrapping_add(1);
-        s.item[..4].copy_from_slice(&gen_new.to_le_bytes());
+        if let Some(d) = s.item.get_mut(..4) {
+            d.copy_from_slice(&gen_new.to_le_bytes());
+        }
         write_verified(map, key(g), total, s).await?;
         if let Some(slot) = dir.gens.get_mut(g) {
             *slot = gen_new;
@@ -500,10 +565,27 @@ pub enum Done {
     Stored(Stored),
 }
 
-/// Runs `op` on the map.
+/// Runs `op` on the map: the async entry point an async board drives (natively, or through
+/// `embassy_futures::block_on` as the blocking boards do).
 ///
 /// # Errors
 /// The operation's.
+///
+/// ```
+/// use embassy_embedded_hal::adapter::BlockingAsync;
+/// use embassy_futures::block_on;
+/// use sensor_box::persist::{self, Done, Op};
+/// use sensor_box::{Persisted, storage::MemFlash};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// let mut map = persist::open_map(BlockingAsync::new(&mut flash), 0..4096)?;
+/// let mut s = persist::Scratch::new();
+/// assert_eq!(block_on(persist::run_map(&mut map, Op::HasDirectory, &mut s))?, Done::HasDirectory(false));
+/// let r = Persisted::default();
+/// block_on(persist::run_map(&mut map, Op::Store(&r, 0, Some(0..4096)), &mut s))?;
+/// assert_eq!(block_on(persist::run_map(&mut map, Op::HasDirectory, &mut s))?, Done::HasDirectory(true));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
 pub async fn run<S: NorFlash>(
     map: &mut Map<S>,
     op: Op<'_>,
