@@ -1,6 +1,8 @@
-//! Power cuts at every byte of every erase and program of a sequence of stores: after each
-//! cut the box boots with the old record or the new one, never the defaults, and the next
-//! store works. The flash model is [`CutFlash`] (`tests/common/cut_flash.rs`).
+//! The format 1-3 store (`persist::legacy`, which the STM32F411's migration still writes
+//! once): power cuts at every byte of every erase and program of a sequence of stores; after
+//! each cut it loads the old record or the new one, never the defaults, and the next store
+//! works. The flash model is [`CutFlash`] (`tests/common/cut_flash.rs`). The settings map is
+//! tested against a more hostile model in `tests/flash_faults.rs`.
 //!
 //! `cargo test -p sensor-box --test power_cut -- --nocapture` prints the figures of
 //! `docs/RELIABILITY.md` ("Power cuts and flash wear").
