@@ -421,8 +421,10 @@ pub enum Stored {
     Written(u8),
 }
 
-/// Erases the pages of `range` that are not erased already, one at a time (a board's
-/// watchdog sees one erase per call, not the whole range).
+/// Erases the pages of `range` that are not erased already, one at a time: a migration cut
+/// short by a reset (on the STM32F411 the boot that migrates erases up to three 128 KiB
+/// sectors, 1 to 4 s each, under an 8 s watchdog) does not erase again what it erased
+/// before, so the next boot gets further.
 async fn erase_pages<S: NorFlash>(flash: &mut S, range: Range<u32>) -> Result<(), StoreError> {
     let page = u32::try_from(S::ERASE_SIZE).map_err(|_| StoreError::TooLarge)?;
     let mut at = range.start;
