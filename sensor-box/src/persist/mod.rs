@@ -114,25 +114,27 @@ use embedded_storage::nor_flash::NorFlash;
 pub enum StoreError {
     /// The flash driver reported an error.
     Flash,
-    /// The record (padded to the write size) does not fit one area (half the store, rounded
-    /// down to whole erase pages), or its payload is longer than [`PAYLOAD_MAX`].
+    /// A range that does not hold the store: a map range of fewer than two erase pages, a
+    /// format 3 image that does not fit one area of the old store (its payload longer than
+    /// [`legacy::PAYLOAD_MAX`]), or a layout without a map where only the map can store
+    /// (without the feature `legacy-writer`).
     TooLarge,
     /// The flash's `READ_SIZE` or `WRITE_SIZE` is above 64 bytes or not a power of two.
     Unsupported,
     /// Load: the store holds no image (erased, or zero RAM after power-on on QEMU).
     Empty,
-    /// Load: the first four bytes are not [`MAGIC`].
+    /// Load: the first four bytes are not [`legacy::MAGIC`].
     BadMagic,
     /// Load: a format version this firmware cannot read.
     UnsupportedVersion(u16),
-    /// Load: the payload length is 0, above [`PAYLOAD_MAX`] or beyond the store.
+    /// Load: the payload length is 0, above [`legacy::PAYLOAD_MAX`] or beyond the store.
     BadLength(u32),
     /// Load: the CRC does not match.
     BadCrc,
     /// Load: the payload passed the CRC but is not a record of its version.
     Decode,
-    /// Store: the flash does not read back what was written (after
-    /// [`WRITE_ATTEMPTS`](map::WRITE_ATTEMPTS) writes of one item).
+    /// Store: the flash does not read back what was written (after [`WRITE_ATTEMPTS`] writes
+    /// of one item).
     Verify,
     /// The settings map refused the flash range or found it corrupt beyond repair.
     Map,
