@@ -11,9 +11,10 @@
 //! Structure:
 //! - [`state`]: the data the links share ([`Shared`]), the [`Settings`] and the
 //!   [`Persisted`] record kept in flash.
-//! - [`persist`]: loading and storing the [`Persisted`] record (postcard, versioned, CRC,
-//!   A/B images that survive a power cut), and [`store_policy`]: when a command may store it
-//!   (not in flight, rate-limited).
+//! - [`persist`]: loading and storing the [`Persisted`] record (a `sequential-storage` map,
+//!   one item per setting group, read back and generation-checked; the format 1-3 store
+//!   migrated once), and [`store_policy`]: when a command may store it (not in flight,
+//!   rate-limited across resets).
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
