@@ -490,8 +490,8 @@ pub async fn store<S: NorFlash>(
     };
     if let Some(range) = fresh.clone() {
         erase_pages(map.flash(), range).await?;
-    } else if let Some(d) = directory(map, s).await? {
-        dir = d;
+    } else {
+        dir = directory(map, s).await?.ok_or(StoreError::Empty)?;
     }
     let mut written = 0u8;
     for g in 0..GROUPS {
@@ -544,8 +544,9 @@ pub async fn store<S: NorFlash>(
     Ok(Stored::Written(written))
 }
 
-/// One operation on the map, so that a blocking caller drives one future type
-/// ([`run`]): one state machine in the image instead of one per operation.
+/// One operation on the map, for a caller that picks the operation at run time ([`run`]). The
+/// blocking entry points call [`load`] and [`store`] directly: one dispatching state machine
+/// cost the QEMU image about 1 KiB more.
 #[derive(Debug)]
 pub enum Op<'a> {
     /// [`load`] into the record.

@@ -243,23 +243,6 @@ pub struct Boot {
     pub store_debt_ms: u64,
 }
 
-/// Runs one map operation on the blocking `flash`: the one place that wraps it
-/// (`BlockingAsync`) and drives the async core (`block_on`), so the image holds one copy of
-/// the map's state machine.
-fn exec<F: NorFlash>(flash: &mut F, range: Range<u32>, op: Op<'_>) -> Result<Done, StoreError> {
-    let mut map = open_map(BlockingAsync::new(flash), range)?;
-    let mut scratch = Scratch::new();
-    block_on(run_map(&mut map, op, &mut scratch))
-}
-
-/// The store's outcome from [`exec`].
-fn stored(done: Result<Done, StoreError>) -> Result<Stored, StoreError> {
-    match done? {
-        Done::Stored(s) => Ok(s),
-        _ => Err(StoreError::Map),
-    }
-}
-
 /// Reads of the map's range by [`settle`]: a torn word with one random bit reads the same
 /// every time with odds of 2^-15.
 const SETTLE_READS: usize = 16;
@@ -402,8 +385,11 @@ pub fn boot_into<F: NorFlash>(flash: &mut F, layout: &Layout, record: &mut Persi
             Ok(n) => crate::warn!("flash store: {=u32} torn words finished", n),
             Err(e) => crate::warn!("flash store: reading the map for torn words: {}", e),
         }
-        match exec(flash, range, Op::Load(record)) {
-            Ok(Done::Loaded(Some(l))) => {
+        let mut scratch = Scratch::new();
+        let found = open_map(BlockingAsync::new(&mut *flash), range)
+            .and_then(|mut m| block_on(load_map(&mut m, record, &mut scratch)));
+        match found {
+            Ok(Some(l)) => {
                 info.source = Source::Map;
                 info.corrupt_items = l.corrupt;
                 info.store_debt_ms = l.debt_ms;
@@ -491,10 +477,14 @@ fn fresh<F: NorFlash>(
             }
         }
     }
-    stored(exec(
-        flash,
-        range.clone(),
-        Op::Store(record, debt_ms, Some(range)),
+    let mut scratch = Scratch::new();
+    let mut map = open_map(BlockingAsync::new(&mut *flash), range.clone())?;
+    block_on(store_map(
+        &mut map,
+        record,
+        debt_ms,
+        Some(range),
+        &mut scratch,
     ))
 }
 
@@ -582,16 +572,12 @@ pub fn store_in<F: NorFlash>(
         return store_legacy(flash, layout, record);
     };
     settle(flash, &range)?;
-    let has_dir = {
-        match exec(flash, range, Op::HasDirectory) {
-            Ok(d) => d == Done::HasDirectory(true),
-            Err(StoreError::Flash) => return Err(StoreError::Flash),
-            Err(_) => false,
-        }
-    };
-    if !has_dir {
-        return fresh(flash, layout, record, debt_ms);
+    let mut scratch = Scratch::new();
+    let done = open_map(BlockingAsync::new(&mut *flash), range)
+        .and_then(|mut map| block_on(store_map(&mut map, record, debt_ms, None, &mut scratch)));
+    match done {
+        // No directory: the first store, or a migration that did not finish.
+        Err(StoreError::Empty) => fresh(flash, layout, record, debt_ms),
+        done => done,
     }
-    let range = layout.map.clone().ok_or(StoreError::TooLarge)?;
-    stored(exec(flash, range, Op::Store(record, debt_ms, None)))
 }
