@@ -663,6 +663,22 @@ fn the_app_counts_a_corrupt_item() {
         app.shared.persisted.settings.airspeed_mps, 33.5,
         "the older copy"
     );
+    // The next store writes the group again although the App's record equals the older copy:
+    // the corruption is counted at one boot, not at every boot after it.
+    let mut app = app;
+    assert_eq!(
+        app.shared.request_store(0, false),
+        sensor_box::store_policy::Verdict::Accepted
+    );
+    app.service_requests(&mut flash);
+    assert_eq!(app.shared.counters.stores_written, 1);
+    let app = App::with_layout(
+        &mut flash,
+        sensor_box::persist::Layout::halves(8192, 1024),
+        0,
+    );
+    assert_eq!(app.shared.counters.corrupt_items, 0);
+    assert_eq!(app.shared.persisted.settings.airspeed_mps, 33.5);
 }
 
 /// The library defect the store guards against (`persist::settle`): a power cut while the map

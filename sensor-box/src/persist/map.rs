@@ -505,22 +505,19 @@ pub async fn store<S: NorFlash>(
         } else {
             fetch(map, key(g), &mut s.work).await?
         };
+        let named = dir.gens.get(g).copied().unwrap_or(0);
         let cur_gen = match current {
             Some(v) if v.len() >= 4 => {
-                if v.get(4..) == s.item.get(4..total) {
+                // Unchanged, unless this is an older copy whose newer one no longer verifies:
+                // written again, so the corrupt item is counted at one boot, not every boot.
+                if v.get(4..) == s.item.get(4..total) && generation(v) >= named {
                     continue;
                 }
                 generation(v)
             }
             _ => 0,
         };
-        let gen_new = dir
-            .gens
-            .get(g)
-            .copied()
-            .unwrap_or(0)
-            .max(cur_gen)
-            .wrapping_add(1);
+        let gen_new = named.max(cur_gen).wrapping_add(1);
         if let Some(d) = s.item.get_mut(..4) {
             d.copy_from_slice(&gen_new.to_le_bytes());
         }

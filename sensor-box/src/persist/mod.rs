@@ -33,6 +33,8 @@
 //! 0x0311) and logs "flash store: N corrupt items, older copies used". A generation above the
 //! directory's is a store cut between its groups and its directory: the group holds the new
 //! value, which is what the store was writing.
+//! The next store writes a group whose copy is older than the directory's even when its value
+//! did not change, so a corrupt item is counted at one boot, not at every boot after it.
 //!
 //! # Read-back
 //!
