@@ -7,7 +7,7 @@
 //!
 //! 1. `board::init()`: clocks, SysTick, three interrupt-driven UARTs, the
 //!    flash store;
-//! 2. `App::new(&mut store, now)`: loads the stored settings (defaults and a
+//! 2. `App::with_layout(&mut store, board::store_layout(), now)`: loads the stored settings (defaults and a
 //!    warning if the store is missing or corrupt) and queues the boot TOAST;
 //! 3. the main loop: `App::poll_pending` with the three ports after every
 //!    wake (the CPU sleeps in `wfi` until SysTick reaches the loop's deadline,
@@ -76,7 +76,7 @@ mod run {
             count
         );
 
-        let mut app = App::new(&mut store, clock.now_ms());
+        let mut app = App::with_layout(&mut store, board::store_layout(), clock.now_ms());
         info!(
             "booted: App {=usize} bytes, stack high-water {=usize} bytes",
             core::mem::size_of::<App>(),

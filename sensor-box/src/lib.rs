@@ -11,9 +11,10 @@
 //! Structure:
 //! - [`state`]: the data the links share ([`Shared`]), the [`Settings`] and the
 //!   [`Persisted`] record kept in flash.
-//! - [`persist`]: loading and storing the [`Persisted`] record (postcard, versioned, CRC,
-//!   A/B images that survive a power cut), and [`store_policy`]: when a command may store it
-//!   (not in flight, rate-limited).
+//! - [`persist`]: loading and storing the [`Persisted`] record (a `sequential-storage` map,
+//!   one item per setting group, read back and generation-checked; the format 1-3 store
+//!   migrated once), and [`store_policy`]: when a command may store it (not in flight,
+//!   rate-limited across resets).
 //! - [`telemetry`]: which AEOLUS messages are due when, built from the simulated flight
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
@@ -83,20 +84,42 @@ pub struct App {
     pub aydp: aydp_link::AydpLink,
     /// AOK on UART2.
     pub aok: aok_link::AokLink,
+    /// Where the flash store's map and format 1-3 store lie.
+    pub layout: persist::Layout,
 }
 
 impl App {
-    /// Boots the application: loads the persisted record from `flash` (defaults and a logged
-    /// warning if it is missing or corrupt), starts the simulated flight at `now_ms`.
+    /// Boots the application: loads the persisted record from `flash` laid out as
+    /// [`persist::Layout::for_flash`] says (defaults and a logged warning if it is missing or
+    /// corrupt), starts the simulated flight at `now_ms`.
     pub fn new<F: NorFlash>(flash: &mut F, now_ms: u64) -> Self {
-        let persisted = persist::load_or_default(flash);
-        let shared = Shared::new(persisted, now_ms);
+        let layout = persist::Layout::for_flash(flash);
+        Self::with_layout(flash, layout, now_ms)
+    }
+
+    /// [`App::new`] with the board's flash layout: the record ([`persist::boot`]), the
+    /// store policy's debt resumed and the corrupt items counted.
+    ///
+    /// ```
+    /// use sensor_box::storage::MemFlash;
+    /// use sensor_box::{App, persist::Layout};
+    /// let mut mem = [0xFFu8; 8192];
+    /// let mut flash = MemFlash::new(&mut mem);
+    /// let app = App::with_layout(&mut flash, Layout::halves(8192, 1024), 0);
+    /// assert_eq!(app.shared.counters.corrupt_items, 0);
+    /// ```
+    pub fn with_layout<F: NorFlash>(flash: &mut F, layout: persist::Layout, now_ms: u64) -> Self {
+        let boot = persist::boot(flash, &layout);
+        let mut shared = Shared::new(boot.record, now_ms);
+        shared.counters.corrupt_items = boot.corrupt_items;
+        shared.store_policy = store_policy::StorePolicy::resumed(boot.store_debt_ms, now_ms);
         let aok = aok_link::AokLink::new(&shared);
         App {
             aeolus: aeolus_link::AeolusLink::new(now_ms),
             aydp: aydp_link::AydpLink::new(now_ms),
             aok,
             shared,
+            layout,
         }
     }
 
@@ -228,7 +251,9 @@ impl App {
     pub fn service_requests<F: NorFlash>(&mut self, flash: &mut F) -> Control {
         if core::mem::take(&mut self.shared.requests.store) {
             let c = &mut self.shared.counters;
-            let counter = match persist::store(flash, &self.shared.persisted) {
+            let debt = self.shared.store_policy.debt_ms();
+            let counter = match persist::store_in(flash, &self.layout, &self.shared.persisted, debt)
+            {
                 Ok(persist::Stored::Unchanged) => &mut c.stores_unchanged,
                 Ok(_) => &mut c.stores_written,
                 Err(_) => {

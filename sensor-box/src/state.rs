@@ -171,7 +171,7 @@ pub struct Requests {
 }
 
 /// Application-level counters (the protocol decoders keep their own). The store counters are
-/// AYDP register 0x0310, in this order.
+/// AYDP register 0x0310, in this order; `corrupt_items` is 0x0311.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Counters {
     /// Stores that wrote an image.
@@ -184,6 +184,9 @@ pub struct Counters {
     pub stores_refused_in_flight: u32,
     /// Store requests refused by the rate limit (any link).
     pub stores_rate_limited: u32,
+    /// Setting groups whose newest copy in flash did not verify at boot, loaded from an
+    /// older copy instead ([`persist::Boot::corrupt_items`](crate::persist::Boot)).
+    pub corrupt_items: u32,
 }
 
 /// Number of direct-output channels the box exposes (AYDP direct output control).

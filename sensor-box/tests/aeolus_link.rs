@@ -657,7 +657,7 @@ fn pause_stops_telemetry_and_resume_restarts_it() {
 
 #[test]
 fn reboot_is_refused_in_flight_and_landed_answers_then_asks_for_a_reset() {
-    let mut mem = vec![0u8; 4096];
+    let mut mem = vec![0u8; 8192];
     let mut flash = MemFlash::new(&mut mem);
     let mut app = App::new(&mut flash, 0);
     let (mut u0, isr0) = port::<8192>();

@@ -1304,7 +1304,7 @@ fn app_poll(app: &mut App, now: u64, uarts: &mut [Port; 3], flash: &mut MemFlash
 
 #[test]
 fn sets_and_waypoints_survive_a_reboot() {
-    let mut mem = vec![0xffu8; 4096];
+    let mut mem = vec![0xffu8; 8192];
     let mut flash = MemFlash::new(&mut mem);
     let mut uarts = [ports::<1024>(), ports::<1024>(), ports::<1024>()];
     let mut app = App::new(&mut flash, 0);

@@ -63,7 +63,7 @@ struct Rig {
 
 impl Rig {
     fn new() -> Rig {
-        let mem: &'static mut [u8; 4096] = Box::leak(Box::new([0u8; 4096]));
+        let mem: &'static mut [u8; 8192] = Box::leak(Box::new([0u8; 8192]));
         let mut flash = MemFlash::new(mem);
         let app = App::new(&mut flash, 0);
         Rig {
@@ -809,4 +809,20 @@ fn a_port_that_stops_taking_bytes_keeps_messages_whole_and_never_blocks() {
     assert_eq!(types, [0x80, 3, 4, 0x80, 3]);
     assert_eq!(dropped, 1);
     assert_eq!(decoder.stats().bytes_discarded, 0);
+}
+
+#[test]
+fn the_corrupt_items_of_the_boot_are_register_0x0311() {
+    let mut rig = Rig::booted();
+    assert_eq!(
+        rig.read(addr::CORRUPT_ITEMS).map(|(_, v)| v),
+        Some(0u32.to_le_bytes().to_vec()),
+        "a clean boot"
+    );
+    // What `persist::boot` counted (`tests/flash_faults.rs` counts them from a real flip).
+    rig.app.shared.counters.corrupt_items = 3;
+    assert_eq!(
+        rig.read(addr::CORRUPT_ITEMS).map(|(_, v)| v),
+        Some(3u32.to_le_bytes().to_vec())
+    );
 }

@@ -91,7 +91,7 @@ fn aeolus_stream() -> Vec<u8> {
 #[test]
 fn aeolus_frame_by_frame_equals_poll() {
     let stream = aeolus_stream();
-    let mut flash_mem = [0xFFu8; 4096];
+    let mut flash_mem = [0xFFu8; 8192];
     let mut flash = MemFlash::new(&mut flash_mem);
 
     // Byte by byte through poll.

@@ -2,8 +2,9 @@
 //! migration, write alignment, and settings surviving a reboot of the App.
 
 use embedded_storage::nor_flash::{ErrorType, NorFlash, ReadNorFlash};
-use sensor_box::persist::{
-    self, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, StoreError, Stored, VERSION,
+use sensor_box::persist::StoreError;
+use sensor_box::persist::legacy::{
+    self as persist, CHUNK, HEADER_LEN, IMAGE_MAX, MAGIC, PAYLOAD_MAX, Stored, VERSION,
 };
 use sensor_box::serial::Ring;
 use sensor_box::serial::{PortStats, QueuedSerial};
@@ -189,7 +190,7 @@ fn round_trip() {
     let loaded = persist::load(&mut flash).unwrap();
     assert_eq!(loaded.version, 3);
     assert_eq!(loaded.record, record);
-    assert_eq!(persist::load_or_default(&mut flash), record);
+    assert_eq!(load_or_default(&mut flash), record);
 }
 
 #[test]
@@ -288,12 +289,12 @@ fn an_empty_store_gives_the_defaults() {
     let mut mem = [0xFFu8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     assert_eq!(persist::load(&mut flash), Err(StoreError::Empty));
-    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    assert_eq!(load_or_default(&mut flash), Persisted::default());
     // QEMU's RAM-backed store after power-on: zeros.
     let mut mem = [0u8; 4096];
     let mut flash = MemFlash::new(&mut mem);
     assert_eq!(persist::load(&mut flash), Err(StoreError::Empty));
-    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    assert_eq!(load_or_default(&mut flash), Persisted::default());
 }
 
 #[test]
@@ -308,7 +309,7 @@ fn a_corrupted_store_gives_the_defaults() {
         let mut flash = MemFlash::new(&mut mem);
         (
             persist::load(&mut flash).map(|l| l.record),
-            persist::load_or_default(&mut flash),
+            load_or_default(&mut flash),
         )
     };
     // The reasons, byte by byte.
@@ -385,7 +386,7 @@ fn garbage_never_panics() {
         }
         let mut flash = MemFlash::new(&mut mem);
         assert!(persist::load(&mut flash).is_err(), "case {case}");
-        assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+        assert_eq!(load_or_default(&mut flash), Persisted::default());
     }
 }
 
@@ -404,7 +405,7 @@ fn a_valid_crc_over_a_foreign_payload_is_a_decode_error() {
     )
     .unwrap();
     assert_eq!(persist::load(&mut flash), Err(StoreError::Decode));
-    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    assert_eq!(load_or_default(&mut flash), Persisted::default());
 }
 
 #[test]
@@ -416,7 +417,7 @@ fn a_newer_version_gives_the_defaults() {
         persist::load(&mut flash),
         Err(StoreError::UnsupportedVersion(4))
     );
-    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    assert_eq!(load_or_default(&mut flash), Persisted::default());
     // Behind an image this firmware reads, the newer one is skipped.
     let mut mem = [0xFFu8; 4096];
     let mut flash = MemFlash::new(&mut mem);
@@ -483,21 +484,26 @@ fn a_version_1_store_is_migrated() {
     // The field version 1 did not have takes its default.
     assert_eq!(s.aok_debug_period_ms, 20);
     assert_eq!(loaded.record.aok, legacy_aok());
-    assert_eq!(persist::load_or_default(&mut flash), loaded.record);
+    assert_eq!(load_or_default(&mut flash), loaded.record);
 
-    // The App boots from it; its next store writes version 3 after the old image.
+    // The App boots from it where the firmware before the map kept it (the second half of
+    // the QEMU board's 8 KiB), migrates it into the map, and stores into the map.
+    let mut mem8 = [0xFFu8; 8192];
+    mem8[4096..].copy_from_slice(V1_STORE);
+    let mut flash = MemFlash::new(&mut mem8);
+    let layout = sensor_box::persist::Layout::for_flash(&flash);
     let mut app = App::new(&mut flash, 0);
     assert_eq!(app.shared.settings().bank_deg, -15.0);
     assert_eq!(app.shared.flight.params().bank_deg, -15.0);
+    app.shared.persisted.settings.airspeed_mps = 41.0;
     app.shared.requests.store = true;
     poll_app(&mut app, &mut flash);
     assert_eq!(app.shared.counters.store_failures, 0);
-    let loaded = persist::load(&mut flash).unwrap();
-    assert_eq!(loaded.version, 3);
-    assert_eq!(loaded.record.settings.aok_debug_period_ms, 20);
-    assert_eq!(loaded.record.settings.airspeed_mps, 40.0);
-    assert_eq!(loaded.record.aok, legacy_aok());
-    assert_eq!(&mem[..16], &V1_STORE[..16], "the old image was not touched");
+    let boot = sensor_box::persist::boot(&mut flash, &layout);
+    assert_eq!(boot.source, sensor_box::persist::Source::Map);
+    assert_eq!(boot.record.settings.aok_debug_period_ms, 20);
+    assert_eq!(boot.record.settings.airspeed_mps, 41.0);
+    assert_eq!(boot.record.aok, legacy_aok());
 }
 
 #[test]
@@ -751,7 +757,7 @@ fn poll_app<F: NorFlash>(app: &mut App, flash: &mut F) {
 
 #[test]
 fn settings_stored_by_the_app_come_back_after_a_reboot() {
-    let mut mem = [0u8; 4096];
+    let mut mem = [0u8; 8192];
     let mut flash = MemFlash::new(&mut mem);
     let mut app = App::new(&mut flash, 0);
     assert_eq!(
@@ -813,7 +819,7 @@ fn load_into_leaves_the_record_alone_on_an_error() {
         Err(StoreError::Decode)
     );
     assert_eq!(record, before);
-    assert_eq!(persist::load_or_default(&mut flash), Persisted::default());
+    assert_eq!(load_or_default(&mut flash), Persisted::default());
 }
 
 #[test]
@@ -824,4 +830,9 @@ fn load_into_fills_the_record_in_place() {
     let mut record = Persisted::default();
     assert_eq!(persist::load_into(&mut flash, &mut record), Ok(3));
     assert_eq!(record, sample());
+}
+
+/// The format 1-3 store's record, or the defaults (what the firmware before the map loaded).
+fn load_or_default<F: NorFlash>(flash: &mut F) -> Persisted {
+    persist::load(flash).map(|l| l.record).unwrap_or_default()
 }

@@ -1,6 +1,8 @@
-//! Power cuts at every byte of every erase and program of a sequence of stores: after each
-//! cut the box boots with the old record or the new one, never the defaults, and the next
-//! store works. The flash model is [`CutFlash`] (`tests/common/cut_flash.rs`).
+//! The format 1-3 store (`persist::legacy`, which the STM32F411's migration still writes
+//! once): power cuts at every byte of every erase and program of a sequence of stores; after
+//! each cut it loads the old record or the new one, never the defaults, and the next store
+//! works. The flash model is [`CutFlash`] (`tests/common/cut_flash.rs`). The settings map is
+//! tested against a more hostile model in `tests/flash_faults.rs`.
 //!
 //! `cargo test -p sensor-box --test power_cut -- --nocapture` prints the figures of
 //! `docs/RELIABILITY.md` ("Power cuts and flash wear").
@@ -9,8 +11,9 @@ mod common;
 
 use common::cut_flash::{CutFlash, Tear};
 use embedded_storage::nor_flash::NorFlash;
+use sensor_box::Persisted;
+use sensor_box::persist::legacy as persist;
 use sensor_box::state::{AOK_PARAMS, StoredWaypoint};
-use sensor_box::{Persisted, persist};
 
 /// Records of different sizes (about 330 bytes to the largest, 1 504), some repeated.
 fn records() -> Vec<Persisted> {

@@ -50,12 +50,12 @@ compile_error!(
 #[cfg(feature = "board-qemu")]
 mod qemu;
 #[cfg(feature = "board-qemu")]
-pub use qemu::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause};
+pub use qemu::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause, store_layout};
 
 #[cfg(feature = "board-stm32f411")]
 mod stm32f411;
 #[cfg(feature = "board-stm32f411")]
-pub use stm32f411::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause};
+pub use stm32f411::{NAME, Port, WATCHDOG_CAUSE, Watchdog, init, reset_cause, store_layout};
 
 /// What `init` hands to the application.
 pub struct Board<S> {

@@ -4,8 +4,10 @@
 //!   and 33. `scripts/qemu-run.sh` puts them on TCP sockets.
 //! * Log: `defmt` over semihosting (`defmt-semihosting`), decoded on the
 //!   host by `defmt-print`.
-//! * Flash store: the last 4 KiB of RAM (`.flash_emu`, a NOLOAD section of
-//!   `memory.x`), which a warm reset leaves alone.
+//! * Flash store: the last 8 KiB of RAM (`.flash_emu`, a NOLOAD section of
+//!   `memory.x`), which a warm reset leaves alone: the settings map in its first 4 KiB, the
+//!   format 1-3 store in the last 4 KiB, where the firmware before the map kept it
+//!   ([`store_layout`]).
 //! * Clock: the PLL divided by 16 (12.5 MHz, the reset's divisor, set explicitly in
 //!   `set_core_clock`); SysTick counts it. QEMU without `-icount` follows the host's clock,
 //!   so the box's millisecond is the host's (`tests/tests/box_clock.rs` checks it).
@@ -38,6 +40,15 @@ pub const NAME: &str = "qemu-lm3s6965evb";
 
 /// The flash store: NOR flash emulated in the `.flash_emu` RAM region.
 pub type Store = MemFlash<'static>;
+
+/// Bytes of the emulated flash.
+const STORE_LEN: usize = 8192;
+
+/// Where the settings map and the format 1-3 store lie in [`Store`]: the map in the first
+/// 4 KiB (four 1 KiB pages), the old store in the last 4 KiB.
+pub fn store_layout() -> sensor_box::persist::Layout {
+    sensor_box::persist::Layout::halves(STORE_LEN as u32, MemFlash::PAGE as u32)
+}
 
 /// The PLL's output that SYSDIV divides, Hz: the LM3S6965 data sheet's 400 MHz PLL after its
 /// fixed divide-by-two ("RCC", SYSDIV: "/(SYSDIV + 1)", 12.5 MHz at 0xF). QEMU's model
@@ -247,7 +258,7 @@ static mut ISR: [Option<SerialIsr<'static, RX_CAP, TX_CAP>>; 3] = [const { None 
 
 /// The emulated flash: never initialised by the startup code.
 #[unsafe(link_section = ".flash_emu")]
-static mut FLASH_EMU: MaybeUninit<[u8; 4096]> = MaybeUninit::uninit();
+static mut FLASH_EMU: MaybeUninit<[u8; STORE_LEN]> = MaybeUninit::uninit();
 
 static TAKEN: AtomicBool = AtomicBool::new(false);
 
@@ -333,7 +344,7 @@ pub fn init() -> Board<Store> {
     // SAFETY: `TAKEN` makes this the only reference to the region. The bytes
     // are whatever the RAM holds (zero after power-on, the stored settings
     // after a warm reset); the store's own format tells them apart.
-    let mem: &'static mut [u8; 4096] = unsafe { (*addr_of_mut!(FLASH_EMU)).assume_init_mut() };
+    let mem: &'static mut [u8; STORE_LEN] = unsafe { (*addr_of_mut!(FLASH_EMU)).assume_init_mut() };
 
     Board {
         uart0,

@@ -14,9 +14,10 @@
 //! * Clock: HSI (16 MHz, no crystal needed on either board) through the PLL
 //!   to 100 MHz; SysTick at 1 kHz from the core clock.
 //! * Log: `defmt` over RTT (`defmt-rtt`), shown by `probe-rs run`.
-//! * Flash store: sectors 6 and 7 (2 x 128 KiB at 0x0804_0000), the two areas
-//!   of the power-cut-safe store (`sensor_box::persist`), outside the
-//!   program's memory map (`stm32f411.x`).
+//! * Flash store: sectors 5 to 7 (3 x 128 KiB at 0x0802_0000), outside the
+//!   program's memory map (`stm32f411.x`: sectors 0-4): the settings map on sectors 5
+//!   and 6, the format 1-3 store on sectors 6 and 7 (its old place), which the map
+//!   migrates from once (`sensor_box::persist`, [`store_layout`]).
 //! * Watchdog: the IWDG (`IndependentWatchdog`), [`WATCHDOG_MS`] (8 s) at the LSI's nominal
 //!   32 kHz (prescaler 256, reload 999); the LSI may run at 17 to 47 kHz (data sheet), so
 //!   5.4 s to 15 s. Above the longest stall of the main loop: a 128 KiB sector erase takes
@@ -34,7 +35,7 @@
 //!
 //! 1. **Clock**: HSI at 16 MHz without the PLL. The model has no RCC (every
 //!    register reads 0), so the HAL's wait for PLLRDY would never end.
-//! 2. **Settings store**: 4 KiB of the model's RAM at 0x2002_0000
+//! 2. **Settings store**: 8 KiB of the model's RAM at 0x2002_0000
 //!    (`QEMU_STORE_ADDR`), above the F411's 128 KiB, so the program keeps the
 //!    F411's memory map (`stm32f411.x`) and a stack overrun still faults. The
 //!    model's flash is ROM behind a stub controller, and the flash-size
@@ -89,7 +90,7 @@ pub const NAME: &str = "stm32f411";
 #[cfg(feature = "qemu-stm32")]
 pub const NAME: &str = "stm32f411 (simulated: QEMU netduinoplus2)";
 
-/// The settings store: sectors 6 and 7 of the internal flash.
+/// The settings store: sectors 5 to 7 of the internal flash.
 #[cfg(not(feature = "qemu-stm32"))]
 pub type Store = FlashWindow<Stm32Flash>;
 /// `qemu-stm32`: the settings store is NOR flash emulated in the model's RAM.
@@ -98,13 +99,34 @@ pub type Store = firmware_example::MemFlash<'static>;
 
 /// Baud rates of UART0 (AEOLUS), UART1 (AYDP) and UART2 (AOK).
 pub const BAUD: [u32; 3] = [921_600, 115_200, 38_400];
-/// Offset of the store (sector 6, then 7) from the start of flash.
+/// Offset of the store (sector 5, then 6 and 7) from the start of flash.
 #[cfg(not(feature = "qemu-stm32"))]
-const STORE_OFFSET: u32 = 0x4_0000;
-/// Size of the store (sectors 6 and 7: each an area of the store, erased alone).
+const STORE_OFFSET: u32 = 0x2_0000;
+/// Size of the store (sectors 5 to 7, each erased alone).
 #[cfg(not(feature = "qemu-stm32"))]
-const STORE_LEN: u32 = 0x4_0000;
-/// `qemu-stm32`: where the RAM settings store lives: the first 4 KiB past
+const STORE_LEN: u32 = 0x6_0000;
+
+/// Where the settings map and the format 1-3 store lie in [`Store`] (offsets from sector
+/// 5): the map on sectors 5 and 6, the old store on sectors 6 and 7, where the firmware
+/// before the map kept it. The migration first moves the old store's newest image into
+/// sector 7 when it is in sector 6, then erases sectors 5 and 6 for the map.
+#[cfg(not(feature = "qemu-stm32"))]
+pub fn store_layout() -> sensor_box::persist::Layout {
+    sensor_box::persist::Layout {
+        map: Some(0..0x4_0000),
+        legacy: 0x2_0000..0x6_0000,
+    }
+}
+
+/// `qemu-stm32`: the map in the first 4 KiB of the RAM store, the old store in the last.
+#[cfg(feature = "qemu-stm32")]
+pub fn store_layout() -> sensor_box::persist::Layout {
+    sensor_box::persist::Layout::halves(
+        QEMU_STORE_LEN as u32,
+        firmware_example::MemFlash::PAGE as u32,
+    )
+}
+/// `qemu-stm32`: where the RAM settings store lives: the first 8 KiB past
 /// the F411's 128 KiB of SRAM, which exist only in the model (an STM32F405
 /// with 192 KiB at 0x2000_0000). Nothing links there (`stm32f411.x` ends the
 /// RAM at 128 KiB), and the startup code never touches it.
@@ -112,7 +134,7 @@ const STORE_LEN: u32 = 0x4_0000;
 pub const QEMU_STORE_ADDR: usize = 0x2002_0000;
 /// `qemu-stm32`: size of the RAM settings store, bytes.
 #[cfg(feature = "qemu-stm32")]
-const QEMU_STORE_LEN: usize = 4096;
+const QEMU_STORE_LEN: usize = 8192;
 /// The core clock: 100 MHz from HSI through the PLL.
 #[cfg(not(feature = "qemu-stm32"))]
 const SYSCLK_HZ: u32 = 100_000_000;
@@ -178,7 +200,7 @@ impl ReadNorFlash for Stm32Flash {
 #[cfg(not(feature = "qemu-stm32"))]
 impl NorFlash for Stm32Flash {
     const WRITE_SIZE: usize = 1;
-    /// The largest sector; only sectors 6 and 7 are ever erased, one at a time (see
+    /// The largest sector; only sectors 5 to 7 are ever erased, one at a time (see
     /// `STORE_OFFSET`).
     const ERASE_SIZE: usize = 128 * 1024;
 

@@ -53,6 +53,7 @@
 //! | 0x0200 | direct outputs (device 1, channels 0..=7) | f32\[8\] | ro | | 0 |
 //! | 0x0300 | link counters ([`COUNTER_NAMES`]) | u32\[10\] | ro | | 0 |
 //! | 0x0310 | flash store counters of all links ([`STORE_COUNTER_NAMES`]) | u32\[5\] | ro | | 0 |
+//! | 0x0311 | setting groups whose newest flash copy did not verify at boot (older copies loaded) | u32 | ro | | 0 |
 //!
 //! # Files
 //!

@@ -37,6 +37,9 @@ pub mod addr {
     /// The flash store counters of every link, u32\[5\], read-only (order:
     /// [`STORE_COUNTER_NAMES`](crate::aydp_link::STORE_COUNTER_NAMES)).
     pub const STORE_COUNTERS: u16 = 0x0310;
+    /// Setting groups whose newest copy in flash did not verify at the last boot (an older
+    /// copy was loaded), u32, read-only.
+    pub const CORRUPT_ITEMS: u16 = 0x0311;
 }
 
 /// Names of the u32\[5\] at [`addr::STORE_COUNTERS`], in order: the store counters of
@@ -100,6 +103,7 @@ pub(super) struct View {
     outputs: [f32; OUTPUTS],
     counters: [u32; 10],
     store: [u32; 5],
+    corrupt: u32,
 }
 
 impl View {
@@ -143,11 +147,12 @@ impl View {
                     s.stores_rate_limited,
                 ]
             },
+            corrupt: shared.counters.corrupt_items,
         }
     }
 
     /// The registry table over this view (see the module table).
-    pub(super) fn slots(&mut self) -> [Slot<'_>; 13] {
+    pub(super) fn slots(&mut self) -> [Slot<'_>; 14] {
         [
             Slot::value(addr::DIRECT_CONTROL, Cell::u8(&mut self.direct)).with_range(0.0, 1.0),
             Slot::value(addr::SYSTEM_NAME, Cell::Chars(&mut self.name)).read_only(),
@@ -163,6 +168,7 @@ impl View {
             Slot::array(addr::OUTPUTS, Cell::F32(&mut self.outputs)).read_only(),
             Slot::array(addr::LINK_COUNTERS, Cell::U32(&mut self.counters)).read_only(),
             Slot::array(addr::STORE_COUNTERS, Cell::U32(&mut self.store)).read_only(),
+            Slot::value(addr::CORRUPT_ITEMS, Cell::u32(&mut self.corrupt)).read_only(),
         ]
     }
 

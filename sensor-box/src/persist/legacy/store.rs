@@ -202,13 +202,56 @@ pub enum Stored {
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut record = Persisted::default();
 /// record.settings.intervals.gps_ms = 200;
-/// assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Appended);
-/// assert_eq!(persist::load(&mut flash)?.record.settings.intervals.gps_ms, 200);
-/// assert_eq!(persist::store(&mut flash, &record)?, persist::Stored::Unchanged);
+/// assert_eq!(persist::legacy::store(&mut flash, &record)?, persist::legacy::Stored::Appended);
+/// assert_eq!(persist::legacy::load(&mut flash)?.record.settings.intervals.gps_ms, 200);
+/// assert_eq!(persist::legacy::store(&mut flash, &record)?, persist::legacy::Stored::Unchanged);
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub fn store<F: NorFlash>(flash: &mut F, record: &Persisted) -> Result<Stored, StoreError> {
-    write(flash, VERSION, record)
+    write(flash, VERSION, record, false)
+}
+
+/// The area (offsets in the store) that holds the newest image, if any image is valid.
+///
+/// ```
+/// use sensor_box::storage::MemFlash;
+/// use sensor_box::{Persisted, persist};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// assert_eq!(persist::legacy::newest_area(&mut flash), None);
+/// persist::legacy::store(&mut flash, &Persisted::default())?;
+/// assert_eq!(persist::legacy::newest_area(&mut flash), Some(0..2048));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
+pub fn newest_area<F: NorFlash>(flash: &mut F) -> Option<core::ops::Range<u32>> {
+    let half = area_len(flash.capacity(), F::ERASE_SIZE, F::WRITE_SIZE).ok()?;
+    let image = Reader::new(flash).ok()?.newest().ok()?;
+    let base = if image.start >= half { half } else { 0 };
+    Some(offset(base).ok()?..offset(base + half).ok()?)
+}
+
+/// Writes the record as the newest image at the start of the area that does not hold the
+/// newest image, erasing that area first (the migration moves the newest image out of an
+/// area it is about to erase). A power cut keeps the newest image before.
+///
+/// # Errors
+/// As [`store`].
+///
+/// ```
+/// use sensor_box::storage::MemFlash;
+/// use sensor_box::{Persisted, persist};
+/// let mut mem = [0xFFu8; 4096];
+/// let mut flash = MemFlash::new(&mut mem);
+/// persist::legacy::store(&mut flash, &Persisted::default())?;
+/// persist::legacy::store_in_other_area(&mut flash, &Persisted::default())?;
+/// assert_eq!(persist::legacy::newest_area(&mut flash), Some(2048..4096));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
+pub fn store_in_other_area<F: NorFlash>(
+    flash: &mut F,
+    record: &Persisted,
+) -> Result<Stored, StoreError> {
+    write(flash, VERSION, record, true)
 }
 
 /// The payload's length, and the CRC of an image with this header (bytes 0..16) and
@@ -235,8 +278,8 @@ fn measure<P: Payload + ?Sized>(head: &[u8], payload: &P) -> (usize, u32) {
 /// use sensor_box::persist;
 /// let mut mem = [0xFFu8; 4096];
 /// let mut flash = MemFlash::new(&mut mem);
-/// persist::write_image(&mut flash, 9, &[1, 2, 3])?;
-/// assert_eq!(persist::load(&mut flash).map(|l| l.version), Err(persist::StoreError::UnsupportedVersion(9)));
+/// persist::legacy::write_image(&mut flash, 9, &[1, 2, 3])?;
+/// assert_eq!(persist::legacy::load(&mut flash).map(|l| l.version), Err(persist::StoreError::UnsupportedVersion(9)));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub fn write_image<F: NorFlash>(
@@ -244,15 +287,17 @@ pub fn write_image<F: NorFlash>(
     version: u16,
     payload: &[u8],
 ) -> Result<Stored, StoreError> {
-    write(flash, version, payload)
+    write(flash, version, payload, false)
 }
 
 /// [`store`] and [`write_image`]: writes the payload as the newest image of format
-/// `version`, unless the newest image holds it already.
+/// `version`, unless the newest image holds it already; with `other`, always, at the start of
+/// the other area.
 fn write<F: NorFlash, P: Payload + ?Sized>(
     flash: &mut F,
     version: u16,
     payload: &P,
+    other: bool,
 ) -> Result<Stored, StoreError> {
     if !unit_ok(F::WRITE_SIZE) || !unit_ok(F::READ_SIZE) {
         return Err(StoreError::Unsupported);
@@ -280,7 +325,8 @@ fn write<F: NorFlash, P: Payload + ?Sized>(
     if let Some(n) = newest {
         // Pass 2 (only with an image): this record as that image would hold it.
         head[12..16].copy_from_slice(&n.seq.to_le_bytes());
-        if n.version == version
+        if !other
+            && n.version == version
             && n.end - n.start == HEADER_LEN + len
             && measure(&head[..16], payload).1 == n.crc
         {
@@ -297,7 +343,7 @@ fn write<F: NorFlash, P: Payload + ?Sized>(
     // Past everything written in the newest image's area, or the start of the other one.
     let mut at = Reader::new(&mut *flash)?.used_end(area, area + half)?;
     let mut done = Stored::Appended;
-    if at + padded > area + half {
+    if other || at + padded > area + half {
         area = half - area;
         flash
             .erase(offset(area)?, offset(area + half)?)

@@ -397,9 +397,9 @@ fn decode<F: NorFlash>(
 /// let mut flash = MemFlash::new(&mut mem);
 /// let mut stored = Persisted::default();
 /// stored.settings.bank_deg = -12.5;
-/// persist::store(&mut flash, &stored)?;
+/// persist::legacy::store(&mut flash, &stored)?;
 /// let mut record = Persisted::default();
-/// assert_eq!(persist::load_into(&mut flash, &mut record)?, persist::VERSION);
+/// assert_eq!(persist::legacy::load_into(&mut flash, &mut record)?, persist::legacy::VERSION);
 /// assert_eq!(record, stored);
 /// # Ok::<(), persist::StoreError>(())
 /// ```
@@ -421,48 +421,13 @@ pub fn load_into<F: NorFlash>(flash: &mut F, record: &mut Persisted) -> Result<u
 /// use sensor_box::{Persisted, persist};
 /// let mut mem = [0xFFu8; 2048];
 /// let mut flash = MemFlash::new(&mut mem);
-/// persist::store(&mut flash, &Persisted::default())?;
-/// let loaded = persist::load(&mut flash)?;
-/// assert_eq!((loaded.record, loaded.version), (Persisted::default(), persist::VERSION));
+/// persist::legacy::store(&mut flash, &Persisted::default())?;
+/// let loaded = persist::legacy::load(&mut flash)?;
+/// assert_eq!((loaded.record, loaded.version), (Persisted::default(), persist::legacy::VERSION));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub fn load<F: NorFlash>(flash: &mut F) -> Result<Loaded, StoreError> {
     let mut record = Persisted::default();
     let version = load_into(flash, &mut record)?;
     Ok(Loaded { record, version })
-}
-
-/// Loads the record, or gives the defaults (and logs a warning) when the store is missing or
-/// corrupt. Never panics, whatever the flash holds.
-///
-/// ```
-/// use sensor_box::storage::MemFlash;
-/// use sensor_box::{Persisted, persist};
-/// let mut mem = [0x5Au8; 1024]; // garbage
-/// assert_eq!(persist::load_or_default(&mut MemFlash::new(&mut mem)), Persisted::default());
-/// ```
-#[inline(always)]
-pub fn load_or_default<F: NorFlash>(flash: &mut F) -> Persisted {
-    // Inlined, so the record is built where the caller wants it instead of being copied out
-    // of this function's frame (1.2 KiB of boot stack).
-    let mut record = Persisted::default();
-    load_logged(flash, &mut record);
-    record
-}
-
-/// [`load_into`], and the log line that says what happened.
-#[inline(never)]
-fn load_logged<F: NorFlash>(flash: &mut F, record: &mut Persisted) {
-    match load_into(flash, record) {
-        Ok(VERSION) => crate::info!("flash store: settings loaded"),
-        Ok(old) => crate::warn!(
-            "flash store: settings migrated from version {=u16} to {=u16}",
-            old,
-            VERSION
-        ),
-        Err(StoreError::Empty) => {
-            crate::warn!("flash store: empty, using the default settings");
-        }
-        Err(e) => crate::warn!("flash store: {}, using the default settings", e),
-    }
 }
