@@ -445,13 +445,15 @@ def firmware_section():
         "",
     ]
     name, flash, ram, stack, double = figs[0]
-    sec.append(f"- lm3s6965evb flash at most 48 KiB (49 152 B): {sum(flash)} B, {verdict(sum(flash), 49152)}"
-               + (f", {49152 - sum(flash)} B spare." if sum(flash) <= 49152 else
+    sec.append(f"- lm3s6965evb flash at most 64 KiB (65 536 B): {sum(flash)} B, {verdict(sum(flash), 65536)}"
+               + (f", {65536 - sum(flash)} B spare. Of it, {double} B is double-precision software floating"
+                  " point (the flight simulation's `f64`; the Cortex-M3 has no FPU), and about 14 KiB the"
+                  " settings map (`sequential-storage` and its adapter; `docs/RELIABILITY.md`)."
+                  if sum(flash) <= 65536 else
                   f". Why: {double} B of it is double-precision software floating point (compiler_builtins'"
                   " `__adddf3`, `__muldf3`, `__divdf3`, the EABI conversions and comparisons, `fmax`;"
                   " `llvm-nm -S`), which the flight simulation's `f64` positions and angles (`flight_sim`)"
-                  " and a few `f64` scalings in `sensor-box` (the AOK debug values among them) bring in;"
-                  " the Cortex-M3 has no FPU."))
+                  " and a few `f64` scalings in `sensor-box` bring in, and about 14 KiB the settings map."))
     if stack:
         total = sum(ram) + stack[1]
         sec.append(f"- lm3s6965evb RAM at most 16 KiB: static {sum(ram)} B and stack {stack[1]} B = {total} B, "

@@ -103,6 +103,7 @@ pub use map::{
 use crate::Persisted;
 #[cfg(doc)]
 use crate::state::Settings;
+#[cfg(feature = "legacy")]
 use crate::storage::FlashWindow;
 use core::fmt;
 use core::ops::Range;
@@ -119,7 +120,7 @@ pub enum StoreError {
     /// A range that does not hold the store: a map range of fewer than two erase pages, a
     /// format 3 image that does not fit one area of the old store (its payload longer than
     /// [`legacy::PAYLOAD_MAX`]), or a layout without a map where only the map can store
-    /// (without the feature `legacy-writer`).
+    /// (without the feature `legacy`).
     TooLarge,
     /// The flash's `READ_SIZE` or `WRITE_SIZE` is above 64 bytes or not a power of two.
     Unsupported,
@@ -310,6 +311,7 @@ fn settle<F: NorFlash>(flash: &mut F, range: &Range<u32>) -> Result<u32, StoreEr
 }
 
 /// The old store's range of `flash`, addressed from 0.
+#[cfg(feature = "legacy")]
 fn legacy_window<'f, F: NorFlash>(
     flash: &'f mut F,
     layout: &Layout,
@@ -405,6 +407,20 @@ pub fn boot_into<F: NorFlash>(flash: &mut F, layout: &Layout, record: &mut Persi
             }
         }
     }
+    boot_legacy(flash, layout, record, &mut info);
+    log_boot(&info);
+    info
+}
+
+/// The format 1-3 store, read while the map holds no directory, and migrated into the map
+/// (feature `legacy`).
+#[cfg(feature = "legacy")]
+fn boot_legacy<F: NorFlash>(
+    flash: &mut F,
+    layout: &Layout,
+    record: &mut Persisted,
+    info: &mut BootInfo,
+) {
     let old = legacy_window(flash, layout).and_then(|mut w| legacy::load_into(&mut w, record));
     match old {
         Ok(version) => {
@@ -419,9 +435,13 @@ pub fn boot_into<F: NorFlash>(flash: &mut F, layout: &Layout, record: &mut Persi
         Err(StoreError::Empty) => {}
         Err(e) => crate::warn!("flash store: format 1-3 store: {}", e),
     }
-    log_boot(&info);
-    info
 }
+
+/// Without the feature `legacy`, the format 1-3 store is not read: a board that never ran a
+/// firmware before the map (the QEMU board, whose flash is RAM that starts zeroed) boots with
+/// the defaults when the map is empty.
+#[cfg(not(feature = "legacy"))]
+fn boot_legacy<F: NorFlash>(_: &mut F, _: &Layout, _: &mut Persisted, _: &mut BootInfo) {}
 
 fn log_boot(boot: &BootInfo) {
     match boot.source {
@@ -454,6 +474,7 @@ pub fn load_or_default<F: NorFlash>(flash: &mut F) -> Persisted {
 
 /// Makes the map hold `record` from scratch: moves the old store's newest image out of the
 /// map's range, erases the range, writes every group and the directory.
+#[cfg(feature = "legacy")]
 fn migrate<F: NorFlash>(
     flash: &mut F,
     layout: &Layout,
@@ -469,6 +490,7 @@ fn fresh<F: NorFlash>(
     debt_ms: u64,
 ) -> Result<Stored, StoreError> {
     let range = layout.map.clone().ok_or(StoreError::TooLarge)?;
+    #[cfg(feature = "legacy")]
     {
         let mut w = legacy_window(flash, layout)?;
         if let Some(area) = legacy::newest_area(&mut w) {
@@ -491,20 +513,14 @@ fn fresh<F: NorFlash>(
 }
 
 /// Writes `record` into the old store's area that does not hold its newest image (feature
-/// `legacy-writer`).
-#[cfg(feature = "legacy-writer")]
+/// `legacy`).
+#[cfg(feature = "legacy")]
 fn move_out<F: NorFlash>(w: &mut F, record: &Persisted) -> Result<(), StoreError> {
     legacy::store_in_other_area(w, record).map(|_| ())
 }
 
-/// Without the feature `legacy-writer`, a layout whose map overlaps the old store is refused.
-#[cfg(not(feature = "legacy-writer"))]
-fn move_out<F: NorFlash>(_: &mut F, _: &Persisted) -> Result<(), StoreError> {
-    Err(StoreError::Unsupported)
-}
-
-/// The format 3 store alone, for a layout without a map (feature `legacy-writer`).
-#[cfg(feature = "legacy-writer")]
+/// The format 3 store alone, for a layout without a map (feature `legacy`).
+#[cfg(feature = "legacy")]
 fn store_legacy<F: NorFlash>(
     flash: &mut F,
     layout: &Layout,
@@ -517,8 +533,8 @@ fn store_legacy<F: NorFlash>(
     }
 }
 
-/// Without the feature `legacy-writer`, a layout without a map cannot store.
-#[cfg(not(feature = "legacy-writer"))]
+/// Without the feature `legacy`, a layout without a map cannot store.
+#[cfg(not(feature = "legacy"))]
 fn store_legacy<F: NorFlash>(_: &mut F, _: &Layout, _: &Persisted) -> Result<Stored, StoreError> {
     Err(StoreError::TooLarge)
 }
