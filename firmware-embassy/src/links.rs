@@ -128,9 +128,9 @@ impl RxErrors {
 }
 
 /// How often the supervisor looks at the heartbeats and feeds the watchdog, ms. With the
-/// longest stall of the executor (a 128 KiB sector erase, up to 4 s at the x8 parallelism
-/// `embassy-stm32` programs), feeds are at most 4.5 s apart: below the IWDG's 8 s time-out
-/// at the LSI's fastest (47 kHz: 5.4 s).
+/// longest stall of the executor (a 128 KiB sector erase, up to 4 s by the data sheet;
+/// `embassy-stm32` erases at x32 parallelism), feeds are at most 4.5 s apart: below the IWDG's
+/// 8 s time-out at the LSI's fastest (47 kHz: 5.4 s).
 pub const FEED_MS: u64 = 500;
 /// The longest the tick ([`run`]) may show no progress, ms; it beats every [`TICK_MS`].
 pub const TICK_SILENCE_MS: u64 = 500;

@@ -9,6 +9,10 @@
 //! | AYDP | USART1 | PA9, PA10 | 115 200 | DMA2 stream 2, stream 7 |
 //! | AOK | USART6 | PA11, PA12 | 38 400 | DMA2 stream 1, stream 6 |
 //!
+//! The settings live in the `sequential-storage` map on flash sectors 5 and 6, stored by a task
+//! on the async flash driver ([`links::store`]); the boot loads them, or migrates the format 3
+//! store from sectors 6 and 7 ([`store_layout`]).
+//!
 //! The IWDG resets the box [`WATCHDOG_US`] (8 s at the LSI's nominal 32 kHz; 5.4 s to 15 s
 //! over its 17-47 kHz) after the last feed. Only the supervisor task feeds it, and only while
 //! the tick, the three TX pumps and the AOK task show progress ([`links::supervise`],
@@ -48,18 +52,21 @@ const AOK_BAUD: u32 = 38_400;
 /// the DMA goes on writing the receive rings in SRAM. Each ring holds what its link receives
 /// at line rate in that time, or as much as the RAM allows (see `README.md`).
 const ERASE_STALL_MS: usize = 4_000;
+/// Room for the bytes that arrive after the stall, before the reader runs (the executor first
+/// polls the tasks woken meanwhile, each for one step), ms.
+const DRAIN_MS: usize = 250;
 /// Bytes a UART receives in `ms` at `baud` (10 bits a byte: start, 8 data, stop).
 const fn bytes_in(baud: u32, ms: usize) -> usize {
     baud as usize / 10 * ms / 1_000
 }
-/// AEOLUS DMA receive ring: 16 KiB, 178 ms of a continuous stream at 921 600 Bd. 4 s at line
-/// rate would be 368 640 bytes, more than the 128 KiB of RAM; the AEOLUS uplink is commands,
-/// each answered by a TOAST (see `README.md`).
+/// AEOLUS DMA receive ring: 16 KiB, 178 ms of a continuous stream at 921 600 Bd. 4.25 s at
+/// line rate would be 391 680 bytes, three times the 128 KiB of RAM; the AEOLUS uplink is
+/// commands, each answered by a TOAST (see `README.md`).
 const AEOLUS_RING_LEN: usize = 16 * 1024;
-/// AYDP DMA receive ring: 4 s at 115 200 Bd (46 080 bytes).
-const AYDP_RING_LEN: usize = bytes_in(AYDP_BAUD, ERASE_STALL_MS);
-/// AOK DMA receive ring: 4 s at 38 400 Bd (15 360 bytes).
-const AOK_RING_LEN: usize = bytes_in(AOK_BAUD, ERASE_STALL_MS);
+/// AYDP DMA receive ring: 4.25 s at 115 200 Bd (48 960 bytes).
+const AYDP_RING_LEN: usize = bytes_in(AYDP_BAUD, ERASE_STALL_MS + DRAIN_MS);
+/// AOK DMA receive ring: 4.25 s at 38 400 Bd (16 320 bytes).
+const AOK_RING_LEN: usize = bytes_in(AOK_BAUD, ERASE_STALL_MS + DRAIN_MS);
 /// The settings store, in offsets from the start of flash (the map's and the old store's
 /// ranges, as the blocking STM32 board lays them out from its sector 5): the settings map on
 /// sectors 5 and 6 (0x0802_0000, 2 x 128 KiB), the format 1-3 store it migrates from on
@@ -110,7 +117,7 @@ static SHARED: StaticCell<Shared> = StaticCell::new();
 static HEARTS: [Heartbeat; 5] = [const { Heartbeat::new() }; 5];
 
 /// The IWDG's time-out at the LSI's nominal 32 kHz, µs: above the longest stall (a 128 KiB
-/// sector erase, up to 4 s at x8 parallelism) plus the supervisor's [`links::FEED_MS`] even at
+/// sector erase, up to 4 s) plus the supervisor's [`links::FEED_MS`] even at
 /// the LSI's fastest.
 const WATCHDOG_US: u32 = 8_000_000;
 /// RCC_CSR (RCC at 0x4002_3800, offset 0x74): the reset flags.
