@@ -655,6 +655,25 @@ pub fn store_in<F: NorFlash>(
 /// assert_eq!(second, persist::Stored::Written(2)); // the start set and the debt
 /// let boot = persist::boot(&mut flash, &layout);
 /// assert_eq!((boot.record, boot.source, boot.store_debt_ms), (r, persist::Source::Map, 0));
+///
+/// // The STM32F411's overlap, scaled: a format 3 image in the old store's first area, inside
+/// // the map's range, and a map without a directory (a migration that did not finish).
+/// let mut mem = [0xFFu8; 8192];
+/// let mut flash = Both(MemFlash::new(&mut mem));
+/// let layout = persist::Layout { map: Some(0..4096), legacy: 2048..6144 };
+/// let mut old = Persisted::default();
+/// old.settings.altitude_m = 300.0;
+/// let mut w = sensor_box::storage::FlashWindow::new(&mut flash.0, 2048, 4096).map_err(|_| persist::StoreError::TooLarge)?;
+/// persist::legacy::store(&mut w, &old)?;
+/// assert_eq!(persist::legacy::newest_area(&mut w), Some(0..2048)); // inside the map's range
+/// let mut new = old.clone();
+/// new.aok.start_set = 1;
+/// // The map's first store moves the old image out of the map's range, then writes every group.
+/// block_on(persist::store_in_async(&mut flash, &layout, &new, 0, &mut s))?;
+/// let mut w = sensor_box::storage::FlashWindow::new(&mut flash.0, 2048, 4096).map_err(|_| persist::StoreError::TooLarge)?;
+/// assert_eq!(persist::legacy::newest_area(&mut w), Some(2048..4096)); // moved out first
+/// let boot = persist::boot(&mut flash, &layout);
+/// assert_eq!((boot.record, boot.source), (new, persist::Source::Map));
 /// # Ok::<(), persist::StoreError>(())
 /// ```
 pub async fn store_in_async<F>(
