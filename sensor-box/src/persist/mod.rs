@@ -67,7 +67,9 @@
 //! The blocking entry points ([`boot`], [`load_or_default`], [`store`], [`store_in`]) wrap
 //! the blocking flash in `embassy_embedded_hal::adapter::BlockingAsync` and run the core with
 //! `embassy_futures::block_on`: the blocking driver finishes every operation in its first
-//! poll. The map runs uncached: each fetch scans the pages, and no RAM is kept per page or
+//! poll. A board whose store runs in an async task (`firmware-embassy`) awaits
+//! [`store_in_async`], the same steps as [`store_in`] with the map's store awaited on the
+//! flash's async driver. The map runs uncached: each fetch scans the pages, and no RAM is kept per page or
 //! key.
 //!
 //! ```
