@@ -1,6 +1,7 @@
 //! Links with the repository's STM32F411 memory map (`firmware-example/src/board/stm32f411.x`:
-//! 256 KiB of program flash, sectors 6 and 7 kept for the settings store, 128 KiB RAM), the same
-//! map the blocking board uses, copied to `OUT_DIR/memory.x` for cortex-m-rt's `link.x`.
+//! the program in sectors 0-4, 128 KiB; sectors 5-7 kept for the settings store; 128 KiB RAM),
+//! the same map the blocking board uses, copied to `OUT_DIR/memory.x` for cortex-m-rt's
+//! `link.x`.
 
 use std::{env, fs, path::PathBuf};
 

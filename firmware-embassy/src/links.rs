@@ -4,7 +4,8 @@
 //! ```text
 //!   UART RX (DMA ring) --> FrameReader --> AeolusLink::handle_frame / AydpLink::handle_frame
 //!   UART RX (DMA ring) --> aok::aok --> AokLink::poll (on bytes and at its wake)
-//!   ticker (1 ms)  --> AeolusLink::poll_tx, AydpLink::poll_tx, App::service_requests
+//!   ticker (1 ms)  --> AeolusLink::poll_tx, AydpLink::poll_tx, the store and reboot requests
+//!   ticker --StoreJob--> store --> persist::store_in_async (the settings map, awaited)
 //!   links --> QueuedSerial (TX queue) --kick--> pump_tx --> UART TX (DMA)
 //! ```
 //!
@@ -31,10 +32,10 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
 use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
-use embedded_storage::nor_flash::NorFlash;
 use firmware_example::{QueuedSerial, SerialIsr};
+use sensor_box::persist::{self, Scratch, Stored};
 use sensor_box::supervisor::{Heartbeat, Supervisor, Verdict};
-use sensor_box::{App, Control, aeolus_link, aydp_link};
+use sensor_box::{App, aeolus_link, aydp_link};
 
 /// How often the links' TX halves run (the telemetry schedule's resolution), ms. The
 /// blocking boards poll at least this often (SysTick at 1 kHz).
@@ -127,9 +128,9 @@ impl RxErrors {
 }
 
 /// How often the supervisor looks at the heartbeats and feeds the watchdog, ms. With the
-/// longest stall of the executor (a 128 KiB sector erase, up to 4 s at the x8 parallelism
-/// `embassy-stm32` programs), feeds are at most 4.5 s apart: below the IWDG's 8 s time-out
-/// at the LSI's fastest (47 kHz: 5.4 s).
+/// longest stall of the executor (a 128 KiB sector erase, up to 4 s by the data sheet;
+/// `embassy-stm32` erases at x32 parallelism), feeds are at most 4.5 s apart: below the IWDG's
+/// 8 s time-out at the LSI's fastest (47 kHz: 5.4 s).
 pub const FEED_MS: u64 = 500;
 /// The longest the tick ([`run`]) may show no progress, ms; it beats every [`TICK_MS`].
 pub const TICK_SILENCE_MS: u64 = 500;
@@ -272,22 +273,54 @@ pub async fn pump_tx<W: Write>(
     }
 }
 
+/// The flash store's hand-over from the tick ([`run`]) to the store task ([`store`]): the tick
+/// asks for a store when a link asked for one; the store task writes the record as the
+/// application holds it when the store starts. Asks that come while a store runs are served by
+/// one more store.
+pub struct StoreJob {
+    ask: Signal<CriticalSectionRawMutex, ()>,
+    asked: AtomicU32,
+    done: AtomicU32,
+}
+
+impl StoreJob {
+    /// Nothing asked.
+    pub const fn new() -> Self {
+        StoreJob {
+            ask: Signal::new(),
+            asked: AtomicU32::new(0),
+            done: AtomicU32::new(0),
+        }
+    }
+
+    /// One more store, after the ones asked before.
+    fn request(&self) {
+        self.asked.store(
+            self.asked.load(Ordering::Relaxed).wrapping_add(1),
+            Ordering::Relaxed,
+        );
+        self.ask.signal(());
+    }
+
+    /// Whether a store asked for has not finished yet.
+    fn busy(&self) -> bool {
+        self.asked.load(Ordering::Relaxed) != self.done.load(Ordering::Relaxed)
+    }
+}
+
 /// The telemetry schedule and the links' TX halves, every [`TICK_MS`]: AEOLUS telemetry and
-/// answers, the AYDP heartbeat, position and fix quality; then the flash store when a link
-/// asked for one. Returns when a link asked for a reboot, after [`REBOOT_FLUSH_MS`] for the
-/// answer to leave; the board resets. `heart` beats on every tick.
-pub async fn run<F: NorFlash>(
-    shared: &Shared,
-    store: &mut F,
-    rx_errors: [&RxErrors; 3],
-    heart: &Heartbeat,
-) {
+/// answers, the AYDP heartbeat, position and fix quality; then the requests the links made: a
+/// store goes to the store task ([`StoreJob`]), a reboot waits for the stores asked before it
+/// and returns [`REBOOT_FLUSH_MS`] later, for the answer to leave; the board resets. The tick
+/// goes on while a store runs. `heart` beats on every tick.
+pub async fn run(shared: &Shared, rx_errors: [&RxErrors; 3], heart: &Heartbeat, job: &StoreJob) {
     let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
+    let mut reboot = false;
     loop {
         heart.beat();
         let now = now_ms();
-        let control = shared.with(|a| {
+        let requests = shared.with(|a| {
             let Application {
                 app,
                 aeolus_tx,
@@ -299,10 +332,22 @@ pub async fn run<F: NorFlash>(
             if aydp_tx.tx_space() >= AYDP_ROOM {
                 app.aydp.poll_tx(now, aydp_tx, &app.shared);
             }
-            app.service_requests(store)
+            let requests = &mut app.shared.requests;
+            (
+                core::mem::take(&mut requests.store),
+                core::mem::take(&mut requests.reboot),
+            )
         });
-        if control == Some(Control::Reboot) {
-            defmt::info!("reboot requested: warm reset");
+        if let Some((store, reboot_asked)) = requests {
+            if store {
+                job.request();
+            }
+            if reboot_asked && !reboot {
+                reboot = true;
+                defmt::info!("reboot requested: warm reset after the stores asked before it");
+            }
+        }
+        if reboot && !job.busy() {
             Timer::after_millis(REBOOT_FLUSH_MS).await;
             return;
         }
@@ -311,12 +356,57 @@ pub async fn run<F: NorFlash>(
             shared.with(|a| report(now, a, rx_errors));
         }
         // The next tick; after a stall (a flash erase blocks the executor for a second or
-        // two) one tick at once, not a burst of the missed ones (the schedule catches up by
+        // more) one tick at once, not a burst of the missed ones (the schedule catches up by
         // its own rules).
         tick = tick
             .saturating_add(Duration::from_millis(TICK_MS))
             .max(Instant::now());
         Timer::at(tick).await;
+    }
+}
+
+/// The store task: on each [`StoreJob`] ask, stores the application's record and the store
+/// policy's debt into the settings map with [`persist::store_in_async`] (the map's writes,
+/// reads and erases awaited on `flash`'s async driver; see its docs for the parts that use the
+/// blocking one), and counts the outcome as `App::service_requests` does (stores written,
+/// unchanged, failed; a failure logged, the settings kept in RAM). The record is copied out
+/// first: the links go on changing theirs while the store awaits.
+pub async fn store<F>(mut flash: F, shared: &Shared, job: &StoreJob) -> !
+where
+    F: embedded_storage::nor_flash::NorFlash + embedded_storage_async::nor_flash::NorFlash,
+{
+    let mut scratch = Scratch::new();
+    loop {
+        job.ask.wait().await;
+        let asked = job.asked.load(Ordering::Relaxed);
+        let taken = shared.with(|a| {
+            let s = &a.app.shared;
+            (
+                s.persisted.clone(),
+                s.store_policy.debt_ms(),
+                a.app.layout.clone(),
+            )
+        });
+        if let Some((record, debt_ms, layout)) = taken {
+            let done =
+                persist::store_in_async(&mut flash, &layout, &record, debt_ms, &mut scratch).await;
+            match done {
+                Ok(stored) => defmt::info!("flash store: {}", stored),
+                Err(e) => {
+                    defmt::warn!("flash store: {}: settings kept in RAM only", e)
+                }
+            }
+            shared.with(|a| {
+                let c = &mut a.app.shared.counters;
+                let counter = match done {
+                    Ok(Stored::Unchanged) => &mut c.stores_unchanged,
+                    Ok(_) => &mut c.stores_written,
+                    Err(_) => &mut c.store_failures,
+                };
+                *counter = counter.wrapping_add(1);
+            });
+        }
+        job.done.store(asked, Ordering::Relaxed);
     }
 }
 

@@ -9,6 +9,10 @@
 //! | AYDP | USART1 | PA9, PA10 | 115 200 | DMA2 stream 2, stream 7 |
 //! | AOK | USART6 | PA11, PA12 | 38 400 | DMA2 stream 1, stream 6 |
 //!
+//! The settings live in the `sequential-storage` map on flash sectors 5 and 6, stored by a task
+//! on the async flash driver ([`links::store`]); the boot loads them, or migrates the format 3
+//! store from sectors 6 and 7 ([`store_layout`]).
+//!
 //! The IWDG resets the box [`WATCHDOG_US`] (8 s at the LSI's nominal 32 kHz; 5.4 s to 15 s
 //! over its 17-47 kHz) after the last feed. Only the supervisor task feeds it, and only while
 //! the tick, the three TX pumps and the AOK task show progress ([`links::supervise`],
@@ -22,17 +26,17 @@ mod links;
 
 use defmt_rtt as _;
 use embassy_executor::{SpawnError, SpawnToken, Spawner};
-use embassy_stm32::flash::Flash;
+use embassy_stm32::flash::{self, Flash};
 use embassy_stm32::mode::Async;
 use embassy_stm32::usart::{self, RingBufferedUartRx, Uart, UartTx};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, dma, peripherals, rcc};
-use embedded_storage::nor_flash::ReadNorFlash;
 use firmware_example::serial::Ring;
-use firmware_example::{FlashWindow, PortStats, QueuedSerial};
-use links::{Application, PortIsr, RxErrors, Shared, TX_QUEUE, TxReady, UNUSED_RX_LEN};
+use firmware_example::{PortStats, QueuedSerial};
+use links::{Application, PortIsr, RxErrors, Shared, StoreJob, TX_QUEUE, TxReady, UNUSED_RX_LEN};
 use panic_probe as _;
 use sensor_box::App;
+use sensor_box::persist::Layout;
 use sensor_box::supervisor::{Heartbeat, Supervisor, Task};
 use static_cell::{ConstStaticCell, StaticCell};
 
@@ -43,17 +47,40 @@ const AEOLUS_BAUD: u32 = 921_600;
 const AYDP_BAUD: u32 = 115_200;
 /// USART6 (AOK) baud rate, as on the blocking board.
 const AOK_BAUD: u32 = 38_400;
-/// Bytes of each DMA receive ring. The links receive little (commands, requests); the ring
-/// bridges the time between two reads, and the idle line ends a read early.
-const RX_RING: usize = 256;
-/// The settings store: flash sectors 6 and 7 (2 x 128 KiB at 0x0804_0000), the two areas of
-/// the power-cut-safe store (`sensor_box::persist`), outside the program (`memory.x` gives
-/// the program sectors 0-5), as on the blocking STM32 board.
-const STORE_OFFSET: u32 = 0x4_0000;
-/// Size of the store (sectors 6 and 7).
-const STORE_LEN: u32 = 0x4_0000;
+/// The longest time the executor can be blocked: a 128 KiB sector erase, up to 4 s (data
+/// sheet; typically 1 to 2 s), during which the CPU stalls on every fetch from flash while
+/// the DMA goes on writing the receive rings in SRAM. Each ring holds what its link receives
+/// at line rate in that time, or as much as the RAM allows (see `README.md`).
+const ERASE_STALL_MS: usize = 4_000;
+/// Room for the bytes that arrive after the stall, before the reader runs (the executor first
+/// polls the tasks woken meanwhile, each for one step), ms.
+const DRAIN_MS: usize = 250;
+/// Bytes a UART receives in `ms` at `baud` (10 bits a byte: start, 8 data, stop).
+const fn bytes_in(baud: u32, ms: usize) -> usize {
+    baud as usize / 10 * ms / 1_000
+}
+/// AEOLUS DMA receive ring: 16 KiB, 178 ms of a continuous stream at 921 600 Bd. 4.25 s at
+/// line rate would be 391 680 bytes, three times the 128 KiB of RAM; the AEOLUS uplink is
+/// commands, each answered by a TOAST (see `README.md`).
+const AEOLUS_RING_LEN: usize = 16 * 1024;
+/// AYDP DMA receive ring: 4.25 s at 115 200 Bd (48 960 bytes).
+const AYDP_RING_LEN: usize = bytes_in(AYDP_BAUD, ERASE_STALL_MS + DRAIN_MS);
+/// AOK DMA receive ring: 4.25 s at 38 400 Bd (16 320 bytes).
+const AOK_RING_LEN: usize = bytes_in(AOK_BAUD, ERASE_STALL_MS + DRAIN_MS);
+/// The settings store, in offsets from the start of flash (the map's and the old store's
+/// ranges, as the blocking STM32 board lays them out from its sector 5): the settings map on
+/// sectors 5 and 6 (0x0802_0000, 2 x 128 KiB), the format 1-3 store it migrates from on
+/// sectors 6 and 7, where this board kept it before the map. The program is linked into
+/// sectors 0-4 (`firmware-example/src/board/stm32f411.x`).
+fn store_layout() -> Layout {
+    Layout {
+        map: Some(0x2_0000..0x6_0000),
+        legacy: 0x4_0000..0x8_0000,
+    }
+}
 
 bind_interrupts!(struct Irqs {
+    FLASH => flash::InterruptHandler;
     USART1 => usart::InterruptHandler<peripherals::USART1>;
     USART2 => usart::InterruptHandler<peripherals::USART2>;
     USART6 => usart::InterruptHandler<peripherals::USART6>;
@@ -72,9 +99,12 @@ static AEOLUS_RX_ERRORS: RxErrors = RxErrors::new();
 static AYDP_RX_ERRORS: RxErrors = RxErrors::new();
 static AOK_RX_ERRORS: RxErrors = RxErrors::new();
 static STATS: [PortStats; 3] = [const { PortStats::new() }; 3];
-static AEOLUS_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
-static AYDP_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
-static AOK_RING: ConstStaticCell<[u8; RX_RING]> = ConstStaticCell::new([0; RX_RING]);
+static AEOLUS_RING: ConstStaticCell<[u8; AEOLUS_RING_LEN]> =
+    ConstStaticCell::new([0; AEOLUS_RING_LEN]);
+static AYDP_RING: ConstStaticCell<[u8; AYDP_RING_LEN]> = ConstStaticCell::new([0; AYDP_RING_LEN]);
+static AOK_RING: ConstStaticCell<[u8; AOK_RING_LEN]> = ConstStaticCell::new([0; AOK_RING_LEN]);
+/// The tick's hand-over of stores to the store task.
+static STORE_JOB: StoreJob = StoreJob::new();
 static AEOLUS_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
 static AYDP_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
 static AOK_QUEUE: ConstStaticCell<Ring<TX_QUEUE>> = ConstStaticCell::new(Ring::new());
@@ -87,7 +117,7 @@ static SHARED: StaticCell<Shared> = StaticCell::new();
 static HEARTS: [Heartbeat; 5] = [const { Heartbeat::new() }; 5];
 
 /// The IWDG's time-out at the LSI's nominal 32 kHz, µs: above the longest stall (a 128 KiB
-/// sector erase, up to 4 s at x8 parallelism) plus the supervisor's [`links::FEED_MS`] even at
+/// sector erase, up to 4 s) plus the supervisor's [`links::FEED_MS`] even at
 /// the LSI's fastest.
 const WATCHDOG_US: u32 = 8_000_000;
 /// RCC_CSR (RCC at 0x4002_3800, offset 0x74): the reset flags.
@@ -184,12 +214,9 @@ async fn main(spawner: Spawner) {
     let aydp_rx = aydp_rx.into_ring_buffered(AYDP_RING.take());
     let aok_rx = aok_rx.into_ring_buffered(AOK_RING.take());
 
-    let Ok(mut store) = FlashWindow::new(Flash::new_blocking(p.FLASH), STORE_OFFSET, STORE_LEN)
-    else {
-        defmt::error!("flash store outside the flash: resetting");
-        cortex_m::peripheral::SCB::sys_reset();
-    };
-    defmt::info!("flash store {=usize} bytes", store.capacity());
+    // The flash in async mode (its FLASH interrupt bound above): the store task awaits its
+    // programs and erases; the boot below uses the same driver's blocking side.
+    let mut flash = Flash::new(p.FLASH, Irqs);
 
     let [rx0, rx1, rx2] = UNUSED_RX.take();
     let [st0, st1, st2] = &STATS;
@@ -200,8 +227,17 @@ async fn main(spawner: Spawner) {
     let (aok_port, aok_isr) =
         QueuedSerial::split(rx2, AOK_QUEUE.take(), st2, || AOK_READY.signal(()));
 
-    let app = App::new(&mut store, links::now_ms());
-    defmt::info!("booted: App {=usize} bytes", core::mem::size_of::<App>());
+    // The boot is blocking, before any other task exists: the App that the tasks share is
+    // built from what it loads (`App::with_layout`), and sensor-box's boot (the torn-word
+    // guard, the map's load, the format 1-3 reader and the migration) is one blocking
+    // implementation, shared with the blocking boards. It logs where the settings came from
+    // and any corrupt item, and restores the store policy's debt.
+    let app = App::with_layout(&mut flash, store_layout(), links::now_ms());
+    defmt::info!(
+        "booted: App {=usize} bytes, {=u32} corrupt settings items",
+        core::mem::size_of::<App>(),
+        app.shared.counters.corrupt_items
+    );
     let shared: &'static Shared = SHARED.init(Shared::new(Application {
         app,
         aeolus_tx: aeolus_port,
@@ -234,11 +270,12 @@ async fn main(spawner: Spawner) {
         tx_task(aok_isr, aok_tx, &AOK_READY, aok_pump_heart),
     );
     spawn(&spawner, watchdog_task(watchdog));
+    spawn(&spawner, store_task(flash, shared));
     links::run(
         shared,
-        &mut store,
         [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS, &AOK_RX_ERRORS],
         tick_heart,
+        &STORE_JOB,
     )
     .await;
     cortex_m::peripheral::SCB::sys_reset();
@@ -270,6 +307,13 @@ fn spawn<S>(spawner: &Spawner, token: Result<SpawnToken<S>, SpawnError>) {
         Ok(token) => spawner.spawn(token),
         Err(_) => defmt::error!("task pool exhausted: a task did not start"),
     }
+}
+
+/// The settings store: the stores the tick hands over, into the settings map on the async
+/// flash driver ([`links::store`]).
+#[embassy_executor::task]
+async fn store_task(flash: Flash<'static, flash::Async>, shared: &'static Shared) {
+    links::store(flash, shared, &STORE_JOB).await
 }
 
 /// AEOLUS receive: the USART2 DMA ring into the AEOLUS link ([`links::aeolus_rx`]).

@@ -67,7 +67,9 @@
 //! The blocking entry points ([`boot`], [`load_or_default`], [`store`], [`store_in`]) wrap
 //! the blocking flash in `embassy_embedded_hal::adapter::BlockingAsync` and run the core with
 //! `embassy_futures::block_on`: the blocking driver finishes every operation in its first
-//! poll. The map runs uncached: each fetch scans the pages, and no RAM is kept per page or
+//! poll. A board whose store runs in an async task (`firmware-embassy`) awaits
+//! [`store_in_async`], the same steps as [`store_in`] with the map's store awaited on the
+//! flash's async driver. The map runs uncached: each fetch scans the pages, and no RAM is kept per page or
 //! key.
 //!
 //! ```
@@ -593,6 +595,107 @@ pub fn store_in<F: NorFlash>(
     let mut scratch = Scratch::new();
     let done = open_map(BlockingAsync::new(&mut *flash), range)
         .and_then(|mut map| block_on(store_map(&mut map, record, debt_ms, None, &mut scratch)));
+    match done {
+        // No directory: the first store, or a migration that did not finish.
+        Err(StoreError::Empty) => fresh(flash, layout, record, debt_ms),
+        done => done,
+    }
+}
+
+/// [`store_in`] for a board whose store runs in an async task (`firmware-embassy`): the same
+/// steps, with the map's store ([`store_map`]) awaited on the flash's async driver. The
+/// torn-word guard before it (reads of the map's range, and a program for each torn word),
+/// the first store into a map without a directory (the old store's newest image moved out of
+/// the map's range, the range erased: as [`store_in`]) and a layout without a map go through
+/// the blocking driver of the same flash.
+///
+/// # Errors
+/// As [`store_in`].
+///
+/// ```
+/// use embassy_futures::block_on;
+/// use sensor_box::storage::{Error, MemFlash};
+/// use sensor_box::{Persisted, persist};
+/// # use embedded_storage::nor_flash as b;
+/// # use embedded_storage_async::nor_flash as a;
+/// // A flash with a blocking and an async driver, as `embassy_stm32::flash::Flash<Async>`.
+/// struct Both<'m>(MemFlash<'m>);
+/// # impl b::ErrorType for Both<'_> { type Error = Error; }
+/// # impl b::ReadNorFlash for Both<'_> {
+/// #     const READ_SIZE: usize = 1;
+/// #     fn read(&mut self, o: u32, x: &mut [u8]) -> Result<(), Error> { b::ReadNorFlash::read(&mut self.0, o, x) }
+/// #     fn capacity(&self) -> usize { b::ReadNorFlash::capacity(&self.0) }
+/// # }
+/// # impl b::NorFlash for Both<'_> {
+/// #     const WRITE_SIZE: usize = MemFlash::WORD;
+/// #     const ERASE_SIZE: usize = MemFlash::PAGE;
+/// #     fn erase(&mut self, f: u32, t: u32) -> Result<(), Error> { b::NorFlash::erase(&mut self.0, f, t) }
+/// #     fn write(&mut self, o: u32, x: &[u8]) -> Result<(), Error> { b::NorFlash::write(&mut self.0, o, x) }
+/// # }
+/// # impl a::ReadNorFlash for Both<'_> {
+/// #     const READ_SIZE: usize = 1;
+/// #     async fn read(&mut self, o: u32, x: &mut [u8]) -> Result<(), Error> { b::ReadNorFlash::read(&mut self.0, o, x) }
+/// #     fn capacity(&self) -> usize { b::ReadNorFlash::capacity(&self.0) }
+/// # }
+/// # impl a::NorFlash for Both<'_> {
+/// #     const WRITE_SIZE: usize = MemFlash::WORD;
+/// #     const ERASE_SIZE: usize = MemFlash::PAGE;
+/// #     async fn erase(&mut self, f: u32, t: u32) -> Result<(), Error> { b::NorFlash::erase(&mut self.0, f, t) }
+/// #     async fn write(&mut self, o: u32, x: &[u8]) -> Result<(), Error> { b::NorFlash::write(&mut self.0, o, x) }
+/// # }
+/// let mut mem = [0xFFu8; 8192];
+/// let mut flash = Both(MemFlash::new(&mut mem));
+/// let layout = persist::Layout::halves(8192, 1024);
+/// let mut s = persist::Scratch::new();
+/// let mut r = Persisted::default();
+/// r.settings.bank_deg = -25.0;
+/// // The first store: every group, the map's range erased first.
+/// let first = block_on(persist::store_in_async(&mut flash, &layout, &r, 90_000, &mut s))?;
+/// assert!(matches!(first, persist::Stored::Written(n) if usize::from(n) == persist::GROUPS));
+/// r.aok.start_set = 4;
+/// let second = block_on(persist::store_in_async(&mut flash, &layout, &r, 0, &mut s))?;
+/// assert_eq!(second, persist::Stored::Written(2)); // the start set and the debt
+/// let boot = persist::boot(&mut flash, &layout);
+/// assert_eq!((boot.record, boot.source, boot.store_debt_ms), (r, persist::Source::Map, 0));
+///
+/// // The STM32F411's overlap, scaled: a format 3 image in the old store's first area, inside
+/// // the map's range, and a map without a directory (a migration that did not finish).
+/// let mut mem = [0xFFu8; 8192];
+/// let mut flash = Both(MemFlash::new(&mut mem));
+/// let layout = persist::Layout { map: Some(0..4096), legacy: 2048..6144 };
+/// let mut old = Persisted::default();
+/// old.settings.altitude_m = 300.0;
+/// let mut w = sensor_box::storage::FlashWindow::new(&mut flash.0, 2048, 4096).map_err(|_| persist::StoreError::TooLarge)?;
+/// persist::legacy::store(&mut w, &old)?;
+/// assert_eq!(persist::legacy::newest_area(&mut w), Some(0..2048)); // inside the map's range
+/// let mut new = old.clone();
+/// new.aok.start_set = 1;
+/// // The map's first store moves the old image out of the map's range, then writes every group.
+/// block_on(persist::store_in_async(&mut flash, &layout, &new, 0, &mut s))?;
+/// let mut w = sensor_box::storage::FlashWindow::new(&mut flash.0, 2048, 4096).map_err(|_| persist::StoreError::TooLarge)?;
+/// assert_eq!(persist::legacy::newest_area(&mut w), Some(2048..4096)); // moved out first
+/// let boot = persist::boot(&mut flash, &layout);
+/// assert_eq!((boot.record, boot.source), (new, persist::Source::Map));
+/// # Ok::<(), persist::StoreError>(())
+/// ```
+pub async fn store_in_async<F>(
+    flash: &mut F,
+    layout: &Layout,
+    record: &Persisted,
+    debt_ms: u64,
+    scratch: &mut Scratch,
+) -> Result<Stored, StoreError>
+where
+    F: NorFlash + embedded_storage_async::nor_flash::NorFlash,
+{
+    let Some(range) = layout.map.clone() else {
+        return store_legacy(flash, layout, record);
+    };
+    settle(flash, &range)?;
+    let done = match open_map(&mut *flash, range) {
+        Ok(mut map) => store_map(&mut map, record, debt_ms, None, scratch).await,
+        Err(e) => Err(e),
+    };
     match done {
         // No directory: the first store, or a migration that did not finish.
         Err(StoreError::Empty) => fresh(flash, layout, record, debt_ms),
