@@ -19,11 +19,14 @@
 //!   (shared with `protolink sim`).
 //! - [`aeolus_link`], [`aydp_link`], [`aok_link`]: one protocol on one UART each.
 //! - [`port`]: reading received bytes in slices and queueing whole frames for transmit, the
-//!   same way on every link.
+//!   same way on every link; [`burst_marks`]: where the receive interrupt saw the line fall
+//!   silent, so the AOK link frames its bursts by the line's silences even after a stall.
 //! - [`serial`] (feature `bbqueue`, on by default): `QueuedSerial`, the interrupt-driven port
 //!   of the blocking boards, and [`storage`]: `MemFlash`, NOR flash over a byte slice. The
 //!   boards use them, and so do this crate's tests and examples.
 //! - [`budget`]: where the CPU goes (per-category accounting, feature `cpu-budget`).
+//! - [`supervisor`]: whether every task of a board still makes progress, and so whether the
+//!   watchdog is fed (`firmware-embassy`'s tasks).
 //! - [`log`]: `info!`/`warn!`/`error!`/`debug!` macros that go to `defmt` on the target
 //!   (feature `defmt`) and compile to nothing on the host.
 //!
@@ -31,7 +34,8 @@
 //! written only from there.
 //!
 //! Features: `defmt` (log through defmt on `target_os = "none"`, `defmt::Format` on the
-//! public types); `hardware-lm3s6965evb` and `hardware-stm32f411` name the board in AYDP
+//! public types); `legacy` (default: the format 1-3 store read and migrated at boot);
+//! `hardware-lm3s6965evb` and `hardware-stm32f411` name the board in AYDP
 //! 0x0003 (the boards turn them on; on the host the name is `host`).
 #![no_std]
 #![forbid(unsafe_code)]

@@ -40,6 +40,10 @@
 //! would double the run.
 
 mod harness;
+// The bit-flip and lost-byte variants, as `sensor-box/tests/noise.rs` makes them.
+#[allow(dead_code)]
+#[path = "../../sensor-box/tests/common/genuine_aok.rs"]
+mod genuine_aok;
 
 use aok_proto::WaypointSlot;
 use aok_proto::{Client, Command, Motor, MotorTest, Waypoint};
@@ -303,23 +307,7 @@ fn marker_line(n: usize) -> String {
 /// Sends uniformly random bytes for `span`, continuous or in bursts, while another thread
 /// drains what the box sends back on UART2.
 fn noise(uart2: &TcpStream, rng: &mut Rng, span: Duration, bursts: bool) {
-    let mut out = uart2.try_clone().expect("clone UART2");
-    let mut back = uart2.try_clone().expect("clone UART2");
-    back.set_read_timeout(Some(Duration::from_millis(20)))
-        .expect("timeout");
-    let stop = AtomicBool::new(false);
-    std::thread::scope(|s| {
-        s.spawn(|| {
-            let mut buf = [0u8; 4096];
-            while !stop.load(Ordering::Relaxed) {
-                match back.read(&mut buf) {
-                    Ok(0) => break,
-                    Ok(_) => {}
-                    Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
-                    Err(e) => panic!("UART2: {e}"),
-                }
-            }
-        });
+    draining(uart2, |out| {
         let start = Instant::now();
         let mut next = start;
         while start.elapsed() < span {
@@ -345,9 +333,6 @@ fn noise(uart2: &TcpStream, rng: &mut Rng, span: Duration, bursts: bool) {
                 sleep_until(next);
             }
         }
-        // What the box still sends after the noise, drained before the next commands.
-        std::thread::sleep(QUIET);
-        stop.store(true, Ordering::Relaxed);
     });
 }
 
@@ -477,34 +462,27 @@ fn glitches(uart2: &TcpStream, rng: &mut Rng, genuine: &[&[u8]]) {
         all.push((rng.bytes(n), silence));
     }
     for bytes in genuine {
-        for v in variants(bytes) {
+        for v in genuine_aok::variants(bytes) {
             all.push((v, Duration::from_millis(40)));
         }
     }
     writes(uart2, all.into_iter());
 }
 
-/// Every variant of `bytes` with one bit flipped, then every variant with one byte lost.
-fn variants(bytes: &[u8]) -> Vec<Vec<u8>> {
-    let mut out = Vec::new();
-    for i in 0..bytes.len() {
-        for bit in 0..8 {
-            let mut v = bytes.to_vec();
-            v[i] ^= 1 << bit;
-            out.push(v);
-        }
-    }
-    for i in 0..bytes.len() {
-        let mut v = bytes.to_vec();
-        v.remove(i);
-        out.push(v);
-    }
-    out
-}
-
 /// Sends each write with the silence after it, while another thread drains what the box sends
 /// back on UART2.
 fn writes(uart2: &TcpStream, all: impl Iterator<Item = (Vec<u8>, Duration)>) {
+    draining(uart2, |out| {
+        for (bytes, silence) in all {
+            out.write_all(&bytes).expect("write UART2");
+            std::thread::sleep(silence);
+        }
+    });
+}
+
+/// Runs `send` with a handle on UART2 while another thread drains what the box sends back,
+/// then drains for [`QUIET`] more (what the box still sends, before the next commands).
+fn draining(uart2: &TcpStream, send: impl FnOnce(&mut TcpStream)) {
     let mut out = uart2.try_clone().expect("clone UART2");
     let mut back = uart2.try_clone().expect("clone UART2");
     back.set_read_timeout(Some(Duration::from_millis(20)))
@@ -522,10 +500,7 @@ fn writes(uart2: &TcpStream, all: impl Iterator<Item = (Vec<u8>, Duration)>) {
                 }
             }
         });
-        for (bytes, silence) in all {
-            out.write_all(&bytes).expect("write UART2");
-            std::thread::sleep(silence);
-        }
+        send(&mut out);
         std::thread::sleep(QUIET);
         stop.store(true, Ordering::Relaxed);
     });
