@@ -92,13 +92,23 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
         "only {after} frames in 300 ms after the resume"
     );
 
-    // An unknown command is answered; "a reboot" restarts the box with its boot TOAST.
+    // An unknown command is answered; "a reboot" is refused in flight, and landed ("a pause")
+    // restarts the box with its boot TOAST.
     link.command("a hello");
     let ack = link.read_until_toast(Duration::from_secs(2));
     assert_eq!(
         link.frames[ack].toast().as_deref(),
         Some("unknown command: a hello")
     );
+    link.command("a reboot");
+    let ack = link.read_until_toast(Duration::from_secs(2));
+    assert_eq!(
+        link.frames[ack].toast().as_deref(),
+        Some("AEOLUS reboot refused: flying")
+    );
+    link.command("a pause");
+    let ack = link.read_until_toast(Duration::from_secs(2));
+    assert_eq!(link.frames[ack].toast().as_deref(), Some("AEOLUS paused"));
     link.command("a reboot");
     let ack = link.read_until_toast(Duration::from_secs(2));
     assert_eq!(
@@ -113,12 +123,13 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
     let summary = out.lines().find(|l| l.starts_with("sim: ")).unwrap();
     for want in [
         "settime=1 ",
-        "commands=3 ",
+        "commands=4 ",
         "unknown_commands=1 ",
+        "refused_in_flight=1 ",
         "reboots=1 ",
         "rx_errors=0 ",
         "send_errors=0 ",
-        "datagrams_received=5",
+        "datagrams_received=7",
     ] {
         assert!(summary.contains(want), "{want} not in {summary}");
     }

@@ -326,6 +326,7 @@ impl Sim {
             "toasts": c.toasts,
             "commands": c.commands,
             "unknown_commands": c.unknown_commands,
+            "refused_in_flight": c.refused_in_flight,
             "settime": c.settime,
             "settime_rejected": c.settime_rejected,
             "rx_errors": c.rx_errors,
@@ -374,6 +375,7 @@ fn add_counters(into: &mut LinkCounters, c: &LinkCounters) {
         (&mut into.toasts, c.toasts),
         (&mut into.tx_dropped, c.tx_dropped),
         (&mut into.commands, c.commands),
+        (&mut into.refused_in_flight, c.refused_in_flight),
         (&mut into.unknown_commands, c.unknown_commands),
         (&mut into.settime, c.settime),
         (&mut into.settime_rejected, c.settime_rejected),
@@ -546,11 +548,14 @@ mod tests {
     fn a_reboot_keeps_the_outage_window_on_the_sims_clock() {
         let mut sim = Sim::new(Settings::default(), 10_000).gps_outage(1_000..3_000);
         let mut gps = gps_fixes(&mut sim, 10_000, 11_500);
-        let mut reboot = [0u8; 32];
-        let n = Message::Command(Text::new("a reboot").unwrap())
-            .encode(&mut reboot, CrcMode::Compute)
-            .unwrap();
-        assert!(sim.receive(&reboot[..n]));
+        // Landed ("a pause"), as the box obeys a reboot only then.
+        for command in ["a pause", "a reboot"] {
+            let mut frame = [0u8; 32];
+            let n = Message::Command(Text::new(command).unwrap())
+                .encode(&mut frame, CrcMode::Compute)
+                .unwrap();
+            assert!(sim.receive(&frame[..n]));
+        }
         gps.extend(gps_fixes(&mut sim, 11_500, 14_000));
         assert_eq!(sim.reboots(), 1);
         let in_window = |now_ms: u64| (11_000..13_000).contains(&now_ms);
