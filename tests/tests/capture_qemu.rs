@@ -158,7 +158,9 @@ fn a_capture_of_the_firmware_dissects_in_tshark_as_decode_reads_it_and_replays()
         let quoted = format!("\"{name}\"");
         let recorded_count = recorded.iter().filter(|(n, _)| *n == quoted).count();
         assert_eq!(count, recorded_count, "{name}: {line}");
-        assert!((host_ms - box_ms).abs() <= 0.1 * box_ms, "{name}: {line}");
+        // Within a quarter: a replay that ignored the timing would send the 5 s at once (host
+        // intervals near 0); on a loaded two-core machine the host's means were seen 11 % off.
+        assert!((host_ms - box_ms).abs() <= 0.25 * box_ms, "{name}: {line}");
     }
     println!("watch after replay:\n{last}");
     let _ = std::fs::remove_file(view);
