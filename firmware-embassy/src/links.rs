@@ -33,7 +33,7 @@ use embassy_sync::signal::Signal;
 use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
 use firmware_example::{QueuedSerial, SerialIsr};
-use sensor_box::persist::{self, Scratch, Stored};
+use sensor_box::persist::{self, Scratch};
 use sensor_box::supervisor::{Heartbeat, Supervisor, Verdict};
 use sensor_box::{App, aeolus_link, aydp_link};
 
@@ -396,15 +396,7 @@ where
                     defmt::warn!("flash store: {}: settings kept in RAM only", e)
                 }
             }
-            shared.with(|a| {
-                let c = &mut a.app.shared.counters;
-                let counter = match done {
-                    Ok(Stored::Unchanged) => &mut c.stores_unchanged,
-                    Ok(_) => &mut c.stores_written,
-                    Err(_) => &mut c.store_failures,
-                };
-                *counter = counter.wrapping_add(1);
-            });
+            shared.with(|a| a.app.shared.counters.count_store(&done));
         }
         job.done.store(asked, Ordering::Relaxed);
     }

@@ -362,15 +362,21 @@ fn reads_over_a_line_that_never_stops_talking_time_out_cleanly() {
 
 /// The box runs a motor at rest only from a second frame within the 500 ms hold of the first
 /// (docs/protocol-notes.md PL41): without --hold-ms, `motor` sends two, 20 ms apart.
+/// How many motor-test frames for `motor` with `value` the device received.
+fn motor_frames(log: &DeviceLog, motor: u8, value: u8) -> usize {
+    log.commands
+        .iter()
+        .filter(
+            |c| matches!(c, Command::MotorTest(m) if m.motor.get() == motor && m.value == value),
+        )
+        .count()
+}
+
 #[test]
 fn motor_sends_the_second_frame_the_box_runs_the_motor_from() {
     let (out, log) = with_device("0.35", &["motor", "2", "30"]);
     let text = ok(&out);
-    let sent = log
-        .commands
-        .iter()
-        .filter(|c| matches!(c, Command::MotorTest(m) if m.motor.get() == 2 && m.value == 30))
-        .count();
+    let sent = motor_frames(&log, 2, 30);
     assert_eq!(sent, 2);
     assert!(
         text.starts_with("motor 2 test value 30 (2 frame(s)): "),
@@ -382,11 +388,7 @@ fn motor_sends_the_second_frame_the_box_runs_the_motor_from() {
 fn motor_hold_repeats_the_value_before_it_lapses() {
     let (out, log) = with_device("0.35", &["motor", "2", "30", "--hold-ms", "450"]);
     let text = ok(&out);
-    let sent = log
-        .commands
-        .iter()
-        .filter(|c| matches!(c, Command::MotorTest(m) if m.motor.get() == 2 && m.value == 30))
-        .count();
+    let sent = motor_frames(&log, 2, 30);
     // Every 200 ms for 450 ms: at least at 0, 200 and 400 ms, so the 500 ms lapse never hits.
     assert!(sent >= 3, "{sent} sends");
     assert_eq!(

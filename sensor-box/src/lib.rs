@@ -254,18 +254,12 @@ impl App {
     /// ```
     pub fn service_requests<F: NorFlash>(&mut self, flash: &mut F) -> Control {
         if core::mem::take(&mut self.shared.requests.store) {
-            let c = &mut self.shared.counters;
             let debt = self.shared.store_policy.debt_ms();
-            let counter = match persist::store_in(flash, &self.layout, &self.shared.persisted, debt)
-            {
-                Ok(persist::Stored::Unchanged) => &mut c.stores_unchanged,
-                Ok(_) => &mut c.stores_written,
-                Err(_) => {
-                    crate::warn!("flash store: write failed; settings kept in RAM only");
-                    &mut c.store_failures
-                }
-            };
-            *counter = counter.wrapping_add(1);
+            let outcome = persist::store_in(flash, &self.layout, &self.shared.persisted, debt);
+            if outcome.is_err() {
+                crate::warn!("flash store: write failed; settings kept in RAM only");
+            }
+            self.shared.counters.count_store(&outcome);
         }
         if core::mem::take(&mut self.shared.requests.reboot) {
             Control::Reboot

@@ -189,6 +189,31 @@ pub struct Counters {
     pub corrupt_items: u32,
 }
 
+impl Counters {
+    /// Counts a store's outcome: written, unchanged or failed (every board's store counts it
+    /// here, blocking or awaited).
+    ///
+    /// ```
+    /// use sensor_box::persist::{StoreError, Stored};
+    /// let mut c = sensor_box::state::Counters::default();
+    /// c.count_store(&Ok(Stored::Unchanged));
+    /// c.count_store(&Ok(Stored::Written(2)));
+    /// c.count_store(&Err(StoreError::Verify));
+    /// assert_eq!((c.stores_unchanged, c.stores_written, c.store_failures), (1, 1, 1));
+    /// ```
+    pub fn count_store(
+        &mut self,
+        outcome: &Result<crate::persist::Stored, crate::persist::StoreError>,
+    ) {
+        let counter = match outcome {
+            Ok(crate::persist::Stored::Unchanged) => &mut self.stores_unchanged,
+            Ok(_) => &mut self.stores_written,
+            Err(_) => &mut self.store_failures,
+        };
+        *counter = counter.wrapping_add(1);
+    }
+}
+
 /// Number of direct-output channels the box exposes (AYDP direct output control).
 pub const OUTPUTS: usize = 8;
 
