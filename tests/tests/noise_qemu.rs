@@ -342,53 +342,11 @@ fn sleep_until(t: Instant) {
     }
 }
 
-/// A port for `aok_proto::Client` that sends each command in one write, as `protolink aok`
-/// does (its serial buffers the bytes until the client's flush).
-struct OneWrite {
-    stream: TcpStream,
-    out: Vec<u8>,
-}
-
-impl embedded_hal_nb::serial::ErrorType for OneWrite {
-    type Error = core::convert::Infallible;
-}
-
-impl embedded_hal_nb::serial::Read<u8> for OneWrite {
-    fn read(&mut self) -> nb::Result<u8, Self::Error> {
-        let mut b = [0u8; 1];
-        match self.stream.read(&mut b) {
-            Ok(1) => Ok(b[0]),
-            _ => Err(nb::Error::WouldBlock),
-        }
-    }
-}
-
-impl embedded_hal_nb::serial::Write<u8> for OneWrite {
-    fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
-        self.out.push(word);
-        Ok(())
-    }
-
-    fn flush(&mut self) -> nb::Result<(), Self::Error> {
-        if !self.out.is_empty() {
-            self.stream.write_all(&self.out).expect("write UART2");
-            self.out.clear();
-        }
-        Ok(())
-    }
-}
-
 /// A PC's AOK client on UART2 (firmware 0.35: bulk reads).
-fn client(uart2: &TcpStream) -> Client<OneWrite> {
+fn client(uart2: &TcpStream) -> Client<NbSerial> {
     let stream = uart2.try_clone().expect("clone UART2");
     stream.set_nonblocking(true).expect("nonblocking");
-    Client::new(
-        OneWrite {
-            stream,
-            out: Vec::new(),
-        },
-        emulated_aok_config(),
-    )
+    Client::new(NbSerial::new(stream), emulated_aok_config())
 }
 
 fn now() -> impl FnMut() -> u32 {

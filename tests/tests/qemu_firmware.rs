@@ -257,7 +257,7 @@ fn aok_parameter_and_waypoint(board: Board) {
     q.uart0.read_until(Duration::from_secs(10), |_| true);
     let port = q.uart2.try_clone().expect("clone UART2");
     port.set_nonblocking(true).expect("nonblocking");
-    let mut client = Client::new(NbSerial(port), emulated_aok_config());
+    let mut client = Client::new(NbSerial::new(port), emulated_aok_config());
     let t0 = Instant::now();
     let mut now = || t0.elapsed().as_millis() as u32;
 

@@ -136,7 +136,7 @@ fn hostile_soak() {
     aok_port.set_nonblocking(true).expect("nonblocking");
     let uart2_sent = Arc::new(AtomicUsize::new(0));
     let mut aok = Client::new(
-        CountingSerial(NbSerial(aok_port), uart2_sent.clone()),
+        CountingSerial(NbSerial::new(aok_port), uart2_sent.clone()),
         emulated_aok_config(),
     );
     let t0 = Instant::now();

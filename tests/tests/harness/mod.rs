@@ -854,7 +854,25 @@ pub fn emulated_aok_config() -> aok_proto::Config {
 }
 
 /// A TCP socket as an `embedded-hal-nb` serial port, for `aok_proto::Client`.
-pub struct NbSerial(pub TcpStream);
+///
+/// The bytes the client writes are held until it flushes at the end of a frame and go out in
+/// one `write`, as a PC's serial driver sends them: a frame written a byte at a time reaches
+/// QEMU in pieces that a loaded host may deliver to the guest more than the box's
+/// `sensor_box::aok_link::GAP_MS` apart, and the box rightly drops a frame so split.
+pub struct NbSerial {
+    stream: TcpStream,
+    out: Vec<u8>,
+}
+
+impl NbSerial {
+    /// The client's side of `stream` (set it non-blocking first).
+    pub fn new(stream: TcpStream) -> Self {
+        NbSerial {
+            stream,
+            out: Vec::new(),
+        }
+    }
+}
 
 impl embedded_hal_nb::serial::ErrorType for NbSerial {
     type Error = core::convert::Infallible;
@@ -863,7 +881,7 @@ impl embedded_hal_nb::serial::ErrorType for NbSerial {
 impl embedded_hal_nb::serial::Read<u8> for NbSerial {
     fn read(&mut self) -> nb::Result<u8, Self::Error> {
         let mut b = [0u8; 1];
-        match self.0.read(&mut b) {
+        match self.stream.read(&mut b) {
             Ok(1) => Ok(b[0]),
             _ => Err(nb::Error::WouldBlock),
         }
@@ -872,12 +890,28 @@ impl embedded_hal_nb::serial::Read<u8> for NbSerial {
 
 impl embedded_hal_nb::serial::Write<u8> for NbSerial {
     fn write(&mut self, word: u8) -> nb::Result<(), Self::Error> {
-        match self.0.write(&[word]) {
-            Ok(1) => Ok(()),
-            _ => Err(nb::Error::WouldBlock),
-        }
+        self.out.push(word);
+        Ok(())
     }
     fn flush(&mut self) -> nb::Result<(), Self::Error> {
+        if !self.out.is_empty() {
+            write_all_nonblocking(&mut self.stream, &self.out);
+            self.out.clear();
+        }
         Ok(())
+    }
+}
+
+/// All of `bytes` into a non-blocking socket, waiting out `WouldBlock`.
+fn write_all_nonblocking(stream: &mut TcpStream, mut bytes: &[u8]) {
+    while !bytes.is_empty() {
+        match stream.write(bytes) {
+            Ok(0) => panic!("UART socket closed"),
+            Ok(n) => bytes = bytes.get(n..).unwrap_or(&[]),
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            Err(e) => panic!("write to the UART socket: {e}"),
+        }
     }
 }
