@@ -14,7 +14,7 @@ cd "$(dirname "$0")/../.."
 out=target/c-api-fw
 mkdir -p "$out"
 cargo build -q -p protolink-c --release --target thumbv7m-none-eabi
-cargo build -q -p protolink --release
+protolink=$(scripts/protolink-bin.sh)
 
 # The lm3s6965: 256 KiB of flash at 0, 64 KiB of RAM at 0x20000000 (picolibc's picolibc.ld).
 cflags=(-std=c11 -Wall -Wextra -Werror -pedantic -Os -mthumb --specs=picolibc.specs
@@ -29,7 +29,7 @@ arm-none-eabi-size "$out/c-firmware.elf"
 timeout 120 qemu-system-arm -M lm3s6965evb -nographic -monitor none -serial none \
   -semihosting-config enable=on,target=native -kernel "$out/c-firmware.elf" >"$out/qemu.log" 2>&1
 cat "$out/qemu.log"
-python3 - "$out/qemu.log" <<'PY'
+python3 - "$out/qemu.log" "$protolink" <<'PY'
 import json, subprocess, sys
 
 got = {}
@@ -42,7 +42,7 @@ runs = {"aeolus": (["--proto", "aeolus"], "testdata/qemu-uart0-aeolus.bin"),
         "aok": (["--proto", "aok", "--side", "device"], "testdata/qemu-uart2-aok.bin")}
 bad = []
 for proto, (args, path) in runs.items():
-    out = subprocess.run(["target/release/protolink", "decode", *args, "--from", f"file:{path}",
+    out = subprocess.run([sys.argv[2], "decode", *args, "--from", f"file:{path}",
                           "--json"], capture_output=True, text=True, check=True).stdout.splitlines()
     events = [json.loads(l) for l in out]
     want = next(e["counters"] for e in events if e["kind"] == "summary")

@@ -18,7 +18,7 @@ mkdir -p "$out/rt" "$out/vectors"
 # The archive in the dev profile: Rust's debug assertions and overflow checks are on, so a
 # violated precondition inside the library (a NULL slice, an overflow) aborts the test too.
 cargo build -q -p protolink-c
-cargo build -q -p protolink --release
+protolink=$(scripts/protolink-bin.sh)
 lib=target/debug/libprotolink_c.a
 
 flags=(-Wall -Wextra -Werror -pedantic -Ic-api/include)
@@ -40,7 +40,7 @@ RT_DIR="$out/rt" "$out/host_test" hostile 10
 "$out/host_test" misuse
 
 python3 c-api/tests/vectors.py ../shared/vectors "$out/vectors"
-python3 c-api/tests/compare.py "$out/host_test" target/release/protolink \
+python3 c-api/tests/compare.py "$out/host_test" "$protolink" \
   aeolus:"$out/vectors/aeolus.bin" aydp-spec:"$out/vectors/aydp-spec.bin" \
   aydp-reference:"$out/vectors/aydp-reference.bin" aok-pc:"$out/vectors/aok-pc.bin" \
   aok-device:"$out/vectors/aok-device.bin" \
