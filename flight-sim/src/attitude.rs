@@ -1,6 +1,6 @@
 //! Attitude: Euler angles, quaternions and rotations between body and NED axes.
 //!
-//! # Convention (pinned by the tests in `tests/attitude.rs`)
+//! # Convention (pinned by the tests in `tests/all/attitude.rs`)
 //!
 //! * Axes: NED (x north, y east, z down) for the Earth frame, and x forward,
 //!   y right wing, z down for the body frame. Right-handed; positive angles turn

@@ -173,8 +173,8 @@ pub(crate) fn advance<E, P>(buf: &[u8], n: usize) -> Result<&[u8], IoError<E, P>
 }
 
 /// Liveness: the steps the read and write loops end on. A mutant that breaks one of them makes
-/// a loop of `tests/io.rs` spin (a hang, not a failure); these fail at once instead (unit tests
-/// run before the integration tests).
+/// a loop of `tests/all/io.rs` spin (a hang, not a failure); these fail at once instead (unit
+/// tests run before the integration tests).
 #[cfg(test)]
 mod liveness {
     use super::*;

@@ -131,9 +131,9 @@ fn the_pc_decoder_returns_with_the_streams_events() {
 }
 
 /// The end of the stream gives up the fronts it cannot complete and rescans what followed them,
-/// and ends: a mutant that reports the same bytes again makes the readers of `tests/io.rs`
-/// spin (a hang, not a failure); this fails at once instead (unit tests run before the
-/// integration tests). The pull form's `end` (and so `finish`) gives exactly the events of
+/// and ends: a mutant that reports the same bytes again makes the readers of
+/// `tests/all/io.rs` spin (a hang, not a failure); this fails at once instead (unit tests run
+/// before the integration tests). The pull form's `end` (and so `finish`) gives exactly the events of
 /// the quiet line's rule step.
 #[test]
 fn the_end_gives_up_the_bytes_held_once() {

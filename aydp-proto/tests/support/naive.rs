@@ -3,7 +3,7 @@
 //! It applies the same start rule (0xFF, with the Y5 "FF FF" resync) and the same length
 //! checks (profile minimum, capacity), but after a checksum failure it throws away every byte
 //! the false start claimed, and after a length failure the whole header: it never rescans.
-//! Pull it in with `#[path = "support/naive.rs"] mod naive;`.
+//! Declared once in `tests/all/main.rs` (`#[path = "../support/naive.rs"] mod naive;`).
 
 #![allow(dead_code)]
 

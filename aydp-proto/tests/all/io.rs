@@ -3,10 +3,8 @@
 //! the read sizes (1 byte up to more than the buffer), with pending reads, transport errors in
 //! mid-message and EOF; the writers produce exactly the bytes of `Encoder::encode`.
 
-#[path = "support/streamgen.rs"]
-mod streamgen;
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::streamgen;
+use crate::transport;
 
 use aydp_proto::{
     Decode, Decoder, Encoder, Error, IoError, Profile, Raw, Stats, Timestamp, embedded_io as bio,

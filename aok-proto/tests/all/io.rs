@@ -4,12 +4,10 @@
 //! whatever the read sizes (1 byte up to more than the buffer), with pending reads, transport
 //! errors in mid-frame and EOF, on both sides; the writers write exactly the encoders' bytes.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::feed_byte;
 
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use aok_proto::{
     Ack, Command, CommandDecoder, DebugValue, Error, FirmwareVersion, IoError, Message,

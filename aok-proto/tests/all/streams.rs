@@ -1,7 +1,6 @@
 //! Interleaved and corrupted streams, split at every byte boundary.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::{feed_byte, finish_all};
 
 use aok_proto::{

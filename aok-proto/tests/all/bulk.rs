@@ -5,8 +5,7 @@
 //! all give the same items in the same order, the same counters, the same pending request and
 //! the same buffered bytes after every chunk, and the same result from `finish` at the end.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::{feed_bytes, finish_all};
 
 use aok_proto::{Command, CommandDecoder, Decode, Error, Event, Expect, FirmwareVersion};

@@ -2,11 +2,9 @@
 //! delay: the debug-off / drain / request / reply / debug-on sequence, acks, refusals,
 //! timeouts and transport errors.
 
-#[path = "support/watchdog.rs"]
-mod watchdog;
+use crate::watchdog;
 
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use std::cell::Cell;
 use std::collections::VecDeque;
@@ -153,7 +151,7 @@ fn client(device: Device) -> (AsyncClient<Device, Clock>, Rc<Cell<u32>>) {
 
 #[test]
 fn read_parameter_turns_debug_off_drains_asks_and_turns_it_on_again() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut device = Device::new();
     device.params[12] = 1500;
     // Debug values still on the line when the client starts: the drain takes them.
@@ -190,7 +188,7 @@ fn read_parameter_turns_debug_off_drains_asks_and_turns_it_on_again() {
 
 #[test]
 fn set_parameter_is_acked_or_refused() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let (mut c, t) = client(Device::new());
     assert_eq!(block_on(c.set_parameter(3, -7, || t.get())), Ok(()));
     let (mut device, delay) = c.release();
@@ -210,7 +208,7 @@ fn set_parameter_is_acked_or_refused() {
 
 #[test]
 fn a_silent_device_times_out_and_debug_is_restored() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut device = Device::new();
     device.answer = false;
     let (mut c, t) = client(device);
@@ -235,7 +233,7 @@ fn a_silent_device_times_out_and_debug_is_restored() {
 
 #[test]
 fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut device = Device::new();
     device.answer = false;
     device.debug = false;
@@ -255,7 +253,7 @@ fn at_the_end_of_the_stream_the_clock_runs_and_the_request_times_out() {
 
 #[test]
 fn a_failing_transport_is_a_serial_error() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut device = Device::new();
     device.fail_writes = true;
     let (mut c, t) = client(device);
@@ -268,7 +266,7 @@ fn a_failing_transport_is_a_serial_error() {
 
 #[test]
 fn commands_without_a_reply_are_just_sent() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut device = Device::new();
     device.debug = false;
     let (mut c, t) = client(device);

@@ -2,7 +2,7 @@
 //! emitting those fields gives exactly the listed bytes, and the datagram and bad-CRC vectors
 //! behave as their notes say.
 
-mod common;
+use crate::common;
 use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::hex;

@@ -1,7 +1,6 @@
 //! Every vector of `testdata/aok-frames.json`, both directions.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::feed_byte;
 
 use aok_proto::{

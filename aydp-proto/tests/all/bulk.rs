@@ -4,8 +4,7 @@
 //! after every chunk, and the same end state (what `finish` reports); and so does the pull
 //! form (`decode`, called again and again on what each call left, and `item`).
 
-#[path = "support/streamgen.rs"]
-mod streamgen;
+use crate::streamgen;
 
 use aydp_proto::{Decode, Decoder, Error, Event as Pulled, Frame, Profile, Stats};
 use proptest::prelude::*;

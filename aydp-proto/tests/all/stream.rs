@@ -1,10 +1,8 @@
 //! Stream tests: random valid messages behind adversarial garbage, split streams, corrupted
 //! streams and pure noise.
 
-#[path = "support/naive.rs"]
-mod naive;
-#[path = "support/streamgen.rs"]
-mod streamgen;
+use crate::naive;
+use crate::streamgen;
 
 use aydp_proto::{Decode, Decoder, Error, Event, Profile};
 use naive::NaiveDecoder;

@@ -1,7 +1,7 @@
 //! Property tests: every message type round-trips through emit, framing, deframing and parse
 //! for arbitrary field values, NaN bit patterns included.
 
-mod common;
+use crate::common;
 use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::{arb_message, same_bits};

@@ -3,9 +3,8 @@
 //! pending reads, transport errors in mid-frame and EOF; the writers produce exactly the bytes
 //! of `encode_frame`.
 
-mod common;
-#[path = "support/transport.rs"]
-mod transport;
+use crate::common;
+use crate::transport;
 
 use aeolus_proto::Decode;
 use aeolus_proto::{

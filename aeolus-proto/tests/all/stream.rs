@@ -2,7 +2,7 @@
 //! strict mode, counters; every stream test repeats with the input split at every byte
 //! boundary; 1,000 random messages in random garbage; 1 MiB of random bytes.
 
-mod common;
+use crate::common;
 use aeolus_proto::Decode;
 use aeolus_proto::{message::*, *};
 use common::{Rng, events, hex};

@@ -1,6 +1,6 @@
 //! The CRC against every line of the vectors made by compiling the spec's own C code.
 
-mod common;
+use crate::common;
 use aeolus_proto::crc;
 use common::hex;
 use proptest::prelude::*;

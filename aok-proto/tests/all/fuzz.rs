@@ -2,8 +2,7 @@
 //! ways through the contract agree on it: `feed` one byte at a time (the reference), `feed`
 //! with whole segments and the pull form (`decode`), the same events and counters.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::{Events, decode_all, feed_byte, finish_all};
 
 use aok_proto::WaypointSlot;

@@ -1,9 +1,7 @@
-#![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! The writers' `flush` reaches the transport, once per call, and hands its error back as
 //! `WriteError::Transport`, blocking and async.
 
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use aok_proto::{WriteError, embedded_io as bio, embedded_io_async as aio};
 use embedded_io::ErrorKind;

@@ -1,4 +1,3 @@
-#![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! The readers and writers keep the parts they were built with: the profile and capacity of
 //! the decoder, a decoder handed over with its counters, the encoder's profile, the transport.
 

@@ -4,8 +4,7 @@
 //! byte by byte, gets the events of `feed` (which hands them all out) in the same order, with
 //! the same counters.
 
-#[path = "support/streamgen.rs"]
-mod streamgen;
+use crate::streamgen;
 
 use aydp_proto::{Decode, Decoder, Error, Event as Pulled, Frame, Profile, Stats};
 use streamgen::{Rng, garbage, random_message};

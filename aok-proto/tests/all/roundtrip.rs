@@ -1,8 +1,7 @@
 //! Property tests: every command and every device message round-trips through emit, parse and the
 //! byte-at-a-time decoders.
 
-#[path = "support/events.rs"]
-mod events;
+use crate::events;
 use events::feed_byte;
 
 use aok_proto::{

@@ -1,9 +1,7 @@
-#![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! A reader's `unread()` is the exact number of bytes it read from the transport and has not
 //! decoded yet: 0 before the first read, the bytes after each frame of a read.
 
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use aydp_proto::{Profile, embedded_io as bio, embedded_io_async as aio};
 use transport::block_on;

@@ -1,9 +1,7 @@
-#![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! The writers take a text of the full `TEXT_CAPACITY` (120 bytes and its NUL) and write
 //! exactly the bytes `Message::encode` gives.
 
-#[path = "support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, TEXT_CAPACITY, embedded_io as bio, embedded_io_async as aio};

@@ -1,10 +1,8 @@
-#![cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 //! `write_normal` and `write_expedited` write exactly the encoder's normal and expedited
 //! frames and return their length, blocking and async; in the Reference profile, which has
 //! no expedited header, `write_expedited` is refused and writes nothing.
 
-#[path = "../../aeolus-proto/tests/support/transport.rs"]
-mod transport;
+use crate::transport;
 
 use aydp_proto::{Encoder, Profile, Raw, Timestamp, embedded_io as bio, embedded_io_async as aio};
 use transport::block_on;

@@ -1,7 +1,6 @@
 //! The client against a scripted in-memory device (serial traits implemented on a test double).
 
-#[path = "support/watchdog.rs"]
-mod watchdog;
+use crate::watchdog;
 
 use std::collections::VecDeque;
 
@@ -179,7 +178,7 @@ fn asking_a_scripted_device(number: u8) -> Client<Device> {
 
 #[test]
 fn read_parameter_with_late_debug_frames() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.late_debug = 3;
     let mut c = client(dev, FirmwareVersion::LATEST);
@@ -203,7 +202,7 @@ fn read_parameter_with_late_debug_frames() {
 
 #[test]
 fn read_parameter_headerless_firmware_with_late_debug() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headerless);
     dev.params[9] = 0x1c00_00aa; // the reply starts with 1C, like a debug frame
     let mut c = client(dev, FirmwareVersion::new(0, 30));
@@ -213,7 +212,7 @@ fn read_parameter_headerless_firmware_with_late_debug() {
 
 #[test]
 fn late_debug_frame_after_the_request_is_tolerated() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     // A device that is slow to obey debug-off: a debug frame arrives between the request and the
     // reply. The 1/256 ambiguity of the headerless form does not hit this frame (checked).
     for (fw, form) in [
@@ -252,7 +251,7 @@ fn late_debug_frame_after_the_request_is_tolerated() {
 
 #[test]
 fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     // A stray 0x77 (a waypoint frame's start, 19 bytes) right before the reply: the decoder
     // waits for 19 bytes that never come; once the line is quiet it gives the false start up
     // and finds the reply behind it, long before the timeout.
@@ -277,7 +276,7 @@ fn a_reply_hidden_behind_a_false_start_is_found_when_the_line_goes_quiet() {
 
 #[test]
 fn a_waypoint_of_another_slot_is_not_the_answer() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.debug_on = false;
     let mut cfg = Config::new(FirmwareVersion::LATEST);
@@ -299,7 +298,7 @@ fn a_waypoint_of_another_slot_is_not_the_answer() {
 
 #[test]
 fn the_first_answer_counts_and_a_second_one_is_ignored() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.debug_on = false;
     dev.answers = false;
@@ -321,7 +320,7 @@ fn the_first_answer_counts_and_a_second_one_is_ignored() {
 
 #[test]
 fn device_that_never_answers_times_out_and_debug_is_restored() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
     let mut c = client(dev, FirmwareVersion::LATEST);
@@ -337,7 +336,7 @@ fn device_that_never_answers_times_out_and_debug_is_restored() {
 
 #[test]
 fn timeout_is_measured_on_the_callers_clock() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.answers = false;
     dev.debug_on = false;
@@ -354,7 +353,7 @@ fn timeout_is_measured_on_the_callers_clock() {
 
 #[test]
 fn bulk_read_of_sixteen_with_debug_frames_inside() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.debug_inside_bulk = true;
     let mut c = client(dev, FirmwareVersion::LATEST);
@@ -366,7 +365,7 @@ fn bulk_read_of_sixteen_with_debug_frames_inside() {
 
 #[test]
 fn bulk_read_needs_firmware_035() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::new(0, 34));
     assert_eq!(c.start(Command::BulkRead(0)), Err(ClientError::Unsupported));
     assert!(c.is_idle());
@@ -374,7 +373,7 @@ fn bulk_read_needs_firmware_035() {
 
 #[test]
 fn set_parameter_acks() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     for (ack, want) in [
         (Ack::Ok, Ok(())),
         (Ack::Error, Err(ClientError::Rejected)),
@@ -397,7 +396,7 @@ fn set_parameter_acks() {
 
 #[test]
 fn waypoint_set_and_read_back() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let w = Waypoint {
         slot: WaypointSlot::Waypoint(WaypointNumber::new(4).unwrap()),
         longitude: 1,
@@ -417,7 +416,7 @@ fn waypoint_set_and_read_back() {
 
 #[test]
 fn fire_and_forget_commands_skip_the_debug_dance() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
     let test = MotorTest {
         motor: Motor::new(3).unwrap(),
@@ -448,7 +447,7 @@ fn fire_and_forget_commands_skip_the_debug_dance() {
 
 #[test]
 fn debug_off_on_and_reset_track_the_debug_state() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
     assert_eq!(c.run(Command::DebugOff, clock()), Ok(Outcome::Sent));
     assert!(!c.debug_enabled());
@@ -466,7 +465,7 @@ fn debug_off_on_and_reset_track_the_debug_state() {
 
 #[test]
 fn busy_while_running_and_custom_expectation() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
     c.start(Command::ReadParameter(1)).unwrap();
     assert_eq!(c.start(Command::ReadParameter(2)), Err(ClientError::Busy));
@@ -484,7 +483,7 @@ fn busy_while_running_and_custom_expectation() {
 
 #[test]
 fn slow_serial_writes_still_complete() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut dev = Device::new(ReplyForm::Headed);
     dev.slow_writes = true;
     let mut c = client(dev, FirmwareVersion::LATEST);
@@ -513,7 +512,7 @@ impl Write<u8> for Broken {
 
 #[test]
 fn serial_errors_are_reported() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = Client::new(Broken, Config::new(FirmwareVersion::LATEST));
     assert_eq!(
         c.read_parameter(1, clock()),
@@ -525,7 +524,7 @@ fn serial_errors_are_reported() {
 
 #[test]
 fn the_client_is_busy_from_start_to_outcome_and_idle_after() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = client(Device::new(ReplyForm::Headed), FirmwareVersion::LATEST);
     assert!(c.is_idle());
     c.start(Command::ReadParameter(12)).unwrap();
@@ -552,7 +551,7 @@ fn the_client_is_busy_from_start_to_outcome_and_idle_after() {
 
 #[test]
 fn a_full_debug_queue_drops_the_oldest_and_keeps_the_order() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     use aok_proto::client::DEBUG_QUEUE;
     let mut dev = Device::new(ReplyForm::Headed);
     dev.debug_on = false; // only the frames queued below
@@ -584,7 +583,7 @@ fn a_full_debug_queue_drops_the_oldest_and_keeps_the_order() {
 
 #[test]
 fn a_parameter_reply_of_another_number_is_not_the_answer() {
-    watchdog::arm();
+    let _watchdog = watchdog::arm();
     let mut c = asking_a_scripted_device(40);
     let dev = c.serial_mut();
     dev.send(Message::Parameter(ParameterValue {
