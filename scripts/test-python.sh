@@ -25,11 +25,13 @@ fi
 # install puts it in ~/.local/bin).
 export PATH="$PWD/$venv/bin:$HOME/.local/bin:$PATH"
 
-cargo build -q -p protolink --release
+protolink=$(scripts/protolink-bin.sh)
 # --no-build-isolation: the maturin of scripts/setup.sh builds it (no download per run);
 # --force-reinstall: the package of this checkout, even at the same version.
-python -m pip install -q --no-build-isolation --force-reinstall --no-deps ./python
+# The extension with the dev profile: no optimisation and no LTO, the quickest build (the
+# published wheel keeps pyproject.toml's `wheel` profile).
+MATURIN_PEP517_ARGS="--profile dev" python -m pip install -q --no-build-isolation --force-reinstall --no-deps ./python
 
 # From the repository root, so that `import protolink` finds the installed package, not the
 # sources in python/protolink (which lack the native module).
-PROTOLINK="$PWD/target/release/protolink" python -m pytest -p no:cacheprovider -q python/tests "$@"
+PROTOLINK="$protolink" python -m pytest -p no:cacheprovider -q python/tests "$@"

@@ -90,13 +90,10 @@ pytest_count() {
 }
 
 # Sums, over every "test result:" line of the cargo test output, the number before WORD
-# (passed, failed); with ONLY, over the test binaries whose "Running" line matches ONLY.
+# (passed, failed).
 count() {
-  plain "$test_log" | awk -v word="$1" -v only="${2:-}" '
-    /^ *(Running|Doc-tests) / { keep = (only == "" || $0 ~ only) }
-    /^test result:/ && (only == "" || keep) {
-      for (i = 2; i <= NF; i++) if ($i ~ "^" word) n += $(i - 1)
-    }
+  plain "$test_log" | awk -v word="$1" '
+    /^test result:/ { for (i = 2; i <= NF; i++) if ($i ~ "^" word) n += $(i - 1) }
     END { print n + 0 }'
 }
 
@@ -121,18 +118,20 @@ failures() {
   fi
 }
 
+# The modules of protolink-tests (tests/tests/all/) whose tests boot the firmware in QEMU.
+qemu_modules='box_clock|capture_qemu|gdl90_qemu|nmea_qemu|noise_qemu|protolink_e2e|protolink_help|qemu_firmware|readme_examples|realtime_flood|soak|watchdog_qemu|web_qemu'
+
 summary() {
   local status=$? failed_step=$current
   trap - EXIT
   set +e
   end_step
   local passed failed qemu qemu_skipped skipped fuzz_targets fuzz_execs fuzz_crashes
-  local qemu_files='qemu_firmware|protolink_e2e|protolink_help|soak|capture_qemu|web_qemu|box_clock|readme_examples|realtime_flood|noise_qemu|watchdog_qemu'
   skipped=$(grep -c . "$skip_log" || true)
-  qemu_skipped=$(grep -cE "^($qemu_files)::" "$skip_log" || true)
+  qemu_skipped=$(grep -cE "^($qemu_modules)::" "$skip_log" || true)
   passed=$(($(count passed) - skipped + $(pytest_count passed)))
   failed=$(($(count failed) + $(pytest_count failed)))
-  qemu=$(($(count passed "$qemu_files") - qemu_skipped))
+  qemu=$(($(plain "$test_log" | grep -cE "^test ($qemu_modules)::[^ ]* \.\.\. ok$" || true) - qemu_skipped))
   # fuzz.sh's table: "target executions crashes", one line per target.
   read -r fuzz_targets fuzz_execs fuzz_crashes < <(awk '
     $1 == "target" && $2 == "executions" { t = 1; next }
@@ -140,7 +139,7 @@ summary() {
     END { printf "%d %d%s %d\n", n, e, (u ? "+" : ""), c }' "$fuzz_log")
   printf '\n==> summary (%s in all)\n' "$(secs $(($(now_ms) - run_start)))"
   printf '%s\n' "${timings[@]}"
-  echo "QEMU tests run: $qemu passed, $qemu_skipped skipped (tests/tests/qemu_firmware.rs, protolink_e2e.rs, protolink_help.rs, soak.rs, capture_qemu.rs, web_qemu.rs, box_clock.rs, readme_examples.rs, realtime_flood.rs, noise_qemu.rs, watchdog_qemu.rs)"
+  echo "QEMU tests run: $qemu passed, $qemu_skipped skipped (the modules ${qemu_modules//|/, } of tests/tests/all/)"
   if [ "$skipped" -gt 0 ]; then
     echo "SKIPPED: $skipped tests did not run, for a missing tool ($skip_log):"
     sed 's/^/  /' "$skip_log"
@@ -182,28 +181,29 @@ cargo fmt --all -- --check
 step "clippy (all targets, warnings denied)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
 
-step "cross-compile the libraries for thumbv6m, thumbv7m and thumbv7em (no features, defmt, embedded-io + embedded-io-async)"
-for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
-  for l in "${LIBS[@]}"; do
-    cargo build -q -p "$l" --target "$t" --release
-    cargo build -q -p "$l" --target "$t" --release --features defmt,embedded-io,embedded-io-async
-  done
-  # gdl90-proto (no embedded-io features yet): default and defmt.
-  cargo build -q -p gdl90-proto --target "$t" --release
-  cargo build -q -p gdl90-proto --target "$t" --release --features defmt
-done
+# Every test binary (one per crate) and the `protolink` binary that the C library's checks, the
+# Python tests and the QEMU harness run ($PROTOLINK): the host tool is compiled once, here.
+step "test build: every crate's tests and the protolink binary (cargo test --no-run)"
+cargo test -q --workspace --all-features --no-run
+export PROTOLINK="$PWD/${CARGO_TARGET_DIR:-target}/debug/protolink"
+
+# A build of the libraries for thumb proves nothing a check does not: panic-never, footprint, the C
+# library and the firmware build them for thumb below.
+step "thumb check: the libraries for thumbv6m, thumbv7m and thumbv7em (no features; defmt, embedded-io + embedded-io-async)"
+thumbs=(--target thumbv6m-none-eabi --target thumbv7m-none-eabi --target thumbv7em-none-eabihf)
+lib_args=()
+for l in "${LIBS[@]}"; do lib_args+=(-p "$l"); done
+cargo check -q "${thumbs[@]}" "${lib_args[@]}" -p gdl90-proto
+with=$(for l in "${LIBS[@]}"; do printf '%s/defmt,%s/embedded-io,%s/embedded-io-async,' "$l" "$l" "$l"; done)
+# gdl90-proto has no embedded-io features yet: defmt only.
+cargo check -q "${thumbs[@]}" "${lib_args[@]}" -p gdl90-proto --features "${with}gdl90-proto/defmt"
 
 MSRV=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' aeolus-proto/Cargo.toml)
-step "MSRV: the libraries with Rust $MSRV exactly (host check with all features, thumbv6m build)"
-for l in "${LIBS[@]}"; do
-  cargo +"$MSRV" check -q -p "$l" --all-features
-  cargo +"$MSRV" check -q -p "$l" --no-default-features
-  cargo +"$MSRV" build -q -p "$l" --target thumbv6m-none-eabi --release --features embedded-io,embedded-io-async
-done
-# gdl90-proto has the same MSRV (no embedded-io features yet).
-cargo +"$MSRV" check -q -p gdl90-proto --all-features
-cargo +"$MSRV" check -q -p gdl90-proto --no-default-features
-cargo +"$MSRV" build -q -p gdl90-proto --target thumbv6m-none-eabi --release
+step "MSRV: the libraries with Rust $MSRV exactly (host check with all features and with none, thumbv6m check)"
+cargo +"$MSRV" check -q "${lib_args[@]}" -p gdl90-proto --all-features
+cargo +"$MSRV" check -q "${lib_args[@]}" -p gdl90-proto --no-default-features
+msrv_with=$(for l in "${LIBS[@]}"; do printf '%s/embedded-io,%s/embedded-io-async,' "$l" "$l"; done)
+cargo +"$MSRV" check -q "${lib_args[@]}" -p gdl90-proto --target thumbv6m-none-eabi --features "${msrv_with%,}"
 
 step "publish dry run: every library packages and builds as crates.io would see it"
 # gdl90-proto depends on aeolus-proto, and the three protocol crates on frame-io, which are not
@@ -282,14 +282,28 @@ step "firmware-embassy: STM32F411 embassy board, release build and clippy (warni
 # CI: its target/ (about 0.6 GB) is not used again.
 if [ "${CI:-}" = true ]; then rm -rf firmware-embassy/target; fi
 
-step "rustdoc (warnings denied)"
-RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --all-features
-# The host tool's library is mostly crate-private: its maintainers' docs, every link checked.
-RUSTDOCFLAGS="-D warnings" cargo doc -q -p protolink --no-deps --document-private-items
+step "rustdoc (warnings denied), each crate once"
+RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --exclude protolink --no-deps --all-features
+# The host tool's library is mostly crate-private: its maintainers' docs (the public items
+# among them), every link checked.
+RUSTDOCFLAGS="-D warnings" cargo doc -q -p protolink --no-deps --all-features --document-private-items
 
-step "host tests"
+# The QEMU tests (modules of the protolink-tests binary, QEMU_JOBS emulators at a time) mostly
+# wait for the emulated box: they run beside the other crates' tests, which mostly compute.
 # --no-fail-fast: every test binary runs, so the summary counts every failure, not the first.
-cargo test --workspace --all-features --no-fail-fast 2>&1 | tee "$test_log"
+step "host tests (protolink-tests, QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside every other crate's tests)"
+qemu_log=$logs/protolink-tests.log
+(cargo test -p protolink-tests --all-features --no-fail-fast -- --test-threads=4 >"$qemu_log" 2>&1
+ echo $? >"$qemu_log.status") &
+qemu_pid=$!
+rest=0
+cargo test --workspace --exclude protolink-tests --all-features --no-fail-fast 2>&1 | tee "$test_log" || rest=$?
+wait "$qemu_pid" || true
+echo "--- protolink-tests ($qemu_log)"
+cat "$qemu_log" | tee -a "$test_log"
+qemu_status=$(cat "$qemu_log.status" 2>/dev/null || echo 1)
+if [ "$rest" != 0 ]; then exit "$rest"; fi
+if [ "$qemu_status" != 0 ]; then exit "$qemu_status"; fi
 
 # The Python package (python/): built with pip and maturin into target/py-venv, its pytest and
 # hypothesis tests against `protolink decode --json` (scripts/test-python.sh runs this alone).
