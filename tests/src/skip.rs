@@ -71,7 +71,9 @@ pub fn skip(reason: &str) {
                 .append(true)
                 .open(&path)
         })
-        .and_then(|mut f| writeln!(f, "{test}: {reason}"));
+        // One write of the whole line: the tests of a binary run in parallel, and `writeln!`
+        // writes a line in pieces, which two tests skipping at once interleaved.
+        .and_then(|mut f| f.write_all(format!("{test}: {reason}\n").as_bytes()));
     if let Err(e) = recorded {
         eprintln!(
             "(the skip could not be recorded in {}: {e})",
