@@ -263,7 +263,8 @@ pub fn qemu_jobs() -> usize {
         match v.to_str().and_then(|s| s.trim().parse::<usize>().ok()) {
             Some(n) if (1..=16).contains(&n) => n,
             _ => panic!(
-                "QEMU_JOBS is {v:?}, but it must be a number from 1 to 16 (how many QEMUs the                  tests run at once; 2 when it is not set)"
+                "QEMU_JOBS is {v:?}, but it must be a number from 1 to 16 (how many QEMUs the \
+                 tests run at once; 2 when it is not set)"
             ),
         }
     })
