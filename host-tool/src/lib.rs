@@ -10,7 +10,7 @@
 //! is crate-private; `cargo doc -p protolink --document-private-items` documents it all.
 //!
 //! The modules stand on four floors, and a module uses only modules on floors below its own
-//! (`tests/tests/module_layers.rs` checks it, and that there is no import cycle):
+//! (`tests/tests/all/module_layers.rs` checks it, and that there is no import cycle):
 //!
 //! | floor | module | holds |
 //! | --- | --- | --- |

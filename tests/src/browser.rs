@@ -1,6 +1,6 @@
 //! Debian's Chromium, headless, driven over the DevTools protocol (`headless_chrome`, no
-//! browser download), for the tests of `protolink web`: `host-tool/tests/web.rs` (against
-//! `protolink sim`) and `tests/tests/web_qemu.rs` (against the firmware in QEMU).
+//! browser download), for the tests of `protolink web`: `host-tool/tests/all/web.rs` (against
+//! `protolink sim`) and `tests/tests/all/web_qemu.rs` (against the firmware in QEMU).
 //!
 //! [`Page`] records every console error, uncaught exception and failed load the page causes,
 //! evaluates expressions, takes screenshots, and measures the horizon's roll from the

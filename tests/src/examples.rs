@@ -1,8 +1,8 @@
 //! Running the documented `protolink` examples (the `--help` pages' and the READMEs') as a
 //! newcomer would, and judging what each one did, not only its exit status: a `decode` must
 //! decode frames, a `watch` or `web` must receive bytes, a `record` must write a capture with
-//! frames in it, a `get` must print the value. Used by `tests/protolink_help.rs` and
-//! `tests/readme_examples.rs`.
+//! frames in it, a `get` must print the value. Used by `tests/all/protolink_help.rs` and
+//! `tests/all/readme_examples.rs`.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -9,7 +9,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The file `scripts/test.sh` reads: one line per skipped test, `binary::test: reason`.
+/// The file `scripts/test.sh` reads: one line per skipped test, `file::test: reason` (the
+/// test's file's module in its crate's `tests/all/` binary, then the test's own name).
 pub fn log_path() -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
@@ -34,7 +35,10 @@ pub fn under_ci() -> bool {
 ///
 /// The caller returns at once after this.
 pub fn skip(reason: &str) {
-    // `file::test`: the test binary's name without cargo's hash, and the test's own.
+    // `file::test`: in a crate's one integration-test binary (`tests/all/`), the test's own
+    // name, which begins with its file's module (`qemu_firmware::aok_parameter_and_waypoint::
+    // lm3s6965evb`); in any other binary, the binary's name without cargo's hash, then the
+    // test's.
     let binary = std::env::current_exe()
         .ok()
         .and_then(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
@@ -43,10 +47,15 @@ pub fn skip(reason: &str) {
                 .map_or(s.clone(), |(name, _)| name.to_owned())
         })
         .unwrap_or_default();
-    let test = format!(
-        "{binary}::{}",
-        std::thread::current().name().unwrap_or("an unnamed test")
-    );
+    let name = std::thread::current()
+        .name()
+        .unwrap_or("an unnamed test")
+        .to_owned();
+    let test = if binary == "all" {
+        name
+    } else {
+        format!("{binary}::{name}")
+    };
     assert!(
         !under_ci(),
         "{test} cannot run under CI (CI=true), where every skip fails: {reason}"
@@ -62,7 +71,9 @@ pub fn skip(reason: &str) {
                 .append(true)
                 .open(&path)
         })
-        .and_then(|mut f| writeln!(f, "{test}: {reason}"));
+        // One write of the whole line: the tests of a binary run in parallel, and `writeln!`
+        // writes a line in pieces, which two tests skipping at once interleaved.
+        .and_then(|mut f| f.write_all(format!("{test}: {reason}\n").as_bytes()));
     if let Err(e) = recorded {
         eprintln!(
             "(the skip could not be recorded in {}: {e})",

@@ -1,7 +1,7 @@
 //! The tshark comparison of the Wireshark dissector with `protolink decode --json`: every
 //! AEOLUS message of every frame, and every field tshark shows, equal to what decode prints.
-//! Used by `host-tool/tests/wireshark.rs` (sim and crafted frames) and
-//! `tests/tests/capture_qemu.rs` (the firmware in QEMU).
+//! Used by `host-tool/tests/all/wireshark.rs` (sim and crafted frames) and
+//! `tests/tests/all/capture_qemu.rs` (the firmware in QEMU).
 
 use std::path::Path;
 use std::process::Command;

@@ -83,7 +83,7 @@ pub fn reset() -> ! {
 /// A HardFault (a bad memory access, an undefined instruction, an escalated fault): one fixed
 /// line in the log, `HardFault: resetting` with the faulting PC, then a warm reset, so a box
 /// in the field comes back instead of hanging, and a test that reads the log sees it (the
-/// soak, `tests/tests/soak.rs`, fails on that line). Counted as a reset not asked for.
+/// soak, `tests/tests/all/soak.rs`, fails on that line). Counted as a reset not asked for.
 #[cortex_m_rt::exception]
 unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
     defmt::error!("HardFault: resetting (pc {=u32:#010x})", frame.pc());

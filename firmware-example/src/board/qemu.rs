@@ -10,7 +10,7 @@
 //!   ([`store_layout`]).
 //! * Clock: the PLL divided by 16 (12.5 MHz, the reset's divisor, set explicitly in
 //!   `set_core_clock`); SysTick counts it. QEMU without `-icount` follows the host's clock,
-//!   so the box's millisecond is the host's (`tests/tests/box_clock.rs` checks it).
+//!   so the box's millisecond is the host's (`tests/tests/all/box_clock.rs` checks it).
 //! * Watchdog: the LM3S6965's watchdog timer at 0x4000_0000, which QEMU 7.2 models
 //!   (`luminary-watchdog`, its CMSDK APB watchdog in the Stellaris variant, clocked by the
 //!   system clock, `info mtree` shows it as `cmsdk-apb-watchdog`). Load

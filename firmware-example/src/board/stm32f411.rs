@@ -52,7 +52,7 @@
 //!
 //! The model has no IWDG either (an unimplemented-device stub at 0x4000_3000: writes are
 //! ignored, reads return 0), so the simulated build starts the same watchdog, which never
-//! resets; and RCC_CSR reads 0, so no reset cause. `tests/tests/watchdog_qemu.rs` runs on the
+//! resets; and RCC_CSR reads 0, so no reset cause. `tests/tests/all/watchdog_qemu.rs` runs on the
 //! QEMU board only for that reason.
 //!
 //! Besides these, only the boot log's board name ([`NAME`]) says the build is

@@ -1,4 +1,4 @@
-"""Parses the NMEA 0183 lines `protolink nmea` wrote, with pynmea2, for host-tool/tests/nmea.rs.
+"""Parses the NMEA 0183 lines `protolink nmea` wrote, with pynmea2, for host-tool/tests/all/nmea.rs.
 
 Input: a file of lines `SECONDS<TAB>SENTENCE` (the host time the test received the sentence).
 Output: one JSON object per sentence on stdout, with the fields in the units each sentence

@@ -259,7 +259,7 @@ const SETTLE_CHUNK: usize = 64;
 /// page's state from one byte of its first and last word, and an item's header once or twice:
 /// a torn marker makes a whole page of items come and go between reads, and a torn item
 /// header hides the items after it on some reads but not others, so a store that read back
-/// fine is not found by a later boot (`tests/flash_faults.rs`; the library defect noted in
+/// fine is not found by a later boot (`tests/all/flash_faults.rs`; the library defect noted in
 /// `docs/RELIABILITY.md`). Each chunk of the range is read [`SETTLE_READS`] times; a word that
 /// does not read the same every time is programmed with the AND of its reads: the bits the
 /// cut was clearing are cleared, which finishes the program the cut interrupted, so every

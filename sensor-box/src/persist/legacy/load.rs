@@ -310,7 +310,7 @@ fn layout_guard(p: &Persisted) {
 
 /// Decodes the payload field by field, into `record` when given (else only checks it). The
 /// record holds four primitive types (`u32` and `i32` varints, `f32`, `u8`), read by hand as
-/// postcard writes them (`tests/persist.rs` checks both agree): a serde decoder per type
+/// postcard writes them (`tests/all/persist.rs` checks both agree): a serde decoder per type
 /// costs flash. Version 1's settings are version 2's without the last field.
 fn decode<F: NorFlash>(
     r: &mut Reader<'_, F>,

@@ -46,7 +46,7 @@
 //! window, then decodes the record in place, field by field. The bytes are exactly
 //! postcard's encoding of [`Persisted`] (a struct is its fields in order, a fixed-size array
 //! its elements in order, a `u32` a varint, an `i32` a zigzag varint, an `f32` 4 bytes
-//! little-endian, a `u8` one byte), written and read by hand (`tests/persist.rs` checks
+//! little-endian, a `u8` one byte), written and read by hand (`tests/all/persist.rs` checks
 //! both against `postcard`): serde's encoder and decoders cost about 1.6 KiB of flash, and
 //! decoding the 1.2 KiB record as one serde value would build several copies of its arrays
 //! on the stack.

@@ -60,7 +60,7 @@ fn float(out: &mut dyn Sink, v: f32) {
     }
 }
 
-/// The record, exactly as `postcard` serialises [`Persisted`] (`tests/persist.rs` checks
+/// The record, exactly as `postcard` serialises [`Persisted`] (`tests/all/persist.rs` checks
 /// both agree, for the defaults and random records): a struct is its fields in order, a
 /// fixed-size array its elements in order, `u32` a varint, `i32` a zigzag varint, `f32` 4
 /// bytes little-endian, `u8` one byte. The pattern names every field, so a field added to

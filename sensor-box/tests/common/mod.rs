@@ -1,4 +1,0 @@
-//! Test support shared by the integration tests.
-#![allow(dead_code)]
-
-pub mod cut_flash;
