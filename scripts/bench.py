@@ -5,7 +5,7 @@
     FUZZ_SECONDS=300 python3 scripts/bench.py     # longer fuzzing
     python3 scripts/bench.py --only x86,cm3       # those sections; the others stay as published
 
-Sections: x86 cm3 corruption footprint fuzz flood budget firmware c python. With --only, every
+Sections: x86 cm3 corruption footprint fuzz flood budget firmware c python noise. With --only, every
 other section is copied unchanged from the page, and the header says which sections that run
 regenerated. The page is written after every section, so a failure keeps what was measured. The PERFORMANCE.md files (aeolus-proto, aydp-proto, aok-proto; rustdoc includes
 them) are written when the x86, cm3 and footprint figures are all at hand, from this run or the
@@ -291,6 +291,38 @@ def fuzz_section():
         sec.append(f"| {p} | " + ", ".join(f"{t} {n:,}" for t, n, _ in ts) + f" | {sum(c for *_, c in ts)} |")
     crashes = sum(int(c) for *_, c in runs)
     sec += ["", f"Target, no crash: {'met' if crashes == 0 else f'missed, {crashes} target(s) crashed'}.", ""]
+    return sec
+
+
+# ---------------------------------------------------------------- line noise, 24 hours
+
+NOISE_LINE = re.compile(r"^(AOK|AYDP) (.+?), ([0-9.]+) h, ([0-9]+) bytes, .*?([0-9.]+) s: (.*)$")
+
+
+def noise_section():
+    """The long scenarios of sensor-box's noise tests for 24 simulated hours (the tests run 15
+    minutes), in the test profile (the box's crates at opt-level 3): every scenario's bytes, time
+    and tally."""
+    out = sh("cargo test -q -p sensor-box --test all noise:: -- --nocapture --test-threads=1",
+             env={"NOISE_MINUTES": "1440"})
+    rows = [m.groups() for m in map(NOISE_LINE.match, out.splitlines()) if m]
+    if len(rows) < 6:
+        sys.stderr.write(out[-3000:])
+        raise SystemExit("failed: the noise tests printed fewer than 6 scenarios")
+    sec = [
+        TITLE["noise"],
+        "",
+        "`NOISE_MINUTES=1440 cargo test -p sensor-box --test all noise:: -- --nocapture`: random",
+        "bytes through the real AOK and AYDP links for a simulated day per scenario (the models and what",
+        "counts as a state change: `docs/RELIABILITY.md`, \"Line noise commands nothing\"). `cargo test` runs",
+        "the same scenarios for 15 minutes. Every scenario passed (no state change in flight, no motor run).",
+        "",
+        "| link | scenario | simulated | bytes | CPU time | tally |",
+        "| --- | --- | ---: | ---: | ---: | --- |",
+    ]
+    for link, name, hours, nbytes, secs, tally in rows:
+        sec.append(f"| {link} | {name} | {float(hours):.0f} h | {int(nbytes):,} | {float(secs):.0f} s | `{tally}` |")
+    sec.append("")
     return sec
 
 
@@ -625,12 +657,13 @@ def performance_files(page_lines, date):
 
 # ---------------------------------------------------------------- the page
 
-ORDER = ["x86", "cm3", "corruption", "footprint", "fuzz", "flood", "budget", "firmware", "c", "python"]
+ORDER = ["x86", "cm3", "corruption", "footprint", "fuzz", "flood", "budget", "firmware", "c", "python", "noise"]
 HEADING = {
     "x86": "## Instructions per byte (x86-64", "cm3": "## Cortex-M3 instruction counts",
     "corruption": "## Corruption", "footprint": "## Footprint", "fuzz": "## Fuzzing",
     "flood": "## protolink under a loopback flood", "budget": "## Firmware CPU budget",
     "firmware": "## Firmware sizes", "c": "## The C library", "python": "## Python",
+    "noise": "## Line noise",
 }
 
 
@@ -653,6 +686,7 @@ TITLE = {
     "fuzz": "## Fuzzing", "flood": "## protolink under a loopback flood",
     "budget": "## Firmware CPU budget", "firmware": "## Firmware sizes",
     "c": "## The C library (c-api)", "python": "## Python",
+    "noise": "## Line noise, 24 simulated hours",
 }
 
 

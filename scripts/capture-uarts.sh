@@ -9,8 +9,8 @@
 #   UART1  AYDP    CAPTURE_SECONDS         default 5
 #   UART2  AOK     CAPTURE_SECONDS         default 5
 #
-# QEMU listens on 127.0.0.1:CAPTURE_PORT..+2 (default 17480, away from the demo's 7000 and the
-# tests' 17400..17459), starts the CPU when UART0 is connected (QEMU_WAIT=1, as the test
+# QEMU listens on 127.0.0.1:CAPTURE_PORT..+2 (default 17900, away from the demo's 7000 and the
+# tests' 17400..17569 and 17600..17769), starts the CPU when UART0 is connected (QEMU_WAIT=1, as the test
 # harness does), and is stopped (its whole process group) when the recording ends. Each
 # capture is then decoded with `protolink decode` and its summary line printed.
 set -euo pipefail
@@ -26,7 +26,7 @@ while [ $# -gt 0 ]; do
 done
 aeolus_secs=${CAPTURE_AEOLUS_SECONDS:-2}
 other_secs=${CAPTURE_SECONDS:-5}
-base=${CAPTURE_PORT:-17480}
+base=${CAPTURE_PORT:-17900}
 bash scripts/setup.sh qemu defmt-print
 
 echo "building the firmware (release, thumbv7m) and protolink ..." >&2

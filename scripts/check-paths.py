@@ -4,7 +4,7 @@
 Looks at the Markdown files of the repository and at the `//!` and `///` comments of its
 Rust sources, takes each path-like word written in backticks or as a Markdown link target
 (a word with a slash and a file extension, such as `docs/RELIABILITY.md` or
-`tests/tests/soak.rs`), and checks that it names a file or folder: relative to the file
+`tests/tests/all/soak.rs`), and checks that it names a file or folder: relative to the file
 that names it, to the crate it is in, to the repository root, or (for `../shared/...`) to
 the folder beside the repository. Generated paths (`target/...`), home and absolute paths,
 URLs and patterns (`*`, `{...}`, `NAME`) are not checked.

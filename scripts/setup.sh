@@ -25,7 +25,7 @@
 #                               engines that read `protolink export`'s tables in python/tests:
 #                               test_export.py, test_spark.py), and Java 17 for Spark (Debian's
 #                               openjdk-17-jre-headless, where no java is on the PATH)
-#   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/gpsd.rs
+#   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/all/gpsd.rs
 #                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -174,7 +174,7 @@ fn the_message_lists_iterators_end_with_their_count() {
 #[cfg(feature = "embedded-io")]
 fn reader_frames<const R: usize>() -> (Vec<Vec<u8>>, bool) {
     // `frame_io`'s reader itself, which `embedded_io::FrameReader` names: the decoder module
-    // does not import the module above it (tests/tests/module_layers.rs).
+    // does not import the module above it (tests/tests/all/module_layers.rs).
     let mut reader =
         frame_io::embedded_io::Reader::<_, Small, R>::new(STREAM, Small::new(Profile::Spec));
     let mut frames = Vec::new();

@@ -81,7 +81,7 @@ impl CommandDecoder {
             Err(e) => {
                 // As a checksum failure: only the first byte goes. A false candidate passes
                 // the 8-bit checksum one time in 256; dropped whole, it would take the
-                // intact frames inside it along (`tests/tests/resync.rs`).
+                // intact frames inside it along (`tests/tests/all/resync.rs`).
                 stats.invalid = stats.invalid.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));

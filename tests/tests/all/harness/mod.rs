@@ -438,11 +438,21 @@ pub fn firmware_elf_with(board: Board, features: &[&str]) -> PathBuf {
     copy
 }
 
-/// The `protolink` binary (debug build), built once per test run (`cargo build -p protolink`,
-/// a no-op inside `cargo test --workspace`, which has built it already).
+/// The `protolink` binary: `$PROTOLINK` when set (`scripts/test.sh` sets it to the binary of
+/// its test build, so that the host tool is compiled once per run), else the debug build,
+/// made once per test run (`cargo build -p protolink`).
 pub fn protolink() -> &'static Path {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
     BIN.get_or_init(|| {
+        if let Some(path) = std::env::var_os("PROTOLINK") {
+            let path = PathBuf::from(path);
+            assert!(
+                path.is_file(),
+                "PROTOLINK={} is not a file",
+                path.display()
+            );
+            return path;
+        }
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
         let status = Command::new(cargo)
             .args(["build", "-q", "-p", "protolink", "--bin", "protolink"])
