@@ -154,7 +154,9 @@ fn long_ms() -> u64 {
             .parse::<u64>()
             .ok()
             .filter(|&m| (1..=10_080).contains(&m))
-            .unwrap_or_else(|| panic!("NOISE_MINUTES is {m:?}: a whole number of minutes, 1 to 10080")),
+            .unwrap_or_else(|| {
+                panic!("NOISE_MINUTES is {m:?}: a whole number of minutes, 1 to 10080")
+            }),
         Err(_) => 15,
     };
     minutes * 60_000
@@ -399,13 +401,7 @@ fn aok_continuous_noise_never_opens_the_gate() {
 
 #[test]
 fn aok_burst_noise_flying_commands_nothing() {
-    let t = aok_scenario(
-        "bursts flying",
-        Model::Bursts,
-        true,
-        0x0a0c_0003,
-        long_ms(),
-    );
+    let t = aok_scenario("bursts flying", Model::Bursts, true, 0x0a0c_0003, long_ms());
     assert_eq!((t, t.debug_toggles), (AokTally::default(), 0));
 }
 

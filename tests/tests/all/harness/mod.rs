@@ -446,11 +446,7 @@ pub fn protolink() -> &'static Path {
     BIN.get_or_init(|| {
         if let Some(path) = std::env::var_os("PROTOLINK") {
             let path = PathBuf::from(path);
-            assert!(
-                path.is_file(),
-                "PROTOLINK={} is not a file",
-                path.display()
-            );
+            assert!(path.is_file(), "PROTOLINK={} is not a file", path.display());
             return path;
         }
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
