@@ -184,7 +184,8 @@ cargo clippy --workspace --all-targets --all-features -- -D warnings
 # Every test binary (one per crate) and the `protolink` binary that the C library's checks, the
 # Python tests and the QEMU harness run ($PROTOLINK): the host tool is compiled once, here.
 step "test build: every crate's tests and the protolink binary (cargo test --no-run)"
-cargo test -q --workspace --all-features --no-run
+test_build=$logs/test-build.json
+cargo test -q --workspace --all-features --no-run --message-format=json-render-diagnostics >"$test_build"
 export PROTOLINK="$PWD/${CARGO_TARGET_DIR:-target}/debug/protolink"
 
 # A build of the libraries for thumb proves nothing a check does not: panic-never, footprint, the C
@@ -288,22 +289,40 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --exclude protolink --no-dep
 # among them), every link checked.
 RUSTDOCFLAGS="-D warnings" cargo doc -q -p protolink --no-deps --all-features --document-private-items
 
-# The QEMU tests (modules of the protolink-tests binary, QEMU_JOBS emulators at a time) mostly
-# wait for the emulated box: they run beside the other crates' tests, which mostly compute.
-# --no-fail-fast: every test binary runs, so the summary counts every failure, not the first.
-step "host tests (protolink-tests, QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside every other crate's tests)"
+# The executables of the test build run as cargo would run them (in their package's directory,
+# a `Running` line first), but by this script: a second `cargo test` over part of the workspace
+# would resolve other features for shared dependencies and compile them again
+# (scripts/test-binaries.py). The QEMU tests (modules of protolink-tests' binary, QEMU_JOBS
+# emulators at a time) mostly wait for the emulated box: they run beside the other binaries,
+# which mostly compute. Every binary runs whatever fails (the summary counts every failure).
+run_binaries() { # LIST LOG [ARGS]: each "dir<TAB>exe<TAB>label" line of LIST run with ARGS, output
+  # to LOG; status 1 if one failed
+  local list=$1 log=$2 dir exe label status=0
+  shift 2
+  while IFS=$'\t' read -r dir exe label; do
+    printf '     Running %s (%s)\n' "$label" "$exe"
+    (cd "$dir" && "$exe" "$@") || status=1
+  done <"$list" >>"$log" 2>&1
+  return "$status"
+}
+step "host tests (protolink-tests with QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside the other crates' tests; then the doc tests)"
 qemu_log=$logs/protolink-tests.log
-(cargo test -p protolink-tests --all-features --no-fail-fast -- --test-threads=4 >"$qemu_log" 2>&1
- echo $? >"$qemu_log.status") &
+python3 scripts/test-binaries.py "$test_build" --only protolink-tests >"$logs/binaries-qemu.txt"
+python3 scripts/test-binaries.py "$test_build" --except protolink-tests >"$logs/binaries-rest.txt"
+: >"$qemu_log"
+# Four test threads: up to QEMU_JOBS emulators and the binary's other tests beside them.
+run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 &
 qemu_pid=$!
-rest=0
-cargo test --workspace --exclude protolink-tests --all-features --no-fail-fast 2>&1 | tee "$test_log" || rest=$?
-wait "$qemu_pid" || true
-echo "--- protolink-tests ($qemu_log)"
-cat "$qemu_log" | tee -a "$test_log"
-qemu_status=$(cat "$qemu_log.status" 2>/dev/null || echo 1)
-if [ "$rest" != 0 ]; then exit "$rest"; fi
-if [ "$qemu_status" != 0 ]; then exit "$qemu_status"; fi
+failed_parts=()
+run_binaries "$logs/binaries-rest.txt" "$test_log" || failed_parts+=("the other crates' test binaries")
+cargo test --workspace --all-features --doc --no-fail-fast >>"$test_log" 2>&1 || failed_parts+=("the doc tests")
+wait "$qemu_pid" || failed_parts+=("protolink-tests")
+cat "$qemu_log" >>"$test_log"
+plain "$test_log" | grep -E '^test result:|^     Running|FAILED|panicked' | tail -n 60
+if [ ${#failed_parts[@]} -gt 0 ]; then
+  echo "FAILED: ${failed_parts[*]} ($test_log)"
+  exit 1
+fi
 
 # The Python package (python/): built with pip and maturin into target/py-venv, its pytest and
 # hypothesis tests against `protolink decode --json` (scripts/test-python.sh runs this alone).

@@ -156,9 +156,15 @@ fn a_capture_of_the_firmware_dissects_in_tshark_as_decode_reads_it_and_replays()
         let quoted = format!("\"{name}\"");
         let recorded_count = recorded.iter().filter(|(n, _)| *n == quoted).count();
         assert_eq!(count, recorded_count, "{name}: {line}");
-        // Within a quarter: a replay that ignored the timing would send the 5 s at once (host
-        // intervals near 0); on a loaded two-core machine the host's means were seen 11 % off.
-        assert!((host_ms - box_ms).abs() <= 0.25 * box_ms, "{name}: {line}");
+        // The timing kept: a replay that ignored it sends the 5 s at once (host intervals near
+        // 0) and fails, as does one more than a quarter fast. A slow one passes up to 2.5 times
+        // the box's intervals: a host loaded by the tests beside this one only makes the replay
+        // fall behind (seen: GYRO's 7.0 ms replayed at 12.3 ms with two emulators and the other
+        // crates' tests running).
+        assert!(
+            host_ms >= 0.75 * box_ms && host_ms <= 2.5 * box_ms,
+            "{name}: {line}"
+        );
     }
     println!("watch after replay:\n{last}");
     let _ = std::fs::remove_file(view);

@@ -54,16 +54,20 @@ fn members(root: &Path) -> Vec<String> {
         .collect()
 }
 
-/// The module names of the `mod NAME;` lines of `main` (with attributes before `mod` on the
-/// line, and `pub`/`pub(crate)`); inline `mod NAME { ... }` blocks are no files and not counted.
-fn declared_modules(main: &str) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
+/// The `mod NAME;` lines of `main` (with attributes before `mod`, on the line or on the lines
+/// above, and `pub`/`pub(crate)`): the names of those that are files of `tests/all/`, and the
+/// names and paths of those with a `#[path = "..."]` (a helper kept elsewhere, relative to
+/// `tests/all/`). Inline `mod NAME { ... }` blocks are no files and not counted.
+fn declared_modules(main: &str) -> (BTreeSet<String>, Vec<(String, String)>) {
+    let mut files = BTreeSet::new();
+    let mut pathed = Vec::new();
+    let mut path: Option<String> = None;
     for line in main.lines() {
         let mut rest = line.trim();
-        if rest.starts_with("//") {
+        if rest.starts_with("//") || rest.is_empty() {
             continue;
         }
-        // Attributes on the same line: `#[cfg(feature = "x")] mod name;`.
+        // Attributes: `#[cfg(feature = "x")] mod name;`, `#[path = "../x.rs"]`.
         while let Some(after) = rest.strip_prefix("#[") {
             let mut depth = 1;
             let mut end = None;
@@ -81,21 +85,37 @@ fn declared_modules(main: &str) -> BTreeSet<String> {
                 }
             }
             let Some(end) = end else { break };
+            if let Some(value) = after[..end]
+                .strip_prefix("path")
+                .and_then(|v| v.trim_start().strip_prefix('='))
+            {
+                path = Some(value.trim().trim_matches('"').to_owned());
+            }
             rest = after[end + 1..].trim_start();
+        }
+        if rest.is_empty() {
+            // Attributes alone on the line: they belong to the next item.
+            continue;
         }
         for vis in ["pub(crate) ", "pub(super) ", "pub "] {
             if let Some(r) = rest.strip_prefix(vis) {
                 rest = r.trim_start();
             }
         }
+        let item_path = path.take();
         if let Some(name) = rest
             .strip_prefix("mod ")
             .and_then(|r| r.trim().strip_suffix(';'))
         {
-            out.insert(name.trim().to_owned());
+            match item_path {
+                Some(p) => pathed.push((name.trim().to_owned(), p)),
+                None => {
+                    files.insert(name.trim().to_owned());
+                }
+            }
         }
     }
-    out
+    (files, pathed)
 }
 
 /// The modules `tests/all/` holds: `NAME.rs` files (but `main.rs`) and `NAME/mod.rs` folders.
@@ -187,7 +207,16 @@ fn offences(root: &Path, member: &str) -> Vec<String> {
     let all = tests.join("all");
     let main = all.join("main.rs");
     if main.is_file() {
-        let declared = declared_modules(&fs::read_to_string(&main).expect("read main.rs"));
+        let (declared, pathed) =
+            declared_modules(&fs::read_to_string(&main).expect("read main.rs"));
+        for (name, path) in pathed {
+            if !all.join(&path).is_file() {
+                out.push(format!(
+                    "{member}/tests/all/main.rs declares `mod {name};` at {path}, which is \
+                     no file (relative to {member}/tests/all/)"
+                ));
+            }
+        }
         let files = module_files(&all);
         for missing in files.difference(&declared) {
             out.push(format!(
@@ -234,9 +263,17 @@ fn every_crate_has_one_integration_test_binary() {
 fn the_module_lines_are_read_with_their_attributes() {
     let main = "//! doc\n#[macro_use]\nmod harness;\n#[cfg(feature = \"browser\")] mod web;\n\
                 pub mod common;\n#[path = \"x/y.rs\"] pub(crate) mod odd;\nmod inline {\n}\n\
-                // mod commented;\n";
-    let got: Vec<String> = declared_modules(main).into_iter().collect();
-    assert_eq!(got, ["common", "harness", "odd", "web"]);
+                // mod commented;\n#[path = \"../support/t.rs\"]\nmod kept;\n";
+    let (files, pathed) = declared_modules(main);
+    let got: Vec<String> = files.into_iter().collect();
+    assert_eq!(got, ["common", "harness", "web"]);
+    assert_eq!(
+        pathed,
+        [
+            ("odd".to_owned(), "x/y.rs".to_owned()),
+            ("kept".to_owned(), "../support/t.rs".to_owned())
+        ]
+    );
     let manifest = "[package]\nname = \"x\"\n\n[[test]]\nname = \"all\"\npath = \"tests/all/main.rs\"\n\
                     \n[[test]]\nname = \"io\"\nrequired-features = [\"a\"]\n\n[features]\na = []\n";
     assert_eq!(other_test_targets(manifest), ["io"]);
