@@ -37,7 +37,7 @@ def main(argv):
             continue
         target = m["target"]
         manifest_dir = os.path.dirname(m["manifest_path"])
-        name = os.path.basename(manifest_dir) if "package_id" not in m else package_name(m)
+        name = package_name(m["package_id"])
         if (mode == "--only" and name != package) or (mode == "--except" and name == package):
             continue
         src = os.path.relpath(target["src_path"], manifest_dir)
@@ -48,14 +48,11 @@ def main(argv):
         sys.exit(f"test-binaries: no test executable in {path}")
 
 
-def package_name(m):
-    """The package's name from cargo's package id: `path+file:///dir#name@version` or
-    `path+file:///dir/name#version`."""
-    pid = m["package_id"]
-    frag = pid.rsplit("#", 1)[-1]
-    if "@" in frag:
-        return frag.split("@", 1)[0]
-    return pid.rsplit("#", 1)[0].rstrip("/").rsplit("/", 1)[-1]
+def package_name(pid):
+    """The package's name from cargo's package id: `path+file:///dir#name@version`, or
+    `path+file:///dir/name#version` when the directory bears the package's name."""
+    base, frag = pid.rsplit("#", 1)
+    return frag.split("@", 1)[0] if "@" in frag else base.rstrip("/").rsplit("/", 1)[-1]
 
 
 if __name__ == "__main__":
