@@ -542,7 +542,7 @@ def python_section():
         sh(["python3", "-m", "venv", "--system-site-packages", venv])
     env = {"PATH": os.path.join(venv, "bin") + os.pathsep + os.path.expanduser("~/.local/bin") + os.pathsep
            + os.environ["PATH"]}
-    # The package of this checkout, built the way its README says (as scripts/test-python.sh does).
+    # The package of this checkout, built the way its README says (as scripts/test-python.sh --wheel does).
     sh(["python", "-m", "pip", "install", "-q", "--no-build-isolation", "--force-reinstall", "--no-deps",
         "./python"], env=env)
     out = sh(["python", "python/bench/bench.py"], env=env).splitlines()
@@ -550,7 +550,7 @@ def python_section():
     sec = [
         "## Python",
         "",
-        "`python3 python/bench/bench.py` (this checkout's package, installed as `scripts/test-python.sh` does):",
+        "`python3 python/bench/bench.py` (this checkout's package, installed as `scripts/test-python.sh --wheel` does):",
         "messages a second of `Decoder.feed` beside pymavlink's `parse_buffer` (pure Python, and with its Rust",
         "CRC `fastcrc`), 64 KiB pieces; protolink the best of three runs, pymavlink one run.",
         "; ".join(re.sub(r"\s+", " ", l) for l in head) + ".",

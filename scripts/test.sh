@@ -126,6 +126,17 @@ summary() {
   trap - EXIT
   set +e
   end_step
+  # The host tests still running in the background: their results count, unless the run was
+  # interrupted (then they are stopped with their emulators).
+  if [ -n "${host_pid:-}" ]; then
+    if [ "$status" -gt 128 ]; then
+      kill -TERM -- "-$host_pid" 2>/dev/null
+      host_pid=""
+    else
+      echo "(waiting for the host tests in the background)"
+      join_host_tests >/dev/null
+    fi
+  fi
   local passed failed qemu qemu_skipped skipped fuzz_targets fuzz_execs fuzz_crashes
   skipped=$(grep -c . "$skip_log" || true)
   qemu_skipped=$(grep -cE "^($qemu_modules)::" "$skip_log" || true)
@@ -181,12 +192,135 @@ cargo fmt --all -- --check
 step "clippy (all targets, warnings denied)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
 
-# Every test binary (one per crate) and the `protolink` binary that the C library's checks, the
-# Python tests and the QEMU harness run ($PROTOLINK): the host tool is compiled once, here.
-step "test build: every crate's tests and the protolink binary (cargo test --no-run)"
+# Every test binary (one per crate), the `protolink` binary that the C library's checks, the
+# Python tests and the QEMU harness run ($PROTOLINK) and the Python extension
+# ($PROTOLINK_PYTHON_SO): the host tool and its dependencies are compiled once, here. What
+# `cargo test --no-run` builds (libraries, binaries, tests, examples, the `test` profile), plus
+# the libraries as such, among them the extension. Every feature but those that turn on defmt
+# (scripts/test-features.py says why); PYO3_BUILD_EXTENSION_MODULE as maturin sets it (the
+# extension does not link libpython).
+step "test build: every crate's tests, the protolink binary and the Python extension (cargo build --profile test)"
 test_build=$logs/test-build.json
-cargo test -q --workspace --all-features --no-run --message-format=json-render-diagnostics >"$test_build"
+test_features=$(python3 scripts/test-features.py)
+PYO3_BUILD_EXTENSION_MODULE=1 cargo build -q --profile test --workspace --features "$test_features" \
+  --lib --bins --tests --examples --message-format=json-render-diagnostics >"$test_build"
 export PROTOLINK="$PWD/${CARGO_TARGET_DIR:-target}/debug/protolink"
+export PROTOLINK_PYTHON_SO="$PWD/${CARGO_TARGET_DIR:-target}/debug/libprotolink_python.so"
+
+step "firmware: sensor-box and the boards: release builds for both boards (and the simulated STM32), clippy on thumb"
+# The box's behaviour on its own, as each board builds it (no features, defmt + the hardware name).
+for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
+  cargo build -q -p sensor-box --target "$t" --release
+  cargo build -q -p sensor-box --target "$t" --release --features defmt,hardware-stm32f411
+  cargo clippy -q -p sensor-box --release --target "$t" --features defmt -- -D warnings
+done
+cargo qemu-build -q
+cargo stm32-build -q
+cargo clippy -q -p firmware-example --release --target thumbv7m-none-eabi --features board-qemu --lib --bins -- -D warnings
+cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features board-stm32f411 --lib --bins -- -D warnings
+# The STM32 board in QEMU netduinoplus2 (the QEMU tests boot it); built last, so this is the
+# ELF at target/thumbv7em-none-eabihf/release/sensor-box when the tests run.
+cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features qemu-stm32 --lib --bins -- -D warnings
+cargo stm32-qemu-build -q
+
+# The executables of the test build run as cargo would run them (in their package's directory,
+# a `Running` line first), but by this script: a second `cargo test` over part of the workspace
+# would resolve other features for shared dependencies and compile them again
+# (scripts/test-binaries.py). Every binary runs whatever fails (the summary counts every
+# failure).
+run_binaries() { # LIST LOG [ARGS]: each "dir<TAB>exe<TAB>label" line of LIST run with ARGS, output
+  # to LOG; status 1 if one failed
+  local list=$1 log=$2 dir exe label status=0
+  shift 2
+  while IFS=$'\t' read -r dir exe label; do
+    printf '     Running %s (%s)\n' "$label" "$exe"
+    (cd "$dir" && "$exe" "$@") || status=1
+  done <"$list" >>"$log" 2>&1
+  return "$status"
+}
+
+# The host tests run in the background from here, beside the steps up to the fuzz build, in
+# two lanes: the QEMU tests (modules of protolink-tests' binary, QEMU_JOBS emulators at a time,
+# four test threads), which mostly wait for the emulated box; and the other crates' binaries,
+# then the Python tests, then Miri over the C library, which mostly compute or wait on their
+# own links. They need the firmware ELFs of the step above (no step below writes them) and the
+# test build. The steps below, and Miri, run at a lower priority (nice 10), so that the
+# emulated boxes and the tests' timing get the cores first and the builds take what is left.
+# Their output goes to $host_log ($py_log, $miri_log); "host tests" below waits for them and
+# shows it.
+host_log=$logs/host-tests.log
+qemu_log=$logs/protolink-tests.log
+miri_log=$logs/miri.log
+host_times=$logs/host-tests.times
+host_part() { # NAME COMMAND...: runs COMMAND, appends "ms<TAB>NAME" to $host_times
+  local name=$1 t0 status=0
+  shift
+  t0=$(now_ms)
+  "$@" || status=$?
+  printf '%s\t%s\n' "$(($(now_ms) - t0))" "$name" >>"$host_times"
+  return "$status"
+}
+host_tests() {
+  local failed=() qemu_pid
+  python3 scripts/test-binaries.py "$test_build" --only protolink-tests >"$logs/binaries-qemu.txt"
+  python3 scripts/test-binaries.py "$test_build" --except protolink-tests >"$logs/binaries-rest.txt"
+  host_part "QEMU tests (protolink-tests)" run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 &
+  qemu_pid=$!
+  host_part "the other crates' test binaries" run_binaries "$logs/binaries-rest.txt" "$host_log" ||
+    failed+=("the other crates' test binaries")
+  # The Python package (python/): python/protolink with the test build's extension
+  # (target/py-pkg), its pytest and hypothesis tests against `protolink decode --json` in a
+  # venv (scripts/test-python.sh runs this alone; with --wheel it builds the wheel as the
+  # README does): the package equals protolink decode field for field, round trips, random
+  # bytes, to_frames, python -m protolink decode, live links.
+  host_part "python (pytest python/tests)" scripts/test-python.sh >"$py_log" 2>&1 ||
+    failed+=("the Python tests ($py_log)")
+  # Miri over the C library's tests: every unsafe block they reach (its own target directory,
+  # target/miri).
+  host_part "Miri (protolink-c's tests)" nice -n 10 cargo +nightly miri test -q -p protolink-c >"$miri_log" 2>&1 ||
+    failed+=("Miri over protolink-c ($miri_log)")
+  wait "$qemu_pid" || failed+=("protolink-tests")
+  cat "$qemu_log" >>"$host_log"
+  now_ms >"$logs/host-tests.end"
+  printf '%s\n' "${failed[@]}" >"$logs/host-tests.failed"
+  [ ${#failed[@]} -eq 0 ]
+}
+: >"$host_log"
+: >"$qemu_log"
+: >"$miri_log"
+: >"$host_times"
+rm -f "$logs/host-tests.end" "$logs/host-tests.failed"
+host_start=$(now_ms)
+# Its own process group (job control on for the `&`), so that an interrupted run can stop it
+# with the emulators it started.
+set -m
+host_tests &
+host_pid=$!
+set +m
+# Waits for the background host tests, adds their output to $test_log and their times to the
+# summary, shows their results; status 1 when one of them failed.
+join_host_tests() {
+  [ -n "${host_pid:-}" ] || return 0
+  local status=0 end ms name
+  wait "$host_pid" || status=$?
+  host_pid=""
+  cat "$host_log" >>"$test_log"
+  end=$(cat "$logs/host-tests.end" 2>/dev/null || now_ms)
+  timings+=("$(printf '%12s  %s' "$(secs $((end - host_start)))" "host tests, in the background from the firmware step's end (its parts below)")")
+  while IFS=$'\t' read -r ms name; do
+    timings+=("$(printf '%12s    %s' "$(secs "$ms")" "$name")")
+  done <"$host_times"
+  plain "$host_log" | grep -E '^test result:|^     Running|FAILED|panicked' | tail -n 60
+  echo "python: $(plain "$py_log" | tail -n 1)"
+  echo "Miri: $(plain "$miri_log" | grep -E '^test result:' | tail -n 1)"
+  if [ "$status" != 0 ]; then
+    echo "FAILED: $(paste -sd ';' "$logs/host-tests.failed" 2>/dev/null) ($host_log)"
+    return 1
+  fi
+}
+echo
+echo "==> host tests started in the background (protolink-tests with QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside the other crates' tests, then the Python tests and Miri; $host_log)"
+renice -n 10 -p $$ >/dev/null || echo "renice: the steps below run at the host tests' priority"
 
 # A build of the libraries for thumb proves nothing a check does not: panic-never, footprint, the C
 # library and the firmware build them for thumb below.
@@ -233,7 +367,7 @@ if ! (cd checks/panic-never && cargo build -q --release && cargo build -q --rele
 fi
 
 # The C library (c-api/): one archive for C firmware, its cbindgen header, and its tests.
-step "C library: libprotolink_c.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri"
+step "C library: libprotolink_c.a for thumbv6m, thumbv7m, thumbv7em; header drift; host C test (ASan+UBSan) against protolink; C firmware in QEMU; C panic-never link (thumbv7m, thumbv6m); Miri runs with the host tests"
 for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   cargo build -q -p protolink-c --release --target "$t"
 done
@@ -245,29 +379,12 @@ if ! diff -u c-api/include/protolink.h target/protolink.h.fresh; then
 fi
 bash c-api/tests/host.sh
 bash c-api/tests/firmware.sh
-cargo +nightly miri test -q -p protolink-c
 
 step "footprint binaries build for thumbv7m and thumbv6m (the figures: python3 scripts/footprint.py)"
 (cd checks/footprint && for t in thumbv7m-none-eabi thumbv6m-none-eabi; do
   cargo build -q --release --target "$t" \
     --features aeolus-decode,aeolus-encode,aydp-decode,aydp-encode,aok-decode,aok-encode,aeolus-read,aydp-read,aok-read
 done)
-
-step "firmware: sensor-box and the boards: release builds for both boards (and the simulated STM32), clippy on thumb"
-# The box's behaviour on its own, as each board builds it (no features, defmt + the hardware name).
-for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
-  cargo build -q -p sensor-box --target "$t" --release
-  cargo build -q -p sensor-box --target "$t" --release --features defmt,hardware-stm32f411
-  cargo clippy -q -p sensor-box --release --target "$t" --features defmt -- -D warnings
-done
-cargo qemu-build -q
-cargo stm32-build -q
-cargo clippy -q -p firmware-example --release --target thumbv7m-none-eabi --features board-qemu --lib --bins -- -D warnings
-cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features board-stm32f411 --lib --bins -- -D warnings
-# The STM32 board in QEMU netduinoplus2 (the QEMU tests boot it); built last, so this is the
-# ELF at target/thumbv7em-none-eabihf/release/sensor-box when the tests run.
-cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features qemu-stm32 --lib --bins -- -D warnings
-cargo stm32-qemu-build -q
 
 # The Cortex-M3 instruction counts are exact (QEMU -icount), so they can guard themselves: a
 # per-byte figure more than 3 % above docs/BENCHMARKS.md's published table fails the run.
@@ -289,45 +406,10 @@ RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --exclude protolink --no-dep
 # among them), every link checked.
 RUSTDOCFLAGS="-D warnings" cargo doc -q -p protolink --no-deps --all-features --document-private-items
 
-# The executables of the test build run as cargo would run them (in their package's directory,
-# a `Running` line first), but by this script: a second `cargo test` over part of the workspace
-# would resolve other features for shared dependencies and compile them again
-# (scripts/test-binaries.py). The QEMU tests (modules of protolink-tests' binary, QEMU_JOBS
-# emulators at a time) mostly wait for the emulated box: they run beside the other binaries,
-# which mostly compute. Every binary runs whatever fails (the summary counts every failure).
-run_binaries() { # LIST LOG [ARGS]: each "dir<TAB>exe<TAB>label" line of LIST run with ARGS, output
-  # to LOG; status 1 if one failed
-  local list=$1 log=$2 dir exe label status=0
-  shift 2
-  while IFS=$'\t' read -r dir exe label; do
-    printf '     Running %s (%s)\n' "$label" "$exe"
-    (cd "$dir" && "$exe" "$@") || status=1
-  done <"$list" >>"$log" 2>&1
-  return "$status"
-}
-step "host tests (protolink-tests with QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside the other crates' tests; then the doc tests)"
-qemu_log=$logs/protolink-tests.log
-python3 scripts/test-binaries.py "$test_build" --only protolink-tests >"$logs/binaries-qemu.txt"
-python3 scripts/test-binaries.py "$test_build" --except protolink-tests >"$logs/binaries-rest.txt"
-: >"$qemu_log"
-# Four test threads: up to QEMU_JOBS emulators and the binary's other tests beside them.
-run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 &
-qemu_pid=$!
-failed_parts=()
-run_binaries "$logs/binaries-rest.txt" "$test_log" || failed_parts+=("the other crates' test binaries")
-cargo test --workspace --all-features --doc --no-fail-fast >>"$test_log" 2>&1 || failed_parts+=("the doc tests")
-wait "$qemu_pid" || failed_parts+=("protolink-tests")
-cat "$qemu_log" >>"$test_log"
-plain "$test_log" | grep -E '^test result:|^     Running|FAILED|panicked' | tail -n 60
-if [ ${#failed_parts[@]} -gt 0 ]; then
-  echo "FAILED: ${failed_parts[*]} ($test_log)"
-  exit 1
-fi
-
-# The Python package (python/): built with pip and maturin into target/py-venv, its pytest and
-# hypothesis tests against `protolink decode --json` (scripts/test-python.sh runs this alone).
-step "python: pip install ./python (maturin) into a venv, then pytest python/tests (the package equals protolink decode field for field, round trips, random bytes, to_frames, python -m protolink decode, live links)"
-scripts/test-python.sh 2>&1 | tee "$py_log"
+step "doc tests (every crate's, the test build's features)"
+PYO3_BUILD_EXTENSION_MODULE=1 cargo test --workspace --features "$test_features" --doc --no-fail-fast >>"$test_log" 2>&1 ||
+  { plain "$test_log" | grep -E '^test result:|FAILED|panicked' | tail -n 20; exit 1; }
+plain "$test_log" | grep -E '^test result:' | tail -n 10
 
 # The word-at-a-time paths of the decoders and the CRC have a 32-bit form (the firmware's
 # Cortex-M) and a 64-bit one (the host): x86-64 tests alone never run the firmware's.
@@ -343,6 +425,15 @@ if [ "${CI:-}" = true ]; then
   scripts/mutants.sh --check-exclusions
   scripts/mutants.sh --in-diff HEAD~1 --max 40 --out target/mutants-ci
 fi
+
+# The fuzz targets built here, beside the host tests: scripts/fuzz.sh's own build below finds
+# them done.
+step "fuzz build"
+(cd fuzz && cargo +nightly fuzz build)
+
+step "host tests: waiting for the background"
+join_host_tests
+renice -n 0 -p $$ >/dev/null 2>&1 || true
 
 step "fuzz smoke run: every cargo-fuzz target for ${FUZZ_SECONDS:-20} s"
 FUZZ_JOBS="${FUZZ_JOBS:-$(nproc)}" scripts/fuzz.sh "${FUZZ_SECONDS:-20}" 2>&1 | tee "$fuzz_log"

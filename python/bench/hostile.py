@@ -5,8 +5,8 @@
     python3 python/bench/hostile.py              # about a minute; --mb 111 as measured
     python3 python/bench/hostile.py --mb 20      # a quicker look
 
-With the `protolink` package of the Python that runs it (scripts/test-python.sh installs it
-into target/py-venv; `target/py-venv/bin/python python/bench/hostile.py`), and the
+With the `protolink` package of the Python that runs it (scripts/test-python.sh --wheel installs
+it into target/py-venv; `target/py-venv/bin/python python/bench/hostile.py`), and the
 `protolink` binary of $PROTOLINK or target/release/ to record the capture. Each figure is
 measured in a child process of its own:
 
