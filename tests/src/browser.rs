@@ -1,6 +1,7 @@
-//! Debian's Chromium, headless, driven over the DevTools protocol (`headless_chrome`, no
-//! browser download), for the tests of `protolink web`: `host-tool/tests/all/web.rs` (against
-//! `protolink sim`) and `tests/tests/all/web_qemu.rs` (against the firmware in QEMU).
+//! Debian's Chromium, headless, driven over the DevTools protocol (a small client of our own
+//! in `cdp.rs`, on `tungstenite`), for the tests of `protolink web`:
+//! `host-tool/tests/all/web.rs` (against `protolink sim`) and `tests/tests/all/web_qemu.rs`
+//! (against the firmware in QEMU).
 //!
 //! [`Page`] records every console error, uncaught exception and failed load the page causes,
 //! evaluates expressions, takes screenshots, and measures the horizon's roll from the
@@ -10,19 +11,19 @@ use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use headless_chrome::protocol::cdp::Log::LogEntryLevel;
-use headless_chrome::protocol::cdp::Page::CaptureScreenshotFormatOption;
-use headless_chrome::protocol::cdp::Runtime::ConsoleAPICalledEventTypeOption;
-use headless_chrome::protocol::cdp::types::Event;
-use headless_chrome::{Browser, LaunchOptions, Tab};
-use serde_json::Value;
+use serde_json::{Value, json};
+
+use crate::cdp::{Chromium, Connection, TIMEOUT};
 
 /// Where Debian's `chromium` package puts the browser.
 pub const CHROMIUM: &str = "/usr/bin/chromium";
+
+/// The most errors [`Page::errors`] keeps; past it they are counted, and the count is the
+/// list's last entry.
+pub const MAX_ERRORS: usize = 1000;
 
 /// The browser, or `None` when it is missing: the caller's test is then skipped through
 /// [`crate::skip::skip`] (which fails it under CI, so the browser tests never skip there).
@@ -38,13 +39,101 @@ pub fn chromium() -> Option<PathBuf> {
     None
 }
 
-/// One page in a fresh headless Chromium (its own profile directory, removed at the end).
+/// One page in a fresh headless Chromium (its own profile directory; the browser is killed
+/// and the directory removed when the page is dropped).
 pub struct Page {
-    tab: Arc<Tab>,
-    errors: Arc<Mutex<Vec<String>>>,
-    profile: PathBuf,
-    // Dropped last: closing the browser ends the process.
-    _browser: Browser,
+    session: Mutex<Session>,
+    // Dropped after the connection: kills the browser, removes its directory.
+    _chromium: Chromium,
+}
+
+/// The connection and what its events told so far.
+struct Session {
+    connection: Connection,
+    events: Events,
+}
+
+/// What [`Page`] keeps from the DevTools events.
+#[derive(Default)]
+struct Events {
+    errors: Vec<String>,
+    /// Errors past [`MAX_ERRORS`], counted only.
+    dropped: u64,
+    /// `Page.loadEventFired` seen since the last navigation began.
+    loaded: bool,
+}
+
+impl Events {
+    fn on(&mut self, method: &str, params: &Value) {
+        let error = match method {
+            "Page.loadEventFired" => {
+                self.loaded = true;
+                None
+            }
+            "Log.entryAdded" if params["entry"]["level"] == "error" => {
+                let entry = &params["entry"];
+                Some(format!(
+                    "log: {} ({})",
+                    entry["text"].as_str().unwrap_or_default(),
+                    entry["url"].as_str().unwrap_or_default()
+                ))
+            }
+            "Runtime.exceptionThrown" => Some(format!(
+                "exception: {}",
+                exception_text(&params["exceptionDetails"])
+            )),
+            "Runtime.consoleAPICalled" if params["type"] == "error" => {
+                // Each argument's value (a primitive) or else its description (an object).
+                let args: Vec<Option<Value>> = params["args"]
+                    .as_array()
+                    .map(Vec::as_slice)
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|a| {
+                        a.get("value")
+                            .filter(|v| !v.is_null())
+                            .cloned()
+                            .or_else(|| a["description"].as_str().map(Value::from))
+                    })
+                    .collect();
+                Some(format!("console.error: {args:?}"))
+            }
+            _ => None,
+        };
+        if let Some(error) = error {
+            self.record(error);
+        }
+    }
+
+    fn record(&mut self, error: String) {
+        if self.errors.len() < MAX_ERRORS {
+            self.errors.push(error);
+        } else {
+            self.dropped += 1;
+        }
+    }
+}
+
+impl Session {
+    fn call(&mut self, method: &str, params: Value) -> Result<Value, String> {
+        let events = &mut self.events;
+        self.connection
+            .call(method, params, &mut |m, p| events.on(m, p))
+    }
+}
+
+/// An exception's text as `Runtime.exceptionThrown` and `Runtime.evaluate` give it: the
+/// message, the exception's description, and where.
+fn exception_text(details: &Value) -> String {
+    format!(
+        "{} {} at {}:{}",
+        details["text"].as_str().unwrap_or_default(),
+        details["exception"]["description"]
+            .as_str()
+            .unwrap_or_default(),
+        details["lineNumber"],
+        details["columnNumber"]
+    )
 }
 
 /// What [`Page::horizon`] measured on the attitude canvas.
@@ -59,106 +148,72 @@ pub struct Horizon {
 
 impl Page {
     /// Starts `chromium` headless (`--no-sandbox --disable-gpu --disable-background-networking
-    /// --no-first-run`, a fresh `--user-data-dir`) and opens `url`.
+    /// --no-first-run --disable-dev-shm-usage`, no throttling of background timers and
+    /// renderers, a 1400×900 window, a fresh `--user-data-dir`, a DevTools port of its
+    /// choosing), opens `url` in its page and waits for the load event (20 s at most). Panics
+    /// when the browser does not start or the page does not load.
     pub fn open(chromium: &Path, url: &str) -> Page {
-        static N: AtomicU32 = AtomicU32::new(0);
-        let profile = std::env::temp_dir().join(format!(
-            "protolink-chromium-{}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::SeqCst)
-        ));
-        let _ = std::fs::remove_dir_all(&profile);
-        std::fs::create_dir_all(&profile).expect("a profile directory");
-        let args: Vec<&std::ffi::OsStr> = [
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--no-first-run",
-            "--disable-dev-shm-usage",
-        ]
-        .iter()
-        .map(std::ffi::OsStr::new)
-        .collect();
-        let options = LaunchOptions::default_builder()
-            .path(Some(chromium.to_path_buf()))
-            .headless(true)
-            .sandbox(false)
-            .window_size(Some((1400, 900)))
-            .user_data_dir(Some(profile.clone()))
-            .idle_browser_timeout(Duration::from_secs(300))
-            .args(args)
-            .build()
-            .expect("launch options");
-        let browser = Browser::new(options).expect("chromium starts");
-        let tab = browser.new_tab().expect("a tab");
-        tab.set_default_timeout(Duration::from_secs(20));
-        let errors = Arc::new(Mutex::new(Vec::new()));
-        tab.enable_log().expect("Log domain");
-        tab.enable_runtime().expect("Runtime domain");
-        let sink = errors.clone();
-        tab.add_event_listener(Arc::new(move |event: &Event| {
-            let error = match event {
-                Event::LogEntryAdded(e) if e.params.entry.level == LogEntryLevel::Error => {
-                    Some(format!(
-                        "log: {} ({})",
-                        e.params.entry.text,
-                        e.params.entry.url.clone().unwrap_or_default()
-                    ))
-                }
-                Event::RuntimeExceptionThrown(e) => {
-                    let d = &e.params.exception_details;
-                    Some(format!(
-                        "exception: {} {} at {}:{}",
-                        d.text,
-                        d.exception
-                            .as_ref()
-                            .and_then(|x| x.description.clone())
-                            .unwrap_or_default(),
-                        d.line_number,
-                        d.column_number
-                    ))
-                }
-                Event::RuntimeConsoleAPICalled(e)
-                    if e.params.Type == ConsoleAPICalledEventTypeOption::Error =>
-                {
-                    Some(format!(
-                        "console.error: {:?}",
-                        e.params
-                            .args
-                            .iter()
-                            .map(|a| a.value.clone().or(a.description.clone().map(Value::from)))
-                            .collect::<Vec<_>>()
-                    ))
-                }
-                _ => None,
-            };
-            if let Some(error) = error
-                && let Ok(mut errors) = sink.lock()
-            {
-                errors.push(error);
-            }
-        }))
-        .expect("an event listener");
-        tab.navigate_to(url)
-            .expect("navigate")
-            .wait_until_navigated()
-            .expect("the page loads");
-        Page {
-            tab,
-            errors,
-            profile,
-            _browser: browser,
+        let (chromium, connection) = Chromium::launch(chromium);
+        let page = Page {
+            session: Mutex::new(Session {
+                connection,
+                events: Events::default(),
+            }),
+            _chromium: chromium,
+        };
+        for domain in ["Log", "Runtime", "Page"] {
+            page.call(&format!("{domain}.enable"), json!({}))
+                .unwrap_or_else(|e| panic!("{e}"));
         }
+        let mut session = page.session();
+        // A load event already on its way is about:blank's: handled before the flag is reset.
+        let Session { connection, events } = &mut *session;
+        connection
+            .drain(&mut |m, p| events.on(m, p))
+            .unwrap_or_else(|e| panic!("{e}"));
+        events.loaded = false;
+        let navigated = session
+            .call("Page.navigate", json!({ "url": url }))
+            .unwrap_or_else(|e| panic!("navigating to {url}: {e}"));
+        if let Some(error) = navigated["errorText"].as_str() {
+            panic!("navigating to {url}: {error}");
+        }
+        let deadline = Instant::now() + TIMEOUT;
+        while !session.events.loaded {
+            let Session { connection, events } = &mut *session;
+            let read = connection
+                .next_event(deadline, &mut |m, p| events.on(m, p))
+                .unwrap_or_else(|e| panic!("loading {url}: {e}"));
+            assert!(read, "{url}: no load event within {TIMEOUT:?}");
+        }
+        drop(session);
+        page
     }
 
-    /// The value of a JavaScript expression (passed through `JSON.stringify`).
+    /// The session, even when a panic in another thread left its lock poisoned.
+    fn session(&self) -> MutexGuard<'_, Session> {
+        self.session.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn call(&self, method: &str, params: Value) -> Result<Value, String> {
+        self.session().call(method, params)
+    }
+
+    /// The value of a JavaScript expression (passed through `JSON.stringify`). Panics with
+    /// the expression when it throws or the browser does not answer.
     pub fn eval(&self, expression: &str) -> Value {
         let wrapped = format!("JSON.stringify({expression})");
-        let result = self
-            .tab
-            .evaluate(&wrapped, false)
+        let answer = self
+            .call(
+                "Runtime.evaluate",
+                json!({ "expression": wrapped, "returnByValue": true }),
+            )
             .unwrap_or_else(|e| panic!("evaluating {expression}: {e}"));
-        match result.value {
-            Some(Value::String(json)) => serde_json::from_str(&json).unwrap_or(Value::Null),
+        if let Some(details) = answer.get("exceptionDetails") {
+            panic!("evaluating {expression}: {}", exception_text(details));
+        }
+        match &answer["result"]["value"] {
+            Value::String(json) => serde_json::from_str(json).unwrap_or(Value::Null),
             _ => Value::Null,
         }
     }
@@ -190,17 +245,37 @@ impl Page {
         }
     }
 
-    /// The console errors, uncaught exceptions and failed loads so far.
+    /// The console errors, uncaught exceptions and failed loads so far, including those whose
+    /// events arrived since the last command (the first [`MAX_ERRORS`], then a count of the
+    /// rest). A broken DevTools connection is one more error.
     pub fn errors(&self) -> Vec<String> {
-        self.errors.lock().map(|e| e.clone()).unwrap_or_default()
+        let mut session = self.session();
+        let Session { connection, events } = &mut *session;
+        if let Err(e) = connection.drain(&mut |m, p| events.on(m, p)) {
+            events.record(e);
+        }
+        let mut errors = events.errors.clone();
+        if events.dropped > 0 {
+            errors.push(format!(
+                "... and {} more errors, not kept (only the first {MAX_ERRORS} are)",
+                events.dropped
+            ));
+        }
+        errors
     }
 
-    /// A PNG screenshot of the whole window into `path`.
+    /// A PNG screenshot of the window (the viewport) into `path`.
     pub fn screenshot(&self, path: &Path) {
-        let png = self
-            .tab
-            .capture_screenshot(CaptureScreenshotFormatOption::Png, None, None, true)
-            .expect("a screenshot");
+        let answer = self
+            .call(
+                "Page.captureScreenshot",
+                json!({ "format": "png", "fromSurface": true }),
+            )
+            .unwrap_or_else(|e| panic!("a screenshot: {e}"));
+        let png = data_encoding::BASE64
+            .decode(answer["data"].as_str().unwrap_or_default().as_bytes())
+            .unwrap_or_else(|e| panic!("a screenshot that is not base64: {e}"));
+        assert!(!png.is_empty(), "an empty screenshot: {answer}");
         if let Some(dir) = path.parent() {
             let _ = std::fs::create_dir_all(dir);
         }
@@ -221,12 +296,6 @@ impl Page {
             measured_deg: (y1 - y2).atan2(dx).to_degrees(),
             drawn_deg: v["drawn"].as_f64()?,
         })
-    }
-}
-
-impl Drop for Page {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.profile);
     }
 }
 
@@ -258,7 +327,9 @@ const HORIZON_JS: &str = r#"(() => {
   return { y1: edge(x1), y2: edge(x2), dx: x2 - x1, drawn: window.efis.roll_deg };
 })()"#;
 
-/// `GET path` on `addr`: the status code and the body (the server closes every connection).
+/// `GET path` on `addr`: the status code and the body. The body ends where the server closes
+/// the connection or, when the answer has a `Content-Length`, after that many bytes (Chromium's
+/// DevTools server keeps the connection open whatever the request says).
 pub fn http_get(addr: SocketAddr, path: &str) -> (u16, String) {
     let mut s = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).expect("connect");
     s.set_read_timeout(Some(Duration::from_secs(10)))
@@ -269,7 +340,13 @@ pub fn http_get(addr: SocketAddr, path: &str) -> (u16, String) {
     )
     .expect("send");
     let mut raw = Vec::new();
-    let _ = s.read_to_end(&mut raw);
+    let mut chunk = [0u8; 4096];
+    while !complete(&raw) {
+        match s.read(&mut chunk) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => raw.extend_from_slice(&chunk[..n]),
+        }
+    }
     let text = String::from_utf8_lossy(&raw).into_owned();
     let status = text
         .split(' ')
@@ -281,6 +358,20 @@ pub fn http_get(addr: SocketAddr, path: &str) -> (u16, String) {
         .map(|(_, b)| b.to_owned())
         .unwrap_or_default();
     (status, body)
+}
+
+/// Whether `raw` holds a whole HTTP answer by its `Content-Length` (an answer without one
+/// ends when the server closes the connection).
+fn complete(raw: &[u8]) -> bool {
+    let Some(end) = raw.windows(4).position(|w| w == b"\r\n\r\n") else {
+        return false;
+    };
+    let head = String::from_utf8_lossy(&raw[..end]);
+    head.lines()
+        .filter_map(|line| line.split_once(':'))
+        .find(|(name, _)| name.trim().eq_ignore_ascii_case("content-length"))
+        .and_then(|(_, value)| value.trim().parse::<usize>().ok())
+        .is_some_and(|length| raw.len() >= end + 4 + length)
 }
 
 /// The fields every `GET /api/state` (and every live update) carries.

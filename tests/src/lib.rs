@@ -7,6 +7,8 @@ pub mod aeolus_gen;
 pub mod aeolus_udp;
 #[cfg(feature = "browser")]
 pub mod browser;
+#[cfg(feature = "browser")]
+mod cdp;
 pub mod channel;
 pub mod examples;
 pub mod gdl90_hand;
