@@ -2,14 +2,17 @@
 # Runs every test and check of the project. This is the command the README
 # gives and the one .ci/run calls.
 #
-# Each step prints how long it took. The run ends with one summary: the time of
-# every step, the QEMU tests run, the fuzz executions and crashes, and as the
-# very last line `tests: N passed, M failed, K skipped` (the sums of every `cargo test`
-# "test result:" line and of pytest's last line for the Python package (step `python`), less
-# the tests that skipped for a missing tool, counted apart), which
-# CI reads. Under CI=true a missing tool fails its tests instead of skipping them. The summary is printed on failure too,
-# and the exit status is then the failing step's. The outputs it is computed
-# from are kept in target/test-logs/.
+# The steps run in order, except the host tests (the test binaries, the Python tests and
+# Miri), which run in the background from the firmware step's end, beside the steps that
+# follow it (those at nice 10), up to the fuzz smoke run. Each step prints how long it took.
+# The run ends with one summary: the time of every step and of the background's parts, the
+# QEMU tests run, the fuzz executions and crashes, and as the very last line
+# `tests: N passed, M failed, K skipped` (the sums of every `cargo test` "test result:" line
+# and of pytest's last line for the Python package, less the tests that skipped for a missing
+# tool, counted apart), which CI reads. Under CI=true a missing tool fails its tests instead of
+# skipping them. The summary is printed on failure too (after the background's tests end),
+# and the exit status is then the failing step's. The outputs it is computed from are kept in
+# target/test-logs/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -431,7 +434,7 @@ fi
 step "fuzz build"
 (cd fuzz && cargo +nightly fuzz build)
 
-step "host tests: waiting for the background"
+step "waiting for the host tests (in the background since the firmware step)"
 join_host_tests
 renice -n 0 -p $$ >/dev/null 2>&1 || true
 

@@ -9,7 +9,9 @@
 #   3. calls every function on states their init did not set up (0x00, 0xA5, 0xFF and random
 #      fills, another protocol's state, an odd address): PL_E_INVALID and nothing written; and
 #      checks the header's state sizes, alignments and ABI version against the archive's;
-#   4. decodes ../shared/vectors/, testdata/*.bin and the round-trip frames through the C API
+#   4. compiles the root README's C examples as printed and runs them over a capture
+#      (c-api/tests/readme_c.py);
+#   5. decodes ../shared/vectors/, testdata/*.bin and the round-trip frames through the C API
 #      and compares every message field and counter with `protolink decode --json`.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -38,6 +40,9 @@ export ASAN_OPTIONS=abort_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=
 "$out/host_test" roundtrip "$out/rt"
 RT_DIR="$out/rt" "$out/host_test" hostile 10
 "$out/host_test" misuse
+
+# The root README's C examples ("Use it from C"), compiled as printed and run over a capture.
+python3 c-api/tests/readme_c.py "$out/readme" "$lib" "$protolink"
 
 python3 c-api/tests/vectors.py ../shared/vectors "$out/vectors"
 python3 c-api/tests/compare.py "$out/host_test" "$protolink" \
