@@ -3,6 +3,7 @@
 //! through the Arrow C stream interface (`__arrow_c_stream__`): no Python object per message,
 //! no copy of the columns. `export` writes the tables as `protolink export` does.
 
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 use arrow_array::ffi_stream::FFI_ArrowArrayStream;
@@ -157,11 +158,13 @@ fn read(
     let result = py.detach(|| {
         read_file(path, choice, source, tables, |t| {
             full(t.take_full())?;
-            if let Err(e) = Python::attach(|py| py.check_signals()) {
-                interrupt = Some(e);
-                return Err(protolink::Error::Usage("interrupted".into()));
-            }
-            Ok(())
+            Ok(match Python::attach(|py| py.check_signals()) {
+                Err(e) => {
+                    interrupt = Some(e);
+                    ControlFlow::Break(())
+                }
+                Ok(()) => ControlFlow::Continue(()),
+            })
         })
     });
     match (result, interrupt) {

@@ -15,7 +15,6 @@ use std::ffi::CString;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use protolink::commands::decode::DecodeArgs;
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
 use protolink::commands::decode::tables::Select;
 use protolink::decoders::Body;
@@ -494,14 +493,10 @@ pub(crate) fn open(
     let name = endpoint.to_string();
     let source = match &endpoint {
         Endpoint::File(path) if protolink::capture::file_is_capture(path) => {
-            let select = DecodeArgs {
+            let select = Select {
                 proto,
                 profile,
                 side,
-                from: endpoint.clone(),
-                json: false,
-                udp_json: None,
-                seconds: None,
             };
             let capture = py
                 .detach(|| CaptureEvents::open(path, &select))

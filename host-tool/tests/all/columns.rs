@@ -263,3 +263,82 @@ fn export_starts_a_new_part_when_the_columns_change() -> Result<(), Box<dyn std:
     std::fs::remove_dir_all(&dir)?;
     Ok(())
 }
+
+/// `read_file` ends where its step says (`ControlFlow::Break`), in a byte file and in a
+/// capture: the report counts the bytes and rows read up to there and says it stopped; a step
+/// that never stops reads the whole file.
+#[test]
+fn read_file_stops_where_the_step_says() -> Result<(), Box<dyn std::error::Error>> {
+    use protolink::capture::CaptureWriter;
+    use protolink::columns::ROW_GROUP;
+    use protolink::commands::decode::tables::{Select, read_file};
+    use protolink::proto::Proto;
+    use std::net::SocketAddrV4;
+    use std::ops::ControlFlow;
+    use std::time::Duration;
+
+    let dir = std::env::temp_dir().join(format!("protolink-read-stop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let aeolus = include_bytes!("../../../testdata/qemu-uart0-aeolus.bin");
+    let select = Select {
+        proto: Some(Proto::Aeolus),
+        ..Select::default()
+    };
+    // Stops at the `at`-th step (0: never); the report and the steps taken.
+    let read = |path: &std::path::Path, at: u32| {
+        let mut steps = 0;
+        let report = read_file(path, &select, None, &mut Tables::new(ROW_GROUP), |_| {
+            steps += 1;
+            Ok(if steps == at {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            })
+        });
+        (report, steps)
+    };
+
+    // A byte file of eight copies, about 630 KB: three steps of 256 KiB and the last one.
+    let bytes = dir.join("aeolus.bin");
+    std::fs::write(&bytes, aeolus.repeat(8))?;
+    let (whole, steps) = read(&bytes, 0);
+    let whole = whole?;
+    assert_eq!(
+        (whole.bytes, whole.stopped, steps),
+        (8 * aeolus.len() as u64, false, 4)
+    );
+    let (cut, steps) = read(&bytes, 2);
+    let cut = cut?;
+    assert_eq!((cut.bytes, cut.stopped, steps), (2 * 256 * 1024, true, 2));
+    assert!(
+        cut.rows > 0 && cut.rows < whole.rows,
+        "{cut:?} of {whole:?}"
+    );
+
+    // A capture of 3000 datagrams of one frame each: a step per 1024 records.
+    let capture = dir.join("aeolus.pcapng");
+    let mut w = CaptureWriter::create(&capture, 1, "stop")?;
+    let frame = &aeolus[..15]; // the TOAST "AEOLUS on"
+    let (src, dst) = (
+        SocketAddrV4::new([127, 0, 0, 1].into(), 40000),
+        SocketAddrV4::new([127, 0, 0, 1].into(), 5001),
+    );
+    for i in 0..3000u64 {
+        w.udp(Duration::from_millis(i), src, dst, frame)?;
+    }
+    w.flush()?;
+    drop(w);
+    let (whole, _) = read(&capture, 0);
+    let whole = whole?;
+    assert_eq!((whole.rows, whole.stopped), (3000, false));
+    assert_eq!(whole.bytes, std::fs::metadata(&capture)?.len());
+    let (cut, steps) = read(&capture, 1);
+    let cut = cut?;
+    assert_eq!((cut.stopped, steps), (true, 1));
+    assert!(
+        cut.bytes > 0 && cut.bytes < whole.bytes && cut.rows >= 1000 && cut.rows < 3000,
+        "{cut:?} of {whole:?}"
+    );
+    std::fs::remove_dir_all(&dir)?;
+    Ok(())
+}

@@ -12,6 +12,7 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
+use super::tables::Select;
 use super::{DecodeArgs, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
 use crate::columns::{Origin, Sink, Tables};
@@ -106,7 +107,7 @@ pub enum CaptureItem {
 /// the Python package (`python/`) iterates.
 pub struct CaptureEvents {
     reader: CaptureReader,
-    select: DecodeArgs,
+    select: Select,
     flows: Flows,
     last_time: f64,
     /// No more records are read (the end of the file, or [`CaptureEvents::stop`]).
@@ -125,20 +126,25 @@ impl std::fmt::Debug for CaptureEvents {
 }
 
 impl CaptureEvents {
-    /// Opens the capture at `path`; `select`'s `proto`, `profile` and `side` choose what is
-    /// decoded, as on the command line (its other fields are not used).
+    /// Opens the capture at `path`; `select` chooses what is decoded, as `decode`'s
+    /// `--proto`, `--profile` and `--side` do.
     ///
     /// # Errors
     /// Opening the file, or a file that is no capture.
-    pub fn open(path: &Path, select: &DecodeArgs) -> Result<Self> {
+    pub fn open(path: &Path, select: &Select) -> Result<Self> {
         Ok(CaptureEvents {
             reader: CaptureReader::open(path)?,
-            select: select.clone(),
+            select: *select,
             flows: Flows::default(),
             last_time: 0.0,
             stopped: false,
             finished: false,
         })
+    }
+
+    /// Where the next record starts: the bytes of the capture read so far.
+    pub fn offset(&self) -> u64 {
+        self.reader.offset()
     }
 
     /// Reads no further record: the next [`CaptureEvents::next_items`] ends the flows.
@@ -287,7 +293,7 @@ impl CaptureEvents {
 /// # Errors
 /// Opening or reading the capture, or writing the output.
 pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
-    let mut capture = CaptureEvents::open(path, args)?;
+    let mut capture = CaptureEvents::open(path, &args.select())?;
     let mut out = Out::new();
     let mut items = Vec::new();
     let mut plot = args
@@ -357,7 +363,7 @@ enum Step<'a> {
 
 /// The flow a record's payload belongs to, what it carries and its bytes; `None` for a
 /// record that carries none of our protocols (or not the one `--proto` asks for).
-fn classify(payload: Payload, args: &DecodeArgs) -> Option<(FlowKey, StreamKind, Vec<u8>)> {
+fn classify(payload: Payload, args: &Select) -> Option<(FlowKey, StreamKind, Vec<u8>)> {
     match payload {
         Payload::Ip {
             transport,

@@ -7,6 +7,7 @@
 //! group is full: memory holds at most a row group per message type, whatever the size of the
 //! sources. Ctrl-C ends the reading; what was read is written and the parts are completed.
 
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -87,12 +88,17 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
             for (name, batch) in t.take_full() {
                 export.write(&name, &batch)?;
             }
-            if crate::stop::requested() {
-                return Err(Error::Usage("interrupted".into()));
-            }
-            Ok(())
+            Ok(if crate::stop::requested() {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            })
         });
         match read {
+            Ok(report) if report.stopped => {
+                stopped = true;
+                break;
+            }
             Ok(report) => {
                 bytes += report.bytes;
                 if let Some(at) = report.cut_at {
@@ -104,10 +110,6 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
                     "{source}: {} bytes, {} rows",
                     report.bytes, report.rows
                 ))?;
-            }
-            Err(Error::Usage(u)) if u == "interrupted" => {
-                stopped = true;
-                break;
             }
             Err(e) => {
                 failed = Some(e);

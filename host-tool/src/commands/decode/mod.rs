@@ -23,6 +23,7 @@ use crate::error::Result;
 use crate::proto::{ProfileArg, Proto, Side};
 use crate::render::{self, Out};
 use crate::stop::Deadline;
+use tables::Select;
 
 /// Arguments of `protolink decode`.
 #[derive(Debug, Clone, Args)]
@@ -48,6 +49,34 @@ pub struct DecodeArgs {
     /// Stop after this long: `10` (seconds), `500ms`, `2min` (default: at the end of the input, or on Ctrl-C).
     #[arg(long, value_name = "DURATION", value_parser = crate::args::run_time)]
     pub seconds: Option<std::time::Duration>,
+}
+
+impl DecodeArgs {
+    /// What decodes the input: `--proto`, `--profile` and `--side`.
+    ///
+    /// ```
+    /// use protolink::commands::decode::DecodeArgs;
+    /// use protolink::endpoint::Endpoint;
+    /// use protolink::proto::{Proto, Side};
+    /// let args = DecodeArgs {
+    ///     proto: Some(Proto::Aok),
+    ///     profile: None,
+    ///     side: Side::Pc,
+    ///     from: Endpoint::File("pc.bin".into()),
+    ///     json: false,
+    ///     udp_json: None,
+    ///     seconds: None,
+    /// };
+    /// let select = args.select();
+    /// assert_eq!((select.proto, select.side), (Some(Proto::Aok), Side::Pc));
+    /// ```
+    pub fn select(&self) -> Select {
+        Select {
+            proto: self.proto,
+            profile: self.profile,
+            side: self.side,
+        }
+    }
 }
 
 /// The summary line printed at the end.

@@ -4,13 +4,12 @@
 //! Python package's `to_arrow` read files with.
 
 use std::io::Read;
+use std::ops::ControlFlow;
 use std::path::Path;
 
-use super::DecodeArgs;
 use super::capture::CaptureEvents;
 use crate::columns::{Origin, Sink, Tables};
 use crate::decoders::decoder_for;
-use crate::endpoint::Endpoint;
 use crate::error::{Error, Result};
 use crate::proto::{ProfileArg, Proto, Side};
 
@@ -44,17 +43,22 @@ pub struct Report {
     pub cut_at: Option<u64>,
     /// The whole records before the cut.
     pub records_before_cut: u64,
+    /// The caller's `step` asked to stop (`ControlFlow::Break`): `bytes` and `rows` are those
+    /// read up to there.
+    pub stopped: bool,
 }
 
 /// Reads the file at `path` into `tables`, every row's `source` set to `source` when given;
-/// `step` runs after each step with the tables (to take their full batches), and an error it
-/// returns ends the reading.
+/// `step` runs after each step with the tables (to take their full batches): its
+/// `ControlFlow::Break` ends the reading there ([`Report::stopped`]), its error ends it with
+/// that error.
 ///
 /// # Errors
 /// The file cannot be opened or read, a byte file without `proto`, a damaged capture, or
 /// `step`'s error.
 ///
 /// ```
+/// use std::ops::ControlFlow;
 /// use protolink::columns::Tables;
 /// use protolink::commands::decode::tables::{Select, read_file};
 /// use protolink::proto::Proto;
@@ -62,8 +66,11 @@ pub struct Report {
 /// std::fs::write(&path, [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E])?;
 /// let mut tables = Tables::new(1024);
 /// let select = Select { proto: Some(Proto::Aeolus), ..Select::default() };
-/// let report = read_file(&path, &select, None, &mut tables, |_| Ok(()))?;
-/// assert_eq!((report.bytes, report.rows), (8, 1));
+/// let report = read_file(&path, &select, None, &mut tables, |_| Ok(ControlFlow::Continue(())))?;
+/// assert_eq!((report.bytes, report.rows, report.stopped), (8, 1, false));
+/// // A step that stops at once: the first step's bytes and rows.
+/// let report = read_file(&path, &select, None, &mut tables, |_| Ok(ControlFlow::Break(())))?;
+/// assert_eq!((report.bytes, report.rows, report.stopped), (8, 1, true));
 /// # std::fs::remove_file(&path)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -72,21 +79,19 @@ pub fn read_file(
     select: &Select,
     source: Option<&str>,
     tables: &mut Tables,
-    mut step: impl FnMut(&mut Tables) -> Result<()>,
+    mut step: impl FnMut(&mut Tables) -> Result<ControlFlow<()>>,
 ) -> Result<Report> {
     let rows_before = tables.rows();
     let mut report = Report::default();
+    // The report of a reading `step` stopped after `bytes`.
+    let stopped = |mut report: Report, tables: &Tables, bytes: u64| {
+        report.bytes = bytes;
+        report.rows = tables.rows() - rows_before;
+        report.stopped = true;
+        report
+    };
     if crate::capture::file_is_capture(path) {
-        let args = DecodeArgs {
-            proto: select.proto,
-            profile: select.profile,
-            side: select.side,
-            from: Endpoint::File(path.to_owned()),
-            json: false,
-            udp_json: None,
-            seconds: None,
-        };
-        let mut capture = CaptureEvents::open(path, &args)?;
+        let mut capture = CaptureEvents::open(path, select)?;
         'records: loop {
             for _ in 0..RECORDS_PER_STEP {
                 match capture.next_columns(tables, source) {
@@ -100,7 +105,9 @@ pub fn read_file(
                     Err(e) => return Err(e),
                 }
             }
-            step(tables)?;
+            if step(tables)?.is_break() {
+                return Ok(stopped(report, tables, capture.offset()));
+            }
         }
         report.bytes = report.cut_at.unwrap_or_else(|| file_len(path));
     } else {
@@ -139,7 +146,10 @@ pub fn read_file(
             };
             decoder.feed_to(bytes, report.bytes, false, &mut sink);
             report.bytes += n as u64;
-            step(tables)?;
+            if step(tables)?.is_break() {
+                let bytes = report.bytes;
+                return Ok(stopped(report, tables, bytes));
+            }
         }
         let mut sink = Sink {
             tables: &mut *tables,
@@ -148,7 +158,7 @@ pub fn read_file(
         decoder.finish_to(report.bytes, &mut sink);
     }
     report.rows = tables.rows() - rows_before;
-    step(tables)?;
+    report.stopped = step(tables)?.is_break();
     Ok(report)
 }
 
