@@ -91,7 +91,7 @@ impl<'a> Iterator for DatagramFrames<'a> {
             }
             let result = unescape_in_place(body).and_then(|n| {
                 let body: &'a [u8] = body;
-                Frame::check(body.get(..n).unwrap_or(&[]), self.strict)
+                Frame::new_checked(body.get(..n).unwrap_or(&[]), self.strict)
             });
             return Some(result);
         }

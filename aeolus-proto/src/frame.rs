@@ -10,7 +10,7 @@ use crate::{Error, crc, message::Message};
 /// ```
 /// use aeolus_proto::Frame;
 /// // ID 82 (TOAST), "hi\0", CRC 0xEC73 sent LSB first.
-/// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+/// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
 /// assert_eq!(frame.id(), 82);
 /// assert_eq!(frame.data(), b"hi\0");
 /// assert!(frame.has_crc());
@@ -24,7 +24,8 @@ pub struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
-    /// Checks the unescaped bytes between two flags (ID, data, CRC) and wraps them.
+    /// Checks the unescaped bytes between two flags (ID, data, CRC) and wraps them: the
+    /// checked constructor, named as in every protocol crate (`aydp_proto::Frame::new_checked`).
     ///
     /// A received CRC of `00 00` means "no CRC" (DECISIONS.md A3): the frame is accepted
     /// unchecked, unless `strict` is set. A frame whose real CRC happens to be `0x0000` is
@@ -33,26 +34,26 @@ impl<'a> Frame<'a> {
     /// ```
     /// use aeolus_proto::{Error, Frame};
     /// // TOAST "hi": ID 82, the data, the CRC 0xEC73 LSB first.
-    /// assert!(Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).is_ok());
-    /// let bad = Frame::check(&[0x52, b'h', b'i', 0, 0x74, 0xEC], true);
+    /// assert!(Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).is_ok());
+    /// let bad = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x74, 0xEC], true);
     /// assert_eq!(bad, Err(Error::ChecksumMismatch { id: 82, computed: 0xEC73, received: 0xEC74 }));
     /// let no_crc = [0x52, b'h', b'i', 0, 0, 0];
-    /// assert_eq!(Frame::check(&no_crc, true), Err(Error::MissingCrc { id: 82 }));
-    /// assert!(!Frame::check(&no_crc, false).unwrap().has_crc());
-    /// assert_eq!(Frame::check(&[0x52, 0], false), Err(Error::TooShort));
+    /// assert_eq!(Frame::new_checked(&no_crc, true), Err(Error::MissingCrc { id: 82 }));
+    /// assert!(!Frame::new_checked(&no_crc, false).unwrap().has_crc());
+    /// assert_eq!(Frame::new_checked(&[0x52, 0], false), Err(Error::TooShort));
     /// ```
     ///
     /// # Errors
     /// [`Error::TooShort`], [`Error::ChecksumMismatch`], or [`Error::MissingCrc`] in strict mode.
-    pub const fn check(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
-        Self::check_running(raw, strict, crc::checksum(raw))
+    pub const fn new_checked(raw: &'a [u8], strict: bool) -> Result<Self, Error> {
+        Self::checked_running(raw, strict, crc::checksum(raw))
     }
 
-    /// [`Frame::check`], given the CRC run over all of `raw` (its two CRC bytes included), as
+    /// [`Frame::new_checked`], given the CRC run over all of `raw` (its two CRC bytes included), as
     /// a decoder keeps it while it stores the bytes: the frame is good when that comes to
     /// [`crc::residue`] of the received CRC. The body's own CRC is only computed again for
     /// the error it reports.
-    pub(crate) const fn check_running(
+    pub(crate) const fn checked_running(
         raw: &'a [u8],
         strict: bool,
         all: u16,
@@ -91,7 +92,7 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// # use aeolus_proto::Frame;
-    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
     /// assert_eq!(frame.id(), 82);
     /// ```
     pub const fn id(&self) -> u8 {
@@ -105,7 +106,7 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// # use aeolus_proto::Frame;
-    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
     /// assert_eq!(frame.data(), b"hi\0");
     /// ```
     pub const fn data(&self) -> &'a [u8] {
@@ -119,7 +120,7 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// # use aeolus_proto::Frame;
-    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
     /// assert_eq!(frame.crc(), 0xEC73);
     /// ```
     pub const fn crc(&self) -> u16 {
@@ -133,8 +134,8 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// # use aeolus_proto::Frame;
-    /// assert!(Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], false).unwrap().has_crc());
-    /// assert!(!Frame::check(&[0x52, b'h', b'i', 0, 0, 0], false).unwrap().has_crc());
+    /// assert!(Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], false).unwrap().has_crc());
+    /// assert!(!Frame::new_checked(&[0x52, b'h', b'i', 0, 0, 0], false).unwrap().has_crc());
     /// ```
     pub const fn has_crc(&self) -> bool {
         self.has_crc
@@ -145,7 +146,7 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// # use aeolus_proto::Frame;
-    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
     /// assert_eq!(frame.raw(), &[0x52, b'h', b'i', 0, 0x73, 0xEC]);
     /// ```
     pub const fn raw(&self) -> &'a [u8] {
@@ -156,7 +157,7 @@ impl<'a> Frame<'a> {
     ///
     /// ```
     /// use aeolus_proto::{Frame, message::Message};
-    /// let frame = Frame::check(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
+    /// let frame = Frame::new_checked(&[0x52, b'h', b'i', 0, 0x73, 0xEC], true).unwrap();
     /// let Message::Toast(text) = frame.message().unwrap() else { panic!() };
     /// assert_eq!(text.as_str(), Some("hi"));
     /// ```

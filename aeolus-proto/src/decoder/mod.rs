@@ -565,7 +565,7 @@ impl<const N: usize> Decoder<N> {
         // The running CRC, caught up over the bytes stored since it last advanced.
         let rest = raw.get(core::mem::take(&mut self.crc_at)..).unwrap_or(&[]);
         let all = crc::update_slice(core::mem::take(&mut self.crc), rest);
-        let result = Frame::check_running(raw, self.strict, all);
+        let result = Frame::checked_running(raw, self.strict, all);
         let counter = match result {
             Ok(frame) if frame.has_crc() => &mut stats.frames_ok,
             Ok(_) => &mut stats.frames_no_crc,

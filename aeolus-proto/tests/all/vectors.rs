@@ -113,7 +113,7 @@ fn single_frame_vectors_decode_to_fields_and_encode_to_bytes() {
 
         // Decode: exactly the listed fields.
         let (raw, has_crc) = decode_one(&wire);
-        let frame = Frame::check(&raw, false).unwrap();
+        let frame = Frame::new_checked(&raw, false).unwrap();
         assert_eq!(frame.id(), id, "{name}");
         assert_eq!(frame.message().unwrap(), expected, "{name}");
 
@@ -160,7 +160,7 @@ fn toast_crc_escaped_vector() {
     let (raw, has_crc) = decode_one(&wire);
     assert!(has_crc);
     // CRC 0x7D2E, sent LSB first as 2E then 7D escaped.
-    assert_eq!(Frame::check(&raw, true).unwrap().crc(), 0x7D2E);
+    assert_eq!(Frame::new_checked(&raw, true).unwrap().crc(), 0x7D2E);
 }
 
 #[test]
