@@ -79,7 +79,7 @@ pub use decoder::{Decoder, Stats};
 pub use encode::{CrcMode, FrameBytes, encode_frame, max_encoded_len};
 pub use error::{EncodeError, Error};
 pub use frame::Frame;
-pub use frame_io::{Decode, Event};
+pub use frame_io::{Decode, Event, Place, Span, Stream};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::{IoError, WriteError};
 pub use scan::find_flag;

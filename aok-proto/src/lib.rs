@@ -38,6 +38,8 @@
 //!   contract of this workspace: [`CommandDecoder`] runs on the flight controller and reads the
 //!   PC's commands; [`MessageDecoder`] runs on the ground tool and reads the device's debug
 //!   frames, acks and replies, knowing which request is pending ([`Expect`]).
+//!   [`Stream`] gives each of their events its [`Place`] in the stream (from the decoder's
+//!   [`Span`]).
 //! - Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
 //!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
 //!   [`encode_bulk`] and [`encode_waypoint`].
@@ -80,7 +82,7 @@ pub use encode::{
     encode_waypoint,
 };
 pub use error::{ClientError, EncodeError, Error, SerialError};
-pub use frame_io::{Decode, Event};
+pub use frame_io::{Decode, Event, Place, Span, Stream};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::{IoError, WriteError};
 pub use layout::FrameLayout;

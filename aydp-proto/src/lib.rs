@@ -40,7 +40,8 @@
 //!
 //! - [`Decoder`] and its [`Stats`]: the stream decoder. It implements [`Decode`], the decoder
 //!   contract of every protocol crate of this workspace (from `frame-io`); [`decoder`]: how it
-//!   resynchronises, and its pull form.
+//!   resynchronises, and its pull form. [`Stream`] gives every event its [`Place`] in the
+//!   stream (from [`Decode::span`]: where each event lies, on [`Decoder`]'s `Decode`).
 //! - [`Encoder`] (into a buffer, or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
 //!   ([`Raw`] for any type).
 //! - [`Frame`], a checked whole message; the typed messages and the [`Message`] enum
@@ -81,7 +82,7 @@ pub use decoder::{Decoder, Stats};
 pub use encode::{Bytes, Encoder, Payload, Raw};
 pub use error::{EncodeError, Error, Result};
 pub use frame::Frame;
-pub use frame_io::{Decode, Event};
+pub use frame_io::{Decode, Event, Place, Span, Stream};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::{IoError, WriteError};
 pub use message::{

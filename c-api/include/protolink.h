@@ -172,11 +172,11 @@
 #define PL_AEOLUS_CAPACITY 256
 
 // 64-bit words in a `pl_aeolus_decoder`.
-#define PL_AEOLUS_DECODER_WORDS 43
+#define PL_AEOLUS_DECODER_WORDS 44
 
 // Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_AEOLUS_DECODER_SIZE 344
+#define PL_AEOLUS_DECODER_SIZE 352
 
 // Alignment of `pl_aeolus_decoder` in bytes.
 #define PL_AEOLUS_DECODER_ALIGN 8
@@ -237,11 +237,11 @@
 #define PL_AEOLUS_ID_SETTIME 12
 
 // 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-#define PL_AOK_DECODER_WORDS 11
+#define PL_AOK_DECODER_WORDS 13
 
 // Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 // decoder (an upper bound over the supported targets).
-#define PL_AOK_DECODER_SIZE 88
+#define PL_AOK_DECODER_SIZE 104
 
 // Alignment of the AOK decoders in bytes.
 #define PL_AOK_DECODER_ALIGN 8
@@ -310,11 +310,11 @@
 #define PL_AYDP_CAPACITY 512
 
 // 64-bit words in a `pl_aydp_decoder`.
-#define PL_AYDP_DECODER_WORDS 72
+#define PL_AYDP_DECODER_WORDS 74
 
 // Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_AYDP_DECODER_SIZE 576
+#define PL_AYDP_DECODER_SIZE 592
 
 // Alignment of `pl_aydp_decoder` in bytes.
 #define PL_AYDP_DECODER_ALIGN 8
@@ -382,11 +382,11 @@
 #define PL_GDL90_CAPACITY 438
 
 // 64-bit words in a `pl_gdl90_decoder`.
-#define PL_GDL90_DECODER_WORDS 67
+#define PL_GDL90_DECODER_WORDS 68
 
 // Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
 // supported targets).
-#define PL_GDL90_DECODER_SIZE 536
+#define PL_GDL90_DECODER_SIZE 544
 
 // Alignment of `pl_gdl90_decoder` in bytes.
 #define PL_GDL90_DECODER_ALIGN 8
@@ -420,8 +420,9 @@
 // or tag, a struct's layout, or a function's signature or meaning changes, so a program can
 // compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
 // the first with tagged states; version 3 counts the bytes fed in each state and gives every
-// message its `offset` and `wire_len`.
-#define PL_ABI_VERSION 3
+// message its `offset` and `wire_len`; version 4 has every decoder keep the last event's
+// place (the states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
+#define PL_ABI_VERSION 4
 
 // State kind: `pl_aeolus_decoder`.
 #define PL_STATE_AEOLUS 1

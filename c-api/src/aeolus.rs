@@ -3,7 +3,7 @@
 use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
 use aeolus_proto::{CrcMode, Decoder, EncodeError, Error, Frame};
 
-use crate::face::{self, Face, Proto};
+use crate::face::{self, Proto, Stream};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
@@ -12,10 +12,10 @@ use crate::*;
 /// every TOAST and COMMAND text, LOG messages up to 253 data bytes.
 pub const PL_AEOLUS_CAPACITY: usize = 256;
 /// 64-bit words in a `pl_aeolus_decoder`.
-pub const PL_AEOLUS_DECODER_WORDS: usize = 43;
+pub const PL_AEOLUS_DECODER_WORDS: usize = 44;
 /// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_AEOLUS_DECODER_SIZE: usize = 344;
+pub const PL_AEOLUS_DECODER_SIZE: usize = 352;
 /// Alignment of `pl_aeolus_decoder` in bytes.
 pub const PL_AEOLUS_DECODER_ALIGN: usize = 8;
 /// The longest TOAST or COMMAND text (without its NUL).
@@ -36,7 +36,7 @@ pub struct pl_aeolus_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aeolus_decoder {
-    type Inner = Face<Inner>;
+    type Inner = Stream<Inner>;
     const KIND: u32 = state::PL_STATE_AEOLUS;
 }
 const _: () = assert!(state::fits::<pl_aeolus_decoder>());
@@ -464,27 +464,15 @@ impl Proto for pl_aeolus_decoder {
     type Dec = Inner;
     type Msg = pl_aeolus_message;
     type Stats = pl_aeolus_stats;
-    type Ctx = u32;
-    const ONE_EVENT_A_BYTE: bool = true;
+    type Ctx = ();
 
     fn empty() -> pl_aeolus_message {
         EMPTY
     }
 
-    fn held(d: &Inner) -> usize {
-        d.held_bytes()
-    }
+    fn context(_: &Inner) {}
 
-    fn context(d: &Inner) -> u32 {
-        d.stats().frame_bytes
-    }
-
-    fn fill(
-        frame: Frame<'_>,
-        _: u32,
-        msg: &mut pl_aeolus_message,
-        err: &mut pl_error,
-    ) -> (i32, usize) {
+    fn fill(frame: Frame<'_>, _: (), msg: &mut pl_aeolus_message, err: &mut pl_error) -> i32 {
         match frame.message() {
             Ok(m) => {
                 fill(msg, &m, !frame.has_crc());
@@ -494,7 +482,7 @@ impl Proto for pl_aeolus_decoder {
                     msg.data = text.as_ptr();
                     msg.data_len = text.len();
                 }
-                (PL_MESSAGE, 0)
+                PL_MESSAGE
             }
             Err(e) => {
                 // The raw frame stays available (DECISIONS.md A4).
@@ -505,17 +493,13 @@ impl Proto for pl_aeolus_decoder {
                 };
                 fill(msg, &raw, !frame.has_crc());
                 *err = error(e);
-                (PL_ERROR, 0)
+                PL_ERROR
             }
         }
     }
 
     fn error(e: Error) -> pl_error {
         error(e)
-    }
-
-    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
-        face::flagged_len(frame_bytes, d.stats().frame_bytes)
     }
 
     fn place(msg: &mut pl_aeolus_message, offset: u64, wire_len: u32) {

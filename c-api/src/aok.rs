@@ -8,16 +8,16 @@ use aok_proto::{
     encode_parameter, encode_waypoint,
 };
 
-use crate::face::{self, Face, Proto};
+use crate::face::{self, Proto, Stream};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
 
 /// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-pub const PL_AOK_DECODER_WORDS: usize = 11;
+pub const PL_AOK_DECODER_WORDS: usize = 13;
 /// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
 /// decoder (an upper bound over the supported targets).
-pub const PL_AOK_DECODER_SIZE: usize = 88;
+pub const PL_AOK_DECODER_SIZE: usize = 104;
 /// Alignment of the AOK decoders in bytes.
 pub const PL_AOK_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest frame either side sends (a command, or a headed reply).
@@ -39,13 +39,13 @@ pub struct pl_aok_pc_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_device_decoder {
-    type Inner = Face<CommandDecoder>;
+    type Inner = Stream<CommandDecoder>;
     const KIND: u32 = state::PL_STATE_AOK_DEVICE;
 }
 const _: () = assert!(state::fits::<pl_aok_device_decoder>());
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aok_pc_decoder {
-    type Inner = Face<MessageDecoder>;
+    type Inner = Stream<MessageDecoder>;
     const KIND: u32 = state::PL_STATE_AOK_PC;
 }
 const _: () = assert!(state::fits::<pl_aok_pc_decoder>());
@@ -333,12 +333,12 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-/// The two sides' decoders, each with its item's C conversion and wire length.
+/// The two sides' decoders, each with its item's C conversion.
 trait Side: Decode<Error = Error> {
     /// The form of the replies the decoder reads (the device side reads commands: any).
     fn form(&self) -> ReplyForm;
-    /// The item as the C struct, and its wire length.
-    fn to_c(item: Self::Item<'_>, form: ReplyForm) -> (pl_aok_item, usize);
+    /// The item as the C struct.
+    fn to_c(item: Self::Item<'_>, form: ReplyForm) -> pl_aok_item;
 }
 
 impl Side for CommandDecoder {
@@ -346,8 +346,8 @@ impl Side for CommandDecoder {
         ReplyForm::Headed
     }
 
-    fn to_c(c: Command, _: ReplyForm) -> (pl_aok_item, usize) {
-        (command_c(&c), c.buffer_len())
+    fn to_c(c: Command, _: ReplyForm) -> pl_aok_item {
+        command_c(&c)
     }
 }
 
@@ -356,8 +356,8 @@ impl Side for MessageDecoder {
         self.reply_form()
     }
 
-    fn to_c(m: Message, form: ReplyForm) -> (pl_aok_item, usize) {
-        (message_c(&m), m.buffer_len(form))
+    fn to_c(m: Message, _: ReplyForm) -> pl_aok_item {
+        message_c(&m)
     }
 }
 
@@ -374,10 +374,6 @@ macro_rules! aok_proto {
                 pl_aok_item::default()
             }
 
-            fn held(d: &$dec) -> usize {
-                d.held_bytes()
-            }
-
             fn context(d: &$dec) -> ReplyForm {
                 d.form()
             }
@@ -387,10 +383,9 @@ macro_rules! aok_proto {
                 form: ReplyForm,
                 msg: &mut pl_aok_item,
                 _: &mut pl_error,
-            ) -> (i32, usize) {
-                let (c, len) = <$dec>::to_c(item, form);
-                *msg = c;
-                (PL_MESSAGE, len)
+            ) -> i32 {
+                *msg = <$dec>::to_c(item, form);
+                PL_MESSAGE
             }
 
             fn error(e: Error) -> pl_error {
@@ -575,7 +570,7 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
     };
     match command_rust(cmd) {
         Ok(c) => {
-            d.dec.expect(c.expected_reply());
+            d.decoder_mut().expect(c.expected_reply());
             0
         }
         Err(code) => code,

@@ -8,7 +8,7 @@ use aydp_proto::{
     WindDirection, WindSpeed,
 };
 
-use crate::face::{self, Face, Proto};
+use crate::face::{self, Proto, Stream};
 use crate::ffi::{self, pl_error, sat32};
 use crate::state::{self, State};
 use crate::*;
@@ -16,10 +16,10 @@ use crate::*;
 /// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
 pub const PL_AYDP_CAPACITY: usize = 512;
 /// 64-bit words in a `pl_aydp_decoder`.
-pub const PL_AYDP_DECODER_WORDS: usize = 72;
+pub const PL_AYDP_DECODER_WORDS: usize = 74;
 /// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_AYDP_DECODER_SIZE: usize = 576;
+pub const PL_AYDP_DECODER_SIZE: usize = 592;
 /// Alignment of `pl_aydp_decoder` in bytes.
 pub const PL_AYDP_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest message the decoder accepts: a buffer this long holds any frame
@@ -44,7 +44,7 @@ pub struct pl_aydp_decoder {
 
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_aydp_decoder {
-    type Inner = Face<Inner>;
+    type Inner = Stream<Inner>;
     const KIND: u32 = state::PL_STATE_AYDP;
 }
 const _: () = assert!(state::fits::<pl_aydp_decoder>());
@@ -432,18 +432,9 @@ impl Proto for pl_aydp_decoder {
         m
     }
 
-    fn held(d: &Inner) -> usize {
-        d.held_bytes()
-    }
-
     fn context(_: &Inner) {}
 
-    fn fill(
-        frame: Frame<'_>,
-        _: (),
-        msg: &mut pl_aydp_message,
-        err: &mut pl_error,
-    ) -> (i32, usize) {
+    fn fill(frame: Frame<'_>, _: (), msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
         let t = frame.timestamp().unwrap_or_default();
         let data = frame.data();
         let mut c = pl_aydp_message {
@@ -471,7 +462,7 @@ impl Proto for pl_aydp_decoder {
             }
         };
         *msg = c;
-        (status, frame.as_bytes().len())
+        status
     }
 
     fn error(e: Error) -> pl_error {

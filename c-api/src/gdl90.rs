@@ -6,7 +6,7 @@ use gdl90_proto::message::{
 };
 use gdl90_proto::{Decoder, EncodeError, Error};
 
-use crate::face::{self, Face, Proto};
+use crate::face::{self, Proto, Stream};
 use crate::ffi::{self, pl_error};
 use crate::state::{self, State};
 use crate::*;
@@ -14,10 +14,10 @@ use crate::*;
 /// Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
 pub const PL_GDL90_CAPACITY: usize = 438;
 /// 64-bit words in a `pl_gdl90_decoder`.
-pub const PL_GDL90_DECODER_WORDS: usize = 67;
+pub const PL_GDL90_DECODER_WORDS: usize = 68;
 /// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
 /// supported targets).
-pub const PL_GDL90_DECODER_SIZE: usize = 536;
+pub const PL_GDL90_DECODER_SIZE: usize = 544;
 /// Alignment of `pl_gdl90_decoder` in bytes.
 pub const PL_GDL90_DECODER_ALIGN: usize = 8;
 /// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
@@ -35,7 +35,7 @@ pub struct pl_gdl90_decoder {
 const _: () = assert!(PL_GDL90_CAPACITY == gdl90_proto::MAX_FRAME);
 // SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
 unsafe impl State for pl_gdl90_decoder {
-    type Inner = Face<Inner>;
+    type Inner = Stream<Inner>;
     const KIND: u32 = state::PL_STATE_GDL90;
 }
 const _: () = assert!(state::fits::<pl_gdl90_decoder>());
@@ -463,8 +463,7 @@ impl Proto for pl_gdl90_decoder {
     type Dec = Inner;
     type Msg = pl_gdl90_message;
     type Stats = pl_gdl90_stats;
-    type Ctx = u32;
-    const ONE_EVENT_A_BYTE: bool = true;
+    type Ctx = ();
 
     fn empty() -> pl_gdl90_message {
         // SAFETY: integers, floats and a raw pointer: all zeros is a valid value.
@@ -473,15 +472,9 @@ impl Proto for pl_gdl90_decoder {
         m
     }
 
-    fn held(d: &Inner) -> usize {
-        d.held_bytes()
-    }
+    fn context(_: &Inner) {}
 
-    fn context(d: &Inner) -> u32 {
-        d.stats().frame_bytes
-    }
-
-    fn fill(m: Message<'_>, _: u32, msg: &mut pl_gdl90_message, _: &mut pl_error) -> (i32, usize) {
+    fn fill(m: Message<'_>, _: (), msg: &mut pl_gdl90_message, _: &mut pl_error) -> i32 {
         let data: &[u8] = match m {
             Message::Unknown { data, .. } => data,
             _ => &[],
@@ -496,17 +489,17 @@ impl Proto for pl_gdl90_decoder {
             data_len: data.len(),
             body,
         };
-        (PL_MESSAGE, 0)
+        PL_MESSAGE
     }
 
     fn error(e: Error) -> pl_error {
         error(e)
     }
 
-    /// A frame with a good CRC counts in `frame_bytes`, whether it was a message or an error
-    /// (its typed parse failed): either way the event has its place.
-    fn frame_len(d: &Inner, frame_bytes: u32) -> usize {
-        face::flagged_len(frame_bytes, d.stats().frame_bytes)
+    /// A frame with a good CRC whose typed parse failed counts in `frame_bytes`, as a message
+    /// does: it has its place.
+    fn parse_failed(e: &Error) -> bool {
+        matches!(e, Error::WrongLength { .. } | Error::OutOfRange { .. })
     }
 
     fn place(msg: &mut pl_gdl90_message, offset: u64, wire_len: u32) {

@@ -1,5 +1,7 @@
 //! The decoder trait the readers are generic over, and what a decoder reports.
 
+use crate::Span;
+
 /// What a decoder reports to a reader: an item found, a protocol error, or the end of the
 /// stream inside a frame.
 ///
@@ -53,12 +55,14 @@ pub enum Event<F, P> {
 /// A decoder may override `feed` with a faster loop that gives the same events.
 ///
 /// ```
-/// use frame_io::{Decode, Event};
+/// use frame_io::{Decode, Event, Span, Stream};
 ///
 /// /// Lines of up to 8 bytes, each ended by `\n`; a longer line is an error.
 /// struct Lines {
 ///     buf: [u8; 8],
 ///     len: usize,
+///     /// The wire length of the last event.
+///     last: usize,
 /// }
 ///
 /// impl Decode for Lines {
@@ -70,10 +74,11 @@ pub enum Event<F, P> {
 ///     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<usize, &'static str>>) {
 ///         for (i, &b) in bytes.iter().enumerate() {
 ///             if b == b'\n' {
+///                 self.last = self.len + 1;
 ///                 return (i + 1, Some(Event::Found(core::mem::take(&mut self.len))));
 ///             }
 ///             let Some(slot) = self.buf.get_mut(self.len) else {
-///                 self.len = 0;
+///                 self.last = core::mem::take(&mut self.len) + 1;
 ///                 return (i + 1, Some(Event::Error("line too long")));
 ///             };
 ///             *slot = b;
@@ -84,16 +89,23 @@ pub enum Event<F, P> {
 ///
 ///     fn end(&mut self) -> Option<Event<usize, &'static str>> {
 ///         let pending = core::mem::take(&mut self.len);
+///         self.last = pending;
 ///         (pending > 0).then_some(Event::Truncated(pending))
 ///     }
 ///
 ///     fn item<'a>(&'a self, _input: &'a [u8], len: usize) -> &'a [u8] {
 ///         self.buf.get(..len).unwrap_or(&[])
 ///     }
+///
+///     fn span(&self) -> Span {
+///         // The line and its `\n`, the nine bytes of a line too long, or what was pending at
+///         // the end of the stream; nothing is held after an event.
+///         Span { len: self.last, after: 0 }
+///     }
 /// }
 ///
 /// // The one loop: any slices, then the end of the stream.
-/// let mut lines = Lines { buf: [0; 8], len: 0 };
+/// let mut lines = Lines { buf: [0; 8], len: 0, last: 0 };
 /// let mut seen = Vec::new();
 /// for piece in [&b"hi\nth"[..], b"ere\n", b"1234567890\n", b"tail"] {
 ///     lines.feed(piece, |event| seen.push(event.map(|line| line.to_vec())));
@@ -106,9 +118,19 @@ pub enum Event<F, P> {
 ///
 /// // The pull form underneath.
 /// assert_eq!(lines.decode(b"hi\nthere"), (3, Some(Event::Found(2))));
+/// assert_eq!(lines.span(), Span { len: 3, after: 0 });
 /// assert_eq!(lines.decode(b"there"), (5, None));
 /// assert_eq!(lines.end(), Some(Event::Truncated(5)));
 /// assert_eq!(lines.end(), None);
+///
+/// // Through a `Stream`: every event with its place (offset, length on the wire).
+/// let mut stream = Stream::new(lines);
+/// let mut places = Vec::new();
+/// for piece in [&b"hi\nth"[..], b"ere\n", b"1234567890\n", b"tail"] {
+///     stream.feed(piece, |place, _| places.push((place.offset, place.len)));
+/// }
+/// stream.finish(|place, _| places.push((place.offset, place.len)));
+/// assert_eq!(places, [(0, 3), (3, 6), (9, 9), (18, 2), (20, 4)]);
 /// ```
 pub trait Decode {
     /// The protocol's error.
@@ -132,7 +154,8 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::{Decode, Event};
     /// // `Bytes`: every non-zero byte is an item, a zero byte an error.
     /// assert_eq!(Bytes.decode(&[7, 8]), (1, Some(Event::Found(7))));
@@ -149,7 +172,8 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::Decode;
     /// // `Bytes` holds nothing between calls: the end of the stream finds nothing.
     /// assert_eq!(Bytes.end(), None);
@@ -164,11 +188,30 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::Decode;
     /// assert_eq!(Bytes.item(&[7, 8], 7), 7);
     /// ```
     fn item<'a>(&'a self, input: &'a [u8], found: Self::Found) -> Self::Item<'a>;
+
+    /// Where the event that the last [`Decode::decode`] or [`Decode::end`] call returned lies
+    /// (see [`Span`]): its length on the wire and the bytes used after it. Read it before the
+    /// next call; [`crate::Stream`] does, to give every event its [`crate::Place`].
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
+    /// use frame_io::{Decode, Span};
+    /// // `Bytes`: every byte is an event of its own.
+    /// let mut d = Bytes;
+    /// d.decode(&[7, 8]);
+    /// assert_eq!(d.span(), Span { len: 1, after: 0 });
+    /// ```
+    fn span(&self) -> Span;
 
     /// The pull form for a caller: decodes `bytes` up to and including the byte that gives
     /// the first event, and returns how many bytes that used and the event, as the item (it
@@ -181,7 +224,8 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::Decode;
     /// let mut d = Bytes;
     /// let input = [7, 0, 8];
@@ -222,7 +266,8 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::Decode;
     /// let mut seen = Vec::new();
     /// Bytes.feed(&[7, 0, 8], |event| seen.push(event));
@@ -255,7 +300,8 @@ pub trait Decode {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::Decode;
     /// let mut seen = 0;
     /// Bytes.finish(|_| seen += 1);

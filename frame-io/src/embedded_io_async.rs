@@ -38,7 +38,8 @@ use crate::{Decode, IoError};
 /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
 /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
 /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-/// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+/// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+/// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
 /// use frame_io::{embedded_io_async::Reader, IoError};
 /// // `Bytes`: every non-zero byte is an item, a zero byte an error.
 /// let mut reader = Reader::<_, _, 4>::new(&[7u8, 0, 8][..], Bytes);
@@ -60,7 +61,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// assert_eq!(reader.unread(), 0);
     /// ```
@@ -90,7 +92,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// use frame_io::{embedded_io_async::Reader, IoError};
     /// let mut reader = Reader::<_, _, 1>::new(&[5u8][..], Bytes);
     /// assert_eq!(block_on(reader.read()), Ok(5));
@@ -119,7 +122,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// let _: &Bytes = reader.decoder();
     /// ```
@@ -133,7 +137,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let mut reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[][..], Bytes);
     /// *reader.decoder_mut() = Bytes;
     /// ```
@@ -152,7 +157,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let mut reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[1u8, 2, 3][..],
     ///     Bytes);
     /// assert_eq!(block_on(reader.read()), Ok(1));
@@ -168,7 +174,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// assert_eq!(reader.get_ref().len(), 1);
     /// ```
@@ -187,7 +194,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let mut reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// *reader.get_mut() = &[];
     /// assert_eq!(block_on(reader.read()), Err(frame_io::IoError::Eof));
@@ -202,7 +210,8 @@ impl<T: Read, D: Decode, const R: usize> Reader<T, D, R> {
     /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
     /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
     /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
-    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x } }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
     /// let reader = frame_io::embedded_io_async::Reader::<_, _, 16>::new(&[1u8][..], Bytes);
     /// assert_eq!(reader.into_inner(), &[1]);
     /// ```

@@ -13,6 +13,7 @@
 //! # struct Lines {
 //! #     buf: [u8; 8],
 //! #     len: usize,
+//! #     last: usize,
 //! # }
 //! #
 //! # impl Decode for Lines {
@@ -24,10 +25,11 @@
 //! #     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<usize, &'static str>>) {
 //! #         for (i, &b) in bytes.iter().enumerate() {
 //! #             if b == b'\n' {
+//! #                 self.last = self.len + 1;
 //! #                 return (i + 1, Some(Event::Found(core::mem::take(&mut self.len))));
 //! #             }
 //! #             let Some(slot) = self.buf.get_mut(self.len) else {
-//! #                 self.len = 0;
+//! #                 self.last = core::mem::take(&mut self.len) + 1;
 //! #                 return (i + 1, Some(Event::Error("line too long")));
 //! #             };
 //! #             *slot = b;
@@ -38,11 +40,16 @@
 //! #
 //! #     fn end(&mut self) -> Option<Event<usize, &'static str>> {
 //! #         let pending = core::mem::take(&mut self.len);
+//! #         self.last = pending;
 //! #         (pending > 0).then_some(Event::Truncated(pending))
 //! #     }
 //! #
 //! #     fn item<'a>(&'a self, _input: &'a [u8], len: usize) -> &'a [u8] {
 //! #         self.buf.get(..len).unwrap_or(&[])
+//! #     }
+//! #
+//! #     fn span(&self) -> frame_io::Span {
+//! #         frame_io::Span { len: self.last, after: 0 }
 //! #     }
 //! # }
 //! use frame_io::{Decode, IoError, embedded_io::Reader};
@@ -93,11 +100,15 @@ pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
 mod error;
+mod place;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod shared;
+mod stream;
 
 pub use decode::{Decode, Event};
 pub use error::IoError;
+pub use place::{Place, Span};
+pub use stream::Stream;
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

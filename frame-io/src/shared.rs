@@ -196,6 +196,9 @@ mod liveness {
             (held > 0).then_some(Event::Truncated(held))
         }
         fn item(&self, _input: &[u8], _found: ()) {}
+        fn span(&self) -> crate::Span {
+            crate::Span::default()
+        }
     }
 
     #[test]

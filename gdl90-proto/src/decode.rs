@@ -5,7 +5,7 @@
 //! checked like any other (AEOLUS alone reads `00 00` as "no CRC"), and every good frame is
 //! parsed into a [`Message`] before it is handed over.
 
-use aeolus_proto::{Decode, Decoder as Framing, Event, Frame};
+use aeolus_proto::{Decode, Decoder as Framing, Event, Frame, Span};
 
 use crate::message::Message;
 use crate::{ESCAPE, Error, FLAG};
@@ -210,6 +210,14 @@ impl<const N: usize> Decoder<N> {
 ///     [Err(Error::ChecksumMismatch { id: 0, computed: 0x8BB3, received: 0 }), Err(Error::Truncated)]
 /// );
 /// assert_eq!(d.stats().bytes_discarded, 11);
+///
+/// // Each event with its place: the rejected frame with both flags, the frame cut short
+/// // (its flag, shared, and two bytes).
+/// let mut stream = gdl90_proto::Stream::new(Decoder::<64>::new());
+/// let mut places = Vec::new();
+/// stream.feed(&wire, |place, _| places.push((place.offset, place.len)));
+/// stream.finish(|place, _| places.push((place.offset, place.len)));
+/// assert_eq!(places, [(0, 11), (10, 3)]);
 /// ```
 impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
@@ -260,6 +268,14 @@ impl<const N: usize> Decode for Decoder<N> {
             id: frame.id(),
             data: frame.data(),
         })
+    }
+
+    /// The framing's: every event's bytes run from a frame's opening flag to the byte that
+    /// ended it (its closing flag, the byte that did not fit, the byte after `7D`, or the last
+    /// byte held at the end of the stream); nothing used after it is held.
+    #[inline]
+    fn span(&self) -> Span {
+        self.framing.span()
     }
 }
 

@@ -60,7 +60,7 @@ mod error;
 pub mod message;
 
 pub use aeolus_proto::crc;
-pub use aeolus_proto::{Decode, Event};
+pub use aeolus_proto::{Decode, Event, Place, Span, Stream};
 pub use decode::{Decoder, Stats};
 pub use encode::{
     MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,

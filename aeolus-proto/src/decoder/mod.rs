@@ -4,7 +4,7 @@
 use crate::scan::special_bytes;
 #[cfg(target_pointer_width = "64")]
 use crate::scan::{WORD, special_in_word};
-use frame_io::{Decode, Event};
+use frame_io::{Decode, Event, Span};
 
 use crate::{
     ESCAPE, Error, FLAG, Frame, crc,
@@ -161,6 +161,9 @@ pub struct Decoder<const N: usize> {
     crc: u16,
     crc_at: usize,
     escapes: usize,
+    /// The wire length of the last event, both flags included (see [`Decode::span`]): written
+    /// once an event, never a byte.
+    last: usize,
     state: State,
     strict: bool,
     stats: Stats,
@@ -190,6 +193,7 @@ impl<const N: usize> Decoder<N> {
             crc: 0,
             crc_at: 0,
             escapes: 0,
+            last: 0,
             state: State::Fresh,
             strict: false,
             stats: STATS0,
@@ -359,11 +363,15 @@ impl<const N: usize> Decoder<N> {
                 }
                 FLAG => {
                     self.stats.flags = self.stats.flags.wrapping_add(1);
+                    // The opening flag, the bytes held (the escape among them), this flag
+                    // (which opens the next frame).
+                    self.last = self.held_bytes().wrapping_add(2);
                     self.drop_frame(0, State::Frame);
                     self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
                     Some(Err(Error::EscapedFlag))
                 }
                 _ => {
+                    self.last = self.held_bytes().wrapping_add(2);
                     self.drop_frame(1, State::Hunt);
                     self.stats.bad_escapes = self.stats.bad_escapes.wrapping_add(1);
                     Some(Err(Error::InvalidEscape))
@@ -535,6 +543,8 @@ impl<const N: usize> Decoder<N> {
             self.at += 1;
             None
         } else {
+            // The opening flag, the bytes held, the byte that did not fit.
+            self.last = self.held_bytes().wrapping_add(2);
             self.drop_frame(1, State::Hunt);
             self.stats.overflows = self.stats.overflows.wrapping_add(1);
             Some(Err(Error::Overflow))
@@ -561,6 +571,7 @@ impl<const N: usize> Decoder<N> {
         if len == 0 {
             return None;
         }
+        self.last = (wire as usize).wrapping_add(2);
         let raw = self.buf.get(..len).unwrap_or(&[]);
         // The running CRC, caught up over the bytes stored since it last advanced.
         let rest = raw.get(core::mem::take(&mut self.crc_at)..).unwrap_or(&[]);
@@ -625,7 +636,7 @@ const STATS0: Stats = Stats {
 /// caller that acts between two frames.
 ///
 /// ```
-/// use aeolus_proto::{Decode, Decoder, Error, Event};
+/// use aeolus_proto::{Decode, Decoder, Error, Event, Place};
 /// let mut d = Decoder::<64>::new();
 /// let mut events = Vec::new();
 /// d.feed(&[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E, 0x52], |ev| events.push(ev.map(|f| f.id())));
@@ -639,6 +650,14 @@ const STATS0: Stats = Stats {
 /// assert_eq!(d.decode(&[0x52]), (1, None));
 /// assert_eq!(d.end(), Some(Event::Truncated(1)));
 /// assert_eq!(d.end(), None);
+///
+/// // Through a `Stream`, each event with its place: the frame with both its flags (8 bytes
+/// // from 0), then the frame cut short (its flag, shared, and one byte).
+/// let mut stream = aeolus_proto::Stream::new(Decoder::<64>::new());
+/// let mut places = Vec::new();
+/// stream.feed(&[0x7E, 0x52, b'h', b'i', 0x00, 0x73, 0xEC, 0x7E, 0x52], |place, _| places.push(place));
+/// stream.finish(|place, _| places.push(place));
+/// assert_eq!(places, [Place { offset: 0, len: 8 }, Place { offset: 7, len: 2 }]);
 /// ```
 impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
@@ -704,6 +723,8 @@ impl<const N: usize> Decode for Decoder<N> {
         if pending == 0 {
             return None;
         }
+        // The opening flag and the bytes held.
+        self.last = pending.wrapping_add(1);
         self.reset();
         Some(Event::Truncated(pending))
     }
@@ -711,6 +732,19 @@ impl<const N: usize> Decode for Decoder<N> {
     #[inline]
     fn item<'a>(&'a self, _input: &'a [u8], (len, has_crc): (usize, bool)) -> Frame<'a> {
         self.found_frame(len, has_crc)
+    }
+
+    /// Every event's bytes run from a frame's opening flag to the byte that ended it: its
+    /// closing flag (a frame, a bad CRC, a frame too short, `7D 7E`), the byte that did not fit
+    /// (an overflow), the byte after `7D` (a bad escape), or the last byte held (the end of
+    /// the stream). Nothing used after it is held (`after` 0). Two frames that share a flag
+    /// share that byte.
+    #[inline]
+    fn span(&self) -> Span {
+        Span {
+            len: self.last,
+            after: 0,
+        }
     }
 }
 

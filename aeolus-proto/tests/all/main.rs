@@ -19,6 +19,7 @@ mod fast_path;
 mod fixed_frame_capacity;
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+mod place;
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 mod reader_unread;
 mod roundtrip;

@@ -1,7 +1,26 @@
 //! The byte path, written once for both decoders: a byte is kept in the buffer, and the step
 //! runs over the buffer only when the bytes held may decide the front. Each decoder gives its
 //! buffer, its counters and its rules through [`Rules`]; `step.rs` of each folder has the
-//! rules themselves.
+//! rules themselves. The slice path's handling of a decided front ([`past_front`], and
+//! [`past_event`] at the event the pull form stops at) is here too, so that both decoders'
+//! slice loops keep the same bytes and record the same spans.
+//!
+//! # Where an event lies
+//!
+//! The pull form (`decode`, `end`) records the [`Span`] of each event it returns, once per
+//! event and never per byte (`feed`, which reports no span, records nothing):
+//!
+//! - an item: its frame (`Step::Used`);
+//! - an error of the rules: the whole candidate frame it condemns (`Step::Rejected`), though
+//!   only its first byte is dropped;
+//! - the end of the stream inside a frame: every byte of the frame cut short, all that is
+//!   held (none is held after it);
+//!
+//! and `after` is the bytes held after the event's last byte: every byte held has been used.
+//! On the slice path an event ends the bytes used (`after` 0): a rejected candidate's bytes
+//! after its first are then kept in the buffer for the rescan, as the byte path holds them.
+
+use frame_io::Span;
 
 use super::{Held, Stats, Step};
 use crate::Error;
@@ -169,11 +188,16 @@ pub(crate) trait Rules {
     /// `on_event` until it returns true (stop after that event), the front needs more bytes
     /// or nothing is held any more; with `quiet`, each undecided front is given up as
     /// [`Error::Truncated`] instead.
+    ///
+    /// The event it stops at is the pull form's: its span is recorded (see the module's
+    /// documentation). `feed`'s `on_event` never stops, so that path records nothing.
     #[inline]
     fn run<F: FnMut(Result<Self::Item, Error>) -> bool>(&mut self, quiet: bool, on_event: &mut F) {
         loop {
+            let held = self.held().len;
             let mut stop = false;
-            match self.judge_held(&mut |e| stop = on_event(e)) {
+            // The bytes of the front's event, if it gave one.
+            let len = match self.judge_held(&mut |e| stop = on_event(e)) {
                 Step::Need(need) => {
                     if !quiet {
                         self.held_mut().need = need;
@@ -183,13 +207,22 @@ pub(crate) trait Rules {
                     stats.abandoned = stats.abandoned.wrapping_add(1);
                     self.drop_front();
                     stop = on_event(Err(Error::Truncated));
+                    // The frame cut short: every byte held (it waited for more).
+                    held
                 }
-                Step::Used(used) => {
+                step => {
+                    // One count for every step (see `Step::dropped`).
                     self.front_gone();
-                    self.held_mut().consume(used);
+                    self.held_mut().consume(step.dropped());
+                    step.event_len()
                 }
+            };
+            if stop {
+                let after = held.saturating_sub(len);
+                self.held_mut().span = Span { len, after };
+                return;
             }
-            if stop || self.held().len == 0 {
+            if self.held().len == 0 {
                 return;
             }
         }
@@ -217,6 +250,10 @@ pub(crate) trait Rules {
             found = Some(item);
             true
         });
+        if found.is_some() && self.held().len != 0 {
+            // A rejected candidate's bytes after its first, kept for the rescan.
+            self.held_event_out();
+        }
         (total.saturating_sub(rest.len()).saturating_add(used), found)
     }
 
@@ -256,6 +293,47 @@ pub(crate) trait Rules {
             self.feed_byte(byte, on_event);
         }
         rest
+    }
+}
+
+/// The slice path (the rules over the input itself, nothing held) once the rules decided on
+/// the front of `rest` without an event the pull form stops at, for both decoders' loops: the
+/// rest of `rest` to go on with, or `None` when every byte is used (an undecided tail is kept
+/// in `held`, which then waits for `need` bytes; or the step counted past the end, which no
+/// rule does). A rejected candidate passes only its first byte: the rescan is the next
+/// position.
+#[inline(always)]
+pub(crate) fn past_front<'a>(held: &mut Held, rest: &'a [u8], step: Step) -> Option<&'a [u8]> {
+    match step {
+        Step::Need(need) => {
+            held.keep(rest, need);
+            None
+        }
+        step => rest.get(step.dropped()..),
+    }
+}
+
+/// The slice path at the event the pull form stops at (`step` handed it over), once a
+/// `decode`, after its loop: records the event's span, which ends the bytes used, and returns
+/// the rest of `rest` after it. A rejected candidate is used whole, its bytes after the first
+/// kept in `held` for the rescan, as the byte path holds them (the next `decode` reads them
+/// first).
+#[inline]
+pub(crate) fn past_event<'a>(held: &mut Held, rest: &'a [u8], step: Step) -> &'a [u8] {
+    let len = step.event_len();
+    held.span = Span { len, after: 0 };
+    match step {
+        Step::Used(used) => rest.get(used..).unwrap_or(&[]),
+        Step::Rejected(len) => {
+            let (candidate, after) = rest.split_at_checked(len).unwrap_or((rest, &[]));
+            held.keep(candidate.get(1..).unwrap_or(&[]), 0);
+            after
+        }
+        // No event leaves the front undecided.
+        Step::Need(need) => {
+            held.keep(rest, need);
+            &[]
+        }
     }
 }
 

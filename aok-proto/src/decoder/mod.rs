@@ -11,7 +11,8 @@
 //! once in `byte.rs` need of the decoder (`Rules`), and `bulk.rs` the `Decode`
 //! implementation. `byte.rs` runs the step over the decoder's buffer byte by byte (the byte
 //! path) and over the input itself while nothing is held (the slice fast path of `feed` and
-//! `decode`). [`Stats`] counts for both.
+//! `decode`), and records where each event of the pull form lies (`Decode::span`).
+//! [`Stats`] counts for both.
 
 mod byte;
 mod command;
@@ -20,7 +21,7 @@ mod liveness;
 mod message;
 mod stats;
 
-use frame_io::Event;
+use frame_io::{Event, Span};
 
 pub(crate) use byte::Rules;
 pub use command::CommandDecoder;
@@ -38,8 +39,38 @@ use crate::shift_left;
 pub(crate) enum Step {
     /// Undecided until the window holds this many bytes.
     Need(usize),
-    /// The front's bytes up to this count are decided on: drop them.
+    /// The front's bytes up to this count are decided on (a frame found, or a byte that
+    /// starts none): drop them.
     Used(usize),
+    /// The front's candidate frame of this many bytes was condemned (its error handed over:
+    /// a bad checksum, or an out-of-range field): only its first byte is dropped, the bytes
+    /// after it are rescanned.
+    Rejected(usize),
+}
+
+impl Step {
+    /// The front's bytes this step drops: a frame found or a byte that starts none, or a
+    /// rejected candidate's first byte (none while undecided). One count for every consumer:
+    /// a constant 1 of its own beside the held buffer's shift became a `memmove` call (1.6 KB
+    /// of `compiler_builtins` on Cortex-M; see `Rules::drop_front`).
+    #[inline(always)]
+    pub(crate) const fn dropped(self) -> usize {
+        match self {
+            Step::Need(_) => 0,
+            Step::Used(used) => used,
+            Step::Rejected(_) => 1,
+        }
+    }
+
+    /// The bytes of the event the step gave, if it gave one: the frame found, or the whole
+    /// candidate rejected (none while undecided).
+    #[inline(always)]
+    pub(crate) const fn event_len(self) -> usize {
+        match self {
+            Step::Need(_) => 0,
+            Step::Used(len) | Step::Rejected(len) => len,
+        }
+    }
 }
 
 /// The bytes a decoder holds between two calls: a frame waiting for the rest of its bytes,
@@ -53,6 +84,9 @@ pub(crate) struct Held {
     pub(crate) len: usize,
     /// Length of the frame the front byte started, once known (0: not known). Hot-path shortcut.
     pub(crate) need: usize,
+    /// Where the event that the pull form (`decode`, `end`) last returned lies: written once
+    /// per event by the paths of `byte.rs`, read by `Decode::span`.
+    pub(crate) span: Span,
 }
 
 impl Held {
@@ -61,6 +95,7 @@ impl Held {
         buf: [0; MAX_COMMAND_LEN],
         len: 0,
         need: 0,
+        span: Span { len: 0, after: 0 },
     };
 
     /// The bytes held.

@@ -17,7 +17,7 @@ fn xor(bytes: &[u8]) -> u8 {
 }
 
 /// One frame the PC sends, from raw bytes (fields may be out of range: that is the point).
-fn command_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
+pub(crate) fn command_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
     match kind % 9 {
         0 => vec![0x63, [1, 2, 7, 8, 9][v[0] as usize % 5]],
         1 => vec![0x63, 3 + v[0] % 3, v[1]],
@@ -54,7 +54,7 @@ fn command_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
 }
 
 /// One frame the device sends.
-fn message_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
+pub(crate) fn message_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
     match kind % 7 {
         0 | 1 => {
             let mut f = vec![0x1c, v[0] % 4, v[1], v[2], v[3], v[4]];
@@ -85,7 +85,7 @@ fn message_frame(kind: u8, v: &[u8; 18]) -> Vec<u8> {
 }
 
 /// A piece of a stream: a frame, perhaps with one byte changed or cut short, or garbage.
-fn piece(frame: fn(u8, &[u8; 18]) -> Vec<u8>) -> impl Strategy<Value = Vec<u8>> {
+pub(crate) fn piece(frame: fn(u8, &[u8; 18]) -> Vec<u8>) -> impl Strategy<Value = Vec<u8>> {
     prop_oneof![
         6 => (any::<u8>(), any::<[u8; 18]>()).prop_map(move |(k, v)| frame(k, &v)),
         1 => (any::<u8>(), any::<[u8; 18]>(), any::<prop::sample::Index>(), any::<u8>())
@@ -125,7 +125,7 @@ fn chunk_sizes() -> impl Strategy<Value = Vec<usize>> {
     )
 }
 
-fn expect() -> impl Strategy<Value = Expect> {
+pub(crate) fn expect() -> impl Strategy<Value = Expect> {
     prop_oneof![
         Just(Expect::Nothing),
         Just(Expect::Ack),
@@ -137,7 +137,7 @@ fn expect() -> impl Strategy<Value = Expect> {
     ]
 }
 
-fn firmware() -> impl Strategy<Value = FirmwareVersion> {
+pub(crate) fn firmware() -> impl Strategy<Value = FirmwareVersion> {
     prop_oneof![
         Just(FirmwareVersion::new(0, 30)),
         Just(FirmwareVersion::new(0, 31)),

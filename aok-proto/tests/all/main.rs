@@ -25,6 +25,7 @@ mod fuzz;
 mod io;
 mod mission_end;
 mod parameter_reply;
+mod place;
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 mod reader_unread;
 mod roundtrip;

@@ -61,16 +61,18 @@
 
 // The files: `step.rs`, the rules, once, and their reports made events; `byte.rs`, the
 // per-byte path (`feed` of one byte); `bulk.rs`, the slice fast path; `buffer.rs`, the bytes
-// held between calls. Every path decides through the one step, and the property tests prove
-// them equal on every split of hostile streams.
+// held between calls; `span.rs`, where each event of the pull form lies. Every path decides
+// through the one step, and the property tests prove them equal on every split of hostile
+// streams.
 mod buffer;
 mod bulk;
 mod byte;
 #[cfg(test)]
 mod liveness;
+mod span;
 mod step;
 
-use frame_io::{Decode, Event};
+use frame_io::{Decode, Event, Span};
 
 use crate::checksum::{ff_run, find_ff, xor};
 use crate::error::{Error, Result};
@@ -153,6 +155,11 @@ pub struct Decoder<const N: usize> {
     /// `buf[decide_at - 1]`: a cache of its last answer (`Need`), so that bytes before that
     /// point are only stored.
     decide_at: usize,
+    /// Where the event the pull form last returned lies (see [`Decode::span`]): written once an
+    /// event, never a byte. In a decoder too small for a header (`N` < 6), which gives no event
+    /// before the end of the stream, `after` counts the bytes `decode` could not hold behind
+    /// its candidate (discarded as they came) until `end` has reported it.
+    span: Span,
     profile: Profile,
     stats: Stats,
 }
@@ -177,6 +184,7 @@ impl<const N: usize> Decoder<N> {
             start: 0,
             len: 0,
             decide_at: 0,
+            span: Span { len: 0, after: 0 },
             profile,
             stats: Stats {
                 frames_ok: 0,
@@ -237,7 +245,8 @@ impl<const N: usize> Decoder<N> {
     /// the pull form they are the bytes after it, so a caller that counts the bytes
     /// [`Decode::decode`] used finds where each event's bytes are: a frame just handed out
     /// ends that many bytes before the end of the input used so far, and a failed candidate
-    /// (length, checksum, truncation) started one byte before those.
+    /// (length, checksum, truncation) started one byte before those. [`Decode::span`] says
+    /// where every event lies, and [`Stream`](crate::Stream) counts the bytes used.
     ///
     /// ```
     /// use aydp_proto::{Decode, Decoder, Event, Profile};
@@ -273,9 +282,19 @@ impl<const N: usize> Decoder<N> {
     #[inline]
     fn queued(&mut self) -> Option<Event<(Option<usize>, usize), Error>> {
         Some(match self.examine() {
-            Step::Frame(total) => Event::Found((None, total)),
-            Step::Failed(e) => Event::Error(e),
-            Step::Mismatch(total) => Event::Error(self.mismatch_held(total)),
+            Step::Frame(total) => {
+                self.frame_span(total);
+                Event::Found((None, total))
+            }
+            Step::Failed(e) => {
+                // A length error: the step judged the header's first six bytes.
+                self.failed_span(EXPEDITED_HEADER_LEN);
+                Event::Error(e)
+            }
+            Step::Mismatch(total) => {
+                self.failed_span(total);
+                Event::Error(self.mismatch_held(total))
+            }
             Step::Need(_) | Step::Noise(_) => return None,
         })
     }
@@ -289,17 +308,59 @@ impl<const N: usize> Decoder<N> {
 /// counted as a checksum or length error), then what the rescan of its bytes finds; after it
 /// the decoder holds nothing.
 ///
+/// **Where each event lies** ([`Decode::span`], which [`Stream`](crate::Stream) turns into
+/// every event's [`Place`](crate::Place) in the stream):
+///
+/// - a frame: its bytes, [`Frame::as_bytes`], from the 0xFF start to the checksum;
+/// - [`Error::ChecksumMismatch`]: the candidate from its 0xFF start for its whole announced
+///   length (the bytes whose XOR failed, checksum byte included);
+/// - [`Error::BadLength`]: the six bytes the step judged: the 0xFF start, the type byte and
+///   the four bytes of the length field;
+/// - [`Error::Truncated`] (of `end`): the candidate's bytes that were pending
+///   ([`Event::Truncated`]'s count), from its 0xFF start to the end of the stream.
+///
+/// Only an error's first byte, its 0xFF start, is counted in
+/// [`Stats::bytes_discarded`]: its other bytes are rescanned, and are dropped as noise
+/// (counted then) or belong to later events, so a frame can lie inside a failed candidate.
+/// Every byte used is in exactly one of: a frame, a discarded byte, the bytes held. Events
+/// come in the order of their first bytes. A rescan's events come with no byte used, so the
+/// span's `after` counts the bytes used after the event's last byte: those held, less a failed
+/// candidate's own. On the slice path of `decode` a failed candidate is used whole, and its
+/// bytes after the 0xFF held for the rescan (as the per-byte path holds them), so that its
+/// span lies in the bytes used. A decoder too small for a header (`N` < 6) gives no event
+/// before `end`; there the bytes it could not hold follow the pending ones.
+///
 /// ```
-/// use aydp_proto::{Decode, Decoder, Event, Profile};
+/// use aydp_proto::{Decode, Decoder, Error, Event, Place, Profile, Span, Stream};
 /// // An expedited heartbeat (type 0), then the start of another.
 /// let wire = [0xFF, 0x80, 0x07, 0, 0, 0, 0x78, 0xFF, 0x89];
 /// let mut d = Decoder::<32>::new(Profile::Spec);
 /// let (used, event) = d.decode(&wire);
 /// assert_eq!((used, event), (7, Some(Event::Found((Some(0), 7)))));
 /// assert_eq!(d.item(&wire, (Some(0), 7)).as_bytes(), &wire[..7]);
+/// assert_eq!(d.span(), Span { len: 7, after: 0 });
 /// assert_eq!(d.decode(&wire[7..]), (2, None));
 /// assert_eq!(d.end(), Some(Event::Truncated(2)));
+/// assert_eq!(d.span(), Span { len: 2, after: 0 });
 /// assert_eq!(d.end(), None);
+///
+/// // A false start (FF 80, length 14) that takes in a heartbeat and the byte after it: its
+/// // checksum fails, and the rescan of its bytes finds the heartbeat, the 0x00 held behind it.
+/// let wire = [0xFF, 0x80, 0x0E, 0, 0, 0, 0xFF, 0x80, 0x07, 0, 0, 0, 0x78, 0x00];
+/// let (used, event) = d.decode(&wire);
+/// assert!(used == 14 && matches!(event, Some(Event::Error(Error::ChecksumMismatch { .. }))));
+/// assert_eq!(d.span(), Span { len: 14, after: 0 });
+/// assert_eq!(d.decode(&[]), (0, Some(Event::Found((None, 7)))));
+/// assert_eq!(d.span(), Span { len: 7, after: 1 });
+///
+/// // Through a `Stream`, in any slices: every event with its place.
+/// let mut stream = Stream::new(Decoder::<32>::new(Profile::Spec));
+/// let mut places = Vec::new();
+/// for byte in &wire {
+///     stream.feed(core::slice::from_ref(byte), |place, _| places.push(place));
+/// }
+/// stream.finish(|place, _| places.push(place));
+/// assert_eq!(places, [Place { offset: 0, len: 14 }, Place { offset: 6, len: 7 }]);
 /// ```
 impl<const N: usize> Decode for Decoder<N> {
     type Error = Error;
@@ -308,7 +369,8 @@ impl<const N: usize> Decode for Decoder<N> {
     const TRUNCATED: Error = Error::Truncated;
 
     /// Up to the first event, with the slice fast path (the step runs on `bytes` itself while
-    /// nothing is held), events a rescan left queued first.
+    /// nothing is held), events a rescan left queued first. A candidate that fails on the
+    /// slice path is used whole, its bytes after the 0xFF held for the rescan.
     fn decode(&mut self, bytes: &[u8]) -> (usize, Option<Event<(Option<usize>, usize), Error>>) {
         let total = bytes.len();
         if N < EXPEDITED_HEADER_LEN || total <= 1 {
@@ -319,11 +381,27 @@ impl<const N: usize> Decode for Decoder<N> {
                 return (0, Some(event));
             }
             for (i, &b) in bytes.iter().enumerate() {
+                if N < EXPEDITED_HEADER_LEN {
+                    // Too small for a header (no event before the end of the stream): count
+                    // the bytes `push` cannot hold, behind the candidate, for its span.
+                    self.span.after = if self.held_bytes() >= N {
+                        self.span.after.wrapping_add(1)
+                    } else {
+                        0
+                    };
+                }
                 let event = match self.push(b) {
                     None => continue,
                     Some(Ok(frame)) => Event::Found((None, frame.as_bytes().len())),
                     Some(Err(e)) => Event::Error(e),
                 };
+                // The held bytes were one undecided candidate (or none) before this byte, so
+                // the event ends at it: a frame is followed by nothing held, and a failed
+                // candidate is its start byte and every byte held.
+                match event {
+                    Event::Found((_, len)) => self.frame_span(len),
+                    _ => self.failed_span(self.held_bytes().saturating_add(1)),
+                }
                 return (i.saturating_add(1), Some(event));
             }
             return (total, None);
@@ -337,18 +415,28 @@ impl<const N: usize> Decode for Decoder<N> {
             if self.len == self.start {
                 let (n, step) = self.scan_in_place(rest);
                 let end = used.saturating_add(n);
-                let event = match step {
-                    Step::Frame(len) => Event::Found((Some(end.saturating_sub(len)), len)),
-                    Step::Failed(e) => Event::Error(e),
-                    Step::Mismatch(len) => {
-                        // The failed candidate started at the byte before `end`.
-                        let at = end.saturating_sub(1);
-                        let candidate = bytes.get(at..at.saturating_add(len)).unwrap_or(&[]);
-                        Event::Error(Error::mismatch(candidate))
+                // A failed candidate started at the byte before `end`: the six bytes of its
+                // header that the step judged (a length error), or its whole announced length.
+                let at = end.saturating_sub(1);
+                let (len, error) = match step {
+                    Step::Frame(len) => {
+                        self.frame_span(len);
+                        return (
+                            end,
+                            Some(Event::Found((Some(end.saturating_sub(len)), len))),
+                        );
                     }
+                    Step::Failed(e) => (EXPEDITED_HEADER_LEN, Some(e)),
+                    Step::Mismatch(len) => (len, None),
                     Step::Need(_) | Step::Noise(_) => return (end, None),
                 };
-                return (end, Some(event));
+                let candidate = bytes.get(at..at.saturating_add(len)).unwrap_or(&[]);
+                let error = error.unwrap_or_else(|| Error::mismatch(candidate));
+                self.hold_failed(candidate);
+                return (
+                    at.saturating_add(candidate.len()),
+                    Some(Event::Error(error)),
+                );
             }
             if rest.is_empty() {
                 return (total, None);
@@ -363,7 +451,22 @@ impl<const N: usize> Decode for Decoder<N> {
         if let Some(event) = self.queued() {
             return Some(event);
         }
-        self.give_up().map(Event::Truncated)
+        // The candidate's bytes held are the last used, but in a decoder too small for a
+        // header, where the bytes it could not hold (discarded as they came) follow them.
+        let after = if N < EXPEDITED_HEADER_LEN {
+            self.span.after
+        } else {
+            0
+        };
+        let Some(pending) = self.give_up() else {
+            self.span = Span::default();
+            return None;
+        };
+        self.span = Span {
+            len: pending,
+            after,
+        };
+        Some(Event::Truncated(pending))
     }
 
     #[inline]
@@ -374,6 +477,12 @@ impl<const N: usize> Decode for Decoder<N> {
             Some(at) => input.get(at..at.saturating_add(len)),
         };
         Frame::new_unchecked(bytes.unwrap_or(&[]), self.profile)
+    }
+
+    /// Recorded once an event, never a byte: see above for each event's bytes.
+    #[inline]
+    fn span(&self) -> Span {
+        self.span
     }
 
     /// The loop of the contract, overridden with the fast paths (same events as the pull

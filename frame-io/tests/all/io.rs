@@ -8,7 +8,7 @@ use std::pin::pin;
 use std::task::{Context, Poll, Waker};
 
 use embedded_io::ErrorKind;
-use frame_io::{Decode, Event, IoError, embedded_io as bio, embedded_io_async as aio};
+use frame_io::{Decode, Event, IoError, Span, embedded_io as bio, embedded_io_async as aio};
 
 /// Where a line is: in the decoder's buffer, or in place in the input of `decode`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,6 +76,11 @@ impl Decode for Lines {
             Found::Held(len) => &self.buf[..len],
             Found::InPlace { at, len } => &input[at..at + len],
         }
+    }
+
+    fn span(&self) -> Span {
+        // The readers never ask where an event is.
+        Span::default()
     }
 }
 

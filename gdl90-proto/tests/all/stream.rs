@@ -6,7 +6,7 @@ use proptest::prelude::*;
 
 /// Frames from `vectors.rs`: ICD heartbeat, ownship, AHRS with an escaped data byte,
 /// heartbeat with an escaped CRC, geometric altitude, ForeFlight ID capture, unknown ID 7.
-const FRAMES: &[&[u8]] = &[
+pub(crate) const FRAMES: &[&[u8]] = &[
     &[
         0x7E, 0x00, 0x81, 0x41, 0xDB, 0xD0, 0x08, 0x02, 0xB3, 0x8B, 0x7E,
     ],

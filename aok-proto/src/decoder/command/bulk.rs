@@ -1,7 +1,7 @@
 //! The contract: [`CommandDecoder`]'s [`Decode`] implementation, on the paths of `../byte.rs`.
 //! `feed` and `decode` run the step over the input itself while nothing is held.
 
-use frame_io::{Decode, Event};
+use frame_io::{Decode, Event, Span};
 
 use super::*;
 use crate::decoder::byte::Rules;
@@ -38,6 +38,52 @@ use crate::decoder::{end_of_stream, event};
 /// assert_eq!(dec.decode(&[0x31]), (1, None));
 /// assert_eq!(dec.end(), Some(Event::Truncated(1)));
 /// assert_eq!(dec.end(), None);
+/// ```
+///
+/// # Where each event lies
+///
+/// [`Decode::span`] says where the event that `decode` or `end` last returned lies, counted
+/// back from the end of the bytes used (a [`Stream`](crate::Stream) turns it into the event's
+/// [`Place`](crate::Place) in the stream):
+///
+/// - a command: its frame (`len` its [`Command::buffer_len`], 2 to 19 bytes);
+/// - a checksum failure ([`Error::ChecksumMismatch`]) or a good checksum with an out-of-range
+///   field: the whole candidate command it condemns (the length its first bytes give), though
+///   only its first byte is dropped and the bytes after it are read again;
+/// - the end of the stream inside a command ([`Event::Truncated`]): every byte of the command
+///   cut short, so that it ends where the stream ends (and so does the next one a rescan
+///   gives up);
+///
+/// and `after` is the bytes used after the event's last byte: 0, or the bytes that follow a
+/// command or error that a rescan found inside a condemned candidate. `decode` uses a
+/// condemned candidate's bytes whole (those after its first are held for the rescan, whose
+/// events come with no byte used); `feed` records no span.
+///
+/// ```
+/// use aok_proto::{Command, CommandDecoder, Decode, Error, Event, Place, Span, Stream};
+/// let mut dec = CommandDecoder::new();
+/// assert_eq!(dec.decode(&[0x67, 0x0c]), (2, Some(Event::Found(Command::ReadParameter(12)))));
+/// assert_eq!(dec.span(), Span { len: 2, after: 0 });
+/// // A parameter set whose checksum fails condemns its 7 bytes; the rescan finds the read
+/// // inside it, with 4 bytes used after it.
+/// let wire = [0x73, 0x67, 0x0c, 0, 0, 0, 0];
+/// let (used, event) = dec.decode(&wire);
+/// assert!(matches!(event, Some(Event::Error(Error::ChecksumMismatch { id: 0x73, .. }))));
+/// assert_eq!((used, dec.span()), (7, Span { len: 7, after: 0 }));
+/// assert_eq!(dec.decode(&[]), (0, Some(Event::Found(Command::ReadParameter(12)))));
+/// assert_eq!(dec.span(), Span { len: 2, after: 4 });
+///
+/// // Through a `Stream`: the same bytes, then half a parameter set, with their places.
+/// let mut stream = Stream::new(CommandDecoder::new());
+/// let mut got = Vec::new();
+/// stream.feed(&wire, |place, event| got.push((place, event.is_ok())));
+/// stream.feed(&[0x73, 0x01], |place, event| got.push((place, event.is_ok())));
+/// stream.finish(|place, event| got.push((place, event.is_ok())));
+/// assert_eq!(got, [
+///     (Place { offset: 0, len: 7 }, false), // the condemned parameter set
+///     (Place { offset: 1, len: 2 }, true),  // the read inside it
+///     (Place { offset: 7, len: 2 }, false), // cut short by the end of the stream
+/// ]);
 /// ```
 impl Decode for CommandDecoder {
     type Error = Error;
@@ -101,6 +147,20 @@ impl Decode for CommandDecoder {
     /// ```
     fn end(&mut self) -> Option<Event<Command, Error>> {
         end_of_stream!(self, self.quiet_next())
+    }
+
+    /// Where the event that `decode` or `end` last returned lies (see the implementation's
+    /// documentation).
+    ///
+    /// ```
+    /// use aok_proto::{CommandDecoder, Decode, Span};
+    /// let mut dec = CommandDecoder::new();
+    /// dec.decode(&[0x63, 0x02]); // debug on
+    /// assert_eq!(dec.span(), Span { len: 2, after: 0 });
+    /// ```
+    #[inline]
+    fn span(&self) -> Span {
+        self.held.span
     }
 
     /// The command itself.

@@ -6,7 +6,7 @@ use super::*;
 use crate::checked_value;
 use crate::command::{Len, MotorTest, ParameterValue, SET_PARAMETER, command_len};
 use crate::decoder::Step;
-use crate::decoder::byte::Rules;
+use crate::decoder::byte::{Rules, past_event, past_front};
 use crate::layout::{motor_test as motor, set_parameter as set};
 use crate::values::Motor;
 
@@ -76,7 +76,7 @@ impl CommandDecoder {
                 stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));
-                Step::Used(1)
+                Step::Rejected(need)
             }
             Err(e) => {
                 // As a checksum failure: only the first byte goes. A false candidate passes
@@ -85,7 +85,7 @@ impl CommandDecoder {
                 stats.invalid = stats.invalid.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));
-                Step::Used(1)
+                Step::Rejected(need)
             }
         }
     }
@@ -152,8 +152,8 @@ impl Rules for CommandDecoder {
 
 /// The slice path's loop: the rules over `bytes` itself (nothing is held), every event handed
 /// to `on_event` until it returns true (stop after that event), an undecided tail kept in
-/// `held`. Returns the bytes used. The counters come apart from the decoder, so that they
-/// may be a copy.
+/// `held` (and, at the event it stops at, its span: `past_event`). Returns the bytes used.
+/// The counters come apart from the decoder, so that they may be a copy.
 #[inline(always)]
 fn in_place<F: FnMut(Result<Command, Error>) -> bool>(
     held: &mut Held,
@@ -162,19 +162,17 @@ fn in_place<F: FnMut(Result<Command, Error>) -> bool>(
     mut on_event: F,
 ) -> usize {
     let mut rest = bytes;
-    let mut stop = false;
-    while !rest.is_empty() && !stop {
-        match CommandDecoder::judge(stats, rest, &mut |e| stop = on_event(e)) {
-            Step::Need(need) => {
-                // The undecided tail is kept: every byte is used.
-                held.keep(rest, need);
-                return bytes.len();
-            }
-            // `used` is within `rest` (the step decides on bytes it holds).
-            Step::Used(used) => match rest.get(used..) {
-                Some(after) => rest = after,
-                None => break,
-            },
+    while !rest.is_empty() {
+        let mut stop = false;
+        let step = CommandDecoder::judge(stats, rest, &mut |e| stop = on_event(e));
+        if stop {
+            rest = past_event(held, rest, step);
+            break;
+        }
+        match past_front(held, rest, step) {
+            Some(after) => rest = after,
+            // An undecided tail kept: every byte is used.
+            None => return bytes.len(),
         }
     }
     bytes.len().saturating_sub(rest.len())

@@ -1,7 +1,7 @@
 //! The contract: [`MessageDecoder`]'s [`Decode`] implementation, on the paths of `../byte.rs`.
 //! `feed` and `decode` run the step over the input itself while nothing is held.
 
-use frame_io::{Decode, Event};
+use frame_io::{Decode, Event, Span};
 
 use super::*;
 use crate::decoder::byte::Rules;
@@ -41,6 +41,61 @@ use crate::decoder::{end_of_stream, event};
 /// assert_eq!(dec.decode(&wire[7..]), (1, None));
 /// assert_eq!(dec.end(), Some(Event::Truncated(1)));
 /// assert_eq!(dec.end(), None);
+/// ```
+///
+/// # Where each event lies
+///
+/// [`Decode::span`] says where the event that `decode` or `end` last returned lies, counted
+/// back from the end of the bytes used (a [`Stream`](crate::Stream) turns it into the event's
+/// [`Place`](crate::Place) in the stream):
+///
+/// - a message: its frame (`len` its [`Message::buffer_len`] in the reply form in use: a
+///   debug frame 7 bytes, an ack 1, a parameter reply 7 headed or 5 headerless, a waypoint
+///   reply 19);
+/// - a checksum failure ([`Error::ChecksumMismatch`]) or a good checksum with an out-of-range
+///   field: the whole candidate frame it condemns (the length its first byte gives; a
+///   headerless reply candidate's 5 bytes), though only its first byte is dropped and the
+///   bytes after it are read again;
+/// - the end of the stream inside a frame ([`Event::Truncated`]): every byte of the frame cut
+///   short, so that it ends where the stream ends (and so does the next one a rescan gives
+///   up);
+///
+/// and `after` is the bytes used after the event's last byte: 0, or the bytes that follow a
+/// message or error that a rescan found inside a condemned candidate. `decode` uses a
+/// condemned candidate's bytes whole (those after its first are held for the rescan, whose
+/// events come with no byte used); `feed` records no span.
+///
+/// ```
+/// use aok_proto::{Ack, DebugValue, Decode, Error, Event, Expect, FirmwareVersion, Message};
+/// use aok_proto::{MessageDecoder, Place, Span, Stream};
+/// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+/// let debug = [0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57];
+/// let found = Message::Debug(DebugValue { number: 86, value: -2 });
+/// assert_eq!(dec.decode(&debug), (7, Some(Event::Found(found))));
+/// assert_eq!(dec.span(), Span { len: 7, after: 0 });
+/// // A debug frame whose checksum fails condemns its 7 bytes; the rescan finds the ack
+/// // inside it, with 5 bytes used after it.
+/// dec.expect(Expect::Ack);
+/// let wire = [0x1c, b'O', 0, 0, 0, 0, 0];
+/// let (used, event) = dec.decode(&wire);
+/// assert!(matches!(event, Some(Event::Error(Error::ChecksumMismatch { id: 0x1c, .. }))));
+/// assert_eq!((used, dec.span()), (7, Span { len: 7, after: 0 }));
+/// assert_eq!(dec.decode(&[]), (0, Some(Event::Found(Message::Ack(Ack::Ok)))));
+/// assert_eq!(dec.span(), Span { len: 1, after: 5 });
+///
+/// // Through a `Stream`: the same bytes, then half a debug frame, with their places.
+/// let mut decoder = MessageDecoder::new(FirmwareVersion::LATEST);
+/// decoder.expect(Expect::Ack);
+/// let mut stream = Stream::new(decoder);
+/// let mut got = Vec::new();
+/// stream.feed(&wire, |place, event| got.push((place, event.is_ok())));
+/// stream.feed(&debug[..2], |place, event| got.push((place, event.is_ok())));
+/// stream.finish(|place, event| got.push((place, event.is_ok())));
+/// assert_eq!(got, [
+///     (Place { offset: 0, len: 7 }, false), // the condemned debug frame
+///     (Place { offset: 1, len: 1 }, true),  // the ack inside it
+///     (Place { offset: 7, len: 2 }, false), // cut short by the end of the stream
+/// ]);
 /// ```
 impl Decode for MessageDecoder {
     type Error = Error;
@@ -118,6 +173,21 @@ impl Decode for MessageDecoder {
     fn end(&mut self) -> Option<Event<Message, Error>> {
         self.unpolled = false;
         end_of_stream!(self, self.quiet_next())
+    }
+
+    /// Where the event that `decode` or `end` last returned lies (see the implementation's
+    /// documentation).
+    ///
+    /// ```
+    /// use aok_proto::{Decode, Expect, FirmwareVersion, MessageDecoder, Span};
+    /// let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
+    /// dec.expect(Expect::Ack);
+    /// dec.decode(b"O");
+    /// assert_eq!(dec.span(), Span { len: 1, after: 0 });
+    /// ```
+    #[inline]
+    fn span(&self) -> Span {
+        self.held.span
     }
 
     /// The message itself.

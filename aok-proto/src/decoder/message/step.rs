@@ -6,7 +6,7 @@ use super::*;
 use crate::checked_value;
 use crate::command::ParameterValue;
 use crate::decoder::Step;
-use crate::decoder::byte::Rules;
+use crate::decoder::byte::{Rules, past_event, past_front};
 use crate::message::{DebugValue, HEADERLESS_REPLY_LEN};
 
 /// The rules, applied to the bytes at the front of `window` (the first byte not decided on
@@ -19,8 +19,9 @@ use crate::message::{DebugValue, HEADERLESS_REPLY_LEN};
 /// - Otherwise a frame's length follows from its first byte; 'O'/'E'/'I' are acks only while
 ///   one is expected; any other byte is unknown: counted and dropped.
 /// - A whole frame is checked: a bad checksum drops only its first byte (the bytes after it
-///   are rescanned), and so does a good checksum with an out-of-range field. A message
-///   that matches the pending request clears it.
+///   are rescanned), and so does a good checksum with an out-of-range field: either error
+///   condemns the whole candidate (`Step::Rejected`, its span). A message that matches the
+///   pending request clears it.
 ///
 /// Each decision depends on a fixed prefix of the window only, so it is the same whether the
 /// window holds more bytes or not.
@@ -66,7 +67,7 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
                 }
                 // Not a reply; maybe a debug frame (the rules below).
                 Err(_) if first == DEBUG => *front_not_reply = true,
-                Err(e) => return checksum_failed(stats, e, on_event),
+                Err(e) => return checksum_failed(stats, e, HEADERLESS_REPLY_LEN, on_event),
             }
         }
         Some(_) => {}
@@ -81,14 +82,14 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
     };
     match Message::parse(frame) {
         Ok((m, n)) => accept(stats, expect, n, m, on_event),
-        Err(e @ Error::ChecksumMismatch { .. }) => checksum_failed(stats, e, on_event),
+        Err(e @ Error::ChecksumMismatch { .. }) => checksum_failed(stats, e, need, on_event),
         Err(e) => {
             // A good checksum but a value out of range (a waypoint reply with a bad slot): as
             // a checksum failure, only the first byte goes and the rest is rescanned.
             stats.invalid = stats.invalid.wrapping_add(1);
             stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
             on_event(Err(e));
-            Step::Used(1)
+            Step::Rejected(need)
         }
     }
 }
@@ -108,16 +109,18 @@ fn accept<F: FnMut(Result<Message, Error>)>(
     Step::Used(used)
 }
 
-/// A checksum failed: the false start is dropped, the rescan starts at the next byte.
+/// The checksum of a candidate of `len` bytes failed: the false start is dropped, the rescan
+/// starts at the next byte.
 fn checksum_failed<F: FnMut(Result<Message, Error>)>(
     stats: &mut Stats,
     error: Error,
+    len: usize,
     on_event: &mut F,
 ) -> Step {
     stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
     stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
     on_event(Err(error));
-    Step::Used(1)
+    Step::Rejected(len)
 }
 
 /// The pending request is over when its reply or ack arrives.
@@ -228,8 +231,8 @@ impl Rules for MessageDecoder {
 
 /// The slice path's loop: the rules over `bytes` itself (nothing is held), every event handed
 /// to `on_event` until it returns true (stop after that event), an undecided tail kept in
-/// `held`. Returns the bytes used. The fields the rules update come apart from the decoder,
-/// so that they may be copies.
+/// `held` (and, at the event it stops at, its span: `past_event`). Returns the bytes used.
+/// The fields the rules update come apart from the decoder, so that they may be copies.
 #[inline(always)]
 fn in_place<F: FnMut(Result<Message, Error>) -> bool>(
     held: &mut Held,
@@ -241,25 +244,24 @@ fn in_place<F: FnMut(Result<Message, Error>) -> bool>(
     mut on_event: F,
 ) -> usize {
     let mut rest = bytes;
-    let mut stop = false;
-    while !rest.is_empty() && !stop {
+    while !rest.is_empty() {
+        let mut stop = false;
         let step = judge(stats, expect, front_not_reply, form, rest, &mut |e| {
             stop = on_event(e)
         });
-        match step {
-            Step::Need(need) => {
-                // The undecided tail is kept: every byte is used.
-                held.keep(rest, need);
-                return bytes.len();
-            }
-            Step::Used(used) => {
+        if stop {
+            *front_not_reply = false;
+            rest = past_event(held, rest, step);
+            break;
+        }
+        match past_front(held, rest, step) {
+            Some(after) => {
+                // The front was decided on: its failed reply check goes with it.
                 *front_not_reply = false;
-                // `used` is within `rest` (the step decides on bytes it holds).
-                match rest.get(used..) {
-                    Some(after) => rest = after,
-                    None => break,
-                }
+                rest = after;
             }
+            // An undecided tail kept: every byte is used.
+            None => return bytes.len(),
         }
     }
     bytes.len().saturating_sub(rest.len())
