@@ -25,6 +25,8 @@
 #                               engines that read `protolink export`'s tables in python/tests:
 #                               test_export.py, test_spark.py), and Java 17 for Spark (Debian's
 #                               openjdk-17-jre-headless, where no java is on the PATH)
+#   scripts/setup.sh fuzz       + the nightly toolchain and cargo-fuzz (crates.io): the fuzz targets'
+#                               build and smoke run (scripts/fuzz.sh)
 #   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/all/gpsd.rs
 #                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
@@ -81,6 +83,9 @@ for want in "$@"; do
       # pyspark 4 runs its engine in a JVM: Java 17 or later.
       command -v java >/dev/null || need_apt+=(openjdk-17-jre-headless)
       want_pypi=1 ;;
+    fuzz)
+      rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
+      command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz ;;
     gpsd)
       # gpsd lives in /usr/sbin, which a user's PATH may lack.
       command -v gpsd >/dev/null || [ -x /usr/sbin/gpsd ] || need_apt+=(gpsd)

@@ -176,8 +176,8 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, and gpsd with gpspipe (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python and gpsd checks must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python gpsd
+step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, gpsd with gpspipe, and cargo-fuzz (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python, gpsd and fuzz checks must run, never skip, in CI)"
+bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python gpsd fuzz
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py

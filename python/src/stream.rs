@@ -94,12 +94,11 @@ impl Stream {
     pub(crate) fn feed(&mut self, bytes: &[u8], datagram: bool, out: &mut Vec<Pending>) {
         let start = self.offset;
         self.offset += bytes.len() as u64;
-        let end = self.offset;
         match &mut self.core {
             Core::Aeolus(d) => {
                 d.feed_items(bytes, start, |at, item| out.push(pending(at, item)));
                 if datagram {
-                    d.end_of_datagram_items(end, |at, item| out.push(pending(at, item)));
+                    d.end_of_datagram_items(|at, item| out.push(pending(at, item)));
                 }
             }
             other => stream_feed(other.as_dyn(), bytes, start, datagram, out),
@@ -111,7 +110,7 @@ impl Stream {
     pub(crate) fn finish(&mut self, out: &mut Vec<Pending>) {
         let end = self.offset;
         match &mut self.core {
-            Core::Aeolus(d) => d.finish_items(end, |at, item| out.push(pending(at, item))),
+            Core::Aeolus(d) => d.finish_items(|at, item| out.push(pending(at, item))),
             other => stream_finish(other.as_dyn(), end, out),
         }
     }

@@ -1,13 +1,13 @@
-//! AEOLUS in `decode`: the decoder, each frame placed at its opening flag, datagram
-//! boundaries honoured.
+//! AEOLUS in `decode`: the decoder through the contract's adapter, each frame placed at its
+//! opening flag, datagram boundaries honoured.
 //!
 //! The decoder reports [`AeolusItem`]s first (a frame placed in the input, its typed message
 //! parsed, or an error), and [`StreamDecoder`] renders them as [`Event`]s: the Python package
 //! keeps the items' frames and renders the same fields only when they are read.
 
-use aeolus_proto::Decode;
 use serde_json::{Map, Value, json};
 
+use super::input::Input;
 use super::{Event, EventSink, StreamDecoder, error_kind};
 use crate::render::{self, hex, to_json, variant};
 
@@ -17,9 +17,7 @@ pub const AEOLUS_CAPACITY: usize = 8192;
 /// AEOLUS: the byte-at-a-time decoder, with datagram boundaries honoured.
 #[derive(Debug)]
 pub struct AeolusDecoder {
-    decoder: Box<aeolus_proto::Decoder<AEOLUS_CAPACITY>>,
-    /// Offset of the latest flag: the opening flag of the frame being collected.
-    opened_at: u64,
+    input: Input<aeolus_proto::Decoder<AEOLUS_CAPACITY>>,
     malformed: u32,
     truncated: u32,
 }
@@ -34,19 +32,15 @@ impl AeolusDecoder {
     /// A decoder that accepts frames without CRC (as the spec allows).
     pub fn new() -> Self {
         AeolusDecoder {
-            decoder: Box::new(aeolus_proto::Decoder::new()),
-            opened_at: 0,
+            input: Input::new(aeolus_proto::Decoder::new()),
             malformed: 0,
             truncated: 0,
         }
     }
 
     /// Feeds bytes that start at input offset `offset`, handing every item to `on_item` with
-    /// the offset of its frame's opening flag (for an error: of the latest flag before it).
-    ///
-    /// The crate's slice path (`Decoder::feed`) does the work, one run up to and including
-    /// each flag at a time: every event of a run is placed at the flag before the run, and a
-    /// frame can only end at the run's closing flag, so no byte is handled one at a time here.
+    /// the offset of its frame's opening flag (an error: of the flag that opened the frame it
+    /// drops), the place the decoder gives each event.
     ///
     /// ```
     /// use protolink::decoders::{AeolusDecoder, AeolusItem};
@@ -63,70 +57,50 @@ impl AeolusDecoder {
         offset: u64,
         mut on_item: impl FnMut(u64, AeolusItem<'_>),
     ) {
-        let mut rest = bytes;
-        let mut at = offset;
-        while !rest.is_empty() {
-            let run = aeolus_proto::find_flag(rest).map_or(rest.len(), |i| i + 1);
-            let (chunk, tail) = rest.split_at(run);
-            let end = at + run as u64;
-            let opened = self.opened_at;
-            let malformed = &mut self.malformed;
-            self.decoder.feed(chunk, |event| {
-                let item = match event {
-                    // A frame ends at its closing flag: the last byte of the run.
-                    Ok(frame) => match frame.message() {
-                        Ok(message) => AeolusItem::Message {
-                            frame,
-                            message,
-                            len: end - opened,
-                        },
-                        Err(error) => {
-                            *malformed = malformed.wrapping_add(1);
-                            AeolusItem::Malformed { frame, error }
-                        }
+        let malformed = &mut self.malformed;
+        self.input.feed(bytes, offset, |at, len, event| {
+            let item = match event {
+                Ok(frame) => match frame.message() {
+                    Ok(message) => AeolusItem::Message {
+                        frame,
+                        message,
+                        len,
                     },
-                    Err(e) => AeolusItem::Error(e),
-                };
-                on_item(opened, item);
-            });
-            if chunk.last() == Some(&aeolus_proto::FLAG) {
-                self.opened_at = end - 1;
-            }
-            at = end;
-            rest = tail;
-        }
+                    Err(error) => {
+                        *malformed = malformed.wrapping_add(1);
+                        AeolusItem::Malformed { frame, error }
+                    }
+                },
+                Err(e) => AeolusItem::Error(e),
+            };
+            on_item(at, item);
+        });
     }
 
-    /// A datagram ended at `offset`: a frame in progress is given up as [`AeolusItem::Error`]
+    /// A datagram ended: a frame in progress is given up as [`AeolusItem::Error`]
     /// (`Truncated`), and the next byte starts afresh (a frame never spans two datagrams,
     /// DECISIONS.md A9).
-    pub fn end_of_datagram_items(
-        &mut self,
-        offset: u64,
-        mut on_item: impl FnMut(u64, AeolusItem<'_>),
-    ) {
-        if self.decoder.held_bytes() > 0 {
-            self.truncated = self.truncated.wrapping_add(1);
-            on_item(
-                self.opened_at,
-                AeolusItem::Error(aeolus_proto::Error::Truncated),
-            );
-        }
-        self.opened_at = offset;
-        self.decoder.reset();
+    pub fn end_of_datagram_items(&mut self, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
+        let truncated = &mut self.truncated;
+        self.input.finish(|at, _, event| {
+            if let Err(e) = event {
+                *truncated = truncated.wrapping_add(1);
+                on_item(at, AeolusItem::Error(e));
+            }
+        });
+        // The datagram's closing flag opens no frame for the next one.
+        self.input.decoder_mut().reset();
     }
 
-    /// The input ended at `offset`: a frame in progress is given up as
-    /// [`AeolusItem::InputEnded`].
-    pub fn finish_items(&mut self, offset: u64, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
-        if self.decoder.held_bytes() > 0 {
-            self.truncated = self.truncated.wrapping_add(1);
-            on_item(
-                self.opened_at.min(offset.saturating_sub(1)),
-                AeolusItem::InputEnded,
-            );
-            self.decoder.reset();
-        }
+    /// The input ended: a frame in progress is given up as [`AeolusItem::InputEnded`].
+    pub fn finish_items(&mut self, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
+        let truncated = &mut self.truncated;
+        self.input.finish(|at, _, event| {
+            if event.is_err() {
+                *truncated = truncated.wrapping_add(1);
+                on_item(at, AeolusItem::InputEnded);
+            }
+        });
     }
 }
 
@@ -251,28 +225,27 @@ impl StreamDecoder for AeolusDecoder {
         self.feed_items(bytes, offset, |at, item| out.push(item.to_event(at)));
     }
 
-    fn end_of_datagram(&mut self, offset: u64, out: &mut Vec<Event>) {
-        self.end_of_datagram_items(offset, |at, item| out.push(item.to_event(at)));
+    fn end_of_datagram(&mut self, _offset: u64, out: &mut Vec<Event>) {
+        self.end_of_datagram_items(|at, item| out.push(item.to_event(at)));
     }
 
-    fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        self.finish_items(offset, |at, item| out.push(item.to_event(at)));
+    fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
+        self.finish_items(|at, item| out.push(item.to_event(at)));
     }
 
     fn feed_to(&mut self, bytes: &[u8], offset: u64, datagram: bool, sink: &mut dyn EventSink) {
         self.feed_items(bytes, offset, |at, item| sink.aeolus(at, &item));
         if datagram {
-            let end = offset + bytes.len() as u64;
-            self.end_of_datagram_items(end, |at, item| sink.aeolus(at, &item));
+            self.end_of_datagram_items(|at, item| sink.aeolus(at, &item));
         }
     }
 
-    fn finish_to(&mut self, offset: u64, sink: &mut dyn EventSink) {
-        self.finish_items(offset, |at, item| sink.aeolus(at, &item));
+    fn finish_to(&mut self, _offset: u64, sink: &mut dyn EventSink) {
+        self.finish_items(|at, item| sink.aeolus(at, &item));
     }
 
     fn counters(&self) -> Value {
-        let mut v = to_json(&self.decoder.stats());
+        let mut v = to_json(&self.input.decoder().stats());
         if let Value::Object(m) = &mut v {
             m.insert("malformed".into(), json!(self.malformed));
             m.insert("truncated".into(), json!(self.truncated));

@@ -1,37 +1,41 @@
-//! AOK in `decode`: either side's decoder, each message placed where the decoder's held bytes
-//! begin.
+//! AOK in `decode`: either side's decoder through the contract's adapter, each event at its
+//! place (an item at its first byte, an error at the first byte of what it condemns).
 
-use aok_proto::{Decode, Event as AokEvent};
 use serde_json::{Map, Value, json};
 
+use super::input::Input;
 use super::{Event, StreamDecoder, error_kind};
 use crate::proto::Side;
 use crate::render::{self, to_json, variant};
 
 /// AOK: the PC decoder (for the device's bytes) or the device decoder (for the PC's bytes).
 #[derive(Debug)]
-pub enum AokDecoder {
-    /// Reads what the device sends.
-    FromDevice(aok_proto::MessageDecoder),
-    /// Reads what the PC sends.
-    FromPc(aok_proto::CommandDecoder),
+pub struct AokDecoder(Reads);
+
+/// What an [`AokDecoder`] reads.
+#[derive(Debug)]
+enum Reads {
+    /// What the device sends.
+    FromDevice(Input<aok_proto::MessageDecoder>),
+    /// What the PC sends.
+    FromPc(Input<aok_proto::CommandDecoder>),
 }
 
 impl AokDecoder {
     /// A decoder for bytes sent by `side`.
     pub fn new(side: Side) -> Self {
         match side {
-            Side::Device => AokDecoder::FromDevice(aok_proto::MessageDecoder::new(
-                aok_proto::FirmwareVersion::LATEST,
-            )),
-            Side::Pc => AokDecoder::FromPc(aok_proto::CommandDecoder::new()),
+            Side::Device => AokDecoder(Reads::FromDevice(Input::new(
+                aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::LATEST),
+            ))),
+            Side::Pc => AokDecoder(Reads::FromPc(Input::new(aok_proto::CommandDecoder::new()))),
         }
     }
 
     fn stats(&self) -> aok_proto::Stats {
-        match self {
-            AokDecoder::FromDevice(d) => d.stats(),
-            AokDecoder::FromPc(d) => d.stats(),
+        match &self.0 {
+            Reads::FromDevice(d) => d.decoder().stats(),
+            Reads::FromPc(d) => d.decoder().stats(),
         }
     }
 }
@@ -128,126 +132,52 @@ pub fn waypoint_fields(w: &aok_proto::Waypoint) -> Value {
     })
 }
 
-impl AokDecoder {
-    fn held_bytes(&self) -> u64 {
-        match self {
-            AokDecoder::FromDevice(d) => d.held_bytes() as u64,
-            AokDecoder::FromPc(d) => d.held_bytes() as u64,
+/// An AOK event at input offset `at`, `len` bytes on the wire, as `decode` prints it (`fields`:
+/// the item's name and fields; `why`: the sentence of a frame cut short).
+fn aok_event<T>(
+    at: u64,
+    len: u64,
+    event: Result<T, aok_proto::Error>,
+    fields: impl Fn(&T) -> (String, Value),
+    why: &str,
+) -> Event {
+    match event {
+        Ok(item) => {
+            let (name, fields) = fields(&item);
+            let mut meta = Map::new();
+            meta.insert("len".into(), json!(len));
+            Event::message(at, name, meta, fields)
         }
+        Err(e @ aok_proto::Error::Truncated) => Event::error(at, error_kind(&e), why),
+        Err(e) => Event::error(at, error_kind(&e), e.to_string()),
     }
 }
 
-/// Gives the messages among `events` (each with its wire length in `lens`, 0 for an error)
-/// their first byte: the last one ends where the decoder's held bytes begin (`end`), and
-/// each earlier one ends where the next begins. Errors keep the offset they have.
-fn place_backwards(events: &mut [Event], lens: &[u64], mut end: u64) {
-    for (e, &len) in events.iter_mut().zip(lens).rev() {
-        if len > 0 {
-            end = end.saturating_sub(len);
-            e.offset = end;
-        }
-    }
-}
+/// The sentence of a frame the end of the input cut short.
+const CUT_SHORT: &str = "input ends inside a frame";
 
 impl StreamDecoder for AokDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
-        let mut lens = Vec::new();
-        for (i, &b) in bytes.iter().enumerate() {
-            let at = offset + i as u64;
-            let first = out.len();
-            lens.clear();
-            match self {
-                AokDecoder::FromDevice(d) => {
-                    d.feed(&[b], |item| match item {
-                        Ok(m) => {
-                            let (name, fields) = aok_message_fields(&m);
-                            let len = m.buffer_len(aok_proto::ReplyForm::Headed);
-                            let mut meta = Map::new();
-                            meta.insert("len".into(), json!(len));
-                            out.push(Event::message(at, name, meta, fields));
-                            lens.push(len as u64);
-                        }
-                        Err(e) => {
-                            out.push(Event::error(at, error_kind(&e), e.to_string()));
-                            lens.push(0);
-                        }
-                    });
-                }
-                AokDecoder::FromPc(d) => {
-                    let mut items = Vec::new();
-                    d.feed(&[b], |item| items.push(item));
-                    for item in items {
-                        match item {
-                            Ok(c) => {
-                                let (name, fields) = aok_command_fields(&c);
-                                let mut meta = Map::new();
-                                meta.insert("len".into(), json!(c.buffer_len()));
-                                out.push(Event::message(at, name, meta, fields));
-                                lens.push(c.buffer_len() as u64);
-                            }
-                            Err(e) => {
-                                out.push(Event::error(at, error_kind(&e), e.to_string()));
-                                lens.push(0);
-                            }
-                        }
-                    }
-                }
-            }
-            let end = at + 1 - self.held_bytes();
-            if let Some(events) = out.get_mut(first..) {
-                place_backwards(events, &lens, end);
-            }
+        match &mut self.0 {
+            Reads::FromDevice(d) => d.feed(bytes, offset, |at, len, ev| {
+                out.push(aok_event(at, len, ev, aok_message_fields, CUT_SHORT));
+            }),
+            Reads::FromPc(d) => d.feed(bytes, offset, |at, len, ev| {
+                out.push(aok_event(at, len, ev, aok_command_fields, CUT_SHORT));
+            }),
         }
     }
 
-    /// The end of the stream through the pull form's `end`, one event at a time (so each is
-    /// placed by the bytes still held after it): the bytes held are given up once, as
-    /// "input ends inside a frame", then what the rescan of what followed them finds.
-    fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        let at = offset.saturating_sub(1);
-        loop {
-            let first = out.len();
-            let mut len = 0;
-            let item = match self {
-                AokDecoder::FromDevice(d) => d.end().map(|event| match event {
-                    AokEvent::Found(m) => {
-                        let (name, fields) = aok_message_fields(&m);
-                        len = m.buffer_len(aok_proto::ReplyForm::Headed);
-                        let mut meta = Map::new();
-                        meta.insert("len".into(), json!(len));
-                        Ok(Event::message(at, name, meta, fields))
-                    }
-                    AokEvent::Error(e) => Err(e),
-                    AokEvent::Truncated(_) => Err(aok_proto::Error::Truncated),
-                }),
-                AokDecoder::FromPc(d) => d.end().map(|event| match event {
-                    AokEvent::Found(c) => {
-                        let (name, fields) = aok_command_fields(&c);
-                        len = c.buffer_len();
-                        let mut meta = Map::new();
-                        meta.insert("len".into(), json!(len));
-                        Ok(Event::message(at, name, meta, fields))
-                    }
-                    AokEvent::Error(e) => Err(e),
-                    AokEvent::Truncated(_) => Err(aok_proto::Error::Truncated),
-                }),
-            };
-            match item {
-                None => break,
-                Some(Ok(event)) => out.push(event),
-                Some(Err(e @ aok_proto::Error::Truncated)) => {
-                    out.push(Event::error(
-                        at,
-                        error_kind(&e),
-                        "input ends inside a frame",
-                    ));
-                }
-                Some(Err(e)) => out.push(Event::error(at, error_kind(&e), e.to_string())),
-            }
-            let end = offset.saturating_sub(self.held_bytes());
-            if let Some(events) = out.get_mut(first..) {
-                place_backwards(events, &[len as u64], end);
-            }
+    /// The end of the stream: the bytes held are given up once, as "input ends inside a
+    /// frame", then what the rescan of what followed them finds.
+    fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
+        match &mut self.0 {
+            Reads::FromDevice(d) => d.finish(|at, len, ev| {
+                out.push(aok_event(at, len, ev, aok_message_fields, CUT_SHORT));
+            }),
+            Reads::FromPc(d) => d.finish(|at, len, ev| {
+                out.push(aok_event(at, len, ev, aok_command_fields, CUT_SHORT));
+            }),
         }
     }
 

@@ -1,9 +1,10 @@
-//! AYDP in `decode`: the rescanning decoder, each event placed by the bytes it has not
-//! examined yet.
+//! AYDP in `decode`: the rescanning decoder through the contract's adapter, each event at
+//! its place (a frame at its first byte, a failed candidate at its 0xFF).
 
-use aydp_proto::{Decode, Event as AydpEvent, Profile};
+use aydp_proto::Profile;
 use serde_json::{Map, Value, json};
 
+use super::input::Input;
 use super::{Event, StreamDecoder, error_kind};
 use crate::render::{self, hex, to_json, variant};
 
@@ -13,7 +14,7 @@ pub const AYDP_CAPACITY: usize = 16384;
 /// AYDP: the rescanning decoder in one profile.
 #[derive(Debug)]
 pub struct AydpDecoder {
-    decoder: Box<aydp_proto::Decoder<AYDP_CAPACITY>>,
+    input: Input<aydp_proto::Decoder<AYDP_CAPACITY>>,
     malformed: u32,
     truncated: u32,
 }
@@ -22,7 +23,7 @@ impl AydpDecoder {
     /// A decoder for `profile`.
     pub fn new(profile: Profile) -> Self {
         AydpDecoder {
-            decoder: Box::new(aydp_proto::Decoder::new(profile)),
+            input: Input::new(aydp_proto::Decoder::new(profile)),
             malformed: 0,
             truncated: 0,
         }
@@ -90,77 +91,47 @@ pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRen
     Ok((name, meta, fields))
 }
 
-/// What an AYDP event becomes once its frame is let go: the printed parts, and the frame's
-/// length on the wire (0 for a failure).
-type AydpOutcome = (std::result::Result<AydpRendered, ErrorText>, u64);
-
-fn aydp_outcome(ev: aydp_proto::Result<aydp_proto::Frame<'_>>) -> AydpOutcome {
-    match ev {
-        Ok(frame) => (aydp_fields(&frame), frame.as_bytes().len() as u64),
-        Err(e @ aydp_proto::Error::Truncated) => (
-            Err((error_kind(&e), "input ends inside a message".into())),
-            0,
-        ),
-        Err(e) => (Err((error_kind(&e), e.to_string())), 0),
-    }
-}
-
-impl AydpDecoder {
-    /// Places one event in the input: `fed` bytes have been pushed, and the decoder has not
-    /// yet examined its last `held_bytes()`.
-    fn place(&mut self, (result, len): AydpOutcome, fed: u64, out: &mut Vec<Event>) {
-        let end = fed.saturating_sub(self.decoder.held_bytes() as u64);
-        match result {
-            Ok((name, meta, fields)) => {
-                out.push(Event::message(end.saturating_sub(len), name, meta, fields));
+/// An AYDP event at input offset `at` as `decode` prints it; a frame whose data does not
+/// parse counts as `malformed`, a candidate the input ended inside as `truncated`.
+fn aydp_event(
+    at: u64,
+    event: aydp_proto::Result<aydp_proto::Frame<'_>>,
+    malformed: &mut u32,
+    truncated: &mut u32,
+) -> Event {
+    match event {
+        Ok(frame) => match aydp_fields(&frame) {
+            Ok((name, meta, fields)) => Event::message(at, name, meta, fields),
+            Err((kind, e)) => {
+                *malformed = malformed.wrapping_add(1);
+                Event::error(at, kind, e)
             }
-            // A good frame whose data does not parse: at its own first byte.
-            Err((kind, e)) if len > 0 => {
-                self.malformed = self.malformed.wrapping_add(1);
-                out.push(Event::error(end.saturating_sub(len), kind, e));
-            }
-            // A failed candidate: its start byte was dropped just before the queued bytes.
-            Err((kind, e)) => out.push(Event::error(end.saturating_sub(1), kind, e)),
+        },
+        Err(e @ aydp_proto::Error::Truncated) => {
+            *truncated = truncated.wrapping_add(1);
+            Event::error(at, error_kind(&e), "input ends inside a message")
         }
+        Err(e) => Event::error(at, error_kind(&e), e.to_string()),
     }
 }
 
 impl StreamDecoder for AydpDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
-        for (i, &b) in bytes.iter().enumerate() {
-            let fed = offset + i as u64 + 1;
-            // The pull form a byte at a time, then on nothing for what a rescan left queued:
-            // each event is placed by the bytes fed so far and those still held.
-            let mut input = core::slice::from_ref(&b);
-            loop {
-                let (used, event) = self.decoder.next_event(input);
-                input = input.get(used..).unwrap_or(&[]);
-                let Some(ev) = event.map(aydp_outcome) else {
-                    break;
-                };
-                self.place(ev, fed, out);
-            }
-        }
+        let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
+        self.input.feed(bytes, offset, |at, _, event| {
+            out.push(aydp_event(at, event, malformed, truncated));
+        });
     }
 
-    fn finish(&mut self, offset: u64, out: &mut Vec<Event>) {
-        loop {
-            let event = match self.decoder.end() {
-                None => break,
-                Some(AydpEvent::Found(found)) => Ok(self.decoder.item(&[], found)),
-                Some(AydpEvent::Error(e)) => Err(e),
-                Some(AydpEvent::Truncated(_)) => Err(aydp_proto::Error::Truncated),
-            };
-            let ev = aydp_outcome(event);
-            if ev.1 == 0 && ev.0.as_ref().is_err_and(|e| e.1.starts_with("input ends")) {
-                self.truncated = self.truncated.wrapping_add(1);
-            }
-            self.place(ev, offset, out);
-        }
+    fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
+        let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
+        self.input.finish(|at, _, event| {
+            out.push(aydp_event(at, event, malformed, truncated));
+        });
     }
 
     fn counters(&self) -> Value {
-        let mut v = to_json(&self.decoder.stats());
+        let mut v = to_json(&self.input.decoder().stats());
         if let Value::Object(m) = &mut v {
             m.insert("malformed".into(), json!(self.malformed));
             m.insert("truncated".into(), json!(self.truncated));

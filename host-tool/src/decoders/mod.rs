@@ -10,6 +10,7 @@ mod aeolus;
 mod aok;
 mod aydp;
 mod gdl90;
+mod input;
 
 pub use aeolus::{
     AEOLUS_CAPACITY, AeolusDecoder, AeolusItem, aeolus_fields, aeolus_meta, text_fields,

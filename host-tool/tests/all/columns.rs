@@ -36,9 +36,7 @@ fn sample() -> Vec<(String, RecordBatch)> {
     let origin = Origin::default();
     let mut d = AeolusDecoder::new();
     d.feed_items(&bytes, 0, |at, item| tables.add_aeolus(&origin, at, &item));
-    d.finish_items(bytes.len() as u64, |at, item| {
-        tables.add_aeolus(&origin, at, &item)
-    });
+    d.finish_items(|at, item| tables.add_aeolus(&origin, at, &item));
     assert_eq!(tables.mismatches(), 0);
     tables.finish()
 }

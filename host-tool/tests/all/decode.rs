@@ -254,7 +254,8 @@ fn aok_checksum_errors_appear_with_their_offset() {
     stream.extend(unhex("1c03123456780b"));
     let (lines, counters) = decode_json(&["--proto", "aok"], &stream);
     assert_eq!(lines[0]["kind"], "error");
-    assert_eq!(lines[0]["offset"], 6);
+    // At the first byte of the frame it condemns, not at its last, where it was found.
+    assert_eq!(lines[0]["offset"], 0);
     assert_eq!(lines[0]["error"], "checksum mismatch");
     assert_eq!(lines.last().unwrap()["fields"]["value"], 305_419_896);
     // The rescan after the false start meets more false starts (FF...): each is reported.
@@ -263,7 +264,7 @@ fn aok_checksum_errors_appear_with_their_offset() {
     // The device decoder (PC's bytes) reports a bad motor-test checksum the same way.
     let (lines, _) = decode_json(&["--proto", "aok", "--side", "pc"], &unhex("33281c670c"));
     assert_eq!(lines[0]["kind"], "error");
-    assert_eq!(lines[0]["offset"], 2);
+    assert_eq!(lines[0]["offset"], 0);
     assert_eq!(lines.last().unwrap()["name"], "READ_PARAMETER");
 }
 
