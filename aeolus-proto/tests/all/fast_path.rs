@@ -26,15 +26,21 @@ fn hostile_byte() -> impl Strategy<Value = u8> {
 /// hostile bytes between some of them and a random number of leading bytes, so every frame
 /// starts at every offset of a word.
 fn stream() -> impl Strategy<Value = Vec<u8>> {
+    stream_of(8, 40)
+}
+
+/// [`stream`]'s streams of fewer than `frames` frames of fewer than `data` data bytes each
+/// (`data` at most 43).
+pub(crate) fn stream_of(frames: usize, data: usize) -> impl Strategy<Value = Vec<u8>> {
     let frame = (
         any::<u8>(),
-        prop::collection::vec(hostile_byte(), 0..40),
+        prop::collection::vec(hostile_byte(), 0..data),
         any::<bool>(),
         prop::collection::vec(hostile_byte(), 0..4),
     );
     (
         prop::collection::vec(hostile_byte(), 0..7),
-        prop::collection::vec(frame, 0..8),
+        prop::collection::vec(frame, 0..frames),
     )
         .prop_map(|(lead, frames)| {
             let mut out = lead;

@@ -6,19 +6,10 @@
 use aeolus_proto::{CrcMode, Decoder, Error, FLAG, Place, Stream, encode_frame};
 use proptest::prelude::*;
 
+use crate::fast_path::stream_of;
+
 /// An event as owned data: the frame's raw bytes (ID, data, CRC) or the error, with its place.
 type Placed = (Place, Result<Vec<u8>, Error>);
-
-/// A byte that is often one with a rule of its own.
-fn hostile_byte() -> impl Strategy<Value = u8> {
-    prop_oneof![
-        3 => any::<u8>(),
-        1 => Just(0x7D),
-        1 => Just(0x7E),
-        1 => Just(0x5D),
-        1 => Just(0x5E),
-    ]
-}
 
 /// One frame on the wire: ID, data (escapes where the bytes fall), with or without CRC.
 fn wire(id: u8, data: &[u8], omit: bool) -> Vec<u8> {
@@ -32,26 +23,10 @@ fn wire(id: u8, data: &[u8], omit: bool) -> Vec<u8> {
     buf[..n].to_vec()
 }
 
-/// Valid frames with hostile bytes before, between and after them.
+/// Valid frames with hostile bytes before, between and after them, short enough to be cut at
+/// every split point.
 fn hostile_stream() -> impl Strategy<Value = Vec<u8>> {
-    let frame = (
-        any::<u8>(),
-        prop::collection::vec(hostile_byte(), 0..24),
-        any::<bool>(),
-        prop::collection::vec(hostile_byte(), 0..5),
-    );
-    (
-        prop::collection::vec(hostile_byte(), 0..6),
-        prop::collection::vec(frame, 0..5),
-    )
-        .prop_map(|(lead, frames)| {
-            let mut out = lead;
-            for (id, data, omit, noise) in frames {
-                out.extend(wire(id, &data, omit));
-                out.extend(noise);
-            }
-            out
-        })
+    stream_of(5, 24)
 }
 
 /// Feeds the pieces between `cuts` (sorted offsets into `bytes`, its ends included), then

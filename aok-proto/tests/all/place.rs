@@ -16,12 +16,13 @@
 
 use aok_proto::command::WAYPOINT;
 use aok_proto::message::{DEBUG, PARAMETER_REPLY};
-use aok_proto::{Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, Error, Expect};
-use aok_proto::{ExternalControl, FirmwareVersion, Message, MessageDecoder, Motor, MotorTest};
-use aok_proto::{ParameterValue, Place, ReplyForm, Stick, Stream, Waypoint, WaypointSlot};
+use aok_proto::{Ack, Command, CommandDecoder, DebugValue, Decode, Error, Expect};
+use aok_proto::{FirmwareVersion, Message, MessageDecoder};
+use aok_proto::{ParameterValue, Place, ReplyForm, Stream};
 use proptest::prelude::*;
 
 use crate::bulk::{command_frame, expect, firmware, message_frame, piece};
+use crate::roundtrip::{command, waypoint};
 
 /// An event with its place, its item owned.
 type Placed<T> = (Place, Result<T, Error>);
@@ -180,63 +181,8 @@ fn hostile(frame: fn(u8, &[u8; 18]) -> Vec<u8>) -> impl Strategy<Value = Vec<u8>
     ]
 }
 
-fn slot() -> impl Strategy<Value = WaypointSlot> {
-    prop_oneof![0u8..=30, Just(31), Just(254), Just(255)]
-        .prop_map(|b| WaypointSlot::from_wire(b).unwrap())
-}
-
-fn waypoint() -> impl Strategy<Value = Waypoint> {
-    (
-        slot(),
-        any::<i32>(),
-        any::<i32>(),
-        any::<u32>(),
-        any::<u32>(),
-    )
-        .prop_map(|(slot, longitude, latitude, a1, a2)| Waypoint {
-            slot,
-            longitude,
-            latitude,
-            action1: ActionWord(a1),
-            action2: ActionWord(a2),
-        })
-}
-
 fn parameter() -> impl Strategy<Value = ParameterValue> {
     (any::<u8>(), any::<i32>()).prop_map(|(number, value)| ParameterValue { number, value })
-}
-
-/// A valid command of any kind.
-fn command() -> impl Strategy<Value = Command> {
-    let stick = || (Stick::MIN..=Stick::MAX).prop_map(|v| Stick::new(v).unwrap());
-    prop_oneof![
-        Just(Command::DebugOff),
-        Just(Command::DebugOn),
-        Just(Command::Reset),
-        Just(Command::SaveWaypoints),
-        Just(Command::LoadWaypoints),
-        any::<u8>().prop_map(Command::LoadSet),
-        any::<u8>().prop_map(Command::SaveSet),
-        any::<u8>().prop_map(Command::StartSet),
-        parameter().prop_map(Command::SetParameter),
-        any::<u8>().prop_map(Command::ReadParameter),
-        any::<u8>().prop_map(Command::BulkRead),
-        (Motor::MIN..=Motor::MAX, any::<u8>()).prop_map(|(m, value)| {
-            let motor = Motor::new(m).unwrap();
-            Command::MotorTest(MotorTest { motor, value })
-        }),
-        waypoint().prop_map(Command::SetWaypoint),
-        slot().prop_map(Command::ReadWaypoint),
-        (stick(), stick(), stick(), any::<i16>(), any::<u16>()).prop_map(
-            |(roll, nick, yaw, pitch, expiry_ms)| Command::ExternalControl(ExternalControl {
-                roll,
-                nick,
-                yaw,
-                pitch,
-                expiry_ms,
-            })
-        ),
-    ]
 }
 
 /// A valid message of any kind, in the reply form it is sent in (headerless replies too).

@@ -12,6 +12,7 @@ use aok_proto::{Expect, MessageDecoder};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
+/// Any waypoint slot: the 32 numbered ones, the RAM POI and the FBC target.
 fn slot() -> impl Strategy<Value = WaypointSlot> {
     prop_oneof![
         (0u8..=31).prop_map(|b| WaypointSlot::from_wire(b).unwrap()),
@@ -20,7 +21,8 @@ fn slot() -> impl Strategy<Value = WaypointSlot> {
     ]
 }
 
-fn waypoint() -> impl Strategy<Value = Waypoint> {
+/// Any waypoint.
+pub(crate) fn waypoint() -> impl Strategy<Value = Waypoint> {
     (
         slot(),
         any::<i32>(),
@@ -41,7 +43,8 @@ fn stick() -> impl Strategy<Value = Stick> {
     (-200i16..=200).prop_map(|v| Stick::new(v).unwrap())
 }
 
-fn command() -> impl Strategy<Value = Command> {
+/// A valid command of any kind.
+pub(crate) fn command() -> impl Strategy<Value = Command> {
     prop_oneof![
         Just(Command::DebugOff),
         Just(Command::DebugOn),

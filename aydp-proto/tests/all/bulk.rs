@@ -146,10 +146,24 @@ fn check_all(profile: Profile, stream: &[u8], sizes: &[usize]) {
     check_chunks::<3>(profile, stream, sizes);
 }
 
+/// How far a piece of a test stream reaches: `Long` in the bulk and reader streams, `Short` in
+/// streams short enough to be cut at every split point (`place.rs`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Reach {
+    Long,
+    Short,
+}
+
 /// One piece of a test stream.
-fn piece(profile: Profile) -> impl Strategy<Value = Vec<u8>> {
+pub(crate) fn piece(profile: Profile, reach: Reach) -> impl Strategy<Value = Vec<u8>> {
+    // The garbage's capacity (the longest false candidate), how often it writes a plausible
+    // header, the longest run of 0xFF, the longest run of random bytes.
+    let (capacity, headers, ff, random) = match reach {
+        Reach::Long => (128, (1, 4), 12, 24),
+        Reach::Short => (48, (1, 3), 6, 12),
+    };
     prop_oneof![
-        // A valid message.
+        // A valid message (both header forms, as the generator picks).
         3 => any::<u64>().prop_map(move |seed| random_message(&mut Rng(seed), profile)),
         // A message with one byte changed (checksum failure, or a changed length).
         1 => (any::<u64>(), any::<prop::sample::Index>(), any::<u8>()).prop_map(
@@ -168,28 +182,35 @@ fn piece(profile: Profile) -> impl Strategy<Value = Vec<u8>> {
         // Garbage rich in 0xFF and plausible headers.
         2 => any::<u64>().prop_map(move |seed| {
             let mut out = Vec::new();
-            garbage(&mut Rng(seed), profile, 128, (1, 4), &mut out);
+            garbage(&mut Rng(seed), profile, capacity, headers, &mut out);
             out
         }),
         // A run of 0xFF.
-        1 => (1usize..12).prop_map(|n| vec![0xFF; n]),
+        1 => (1usize..ff).prop_map(|n| vec![0xFF; n]),
         // Plain random bytes.
-        1 => prop::collection::vec(any::<u8>(), 0..24),
+        1 => prop::collection::vec(any::<u8>(), 0..random),
     ]
 }
 
-fn profile() -> impl Strategy<Value = Profile> {
+/// Either profile.
+pub(crate) fn profile() -> impl Strategy<Value = Profile> {
     prop_oneof![Just(Profile::Spec), Just(Profile::Reference)]
 }
 
 fn framed_stream() -> impl Strategy<Value = (Profile, Vec<u8>)> {
     profile().prop_flat_map(|p| {
-        prop::collection::vec(piece(p), 0..24).prop_map(move |pieces| (p, pieces.concat()))
+        prop::collection::vec(piece(p, Reach::Long), 0..24)
+            .prop_map(move |pieces| (p, pieces.concat()))
     })
 }
 
 /// Bytes that make false starts likely: 0xFF, type bytes, small length fields.
 fn biased_stream() -> impl Strategy<Value = Vec<u8>> {
+    biased_stream_of(400)
+}
+
+/// [`biased_stream`]'s streams of fewer than `len` bytes.
+pub(crate) fn biased_stream_of(len: usize) -> impl Strategy<Value = Vec<u8>> {
     prop::collection::vec(
         prop_oneof![
             3 => Just(0xFFu8),
@@ -198,7 +219,7 @@ fn biased_stream() -> impl Strategy<Value = Vec<u8>> {
             2 => 0u8..48,
             2 => any::<u8>(),
         ],
-        0..400,
+        0..len,
     )
 }
 

@@ -3,6 +3,7 @@
 //! the read sizes (1 byte up to more than the buffer), with pending reads, transport errors in
 //! mid-message and EOF; the writers produce exactly the bytes of `Encoder::encode`.
 
+use crate::bulk::{Reach, piece};
 use crate::streamgen;
 use crate::transport;
 
@@ -12,7 +13,7 @@ use aydp_proto::{
 };
 use embedded_io::ErrorKind;
 use proptest::prelude::*;
-use streamgen::{Rng, garbage, random_message};
+use streamgen::Rng;
 use transport::{Sink, Wire, block_on, sink};
 
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -145,35 +146,10 @@ fn check_all(profile: Profile, stream: &[u8], sizes: &[usize], errors: &[usize])
     check::<3, 4>(profile, stream, sizes, errors);
 }
 
-/// One piece of a test stream (as in `bulk.rs`).
-fn piece(profile: Profile) -> impl Strategy<Value = Vec<u8>> {
-    prop_oneof![
-        3 => any::<u64>().prop_map(move |seed| random_message(&mut Rng(seed), profile)),
-        1 => (any::<u64>(), any::<prop::sample::Index>(), any::<u8>()).prop_map(
-            move |(seed, i, v)| {
-                let mut m = random_message(&mut Rng(seed), profile);
-                let i = i.index(m.len());
-                m[i] = v;
-                m
-            }
-        ),
-        1 => (any::<u64>(), any::<prop::sample::Index>()).prop_map(move |(seed, i)| {
-            let m = random_message(&mut Rng(seed), profile);
-            m[..i.index(m.len())].to_vec()
-        }),
-        2 => any::<u64>().prop_map(move |seed| {
-            let mut out = Vec::new();
-            garbage(&mut Rng(seed), profile, 128, (1, 4), &mut out);
-            out
-        }),
-        1 => (1usize..12).prop_map(|n| vec![0xFF; n]),
-        1 => prop::collection::vec(any::<u8>(), 0..24),
-    ]
-}
-
 fn framed_stream() -> impl Strategy<Value = (Profile, Vec<u8>)> {
     prop_oneof![Just(Profile::Spec), Just(Profile::Reference)].prop_flat_map(|p| {
-        prop::collection::vec(piece(p), 0..12).prop_map(move |pieces| (p, pieces.concat()))
+        prop::collection::vec(piece(p, Reach::Long), 0..12)
+            .prop_map(move |pieces| (p, pieces.concat()))
     })
 }
 

@@ -4,11 +4,12 @@
 //! stream: a failed candidate's from its 0xFF start, a candidate cut short by the end of the
 //! stream up to that end.
 
+use crate::bulk::{Reach, biased_stream_of, piece, profile};
 use crate::streamgen;
 
 use aydp_proto::{Decoder, Error, Place, Profile, Stream};
 use proptest::prelude::*;
-use streamgen::{Rng, garbage, random_message};
+use streamgen::{Rng, random_message};
 
 /// An event as owned data, with its place: the frame's wire bytes, or the error.
 type Placed = (Place, Result<Vec<u8>, Error>);
@@ -120,65 +121,15 @@ fn check_places(bytes: &[u8], events: &[Placed]) {
     }
 }
 
-/// One piece of a hostile stream.
-fn piece(profile: Profile) -> impl Strategy<Value = Vec<u8>> {
-    prop_oneof![
-        // A valid message (both header forms, as the generator picks).
-        3 => any::<u64>().prop_map(move |seed| random_message(&mut Rng(seed), profile)),
-        // A message with one byte changed (a checksum failure, or a changed length).
-        1 => (any::<u64>(), any::<prop::sample::Index>(), any::<u8>()).prop_map(
-            move |(seed, i, v)| {
-                let mut m = random_message(&mut Rng(seed), profile);
-                let i = i.index(m.len());
-                m[i] = v;
-                m
-            }
-        ),
-        // A message cut short.
-        1 => (any::<u64>(), any::<prop::sample::Index>()).prop_map(move |(seed, i)| {
-            let m = random_message(&mut Rng(seed), profile);
-            m[..i.index(m.len())].to_vec()
-        }),
-        // Garbage rich in 0xFF and in plausible headers (lengths up to 48 bytes).
-        2 => any::<u64>().prop_map(move |seed| {
-            let mut out = Vec::new();
-            garbage(&mut Rng(seed), profile, 48, (1, 3), &mut out);
-            out
-        }),
-        // A run of 0xFF.
-        1 => (1usize..6).prop_map(|n| vec![0xFF; n]),
-        // Random bytes.
-        1 => prop::collection::vec(any::<u8>(), 0..12),
-    ]
-}
-
-fn profile() -> impl Strategy<Value = Profile> {
-    prop_oneof![Just(Profile::Spec), Just(Profile::Reference)]
-}
-
 /// A hostile stream of at most 160 bytes (the pieces cut there): every split point is tried.
 fn hostile_stream() -> impl Strategy<Value = (Profile, Vec<u8>)> {
     profile().prop_flat_map(|p| {
-        prop::collection::vec(piece(p), 0..8).prop_map(move |pieces| {
+        prop::collection::vec(piece(p, Reach::Short), 0..8).prop_map(move |pieces| {
             let mut bytes = pieces.concat();
             bytes.truncate(160);
             (p, bytes)
         })
     })
-}
-
-/// Bytes that make false starts likely: 0xFF, type bytes, small length fields.
-fn biased_stream() -> impl Strategy<Value = Vec<u8>> {
-    prop::collection::vec(
-        prop_oneof![
-            3 => Just(0xFFu8),
-            1 => Just(0x80u8),
-            3 => Just(0u8),
-            2 => 0u8..48,
-            2 => any::<u8>(),
-        ],
-        0..120,
-    )
 }
 
 /// A stream, and each message put into it with its offset.
@@ -224,7 +175,7 @@ proptest! {
     #[test]
     fn places_in_false_starts_are_the_same_however_the_stream_is_cut(
         p in profile(),
-        bytes in biased_stream(),
+        bytes in biased_stream_of(120),
     ) {
         check_places(&bytes, &every_way::<64>(p, &bytes));
         check_places(&bytes, &every_way::<7>(p, &bytes));
