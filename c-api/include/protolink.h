@@ -41,7 +41,9 @@
  * on the wire. On PL_ERROR the message struct never holds an earlier message: it is cleared
  * (every field 0, pointers NULL, AYDP and GDL90 kind UNKNOWN), except that a frame with a
  * good check whose typed parse failed leaves its own place there (AEOLUS, AYDP: its ID or
- * type and raw data too).
+ * type and raw data too). Every error carries its own place in the pl_error (`offset`,
+ * `wire_len`): the bytes it condemns, counted the same way (a frame with a bad check, a frame
+ * cut short up to its last byte held, an AYDP length error's six header bytes).
  *
  * Byte accounting. Every byte fed is, at any time, in exactly one of: the wire_len of a
  * message handed over (PL_MESSAGE, or PL_ERROR with wire_len > 0), a counter of discarded
@@ -420,8 +422,9 @@
 // or tag, a struct's layout, or a function's signature or meaning changes, so a program can
 // compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
 // the first with tagged states; version 3 counts the bytes fed in each state and gives every
-// message its `offset` and `wire_len`; version 4 has every decoder keep the last event's
-// place (the states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
+// message its `offset` and `wire_len`; version 4 gives every error its place too
+// (`pl_error` grew from 16 to 32 bytes) and has every decoder keep the last event's place (the
+// states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
 #define PL_ABI_VERSION 4
 
 // State kind: `pl_aeolus_decoder`.
@@ -625,8 +628,9 @@ typedef struct {
   pl_aeolus_body body;
 } pl_aeolus_message;
 
-// An error event: its kind (`PL_ERR_*`) and, where the kind has them, the message ID and two
-// values (see each `PL_ERR_*` for their meaning; 0 otherwise).
+// An error event: its kind (`PL_ERR_*`), where the kind has them the message ID and two
+// values (see each `PL_ERR_*` for their meaning; 0 otherwise), and its place: the bytes it
+// condemns, as a message's place.
 typedef struct {
   // `PL_ERR_*`.
   uint32_t kind;
@@ -636,6 +640,13 @@ typedef struct {
   uint32_t expected;
   // The value received (a length, a received checksum, a byte), 0 if none.
   uint32_t actual;
+  // The length on the wire of the bytes the error condemns: a frame with a bad check, flag
+  // to flag (AEOLUS, GDL90) or from its first byte (AYDP, AOK); a frame cut short, from its
+  // opening flag or first byte to the last byte held; an AYDP length error, the six header
+  // bytes judged.
+  uint32_t wire_len;
+  // The first of those bytes, counted in bytes fed since the decoder's init.
+  uint64_t offset;
 } pl_error;
 
 // An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)

@@ -62,7 +62,7 @@ pub(crate) type Callback<M> =
 
 /// One event into the caller's structs: the status. An item, and an error about a frame whose
 /// typed parse failed, write their place into `msg`; any other error leaves `msg` holding
-/// nothing.
+/// nothing. Every error writes its place into `err`.
 #[inline(always)]
 #[allow(clippy::type_complexity)] // spelt out: what `Stream` hands over
 fn convert<P: Proto>(
@@ -74,7 +74,7 @@ fn convert<P: Proto>(
     msg: &mut P::Msg,
     err: &mut pl_error,
 ) -> i32 {
-    match event {
+    let status = match event {
         Ok(item) => {
             let status = P::fill(item, ctx, msg, err);
             P::place(msg, place.offset, sat32(place.len));
@@ -88,7 +88,11 @@ fn convert<P: Proto>(
             *err = P::error(e);
             PL_ERROR
         }
+    };
+    if status == PL_ERROR {
+        (err.offset, err.wire_len) = (place.offset, sat32(place.len));
     }
+    status
 }
 
 /// Decodes `input` up to the first event (`bytewise`: one byte a `decode` call) and hands it

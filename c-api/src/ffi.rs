@@ -4,8 +4,9 @@
 
 use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
 
-/// An error event: its kind (`PL_ERR_*`) and, where the kind has them, the message ID and two
-/// values (see each `PL_ERR_*` for their meaning; 0 otherwise).
+/// An error event: its kind (`PL_ERR_*`), where the kind has them the message ID and two
+/// values (see each `PL_ERR_*` for their meaning; 0 otherwise), and its place: the bytes it
+/// condemns, as a message's place.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct pl_error {
@@ -17,16 +18,25 @@ pub struct pl_error {
     pub expected: u32,
     /// The value received (a length, a received checksum, a byte), 0 if none.
     pub actual: u32,
+    /// The length on the wire of the bytes the error condemns: a frame with a bad check, flag
+    /// to flag (AEOLUS, GDL90) or from its first byte (AYDP, AOK); a frame cut short, from its
+    /// opening flag or first byte to the last byte held; an AYDP length error, the six header
+    /// bytes judged.
+    pub wire_len: u32,
+    /// The first of those bytes, counted in bytes fed since the decoder's init.
+    pub offset: u64,
 }
 
 impl pl_error {
-    /// An error of `kind` with its details.
+    /// An error of `kind` with its details (its place is written when it is handed over).
     pub(crate) const fn new(kind: u32, id: u32, expected: u32, actual: u32) -> Self {
         Self {
             kind,
             id,
             expected,
             actual,
+            wire_len: 0,
+            offset: 0,
         }
     }
 

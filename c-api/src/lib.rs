@@ -18,7 +18,8 @@
 //!   [`PL_MESSAGE`] or [`PL_ERROR`] (the kind in a [`pl_error`]) for the next event and says
 //!   how many bytes it used; `pl_*_feed` hands every event of a buffer to a C callback;
 //!   `pl_*_finish` gives the events of the end of the stream; `pl_*_get_stats` the counters;
-//!   every message carries its `offset` and `wire_len`;
+//!   every message and every error carries its `offset` and `wire_len`, from the event's place
+//!   in the stream (`frame_io::Stream`);
 //! - messages are plain C structs, a tag plus a union over the message types, fields in the
 //!   units of the Rust types; pointers in a decoded message point into the decoder and stay
 //!   valid until the next call on that decoder;

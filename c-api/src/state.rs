@@ -24,8 +24,9 @@ use crate::{PL_E_INVALID, PL_E_NULL};
 /// or tag, a struct's layout, or a function's signature or meaning changes, so a program can
 /// compare the header's `PL_ABI_VERSION` with the archive's `pl_abi_version()`. Version 1 was
 /// the first with tagged states; version 3 counts the bytes fed in each state and gives every
-/// message its `offset` and `wire_len`; version 4 has every decoder keep the last event's
-/// place (the states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
+/// message its `offset` and `wire_len`; version 4 gives every error its place too
+/// (`pl_error` grew from 16 to 32 bytes) and has every decoder keep the last event's place (the
+/// states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
 pub const PL_ABI_VERSION: u32 = 4;
 
 /// State kind: `pl_aeolus_decoder`.

@@ -6,7 +6,7 @@ compare.py HOST_TEST PROTOLINK PROTO:FILE...
 For each file, `HOST_TEST dump PROTO FILE` (the C API) and `protolink decode --json` (the Rust
 crates through the host tool) must give the same sequence of messages and errors, every
 message with the same name, the same place in the input (offset and wire length) and the same
-value in every field, and the same decoder counters.
+value in every field, every error at the same offset, and the same decoder counters.
 protolink's renderings (enum names, slot and action names, texts) are turned back into the
 raw values the C structs carry before comparing. f64 fields must be equal exactly; f32 fields
 equal as f32. Exit status 1 with one line per difference.
@@ -149,6 +149,9 @@ def compare(host_test, protolink, proto, path):
             problems.append(f"{where}: C {c['kind']}, protolink {r['kind']} ({r.get('error', '')})")
             continue
         if c["kind"] != "message":
+            # An error's place: the first byte of what it condemns (protolink prints no length).
+            if c.get("offset") != r.get("offset"):
+                problems.append(f"{where}: error offset C {c.get('offset')}, protolink {r.get('offset')}")
             continue
         if c["name"] != r["name"]:
             problems.append(f"{where}: C {c['name']}, protolink {r['name']}")

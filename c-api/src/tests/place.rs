@@ -314,6 +314,9 @@ fn an_error_never_passes_the_previous_message() {
     };
     assert_eq!((st, err.kind), (PL_ERROR, PL_ERR_CHECKSUM_MISMATCH));
     assert!(msg.id == 0 && msg.data.is_null() && msg.data_len == 0 && msg.wire_len == 0);
+    // The error's own place: the bad frame, flag to flag (its opening flag is the first
+    // frame's closing one).
+    assert_eq!((err.offset, err.wire_len), (36, (stream.len() - 36) as u32));
     // SAFETY: every member of the body is plain numbers.
     assert_eq!(unsafe { msg.body.motion }, pl_aeolus_motion::default());
 }
@@ -341,6 +344,8 @@ fn gdl90_ends_a_stream() {
         assert_eq!(st.held_bytes, 5);
         assert_eq!(pl_gdl90_finish(d, &mut msg, &mut err), PL_ERROR);
         assert_eq!((err.kind, msg.wire_len), (PL_ERR_TRUNCATED, 0));
+        // The frame cut short: its flag and the five bytes held.
+        assert_eq!((err.offset, err.wire_len), (0, 6));
         assert_eq!(pl_gdl90_finish(d, &mut msg, &mut err), PL_NOTHING);
         pl_gdl90_get_stats(d, &mut st);
         assert_eq!(st.held_bytes, 0);
@@ -359,4 +364,41 @@ fn gdl90_ends_a_stream() {
         );
         assert_eq!(pl_gdl90_finish(d, &mut msg, &mut err), PL_NOTHING);
     }
+}
+
+/// Every error has its place in the `pl_error`: an AYDP checksum failure at its 0xFF, for its
+/// whole length, after noise; an AOK frame with a bad checksum from its first byte.
+#[test]
+fn errors_carry_their_place() {
+    let mut d = MaybeUninit::<pl_aydp_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_aydp_init(d.as_mut_ptr(), PL_AYDP_SPEC) }, 0);
+    let d = d.as_mut_ptr();
+    let (mut msg, mut err): (pl_aydp_message, _) = (zeroed(), pl_error::default());
+    // Two noise bytes, then an expedited heartbeat whose checksum is off by one.
+    let wire = [0x00, 0x11, 0xFF, 0x80, 0x07, 0, 0, 0, 0x79];
+    let mut events = Vec::new();
+    for byte in &wire {
+        let mut used = 0;
+        // SAFETY: a set-up decoder, a live input and outputs.
+        let st = unsafe { pl_aydp_parse(d, byte, 1, &mut used, &mut msg, &mut err) };
+        if st == PL_ERROR {
+            events.push((err.kind, err.offset, err.wire_len, msg.wire_len));
+        }
+    }
+    assert_eq!(events, [(PL_ERR_CHECKSUM_MISMATCH, 2, 7, 0)]);
+
+    let mut d = MaybeUninit::<pl_aok_pc_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_aok_pc_init(d.as_mut_ptr(), 0, 30) }, 0);
+    let d = d.as_mut_ptr();
+    let (mut item, mut err): (pl_aok_item, _) = (zeroed(), pl_error::default());
+    // A debug frame with a broken checksum (the host tool's test of the same).
+    let wire = [0x1C, 0x56, 0xFF, 0xFF, 0xFF, 0xFE, 0x58];
+    let mut used = 0;
+    // SAFETY: as above.
+    let st =
+        unsafe { pl_aok_pc_parse(d, wire.as_ptr(), wire.len(), &mut used, &mut item, &mut err) };
+    assert_eq!((st, err.kind), (PL_ERROR, PL_ERR_CHECKSUM_MISMATCH));
+    assert_eq!((err.offset, err.wire_len), (0, 7));
 }

@@ -71,8 +71,9 @@ static void place(uint64_t offset, uint32_t wire_len) {
 }
 
 static void error_line(const pl_error *e) {
-    printf("{\"kind\":\"error\",\"error_kind\":%u,\"id\":%u,\"expected\":%u,\"actual\":%u}\n", e->kind, e->id,
-           e->expected, e->actual);
+    printf("{\"kind\":\"error\",\"error_kind\":%u,\"id\":%u,\"expected\":%u,\"actual\":%u,\"offset\":%" PRIu64
+           ",\"len\":%" PRIu32 "}\n",
+           e->kind, e->id, e->expected, e->actual, e->offset, e->wire_len);
 }
 
 /* ---------- AEOLUS ---------- */
