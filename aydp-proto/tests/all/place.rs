@@ -170,6 +170,7 @@ proptest! {
         check_places(&bytes, &every_way::<128>(p, &bytes));
         check_places(&bytes, &every_way::<40>(p, &bytes));
         check_places(&bytes, &every_way::<23>(p, &bytes));
+        check_places(&bytes, &every_way::<6>(p, &bytes));
     }
 
     #[test]
@@ -179,6 +180,8 @@ proptest! {
     ) {
         check_places(&bytes, &every_way::<64>(p, &bytes));
         check_places(&bytes, &every_way::<7>(p, &bytes));
+        // Just big enough for a header (the smallest decoder with events before the end).
+        check_places(&bytes, &every_way::<6>(p, &bytes));
     }
 
     /// Any chunks (random sizes, empty ones too), not only a cut in two.
