@@ -4,3 +4,4 @@
 
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
+mod stream;
