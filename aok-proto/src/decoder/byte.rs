@@ -43,8 +43,12 @@ pub(crate) trait Rules {
     /// The counters.
     fn stats_mut(&mut self) -> &mut Stats;
 
-    /// The rules (`judge` of the decoder's `step.rs`) over the bytes held.
-    fn judge_held<F: FnMut(Result<Self::Item, Error>)>(&mut self, on_event: &mut F) -> Step;
+    /// The rules (`judge` of the decoder's `step.rs`) over the bytes held; `PULL`: for the
+    /// pull form, a condemned candidate is [`Step::Rejected`] (see [`Step::condemned`]).
+    fn judge_held<const PULL: bool, F: FnMut(Result<Self::Item, Error>)>(
+        &mut self,
+        on_event: &mut F,
+    ) -> Step;
 
     /// How many bytes the step waits for when `first` is the only byte held, as the rules
     /// decide (asked without running them); 1 or less: the step decides on it now.
@@ -167,7 +171,7 @@ pub(crate) trait Rules {
     /// [`Rules::run`] up to the first event, which it returns (the pull form's byte path).
     fn step_slow(&mut self, quiet: bool) -> Option<Result<Self::Item, Error>> {
         let mut event = None;
-        self.run(quiet, &mut |e| {
+        self.run::<true, _>(quiet, &mut |e| {
             event = Some(e);
             true
         });
@@ -178,7 +182,7 @@ pub(crate) trait Rules {
     /// handed over in place, none returned through memory.
     #[inline]
     fn deliver<F: FnMut(Result<Self::Item, Error>)>(&mut self, on_event: &mut F) {
-        self.run(false, &mut |e| {
+        self.run::<false, _>(false, &mut |e| {
             on_event(e);
             false
         });
@@ -189,15 +193,21 @@ pub(crate) trait Rules {
     /// or nothing is held any more; with `quiet`, each undecided front is given up as
     /// [`Error::Truncated`] instead.
     ///
-    /// The event it stops at is the pull form's: its span is recorded (see the module's
-    /// documentation). `feed`'s `on_event` never stops, so that path records nothing.
+    /// `PULL` (the pull form): the event it stops at is the pull form's, and its span is
+    /// recorded (see the module's documentation). Without it (`feed`, whose `on_event` never
+    /// stops) nothing of the spans is computed: the rules give a condemned candidate as its
+    /// first byte used ([`Step::condemned`]), and the loop is the byte path's of before spans.
     #[inline]
-    fn run<F: FnMut(Result<Self::Item, Error>) -> bool>(&mut self, quiet: bool, on_event: &mut F) {
+    fn run<const PULL: bool, F: FnMut(Result<Self::Item, Error>) -> bool>(
+        &mut self,
+        quiet: bool,
+        on_event: &mut F,
+    ) {
         loop {
             let held = self.held().len;
             let mut stop = false;
             // The bytes of the front's event, if it gave one.
-            let len = match self.judge_held(&mut |e| stop = on_event(e)) {
+            let len = match self.judge_held::<PULL, _>(&mut |e| stop = on_event(e)) {
                 Step::Need(need) => {
                     if !quiet {
                         self.held_mut().need = need;
@@ -218,8 +228,10 @@ pub(crate) trait Rules {
                 }
             };
             if stop {
-                let after = held.saturating_sub(len);
-                self.held_mut().span = Span { len, after };
+                if PULL {
+                    let after = held.saturating_sub(len);
+                    self.held_mut().span = Span { len, after };
+                }
                 return;
             }
             if self.held().len == 0 {

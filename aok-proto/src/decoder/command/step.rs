@@ -19,12 +19,14 @@ impl CommandDecoder {
     /// - A byte that starts no command is unknown: counted and dropped.
     /// - A command's length follows from its first byte (its first two for `63`).
     /// - A whole command is checked: a bad checksum drops only its first byte (the bytes after
-    ///   it are rescanned), and so does a good checksum with an out-of-range field.
+    ///   it are rescanned), and so does a good checksum with an out-of-range field: either
+    ///   error condemns the whole candidate (`Step::Rejected`, its span, on the pull form:
+    ///   `PULL`; see `Step::condemned`).
     ///
     /// Each decision depends on a fixed prefix of the window only, so it is the same whether
     /// the window holds more bytes or not.
     #[inline(always)]
-    pub(super) fn judge<F: FnMut(Result<Command, Error>)>(
+    pub(super) fn judge<const PULL: bool, F: FnMut(Result<Command, Error>)>(
         stats: &mut Stats,
         window: &[u8],
         on_event: &mut F,
@@ -76,7 +78,7 @@ impl CommandDecoder {
                 stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));
-                Step::Rejected(need)
+                Step::condemned::<PULL>(need)
             }
             Err(e) => {
                 // As a checksum failure: only the first byte goes. A false candidate passes
@@ -85,7 +87,7 @@ impl CommandDecoder {
                 stats.invalid = stats.invalid.wrapping_add(1);
                 stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
                 on_event(Err(e));
-                Step::Rejected(need)
+                Step::condemned::<PULL>(need)
             }
         }
     }
@@ -110,8 +112,11 @@ impl Rules for CommandDecoder {
     }
 
     #[inline(always)]
-    fn judge_held<F: FnMut(Result<Command, Error>)>(&mut self, on_event: &mut F) -> Step {
-        Self::judge(&mut self.stats, self.held.window(), on_event)
+    fn judge_held<const PULL: bool, F: FnMut(Result<Command, Error>)>(
+        &mut self,
+        on_event: &mut F,
+    ) -> Step {
+        Self::judge::<PULL, _>(&mut self.stats, self.held.window(), on_event)
     }
 
     /// A command's length from its first byte (2 for `63`, whose second byte tells).
@@ -141,11 +146,11 @@ impl Rules for CommandDecoder {
         if MANY {
             // `on_event` cannot reach the decoder: its counters can live in a copy meanwhile.
             let mut stats = self.stats;
-            let used = in_place(&mut self.held, &mut stats, bytes, on_event);
+            let used = in_place::<false, _>(&mut self.held, &mut stats, bytes, on_event);
             self.stats = stats;
             used
         } else {
-            in_place(&mut self.held, &mut self.stats, bytes, on_event)
+            in_place::<true, _>(&mut self.held, &mut self.stats, bytes, on_event)
         }
     }
 }
@@ -153,9 +158,10 @@ impl Rules for CommandDecoder {
 /// The slice path's loop: the rules over `bytes` itself (nothing is held), every event handed
 /// to `on_event` until it returns true (stop after that event), an undecided tail kept in
 /// `held` (and, at the event it stops at, its span: `past_event`). Returns the bytes used.
-/// The counters come apart from the decoder, so that they may be a copy.
+/// The counters come apart from the decoder, so that they may be a copy. `PULL`: the pull
+/// form's (`decode`), as `Rules::run`'s.
 #[inline(always)]
-fn in_place<F: FnMut(Result<Command, Error>) -> bool>(
+fn in_place<const PULL: bool, F: FnMut(Result<Command, Error>) -> bool>(
     held: &mut Held,
     stats: &mut Stats,
     bytes: &[u8],
@@ -164,7 +170,7 @@ fn in_place<F: FnMut(Result<Command, Error>) -> bool>(
     let mut rest = bytes;
     while !rest.is_empty() {
         let mut stop = false;
-        let step = CommandDecoder::judge(stats, rest, &mut |e| stop = on_event(e));
+        let step = CommandDecoder::judge::<PULL, _>(stats, rest, &mut |e| stop = on_event(e));
         if stop {
             rest = past_event(held, rest, step);
             break;

@@ -20,13 +20,13 @@ use crate::message::{DebugValue, HEADERLESS_REPLY_LEN};
 ///   one is expected; any other byte is unknown: counted and dropped.
 /// - A whole frame is checked: a bad checksum drops only its first byte (the bytes after it
 ///   are rescanned), and so does a good checksum with an out-of-range field: either error
-///   condemns the whole candidate (`Step::Rejected`, its span). A message that matches the
-///   pending request clears it.
+///   condemns the whole candidate (`Step::Rejected`, its span, on the pull form: `PULL`;
+///   see `Step::condemned`). A message that matches the pending request clears it.
 ///
 /// Each decision depends on a fixed prefix of the window only, so it is the same whether the
 /// window holds more bytes or not.
 #[inline(always)]
-pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
+pub(super) fn judge<const PULL: bool, F: FnMut(Result<Message, Error>)>(
     stats: &mut Stats,
     expect: &mut Expect,
     front_not_reply: &mut bool,
@@ -67,7 +67,9 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
                 }
                 // Not a reply; maybe a debug frame (the rules below).
                 Err(_) if first == DEBUG => *front_not_reply = true,
-                Err(e) => return checksum_failed(stats, e, HEADERLESS_REPLY_LEN, on_event),
+                Err(e) => {
+                    return checksum_failed::<PULL, _>(stats, e, HEADERLESS_REPLY_LEN, on_event);
+                }
             }
         }
         Some(_) => {}
@@ -82,14 +84,16 @@ pub(super) fn judge<F: FnMut(Result<Message, Error>)>(
     };
     match Message::parse(frame) {
         Ok((m, n)) => accept(stats, expect, n, m, on_event),
-        Err(e @ Error::ChecksumMismatch { .. }) => checksum_failed(stats, e, need, on_event),
+        Err(e @ Error::ChecksumMismatch { .. }) => {
+            checksum_failed::<PULL, _>(stats, e, need, on_event)
+        }
         Err(e) => {
             // A good checksum but a value out of range (a waypoint reply with a bad slot): as
             // a checksum failure, only the first byte goes and the rest is rescanned.
             stats.invalid = stats.invalid.wrapping_add(1);
             stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
             on_event(Err(e));
-            Step::Rejected(need)
+            Step::condemned::<PULL>(need)
         }
     }
 }
@@ -111,7 +115,7 @@ fn accept<F: FnMut(Result<Message, Error>)>(
 
 /// The checksum of a candidate of `len` bytes failed: the false start is dropped, the rescan
 /// starts at the next byte.
-fn checksum_failed<F: FnMut(Result<Message, Error>)>(
+fn checksum_failed<const PULL: bool, F: FnMut(Result<Message, Error>)>(
     stats: &mut Stats,
     error: Error,
     len: usize,
@@ -120,7 +124,7 @@ fn checksum_failed<F: FnMut(Result<Message, Error>)>(
     stats.checksum_errors = stats.checksum_errors.wrapping_add(1);
     stats.bytes_discarded = stats.bytes_discarded.wrapping_add(1);
     on_event(Err(error));
-    Step::Rejected(len)
+    Step::condemned::<PULL>(len)
 }
 
 /// The pending request is over when its reply or ack arrives.
@@ -155,8 +159,11 @@ impl Rules for MessageDecoder {
     }
 
     #[inline(always)]
-    fn judge_held<F: FnMut(Result<Message, Error>)>(&mut self, on_event: &mut F) -> Step {
-        judge(
+    fn judge_held<const PULL: bool, F: FnMut(Result<Message, Error>)>(
+        &mut self,
+        on_event: &mut F,
+    ) -> Step {
+        judge::<PULL, _>(
             &mut self.stats,
             &mut self.expect,
             &mut self.front_not_reply,
@@ -202,7 +209,7 @@ impl Rules for MessageDecoder {
             // copies meanwhile.
             let (mut stats, mut expect, mut front_not_reply) =
                 (self.stats, self.expect, self.front_not_reply);
-            let used = in_place(
+            let used = in_place::<false, _>(
                 &mut self.held,
                 &mut stats,
                 &mut expect,
@@ -216,7 +223,7 @@ impl Rules for MessageDecoder {
             self.front_not_reply = front_not_reply;
             used
         } else {
-            in_place(
+            in_place::<true, _>(
                 &mut self.held,
                 &mut self.stats,
                 &mut self.expect,
@@ -233,8 +240,9 @@ impl Rules for MessageDecoder {
 /// to `on_event` until it returns true (stop after that event), an undecided tail kept in
 /// `held` (and, at the event it stops at, its span: `past_event`). Returns the bytes used.
 /// The fields the rules update come apart from the decoder, so that they may be copies.
+/// `PULL`: the pull form's (`decode`), as `Rules::run`'s.
 #[inline(always)]
-fn in_place<F: FnMut(Result<Message, Error>) -> bool>(
+fn in_place<const PULL: bool, F: FnMut(Result<Message, Error>) -> bool>(
     held: &mut Held,
     stats: &mut Stats,
     expect: &mut Expect,
@@ -246,7 +254,7 @@ fn in_place<F: FnMut(Result<Message, Error>) -> bool>(
     let mut rest = bytes;
     while !rest.is_empty() {
         let mut stop = false;
-        let step = judge(stats, expect, front_not_reply, form, rest, &mut |e| {
+        let step = judge::<PULL, _>(stats, expect, front_not_reply, form, rest, &mut |e| {
             stop = on_event(e)
         });
         if stop {
