@@ -149,9 +149,10 @@ def compare(host_test, protolink, proto, path):
             problems.append(f"{where}: C {c['kind']}, protolink {r['kind']} ({r.get('error', '')})")
             continue
         if c["kind"] != "message":
-            # An error's place: the first byte of what it condemns (protolink prints no length).
-            if c.get("offset") != r.get("offset"):
-                problems.append(f"{where}: error offset C {c.get('offset')}, protolink {r.get('offset')}")
+            # An error's place: the first byte of what it condemns and their wire length.
+            for meta in ("offset", "len"):
+                if c.get(meta) != r.get(meta):
+                    problems.append(f"{where}: error {meta} C {c.get(meta)}, protolink {r.get(meta)}")
             continue
         if c["name"] != r["name"]:
             problems.append(f"{where}: C {c['name']}, protolink {r['name']}")

@@ -51,7 +51,8 @@ class Message:
     def __contains__(self, field: str) -> bool: ...
 
 class ErrorEvent:
-    """Bad bytes in a stream: ``kind``, ``error`` (one sentence) and ``offset``."""
+    """Bad bytes in a stream: ``kind``, ``error`` (one sentence), ``offset`` and ``wire_len``
+    (the bytes it condemns)."""
 
     @property
     def name(self) -> str: ...
@@ -64,9 +65,9 @@ class ErrorEvent:
     @property
     def id(self) -> None: ...
     @property
-    def wire_len(self) -> None: ...
+    def wire_len(self) -> int: ...
     @property
-    def len(self) -> None:
+    def len(self) -> int:
         """The deprecated name of ``wire_len`` (``DeprecationWarning``)."""
     @property
     def proto(self) -> str: ...

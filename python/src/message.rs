@@ -72,6 +72,7 @@ pub(crate) struct Message {
 pub(crate) struct ErrorEvent {
     proto: Proto,
     offset: u64,
+    wire_len: u64,
     kind: String,
     error: String,
     origin: Option<Box<Origin>>,
@@ -91,10 +92,11 @@ pub(crate) fn to_object<'py>(
             EventBody::Message { name, meta, fields } => {
                 (event.offset, Body::Rendered { name, meta, fields })
             }
-            EventBody::Error { kind, error } => {
+            EventBody::Error { kind, error, len } => {
                 let e = ErrorEvent {
                     proto,
                     offset: event.offset,
+                    wire_len: len,
                     kind,
                     error,
                     origin,
@@ -514,7 +516,8 @@ impl ErrorEvent {
         &self.error
     }
 
-    /// Offset in the input where the failed frame started (AOK: the byte that revealed it).
+    /// Offset in the input of the first byte the error condemns (the failed frame's first
+    /// byte, or its opening flag).
     #[getter]
     fn offset(&self) -> u64 {
         self.offset
@@ -526,17 +529,17 @@ impl ErrorEvent {
         None
     }
 
-    /// None: the bytes of a failed frame are counted in the decoder's stats.
+    /// The length on the wire of the bytes the error condemns, from `offset`.
     #[getter]
-    fn wire_len(&self) -> Option<u64> {
-        None
+    fn wire_len(&self) -> u64 {
+        self.wire_len
     }
 
-    /// None, the deprecated name of `wire_len` (with a `DeprecationWarning`).
+    /// The deprecated name of `wire_len` (with a `DeprecationWarning`).
     #[getter]
-    fn len(&self, py: Python<'_>) -> PyResult<Option<u64>> {
+    fn len(&self, py: Python<'_>) -> PyResult<u64> {
         warn_len(py)?;
-        Ok(None)
+        Ok(self.wire_len)
     }
 
     /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.

@@ -49,7 +49,7 @@ def test_error_event_attributes():
     bad[5] ^= 0xFF
     (e,) = aeolus.Decoder().feed(bytes(bad))
     assert (e.name, e.get_type(), e.is_error, e.kind, e.offset, e.id, e.wire_len) == (
-        "ERROR", "ERROR", True, "checksum_mismatch", 0, None, None)
+        "ERROR", "ERROR", True, "checksum_mismatch", 0, None, len(bad))
     assert e.error.startswith("CRC mismatch on message 62")
     assert e.to_dict() == {"kind": "checksum_mismatch", "error": e.error}
     assert repr(e).startswith('ERROR(kind="checksum_mismatch", offset=0')

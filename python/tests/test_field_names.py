@@ -100,11 +100,12 @@ def test_len_and_wire_len():
     (gyro,) = protolink.aeolus.Decoder().feed(gyro_frame)
     with pytest.warns(DeprecationWarning, match=r"Message\.len is deprecated: use wire_len"):
         assert gyro.len == gyro.wire_len == len(gyro_frame)
-    # An error event has no length: wire_len is None, and so is the deprecated len.
+    # An error event's wire_len is the length of the bytes it condemns: here the whole frame
+    # with its bad CRC, flag to flag (the deprecated len gives the same, with a warning).
     bad = bytearray(gyro_frame)
     bad[5] ^= 0xFF
     (err,) = protolink.aeolus.Decoder().feed(bytes(bad))
-    assert err.is_error and err.wire_len is None
+    assert err.is_error and (err.offset, err.wire_len) == (0, len(bad))
     with pytest.warns(DeprecationWarning):
-        assert err.len is None
+        assert err.len == len(bad)
     assert "wire_len" in dir(gyro) and "len" not in dir(gyro) and "len" in dir(log)

@@ -262,7 +262,7 @@ impl Tables {
             Body::Message { name, meta, fields } => {
                 self.add_rendered(origin, event.offset, name, meta, fields);
             }
-            Body::Error { kind, error } => self.add_error(origin, event.offset, kind, error),
+            Body::Error { kind, error, .. } => self.add_error(origin, event.offset, kind, error),
         }
     }
 

@@ -68,10 +68,10 @@ impl AeolusDecoder {
                     },
                     Err(error) => {
                         *malformed = malformed.wrapping_add(1);
-                        AeolusItem::Malformed { frame, error }
+                        AeolusItem::Malformed { frame, error, len }
                     }
                 },
-                Err(e) => AeolusItem::Error(e),
+                Err(error) => AeolusItem::Error { error, len },
             };
             on_item(at, item);
         });
@@ -82,10 +82,10 @@ impl AeolusDecoder {
     /// DECISIONS.md A9).
     pub fn end_of_datagram_items(&mut self, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
         let truncated = &mut self.truncated;
-        self.input.finish(|at, _, event| {
-            if let Err(e) = event {
+        self.input.finish(|at, len, event| {
+            if let Err(error) = event {
                 *truncated = truncated.wrapping_add(1);
-                on_item(at, AeolusItem::Error(e));
+                on_item(at, AeolusItem::Error { error, len });
             }
         });
         // The datagram's closing flag opens no frame for the next one.
@@ -95,10 +95,10 @@ impl AeolusDecoder {
     /// The input ended: a frame in progress is given up as [`AeolusItem::InputEnded`].
     pub fn finish_items(&mut self, mut on_item: impl FnMut(u64, AeolusItem<'_>)) {
         let truncated = &mut self.truncated;
-        self.input.finish(|at, _, event| {
+        self.input.finish(|at, len, event| {
             if event.is_err() {
                 *truncated = truncated.wrapping_add(1);
-                on_item(at, AeolusItem::InputEnded);
+                on_item(at, AeolusItem::InputEnded { len });
             }
         });
     }
@@ -122,11 +122,21 @@ pub enum AeolusItem<'a> {
         frame: aeolus_proto::Frame<'a>,
         /// Why it does not parse.
         error: aeolus_proto::Error,
+        /// Its length on the wire, both flags included.
+        len: u64,
     },
     /// An error in the stream (the frame in progress, if any, was dropped).
-    Error(aeolus_proto::Error),
+    Error {
+        /// What went wrong.
+        error: aeolus_proto::Error,
+        /// The length on the wire of the bytes it condemns, from the frame's opening flag.
+        len: u64,
+    },
     /// The input ended inside a frame (counted as `truncated`).
-    InputEnded,
+    InputEnded {
+        /// The frame's bytes on the wire, from its opening flag to the input's end.
+        len: u64,
+    },
 }
 
 impl AeolusItem<'_> {
@@ -146,9 +156,11 @@ impl AeolusItem<'_> {
                     fields,
                 )
             }
-            AeolusItem::Malformed { .. } | AeolusItem::Error(_) | AeolusItem::InputEnded => {
+            AeolusItem::Malformed { len, .. }
+            | AeolusItem::Error { len, .. }
+            | AeolusItem::InputEnded { len } => {
                 let (kind, error) = self.error().unwrap_or_default();
-                Event::error(offset, kind, error)
+                Event::error(offset, *len, kind, error)
             }
         }
     }
@@ -157,12 +169,12 @@ impl AeolusItem<'_> {
     pub fn error(&self) -> Option<(String, String)> {
         match self {
             AeolusItem::Message { .. } => None,
-            AeolusItem::Malformed { frame, error } => Some((
+            AeolusItem::Malformed { frame, error, .. } => Some((
                 error_kind(error),
                 format!("{error} (frame {})", hex(frame.raw())),
             )),
-            AeolusItem::Error(e) => Some((error_kind(e), e.to_string())),
-            AeolusItem::InputEnded => Some((
+            AeolusItem::Error { error, .. } => Some((error_kind(error), error.to_string())),
+            AeolusItem::InputEnded { .. } => Some((
                 error_kind(&aeolus_proto::Error::Truncated),
                 "input ends inside a frame".into(),
             )),

@@ -148,8 +148,8 @@ fn aok_event<T>(
             meta.insert("len".into(), json!(len));
             Event::message(at, name, meta, fields)
         }
-        Err(e @ aok_proto::Error::Truncated) => Event::error(at, error_kind(&e), why),
-        Err(e) => Event::error(at, error_kind(&e), e.to_string()),
+        Err(e @ aok_proto::Error::Truncated) => Event::error(at, len, error_kind(&e), why),
+        Err(e) => Event::error(at, len, error_kind(&e), e.to_string()),
     }
 }
 

@@ -91,10 +91,11 @@ pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRen
     Ok((name, meta, fields))
 }
 
-/// An AYDP event at input offset `at` as `decode` prints it; a frame whose data does not
-/// parse counts as `malformed`, a candidate the input ended inside as `truncated`.
+/// An AYDP event at input offset `at`, `len` bytes on the wire, as `decode` prints it; a
+/// frame whose data does not parse counts as `malformed`, a candidate the input ended inside
+/// as `truncated`.
 fn aydp_event(
-    at: u64,
+    (at, len): (u64, u64),
     event: aydp_proto::Result<aydp_proto::Frame<'_>>,
     malformed: &mut u32,
     truncated: &mut u32,
@@ -104,29 +105,29 @@ fn aydp_event(
             Ok((name, meta, fields)) => Event::message(at, name, meta, fields),
             Err((kind, e)) => {
                 *malformed = malformed.wrapping_add(1);
-                Event::error(at, kind, e)
+                Event::error(at, len, kind, e)
             }
         },
         Err(e @ aydp_proto::Error::Truncated) => {
             *truncated = truncated.wrapping_add(1);
-            Event::error(at, error_kind(&e), "input ends inside a message")
+            Event::error(at, len, error_kind(&e), "input ends inside a message")
         }
-        Err(e) => Event::error(at, error_kind(&e), e.to_string()),
+        Err(e) => Event::error(at, len, error_kind(&e), e.to_string()),
     }
 }
 
 impl StreamDecoder for AydpDecoder {
     fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
         let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
-        self.input.feed(bytes, offset, |at, _, event| {
-            out.push(aydp_event(at, event, malformed, truncated));
+        self.input.feed(bytes, offset, |at, len, event| {
+            out.push(aydp_event((at, len), event, malformed, truncated));
         });
     }
 
     fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
         let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
-        self.input.finish(|at, _, event| {
-            out.push(aydp_event(at, event, malformed, truncated));
+        self.input.finish(|at, len, event| {
+            out.push(aydp_event((at, len), event, malformed, truncated));
         });
     }
 

@@ -32,10 +32,10 @@ impl Gdl90Decoder {
     /// given up as `truncated`.
     fn give_up(&mut self, why: &str, out: &mut Vec<Event>) {
         let truncated = &mut self.truncated;
-        self.input.finish(|at, _, event| {
+        self.input.finish(|at, len, event| {
             if let Err(e) = event {
                 *truncated = truncated.wrapping_add(1);
-                out.push(Event::error(at, error_kind(&e), why));
+                out.push(Event::error(at, len, error_kind(&e), why));
             }
         });
     }
@@ -65,7 +65,7 @@ impl StreamDecoder for Gdl90Decoder {
                     meta.insert("len".into(), json!(len));
                     out.push(Event::message(at, name, meta, fields));
                 }
-                Err(e) => out.push(Event::error(at, error_kind(&e), e.to_string())),
+                Err(e) => out.push(Event::error(at, len, error_kind(&e), e.to_string())),
             });
     }
 

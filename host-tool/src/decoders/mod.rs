@@ -52,6 +52,8 @@ pub enum Body {
         kind: String,
         /// One sentence.
         error: String,
+        /// The length on the wire of the bytes it condemns (from the event's offset).
+        len: u64,
     },
 }
 
@@ -77,12 +79,13 @@ impl Event {
         }
     }
 
-    fn error(offset: u64, kind: impl Into<String>, error: impl Into<String>) -> Self {
+    fn error(offset: u64, len: u64, kind: impl Into<String>, error: impl Into<String>) -> Self {
         Event {
             offset,
             body: Body::Error {
                 kind: kind.into(),
                 error: error.into(),
+                len,
             },
         }
     }
@@ -98,8 +101,9 @@ impl Event {
                 m.extend(meta.clone());
                 m.insert("fields".into(), fields.clone());
             }
-            Body::Error { error, .. } => {
+            Body::Error { error, len, .. } => {
                 m.insert("kind".into(), json!("error"));
+                m.insert("len".into(), json!(len));
                 m.insert("error".into(), json!(error));
             }
         }
@@ -212,11 +216,12 @@ mod examples {
             body: Body::Error {
                 kind: "checksum_mismatch".into(),
                 error: "checksum mismatch".into(),
+                len: 11,
             },
         };
         assert_eq!(
             e.to_json().to_string(),
-            r#"{"offset":7,"kind":"error","error":"checksum mismatch"}"#
+            r#"{"offset":7,"kind":"error","len":11,"error":"checksum mismatch"}"#
         );
         Ok(())
     }
@@ -228,6 +233,7 @@ mod examples {
             body: Body::Error {
                 kind: "checksum_mismatch".into(),
                 error: "checksum mismatch".into(),
+                len: 11,
             },
         };
         assert_eq!(e.to_text(), "@7 error: checksum mismatch");

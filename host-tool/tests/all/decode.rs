@@ -254,8 +254,12 @@ fn aok_checksum_errors_appear_with_their_offset() {
     stream.extend(unhex("1c03123456780b"));
     let (lines, counters) = decode_json(&["--proto", "aok"], &stream);
     assert_eq!(lines[0]["kind"], "error");
-    // At the first byte of the frame it condemns, not at its last, where it was found.
-    assert_eq!(lines[0]["offset"], 0);
+    // At the first byte of the frame it condemns, not at its last, where it was found, and
+    // as long as that frame.
+    assert_eq!(
+        (&lines[0]["offset"], &lines[0]["len"]),
+        (&json!(0), &json!(7))
+    );
     assert_eq!(lines[0]["error"], "checksum mismatch");
     assert_eq!(lines.last().unwrap()["fields"]["value"], 305_419_896);
     // The rescan after the false start meets more false starts (FF...): each is reported.

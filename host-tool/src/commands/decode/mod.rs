@@ -4,8 +4,9 @@
 //! The offset of a message is the 0-based index of its first byte in the input: the opening
 //! flag of an AEOLUS frame, the 0xFF start of an AYDP message, the first byte of an AOK frame,
 //! also for messages a rescan found among bytes already held. `len` is its length on the wire,
-//! so its bytes are `offset..offset + len`. An AEOLUS or AYDP error is reported at the first
-//! byte of the failed frame or candidate; an AOK error at the byte that revealed it.
+//! so its bytes are `offset..offset + len`. An error is reported at the first byte of what it
+//! condemns (an AEOLUS or GDL90 frame's opening flag, an AYDP candidate's 0xFF, an AOK frame's
+//! first byte), its `len` those bytes' length on the wire.
 
 use std::time::Duration;
 
