@@ -260,13 +260,15 @@ fn aok_parameter_and_waypoint(board: Board) {
     let mut now = || t0.elapsed().as_millis() as u32;
 
     // Parameter 12 (settable in flight) to 1500, read back; the debug stream runs meanwhile.
-    client
-        .set_parameter(12, 1500, &mut now)
-        .expect("set parameter 12");
-    assert_eq!(client.read_parameter(12, &mut now), Ok(1500), "log: {log}");
+    aok_once_more(|| client.set_parameter(12, 1500, &mut now)).expect("set parameter 12");
+    assert_eq!(
+        aok_once_more(|| client.read_parameter(12, &mut now)),
+        Ok(1500),
+        "log: {log}"
+    );
     // Parameter 20 is not settable in flight: 'I' while the simulated flight runs.
     assert_eq!(
-        client.set_parameter(20, 7, &mut now),
+        aok_once_more(|| client.set_parameter(20, 7, &mut now)),
         Err(aok_proto::ClientError::RefusedInFlight)
     );
 
@@ -278,9 +280,9 @@ fn aok_parameter_and_waypoint(board: Board) {
         action1: ActionWord(0x0002_800F),
         action2: ActionWord(0x0006_80FA),
     };
-    client.set_waypoint(wp, &mut now).expect("set waypoint 1");
+    aok_once_more(|| client.set_waypoint(wp, &mut now)).expect("set waypoint 1");
     assert_eq!(
-        client.read_waypoint(wp.slot, &mut now),
+        aok_once_more(|| client.read_waypoint(wp.slot, &mut now)),
         Ok(wp),
         "log: {log}"
     );
