@@ -270,9 +270,8 @@ host_tests() {
   host_part "QEMU tests (protolink-tests)" run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 &
   qemu_pid=$!
   # The rest of this lane at nice 10, as the foreground's later steps: the emulated boards run
-  # in real time (their UART gaps, their sensors' freshness), and on two cores a QEMU starved
-  # by the other tests failed two clean runs (an AOK command split wider than the box's gap,
-  # POV without a fresh TEMP); the lane started above keeps nice 0.
+  # in real time (their UART gaps, their sensors' freshness), so on two cores the QEMU lane
+  # started above keeps nice 0 and is not starved by the other tests.
   renice -n 10 -p "$BASHPID" >/dev/null
   host_part "the other crates' test binaries" run_binaries "$logs/binaries-rest.txt" "$host_log" ||
     failed+=("the other crates' test binaries")

@@ -1032,8 +1032,7 @@ pub fn emulated_aok_config() -> aok_proto::Config {
 /// a command only when its bytes come as one burst (`sensor_box::aok_link::GAP_MS`), and the
 /// STM32's emulated USART takes one byte at a time from QEMU: under the parallel test load
 /// QEMU can hand the bytes of one write over further apart than that, and the box rightly
-/// drops the command (seen once in CI: `set parameter 12: Timeout` on the STM32 board, while
-/// the lm3s6965's 16-byte FIFO took the same write whole). The requests sent this way set or
+/// drops the command (the lm3s6965's 16-byte FIFO takes the same write whole). The requests sent this way set or
 /// read a value, so the second one asks the same; a box that never answers fails both.
 pub fn aok_once_more<T>(
     mut request: impl FnMut() -> Result<T, aok_proto::ClientError>,
