@@ -22,7 +22,7 @@
 //! | shared | [`datagrams`] | the UDP side of an AEOLUS box: frames packed into datagrams, the in-port |
 //! | shared | [`capture`] | pcapng/pcap captures: link types and ports, reading and writing |
 //! | shared | [`proto`] | what a stream carries: protocol, AYDP profile, AOK side |
-//! | shared | [`decoders`] | stream decoders for the four protocols: events, fields as JSON, counters |
+//! | shared | [`decoders`] | the stream decoder of the four protocols: typed items placed in the input, their rendering as events, counters |
 //! | shared | [`telemetry`] | the live AEOLUS telemetry model that `watch` and `web` show |
 //! | shared | [`air_data`] | the one air-data truth: IAS, TAS, pressure altitude, vertical speed (PL39) |
 //! | shared | [`fresh`] | how long a telemetry value stays current for what the faces send |
@@ -33,12 +33,12 @@
 //! | shared | [`error`] | the crate's one error type |
 //!
 //! ```
-//! use protolink::decoders::{AeolusDecoder, StreamDecoder};
+//! use protolink::decoders::Decoder;
+//! use protolink::proto::Proto;
 //! // A TOAST "hi" frame, then one with a flipped bit.
 //! let stream = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E, 0x7E, 0x52, b'h', b'j', 0, 0x73, 0xEC, 0x7E];
-//! let mut decoder = AeolusDecoder::new();
-//! let mut events = Vec::new();
-//! decoder.feed(&stream, 0, &mut events);
+//! let mut decoder = Decoder::new(Proto::Aeolus, Default::default(), Default::default());
+//! let events = decoder.events(&stream, 0, false);
 //! assert_eq!(events[0].to_text(), "@0 TOAST id=82 len=8 crc=ok text=hi");
 //! assert!(events[1].to_text().starts_with("@8 error: CRC mismatch on message 82"));
 //! ```

@@ -3,14 +3,14 @@
 
 use aeolus_proto::message::{self as msg, Message, Text};
 use aeolus_proto::{CrcMode, max_encoded_len};
-use protolink::decoders::{AeolusDecoder, AeolusItem, aeolus_fields};
+use protolink::decoders::{AeolusDecoder, Decoder as Core, aeolus_fields};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use serde_json::{Map, Value};
 
 use crate::decoder::Decoder;
-use crate::encode::{self, check_names, data_bytes, invalid, keys, needed, read};
+use crate::encode::{self, check_decodes, check_names, data_bytes, invalid, keys, needed, read};
 use crate::stream::Stream;
 
 /// The AEOLUS stream decoder, as `protolink decode --proto aeolus` runs it: frames with or
@@ -138,23 +138,9 @@ pub(crate) fn encode_aeolus<'py>(
         .encode(&mut buf, if crc { CrcMode::Compute } else { CrcMode::Omit })
         .map_err(|e| invalid(name, e))?;
     buf.truncate(n);
-    check_decodes(name, &buf)?;
+    // An ID the spec defines sent as UNKNOWN, a LOG longer than a decoder holds, a malformed
+    // layout: refused.
+    let decoder = Core::Aeolus(AeolusDecoder::new());
+    check_decodes(name, &buf, decoder, &format!(", not {name}"), false)?;
     Ok(PyBytes::new(py, &buf))
-}
-
-/// Refuses a frame that the decoder would not give back as a `name` message (an ID the spec
-/// defines sent as UNKNOWN, a LOG longer than a decoder holds, a malformed layout).
-fn check_decodes(name: &str, frame: &[u8]) -> PyResult<()> {
-    let mut decoder = AeolusDecoder::new();
-    let mut outcome = Err("the decoder gives nothing back".to_owned());
-    decoder.feed_items(frame, 0, |_, item| {
-        outcome = match &item {
-            AeolusItem::Message { message, .. } if message.name() == name => Ok(()),
-            AeolusItem::Message { message, .. } => {
-                Err(format!("it decodes as {}, not {name}", message.name()))
-            }
-            other => Err(other.error().map(|e| e.1).unwrap_or_default()),
-        };
-    });
-    outcome.map_err(|why| invalid(name, why))
 }

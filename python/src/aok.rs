@@ -3,7 +3,7 @@
 
 use aok_proto::{ActionWord, Command, Message, ReplyForm, Waypoint, WaypointSlot};
 use protolink::commands::aok::{parse_action, parse_slot};
-use protolink::decoders::AokDecoder;
+use protolink::decoders::{AokDecoder, Decoder as Core};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -205,7 +205,13 @@ pub(crate) fn encode_aok<'py>(
         Frame::Message(_) => Side::Device,
     };
     // A lone ack byte is not decodable passively: only a PC that sent a command expects one.
-    check_decodes(name, &out, AokDecoder::new(side), "", name == "ACK")?;
+    check_decodes(
+        name,
+        &out,
+        Core::Aok(AokDecoder::new(side)),
+        "",
+        name == "ACK",
+    )?;
     Ok(PyBytes::new(py, &out))
 }
 

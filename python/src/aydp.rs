@@ -7,7 +7,7 @@ use aydp_proto::{
     Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
     WindDirection, WindSpeed,
 };
-use protolink::decoders::AydpDecoder;
+use protolink::decoders::{AydpDecoder, Decoder as Core};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -230,7 +230,7 @@ pub(crate) fn encode_aydp<'py>(
     buf.truncate(n);
     // A reference type in the spec profile, a heartbeat sent normal, a list too long for a
     // decoder: refused.
-    let decoder = AydpDecoder::new(profile);
+    let decoder = Core::Aydp(AydpDecoder::new(profile));
     check_decodes(
         name,
         &buf,

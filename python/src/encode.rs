@@ -1,7 +1,7 @@
 //! What the encoders share: turning keyword arguments into the crates' types through serde,
 //! refusing fields a message does not have, and one sentence for every refusal.
 
-use protolink::decoders::{Body, StreamDecoder};
+use protolink::decoders::{Body, Decoder as Core};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -131,13 +131,12 @@ pub(crate) fn camel(name: &str) -> String {
 pub(crate) fn check_decodes(
     name: &str,
     frame: &[u8],
-    mut decoder: impl StreamDecoder,
+    mut decoder: Core,
     form: &str,
     silent: bool,
 ) -> PyResult<()> {
-    let mut events = Vec::new();
-    decoder.feed(frame, 0, &mut events);
-    decoder.finish(frame.len() as u64, &mut events);
+    let mut events = decoder.events(frame, 0, false);
+    decoder.finish(|p| events.push(p.to_event()));
     match events.first().map(|e| &e.body) {
         Some(Body::Message { name: got, .. }) if got == name => Ok(()),
         Some(Body::Message { name: got, .. }) => {

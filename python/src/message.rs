@@ -1,10 +1,11 @@
 //! What a decoder hands Python: `Message` (a decoded message: name, ID, offset, one
 //! attribute per field) and `ErrorEvent` (bad bytes in the stream: kind, sentence, offset).
 //!
-//! A message keeps what the decoder produced, without the GIL, and builds its Python fields
-//! the first time one is read, once: an AEOLUS message keeps its frame's data and renders it
-//! with the host tool's `aeolus_fields`; the others keep the host tool's rendered fields. Either
-//! way the fields are exactly the `"fields"` of `protolink decode --json`.
+//! A message keeps the decoder's typed item (`protolink::decoders::Kept`: its frame's bytes, or
+//! the owned message), decoded without the GIL, and builds its Python fields the first time one
+//! is read, once: an AEOLUS message of a fixed layout straight from its typed value, the others
+//! as the host tool renders them. Either way the fields are exactly the `"fields"` of
+//! `protolink decode --json`; a row of `to_arrow` is the typed item's, as in `protolink export`.
 //!
 //! A field wins over the attribute of its name: `m.x` is `m["x"]` whenever the message has a
 //! field `x`. Three attributes have a field of their name in some message type (`name`: GDL90
@@ -15,7 +16,7 @@
 
 use protolink::columns::Tables;
 use protolink::commands::decode::capture::proto_name;
-use protolink::decoders::{Body as EventBody, aeolus_fields, aeolus_meta};
+use protolink::decoders::{Body as EventBody, Item, Kept};
 use protolink::proto::Proto;
 use pyo3::IntoPyObjectExt;
 use pyo3::exceptions::{PyAttributeError, PyDeprecationWarning, PyKeyError};
@@ -24,7 +25,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList, PyString};
 use serde_json::{Map, Value};
 
-use crate::stream::{AeolusFrame, Pending};
+use crate::stream::Pending;
 use crate::to_python::to_python;
 use crate::value;
 
@@ -40,19 +41,6 @@ pub(crate) struct Origin {
     pub(crate) frame: Option<u64>,
 }
 
-/// What a message holds before its fields are read.
-#[derive(Debug)]
-enum Body {
-    /// An AEOLUS frame as received.
-    Aeolus(AeolusFrame),
-    /// A message as the host tool renders it.
-    Rendered {
-        name: String,
-        meta: Map<String, Value>,
-        fields: Value,
-    },
-}
-
 /// A decoded message: `name`, `id`, `offset`, and one attribute per field in the protocol
 /// crate's units (also `msg["field"]` and `to_dict()`); a field wins over the attribute of
 /// its name.
@@ -60,7 +48,7 @@ enum Body {
 pub(crate) struct Message {
     proto: Proto,
     offset: u64,
-    body: Body,
+    body: Kept,
     origin: Option<Box<Origin>>,
     fields: PyOnceLock<Py<PyDict>>,
 }
@@ -86,25 +74,18 @@ pub(crate) fn to_object<'py>(
     origin: Option<&Origin>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let origin = origin.map(|o| Box::new(o.clone()));
-    let (offset, body) = match pending {
-        Pending::Aeolus(frame) => (frame.offset, Body::Aeolus(frame)),
-        Pending::Event(event) => match event.body {
-            EventBody::Message { name, meta, fields } => {
-                (event.offset, Body::Rendered { name, meta, fields })
-            }
-            EventBody::Error { kind, error, len } => {
-                let e = ErrorEvent {
-                    proto,
-                    offset: event.offset,
-                    wire_len: len,
-                    kind,
-                    error,
-                    origin,
-                };
-                return Ok(Bound::new(py, e)?.into_any());
-            }
-        },
-    };
+    if let Some((kind, error)) = pending.error() {
+        let e = ErrorEvent {
+            proto,
+            offset: pending.offset,
+            wire_len: pending.len,
+            kind: kind.to_owned(),
+            error: error.to_owned(),
+            origin,
+        };
+        return Ok(Bound::new(py, e)?.into_any());
+    }
+    let (offset, body) = (pending.offset, pending);
     let m = Message {
         proto,
         offset,
@@ -123,40 +104,7 @@ pub(crate) fn add_row(obj: &Bound<'_, PyAny>, tables: &mut Tables) -> PyResult<(
     if let Ok(m) = obj.cast::<Message>() {
         let m = m.get();
         let origin = columns_origin(m.origin.as_deref(), m.proto);
-        match &m.body {
-            Body::Aeolus(f) => match aeolus_proto::message::Message::parse(f.id, &f.data) {
-                Ok(message) => {
-                    tables.add_aeolus_message(&origin, f.offset, f.id, f.has_crc, f.len, &message)
-                }
-                Err(e) => tables.add_error(&origin, f.offset, "malformed", &e.to_string()),
-            },
-            Body::Rendered { name, meta, fields } => {
-                // An AEOLUS message of a capture arrives rendered: read back into its typed
-                // value (exact: a rendered f32 is its shortest decimal), its columns have the
-                // wire's types, as those of a byte file.
-                let typed = if m.proto == Proto::Aeolus {
-                    crate::aeolus::typed(name, fields.clone()).ok().flatten()
-                } else {
-                    None
-                };
-                match typed {
-                    Some(message) => {
-                        let number = |k: &str| meta.get(k).and_then(Value::as_u64).unwrap_or(0);
-                        let id = u8::try_from(number("id")).unwrap_or(0);
-                        let has_crc = meta.get("crc").and_then(Value::as_str) != Some("none");
-                        tables.add_aeolus_message(
-                            &origin,
-                            m.offset,
-                            id,
-                            has_crc,
-                            number("len"),
-                            &message,
-                        );
-                    }
-                    None => tables.add_rendered(&origin, m.offset, name, meta, fields),
-                }
-            }
-        }
+        m.body.with(|p| tables.add(&origin, p));
         return Ok(());
     }
     if let Ok(e) = obj.cast::<ErrorEvent>() {
@@ -187,29 +135,33 @@ fn columns_origin(origin: Option<&Origin>, proto: Proto) -> protolink::columns::
 
 /// The fields of an AEOLUS message of a fixed layout, straight from its typed value to Python
 /// (as `aeolus_fields` renders them, without the JSON value in between); `None` for the texts
-/// and raw messages, which the host tool renders its own way.
-fn aeolus_typed<'py>(py: Python<'py>, f: &AeolusFrame) -> Option<PyResult<Bound<'py, PyDict>>> {
+/// and raw messages and the other protocols, which the host tool renders its own way.
+fn aeolus_typed<'py>(py: Python<'py>, kept: &Kept) -> Option<PyResult<Bound<'py, PyDict>>> {
     use aeolus_proto::message::Message as M;
-    let m = M::parse(f.id, &f.data).ok()?;
-    let fields = match &m {
-        M::AeolusInfo(v) => to_python(py, v),
-        M::Pressure(v) => to_python(py, v),
-        M::Gyro(v) => to_python(py, v),
-        M::Accel(v) => to_python(py, v),
-        M::Magnet(v) => to_python(py, v),
-        M::Temp(v) => to_python(py, v),
-        M::Gps(v) => to_python(py, v),
-        M::Attitude(v) => to_python(py, v),
-        M::Compass(v) => to_python(py, v),
-        M::Wind(v) => to_python(py, v),
-        M::SetTime(v) => to_python(py, v),
-        M::CalibInfo(_)
-        | M::DebugInfo(_)
-        | M::Log(_)
-        | M::Toast(_)
-        | M::Command(_)
-        | M::Unknown { .. } => return None,
-    };
+    let fields = kept.with(|p| {
+        let Item::Aeolus { message, .. } = &p.item else {
+            return None;
+        };
+        Some(match message {
+            M::AeolusInfo(v) => to_python(py, v),
+            M::Pressure(v) => to_python(py, v),
+            M::Gyro(v) => to_python(py, v),
+            M::Accel(v) => to_python(py, v),
+            M::Magnet(v) => to_python(py, v),
+            M::Temp(v) => to_python(py, v),
+            M::Gps(v) => to_python(py, v),
+            M::Attitude(v) => to_python(py, v),
+            M::Compass(v) => to_python(py, v),
+            M::Wind(v) => to_python(py, v),
+            M::SetTime(v) => to_python(py, v),
+            M::CalibInfo(_)
+            | M::DebugInfo(_)
+            | M::Log(_)
+            | M::Toast(_)
+            | M::Command(_)
+            | M::Unknown { .. } => return None,
+        })
+    })?;
     Some(fields.and_then(|d| d.cast_into::<PyDict>().map_err(PyErr::from)))
 }
 
@@ -249,21 +201,24 @@ impl Message {
     /// texts and raw data (rendered by the host tool) have a field named like an attribute;
     /// the typed ones have none (`python/tests/test_field_names.py` checks every type).
     fn field_named<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let has = match &self.body {
-            Body::Aeolus(f) => {
+        // The typed AEOLUS messages have no field named like an attribute: no fields built.
+        let typed = self.proto == Proto::Aeolus
+            && self.body.with(|p| {
                 use aeolus_proto::message::Message as M;
-                matches!(
-                    M::parse(f.id, &f.data),
-                    Ok(M::CalibInfo(_)
-                        | M::DebugInfo(_)
-                        | M::Log(_)
-                        | M::Toast(_)
-                        | M::Command(_)
-                        | M::Unknown { .. })
+                !matches!(
+                    &p.item,
+                    Item::Aeolus {
+                        message: M::CalibInfo(_)
+                            | M::DebugInfo(_)
+                            | M::Log(_)
+                            | M::Toast(_)
+                            | M::Command(_)
+                            | M::Unknown { .. },
+                        ..
+                    }
                 )
-            }
-            Body::Rendered { fields, .. } => fields.get(key).is_some(),
-        };
+            });
+        let has = !typed && self.rendered_fields().get(key).is_some();
         if has {
             self.fields(py)?.get_item(key)
         } else {
@@ -273,29 +228,24 @@ impl Message {
 
     /// The message's length on the wire.
     fn wire_len_value(&self) -> Option<u64> {
-        match &self.body {
-            Body::Aeolus(f) => Some(f.len),
-            Body::Rendered { meta, .. } => meta.get("len").and_then(Value::as_u64),
+        Some(self.body.len)
+    }
+
+    /// The message as `protolink decode --json` renders it: its name, metadata and fields.
+    fn event(&self) -> (Map<String, Value>, Value) {
+        match self.body.with(|p| p.to_event()).body {
+            EventBody::Message { meta, fields, .. } => (meta, fields),
+            EventBody::Error { .. } => (Map::new(), Value::Null),
         }
     }
 
     /// The message's fields, rendered as `protolink decode --json` renders them.
-    fn rendered(&self) -> Value {
-        match &self.body {
-            Body::Aeolus(f) => match aeolus_proto::message::Message::parse(f.id, &f.data) {
-                Ok(m) => aeolus_fields(&m).1,
-                // The frame parsed when it was decoded, and parsing is a pure function.
-                Err(e) => serde_json::json!({ "error": e.to_string() }),
-            },
-            Body::Rendered { fields, .. } => fields.clone(),
-        }
+    fn rendered_fields(&self) -> Value {
+        self.event().1
     }
 
     fn meta_map(&self) -> Map<String, Value> {
-        match &self.body {
-            Body::Aeolus(f) => aeolus_meta(f.id, f.len, f.has_crc),
-            Body::Rendered { meta, .. } => meta.clone(),
-        }
+        self.event().0
     }
 
     /// The fields as a Python dict, built once.
@@ -303,12 +253,10 @@ impl Message {
         let d = self
             .fields
             .get_or_try_init(py, || -> PyResult<Py<PyDict>> {
-                if let Body::Aeolus(f) = &self.body
-                    && let Some(d) = aeolus_typed(py, f)
-                {
+                if let Some(d) = aeolus_typed(py, &self.body) {
                     return Ok(d?.unbind());
                 }
-                let map = match self.rendered() {
+                let map = match self.rendered_fields() {
                     Value::Object(m) => m,
                     other => {
                         let mut m = Map::new();
@@ -321,13 +269,8 @@ impl Message {
         Ok(d.bind(py))
     }
 
-    fn name_str(&self) -> String {
-        match &self.body {
-            Body::Aeolus(f) => aeolus_proto::message::Message::parse(f.id, &f.data)
-                .map_or("MALFORMED", |m| m.name())
-                .to_owned(),
-            Body::Rendered { name, .. } => name.clone(),
-        }
+    fn name_str(&self) -> &'static str {
+        self.body.name()
     }
 }
 
@@ -347,14 +290,7 @@ impl Message {
     /// The message's name, as pymavlink's `get_type()` gives it: always the message's, even
     /// where a field is named `name`.
     fn get_type<'py>(&self, py: Python<'py>) -> Bound<'py, PyString> {
-        match &self.body {
-            Body::Aeolus(f) => PyString::intern(
-                py,
-                aeolus_proto::message::Message::parse(f.id, &f.data)
-                    .map_or("MALFORMED", |m| m.name()),
-            ),
-            Body::Rendered { name, .. } => PyString::new(py, name),
-        }
+        PyString::intern(py, self.body.name())
     }
 
     /// The message's identifier on the wire: the AEOLUS and GDL90 message ID, the AYDP base
@@ -365,13 +301,11 @@ impl Message {
         if let Some(field) = self.field_named(py, "id")? {
             return Ok(Some(field));
         }
-        let id = match &self.body {
-            Body::Aeolus(f) => Some(u64::from(f.id)),
-            Body::Rendered { name, meta, fields } => match self.proto {
-                Proto::Aydp => meta.get("type").and_then(Value::as_u64),
-                Proto::Aok => crate::aok::first_byte(name, fields).map(u64::from),
-                Proto::Aeolus | Proto::Gdl90 => meta.get("id").and_then(Value::as_u64),
-            },
+        let (meta, fields) = self.event();
+        let id = match self.proto {
+            Proto::Aydp => meta.get("type").and_then(Value::as_u64),
+            Proto::Aok => crate::aok::first_byte(self.body.name(), &fields).map(u64::from),
+            Proto::Aeolus | Proto::Gdl90 => meta.get("id").and_then(Value::as_u64),
         };
         id.map(|id| id.into_bound_py_any(py)).transpose()
     }

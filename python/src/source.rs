@@ -17,7 +17,6 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
 use protolink::commands::decode::tables::Select;
-use protolink::decoders::Body;
 use protolink::endpoint::{Endpoint, Input, Link};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{
@@ -153,7 +152,7 @@ impl Source {
                             time,
                             flow,
                             proto,
-                            event,
+                            item,
                         } = item
                         {
                             let origin = Origin {
@@ -161,7 +160,7 @@ impl Source {
                                 flow: Some(flow),
                                 frame: Some(frame),
                             };
-                            out.push((Pending::Event(event), proto, Some(origin)));
+                            out.push((item, proto, Some(origin)));
                         }
                     }
                     if !out.is_empty() {
@@ -268,9 +267,7 @@ impl Reader {
             let more = py.detach(|| source.step(&mut batch)).map_err(error)?;
             self.ended = !more;
             for (pending, proto, origin) in batch {
-                let is_error =
-                    matches!(&pending, Pending::Event(e) if matches!(e.body, Body::Error { .. }));
-                if is_error && !self.errors {
+                if pending.is_error() && !self.errors {
                     continue;
                 }
                 self.ready

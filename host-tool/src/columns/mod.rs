@@ -13,34 +13,34 @@
 //! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
 //! | each field | its own | the `"fields"` of `decode --json`, a nested one as `outer.inner` |
 //!
-//! The fields' types: an AEOLUS message of a fixed layout keeps the wire's types (`f32` as
-//! Float32, `u16` as UInt16, a fixed-size array as a column per element); the other messages'
-//! fields are rendered JSON values, whose integers become Int64, reals Float64, flags Boolean
-//! and texts Utf8; a list is kept as its JSON text. Error events make the table
-//! `ERROR` (`kind`, `error`). A field named like a metadata column is written as
+//! The fields' types are the message types' own, in all four protocols: the wire's widths
+//! (`f32` as Float32, `u16` as UInt16, a fixed-size array as a column per element), flags as
+//! Boolean, an enum without data by its variant's name (Utf8); what `decode` shows by name or
+//! as hex is that text (AOK slots and actions, an AYDP system control's `command`, raw
+//! `data`); a list (AYDP output entries, satellites) is kept as its JSON text. Error events
+//! make the table `ERROR` (`kind`, `error`). A field named like a metadata column is written as
 //! `field.NAME` (no field of the four protocols is).
 //!
 //! ```
 //! use protolink::columns::{Origin, Tables};
-//! use protolink::decoders::{AeolusDecoder, AeolusItem};
+//! use protolink::decoders::AeolusDecoder;
 //!
 //! let mut tables = Tables::new(1024);
 //! let mut d = AeolusDecoder::new();
 //! let origin = Origin::default();
-//! d.feed_items(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |at, item| {
-//!     tables.add_aeolus(&origin, at, &item);
-//! });
+//! d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |p| tables.add(&origin, &p));
 //! let batches = tables.finish();
 //! let (name, batch) = &batches[0];
 //! assert_eq!((name.as_str(), batch.num_rows()), ("TOAST", 1));
 //! let names: Vec<_> = batch.schema().fields().iter().map(|f| f.name().clone()).collect();
-//! assert_eq!(names, ["capture_time", "offset", "meta.id", "meta.len", "meta.crc", "text"]);
+//! assert_eq!(names, ["capture_time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
 //! ```
 
 mod column;
 mod fnv;
 mod row;
 mod table;
+mod typed;
 mod unit;
 pub mod write;
 
@@ -52,7 +52,7 @@ use self::column::Scalar;
 use self::fnv::FnvMap;
 use self::row::{Ints, write_fields};
 use self::table::Table;
-use crate::decoders::{AeolusItem, Body, Event, EventSink, aeolus_fields};
+use crate::decoders::{Item, Placed, aok_command_name, aok_message_name, aydp_name};
 use crate::proto::{Proto, proto_name};
 
 /// Rows per row group (record batch) unless asked otherwise: 64 Ki rows of one type, a few
@@ -76,26 +76,6 @@ pub struct Origin {
     pub frame: Option<u64>,
     /// The flow's protocol (from a capture).
     pub proto: Option<Proto>,
-}
-
-/// A decoder's events as rows of `tables`, each from `origin` (what
-/// [`StreamDecoder::feed_to`](crate::decoders::StreamDecoder::feed_to) hands them to).
-#[derive(Debug)]
-pub struct Sink<'a> {
-    /// The tables the rows go to.
-    pub tables: &'a mut Tables,
-    /// Where the events come from.
-    pub origin: &'a Origin,
-}
-
-impl EventSink for Sink<'_> {
-    fn event(&mut self, event: &Event) {
-        self.tables.add_event(self.origin, event);
-    }
-
-    fn aeolus(&mut self, offset: u64, item: &AeolusItem<'_>) {
-        self.tables.add_aeolus(self.origin, offset, item);
-    }
 }
 
 /// The tables being filled, one per message type (in the order the types first came), and
@@ -242,27 +222,63 @@ impl Tables {
         }
     }
 
-    /// Adds a decoder's event: a message to its type's table, an error to `ERROR`.
+    /// Adds a decoder's item: a message to its type's table, each field in a column of its
+    /// own type; an error to `ERROR`.
     ///
     /// ```
     /// use protolink::columns::{Origin, Tables};
-    /// use protolink::decoders::{AydpDecoder, StreamDecoder};
-    /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
-    /// let mut events = Vec::new();
-    /// d.feed(&[0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78], 0, &mut events);
+    /// use protolink::decoders::AydpDecoder;
     /// let mut tables = Tables::new(8);
-    /// for e in &events {
-    ///     tables.add_event(&Origin::default(), e);
-    /// }
+    /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
+    /// d.feed(&[0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78], 0, |p| tables.add(&Origin::default(), &p));
     /// let batches = tables.finish();
     /// assert_eq!(batches[0].0, "HEARTBEAT");
     /// ```
-    pub fn add_event(&mut self, origin: &Origin, event: &Event) {
-        match &event.body {
-            Body::Message { name, meta, fields } => {
-                self.add_rendered(origin, event.offset, name, meta, fields);
+    pub fn add(&mut self, origin: &Origin, placed: &Placed<'_>) {
+        let (offset, len) = (placed.offset, placed.len);
+        match &placed.item {
+            Item::Aeolus { frame, message } => {
+                self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
             }
-            Body::Error { kind, error, .. } => self.add_error(origin, event.offset, kind, error),
+            Item::Aydp { frame, message } => {
+                let (i, table) = self.begin_static(aydp_name(message), origin, offset);
+                table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
+                table.set_static("meta.expedited", Scalar::Bool(frame.is_expedited()));
+                table.set_static("meta.len", Scalar::I64(wide(len)));
+                let time = frame.timestamp();
+                table.set_typed(
+                    "meta.time.seconds",
+                    time.map(|t| Scalar::I64(t.seconds)),
+                    Scalar::I64(0),
+                );
+                table.set_typed(
+                    "meta.time.subsec",
+                    time.map(|t| Scalar::I64(t.subsec)),
+                    Scalar::I64(0),
+                );
+                typed::aydp(table, message);
+                self.end(i);
+            }
+            Item::AokMessage(m) => {
+                let (i, table) = self.begin_static(aok_message_name(m), origin, offset);
+                table.set_static("meta.len", Scalar::I64(wide(len)));
+                typed::aok_message(table, m);
+                self.end(i);
+            }
+            Item::AokCommand(c) => {
+                let (i, table) = self.begin_static(aok_command_name(c), origin, offset);
+                table.set_static("meta.len", Scalar::I64(wide(len)));
+                typed::aok_command(table, c);
+                self.end(i);
+            }
+            Item::Gdl90(m) => {
+                let (i, table) = self.begin_static(m.name(), origin, offset);
+                table.set_static("meta.id", Scalar::I64(m.id().into()));
+                table.set_static("meta.len", Scalar::I64(wide(len)));
+                typed::gdl90(table, m);
+                self.end(i);
+            }
+            Item::Error(fault) => self.add_error(origin, offset, &fault.kind(), &fault.sentence()),
         }
     }
 
@@ -316,33 +332,6 @@ impl Tables {
         self.end(i);
     }
 
-    /// Adds an AEOLUS decoder's item placed at `offset`: a message of a fixed layout straight
-    /// from its typed value (its columns of the wire's types), a text or raw message as the host
-    /// tool renders it, an error to `ERROR`.
-    ///
-    /// ```
-    /// use protolink::columns::{Origin, Tables};
-    /// use protolink::decoders::AeolusDecoder;
-    /// let mut tables = Tables::new(8);
-    /// AeolusDecoder::new().feed_items(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |at, item| {
-    ///     tables.add_aeolus(&Origin::default(), at, &item)
-    /// });
-    /// assert_eq!(tables.rows(), 1);
-    /// ```
-    pub fn add_aeolus(&mut self, origin: &Origin, offset: u64, item: &AeolusItem<'_>) {
-        let AeolusItem::Message {
-            frame,
-            message,
-            len,
-        } = item
-        else {
-            let (kind, error) = item.error().unwrap_or_default();
-            self.add_error(origin, offset, &kind, &error);
-            return;
-        };
-        self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), *len, message);
-    }
-
     /// Adds an AEOLUS message of ID `id` (`has_crc`: it carried a CRC; `len`: its length on the
     /// wire) placed at `offset`.
     ///
@@ -363,30 +352,13 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
-        use aeolus_proto::message::Message as M;
         let (i, table) = self.begin_static(message.name(), origin, offset);
         table.set_static("meta.id", Scalar::I64(id.into()));
-        table.set(
-            "meta.len",
-            Scalar::I64(i64::try_from(len).unwrap_or(i64::MAX)),
-        );
+        table.set_static("meta.len", Scalar::I64(wide(len)));
         table.set_static("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
         // The typed messages' field names are fixed, and none is a metadata column's
         // (python/tests/test_field_names.py): no check per row.
-        match message {
-            M::AeolusInfo(v) => write_fields(table, v, Ints::Own, None),
-            M::Pressure(v) => write_fields(table, v, Ints::Own, None),
-            M::Gyro(v) => write_fields(table, v, Ints::Own, None),
-            M::Accel(v) => write_fields(table, v, Ints::Own, None),
-            M::Magnet(v) => write_fields(table, v, Ints::Own, None),
-            M::Temp(v) => write_fields(table, v, Ints::Own, None),
-            M::Gps(v) => write_fields(table, v, Ints::Own, None),
-            M::Attitude(v) => write_fields(table, v, Ints::Own, None),
-            M::Compass(v) => write_fields(table, v, Ints::Own, None),
-            M::Wind(v) => write_fields(table, v, Ints::Own, None),
-            M::SetTime(v) => write_fields(table, v, Ints::Own, None),
-            other => write_checked(table, &aeolus_fields(other).1),
-        }
+        typed::aeolus(table, message);
         self.end(i);
     }
 
@@ -454,6 +426,11 @@ pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordB
         })
         .collect();
     (schema, batches)
+}
+
+/// A count or length as an Int64 value (saturated).
+fn wide(n: u64) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
 }
 
 /// A metadata value (a number, flag or text) into the column `name`.

@@ -91,6 +91,12 @@ impl Value<'_> {
             self.table.set_static(name, v);
             return Ok(());
         }
+        if self.path.is_empty() {
+            // A top level that is one value (a number, an enum without data): one column, as
+            // `decode` renders it.
+            self.table.set_static("value", v);
+            return Ok(());
+        }
         if self.ints == Ints::Own {
             self.table.set(self.path, v);
             return Ok(());

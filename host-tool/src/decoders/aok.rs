@@ -1,10 +1,11 @@
 //! AOK in `decode`: either side's decoder through the contract's adapter, each event at its
 //! place (an item at its first byte, an error at the first byte of what it condemns).
 
-use serde_json::{Map, Value, json};
+use serde_json::{Value, json};
 
+use super::aeolus::CUT_SHORT;
 use super::input::Input;
-use super::{Event, StreamDecoder, error_kind};
+use super::{Fault, Item, Placed};
 use crate::proto::Side;
 use crate::render::{self, to_json, variant};
 
@@ -37,6 +38,50 @@ impl AokDecoder {
             Reads::FromDevice(d) => d.decoder().stats(),
             Reads::FromPc(d) => d.decoder().stats(),
         }
+    }
+}
+
+/// An AOK device message's name, in upper snake case.
+///
+/// ```
+/// use aok_proto::{DebugValue, Message};
+/// let m = Message::Debug(DebugValue { number: 86, value: -2 });
+/// assert_eq!(protolink::decoders::aok_message_name(&m), "DEBUG");
+/// ```
+pub fn aok_message_name(message: &aok_proto::Message) -> &'static str {
+    use aok_proto::Message as M;
+    match message {
+        M::Debug(_) => "DEBUG",
+        M::Ack(_) => "ACK",
+        M::Parameter(_) => "PARAMETER",
+        M::Waypoint(_) => "WAYPOINT",
+    }
+}
+
+/// An AOK command's name, in upper snake case.
+///
+/// ```
+/// let c = aok_proto::Command::ReadParameter(12);
+/// assert_eq!(protolink::decoders::aok_command_name(&c), "READ_PARAMETER");
+/// ```
+pub fn aok_command_name(command: &aok_proto::Command) -> &'static str {
+    use aok_proto::Command as C;
+    match command {
+        C::DebugOff => "DEBUG_OFF",
+        C::DebugOn => "DEBUG_ON",
+        C::Reset => "RESET",
+        C::SaveWaypoints => "SAVE_WAYPOINTS",
+        C::LoadWaypoints => "LOAD_WAYPOINTS",
+        C::LoadSet(_) => "LOAD_SET",
+        C::SaveSet(_) => "SAVE_SET",
+        C::StartSet(_) => "START_SET",
+        C::SetParameter(_) => "SET_PARAMETER",
+        C::ReadParameter(_) => "READ_PARAMETER",
+        C::BulkRead(_) => "BULK_READ",
+        C::MotorTest(_) => "MOTOR_TEST",
+        C::SetWaypoint(_) => "SET_WAYPOINT",
+        C::ReadWaypoint(_) => "READ_WAYPOINT",
+        C::ExternalControl(_) => "EXTERNAL_CONTROL",
     }
 }
 
@@ -132,56 +177,76 @@ pub fn waypoint_fields(w: &aok_proto::Waypoint) -> Value {
     })
 }
 
-/// An AOK event at input offset `at`, `len` bytes on the wire, as `decode` prints it (`fields`:
-/// the item's name and fields; `why`: the sentence of a frame cut short).
-fn aok_event<T>(
-    at: u64,
-    len: u64,
-    event: Result<T, aok_proto::Error>,
-    fields: impl Fn(&T) -> (String, Value),
-    why: &str,
-) -> Event {
-    match event {
-        Ok(item) => {
-            let (name, fields) = fields(&item);
-            let mut meta = Map::new();
-            meta.insert("len".into(), json!(len));
-            Event::message(at, name, meta, fields)
-        }
-        Err(e @ aok_proto::Error::Truncated) => Event::error(at, len, error_kind(&e), why),
-        Err(e) => Event::error(at, len, error_kind(&e), e.to_string()),
-    }
-}
-
-/// The sentence of a frame the end of the input cut short.
-const CUT_SHORT: &str = "input ends inside a frame";
-
-impl StreamDecoder for AokDecoder {
-    fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
+impl AokDecoder {
+    /// Feeds bytes that start at input offset `offset`, handing every item to `on_item`
+    /// placed at its first byte (an error: at the first byte of what it condemns).
+    ///
+    /// ```
+    /// use protolink::decoders::{AokDecoder, Item};
+    /// use protolink::proto::Side;
+    /// let mut d = AokDecoder::new(Side::Pc);
+    /// let mut frame = [0u8; 16];
+    /// let n = aok_proto::Command::ReadParameter(12).emit(&mut frame).unwrap();
+    /// let mut seen = Vec::new();
+    /// d.feed(&frame[..n], 0, |p| seen.push(p.item == Item::AokCommand(aok_proto::Command::ReadParameter(12))));
+    /// assert_eq!(seen, [true]);
+    /// ```
+    pub fn feed(&mut self, bytes: &[u8], offset: u64, mut on_item: impl FnMut(Placed<'_>)) {
         match &mut self.0 {
             Reads::FromDevice(d) => d.feed(bytes, offset, |at, len, ev| {
-                out.push(aok_event(at, len, ev, aok_message_fields, CUT_SHORT));
+                on_item(placed(at, len, ev.map(Item::AokMessage)));
             }),
             Reads::FromPc(d) => d.feed(bytes, offset, |at, len, ev| {
-                out.push(aok_event(at, len, ev, aok_command_fields, CUT_SHORT));
+                on_item(placed(at, len, ev.map(Item::AokCommand)));
             }),
         }
     }
 
     /// The end of the stream: the bytes held are given up once, as "input ends inside a
     /// frame", then what the rescan of what followed them finds.
-    fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
+    ///
+    /// ```
+    /// use protolink::decoders::AokDecoder;
+    /// let mut d = AokDecoder::new(protolink::proto::Side::Pc);
+    /// let mut frame = [0u8; 16];
+    /// let n = aok_proto::Command::ReadParameter(12).emit(&mut frame).unwrap();
+    /// d.feed(&frame[..n - 1], 0, |_| {});
+    /// let mut seen = Vec::new();
+    /// d.finish(|p| seen.push(p.to_event().to_text()));
+    /// assert_eq!(seen, ["@0 error: input ends inside a frame"]);
+    /// ```
+    pub fn finish(&mut self, mut on_item: impl FnMut(Placed<'_>)) {
         match &mut self.0 {
             Reads::FromDevice(d) => d.finish(|at, len, ev| {
-                out.push(aok_event(at, len, ev, aok_message_fields, CUT_SHORT));
+                on_item(placed(at, len, ev.map(Item::AokMessage)));
             }),
             Reads::FromPc(d) => d.finish(|at, len, ev| {
-                out.push(aok_event(at, len, ev, aok_command_fields, CUT_SHORT));
+                on_item(placed(at, len, ev.map(Item::AokCommand)));
             }),
         }
     }
 
-    fn counters(&self) -> Value {
+    /// The counters, as `decode` prints them in its summary: the crate's `Stats`.
+    ///
+    /// ```
+    /// let d = protolink::decoders::AokDecoder::new(protolink::proto::Side::Pc);
+    /// assert!(d.counters().is_object());
+    /// ```
+    pub fn counters(&self) -> Value {
         to_json(&self.stats())
+    }
+}
+
+/// An AOK event at input offset `at`, `len` bytes on the wire, typed.
+fn placed(at: u64, len: u64, event: Result<Item<'static>, aok_proto::Error>) -> Placed<'static> {
+    let item = match event {
+        Ok(item) => item,
+        Err(aok_proto::Error::Truncated) => Item::Error(Fault::Cut(CUT_SHORT)),
+        Err(e) => Item::Error(Fault::Aok(e)),
+    };
+    Placed {
+        offset: at,
+        len,
+        item,
     }
 }

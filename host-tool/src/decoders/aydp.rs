@@ -5,8 +5,8 @@ use aydp_proto::Profile;
 use serde_json::{Map, Value, json};
 
 use super::input::Input;
-use super::{Event, StreamDecoder, error_kind};
-use crate::render::{self, hex, to_json, variant};
+use super::{Fault, Item, Placed};
+use crate::render::{self, to_json, variant};
 
 /// Capacity of the AYDP decoder: the longest message accepted.
 pub const AYDP_CAPACITY: usize = 16384;
@@ -30,28 +30,16 @@ impl AydpDecoder {
     }
 }
 
-/// A rendered AYDP message: its name, its meta data (type, expedited, len, time) and its fields.
-pub type AydpRendered = (String, Map<String, Value>, Value);
-
-/// An error's kind ([`error_kind`]) and its sentence.
-pub type ErrorText = (String, String);
-
-/// Splits a checked AYDP frame into its name, its meta data and its fields; a malformed typed
-/// parse comes back as the error's kind ([`error_kind`]) and sentence.
+/// The facts `decode` prints about an AYDP frame before its fields: `type`, `expedited`,
+/// `len` and, in a header that has one, `time` (`seconds`, `subsec`).
 ///
 /// ```
 /// use aydp_proto::{Frame, Profile};
 /// let f = Frame::new_checked(&[0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C], Profile::Spec).unwrap();
-/// let (name, meta, fields) = protolink::decoders::aydp_fields(&f).unwrap();
-/// assert_eq!(name, "SYSTEM_CONTROL");
-/// assert_eq!(meta["type"], 9);
-/// assert_eq!(fields.to_string(), r#"{"command":"StoreConfiguration"}"#);
+/// let meta = protolink::decoders::aydp_meta(&f);
+/// assert_eq!(serde_json::Value::Object(meta).to_string(), r#"{"type":9,"expedited":true,"len":8}"#);
 /// ```
-///
-/// # Errors
-/// The typed parse's error, as its kind and a sentence.
-pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRendered, ErrorText> {
-    use aydp_proto::Message as M;
+pub fn aydp_meta(frame: &aydp_proto::Frame<'_>) -> Map<String, Value> {
     let mut meta = Map::new();
     meta.insert("type".into(), json!(frame.base_type()));
     meta.insert("expedited".into(), json!(frame.is_expedited()));
@@ -62,17 +50,22 @@ pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRen
             json!({ "seconds": t.seconds, "subsec": t.subsec }),
         );
     }
-    let message = frame.message().map_err(|e| {
-        (
-            error_kind(&e),
-            format!(
-                "type {} message is malformed: {e} (data {})",
-                frame.base_type(),
-                hex(frame.data())
-            ),
-        )
-    })?;
-    let mut fields = match &message {
+    meta
+}
+
+/// An AYDP message's name and fields, as `decode` prints them (raw data as hex, a system
+/// control's `command` by name).
+///
+/// ```
+/// use aydp_proto::{Message, SystemControl};
+/// let m = Message::SystemControl(SystemControl::StoreConfiguration);
+/// let (name, fields) = protolink::decoders::aydp_message_fields(&m);
+/// assert_eq!(name, "SYSTEM_CONTROL");
+/// assert_eq!(fields.to_string(), r#"{"command":"StoreConfiguration"}"#);
+/// ```
+pub fn aydp_message_fields(message: &aydp_proto::Message<'_>) -> (&'static str, Value) {
+    use aydp_proto::Message as M;
+    let mut fields = match message {
         M::DirectOutput(d) => json!({ "entries": to_json(&d.entries().collect::<Vec<_>>()) }),
         M::FixDetail(d) => json!({ "satellites": to_json(&d.satellites().collect::<Vec<_>>()) }),
         M::SystemControl(c) => {
@@ -87,56 +80,115 @@ pub fn aydp_fields(frame: &aydp_proto::Frame<'_>) -> std::result::Result<AydpRen
         other => variant(to_json(other)).1,
     };
     render::data_as_hex(&mut fields);
-    let name = render::upper_snake(&variant(to_json(&message)).0);
-    Ok((name, meta, fields))
+    (aydp_name(message), fields)
 }
 
-/// An AYDP event at input offset `at`, `len` bytes on the wire, as `decode` prints it; a
-/// frame whose data does not parse counts as `malformed`, a candidate the input ended inside
-/// as `truncated`.
-fn aydp_event(
-    (at, len): (u64, u64),
-    event: aydp_proto::Result<aydp_proto::Frame<'_>>,
-    malformed: &mut u32,
-    truncated: &mut u32,
-) -> Event {
-    match event {
-        Ok(frame) => match aydp_fields(&frame) {
-            Ok((name, meta, fields)) => Event::message(at, name, meta, fields),
-            Err((kind, e)) => {
-                *malformed = malformed.wrapping_add(1);
-                Event::error(at, len, kind, e)
-            }
-        },
-        Err(e @ aydp_proto::Error::Truncated) => {
-            *truncated = truncated.wrapping_add(1);
-            Event::error(at, len, error_kind(&e), "input ends inside a message")
-        }
-        Err(e) => Event::error(at, len, error_kind(&e), e.to_string()),
+/// An AYDP message's name, in upper snake case (`SYSTEM_VALUE_UPDATE`).
+///
+/// ```
+/// assert_eq!(protolink::decoders::aydp_name(&aydp_proto::Message::Heartbeat), "HEARTBEAT");
+/// ```
+pub fn aydp_name(message: &aydp_proto::Message<'_>) -> &'static str {
+    use aydp_proto::Message as M;
+    match message {
+        M::TimeSync => "TIME_SYNC",
+        M::Heartbeat => "HEARTBEAT",
+        M::NoOp => "NO_OP",
+        M::Position(_) => "POSITION",
+        M::FixQuality(_) => "FIX_QUALITY",
+        M::FixDetail(_) => "FIX_DETAIL",
+        M::DirectOutput(_) => "DIRECT_OUTPUT",
+        M::SystemValueUpdate(_) => "SYSTEM_VALUE_UPDATE",
+        M::SystemControl(_) => "SYSTEM_CONTROL",
+        M::WindSpeed(_) => "WIND_SPEED",
+        M::WindDirection(_) => "WIND_DIRECTION",
+        M::VesselData(_) => "VESSEL_DATA",
+        M::Tbd(_) => "TBD",
+        M::UserDefined(_) => "USER_DEFINED",
+        M::Unknown(_) => "UNKNOWN",
     }
 }
 
-impl StreamDecoder for AydpDecoder {
-    fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>) {
+impl AydpDecoder {
+    /// Feeds bytes that start at input offset `offset`, handing every item to `on_item`
+    /// placed at its first byte (a failed candidate: at its 0xFF).
+    ///
+    /// ```
+    /// use protolink::decoders::{AydpDecoder, Item};
+    /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
+    /// let mut seen = Vec::new();
+    /// d.feed(&[0x00, 0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78], 5, |p| {
+    ///     seen.push((p.offset, p.len, matches!(p.item, Item::Aydp { .. })))
+    /// });
+    /// assert_eq!(seen, [(6, 7, true)]);
+    /// ```
+    pub fn feed(&mut self, bytes: &[u8], offset: u64, mut on_item: impl FnMut(Placed<'_>)) {
         let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
         self.input.feed(bytes, offset, |at, len, event| {
-            out.push(aydp_event((at, len), event, malformed, truncated));
+            on_item(placed((at, len), event, malformed, truncated));
         });
     }
 
-    fn finish(&mut self, _offset: u64, out: &mut Vec<Event>) {
+    /// The input ended: what is held is given up as "input ends inside a message" and
+    /// rescanned.
+    ///
+    /// ```
+    /// use protolink::decoders::AydpDecoder;
+    /// let mut d = AydpDecoder::new(aydp_proto::Profile::Spec);
+    /// d.feed(&[0xFF, 0x80, 0x07], 0, |_| {});
+    /// let mut seen = Vec::new();
+    /// d.finish(|p| seen.push(p.to_event().to_text()));
+    /// assert_eq!(seen[0], "@0 error: input ends inside a message");
+    /// ```
+    pub fn finish(&mut self, mut on_item: impl FnMut(Placed<'_>)) {
         let (malformed, truncated) = (&mut self.malformed, &mut self.truncated);
         self.input.finish(|at, len, event| {
-            out.push(aydp_event((at, len), event, malformed, truncated));
+            on_item(placed((at, len), event, malformed, truncated));
         });
     }
 
-    fn counters(&self) -> Value {
+    /// The counters, as `decode` prints them in its summary: the crate's `Stats` plus
+    /// `malformed` and `truncated`.
+    ///
+    /// ```
+    /// let d = protolink::decoders::AydpDecoder::new(aydp_proto::Profile::Spec);
+    /// assert_eq!(d.counters()["truncated"], 0);
+    /// ```
+    pub fn counters(&self) -> Value {
         let mut v = to_json(&self.input.decoder().stats());
         if let Value::Object(m) = &mut v {
             m.insert("malformed".into(), json!(self.malformed));
             m.insert("truncated".into(), json!(self.truncated));
         }
         v
+    }
+}
+
+/// An AYDP event at input offset `at`, `len` bytes on the wire, typed; a frame whose data
+/// does not parse counts as `malformed`, a candidate the input ended inside as `truncated`.
+fn placed<'a>(
+    (at, len): (u64, u64),
+    event: aydp_proto::Result<aydp_proto::Frame<'a>>,
+    malformed: &mut u32,
+    truncated: &mut u32,
+) -> Placed<'a> {
+    let item = match event {
+        Ok(frame) => match frame.message() {
+            Ok(message) => Item::Aydp { frame, message },
+            Err(error) => {
+                *malformed = malformed.wrapping_add(1);
+                Item::Error(Fault::AydpMalformed { frame, error })
+            }
+        },
+        Err(aydp_proto::Error::Truncated) => {
+            *truncated = truncated.wrapping_add(1);
+            Item::Error(Fault::Cut("input ends inside a message"))
+        }
+        Err(e) => Item::Error(Fault::Aydp(e)),
+    };
+    Placed {
+        offset: at,
+        len,
+        item,
     }
 }

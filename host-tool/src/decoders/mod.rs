@@ -1,8 +1,10 @@
-//! The stream decoders of the four protocols behind one trait ([`StreamDecoder`]): bytes in,
-//! [`Event`]s out (a message with its fields as JSON, or an error with its kind, at its input
-//! offset), and the decoder's counters. `decode` prints them; the field renderers are shared
-//! with `aok`, the Wireshark generators' tests and the Python package (`python/`), which also
-//! builds on the AEOLUS decoder's placed events ([`AeolusItem`]) before they are rendered.
+//! The stream decoders of the four protocols behind one type ([`Decoder`]): bytes in, typed
+//! items out, each [`Placed`] in the input (the offset of its first byte and its length on the
+//! wire), and the decoder's counters. Every face takes the items: `decode` renders them as
+//! [`Event`]s (a message with its fields as JSON, or an error with its kind), the tables of
+//! [`crate::columns`] write them as columns of their own types, and the Python package keeps
+//! them. The field renderers are shared with `aok`, the Wireshark generators' tests and the
+//! Python package (`python/`).
 
 use serde_json::{Map, Value, json};
 
@@ -11,15 +13,18 @@ mod aok;
 mod aydp;
 mod gdl90;
 mod input;
+mod item;
+mod kept;
 
-pub use aeolus::{
-    AEOLUS_CAPACITY, AeolusDecoder, AeolusItem, aeolus_fields, aeolus_meta, text_fields,
-};
+pub use aeolus::{AEOLUS_CAPACITY, AeolusDecoder, aeolus_fields, aeolus_meta, text_fields};
 pub use aok::{
-    AokDecoder, action_name, aok_command_fields, aok_message_fields, slot_name, waypoint_fields,
+    AokDecoder, action_name, aok_command_fields, aok_command_name, aok_message_fields,
+    aok_message_name, slot_name, waypoint_fields,
 };
-pub use aydp::{AYDP_CAPACITY, AydpDecoder, AydpRendered, ErrorText, aydp_fields};
+pub use aydp::{AYDP_CAPACITY, AydpDecoder, aydp_message_fields, aydp_meta, aydp_name};
 pub use gdl90::{GDL90_CAPACITY, Gdl90Decoder, gdl90_fields};
+pub use item::{Fault, Item, Placed};
+pub use kept::Kept;
 
 use crate::proto::{ProfileArg, Proto, Side};
 use crate::render;
@@ -63,7 +68,7 @@ pub(crate) fn error_kind<E: serde::Serialize>(error: &E) -> String {
 }
 
 impl Event {
-    fn message(
+    pub(crate) fn message(
         offset: u64,
         name: impl Into<String>,
         meta: Map<String, Value>,
@@ -79,7 +84,12 @@ impl Event {
         }
     }
 
-    fn error(offset: u64, len: u64, kind: impl Into<String>, error: impl Into<String>) -> Self {
+    pub(crate) fn error(
+        offset: u64,
+        len: u64,
+        kind: impl Into<String>,
+        error: impl Into<String>,
+    ) -> Self {
         Event {
             offset,
             body: Body::Error {
@@ -130,57 +140,131 @@ impl Event {
     }
 }
 
-/// A stream decoder for one protocol, reporting [`Event`]s. `Send`, so that a decoder can work
-/// on another thread (the Python package decodes with the GIL released).
-pub trait StreamDecoder: Send {
-    /// Feeds bytes that start at input offset `offset`.
-    fn feed(&mut self, bytes: &[u8], offset: u64, out: &mut Vec<Event>);
-    /// A datagram ended at `offset` (the next byte starts a new one).
-    fn end_of_datagram(&mut self, _offset: u64, _out: &mut Vec<Event>) {}
-    /// The input ended at `offset` (its length).
-    fn finish(&mut self, _offset: u64, _out: &mut Vec<Event>) {}
-    /// The counters, as a JSON object.
-    fn counters(&self) -> Value;
-    /// Feeds bytes that start at input offset `offset` (`datagram`: they are one whole
-    /// datagram), each event handed to `sink` as it comes. AEOLUS hands its typed messages over
-    /// unrendered ([`EventSink::aeolus`]).
-    fn feed_to(&mut self, bytes: &[u8], offset: u64, datagram: bool, sink: &mut dyn EventSink) {
+/// The decoder of one of the four protocols: bytes in, each item [`Placed`] in the input.
+/// `Send`, so that it can work on another thread (the Python package decodes with the GIL
+/// released).
+#[derive(Debug)]
+pub enum Decoder {
+    /// AEOLUS.
+    Aeolus(AeolusDecoder),
+    /// AYDP, in one profile.
+    Aydp(AydpDecoder),
+    /// AOK, of one side.
+    Aok(AokDecoder),
+    /// GDL90.
+    Gdl90(Gdl90Decoder),
+}
+
+impl Decoder {
+    /// The decoder for `proto`, as `decode --proto ... --profile ... --side ...` builds it (the
+    /// profile counts only for AYDP, the side only for AOK).
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// use protolink::proto::Proto;
+    /// let d = Decoder::new(Proto::Gdl90, Default::default(), Default::default());
+    /// assert!(matches!(d, Decoder::Gdl90(_)));
+    /// ```
+    pub fn new(proto: Proto, profile: ProfileArg, side: Side) -> Self {
+        match proto {
+            Proto::Aeolus => Decoder::Aeolus(AeolusDecoder::new()),
+            Proto::Aydp => Decoder::Aydp(AydpDecoder::new(profile.into())),
+            Proto::Aok => Decoder::Aok(AokDecoder::new(side)),
+            Proto::Gdl90 => Decoder::Gdl90(Gdl90Decoder::default()),
+        }
+    }
+
+    /// Feeds bytes that start at input offset `offset`, handing every item to `on_item`.
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// use protolink::proto::Proto;
+    /// let mut d = Decoder::new(Proto::Aydp, Default::default(), Default::default());
+    /// let mut seen = Vec::new();
+    /// d.feed(&[0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78], 3, |p| seen.push((p.offset, p.len)));
+    /// assert_eq!(seen, [(3, 7)]);
+    /// ```
+    pub fn feed(&mut self, bytes: &[u8], offset: u64, on_item: impl FnMut(Placed<'_>)) {
+        match self {
+            Decoder::Aeolus(d) => d.feed(bytes, offset, on_item),
+            Decoder::Aydp(d) => d.feed(bytes, offset, on_item),
+            Decoder::Aok(d) => d.feed(bytes, offset, on_item),
+            Decoder::Gdl90(d) => d.feed(bytes, offset, on_item),
+        }
+    }
+
+    /// A datagram ended: AEOLUS and GDL90 give up a frame in progress (a frame never spans
+    /// two datagrams) and start afresh; AYDP and AOK, whose links are serial, go on.
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// use protolink::proto::Proto;
+    /// let mut d = Decoder::new(Proto::Aeolus, Default::default(), Default::default());
+    /// d.feed(&[0x7E, 0x52], 0, |_| {});
+    /// let mut n = 0;
+    /// d.end_of_datagram(|_| n += 1);
+    /// assert_eq!(n, 1);
+    /// ```
+    pub fn end_of_datagram(&mut self, on_item: impl FnMut(Placed<'_>)) {
+        match self {
+            Decoder::Aeolus(d) => d.end_of_datagram(on_item),
+            Decoder::Gdl90(d) => d.end_of_datagram(on_item),
+            Decoder::Aydp(_) | Decoder::Aok(_) => {}
+        }
+    }
+
+    /// The input ended: what is held is given up (AYDP and AOK: then rescanned).
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// use protolink::proto::Proto;
+    /// let mut d = Decoder::new(Proto::Aeolus, Default::default(), Default::default());
+    /// d.feed(&[0x7E, 0x52], 0, |_| {});
+    /// let mut events = Vec::new();
+    /// d.finish(|p| events.push(p.to_event().to_text()));
+    /// assert_eq!(events, ["@0 error: input ends inside a frame"]);
+    /// ```
+    pub fn finish(&mut self, on_item: impl FnMut(Placed<'_>)) {
+        match self {
+            Decoder::Aeolus(d) => d.finish(on_item),
+            Decoder::Aydp(d) => d.finish(on_item),
+            Decoder::Aok(d) => d.finish(on_item),
+            Decoder::Gdl90(d) => d.finish(on_item),
+        }
+    }
+
+    /// The counters, as `decode` prints them in its summary.
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// let d = Decoder::new(protolink::proto::Proto::Aeolus, Default::default(), Default::default());
+    /// assert_eq!(d.counters()["malformed"], 0);
+    /// ```
+    pub fn counters(&self) -> Value {
+        match self {
+            Decoder::Aeolus(d) => d.counters(),
+            Decoder::Aydp(d) => d.counters(),
+            Decoder::Aok(d) => d.counters(),
+            Decoder::Gdl90(d) => d.counters(),
+        }
+    }
+
+    /// Feeds bytes as [`Decoder::feed`] does (`datagram`: they are one whole datagram, then
+    /// ended), the items rendered as `decode` prints them.
+    ///
+    /// ```
+    /// use protolink::decoders::Decoder;
+    /// let mut d = Decoder::new(protolink::proto::Proto::Aeolus, Default::default(), Default::default());
+    /// let events = d.events(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, false);
+    /// assert_eq!(events[0].to_text(), "@0 TOAST id=82 len=8 crc=ok text=hi");
+    /// ```
+    pub fn events(&mut self, bytes: &[u8], offset: u64, datagram: bool) -> Vec<Event> {
         let mut events = Vec::new();
-        self.feed(bytes, offset, &mut events);
+        self.feed(bytes, offset, |p| events.push(p.to_event()));
         if datagram {
-            self.end_of_datagram(offset + bytes.len() as u64, &mut events);
+            self.end_of_datagram(|p| events.push(p.to_event()));
         }
-        for e in &events {
-            sink.event(e);
-        }
-    }
-    /// The input ended at `offset`: what is held is given up as [`StreamDecoder::finish`]
-    /// does, into `sink`.
-    fn finish_to(&mut self, offset: u64, sink: &mut dyn EventSink) {
-        let mut events = Vec::new();
-        self.finish(offset, &mut events);
-        for e in &events {
-            sink.event(e);
-        }
-    }
-}
-
-/// Where a decoder's events go when they are not collected (the tables of
-/// [`crate::columns`]): rendered events, and AEOLUS's items before they are rendered.
-pub trait EventSink {
-    /// An event, rendered.
-    fn event(&mut self, event: &Event);
-    /// An AEOLUS item placed at `offset`, not rendered.
-    fn aeolus(&mut self, offset: u64, item: &AeolusItem<'_>);
-}
-
-/// Builds the decoder the arguments ask for.
-pub fn decoder_for(proto: Proto, profile: ProfileArg, side: Side) -> Box<dyn StreamDecoder> {
-    match proto {
-        Proto::Aeolus => Box::new(AeolusDecoder::new()),
-        Proto::Aydp => Box::new(AydpDecoder::new(profile.into())),
-        Proto::Aok => Box::new(AokDecoder::new(side)),
-        Proto::Gdl90 => Box::new(Gdl90Decoder::default()),
+        events
     }
 }
 

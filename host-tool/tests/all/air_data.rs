@@ -23,7 +23,7 @@ use aeolus_proto::{CrcMode, Stats};
 use protolink::commands::decode::plot::PlotSender;
 use protolink::commands::web::state::Cockpit;
 use protolink::commands::{gdl90, nmea, watch};
-use protolink::decoders::decoder_for;
+use protolink::decoders::Decoder;
 use protolink::proto::{Proto, Side};
 use protolink::telemetry::View;
 use serde_json::Value;
@@ -199,9 +199,8 @@ fn every_face_gives_the_same_ias_and_tas() {
             .set_read_timeout(Some(Duration::from_secs(5)))
             .unwrap();
         let mut sender = PlotSender::new(plotjuggler.local_addr().unwrap()).unwrap();
-        let mut decoder = decoder_for(Proto::Aeolus, Default::default(), Side::default());
-        let mut events = Vec::new();
-        decoder.feed(&frames(&messages), 0, &mut events);
+        let mut decoder = Decoder::new(Proto::Aeolus, Default::default(), Side::default());
+        let events = decoder.events(&frames(&messages), 0, false);
         sender.send(Proto::Aeolus, &events, 1.7e9);
         let mut air = None;
         let mut buf = [0u8; 2048];

@@ -35,8 +35,8 @@ fn sample() -> Vec<(String, RecordBatch)> {
     let mut tables = Tables::new(100);
     let origin = Origin::default();
     let mut d = AeolusDecoder::new();
-    d.feed_items(&bytes, 0, |at, item| tables.add_aeolus(&origin, at, &item));
-    d.finish_items(|at, item| tables.add_aeolus(&origin, at, &item));
+    d.feed(&bytes, 0, |p| tables.add(&origin, &p));
+    d.finish(|p| tables.add(&origin, &p));
     assert_eq!(tables.mismatches(), 0);
     tables.finish()
 }
@@ -339,4 +339,93 @@ fn read_file_stops_where_the_step_says() -> Result<(), Box<dyn std::error::Error
     );
     std::fs::remove_dir_all(&dir)?;
     Ok(())
+}
+
+/// The tables of a byte file of `proto` (`side`: AOK's), through the one decoder.
+fn tables_of(
+    bytes: &[u8],
+    proto: protolink::proto::Proto,
+    side: protolink::proto::Side,
+) -> Vec<(String, RecordBatch)> {
+    let mut tables = Tables::new(1000);
+    let origin = Origin::default();
+    let mut d = protolink::decoders::Decoder::new(proto, Default::default(), side);
+    d.feed(bytes, 0, |p| tables.add(&origin, &p));
+    d.finish(|p| tables.add(&origin, &p));
+    assert_eq!(tables.mismatches(), 0);
+    tables.finish()
+}
+
+/// The type of column `column` of table `table`.
+fn column_type(batches: &[(String, RecordBatch)], table: &str, column: &str) -> Option<DataType> {
+    let (_, batch) = batches.iter().find(|(n, _)| n == table)?;
+    let schema = batch.schema();
+    schema
+        .field_with_name(column)
+        .ok()
+        .map(|f| f.data_type().clone())
+}
+
+#[test]
+fn aydp_aok_and_gdl90_columns_have_the_wire_types() {
+    use protolink::proto::{Proto, Side};
+    let testdata = concat!(env!("CARGO_MANIFEST_DIR"), "/../testdata/");
+    let aydp = std::fs::read(format!("{testdata}qemu-uart1-aydp.bin")).unwrap_or_default();
+    let aydp = tables_of(&aydp, Proto::Aydp, Side::default());
+    assert_eq!(
+        column_type(&aydp, "FIX_QUALITY", "fix_type"),
+        Some(DataType::UInt8)
+    );
+    assert_eq!(
+        column_type(&aydp, "FIX_QUALITY", "hdop"),
+        Some(DataType::Float32)
+    );
+    assert_eq!(
+        column_type(&aydp, "POSITION", "altitude"),
+        Some(DataType::Float32)
+    );
+    assert_eq!(
+        column_type(&aydp, "POSITION", "latitude"),
+        Some(DataType::Float64)
+    );
+    let aok = std::fs::read(format!("{testdata}qemu-uart2-aok.bin")).unwrap_or_default();
+    let aok = tables_of(&aok, Proto::Aok, Side::Device);
+    assert_eq!(column_type(&aok, "DEBUG", "number"), Some(DataType::UInt8));
+    assert_eq!(column_type(&aok, "DEBUG", "value"), Some(DataType::Int32));
+    let mut gdl90 = vec![0u8; 64];
+    let n = gdl90_proto::encode_frame(0x0B, &[0x01, 0x02, 0x00, 0x0A], &mut gdl90).unwrap_or(0);
+    gdl90.truncate(n);
+    let gdl90 = tables_of(&gdl90, Proto::Gdl90, Side::default());
+    assert_eq!(
+        column_type(&gdl90, "GEO_ALTITUDE", "altitude_ft"),
+        Some(DataType::Int32)
+    );
+}
+
+#[test]
+fn a_message_type_has_one_schema_whatever_its_messages_hold() {
+    use protolink::proto::{Proto, Side};
+    // A clean TOAST and one with a byte that is not text: the second has `hex`, the first a
+    // null there; the same columns either way, in either order.
+    let clean = [0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E];
+    let mut raw = vec![0u8; 32];
+    let message = aeolus_proto::message::Message::Toast(
+        aeolus_proto::message::Text::new("h\u{1b}").unwrap_or_else(|_| unreachable!()),
+    );
+    let n = message
+        .encode(&mut raw, aeolus_proto::CrcMode::Compute)
+        .unwrap_or(0);
+    raw.truncate(n);
+    let schema = |bytes: &[u8]| {
+        let batches = tables_of(bytes, Proto::Aeolus, Side::default());
+        batches[0].1.schema()
+    };
+    assert_eq!(schema(&clean), schema(&raw));
+    assert_eq!(schema(&[&clean[..], &raw].concat()), schema(&raw));
+    // An expedited AYDP HEARTBEAT has no header time: its time columns are there, null.
+    let heartbeat = [0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78];
+    let batches = tables_of(&heartbeat, Proto::Aydp, Side::default());
+    let (_, batch) = &batches[0];
+    let seconds = batch.column_by_name("meta.time.seconds");
+    assert_eq!(seconds.map(|c| c.null_count()), Some(1));
 }

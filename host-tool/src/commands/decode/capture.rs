@@ -15,8 +15,8 @@ use serde_json::{Value, json};
 use super::tables::Select;
 use super::{DecodeArgs, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
-use crate::columns::{Origin, Sink, Tables};
-use crate::decoders::{Event, StreamDecoder, decoder_for};
+use crate::columns::{Origin, Tables};
+use crate::decoders::{Decoder, Event, Kept};
 use crate::error::Result;
 use crate::proto::{ProfileArg, Proto};
 use crate::render::Out;
@@ -36,7 +36,7 @@ struct Flow {
     name: String,
     proto: Proto,
     datagrams: bool,
-    decoder: Box<dyn StreamDecoder>,
+    decoder: Decoder,
     offset: u64,
 }
 
@@ -87,8 +87,8 @@ pub enum CaptureItem {
         flow: String,
         /// The flow's protocol.
         proto: Proto,
-        /// The event; its offset is within the flow.
-        event: Event,
+        /// The item, typed; its offset is within the flow.
+        item: Kept,
     },
     /// A flow is done (the capture ended): its bytes and its decoder's counters.
     FlowEnd {
@@ -165,7 +165,7 @@ impl CaptureEvents {
             Step::Nothing => {}
             Step::End { frames, time } => {
                 for flow in &mut self.flows.flows {
-                    flow.decoder.finish(flow.offset, &mut events);
+                    flow.decoder.finish(|p| events.push(Kept::new(&p)));
                     out.extend(events.drain(..).map(|e| flow.item(e, frames, time)));
                     out.push(CaptureItem::FlowEnd {
                         flow: flow.name.clone(),
@@ -191,7 +191,7 @@ impl CaptureEvents {
     /// Reads the next record and adds its events to `tables` as rows, each from its record
     /// (and from `source` when given); at the end of the capture adds every flow's last
     /// events. Returns `false`, adding nothing, once all is done. The rows are those of
-    /// [`CaptureEvents::next_items`]' events, AEOLUS messages straight from their typed values.
+    /// [`CaptureEvents::next_items`]' events, each message straight from its typed value.
     ///
     /// # Errors
     /// A damaged or cut capture.
@@ -209,11 +209,7 @@ impl CaptureEvents {
             Step::End { frames, time } => {
                 for flow in &mut self.flows.flows {
                     let o = origin(flow, frames, time);
-                    let mut sink = Sink {
-                        tables: &mut *tables,
-                        origin: &o,
-                    };
-                    flow.decoder.finish_to(flow.offset, &mut sink);
+                    flow.decoder.finish(|p| tables.add(&o, &p));
                 }
             }
             Step::Bytes {
@@ -223,10 +219,12 @@ impl CaptureEvents {
                 time,
             } => {
                 let o = origin(flow, frame, time);
-                let mut sink = Sink { tables, origin: &o };
                 flow.decoder
-                    .feed_to(&bytes, flow.offset, flow.datagrams, &mut sink);
+                    .feed(&bytes, flow.offset, |p| tables.add(&o, &p));
                 flow.offset += bytes.len() as u64;
+                if flow.datagrams {
+                    flow.decoder.end_of_datagram(|p| tables.add(&o, &p));
+                }
             }
         }
         Ok(true)
@@ -315,8 +313,9 @@ pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<
                     time,
                     flow,
                     proto,
-                    event,
+                    item,
                 } => {
+                    let event = item.with(|p| p.to_event());
                     if let Some(p) = plot.as_mut() {
                         p.send(proto, std::slice::from_ref(&event), time);
                     }
@@ -431,13 +430,13 @@ impl Flows {
 
 impl Flow {
     /// An event of this flow as a [`CaptureItem`], with its record's number and time.
-    fn item(&self, event: Event, frame: u64, time: f64) -> CaptureItem {
+    fn item(&self, item: Kept, frame: u64, time: f64) -> CaptureItem {
         CaptureItem::Event {
             frame,
             time,
             flow: self.name.clone(),
             proto: self.proto,
-            event,
+            item,
         }
     }
 
@@ -453,17 +452,18 @@ impl Flow {
             name,
             proto: kind.proto,
             datagrams: matches!(key, FlowKey::Ip(Transport::Udp, ..)),
-            decoder: decoder_for(kind.proto, kind.profile, kind.side),
+            decoder: Decoder::new(kind.proto, kind.profile, kind.side),
             offset: 0,
         }
     }
 
     /// Decodes the next payload of the flow (a whole datagram on UDP).
-    fn feed(&mut self, bytes: &[u8], events: &mut Vec<Event>) {
-        self.decoder.feed(bytes, self.offset, events);
+    fn feed(&mut self, bytes: &[u8], items: &mut Vec<Kept>) {
+        self.decoder
+            .feed(bytes, self.offset, |p| items.push(Kept::new(&p)));
         self.offset += bytes.len() as u64;
         if self.datagrams {
-            self.decoder.end_of_datagram(self.offset, events);
+            self.decoder.end_of_datagram(|p| items.push(Kept::new(&p)));
         }
     }
 }

@@ -18,7 +18,7 @@ pub(crate) mod export;
 pub mod plot;
 pub mod tables;
 
-use crate::decoders::{Event, StreamDecoder, decoder_for};
+use crate::decoders::{Decoder, Event};
 use crate::endpoint::{Endpoint, Input, Link};
 use crate::error::Result;
 use crate::proto::{ProfileArg, Proto, Side};
@@ -109,10 +109,10 @@ pub(crate) fn run(args: &DecodeArgs) -> Result<()> {
         )));
     };
     let mut link = args.from.open()?;
-    let mut decoder = decoder_for(proto, args.profile.unwrap_or_default(), args.side);
+    let mut decoder = Decoder::new(proto, args.profile.unwrap_or_default(), args.side);
     let mut out = Out::new();
     let mut plot = args.udp_json.map(plot::PlotSender::new).transpose()?;
-    let offset = pump(&mut link, decoder.as_mut(), deadline, |events| {
+    let offset = pump(&mut link, &mut decoder, deadline, |events| {
         if let Some(p) = plot.as_mut() {
             p.send(proto, events, plot::now());
         }
@@ -140,7 +140,7 @@ pub(crate) fn run(args: &DecodeArgs) -> Result<()> {
 /// Reading the endpoint, or whatever `emit` returns.
 pub(crate) fn pump(
     link: &mut Link,
-    decoder: &mut dyn StreamDecoder,
+    decoder: &mut Decoder,
     deadline: Deadline,
     mut emit: impl FnMut(&[Event]) -> Result<()>,
 ) -> Result<u64> {
@@ -150,10 +150,10 @@ pub(crate) fn pump(
     while !deadline.reached() {
         match link.read(&mut buf, deadline.left(Duration::from_millis(100)))? {
             Input::Data(n) => {
-                decoder.feed(&buf[..n], offset, &mut events);
+                decoder.feed(&buf[..n], offset, |p| events.push(p.to_event()));
                 offset += n as u64;
                 if link.is_datagram() {
-                    decoder.end_of_datagram(offset, &mut events);
+                    decoder.end_of_datagram(|p| events.push(p.to_event()));
                 }
             }
             Input::Idle => continue,
@@ -164,7 +164,7 @@ pub(crate) fn pump(
             events.clear();
         }
     }
-    decoder.finish(offset, &mut events);
+    decoder.finish(|p| events.push(p.to_event()));
     emit(&events)?;
     Ok(offset)
 }

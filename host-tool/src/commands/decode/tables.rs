@@ -8,8 +8,8 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use super::capture::CaptureEvents;
-use crate::columns::{Origin, Sink, Tables};
-use crate::decoders::decoder_for;
+use crate::columns::{Origin, Tables};
+use crate::decoders::Decoder;
 use crate::error::{Error, Result};
 use crate::proto::{ProfileArg, Proto, Side};
 
@@ -121,7 +121,7 @@ pub fn read_file(
             endpoint: path.display().to_string(),
             source: e,
         })?;
-        let mut decoder = decoder_for(proto, select.profile.unwrap_or_default(), select.side);
+        let mut decoder = Decoder::new(proto, select.profile.unwrap_or_default(), select.side);
         let origin = Origin {
             source: source.map(str::to_owned),
             ..Origin::default()
@@ -140,22 +140,14 @@ pub fn read_file(
                 }
             };
             let bytes = buf.get(..n).unwrap_or_default();
-            let mut sink = Sink {
-                tables: &mut *tables,
-                origin: &origin,
-            };
-            decoder.feed_to(bytes, report.bytes, false, &mut sink);
+            decoder.feed(bytes, report.bytes, |p| tables.add(&origin, &p));
             report.bytes += n as u64;
             if step(tables)?.is_break() {
                 let bytes = report.bytes;
                 return Ok(stopped(report, tables, bytes));
             }
         }
-        let mut sink = Sink {
-            tables: &mut *tables,
-            origin: &origin,
-        };
-        decoder.finish_to(report.bytes, &mut sink);
+        decoder.finish(|p| tables.add(&origin, &p));
     }
     report.rows = tables.rows() - rows_before;
     report.stopped = step(tables)?.is_break();

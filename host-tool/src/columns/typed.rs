@@ -1,0 +1,157 @@
+//! A typed message's fields into its table row, from its own types: each protocol's message
+//! enum matched once, each variant's value written through serde at its own widths (`u8` as
+//! UInt8, `f32` as Float32, ...), and the few fields that `decode` shows by name (AOK slots and
+//! actions, AYDP system-control commands) or as hex (raw `data`) written as the texts it shows.
+//! No JSON value on the way: a list (AYDP output entries and satellites) is its JSON text.
+
+use serde::Serialize;
+
+use super::column::Scalar;
+use super::row::{Ints, write_fields};
+use super::table::Table;
+use crate::decoders::{action_name, slot_name};
+use crate::render::{escape_text, hex, is_clean_text};
+
+/// A value's fields at their own widths.
+fn own<T: Serialize + ?Sized>(table: &mut Table, value: &T) {
+    write_fields(table, value, Ints::Own, None);
+}
+
+/// A list field: its JSON text (one column of one type whatever the list holds).
+fn list<T: Serialize>(table: &mut Table, name: &'static str, items: impl Iterator<Item = T>) {
+    let items: Vec<T> = items.collect();
+    let text = serde_json::to_string(&items).unwrap_or_default();
+    table.set_static(name, Scalar::Str(&text));
+}
+
+/// A text message's `text` (escaped) and, for one that is not clean UTF-8, `hex` (a column of
+/// every row of its table, null where the text is clean).
+fn text(table: &mut Table, bytes: &[u8]) {
+    table.set_static("text", Scalar::Str(&escape_text(bytes)));
+    let raw = (!is_clean_text(bytes)).then(|| hex(bytes));
+    table.set_typed("hex", raw.as_deref().map(Scalar::Str), Scalar::Str(""));
+}
+
+/// Raw data: its `len` and its bytes as hex.
+fn raw(table: &mut Table, data: &[u8]) {
+    table.set_static(
+        "len",
+        Scalar::I64(i64::try_from(data.len()).unwrap_or(i64::MAX)),
+    );
+    table.set_static("data", Scalar::Str(&hex(data)));
+}
+
+/// An AEOLUS message's fields.
+pub(crate) fn aeolus(table: &mut Table, message: &aeolus_proto::message::Message<'_>) {
+    use aeolus_proto::message::Message as M;
+    match message {
+        M::AeolusInfo(v) => own(table, v),
+        M::Pressure(v) => own(table, v),
+        M::Gyro(v) => own(table, v),
+        M::Accel(v) => own(table, v),
+        M::Magnet(v) => own(table, v),
+        M::Temp(v) => own(table, v),
+        M::Gps(v) => own(table, v),
+        M::Attitude(v) => own(table, v),
+        M::Compass(v) => own(table, v),
+        M::Wind(v) => own(table, v),
+        M::SetTime(v) => own(table, v),
+        M::Toast(t) | M::Command(t) => text(table, t.as_bytes()),
+        M::CalibInfo(d) | M::DebugInfo(d) | M::Log(d) | M::Unknown { data: d, .. } => raw(table, d),
+    }
+}
+
+/// An AYDP message's fields.
+pub(crate) fn aydp(table: &mut Table, message: &aydp_proto::Message<'_>) {
+    use aydp_proto::{Message as M, SystemControl, UpdateMode};
+    match message {
+        M::TimeSync | M::Heartbeat | M::NoOp => {}
+        M::Position(v) => own(table, v),
+        M::FixQuality(v) => own(table, v),
+        M::FixDetail(d) => list(table, "satellites", d.satellites()),
+        M::DirectOutput(d) => list(table, "entries", d.entries()),
+        M::SystemValueUpdate(u) => {
+            table.set_static("address", Scalar::U16(u.address));
+            // The mode as `decode` renders it, flattened: a mode without data by name, the
+            // others' number under their own column, each column in every row.
+            let (single, count, index) = match u.mode {
+                UpdateMode::Single => (Some("Single"), None, None),
+                UpdateMode::Array { count } => (None, Some(count), None),
+                UpdateMode::Element { index } => (None, None, Some(index)),
+            };
+            table.set_typed("mode", single.map(Scalar::Str), Scalar::Str(""));
+            table.set_typed("mode.Array.count", count.map(Scalar::U32), Scalar::U32(0));
+            table.set_typed("mode.Element.index", index.map(Scalar::U32), Scalar::U32(0));
+            table.set_static("data", Scalar::Str(&hex(u.data)));
+        }
+        M::SystemControl(c) => {
+            let (command, address) = match c {
+                SystemControl::RequestData { address } => ("RequestData", Some(*address)),
+                SystemControl::StoreConfiguration => ("StoreConfiguration", None),
+            };
+            table.set_static("command", Scalar::Str(command));
+            table.set_typed("address", address.map(Scalar::U16), Scalar::U16(0));
+        }
+        // A bare number: its column `value`.
+        M::WindSpeed(v) => own(table, v),
+        M::WindDirection(v) => own(table, v),
+        M::VesselData(v) => own(table, v),
+        M::Tbd(r) | M::UserDefined(r) | M::Unknown(r) => {
+            table.set_static("msg_type", Scalar::U8(r.msg_type));
+            table.set_static("data", Scalar::Str(&hex(r.data)));
+        }
+    }
+}
+
+/// An AOK waypoint: its slot and actions by name, its coordinates raw.
+fn waypoint(table: &mut Table, w: &aok_proto::Waypoint) {
+    table.set_static("slot", Scalar::Str(&slot_name(w.slot)));
+    table.set_static("longitude", Scalar::I32(w.longitude));
+    table.set_static("latitude", Scalar::I32(w.latitude));
+    table.set_static("action1", Scalar::Str(&action_name(w.action1)));
+    table.set_static("action2", Scalar::Str(&action_name(w.action2)));
+}
+
+/// What an AOK device sends: its fields.
+pub(crate) fn aok_message(table: &mut Table, message: &aok_proto::Message) {
+    use aok_proto::Message as M;
+    match message {
+        M::Debug(v) => own(table, v),
+        M::Ack(a) => own(table, a),
+        M::Parameter(v) => own(table, v),
+        M::Waypoint(w) => waypoint(table, w),
+    }
+}
+
+/// What an AOK PC sends: its fields.
+pub(crate) fn aok_command(table: &mut Table, command: &aok_proto::Command) {
+    use aok_proto::Command as C;
+    match command {
+        C::DebugOff | C::DebugOn | C::Reset | C::SaveWaypoints | C::LoadWaypoints => {}
+        C::LoadSet(n) | C::SaveSet(n) | C::StartSet(n) => table.set_static("set", Scalar::U8(*n)),
+        C::SetParameter(v) => own(table, v),
+        C::ReadParameter(n) => table.set_static("number", Scalar::U8(*n)),
+        C::BulkRead(n) => table.set_static("first", Scalar::U8(*n)),
+        C::MotorTest(v) => own(table, v),
+        C::SetWaypoint(w) => waypoint(table, w),
+        C::ReadWaypoint(s) => table.set_static("slot", Scalar::Str(&slot_name(*s))),
+        C::ExternalControl(v) => own(table, v),
+    }
+}
+
+/// A GDL90 message's fields.
+pub(crate) fn gdl90(table: &mut Table, message: &gdl90_proto::message::Message<'_>) {
+    use gdl90_proto::message::Message as M;
+    match message {
+        M::Heartbeat(v) => own(table, v),
+        M::Ownship(v) | M::Traffic(v) => own(table, v),
+        M::GeoAltitude(v) => own(table, v),
+        M::ForeFlightId(v) => own(table, v),
+        M::Ahrs(v) => own(table, v),
+        M::StratuxAhrs(v) => own(table, v),
+        M::Unknown { id, data } => {
+            table.set_static("id", Scalar::U8(*id));
+            table.set_static("data", Scalar::Str(&hex(data)));
+        }
+    }
+}
