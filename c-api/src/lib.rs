@@ -47,9 +47,12 @@ pub mod aok;
 pub mod aydp;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod calls;
+mod encode;
 mod face;
 mod ffi;
 pub mod gdl90;
+mod message;
 pub mod state;
 
 pub use ffi::pl_error;

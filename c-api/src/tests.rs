@@ -9,6 +9,7 @@ use std::vec::Vec;
 use crate::aeolus::*;
 use crate::aok::*;
 use crate::aydp::*;
+use crate::calls::*;
 use crate::gdl90::*;
 use crate::*;
 
