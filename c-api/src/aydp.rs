@@ -9,7 +9,7 @@ use aydp_proto::{
 };
 
 use crate::face::{self, Proto, Stream};
-use crate::ffi::{self, pl_error, sat32};
+use crate::ffi::{self, fields, pl_error, sat32};
 use crate::state::{self, PL_STATE_AYDP};
 use crate::*;
 
@@ -286,28 +286,16 @@ fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
         Message::TimeSync => (PL_AYDP_TIME_SYNC, NO_BODY),
         Message::Heartbeat => (PL_AYDP_HEARTBEAT, NO_BODY),
         Message::NoOp => (PL_AYDP_NO_OP, NO_BODY),
-        Message::Position(p) => (
-            PL_AYDP_POSITION,
-            pl_aydp_body {
-                position: pl_aydp_position {
-                    latitude: p.latitude,
-                    longitude: p.longitude,
-                    altitude: p.altitude,
-                },
-            },
-        ),
-        Message::FixQuality(q) => (
-            PL_AYDP_FIX_QUALITY,
-            pl_aydp_body {
-                fix_quality: pl_aydp_fix_quality {
-                    fix_type: q.fix_type,
-                    mean_dop: q.mean_dop,
-                    hdop: q.hdop,
-                    vdop: q.vdop,
-                    satellites: q.satellites,
-                },
-            },
-        ),
+        Message::Position(p) => {
+            let position = fields! { p => pl_aydp_position { latitude, longitude, altitude } };
+            (PL_AYDP_POSITION, pl_aydp_body { position })
+        }
+        Message::FixQuality(q) => {
+            let fix_quality = fields! { q => pl_aydp_fix_quality {
+                fix_type, mean_dop, hdop, vdop, satellites,
+            } };
+            (PL_AYDP_FIX_QUALITY, pl_aydp_body { fix_quality })
+        }
         Message::FixDetail(d) => (
             PL_AYDP_FIX_DETAIL,
             pl_aydp_body {
@@ -349,28 +337,13 @@ fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
         ),
         Message::WindSpeed(w) => (PL_AYDP_WIND_SPEED, pl_aydp_body { value: w.0 }),
         Message::WindDirection(w) => (PL_AYDP_WIND_DIRECTION, pl_aydp_body { value: w.0 }),
-        Message::VesselData(v) => (
-            PL_AYDP_VESSEL_DATA,
-            pl_aydp_body {
-                vessel: pl_aydp_vessel {
-                    roll: v.roll,
-                    pitch: v.pitch,
-                    heading: v.heading,
-                    roll_rate: v.roll_rate,
-                    pitch_rate: v.pitch_rate,
-                    heading_rate: v.heading_rate,
-                    latitude: v.latitude,
-                    longitude: v.longitude,
-                    track: v.track,
-                    speed_over_ground: v.speed_over_ground,
-                    fix_type: v.fix_type,
-                    satellites: v.satellites,
-                    mean_dop: v.mean_dop,
-                    hdop: v.hdop,
-                    vdop: v.vdop,
-                },
-            },
-        ),
+        Message::VesselData(v) => {
+            let vessel = fields! { v => pl_aydp_vessel {
+                roll, pitch, heading, roll_rate, pitch_rate, heading_rate, latitude, longitude,
+                track, speed_over_ground, fix_type, satellites, mean_dop, hdop, vdop,
+            } };
+            (PL_AYDP_VESSEL_DATA, pl_aydp_body { vessel })
+        }
         Message::Tbd(_) => (PL_AYDP_TBD, NO_BODY),
         Message::UserDefined(_) => (PL_AYDP_USER_DEFINED, NO_BODY),
         Message::Unknown(_) => (PL_AYDP_UNKNOWN, NO_BODY),
@@ -570,25 +543,15 @@ unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message
         PL_AYDP_TIME_SYNC => Message::TimeSync,
         PL_AYDP_HEARTBEAT => Message::Heartbeat,
         PL_AYDP_NO_OP => Message::NoOp,
-        PL_AYDP_POSITION => {
-            // SAFETY: plain numbers, any bytes valid.
-            let p = unsafe { b.position };
-            Message::Position(Position {
-                latitude: p.latitude,
-                longitude: p.longitude,
-                altitude: p.altitude,
-            })
-        }
+        // SAFETY: plain numbers, any bytes valid.
+        PL_AYDP_POSITION => Message::Position(fields! { unsafe { b.position } => Position {
+            latitude, longitude, altitude,
+        } }),
         PL_AYDP_FIX_QUALITY => {
             // SAFETY: plain numbers, any bytes valid.
-            let q = unsafe { b.fix_quality };
-            Message::FixQuality(FixQuality {
-                fix_type: q.fix_type,
-                mean_dop: q.mean_dop,
-                hdop: q.hdop,
-                vdop: q.vdop,
-                satellites: q.satellites,
-            })
+            Message::FixQuality(fields! { unsafe { b.fix_quality } => FixQuality {
+                fix_type, mean_dop, hdop, vdop, satellites,
+            } })
         }
         PL_AYDP_FIX_DETAIL => Message::FixDetail(FixDetail::parse(data).map_err(|_| PL_E_INVALID)?),
         PL_AYDP_DIRECT_OUTPUT => {
@@ -627,23 +590,10 @@ unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message
         PL_AYDP_VESSEL_DATA => {
             // SAFETY: plain numbers, any bytes valid.
             let v = unsafe { b.vessel };
-            Message::VesselData(VesselData {
-                roll: v.roll,
-                pitch: v.pitch,
-                heading: v.heading,
-                roll_rate: v.roll_rate,
-                pitch_rate: v.pitch_rate,
-                heading_rate: v.heading_rate,
-                latitude: v.latitude,
-                longitude: v.longitude,
-                track: v.track,
-                speed_over_ground: v.speed_over_ground,
-                fix_type: v.fix_type,
-                satellites: v.satellites,
-                mean_dop: v.mean_dop,
-                hdop: v.hdop,
-                vdop: v.vdop,
-            })
+            Message::VesselData(fields! { v => VesselData {
+                roll, pitch, heading, roll_rate, pitch_rate, heading_rate, latitude, longitude,
+                track, speed_over_ground, fix_type, satellites, mean_dop, hdop, vdop,
+            } })
         }
         PL_AYDP_TBD => Message::Tbd(raw),
         PL_AYDP_USER_DEFINED => Message::UserDefined(raw),

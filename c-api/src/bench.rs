@@ -10,11 +10,68 @@ use aeolus_proto::Decode;
 
 use crate::ffi;
 
+/// The messages `typed` finds in the items of `bytes[..len]`, fed to `d` whole (`feed`) or a
+/// byte a call (`push`, as a receive interrupt would).
+///
 /// # Safety
 /// `bytes` is readable for `len` bytes (or NULL with `len` 0).
-unsafe fn input<'a>(bytes: *const u8, len: usize) -> &'a [u8] {
+#[inline(always)]
+unsafe fn count<D: Decode>(
+    mut d: D,
+    bytes: *const u8,
+    len: usize,
+    push: bool,
+    typed: impl Fn(D::Item<'_>) -> bool,
+) -> u32 {
     // SAFETY: the caller's promise.
-    unsafe { ffi::bytes(bytes, len) }.unwrap_or(&[])
+    let input = unsafe { ffi::bytes(bytes, len) }.unwrap_or(&[]);
+    let mut n = 0u32;
+    let mut on_event = |event: Result<D::Item<'_>, D::Error>| {
+        if let Ok(item) = event
+            && typed(item)
+        {
+            n += 1;
+        }
+    };
+    if push {
+        for b in input {
+            d.feed(core::slice::from_ref(b), &mut on_event);
+        }
+    } else {
+        d.feed(input, on_event);
+    }
+    n
+}
+
+/// An AEOLUS decoder of the C library's capacity.
+fn aeolus() -> aeolus_proto::Decoder<{ crate::aeolus::PL_AEOLUS_CAPACITY }> {
+    aeolus_proto::Decoder::new()
+}
+
+/// An AYDP decoder of the C library's capacity, profile Spec.
+fn aydp() -> aydp_proto::Decoder<{ crate::aydp::PL_AYDP_CAPACITY }> {
+    aydp_proto::Decoder::new(aydp_proto::Profile::Spec)
+}
+
+/// The PC side's AOK decoder, firmware 0.35.
+fn aok_pc() -> aok_proto::MessageDecoder {
+    aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::new(0, 35))
+}
+
+/// Whether a frame's typed parse succeeds (the message kept from the optimiser).
+fn aeolus_typed(frame: aeolus_proto::Frame<'_>) -> bool {
+    frame.message().map(|m| _ = black_box(&m)).is_ok()
+}
+
+/// Whether a frame's typed parse succeeds (the message kept from the optimiser).
+fn aydp_typed(frame: aydp_proto::Frame<'_>) -> bool {
+    frame.message().map(|m| _ = black_box(&m)).is_ok()
+}
+
+/// A message, kept from the optimiser.
+fn aok_typed(m: aok_proto::Message) -> bool {
+    black_box(&m);
+    true
 }
 
 /// AEOLUS, `push` byte by byte, then `frame.message()`.
@@ -23,120 +80,56 @@ unsafe fn input<'a>(bytes: *const u8, len: usize) -> &'a [u8] {
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aeolus_push(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aeolus_proto::Decoder::<{ crate::aeolus::PL_AEOLUS_CAPACITY }>::new();
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    for b in unsafe { input(bytes, len) } {
-        d.feed(core::slice::from_ref(b), |ev| {
-            if let Ok(frame) = ev
-                && let Ok(m) = frame.message()
-            {
-                black_box(&m);
-                n += 1;
-            }
-        });
-    }
-    n
+    unsafe { count(aeolus(), bytes, len, true, aeolus_typed) }
 }
 
-/// AEOLUS, `feed` over the whole buffer, then `frame.message()`.
+/// AEOLUS, one `feed` over the whole buffer, then `frame.message()`.
 ///
 /// # Safety
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aeolus_feed(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aeolus_proto::Decoder::<{ crate::aeolus::PL_AEOLUS_CAPACITY }>::new();
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    d.feed(unsafe { input(bytes, len) }, |ev| {
-        if let Ok(frame) = ev
-            && let Ok(m) = frame.message()
-        {
-            black_box(&m);
-            n += 1;
-        }
-    });
-    n
+    unsafe { count(aeolus(), bytes, len, false, aeolus_typed) }
 }
 
-/// AYDP (Spec), `push` and `poll`, then `frame.message()`.
+/// AYDP (Spec), `push` byte by byte, then `frame.message()`.
 ///
 /// # Safety
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aydp_push(bytes: *const u8, len: usize) -> u32 {
-    let mut d =
-        aydp_proto::Decoder::<{ crate::aydp::PL_AYDP_CAPACITY }>::new(aydp_proto::Profile::Spec);
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    for &b in unsafe { input(bytes, len) } {
-        d.feed(&[b], |e| {
-            if let Ok(frame) = e
-                && let Ok(m) = frame.message()
-            {
-                black_box(&m);
-                n += 1;
-            }
-        });
-    }
-    n
+    unsafe { count(aydp(), bytes, len, true, aydp_typed) }
 }
 
-/// AYDP (Spec), `feed`, then `frame.message()`.
+/// AYDP (Spec), one `feed` over the whole buffer, then `frame.message()`.
 ///
 /// # Safety
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aydp_feed(bytes: *const u8, len: usize) -> u32 {
-    let mut d =
-        aydp_proto::Decoder::<{ crate::aydp::PL_AYDP_CAPACITY }>::new(aydp_proto::Profile::Spec);
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    d.feed(unsafe { input(bytes, len) }, |ev| {
-        if let Ok(frame) = ev
-            && let Ok(m) = frame.message()
-        {
-            black_box(&m);
-            n += 1;
-        }
-    });
-    n
+    unsafe { count(aydp(), bytes, len, false, aydp_typed) }
 }
 
-/// AOK PC side (the device's messages), `push` and `poll`.
+/// AOK PC side (firmware 0.35), `push` byte by byte.
 ///
 /// # Safety
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aok_pc_push(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    for &b in unsafe { input(bytes, len) } {
-        d.feed(&[b], |e| {
-            if let Ok(m) = e {
-                black_box(&m);
-                n += 1;
-            }
-        });
-    }
-    n
+    unsafe { count(aok_pc(), bytes, len, true, aok_typed) }
 }
 
-/// AOK PC side, `feed`.
+/// AOK PC side (firmware 0.35), one `feed` over the whole buffer.
 ///
 /// # Safety
 /// `bytes` is readable for `len` bytes.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn pl_bench_rust_aok_pc_feed(bytes: *const u8, len: usize) -> u32 {
-    let mut d = aok_proto::MessageDecoder::new(aok_proto::FirmwareVersion::new(0, 35));
-    let mut n = 0u32;
     // SAFETY: the caller's promise.
-    d.feed(unsafe { input(bytes, len) }, |ev| {
-        if let Ok(m) = ev {
-            black_box(&m);
-            n += 1;
-        }
-    });
-    n
+    unsafe { count(aok_pc(), bytes, len, false, aok_typed) }
 }

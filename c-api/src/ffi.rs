@@ -110,3 +110,13 @@ pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8]
 pub(crate) fn length(n: usize) -> i32 {
     i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
 }
+
+/// A struct built from the fields of the same names of another (a Rust message and its C
+/// struct, either way): `fields!(v => pl_aydp_position { latitude, longitude, altitude })`.
+macro_rules! fields {
+    ($from:expr => $to:path { $($field:ident),* $(,)? }) => {{
+        let from = $from;
+        $to { $($field: from.$field),* }
+    }};
+}
+pub(crate) use fields;

@@ -287,10 +287,10 @@ fn an_error_never_passes_the_previous_message() {
     let mut used = 0;
     // SAFETY: a set-up decoder, a live input and outputs.
     let st = unsafe {
-        pl_aeolus_parse(
+        slice(
+            pl_aeolus_parse,
             d.as_mut_ptr(),
-            stream.as_ptr(),
-            stream.len(),
+            &stream,
             &mut used,
             &mut msg,
             &mut err,
@@ -303,10 +303,10 @@ fn an_error_never_passes_the_previous_message() {
     let rest = &stream[used..];
     // SAFETY: as above.
     let st = unsafe {
-        pl_aeolus_parse(
+        slice(
+            pl_aeolus_parse,
             d.as_mut_ptr(),
-            rest.as_ptr(),
-            rest.len(),
+            rest,
             &mut used,
             &mut msg,
             &mut err,
@@ -350,14 +350,7 @@ fn gdl90_ends_a_stream() {
         pl_gdl90_get_stats(d, &mut st);
         assert_eq!(st.held_bytes, 0);
         // The decoder starts afresh; offsets go on from the 6 bytes fed.
-        let st = pl_gdl90_parse(
-            d,
-            heartbeat.as_ptr(),
-            heartbeat.len(),
-            &mut used,
-            &mut msg,
-            &mut err,
-        );
+        let st = slice(pl_gdl90_parse, d, &heartbeat, &mut used, &mut msg, &mut err);
         assert_eq!(
             (st, msg.kind, msg.offset, msg.wire_len),
             (PL_MESSAGE, PL_GDL90_HEARTBEAT, 6, 11)
