@@ -189,48 +189,31 @@ fn waypoint_rust(w: &pl_aok_waypoint) -> Result<Waypoint, i32> {
 
 fn command_c(c: &Command) -> pl_aok_item {
     let mut i = pl_aok_item::default();
-    i.kind = match *c {
-        Command::DebugOff => PL_AOK_DEBUG_OFF,
-        Command::DebugOn => PL_AOK_DEBUG_ON,
-        Command::Reset => PL_AOK_RESET,
-        Command::SaveWaypoints => PL_AOK_SAVE_WAYPOINTS,
-        Command::LoadWaypoints => PL_AOK_LOAD_WAYPOINTS,
-        Command::LoadSet(n) => {
-            i.number = n;
-            PL_AOK_LOAD_SET
-        }
-        Command::SaveSet(n) => {
-            i.number = n;
-            PL_AOK_SAVE_SET
-        }
-        Command::StartSet(n) => {
-            i.number = n;
-            PL_AOK_START_SET
-        }
+    // The commands that carry one number (a set, a parameter, a slot) give it here.
+    let (kind, number) = match *c {
+        Command::DebugOff => (PL_AOK_DEBUG_OFF, 0),
+        Command::DebugOn => (PL_AOK_DEBUG_ON, 0),
+        Command::Reset => (PL_AOK_RESET, 0),
+        Command::SaveWaypoints => (PL_AOK_SAVE_WAYPOINTS, 0),
+        Command::LoadWaypoints => (PL_AOK_LOAD_WAYPOINTS, 0),
+        Command::LoadSet(n) => (PL_AOK_LOAD_SET, n),
+        Command::SaveSet(n) => (PL_AOK_SAVE_SET, n),
+        Command::StartSet(n) => (PL_AOK_START_SET, n),
         Command::SetParameter(p) => {
-            (i.number, i.value) = (p.number, p.value);
-            PL_AOK_SET_PARAMETER
+            i.value = p.value;
+            (PL_AOK_SET_PARAMETER, p.number)
         }
-        Command::ReadParameter(n) => {
-            i.number = n;
-            PL_AOK_READ_PARAMETER
-        }
-        Command::BulkRead(n) => {
-            i.number = n;
-            PL_AOK_BULK_READ
-        }
+        Command::ReadParameter(n) => (PL_AOK_READ_PARAMETER, n),
+        Command::BulkRead(n) => (PL_AOK_BULK_READ, n),
         Command::MotorTest(m) => {
             (i.motor, i.motor_value) = (m.motor.get(), m.value);
-            PL_AOK_MOTOR_TEST
+            (PL_AOK_MOTOR_TEST, 0)
         }
         Command::SetWaypoint(w) => {
             i.waypoint = waypoint_c(&w);
-            PL_AOK_SET_WAYPOINT
+            (PL_AOK_SET_WAYPOINT, 0)
         }
-        Command::ReadWaypoint(s) => {
-            i.number = s.wire();
-            PL_AOK_READ_WAYPOINT
-        }
+        Command::ReadWaypoint(s) => (PL_AOK_READ_WAYPOINT, s.wire()),
         Command::ExternalControl(e) => {
             i.external = pl_aok_external {
                 roll: e.roll.get(),
@@ -239,9 +222,10 @@ fn command_c(c: &Command) -> pl_aok_item {
                 pitch: e.pitch,
                 expiry_ms: e.expiry_ms,
             };
-            PL_AOK_EXTERNAL_CONTROL
+            (PL_AOK_EXTERNAL_CONTROL, 0)
         }
     };
+    (i.kind, i.number) = (kind, number);
     i
 }
 

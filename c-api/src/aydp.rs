@@ -1,7 +1,6 @@
 //! AYDP from C: `pl_aydp_*`, both profiles. The decoder is
 //! `aydp_proto::Decoder<PL_AYDP_CAPACITY>`.
 
-use aydp_proto::message::{OutputEntry, Satellite};
 use aydp_proto::{
     Decoder, DirectOutput, EncodeError, Encoder, Error, FixDetail, FixQuality, Frame, Message,
     Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
@@ -472,18 +471,7 @@ pub(crate) fn satellite(data: &[u8], index: u32) -> Option<pl_aydp_satellite> {
         .ok()?
         .satellites()
         .nth(index as usize)?;
-    let Satellite {
-        id,
-        azimuth,
-        elevation,
-        snr,
-    } = s;
-    Some(pl_aydp_satellite {
-        id,
-        azimuth,
-        elevation,
-        snr,
-    })
+    Some(fields! { s => pl_aydp_satellite { id, azimuth, elevation, snr } })
 }
 
 /// The `index`-th entry of a direct output message's data.
@@ -492,16 +480,7 @@ pub(crate) fn entry(data: &[u8], index: u32) -> Option<pl_aydp_output_entry> {
         .ok()?
         .entries()
         .nth(index as usize)?;
-    let OutputEntry {
-        device,
-        channel,
-        value,
-    } = e;
-    Some(pl_aydp_output_entry {
-        device,
-        channel,
-        value,
-    })
+    Some(fields! { e => pl_aydp_output_entry { device, channel, value } })
 }
 
 /// `pl_aydp_encode` in profile `p`: `msg`, with its raw data `data`, as one whole message

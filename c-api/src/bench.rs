@@ -74,62 +74,33 @@ fn aok_typed(m: aok_proto::Message) -> bool {
     true
 }
 
-/// AEOLUS, `push` byte by byte, then `frame.message()`.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aeolus_push(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aeolus(), bytes, len, true, aeolus_typed) }
+/// The exported Rust paths, one a row: its name, the decoder, whether it is fed a byte a call
+/// (`push`) or the whole buffer (`feed`), and what counts as a message.
+macro_rules! paths {
+    ($($(#[$doc:meta])* $name:ident: $decoder:expr, $push:expr, $typed:expr;)*) => {$(
+        $(#[$doc])*
+        ///
+        /// # Safety
+        /// `bytes` is readable for `len` bytes.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(bytes: *const u8, len: usize) -> u32 {
+            // SAFETY: the caller's promise.
+            unsafe { count($decoder, bytes, len, $push, $typed) }
+        }
+    )*};
 }
 
-/// AEOLUS, one `feed` over the whole buffer, then `frame.message()`.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aeolus_feed(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aeolus(), bytes, len, false, aeolus_typed) }
-}
-
-/// AYDP (Spec), `push` byte by byte, then `frame.message()`.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aydp_push(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aydp(), bytes, len, true, aydp_typed) }
-}
-
-/// AYDP (Spec), one `feed` over the whole buffer, then `frame.message()`.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aydp_feed(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aydp(), bytes, len, false, aydp_typed) }
-}
-
-/// AOK PC side (firmware 0.35), `push` byte by byte.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aok_pc_push(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aok_pc(), bytes, len, true, aok_typed) }
-}
-
-/// AOK PC side (firmware 0.35), one `feed` over the whole buffer.
-///
-/// # Safety
-/// `bytes` is readable for `len` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_bench_rust_aok_pc_feed(bytes: *const u8, len: usize) -> u32 {
-    // SAFETY: the caller's promise.
-    unsafe { count(aok_pc(), bytes, len, false, aok_typed) }
+paths! {
+    /// AEOLUS, `push` byte by byte, then `frame.message()`.
+    pl_bench_rust_aeolus_push: aeolus(), true, aeolus_typed;
+    /// AEOLUS, one `feed` over the whole buffer, then `frame.message()`.
+    pl_bench_rust_aeolus_feed: aeolus(), false, aeolus_typed;
+    /// AYDP (Spec), `push` byte by byte, then `frame.message()`.
+    pl_bench_rust_aydp_push: aydp(), true, aydp_typed;
+    /// AYDP (Spec), one `feed` over the whole buffer, then `frame.message()`.
+    pl_bench_rust_aydp_feed: aydp(), false, aydp_typed;
+    /// AOK PC side (firmware 0.35), `push` byte by byte.
+    pl_bench_rust_aok_pc_push: aok_pc(), true, aok_typed;
+    /// AOK PC side (firmware 0.35), one `feed` over the whole buffer.
+    pl_bench_rust_aok_pc_feed: aok_pc(), false, aok_typed;
 }

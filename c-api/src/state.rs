@@ -50,6 +50,22 @@ pub const PL_STATE_AOK_PC: u32 = 4;
 /// State kind: `pl_gdl90_decoder`.
 pub const PL_STATE_GDL90: u32 = 5;
 
+/// Size and alignment of the C state of `kind`.
+fn layout(kind: u32) -> Option<(usize, usize)> {
+    use crate::{aeolus, aok, aydp, gdl90};
+    fn of<S: State>() -> (usize, usize) {
+        (core::mem::size_of::<S>(), core::mem::align_of::<S>())
+    }
+    Some(match kind {
+        PL_STATE_AEOLUS => of::<aeolus::pl_aeolus_decoder>(),
+        PL_STATE_AYDP => of::<aydp::pl_aydp_decoder>(),
+        PL_STATE_AOK_DEVICE => of::<aok::pl_aok_device_decoder>(),
+        PL_STATE_AOK_PC => of::<aok::pl_aok_pc_decoder>(),
+        PL_STATE_GDL90 => of::<gdl90::pl_gdl90_decoder>(),
+        _ => return None,
+    })
+}
+
 /// The size in bytes of the state of `kind` (`PL_STATE_*`) in this archive, or 0 for a kind
 /// it does not know. One function for every state, not one per state: a program compiled
 /// against a newer header can ask an older archive about a state it lacks and get 0, and a
@@ -72,22 +88,6 @@ pub extern "C" fn pl_state_size(kind: u32) -> usize {
 #[unsafe(no_mangle)]
 pub extern "C" fn pl_state_align(kind: u32) -> usize {
     layout(kind).map_or(0, |(_, align)| align)
-}
-
-/// Size and alignment of the C state of `kind`.
-fn layout(kind: u32) -> Option<(usize, usize)> {
-    use crate::{aeolus, aok, aydp, gdl90};
-    fn of<S: State>() -> (usize, usize) {
-        (core::mem::size_of::<S>(), core::mem::align_of::<S>())
-    }
-    Some(match kind {
-        PL_STATE_AEOLUS => of::<aeolus::pl_aeolus_decoder>(),
-        PL_STATE_AYDP => of::<aydp::pl_aydp_decoder>(),
-        PL_STATE_AOK_DEVICE => of::<aok::pl_aok_device_decoder>(),
-        PL_STATE_AOK_PC => of::<aok::pl_aok_pc_decoder>(),
-        PL_STATE_GDL90 => of::<gdl90::pl_gdl90_decoder>(),
-        _ => return None,
-    })
 }
 
 /// A C state type (`pl_*_decoder`) and the Rust state it holds.
