@@ -1,7 +1,7 @@
 //! Every C function of the decoders and encoders, in the header's order (cbindgen writes the
 //! functions in the order it reads them, and reads this file whole), with the C documentation
 //! the header carries. Each only forwards: the decoding calls to `face.rs`, written once over
-//! [`face::Proto`], the encoders to `encode.rs` and their protocol's conversion, so that a
+//! `face::Proto`, the encoders to `encode.rs` and their protocol's conversion, so that a
 //! protocol file holds only what differs (its C structs and how an item fills them).
 
 use aok_proto::{CommandDecoder, FirmwareVersion, MessageDecoder};

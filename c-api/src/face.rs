@@ -1,8 +1,9 @@
 //! The decoding calls of every protocol, written once: `init`, `parse`, `feed`, `finish` and
 //! `get_stats` over the decoder contract ([`Decode`]), driven through its one adapter,
 //! [`Stream`], which gives every event its place. Each protocol file implements [`Proto`] (its
-//! C message struct and how an item fills it) and exports one-line `pl_*` shims that call
-//! these functions; no decoding logic is repeated per protocol.
+//! C message and stats structs, how an item fills the one and the counters the other), and
+//! `calls.rs` exports the one-line `pl_*` shims that call these functions; no decoding logic
+//! is repeated per protocol.
 //!
 //! A C state holds a [`Stream`]: the decoder and the bytes it has used since `init`, from
 //! which each event's `offset` and `wire_len` come, whatever slices the bytes came in.

@@ -519,19 +519,11 @@ fn aeolus_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
     for &chunk in chunks {
         let mut d = aeolus_decoder();
+        let p = d.as_mut_ptr();
         let got = chunked(&stream, chunk, |rest| {
             let mut used = usize::MAX;
             // SAFETY: a set-up decoder, a live input and outputs.
-            let st = unsafe {
-                slice(
-                    pl_aeolus_parse,
-                    d.as_mut_ptr(),
-                    rest,
-                    &mut used,
-                    &mut msg,
-                    &mut err,
-                )
-            };
+            let st = unsafe { slice(pl_aeolus_parse, p, rest, &mut used, &mut msg, &mut err) };
             (st, used, event(st, &msg, &err))
         });
         assert!(got == expected, "pieces of {chunk}: the events differ");
