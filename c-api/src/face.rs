@@ -32,6 +32,8 @@ pub(crate) trait Proto: State<Inner = Stream<Self::Dec>> {
     const EMPTY: Self::Msg;
     /// The decoder's item may borrow the slice given to `decode` (AYDP): `parse` then decodes
     /// one byte at a time, so that a message's `data` points into the decoder, as promised.
+    /// (AYDP takes a frame whole in the caller's slice whenever it holds nothing, which a
+    /// rescan can bring about in the middle of a call: only one byte a call rules it out.)
     const BYTEWISE: bool = false;
 
     /// Fills `msg` from an item (and `err`, for a frame with a good check whose typed parse
