@@ -4,8 +4,8 @@ use aeolus_proto::message::{self as m, CalibrationStatus, Message, Text};
 use aeolus_proto::{CrcMode, Decoder, EncodeError, Error, Frame};
 
 use crate::face::{self, Proto, Stream};
-use crate::ffi::{self, pl_error};
-use crate::state::{self, State};
+use crate::pl_error;
+use crate::state::{self, PL_STATE_AEOLUS};
 use crate::*;
 
 /// Unescaped bytes (ID + data + CRC) one AEOLUS decoder holds: every fixed-size message,
@@ -24,7 +24,8 @@ pub const PL_AEOLUS_TEXT_CAPACITY: usize = 120;
 /// escaped: a buffer this long holds any frame but LOG or unknown ones with more data.
 pub const PL_AEOLUS_MAX_FRAME_LEN: usize = 424;
 
-type Inner = Decoder<PL_AEOLUS_CAPACITY>;
+/// The Rust decoder a `pl_aeolus_decoder` holds.
+pub(crate) type Inner = Decoder<PL_AEOLUS_CAPACITY>;
 
 /// An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
 /// call; copy it only as a whole.
@@ -34,14 +35,9 @@ pub struct pl_aeolus_decoder {
     pub opaque: [u64; PL_AEOLUS_DECODER_WORDS],
 }
 
-// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
-unsafe impl State for pl_aeolus_decoder {
-    type Inner = Stream<Inner>;
-    const KIND: u32 = state::PL_STATE_AEOLUS;
+state::holds! {
+    pl_aeolus_decoder: Stream<Inner>, PL_STATE_AEOLUS, PL_AEOLUS_DECODER_SIZE, PL_AEOLUS_DECODER_ALIGN
 }
-const _: () = assert!(state::fits::<pl_aeolus_decoder>());
-const _: () = assert!(PL_AEOLUS_DECODER_SIZE == core::mem::size_of::<pl_aeolus_decoder>());
-const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AEOLUS_DECODER_ALIGN);
 const _: () = assert!(PL_AEOLUS_TEXT_CAPACITY == aeolus_proto::TEXT_CAPACITY);
 const _: () = assert!(
     PL_AEOLUS_MAX_FRAME_LEN == aeolus_proto::max_encoded_len(aeolus_proto::message::DEBUGINFO_LEN)
@@ -421,58 +417,14 @@ fn fill(out: &mut pl_aeolus_message, msg: &Message<'_>, no_crc: bool) {
     out.data_len = data.len();
 }
 
-/// An error as the C struct.
-fn error(e: Error) -> pl_error {
-    match e {
-        Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
-        Error::ChecksumMismatch {
-            id,
-            computed,
-            received,
-        } => pl_error::new(
-            PL_ERR_CHECKSUM_MISMATCH,
-            id.into(),
-            computed.into(),
-            received.into(),
-        ),
-        Error::MissingCrc { id } => pl_error::new(PL_ERR_MISSING_CRC, id.into(), 0, 0),
-        Error::TooShort => pl_error::kind(PL_ERR_TOO_SHORT),
-        Error::InvalidEscape => pl_error::kind(PL_ERR_INVALID_ESCAPE),
-        Error::EscapedFlag => pl_error::kind(PL_ERR_ESCAPED_FLAG),
-        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
-        Error::WrongLength {
-            id,
-            expected,
-            actual,
-        } => pl_error::new(
-            PL_ERR_WRONG_LENGTH,
-            id.into(),
-            expected.into(),
-            actual.into(),
-        ),
-        Error::TextTooLong { id, len } => {
-            pl_error::new(PL_ERR_TEXT_TOO_LONG, id.into(), 0, len.into())
-        }
-    }
-}
-
-/// The empty message: what `PL_ERROR` leaves in `*msg` when the error is not about a frame.
-// SAFETY: integers, floats and a raw pointer: all zeros is a valid value (NULL for `data`).
-const EMPTY: pl_aeolus_message = unsafe { core::mem::zeroed() };
-
 impl Proto for pl_aeolus_decoder {
     type Dec = Inner;
     type Msg = pl_aeolus_message;
     type Stats = pl_aeolus_stats;
-    type Ctx = ();
+    // SAFETY: integers, floats and a raw pointer: all zeros is a valid value (NULL for `data`).
+    const EMPTY: pl_aeolus_message = unsafe { core::mem::zeroed() };
 
-    fn empty() -> pl_aeolus_message {
-        EMPTY
-    }
-
-    fn context(_: &Inner) {}
-
-    fn fill(frame: Frame<'_>, _: (), msg: &mut pl_aeolus_message, err: &mut pl_error) -> i32 {
+    fn fill(frame: Frame<'_>, msg: &mut pl_aeolus_message, err: &mut pl_error) -> i32 {
         match frame.message() {
             Ok(m) => {
                 fill(msg, &m, !frame.has_crc());
@@ -486,197 +438,79 @@ impl Proto for pl_aeolus_decoder {
             }
             Err(e) => {
                 // The raw frame stays available (DECISIONS.md A4).
-                *msg = EMPTY;
+                *msg = Self::EMPTY;
                 let raw = Message::Unknown {
                     id: frame.id(),
                     data: frame.data(),
                 };
                 fill(msg, &raw, !frame.has_crc());
-                *err = error(e);
+                *err = Self::error(e);
                 PL_ERROR
             }
         }
     }
 
     fn error(e: Error) -> pl_error {
-        error(e)
-    }
-
-    fn place(msg: &mut pl_aeolus_message, offset: u64, wire_len: u32) {
-        (msg.offset, msg.wire_len) = (offset, wire_len);
+        match e {
+            Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
+            Error::ChecksumMismatch {
+                id,
+                computed,
+                received,
+            } => pl_error::checksum(id, computed, received),
+            Error::MissingCrc { id } => pl_error::new(PL_ERR_MISSING_CRC, id.into(), 0, 0),
+            Error::TooShort => pl_error::kind(PL_ERR_TOO_SHORT),
+            Error::InvalidEscape => pl_error::kind(PL_ERR_INVALID_ESCAPE),
+            Error::EscapedFlag => pl_error::kind(PL_ERR_ESCAPED_FLAG),
+            Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
+            Error::WrongLength {
+                id,
+                expected,
+                actual,
+            } => pl_error::wrong_length(id, expected, actual),
+            Error::TextTooLong { id, len } => {
+                pl_error::new(PL_ERR_TEXT_TOO_LONG, id.into(), 0, len.into())
+            }
+        }
     }
 
     fn stats(d: &Inner) -> pl_aeolus_stats {
-        let s = d.stats();
-        pl_aeolus_stats {
-            frames_ok: s.frames_ok,
-            frames_no_crc: s.frames_no_crc,
-            checksum_errors: s.checksum_errors,
-            missing_crc: s.missing_crc,
-            overflows: s.overflows,
-            too_short: s.too_short,
-            bad_escapes: s.bad_escapes,
-            bytes_discarded: s.bytes_discarded,
-            frame_bytes: s.frame_bytes,
-            flags: s.flags,
-            held_bytes: ffi::sat32(d.held_bytes()),
-        }
+        face::stats! { d => pl_aeolus_stats {
+            frames_ok, frames_no_crc, checksum_errors, missing_crc, overflows, too_short,
+            bad_escapes, bytes_discarded, frame_bytes, flags,
+        } }
     }
 }
 
-/// Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
-/// allows). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned for its type).
-///
-/// ```c
-/// pl_aeolus_decoder dec;
-/// pl_aeolus_init(&dec);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_init(dec: *mut pl_aeolus_decoder) -> i32 {
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, Inner::new()) }
-}
-
-/// Sets up `dec` as a fresh strict decoder: frames without a CRC are errors
-/// (`PL_ERR_MISSING_CRC`). Returns 0, `PL_E_NULL`, or `PL_E_INVALID` (`dec` not aligned).
-///
-/// ```c
-/// pl_aeolus_decoder dec;
-/// pl_aeolus_init_strict(&dec);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i32 {
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, Inner::strict()) }
-}
-
-/// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a message
-/// or an error and sets `*used` to the bytes it took (all of `len` with `PL_NOTHING`). One
-/// byte at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled; `*msg`
-/// cleared, or for a good frame whose typed parse failed its ID, raw data and place),
-/// `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) use_rates(&msg.body.motion);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_parse(
-    dec: *mut pl_aeolus_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aeolus_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
-
-/// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
-/// or `PL_ERROR` (`*err` holds the error, `*msg` as `pl_aeolus_parse` leaves it). Both
-/// pointers are valid only during the call.
-pub type pl_aeolus_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_aeolus_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_aeolus_parse` over the same bytes. Returns `PL_NOTHING`,
-/// `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
-///
-/// ```c
-/// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
-///     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
-/// }
-/// pl_aeolus_feed(&dec, dma_buf, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` is a
-/// function that may be called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_feed(
-    dec: *mut pl_aeolus_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aeolus_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
-/// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED`.
-/// Returns as `pl_aeolus_parse`; afterwards the decoder starts afresh (offsets go on).
-///
-/// ```c
-/// while ((st = pl_aeolus_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
-/// ```
-///
-/// # Safety
-/// As `pl_aeolus_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_finish(
-    dec: *mut pl_aeolus_decoder,
-    msg: *mut pl_aeolus_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aeolus_stats st;
-/// pl_aeolus_get_stats(&dec, &st);
-/// printf("%u frames, %u CRC errors\n", st.frames_ok, st.checksum_errors);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_get_stats(
-    dec: *const pl_aeolus_decoder,
-    stats: *mut pl_aeolus_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
 fn text(data: &[u8]) -> Result<Text, i32> {
     Text::from_bytes(data).map_err(|_| PL_E_INVALID)
 }
 
-/// The C struct as a Rust message; `data` is the struct's raw data.
-///
-/// # Safety
-/// `msg.body` holds the member `msg.id` selects (every member is plain numbers: any bytes
-/// are a valid value, so a wrong member gives wrong numbers, never undefined behaviour).
-unsafe fn from_c<'a>(msg: &pl_aeolus_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
+/// `pl_aeolus_encode`: `msg`, with its raw data `data`, as one whole frame into `out`.
+pub(crate) fn encode(msg: &pl_aeolus_message, data: &[u8], out: &mut [u8]) -> Result<usize, i32> {
+    let mode = if msg.no_crc != 0 {
+        CrcMode::Omit
+    } else {
+        CrcMode::Compute
+    };
+    from_c(msg, data)?.encode(out, mode).map_err(|e| match e {
+        EncodeError::BufferTooSmall { .. } => PL_E_BUFFER_TOO_SMALL,
+        EncodeError::TextTooLong { .. } => PL_E_INVALID,
+    })
+}
+
+/// `pl_aeolus_max_encoded_len`: `usize::MAX` where the length would not fit.
+pub(crate) fn max_encoded_len(data_len: usize) -> usize {
+    if data_len > (usize::MAX - 8) / 2 {
+        return usize::MAX;
+    }
+    aeolus_proto::max_encoded_len(data_len)
+}
+
+/// The C struct as a Rust message; `data` is the struct's raw data. The body is read as the
+/// member `msg.id` selects: every member is plain numbers, so any bytes are a valid value and
+/// a wrong member gives wrong numbers, never undefined behaviour.
+fn from_c<'a>(msg: &pl_aeolus_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
     // SAFETY (every union read below): the union's members are all made of integers and
     // floats, for which every bit pattern is valid, and `body` is as large as its largest
     // member, so any read is defined.
@@ -824,71 +658,4 @@ fn settime_message(v: pl_aeolus_settime) -> Message<'static> {
         minute: v.minute,
         second: v.second,
     })
-}
-
-/// Encodes `*msg` as one whole frame (flags, escapes, CRC) into `out[..cap]`. Returns the
-/// frame's length, or `PL_E_NULL`, `PL_E_BUFFER_TOO_SMALL` (`PL_AEOLUS_MAX_FRAME_LEN` bytes
-/// are always enough but for LOG and unknown IDs), `PL_E_INVALID` (a text longer than
-/// `PL_AEOLUS_TEXT_CAPACITY`).
-///
-/// ```c
-/// pl_aeolus_message m = { .id = PL_AEOLUS_ID_GYRO };
-/// m.body.motion = (pl_aeolus_motion){ .valid = 1, .timestamp_ms = 1000.0, .x = 0.5f };
-/// uint8_t frame[PL_AEOLUS_MAX_FRAME_LEN];
-/// int32_t n = pl_aeolus_encode(&m, frame, sizeof frame);
-/// if (n > 0) uart_write(frame, (size_t)n);
-/// ```
-///
-/// # Safety
-/// `msg` is NULL or readable with `data` readable for `data_len` bytes (or NULL when 0);
-/// `out` is NULL or writable for `cap` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_encode(
-    msg: *const pl_aeolus_message,
-    out: *mut u8,
-    cap: usize,
-) -> i32 {
-    // SAFETY: the caller's promise: NULL or readable.
-    let Some(msg) = (unsafe { msg.as_ref() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `data[..data_len]`.
-    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `out[..cap]`.
-    let out = match unsafe { ffi::buffer(out, cap) } {
-        Ok(out) => out,
-        Err(code) => return code,
-    };
-    // SAFETY: the body is read as plain numbers (see `from_c`).
-    let m = match unsafe { from_c(msg, data) } {
-        Ok(m) => m,
-        Err(code) => return code,
-    };
-    let mode = if msg.no_crc != 0 {
-        CrcMode::Omit
-    } else {
-        CrcMode::Compute
-    };
-    match m.encode(out, mode) {
-        Ok(n) => ffi::length(n),
-        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(EncodeError::TextTooLong { .. }) => PL_E_INVALID,
-    }
-}
-
-/// Bytes on the wire, worst case, of an AEOLUS frame with `data_len` data bytes (every byte
-/// escaped): size a buffer for LOG messages with it.
-///
-/// ```c
-/// uint8_t buf[64];
-/// assert(pl_aeolus_max_encoded_len(28) <= sizeof buf);
-/// ```
-#[unsafe(no_mangle)]
-pub extern "C" fn pl_aeolus_max_encoded_len(data_len: usize) -> usize {
-    if data_len > (usize::MAX - 8) / 2 {
-        return usize::MAX;
-    }
-    aeolus_proto::max_encoded_len(data_len)
 }

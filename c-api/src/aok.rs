@@ -3,14 +3,14 @@
 
 use aok_proto::{
     Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, EncodeError, Error,
-    ExternalControl, FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue,
-    ReplyForm, Stick, Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug,
+    ExternalControl, Message, MessageDecoder, Motor, MotorTest, ParameterValue, ReplyForm, Stick,
+    Waypoint, WaypointSlot, encode_ack, encode_command as encode_command_rust, encode_debug,
     encode_parameter, encode_waypoint,
 };
 
 use crate::face::{self, Proto, Stream};
-use crate::ffi::{self, pl_error};
-use crate::state::{self, State};
+use crate::pl_error;
+use crate::state::{self, PL_STATE_AOK_DEVICE, PL_STATE_AOK_PC};
 use crate::*;
 
 /// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
@@ -37,21 +37,14 @@ pub struct pl_aok_pc_decoder {
     pub opaque: [u64; PL_AOK_DECODER_WORDS],
 }
 
-// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
-unsafe impl State for pl_aok_device_decoder {
-    type Inner = Stream<CommandDecoder>;
-    const KIND: u32 = state::PL_STATE_AOK_DEVICE;
+state::holds! {
+    pl_aok_device_decoder: Stream<CommandDecoder>, PL_STATE_AOK_DEVICE,
+    PL_AOK_DECODER_SIZE, PL_AOK_DECODER_ALIGN
 }
-const _: () = assert!(state::fits::<pl_aok_device_decoder>());
-// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
-unsafe impl State for pl_aok_pc_decoder {
-    type Inner = Stream<MessageDecoder>;
-    const KIND: u32 = state::PL_STATE_AOK_PC;
+state::holds! {
+    pl_aok_pc_decoder: Stream<MessageDecoder>, PL_STATE_AOK_PC,
+    PL_AOK_DECODER_SIZE, PL_AOK_DECODER_ALIGN
 }
-const _: () = assert!(state::fits::<pl_aok_pc_decoder>());
-const _: () = assert!(PL_AOK_DECODER_SIZE == core::mem::size_of::<pl_aok_pc_decoder>());
-const _: () = assert!(core::mem::align_of::<MessageDecoder>() <= PL_AOK_DECODER_ALIGN);
-const _: () = assert!(core::mem::align_of::<CommandDecoder>() <= PL_AOK_DECODER_ALIGN);
 const _: () = assert!(PL_AOK_MAX_FRAME_LEN == aok_proto::command::MAX_COMMAND_LEN);
 
 /// Command kind: `63 01` debug off.
@@ -196,48 +189,31 @@ fn waypoint_rust(w: &pl_aok_waypoint) -> Result<Waypoint, i32> {
 
 fn command_c(c: &Command) -> pl_aok_item {
     let mut i = pl_aok_item::default();
-    i.kind = match *c {
-        Command::DebugOff => PL_AOK_DEBUG_OFF,
-        Command::DebugOn => PL_AOK_DEBUG_ON,
-        Command::Reset => PL_AOK_RESET,
-        Command::SaveWaypoints => PL_AOK_SAVE_WAYPOINTS,
-        Command::LoadWaypoints => PL_AOK_LOAD_WAYPOINTS,
-        Command::LoadSet(n) => {
-            i.number = n;
-            PL_AOK_LOAD_SET
-        }
-        Command::SaveSet(n) => {
-            i.number = n;
-            PL_AOK_SAVE_SET
-        }
-        Command::StartSet(n) => {
-            i.number = n;
-            PL_AOK_START_SET
-        }
+    // The commands that carry one number (a set, a parameter, a slot) give it here.
+    let (kind, number) = match *c {
+        Command::DebugOff => (PL_AOK_DEBUG_OFF, 0),
+        Command::DebugOn => (PL_AOK_DEBUG_ON, 0),
+        Command::Reset => (PL_AOK_RESET, 0),
+        Command::SaveWaypoints => (PL_AOK_SAVE_WAYPOINTS, 0),
+        Command::LoadWaypoints => (PL_AOK_LOAD_WAYPOINTS, 0),
+        Command::LoadSet(n) => (PL_AOK_LOAD_SET, n),
+        Command::SaveSet(n) => (PL_AOK_SAVE_SET, n),
+        Command::StartSet(n) => (PL_AOK_START_SET, n),
         Command::SetParameter(p) => {
-            (i.number, i.value) = (p.number, p.value);
-            PL_AOK_SET_PARAMETER
+            i.value = p.value;
+            (PL_AOK_SET_PARAMETER, p.number)
         }
-        Command::ReadParameter(n) => {
-            i.number = n;
-            PL_AOK_READ_PARAMETER
-        }
-        Command::BulkRead(n) => {
-            i.number = n;
-            PL_AOK_BULK_READ
-        }
+        Command::ReadParameter(n) => (PL_AOK_READ_PARAMETER, n),
+        Command::BulkRead(n) => (PL_AOK_BULK_READ, n),
         Command::MotorTest(m) => {
             (i.motor, i.motor_value) = (m.motor.get(), m.value);
-            PL_AOK_MOTOR_TEST
+            (PL_AOK_MOTOR_TEST, 0)
         }
         Command::SetWaypoint(w) => {
             i.waypoint = waypoint_c(&w);
-            PL_AOK_SET_WAYPOINT
+            (PL_AOK_SET_WAYPOINT, 0)
         }
-        Command::ReadWaypoint(s) => {
-            i.number = s.wire();
-            PL_AOK_READ_WAYPOINT
-        }
+        Command::ReadWaypoint(s) => (PL_AOK_READ_WAYPOINT, s.wire()),
         Command::ExternalControl(e) => {
             i.external = pl_aok_external {
                 roll: e.roll.get(),
@@ -246,9 +222,10 @@ fn command_c(c: &Command) -> pl_aok_item {
                 pitch: e.pitch,
                 expiry_ms: e.expiry_ms,
             };
-            PL_AOK_EXTERNAL_CONTROL
+            (PL_AOK_EXTERNAL_CONTROL, 0)
         }
     };
+    (i.kind, i.number) = (kind, number);
     i
 }
 
@@ -311,6 +288,7 @@ fn message_c(m: &Message) -> pl_aok_item {
     i
 }
 
+/// An error as the C struct (both sides).
 fn error(e: Error) -> pl_error {
     match e {
         Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
@@ -318,12 +296,7 @@ fn error(e: Error) -> pl_error {
             id,
             computed,
             received,
-        } => pl_error::new(
-            PL_ERR_CHECKSUM_MISMATCH,
-            id.into(),
-            computed.into(),
-            received.into(),
-        ),
+        } => pl_error::checksum(id, computed, received),
         Error::UnknownCommand(b) => pl_error::new(PL_ERR_UNKNOWN_COMMAND, 0, 0, b.into()),
         Error::InvalidSlot(v) | Error::InvalidWaypoint(v) | Error::InvalidMotor(v) => {
             pl_error::new(PL_ERR_INVALID_VALUE, 0, 0, v.into())
@@ -333,58 +306,23 @@ fn error(e: Error) -> pl_error {
     }
 }
 
-/// The two sides' decoders, each with its item's C conversion.
-trait Side: Decode<Error = Error> {
-    /// The form of the replies the decoder reads (the device side reads commands: any).
-    fn form(&self) -> ReplyForm;
-    /// The item as the C struct.
-    fn to_c(item: Self::Item<'_>, form: ReplyForm) -> pl_aok_item;
-}
-
-impl Side for CommandDecoder {
-    fn form(&self) -> ReplyForm {
-        ReplyForm::Headed
-    }
-
-    fn to_c(c: Command, _: ReplyForm) -> pl_aok_item {
-        command_c(&c)
-    }
-}
-
-impl Side for MessageDecoder {
-    fn form(&self) -> ReplyForm {
-        self.reply_form()
-    }
-
-    fn to_c(m: Message, _: ReplyForm) -> pl_aok_item {
-        message_c(&m)
-    }
-}
-
-/// Both AOK states are one `Proto` over their side's decoder.
+/// Both AOK states are one `Proto` over their side's decoder; `$to_c` is the item as the C
+/// struct.
 macro_rules! aok_proto {
-    ($state:ty, $dec:ty) => {
+    ($state:ty, $dec:ty, $to_c:ident) => {
         impl Proto for $state {
             type Dec = $dec;
             type Msg = pl_aok_item;
             type Stats = pl_aok_stats;
-            type Ctx = ReplyForm;
-
-            fn empty() -> pl_aok_item {
-                pl_aok_item::default()
-            }
-
-            fn context(d: &$dec) -> ReplyForm {
-                d.form()
-            }
+            // SAFETY: integers only: all zeros is a valid value (`pl_aok_item::default()`).
+            const EMPTY: pl_aok_item = unsafe { core::mem::zeroed() };
 
             fn fill(
                 item: <$dec as Decode>::Item<'_>,
-                form: ReplyForm,
                 msg: &mut pl_aok_item,
                 _: &mut pl_error,
             ) -> i32 {
-                *msg = <$dec>::to_c(item, form);
+                *msg = $to_c(&item);
                 PL_MESSAGE
             }
 
@@ -392,173 +330,22 @@ macro_rules! aok_proto {
                 error(e)
             }
 
-            fn place(msg: &mut pl_aok_item, offset: u64, wire_len: u32) {
-                (msg.offset, msg.wire_len) = (offset, wire_len);
-            }
-
             fn stats(d: &$dec) -> pl_aok_stats {
-                let s = d.stats();
-                pl_aok_stats {
-                    frames_ok: s.frames_ok,
-                    checksum_errors: s.checksum_errors,
-                    unknown_bytes: s.unknown_bytes,
-                    invalid: s.invalid,
-                    abandoned: s.abandoned,
-                    bytes_discarded: s.bytes_discarded,
-                    held_bytes: ffi::sat32(d.held_bytes()),
-                }
+                face::stats! { d => pl_aok_stats {
+                    frames_ok, checksum_errors, unknown_bytes, invalid, abandoned, bytes_discarded,
+                } }
             }
         }
     };
 }
-aok_proto!(pl_aok_device_decoder, CommandDecoder);
-aok_proto!(pl_aok_pc_decoder, MessageDecoder);
+aok_proto!(pl_aok_device_decoder, CommandDecoder, command_c);
+aok_proto!(pl_aok_pc_decoder, MessageDecoder, message_c);
 
-/// Sets up the device side's decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
-/// aligned for its type).
-///
-/// ```c
-/// pl_aok_device_decoder dec;
-/// pl_aok_device_init(&dec);
-/// ```
+/// `pl_aok_pc_expect_reply`: the reply `*cmd` asks for is the one the decoder reads next.
 ///
 /// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_aok_device_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> i32 {
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, CommandDecoder::new()) }
-}
-
-/// Device side: decodes the PC's bytes `bytes[..len]` up to the next event, as
-/// `pl_aeolus_parse` (`*cmd` holds a command; a rescan's further events come first with
-/// `*used` 0: call until `PL_NOTHING`). `PL_ERROR` clears `*cmd`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &cmd, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set
-/// up gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
-/// 0) or readable for `len` bytes; `used`, `cmd` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_parse(
-    dec: *mut pl_aok_device_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, cmd, err) }
-}
-
-/// Device side: decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event,
-/// in order (exactly those of `pl_aok_device_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
-/// be called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_feed(
-    dec: *mut pl_aok_device_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// Device side: the PC's stream ended or its line went quiet: a partial command is given up
-/// (`PL_ERR_TRUNCATED`) and what followed it rescanned. One event per call; call until
-/// `PL_NOTHING`.
-///
-/// ```c
-/// while ((st = pl_aok_device_finish(&dec, &cmd, &err)) > 0) if (st == PL_MESSAGE) run(&cmd);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, for `dec`, `cmd` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_finish(
-    dec: *mut pl_aok_device_decoder,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, cmd, err) }
-}
-
-/// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_stats st;
-/// pl_aok_device_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_get_stats(
-    dec: *const pl_aok_device_decoder,
-    stats: *mut pl_aok_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
-
-/// Sets up the PC side's decoder for a device running firmware `major.minor` (<= 0.30 sends
-/// headerless parameter replies, >= 0.31 headed ones; DECISIONS.md K4). Returns 0, `PL_E_NULL`
-/// or `PL_E_INVALID` (`dec` not aligned for its type).
-///
-/// ```c
-/// pl_aok_pc_decoder dec;
-/// pl_aok_pc_init(&dec, 0, 35);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_init(dec: *mut pl_aok_pc_decoder, major: u8, minor: u8) -> i32 {
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, MessageDecoder::new(FirmwareVersion::new(major, minor))) }
-}
-
-/// PC side: tell the decoder which reply the command just sent asks for (an ack, a parameter,
-/// 16 parameters, a waypoint), so that it reads the device's answer. Returns 0, `PL_E_NULL`,
-/// `PL_E_INVALID` (`dec`), `PL_E_BAD_TAG` or `PL_E_OUT_OF_RANGE` (as `pl_aok_encode_command`).
-///
-/// ```c
-/// pl_aok_item get = { .kind = PL_AOK_READ_PARAMETER, .number = 12 };
-/// n = pl_aok_encode_command(&get, buf, sizeof buf);
-/// uart_write(buf, n);
-/// pl_aok_pc_expect_reply(&dec, &get);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up gets
-/// `PL_E_INVALID`); `cmd` is NULL or readable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_expect_reply(
-    dec: *mut pl_aok_pc_decoder,
-    cmd: *const pl_aok_item,
-) -> i32 {
+/// As `pl_aok_pc_expect_reply`.
+pub(crate) unsafe fn expect_reply(dec: *mut pl_aok_pc_decoder, cmd: *const pl_aok_item) -> i32 {
     // SAFETY: `dec` is NULL or a state (the caller's promise), checked before it is read.
     let d = match unsafe { state::checked(dec) } {
         Ok(d) => d,
@@ -577,202 +364,33 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
     }
 }
 
-/// PC side: decodes the device's bytes `bytes[..len]` up to the next event, as
-/// `pl_aok_device_parse` (`*msg` holds a debug value, an ack, a parameter or a waypoint).
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aok_pc_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
-/// }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_parse(
-    dec: *mut pl_aok_pc_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
+/// `pl_aok_encode_command`: the command `*cmd` as its frame into `out`.
+pub(crate) fn encode_command(cmd: &pl_aok_item, out: &mut [u8]) -> Result<usize, i32> {
+    encode_command_rust(&command_rust(cmd)?, out).map_err(too_small)
 }
 
-/// PC side: decodes all of `bytes[..len]`, `on_event(ctx, ...)` for every event in order
-/// (exactly those of `pl_aok_pc_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_feed`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_feed(
-    dec: *mut pl_aok_pc_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// PC side: the device's stream ended or its line went quiet; one event per call, call until
-/// `PL_NOTHING` (as `pl_aok_device_finish`).
-///
-/// ```c
-/// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_finish(
-    dec: *mut pl_aok_pc_decoder,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_stats st;
-/// pl_aok_pc_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_get_stats`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_get_stats(
-    dec: *const pl_aok_pc_decoder,
-    stats: *mut pl_aok_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
-
-/// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
-/// (`*item` holds the command or message) or `PL_ERROR` (`*err`; `*item` cleared). Both
-/// pointers are valid only during the call.
-pub type pl_aok_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        item: *const pl_aok_item,
-        err: *const pl_error,
-    ),
->;
-/// Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
-/// `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
-/// range) or `PL_E_BUFFER_TOO_SMALL` (`PL_AOK_MAX_FRAME_LEN` is always enough).
-///
-/// ```c
-/// pl_aok_item set = { .kind = PL_AOK_SET_PARAMETER, .number = 12, .value = 1500 };
-/// uint8_t buf[PL_AOK_MAX_FRAME_LEN];
-/// int32_t n = pl_aok_encode_command(&set, buf, sizeof buf);   /* 73 0C 00 00 05 DC D5 */
-/// ```
-///
-/// # Safety
-/// `cmd` is NULL or readable; `out` is NULL or writable for `cap` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_encode_command(
-    cmd: *const pl_aok_item,
-    out: *mut u8,
-    cap: usize,
-) -> i32 {
-    // SAFETY: the caller's promise.
-    let Some(cmd) = (unsafe { cmd.as_ref() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `out[..cap]`.
-    let out = match unsafe { ffi::buffer(out, cap) } {
-        Ok(out) => out,
-        Err(code) => return code,
-    };
-    let c = match command_rust(cmd) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    match encode_command(&c, out) {
-        Ok(n) => ffi::length(n),
-        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-    }
-}
-
-/// Encodes a device message (device to PC) into `out[..cap]`: a debug value, an ack ('O',
-/// 'E', 'I'), a parameter reply (headed `FF NUM ...` if `headed`, else the firmware <= 0.30
-/// form) or a waypoint. Returns its length, or `PL_E_NULL`, `PL_E_BAD_TAG` (not a message
-/// kind), `PL_E_OUT_OF_RANGE` (an ack byte or slot outside the protocol) or
-/// `PL_E_BUFFER_TOO_SMALL`.
-///
-/// ```c
-/// pl_aok_item dbg = { .kind = PL_AOK_DEBUG, .number = 86, .value = 3 };
-/// uint8_t buf[PL_AOK_MAX_FRAME_LEN];
-/// int32_t n = pl_aok_encode_message(&dbg, 1, buf, sizeof buf);   /* 7 bytes */
-/// ```
-///
-/// # Safety
-/// `msg` is NULL or readable; `out` is NULL or writable for `cap` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_encode_message(
-    msg: *const pl_aok_item,
-    headed: u8,
-    out: *mut u8,
-    cap: usize,
-) -> i32 {
-    // SAFETY: the caller's promise.
-    let Some(msg) = (unsafe { msg.as_ref() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `out[..cap]`.
-    let out = match unsafe { ffi::buffer(out, cap) } {
-        Ok(out) => out,
-        Err(code) => return code,
-    };
+/// `pl_aok_encode_message`: the device message `*msg` as its frame into `out`, a parameter
+/// reply headed or not as `headed` says.
+pub(crate) fn encode_message(msg: &pl_aok_item, headed: u8, out: &mut [u8]) -> Result<usize, i32> {
     let form = if headed != 0 {
         ReplyForm::Headed
     } else {
         ReplyForm::Headerless
     };
-    let result = match msg.kind {
-        PL_AOK_DEBUG => encode_debug(
-            DebugValue {
-                number: msg.number,
-                value: msg.value,
-            },
-            out,
-        ),
-        PL_AOK_ACK => match Ack::from_byte(msg.ack) {
-            Some(a) => encode_ack(a, out),
-            None => return PL_E_OUT_OF_RANGE,
-        },
-        PL_AOK_PARAMETER => encode_parameter(
-            ParameterValue {
-                number: msg.number,
-                value: msg.value,
-            },
-            form,
-            out,
-        ),
-        PL_AOK_WAYPOINT => match waypoint_rust(&msg.waypoint) {
-            Ok(w) => encode_waypoint(&w, out),
-            Err(code) => return code,
-        },
-        _ => return PL_E_BAD_TAG,
-    };
-    match result {
-        Ok(n) => ffi::length(n),
-        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
+    let (number, value) = (msg.number, msg.value);
+    match msg.kind {
+        PL_AOK_DEBUG => encode_debug(DebugValue { number, value }, out),
+        PL_AOK_ACK => encode_ack(Ack::from_byte(msg.ack).ok_or(PL_E_OUT_OF_RANGE)?, out),
+        PL_AOK_PARAMETER => encode_parameter(ParameterValue { number, value }, form, out),
+        PL_AOK_WAYPOINT => encode_waypoint(&waypoint_rust(&msg.waypoint)?, out),
+        _ => return Err(PL_E_BAD_TAG),
+    }
+    .map_err(too_small)
+}
+
+/// AOK's one encode error as its code.
+fn too_small(e: EncodeError) -> i32 {
+    match e {
+        EncodeError::BufferTooSmall { .. } => PL_E_BUFFER_TOO_SMALL,
     }
 }

@@ -1,7 +1,6 @@
 //! AYDP from C: `pl_aydp_*`, both profiles. The decoder is
 //! `aydp_proto::Decoder<PL_AYDP_CAPACITY>`.
 
-use aydp_proto::message::{OutputEntry, Satellite};
 use aydp_proto::{
     Decoder, DirectOutput, EncodeError, Encoder, Error, FixDetail, FixQuality, Frame, Message,
     Position, Profile, Raw, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
@@ -9,8 +8,8 @@ use aydp_proto::{
 };
 
 use crate::face::{self, Proto, Stream};
-use crate::ffi::{self, pl_error, sat32};
-use crate::state::{self, State};
+use crate::ffi::{self, fields, pl_error, sat32};
+use crate::state::{self, PL_STATE_AYDP};
 use crate::*;
 
 /// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
@@ -33,7 +32,8 @@ pub const PL_AYDP_SPEC: u32 = 0;
 /// sub-seconds in microseconds.
 pub const PL_AYDP_REFERENCE: u32 = 1;
 
-type Inner = Decoder<PL_AYDP_CAPACITY>;
+/// The Rust decoder a `pl_aydp_decoder` holds.
+pub(crate) type Inner = Decoder<PL_AYDP_CAPACITY>;
 
 /// An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
 #[repr(C)]
@@ -42,14 +42,9 @@ pub struct pl_aydp_decoder {
     pub opaque: [u64; PL_AYDP_DECODER_WORDS],
 }
 
-// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
-unsafe impl State for pl_aydp_decoder {
-    type Inner = Stream<Inner>;
-    const KIND: u32 = state::PL_STATE_AYDP;
+state::holds! {
+    pl_aydp_decoder: Stream<Inner>, PL_STATE_AYDP, PL_AYDP_DECODER_SIZE, PL_AYDP_DECODER_ALIGN
 }
-const _: () = assert!(state::fits::<pl_aydp_decoder>());
-const _: () = assert!(PL_AYDP_DECODER_SIZE == core::mem::size_of::<pl_aydp_decoder>());
-const _: () = assert!(core::mem::align_of::<Inner>() <= PL_AYDP_DECODER_ALIGN);
 
 /// `kind`: time sync (Spec, type 0, normal).
 pub const PL_AYDP_TIME_SYNC: u8 = 0;
@@ -269,12 +264,18 @@ pub struct pl_aydp_stats {
     pub held_bytes: u32,
 }
 
-fn profile(p: u32) -> Option<Profile> {
+/// The profile `p` names (`PL_AYDP_SPEC`, `PL_AYDP_REFERENCE`).
+pub(crate) fn profile(p: u32) -> Option<Profile> {
     match p {
         PL_AYDP_SPEC => Some(Profile::Spec),
         PL_AYDP_REFERENCE => Some(Profile::Reference),
         _ => None,
     }
+}
+
+/// `pl_aydp_init`: a fresh decoder for the profile `p` names.
+pub(crate) fn decoder(p: u32) -> Option<Inner> {
+    profile(p).map(Inner::new)
 }
 
 const NO_BODY: pl_aydp_body = pl_aydp_body { count: 0 };
@@ -284,28 +285,16 @@ fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
         Message::TimeSync => (PL_AYDP_TIME_SYNC, NO_BODY),
         Message::Heartbeat => (PL_AYDP_HEARTBEAT, NO_BODY),
         Message::NoOp => (PL_AYDP_NO_OP, NO_BODY),
-        Message::Position(p) => (
-            PL_AYDP_POSITION,
-            pl_aydp_body {
-                position: pl_aydp_position {
-                    latitude: p.latitude,
-                    longitude: p.longitude,
-                    altitude: p.altitude,
-                },
-            },
-        ),
-        Message::FixQuality(q) => (
-            PL_AYDP_FIX_QUALITY,
-            pl_aydp_body {
-                fix_quality: pl_aydp_fix_quality {
-                    fix_type: q.fix_type,
-                    mean_dop: q.mean_dop,
-                    hdop: q.hdop,
-                    vdop: q.vdop,
-                    satellites: q.satellites,
-                },
-            },
-        ),
+        Message::Position(p) => {
+            let position = fields! { p => pl_aydp_position { latitude, longitude, altitude } };
+            (PL_AYDP_POSITION, pl_aydp_body { position })
+        }
+        Message::FixQuality(q) => {
+            let fix_quality = fields! { q => pl_aydp_fix_quality {
+                fix_type, mean_dop, hdop, vdop, satellites,
+            } };
+            (PL_AYDP_FIX_QUALITY, pl_aydp_body { fix_quality })
+        }
         Message::FixDetail(d) => (
             PL_AYDP_FIX_DETAIL,
             pl_aydp_body {
@@ -347,74 +336,16 @@ fn body_of(m: &Message<'_>) -> (u8, pl_aydp_body) {
         ),
         Message::WindSpeed(w) => (PL_AYDP_WIND_SPEED, pl_aydp_body { value: w.0 }),
         Message::WindDirection(w) => (PL_AYDP_WIND_DIRECTION, pl_aydp_body { value: w.0 }),
-        Message::VesselData(v) => (
-            PL_AYDP_VESSEL_DATA,
-            pl_aydp_body {
-                vessel: pl_aydp_vessel {
-                    roll: v.roll,
-                    pitch: v.pitch,
-                    heading: v.heading,
-                    roll_rate: v.roll_rate,
-                    pitch_rate: v.pitch_rate,
-                    heading_rate: v.heading_rate,
-                    latitude: v.latitude,
-                    longitude: v.longitude,
-                    track: v.track,
-                    speed_over_ground: v.speed_over_ground,
-                    fix_type: v.fix_type,
-                    satellites: v.satellites,
-                    mean_dop: v.mean_dop,
-                    hdop: v.hdop,
-                    vdop: v.vdop,
-                },
-            },
-        ),
+        Message::VesselData(v) => {
+            let vessel = fields! { v => pl_aydp_vessel {
+                roll, pitch, heading, roll_rate, pitch_rate, heading_rate, latitude, longitude,
+                track, speed_over_ground, fix_type, satellites, mean_dop, hdop, vdop,
+            } };
+            (PL_AYDP_VESSEL_DATA, pl_aydp_body { vessel })
+        }
         Message::Tbd(_) => (PL_AYDP_TBD, NO_BODY),
         Message::UserDefined(_) => (PL_AYDP_USER_DEFINED, NO_BODY),
         Message::Unknown(_) => (PL_AYDP_UNKNOWN, NO_BODY),
-    }
-}
-
-fn error(e: Error) -> pl_error {
-    match e {
-        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
-        Error::ChecksumMismatch {
-            id,
-            computed,
-            received,
-        } => pl_error::new(
-            PL_ERR_CHECKSUM_MISMATCH,
-            id.into(),
-            computed.into(),
-            received.into(),
-        ),
-        Error::ReservedType => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, 0xFF),
-        Error::BadType(t) => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, t.into()),
-        Error::BadLength(l) => pl_error::new(PL_ERR_BAD_LENGTH, 0, 0, l),
-        Error::PayloadTooShort {
-            msg_type,
-            expected,
-            actual,
-        }
-        | Error::PayloadTooLong {
-            msg_type,
-            expected,
-            actual,
-        } => pl_error::new(
-            PL_ERR_WRONG_LENGTH,
-            msg_type.into(),
-            sat32(expected),
-            sat32(actual),
-        ),
-        Error::CountMismatch { msg_type, count } => {
-            pl_error::new(PL_ERR_COUNT_MISMATCH, msg_type.into(), 0, sat32(count))
-        }
-        Error::NegativeUflt16 => pl_error::kind(PL_ERR_NEGATIVE_UFLT16),
-        Error::UnknownUpdateMode(b) | Error::UnknownCommand(b) => {
-            pl_error::new(PL_ERR_UNKNOWN_COMMAND, 0, 0, b.into())
-        }
-        Error::NonZeroSingleIndex(i) => pl_error::new(PL_ERR_NON_ZERO_SINGLE_INDEX, 0, 0, i),
-        _ => pl_error::kind(PL_ERR_OTHER),
     }
 }
 
@@ -422,19 +353,15 @@ impl Proto for pl_aydp_decoder {
     type Dec = Inner;
     type Msg = pl_aydp_message;
     type Stats = pl_aydp_stats;
-    type Ctx = ();
-    const BYTEWISE: bool = true;
-
-    fn empty() -> pl_aydp_message {
+    const EMPTY: pl_aydp_message = {
         // SAFETY: integers and a raw pointer: all zeros is a valid value (NULL for `data`).
         let mut m: pl_aydp_message = unsafe { core::mem::zeroed() };
         m.kind = PL_AYDP_UNKNOWN;
         m
-    }
+    };
+    const BYTEWISE: bool = true;
 
-    fn context(_: &Inner) {}
-
-    fn fill(frame: Frame<'_>, _: (), msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
+    fn fill(frame: Frame<'_>, msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
         let t = frame.timestamp().unwrap_or_default();
         let data = frame.data();
         let mut c = pl_aydp_message {
@@ -457,7 +384,7 @@ impl Proto for pl_aydp_decoder {
             Err(e) => {
                 // The frame's checksum was good; its typed parse failed. `*msg` keeps the raw
                 // data (kind unknown).
-                *err = error(e);
+                *err = Self::error(e);
                 PL_ERROR
             }
         };
@@ -466,243 +393,117 @@ impl Proto for pl_aydp_decoder {
     }
 
     fn error(e: Error) -> pl_error {
-        error(e)
-    }
-
-    fn place(msg: &mut pl_aydp_message, offset: u64, wire_len: u32) {
-        (msg.offset, msg.wire_len) = (offset, wire_len);
+        match e {
+            Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
+            Error::ChecksumMismatch {
+                id,
+                computed,
+                received,
+            } => pl_error::checksum(id, computed, received),
+            Error::ReservedType => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, 0xFF),
+            Error::BadType(t) => pl_error::new(PL_ERR_BAD_TYPE, 0, 0, t.into()),
+            Error::BadLength(l) => pl_error::new(PL_ERR_BAD_LENGTH, 0, 0, l),
+            Error::PayloadTooShort {
+                msg_type,
+                expected,
+                actual,
+            }
+            | Error::PayloadTooLong {
+                msg_type,
+                expected,
+                actual,
+            } => pl_error::wrong_length(msg_type, sat32(expected), sat32(actual)),
+            Error::CountMismatch { msg_type, count } => {
+                pl_error::new(PL_ERR_COUNT_MISMATCH, msg_type.into(), 0, sat32(count))
+            }
+            Error::NegativeUflt16 => pl_error::kind(PL_ERR_NEGATIVE_UFLT16),
+            Error::UnknownUpdateMode(b) | Error::UnknownCommand(b) => {
+                pl_error::new(PL_ERR_UNKNOWN_COMMAND, 0, 0, b.into())
+            }
+            Error::NonZeroSingleIndex(i) => pl_error::new(PL_ERR_NON_ZERO_SINGLE_INDEX, 0, 0, i),
+            _ => pl_error::kind(PL_ERR_OTHER),
+        }
     }
 
     fn stats(d: &Inner) -> pl_aydp_stats {
-        let s = d.stats();
-        pl_aydp_stats {
-            frames_ok: s.frames_ok,
-            checksum_errors: s.checksum_errors,
-            length_errors: s.length_errors,
-            bytes_discarded: s.bytes_discarded,
-            held_bytes: sat32(d.held_bytes()),
-        }
+        face::stats! { d => pl_aydp_stats {
+            frames_ok, checksum_errors, length_errors, bytes_discarded,
+        } }
     }
 }
 
-/// Sets up `dec` as a fresh decoder for `profile` (`PL_AYDP_SPEC` or `PL_AYDP_REFERENCE`).
-/// Returns 0, `PL_E_NULL`, `PL_E_BAD_TAG` (another profile) or `PL_E_INVALID` (`dec` not
-/// aligned for its type).
-///
-/// ```c
-/// pl_aydp_decoder dec;
-/// pl_aydp_init(&dec, PL_AYDP_REFERENCE);
-/// ```
+/// `pl_aydp_satellite_at` and `pl_aydp_output_entry_at`: the item `nth` finds in the data of
+/// `*msg`, a decoded message of `kind`, into `*out`. Returns 0, `PL_E_NULL`, or `PL_E_BAD_TAG`
+/// (another kind, or no such item).
 ///
 /// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_aydp_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -> i32 {
-    let Some(p) = self::profile(profile) else {
-        return PL_E_BAD_TAG;
-    };
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, Inner::new(p)) }
-}
-
-/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. A rescan after an error
-/// can find further messages among bytes already held: they come first, one a call, with
-/// `*used` 0, so call again (with the rest, or `len` 0) until `PL_NOTHING`. `PL_ERROR` with a
-/// good checksum but a failed typed parse leaves the raw data and place in `*msg`; any other
-/// error clears it.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE) handle(&msg);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_parse(
-    dec: *mut pl_aydp_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
-
-/// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
-pub type pl_aydp_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_aydp_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_aydp_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-/// called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_feed(
-    dec: *mut pl_aydp_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aydp_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream ended: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. One
-/// event per call (as `pl_aydp_parse`); call until `PL_NOTHING`.
-///
-/// ```c
-/// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
-/// ```
-///
-/// # Safety
-/// As `pl_aydp_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_finish(
-    dec: *mut pl_aydp_decoder,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aydp_stats st;
-/// pl_aydp_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_get_stats(
-    dec: *const pl_aydp_decoder,
-    stats: *mut pl_aydp_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
-/// The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
-/// `PL_E_BAD_TAG` (not a fix detail message, or `index` beyond its count).
-///
-/// ```c
-/// pl_aydp_satellite sat;
-/// for (uint32_t i = 0; pl_aydp_satellite_at(&msg, i, &sat) == 0; i++) show(&sat);
-/// ```
-///
-/// # Safety
-/// `msg` is NULL or a message whose `data` is readable for `data_len` bytes; `sat` is NULL or
+/// `msg` is NULL or a message whose `data` is readable for `data_len` bytes; `out` is NULL or
 /// writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_satellite_at(
+pub(crate) unsafe fn nth<T>(
     msg: *const pl_aydp_message,
-    index: u32,
-    sat: *mut pl_aydp_satellite,
+    kind: u8,
+    out: *mut T,
+    nth: impl FnOnce(&[u8]) -> Option<T>,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    let (Some(msg), Some(out)) = (unsafe { msg.as_ref() }, unsafe { sat.as_mut() }) else {
+    let (Some(msg), Some(out)) = (unsafe { msg.as_ref() }, unsafe { out.as_mut() }) else {
         return PL_E_NULL;
     };
     // SAFETY: the caller's promise for `data[..data_len]`.
     let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
         return PL_E_NULL;
     };
-    if msg.kind != PL_AYDP_FIX_DETAIL {
+    if msg.kind != kind {
         return PL_E_BAD_TAG;
     }
-    let Ok(detail) = FixDetail::parse(data) else {
-        return PL_E_BAD_TAG;
-    };
-    match detail.satellites().nth(index as usize) {
-        Some(Satellite {
-            id,
-            azimuth,
-            elevation,
-            snr,
-        }) => {
-            *out = pl_aydp_satellite {
-                id,
-                azimuth,
-                elevation,
-                snr,
-            };
+    match nth(data) {
+        Some(item) => {
+            *out = item;
             0
         }
         None => PL_E_BAD_TAG,
     }
 }
 
-/// The `index`-th entry of a decoded direct output message. Returns 0, `PL_E_NULL`, or
-/// `PL_E_BAD_TAG` (not a direct output message, or `index` beyond its count).
-///
-/// ```c
-/// pl_aydp_output_entry e;
-/// for (uint32_t i = 0; pl_aydp_output_entry_at(&msg, i, &e) == 0; i++) set_output(&e);
-/// ```
+/// The `index`-th satellite of a fix detail message's data.
+pub(crate) fn satellite(data: &[u8], index: u32) -> Option<pl_aydp_satellite> {
+    let s = FixDetail::parse(data)
+        .ok()?
+        .satellites()
+        .nth(index as usize)?;
+    Some(fields! { s => pl_aydp_satellite { id, azimuth, elevation, snr } })
+}
+
+/// The `index`-th entry of a direct output message's data.
+pub(crate) fn entry(data: &[u8], index: u32) -> Option<pl_aydp_output_entry> {
+    let e = DirectOutput::parse(data)
+        .ok()?
+        .entries()
+        .nth(index as usize)?;
+    Some(fields! { e => pl_aydp_output_entry { device, channel, value } })
+}
+
+/// `pl_aydp_encode` in profile `p`: `msg`, with its raw data `data`, as one whole message
+/// (header, data, checksum) into `out`: expedited if `msg.expedited`, else normal with its
+/// time.
 ///
 /// # Safety
-/// As `pl_aydp_satellite_at`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_output_entry_at(
-    msg: *const pl_aydp_message,
-    index: u32,
-    entry: *mut pl_aydp_output_entry,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    let (Some(msg), Some(out)) = (unsafe { msg.as_ref() }, unsafe { entry.as_mut() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `data[..data_len]`.
-    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
-        return PL_E_NULL;
-    };
-    if msg.kind != PL_AYDP_DIRECT_OUTPUT {
-        return PL_E_BAD_TAG;
-    }
-    let Ok(output) = DirectOutput::parse(data) else {
-        return PL_E_BAD_TAG;
-    };
-    match output.entries().nth(index as usize) {
-        Some(OutputEntry {
-            device,
-            channel,
-            value,
-        }) => {
-            *out = pl_aydp_output_entry {
-                device,
-                channel,
-                value,
-            };
-            0
-        }
-        None => PL_E_BAD_TAG,
-    }
+/// For a system value update, `body.update.value` is readable for `body.update.value_len`
+/// bytes.
+pub(crate) unsafe fn encode(
+    p: Profile,
+    msg: &pl_aydp_message,
+    data: &[u8],
+    out: &mut [u8],
+) -> Result<usize, i32> {
+    // SAFETY: the caller's promise, passed on.
+    let m = unsafe { from_c(msg, data) }?;
+    let time = (msg.expedited == 0).then_some(Timestamp::new(msg.seconds, msg.subsec));
+    Encoder::new(p).encode(&m, time, out).map_err(|e| match e {
+        EncodeError::BufferTooSmall { .. } => PL_E_BUFFER_TOO_SMALL,
+        EncodeError::BadType(_) => PL_E_OUT_OF_RANGE,
+        EncodeError::TooLong | EncodeError::ExpeditedInReference => PL_E_INVALID,
+    })
 }
 
 /// The C struct as a Rust message.
@@ -721,25 +522,15 @@ unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message
         PL_AYDP_TIME_SYNC => Message::TimeSync,
         PL_AYDP_HEARTBEAT => Message::Heartbeat,
         PL_AYDP_NO_OP => Message::NoOp,
-        PL_AYDP_POSITION => {
-            // SAFETY: plain numbers, any bytes valid.
-            let p = unsafe { b.position };
-            Message::Position(Position {
-                latitude: p.latitude,
-                longitude: p.longitude,
-                altitude: p.altitude,
-            })
-        }
+        // SAFETY: plain numbers, any bytes valid.
+        PL_AYDP_POSITION => Message::Position(fields! { unsafe { b.position } => Position {
+            latitude, longitude, altitude,
+        } }),
         PL_AYDP_FIX_QUALITY => {
             // SAFETY: plain numbers, any bytes valid.
-            let q = unsafe { b.fix_quality };
-            Message::FixQuality(FixQuality {
-                fix_type: q.fix_type,
-                mean_dop: q.mean_dop,
-                hdop: q.hdop,
-                vdop: q.vdop,
-                satellites: q.satellites,
-            })
+            Message::FixQuality(fields! { unsafe { b.fix_quality } => FixQuality {
+                fix_type, mean_dop, hdop, vdop, satellites,
+            } })
         }
         PL_AYDP_FIX_DETAIL => Message::FixDetail(FixDetail::parse(data).map_err(|_| PL_E_INVALID)?),
         PL_AYDP_DIRECT_OUTPUT => {
@@ -778,81 +569,14 @@ unsafe fn from_c<'a>(msg: &'a pl_aydp_message, data: &'a [u8]) -> Result<Message
         PL_AYDP_VESSEL_DATA => {
             // SAFETY: plain numbers, any bytes valid.
             let v = unsafe { b.vessel };
-            Message::VesselData(VesselData {
-                roll: v.roll,
-                pitch: v.pitch,
-                heading: v.heading,
-                roll_rate: v.roll_rate,
-                pitch_rate: v.pitch_rate,
-                heading_rate: v.heading_rate,
-                latitude: v.latitude,
-                longitude: v.longitude,
-                track: v.track,
-                speed_over_ground: v.speed_over_ground,
-                fix_type: v.fix_type,
-                satellites: v.satellites,
-                mean_dop: v.mean_dop,
-                hdop: v.hdop,
-                vdop: v.vdop,
-            })
+            Message::VesselData(fields! { v => VesselData {
+                roll, pitch, heading, roll_rate, pitch_rate, heading_rate, latitude, longitude,
+                track, speed_over_ground, fix_type, satellites, mean_dop, hdop, vdop,
+            } })
         }
         PL_AYDP_TBD => Message::Tbd(raw),
         PL_AYDP_USER_DEFINED => Message::UserDefined(raw),
         PL_AYDP_UNKNOWN => Message::Unknown(raw),
         _ => return Err(PL_E_BAD_TAG),
     })
-}
-
-/// Encodes `*msg` in `profile` as one whole message (header, data, checksum) into
-/// `out[..cap]`: expedited if `msg->expedited`, else normal with `seconds`/`subsec`. Returns
-/// its length, or `PL_E_NULL`, `PL_E_BAD_TAG` (kind or profile), `PL_E_BUFFER_TOO_SMALL`,
-/// `PL_E_OUT_OF_RANGE` (a base type above 126) or `PL_E_INVALID` (fix detail or direct output
-/// data whose count disagrees, an update mode or control command outside 1..=3 / 1..=2, or
-/// an expedited message in `PL_AYDP_REFERENCE`, which has no expedited header).
-///
-/// ```c
-/// pl_aydp_message m = { .kind = PL_AYDP_WIND_SPEED, .seconds = 42, .subsec = 500000 };
-/// m.body.value = 3.5f;
-/// uint8_t buf[64];
-/// int32_t n = pl_aydp_encode(PL_AYDP_REFERENCE, &m, buf, sizeof buf);   /* 27 */
-/// ```
-///
-/// # Safety
-/// `msg` is NULL or readable, with `data` (and `body.update.value` for an update) readable
-/// for their lengths; `out` is NULL or writable for `cap` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_encode(
-    profile: u32,
-    msg: *const pl_aydp_message,
-    out: *mut u8,
-    cap: usize,
-) -> i32 {
-    let Some(p) = self::profile(profile) else {
-        return PL_E_BAD_TAG;
-    };
-    // SAFETY: the caller's promise.
-    let Some(msg) = (unsafe { msg.as_ref() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `data[..data_len]`.
-    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `out[..cap]`.
-    let out = match unsafe { ffi::buffer(out, cap) } {
-        Ok(out) => out,
-        Err(code) => return code,
-    };
-    // SAFETY: the caller's promises, passed on.
-    let m = match unsafe { from_c(msg, data) } {
-        Ok(m) => m,
-        Err(code) => return code,
-    };
-    let time = (msg.expedited == 0).then_some(Timestamp::new(msg.seconds, msg.subsec));
-    match Encoder::new(p).encode(&m, time, out) {
-        Ok(n) => ffi::length(n),
-        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-        Err(EncodeError::BadType(_)) => PL_E_OUT_OF_RANGE,
-        Err(EncodeError::TooLong | EncodeError::ExpeditedInReference) => PL_E_INVALID,
-    }
 }

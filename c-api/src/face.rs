@@ -1,8 +1,9 @@
 //! The decoding calls of every protocol, written once: `init`, `parse`, `feed`, `finish` and
 //! `get_stats` over the decoder contract ([`Decode`]), driven through its one adapter,
 //! [`Stream`], which gives every event its place. Each protocol file implements [`Proto`] (its
-//! C message struct and how an item fills it) and exports one-line `pl_*` shims that call
-//! these functions; no decoding logic is repeated per protocol.
+//! C message and stats structs, how an item fills the one and the counters the other), and
+//! `calls.rs` exports the one-line `pl_*` shims that call these functions; no decoding logic
+//! is repeated per protocol.
 //!
 //! A C state holds a [`Stream`]: the decoder and the bytes it has used since `init`, from
 //! which each event's `offset` and `wire_len` come, whatever slices the bytes came in.
@@ -12,37 +13,32 @@ pub(crate) use aeolus_proto::Stream;
 use aeolus_proto::{Decode, Place};
 
 use crate::ffi::{self, pl_error, sat32};
+use crate::message::Placed;
 use crate::state::{self, State};
 use crate::{PL_E_NULL, PL_ERROR, PL_NOTHING};
 
-/// A C state type whose decoder follows the contract, with its C message and stats structs.
+/// A C state type whose decoder follows the contract, with its C message and stats structs:
+/// what differs between the protocols, and all that the calls below need of one.
 pub(crate) trait Proto: State<Inner = Stream<Self::Dec>> {
     /// The protocol crate's decoder.
     type Dec: Decode;
     /// The C message struct (`pl_*_message`, `pl_aok_item`).
-    type Msg;
+    type Msg: Placed;
     /// The C counters struct (`pl_*_stats`).
     type Stats;
-    /// What [`Proto::fill`] needs of the decoder, read before each event (the AOK PC side:
-    /// its reply form).
-    type Ctx: Copy;
+    /// A message struct holding nothing: every field 0, pointers NULL, a kind "unknown" where
+    /// the struct has one (what `PL_ERROR` leaves in it unless the error concerns a whole
+    /// frame).
+    const EMPTY: Self::Msg;
     /// The decoder's item may borrow the slice given to `decode` (AYDP): `parse` then decodes
     /// one byte at a time, so that a message's `data` points into the decoder, as promised.
+    /// (AYDP takes a frame whole in the caller's slice whenever it holds nothing, which a
+    /// rescan can bring about in the middle of a call: only one byte a call rules it out.)
     const BYTEWISE: bool = false;
 
-    /// A message struct holding nothing: every field 0, pointers NULL (what `PL_ERROR` leaves
-    /// in it unless the error concerns a whole frame).
-    fn empty() -> Self::Msg;
-    /// See [`Proto::Ctx`].
-    fn context(d: &Self::Dec) -> Self::Ctx;
     /// Fills `msg` from an item (and `err`, for a frame with a good check whose typed parse
     /// failed, leaving its raw data in `msg`); returns the status.
-    fn fill(
-        item: <Self::Dec as Decode>::Item<'_>,
-        ctx: Self::Ctx,
-        msg: &mut Self::Msg,
-        err: &mut pl_error,
-    ) -> i32;
+    fn fill(item: <Self::Dec as Decode>::Item<'_>, msg: &mut Self::Msg, err: &mut pl_error) -> i32;
     /// An error as the C struct.
     fn error(e: <Self::Dec as Decode>::Error) -> pl_error;
     /// Whether an error concerns a whole frame with a good check whose typed parse failed
@@ -50,11 +46,20 @@ pub(crate) trait Proto: State<Inner = Stream<Self::Dec>> {
     fn parse_failed(_e: &<Self::Dec as Decode>::Error) -> bool {
         false
     }
-    /// Writes a message's place in the stream into `msg`.
-    fn place(msg: &mut Self::Msg, offset: u64, wire_len: u32);
-    /// The counters as the C struct.
+    /// The counters as the C struct (see [`stats`]).
     fn stats(d: &Self::Dec) -> Self::Stats;
 }
+
+/// A decoder's counters as its C struct: the named counters of its `stats()`, as they are,
+/// and `held_bytes` from its `held_bytes()`, saturating. Each protocol names the counters it
+/// has: `stats!(d => pl_aydp_stats { frames_ok, checksum_errors, ... })`.
+macro_rules! stats {
+    ($d:expr => $c:ident { $($counter:ident),* $(,)? }) => {{
+        let s = $d.stats();
+        $c { $($counter: s.$counter,)* held_bytes: $crate::ffi::sat32($d.held_bytes()) }
+    }};
+}
+pub(crate) use stats;
 
 /// An event callback of `pl_*_feed` (each protocol names its own type, of this shape).
 pub(crate) type Callback<M> =
@@ -70,20 +75,19 @@ fn convert<P: Proto>(
         Place,
         Result<<P::Dec as Decode>::Item<'_>, <P::Dec as Decode>::Error>,
     ),
-    ctx: P::Ctx,
     msg: &mut P::Msg,
     err: &mut pl_error,
 ) -> i32 {
     let status = match event {
         Ok(item) => {
-            let status = P::fill(item, ctx, msg, err);
-            P::place(msg, place.offset, sat32(place.len));
+            let status = P::fill(item, msg, err);
+            msg.place(place.offset, sat32(place.len));
             status
         }
         Err(e) => {
-            *msg = P::empty();
+            *msg = P::EMPTY;
             if P::parse_failed(&e) {
-                P::place(msg, place.offset, sat32(place.len));
+                msg.place(place.offset, sat32(place.len));
             }
             *err = P::error(e);
             PL_ERROR
@@ -115,11 +119,10 @@ fn step<P: Proto>(
         } else {
             rest
         };
-        let ctx = P::context(f.decoder());
         let (n, event) = f.next_event(chunk);
         used += n;
         match event {
-            Some(event) => return (used, convert::<P>(event, ctx, msg, err)),
+            Some(event) => return (used, convert::<P>(event, msg, err)),
             None if used >= input.len() => return (used, PL_NOTHING),
             None => {}
         }
@@ -190,7 +193,7 @@ pub(crate) unsafe fn feed<P: Proto>(
     let (Some(input), Some(call)) = (unsafe { ffi::bytes(bytes, len) }, on_event) else {
         return PL_E_NULL;
     };
-    let (mut msg, mut err) = (P::empty(), pl_error::default());
+    let (mut msg, mut err) = (P::EMPTY, pl_error::default());
     let mut rest = input;
     loop {
         let (n, status) = step::<P>(f, rest, false, &mut msg, &mut err);
@@ -218,11 +221,10 @@ pub(crate) unsafe fn finish<P: Proto>(state: *mut P, msg: *mut P::Msg, err: *mut
     let (Some(msg), Some(err)) = (unsafe { msg.as_mut() }, unsafe { err.as_mut() }) else {
         return PL_E_NULL;
     };
-    let ctx = P::context(f.decoder());
     let Some(event) = f.end_event() else {
         return PL_NOTHING;
     };
-    convert::<P>(event, ctx, msg, err)
+    convert::<P>(event, msg, err)
 }
 
 /// `pl_*_get_stats`: copies the counters into `*out`.

@@ -2,7 +2,7 @@
 //! pointers to Rust slices and buffers. These and the state checks of `state.rs` are all of
 //! the crate's pointer checks.
 
-use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL};
+use crate::{PL_E_BUFFER_TOO_SMALL, PL_E_NULL, PL_ERR_CHECKSUM_MISMATCH, PL_ERR_WRONG_LENGTH};
 
 /// An error event: its kind (`PL_ERR_*`), where the kind has them the message ID and two
 /// values (see each `PL_ERR_*` for their meaning; 0 otherwise), and its place: the bytes it
@@ -43,6 +43,27 @@ impl pl_error {
     /// An error of `kind` without details.
     pub(crate) const fn kind(kind: u32) -> Self {
         Self::new(kind, 0, 0, 0)
+    }
+
+    /// A failed check (`PL_ERR_CHECKSUM_MISMATCH`), as every protocol reports one: the
+    /// message ID or type, the check computed, the check received.
+    pub(crate) fn checksum(id: u8, computed: impl Into<u32>, received: impl Into<u32>) -> Self {
+        Self::new(
+            PL_ERR_CHECKSUM_MISMATCH,
+            id.into(),
+            computed.into(),
+            received.into(),
+        )
+    }
+
+    /// A typed message of the wrong data length (`PL_ERR_WRONG_LENGTH`).
+    pub(crate) fn wrong_length(id: u8, expected: impl Into<u32>, actual: impl Into<u32>) -> Self {
+        Self::new(
+            PL_ERR_WRONG_LENGTH,
+            id.into(),
+            expected.into(),
+            actual.into(),
+        )
     }
 }
 
@@ -89,3 +110,13 @@ pub(crate) unsafe fn buffer<'a>(ptr: *mut u8, len: usize) -> Result<&'a mut [u8]
 pub(crate) fn length(n: usize) -> i32 {
     i32::try_from(n).unwrap_or(PL_E_BUFFER_TOO_SMALL)
 }
+
+/// A struct built from the fields of the same names of another (a Rust message and its C
+/// struct, either way): `fields!(v => pl_aydp_position { latitude, longitude, altitude })`.
+macro_rules! fields {
+    ($from:expr => $to:path { $($field:ident),* $(,)? }) => {{
+        let from = $from;
+        $to { $($field: from.$field),* }
+    }};
+}
+pub(crate) use fields;

@@ -7,8 +7,8 @@ use gdl90_proto::message::{
 use gdl90_proto::{Decoder, EncodeError, Error};
 
 use crate::face::{self, Proto, Stream};
-use crate::ffi::{self, pl_error};
-use crate::state::{self, State};
+use crate::pl_error;
+use crate::state::{self, PL_STATE_GDL90};
 use crate::*;
 
 /// Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
@@ -23,7 +23,8 @@ pub const PL_GDL90_DECODER_ALIGN: usize = 8;
 /// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
 pub const PL_GDL90_MAX_FRAME_LEN: usize = 84;
 
-type Inner = Decoder<PL_GDL90_CAPACITY>;
+/// The Rust decoder a `pl_gdl90_decoder` holds.
+pub(crate) type Inner = Decoder<PL_GDL90_CAPACITY>;
 
 /// A GDL90 decoder, owned by the caller. Set it up with `pl_gdl90_init` first.
 #[repr(C)]
@@ -33,14 +34,9 @@ pub struct pl_gdl90_decoder {
 }
 
 const _: () = assert!(PL_GDL90_CAPACITY == gdl90_proto::MAX_FRAME);
-// SAFETY: plain words; `fits` is asserted below; the kind is this state's alone.
-unsafe impl State for pl_gdl90_decoder {
-    type Inner = Stream<Inner>;
-    const KIND: u32 = state::PL_STATE_GDL90;
+state::holds! {
+    pl_gdl90_decoder: Stream<Inner>, PL_STATE_GDL90, PL_GDL90_DECODER_SIZE, PL_GDL90_DECODER_ALIGN
 }
-const _: () = assert!(state::fits::<pl_gdl90_decoder>());
-const _: () = assert!(PL_GDL90_DECODER_SIZE == core::mem::size_of::<pl_gdl90_decoder>());
-const _: () = assert!(core::mem::align_of::<Inner>() <= PL_GDL90_DECODER_ALIGN);
 const _: () = assert!(PL_GDL90_MAX_FRAME_LEN == gdl90_proto::MAX_ENCODED_LEN);
 
 /// `kind`: heartbeat (ID 0), `body.heartbeat`.
@@ -428,53 +424,18 @@ fn body_of(m: &Message<'_>) -> (u8, pl_gdl90_body) {
     }
 }
 
-fn error(e: Error) -> pl_error {
-    match e {
-        Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
-        Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
-        Error::ChecksumMismatch {
-            id,
-            computed,
-            received,
-        } => pl_error::new(
-            PL_ERR_CHECKSUM_MISMATCH,
-            id.into(),
-            computed.into(),
-            received.into(),
-        ),
-        Error::TooShort => pl_error::kind(PL_ERR_TOO_SHORT),
-        Error::InvalidEscape => pl_error::kind(PL_ERR_INVALID_ESCAPE),
-        Error::EscapedFlag => pl_error::kind(PL_ERR_ESCAPED_FLAG),
-        Error::WrongLength {
-            id,
-            expected,
-            actual,
-        } => pl_error::new(
-            PL_ERR_WRONG_LENGTH,
-            id.into(),
-            expected.into(),
-            actual.into(),
-        ),
-        Error::OutOfRange { id, .. } => pl_error::new(PL_ERR_OUT_OF_RANGE, id.into(), 0, 0),
-    }
-}
-
 impl Proto for pl_gdl90_decoder {
     type Dec = Inner;
     type Msg = pl_gdl90_message;
     type Stats = pl_gdl90_stats;
-    type Ctx = ();
-
-    fn empty() -> pl_gdl90_message {
+    const EMPTY: pl_gdl90_message = {
         // SAFETY: integers, floats and a raw pointer: all zeros is a valid value.
         let mut m: pl_gdl90_message = unsafe { core::mem::zeroed() };
         m.kind = PL_GDL90_UNKNOWN;
         m
-    }
+    };
 
-    fn context(_: &Inner) {}
-
-    fn fill(m: Message<'_>, _: (), msg: &mut pl_gdl90_message, _: &mut pl_error) -> i32 {
+    fn fill(m: Message<'_>, msg: &mut pl_gdl90_message, _: &mut pl_error) -> i32 {
         let data: &[u8] = match m {
             Message::Unknown { data, .. } => data,
             _ => &[],
@@ -493,7 +454,24 @@ impl Proto for pl_gdl90_decoder {
     }
 
     fn error(e: Error) -> pl_error {
-        error(e)
+        match e {
+            Error::Overflow => pl_error::kind(PL_ERR_OVERFLOW),
+            Error::Truncated => pl_error::kind(PL_ERR_TRUNCATED),
+            Error::ChecksumMismatch {
+                id,
+                computed,
+                received,
+            } => pl_error::checksum(id, computed, received),
+            Error::TooShort => pl_error::kind(PL_ERR_TOO_SHORT),
+            Error::InvalidEscape => pl_error::kind(PL_ERR_INVALID_ESCAPE),
+            Error::EscapedFlag => pl_error::kind(PL_ERR_ESCAPED_FLAG),
+            Error::WrongLength {
+                id,
+                expected,
+                actual,
+            } => pl_error::wrong_length(id, expected, actual),
+            Error::OutOfRange { id, .. } => pl_error::new(PL_ERR_OUT_OF_RANGE, id.into(), 0, 0),
+        }
     }
 
     /// A frame with a good CRC whose typed parse failed counts in `frame_bytes`, as a message
@@ -502,150 +480,24 @@ impl Proto for pl_gdl90_decoder {
         matches!(e, Error::WrongLength { .. } | Error::OutOfRange { .. })
     }
 
-    fn place(msg: &mut pl_gdl90_message, offset: u64, wire_len: u32) {
-        (msg.offset, msg.wire_len) = (offset, wire_len);
-    }
-
     fn stats(d: &Inner) -> pl_gdl90_stats {
-        let s = d.stats();
-        pl_gdl90_stats {
-            frames_ok: s.frames_ok,
-            invalid: s.invalid,
-            checksum_errors: s.checksum_errors,
-            overflows: s.overflows,
-            too_short: s.too_short,
-            bad_escapes: s.bad_escapes,
-            bytes_discarded: s.bytes_discarded,
-            frame_bytes: s.frame_bytes,
-            flags: s.flags,
-            held_bytes: ffi::sat32(d.held_bytes()),
-        }
+        face::stats! { d => pl_gdl90_stats {
+            frames_ok, invalid, checksum_errors, overflows, too_short, bad_escapes,
+            bytes_discarded, frame_bytes, flags,
+        } }
     }
 }
 
-/// Sets up `dec` as a fresh GDL90 decoder. Returns 0, `PL_E_NULL` or `PL_E_INVALID` (`dec` not
-/// aligned for its type).
-///
-/// ```c
-/// pl_gdl90_decoder dec;
-/// pl_gdl90_init(&dec);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to writable memory for a `pl_gdl90_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_init(dec: *mut pl_gdl90_decoder) -> i32 {
-    // SAFETY: the caller's promise.
-    unsafe { face::init(dec, Inner::new()) }
+/// `pl_gdl90_encode`: `msg`, with its raw data `data`, as one whole frame into `out`.
+pub(crate) fn encode(msg: &pl_gdl90_message, data: &[u8], out: &mut [u8]) -> Result<usize, i32> {
+    from_c(msg, data)?.encode(out).map_err(|e| match e {
+        EncodeError::BufferTooSmall { .. } => PL_E_BUFFER_TOO_SMALL,
+    })
 }
 
-/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. `PL_ERROR` clears
-/// `*msg`; for a frame with a good CRC whose typed parse failed (`PL_ERR_WRONG_LENGTH`,
-/// `PL_ERR_OUT_OF_RANGE`) it also gives that frame's `offset` and `wire_len`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_gdl90_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.kind == PL_GDL90_OWNSHIP) show(&msg.body.report);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_parse(
-    dec: *mut pl_gdl90_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_gdl90_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
-
-/// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
-pub type pl_gdl90_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_gdl90_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_gdl90_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-/// called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_feed(
-    dec: *mut pl_gdl90_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_gdl90_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream (or a datagram) ended: a frame still held is given up as `PL_ERR_TRUNCATED`.
-/// One event per call; call until `PL_NOTHING`. Afterwards the decoder starts afresh.
-///
-/// ```c
-/// while ((st = pl_gdl90_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
-/// ```
-///
-/// # Safety
-/// As `pl_gdl90_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_finish(
-    dec: *mut pl_gdl90_decoder,
-    msg: *mut pl_gdl90_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_gdl90_stats st;
-/// pl_gdl90_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_get_stats(
-    dec: *const pl_gdl90_decoder,
-    stats: *mut pl_gdl90_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
-/// The C struct as a Rust message.
-///
-/// # Safety
-/// `msg.body` is read as the member `msg.kind` selects; every member is plain numbers, so any
-/// bytes are valid.
-unsafe fn from_c<'a>(msg: &pl_gdl90_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
+/// The C struct as a Rust message. The body is read as the member `msg.kind` selects; every
+/// member is plain numbers, so any bytes are valid.
+fn from_c<'a>(msg: &pl_gdl90_message, data: &'a [u8]) -> Result<Message<'a>, i32> {
     let b = &msg.body;
     Ok(match msg.kind {
         PL_GDL90_HEARTBEAT => {
@@ -716,49 +568,4 @@ unsafe fn from_c<'a>(msg: &pl_gdl90_message, data: &'a [u8]) -> Result<Message<'
         PL_GDL90_UNKNOWN => Message::Unknown { id: msg.id, data },
         _ => return Err(PL_E_BAD_TAG),
     })
-}
-
-/// Encodes `*msg` as one whole frame into `out[..cap]`. Returns its length, or `PL_E_NULL`,
-/// `PL_E_BAD_TAG` (kind), `PL_E_INVALID` (a track, heading or datum kind outside its list) or
-/// `PL_E_BUFFER_TOO_SMALL` (`PL_GDL90_MAX_FRAME_LEN` is enough for every typed message).
-/// Values beyond a field's range are clamped or sent as "invalid", as each GDL90 field says.
-///
-/// ```c
-/// pl_gdl90_message m = { .kind = PL_GDL90_GEO_ALTITUDE };
-/// m.body.geo_altitude = (pl_gdl90_geo_altitude){ .altitude_ft = 1500 };
-/// uint8_t buf[PL_GDL90_MAX_FRAME_LEN];
-/// int32_t n = pl_gdl90_encode(&m, buf, sizeof buf);
-/// ```
-///
-/// # Safety
-/// `msg` is NULL or readable with `data` readable for `data_len` bytes; `out` is NULL or
-/// writable for `cap` bytes.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_encode(
-    msg: *const pl_gdl90_message,
-    out: *mut u8,
-    cap: usize,
-) -> i32 {
-    // SAFETY: the caller's promise.
-    let Some(msg) = (unsafe { msg.as_ref() }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `data[..data_len]`.
-    let Some(data) = (unsafe { ffi::bytes(msg.data, msg.data_len) }) else {
-        return PL_E_NULL;
-    };
-    // SAFETY: the caller's promise for `out[..cap]`.
-    let out = match unsafe { ffi::buffer(out, cap) } {
-        Ok(out) => out,
-        Err(code) => return code,
-    };
-    // SAFETY: plain numbers (see `from_c`).
-    let m = match unsafe { from_c(msg, data) } {
-        Ok(m) => m,
-        Err(code) => return code,
-    };
-    match m.encode(out) {
-        Ok(n) => ffi::length(n),
-        Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
-    }
 }

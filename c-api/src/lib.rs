@@ -14,7 +14,8 @@
 //! - [`state::pl_abi_version`], [`state::pl_state_size`] and [`state::pl_state_align`] let a
 //!   C program compare the header it was compiled with and the archive it links;
 //! - the same five decoding calls for every protocol, written once in `face.rs` over the
-//!   decoder contract: `pl_*_parse` takes a slice (one byte too), answers [`PL_NOTHING`],
+//!   decoder contract (every `pl_*` function is a one-line forward in [`calls`], in the
+//!   header's order; each protocol module holds its C types and conversions): `pl_*_parse` takes a slice (one byte too), answers [`PL_NOTHING`],
 //!   [`PL_MESSAGE`] or [`PL_ERROR`] (the kind in a [`pl_error`]) for the next event and says
 //!   how many bytes it used; `pl_*_feed` hands every event of a buffer to a C callback;
 //!   `pl_*_finish` gives the events of the end of the stream; `pl_*_get_stats` the counters;
@@ -47,9 +48,12 @@ pub mod aok;
 pub mod aydp;
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod calls;
+mod encode;
 mod face;
 mod ffi;
 pub mod gdl90;
+mod message;
 pub mod state;
 
 pub use ffi::pl_error;

@@ -29,6 +29,16 @@ use crate::{PL_E_INVALID, PL_E_NULL};
 /// states grew by one word, AEOLUS and GDL90, or two, AYDP and AOK).
 pub const PL_ABI_VERSION: u32 = 4;
 
+/// The ABI version of the archive, `PL_ABI_VERSION` of the header it was built with.
+///
+/// ```c
+/// if (pl_abi_version() != PL_ABI_VERSION) halt("protolink.h and libprotolink_c.a differ");
+/// ```
+#[unsafe(no_mangle)]
+pub extern "C" fn pl_abi_version() -> u32 {
+    PL_ABI_VERSION
+}
+
 /// State kind: `pl_aeolus_decoder`.
 pub const PL_STATE_AEOLUS: u32 = 1;
 /// State kind: `pl_aydp_decoder`.
@@ -40,14 +50,20 @@ pub const PL_STATE_AOK_PC: u32 = 4;
 /// State kind: `pl_gdl90_decoder`.
 pub const PL_STATE_GDL90: u32 = 5;
 
-/// The ABI version of the archive, `PL_ABI_VERSION` of the header it was built with.
-///
-/// ```c
-/// if (pl_abi_version() != PL_ABI_VERSION) halt("protolink.h and libprotolink_c.a differ");
-/// ```
-#[unsafe(no_mangle)]
-pub extern "C" fn pl_abi_version() -> u32 {
-    PL_ABI_VERSION
+/// Size and alignment of the C state of `kind`.
+fn layout(kind: u32) -> Option<(usize, usize)> {
+    use crate::{aeolus, aok, aydp, gdl90};
+    fn of<S: State>() -> (usize, usize) {
+        (core::mem::size_of::<S>(), core::mem::align_of::<S>())
+    }
+    Some(match kind {
+        PL_STATE_AEOLUS => of::<aeolus::pl_aeolus_decoder>(),
+        PL_STATE_AYDP => of::<aydp::pl_aydp_decoder>(),
+        PL_STATE_AOK_DEVICE => of::<aok::pl_aok_device_decoder>(),
+        PL_STATE_AOK_PC => of::<aok::pl_aok_pc_decoder>(),
+        PL_STATE_GDL90 => of::<gdl90::pl_gdl90_decoder>(),
+        _ => return None,
+    })
 }
 
 /// The size in bytes of the state of `kind` (`PL_STATE_*`) in this archive, or 0 for a kind
@@ -72,22 +88,6 @@ pub extern "C" fn pl_state_size(kind: u32) -> usize {
 #[unsafe(no_mangle)]
 pub extern "C" fn pl_state_align(kind: u32) -> usize {
     layout(kind).map_or(0, |(_, align)| align)
-}
-
-/// Size and alignment of the C state of `kind`.
-fn layout(kind: u32) -> Option<(usize, usize)> {
-    use crate::{aeolus, aok, aydp, gdl90};
-    fn of<S: State>() -> (usize, usize) {
-        (core::mem::size_of::<S>(), core::mem::align_of::<S>())
-    }
-    Some(match kind {
-        PL_STATE_AEOLUS => of::<aeolus::pl_aeolus_decoder>(),
-        PL_STATE_AYDP => of::<aydp::pl_aydp_decoder>(),
-        PL_STATE_AOK_DEVICE => of::<aok::pl_aok_device_decoder>(),
-        PL_STATE_AOK_PC => of::<aok::pl_aok_pc_decoder>(),
-        PL_STATE_GDL90 => of::<gdl90::pl_gdl90_decoder>(),
-        _ => return None,
-    })
 }
 
 /// A C state type (`pl_*_decoder`) and the Rust state it holds.
@@ -128,6 +128,24 @@ pub(crate) const fn fits<S: State>() -> bool {
     core::mem::size_of::<Tagged<S::Inner>>() <= core::mem::size_of::<S>()
         && core::mem::align_of::<Tagged<S::Inner>>() <= core::mem::align_of::<S>()
 }
+
+/// Makes a C state type (`pl_*_decoder`, a `#[repr(C)]` struct of `u64` words) hold
+/// `Inner`, a state of kind `KIND`, and checks at compile time that it fits and that its size
+/// and alignment are the header's `SIZE` and `ALIGN`:
+/// `holds! { pl_aydp_decoder: Stream<Inner>, PL_STATE_AYDP, PL_AYDP_DECODER_SIZE, ALIGN }`.
+macro_rules! holds {
+    ($state:ty: $inner:ty, $kind:expr, $size:expr, $align:expr) => {
+        // SAFETY: plain words; `fits` is asserted below; no other state has this kind.
+        unsafe impl $crate::state::State for $state {
+            type Inner = $inner;
+            const KIND: u32 = $kind;
+        }
+        const _: () = assert!($crate::state::fits::<$state>());
+        const _: () = assert!($size == core::mem::size_of::<$state>());
+        const _: () = assert!(core::mem::align_of::<$inner>() <= $align);
+    };
+}
+pub(crate) use holds;
 
 /// Writes the tag and a fresh Rust state `value` into the C state. Returns 0, `PL_E_NULL`,
 /// or `PL_E_INVALID` for a pointer not aligned for `S` (nothing written).
@@ -205,7 +223,8 @@ pub(crate) unsafe fn checked_ref<'a, S: State>(state: *const S) -> Result<&'a S:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aeolus::{pl_aeolus_decoder, pl_aeolus_init, pl_aeolus_parse};
+    use crate::aeolus::pl_aeolus_decoder;
+    use crate::calls::{pl_aeolus_init, pl_aeolus_parse};
     use crate::{PL_NOTHING, pl_error};
     use core::mem::MaybeUninit;
 

@@ -1,6 +1,7 @@
 //! The C functions called from Rust, as a C program calls them: these also run under Miri
 //! (`cargo +nightly miri test -p protolink-c`), which checks every `unsafe` block they reach.
 
+use core::ffi::c_void;
 use core::mem::{MaybeUninit, align_of, size_of};
 use core::ptr::{null, null_mut};
 use std::boxed::Box;
@@ -9,6 +10,7 @@ use std::vec::Vec;
 use crate::aeolus::*;
 use crate::aok::*;
 use crate::aydp::*;
+use crate::calls::*;
 use crate::gdl90::*;
 use crate::*;
 
@@ -30,6 +32,22 @@ unsafe fn byte<D, M>(parse: Parse<D, M>, d: *mut D, b: u8, msg: *mut M, err: *mu
     let mut used = 0;
     // SAFETY: the caller's promises; `b` is one readable byte.
     unsafe { parse(d, &b, 1, &mut used, msg, err) }
+}
+
+/// One `parse` call on `input` (`*used`: the bytes it took).
+///
+/// # Safety
+/// As `parse`.
+unsafe fn slice<D, M>(
+    parse: Parse<D, M>,
+    d: *mut D,
+    input: &[u8],
+    used: &mut usize,
+    msg: *mut M,
+    err: *mut pl_error,
+) -> i32 {
+    // SAFETY: the caller's promises; `input` is readable.
+    unsafe { parse(d, input.as_ptr(), input.len(), used, msg, err) }
 }
 
 /// The next event a rescan left queued: `parse` on no bytes.
@@ -77,10 +95,10 @@ fn aeolus_gyro_vector_decodes_at_every_split() {
                 let mut used = 0;
                 // SAFETY: valid pointers to live locals and to `part`.
                 let st = unsafe {
-                    pl_aeolus_parse(
+                    slice(
+                        pl_aeolus_parse,
                         d.as_mut_ptr(),
-                        part[off..].as_ptr(),
-                        part.len() - off,
+                        &part[off..],
                         &mut used,
                         &mut msg,
                         &mut err,
@@ -251,10 +269,10 @@ fn aok_command_round_trip_and_expected_reply() {
     let mut used = 0;
     // SAFETY: set up by init; valid pointers.
     let st = unsafe {
-        pl_aok_device_parse(
+        slice(
+            pl_aok_device_parse,
             d.as_mut_ptr(),
-            buf.as_ptr(),
-            n as usize,
+            &buf[..n as usize],
             &mut used,
             &mut got,
             &mut err,
@@ -301,10 +319,10 @@ fn gdl90_geo_altitude_round_trip() {
     let mut used = 0;
     // SAFETY: set up by init; valid pointers.
     let st = unsafe {
-        pl_gdl90_parse(
+        slice(
+            pl_gdl90_parse,
             d.as_mut_ptr(),
-            buf.as_ptr(),
-            n as usize,
+            &buf[..n as usize],
             &mut used,
             &mut got,
             &mut err,
@@ -501,19 +519,11 @@ fn aeolus_parse_in_any_pieces_gives_the_byte_calls_events_and_counters() {
     assert!(expected.len() > 10 && expected.iter().any(|e| e.0 == PL_ERROR));
     for &chunk in chunks {
         let mut d = aeolus_decoder();
+        let p = d.as_mut_ptr();
         let got = chunked(&stream, chunk, |rest| {
             let mut used = usize::MAX;
             // SAFETY: a set-up decoder, a live input and outputs.
-            let st = unsafe {
-                pl_aeolus_parse(
-                    d.as_mut_ptr(),
-                    rest.as_ptr(),
-                    rest.len(),
-                    &mut used,
-                    &mut msg,
-                    &mut err,
-                )
-            };
+            let st = unsafe { slice(pl_aeolus_parse, p, rest, &mut used, &mut msg, &mut err) };
             (st, used, event(st, &msg, &err))
         });
         assert!(got == expected, "pieces of {chunk}: the events differ");
@@ -748,20 +758,41 @@ struct Kind {
     calls: Calls,
 }
 
-unsafe fn aeolus_calls(p: *mut u8) -> (Vec<i32>, bool) {
-    let d = p.cast::<pl_aeolus_decoder>();
-    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
-    let mut stats = Out::<pl_aeolus_stats>::new();
+/// The decoding calls of one kind of state `D`, with message struct `M` and stats struct `S`,
+/// and what [`calls`] feeds them.
+struct Api<D, M, S> {
+    parse: Parse<D, M>,
+    feed: unsafe extern "C" fn(*mut D, *const u8, usize, Callback<M>, *mut c_void) -> i32,
+    finish: unsafe extern "C" fn(*mut D, *mut M, *mut pl_error) -> i32,
+    get_stats: unsafe extern "C" fn(*const D, *mut S) -> i32,
+    /// The byte of the one-byte parse call.
+    byte: u8,
+}
+
+/// A `pl_*_callback`.
+type Callback<M> = Option<unsafe extern "C" fn(*mut c_void, i32, *const M, *const pl_error)>;
+
+/// The statuses of `api`'s calls on the state at `p` (a byte, the events queued, a slice, a
+/// feed, the end of the stream, the counters), and whether every call was refused and left
+/// every output untouched.
+///
+/// # Safety
+/// `p` is storage for any state, or a misaligned pointer into it.
+unsafe fn calls<D, M, S>(api: Api<D, M, S>, p: *mut u8) -> (Vec<i32>, bool) {
+    let d = p.cast::<D>();
+    let (mut msg, mut err, mut used) = (Out::<M>::new(), Out::new(), Out::<usize>::new());
+    let mut stats = Out::<S>::new();
     let mut fed = false;
     let ctx = (&mut fed as *mut bool).cast();
     // SAFETY: the state at `p` is what is tested; the other arguments are live.
     let st = unsafe {
         std::vec![
-            byte(pl_aeolus_parse, d, BYTES[0], msg.ptr(), err.ptr()),
-            pl_aeolus_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
-            pl_aeolus_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aeolus_message>), ctx),
-            pl_aeolus_finish(d, msg.ptr(), err.ptr()),
-            pl_aeolus_get_stats(d, stats.ptr()),
+            byte(api.parse, d, api.byte, msg.ptr(), err.ptr()),
+            queued(api.parse, d, msg.ptr(), err.ptr()),
+            (api.parse)(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
+            (api.feed)(d, BYTES.as_ptr(), 4, Some(called::<M>), ctx),
+            (api.finish)(d, msg.ptr(), err.ptr()),
+            (api.get_stats)(d, stats.ptr()),
         ]
     };
     // Outputs are only compared after refusals: an accepted call may write them.
@@ -770,107 +801,30 @@ unsafe fn aeolus_calls(p: *mut u8) -> (Vec<i32>, bool) {
     (st, untouched && !fed)
 }
 
-unsafe fn aydp_calls(p: *mut u8) -> (Vec<i32>, bool) {
-    let d = p.cast::<pl_aydp_decoder>();
-    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
-    let mut stats = Out::<pl_aydp_stats>::new();
-    let mut fed = false;
-    let ctx = (&mut fed as *mut bool).cast();
-    // SAFETY: as in `aeolus_calls`.
-    let st = unsafe {
-        std::vec![
-            byte(pl_aydp_parse, d, BYTES[2], msg.ptr(), err.ptr()),
-            queued(pl_aydp_parse, d, msg.ptr(), err.ptr()),
-            pl_aydp_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
-            pl_aydp_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aydp_message>), ctx),
-            pl_aydp_finish(d, msg.ptr(), err.ptr()),
-            pl_aydp_get_stats(d, stats.ptr()),
-        ]
-    };
-    // Outputs are only compared after refusals: an accepted call may write them.
-    let untouched =
-        refused(&st) && msg.untouched() && err.untouched() && used.untouched() && stats.untouched();
-    (st, untouched && !fed)
-}
-
-unsafe fn aok_device_calls(p: *mut u8) -> (Vec<i32>, bool) {
-    let d = p.cast::<pl_aok_device_decoder>();
-    let (mut item, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
-    let mut stats = Out::<pl_aok_stats>::new();
-    let mut fed = false;
-    let ctx = (&mut fed as *mut bool).cast();
-    // SAFETY: as in `aeolus_calls`.
-    let st = unsafe {
-        std::vec![
-            byte(pl_aok_device_parse, d, BYTES[3], item.ptr(), err.ptr()),
-            queued(pl_aok_device_parse, d, item.ptr(), err.ptr()),
-            pl_aok_device_finish(d, item.ptr(), err.ptr()),
-            pl_aok_device_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
-            pl_aok_device_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
-            pl_aok_device_get_stats(d, stats.ptr()),
-        ]
-    };
-    // Outputs are only compared after refusals: an accepted call may write them.
-    let untouched = refused(&st)
-        && item.untouched()
-        && err.untouched()
-        && used.untouched()
-        && stats.untouched();
-    (st, untouched && !fed)
-}
-
+/// `calls` on the PC side, after `pl_aok_pc_expect_reply` (a parameter read).
+///
+/// # Safety
+/// As [`calls`].
 unsafe fn aok_pc_calls(p: *mut u8) -> (Vec<i32>, bool) {
-    let d = p.cast::<pl_aok_pc_decoder>();
-    let (mut item, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
-    let mut stats = Out::<pl_aok_stats>::new();
-    let mut fed = false;
-    let ctx = (&mut fed as *mut bool).cast();
     let get = pl_aok_item {
         kind: PL_AOK_READ_PARAMETER,
         number: 12,
         ..Default::default()
     };
-    // SAFETY: as in `aeolus_calls`.
-    let st = unsafe {
-        std::vec![
-            pl_aok_pc_expect_reply(d, &get),
-            byte(pl_aok_pc_parse, d, 0x1C, item.ptr(), err.ptr()),
-            queued(pl_aok_pc_parse, d, item.ptr(), err.ptr()),
-            pl_aok_pc_finish(d, item.ptr(), err.ptr()),
-            pl_aok_pc_parse(d, BYTES.as_ptr(), 4, used.ptr(), item.ptr(), err.ptr()),
-            pl_aok_pc_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_aok_item>), ctx),
-            pl_aok_pc_get_stats(d, stats.ptr()),
-        ]
+    // SAFETY: the caller's promise; `get` is live.
+    let expect = unsafe { pl_aok_pc_expect_reply(p.cast(), &get) };
+    let api = Api {
+        parse: pl_aok_pc_parse,
+        feed: pl_aok_pc_feed,
+        finish: pl_aok_pc_finish,
+        get_stats: pl_aok_pc_get_stats,
+        byte: 0x1C,
     };
-    // Outputs are only compared after refusals: an accepted call may write them.
-    let untouched = refused(&st)
-        && item.untouched()
-        && err.untouched()
-        && used.untouched()
-        && stats.untouched();
-    (st, untouched && !fed)
-}
-
-unsafe fn gdl90_calls(p: *mut u8) -> (Vec<i32>, bool) {
-    let d = p.cast::<pl_gdl90_decoder>();
-    let (mut msg, mut err, mut used) = (Out::new(), Out::new(), Out::<usize>::new());
-    let mut stats = Out::<pl_gdl90_stats>::new();
-    let mut fed = false;
-    let ctx = (&mut fed as *mut bool).cast();
-    // SAFETY: as in `aeolus_calls`.
-    let st = unsafe {
-        std::vec![
-            byte(pl_gdl90_parse, d, BYTES[0], msg.ptr(), err.ptr()),
-            pl_gdl90_parse(d, BYTES.as_ptr(), 4, used.ptr(), msg.ptr(), err.ptr()),
-            pl_gdl90_feed(d, BYTES.as_ptr(), 4, Some(called::<pl_gdl90_message>), ctx),
-            pl_gdl90_finish(d, msg.ptr(), err.ptr()),
-            pl_gdl90_get_stats(d, stats.ptr()),
-        ]
-    };
-    // Outputs are only compared after refusals: an accepted call may write them.
-    let untouched =
-        refused(&st) && msg.untouched() && err.untouched() && used.untouched() && stats.untouched();
-    (st, untouched && !fed)
+    // SAFETY: the caller's promise.
+    let (mut st, untouched) = unsafe { calls(api, p) };
+    st.insert(0, expect);
+    let untouched = untouched && refused(&st);
+    (st, untouched)
 }
 
 /// Every kind of state (the AEOLUS strict init and the AYDP Reference profile write the same
@@ -880,19 +834,55 @@ const KINDS: [Kind; 5] = [
         name: "AEOLUS",
         // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
         init: |p| unsafe { pl_aeolus_init(p.cast()) },
-        calls: aeolus_calls,
+        // SAFETY: as above.
+        calls: |p| unsafe {
+            calls(
+                Api {
+                    parse: pl_aeolus_parse,
+                    feed: pl_aeolus_feed,
+                    finish: pl_aeolus_finish,
+                    get_stats: pl_aeolus_get_stats,
+                    byte: BYTES[0],
+                },
+                p,
+            )
+        },
     },
     Kind {
         name: "AYDP",
         // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
         init: |p| unsafe { pl_aydp_init(p.cast(), PL_AYDP_SPEC) },
-        calls: aydp_calls,
+        // SAFETY: as above.
+        calls: |p| unsafe {
+            calls(
+                Api {
+                    parse: pl_aydp_parse,
+                    feed: pl_aydp_feed,
+                    finish: pl_aydp_finish,
+                    get_stats: pl_aydp_get_stats,
+                    byte: BYTES[2],
+                },
+                p,
+            )
+        },
     },
     Kind {
         name: "AOK device",
         // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
         init: |p| unsafe { pl_aok_device_init(p.cast()) },
-        calls: aok_device_calls,
+        // SAFETY: as above.
+        calls: |p| unsafe {
+            calls(
+                Api {
+                    parse: pl_aok_device_parse,
+                    feed: pl_aok_device_feed,
+                    finish: pl_aok_device_finish,
+                    get_stats: pl_aok_device_get_stats,
+                    byte: BYTES[3],
+                },
+                p,
+            )
+        },
     },
     Kind {
         name: "AOK PC",
@@ -904,7 +894,19 @@ const KINDS: [Kind; 5] = [
         name: "GDL90",
         // SAFETY: the caller passes storage for any state, or a misaligned pointer into it.
         init: |p| unsafe { pl_gdl90_init(p.cast()) },
-        calls: gdl90_calls,
+        // SAFETY: as above.
+        calls: |p| unsafe {
+            calls(
+                Api {
+                    parse: pl_gdl90_parse,
+                    feed: pl_gdl90_feed,
+                    finish: pl_gdl90_finish,
+                    get_stats: pl_gdl90_get_stats,
+                    byte: BYTES[0],
+                },
+                p,
+            )
+        },
     },
 ];
 

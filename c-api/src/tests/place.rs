@@ -150,17 +150,9 @@ fn aeolus_places_every_frame_and_accounts_for_every_byte() {
                 m.wire_len > 0 || (m.id == 0 && m.data.is_null()),
             )
         };
+        let (p, f) = (pl_aeolus_parse, pl_aeolus_finish);
         // SAFETY: a set-up decoder.
-        let ev = unsafe {
-            one_loop(
-                pl_aeolus_parse,
-                pl_aeolus_finish,
-                place,
-                d.as_mut_ptr(),
-                s,
-                chunk,
-            )
-        };
+        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
         let mut st = pl_aeolus_stats::default();
         // SAFETY: as above.
         assert_eq!(unsafe { pl_aeolus_get_stats(d.as_ptr(), &mut st) }, 0);
@@ -201,17 +193,9 @@ fn gdl90_places_every_frame_and_accounts_for_every_byte() {
             let cleared = m.kind == PL_GDL90_UNKNOWN && m.id == 0 && m.data.is_null();
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
+        let (p, f) = (pl_gdl90_parse, pl_gdl90_finish);
         // SAFETY: a set-up decoder.
-        let ev = unsafe {
-            one_loop(
-                pl_gdl90_parse,
-                pl_gdl90_finish,
-                place,
-                d.as_mut_ptr(),
-                s,
-                chunk,
-            )
-        };
+        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
         let mut st = pl_gdl90_stats::default();
         // SAFETY: as above.
         assert_eq!(unsafe { pl_gdl90_get_stats(d.as_ptr(), &mut st) }, 0);
@@ -233,17 +217,9 @@ fn aydp_places_every_message_and_accounts_for_every_byte() {
             let cleared = m.kind == PL_AYDP_UNKNOWN && m.seconds == 0 && m.data.is_null();
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
+        let (p, f) = (pl_aydp_parse, pl_aydp_finish);
         // SAFETY: a set-up decoder.
-        let ev = unsafe {
-            one_loop(
-                pl_aydp_parse,
-                pl_aydp_finish,
-                place,
-                d.as_mut_ptr(),
-                s,
-                chunk,
-            )
-        };
+        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
         let mut st = pl_aydp_stats::default();
         // SAFETY: as above.
         assert_eq!(unsafe { pl_aydp_get_stats(d.as_ptr(), &mut st) }, 0);
@@ -283,35 +259,18 @@ fn an_error_never_passes_the_previous_message() {
     bad[last] ^= 1; // the CRC's high byte
     stream.extend_from_slice(&bad[1..]); // the gyro's closing flag opens it
     let mut d = aeolus_decoder();
+    let d = d.as_mut_ptr();
     let (mut msg, mut err): (pl_aeolus_message, _) = (zeroed(), pl_error::default());
     let mut used = 0;
     // SAFETY: a set-up decoder, a live input and outputs.
-    let st = unsafe {
-        pl_aeolus_parse(
-            d.as_mut_ptr(),
-            stream.as_ptr(),
-            stream.len(),
-            &mut used,
-            &mut msg,
-            &mut err,
-        )
-    };
+    let st = unsafe { slice(pl_aeolus_parse, d, &stream, &mut used, &mut msg, &mut err) };
     assert_eq!(
         (st, msg.id, msg.offset, msg.wire_len),
         (PL_MESSAGE, 62, 0, 37)
     );
     let rest = &stream[used..];
     // SAFETY: as above.
-    let st = unsafe {
-        pl_aeolus_parse(
-            d.as_mut_ptr(),
-            rest.as_ptr(),
-            rest.len(),
-            &mut used,
-            &mut msg,
-            &mut err,
-        )
-    };
+    let st = unsafe { slice(pl_aeolus_parse, d, rest, &mut used, &mut msg, &mut err) };
     assert_eq!((st, err.kind), (PL_ERROR, PL_ERR_CHECKSUM_MISMATCH));
     assert!(msg.id == 0 && msg.data.is_null() && msg.data_len == 0 && msg.wire_len == 0);
     // The error's own place: the bad frame, flag to flag (its opening flag is the first
@@ -350,14 +309,7 @@ fn gdl90_ends_a_stream() {
         pl_gdl90_get_stats(d, &mut st);
         assert_eq!(st.held_bytes, 0);
         // The decoder starts afresh; offsets go on from the 6 bytes fed.
-        let st = pl_gdl90_parse(
-            d,
-            heartbeat.as_ptr(),
-            heartbeat.len(),
-            &mut used,
-            &mut msg,
-            &mut err,
-        );
+        let st = slice(pl_gdl90_parse, d, &heartbeat, &mut used, &mut msg, &mut err);
         assert_eq!(
             (st, msg.kind, msg.offset, msg.wire_len),
             (PL_MESSAGE, PL_GDL90_HEARTBEAT, 6, 11)
