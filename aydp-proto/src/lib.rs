@@ -14,7 +14,7 @@
 //! let mut bytes = vec![0x13, 0x37];
 //! let mut buf = [0u8; 64];
 //! let n = Encoder::new(Profile::Spec)
-//!     .encode_normal(&pos, Timestamp::new(1_700_000_000, 250), &mut buf)
+//!     .encode(&pos, Some(Timestamp::new(1_700_000_000, 250)), &mut buf)
 //!     .unwrap();
 //! bytes.extend_from_slice(&buf[..n]);
 //! bytes.extend_from_slice(&[0xFF, 0x89, 0x08]);

@@ -4,8 +4,7 @@
 use aok_proto::{
     Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, EncodeError, Error,
     ExternalControl, FirmwareVersion, Message, MessageDecoder, Motor, MotorTest, ParameterValue,
-    ReplyForm, Stick, Waypoint, WaypointSlot, encode_ack, encode_command, encode_debug,
-    encode_parameter, encode_waypoint,
+    ReplyForm, Stick, Waypoint, WaypointSlot,
 };
 
 use crate::face::{self, Proto, Stream};
@@ -704,7 +703,7 @@ pub unsafe extern "C" fn pl_aok_encode_command(
         Ok(c) => c,
         Err(code) => return code,
     };
-    match encode_command(&c, out) {
+    match c.emit(out) {
         Ok(n) => ffi::length(n),
         Err(EncodeError::BufferTooSmall { .. }) => PL_E_BUFFER_TOO_SMALL,
     }
@@ -746,27 +745,22 @@ pub unsafe extern "C" fn pl_aok_encode_message(
         ReplyForm::Headerless
     };
     let result = match msg.kind {
-        PL_AOK_DEBUG => encode_debug(
-            DebugValue {
-                number: msg.number,
-                value: msg.value,
-            },
-            out,
-        ),
+        PL_AOK_DEBUG => Message::Debug(DebugValue {
+            number: msg.number,
+            value: msg.value,
+        })
+        .emit(out, ReplyForm::Headed),
         PL_AOK_ACK => match Ack::from_byte(msg.ack) {
-            Some(a) => encode_ack(a, out),
+            Some(a) => Message::Ack(a).emit(out, ReplyForm::Headed),
             None => return PL_E_OUT_OF_RANGE,
         },
-        PL_AOK_PARAMETER => encode_parameter(
-            ParameterValue {
-                number: msg.number,
-                value: msg.value,
-            },
-            form,
-            out,
-        ),
+        PL_AOK_PARAMETER => Message::Parameter(ParameterValue {
+            number: msg.number,
+            value: msg.value,
+        })
+        .emit(out, form),
         PL_AOK_WAYPOINT => match waypoint_rust(&msg.waypoint) {
-            Ok(w) => encode_waypoint(&w, out),
+            Ok(w) => Message::Waypoint(w).emit(out, ReplyForm::Headed),
             Err(code) => return code,
         },
         _ => return PL_E_BAD_TAG,

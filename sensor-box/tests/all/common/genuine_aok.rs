@@ -77,7 +77,8 @@ pub fn commands() -> Vec<Command> {
 
 /// The bytes of `command` as the encoder writes them.
 pub fn bytes(command: &Command) -> Vec<u8> {
-    let (frame, n) = command.to_bytes();
+    let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+    let n = command.emit(&mut frame).unwrap();
     frame[..n].to_vec()
 }
 
