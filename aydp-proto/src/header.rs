@@ -132,7 +132,7 @@ impl HeaderRepr {
     }
 
     /// The type byte on the wire, or `None` for a base type over 126, which has no type byte
-    /// (Y3; [`HeaderRepr::to_bytes`] refuses it with [`Error::BadType`]).
+    /// (Y3; `HeaderRepr::bytes` refuses it with [`Error::BadType`]).
     #[inline]
     pub(crate) const fn type_byte(&self) -> Option<u8> {
         if self.base_type > MAX_BASE_TYPE {
@@ -190,7 +190,7 @@ impl HeaderRepr {
     /// Write the header into the start of `buf`; returns the bytes written.
     ///
     /// # Errors
-    /// [`EncodeError::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
+    /// [`EncodeError::BufferTooSmall`], or any error of `HeaderRepr::bytes`.
     pub(crate) fn emit(
         &self,
         buf: &mut [u8],

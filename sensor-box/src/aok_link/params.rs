@@ -45,7 +45,8 @@ impl AokLink {
             number = number.wrapping_add(1);
         }
         let mut buf = [0u8; MAX_REPLY];
-        if let Ok(n) = BulkReply { first, values }.emit(&mut buf) {
+        let reply = BulkReply { first, values };
+        if let Ok(n) = reply.emit(&mut buf) {
             self.queue(buf.get(..n).unwrap_or_default());
         }
     }
