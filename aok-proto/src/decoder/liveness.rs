@@ -38,7 +38,9 @@ fn to_pc() -> Vec<u8> {
         number: 86,
         value: -2,
     };
-    let n = Message::Debug(v).emit(&mut buf, ReplyForm::Headed).unwrap_or(0);
+    let n = Message::Debug(v)
+        .emit(&mut buf, ReplyForm::Headed)
+        .unwrap_or(0);
     let mut s = std::vec![0x00];
     s.extend_from_slice(&buf[..n]);
     let mut bad = buf;

@@ -28,6 +28,8 @@ fn each_form_has_its_length_and_reads_back() {
         assert_eq!(got, [Ok(Message::Parameter(p))], "{form:?}");
     }
     let mut headed = [0u8; 7];
-    Message::Parameter(p).emit(&mut headed, ReplyForm::Headed).unwrap();
+    Message::Parameter(p)
+        .emit(&mut headed, ReplyForm::Headed)
+        .unwrap();
     assert_eq!(headed[..6], [0xFF, 12, 0xFF, 0xFF, 0xFA, 0x24]);
 }

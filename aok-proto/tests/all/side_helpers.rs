@@ -22,16 +22,19 @@ fn pc_encode_writes_the_commands_bytes() {
 }
 
 #[test]
-fn device_encode_ack_writes_its_letter() {
+fn device_ack_emit_writes_its_letter() {
     for (ack, letter) in [(Ack::Ok, b'O'), (Ack::Error, b'E'), (Ack::InFlight, b'I')] {
         let mut buf = [0u8; 4];
-        assert_eq!(Message::Ack(ack).emit(&mut buf, aok_proto::ReplyForm::Headed), Ok(1));
+        assert_eq!(
+            Message::Ack(ack).emit(&mut buf, aok_proto::ReplyForm::Headed),
+            Ok(1)
+        );
         assert_eq!(buf, [letter, 0, 0, 0]);
     }
 }
 
 #[test]
-fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
+fn device_waypoint_emit_writes_a_reply_the_pc_reads_back() {
     let w = Waypoint {
         slot: WaypointSlot::FbcTarget,
         longitude: 1,
@@ -40,7 +43,10 @@ fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
         action2: ActionWord::NONE,
     };
     let mut buf = [0u8; 19];
-    assert_eq!(Message::Waypoint(w).emit(&mut buf, aok_proto::ReplyForm::Headed), Ok(19));
+    assert_eq!(
+        Message::Waypoint(w).emit(&mut buf, aok_proto::ReplyForm::Headed),
+        Ok(19)
+    );
     assert_eq!(&buf[..2], &[0x77, 0xff]);
     let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();

@@ -61,7 +61,9 @@ fn icd_heartbeat_example_decodes_and_encodes_bit_for_bit() {
         Message::Heartbeat(icd_heartbeat())
     );
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = Message::Heartbeat(icd_heartbeat()).encode(&mut wire).unwrap();
+    let n = Message::Heartbeat(icd_heartbeat())
+        .encode(&mut wire)
+        .unwrap();
     assert_eq!(&wire[..n], &ICD_HEARTBEAT);
 }
 

@@ -13,7 +13,7 @@ use aok_proto::{
     Ack, Action, ActionWord, Command, CommandDecoder, DebugValue, Decode, FirmwareVersion,
     Waypoint, WaypointSlot,
 };
-use aok_proto::{Message, ReplyForm, BulkReply};
+use aok_proto::{BulkReply, Message, ReplyForm};
 
 /// How many debug frames the fake device still sends after debug-off.
 const LATE_DEBUG_FRAMES: usize = 4;
@@ -69,7 +69,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                         decoder.feed(&[b], |item| items.push(item));
                         for item in items {
                             let Ok(cmd) = item else {
-                                let k = Message::Ack(Ack::Error).emit(&mut frame, ReplyForm::Headed).unwrap();
+                                let k = Message::Ack(Ack::Error)
+                                    .emit(&mut frame, ReplyForm::Headed)
+                                    .unwrap();
                                 out.extend(&frame[..k]);
                                 continue;
                             };
@@ -83,7 +85,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                             number: 86,
                                             value: 0x4f4f_4f4f + i as i32,
                                         };
-                                        let k = Message::Debug(v).emit(&mut frame, ReplyForm::Headed).unwrap();
+                                        let k = Message::Debug(v)
+                                            .emit(&mut frame, ReplyForm::Headed)
+                                            .unwrap();
                                         out.extend(&frame[..k]);
                                         log.late_frames_sent += 1;
                                     }
@@ -94,7 +98,8 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                         number: n,
                                         value: params[usize::from(n)],
                                     };
-                                    let k = Message::Parameter(p).emit(&mut frame, firmware.reply_form())
+                                    let k = Message::Parameter(p)
+                                        .emit(&mut frame, firmware.reply_form())
                                         .unwrap();
                                     out.extend(&frame[..k]);
                                 }
@@ -116,12 +121,16 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                             Ack::Ok
                                         }
                                     };
-                                    let k = Message::Ack(ack).emit(&mut frame, ReplyForm::Headed).unwrap();
+                                    let k = Message::Ack(ack)
+                                        .emit(&mut frame, ReplyForm::Headed)
+                                        .unwrap();
                                     out.extend(&frame[..k]);
                                 }
                                 Command::ReadWaypoint(slot) => {
                                     if let Some(w) = waypoints.iter().find(|w| w.slot == slot) {
-                                        let k = Message::Waypoint(*w).emit(&mut frame, ReplyForm::Headed).unwrap();
+                                        let k = Message::Waypoint(*w)
+                                            .emit(&mut frame, ReplyForm::Headed)
+                                            .unwrap();
                                         out.extend(&frame[..k]);
                                     }
                                 }
@@ -129,7 +138,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                     waypoints.retain(|x| x.slot != w.slot);
                                     waypoints.push(w);
                                     log.waypoints.push(w);
-                                    let k = Message::Ack(Ack::Ok).emit(&mut frame, ReplyForm::Headed).unwrap();
+                                    let k = Message::Ack(Ack::Ok)
+                                        .emit(&mut frame, ReplyForm::Headed)
+                                        .unwrap();
                                     out.extend(&frame[..k]);
                                 }
                                 _ => {}
@@ -147,7 +158,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                     number: (tick % 8) as u8 + 80,
                     value: 0x4f45_4900 + tick,
                 };
-                let k = Message::Debug(v).emit(&mut frame, ReplyForm::Headed).unwrap();
+                let k = Message::Debug(v)
+                    .emit(&mut frame, ReplyForm::Headed)
+                    .unwrap();
                 out.extend(&frame[..k]);
                 log.debug_frames_sent += 1;
             }

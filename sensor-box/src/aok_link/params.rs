@@ -5,7 +5,7 @@ use super::{AokLink, FIRMWARE, MAX_REPLY, in_flight_settable};
 use crate::Shared;
 use crate::store_policy::Verdict;
 use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{Ack, Message, ParameterValue, BulkReply};
+use aok_proto::{Ack, BulkReply, Message, ParameterValue};
 
 impl AokLink {
     pub(super) fn parameter(&self, number: u8) -> i32 {

@@ -533,8 +533,7 @@ impl Sender {
         }
         if kind != AhrsKind::Foreflight {
             let report = picture.stratux_ahrs(now);
-            counters.stratux_ahrs +=
-                self.send(to, |w| Gdl90Message::StratuxAhrs(report).encode(w));
+            counters.stratux_ahrs += self.send(to, |w| Gdl90Message::StratuxAhrs(report).encode(w));
         }
     }
 
