@@ -42,8 +42,10 @@
 //!   contract of every protocol crate of this workspace (from `frame-io`); [`decoder`]: how it
 //!   resynchronises, and its pull form. [`Stream`] gives every event its [`Place`] in the
 //!   stream (from [`Decode::span`]: where each event lies, on [`Decoder`]'s `Decode`).
-//! - [`Encoder`] (into a buffer, or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
-//!   ([`Raw`] for any type).
+//! - Encoding, one vocabulary with the other protocol crates: every payload has `emit` (its
+//!   data into a caller's buffer) and `buffer_len` ([`Payload`], [`Raw`] for any type);
+//!   [`Encoder::encode`] writes the whole message, normal with `Some(timestamp)`, expedited
+//!   with `None` (or [`Encoder::iter`], a byte iterator, [`Bytes`]).
 //! - [`Frame`], a checked whole message; the typed messages and the [`Message`] enum
 //!   ([`message`]: the type numbers).
 //! - [`Profile`] and the header [`Timestamp`] ([`profile`]: the start byte, header lengths).
