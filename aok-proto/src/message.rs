@@ -237,6 +237,11 @@ pub struct BulkReply {
 
 impl BulkReply {
     /// The length of the 16 replies: 112 bytes.
+    ///
+    /// ```
+    /// use aok_proto::{BulkReply, message::HEADED_REPLY_LEN};
+    /// assert_eq!(BulkReply::LEN, 16 * HEADED_REPLY_LEN);
+    /// ```
     pub const LEN: usize = HEADED_REPLY_LEN * 16;
 
     /// The number of bytes [`BulkReply::emit`] writes: [`BulkReply::LEN`].

@@ -1,5 +1,5 @@
 //! Genuine AOK commands, as a PC sends them: every command type, with its bytes from
-//! `aok_proto`'s encoder (`Command::to_bytes`), for the bit-flip and lost-byte models of
+//! `aok_proto`'s encoder (`Command::emit`), for the bit-flip and lost-byte models of
 //! `noise.rs`.
 
 use aok_proto::{
