@@ -5,7 +5,9 @@ The AEOLUS `Deframer<N>` became `Decoder<N>` and `Decoder::push_slice` became `D
 (issue 27); `feed_until`, `flush_next`, `idle_next`, AOK's `DeviceDecoder` and `PcDecoder`
 and the C library's `pl_*_parse_byte`, `pl_*_poll` and `pl_aok_*_idle` went with the one
 decoder contract (issue 45); AEOLUS's `Frame::check` became `Frame::new_checked`, the name
-every crate gives its checked constructor (issue 55); a stale word in a comment or document sends a newcomer looking for a type or a
+every crate gives its checked constructor (issue 55), and the free `encode_*` functions of AOK
+and GDL90 and AYDP's `encode_normal` / `encode_expedited` / `iter_normal` / `iter_expedited`
+went with the one encode vocabulary (issue 55); a stale word in a comment or document sends a newcomer looking for a type or a
 method that does not exist. The history of the names stays where history belongs: the
 CHANGELOGs, and the table of removed names in docs/architecture.md ("Names removed before
 the first release"), and this script's own list. Every other file git tracks is read.
@@ -23,7 +25,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 STALE = re.compile(
     r"\b(deframers?|push_slice|feed_until|flush_next|idle_next|DeviceDecoder|PcDecoder"
-    r"|pl_\w+_parse_byte|pl_\w+_poll|pl_aok_\w+_idle|Frame::check)\b",
+    r"|pl_\w+_parse_byte|pl_\w+_poll|pl_aok_\w+_idle|Frame::check"
+    r"|encode_(?:command|debug|ack|parameter|bulk|waypoint|heartbeat|ownship|traffic"
+    r"|geo_altitude|foreflight_id|ahrs|stratux_ahrs|normal|expedited)|iter_normal|iter_expedited)\b",
     re.IGNORECASE,
 )
 HISTORY_SECTION = ("docs/architecture.md", "## Names removed before the first release")

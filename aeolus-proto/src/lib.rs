@@ -42,8 +42,11 @@
 //! - [`Decoder`], the stream decoder, and its [`Stats`]. It implements [`Decode`], the
 //!   decoder contract every protocol crate of this workspace shares (from `frame-io`).
 //! - [`decode_datagram`]: one UDP datagram (several messages) decoded in place.
-//! - [`encode_frame`] into a buffer, or [`FrameBytes`] for a buffer-less TX path;
-//!   [`max_encoded_len`] sizes buffers at compile time.
+//! - Encoding, one vocabulary with the other protocol crates: every message has `emit` (its
+//!   data into a caller's buffer) and `buffer_len`; [`message::Message::encode`] writes a whole
+//!   frame (the buffer first, the [`CrcMode`] after it); [`encode_frame`] frames any ID with raw
+//!   data, or [`FrameBytes`] for a buffer-less TX path; [`max_encoded_len`] sizes buffers at
+//!   compile time.
 //! - [`message`]: typed messages with `parse`, `emit` and `buffer_len`; [`Frame`], a checked
 //!   frame; [`crc`]: the frame check exactly as section 4.3 prints it.
 //!

@@ -27,6 +27,21 @@ pub const EXTERNAL_CONTROL: u8 = ext::START;
 /// The longest command (and the longest device message): a waypoint frame, 19 bytes.
 pub const MAX_COMMAND_LEN: usize = crate::layout::MAX_FRAME_LEN;
 
+/// `63 01`, debug off, ready to send.
+///
+/// ```
+/// use aok_proto::{Command, DEBUG_OFF};
+/// assert_eq!(Command::parse(&DEBUG_OFF), Ok((Command::DebugOff, 2)));
+/// ```
+pub const DEBUG_OFF: [u8; 2] = [0x63, 0x01];
+/// `63 02`, debug on, ready to send.
+///
+/// ```
+/// use aok_proto::{Command, DEBUG_ON};
+/// assert_eq!(Command::parse(&DEBUG_ON), Ok((Command::DebugOn, 2)));
+/// ```
+pub const DEBUG_ON: [u8; 2] = [0x63, 0x02];
+
 /// A parameter number and value (`73` set, and the parameter reply).
 ///
 /// ```
@@ -73,8 +88,8 @@ pub struct MotorTest {
 /// use aok_proto::{ActionWord, Command, Waypoint, WaypointSlot};
 /// let poi = Waypoint { slot: WaypointSlot::MissionPoi, longitude: 100, latitude: -100,
 ///                      action1: ActionWord::NONE, action2: ActionWord::NONE };
-/// let (wire, n) = Command::SetWaypoint(poi).to_bytes();
-/// assert_eq!(n, 19);
+/// let mut wire = [0u8; 19];
+/// assert_eq!(Command::SetWaypoint(poi).emit(&mut wire), Ok(19));
 /// // Start, slot 31, then longitude and latitude, MSB first.
 /// assert_eq!(&wire[..10], &[0x77, 0x1F, 0, 0, 0, 0x64, 0xFF, 0xFF, 0xFF, 0x9C]);
 /// ```
@@ -396,14 +411,8 @@ impl Command {
         }
     }
 
-    /// The encoded frame in a fixed array, and its length.
-    ///
-    /// ```
-    /// use aok_proto::Command;
-    /// let (wire, n) = Command::DebugOn.to_bytes();
-    /// assert_eq!(&wire[..n], &[0x63, 0x02]);
-    /// ```
-    pub fn to_bytes(&self) -> ([u8; MAX_COMMAND_LEN], usize) {
+    /// The frame in a fixed array, and its length: what [`Command::emit`] copies out.
+    pub(crate) fn wire(&self) -> ([u8; MAX_COMMAND_LEN], usize) {
         let mut f = [0u8; MAX_COMMAND_LEN];
         match *self {
             Self::DebugOff => control(&mut f, 1),
@@ -451,7 +460,8 @@ impl Command {
         (f, self.buffer_len())
     }
 
-    /// Write the command into `buf`; returns the number of bytes written.
+    /// Write the command's whole frame into `buf` ([`Command::buffer_len`] bytes); returns the
+    /// number of bytes written. AOK frames have no framing beyond this.
     ///
     /// ```
     /// use aok_proto::{Command, Motor, MotorTest};
@@ -463,7 +473,7 @@ impl Command {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn emit(&self, buf: &mut [u8]) -> Result<usize, EncodeError> {
-        let (f, n) = self.to_bytes();
+        let (f, n) = self.wire();
         copy_out(&f, n, buf)
     }
 

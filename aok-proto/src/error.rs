@@ -188,9 +188,9 @@ impl core::error::Error for ClientError {}
 /// What encoding into a buffer can fail with.
 ///
 /// ```
-/// use aok_proto::{encode_ack, Ack, EncodeError};
+/// use aok_proto::{Ack, EncodeError, Message, ReplyForm};
 /// let mut out = [0u8; 0];
-/// assert_eq!(encode_ack(Ack::Ok, &mut out), Err(EncodeError::BufferTooSmall { needed: 1 }));
+/// assert_eq!(Message::Ack(Ack::Ok).emit(&mut out, ReplyForm::Headed), Err(EncodeError::BufferTooSmall { needed: 1 }));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -33,14 +33,14 @@ pub type IoError<E> = frame_io::IoError<E, Error>;
 
 /// The wire bytes of a command.
 pub(crate) fn command_bytes(command: &Command) -> ([u8; MAX_COMMAND_LEN], usize) {
-    command.to_bytes()
+    command.wire()
 }
 
 /// The wire bytes of a device message in `form`. Every message is one frame, and the longest
 /// frame (a waypoint) is [`MAX_COMMAND_LEN`] bytes, so emitting into the buffer cannot fail.
 pub(crate) fn message_bytes(message: &Message, form: ReplyForm) -> ([u8; MAX_COMMAND_LEN], usize) {
     let mut buf = [0u8; MAX_COMMAND_LEN];
-    let n = message.emit(form, &mut buf).unwrap_or(0);
+    let n = message.emit(&mut buf, form).unwrap_or(0);
     (buf, n)
 }
 

@@ -21,7 +21,7 @@
 //! assert_eq!(asked, [12]);
 //! let m = Message::Parameter(ParameterValue { number: 12, value: 1500 });
 //! let mut reply = [0u8; 7];
-//! let reply_len = m.emit(FirmwareVersion::LATEST.reply_form(), &mut reply)?;
+//! let reply_len = m.emit(&mut reply, FirmwareVersion::LATEST.reply_form())?;
 //! // PC: decode the reply, knowing what it waits for.
 //! let mut pc = MessageDecoder::new(FirmwareVersion::LATEST);
 //! pc.expect(Expect::Parameter(12));
@@ -40,9 +40,12 @@
 //!   frames, acks and replies, knowing which request is pending ([`Expect`]).
 //!   [`Stream`] gives each of their events its [`Place`] in the stream (from the decoder's
 //!   [`Span`]).
-//! - Encoders: [`encode_command`] (PC side, also [`Command::emit`]) and the device's
-//!   [`encode_debug`], [`encode_ack`], [`encode_parameter`] (both firmware forms),
-//!   [`encode_bulk`] and [`encode_waypoint`].
+//! - Encoding, one vocabulary with the other protocol crates: every value that goes on the
+//!   wire has `emit(out)` (its whole frame into a caller's buffer; AOK frames have no framing
+//!   beyond it) and `buffer_len()`: [`Command::emit`] (the PC's side, also the ready-made
+//!   [`DEBUG_OFF`] and [`DEBUG_ON`]), the device's [`Message::emit`] (`emit(out, form)` and
+//!   `buffer_len(form)`: the [`ReplyForm`] of a parameter reply) and
+//!   [`BulkReply::emit`](message::BulkReply::emit) (the 16 replies to a bulk read).
 //! - [`client`]: the PC-side client: [`Client`], a non-blocking state machine over
 //!   `embedded-hal-nb` serial traits, and its async form `client::AsyncClient` (feature
 //!   `embedded-io-async`).
@@ -66,7 +69,6 @@ mod decoder;
 pub mod embedded_io;
 #[cfg(feature = "embedded-io-async")]
 pub mod embedded_io_async;
-mod encode;
 mod error;
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io;
@@ -75,18 +77,16 @@ pub mod message;
 pub mod values;
 
 pub use client::{Client, Config, Outcome};
-pub use command::{Command, Expect, ExternalControl, MotorTest, ParameterValue, Waypoint};
-pub use decoder::{CommandDecoder, MessageDecoder, Stats};
-pub use encode::{
-    DEBUG_OFF, DEBUG_ON, encode_ack, encode_bulk, encode_command, encode_debug, encode_parameter,
-    encode_waypoint,
+pub use command::{
+    Command, DEBUG_OFF, DEBUG_ON, Expect, ExternalControl, MotorTest, ParameterValue, Waypoint,
 };
+pub use decoder::{CommandDecoder, MessageDecoder, Stats};
 pub use error::{ClientError, EncodeError, Error, SerialError};
 pub use frame_io::{Decode, Event, Place, Span, Stream};
 #[cfg(any(feature = "embedded-io", feature = "embedded-io-async"))]
 pub use io::{IoError, WriteError};
 pub use layout::FrameLayout;
-pub use message::{DebugValue, Message};
+pub use message::{BulkReply, DebugValue, Message};
 pub use values::{
     Ack, Action, ActionWord, FirmwareVersion, Motor, ReplyForm, Stick, WaypointNumber, WaypointSlot,
 };

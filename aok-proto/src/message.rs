@@ -51,7 +51,7 @@ impl DebugValue {
 /// use aok_proto::{Message, DebugValue, ReplyForm};
 /// let mut buf = [0u8; 19];
 /// let m = Message::Debug(DebugValue { number: 86, value: -2 });
-/// let n = m.emit(ReplyForm::Headed, &mut buf)?;
+/// let n = m.emit(&mut buf, ReplyForm::Headed)?;
 /// assert_eq!(&buf[..n], &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57]);
 /// assert_eq!(Message::parse(&buf[..n])?, (m, 7));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -116,17 +116,35 @@ impl Message {
         }
     }
 
-    /// Write the message into `buf`; parameter replies take the given form (K4).
+    /// Write the message's whole frame into `buf` ([`Message::buffer_len`] bytes); returns the
+    /// number of bytes written. Parameter replies take the given form (K4); the other messages
+    /// have one form and ignore it. The buffer comes first and the form after it, as every
+    /// `emit` and `encode` of this workspace takes its choices.
     ///
     /// ```
-    /// use aok_proto::{Message, ParameterValue, ReplyForm};
+    /// use aok_proto::{Ack, DebugValue, EncodeError, Message, ParameterValue, ReplyForm};
     /// let m = Message::Parameter(ParameterValue { number: 12, value: 1500 });
     /// let mut buf = [0u8; 7];
-    /// assert_eq!(m.emit(ReplyForm::Headerless, &mut buf)?, 5);
+    /// assert_eq!(m.emit(&mut buf, ReplyForm::Headerless)?, 5);
     /// assert_eq!(&buf[..5], &[0x00, 0x00, 0x05, 0xdc, 0xd9]);
+    /// assert_eq!(m.emit(&mut buf, ReplyForm::Headed)?, 7);
+    /// assert_eq!(buf, [0xff, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd9]);
+    /// // A debug value, an ack: the form changes nothing.
+    /// let debug = Message::Debug(DebugValue { number: 3, value: 305419896 });
+    /// assert_eq!(debug.emit(&mut buf, ReplyForm::Headed)?, 7);
+    /// assert_eq!(buf, [0x1c, 0x03, 0x12, 0x34, 0x56, 0x78, 0x0b]);
+    /// assert_eq!(Message::Ack(Ack::Ok).emit(&mut buf, ReplyForm::Headed)?, 1);
+    /// assert_eq!(buf[0], b'O');
+    /// assert_eq!(
+    ///     Message::Ack(Ack::Ok).emit(&mut [], ReplyForm::Headed),
+    ///     Err(EncodeError::BufferTooSmall { needed: 1 })
+    /// );
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn emit(&self, form: ReplyForm, buf: &mut [u8]) -> Result<usize, EncodeError> {
+    ///
+    /// # Errors
+    /// [`EncodeError::BufferTooSmall`] if `buf` is shorter than [`Message::buffer_len`].
+    pub fn emit(&self, buf: &mut [u8], form: ReplyForm) -> Result<usize, EncodeError> {
         match *self {
             Self::Debug(d) => copy_out(&value_frame(DEBUG, d.number, d.value), DEBUG_LEN, buf),
             Self::Ack(a) => copy_out(&[a.byte()], ack::LEN, buf),
@@ -192,6 +210,73 @@ impl Message {
                 None => Err(Error::UnknownCommand(first)),
             },
         }
+    }
+}
+
+/// The device's answer to a bulk read `47 NUM` (firmware >= 0.35): the 16 headed parameter
+/// replies for parameters `first`..`first + 15` (numbers wrap past 255), one after the other.
+///
+/// ```
+/// use aok_proto::message::BulkReply;
+/// let reply = BulkReply { first: 10, values: [7; 16] };
+/// let mut buf = [0u8; BulkReply::LEN];
+/// assert_eq!(reply.emit(&mut buf)?, 112);
+/// assert_eq!(&buf[..7], &[0xff, 10, 0, 0, 0, 7, 7]);
+/// assert_eq!(&buf[105..107], &[0xff, 25]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct BulkReply {
+    /// The number of the first parameter, NUM of the request.
+    pub first: u8,
+    /// The values of parameters `first`..`first + 15`.
+    pub values: [i32; 16],
+}
+
+impl BulkReply {
+    /// The length of the 16 replies: 112 bytes.
+    ///
+    /// ```
+    /// use aok_proto::{BulkReply, message::HEADED_REPLY_LEN};
+    /// assert_eq!(BulkReply::LEN, 16 * HEADED_REPLY_LEN);
+    /// ```
+    pub const LEN: usize = HEADED_REPLY_LEN * 16;
+
+    /// The number of bytes [`BulkReply::emit`] writes: [`BulkReply::LEN`].
+    ///
+    /// ```
+    /// use aok_proto::message::BulkReply;
+    /// assert_eq!(BulkReply { first: 0, values: [0; 16] }.buffer_len(), 112);
+    /// ```
+    pub const fn buffer_len(&self) -> usize {
+        Self::LEN
+    }
+
+    /// Write the 16 replies into `buf`; returns [`BulkReply::LEN`].
+    ///
+    /// ```
+    /// use aok_proto::{EncodeError, message::BulkReply};
+    /// let reply = BulkReply { first: 0, values: [1; 16] };
+    /// let mut buf = [0xAA; 111];
+    /// assert_eq!(reply.emit(&mut buf), Err(EncodeError::BufferTooSmall { needed: 112 }));
+    /// assert_eq!(buf, [0xAA; 111]); // nothing written
+    /// ```
+    ///
+    /// # Errors
+    /// [`EncodeError::BufferTooSmall`] if `buf` is shorter than [`BulkReply::LEN`]; `buf` is
+    /// then untouched.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, EncodeError> {
+        let out = buf
+            .get_mut(..Self::LEN)
+            .ok_or(EncodeError::BufferTooSmall { needed: Self::LEN })?;
+        let mut number = self.first;
+        for (chunk, &value) in out.chunks_exact_mut(HEADED_REPLY_LEN).zip(&self.values) {
+            Message::Parameter(ParameterValue { number, value }).emit(chunk, ReplyForm::Headed)?;
+            number = number.wrapping_add(1);
+        }
+        Ok(Self::LEN)
     }
 }
 

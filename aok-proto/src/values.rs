@@ -476,9 +476,9 @@ impl Ack {
 /// use aok_proto::{Message, ParameterValue, ReplyForm};
 /// let reply = Message::Parameter(ParameterValue { number: 12, value: 1500 });
 /// let mut wire = [0u8; 7];
-/// let n = reply.emit(ReplyForm::Headerless, &mut wire)?;
+/// let n = reply.emit(&mut wire, ReplyForm::Headerless)?;
 /// assert_eq!(&wire[..n], &[0x00, 0x00, 0x05, 0xDC, 0xD9]);
-/// let n = reply.emit(ReplyForm::Headed, &mut wire)?;
+/// let n = reply.emit(&mut wire, ReplyForm::Headed)?;
 /// assert_eq!(&wire[..n], &[0xFF, 0x0C, 0x00, 0x00, 0x05, 0xDC, 0xD9]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

@@ -7,27 +7,57 @@ use crate::profile::{NORMAL_HEADER_LEN, Profile, Timestamp};
 
 /// Anything that can be sent as the data of an AYDP message.
 ///
-/// Implemented by every typed message, by [`Message`](crate::Message) and by [`Raw`].
+/// Implemented by every typed message, by [`Message`](crate::Message) and by [`Raw`]. Its
+/// `emit` and `buffer_len` are the encode vocabulary of every protocol crate here: the data
+/// bytes into a caller's buffer, and how many there are. [`Encoder::encode`] frames them as a
+/// whole message (header, data, checksum). The fixed-size messages also have `emit` and
+/// `buffer_len` of their own, callable without this trait in scope.
 ///
 /// ```
-/// use aydp_proto::{Payload, Position};
+/// use aydp_proto::{Payload, Position, SystemControl};
 /// let p = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
 /// assert_eq!(p.base_type(), 3);
-/// assert_eq!(p.data_len(), 20);
+/// assert_eq!(p.buffer_len(), 20);
 /// assert_eq!(p.data_byte(19), 0x41);
+/// let request = SystemControl::RequestData { address: 8 };
+/// let mut data = [0u8; 3];
+/// assert_eq!(Payload::emit(&request, &mut data), Ok(3));
+/// assert_eq!(data, [1, 8, 0]);
 /// ```
 pub trait Payload {
     /// Base type, 0..=126.
     fn base_type(&self) -> u8;
-    /// Number of data bytes.
-    fn data_len(&self) -> usize;
+    /// Number of data bytes: what [`Payload::emit`] writes.
+    fn buffer_len(&self) -> usize;
     /// Data byte at `index` (0 beyond the end). Used by the buffer-free iterator.
     fn data_byte(&self, index: usize) -> u8;
-    /// Write the data into `out`, which is exactly [`Payload::data_len`] bytes long.
+    /// Write the data into `out`, which is exactly [`Payload::buffer_len`] bytes long.
     fn write_data(&self, out: &mut [u8]) {
         for (i, b) in out.iter_mut().enumerate() {
             *b = self.data_byte(i);
         }
+    }
+    /// Write the data (no header, no checksum) into `out`; returns [`Payload::buffer_len`].
+    ///
+    /// ```
+    /// use aydp_proto::{EncodeError, Payload, Raw};
+    /// let raw = Raw { msg_type: 100, data: &[1, 2, 3] };
+    /// let mut out = [0u8; 3];
+    /// assert_eq!(raw.emit(&mut out), Ok(3));
+    /// assert_eq!(out, [1, 2, 3]);
+    /// assert_eq!(raw.emit(&mut out[..2]), Err(EncodeError::BufferTooSmall { needed: 3 }));
+    /// ```
+    ///
+    /// # Errors
+    /// [`EncodeError::BufferTooSmall`] if `out` is shorter than [`Payload::buffer_len`]; `out`
+    /// is then untouched.
+    fn emit(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
+        let needed = self.buffer_len();
+        let dst = out
+            .get_mut(..needed)
+            .ok_or(EncodeError::BufferTooSmall { needed })?;
+        self.write_data(dst);
+        Ok(needed)
     }
 }
 
@@ -36,7 +66,7 @@ pub trait Payload {
 /// ```
 /// use aydp_proto::{Encoder, Profile, Raw};
 /// let mut buf = [0u8; 16];
-/// let n = Encoder::new(Profile::Spec).encode_expedited(&Raw { msg_type: 9, data: &[2] }, &mut buf).unwrap();
+/// let n = Encoder::new(Profile::Spec).encode(&Raw { msg_type: 9, data: &[2] }, None, &mut buf).unwrap();
 /// assert_eq!(&buf[..n], &[0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -53,7 +83,7 @@ impl Payload for Raw<'_> {
     fn base_type(&self) -> u8 {
         self.msg_type
     }
-    fn data_len(&self) -> usize {
+    fn buffer_len(&self) -> usize {
         self.data.len()
     }
     fn data_byte(&self, index: usize) -> u8 {
@@ -72,10 +102,10 @@ impl Payload for Raw<'_> {
 /// use aydp_proto::{Encoder, Profile, Timestamp, WindSpeed};
 /// let enc = Encoder::new(Profile::Reference);
 /// let mut buf = [0u8; 64];
-/// let n = enc.encode_normal(&WindSpeed(3.5), Timestamp::new(42, 500_000), &mut buf).unwrap();
+/// let n = enc.encode(&WindSpeed(3.5), Some(Timestamp::new(42, 500_000)), &mut buf).unwrap();
 /// assert_eq!(n, 27);
 /// // The same message without any buffer:
-/// let it = enc.iter_normal(&WindSpeed(3.5), Timestamp::new(42, 500_000)).unwrap();
+/// let it = enc.iter(&WindSpeed(3.5), Some(Timestamp::new(42, 500_000))).unwrap();
 /// assert!(it.eq(buf[..n].iter().copied()));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -117,69 +147,36 @@ impl Encoder {
     /// ```
     pub fn frame_len<P: Payload + ?Sized>(&self, payload: &P, expedited: bool) -> usize {
         payload
-            .data_len()
+            .buffer_len()
             .saturating_add(Profile::overhead(expedited))
     }
 
-    /// Encode a normal message (22-byte header with `timestamp`) into `buf`; returns its length.
-    ///
-    /// # Errors
-    /// As [`Encoder::encode`].
-    ///
-    /// ```
-    /// use aydp_proto::{Encoder, Profile, Raw, Timestamp};
-    /// let mut buf = [0u8; 32];
-    /// let n = Encoder::new(Profile::Spec)
-    ///     .encode_normal(&Raw { msg_type: 9, data: &[2] }, Timestamp::new(1, 0), &mut buf)
-    ///     .unwrap();
-    /// assert_eq!(n, 24);
-    /// assert_eq!(&buf[..2], &[0xFF, 0x09]); // the start byte, the type without the 0x80 bit
-    /// ```
-    pub fn encode_normal<P: Payload + ?Sized>(
-        &self,
-        payload: &P,
-        timestamp: Timestamp,
-        buf: &mut [u8],
-    ) -> Result<usize, EncodeError> {
-        self.encode(payload, Some(timestamp), buf)
-    }
-
-    /// Encode an expedited message (6-byte header, type | 0x80) into `buf`; returns its length.
-    ///
-    /// # Errors
-    /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile, which has no expedited
-    /// header; otherwise as [`Encoder::encode`].
-    ///
-    /// ```
-    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
-    /// let mut buf = [0u8; 16];
-    /// let raw = Raw { msg_type: 9, data: &[2] };
-    /// assert_eq!(Encoder::new(Profile::Spec).encode_expedited(&raw, &mut buf), Ok(8));
-    /// assert_eq!(buf[1], 0x89); // type 9 with the expedited bit
-    /// assert_eq!(
-    ///     Encoder::new(Profile::Reference).encode_expedited(&raw, &mut buf),
-    ///     Err(EncodeError::ExpeditedInReference)
-    /// );
-    /// ```
-    pub fn encode_expedited<P: Payload + ?Sized>(
-        &self,
-        payload: &P,
-        buf: &mut [u8],
-    ) -> Result<usize, EncodeError> {
-        self.encode(payload, None, buf)
-    }
-
-    /// Encode into `buf`: normal with `Some(timestamp)`, expedited with `None`.
+    /// Encode the whole message (header, data, checksum) into `buf`; returns its length,
+    /// [`Encoder::frame_len`]. The header is chosen by `timestamp`: a normal message (22-byte
+    /// header) with `Some(timestamp)`, an expedited one (6-byte header, type | 0x80) with
+    /// `None`. The one AYDP framing encoder: the payload's own bytes are its
+    /// [`Payload::emit`].
     ///
     /// # Errors
     /// [`EncodeError::ExpeditedInReference`] for `None` in the `Reference` profile (checked
     /// first), [`EncodeError::BufferTooSmall`], [`EncodeError::BadType`] and [`EncodeError::TooLong`].
     ///
     /// ```
-    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw, Timestamp};
     /// let enc = Encoder::new(Profile::Spec);
+    /// let mut buf = [0u8; 32];
+    /// // Normal: the start byte, the type without the 0x80 bit, ...
+    /// let n = enc.encode(&Raw { msg_type: 9, data: &[2] }, Some(Timestamp::new(1, 0)), &mut buf);
+    /// assert_eq!(n, Ok(24));
+    /// assert_eq!(&buf[..2], &[0xFF, 0x09]);
+    /// // Expedited: type 9 with the expedited bit.
     /// let mut buf = [0u8; 8];
     /// assert_eq!(enc.encode(&Raw { msg_type: 9, data: &[2] }, None, &mut buf), Ok(8));
+    /// assert_eq!(buf, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
+    /// assert_eq!(
+    ///     Encoder::new(Profile::Reference).encode(&Raw { msg_type: 9, data: &[2] }, None, &mut buf),
+    ///     Err(EncodeError::ExpeditedInReference)
+    /// );
     /// assert_eq!(
     ///     enc.encode(&Raw { msg_type: 9, data: &[2, 3] }, None, &mut buf),
     ///     Err(EncodeError::BufferTooSmall { needed: 9 })
@@ -201,7 +198,7 @@ impl Encoder {
         let repr = HeaderRepr {
             base_type: payload.base_type(),
             timestamp,
-            data_len: payload.data_len(),
+            data_len: payload.buffer_len(),
         };
         let total = repr.frame_len();
         let Some(frame) = buf.get_mut(..total) else {
@@ -218,44 +215,6 @@ impl Encoder {
         Ok(total)
     }
 
-    /// The message as a byte iterator, normal, without any output buffer.
-    ///
-    /// # Errors
-    /// As [`Encoder::iter`].
-    ///
-    /// ```
-    /// use aydp_proto::{Encoder, Profile, Raw, Timestamp};
-    /// let raw = Raw { msg_type: 9, data: &[2] };
-    /// let it = Encoder::new(Profile::Spec).iter_normal(&raw, Timestamp::new(1, 0)).unwrap();
-    /// assert_eq!(it.len(), 24);
-    /// ```
-    pub fn iter_normal<'p, P: Payload + ?Sized>(
-        &self,
-        payload: &'p P,
-        timestamp: Timestamp,
-    ) -> Result<Bytes<'p, P>, EncodeError> {
-        self.iter(payload, Some(timestamp))
-    }
-
-    /// The message as a byte iterator, expedited, without any output buffer.
-    ///
-    /// # Errors
-    /// [`EncodeError::ExpeditedInReference`] in the `Reference` profile; otherwise as
-    /// [`Encoder::iter`].
-    ///
-    /// ```
-    /// use aydp_proto::{Encoder, Profile, Raw};
-    /// let raw = Raw { msg_type: 9, data: &[2] };
-    /// let bytes: Vec<u8> = Encoder::new(Profile::Spec).iter_expedited(&raw).unwrap().collect();
-    /// assert_eq!(bytes, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
-    /// ```
-    pub fn iter_expedited<'p, P: Payload + ?Sized>(
-        &self,
-        payload: &'p P,
-    ) -> Result<Bytes<'p, P>, EncodeError> {
-        self.iter(payload, None)
-    }
-
     /// The message as a byte iterator: normal with `Some(timestamp)`, expedited with `None`.
     ///
     /// # Errors
@@ -263,9 +222,14 @@ impl Encoder {
     /// [`EncodeError::BadType`] and [`EncodeError::TooLong`].
     ///
     /// ```
-    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
+    /// use aydp_proto::{EncodeError, Encoder, Profile, Raw, Timestamp};
+    /// let raw = Raw { msg_type: 9, data: &[2] };
+    /// let spec = Encoder::new(Profile::Spec);
+    /// let bytes: Vec<u8> = spec.iter(&raw, None).unwrap().collect();
+    /// assert_eq!(bytes, [0xFF, 0x89, 0x08, 0, 0, 0, 0x02, 0x7C]);
+    /// assert_eq!(spec.iter(&raw, Some(Timestamp::new(1, 0))).unwrap().len(), 24);
     /// let enc = Encoder::new(Profile::Reference);
-    /// assert!(enc.iter(&Raw { msg_type: 9, data: &[2] }, None).is_err()); // no expedited form
+    /// assert!(enc.iter(&raw, None).is_err()); // no expedited form
     /// assert_eq!(
     ///     enc.iter(&Raw { msg_type: 200, data: &[] }, None).err(),
     ///     Some(EncodeError::ExpeditedInReference)
@@ -279,9 +243,9 @@ impl Encoder {
         let repr = HeaderRepr {
             base_type: payload.base_type(),
             timestamp,
-            data_len: payload.data_len(),
+            data_len: payload.buffer_len(),
         };
-        let header = repr.to_bytes(self.profile)?;
+        let header = repr.bytes(self.profile)?;
         Ok(Bytes {
             payload,
             header,
@@ -300,7 +264,7 @@ impl Encoder {
 /// ```
 /// use aydp_proto::{Encoder, Profile, Raw};
 /// let raw = Raw { msg_type: 9, data: &[2] };
-/// let mut it = Encoder::new(Profile::Spec).iter_expedited(&raw).unwrap();
+/// let mut it = Encoder::new(Profile::Spec).iter(&raw, None).unwrap();
 /// assert_eq!(it.len(), 8);
 /// assert_eq!(it.next(), Some(0xFF));
 /// assert_eq!(it.last(), Some(0x7C)); // the XOR checksum, computed on the way

@@ -144,9 +144,9 @@ pub type Result<T> = core::result::Result<T, Error>;
 /// use aydp_proto::{EncodeError, Encoder, Profile, Raw};
 /// let ping = Raw { msg_type: 5, data: &[1, 2] };
 /// let mut buf = [0u8; 4];
-/// let e = Encoder::new(Profile::Spec).encode_expedited(&ping, &mut buf);
+/// let e = Encoder::new(Profile::Spec).encode(&ping, None, &mut buf);
 /// assert_eq!(e, Err(EncodeError::BufferTooSmall { needed: 9 }));
-/// let e = Encoder::new(Profile::Reference).encode_expedited(&ping, &mut buf);
+/// let e = Encoder::new(Profile::Reference).encode(&ping, None, &mut buf);
 /// assert_eq!(e, Err(EncodeError::ExpeditedInReference));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -132,7 +132,7 @@ impl HeaderRepr {
     }
 
     /// The type byte on the wire, or `None` for a base type over 126, which has no type byte
-    /// (Y3; [`HeaderRepr::to_bytes`] refuses it with [`Error::BadType`]).
+    /// (Y3; `HeaderRepr::bytes` refuses it with [`Error::BadType`]).
     #[inline]
     pub(crate) const fn type_byte(&self) -> Option<u8> {
         if self.base_type > MAX_BASE_TYPE {
@@ -163,7 +163,7 @@ impl HeaderRepr {
     /// [`EncodeError::BadType`] for a base type over 126, [`EncodeError::TooLong`] when the length does
     /// not fit its field, and [`EncodeError::ExpeditedInReference`] for an expedited header in a
     /// profile without one ([`Profile::has_expedited`]).
-    pub(crate) fn to_bytes(
+    pub(crate) fn bytes(
         self,
         profile: Profile,
     ) -> core::result::Result<[u8; NORMAL_HEADER_LEN], EncodeError> {
@@ -190,7 +190,7 @@ impl HeaderRepr {
     /// Write the header into the start of `buf`; returns the bytes written.
     ///
     /// # Errors
-    /// [`EncodeError::BufferTooSmall`], or any error of [`HeaderRepr::to_bytes`].
+    /// [`EncodeError::BufferTooSmall`], or any error of `HeaderRepr::bytes`.
     pub(crate) fn emit(
         &self,
         buf: &mut [u8],
@@ -200,7 +200,7 @@ impl HeaderRepr {
         if buf.len() < n {
             return Err(EncodeError::BufferTooSmall { needed: n });
         }
-        let bytes = self.to_bytes(profile)?;
+        let bytes = self.bytes(profile)?;
         put(buf, 0, bytes.get(..n).unwrap_or(&[]));
         Ok(n)
     }
@@ -272,7 +272,7 @@ mod tests {
             data_len: 0,
         };
         assert_eq!(
-            none.to_bytes(Profile::Reference),
+            none.bytes(Profile::Reference),
             Err(EncodeError::ExpeditedInReference)
         );
         assert_eq!(

@@ -14,7 +14,7 @@
 //! let mut bytes = vec![0x13, 0x37];
 //! let mut buf = [0u8; 64];
 //! let n = Encoder::new(Profile::Spec)
-//!     .encode_normal(&pos, Timestamp::new(1_700_000_000, 250), &mut buf)
+//!     .encode(&pos, Some(Timestamp::new(1_700_000_000, 250)), &mut buf)
 //!     .unwrap();
 //! bytes.extend_from_slice(&buf[..n]);
 //! bytes.extend_from_slice(&[0xFF, 0x89, 0x08]);
@@ -42,8 +42,10 @@
 //!   contract of every protocol crate of this workspace (from `frame-io`); [`decoder`]: how it
 //!   resynchronises, and its pull form. [`Stream`] gives every event its [`Place`] in the
 //!   stream (from [`Decode::span`]: where each event lies, on [`Decoder`]'s `Decode`).
-//! - [`Encoder`] (into a buffer, or as a byte iterator, [`Bytes`]) and the [`Payload`] trait
-//!   ([`Raw`] for any type).
+//! - Encoding, one vocabulary with the other protocol crates: every payload has `emit` (its
+//!   data into a caller's buffer) and `buffer_len` ([`Payload`], [`Raw`] for any type);
+//!   [`Encoder::encode`] writes the whole message, normal with `Some(timestamp)`, expedited
+//!   with `None` (or [`Encoder::iter`], a byte iterator, [`Bytes`]).
 //! - [`Frame`], a checked whole message; the typed messages and the [`Message`] enum
 //!   ([`message`]: the type numbers).
 //! - [`Profile`] and the header [`Timestamp`] ([`profile`]: the start byte, header lengths).

@@ -130,7 +130,7 @@ impl Profile {
     /// let mut buf = [0u8; 16];
     /// let no_op = Raw { msg_type: 0, data: &[] };
     /// assert_eq!(
-    ///     Encoder::new(Profile::Reference).encode_expedited(&no_op, &mut buf),
+    ///     Encoder::new(Profile::Reference).encode(&no_op, None, &mut buf),
     ///     Err(EncodeError::ExpeditedInReference)
     /// );
     /// ```

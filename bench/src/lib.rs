@@ -53,14 +53,14 @@ pub fn aydp_stream() -> Vec<u8> {
     while out.len() < STREAM {
         let msg = aydp_message(&mut rng);
         let n = if rng.below(2) == 0 {
-            enc.encode_expedited(&msg, &mut buf).unwrap()
+            enc.encode(&msg, None, &mut buf).unwrap()
         } else {
-            enc.encode_normal(
+            enc.encode(
                 &msg,
-                Timestamp {
+                Some(Timestamp {
                     seconds: 1_700_000_000,
                     subsec: 250,
-                },
+                }),
                 &mut buf,
             )
             .unwrap()
@@ -96,7 +96,7 @@ pub fn aok_debug_stream() -> Vec<u8> {
             number: rng.byte(),
             value: rng.next_u64() as i32,
         };
-        let n = aok_proto::encode_debug(v, &mut buf).unwrap();
+        let n = Message::Debug(v).emit(&mut buf, ReplyForm::Headed).unwrap();
         out.extend_from_slice(&buf[..n]);
     }
     out

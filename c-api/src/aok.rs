@@ -4,8 +4,7 @@
 use aok_proto::{
     Ack, ActionWord, Command, CommandDecoder, DebugValue, Decode, EncodeError, Error,
     ExternalControl, Message, MessageDecoder, Motor, MotorTest, ParameterValue, ReplyForm, Stick,
-    Waypoint, WaypointSlot, encode_ack, encode_command as encode_command_rust, encode_debug,
-    encode_parameter, encode_waypoint,
+    Waypoint, WaypointSlot,
 };
 
 use crate::face::{self, Proto, Stream};
@@ -366,7 +365,7 @@ pub(crate) unsafe fn expect_reply(dec: *mut pl_aok_pc_decoder, cmd: *const pl_ao
 
 /// `pl_aok_encode_command`: the command `*cmd` as its frame into `out`.
 pub(crate) fn encode_command(cmd: &pl_aok_item, out: &mut [u8]) -> Result<usize, i32> {
-    encode_command_rust(&command_rust(cmd)?, out).map_err(too_small)
+    command_rust(cmd)?.emit(out).map_err(too_small)
 }
 
 /// `pl_aok_encode_message`: the device message `*msg` as its frame into `out`, a parameter
@@ -379,10 +378,13 @@ pub(crate) fn encode_message(msg: &pl_aok_item, headed: u8, out: &mut [u8]) -> R
     };
     let (number, value) = (msg.number, msg.value);
     match msg.kind {
-        PL_AOK_DEBUG => encode_debug(DebugValue { number, value }, out),
-        PL_AOK_ACK => encode_ack(Ack::from_byte(msg.ack).ok_or(PL_E_OUT_OF_RANGE)?, out),
-        PL_AOK_PARAMETER => encode_parameter(ParameterValue { number, value }, form, out),
-        PL_AOK_WAYPOINT => encode_waypoint(&waypoint_rust(&msg.waypoint)?, out),
+        PL_AOK_DEBUG => Message::Debug(DebugValue { number, value }).emit(out, ReplyForm::Headed),
+        PL_AOK_ACK => Message::Ack(Ack::from_byte(msg.ack).ok_or(PL_E_OUT_OF_RANGE)?)
+            .emit(out, ReplyForm::Headed),
+        PL_AOK_PARAMETER => Message::Parameter(ParameterValue { number, value }).emit(out, form),
+        PL_AOK_WAYPOINT => {
+            Message::Waypoint(waypoint_rust(&msg.waypoint)?).emit(out, ReplyForm::Headed)
+        }
         _ => return Err(PL_E_BAD_TAG),
     }
     .map_err(too_small)

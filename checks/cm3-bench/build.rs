@@ -103,7 +103,7 @@ fn main() {
     let msgs = bench::aydp_messages();
     let mut blob = Vec::new();
     for m in &msgs {
-        let mut data = vec![0u8; m.data_len()];
+        let mut data = vec![0u8; m.buffer_len()];
         m.write_data(&mut data);
         blob.push(m.base_type());
         blob.push(matches!(m, aydp_proto::Message::Heartbeat) as u8);

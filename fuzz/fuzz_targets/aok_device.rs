@@ -15,7 +15,8 @@ fuzz_target!(|data: &[u8]| {
     }
     d.finish(|ev| cmds.extend(ev));
     for c in cmds {
-        let (bytes, n) = c.to_bytes();
+        let mut bytes = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = c.emit(&mut bytes).unwrap();
         let (again, used) = Command::parse(&bytes[..n]).unwrap();
         assert_eq!(again, c);
         assert_eq!(used, n);

@@ -22,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
             let Ok(m) = ev else { return };
             let mut out = [0u8; 32];
             let form = if fw == FirmwareVersion::LATEST { ReplyForm::Headed } else { ReplyForm::Headerless };
-            let n = m.emit(form, &mut out).unwrap();
+            let n = m.emit(&mut out, form).unwrap();
             assert_eq!(n, m.buffer_len(form));
         });
     }

@@ -12,7 +12,7 @@ fuzz_target!(|data: &[u8]| {
     }
     if let Ok((msg, used)) = Message::parse(data) {
         let mut out = [0u8; 32];
-        let n = msg.emit(ReplyForm::Headed, &mut out).unwrap();
+        let n = msg.emit(&mut out, ReplyForm::Headed).unwrap();
         assert_eq!(&out[..n], &data[..used]);
     }
 });

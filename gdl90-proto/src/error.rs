@@ -142,10 +142,11 @@ impl core::error::Error for Error {}
 /// What encoding can fail with.
 ///
 /// ```
-/// use gdl90_proto::{message::GeoAltitude, EncodeError};
+/// use gdl90_proto::{message::{GeoAltitude, Message}, EncodeError};
 /// let alt = GeoAltitude { altitude_ft: 1500, vertical_warning: false, vfom_m: Some(10) };
 /// let mut out = [0u8; 4];
-/// assert_eq!(alt.encode(&mut out), Err(EncodeError::BufferTooSmall { needed: 16 }));
+/// let e = Message::GeoAltitude(alt).encode(&mut out);
+/// assert_eq!(e, Err(EncodeError::BufferTooSmall { needed: 16 }));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

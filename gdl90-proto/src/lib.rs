@@ -40,10 +40,10 @@
 //!
 //! - [`Decoder`] and its [`Stats`]: the stream decoder. It implements [`Decode`], the decoder
 //!   contract every protocol crate of this workspace shares.
-//! - [`encode_heartbeat`], [`encode_ownship`], [`encode_traffic`], [`encode_geo_altitude`],
-//!   [`encode_foreflight_id`], [`encode_ahrs`], [`encode_stratux_ahrs`] and
-//!   [`message::Message::encode`]: a whole frame into a `&mut [u8]`, returning its length;
-//!   [`MAX_ENCODED_LEN`] bytes always do.
+//! - Encoding, one vocabulary with the other protocol crates: every typed message has `emit`
+//!   (its data into a `&mut [u8]`) and `buffer_len`; [`message::Message::encode`] puts any
+//!   message on the wire as a whole frame (flags, escapes, CRC), returning its length
+//!   ([`MAX_ENCODED_LEN`] bytes always do); [`encode_frame`] frames any ID with raw data.
 //! - [`message`]: the typed messages; [`crc`]: the frame check.
 //!
 //! ## Features
@@ -62,10 +62,7 @@ pub mod message;
 pub use aeolus_proto::crc;
 pub use aeolus_proto::{Decode, Event, Place, Span, Stream};
 pub use decode::{Decoder, Stats};
-pub use encode::{
-    MAX_ENCODED_LEN, encode_ahrs, encode_foreflight_id, encode_frame, encode_geo_altitude,
-    encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic, max_encoded_len,
-};
+pub use encode::{MAX_ENCODED_LEN, encode_frame, max_encoded_len};
 pub use error::{EncodeError, Error};
 
 /// The flag byte that opens and closes every frame.

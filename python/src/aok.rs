@@ -182,7 +182,7 @@ fn bytes(name: &str, f: &Frame) -> PyResult<Vec<u8>> {
     let mut buf = [0u8; 32];
     let n = match f {
         Frame::Command(c) => c.emit(&mut buf),
-        Frame::Message(m) => m.emit(ReplyForm::Headed, &mut buf),
+        Frame::Message(m) => m.emit(&mut buf, ReplyForm::Headed),
     }
     .map_err(|e| invalid(name, e))?;
     Ok(buf.get(..n).unwrap_or(&[]).to_vec())

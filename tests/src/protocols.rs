@@ -236,7 +236,8 @@ impl Protocol for Aok {
     }
 
     fn frame(&self, rng: &mut Rng) -> (Vec<u8>, Vec<u8>) {
-        let (bytes, n) = Self::command(rng).to_bytes();
+        let mut bytes = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = Self::command(rng).emit(&mut bytes).unwrap();
         (bytes[..n].to_vec(), bytes[..n].to_vec())
     }
 
@@ -258,7 +259,8 @@ impl Protocol for Aok {
         let mut out = Vec::new();
         let mut keep = |ev: Result<aok_proto::Command, aok_proto::Error>| {
             out.push(ev.ok().map(|c| {
-                let (bytes, n) = c.to_bytes();
+                let mut bytes = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+                let n = c.emit(&mut bytes).unwrap();
                 bytes[..n].to_vec()
             }));
         };
@@ -277,7 +279,8 @@ impl Protocol for Aok {
             match aok_len(stream[i], stream.get(i + 1).copied()) {
                 Some(len) if i + len <= stream.len() => {
                     if let Ok((c, _)) = aok_proto::Command::parse(&stream[i..i + len]) {
-                        let (bytes, n) = c.to_bytes();
+                        let mut bytes = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+                        let n = c.emit(&mut bytes).unwrap();
                         out.push(bytes[..n].to_vec());
                     }
                     i += len;

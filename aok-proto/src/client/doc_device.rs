@@ -61,7 +61,7 @@ impl FakeDevice {
     /// Puts a message on the line to the client.
     fn send(&mut self, message: aok_proto::Message) {
         let mut buf = [0; 19];
-        let n = message.emit(self.firmware.reply_form(), &mut buf).unwrap();
+        let n = message.emit(&mut buf, self.firmware.reply_form()).unwrap();
         self.to_pc.extend(&buf[..n]);
     }
 

@@ -15,7 +15,7 @@ impl<S: Read<u8> + Write<u8>> Client<S> {
     }
 
     pub(super) fn load_command(&mut self) {
-        let (frame, n) = self.command.to_bytes();
+        let (frame, n) = self.command.wire();
         self.load(frame.get(..n).unwrap_or(&[]));
     }
 

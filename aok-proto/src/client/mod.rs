@@ -23,8 +23,8 @@ use embedded_hal_nb::serial::{Read, Write};
 
 use crate::command::Expect;
 use crate::command::{Command, MAX_COMMAND_LEN, MotorTest, ParameterValue, Waypoint};
+use crate::command::{DEBUG_OFF, DEBUG_ON};
 use crate::decoder::{MessageDecoder, Stats};
-use crate::encode::{DEBUG_OFF, DEBUG_ON};
 use crate::message::{DebugValue, Message};
 use crate::values::{Ack, FirmwareVersion, WaypointSlot};
 use crate::{ClientError, SerialError};

@@ -7,7 +7,7 @@
 extern crate std;
 
 use crate::{Command, CommandDecoder, DebugValue, Error, FirmwareVersion, Message, MessageDecoder};
-use crate::{Decode, ParameterValue, encode_command, encode_debug};
+use crate::{Decode, ParameterValue, ReplyForm};
 use std::vec::Vec;
 
 #[path = "../../../frame-io/tests/support/deadline.rs"]
@@ -23,7 +23,7 @@ fn to_device() -> Vec<u8> {
         number: 12,
         value: 1500,
     });
-    let n = encode_command(&set, &mut buf).unwrap_or(0);
+    let n = set.emit(&mut buf).unwrap_or(0);
     s.extend_from_slice(&buf[..n]);
     s.extend_from_slice(&[0x32, 0x01, 0x00]);
     s.extend_from_slice(&buf[..3]);
@@ -38,7 +38,9 @@ fn to_pc() -> Vec<u8> {
         number: 86,
         value: -2,
     };
-    let n = encode_debug(v, &mut buf).unwrap_or(0);
+    let n = Message::Debug(v)
+        .emit(&mut buf, ReplyForm::Headed)
+        .unwrap_or(0);
     let mut s = std::vec![0x00];
     s.extend_from_slice(&buf[..n]);
     let mut bad = buf;

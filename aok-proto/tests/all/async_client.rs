@@ -54,7 +54,7 @@ impl Device {
     fn send(&mut self, m: Message) {
         let mut buf = [0u8; 19];
         let n = m
-            .emit(FirmwareVersion::LATEST.reply_form(), &mut buf)
+            .emit(&mut buf, FirmwareVersion::LATEST.reply_form())
             .unwrap();
         self.to_pc.extend(&buf[..n]);
     }

@@ -8,7 +8,10 @@ use aok_proto::{Error, FirmwareVersion, Message, ParameterValue};
 fn sixteen_replies_numbered_on_from_first_in_112_bytes() {
     let values: [i32; 16] = core::array::from_fn(|i| i as i32 * 1000 - 3);
     let mut buf = [0xAAu8; 120];
-    assert_eq!(aok_proto::encode_bulk(250, &values, &mut buf), Ok(112));
+    assert_eq!(
+        aok_proto::BulkReply { first: 250, values }.emit(&mut buf),
+        Ok(112)
+    );
     assert_eq!(&buf[112..], &[0xAA; 8]);
     let mut d = MessageDecoder::new(FirmwareVersion::LATEST);
     d.expect(Expect::Bulk(250));
@@ -29,7 +32,11 @@ fn sixteen_replies_numbered_on_from_first_in_112_bytes() {
 fn a_buffer_one_byte_short_is_refused_untouched() {
     let mut buf = [0xAAu8; 111];
     assert_eq!(
-        aok_proto::encode_bulk(0, &[1; 16], &mut buf),
+        aok_proto::BulkReply {
+            first: 0,
+            values: [1; 16]
+        }
+        .emit(&mut buf),
         Err(aok_proto::EncodeError::BufferTooSmall { needed: 112 })
     );
     assert_eq!(buf, [0xAA; 111]);

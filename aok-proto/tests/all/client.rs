@@ -61,7 +61,7 @@ impl Device {
 
     fn send(&mut self, m: Message) {
         let mut buf = [0u8; 19];
-        let n = m.emit(self.form, &mut buf).unwrap();
+        let n = m.emit(&mut buf, self.form).unwrap();
         self.to_pc.extend(&buf[..n]);
     }
 

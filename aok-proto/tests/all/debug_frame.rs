@@ -10,7 +10,10 @@ fn a_debug_value_is_seven_bytes_that_read_back() {
         value: -2,
     };
     let mut buf = [0xAAu8; 9];
-    assert_eq!(aok_proto::encode_debug(v, &mut buf), Ok(7));
+    assert_eq!(
+        Message::Debug(v).emit(&mut buf, aok_proto::ReplyForm::Headed),
+        Ok(7)
+    );
     assert_eq!(buf[0], 0x1C);
     assert_eq!(buf[7..], [0xAA; 2]);
     let mut d = MessageDecoder::new(FirmwareVersion::LATEST);

@@ -71,7 +71,7 @@ fn the_pc_decoder_reset_forgets_the_bytes_held() {
 /// The reply each request awaits, as the device sends it (headed form).
 fn reply(m: aok_proto::Message) -> Vec<u8> {
     let mut buf = [0u8; 19];
-    let n = m.emit(ReplyForm::Headed, &mut buf).unwrap();
+    let n = m.emit(&mut buf, ReplyForm::Headed).unwrap();
     buf[..n].to_vec()
 }
 

@@ -129,7 +129,7 @@ fn pc_decoder_survives_random_bytes() {
                 n_msgs += 1;
                 if let Message::Waypoint(w) = m {
                     let mut buf = [0u8; 19];
-                    assert_eq!(m.emit(fw.reply_form(), &mut buf), Ok(19));
+                    assert_eq!(m.emit(&mut buf, fw.reply_form()), Ok(19));
                     assert_eq!(buf[1], w.slot.wire());
                 }
             }
@@ -195,7 +195,7 @@ fn parsers_survive_random_slices() {
                 messages += 1;
                 assert!(n <= len, "{m:?} took {n} of {len} bytes");
                 assert_eq!(
-                    m.emit(aok_proto::ReplyForm::Headed, &mut out),
+                    m.emit(&mut out, aok_proto::ReplyForm::Headed),
                     Ok(n),
                     "{m:?}"
                 );
@@ -215,7 +215,7 @@ fn parsers_survive_random_slices() {
                 headerless += 1;
                 assert_eq!(p.number, 1);
                 let m = Message::Parameter(p);
-                assert_eq!(m.emit(aok_proto::ReplyForm::Headerless, &mut out), Ok(5));
+                assert_eq!(m.emit(&mut out, aok_proto::ReplyForm::Headerless), Ok(5));
                 assert_eq!(out[..5], slice[..5], "{p:?}");
             }
             Err(e) => assert!(

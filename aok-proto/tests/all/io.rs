@@ -342,7 +342,7 @@ fn device_stream() -> Vec<u8> {
         number: 12,
         value: 1500,
     })
-    .emit(ReplyForm::Headed, &mut buf)
+    .emit(&mut buf, ReplyForm::Headed)
     .unwrap();
     s.extend_from_slice(&buf[..n]);
     s.push(b'O');
@@ -361,7 +361,8 @@ fn pc_stream() -> Vec<u8> {
         Command::ReadParameter(12),
         Command::SaveSet(1),
     ] {
-        let (f, n) = c.to_bytes();
+        let mut f = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = c.emit(&mut f).unwrap();
         s.extend_from_slice(&f[..n]);
     }
     s.extend_from_slice(&[0x73, 0x63, 0x02]);
@@ -483,7 +484,8 @@ proptest! {
         (msg, form) in arb_message(),
         max in 1usize..8,
     ) {
-        let (f, n) = cmd.to_bytes();
+        let mut f = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = cmd.emit(&mut f).unwrap();
         let mut w = bio::Writer::new(sink(max));
         prop_assert_eq!(w.write_command(&cmd), Ok(n));
         prop_assert_eq!(&w.into_inner().out[..], &f[..n]);
@@ -492,7 +494,7 @@ proptest! {
         prop_assert_eq!(&w.into_inner().out[..], &f[..n]);
 
         let mut want = [0u8; 19];
-        let n = msg.emit(form, &mut want).unwrap();
+        let n = msg.emit(&mut want, form).unwrap();
         let mut w = bio::Writer::new(sink(max));
         prop_assert_eq!(w.write_message(&msg, form), Ok(n));
         prop_assert_eq!(&w.into_inner().out[..], &want[..n]);

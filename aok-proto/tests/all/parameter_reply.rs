@@ -16,7 +16,7 @@ fn each_form_has_its_length_and_reads_back() {
     ] {
         let mut buf = [0xAAu8; 9];
         assert_eq!(
-            aok_proto::encode_parameter(p, form, &mut buf),
+            Message::Parameter(p).emit(&mut buf, form),
             Ok(len),
             "{form:?}"
         );
@@ -28,6 +28,8 @@ fn each_form_has_its_length_and_reads_back() {
         assert_eq!(got, [Ok(Message::Parameter(p))], "{form:?}");
     }
     let mut headed = [0u8; 7];
-    aok_proto::encode_parameter(p, ReplyForm::Headed, &mut headed).unwrap();
+    Message::Parameter(p)
+        .emit(&mut headed, ReplyForm::Headed)
+        .unwrap();
     assert_eq!(headed[..6], [0xFF, 12, 0xFF, 0xFF, 0xFA, 0x24]);
 }

@@ -239,7 +239,8 @@ proptest! {
         let mut stream = Stream::new(CommandDecoder::new());
         let (mut got, mut want, mut at) = (Vec::new(), Vec::new(), 0u64);
         for (command, noise, split) in sent {
-            let (wire, n) = command.to_bytes();
+            let mut wire = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+            let n = command.emit(&mut wire).unwrap();
             let (a, b) = wire[..n].split_at(split.index(n + 1));
             for piece in [a, b, &noise[..]] {
                 stream.feed(piece, |place, event| got.push((place, event)));
@@ -275,7 +276,7 @@ proptest! {
                 _ => decoder.set_firmware(FirmwareVersion::LATEST),
             }
             let mut wire = [0u8; 19];
-            let n = message.emit(form, &mut wire).unwrap();
+            let n = message.emit(&mut wire, form).unwrap();
             let (a, b) = wire[..n].split_at(split.index(n + 1));
             for piece in [a, b] {
                 stream.feed(piece, |place, event| got.push((place, event)));

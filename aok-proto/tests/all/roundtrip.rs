@@ -133,7 +133,7 @@ fn messages_round_trip_in_both_forms() {
             };
             let form = fw.reply_form();
             let mut buf = [0u8; 19];
-            let n = msg.emit(form, &mut buf).unwrap();
+            let n = msg.emit(&mut buf, form).unwrap();
             prop_assert_eq!(n, msg.buffer_len(form));
             let expect = match msg {
                 Message::Ack(_) => Expect::Ack,

@@ -1,4 +1,4 @@
-//! The free encoders (`encode_command`, `encode_ack`, ...) and the decoders' `finish`: the bytes
+//! The encoders (`Command::emit`, `Message::emit`, ...) and the decoders' `finish`: the bytes
 //! each writes and the events each delivers, as their callers (the desk tool, the sensor box)
 //! rely on them.
 
@@ -14,24 +14,27 @@ fn pc_encode_writes_the_commands_bytes() {
         number: 12,
         value: 1500,
     });
-    let n = aok_proto::encode_command(&set, &mut buf).unwrap();
+    let n = set.emit(&mut buf).unwrap();
     assert_eq!(&buf[..n], &[0x73, 0x0c, 0x00, 0x00, 0x05, 0xdc, 0xd5]);
-    let n = aok_proto::encode_command(&Command::DebugOff, &mut buf).unwrap();
+    let n = Command::DebugOff.emit(&mut buf).unwrap();
     assert_eq!(&buf[..n], &aok_proto::DEBUG_OFF);
     assert_eq!(aok_proto::DEBUG_OFF, [0x63, 0x01]);
 }
 
 #[test]
-fn device_encode_ack_writes_its_letter() {
+fn device_ack_emit_writes_its_letter() {
     for (ack, letter) in [(Ack::Ok, b'O'), (Ack::Error, b'E'), (Ack::InFlight, b'I')] {
         let mut buf = [0u8; 4];
-        assert_eq!(aok_proto::encode_ack(ack, &mut buf), Ok(1));
+        assert_eq!(
+            Message::Ack(ack).emit(&mut buf, aok_proto::ReplyForm::Headed),
+            Ok(1)
+        );
         assert_eq!(buf, [letter, 0, 0, 0]);
     }
 }
 
 #[test]
-fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
+fn device_waypoint_emit_writes_a_reply_the_pc_reads_back() {
     let w = Waypoint {
         slot: WaypointSlot::FbcTarget,
         longitude: 1,
@@ -40,7 +43,10 @@ fn device_encode_waypoint_writes_a_reply_the_pc_reads_back() {
         action2: ActionWord::NONE,
     };
     let mut buf = [0u8; 19];
-    assert_eq!(aok_proto::encode_waypoint(&w, &mut buf), Ok(19));
+    assert_eq!(
+        Message::Waypoint(w).emit(&mut buf, aok_proto::ReplyForm::Headed),
+        Ok(19)
+    );
     assert_eq!(&buf[..2], &[0x77, 0xff]);
     let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     let mut got = Vec::new();

@@ -20,7 +20,7 @@ fn found<T>(event: Event<T, aok_proto::Error>) -> Option<T> {
 
 fn emit_msg(m: Message, form: ReplyForm) -> Vec<u8> {
     let mut buf = [0u8; 19];
-    let n = m.emit(form, &mut buf).unwrap();
+    let n = m.emit(&mut buf, form).unwrap();
     buf[..n].to_vec()
 }
 
@@ -357,7 +357,12 @@ fn bulk_pending_ends_at_the_sixteenth_reply() {
     let mut dec = MessageDecoder::new(FirmwareVersion::LATEST);
     dec.expect(Expect::Bulk(250));
     let mut buf = [0u8; 112];
-    aok_proto::encode_bulk(250, &[1; 16], &mut buf).unwrap();
+    aok_proto::BulkReply {
+        first: 250,
+        values: [1; 16],
+    }
+    .emit(&mut buf)
+    .unwrap();
     let mut numbers = Vec::new();
     for (i, &b) in buf.iter().enumerate() {
         for m in feed_byte(&mut dec, b) {

@@ -160,7 +160,7 @@ fn from_device_vectors_encode_and_decode() {
             continue;
         };
         let mut buf = [0u8; 19];
-        let n = msg.emit(fw.reply_form(), &mut buf).unwrap();
+        let n = msg.emit(&mut buf, fw.reply_form()).unwrap();
         assert_eq!(&buf[..n], &bytes[..], "{name}: encoding");
         let mut dec = MessageDecoder::new(fw);
         dec.expect(expect);
@@ -198,7 +198,7 @@ fn headed_reply_vector_parses_standalone_and_headerless_too() {
     assert_eq!(&headed[2..], &headerless[..]);
     let mut buf = [0u8; 7];
     assert_eq!(
-        Message::Parameter(p).emit(ReplyForm::Headerless, &mut buf),
+        Message::Parameter(p).emit(&mut buf, ReplyForm::Headerless),
         Ok(5)
     );
     assert_eq!(&buf[..5], &headerless[..]);

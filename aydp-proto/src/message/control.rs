@@ -88,7 +88,7 @@ impl Payload for SystemControl {
     fn base_type(&self) -> u8 {
         Self::TYPE
     }
-    fn data_len(&self) -> usize {
+    fn buffer_len(&self) -> usize {
         self.bytes().1
     }
     fn data_byte(&self, index: usize) -> u8 {

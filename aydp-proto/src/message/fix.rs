@@ -1,6 +1,6 @@
 //! Position fix quality (type 4) and fix detail (type 5) (Y8), with `uflt16` fields (Y7).
 
-use super::{exact, fixed_payload, too_short};
+use super::{exact, fixed_emit, fixed_payload, too_short};
 use crate::encode::Payload;
 use crate::error::{EncodeError, Error, Result};
 use crate::header::{array_at, put};
@@ -12,7 +12,9 @@ use crate::uflt16;
 /// ```
 /// use aydp_proto::FixQuality;
 /// let q = FixQuality { fix_type: 3, mean_dop: 1.5, hdop: 1.0, vdop: 2.0, satellites: 9 };
-/// assert_eq!(FixQuality::parse(&q.to_bytes()), Ok(q));
+/// let mut data = [0u8; FixQuality::LEN];
+/// q.emit(&mut data).unwrap();
+/// assert_eq!(FixQuality::parse(&data), Ok(q));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -74,11 +76,14 @@ impl FixQuality {
     /// ```
     /// use aydp_proto::FixQuality;
     /// let q = FixQuality { fix_type: 3, mean_dop: 1.5, hdop: 1.0, vdop: 2.0, satellites: 9 };
-    /// assert_eq!(q.to_bytes(), [3, 0x00, 0x3E, 0x00, 0x3C, 0x00, 0x40, 9]);
+    /// let mut data = [0u8; FixQuality::LEN];
+    /// assert_eq!(q.emit(&mut data), Ok(FixQuality::LEN));
+    /// assert_eq!(data, [3, 0x00, 0x3E, 0x00, 0x3C, 0x00, 0x40, 9]);
     /// let negative = FixQuality { hdop: -1.0, ..q };
-    /// assert_eq!(&negative.to_bytes()[3..5], &[0x00, 0x00]);
+    /// negative.emit(&mut data).unwrap();
+    /// assert_eq!(&data[3..5], &[0x00, 0x00]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[fq::FIX_TYPE] = self.fix_type;
         put(
@@ -94,13 +99,16 @@ impl FixQuality {
 }
 
 fixed_payload!(FixQuality);
+fixed_emit!(Satellite);
 
 /// One satellite of a fix detail message: 7 bytes on the wire.
 ///
 /// ```
 /// use aydp_proto::Satellite;
 /// let s = Satellite { id: 7, azimuth: 180.0, elevation: 45.0, snr: 38.0 };
-/// assert_eq!(Satellite::parse(&s.to_bytes()), Ok(s));
+/// let mut data = [0u8; Satellite::LEN];
+/// s.emit(&mut data).unwrap();
+/// assert_eq!(Satellite::parse(&data), Ok(s));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -152,9 +160,11 @@ impl Satellite {
     /// ```
     /// use aydp_proto::Satellite;
     /// let s = Satellite { id: 7, azimuth: 180.0, elevation: 45.0, snr: 38.0 };
-    /// assert_eq!(s.to_bytes(), [7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]);
+    /// let mut data = [0u8; Satellite::LEN];
+    /// assert_eq!(s.emit(&mut data), Ok(Satellite::LEN));
+    /// assert_eq!(data, [7, 0xA0, 0x59, 0xA0, 0x51, 0xC0, 0x50]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[sat::ID] = self.id;
         put(
@@ -311,7 +321,7 @@ impl Payload for FixDetail<'_> {
     fn base_type(&self) -> u8 {
         Self::TYPE
     }
-    fn data_len(&self) -> usize {
+    fn buffer_len(&self) -> usize {
         self.data.len()
     }
     fn data_byte(&self, index: usize) -> u8 {
@@ -396,7 +406,7 @@ impl<'b> FixDetailBuilder<'b> {
                 needed: at + Satellite::LEN,
             });
         };
-        put(dst, 0, &sat.to_bytes());
+        put(dst, 0, &sat.data());
         self.count += 1;
         Ok(())
     }

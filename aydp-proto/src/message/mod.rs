@@ -46,21 +46,64 @@ pub(crate) fn exact<const K: usize>(data: &[u8], msg_type: u8) -> Result<&[u8; K
     <&[u8; K]>::try_from(data).map_err(|_| too_long(msg_type, K, data.len()))
 }
 
-/// `Payload` for a fixed-size type with `TYPE`, `LEN` and `to_bytes`.
+/// `emit` and `buffer_len` for a fixed-size type with `LEN`, `Default` and `data()`: the one
+/// encode vocabulary of this workspace (`aeolus_proto`'s typed messages read the same).
+macro_rules! fixed_emit {
+    ($t:ident) => {
+        impl $t {
+            /// The number of bytes [`Self::emit`] writes: [`Self::LEN`].
+            ///
+            /// ```
+            #[doc = concat!("use aydp_proto::", stringify!($t), ";")]
+            #[doc = concat!("assert_eq!(", stringify!($t), "::default().buffer_len(), ", stringify!($t), "::LEN);")]
+            /// ```
+            pub const fn buffer_len(&self) -> usize {
+                Self::LEN
+            }
+
+            /// Writes the [`Self::LEN`] data bytes into `out`; returns [`Self::LEN`].
+            ///
+            /// ```
+            #[doc = concat!("use aydp_proto::{EncodeError, ", stringify!($t), "};")]
+            #[doc = concat!("let value = ", stringify!($t), "::default();")]
+            #[doc = concat!("let mut out = [0u8; ", stringify!($t), "::LEN];")]
+            #[doc = concat!("assert_eq!(value.emit(&mut out), Ok(", stringify!($t), "::LEN));")]
+            #[doc = concat!("let needed = ", stringify!($t), "::LEN;")]
+            /// assert_eq!(value.emit(&mut out[..needed - 1]), Err(EncodeError::BufferTooSmall { needed }));
+            /// ```
+            ///
+            /// # Errors
+            /// [`EncodeError::BufferTooSmall`](crate::EncodeError::BufferTooSmall) if `out` is
+            /// shorter than [`Self::LEN`]; `out` is then untouched.
+            pub fn emit(&self, out: &mut [u8]) -> core::result::Result<usize, $crate::EncodeError> {
+                let dst = out
+                    .get_mut(..Self::LEN)
+                    .ok_or($crate::EncodeError::BufferTooSmall { needed: Self::LEN })?;
+                $crate::header::put(dst, 0, &self.data());
+                Ok(Self::LEN)
+            }
+        }
+    };
+}
+pub(crate) use fixed_emit;
+
+/// `Payload` (and `emit`, `buffer_len`) for a fixed-size type with `TYPE`, `LEN` and `data()`.
 macro_rules! fixed_payload {
-    ($t:ty) => {
+    ($t:ident) => {
+        $crate::message::fixed_emit!($t);
+
         impl $crate::encode::Payload for $t {
             fn base_type(&self) -> u8 {
                 Self::TYPE
             }
-            fn data_len(&self) -> usize {
+            fn buffer_len(&self) -> usize {
                 Self::LEN
             }
             fn data_byte(&self, index: usize) -> u8 {
-                self.to_bytes().get(index).copied().unwrap_or(0)
+                self.data().get(index).copied().unwrap_or(0)
             }
             fn write_data(&self, out: &mut [u8]) {
-                $crate::header::put(out, 0, &self.to_bytes());
+                $crate::header::put(out, 0, &self.data());
             }
         }
     };
@@ -88,7 +131,8 @@ pub const USER_LAST: u8 = 126;
 ///
 /// ```
 /// use aydp_proto::{Message, Profile, Position};
-/// let data = Position { latitude: 1.0, longitude: 2.0, altitude: 3.0 }.to_bytes();
+/// let mut data = [0u8; Position::LEN];
+/// Position { latitude: 1.0, longitude: 2.0, altitude: 3.0 }.emit(&mut data).unwrap();
 /// let m = Message::parse(3, false, &data, Profile::Spec).unwrap();
 /// assert!(matches!(m, Message::Position(p) if p.altitude == 3.0));
 /// assert!(matches!(Message::parse(2, false, &[9], Profile::Spec), Ok(Message::Tbd(_))));
@@ -237,8 +281,8 @@ impl Payload for Message<'_> {
     fn base_type(&self) -> u8 {
         self.as_payload().base_type()
     }
-    fn data_len(&self) -> usize {
-        self.as_payload().data_len()
+    fn buffer_len(&self) -> usize {
+        self.as_payload().buffer_len()
     }
     fn data_byte(&self, index: usize) -> u8 {
         self.as_payload().data_byte(index)

@@ -1,6 +1,6 @@
 //! Direct output control (type 7, Y8): count u16, then count × (device u8, channel u8, f32).
 
-use super::too_short;
+use super::{fixed_emit, too_short};
 use crate::encode::Payload;
 use crate::error::{EncodeError, Error, Result};
 use crate::header::{array_at, put};
@@ -11,7 +11,9 @@ use crate::layout::{direct_output, output_entry as entry};
 /// ```
 /// use aydp_proto::OutputEntry;
 /// let e = OutputEntry { device: 1, channel: 2, value: 10.0 };
-/// assert_eq!(e.to_bytes(), [0x01, 0x02, 0x00, 0x00, 0x20, 0x41]);
+/// let mut data = [0u8; OutputEntry::LEN];
+/// assert_eq!(e.emit(&mut data), Ok(OutputEntry::LEN));
+/// assert_eq!(data, [0x01, 0x02, 0x00, 0x00, 0x20, 0x41]);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -24,6 +26,8 @@ pub struct OutputEntry {
     /// Calibrated output value.
     pub value: f32,
 }
+
+fixed_emit!(OutputEntry);
 
 impl OutputEntry {
     /// Bytes per entry.
@@ -44,9 +48,11 @@ impl OutputEntry {
     /// ```
     /// use aydp_proto::OutputEntry;
     /// let e = OutputEntry { device: 1, channel: 2, value: -1.0 };
-    /// assert_eq!(e.to_bytes(), [1, 2, 0x00, 0x00, 0x80, 0xBF]);
+    /// let mut data = [0u8; OutputEntry::LEN];
+    /// assert_eq!(e.emit(&mut data), Ok(OutputEntry::LEN));
+    /// assert_eq!(data, [1, 2, 0x00, 0x00, 0x80, 0xBF]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         out[entry::DEVICE] = self.device;
         out[entry::CHANNEL] = self.channel;
@@ -179,7 +185,7 @@ impl Payload for DirectOutput<'_> {
     fn base_type(&self) -> u8 {
         Self::TYPE
     }
-    fn data_len(&self) -> usize {
+    fn buffer_len(&self) -> usize {
         self.data.len()
     }
     fn data_byte(&self, index: usize) -> u8 {
@@ -226,7 +232,7 @@ impl ExactSizeIterator for Entries<'_> {}
 /// b.push(OutputEntry { device: 1, channel: 2, value: 10.0 }).unwrap();
 /// let out = b.finish();
 /// let mut frame = [0u8; 32];
-/// let n = Encoder::new(Profile::Spec).encode_expedited(&out, &mut frame).unwrap();
+/// let n = Encoder::new(Profile::Spec).encode(&out, None, &mut frame).unwrap();
 /// assert_eq!(&frame[..n], &[0xFF, 0x87, 0x0F, 0, 0, 0, 0x01, 0x00, 0x01, 0x02, 0, 0, 0x20, 0x41, 0x14]);
 /// ```
 #[derive(Debug)]
@@ -267,7 +273,7 @@ impl<'b> DirectOutputBuilder<'b> {
                 needed: at + OutputEntry::LEN,
             });
         };
-        put(dst, 0, &entry.to_bytes());
+        put(dst, 0, &entry.data());
         self.count += 1;
         Ok(())
     }

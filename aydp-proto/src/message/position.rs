@@ -10,7 +10,9 @@ use crate::layout::position as at;
 /// ```
 /// use aydp_proto::Position;
 /// let p = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
-/// assert_eq!(Position::parse(&p.to_bytes()), Ok(p));
+/// let mut data = [0u8; Position::LEN];
+/// p.emit(&mut data).unwrap();
+/// assert_eq!(Position::parse(&data), Ok(p));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -64,9 +66,11 @@ impl Position {
     /// use aydp_proto::Position;
     /// let p = Position { latitude: 50.5, longitude: -1.25, altitude: 12.5 };
     /// // latitude f64, longitude f64, altitude f32, little-endian
-    /// assert_eq!(p.to_bytes(), [0, 0, 0, 0, 0, 0x40, 0x49, 0x40, 0, 0, 0, 0, 0, 0, 0xF4, 0xBF, 0, 0, 0x48, 0x41]);
+    /// let mut data = [0u8; Position::LEN];
+    /// assert_eq!(p.emit(&mut data), Ok(Position::LEN));
+    /// assert_eq!(data, [0, 0, 0, 0, 0, 0x40, 0x49, 0x40, 0, 0, 0, 0, 0, 0, 0xF4, 0xBF, 0, 0, 0x48, 0x41]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         let mut out = [0u8; Self::LEN];
         put(&mut out, at::LATITUDE, &self.latitude.to_le_bytes());
         put(&mut out, at::LONGITUDE, &self.longitude.to_le_bytes());

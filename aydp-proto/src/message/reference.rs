@@ -47,9 +47,11 @@ impl WindSpeed {
     ///
     /// ```
     /// use aydp_proto::WindSpeed;
-    /// assert_eq!(WindSpeed(3.5).to_bytes(), [0x00, 0x00, 0x60, 0x40]);
+    /// let mut data = [0u8; WindSpeed::LEN];
+    /// assert_eq!(WindSpeed(3.5).emit(&mut data), Ok(WindSpeed::LEN));
+    /// assert_eq!(data, [0x00, 0x00, 0x60, 0x40]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         self.0.to_le_bytes()
     }
 }
@@ -59,7 +61,9 @@ fixed_payload!(WindSpeed);
 ///
 /// ```
 /// use aydp_proto::WindDirection;
-/// assert_eq!(WindDirection::parse(&WindDirection(270.0).to_bytes()), Ok(WindDirection(270.0)));
+/// let mut data = [0u8; WindDirection::LEN];
+/// WindDirection(270.0).emit(&mut data).unwrap();
+/// assert_eq!(WindDirection::parse(&data), Ok(WindDirection(270.0)));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -98,9 +102,11 @@ impl WindDirection {
     ///
     /// ```
     /// use aydp_proto::WindDirection;
-    /// assert_eq!(WindDirection(270.0).to_bytes(), [0x00, 0x00, 0x87, 0x43]);
+    /// let mut data = [0u8; WindDirection::LEN];
+    /// assert_eq!(WindDirection(270.0).emit(&mut data), Ok(WindDirection::LEN));
+    /// assert_eq!(data, [0x00, 0x00, 0x87, 0x43]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         self.0.to_le_bytes()
     }
 }
@@ -111,7 +117,9 @@ fixed_payload!(WindDirection);
 /// ```
 /// use aydp_proto::VesselData;
 /// let v = VesselData { heading: 90.0, latitude: 50.5, satellites: 8, ..Default::default() };
-/// assert_eq!(VesselData::parse(&v.to_bytes()), Ok(v));
+/// let mut data = [0u8; VesselData::LEN];
+/// v.emit(&mut data).unwrap();
+/// assert_eq!(VesselData::parse(&data), Ok(v));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -201,12 +209,13 @@ impl VesselData {
     /// ```
     /// use aydp_proto::VesselData;
     /// let v = VesselData { heading: 90.0, latitude: 50.5, satellites: 8, ..Default::default() };
-    /// let b = v.to_bytes();
+    /// let mut b = [0u8; VesselData::LEN];
+    /// v.emit(&mut b).unwrap();
     /// assert_eq!(&b[8..12], &[0x00, 0x00, 0xB4, 0x42]);
     /// assert_eq!(&b[24..32], &[0, 0, 0, 0, 0, 0x40, 0x49, 0x40]);
     /// assert_eq!(&b[52..56], &[8, 0, 0, 0]);
     /// ```
-    pub fn to_bytes(&self) -> [u8; Self::LEN] {
+    pub(crate) fn data(&self) -> [u8; Self::LEN] {
         let mut o = [0u8; Self::LEN];
         let fs = [
             (at::ROLL, self.roll),

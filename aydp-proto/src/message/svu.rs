@@ -143,7 +143,7 @@ impl Payload for SystemValueUpdate<'_> {
     fn base_type(&self) -> u8 {
         Self::TYPE
     }
-    fn data_len(&self) -> usize {
+    fn buffer_len(&self) -> usize {
         self.data.len().saturating_add(Self::HEADER_LEN)
     }
     fn data_byte(&self, index: usize) -> u8 {

@@ -30,7 +30,9 @@ fn the_builder_writes_the_same_bytes_that_parse_reads() {
         channel: 4,
         value: 1.0,
     };
-    assert_eq!(a.to_bytes(), [1, 2, 0, 0, 0x20, 0x41]);
+    let mut one = [0u8; 6];
+    assert_eq!(a.emit(&mut one), Ok(6));
+    assert_eq!(one, [1, 2, 0, 0, 0x20, 0x41]);
     let mut buf = [0u8; 2 + 2 * 6 + 5];
     let mut builder = DirectOutputBuilder::new(&mut buf);
     assert_eq!(builder.push(a), Ok(()));

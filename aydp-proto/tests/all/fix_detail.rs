@@ -37,7 +37,9 @@ fn the_builder_writes_the_count_then_seven_bytes_a_satellite() {
     assert_eq!(bytes.len(), 1 + 3 * 7);
     assert_eq!(bytes[0], 3);
     for (i, s) in sats().iter().enumerate() {
-        assert_eq!(&bytes[1 + 7 * i..8 + 7 * i], &s.to_bytes(), "satellite {i}");
+        let mut one = [0u8; 7];
+        s.emit(&mut one).unwrap();
+        assert_eq!(&bytes[1 + 7 * i..8 + 7 * i], &one, "satellite {i}");
     }
 }
 

@@ -1,4 +1,4 @@
-//! `Encoder::frame_len` is the length `encode_normal` / `encode_expedited` write, in both
+//! `Encoder::frame_len` is the length `encode` writes (normal and expedited), in both
 //! profiles (the `Reference` encoder refuses the expedited form, and `frame_len` still says
 //! how long it would be).
 
@@ -13,8 +13,8 @@ fn frame_len_is_what_the_encoder_writes() {
     for profile in [Profile::Spec, Profile::Reference] {
         let e = Encoder::new(profile);
         let mut out = [0u8; 64];
-        let normal = e.encode_normal(&payload, Timestamp::new(1, 2), &mut out);
-        let expedited = e.encode_expedited(&payload, &mut out);
+        let normal = e.encode(&payload, Some(Timestamp::new(1, 2)), &mut out);
+        let expedited = e.encode(&payload, None, &mut out);
         let lens = (e.frame_len(&payload, false), e.frame_len(&payload, true));
         let want_expedited = if profile.has_expedited() {
             Ok(10)

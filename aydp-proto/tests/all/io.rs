@@ -172,23 +172,24 @@ fn fixed_stream() -> Vec<u8> {
     let mut s = vec![0x00, 0xFF, 0xFF];
     let mut buf = [0u8; 64];
     let n = enc
-        .encode_expedited(
+        .encode(
             &Raw {
                 msg_type: 9,
                 data: &[2],
             },
+            None,
             &mut buf,
         )
         .unwrap();
     s.extend_from_slice(&buf[..n]);
     s.extend_from_slice(&[0xFF, 0x00, 0x28, 0, 0, 0]); // a false start asking for 40 bytes
     let n = enc
-        .encode_normal(
+        .encode(
             &Raw {
                 msg_type: 3,
                 data: &[1; 20],
             },
-            Timestamp::new(7, 8),
+            Some(Timestamp::new(7, 8)),
             &mut buf,
         )
         .unwrap();

@@ -8,7 +8,9 @@ fn parse_reads_back_the_seven_bytes() {
     let b = [7, 0x34, 0x12, 0x00, 0x3C, 0x21, 0x43];
     let s = Satellite::parse(&b).unwrap();
     assert_eq!(s.id, 7);
-    assert_eq!(s.to_bytes(), b);
+    let mut out = [0u8; Satellite::LEN];
+    assert_eq!(s.emit(&mut out), Ok(7));
+    assert_eq!(out, b);
     assert!(s.azimuth > 0.0 && s.elevation > 0.0 && s.snr > 0.0, "{s:?}");
 }
 

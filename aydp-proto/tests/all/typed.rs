@@ -211,24 +211,28 @@ fn encoder_and_header_errors() {
     let mut small = [0u8; 10];
     let pos = Position::default();
     assert_eq!(
-        enc.encode_normal(&pos, Timestamp::default(), &mut small),
+        enc.encode(&pos, Some(Timestamp::default()), &mut small),
         Err(aydp_proto::EncodeError::BufferTooSmall { needed: 43 })
     );
     assert_eq!(
-        enc.encode_expedited(
+        enc.encode(
             &Raw {
                 msg_type: 127,
                 data: &[]
             },
+            None,
             &mut small
         ),
         Err(aydp_proto::EncodeError::BadType(127))
     );
     assert!(
-        enc.iter_expedited(&Raw {
-            msg_type: 200,
-            data: &[]
-        })
+        enc.iter(
+            &Raw {
+                msg_type: 200,
+                data: &[]
+            },
+            None
+        )
         .is_err()
     );
     // An expedited length field of 6 is below Spec's minimum; in Reference it counts data.
@@ -237,7 +241,7 @@ fn encoder_and_header_errors() {
     // Reference vessel data, normal: the length counts data only.
     let v = VesselData::default();
     let n = Encoder::new(Profile::Reference)
-        .encode_normal(&v, Timestamp::default(), &mut [0u8; 100])
+        .encode(&v, Some(Timestamp::default()), &mut [0u8; 100])
         .unwrap();
     assert_eq!(n, 68 + 23);
 }
@@ -250,13 +254,13 @@ fn reference_profile_refuses_expedited_headers() {
     let enc = Encoder::new(Profile::Reference);
     let refused = Err(aydp_proto::EncodeError::ExpeditedInReference);
     let mut b = [0xAAu8; 100];
-    assert_eq!(enc.encode_expedited(&Message::NoOp, &mut b), refused);
+    assert_eq!(enc.encode(&Message::NoOp, None, &mut b), refused);
     assert_eq!(enc.encode(&VesselData::default(), None, &mut b), refused);
     // Checked first: a short buffer does not hide it.
-    assert_eq!(enc.encode_expedited(&Message::NoOp, &mut [0u8; 2]), refused);
+    assert_eq!(enc.encode(&Message::NoOp, None, &mut [0u8; 2]), refused);
     assert!(b.iter().all(|&x| x == 0xAA), "nothing written");
     assert_eq!(
-        enc.iter_expedited(&Message::NoOp).err(),
+        enc.iter(&Message::NoOp, None).err(),
         Some(aydp_proto::EncodeError::ExpeditedInReference)
     );
     assert_eq!(
@@ -266,11 +270,11 @@ fn reference_profile_refuses_expedited_headers() {
     assert!(!Profile::Reference.has_expedited() && Profile::Spec.has_expedited());
     // The same message, normal, encodes; and Spec still encodes the expedited form.
     assert_eq!(
-        enc.encode_normal(&Message::NoOp, Timestamp::new(1, 2), &mut b),
+        enc.encode(&Message::NoOp, Some(Timestamp::new(1, 2)), &mut b),
         Ok(23)
     );
     assert_eq!(
-        Encoder::new(Profile::Spec).encode_expedited(&Message::NoOp, &mut b),
+        Encoder::new(Profile::Spec).encode(&Message::NoOp, None, &mut b),
         Ok(7)
     );
     assert_eq!(&b[..7], &[0xFF, 0x80, 7, 0, 0, 0, 0x78]);
@@ -506,7 +510,7 @@ fn registry_applies_all_three_modes_and_replies() {
             let reply = reg.read(a, &mut value).unwrap();
             let mut frame = [0u8; 128];
             let n = Encoder::new(Profile::Spec)
-                .encode_expedited(&reply, &mut frame)
+                .encode(&reply, None, &mut frame)
                 .unwrap();
             out.push(frame[..n].to_vec());
         }

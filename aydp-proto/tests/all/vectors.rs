@@ -189,7 +189,7 @@ fn every_vector_has_its_expected_outcome() {
                 .encode(&raw, frame.timestamp(), &mut buf)
                 .unwrap();
             assert_eq!(&buf[..n], &frames[0][..]);
-            assert_eq!(raw.data_len(), 2);
+            assert_eq!(raw.buffer_len(), 2);
         }
         checked += 1;
     }

@@ -16,9 +16,9 @@ fn expected(normal: bool) -> Vec<u8> {
     let e = Encoder::new(Profile::Spec);
     let mut out = [0u8; 64];
     let n = if normal {
-        e.encode_normal(&PAYLOAD, Timestamp::new(7, 250), &mut out)
+        e.encode(&PAYLOAD, Some(Timestamp::new(7, 250)), &mut out)
     } else {
-        e.encode_expedited(&PAYLOAD, &mut out)
+        e.encode(&PAYLOAD, None, &mut out)
     };
     out[..n.unwrap()].to_vec()
 }

@@ -114,7 +114,7 @@ pub fn aydp_encode(msgs: &[aydp_proto::Message<'_>], out: &mut [u8]) -> usize {
     let enc = Encoder::new(Profile::Spec);
     let mut at = 0;
     for m in msgs {
-        at += enc.encode_expedited(m, &mut out[at..]).unwrap();
+        at += enc.encode(m, None, &mut out[at..]).unwrap();
     }
     at
 }
@@ -174,7 +174,7 @@ pub fn aok_device_decode_feed(stream: &[u8]) -> u32 {
 pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
     let mut at = 0;
     for v in values {
-        at += aok_proto::encode_debug(*v, &mut out[at..]).unwrap();
+        at += Message::Debug(*v).emit(&mut out[at..], ReplyForm::Headed).unwrap();
     }
     at
 }

@@ -110,7 +110,7 @@ fn fp_aydp_encode() {
     let p = Position { latitude: f32_in(0) as f64, longitude: f32_in(4) as f64, altitude: f32_in(8) };
     let mut out = [0u8; 64];
     let ts = Timestamp { seconds: byte(12) as i64, subsec: byte(13) as i64 };
-    if let Ok(n) = Encoder::new(Profile::Spec).encode_normal(&p, ts, &mut out) {
+    if let Ok(n) = Encoder::new(Profile::Spec).encode(&p, Some(ts), &mut out) {
         for b in &out[..n] {
             sink(*b as u32);
         }
@@ -135,10 +135,10 @@ fn fp_aok_decode() {
 #[inline(never)]
 #[unsafe(no_mangle)]
 fn fp_aok_encode() {
-    use aok_proto::{DebugValue, encode_debug};
+    use aok_proto::{DebugValue, Message, ReplyForm};
     let mut out = [0u8; 8];
     let v = DebugValue { number: byte(0), value: f32_in(1).to_bits() as i32 };
-    if let Ok(n) = encode_debug(v, &mut out) {
+    if let Ok(n) = Message::Debug(v).emit(&mut out, ReplyForm::Headed) {
         for b in &out[..n] {
             sink(*b as u32);
         }

@@ -191,7 +191,7 @@ mod aok {
                 if let Ok(n) = cmd.emit(&mut out[..k]) {
                     sink(n as u32);
                 }
-                if let Ok(n) = encode_command(&cmd, &mut out[..k]) {
+                if let Ok(n) = cmd.emit(&mut out[..k]) {
                     sink(n as u32);
                 }
                 sink(cmd.buffer_len() as u32);
@@ -209,7 +209,7 @@ mod aok {
                 let Ok(msg) = item else { return };
                 let mut out = [0u8; 32];
                 let k = input_byte(10) as usize % 33;
-                if let Ok(n) = msg.emit(form, &mut out[..k]) {
+                if let Ok(n) = msg.emit(&mut out[..k], form) {
                     sink(n as u32);
                 }
             });
@@ -284,7 +284,8 @@ mod aok {
         let bytes: [u8; 32] = input();
         let n = len() % 33;
         if let Ok((c, used)) = Command::parse(&bytes[..n]) {
-            sink(c.to_bytes().1 as u32 ^ used as u32);
+            let mut wire = [0u8; command::MAX_COMMAND_LEN];
+            sink(c.emit(&mut wire).unwrap_or(0) as u32 ^ used as u32);
         }
         if let Ok((m, used)) = Message::parse(&bytes[..n]) {
             sink(m.buffer_len(ReplyForm::Headerless) as u32 ^ used as u32);
@@ -301,15 +302,13 @@ mod aok {
             input_byte(14),
             input_byte(15),
         ]);
-        let _ = encode_debug(
-            DebugValue {
-                number: input_byte(16),
-                value: v,
-            },
-            &mut out[..k],
-        );
-        let _ = encode_ack(Ack::Ok, &mut out[..k]);
-        let _ = encode_bulk(input_byte(17), &[v; 16], &mut out[..k]);
+        let _ = Message::Debug(DebugValue {
+            number: input_byte(16),
+            value: v,
+        })
+        .emit(&mut out[..k], ReplyForm::Headed);
+        let _ = Message::Ack(Ack::Ok).emit(&mut out[..k], ReplyForm::Headed);
+        let _ = BulkReply { first: input_byte(17), values: [v; 16] }.emit(&mut out[..k]);
         sink(out[0] as u32);
     }
 }
@@ -351,7 +350,7 @@ mod aydp {
                         }
                         let mut out = [0u8; 200];
                         let k = input_byte(21) as usize % 201;
-                        if let Ok(n) = enc.encode_expedited(&msg, &mut out[..k]) {
+                        if let Ok(n) = enc.encode(&msg, None, &mut out[..k]) {
                             sink(n as u32);
                         }
                     }
@@ -410,10 +409,10 @@ mod aydp {
             };
             let mut out = [0u8; 200];
             let k = input_byte(26) as usize % 201;
-            if let Ok(n) = enc.encode_normal(&msg, ts, &mut out[..k]) {
+            if let Ok(n) = enc.encode(&msg, Some(ts), &mut out[..k]) {
                 sink(n as u32);
             }
-            if let Ok(bytes) = enc.iter_normal(&msg, ts) {
+            if let Ok(bytes) = enc.iter(&msg, Some(ts)) {
                 for b in bytes {
                     sink(b as u32);
                 }
@@ -692,7 +691,7 @@ mod gdl90 {
             basic_long_messages: w(40),
             ..Heartbeat::default()
         };
-        if let Ok(n) = encode_heartbeat(&hb, &mut out[..k]) {
+        if let Ok(n) = Message::Heartbeat(hb).encode(&mut out[..k]) {
             sink(n as u32);
         }
         let report = Report {
@@ -710,10 +709,10 @@ mod gdl90 {
             emergency: Emergency::from_nibble(input_byte(70)),
             ..Report::default()
         };
-        if let Ok(n) = encode_ownship(&report, &mut out[..k]) {
+        if let Ok(n) = Message::Ownship(report).encode(&mut out[..k]) {
             sink(n as u32);
         }
-        if let Ok(n) = encode_traffic(&report, &mut out[..k]) {
+        if let Ok(n) = Message::Traffic(report).encode(&mut out[..k]) {
             sink(n as u32);
         }
         let alt = GeoAltitude {
@@ -721,14 +720,14 @@ mod gdl90 {
             vertical_warning: true,
             vfom_m: Some(w(75)),
         };
-        if let Ok(n) = encode_geo_altitude(&alt, &mut out[..k]) {
+        if let Ok(n) = Message::GeoAltitude(alt).encode(&mut out[..k]) {
             sink(n as u32);
         }
         let id = ForeFlightId {
             serial: Some(f(77).to_bits() as u64),
             ..ForeFlightId::default()
         };
-        if let Ok(n) = encode_foreflight_id(&id, &mut out[..k]) {
+        if let Ok(n) = Message::ForeFlightId(id).encode(&mut out[..k]) {
             sink(n as u32);
         }
         let ahrs = Ahrs {
@@ -738,7 +737,7 @@ mod gdl90 {
             indicated_airspeed_kt: Some(w(93)),
             true_airspeed_kt: None,
         };
-        if let Ok(n) = encode_ahrs(&ahrs, &mut out[..k]) {
+        if let Ok(n) = Message::Ahrs(ahrs).encode(&mut out[..k]) {
             sink(n as u32);
         }
         if let Ok(n) = encode_frame(input_byte(95), &data[..dl], &mut out[..k]) {

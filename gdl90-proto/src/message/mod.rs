@@ -217,15 +217,25 @@ impl<'a> Message<'a> {
 
     /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns its
     /// length. [`crate::MAX_ENCODED_LEN`] is enough for every typed message;
-    /// [`crate::max_encoded_len`] of [`Message::buffer_len`] for any message.
+    /// [`crate::max_encoded_len`] of [`Message::buffer_len`] for any message. The one way a
+    /// message goes on the wire: the variant names the ID (an Ownship and a Traffic Report
+    /// share the [`Report`] struct).
     ///
     /// ```
-    /// use gdl90_proto::{max_encoded_len, message::Message};
+    /// use gdl90_proto::{MAX_ENCODED_LEN, max_encoded_len, message::{Heartbeat, Message, Report}};
     /// // An ID this crate keeps raw (UAT uplink), framed as it is.
     /// let uplink = Message::Unknown { id: 7, data: &[1, 2, 3] };
     /// let mut wire = [0u8; max_encoded_len(3)];
     /// let n = uplink.encode(&mut wire).unwrap();
     /// assert_eq!(&wire[..n], &[0x7E, 0x07, 1, 2, 3, 0xB5, 0x8B, 0x7E]);
+    /// // Typed messages: a heartbeat, the same report as ownship (ID 10) and as traffic (ID 20).
+    /// let mut wire = [0u8; MAX_ENCODED_LEN];
+    /// let n = Message::Heartbeat(Heartbeat::default()).encode(&mut wire).unwrap();
+    /// assert_eq!(&wire[..n], &[0x7E, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x7E]);
+    /// let n = Message::Ownship(Report::default()).encode(&mut wire).unwrap();
+    /// assert_eq!((wire[1], wire[n - 1]), (10, 0x7E));
+    /// let n = Message::Traffic(Report::default()).encode(&mut wire).unwrap();
+    /// assert_eq!((wire[1], wire[n - 1]), (20, 0x7E));
     /// ```
     ///
     /// # Errors
@@ -271,52 +281,3 @@ fn emit_into(
     fill(d);
     Ok(len)
 }
-
-/// Emits a fixed-size message of `LEN` data bytes into a stack buffer and frames it.
-fn encode_fixed<const LEN: usize>(
-    id: u8,
-    out: &mut [u8],
-    emit: impl FnOnce(&mut [u8]) -> Result<usize, EncodeError>,
-) -> Result<usize, EncodeError> {
-    let mut data = [0u8; LEN];
-    let n = emit(&mut data)?;
-    encode_frame(id, data.get(..n).unwrap_or(&[]), out)
-}
-
-macro_rules! encode_method {
-    ($ty:ty, $example:literal) => {
-        impl $ty {
-            /// Encodes the whole frame (flags, ID, data, CRC, escaped) into `out`; returns
-            /// its length.
-            ///
-            #[doc = $example]
-            ///
-            /// # Errors
-            /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-            pub fn encode(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
-                encode_fixed::<{ <$ty>::LEN }>(<$ty>::ID, out, |d| self.emit(d))
-            }
-        }
-    };
-}
-
-encode_method!(
-    Heartbeat,
-    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::Heartbeat};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = Heartbeat::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..n], &[0x7E, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x7E]);\n```"
-);
-encode_method!(
-    GeoAltitude,
-    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::GeoAltitude};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = GeoAltitude::default().encode(&mut wire).unwrap();\nassert_eq!((wire[1], n), (11, 9));\n```"
-);
-encode_method!(
-    ForeFlightId,
-    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::ForeFlightId};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = ForeFlightId::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..4], &[0x7E, 0x65, 0, 1]);\nassert!(n <= MAX_ENCODED_LEN);\n```"
-);
-encode_method!(
-    Ahrs,
-    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::Ahrs};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = Ahrs::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..5], &[0x7E, 0x65, 1, 0x7F, 0xFF]);\nassert_eq!(wire[n - 1], 0x7E);\n```"
-);
-encode_method!(
-    StratuxAhrs,
-    "```\nuse gdl90_proto::{MAX_ENCODED_LEN, message::StratuxAhrs};\nlet mut wire = [0u8; MAX_ENCODED_LEN];\nlet n = StratuxAhrs::default().encode(&mut wire).unwrap();\nassert_eq!(&wire[..7], &[0x7E, 0x4C, 0x45, 0x01, 0x01, 0x7F, 0xFF]);\nassert_eq!(wire[n - 1], 0x7E);\n```"
-);

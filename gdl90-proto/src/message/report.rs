@@ -234,8 +234,8 @@ impl Emergency {
 }
 
 /// An Ownship Report (ID 10) or a Traffic Report (ID 20): the same 27 data bytes. The
-/// [`Message`](super::Message) variant says which; [`Report::encode_ownship`] and
-/// [`Report::encode_traffic`] pick the ID.
+/// [`Message`](super::Message) variant says which, and so picks the ID
+/// [`Message::encode`](super::Message::encode) frames it with.
 ///
 /// Every field that has an "invalid" or "not available" code on the wire is an `Option`
 /// here, so a value is never mistaken for a marker. Encoding clamps out-of-range values to
@@ -471,36 +471,6 @@ impl Report {
     /// ```
     pub const fn buffer_len(&self) -> usize {
         Self::LEN
-    }
-
-    /// Encodes the whole Ownship Report frame (ID 10) into `out`; returns its length.
-    ///
-    /// ```
-    /// use gdl90_proto::{MAX_ENCODED_LEN, message::Report};
-    /// let mut wire = [0u8; MAX_ENCODED_LEN];
-    /// let n = Report::default().encode_ownship(&mut wire).unwrap();
-    /// assert_eq!((wire[0], wire[1], wire[n - 1]), (0x7E, 10, 0x7E));
-    /// ```
-    ///
-    /// # Errors
-    /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-    pub fn encode_ownship(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
-        super::encode_fixed::<{ Self::LEN }>(Self::OWNSHIP_ID, out, |d| self.emit(d))
-    }
-
-    /// Encodes the whole Traffic Report frame (ID 20) into `out`; returns its length.
-    ///
-    /// ```
-    /// use gdl90_proto::{MAX_ENCODED_LEN, message::Report};
-    /// let mut wire = [0u8; MAX_ENCODED_LEN];
-    /// let n = Report::default().encode_traffic(&mut wire).unwrap();
-    /// assert_eq!((wire[0], wire[1], wire[n - 1]), (0x7E, 20, 0x7E));
-    /// ```
-    ///
-    /// # Errors
-    /// [`EncodeError::BufferTooSmall`]; [`crate::MAX_ENCODED_LEN`] is always enough.
-    pub fn encode_traffic(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
-        super::encode_fixed::<{ Self::LEN }>(Self::TRAFFIC_ID, out, |d| self.emit(d))
     }
 }
 

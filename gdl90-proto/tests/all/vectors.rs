@@ -6,10 +6,7 @@ use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, Emergency, ForeFlightId, GeoAltitude, Heading,
     Heartbeat, LatLon, Message, Report, StratuxAhrs, Track,
 };
-use gdl90_proto::{
-    Decode, Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME, encode_ahrs, encode_foreflight_id,
-    encode_geo_altitude, encode_heartbeat, encode_ownship, encode_stratux_ahrs, encode_traffic,
-};
+use gdl90_proto::{Decode, Decoder, Error, MAX_ENCODED_LEN, TYPED_FRAME};
 
 /// Decodes `wire` byte by byte and returns the one message it must hold, owned.
 fn decode_one(wire: &[u8]) -> Message<'static> {
@@ -64,7 +61,9 @@ fn icd_heartbeat_example_decodes_and_encodes_bit_for_bit() {
         Message::Heartbeat(icd_heartbeat())
     );
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_heartbeat(&icd_heartbeat(), &mut wire).unwrap();
+    let n = Message::Heartbeat(icd_heartbeat())
+        .encode(&mut wire)
+        .unwrap();
     assert_eq!(&wire[..n], &ICD_HEARTBEAT);
 }
 
@@ -93,7 +92,7 @@ fn escaped_crc_bytes_are_accepted_and_produced() {
         };
         assert_eq!(decode_one(wire), Message::Heartbeat(hb));
         let mut out = [0u8; MAX_ENCODED_LEN];
-        let n = encode_heartbeat(&hb, &mut out).unwrap();
+        let n = Message::Heartbeat(hb).encode(&mut out).unwrap();
         assert_eq!(&out[..n], wire);
     }
 }
@@ -182,7 +181,7 @@ fn ownship() -> Report {
 fn ownship_report_worked_by_hand() {
     assert_eq!(decode_one(&OWNSHIP), Message::Ownship(ownship()));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_ownship(&ownship(), &mut wire).unwrap();
+    let n = Message::Ownship(ownship()).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &OWNSHIP);
 }
 
@@ -212,7 +211,7 @@ fn icd_traffic_example() {
     assert_eq!(t.emitter, 1);
     assert_eq!(t.call_sign.as_str(), Some("N825V"));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_traffic(&t, &mut wire).unwrap();
+    let n = Message::Traffic(t).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &ICD_TRAFFIC);
 }
 
@@ -244,7 +243,7 @@ fn ahrs() -> Ahrs {
 fn ahrs_worked_by_hand() {
     assert_eq!(decode_one(&AHRS), Message::Ahrs(ahrs()));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_ahrs(&ahrs(), &mut wire).unwrap();
+    let n = Message::Ahrs(ahrs()).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &AHRS);
 }
 
@@ -332,7 +331,7 @@ fn external_stratux_ahrs_frame_decodes_and_encodes_byte_for_byte() {
         Message::StratuxAhrs(want)
     );
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_stratux_ahrs(&want, &mut wire).unwrap();
+    let n = Message::StratuxAhrs(want).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &EXTERNAL_STRATUX_AHRS);
 }
 
@@ -361,7 +360,7 @@ fn stratux_ahrs_worked_by_hand() {
     };
     assert_eq!(decode_one(&STRATUX_AHRS), Message::StratuxAhrs(want));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_stratux_ahrs(&want, &mut wire).unwrap();
+    let n = Message::StratuxAhrs(want).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &STRATUX_AHRS);
 }
 
@@ -453,7 +452,7 @@ fn foreflight_id_capture() {
     };
     assert_eq!(decode_one(&SKYECHO_ID), Message::ForeFlightId(id));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_foreflight_id(&id, &mut wire).unwrap();
+    let n = Message::ForeFlightId(id).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &SKYECHO_ID);
     // Capabilities bit 0 set: MSL.
     let mut data = [0u8; ForeFlightId::LEN];
@@ -479,7 +478,7 @@ fn geo_altitude_by_hand() {
     };
     assert_eq!(decode_one(&GEO_ALTITUDE), Message::GeoAltitude(alt));
     let mut wire = [0u8; MAX_ENCODED_LEN];
-    let n = encode_geo_altitude(&alt, &mut wire).unwrap();
+    let n = Message::GeoAltitude(alt).encode(&mut wire).unwrap();
     assert_eq!(&wire[..n], &GEO_ALTITUDE);
 }
 

@@ -13,7 +13,7 @@ use aok_proto::{
     Ack, Action, ActionWord, Command, CommandDecoder, DebugValue, Decode, FirmwareVersion,
     Waypoint, WaypointSlot,
 };
-use aok_proto::{encode_ack, encode_bulk, encode_debug, encode_parameter, encode_waypoint};
+use aok_proto::{BulkReply, Message, ReplyForm};
 
 /// How many debug frames the fake device still sends after debug-off.
 const LATE_DEBUG_FRAMES: usize = 4;
@@ -69,7 +69,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                         decoder.feed(&[b], |item| items.push(item));
                         for item in items {
                             let Ok(cmd) = item else {
-                                let k = encode_ack(Ack::Error, &mut frame).unwrap();
+                                let k = Message::Ack(Ack::Error)
+                                    .emit(&mut frame, ReplyForm::Headed)
+                                    .unwrap();
                                 out.extend(&frame[..k]);
                                 continue;
                             };
@@ -83,7 +85,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                             number: 86,
                                             value: 0x4f4f_4f4f + i as i32,
                                         };
-                                        let k = encode_debug(v, &mut frame).unwrap();
+                                        let k = Message::Debug(v)
+                                            .emit(&mut frame, ReplyForm::Headed)
+                                            .unwrap();
                                         out.extend(&frame[..k]);
                                         log.late_frames_sent += 1;
                                     }
@@ -94,7 +98,8 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                         number: n,
                                         value: params[usize::from(n)],
                                     };
-                                    let k = encode_parameter(p, firmware.reply_form(), &mut frame)
+                                    let k = Message::Parameter(p)
+                                        .emit(&mut frame, firmware.reply_form())
                                         .unwrap();
                                     out.extend(&frame[..k]);
                                 }
@@ -103,7 +108,7 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                     for (i, v) in values.iter_mut().enumerate() {
                                         *v = params[usize::from(first.wrapping_add(i as u8))];
                                     }
-                                    let k = encode_bulk(first, &values, &mut frame).unwrap();
+                                    let k = BulkReply { first, values }.emit(&mut frame).unwrap();
                                     out.extend(&frame[..k]);
                                 }
                                 Command::SetParameter(p) => {
@@ -116,12 +121,16 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                             Ack::Ok
                                         }
                                     };
-                                    let k = encode_ack(ack, &mut frame).unwrap();
+                                    let k = Message::Ack(ack)
+                                        .emit(&mut frame, ReplyForm::Headed)
+                                        .unwrap();
                                     out.extend(&frame[..k]);
                                 }
                                 Command::ReadWaypoint(slot) => {
                                     if let Some(w) = waypoints.iter().find(|w| w.slot == slot) {
-                                        let k = encode_waypoint(w, &mut frame).unwrap();
+                                        let k = Message::Waypoint(*w)
+                                            .emit(&mut frame, ReplyForm::Headed)
+                                            .unwrap();
                                         out.extend(&frame[..k]);
                                     }
                                 }
@@ -129,7 +138,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                                     waypoints.retain(|x| x.slot != w.slot);
                                     waypoints.push(w);
                                     log.waypoints.push(w);
-                                    let k = encode_ack(Ack::Ok, &mut frame).unwrap();
+                                    let k = Message::Ack(Ack::Ok)
+                                        .emit(&mut frame, ReplyForm::Headed)
+                                        .unwrap();
                                     out.extend(&frame[..k]);
                                 }
                                 _ => {}
@@ -147,7 +158,9 @@ fn fake_device(listener: TcpListener, firmware: FirmwareVersion) -> JoinHandle<D
                     number: (tick % 8) as u8 + 80,
                     value: 0x4f45_4900 + tick,
                 };
-                let k = encode_debug(v, &mut frame).unwrap();
+                let k = Message::Debug(v)
+                    .emit(&mut frame, ReplyForm::Headed)
+                    .unwrap();
                 out.extend(&frame[..k]);
                 log.debug_frames_sent += 1;
             }
@@ -333,13 +346,11 @@ fn reads_over_a_line_that_never_stops_talking_time_out_cleanly() {
             return;
         };
         let mut frame = [0u8; 7];
-        let k = encode_debug(
-            DebugValue {
-                number: 86,
-                value: 1,
-            },
-            &mut frame,
-        )
+        let k = Message::Debug(DebugValue {
+            number: 86,
+            value: 1,
+        })
+        .emit(&mut frame, ReplyForm::Headed)
         .unwrap();
         let started = Instant::now();
         while started.elapsed() < Duration::from_secs(5) {

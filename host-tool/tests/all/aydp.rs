@@ -57,9 +57,9 @@ fn fake_device(listener: TcpListener, profile: Profile) -> JoinHandle<DeviceLog>
             // messages with a normal header.
             let quick = |m: &dyn aydp_proto::Payload, wire: &mut [u8]| {
                 if profile.has_expedited() {
-                    encoder.encode_expedited(m, wire)
+                    encoder.encode(m, None, wire)
                 } else {
-                    encoder.encode_normal(m, Timestamp::new(10, 6), wire)
+                    encoder.encode(m, Some(Timestamp::new(10, 6)), wire)
                 }
             };
             let mut decoder = Decoder::<512>::new(profile);
@@ -89,7 +89,7 @@ fn fake_device(listener: TcpListener, profile: Profile) -> JoinHandle<DeviceLog>
                                     altitude: 3.0,
                                 };
                                 let n = encoder
-                                    .encode_normal(&pos, Timestamp::new(10, 5), &mut wire)
+                                    .encode(&pos, Some(Timestamp::new(10, 5)), &mut wire)
                                     .unwrap();
                                 out.extend(&wire[..n]);
                                 out.extend([0x00, 0x13, 0x37]);

@@ -5,7 +5,7 @@ use super::{AokLink, FIRMWARE, MAX_REPLY, in_flight_settable};
 use crate::Shared;
 use crate::store_policy::Verdict;
 use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{Ack, ParameterValue, encode_bulk, encode_parameter};
+use aok_proto::{Ack, BulkReply, Message, ParameterValue};
 
 impl AokLink {
     pub(super) fn parameter(&self, number: u8) -> i32 {
@@ -31,7 +31,7 @@ impl AokLink {
         let value = self.parameter(number);
         let mut buf = [0u8; HEADED_REPLY_LEN];
         let reply = ParameterValue { number, value };
-        if let Ok(n) = encode_parameter(reply, FIRMWARE.reply_form(), &mut buf) {
+        if let Ok(n) = Message::Parameter(reply).emit(&mut buf, FIRMWARE.reply_form()) {
             self.queue(buf.get(..n).unwrap_or_default());
         }
     }
@@ -45,7 +45,8 @@ impl AokLink {
             number = number.wrapping_add(1);
         }
         let mut buf = [0u8; MAX_REPLY];
-        if let Ok(n) = encode_bulk(first, &values, &mut buf) {
+        let reply = BulkReply { first, values };
+        if let Ok(n) = reply.emit(&mut buf) {
             self.queue(buf.get(..n).unwrap_or_default());
         }
     }

@@ -6,7 +6,7 @@ use super::params::store_ack;
 use super::{AokLink, MISSION_POI};
 use crate::Shared;
 use crate::state::StoredWaypoint;
-use aok_proto::{Ack, ActionWord, Waypoint, WaypointSlot, encode_waypoint};
+use aok_proto::{Ack, ActionWord, Message, ReplyForm, Waypoint, WaypointSlot};
 
 impl AokLink {
     /// The RAM value of a waypoint slot; the mission POI (31) is read from the flash record.
@@ -99,7 +99,7 @@ impl AokLink {
             action2: ActionWord(s.action2),
         };
         let mut buf = [0u8; 19];
-        if let Ok(n) = encode_waypoint(&w, &mut buf) {
+        if let Ok(n) = Message::Waypoint(w).emit(&mut buf, ReplyForm::Headed) {
             self.queue(buf.get(..n).unwrap_or_default());
         }
     }

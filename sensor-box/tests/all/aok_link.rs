@@ -81,7 +81,8 @@ impl<const TX: usize> Rig<TX> {
 
     /// The PC sends a command.
     fn cmd(&mut self, c: Command) {
-        let (frame, n) = c.to_bytes();
+        let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = c.emit(&mut frame).unwrap();
         self.send(&frame[..n]);
     }
 
@@ -129,7 +130,8 @@ impl<const TX: usize> Rig<TX> {
     }
 
     fn exchange_cmd(&mut self, c: Command) -> Vec<u8> {
-        let (frame, n) = c.to_bytes();
+        let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = c.emit(&mut frame).unwrap();
         self.exchange(&frame[..n])
     }
 }
@@ -583,7 +585,8 @@ fn waypoints_set_and_read_in_ram() {
         action1: ActionWord::new(Action::SetFlySpeed, 100),
         action2: ActionWord::NONE,
     };
-    let (frame, _) = Command::SetWaypoint(poi).to_bytes();
+    let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+    Command::SetWaypoint(poi).emit(&mut frame).unwrap();
     assert_eq!(
         frame,
         [
@@ -838,7 +841,8 @@ fn a_motor_runs_only_from_a_second_frame_within_the_hold() {
             motor: Motor::new(motor).unwrap(),
             value,
         };
-        let (bytes, n) = Command::MotorTest(test).to_bytes();
+        let mut bytes = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+        let n = Command::MotorTest(test).emit(&mut bytes).unwrap();
         bytes[..n].to_vec()
     };
     // One frame: armed, nothing driven, however long the box waits.
@@ -1033,7 +1037,8 @@ fn a_pc_polling_through_a_store_stall_gets_every_answer() {
             }),
         );
         for (i, c) in commands.iter().enumerate() {
-            let (frame, n) = c.to_bytes();
+            let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+            let n = c.emit(&mut frame).unwrap();
             for &b in &frame[..n] {
                 if marked {
                     rig.isr.at(t0 + 150 * i as u64);

@@ -178,7 +178,7 @@ impl Rig {
 fn expedited<P: Payload + ?Sized>(p: &P) -> Vec<u8> {
     let mut buf = [0u8; 256];
     let n = Encoder::new(Profile::Spec)
-        .encode_expedited(p, &mut buf)
+        .encode(p, None, &mut buf)
         .unwrap();
     buf[..n].to_vec()
 }
@@ -360,11 +360,11 @@ fn a_normal_request_gets_a_normal_reply_with_a_timestamp() {
     // Request data at 0x0112 (altitude), normal message, header time 0.
     let mut buf = [0u8; 64];
     let n = Encoder::new(Profile::Spec)
-        .encode_normal(
+        .encode(
             &SystemControl::RequestData {
                 address: addr::ALTITUDE,
             },
-            Timestamp::new(0, 0),
+            Some(Timestamp::new(0, 0)),
             &mut buf,
         )
         .unwrap();

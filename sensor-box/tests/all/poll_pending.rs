@@ -155,7 +155,7 @@ fn sleeping_until_next_wake_sends_what_polling_every_millisecond_sends() {
             data,
         };
         let n = Encoder::new(Profile::Spec)
-            .encode_expedited(&update, &mut buf)
+            .encode(&update, None, &mut buf)
             .unwrap();
         buf[..n].to_vec()
     }

@@ -210,7 +210,7 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts() {
             });
             let mut buf = [0u8; 64];
             let n = aydp_proto::Encoder::new(Profile::Spec)
-                .encode_expedited(&req, &mut buf)
+                .encode(&req, None, &mut buf)
                 .expect("encode");
             buf[..n].to_vec()
         })

@@ -92,7 +92,7 @@ fn counted_request(port: &mut TcpStream, address: u16, sent: &mut usize) -> Opti
         aydp_proto::Message::SystemControl(aydp_proto::SystemControl::RequestData { address });
     let mut buf = [0u8; 128];
     *sent += aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
-        .encode_expedited(&req, &mut buf)
+        .encode(&req, None, &mut buf)
         .expect("encode");
     request(port, address)
 }

@@ -36,7 +36,7 @@ use aeolus_proto::message::{Accel, Attitude, Compass, Gps, Message};
 use clap::{Args, ValueEnum};
 use gdl90_proto::message::{
     AddressType, Ahrs, AltitudeDatum, CallSign, ForeFlightId, GeoAltitude, Heading, Heartbeat,
-    LatLon, Name, Report, StratuxAhrs, Track,
+    LatLon, Message as Gdl90Message, Name, Report, StratuxAhrs, Track,
 };
 use serde_json::json;
 
@@ -529,12 +529,11 @@ impl Sender {
     ) {
         if kind != AhrsKind::Stratux {
             let ahrs = picture.ahrs(now);
-            counters.ahrs += self.send(to, |w| gdl90_proto::encode_ahrs(&ahrs, w));
+            counters.ahrs += self.send(to, |w| Gdl90Message::Ahrs(ahrs).encode(w));
         }
         if kind != AhrsKind::Foreflight {
             let report = picture.stratux_ahrs(now);
-            counters.stratux_ahrs +=
-                self.send(to, |w| gdl90_proto::encode_stratux_ahrs(&report, w));
+            counters.stratux_ahrs += self.send(to, |w| Gdl90Message::StratuxAhrs(report).encode(w));
         }
     }
 
@@ -548,13 +547,13 @@ impl Sender {
         counters: &mut Counters,
     ) {
         let hb = picture.heartbeat(now, seconds_since_midnight());
-        counters.heartbeats += self.send(to, |w| gdl90_proto::encode_heartbeat(&hb, w));
+        counters.heartbeats += self.send(to, |w| Gdl90Message::Heartbeat(hb).encode(w));
         let id = picture.foreflight_id();
-        counters.foreflight_id += self.send(to, |w| gdl90_proto::encode_foreflight_id(&id, w));
+        counters.foreflight_id += self.send(to, |w| Gdl90Message::ForeFlightId(id).encode(w));
         let own = picture.ownship(now);
-        counters.ownship += self.send(to, |w| gdl90_proto::encode_ownship(&own, w));
+        counters.ownship += self.send(to, |w| Gdl90Message::Ownship(own).encode(w));
         if let Some(geo) = picture.geo_altitude(now) {
-            counters.geo_altitude += self.send(to, |w| gdl90_proto::encode_geo_altitude(&geo, w));
+            counters.geo_altitude += self.send(to, |w| Gdl90Message::GeoAltitude(geo).encode(w));
         }
     }
 

@@ -1,5 +1,5 @@
 //! Genuine AOK commands, as a PC sends them: every command type, with its bytes from
-//! `aok_proto`'s encoder (`Command::to_bytes`), for the bit-flip and lost-byte models of
+//! `aok_proto`'s encoder (`Command::emit`), for the bit-flip and lost-byte models of
 //! `noise.rs`.
 
 use aok_proto::{
@@ -77,7 +77,8 @@ pub fn commands() -> Vec<Command> {
 
 /// The bytes of `command` as the encoder writes them.
 pub fn bytes(command: &Command) -> Vec<u8> {
-    let (frame, n) = command.to_bytes();
+    let mut frame = [0u8; aok_proto::command::MAX_COMMAND_LEN];
+    let n = command.emit(&mut frame).unwrap();
     frame[..n].to_vec()
 }
 

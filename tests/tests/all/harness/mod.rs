@@ -942,7 +942,7 @@ pub fn finish(mut child: Child) -> Output {
 pub fn aydp_send(port: &mut TcpStream, msg: &aydp_proto::Message<'_>) {
     let mut buf = [0u8; 128];
     let n = aydp_proto::Encoder::new(aydp_proto::Profile::Spec)
-        .encode_expedited(msg, &mut buf)
+        .encode(msg, None, &mut buf)
         .expect("encode");
     port.write_all(&buf[..n]).expect("write UART1");
 }
