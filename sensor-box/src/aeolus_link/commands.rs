@@ -9,7 +9,7 @@ use super::{AeolusLink, FRAME_BUF, REBOOT_REFUSED, RX_BUDGET, TX_QUEUE, UNKNOWN_
 use crate::Shared;
 use crate::port::{Receive, receive_slices};
 use aeolus_proto::message::{SetTime, Text, id};
-use aeolus_proto::{Decode, Frame, TEXT_CAPACITY};
+use aeolus_proto::{Frame, TEXT_CAPACITY};
 
 /// What a received frame asks for, copied out of the decoder's buffer.
 pub(super) enum Incoming {
@@ -33,7 +33,8 @@ impl AeolusLink {
         }
     }
 
-    /// Decodes a slice event by event with the decoder contract's pull form (`next_event` stops
+    /// Decodes a slice event by event through the contract's adapter, in its pull form
+    /// (`Stream::next_event` stops
     /// after each frame or error): only a frame queues an answer, so the room is checked again before every
     /// frame's last byte, exactly as if the bytes came one at a time. A byte is decoded only
     /// while the longest answer it could complete still fits: when the host reads slowly and
@@ -46,7 +47,7 @@ impl AeolusLink {
                 break;
             }
             let (len, event) = self.decoder.next_event(rest);
-            let incoming_frame = event.map(|ev| match ev {
+            let incoming_frame = event.map(|(_, ev)| match ev {
                 Ok(frame) => incoming(&frame),
                 Err(_) => Incoming::Error,
             });

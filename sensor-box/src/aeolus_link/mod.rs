@@ -80,7 +80,9 @@ use crate::budget::{Category, span};
 use crate::port::{Receive, Transmit, TxQueue};
 use crate::telemetry::{Kind, Telemetry, build_at};
 use aeolus_proto::message::{Message, Text};
-use aeolus_proto::{CrcMode, Decoder, Frame, MAX_FIXED_FRAME, TEXT_CAPACITY, max_encoded_len};
+use aeolus_proto::{
+    CrcMode, Decoder, Frame, MAX_FIXED_FRAME, Stream, TEXT_CAPACITY, max_encoded_len,
+};
 use commands::{Incoming, incoming};
 use embedded_io::{Write, WriteReady};
 
@@ -168,7 +170,8 @@ impl LinkCounters {
 /// The AEOLUS link.
 pub struct AeolusLink {
     telemetry: Telemetry,
-    decoder: Decoder<RX_FRAME>,
+    /// The decoder, through the contract's one adapter.
+    decoder: Stream<Decoder<RX_FRAME>>,
     tx: TxQueue<TX_QUEUE>,
     /// Whether the last poll saw `shared.paused`: a resume restarts the schedule.
     was_paused: bool,
@@ -193,7 +196,7 @@ impl AeolusLink {
     pub fn new(now_ms: u64) -> Self {
         let mut link = AeolusLink {
             telemetry: Telemetry::new(now_ms),
-            decoder: Decoder::new(),
+            decoder: Stream::new(Decoder::new()),
             tx: TxQueue::new(),
             was_paused: false,
             scheduled_ms: None,
@@ -358,7 +361,7 @@ impl AeolusLink {
     /// assert_eq!(link.rx_stats().frames_ok, 0);
     /// ```
     pub fn rx_stats(&self) -> aeolus_proto::Stats {
-        self.decoder.stats()
+        self.decoder.decoder().stats()
     }
 
     /// The telemetry schedule.

@@ -7,7 +7,7 @@
 use super::{AokLink, GAP_MS, MAX_REPLY, RX_BUDGET, flying};
 use crate::Shared;
 use crate::port::Receive;
-use aok_proto::{Ack, Command, CommandDecoder, Decode, Error as AokError};
+use aok_proto::{Ack, Command, CommandDecoder, Error as AokError, Stream};
 
 impl AokLink {
     /// Obeys what is left of an accepted burst, then decodes received bytes (at most
@@ -100,7 +100,8 @@ impl AokLink {
         self.burst_clean = false;
     }
 
-    /// Decodes `bytes` with the decoder contract's pull form (`next_event`), a byte at a time
+    /// Decodes `bytes` through the contract's adapter in its pull form (`Stream::next_event`), a
+    /// byte at a time
     /// (the byte path alone: the firmware links no slice path for AOK's short frames), and
     /// collects every event into the open burst; the count decoded: all of them.
     fn decode(&mut self, bytes: &[u8], now_ms: u64) -> usize {
@@ -112,7 +113,7 @@ impl AokLink {
             // Every event of the byte before it was taken, so the byte is used at once; the
             // events a rescan left queued come with nothing (`&[]`).
             let (_, mut event) = self.decoder.next_event(core::slice::from_ref(byte));
-            while let Some(item) = event {
+            while let Some((_, item)) = event {
                 self.collect(item);
                 event = self.decoder.next_event(&[]).1;
             }
@@ -153,10 +154,10 @@ impl AokLink {
     fn end_burst(&mut self, now_ms: u64, shared: &mut Shared) {
         // The end of the stream of the contract (`finish`), with the decoder taken out for the
         // call so that its events can be collected into `self`; it is put back as it is left.
-        let mut decoder = core::mem::replace(&mut self.decoder, CommandDecoder::new());
-        decoder.finish(|item| self.collect(item));
+        let mut decoder = core::mem::replace(&mut self.decoder, Stream::new(CommandDecoder::new()));
+        decoder.finish(|_, item| self.collect(item));
         self.decoder = decoder;
-        let discarded = self.decoder.stats().bytes_discarded;
+        let discarded = self.decoder.decoder().stats().bytes_discarded;
         if self.burst_clean && discarded == self.burst_discarded && !self.burst.is_empty() {
             self.bursts_obeyed = self.bursts_obeyed.wrapping_add(1);
             self.obey_next = Some(0);

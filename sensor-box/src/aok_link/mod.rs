@@ -71,7 +71,7 @@ use crate::Shared;
 use crate::port::{Receive, TxQueue};
 use crate::state::{AOK_FLASH_WAYPOINTS, AOK_PARAMS, StoredWaypoint};
 use aok_proto::message::HEADED_REPLY_LEN;
-use aok_proto::{Ack, Command, CommandDecoder, ExternalControl, FirmwareVersion, Stats};
+use aok_proto::{Ack, Command, CommandDecoder, ExternalControl, FirmwareVersion, Stats, Stream};
 use embedded_io::{Write, WriteReady};
 
 /// The AOK firmware version this box claims: 0.35, so parameter replies use the headed
@@ -216,7 +216,7 @@ struct External {
 /// sets its value and holds it [`MOTOR_LAPSE_MS`] more; a frame with value 0 stops it at
 /// once. A glitch, which is one burst, never starts a motor.
 pub struct AokLink {
-    decoder: CommandDecoder,
+    decoder: Stream<CommandDecoder>,
     /// The commands of the burst being received, or of the accepted burst being obeyed.
     burst: heapless::Vec<Command, BURST_COMMANDS>,
     /// The next command of an accepted burst to obey, while one is being obeyed.
@@ -268,7 +268,7 @@ impl AokLink {
             }
         };
         let mut link = AokLink {
-            decoder: CommandDecoder::new(),
+            decoder: Stream::new(CommandDecoder::new()),
             burst: heapless::Vec::new(),
             obey_next: None,
             burst_open: false,
@@ -399,7 +399,7 @@ impl AokLink {
 
     /// The command decoder's counters.
     pub fn decoder_stats(&self) -> Stats {
-        self.decoder.stats()
+        self.decoder.decoder().stats()
     }
 
     /// Bytes waiting in the link's TX queue (not yet accepted by the port).

@@ -101,7 +101,7 @@ pub use registry::{
 
 use crate::Shared;
 use crate::port::{Receive, TxQueue, receive_slices};
-use aydp_proto::{Decode, Decoder, Encoder, Frame, Profile, Stats};
+use aydp_proto::{Decoder, Encoder, Frame, Profile, Stats, Stream};
 use embedded_io::{Write, WriteReady};
 use periodic::SEND_BUF;
 
@@ -176,7 +176,7 @@ struct Ctx {
 
 /// The AYDP link.
 pub struct AydpLink {
-    decoder: Decoder<DECODER_CAPACITY>,
+    decoder: Stream<Decoder<DECODER_CAPACITY>>,
     ctx: Ctx,
     /// The last poll stopped at [`RX_BUDGET`]: bytes may be waiting in the port.
     rx_more: bool,
@@ -191,7 +191,7 @@ impl AydpLink {
     /// ```
     pub fn new(now_ms: u64) -> Self {
         AydpLink {
-            decoder: Decoder::new(Profile::Spec),
+            decoder: Stream::new(Decoder::new(Profile::Spec)),
             ctx: Ctx {
                 encoder: Encoder::new(Profile::Spec),
                 tx: TxQueue::new(),
@@ -220,7 +220,7 @@ impl AydpLink {
     /// assert_eq!(link.decoder_stats().frames_ok, 0);
     /// ```
     pub fn decoder_stats(&self) -> Stats {
-        self.decoder.stats()
+        self.decoder.decoder().stats()
     }
 
     /// Reads what arrived on the port, answers, and sends what is due at `now_ms`.
@@ -283,8 +283,8 @@ impl AydpLink {
     }
 
     /// Decodes `bytes` one at a time while one longest reply still fits in the TX queue, and
-    /// handles every event; the count decoded. The decoder contract's pull form
-    /// (`next_event`) a byte at a time, then on nothing for the events a rescan left queued:
+    /// handles every event; the count decoded. The contract's adapter in its pull form
+    /// (`Stream::next_event`) a byte at a time, then on nothing for the events a rescan left queued:
     /// a request for [`addr::LINK_COUNTERS`] reports the decoder's counters as of before the
     /// byte that completed it, which only a byte-at-a-time read can tell.
     fn decode(&mut self, bytes: &[u8], now_ms: u64, shared: &mut Shared) -> usize {
@@ -294,14 +294,14 @@ impl AydpLink {
                 break;
             }
             done += 1;
-            let stats = self.decoder.stats();
+            let stats = self.decoder.decoder().stats();
             // Every event of the byte before it was taken, so the byte is used at once; the
             // events a rescan left queued come with nothing (`&[]`).
             let mut input = core::slice::from_ref(byte);
             loop {
                 match self.decoder.next_event(input).1 {
-                    Some(Ok(frame)) => self.ctx.handle(&frame, &stats, now_ms, shared),
-                    Some(Err(e)) => self.ctx.rx_error(e),
+                    Some((_, Ok(frame))) => self.ctx.handle(&frame, &stats, now_ms, shared),
+                    Some((_, Err(e))) => self.ctx.rx_error(e),
                     None => break,
                 }
                 input = &[];
