@@ -27,7 +27,9 @@ STALE = re.compile(
     r"\b(deframers?|push_slice|feed_until|flush_next|idle_next|DeviceDecoder|PcDecoder"
     r"|pl_\w+_parse_byte|pl_\w+_poll|pl_aok_\w+_idle|Frame::check"
     r"|encode_(?:command|debug|ack|parameter|bulk|waypoint|heartbeat|ownship|traffic"
-    r"|geo_altitude|foreflight_id|ahrs|stratux_ahrs|normal|expedited)|iter_normal|iter_expedited)\b",
+    r"|geo_altitude|foreflight_id|ahrs|stratux_ahrs|normal|expedited)|iter_normal|iter_expedited"
+    r"|StreamDecoder|EventSink|decoder_for|AeolusItem|feed_items|finish_items"
+    r"|end_of_datagram_items|add_aeolus|add_event|aydp_fields)\b",
     re.IGNORECASE,
 )
 HISTORY_SECTION = ("docs/architecture.md", "## Names removed before the first release")

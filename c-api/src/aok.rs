@@ -364,13 +364,13 @@ pub(crate) unsafe fn expect_reply(dec: *mut pl_aok_pc_decoder, cmd: *const pl_ao
 }
 
 /// `pl_aok_encode_command`: the command `*cmd` as its frame into `out`.
-pub(crate) fn encode_command(cmd: &pl_aok_item, out: &mut [u8]) -> Result<usize, i32> {
+pub(crate) fn command_frame(cmd: &pl_aok_item, out: &mut [u8]) -> Result<usize, i32> {
     command_rust(cmd)?.emit(out).map_err(too_small)
 }
 
 /// `pl_aok_encode_message`: the device message `*msg` as its frame into `out`, a parameter
 /// reply headed or not as `headed` says.
-pub(crate) fn encode_message(msg: &pl_aok_item, headed: u8, out: &mut [u8]) -> Result<usize, i32> {
+pub(crate) fn message_frame(msg: &pl_aok_item, headed: u8, out: &mut [u8]) -> Result<usize, i32> {
     let form = if headed != 0 {
         ReplyForm::Headed
     } else {

@@ -464,7 +464,7 @@ pub unsafe extern "C" fn pl_aok_encode_command(
     cap: usize,
 ) -> i32 {
     // SAFETY: the caller's promises.
-    unsafe { encode::frame(cmd, out, cap, |cmd, _, out| aok::encode_command(cmd, out)) }
+    unsafe { encode::frame(cmd, out, cap, |cmd, _, out| aok::command_frame(cmd, out)) }
 }
 
 /// Encodes a device message (device to PC) into `out[..cap]`: a debug value, an ack ('O',
@@ -491,7 +491,7 @@ pub unsafe extern "C" fn pl_aok_encode_message(
     // SAFETY: the caller's promises.
     unsafe {
         encode::frame(msg, out, cap, |msg, _, out| {
-            aok::encode_message(msg, headed, out)
+            aok::message_frame(msg, headed, out)
         })
     }
 }
