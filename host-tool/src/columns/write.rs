@@ -247,7 +247,7 @@ impl Export {
         let path = dir.join(format!("part-{number:05}.{ext}"));
         if path.exists() {
             return Err(Error::Usage(format!(
-                "{} exists already: export writes into a directory of its own (choose another --out)",
+                "{} exists already: export writes into a directory of its own",
                 path.display()
             )));
         }
