@@ -9,6 +9,11 @@
 //! [`commands`], [`nmea`], [`telemetry`] and [`wireshark`] the tests check. Everything else
 //! is crate-private; `cargo doc -p protolink --document-private-items` documents it all.
 //!
+//! Cargo features (all on by default; the crate's README.md, "Features"): `cli` (the command
+//! line and its subcommands), `serial` (`serial:` endpoints), `servers` (`web`, `nmea`,
+//! `gdl90`), `parquet` (Parquet and Arrow IPC files) and `sim`. Without any, the library keeps
+//! the decoders, captures, columns, air data and endpoints over files and sockets.
+//!
 //! The modules stand on four floors, and a module uses only modules on floors below its own
 //! (`tests/tests/all/module_layers.rs` checks it, and that there is no import cycle):
 //!
