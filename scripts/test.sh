@@ -194,6 +194,11 @@ cargo fmt --all -- --check
 
 step "clippy (all targets, warnings denied)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
+# The host tool's library as other crates take it (host-tool/README.md, "Features"): with no
+# feature at all, and with the Python extension's (python/Cargo.toml). The full build above
+# never sees these sets; a check (no code generated) proves they compile.
+cargo clippy -q -p protolink --no-default-features --lib -- -D warnings
+cargo clippy -q -p protolink-python -- -D warnings
 
 # Every test binary (one per crate), the `protolink` binary that the C library's checks, the
 # Python tests and the QEMU harness run ($PROTOLINK) and the Python extension

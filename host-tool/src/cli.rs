@@ -13,13 +13,18 @@ use crate::commands::aok::AokArgs;
 use crate::commands::aydp::AydpArgs;
 use crate::commands::bridge::BridgeArgs;
 use crate::commands::decode::DecodeArgs;
+#[cfg(feature = "parquet")]
 use crate::commands::decode::export::ExportArgs;
+#[cfg(feature = "servers")]
 use crate::commands::gdl90::Gdl90Args;
+#[cfg(feature = "servers")]
 use crate::commands::nmea::NmeaArgs;
 use crate::commands::record::RecordArgs;
 use crate::commands::replay::ReplayArgs;
+#[cfg(feature = "sim")]
 use crate::commands::sim::SimArgs;
 use crate::commands::watch::WatchArgs;
+#[cfg(feature = "servers")]
 use crate::commands::web::WebArgs;
 use crate::commands::wireshark::WiresharkArgs;
 use crate::error::Result;
@@ -60,6 +65,7 @@ pub(crate) enum Command {
   protolink sim --pack 8 --airspeed 35 --bank -15 --seconds 60
   protolink sim --climb 2.5 --bank 20
   protolink watch --from udp:5001      (in a second terminal: watch what it sends)")]
+    #[cfg(feature = "sim")]
     Sim(SimArgs),
     /// Send an AEOLUS box a COMMAND or SETTIME, and report its TOAST answer.
     #[command(after_help = "Examples:
@@ -82,6 +88,7 @@ pub(crate) enum Command {
     #[command(after_help = "Examples:
   protolink gdl90 --from udp:5001 --to 127.0.0.1:4000
   protolink gdl90 --from tcp:127.0.0.1:7000 --discover")]
+    #[cfg(feature = "servers")]
     Gdl90(Gdl90Args),
     /// The box's telemetry as NMEA 0183 for gliding and moving-map apps (XCSoar, LK8000, gpsd) on TCP 4353.
     #[command(
@@ -94,6 +101,7 @@ Examples:
   protolink nmea --from udp:5001 --for gpsd            (then: gpsd -N tcp://127.0.0.1:4353)
   protolink nmea --from udp:5001 --to 127.0.0.1:10110  (UDP datagrams instead)"
     )]
+    #[cfg(feature = "servers")]
     Nmea(NmeaArgs),
     /// A live view of AEOLUS telemetry: attitude, airspeed, altitude, heading, GPS, wind, rates.
     #[command(after_help = "Examples:
@@ -110,6 +118,7 @@ Examples:
   protolink web --from udp:5001 --listen 127.0.0.1:8081 --seconds 600
   protolink web --from udp:5001 --units aviation"
     )]
+    #[cfg(feature = "servers")]
     Web(WebArgs),
     /// Record an endpoint into a pcapng file: UDP as Ethernet/IPv4/UDP, byte streams by link type.
     #[command(after_help = "Examples:
@@ -127,6 +136,7 @@ Examples:
   protolink export --out tables flight1.pcapng flight2.pcapng
   protolink export --format arrow --out tables --proto aeolus uart.bin
   duckdb -c \"SELECT source, count(*) FROM read_parquet('tables/GYRO/*.parquet', union_by_name = true) GROUP BY source\"")]
+    #[cfg(feature = "parquet")]
     Export(ExportArgs),
     /// Print the Wireshark Lua dissector for AEOLUS, generated from the protocol crates' layouts.
     #[command(after_help = "Examples:
@@ -143,15 +153,20 @@ impl Cli {
     pub(crate) fn run(&self) -> Result<()> {
         match &self.command {
             Command::Decode(a) => crate::commands::decode::run(a),
+            #[cfg(feature = "parquet")]
             Command::Export(a) => crate::commands::decode::export::run(a),
             Command::Bridge(a) => crate::commands::bridge::run(a),
             Command::Aeolus(a) => crate::commands::aeolus::run(a),
             Command::Aydp(a) => crate::commands::aydp::run(a),
             Command::Aok(a) => crate::commands::aok::run(a),
+            #[cfg(feature = "sim")]
             Command::Sim(a) => crate::commands::sim::run(a),
             Command::Watch(a) => crate::commands::watch::run(a),
+            #[cfg(feature = "servers")]
             Command::Web(a) => crate::commands::web::run(a),
+            #[cfg(feature = "servers")]
             Command::Gdl90(a) => crate::commands::gdl90::run(a),
+            #[cfg(feature = "servers")]
             Command::Nmea(a) => crate::commands::nmea::run(a),
             Command::Record(a) => crate::commands::record::run(a),
             Command::Replay(a) => crate::commands::replay::run(a),

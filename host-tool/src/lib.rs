@@ -9,6 +9,11 @@
 //! [`commands`], [`nmea`], [`telemetry`] and [`wireshark`] the tests check. Everything else
 //! is crate-private; `cargo doc -p protolink --document-private-items` documents it all.
 //!
+//! Cargo features (all on by default; the crate's README.md, "Features"): `cli` (the command
+//! line and its subcommands), `serial` (`serial:` endpoints), `servers` (`web`, `nmea`,
+//! `gdl90`), `parquet` (Parquet and Arrow IPC files) and `sim`. Without any, the library keeps
+//! the decoders, captures, columns, air data and endpoints over files and sockets.
+//!
 //! The modules stand on four floors, and a module uses only modules on floors below its own
 //! (`tests/tests/all/module_layers.rs` checks it, and that there is no import cycle):
 //!
@@ -48,28 +53,44 @@
 // The table above and the modules' docs name crate-private modules too: they resolve in the
 // maintainers' build (`--document-private-items`, checked by scripts/test.sh).
 #![allow(rustdoc::private_intra_doc_links)]
+// Without every subcommand, crate-private helpers that only some subcommands call (output
+// lines, the live telemetry's staleness, display units, time windows) have no caller left; the
+// full build (clippy with every feature) still finds dead code.
+#![cfg_attr(
+    not(all(feature = "cli", feature = "servers", feature = "sim")),
+    allow(dead_code)
+)]
 
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod commands;
+#[cfg(feature = "cli")]
 pub mod wireshark;
 
 pub(crate) mod air_data;
+#[cfg(feature = "cli")]
 pub(crate) mod args;
 pub mod capture;
 pub mod columns;
+#[cfg(feature = "cli")]
 pub(crate) mod datagrams;
 pub mod decoders;
 pub mod endpoint;
 pub(crate) mod error;
 pub(crate) mod fresh;
+#[cfg(feature = "cli")]
 pub(crate) mod nb_serial;
+#[cfg(feature = "servers")]
 pub mod nmea;
+#[cfg(feature = "cli")]
 pub(crate) mod progress;
 pub mod proto;
 pub mod render;
+#[cfg(feature = "cli")]
 pub(crate) mod stop;
 pub mod telemetry;
 pub(crate) mod units;
+#[cfg(feature = "cli")]
 pub(crate) mod value_type;
 
 pub use error::{Error, Result};

@@ -3,10 +3,10 @@
 //! `record` and the capture files, which name a stream's protocol by its link type.
 
 use aydp_proto::Profile;
-use clap::ValueEnum;
 
 /// Which protocol a stream carries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Proto {
     /// AEOLUS sensor-box telemetry (7E-framed, CRC-16).
     Aeolus,
@@ -19,7 +19,8 @@ pub enum Proto {
 }
 
 /// Which AYDP convention applies (DECISIONS.md Y1, Y2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum ProfileArg {
     /// The 2016 document: the length counts the whole message, sub-seconds are ms.
     #[default]
@@ -38,7 +39,8 @@ impl From<ProfileArg> for Profile {
 }
 
 /// Who sent the AOK bytes being decoded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Side {
     /// The ground PC sent them: commands, read as the device reads them.
     Pc,

@@ -2,7 +2,6 @@
 //! sends them, or what a pilot reads (knots, feet, feet per minute, hPa and inHg). The box's
 //! messages are always SI; only the display converts.
 
-use clap::ValueEnum;
 use serde::Serialize;
 
 /// Metres per foot (international foot).
@@ -17,7 +16,8 @@ pub(crate) const KT_PER_MPS: f64 = 1.0 / MPS_PER_KT;
 pub(crate) const HPA_PER_INHG: f64 = 33.863_886_666_7;
 
 /// A system of display units.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub(crate) enum Units {
     /// m/s, m, m/s vertical, mbar: the units of the AEOLUS messages.
     #[default]

@@ -42,6 +42,7 @@ mod row;
 mod table;
 mod typed;
 mod unit;
+#[cfg(feature = "parquet")]
 pub mod write;
 
 use arrow_array::RecordBatch;

@@ -23,7 +23,8 @@ use parquet::file::properties::WriterProperties;
 use crate::error::{Error, Result};
 
 /// The file format of an export.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Format {
     /// Apache Parquet, snappy-compressed: DuckDB, Polars, Spark, pandas and pyarrow read it.
     Parquet,
@@ -246,7 +247,7 @@ impl Export {
         let path = dir.join(format!("part-{number:05}.{ext}"));
         if path.exists() {
             return Err(Error::Usage(format!(
-                "{} exists already: export writes into a directory of its own (choose another --out)",
+                "{} exists already: export writes into a directory of its own",
                 path.display()
             )));
         }

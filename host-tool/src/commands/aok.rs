@@ -4,22 +4,33 @@
 //! reply, and switches it back on afterwards, so debug frames that arrive late never pass for a
 //! reply (DECISIONS.md K6).
 
+#[cfg(feature = "cli")]
 use std::time::{Duration, Instant};
 
+use aok_proto::{Action, ActionWord, FirmwareVersion, WaypointNumber, WaypointSlot};
+#[cfg(feature = "cli")]
 use aok_proto::{
-    Action, ActionWord, Client, Command, Config, ExternalControl, FirmwareVersion, Motor,
-    MotorTest, Outcome, Stick, Waypoint, WaypointNumber, WaypointSlot,
+    Client, Command, Config, ExternalControl, Motor, MotorTest, Outcome, Stick, Waypoint,
 };
+#[cfg(feature = "cli")]
 use clap::{Args, Subcommand};
 
-use crate::decoders::{action_name, slot_name};
+use crate::decoders::action_name;
+#[cfg(feature = "cli")]
+use crate::decoders::slot_name;
+#[cfg(feature = "cli")]
 use crate::endpoint::Endpoint;
+#[cfg(feature = "cli")]
 use crate::error::{Error, Result};
+#[cfg(feature = "cli")]
 use crate::nb_serial::NbSerial;
+#[cfg(feature = "cli")]
 use crate::progress::Spinner;
+#[cfg(feature = "cli")]
 use crate::render::Out;
 
 /// Arguments of `protolink aok`.
+#[cfg(feature = "cli")]
 #[derive(Debug, Clone, Args)]
 pub(crate) struct AokArgs {
     /// The device (serial:PATH@38400, tcp:HOST:PORT, udp:PORT, -).
@@ -46,6 +57,7 @@ pub(crate) struct AokArgs {
 }
 
 /// The AOK actions.
+#[cfg(feature = "cli")]
 #[derive(Debug, Clone, Subcommand)]
 pub(crate) enum AokAction {
     /// Switch the debug value stream on or off.
@@ -144,6 +156,7 @@ pub(crate) enum AokAction {
 }
 
 /// The waypoint actions.
+#[cfg(feature = "cli")]
 #[derive(Debug, Clone, Subcommand)]
 pub(crate) enum WaypointAction {
     /// Read a slot: 1..=31, poi (mission POI), ram-poi or fbc.
@@ -253,6 +266,7 @@ pub fn parse_action(text: &str) -> std::result::Result<ActionWord, String> {
 ///
 /// # Errors
 /// A sentence when out of range.
+#[cfg(feature = "cli")]
 pub(crate) fn parse_motor(text: &str) -> std::result::Result<Motor, String> {
     text.parse::<u8>()
         .ok()
@@ -264,6 +278,7 @@ pub(crate) fn parse_motor(text: &str) -> std::result::Result<Motor, String> {
 ///
 /// # Errors
 /// A sentence when out of range.
+#[cfg(feature = "cli")]
 pub(crate) fn parse_stick(text: &str) -> std::result::Result<Stick, String> {
     text.parse::<i16>()
         .ok()
@@ -272,6 +287,7 @@ pub(crate) fn parse_stick(text: &str) -> std::result::Result<Stick, String> {
 }
 
 /// An AOK conversation over one endpoint.
+#[cfg(feature = "cli")]
 #[derive(Debug)]
 pub(crate) struct Session {
     client: Client<NbSerial>,
@@ -279,6 +295,7 @@ pub(crate) struct Session {
     timeout_ms: u32,
 }
 
+#[cfg(feature = "cli")]
 impl Session {
     /// Opens the endpoint and sets the client up from the arguments.
     ///
@@ -337,10 +354,12 @@ impl Session {
 }
 
 /// A duration as the client's `u32` milliseconds (the parsers keep it within an hour).
+#[cfg(feature = "cli")]
 fn millis(d: Duration) -> u32 {
     u32::try_from(d.as_millis()).unwrap_or(u32::MAX)
 }
 
+#[cfg(feature = "cli")]
 fn waypoint_line(w: &Waypoint) -> String {
     format!(
         "waypoint {}: longitude={} latitude={} action1={} action2={}",
@@ -353,6 +372,7 @@ fn waypoint_line(w: &Waypoint) -> String {
 }
 
 /// How a command that changes the box ended, when it did not fail.
+#[cfg(feature = "cli")]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) enum Answer {
     /// The box said yes (an ack, or a read-back that matches).
@@ -361,6 +381,7 @@ pub(crate) enum Answer {
     Unconfirmed(String),
 }
 
+#[cfg(feature = "cli")]
 impl Answer {
     /// The outcome as the end of an output line.
     pub(crate) fn show(&self) -> String {
@@ -371,6 +392,7 @@ impl Answer {
     }
 }
 
+#[cfg(feature = "cli")]
 impl Session {
     /// Sends a command the spec gives no ack and waits for one all the same: this project's
     /// box (and some firmware) answers 'O', 'E' or 'I'. No answer within the timeout is
@@ -463,6 +485,7 @@ impl Session {
 ///
 /// # Errors
 /// Opening the endpoint, a timeout, or a refusal.
+#[cfg(feature = "cli")]
 pub(crate) fn run(args: &AokArgs) -> Result<()> {
     let mut s = Session::open(args)?;
     let lines = match &args.action {
@@ -530,6 +553,7 @@ pub(crate) fn run(args: &AokArgs) -> Result<()> {
 }
 
 /// `debug on|off`: no answer is defined.
+#[cfg(feature = "cli")]
 fn debug(s: &mut Session, state: &str) -> Result<String> {
     let on = state == "on";
     let cmd = if on {
@@ -545,6 +569,7 @@ fn debug(s: &mut Session, state: &str) -> Result<String> {
 }
 
 /// `get N`: the parameter's value.
+#[cfg(feature = "cli")]
 fn get(s: &mut Session, number: u8) -> Result<String> {
     let what = format!("the read of parameter {number}");
     match s.run(Command::ReadParameter(number), &what)? {
@@ -554,6 +579,7 @@ fn get(s: &mut Session, number: u8) -> Result<String> {
 }
 
 /// `set N VALUE`: the client fails unless the device acks it.
+#[cfg(feature = "cli")]
 fn set(s: &mut Session, number: u8, value: i32) -> Result<String> {
     let cmd = Command::SetParameter(aok_proto::ParameterValue { number, value });
     s.run(cmd, &format!("setting parameter {number}"))?;
@@ -563,6 +589,7 @@ fn set(s: &mut Session, number: u8, value: i32) -> Result<String> {
 }
 
 /// `bulk FIRST`: sixteen parameters from `first` (firmware 0.35 and newer).
+#[cfg(feature = "cli")]
 fn bulk(s: &mut Session, firmware: FirmwareVersion, first: u8) -> Result<Vec<String>> {
     if !firmware.has_bulk_read() {
         return Err(Error::Usage(format!(
@@ -586,6 +613,7 @@ fn bulk(s: &mut Session, firmware: FirmwareVersion, first: u8) -> Result<Vec<Str
 }
 
 /// `waypoint get SLOT`.
+#[cfg(feature = "cli")]
 fn waypoint_get(s: &mut Session, slot: WaypointSlot) -> Result<String> {
     let what = format!("the read of waypoint {}", slot_name(slot));
     match s.run(Command::ReadWaypoint(slot), &what)? {
@@ -595,6 +623,7 @@ fn waypoint_get(s: &mut Session, slot: WaypointSlot) -> Result<String> {
 }
 
 /// `waypoint set SLOT ...`: the client fails unless the device acks it.
+#[cfg(feature = "cli")]
 fn waypoint_set(s: &mut Session, w: Waypoint) -> Result<String> {
     s.run(
         Command::SetWaypoint(w),
@@ -606,10 +635,12 @@ fn waypoint_set(s: &mut Session, w: Waypoint) -> Result<String> {
 /// How soon `motor` sends its second frame: the box runs a motor at rest only from a second
 /// frame for it, in a later burst within the 500 ms hold of the first (`sensor-box`'s AOK
 /// link, "Motor test"; `docs/protocol-notes.md` PL41). This is the latency the rule adds.
+#[cfg(feature = "cli")]
 const MOTOR_SECOND_FRAME: Duration = Duration::from_millis(20);
 
 /// `motor N VALUE`: sent twice, [`MOTOR_SECOND_FRAME`] apart, then every 200 ms for `hold`;
 /// with `verify`, the debug values after the second frame say whether the box took it.
+#[cfg(feature = "cli")]
 fn motor_test(
     s: &mut Session,
     motor: Motor,
@@ -647,6 +678,7 @@ fn motor_test(
 }
 
 /// `extern ROLL NICK YAW PITCH`: no answer is defined.
+#[cfg(feature = "cli")]
 fn external_control(s: &mut Session, control: ExternalControl) -> Result<String> {
     s.run(Command::ExternalControl(control), "external control")?;
     Ok(format!(
@@ -660,12 +692,14 @@ fn external_control(s: &mut Session, control: ExternalControl) -> Result<String>
     ))
 }
 
+#[cfg(feature = "cli")]
 fn unexpected(what: &str, outcome: Outcome) -> Error {
     Error::Device(format!("unexpected answer to {what}: {outcome:?}"))
 }
 
 /// The examples of this module's items, as tests (the items are crate-private, so rustdoc
 /// does not run them).
+#[cfg(feature = "cli")]
 #[cfg(test)]
 #[allow(unused_imports, clippy::unnecessary_wraps)]
 mod examples {

@@ -18,16 +18,27 @@
 //! | [`nmea`] | `nmea`: the box's telemetry as NMEA 0183 for gliding and moving-map apps |
 //! | [`wireshark`] | `wireshark`: prints the generated Lua dissector |
 
+#[cfg(feature = "cli")]
 pub(crate) mod aeolus;
 pub mod aok;
+#[cfg(feature = "cli")]
 pub(crate) mod aydp;
+#[cfg(feature = "cli")]
 pub(crate) mod bridge;
 pub mod decode;
+#[cfg(feature = "servers")]
 pub mod gdl90;
+#[cfg(feature = "servers")]
 pub mod nmea;
+#[cfg(feature = "cli")]
 pub(crate) mod record;
+#[cfg(feature = "cli")]
 pub(crate) mod replay;
+#[cfg(feature = "sim")]
 pub(crate) mod sim;
+#[cfg(feature = "cli")]
 pub mod watch;
+#[cfg(feature = "servers")]
 pub mod web;
+#[cfg(feature = "cli")]
 pub(crate) mod wireshark;

@@ -29,6 +29,7 @@ pub enum Input {
 }
 
 enum Kind {
+    #[cfg(feature = "serial")]
     Serial(Box<dyn serialport::SerialPort>),
     Tcp(TcpStream),
     Udp {
@@ -91,6 +92,13 @@ impl Endpoint {
             source,
         };
         let kind = match self {
+            #[cfg(not(feature = "serial"))]
+            Endpoint::Serial { .. } => {
+                return Err(Error::Unsupported(format!(
+                    "cannot open {name}: this protolink was built without serial ports (its `serial` feature)"
+                )));
+            }
+            #[cfg(feature = "serial")]
             Endpoint::Serial { path, baud } => {
                 let port = serialport::new(path, *baud)
                     .timeout(Duration::from_millis(10))
@@ -164,6 +172,7 @@ impl Link {
     pub fn read(&mut self, buf: &mut [u8], timeout: Duration) -> Result<Input> {
         let what = || format!("reading from {}", self.name);
         let result = match &mut self.kind {
+            #[cfg(feature = "serial")]
             Kind::Serial(port) => {
                 if port.timeout() != timeout {
                     port.set_timeout(timeout)
@@ -264,6 +273,7 @@ impl Link {
             source,
         };
         match &self.kind {
+            #[cfg(feature = "serial")]
             Kind::Serial(port) => Ok(Box::new(
                 port.try_clone()
                     .map_err(|e| io_err(io::Error::other(e.description)))?,
@@ -288,6 +298,7 @@ impl Link {
             source,
         };
         match &mut self.kind {
+            #[cfg(feature = "serial")]
             Kind::Serial(port) => {
                 port.write_all(bytes).map_err(io_err)?;
                 port.flush().map_err(io_err)

@@ -10,16 +10,23 @@ use std::collections::HashMap;
 use std::net::SocketAddrV4;
 use std::path::Path;
 
-use serde_json::{Value, json};
+use serde_json::Value;
+#[cfg(feature = "cli")]
+use serde_json::json;
 
 use super::tables::Select;
+#[cfg(feature = "cli")]
 use super::{DecodeArgs, summary};
 use crate::capture::{CaptureReader, Payload, StreamKind, Transport, proto_for_port};
 use crate::columns::{Origin, Tables};
-use crate::decoders::{Decoder, Event, Kept};
+#[cfg(feature = "cli")]
+use crate::decoders::Event;
+use crate::decoders::{Decoder, Kept};
 use crate::error::Result;
 use crate::proto::{ProfileArg, Proto};
+#[cfg(feature = "cli")]
 use crate::render::Out;
+#[cfg(feature = "cli")]
 use crate::stop::Deadline;
 
 /// At most this many flows are decoded at once; payloads of further flows are dropped and
@@ -44,6 +51,7 @@ pub use crate::proto::proto_name;
 
 /// One event of a capture as a JSON object: the live decoder's object with `frame`, `capture_time`
 /// (seconds since the Unix epoch), `flow` and `proto` added after `offset`.
+#[cfg(feature = "cli")]
 pub(crate) fn capture_json(
     event: &Event,
     frame: u64,
@@ -266,11 +274,13 @@ impl CaptureEvents {
     }
 
     /// The capture's counters so far.
+    #[cfg(feature = "cli")]
     pub(crate) fn counters(&self) -> CaptureCounters {
         self.flows.counters
     }
 
     /// The flows opened so far.
+    #[cfg(feature = "cli")]
     pub(crate) fn flow_count(&self) -> usize {
         self.flows.flows.len()
     }
@@ -290,6 +300,7 @@ impl CaptureEvents {
 ///
 /// # Errors
 /// Opening or reading the capture, or writing the output.
+#[cfg(feature = "cli")]
 pub(crate) fn run(path: &Path, args: &DecodeArgs, deadline: Deadline) -> Result<()> {
     let mut capture = CaptureEvents::open(path, &args.select())?;
     let mut out = Out::new();
@@ -469,6 +480,7 @@ impl Flow {
 }
 
 /// A flow's summary line: the live decoder's, with the flow and its protocol.
+#[cfg(feature = "cli")]
 fn flow_summary(flow: &str, proto: Proto, bytes: u64, counters: &Value, json_out: bool) -> String {
     let s = summary(bytes, counters, json_out);
     if json_out {
@@ -484,6 +496,7 @@ fn flow_summary(flow: &str, proto: Proto, bytes: u64, counters: &Value, json_out
 }
 
 /// The capture's summary line: records read and skipped, flows decoded and dropped.
+#[cfg(feature = "cli")]
 fn capture_summary(c: CaptureCounters, flows: usize, json_out: bool) -> String {
     if json_out {
         json!({"kind": "capture", "frames": c.frames, "skipped": c.skipped, "flows": flows, "flows_dropped": c.flows_dropped}).to_string()
@@ -495,6 +508,7 @@ fn capture_summary(c: CaptureCounters, flows: usize, json_out: bool) -> String {
     }
 }
 
+#[cfg(feature = "cli")]
 fn line(e: &Event, frame: u64, time: f64, flow: &str, proto: Proto, json_out: bool) -> String {
     if json_out {
         capture_json(e, frame, time, flow, proto).to_string()

@@ -70,6 +70,14 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
                 s.display()
             )));
         }
+        // A command-line mistake, refused before anything is written (`read_file` would
+        // refuse the file too, in the library's words).
+        if args.proto.is_none() && !crate::capture::file_is_capture(s) {
+            return Err(Error::Usage(format!(
+                "{} is no pcapng or pcap capture: say which protocol its bytes are (--proto)",
+                s.display()
+            )));
+        }
     }
     crate::stop::install_ctrl_c();
     let select = Select {

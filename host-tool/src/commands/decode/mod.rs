@@ -8,25 +8,38 @@
 //! condemns (an AEOLUS or GDL90 frame's opening flag, an AYDP candidate's 0xFF, an AOK frame's
 //! first byte), its `len` those bytes' length on the wire.
 
+#[cfg(feature = "cli")]
 use std::time::Duration;
 
+#[cfg(feature = "cli")]
 use clap::Args;
+#[cfg(feature = "cli")]
 use serde_json::{Value, json};
 
 pub mod capture;
+#[cfg(all(feature = "cli", feature = "parquet"))]
 pub(crate) mod export;
+#[cfg(feature = "cli")]
 pub mod plot;
 pub mod tables;
 
+#[cfg(feature = "cli")]
 use crate::decoders::{Decoder, Event};
+#[cfg(feature = "cli")]
 use crate::endpoint::{Endpoint, Input, Link};
+#[cfg(feature = "cli")]
 use crate::error::Result;
+#[cfg(feature = "cli")]
 use crate::proto::{ProfileArg, Proto, Side};
+#[cfg(feature = "cli")]
 use crate::render::{self, Out};
+#[cfg(feature = "cli")]
 use crate::stop::Deadline;
+#[cfg(feature = "cli")]
 use tables::Select;
 
 /// Arguments of `protolink decode`.
+#[cfg(feature = "cli")]
 #[derive(Debug, Clone, Args)]
 pub struct DecodeArgs {
     /// The protocol of the stream (a capture: found by port or link type; --proto picks one).
@@ -52,6 +65,7 @@ pub struct DecodeArgs {
     pub seconds: Option<std::time::Duration>,
 }
 
+#[cfg(feature = "cli")]
 impl DecodeArgs {
     /// What decodes the input: `--proto`, `--profile` and `--side`.
     ///
@@ -81,6 +95,7 @@ impl DecodeArgs {
 }
 
 /// The summary line printed at the end.
+#[cfg(feature = "cli")]
 pub(crate) fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
     if json_out {
         json!({ "kind": "summary", "bytes": bytes, "counters": counters }).to_string()
@@ -93,6 +108,7 @@ pub(crate) fn summary(bytes: u64, counters: &Value, json_out: bool) -> String {
 ///
 /// # Errors
 /// Opening or reading the endpoint, or writing the output.
+#[cfg(feature = "cli")]
 pub(crate) fn run(args: &DecodeArgs) -> Result<()> {
     // Ctrl-C ends the input: the counters are still printed.
     crate::stop::install_ctrl_c();
@@ -138,6 +154,7 @@ pub(crate) fn run(args: &DecodeArgs) -> Result<()> {
 ///
 /// # Errors
 /// Reading the endpoint, or whatever `emit` returns.
+#[cfg(feature = "cli")]
 pub(crate) fn pump(
     link: &mut Link,
     decoder: &mut Decoder,

@@ -113,7 +113,7 @@ pub fn read_file(
     } else {
         let Some(proto) = select.proto else {
             return Err(Error::Usage(format!(
-                "{} is no pcapng or pcap capture: say which protocol its bytes are (--proto)",
+                "{} is no pcapng or pcap capture, and no protocol was chosen for its bytes",
                 path.display()
             )));
         };
