@@ -43,6 +43,32 @@ pub struct DebugValue {
 impl DebugValue {
     /// The flight status's number; always sent.
     pub const FLIGHT_STATUS: u8 = 86;
+
+    /// The length of its frame: 7.
+    ///
+    /// ```
+    /// assert_eq!(aok_proto::DebugValue::default().buffer_len(), 7);
+    /// ```
+    pub const fn buffer_len(&self) -> usize {
+        DEBUG_LEN
+    }
+
+    /// Writes its debug frame (what [`Message::Debug`] emits) into `buf`; returns its length.
+    /// A device streams these: the one message type it sends without being asked.
+    ///
+    /// ```
+    /// use aok_proto::DebugValue;
+    /// let mut buf = [0u8; 7];
+    /// let n = DebugValue { number: 86, value: -2 }.emit(&mut buf)?;
+    /// assert_eq!(&buf[..n], &[0x1c, 0x56, 0xff, 0xff, 0xff, 0xfe, 0x57]);
+    /// # Ok::<(), aok_proto::EncodeError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`EncodeError::BufferTooSmall`] if `buf` is shorter than 7 bytes.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize, EncodeError> {
+        copy_out(&value_frame(DEBUG, self.number, self.value), DEBUG_LEN, buf)
+    }
 }
 
 /// Everything the device sends to the PC.
@@ -146,7 +172,7 @@ impl Message {
     /// [`EncodeError::BufferTooSmall`] if `buf` is shorter than [`Message::buffer_len`].
     pub fn emit(&self, buf: &mut [u8], form: ReplyForm) -> Result<usize, EncodeError> {
         match *self {
-            Self::Debug(d) => copy_out(&value_frame(DEBUG, d.number, d.value), DEBUG_LEN, buf),
+            Self::Debug(d) => d.emit(buf),
             Self::Ack(a) => copy_out(&[a.byte()], ack::LEN, buf),
             Self::Parameter(p) => {
                 let f = value_frame(PARAMETER_REPLY, p.number, p.value);

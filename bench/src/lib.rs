@@ -96,7 +96,7 @@ pub fn aok_debug_stream() -> Vec<u8> {
             number: rng.byte(),
             value: rng.next_u64() as i32,
         };
-        let n = Message::Debug(v).emit(&mut buf, ReplyForm::Headed).unwrap();
+        let n = v.emit(&mut buf).unwrap();
         out.extend_from_slice(&buf[..n]);
     }
     out

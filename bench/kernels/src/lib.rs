@@ -174,7 +174,7 @@ pub fn aok_device_decode_feed(stream: &[u8]) -> u32 {
 pub fn aok_encode(values: &[aok_proto::DebugValue], out: &mut [u8]) -> usize {
     let mut at = 0;
     for v in values {
-        at += Message::Debug(*v).emit(&mut out[at..], ReplyForm::Headed).unwrap();
+        at += v.emit(&mut out[at..]).unwrap();
     }
     at
 }

@@ -10,9 +10,10 @@ use super::column::{Column, Scalar};
 use super::fnv::FnvMap;
 use super::unit;
 
-/// The columns of one message type. A column appears with the first row that has it (the rows
-/// before hold nulls in it) and stays: every batch cut from the table has all columns seen so
-/// far, in the order they first appeared.
+/// The columns of one message type. A column appears with the first row that has a value in it
+/// (the rows before hold nulls in it), or is declared before from samples of the type, and
+/// stays: every batch cut from the table has all columns seen so far, in the order they first
+/// appeared. No column is of Arrow's Null type: an absent value makes none.
 pub(crate) struct Table {
     /// The message type: it tells some columns' units.
     kind: Box<str>,
@@ -25,6 +26,10 @@ pub(crate) struct Table {
     cursor: usize,
     /// Values that did not fit their column's type (a null was stored instead).
     pub(crate) mismatches: u64,
+    /// Values make columns without filling them ([`Table::declare_like`] is running).
+    declaring: bool,
+    /// The message type's columns were declared from samples.
+    declared: bool,
 }
 
 impl Table {
@@ -37,6 +42,8 @@ impl Table {
             rows: 0,
             cursor: 0,
             mismatches: 0,
+            declaring: false,
+            declared: false,
         }
     }
 
@@ -77,10 +84,14 @@ impl Table {
     pub(crate) fn set_static(&mut self, name: &'static str, v: Scalar<'_>) {
         match self.find_static(name) {
             Some(i) => self.put(i, v),
+            // An absent value makes no column: a column has the type of a value.
+            None if matches!(v, Scalar::Null) => {}
             None => {
                 let mut c = Column::new(name, v, self.rows);
                 c.key = name.as_ptr() as usize;
-                c.push(v);
+                if !self.declaring {
+                    c.push(v);
+                }
                 self.add(c);
             }
         }
@@ -91,9 +102,13 @@ impl Table {
     pub(crate) fn set(&mut self, name: &str, v: Scalar<'_>) {
         match self.find(name) {
             Some(i) => self.put(i, v),
+            // An absent value makes no column: a column has the type of a value.
+            None if matches!(v, Scalar::Null) => {}
             None => {
                 let mut c = Column::new(name, v, self.rows);
-                c.push(v);
+                if !self.declaring {
+                    c.push(v);
+                }
                 self.add(c);
             }
         }
@@ -107,6 +122,20 @@ impl Table {
             c.key = name.as_ptr() as usize;
             self.add(c);
         }
+    }
+
+    /// Makes the columns `write` would set, each of the type of the value it gives, without
+    /// setting anything in this row; then the table counts as declared.
+    pub(crate) fn declare_like(&mut self, write: impl FnOnce(&mut Table)) {
+        self.declaring = true;
+        write(self);
+        self.declaring = false;
+        self.declared = true;
+    }
+
+    /// Whether [`Table::declare_like`] has run.
+    pub(crate) fn declared(&self) -> bool {
+        self.declared
     }
 
     /// Sets the value of the column `name` in this row, or a null: a column it creates is of the
@@ -131,6 +160,9 @@ impl Table {
 
     /// Sets this row's value of column `i`, unless it has one.
     fn put(&mut self, i: usize, v: Scalar<'_>) {
+        if self.declaring {
+            return;
+        }
         let rows = self.rows;
         if let Some(c) = self.columns.get_mut(i)
             && c.filled == rows

@@ -139,9 +139,14 @@ pub(crate) fn aok_command(table: &mut Table, command: &aok_proto::Command) {
     }
 }
 
-/// A GDL90 message's fields.
+/// A GDL90 message's fields. The first message of a type declares its table's columns from
+/// samples of the type: every optional field present, every variant of its enums, so that the
+/// columns and their types do not depend on what the messages hold.
 pub(crate) fn gdl90(table: &mut Table, message: &gdl90_proto::message::Message<'_>) {
     use gdl90_proto::message::Message as M;
+    if !table.declared() {
+        table.declare_like(|t| gdl90_samples(t, message));
+    }
     match message {
         M::Heartbeat(v) => own(table, v),
         M::Ownship(v) | M::Traffic(v) => own(table, v),
@@ -153,5 +158,71 @@ pub(crate) fn gdl90(table: &mut Table, message: &gdl90_proto::message::Message<'
             table.set_static("id", Scalar::U8(*id));
             table.set_static("data", Scalar::Str(&hex(data)));
         }
+    }
+}
+
+/// Writes samples of `message`'s type with every optional field present, one per variant of
+/// the enums among its fields (GDL90's only optional fields and enums with data).
+fn gdl90_samples(table: &mut Table, message: &gdl90_proto::message::Message<'_>) {
+    use gdl90_proto::message::{Heading, LatLon, Message as M, Track};
+    match message {
+        M::Ownship(r) | M::Traffic(r) => {
+            for track in [
+                Track::TrueTrack(0.0),
+                Track::MagneticHeading(0.0),
+                Track::TrueHeading(0.0),
+            ] {
+                let full = gdl90_proto::message::Report {
+                    position: Some(LatLon::default()),
+                    pressure_altitude_ft: Some(0),
+                    track: Some(track),
+                    ground_speed_kt: Some(0),
+                    vertical_rate_fpm: Some(0),
+                    ..*r
+                };
+                own(table, &full);
+            }
+        }
+        M::GeoAltitude(a) => own(
+            table,
+            &gdl90_proto::message::GeoAltitude {
+                vfom_m: Some(0),
+                ..*a
+            },
+        ),
+        M::ForeFlightId(id) => own(
+            table,
+            &gdl90_proto::message::ForeFlightId {
+                serial: Some(0),
+                ..*id
+            },
+        ),
+        M::Ahrs(_) => {
+            for heading in [Heading::True(0.0), Heading::Magnetic(0.0)] {
+                let full = gdl90_proto::message::Ahrs {
+                    roll_deg: Some(0.0),
+                    pitch_deg: Some(0.0),
+                    heading: Some(heading),
+                    indicated_airspeed_kt: Some(0),
+                    true_airspeed_kt: Some(0),
+                };
+                own(table, &full);
+            }
+        }
+        M::StratuxAhrs(_) => own(
+            table,
+            &gdl90_proto::message::StratuxAhrs {
+                roll_deg: Some(0.0),
+                pitch_deg: Some(0.0),
+                heading_deg: Some(0.0),
+                slip_skid_deg: Some(0.0),
+                yaw_rate_dps: Some(0.0),
+                g_load: Some(0.0),
+                indicated_airspeed_kt: Some(0),
+                pressure_altitude_ft: Some(0),
+                vertical_speed_fpm: Some(0),
+            },
+        ),
+        M::Heartbeat(_) | M::Unknown { .. } => {}
     }
 }

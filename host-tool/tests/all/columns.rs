@@ -424,6 +424,47 @@ fn a_message_type_has_one_schema_whatever_its_messages_hold() {
     };
     assert_eq!(schema(&clean), schema(&raw));
     assert_eq!(schema(&[&clean[..], &raw].concat()), schema(&raw));
+    // A GDL90 OWNSHIP without a position, track or speeds, and one with them all: one schema,
+    // with no column of Arrow's Null type.
+    use gdl90_proto::message::{LatLon, Message as G, Report, Track};
+    let frame = |r: Report| {
+        let mut out = vec![0u8; 128];
+        let n = G::Ownship(r).encode(&mut out).unwrap_or(0);
+        out.truncate(n);
+        out
+    };
+    let bare = frame(Report::default());
+    let full = frame(Report {
+        position: Some(LatLon {
+            lat_deg: 47.0,
+            lon_deg: 8.0,
+        }),
+        pressure_altitude_ft: Some(1500),
+        track: Some(Track::MagneticHeading(90.0)),
+        ground_speed_kt: Some(80),
+        vertical_rate_fpm: Some(-64),
+        ..Report::default()
+    });
+    let ownship = |bytes: &[u8]| {
+        let batches = tables_of(bytes, Proto::Gdl90, Side::default());
+        batches[0].1.schema()
+    };
+    assert_eq!(ownship(&bare), ownship(&full));
+    assert_eq!(ownship(&[&bare[..], &full].concat()), ownship(&full));
+    let bare_schema = ownship(&bare);
+    assert!(
+        bare_schema
+            .fields()
+            .iter()
+            .all(|f| f.data_type() != &DataType::Null)
+    );
+    assert_eq!(
+        bare_schema
+            .field_with_name("track.TrueHeading")
+            .map(|f| f.data_type().clone())
+            .ok(),
+        Some(DataType::Float32)
+    );
     // An expedited AYDP HEARTBEAT has no header time: its time columns are there, null.
     let heartbeat = [0xFF, 0x80, 0x07, 0x00, 0x00, 0x00, 0x78];
     let batches = tables_of(&heartbeat, Proto::Aydp, Side::default());

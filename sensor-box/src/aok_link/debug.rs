@@ -3,7 +3,7 @@
 use super::{AokLink, ControlSource, flying};
 use crate::Shared;
 use aok_proto::message::DEBUG_LEN;
-use aok_proto::{Command, DebugValue, Message, ReplyForm};
+use aok_proto::{Command, DebugValue};
 
 /// The debug values the box sends, with their numbers on the wire. One value per frame,
 /// cycling through [`DebugId::CYCLE`].
@@ -126,7 +126,7 @@ impl AokLink {
             value: self.debug_value(id, now_ms, shared),
         };
         let mut buf = [0u8; DEBUG_LEN];
-        if let Ok(n) = Message::Debug(value).emit(&mut buf, ReplyForm::Headed) {
+        if let Ok(n) = value.emit(&mut buf) {
             self.queue(buf.get(..n).unwrap_or_default());
             self.counters.debug_frames = self.counters.debug_frames.wrapping_add(1);
         }
