@@ -1,9 +1,11 @@
 //! `protolink.aok`: the AOK `Decoder` for either side's bytes, and `encode` for the PC's
 //! commands and the device's messages.
 
-use aok_proto::{ActionWord, Command, Message, ReplyForm, Waypoint, WaypointSlot};
+use aok_proto::{ActionWord, Command, EncodeError, Message, ReplyForm, Waypoint, WaypointSlot};
 use protolink::commands::aok::{parse_action, parse_slot};
-use protolink::decoders::{AokDecoder, Decoder as Core, aok_command_fields, aok_message_fields};
+use protolink::decoders::{
+    AokDecoder, Decoder as Core, Item, aok_command_fields, aok_message_fields,
+};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -150,13 +152,12 @@ fn frame(name: &str, given: &Map<String, Value>) -> PyResult<Frame> {
 
 /// The frame's bytes: a command as the PC sends it, a message as a device of firmware 0.31 or
 /// later sends it (parameter replies headed).
-fn bytes(name: &str, f: &Frame) -> PyResult<Vec<u8>> {
+fn bytes(f: &Frame) -> Result<Vec<u8>, EncodeError> {
     let mut buf = [0u8; 32];
     let n = match f {
         Frame::Command(c) => c.emit(&mut buf),
         Frame::Message(m) => m.emit(&mut buf, ReplyForm::Headed),
-    }
-    .map_err(|e| invalid(name, e))?;
+    }?;
     Ok(buf.get(..n).unwrap_or(&[]).to_vec())
 }
 
@@ -171,7 +172,7 @@ pub(crate) fn encode_aok<'py>(
 ) -> PyResult<Bound<'py, PyBytes>> {
     let given = encode::fields(fields)?;
     let f = frame(name, &given)?;
-    let out = bytes(name, &f)?;
+    let out = bytes(&f).map_err(|e| invalid(name, e))?;
     let side = match f {
         Frame::Command(_) => Side::Pc,
         Frame::Message(_) => Side::Device,
@@ -187,10 +188,14 @@ pub(crate) fn encode_aok<'py>(
     Ok(PyBytes::new(py, &out))
 }
 
-/// The first byte of the frame a decoded AOK message came in (its command letter, or the
-/// reply's start byte): `Message.id` for AOK.
-pub(crate) fn first_byte(name: &str, fields: &Value) -> Option<u8> {
-    let given = fields.as_object()?;
-    let f = frame(name, given).ok()?;
-    bytes(name, &f).ok()?.first().copied()
+/// The first byte of the frame a decoded AOK command or message came in, as `encode` writes
+/// it (its command letter, or the reply's start byte): `Message.id` for AOK; `None` for an item
+/// of another protocol.
+pub(crate) fn first_byte(item: &Item<'_>) -> Option<u8> {
+    let f = match item {
+        Item::AokCommand(c) => Frame::Command(*c),
+        Item::AokMessage(m) => Frame::Message(*m),
+        _ => return None,
+    };
+    bytes(&f).ok()?.first().copied()
 }
