@@ -4,33 +4,26 @@
 use aeolus_proto::message::{self as msg, Message, Text};
 use aeolus_proto::{CrcMode, max_encoded_len};
 use protolink::decoders::{AeolusDecoder, Decoder as Core, aeolus_fields};
-use protolink::proto::{ProfileArg, Proto, Side};
+use protolink::proto::Proto;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use serde_json::{Map, Value};
 
-use crate::decoder::Decoder;
+use crate::decoder::protocol_decoder;
 use crate::encode::{self, check_decodes, check_names, data_bytes, invalid, keys, needed, read};
-use crate::stream::Stream;
 
-/// The AEOLUS stream decoder, as `protolink decode --proto aeolus` runs it: frames with or
-/// without a CRC, every message type, errors as events. `finish()`: a frame still open is a
-/// `truncated` error.
-#[pyclass(extends = Decoder, module = "protolink.aeolus", name = "Decoder")]
-#[derive(Debug)]
-pub(crate) struct AeolusPyDecoder;
+protocol_decoder!(
+    /// The AEOLUS stream decoder, as `protolink decode --proto aeolus` runs it: frames with or
+    /// without a CRC, every message type, errors as events. `finish()`: a frame still open is a
+    /// `truncated` error.
+    AeolusPyDecoder,
+    "protolink.aeolus",
+    Proto::Aeolus
+);
 
-#[pymethods]
-impl AeolusPyDecoder {
-    #[new]
-    fn new() -> PyClassInitializer<Self> {
-        let stream = Stream::new(Proto::Aeolus, ProfileArg::Spec, Side::Device);
-        Decoder::new("protolink.aeolus.Decoder", stream, None).add_subclass(AeolusPyDecoder)
-    }
-}
-
-/// The typed messages read through serde: the spec's name and the message from its fields.
-pub(crate) fn typed(name: &str, fields: Value) -> PyResult<Option<Message<'static>>> {
+/// The messages of a fixed layout, for `encode`: the spec's name and the message read from
+/// its fields through serde; `None` for another name.
+fn typed(name: &str, fields: Value) -> PyResult<Option<Message<'static>>> {
     Ok(Some(match name {
         "AEOLUSINFO" => Message::AeolusInfo(read::<msg::AeolusInfo>(name, fields)?),
         "PRESSURE" => Message::Pressure(read::<msg::Pressure>(name, fields)?),

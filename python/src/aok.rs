@@ -1,53 +1,33 @@
 //! `protolink.aok`: the AOK `Decoder` for either side's bytes, and `encode` for the PC's
 //! commands and the device's messages.
 
-use aok_proto::{ActionWord, Command, Message, ReplyForm, Waypoint, WaypointSlot};
+use aok_proto::{ActionWord, Command, EncodeError, Message, ReplyForm, Waypoint, WaypointSlot};
 use protolink::commands::aok::{parse_action, parse_slot};
-use protolink::decoders::{AokDecoder, Decoder as Core};
+use protolink::decoders::{
+    AokDecoder, Decoder as Core, Item, aok_command_fields, aok_message_fields,
+};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use serde::de::DeserializeOwned;
 use serde_json::{Map, Value, json};
 
-use crate::decoder::{Decoder, choice};
+use crate::decoder::{SIDES, protocol_decoder};
 use crate::encode::{self, camel, check_decodes, check_names, invalid, needed, read};
-use crate::stream::Stream;
 
-/// The sides by name: who sent the bytes.
-const SIDES: [(&str, Side); 2] = [("device", Side::Device), ("pc", Side::Pc)];
-
-/// The AOK stream decoder, as `protolink decode --proto aok --side ...` runs it. `finish()`
-/// (the line went quiet, or the input ended): a partial frame is given up (`truncated`) and
-/// what followed its first byte is rescanned.
-#[pyclass(extends = Decoder, module = "protolink.aok", name = "Decoder")]
-#[derive(Debug)]
-pub(crate) struct AokPyDecoder {
-    side: &'static str,
-}
-
-#[pymethods]
-impl AokPyDecoder {
+protocol_decoder!(
+    /// The AOK stream decoder, as `protolink decode --proto aok --side ...` runs it. `finish()`
+    /// (the line went quiet, or the input ended): a partial frame is given up (`truncated`) and
+    /// what followed its first byte is rescanned.
+    AokPyDecoder,
+    "protolink.aok",
+    Proto::Aok,
     /// `side`: who sent the bytes, `"device"` (debug values, acks, parameter and waypoint
     /// replies, read as the PC reads them) or `"pc"` (commands, read as the device reads them).
-    #[new]
-    #[pyo3(signature = (side = None))]
-    fn new(side: Option<&Bound<'_, PyAny>>) -> PyResult<PyClassInitializer<Self>> {
-        let (side, s) = match side {
-            Some(a) => choice("side", a, &SIDES)?,
-            None => ("device", Side::Device),
-        };
-        let stream = Stream::new(Proto::Aok, ProfileArg::Spec, s);
-        let base = Decoder::new("protolink.aok.Decoder", stream, Some(("side", side)));
-        Ok(base.add_subclass(AokPyDecoder { side }))
-    }
-
+    side in SIDES => |s| (ProfileArg::Spec, s),
     /// Who sent the bytes: `"device"` or `"pc"`.
-    #[getter]
-    fn side(&self) -> &'static str {
-        self.side
-    }
-}
+);
 
 /// The names `encode` takes: the PC's commands, then the device's messages.
 const NAMES: &str = "DEBUG_OFF, DEBUG_ON, RESET, SAVE_WAYPOINTS, LOAD_WAYPOINTS, LOAD_SET, \
@@ -120,11 +100,19 @@ fn number(name: &str, given: &Map<String, Value>, key: &str) -> PyResult<u8> {
     read(name, needed(name, given, key)?.clone())
 }
 
-/// `{"Variant": {fields}}`: serde's form of an enum variant that holds a struct.
-fn tagged(name: &str, given: &Map<String, Value>) -> Value {
+/// A command or message whose variant holds a struct, read through serde's form of it
+/// (`{"Variant": {fields}}`); refused if `given` has a field that `render` (the host tool's
+/// renderer) does not give it.
+fn variant<T: DeserializeOwned>(
+    name: &str,
+    given: &Map<String, Value>,
+    render: fn(&T) -> (String, Value),
+) -> PyResult<T> {
     let mut m = Map::new();
     m.insert(camel(name), Value::Object(given.clone()));
-    Value::Object(m)
+    let v: T = read(name, Value::Object(m))?;
+    check_names(name, given, encode::keys(&render(&v).1))?;
+    Ok(v)
 }
 
 /// The frame a name and fields describe.
@@ -151,23 +139,9 @@ fn frame(name: &str, given: &Map<String, Value>) -> PyResult<Frame> {
             Frame::Command(read(name, json!(camel(name)))?)
         }
         "SET_PARAMETER" | "MOTOR_TEST" | "EXTERNAL_CONTROL" => {
-            let c: Command = read(name, tagged(name, given))?;
-            check_names(
-                name,
-                given,
-                encode::keys(&protolink::decoders::aok_command_fields(&c).1),
-            )?;
-            Frame::Command(c)
+            Frame::Command(variant(name, given, aok_command_fields)?)
         }
-        "DEBUG" | "PARAMETER" => {
-            let m: Message = read(name, tagged(name, given))?;
-            check_names(
-                name,
-                given,
-                encode::keys(&protolink::decoders::aok_message_fields(&m).1),
-            )?;
-            Frame::Message(m)
-        }
+        "DEBUG" | "PARAMETER" => Frame::Message(variant(name, given, aok_message_fields)?),
         _ => {
             return Err(PyValueError::new_err(format!(
                 "AOK has no message '{name}': the names are {NAMES}"
@@ -178,13 +152,12 @@ fn frame(name: &str, given: &Map<String, Value>) -> PyResult<Frame> {
 
 /// The frame's bytes: a command as the PC sends it, a message as a device of firmware 0.31 or
 /// later sends it (parameter replies headed).
-fn bytes(name: &str, f: &Frame) -> PyResult<Vec<u8>> {
+fn bytes(f: &Frame) -> Result<Vec<u8>, EncodeError> {
     let mut buf = [0u8; 32];
     let n = match f {
         Frame::Command(c) => c.emit(&mut buf),
         Frame::Message(m) => m.emit(&mut buf, ReplyForm::Headed),
-    }
-    .map_err(|e| invalid(name, e))?;
+    }?;
     Ok(buf.get(..n).unwrap_or(&[]).to_vec())
 }
 
@@ -199,7 +172,7 @@ pub(crate) fn encode_aok<'py>(
 ) -> PyResult<Bound<'py, PyBytes>> {
     let given = encode::fields(fields)?;
     let f = frame(name, &given)?;
-    let out = bytes(name, &f)?;
+    let out = bytes(&f).map_err(|e| invalid(name, e))?;
     let side = match f {
         Frame::Command(_) => Side::Pc,
         Frame::Message(_) => Side::Device,
@@ -215,10 +188,14 @@ pub(crate) fn encode_aok<'py>(
     Ok(PyBytes::new(py, &out))
 }
 
-/// The first byte of the frame a decoded AOK message came in (its command letter, or the
-/// reply's start byte): `Message.id` for AOK.
-pub(crate) fn first_byte(name: &str, fields: &Value) -> Option<u8> {
-    let given = fields.as_object()?;
-    let f = frame(name, given).ok()?;
-    bytes(name, &f).ok()?.first().copied()
+/// The first byte of the frame a decoded AOK command or message came in, as `encode` writes
+/// it (its command letter, or the reply's start byte): `Message.id` for AOK; `None` for an item
+/// of another protocol.
+pub(crate) fn first_byte(item: &Item<'_>) -> Option<u8> {
+    let f = match item {
+        Item::AokCommand(c) => Frame::Command(*c),
+        Item::AokMessage(m) => Frame::Message(*m),
+        _ => return None,
+    };
+    bytes(&f).ok()?.first().copied()
 }

@@ -3,59 +3,34 @@
 //! `DIRECT_OUTPUT`).
 
 use aydp_proto::{
-    DirectOutputBuilder, Encoder, FixDetailBuilder, FixQuality, Message, OutputEntry, Position,
-    Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp, UpdateMode, VesselData,
-    WindDirection, WindSpeed,
+    DirectOutputBuilder, EncodeError, Encoder, FixDetailBuilder, FixQuality, Message, OutputEntry,
+    Position, Profile, Raw, Satellite, SystemControl, SystemValueUpdate, Timestamp, UpdateMode,
+    VesselData, WindDirection, WindSpeed,
 };
 use protolink::decoders::{AydpDecoder, Decoder as Core};
 use protolink::proto::{ProfileArg, Proto, Side};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use serde::de::DeserializeOwned;
 use serde_json::{Map, Value, json};
 
-use crate::decoder::{Decoder, choice, choose};
+use crate::decoder::{PROFILES, choose, protocol_decoder};
 use crate::encode::{self, check_decodes, check_names, data_bytes, invalid, needed, read};
-use crate::stream::Stream;
 use crate::value;
 
-/// The profiles by name.
-const PROFILES: [(&str, ProfileArg); 2] = [
-    ("spec", ProfileArg::Spec),
-    ("reference", ProfileArg::Reference),
-];
-
-/// The AYDP stream decoder in one profile, as `protolink decode --proto aydp --profile ...`
-/// runs it: resynchronising, every typed message, errors as events. `finish()`: a message
-/// still open is given up (`truncated`) and what followed its start is rescanned.
-#[pyclass(extends = Decoder, module = "protolink.aydp", name = "Decoder")]
-#[derive(Debug)]
-pub(crate) struct AydpPyDecoder {
-    profile: &'static str,
-}
-
-#[pymethods]
-impl AydpPyDecoder {
+protocol_decoder!(
+    /// The AYDP stream decoder in one profile, as `protolink decode --proto aydp --profile ...`
+    /// runs it: resynchronising, every typed message, errors as events. `finish()`: a message
+    /// still open is given up (`truncated`) and what followed its start is rescanned.
+    AydpPyDecoder,
+    "protolink.aydp",
+    Proto::Aydp,
     /// `profile`: `"spec"` (the 2016 document: the length counts the whole message,
     /// sub-seconds in ms) or `"reference"` (the released software: data length, µs).
-    #[new]
-    #[pyo3(signature = (profile = None))]
-    fn new(profile: Option<&Bound<'_, PyAny>>) -> PyResult<PyClassInitializer<Self>> {
-        let (profile, p) = match profile {
-            Some(a) => choice("profile", a, &PROFILES)?,
-            None => ("spec", ProfileArg::Spec),
-        };
-        let stream = Stream::new(Proto::Aydp, p, Side::Device);
-        let base = Decoder::new("protolink.aydp.Decoder", stream, Some(("profile", profile)));
-        Ok(base.add_subclass(AydpPyDecoder { profile }))
-    }
-
+    profile in PROFILES => |p| (p, Side::Device),
     /// The profile: `"spec"` or `"reference"`.
-    #[getter]
-    fn profile(&self) -> &'static str {
-        self.profile
-    }
-}
+);
 
 /// The message names `encode` takes.
 const NAMES: &str = "TIME_SYNC, HEARTBEAT, NO_OP, POSITION, FIX_QUALITY, FIX_DETAIL, \
@@ -79,13 +54,29 @@ fn timestamp(name: &str, time: Option<&Bound<'_, PyAny>>) -> PyResult<Timestamp>
     read(name, Value::Object(value::map_from_py(d, "time")?))
 }
 
-/// A list field (`satellites`, `entries`) of `T`s.
-fn list<T: serde::de::DeserializeOwned>(
+/// A list message's builder (`FIX_DETAIL`, `DIRECT_OUTPUT`) from the field `key`, its only
+/// one: `start` makes it in `scratch`, sized for `head` bytes and the entries at `each` bytes
+/// apiece, and `push` adds every entry.
+fn built<'s, T, B, S, P>(
     name: &str,
     given: &Map<String, Value>,
-    key: &str,
-) -> PyResult<Vec<T>> {
-    read(name, needed(name, given, key)?.clone())
+    (key, head, each): (&str, usize, usize),
+    scratch: &'s mut Vec<u8>,
+    (start, push): (S, P),
+) -> PyResult<B>
+where
+    T: DeserializeOwned,
+    S: FnOnce(&'s mut [u8]) -> B,
+    P: Fn(&mut B, T) -> Result<(), EncodeError>,
+{
+    check_names(name, given, [key])?;
+    let entries: Vec<T> = read(name, needed(name, given, key)?.clone())?;
+    *scratch = vec![0u8; head + entries.len() * each];
+    let mut b = start(scratch);
+    for e in entries {
+        push(&mut b, e).map_err(|e| invalid(name, e))?;
+    }
+    Ok(b)
 }
 
 /// One AYDP message, header and checksum included, from its name and its fields as `to_dict()`
@@ -104,7 +95,7 @@ pub(crate) fn encode_aydp<'py>(
     let profile_arg = profile.map_or(Ok(ProfileArg::Spec), |a| choose("profile", a, &PROFILES))?;
     let given = encode::fields(fields)?;
     let fixed = |known: &[&str]| check_names(name, &given, known.iter().copied());
-    let mut scratch: Vec<u8>;
+    let mut scratch = Vec::new();
     let message: Message<'_> = match name {
         "TIME_SYNC" | "HEARTBEAT" | "NO_OP" => {
             fixed(&[])?;
@@ -137,24 +128,14 @@ pub(crate) fn encode_aydp<'py>(
             }
         }
         "FIX_DETAIL" => {
-            fixed(&["satellites"])?;
-            let sats: Vec<Satellite> = list(name, &given, "satellites")?;
-            scratch = vec![0u8; 1 + sats.len() * Satellite::LEN];
-            let mut b = FixDetailBuilder::new(&mut scratch);
-            for s in sats {
-                b.push(s).map_err(|e| invalid(name, e))?;
-            }
-            Message::FixDetail(b.finish())
+            let list = ("satellites", 1, Satellite::LEN);
+            let how = (FixDetailBuilder::new, FixDetailBuilder::push);
+            Message::FixDetail(built(name, &given, list, &mut scratch, how)?.finish())
         }
         "DIRECT_OUTPUT" => {
-            fixed(&["entries"])?;
-            let entries: Vec<OutputEntry> = list(name, &given, "entries")?;
-            scratch = vec![0u8; 2 + entries.len() * OutputEntry::LEN];
-            let mut b = DirectOutputBuilder::new(&mut scratch);
-            for e in entries {
-                b.push(e).map_err(|e| invalid(name, e))?;
-            }
-            Message::DirectOutput(b.finish())
+            let list = ("entries", 2, OutputEntry::LEN);
+            let how = (DirectOutputBuilder::new, DirectOutputBuilder::push);
+            Message::DirectOutput(built(name, &given, list, &mut scratch, how)?.finish())
         }
         "SYSTEM_VALUE_UPDATE" => {
             fixed(&["address", "mode", "data"])?;

@@ -13,6 +13,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
+use protolink::proto::{ProfileArg, Side};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
@@ -58,8 +59,8 @@ fn step(stream: &mut Stream, bytes: &[u8], datagram: bool) -> (usize, Vec<Pendin
 }
 
 /// The class every protocol's `Decoder` extends (`protolink.aeolus.Decoder`, ...): the
-/// decoding methods, written once. A protocol's class adds only its constructor (and the
-/// getter of its setting, AYDP's `profile` or AOK's `side`).
+/// decoding methods, written once. A protocol's class ([`protocol_decoder!`]) adds only its
+/// constructor (and the getter of its setting, AYDP's `profile` or AOK's `side`).
 ///
 /// The one loop: `d.feed(data)` for every piece of the input, `d.finish()` at its end.
 #[pyclass(module = "protolink._native", name = "Decoder", subclass)]
@@ -294,6 +295,87 @@ impl FeedIter {
     }
 }
 
+/// The AYDP profiles by name, the default first.
+pub(crate) const PROFILES: [(&str, ProfileArg); 2] = [
+    ("spec", ProfileArg::Spec),
+    ("reference", ProfileArg::Reference),
+];
+
+/// The AOK sides by name (who sent the bytes), the default first.
+pub(crate) const SIDES: [(&str, Side); 2] = [("device", Side::Device), ("pc", Side::Pc)];
+
+/// A protocol's `Decoder` class, written once: the class (extending [`Decoder`]), its
+/// constructor and, for a decoder with a setting (AYDP's `profile`, AOK's `side`), the setting's
+/// getter. Without a setting: `protocol_decoder!(docs Class, "protolink.x", proto)`. With one:
+/// `..., proto, docs setting in CHOICES => |v| (profile, side), docs`: the constructor's
+/// argument `setting` picks `v` from `CHOICES` (the first when it is None), and the decoder
+/// is built for that profile and side.
+macro_rules! protocol_decoder {
+    ($(#[$doc:meta])* $class:ident, $module:tt, $proto:expr) => {
+        $(#[$doc])*
+        #[::pyo3::pyclass(extends = $crate::decoder::Decoder, module = $module, name = "Decoder")]
+        #[derive(Debug)]
+        pub(crate) struct $class;
+
+        #[::pyo3::pymethods]
+        impl $class {
+            #[new]
+            fn new() -> ::pyo3::PyClassInitializer<Self> {
+                use ::protolink::proto::{ProfileArg, Side};
+                let stream = $crate::stream::Stream::new($proto, ProfileArg::Spec, Side::Device);
+                let base = $crate::decoder::Decoder::new(concat!($module, ".Decoder"), stream, None);
+                base.add_subclass($class)
+            }
+        }
+    };
+    ($(#[$doc:meta])* $class:ident, $module:tt, $proto:expr,
+     $(#[$new_doc:meta])* $key:ident in $choices:expr => |$v:ident| ($profile:expr, $side:expr),
+     $(#[$get_doc:meta])*) => {
+        $(#[$doc])*
+        #[::pyo3::pyclass(extends = $crate::decoder::Decoder, module = $module, name = "Decoder")]
+        #[derive(Debug)]
+        pub(crate) struct $class {
+            $key: &'static str,
+        }
+
+        #[::pyo3::pymethods]
+        impl $class {
+            $(#[$new_doc])*
+            #[new]
+            #[pyo3(signature = ($key = None))]
+            fn new(
+                $key: Option<&::pyo3::Bound<'_, ::pyo3::PyAny>>,
+            ) -> ::pyo3::PyResult<::pyo3::PyClassInitializer<Self>> {
+                let ($key, $v) = $crate::decoder::setting(stringify!($key), $key, &$choices)?;
+                let stream = $crate::stream::Stream::new($proto, $profile, $side);
+                let setting = Some((stringify!($key), $key));
+                let base = $crate::decoder::Decoder::new(concat!($module, ".Decoder"), stream, setting);
+                Ok(base.add_subclass($class { $key }))
+            }
+
+            $(#[$get_doc])*
+            #[getter]
+            fn $key(&self) -> &'static str {
+                self.$key
+            }
+        }
+    };
+}
+pub(crate) use protocol_decoder;
+
+/// A decoder's setting: `arg` as one of `choices` ([`choice`]), the first when `arg` is None.
+pub(crate) fn setting<T: Copy>(
+    what: &str,
+    arg: Option<&Bound<'_, PyAny>>,
+    choices: &[(&'static str, T)],
+) -> PyResult<(&'static str, T)> {
+    match (arg, choices.first()) {
+        (Some(a), _) => choice(what, a, choices),
+        (None, Some(first)) => Ok(*first),
+        (None, None) => Err(PyValueError::new_err(format!("{what} has no choices"))),
+    }
+}
+
 /// `arg` as one of `choices` (by name), or an exception naming them: `ValueError` for another
 /// string, `TypeError` for anything else.
 pub(crate) fn choose<T: Copy>(
@@ -305,7 +387,7 @@ pub(crate) fn choose<T: Copy>(
 }
 
 /// [`choose`], with the name chosen: a decoder's setting as its `repr` shows it.
-pub(crate) fn choice<T: Copy>(
+fn choice<T: Copy>(
     what: &str,
     arg: &Bound<'_, PyAny>,
     choices: &[(&'static str, T)],

@@ -10,8 +10,8 @@
 //! | --- | --- |
 //! | [`stream`] | the host tool's four stream decoders without Python: bytes in, pending events out |
 //! | [`message`] | `Message` and `ErrorEvent`, the Python objects of those events |
-//! | [`decoder`] | the `Decoder` class the four protocols' classes extend, its methods written once: `feed` and `feed_iter` (in bounded steps, GIL released, Ctrl-C between two), `finish`, `stats`, `bytes_fed` |
-//! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` (its constructor only) and encoder |
+//! | [`decoder`] | the `Decoder` class the four protocols' classes extend, its methods written once: `feed` and `feed_iter` (in bounded steps, GIL released, Ctrl-C between two), `finish`, `stats`, `bytes_fed`; `protocol_decoder!`, a protocol's class and constructor |
+//! | [`aeolus`], [`aydp`], [`aok`], [`gdl90`] | each protocol's `Decoder` (one `protocol_decoder!`) and encoder |
 //! | [`encode`] | what the encoders share: fields through serde, one sentence per refusal |
 //! | [`source`] | `open`: files, captures (a cut one warned about) and live links as an iterator |
 //! | [`columns`] | `to_arrow`'s tables and `export`: the host tool's typed columns handed to pyarrow through the Arrow C stream interface |

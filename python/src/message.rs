@@ -14,6 +14,8 @@
 //! `wire_len`; the ID is the same number). `python/tests/test_field_names.py` checks every
 //! message type for it.
 
+use std::sync::OnceLock;
+
 use protolink::columns::Tables;
 use protolink::commands::decode::capture::proto_name;
 use protolink::decoders::{Body as EventBody, Item, Kept};
@@ -50,6 +52,8 @@ pub(crate) struct Message {
     offset: u64,
     body: Kept,
     origin: Option<Box<Origin>>,
+    /// The metadata, rendered once.
+    meta: OnceLock<Map<String, Value>>,
     fields: PyOnceLock<Py<PyDict>>,
 }
 
@@ -91,6 +95,7 @@ pub(crate) fn to_object<'py>(
         offset,
         body,
         origin,
+        meta: OnceLock::new(),
         fields: PyOnceLock::new(),
     };
     Ok(Bound::new(py, m)?.into_any())
@@ -195,11 +200,57 @@ fn warn_len(py: Python<'_>) -> PyResult<()> {
     )
 }
 
+/// The `#[pymethods]` of a class of what a decoder reports (`Message`, `ErrorEvent`) and the
+/// getters both have, written once: `proto`, `capture_time`, `flow`, `frame` (from the class's
+/// `proto` and `origin`) and `is_error`.
+macro_rules! event_methods {
+    (impl $class:ident { is_error: $is_error:literal; $($methods:tt)* }) => {
+        #[pymethods]
+        impl $class {
+            /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
+            #[getter]
+            fn proto(&self) -> &'static str {
+                proto_name(self.proto)
+            }
+
+            /// When it was captured, seconds since the Unix epoch: the record's time in a
+            /// capture file, the host's clock when the bytes arrived on a live link; None
+            /// otherwise.
+            #[getter]
+            fn capture_time(&self) -> Option<f64> {
+                self.origin.as_ref().and_then(|o| o.capture_time)
+            }
+
+            /// The capture's flow it came in (`udp 127.0.0.1:40000 > 127.0.0.1:5001`); None
+            /// outside a capture.
+            #[getter]
+            fn flow(&self) -> Option<&str> {
+                self.origin.as_ref().and_then(|o| o.flow.as_deref())
+            }
+
+            /// The number of the capture record it came in, from 1; None outside a capture.
+            #[getter]
+            fn frame(&self) -> Option<u64> {
+                self.origin.as_ref().and_then(|o| o.frame)
+            }
+
+            /// Whether this is an `ErrorEvent` (bad bytes) rather than a `Message`.
+            #[getter]
+            fn is_error(&self) -> bool {
+                $is_error
+            }
+
+            $($methods)*
+        }
+    };
+}
+
 impl Message {
     /// The field `key` when the message has one: a field wins over the attribute of its name.
     /// Looks without building the Python fields where it can: of the AEOLUS messages, only the
     /// texts and raw data (rendered by the host tool) have a field named like an attribute;
-    /// the typed ones have none (`python/tests/test_field_names.py` checks every type).
+    /// the typed ones have none (`python/tests/test_field_names.py` checks every type). The
+    /// others look in their fields, built once.
     fn field_named<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
         // The typed AEOLUS messages have no field named like an attribute: no fields built.
         let typed = self.proto == Proto::Aeolus
@@ -218,12 +269,10 @@ impl Message {
                     }
                 )
             });
-        let has = !typed && self.rendered_fields().get(key).is_some();
-        if has {
-            self.fields(py)?.get_item(key)
-        } else {
-            Ok(None)
+        if typed {
+            return Ok(None);
         }
+        self.fields(py)?.get_item(key)
     }
 
     /// The message's length on the wire.
@@ -231,7 +280,7 @@ impl Message {
         Some(self.body.len)
     }
 
-    /// The message as `protolink decode --json` renders it: its name, metadata and fields.
+    /// The message as `protolink decode --json` renders it: its metadata and fields.
     fn event(&self) -> (Map<String, Value>, Value) {
         match self.body.with(|p| p.to_event()).body {
             EventBody::Message { meta, fields, .. } => (meta, fields),
@@ -239,16 +288,13 @@ impl Message {
         }
     }
 
-    /// The message's fields, rendered as `protolink decode --json` renders them.
-    fn rendered_fields(&self) -> Value {
-        self.event().1
+    /// The metadata, rendered once (here, or with the fields).
+    fn meta_map(&self) -> &Map<String, Value> {
+        self.meta.get_or_init(|| self.event().0)
     }
 
-    fn meta_map(&self) -> Map<String, Value> {
-        self.event().0
-    }
-
-    /// The fields as a Python dict, built once.
+    /// The fields as a Python dict, built once (and the metadata kept, when they are rendered
+    /// together).
     fn fields<'py>(&self, py: Python<'py>) -> PyResult<&Bound<'py, PyDict>> {
         let d = self
             .fields
@@ -256,7 +302,9 @@ impl Message {
                 if let Some(d) = aeolus_typed(py, &self.body) {
                     return Ok(d?.unbind());
                 }
-                let map = match self.rendered_fields() {
+                let (meta, fields) = self.event();
+                let _ = self.meta.set(meta);
+                let map = match fields {
                     Value::Object(m) => m,
                     other => {
                         let mut m = Map::new();
@@ -269,13 +317,27 @@ impl Message {
         Ok(d.bind(py))
     }
 
+    /// The field `key`, or the error `missing` makes of the sentence that says there is none.
+    fn field_or<'py>(
+        &self,
+        py: Python<'py>,
+        key: &str,
+        missing: fn(String) -> PyErr,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.fields(py)?
+            .get_item(key)?
+            .ok_or_else(|| missing(format!("{} has no field '{key}'", self.name_str())))
+    }
+
     fn name_str(&self) -> &'static str {
         self.body.name()
     }
 }
 
-#[pymethods]
+event_methods! {
 impl Message {
+    is_error: false;
+
     /// The message's name, e.g. `GYRO`, `POSITION`, `SET_PARAMETER`, `HEARTBEAT`; the field
     /// `name` where the message has one (GDL90 FOREFLIGHT_ID: the device's name), as
     /// `m["name"]`.
@@ -301,12 +363,15 @@ impl Message {
         if let Some(field) = self.field_named(py, "id")? {
             return Ok(Some(field));
         }
-        let (meta, fields) = self.event();
-        let id = match self.proto {
-            Proto::Aydp => meta.get("type").and_then(Value::as_u64),
-            Proto::Aok => crate::aok::first_byte(self.body.name(), &fields).map(u64::from),
-            Proto::Aeolus | Proto::Gdl90 => meta.get("id").and_then(Value::as_u64),
-        };
+        // From the typed item: the same number as `meta["id"]` (AYDP: `meta["type"]`), nothing
+        // rendered.
+        let id = self.body.with(|p| match &p.item {
+            Item::Aeolus { frame, .. } => Some(frame.id()),
+            Item::Aydp { frame, .. } => Some(frame.base_type()),
+            Item::Gdl90(m) => Some(m.id()),
+            item @ (Item::AokCommand(_) | Item::AokMessage(_)) => crate::aok::first_byte(item),
+            Item::Error(_) => None,
+        });
         id.map(|id| id.into_bound_py_any(py)).transpose()
     }
 
@@ -337,43 +402,11 @@ impl Message {
             .transpose()
     }
 
-    /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
-    #[getter]
-    fn proto(&self) -> &'static str {
-        proto_name(self.proto)
-    }
-
     /// What `protolink decode` prints about the frame before the fields: AEOLUS `id`, `len`,
     /// `crc`; AYDP `type`, `expedited`, `len`, `time`; AOK `len`; GDL90 `id`, `len`.
     #[getter]
     fn meta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        value::dict(py, &self.meta_map())
-    }
-
-    /// When it was captured, seconds since the Unix epoch: the record's time in a capture file,
-    /// the host's clock when the bytes arrived on a live link; None otherwise.
-    #[getter]
-    fn capture_time(&self) -> Option<f64> {
-        self.origin.as_ref().and_then(|o| o.capture_time)
-    }
-
-    /// The capture's flow it came in (`udp 127.0.0.1:40000 > 127.0.0.1:5001`); None outside a
-    /// capture.
-    #[getter]
-    fn flow(&self) -> Option<&str> {
-        self.origin.as_ref().and_then(|o| o.flow.as_deref())
-    }
-
-    /// The number of the capture record it came in, from 1; None outside a capture.
-    #[getter]
-    fn frame(&self) -> Option<u64> {
-        self.origin.as_ref().and_then(|o| o.frame)
-    }
-
-    /// False: this is a message, not an [`ErrorEvent`].
-    #[getter]
-    fn is_error(&self) -> bool {
-        false
+        value::dict(py, self.meta_map())
     }
 
     /// The fields as a new dict, exactly the `"fields"` of `protolink decode --json`.
@@ -384,23 +417,11 @@ impl Message {
     /// A field as an attribute (Python asks here only when an attribute is not found, so the
     /// class's own attributes, `name` among them, come first).
     fn __getattr__<'py>(&self, py: Python<'py>, attr: &str) -> PyResult<Bound<'py, PyAny>> {
-        match self.fields(py)?.get_item(attr)? {
-            Some(v) => Ok(v),
-            None => Err(PyAttributeError::new_err(format!(
-                "{} has no field '{attr}'",
-                self.name_str()
-            ))),
-        }
+        self.field_or(py, attr, PyAttributeError::new_err)
     }
 
     fn __getitem__<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
-        match self.fields(py)?.get_item(key)? {
-            Some(v) => Ok(v),
-            None => Err(PyKeyError::new_err(format!(
-                "{} has no field '{key}'",
-                self.name_str()
-            ))),
-        }
+        self.field_or(py, key, PyKeyError::new_err)
     }
 
     fn __contains__(&self, py: Python<'_>, key: &str) -> PyResult<bool> {
@@ -423,9 +444,12 @@ impl Message {
         Ok(format!("{}({})", self.name_str(), parts.join(", ")))
     }
 }
+}
 
-#[pymethods]
+event_methods! {
 impl ErrorEvent {
+    is_error: true;
+
     /// `ERROR`, so that `m.name` tells messages and errors apart.
     #[getter]
     fn name(&self) -> &'static str {
@@ -476,36 +500,6 @@ impl ErrorEvent {
         Ok(self.wire_len)
     }
 
-    /// The protocol: `aeolus`, `aydp`, `aok` or `gdl90`.
-    #[getter]
-    fn proto(&self) -> &'static str {
-        proto_name(self.proto)
-    }
-
-    /// As `Message.capture_time`.
-    #[getter]
-    fn capture_time(&self) -> Option<f64> {
-        self.origin.as_ref().and_then(|o| o.capture_time)
-    }
-
-    /// As `Message.flow`.
-    #[getter]
-    fn flow(&self) -> Option<&str> {
-        self.origin.as_ref().and_then(|o| o.flow.as_deref())
-    }
-
-    /// As `Message.frame`.
-    #[getter]
-    fn frame(&self) -> Option<u64> {
-        self.origin.as_ref().and_then(|o| o.frame)
-    }
-
-    /// True.
-    #[getter]
-    fn is_error(&self) -> bool {
-        true
-    }
-
     /// `{"kind": ..., "error": ...}`.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
@@ -520,4 +514,5 @@ impl ErrorEvent {
             self.kind, self.offset, self.error
         )
     }
+}
 }

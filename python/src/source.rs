@@ -18,7 +18,7 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
 use protolink::commands::decode::tables::Select;
 use protolink::endpoint::{Endpoint, Input, Link};
-use protolink::proto::{ProfileArg, Proto, Side};
+use protolink::proto::{Proto, Side};
 use pyo3::exceptions::{
     PyConnectionRefusedError, PyFileNotFoundError, PyOSError, PyPermissionError, PyRuntimeError,
     PyTypeError, PyValueError,
@@ -27,7 +27,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use serde_json::Value;
 
-use crate::decoder::choose;
+use crate::decoder::{PROFILES, SIDES, choose};
 use crate::message::{Origin, to_object};
 use crate::stream::{Pending, Stream};
 use crate::value;
@@ -447,20 +447,9 @@ pub(crate) fn select(
 ) -> PyResult<Select> {
     let proto = proto.map(|p| choose("proto", p, &PROTOS)).transpose()?;
     let profile = profile
-        .map(|p| {
-            choose(
-                "profile",
-                p,
-                &[
-                    ("spec", ProfileArg::Spec),
-                    ("reference", ProfileArg::Reference),
-                ],
-            )
-        })
+        .map(|p| choose("profile", p, &PROFILES))
         .transpose()?;
-    let side = side.map_or(Ok(Side::Device), |s| {
-        choose("side", s, &[("device", Side::Device), ("pc", Side::Pc)])
-    })?;
+    let side = side.map_or(Ok(Side::Device), |s| choose("side", s, &SIDES))?;
     Ok(Select {
         proto,
         profile,

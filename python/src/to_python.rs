@@ -85,6 +85,36 @@ fn tagged<'py>(py: Python<'py>, variant: &str, value: Bound<'py, PyAny>) -> Out<
     Ok(d.into_any())
 }
 
+/// `Serializer` methods that widen a small integer to the 64-bit one of its sign.
+macro_rules! widen {
+    ($($method:ident($t:ty) => $wide:ident($w:ty)),* $(,)?) => {$(
+        fn $method(self, v: $t) -> Out<'py> {
+            self.$wide(<$w>::from(v))
+        }
+    )*};
+}
+
+/// The `Serializer` methods that start a named `$builder` (a tuple struct's list, a struct's
+/// dict) as `$start` does, and one tagged by its variant (a tuple or struct variant).
+macro_rules! starts {
+    ($builder:ident: $start:ident => $named:ident, $variant:ident) => {
+        fn $named(self, _name: &'static str, len: usize) -> Result<$builder<'py>, Error> {
+            self.$start(Some(len))
+        }
+        fn $variant(
+            self,
+            _name: &'static str,
+            _i: u32,
+            variant: &'static str,
+            len: usize,
+        ) -> Result<$builder<'py>, Error> {
+            let mut b = self.$start(Some(len))?;
+            b.variant = Some(variant);
+            Ok(b)
+        }
+    };
+}
+
 impl<'py> ser::Serializer for Serializer<'py> {
     type Ok = Bound<'py, PyAny>;
     type Error = Error;
@@ -99,27 +129,17 @@ impl<'py> ser::Serializer for Serializer<'py> {
     fn serialize_bool(self, v: bool) -> Out<'py> {
         Ok(PyBool::new(self.py, v).to_owned().into_any())
     }
-    fn serialize_i8(self, v: i8) -> Out<'py> {
-        self.serialize_i64(i64::from(v))
-    }
-    fn serialize_i16(self, v: i16) -> Out<'py> {
-        self.serialize_i64(i64::from(v))
-    }
-    fn serialize_i32(self, v: i32) -> Out<'py> {
-        self.serialize_i64(i64::from(v))
-    }
+    widen!(
+        serialize_i8(i8) => serialize_i64(i64),
+        serialize_i16(i16) => serialize_i64(i64),
+        serialize_i32(i32) => serialize_i64(i64),
+        serialize_u8(u8) => serialize_u64(u64),
+        serialize_u16(u16) => serialize_u64(u64),
+        serialize_u32(u32) => serialize_u64(u64),
+    );
     fn serialize_i64(self, v: i64) -> Out<'py> {
         let Ok(n) = v.into_pyobject(self.py);
         Ok(n.into_any())
-    }
-    fn serialize_u8(self, v: u8) -> Out<'py> {
-        self.serialize_u64(u64::from(v))
-    }
-    fn serialize_u16(self, v: u16) -> Out<'py> {
-        self.serialize_u64(u64::from(v))
-    }
-    fn serialize_u32(self, v: u32) -> Out<'py> {
-        self.serialize_u64(u64::from(v))
     }
     fn serialize_u64(self, v: u64) -> Out<'py> {
         let Ok(n) = v.into_pyobject(self.py);
@@ -187,20 +207,7 @@ impl<'py> ser::Serializer for Serializer<'py> {
     fn serialize_tuple(self, len: usize) -> Result<Seq<'py>, Error> {
         self.serialize_seq(Some(len))
     }
-    fn serialize_tuple_struct(self, _name: &'static str, len: usize) -> Result<Seq<'py>, Error> {
-        self.serialize_seq(Some(len))
-    }
-    fn serialize_tuple_variant(
-        self,
-        _name: &'static str,
-        _i: u32,
-        variant: &'static str,
-        len: usize,
-    ) -> Result<Seq<'py>, Error> {
-        let mut s = self.serialize_seq(Some(len))?;
-        s.variant = Some(variant);
-        Ok(s)
-    }
+    starts!(Seq: serialize_seq => serialize_tuple_struct, serialize_tuple_variant);
     fn serialize_map(self, _len: Option<usize>) -> Result<Map<'py>, Error> {
         Ok(Map {
             py: self.py,
@@ -209,20 +216,7 @@ impl<'py> ser::Serializer for Serializer<'py> {
             variant: None,
         })
     }
-    fn serialize_struct(self, _name: &'static str, len: usize) -> Result<Map<'py>, Error> {
-        self.serialize_map(Some(len))
-    }
-    fn serialize_struct_variant(
-        self,
-        _name: &'static str,
-        _i: u32,
-        variant: &'static str,
-        len: usize,
-    ) -> Result<Map<'py>, Error> {
-        let mut m = self.serialize_map(Some(len))?;
-        m.variant = Some(variant);
-        Ok(m)
-    }
+    starts!(Map: serialize_map => serialize_struct, serialize_struct_variant);
 }
 
 /// A list being built (a sequence, tuple or tuple variant).
@@ -247,49 +241,31 @@ impl<'py> Seq<'py> {
     }
 }
 
-impl<'py> ser::SerializeSeq for Seq<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
+/// The serde trait `$trait` for a list or dict being built: `$method` hands each value (and,
+/// for a struct, its field name) to the builder's `$add`, and `end` finishes it.
+macro_rules! serialize_into {
+    ($builder:ident: $trait:ident::$method:ident($($key:ident: $k:ty)?) => $add:ident) => {
+        impl<'py> ser::$trait for $builder<'py> {
+            type Ok = Bound<'py, PyAny>;
+            type Error = Error;
+            fn $method<T: Serialize + ?Sized>(
+                &mut self,
+                $($key: $k,)?
+                value: &T,
+            ) -> Result<(), Error> {
+                self.$add($($key,)? value)
+            }
+            fn end(self) -> Out<'py> {
+                self.done()
+            }
+        }
+    };
 }
 
-impl<'py> ser::SerializeTuple for Seq<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
-}
-
-impl<'py> ser::SerializeTupleStruct for Seq<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
-}
-
-impl<'py> ser::SerializeTupleVariant for Seq<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
-}
+serialize_into!(Seq: SerializeSeq::serialize_element() => push);
+serialize_into!(Seq: SerializeTuple::serialize_element() => push);
+serialize_into!(Seq: SerializeTupleStruct::serialize_field() => push);
+serialize_into!(Seq: SerializeTupleVariant::serialize_field() => push);
 
 /// A dict being built (a map, struct or struct variant).
 pub(crate) struct Map<'py> {
@@ -300,6 +276,16 @@ pub(crate) struct Map<'py> {
 }
 
 impl<'py> Map<'py> {
+    /// A struct's field.
+    fn field<T: Serialize + ?Sized>(&mut self, key: &'static str, value: &T) -> Result<(), Error> {
+        // Field names are few and fixed: interned, their hash is computed once.
+        self.dict.set_item(
+            PyString::intern(self.py, key),
+            value.serialize(Serializer { py: self.py })?,
+        )?;
+        Ok(())
+    }
+
     fn done(self) -> Out<'py> {
         match self.variant {
             Some(v) => tagged(self.py, v, self.dict.into_any()),
@@ -334,39 +320,5 @@ impl<'py> ser::SerializeMap for Map<'py> {
     }
 }
 
-impl<'py> ser::SerializeStruct for Map<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), Error> {
-        // Field names are few and fixed: interned, their hash is computed once.
-        self.dict.set_item(
-            PyString::intern(self.py, key),
-            value.serialize(Serializer { py: self.py })?,
-        )?;
-        Ok(())
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
-}
-
-impl<'py> ser::SerializeStructVariant for Map<'py> {
-    type Ok = Bound<'py, PyAny>;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), Error> {
-        self.dict
-            .set_item(key, value.serialize(Serializer { py: self.py })?)?;
-        Ok(())
-    }
-    fn end(self) -> Out<'py> {
-        self.done()
-    }
-}
+serialize_into!(Map: SerializeStruct::serialize_field(key: &'static str) => field);
+serialize_into!(Map: SerializeStructVariant::serialize_field(key: &'static str) => field);
