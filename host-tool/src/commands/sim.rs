@@ -396,7 +396,8 @@ const MAX_BEHIND: Duration = Duration::from_millis(50);
 /// Runs `protolink sim`.
 ///
 /// # Errors
-/// A flight option out of range, the sockets cannot be opened, or the output fails.
+/// A flight option out of range, the sockets cannot be opened, the output fails, or every
+/// datagram's send failed.
 pub(crate) fn run(args: &SimArgs) -> Result<()> {
     let settings = args.settings()?;
     let (mut packer, in_socket) = args.udp.open()?;
@@ -455,7 +456,8 @@ pub(crate) fn run(args: &SimArgs) -> Result<()> {
         "sim decoder: {}",
         text(&to_json(&sim.link.rx_stats()))
     ))?;
-    out.flush()
+    out.flush()?;
+    packer.check()
 }
 
 /// The progress line on stderr: refreshed in place every second on a terminal, a line every
