@@ -3,12 +3,13 @@
 //! `--pack` and `--broadcast` arguments ([`UdpArgs`]).
 
 use std::io;
-use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
+use std::net::{IpAddr, SocketAddr, UdpSocket};
 use std::time::{Duration, Instant};
 
 use clap::Args;
 
 use crate::endpoint::parse_local_addr;
+use crate::endpoint::udp_out::{Sends, bind_for};
 use crate::error::{Error, Result};
 
 /// The largest datagram a pack may grow to: one Ethernet MTU less the IP and UDP headers, so
@@ -80,30 +81,25 @@ pub(crate) struct Packer {
     pack: Vec<u8>,
     frames: usize,
     since: Option<Instant>,
-    counters: SendCounters,
-    last_error: Option<io::Error>,
+    /// Frames that went out inside a datagram.
+    frames_sent: u64,
+    sends: Sends,
 }
 
 impl Packer {
-    /// A packer sending to `to` (from an ephemeral port on 127.0.0.1 when `to` is a loopback
-    /// address, on every interface otherwise), `pack` frames per datagram at most (0 is
-    /// taken as 1). `broadcast` allows a broadcast destination.
+    /// A packer sending to `to` (from an ephemeral port of `to`'s family, on the loopback
+    /// address when `to` is one, on every interface otherwise: [`bind_for`]), `pack` frames
+    /// per datagram at most (0 is taken as 1). `broadcast` allows a broadcast destination.
     ///
     /// # Errors
     /// Binding the socket or allowing broadcast fails.
     pub(crate) fn open(to: SocketAddr, broadcast: bool, pack: u16) -> Result<Self> {
-        let bind = if to.ip().is_loopback() {
-            SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), 0)
-        } else {
-            SocketAddr::new(IpAddr::V4(Ipv4Addr::UNSPECIFIED), 0)
-        };
-        let open_err = |source| Error::Open {
-            endpoint: format!("a UDP socket for {to}"),
-            source,
-        };
-        let socket = UdpSocket::bind(bind).map_err(open_err)?;
+        let socket = bind_for(to, false)?;
         if broadcast {
-            socket.set_broadcast(true).map_err(open_err)?;
+            socket.set_broadcast(true).map_err(|source| Error::Open {
+                endpoint: format!("a UDP socket for {to}"),
+                source,
+            })?;
         }
         Ok(Packer {
             socket,
@@ -112,8 +108,8 @@ impl Packer {
             pack: Vec::with_capacity(MAX_DATAGRAM),
             frames: 0,
             since: None,
-            counters: SendCounters::default(),
-            last_error: None,
+            frames_sent: 0,
+            sends: Sends::default(),
         })
     }
 
@@ -124,25 +120,20 @@ impl Packer {
 
     /// What has been sent so far.
     pub(crate) fn counters(&self) -> SendCounters {
-        self.counters
+        SendCounters {
+            frames: self.frames_sent,
+            datagrams: self.sends.sent,
+            errors: self.sends.failed,
+        }
     }
 
     /// Fails when datagrams were to be sent and not one of them went out, naming the last
-    /// reason: a box whose every send fails must not look like one that worked.
+    /// reason ([`Sends::check`], the rule of every command that sends).
     ///
     /// # Errors
     /// [`Error::Io`] with the last send error.
     pub(crate) fn check(&mut self) -> Result<()> {
-        match self.last_error.take() {
-            Some(source) if self.counters.datagrams == 0 => Err(Error::Io {
-                what: format!(
-                    "sending every one of {} datagrams to {}",
-                    self.counters.errors, self.to
-                ),
-                source,
-            }),
-            _ => Ok(()),
-        }
+        self.sends.check(self.to)
     }
 
     /// Adds one escaped frame (flags included); sends the pack when it is full.
@@ -170,15 +161,8 @@ impl Packer {
         if self.pack.is_empty() {
             return;
         }
-        match self.socket.send_to(&self.pack, self.to) {
-            Ok(_) => {
-                self.counters.datagrams += 1;
-                self.counters.frames += self.frames as u64;
-            }
-            Err(e) => {
-                self.counters.errors += 1;
-                self.last_error = Some(e);
-            }
+        if self.sends.count(self.socket.send_to(&self.pack, self.to)) {
+            self.frames_sent += self.frames as u64;
         }
         self.pack.clear();
         self.frames = 0;

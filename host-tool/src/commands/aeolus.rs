@@ -18,6 +18,7 @@ use aeolus_proto::{CrcMode, Decode};
 use clap::{Args, Subcommand};
 
 use crate::decoders::AEOLUS_CAPACITY;
+use crate::endpoint::udp_out::bind_for;
 use crate::endpoint::{Endpoint, Input, Link};
 use crate::error::{Error, Result};
 use crate::progress::Spinner;
@@ -178,18 +179,10 @@ pub(crate) fn run(args: &AeolusArgs) -> Result<()> {
         None => None,
     };
     let mut target = match &args.to {
-        Endpoint::Udp(to) => {
-            let bind: SocketAddr = if to.ip().is_loopback() {
-                ([127, 0, 0, 1], 0).into()
-            } else {
-                ([0, 0, 0, 0], 0).into()
-            };
-            let socket = UdpSocket::bind(bind).map_err(|source| Error::Open {
-                endpoint: format!("a UDP socket for {to}"),
-                source,
-            })?;
-            Target::Datagram { socket, to: *to }
-        }
+        Endpoint::Udp(to) => Target::Datagram {
+            socket: bind_for(*to, false)?,
+            to: *to,
+        },
         other => Target::Uart(other.open()?),
     };
     match &mut target {

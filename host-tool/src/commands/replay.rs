@@ -8,13 +8,14 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::net::{Ipv4Addr, SocketAddr, UdpSocket};
+use std::net::{SocketAddr, UdpSocket};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use clap::Args;
 
 use crate::capture::{CaptureReader, Payload};
+use crate::endpoint::udp_out::bind_for;
 use crate::endpoint::{Endpoint, Link};
 use crate::error::{Error, Result};
 use crate::stop::{self, Deadline};
@@ -56,20 +57,10 @@ enum Sink {
 impl Sink {
     fn open(to: &Endpoint) -> Result<Self> {
         match to {
-            Endpoint::Udp(addr) => {
-                let local: SocketAddr = if addr.ip().is_loopback() {
-                    (Ipv4Addr::LOCALHOST, 0).into()
-                } else if addr.is_ipv4() {
-                    (Ipv4Addr::UNSPECIFIED, 0).into()
-                } else {
-                    (std::net::Ipv6Addr::UNSPECIFIED, 0).into()
-                };
-                let socket = UdpSocket::bind(local).map_err(|source| Error::Open {
-                    endpoint: to.to_string(),
-                    source,
-                })?;
-                Ok(Sink::Udp { socket, to: *addr })
-            }
+            Endpoint::Udp(addr) => Ok(Sink::Udp {
+                socket: bind_for(*addr, false)?,
+                to: *addr,
+            }),
             Endpoint::File(path) => {
                 let f = File::create(path).map_err(|source| Error::Open {
                     endpoint: to.to_string(),

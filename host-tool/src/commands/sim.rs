@@ -43,8 +43,11 @@ pub(crate) struct SimArgs {
     /// The UDP side: telemetry out, COMMAND and SETTIME in.
     #[command(flatten)]
     pub(crate) udp: UdpArgs,
-    /// Simulated true airspeed, m/s (5..=150; the firmware's default otherwise).
-    #[arg(long, value_name = "M/S", value_parser = |t: &str| crate::args::number_in(t, 5.0, 150.0, "m/s"))]
+    /// Simulated true airspeed, m/s (10..=150, the box's own range; the firmware's default
+    /// otherwise).
+    // The box's range (AYDP 0x0110): its simulated wind blows at 5 m/s, and the flight needs
+    // an airspeed above the wind, so the flight model's own floor (5 m/s) cannot be flown.
+    #[arg(long, value_name = "M/S", value_parser = |t: &str| crate::args::number_in(t, 10.0, 150.0, "m/s"))]
     pub(crate) airspeed: Option<f32>,
     /// Simulated bank angle, degrees (-60..=60; positive turns right).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true,
@@ -396,7 +399,8 @@ const MAX_BEHIND: Duration = Duration::from_millis(50);
 /// Runs `protolink sim`.
 ///
 /// # Errors
-/// A flight option out of range, the sockets cannot be opened, or the output fails.
+/// A flight option out of range, the sockets cannot be opened, the output fails, or every
+/// datagram's send failed.
 pub(crate) fn run(args: &SimArgs) -> Result<()> {
     let settings = args.settings()?;
     let (mut packer, in_socket) = args.udp.open()?;
@@ -455,7 +459,8 @@ pub(crate) fn run(args: &SimArgs) -> Result<()> {
         "sim decoder: {}",
         text(&to_json(&sim.link.rx_stats()))
     ))?;
-    out.flush()
+    out.flush()?;
+    packer.check()
 }
 
 /// The progress line on stderr: refreshed in place every second on a terminal, a line every

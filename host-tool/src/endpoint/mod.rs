@@ -15,9 +15,11 @@
 //! | --- | --- |
 //! | [`address`] | the syntax: [`Endpoint`] from and to text, [`parse_local_addr`] |
 //! | [`link`] | opening an endpoint as a byte stream: [`Link`], [`Input`] |
+//! | [`udp_out`] | sending datagrams to a destination: a socket of its family, and the rule for the run's outcome |
 
 pub(crate) mod address;
 pub(crate) mod link;
+pub(crate) mod udp_out;
 
 pub use address::{DEFAULT_BAUD, Endpoint, parse_local_addr};
 pub use link::{CONNECT_TIMEOUT, Input, Link, STDIN_CHUNKS};

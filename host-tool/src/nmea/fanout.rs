@@ -20,9 +20,10 @@
 
 use std::collections::VecDeque;
 use std::io::{self, Read as _, Write as _};
-use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::time::{Duration, Instant};
 
+use crate::endpoint::udp_out::{Sends, bind_for};
 use crate::error::{Error, Result};
 
 /// Most clients served at once.
@@ -94,7 +95,8 @@ enum Sink {
 pub(crate) struct Fanout {
     sink: Sink,
     counters: Counters,
-    last_error: Option<io::Error>,
+    /// The datagrams' outcome (UDP).
+    sends: Sends,
     stall_limit: Duration,
 }
 
@@ -116,22 +118,13 @@ impl Fanout {
         }))
     }
 
-    /// A UDP sender to `to`, from an ephemeral port on 127.0.0.1 for a loopback destination
-    /// (every interface otherwise).
+    /// A UDP sender to `to`, from an ephemeral port of its family, on the loopback address
+    /// for a loopback destination (every interface otherwise): [`bind_for`].
     ///
     /// # Errors
     /// No socket can be bound.
     pub(crate) fn udp(to: SocketAddr) -> Result<Self> {
-        let ip = if to.ip().is_loopback() {
-            Ipv4Addr::LOCALHOST
-        } else {
-            Ipv4Addr::UNSPECIFIED
-        };
-        let socket =
-            UdpSocket::bind(SocketAddr::new(IpAddr::V4(ip), 0)).map_err(|source| Error::Open {
-                endpoint: format!("a UDP socket for {to}"),
-                source,
-            })?;
+        let socket = bind_for(to, false)?;
         Ok(Self::with(Sink::Udp { socket, to }))
     }
 
@@ -139,7 +132,7 @@ impl Fanout {
         Fanout {
             sink,
             counters: Counters::default(),
-            last_error: None,
+            sends: Sends::default(),
             stall_limit: STALL_LIMIT,
         }
     }
@@ -183,9 +176,8 @@ impl Fanout {
                 }
             }
             Sink::Udp { socket, to } => {
-                if let Err(e) = socket.send_to(line, *to) {
+                if !self.sends.count(socket.send_to(line, *to)) {
                     self.counters.send_errors += 1;
-                    self.last_error = Some(e);
                 }
             }
         }
@@ -249,23 +241,16 @@ impl Fanout {
         self.counters.disconnected += (before - clients.len()) as u64;
     }
 
-    /// Fails when lines were to go out as datagrams and not one did.
+    /// Fails when lines were to go out as datagrams and not one did ([`Sends::check`], the
+    /// rule of every command that sends).
     ///
     /// # Errors
     /// [`Error::Io`] with the last send error.
     pub(crate) fn check(&mut self) -> Result<()> {
-        match self.last_error.take() {
-            Some(source) if self.counters.send_errors == self.counters.lines => Err(Error::Io {
-                what: format!(
-                    "sending every one of {} datagrams to {}",
-                    self.counters.send_errors,
-                    self.local_addr()
-                        .map_or_else(|_| "?".to_owned(), |a| a.to_string())
-                ),
-                source,
-            }),
-            _ => Ok(()),
-        }
+        let to = self
+            .local_addr()
+            .map_or_else(|_| "?".to_owned(), |a| a.to_string());
+        self.sends.check(to)
     }
 }
 

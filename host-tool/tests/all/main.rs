@@ -11,6 +11,7 @@ mod cli;
 mod columns;
 mod common;
 mod decode;
+mod destinations;
 mod gdl90;
 mod gpsd;
 mod hostile;

@@ -156,7 +156,7 @@ fn sim_packs_frames_into_datagrams() {
 fn sim_refuses_an_impossible_flight_in_one_sentence() {
     let err = usage_failed(&run(&["sim", "--airspeed", "500", "--seconds", "1"]));
     assert!(
-        err.contains("'500' is out of range: expected a number from 5 to 150 m/s"),
+        err.contains("'500' is out of range: expected a number from 10 to 150 m/s"),
         "{err}"
     );
     let err = usage_failed(&run(&["sim", "--bank", "-75", "--seconds", "1"]));
@@ -173,6 +173,67 @@ fn sim_refuses_an_impossible_flight_in_one_sentence() {
         "error: cannot simulate that flight: climb rate above half the airspeed",
         "{err}"
     );
+}
+
+/// Every flight option at each end of the range its help states simulates (status 0), and
+/// just past an end is refused on the command line (status 2) with the range: the help, the
+/// parser and the flight agree. The airspeed's range is the box's own (AYDP 0x0110, 10..=150
+/// m/s): the simulated wind blows at 5 m/s, and the flight needs an airspeed above it.
+#[test]
+fn sim_flies_at_every_bound_its_help_states() {
+    let help = stdout(&run(&["sim", "--help"]));
+    for stated in ["10..=150", "-60..=60", "-500..=11000"] {
+        assert!(help.contains(stated), "{stated} not in the help:\n{help}");
+    }
+    let to = format!("127.0.0.1:{}", free_udp_port());
+    let fly = |option: &str, value: &str, extra: &[&str]| {
+        let flag = format!("--{option}={value}");
+        let mut args = vec![
+            "sim",
+            "--udp-out",
+            &to,
+            "--udp-in",
+            "0",
+            "--seconds",
+            "0.1",
+            &flag,
+        ];
+        args.extend_from_slice(extra);
+        run(&args)
+    };
+    for (option, value, extra) in [
+        ("airspeed", "10", &[][..]),
+        ("airspeed", "150", &[]),
+        ("bank", "-60", &[]),
+        ("bank", "60", &[]),
+        ("altitude", "-500", &[]),
+        ("altitude", "11000", &[]),
+        // At most half the airspeed: 75 m/s at 150 m/s, 5 m/s at 10 m/s.
+        ("climb", "75", &["--airspeed", "150"]),
+        ("climb", "-75", &["--airspeed", "150"]),
+        ("climb", "5", &["--airspeed", "10"]),
+    ] {
+        let out = fly(option, value, extra);
+        assert!(
+            out.status.success(),
+            "--{option}={value} {extra:?}: {}",
+            stderr(&out)
+        );
+    }
+    for (option, value) in [
+        ("airspeed", "9.99"),
+        ("airspeed", "5"),
+        ("airspeed", "150.01"),
+        ("bank", "60.01"),
+        ("altitude", "-500.01"),
+        ("altitude", "11000.01"),
+    ] {
+        let err = usage_failed(&fly(option, value, &[]));
+        assert!(
+            err.contains("is out of range: expected a number from"),
+            "{err}"
+        );
+    }
 }
 
 /// `--gps-outage 1..2`: the GPS frames the sim sends in that second have no fix, the others

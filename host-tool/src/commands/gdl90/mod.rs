@@ -42,6 +42,7 @@ use serde_json::json;
 
 use crate::air_data::AirDataSource;
 use crate::decoders::AEOLUS_CAPACITY;
+use crate::endpoint::udp_out::{Sends, bind_for};
 use crate::endpoint::{Endpoint, Input, parse_local_addr};
 use crate::error::{Error, Result};
 use crate::fresh::fresh;
@@ -402,6 +403,7 @@ pub(crate) fn run(args: &Gdl90Args) -> Result<()> {
                 let _ = writeln!(std::io::stderr(), "gdl90: {note}");
             })
         {
+            sender.follow(addr)?;
             to = addr;
         }
         let now = Instant::now();
@@ -479,43 +481,60 @@ impl Discovery {
     }
 }
 
-/// Encodes into one buffer and sends it, counting failures.
+/// Encodes into one buffer and sends it, counting what went out and what failed.
 struct Sender {
     socket: UdpSocket,
+    /// Whether the socket is bound to every interface (`--discover`).
+    every_interface: bool,
+    broadcast: bool,
     wire: [u8; gdl90_proto::MAX_ENCODED_LEN],
-    errors: u64,
-    last_error: Option<std::io::Error>,
+    sends: Sends,
 }
 
 impl Sender {
     /// The destination (`--to`, or the `--broadcast` address on its port) and a sender bound
-    /// to an ephemeral port: on every interface with `--discover` (the announcer may be on any
-    /// network) or for a destination off this machine, else on 127.0.0.1.
+    /// to an ephemeral port of the destination's family ([`bind_for`]): on every interface
+    /// with `--discover` (the announcer may be on any network) or for a destination off this
+    /// machine, else on the loopback address.
     fn open(args: &Gdl90Args) -> Result<(SocketAddr, Self)> {
         let to = match args.broadcast {
             Some(b) => SocketAddr::new(b, args.to.port()),
             None => args.to,
         };
-        let bind: SocketAddr = if to.ip().is_loopback() && args.discover.is_none() {
-            ([127, 0, 0, 1], 0).into()
-        } else {
-            ([0, 0, 0, 0], 0).into()
-        };
-        let open_err = |source| Error::Open {
-            endpoint: format!("a UDP socket for {to}"),
-            source,
-        };
-        let socket = UdpSocket::bind(bind).map_err(open_err)?;
-        if args.broadcast.is_some() {
-            socket.set_broadcast(true).map_err(open_err)?;
-        }
+        let every_interface = args.discover.is_some();
         let sender = Sender {
-            socket,
+            socket: Self::bind(to, every_interface, args.broadcast.is_some())?,
+            every_interface,
+            broadcast: args.broadcast.is_some(),
             wire: [0; gdl90_proto::MAX_ENCODED_LEN],
-            errors: 0,
-            last_error: None,
+            sends: Sends::default(),
         };
         Ok((to, sender))
+    }
+
+    fn bind(to: SocketAddr, every_interface: bool, broadcast: bool) -> Result<UdpSocket> {
+        let socket = bind_for(to, every_interface)?;
+        if broadcast {
+            socket.set_broadcast(true).map_err(|source| Error::Open {
+                endpoint: format!("a UDP socket for {to}"),
+                source,
+            })?;
+        }
+        Ok(socket)
+    }
+
+    /// Sends to `to` from now on: a destination of the other family (an IPv4 announcer
+    /// after an IPv6 `--to`) gets a socket of its own family.
+    fn follow(&mut self, to: SocketAddr) -> Result<()> {
+        let family = |a: SocketAddr| a.is_ipv4();
+        if self
+            .socket
+            .local_addr()
+            .is_ok_and(|l| family(l) != family(to))
+        {
+            self.socket = Self::bind(to, self.every_interface, self.broadcast)?;
+        }
+        Ok(())
     }
 
     /// The AHRS messages `kind` asks for.
@@ -557,23 +576,14 @@ impl Sender {
         }
     }
 
-    /// Prints the counters; fails when datagrams were to go out and not one did.
-    fn finish(self, to: SocketAddr, mut counters: Counters) -> Result<()> {
-        counters.send_errors = self.errors;
+    /// Prints the counters; fails when datagrams were to go out and not one did
+    /// ([`Sends::check`], the rule of every command that sends).
+    fn finish(mut self, to: SocketAddr, mut counters: Counters) -> Result<()> {
+        counters.send_errors = self.sends.failed;
         let mut out = Out::new();
         out.line(&format!("gdl90: {}", text(&json!(counters))))?;
         out.flush()?;
-        let sent = counters.heartbeats + counters.ahrs + counters.stratux_ahrs;
-        match self.last_error {
-            Some(source) if sent == 0 => Err(Error::Io {
-                what: format!(
-                    "sending every one of {} datagrams to {to}",
-                    counters.send_errors
-                ),
-                source,
-            }),
-            _ => Ok(()),
-        }
+        self.sends.check(to)
     }
 
     /// Encodes with `encode` and sends to `to`; 1 when it went out, else 0.
@@ -585,14 +595,8 @@ impl Sender {
         let Ok(n) = encode(&mut self.wire) else {
             return 0;
         };
-        match self.socket.send_to(self.wire.get(..n).unwrap_or(&[]), to) {
-            Ok(_) => 1,
-            Err(e) => {
-                self.errors += 1;
-                self.last_error = Some(e);
-                0
-            }
-        }
+        let sent = self.socket.send_to(self.wire.get(..n).unwrap_or(&[]), to);
+        u64::from(self.sends.count(sent))
     }
 }
 
