@@ -105,18 +105,9 @@ impl AeolusDecoder {
     /// d.finish(|p| seen.push(p.to_event().to_text()));
     /// assert_eq!(seen, ["@0 error: input ends inside a frame"]);
     /// ```
-    pub fn finish(&mut self, mut on_item: impl FnMut(Placed<'_>)) {
-        let truncated = &mut self.truncated;
-        self.input.finish(|at, len, event| {
-            if event.is_err() {
-                *truncated = truncated.wrapping_add(1);
-                on_item(Placed {
-                    offset: at,
-                    len,
-                    item: Item::Error(Fault::Cut(CUT_SHORT)),
-                });
-            }
-        });
+    pub fn finish(&mut self, on_item: impl FnMut(Placed<'_>)) {
+        self.input
+            .cut_short(CUT_SHORT, &mut self.truncated, on_item);
     }
 
     /// The counters, as `decode` prints them in its summary: the crate's `Stats` plus

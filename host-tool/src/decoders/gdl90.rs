@@ -81,7 +81,8 @@ impl Gdl90Decoder {
     /// assert_eq!(seen, ["@0 error: datagram ends inside a frame"]);
     /// ```
     pub fn end_of_datagram(&mut self, on_item: impl FnMut(Placed<'_>)) {
-        self.give_up("datagram ends inside a frame", on_item);
+        self.input
+            .cut_short("datagram ends inside a frame", &mut self.truncated, on_item);
         // The datagram's closing flag opens no frame for the next one.
         self.input.decoder_mut().reset();
     }
@@ -96,23 +97,8 @@ impl Gdl90Decoder {
     /// assert_eq!((n, d.counters()["truncated"].as_u64()), (1, Some(1)));
     /// ```
     pub fn finish(&mut self, on_item: impl FnMut(Placed<'_>)) {
-        self.give_up(CUT_SHORT, on_item);
-    }
-
-    /// The end of a stream (`why`: of the datagram, of the input): a frame in progress is
-    /// given up as `truncated`.
-    fn give_up(&mut self, why: &'static str, mut on_item: impl FnMut(Placed<'_>)) {
-        let truncated = &mut self.truncated;
-        self.input.finish(|at, len, event| {
-            if event.is_err() {
-                *truncated = truncated.wrapping_add(1);
-                on_item(Placed {
-                    offset: at,
-                    len,
-                    item: Item::Error(Fault::Cut(why)),
-                });
-            }
-        });
+        self.input
+            .cut_short(CUT_SHORT, &mut self.truncated, on_item);
     }
 
     /// The counters, as `decode` prints them in its summary: the crate's `Stats` plus

@@ -3,6 +3,8 @@
 
 use aeolus_proto::{Decode, Stream};
 
+use super::{Fault, Item, Placed};
+
 /// A decoder and where its stream sits in the input: each event comes with the input offset
 /// of its first byte and its length on the wire, from the event's place in the stream. The
 /// caller says at which input offset each slice starts; a gap between slices (datagrams in a
@@ -57,6 +59,28 @@ impl<D: Decode> Input<D> {
         let delta = self.delta;
         self.stream.finish(|place, event| {
             on_event(place.offset.wrapping_add(delta), place.len as u64, event);
+        });
+    }
+}
+
+impl<D: Decode> Input<D> {
+    /// The stream ended (`why`: the sentence that says which end): a frame in progress is
+    /// given up as [`Fault::Cut`], counted in `truncated`.
+    pub(crate) fn cut_short(
+        &mut self,
+        why: &'static str,
+        truncated: &mut u32,
+        mut on_item: impl FnMut(Placed<'_>),
+    ) {
+        self.finish(|at, len, event| {
+            if event.is_err() {
+                *truncated = truncated.wrapping_add(1);
+                on_item(Placed {
+                    offset: at,
+                    len,
+                    item: Item::Error(Fault::Cut(why)),
+                });
+            }
         });
     }
 }
