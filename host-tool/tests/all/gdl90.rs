@@ -329,6 +329,16 @@ fn udp_on(ip: &str) -> (UdpSocket, u16) {
 /// 3 s on a second one on 127.0.0.3; returns the GDL90 datagrams each got after the second
 /// began, those that went to `--to`, and the run's stderr and stdout.
 fn discover_with(discover: &str) -> (usize, usize, usize, String, String) {
+    // A turn at UDP 63093, which `--discover` binds on every interface: the lock of one file
+    // in the temporary folder, which protolink-tests' README and help examples take around their
+    // `--discover` runs too (`harness::discovery_port_turn`); they run beside these in CI.
+    let turn = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(std::env::temp_dir().join("protolink-tests-udp-63093.lock"))
+        .expect("the discovery port's lock file");
+    turn.lock().expect("the discovery port's lock");
     let (first, first_port) = udp_on("127.0.0.2");
     let (second, second_port) = udp_on("127.0.0.3");
     let (unused, unused_port) = udp();

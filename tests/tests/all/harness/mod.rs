@@ -877,12 +877,24 @@ pub const RUN_LIMIT: Duration = Duration::from_secs(30);
 
 /// A turn at UDP 63093, ForeFlight's fixed discovery port, which `protolink gdl90 --discover`
 /// binds on every interface: taken around such a run (an example of `protolink_help` and of
-/// `readme_examples`, which may run at the same time), `None` for any other run.
-pub fn discovery_port_turn<S: AsRef<str>>(args: &[S]) -> Option<MutexGuard<'static, ()>> {
-    static DISCOVERY_PORT: Mutex<()> = Mutex::new(());
+/// `readme_examples`, which may run at the same time), `None` for any other run. The turn is a
+/// lock on one file in the temporary folder, held until the file is dropped, so that it holds
+/// across processes too: host-tool's `gdl90` tests, which run beside these in CI, take the same
+/// file's lock around their `--discover` runs.
+pub fn discovery_port_turn<S: AsRef<str>>(args: &[S]) -> Option<std::fs::File> {
     args.iter()
         .any(|a| a.as_ref().starts_with("--discover"))
-        .then(|| DISCOVERY_PORT.lock().unwrap_or_else(|e| e.into_inner()))
+        .then(|| {
+            let path = std::env::temp_dir().join("protolink-tests-udp-63093.lock");
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .truncate(false)
+                .write(true)
+                .open(&path)
+                .expect("the discovery port's lock file");
+            file.lock().expect("the discovery port's lock");
+            file
+        })
 }
 
 /// A `protolink` command whose state (`gdl90`'s ownship file, `$XDG_STATE_HOME`) stays in
