@@ -16,7 +16,11 @@ on_both_boards!(
 
 /// Runs `protolink ARGS`, asserts a zero exit, returns stdout.
 fn protolink_ok(args: &[&str]) -> String {
-    let out = finish(spawn_protolink(args));
+    succeeded(args, finish(spawn_protolink(args)))
+}
+
+/// Asserts that the run of `protolink ARGS` that gave `out` exited 0; its stdout.
+fn succeeded(args: &[&str], out: std::process::Output) -> String {
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
@@ -256,14 +260,7 @@ fn protolink_aok_get_set_waypoint(board: Board) {
         if unanswered {
             return protolink_ok(&all);
         }
-        let stdout = String::from_utf8_lossy(&first.stdout).into_owned();
-        assert!(
-            first.status.success(),
-            "protolink {all:?} failed ({:?})\nstdout:\n{stdout}\nstderr:\n{}",
-            first.status,
-            String::from_utf8_lossy(&first.stderr)
-        );
-        stdout
+        succeeded(&all, first)
     };
 
     assert_eq!(aok(&["get", "12"]), "parameter 12 = 0\n");
