@@ -359,8 +359,6 @@ impl Proto for pl_aydp_decoder {
         m.kind = PL_AYDP_UNKNOWN;
         m
     };
-    const BYTEWISE: bool = true;
-
     fn fill(frame: Frame<'_>, msg: &mut pl_aydp_message, err: &mut pl_error) -> i32 {
         let t = frame.timestamp().unwrap_or_default();
         let data = frame.data();

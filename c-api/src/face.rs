@@ -30,12 +30,6 @@ pub(crate) trait Proto: State<Inner = Stream<Self::Dec>> {
     /// the struct has one (what `PL_ERROR` leaves in it unless the error concerns a whole
     /// frame).
     const EMPTY: Self::Msg;
-    /// The decoder's item may borrow the slice given to `decode` (AYDP): `parse` then decodes
-    /// one byte at a time, so that a message's `data` points into the decoder, as promised.
-    /// (AYDP takes a frame whole in the caller's slice whenever it holds nothing, which a
-    /// rescan can bring about in the middle of a call: only one byte a call rules it out.)
-    const BYTEWISE: bool = false;
-
     /// Fills `msg` from an item (and `err`, for a frame with a good check whose typed parse
     /// failed, leaving its raw data in `msg`); returns the status.
     fn fill(item: <Self::Dec as Decode>::Item<'_>, msg: &mut Self::Msg, err: &mut pl_error) -> i32;
@@ -99,33 +93,22 @@ fn convert<P: Proto>(
     status
 }
 
-/// Decodes `input` up to the first event (`bytewise`: one byte a `decode` call) and hands it
-/// to the caller's structs: the bytes used and the status (`PL_NOTHING`: every byte used, no
-/// event). The one place `decode` is called, for `parse` and `feed` alike: with a second call
-/// site LLVM keeps AOK's `decode` out of line, where a slice copy's length check in it
-/// (`Held::keep`) survives and the panic-never link of `tests/firmware.sh` fails.
+/// Decodes `input` up to the first event and hands it to the caller's structs: the bytes
+/// used and the status (`PL_NOTHING`: every byte used, no event). An item found in place in
+/// `input` (AYDP's whole frames) is first copied into the decoder ([`Stream::next_kept`]), so
+/// that a message's `data` points into the decoder, as the header promises. The one place
+/// `decode` is called, for `parse` and `feed` alike: with a second call site LLVM keeps AOK's
+/// `decode` out of line, where a slice copy's length check in it (`Held::keep`) survives and
+/// the panic-never link of `tests/firmware.sh` fails.
 fn step<P: Proto>(
     f: &mut Stream<P::Dec>,
     input: &[u8],
-    bytewise: bool,
     msg: &mut P::Msg,
     err: &mut pl_error,
 ) -> (usize, i32) {
-    let mut used = 0;
-    loop {
-        let rest = input.get(used..).unwrap_or(&[]);
-        let chunk = if bytewise {
-            rest.get(..1).unwrap_or(&[])
-        } else {
-            rest
-        };
-        let (n, event) = f.next_event(chunk);
-        used += n;
-        match event {
-            Some(event) => return (used, convert::<P>(event, msg, err)),
-            None if used >= input.len() => return (used, PL_NOTHING),
-            None => {}
-        }
+    match f.next_kept(input) {
+        (used, Some(event)) => (used, convert::<P>(event, msg, err)),
+        (used, None) => (used, PL_NOTHING),
     }
 }
 
@@ -167,7 +150,7 @@ pub(crate) unsafe fn parse<P: Proto>(
     ) else {
         return PL_E_NULL;
     };
-    let (n, status) = step::<P>(f, input, P::BYTEWISE, msg, err);
+    let (n, status) = step::<P>(f, input, msg, err);
     *used = n;
     status
 }
@@ -196,7 +179,7 @@ pub(crate) unsafe fn feed<P: Proto>(
     let (mut msg, mut err) = (P::EMPTY, pl_error::default());
     let mut rest = input;
     loop {
-        let (n, status) = step::<P>(f, rest, false, &mut msg, &mut err);
+        let (n, status) = step::<P>(f, rest, &mut msg, &mut err);
         if status == PL_NOTHING {
             return PL_NOTHING;
         }

@@ -247,6 +247,66 @@ fn aydp_round_trips_in_both_profiles_and_polls_after_a_rescan() {
 }
 
 #[test]
+fn aydp_parse_of_a_whole_buffer_hands_data_inside_the_decoder() {
+    // Whole frames in the caller's buffer, which the AYDP decoder finds in place: `data` must
+    // still point into the decoder, and hold the frame's bytes after the buffer is rewritten.
+    let (len, _) = sizes();
+    let capture: Vec<u8> = include_bytes!("../../testdata/qemu-uart1-aydp.bin")
+        .iter()
+        .copied()
+        .cycle()
+        .take(len)
+        .collect();
+    let mut d = MaybeUninit::<pl_aydp_decoder>::uninit();
+    // SAFETY: writable storage.
+    assert_eq!(unsafe { pl_aydp_init(d.as_mut_ptr(), PL_AYDP_SPEC) }, 0);
+    let inside = d.as_ptr().cast::<u8>()
+        ..d.as_ptr()
+            .cast::<u8>()
+            .wrapping_add(size_of::<pl_aydp_decoder>());
+    let mut buffer = capture.to_vec();
+    let (mut msg, mut err): (pl_aydp_message, _) = (zeroed(), pl_error::default());
+    let (mut off, mut messages) = (0, 0);
+    loop {
+        let mut used = 0;
+        // SAFETY: a set-up decoder; the rest of a live buffer; live outputs.
+        let st = unsafe {
+            pl_aydp_parse(
+                d.as_mut_ptr(),
+                buffer[off..].as_ptr(),
+                buffer.len() - off,
+                &mut used,
+                &mut msg,
+                &mut err,
+            )
+        };
+        off += used;
+        if st == PL_NOTHING {
+            break;
+        }
+        if st != PL_MESSAGE || msg.data_len == 0 {
+            continue;
+        }
+        messages += 1;
+        let at = usize::try_from(msg.offset).expect("a small offset");
+        let wire = capture[at..at + msg.wire_len as usize].to_vec();
+        assert!(
+            inside.contains(&msg.data),
+            "message {messages} at {at}: data outside the decoder"
+        );
+        buffer[at..at + wire.len()].fill(0xA5);
+        // SAFETY: a delivered message's data points into the decoder, valid until the next call.
+        let data = unsafe { core::slice::from_raw_parts(msg.data, msg.data_len) };
+        assert_eq!(
+            data,
+            &wire[wire.len() - 1 - data.len()..wire.len() - 1],
+            "message at {at}"
+        );
+    }
+    assert!(messages > 50, "{messages} messages");
+}
+
+#[test]
 fn aok_command_round_trip_and_expected_reply() {
     let cmd = pl_aok_item {
         kind: PL_AOK_SET_PARAMETER,
@@ -1103,32 +1163,19 @@ fn a_misaligned_state_is_refused_by_init_and_every_call() {
 #[test]
 fn the_archive_reports_its_abi_version_and_the_header_sizes() {
     assert_eq!(state::pl_abi_version(), state::PL_ABI_VERSION);
+    use state::{
+        PL_STATE_AEOLUS, PL_STATE_AOK_DEVICE, PL_STATE_AOK_PC, PL_STATE_AYDP, PL_STATE_GDL90,
+    };
+    /// A state's kind, its Rust size and the header's size.
+    fn row<T>(kind: u32, header: usize) -> (u32, usize, usize) {
+        (kind, size_of::<T>(), header)
+    }
     let states = [
-        (
-            state::PL_STATE_AEOLUS,
-            size_of::<pl_aeolus_decoder>(),
-            PL_AEOLUS_DECODER_SIZE,
-        ),
-        (
-            state::PL_STATE_AYDP,
-            size_of::<pl_aydp_decoder>(),
-            PL_AYDP_DECODER_SIZE,
-        ),
-        (
-            state::PL_STATE_AOK_DEVICE,
-            size_of::<pl_aok_device_decoder>(),
-            PL_AOK_DECODER_SIZE,
-        ),
-        (
-            state::PL_STATE_AOK_PC,
-            size_of::<pl_aok_pc_decoder>(),
-            PL_AOK_DECODER_SIZE,
-        ),
-        (
-            state::PL_STATE_GDL90,
-            size_of::<pl_gdl90_decoder>(),
-            PL_GDL90_DECODER_SIZE,
-        ),
+        row::<pl_aeolus_decoder>(PL_STATE_AEOLUS, PL_AEOLUS_DECODER_SIZE),
+        row::<pl_aydp_decoder>(PL_STATE_AYDP, PL_AYDP_DECODER_SIZE),
+        row::<pl_aok_device_decoder>(PL_STATE_AOK_DEVICE, PL_AOK_DECODER_SIZE),
+        row::<pl_aok_pc_decoder>(PL_STATE_AOK_PC, PL_AOK_DECODER_SIZE),
+        row::<pl_gdl90_decoder>(PL_STATE_GDL90, PL_GDL90_DECODER_SIZE),
     ];
     for (kind, size, header) in states {
         assert_eq!(

@@ -213,6 +213,30 @@ pub trait Decode {
     /// ```
     fn span(&self) -> Span;
 
+    /// Makes the item that `found` stands for the decoder's own when it lies in `input` (an
+    /// item found in place in the caller's slice, as AYDP finds a whole frame): the bytes are
+    /// copied into the decoder, and the value returned stands for them there, so that
+    /// [`Decode::item`] no longer reads `input`. For a caller that keeps an item after its
+    /// bytes are gone (a C caller's buffer, which a DMA may write again). The default returns
+    /// `found` as it is: for a decoder whose items never borrow the input.
+    /// [`crate::Stream::next_kept`] calls it.
+    ///
+    /// ```
+    /// # struct Bytes; impl frame_io::Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<frame_io::Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(frame_io::Event::Error(0))), Some(&x) => (1, Some(frame_io::Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self) -> Option<frame_io::Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> frame_io::Span { frame_io::Span { len: 1, after: 0 } } }
+    /// use frame_io::Decode;
+    /// // `Bytes` carries its items in `Found`: there is nothing to copy.
+    /// assert_eq!(Bytes.keep(&[7], 7), 7);
+    /// ```
+    #[inline(always)]
+    fn keep(&mut self, input: &[u8], found: Self::Found) -> Self::Found {
+        let _ = input;
+        found
+    }
+
     /// The pull form for a caller: decodes `bytes` up to and including the byte that gives
     /// the first event, and returns how many bytes that used and the event, as the item (it
     /// may borrow the decoder or `bytes`) or the error. `None`: every byte was used and

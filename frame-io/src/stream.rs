@@ -7,7 +7,8 @@ use crate::{Decode, Event, Place};
 /// the bytes the decoder uses and gives every event with its [`Place`] in the stream (from the
 /// decoder's [`Decode::span`]), whatever slices the bytes come in, the end of the stream
 /// included. The forms are those of [`Decode`]: [`Stream::feed`] and [`Stream::finish`] (the
-/// one loop), [`Stream::next_event`] and [`Stream::end_event`] (one event a call).
+/// one loop), [`Stream::next_event`] and [`Stream::end_event`] (one event a call), and
+/// [`Stream::next_kept`] for a caller that keeps an item after its bytes are gone.
 ///
 /// ```
 /// # use frame_io::{Decode, Event, Span};
@@ -150,6 +151,40 @@ impl<D: Decode> Stream<D> {
         let (used, event) = self.decoder.decode(bytes);
         self.used = self.used.wrapping_add(used as u64);
         let event = event.map(|event| self.placed(bytes, event));
+        (used, event)
+    }
+
+    /// [`Stream::next_event`] for a caller that keeps the item after `bytes` are gone: an item
+    /// found in place in `bytes` is first copied into the decoder ([`Decode::keep`]), so the
+    /// item borrows the stream only. The events and places are those of `next_event`.
+    ///
+    /// ```
+    /// # use frame_io::{Decode, Event, Place, Span};
+    /// # struct Bytes; impl Decode for Bytes { type Error = u8; type Found = u8; type Item<'a> = u8; const TRUNCATED: u8 = 0;
+    /// # fn decode(&mut self, b: &[u8]) -> (usize, Option<Event<u8, u8>>) { match b.first() { Some(&0) => (1, Some(Event::Error(0))), Some(&x) => (1, Some(Event::Found(x))), None => (0, None) } }
+    /// # fn end(&mut self) -> Option<Event<u8, u8>> { None }
+    /// # fn item(&self, _: &[u8], x: u8) -> u8 { x }
+    /// # fn span(&self) -> Span { Span { len: 1, after: 0 } } }
+    /// let mut stream = frame_io::Stream::new(Bytes);
+    /// let mut buffer = [5, 0];
+    /// let (used, event) = stream.next_kept(&buffer);
+    /// buffer = [0; 2]; // the caller's bytes change; the item does not borrow them
+    /// assert_eq!((used, event), (1, Some((Place { offset: 0, len: 1 }, Ok(5)))));
+    /// # let _ = buffer;
+    /// ```
+    #[inline]
+    #[allow(clippy::type_complexity)] // spelt out: it is what a caller matches on
+    pub fn next_kept(
+        &mut self,
+        bytes: &[u8],
+    ) -> (usize, Option<(Place, Result<D::Item<'_>, D::Error>)>) {
+        let (used, event) = self.decoder.decode(bytes);
+        self.used = self.used.wrapping_add(used as u64);
+        let event = event.map(|event| match event {
+            Event::Found(found) => Event::Found(self.decoder.keep(bytes, found)),
+            other => other,
+        });
+        let event = event.map(|event| self.placed(&[], event));
         (used, event)
     }
 

@@ -479,6 +479,27 @@ impl<const N: usize> Decode for Decoder<N> {
         Frame::new_unchecked(bytes.unwrap_or(&[]), self.profile)
     }
 
+    /// A frame found in place (`(Some(at), len)`) is copied to the front of the buffer, where
+    /// a frame the decoder held would be; nothing is held after a frame found in place, so
+    /// nothing is overwritten. A frame always fits: the step takes none longer than `N`.
+    #[inline]
+    fn keep(&mut self, input: &[u8], found: (Option<usize>, usize)) -> (Option<usize>, usize) {
+        let (Some(at), len) = found else {
+            return found;
+        };
+        let (Some(frame), Some(to)) = (
+            input.get(at..at.saturating_add(len)),
+            self.buf.get_mut(..len),
+        ) else {
+            return found;
+        };
+        for (d, s) in to.iter_mut().zip(frame) {
+            *d = *s;
+        }
+        (self.start, self.len) = (len, len);
+        (None, len)
+    }
+
     /// Recorded once an event, never a byte: see above for each event's bytes.
     #[inline]
     fn span(&self) -> Span {

@@ -21,6 +21,7 @@ mod frame_len;
 mod io;
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]
 mod io_parts;
+mod kept;
 mod place;
 mod profile_rules;
 #[cfg(all(feature = "embedded-io", feature = "embedded-io-async"))]

@@ -130,6 +130,23 @@ fn check(
 const LEN: usize = if cfg!(miri) { 1500 } else { 3000 };
 const PIECES: &[usize] = if cfg!(miri) { &[1] } else { &[1, 7, 64] };
 
+/// The run of a flag-framed protocol (AEOLUS, GDL90) over `stream` in pieces of `chunk`: its
+/// events (`one_loop`), the bytes its counters account for (flags, discarded, held) and the
+/// bytes of its frames. `calls` are its `parse`, `finish` and `get_stats`, `d` a set-up
+/// decoder.
+macro_rules! flag_run {
+    ($calls:expr, $Stats:ty, $place:expr, $d:ident, $stream:expr, $chunk:expr) => {{
+        let (parse, finish, get_stats) = $calls;
+        // SAFETY: a set-up decoder.
+        let ev = unsafe { one_loop(parse, finish, $place, $d.as_mut_ptr(), $stream, $chunk) };
+        let mut st = <$Stats>::default();
+        // SAFETY: as above.
+        assert_eq!(unsafe { get_stats($d.as_ptr(), &mut st) }, 0);
+        let counted = st.flags + st.bytes_discarded + st.held_bytes;
+        (ev, u64::from(counted), u64::from(st.frame_bytes))
+    }};
+}
+
 fn cycle(capture: &[u8], len: usize) -> Vec<u8> {
     capture.iter().copied().cycle().take(len).collect()
 }
@@ -150,14 +167,8 @@ fn aeolus_places_every_frame_and_accounts_for_every_byte() {
                 m.wire_len > 0 || (m.id == 0 && m.data.is_null()),
             )
         };
-        let (p, f) = (pl_aeolus_parse, pl_aeolus_finish);
-        // SAFETY: a set-up decoder.
-        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
-        let mut st = pl_aeolus_stats::default();
-        // SAFETY: as above.
-        assert_eq!(unsafe { pl_aeolus_get_stats(d.as_ptr(), &mut st) }, 0);
-        let counted = st.flags + st.bytes_discarded + st.held_bytes;
-        (ev, u64::from(counted), u64::from(st.frame_bytes))
+        let calls = (pl_aeolus_parse, pl_aeolus_finish, pl_aeolus_get_stats);
+        flag_run!(calls, pl_aeolus_stats, place, d, s, chunk)
     };
     check(&stream, run, 2, |f| f[0] == 0x7E && f[f.len() - 1] == 0x7E);
 }
@@ -193,14 +204,8 @@ fn gdl90_places_every_frame_and_accounts_for_every_byte() {
             let cleared = m.kind == PL_GDL90_UNKNOWN && m.id == 0 && m.data.is_null();
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
-        let (p, f) = (pl_gdl90_parse, pl_gdl90_finish);
-        // SAFETY: a set-up decoder.
-        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
-        let mut st = pl_gdl90_stats::default();
-        // SAFETY: as above.
-        assert_eq!(unsafe { pl_gdl90_get_stats(d.as_ptr(), &mut st) }, 0);
-        let counted = st.flags + st.bytes_discarded + st.held_bytes;
-        (ev, u64::from(counted), u64::from(st.frame_bytes))
+        let calls = (pl_gdl90_parse, pl_gdl90_finish, pl_gdl90_get_stats);
+        flag_run!(calls, pl_gdl90_stats, place, d, s, chunk)
     };
     check(&stream, run, 2, |f| f[0] == 0x7E && f[f.len() - 1] == 0x7E);
 }
