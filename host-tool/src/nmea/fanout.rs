@@ -1,8 +1,13 @@
 //! Lines to many readers without letting one hold up the rest: a TCP server whose every
 //! client has its own bounded queue, or a UDP sender (one datagram per line).
 //!
-//! Everything is bounded: at most [`MAX_CLIENTS`] clients (one more is accepted and closed at
-//! once, and counted as refused), at most [`QUEUE_BYTES`] queued for each. A client that reads
+//! Everything is bounded: at most [`MAX_CLIENTS`] clients, at most [`MAX_PER_PEER`] of them
+//! from one address, at most [`QUEUE_BYTES`] queued for each. A client from an address at its
+//! limit is accepted and closed at once, counted as refused. When every place is taken, a
+//! client from an address that holds fewer takes the place of the oldest client of the address
+//! that holds the most (counted as replaced), if that address would still hold more; otherwise
+//! it is refused. So no other address can hold the user's place, whether its clients read or
+//! not. A client that reads
 //! too slowly loses whole lines, never parts of one: a line that does not fit its queue is
 //! dropped for that client alone and counted. Sockets are non-blocking, so no client can stall
 //! the loop or the others.
@@ -28,6 +33,9 @@ use crate::error::{Error, Result};
 
 /// Most clients served at once.
 pub(crate) const MAX_CLIENTS: usize = 8;
+/// Most clients from one address at once (a tablet running a glide computer, a moving map and
+/// a logger).
+pub(crate) const MAX_PER_PEER: usize = 3;
 /// Bytes queued for one client at most (about 200 sentences: several seconds of output).
 pub(crate) const QUEUE_BYTES: usize = 16 * 1024;
 /// Bytes read (and discarded) from one client per turn: what a client sends is not used.
@@ -45,8 +53,12 @@ pub(crate) struct Counters {
     pub(crate) lines: u64,
     /// Clients accepted (TCP).
     pub(crate) clients: u64,
-    /// Clients turned away because [`MAX_CLIENTS`] were connected (TCP).
+    /// Clients turned away: their address held [`MAX_PER_PEER`], or every place was held by
+    /// addresses with no more than their share (TCP).
     pub(crate) refused: u64,
+    /// Clients closed to give their place to a client from an address holding fewer (also
+    /// counted as disconnected).
+    pub(crate) replaced: u64,
     /// Clients gone (closed by them, a write failed, or evicted).
     pub(crate) disconnected: u64,
     /// Clients let go after [`STALL_LIMIT`] behind (also counted as disconnected).
@@ -191,12 +203,29 @@ impl Fanout {
             return;
         };
         while let Ok((stream, peer)) = listener.accept() {
-            if clients.len() >= MAX_CLIENTS || stream.set_nonblocking(true).is_err() {
+            let place = match place_for(clients, peer) {
+                Ok(place) => place,
+                Err(why) => {
+                    self.counters.refused += 1;
+                    note(&format!("refused {peer}: {why}"));
+                    continue;
+                }
+            };
+            if stream.set_nonblocking(true).is_err() {
                 self.counters.refused += 1;
                 note(&format!(
-                    "refused {peer}: {MAX_CLIENTS} clients are connected"
+                    "refused {peer}: its socket cannot be made non-blocking"
                 ));
                 continue;
+            }
+            if let Some(at) = place {
+                let old = clients.remove(at);
+                self.counters.replaced += 1;
+                self.counters.disconnected += 1;
+                note(&format!(
+                    "closed {} to make room for {peer}: its address held the most clients ({} lines dropped for it)",
+                    old.peer, old.dropped
+                ));
             }
             // A small kernel buffer: a client that reads nothing is seen behind sooner. Where
             // the option cannot be set, the client is served with the system's buffer.
@@ -254,6 +283,30 @@ impl Fanout {
     }
 }
 
+/// Where a new client from `peer` goes among `clients`: `Ok(None)` a free place, `Ok(Some(i))`
+/// the place of client `i` (the oldest of the address holding the most, when every place is
+/// taken and that address would still hold more than `peer`), or the reason it is refused.
+fn place_for(clients: &[Client], peer: SocketAddr) -> std::result::Result<Option<usize>, String> {
+    let held = |ip| clients.iter().filter(|c| c.peer.ip() == ip).count();
+    let mine = held(peer.ip());
+    if mine >= MAX_PER_PEER {
+        return Err(format!("its address has {MAX_PER_PEER} clients connected"));
+    }
+    if clients.len() < MAX_CLIENTS {
+        return Ok(None);
+    }
+    let crowded = clients
+        .iter()
+        .map(|c| c.peer.ip())
+        .max_by_key(|&ip| held(ip));
+    match crowded {
+        Some(ip) if held(ip) > mine + 1 => Ok(clients.iter().position(|c| c.peer.ip() == ip)),
+        _ => Err(format!(
+            "{MAX_CLIENTS} clients are connected, no address more than its share"
+        )),
+    }
+}
+
 impl Client {
     /// Writes what the socket takes and reads what the client sent; an error once it is gone
     /// or has been behind for `limit`.
@@ -297,6 +350,23 @@ impl Client {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A client connected from `from` (an address of 127/8: another machine to the server).
+    fn connect_from(from: [u8; 4], to: SocketAddr) -> TcpStream {
+        use socket2::{Domain, Socket, Type};
+        let s = Socket::new(Domain::IPV4, Type::STREAM, None).unwrap();
+        s.bind(&SocketAddr::from((from, 0)).into()).unwrap();
+        s.connect(&to.into()).unwrap();
+        s.into()
+    }
+
+    /// Polls until `done` or 5 s.
+    fn poll_until(out: &mut Fanout, notes: &mut Vec<String>, done: impl Fn(Counters) -> bool) {
+        let started = Instant::now();
+        while !done(out.counters()) && started.elapsed() < Duration::from_secs(5) {
+            out.poll(|n| notes.push(n.to_owned()));
+        }
+    }
 
     fn accept_one(out: &mut Fanout) {
         let started = Instant::now();
@@ -345,7 +415,7 @@ mod tests {
         let addr = out.local_addr().unwrap();
         let mut reader = TcpStream::connect(addr).unwrap();
         let silent: Vec<TcpStream> = (0..MAX_CLIENTS - 1)
-            .map(|_| TcpStream::connect(addr).unwrap())
+            .map(|n| connect_from([127, 0, 1, n as u8], addr))
             .collect();
         let started = Instant::now();
         while out.counters().clients < MAX_CLIENTS as u64
@@ -354,8 +424,8 @@ mod tests {
             out.poll(|_| {});
         }
         assert_eq!(out.counters().clients, MAX_CLIENTS as u64);
-        // A ninth is refused while the eight are connected.
-        let _early = TcpStream::connect(addr).unwrap();
+        // A ninth, from an address of its own, is refused while the eight are connected.
+        let _early = connect_from([127, 0, 2, 1], addr);
         while out.counters().refused == 0 && started.elapsed() < Duration::from_secs(5) {
             out.poll(|_| {});
         }
@@ -389,7 +459,7 @@ mod tests {
         assert_eq!(c.evicted, silent.len() as u64, "{c:?} {notes:?}");
         assert_eq!(c.disconnected, c.evicted, "the reading client stays: {c:?}");
         assert!(
-            notes.iter().any(|n| n.starts_with("evicted 127.0.0.1:")),
+            notes.iter().any(|n| n.starts_with("evicted 127.0.1.")),
             "{notes:?}"
         );
         // Their places are free: a new client is served.
@@ -415,7 +485,7 @@ mod tests {
         let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap()).unwrap();
         let addr = out.local_addr().unwrap();
         let mut streams: Vec<TcpStream> = (0..MAX_CLIENTS + 2)
-            .map(|_| TcpStream::connect(addr).unwrap())
+            .map(|n| connect_from([127, 0, 1, n as u8], addr))
             .collect();
         let started = Instant::now();
         while out.counters().clients + out.counters().refused < (MAX_CLIENTS + 2) as u64
@@ -432,6 +502,69 @@ mod tests {
             out.poll(|_| {});
         }
         assert_eq!(out.counters().disconnected, 1, "the one closed client");
+    }
+
+    /// One address holds at most its share: its fourth client is refused, and when every place
+    /// is taken the user's client takes the place of the crowded address's oldest, whether
+    /// that one reads or not, and gets every line.
+    #[test]
+    fn another_address_cannot_hold_the_users_place() {
+        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap()).unwrap();
+        let addr = out.local_addr().unwrap();
+        let mut notes = Vec::new();
+        let crowd: Vec<_> = (0..MAX_PER_PEER + 1)
+            .map(|_| connect_from([127, 0, 0, 2], addr))
+            .collect();
+        poll_until(&mut out, &mut notes, |c| {
+            c.clients + c.refused == crowd.len() as u64
+        });
+        let c = out.counters();
+        assert_eq!(
+            (c.clients, c.refused),
+            (MAX_PER_PEER as u64, 1),
+            "{notes:?}"
+        );
+        assert!(
+            notes.iter().any(|n| n.starts_with("refused 127.0.0.2:")),
+            "{notes:?}"
+        );
+        // Every place taken: 3 + 3 + 2 clients from three other addresses.
+        let more: Vec<_> = [3, 3, 3, 4, 4]
+            .iter()
+            .map(|&n| connect_from([127, 0, 0, n], addr))
+            .collect();
+        poll_until(&mut out, &mut notes, |c| c.clients == MAX_CLIENTS as u64);
+        assert_eq!(out.counters().clients, MAX_CLIENTS as u64);
+        let mut user = connect_from([127, 0, 0, 1], addr);
+        user.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        poll_until(&mut out, &mut notes, |c| c.replaced == 1);
+        let c = out.counters();
+        assert_eq!(
+            (c.replaced, c.refused, c.disconnected),
+            (1, 1, 1),
+            "{notes:?}"
+        );
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.starts_with("closed 127.0.0.2:") || n.starts_with("closed 127.0.0.3:")),
+            "{notes:?}"
+        );
+        out.send(b"$PGRMZ,2282,f,2*20\r\n");
+        out.poll(|_| {});
+        let mut got = [0u8; 20];
+        user.read_exact(&mut got).unwrap();
+        assert_eq!(&got, b"$PGRMZ,2282,f,2*20\r\n");
+        // Another new address takes the place of the most crowded address's oldest client; then
+        // a second client of the user's would only swap shares, and is refused.
+        let _fifth = connect_from([127, 0, 0, 5], addr);
+        poll_until(&mut out, &mut notes, |c| c.replaced == 2);
+        assert_eq!(out.counters().replaced, 2, "{notes:?}");
+        let _second = connect_from([127, 0, 0, 1], addr);
+        poll_until(&mut out, &mut notes, |c| c.refused == 2);
+        let c = out.counters();
+        assert_eq!((c.replaced, c.refused, c.clients), (2, 2, 10), "{notes:?}");
+        drop((crowd, more));
     }
 }
 

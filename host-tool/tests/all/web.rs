@@ -345,11 +345,12 @@ fn the_server_is_read_only_and_bounded() {
     let _silent = TcpStream::connect(addr).unwrap();
     assert_eq!(http_get(addr, "/api/state").0, 200);
 
-    // Eight live clients are served (each read to its end by a thread of its own); the ninth
-    // is refused and counted.
+    // Eight live clients from eight addresses are served (each read to its end by a thread of
+    // its own); a ninth, from an address of its own, is refused and counted: no address holds
+    // more than its share.
     let mut streams = Vec::new();
-    for _ in 0..8 {
-        let mut s = TcpStream::connect(addr).unwrap();
+    for n in 0..8 {
+        let mut s = connect_from([127, 0, 1, n], addr).unwrap();
         s.write_all(b"GET /events HTTP/1.1\r\n\r\n").unwrap();
         s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
         let mut head = [0u8; 15];
@@ -559,4 +560,115 @@ fn hostile_peers_leave_a_normal_page_and_its_stream_served() {
         slow_connections.load(Ordering::Relaxed) > 12,
         "the slow clients kept at it"
     );
+}
+
+/// A live-update stream asked for from `from`, its status line read: the stream stays open,
+/// unread from here on (a client that takes nothing), until it is dropped.
+fn stream_from(from: [u8; 4], to: SocketAddr) -> (TcpStream, String) {
+    let mut s = connect_from(from, to).expect("connect");
+    s.write_all(b"GET /events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        .unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let mut head = [0u8; 15];
+    let status = match s.read_exact(&mut head) {
+        Ok(()) => String::from_utf8_lossy(&head).into_owned(),
+        Err(e) => e.to_string(),
+    };
+    (s, status)
+}
+
+/// Eight streams from another address, read or never read, cannot hold the user's place: the
+/// newest of a crowded address takes its oldest's, and the user's page gets its stream at once.
+#[test]
+fn another_address_cannot_hold_the_users_stream() {
+    let (_web, addr) = web("udp:17981");
+    for read in [false, true] {
+        let crowd: Vec<_> = (0..8)
+            .map(|_| {
+                let (s, status) = stream_from([127, 0, 0, 2], addr);
+                assert_eq!(status, "HTTP/1.1 200 OK");
+                if read {
+                    let mut reader = s.try_clone().unwrap();
+                    std::thread::spawn(move || std::io::copy(&mut reader, &mut std::io::sink()));
+                }
+                s
+            })
+            .collect();
+        let events = format!("GET /events HTTP/1.1\r\nHost: {addr}\r\n\r\n");
+        let (status, live) = ask_from([127, 0, 0, 1], addr, &events);
+        assert!(
+            status.contains(" 200 ") && live,
+            "the user's stream beside 8 {} from another address: {status}",
+            if read {
+                "readers"
+            } else {
+                "clients that never read"
+            }
+        );
+        for s in crowd {
+            let _ = s.shutdown(std::net::Shutdown::Both);
+        }
+        state_when(addr, "every stream gone", |v| v["server"]["clients"] == 0);
+    }
+    // Of each eight, the third to the eighth took the place of an older one.
+    let v = state_when(addr, "the counters", |v| v["server"]["replaced"] == 12);
+    assert_eq!(v["server"]["refused"], 0, "{v}");
+}
+
+/// The page's stream, refused while every place is held by other addresses, comes back by
+/// itself once one is free; meanwhile the page polls the state.
+#[test]
+fn the_page_comes_back_after_its_stream_is_refused_in_chromium() {
+    let Some(chromium) = chromium() else { return };
+    let (out, cmd) = (17_982, 17_983);
+    let (_web, addr) = web(&format!("udp:{out}"));
+    let _sim = sim(out, cmd);
+    // Every place held: eight other addresses, one stream each, reading.
+    let held: Vec<_> = (0..8)
+        .map(|n| {
+            let (s, status) = stream_from([127, 0, 2, n], addr);
+            assert_eq!(status, "HTTP/1.1 200 OK");
+            let mut reader = s.try_clone().unwrap();
+            std::thread::spawn(move || std::io::copy(&mut reader, &mut std::io::sink()));
+            s
+        })
+        .collect();
+    let page = Page::open(&chromium, &format!("http://{addr}/"));
+    let efis = page.wait_for(
+        "the state polled while refused",
+        Duration::from_secs(20),
+        |e| e["polled"].as_u64() > Some(2) && e["connected"] == false && e["roll_deg"].is_number(),
+    );
+    let badge = page.eval("document.getElementById('link').textContent");
+    assert!(
+        badge
+            .as_str()
+            .unwrap_or_default()
+            .starts_with("refused: retrying"),
+        "{badge} ({efis})"
+    );
+    let v = state_when(addr, "the refusal counted", |v| {
+        v["server"]["refused"].as_u64() > Some(0)
+    });
+    assert_eq!(v["server"]["clients"], 8, "{v}");
+    for s in held {
+        let _ = s.shutdown(std::net::Shutdown::Both);
+    }
+    // The retries back off from 1 s to at most 30 s: the next one comes within 30 s.
+    let efis = page.wait_for("the stream back", Duration::from_secs(40), |e| {
+        e["connected"] == true && e["stream_retries"].as_u64() > Some(0)
+    });
+    let frames = efis["frames"].as_u64().unwrap_or_default();
+    page.wait_for("live updates again", Duration::from_secs(10), |e| {
+        e["frames"].as_u64() > Some(frames + 5)
+    });
+    let badge = page.eval("document.getElementById('link').textContent");
+    assert_eq!(badge, "live");
+    // The only failures the page saw are its refused streams.
+    for error in page.errors() {
+        let refused = ["/events", "503", "EventSource"]
+            .iter()
+            .any(|w| error.contains(w));
+        assert!(refused, "{error}");
+    }
 }

@@ -6,8 +6,15 @@
 //!   (server-sent events, `GET /events`) sends the newest snapshot whenever it is ready for
 //!   one; the snapshots it skipped are counted as dropped. So a slow client costs the decoder
 //!   and the other clients nothing.
-//! * At most [`MAX_STREAMS`] live-update streams and [`MAX_CONNECTIONS`] connections in all,
-//!   at most [`MAX_PER_PEER`] from one address; more are answered `503` and counted.
+//! * At most [`MAX_CONNECTIONS`] connections in all, at most [`MAX_PER_PEER`] from one
+//!   address; more are answered `503` and counted.
+//! * At most [`MAX_STREAMS`] live-update streams, at most [`MAX_STREAMS_PER_PEER`] from one
+//!   address: a newer stream from an address at its limit takes the place of that address's
+//!   oldest (a page reloaded, one tab too many), and when every place is taken a stream from an
+//!   address with fewer takes the oldest place of the address that holds the most; each is
+//!   counted as replaced. So no other address can hold the user's place, whether its clients
+//!   read or not. Only when every place is held by an address with no more than its share is a
+//!   new stream answered `503` (counted as refused); the page tries again, backing off.
 //! * A request head is at most [`MAX_HEAD`] bytes with at most [`MAX_HEADERS`] headers
 //!   (`431` otherwise), parsed by `httparse`; it must arrive within [`HEAD_TIMEOUT`]. At most
 //!   [`MAX_PENDING`] connections may be sending their head at once: a new one closes the
@@ -38,7 +45,10 @@ use super::state::ServerState;
 use crate::error::{Error, Result};
 
 /// The most live-update streams served at once.
-pub(crate) const MAX_STREAMS: u64 = 8;
+pub(crate) const MAX_STREAMS: usize = 8;
+/// The most live-update streams from one address at once: a page and one more (a second tab,
+/// or the page reloaded before its old stream is noticed gone).
+pub(crate) const MAX_STREAMS_PER_PEER: usize = 2;
 /// The most connections served at once (streams included).
 pub(crate) const MAX_CONNECTIONS: u64 = 24;
 /// The most connections from one address at once (a browser opens six per host).
@@ -63,7 +73,9 @@ pub(crate) const KEEPALIVE: Duration = Duration::from_secs(1);
 #[derive(Debug, Default)]
 pub(crate) struct Counters {
     connections: AtomicU64,
-    streams: AtomicU64,
+    /// The live-update streams open now, oldest first.
+    streams: Mutex<Vec<Live>>,
+    replaced: AtomicU64,
     refused: AtomicU64,
     bad_requests: AtomicU64,
     cross_site: AtomicU64,
@@ -86,7 +98,8 @@ impl Counters {
     /// A copy for the state.
     pub(crate) fn state(&self) -> ServerState {
         ServerState {
-            clients: self.streams.load(Ordering::Relaxed),
+            clients: lock(&self.streams).len() as u64,
+            replaced: self.replaced.load(Ordering::Relaxed),
             refused: self.refused.load(Ordering::Relaxed),
             bad_requests: self.bad_requests.load(Ordering::Relaxed),
             cross_site: self.cross_site.load(Ordering::Relaxed),
@@ -346,6 +359,66 @@ fn release_peer(counters: &Counters, peer: IpAddr) {
     }
 }
 
+/// One open live-update stream.
+#[derive(Debug)]
+struct Live {
+    id: u64,
+    peer: IpAddr,
+    /// A handle to close it by (none for a test's writer).
+    closer: Option<TcpStream>,
+}
+
+/// A place among the [`MAX_STREAMS`] live-update streams, given back when dropped (or taken
+/// by a newer stream: see [`StreamPlace::take`]).
+struct StreamPlace<'a> {
+    counters: &'a Counters,
+    id: u64,
+}
+
+impl<'a> StreamPlace<'a> {
+    /// A place for a stream from `peer`, or `None` when every place is held by an address
+    /// with no more than its share. When `peer` holds [`MAX_STREAMS_PER_PEER`] already, its
+    /// oldest stream is closed and gives its place; when every place is taken, the oldest
+    /// stream of the address that holds the most does, if that address would still hold more
+    /// than `peer`. A stream closed so is counted as replaced.
+    fn take(counters: &'a Counters, peer: IpAddr, closer: Option<TcpStream>) -> Option<Self> {
+        let id = counters.next_id.fetch_add(1, Ordering::Relaxed);
+        let victim = {
+            let mut live = lock(&counters.streams);
+            let held = |p: IpAddr| live.iter().filter(|l| l.peer == p).count();
+            let mine = held(peer);
+            let victim = if mine >= MAX_STREAMS_PER_PEER {
+                live.iter().position(|l| l.peer == peer)
+            } else if live.len() >= MAX_STREAMS {
+                let crowded = live.iter().map(|l| l.peer).max_by_key(|&p| held(p))?;
+                if held(crowded) <= mine + 1 {
+                    return None;
+                }
+                live.iter().position(|l| l.peer == crowded)
+            } else {
+                None
+            };
+            let victim = victim.map(|at| live.remove(at));
+            live.push(Live { id, peer, closer });
+            victim
+        };
+        if let Some(victim) = victim {
+            counters.replaced.fetch_add(1, Ordering::Relaxed);
+            // Its thread finds its next write failing (within a keep-alive) and ends.
+            if let Some(stream) = victim.closer {
+                let _ = stream.shutdown(Shutdown::Both);
+            }
+        }
+        Some(StreamPlace { counters, id })
+    }
+}
+
+impl Drop for StreamPlace<'_> {
+    fn drop(&mut self) {
+        lock(&self.counters.streams).retain(|l| l.id != self.id);
+    }
+}
+
 /// A response without a body beyond `body`.
 fn respond(
     stream: &mut impl Write,
@@ -505,7 +578,10 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, conn: &Connection) {
     };
     let path = path.split(['?', '#']).next().unwrap_or_default();
     let _ = match path {
-        "/events" => return stream_events(stream, head_only, hub, counters),
+        "/events" => {
+            let place = StreamPlace::take(counters, conn.peer, stream.try_clone().ok());
+            return stream_events(stream, place, head_only, hub, counters);
+        }
         "/api/state" => match hub.latest() {
             // Before the first snapshot (the first moments after the start).
             (0, _) => respond(
@@ -532,16 +608,23 @@ fn serve(mut stream: TcpStream, loopback: bool, hub: &Hub, conn: &Connection) {
     };
 }
 
-/// `GET /events`: the latest snapshot as a server-sent event whenever there is a newer one.
-fn stream_events(mut stream: impl Write, head_only: bool, hub: &Hub, counters: &Counters) {
-    let Some(_stream_slot) = Slot::take(&counters.streams, MAX_STREAMS) else {
+/// `GET /events`: the latest snapshot as a server-sent event whenever there is a newer one, for
+/// as long as the stream holds its `place` (`None`: no place, answered `503`).
+fn stream_events(
+    mut stream: impl Write,
+    place: Option<StreamPlace<'_>>,
+    head_only: bool,
+    hub: &Hub,
+    counters: &Counters,
+) {
+    let Some(_place) = place else {
         counters.refused.fetch_add(1, Ordering::Relaxed);
         let _ = respond(
             &mut stream,
             false,
             "503 Service Unavailable",
             "text/plain; charset=utf-8",
-            b"too many live clients: close another page first",
+            b"every live-update place is taken: the page tries again",
         );
         return;
     };
@@ -686,7 +769,10 @@ mod tests {
         hub.publish("{\"n\":0}".into());
         let stream = {
             let (hub, counters, out) = (hub.clone(), counters.clone(), Slow(written.clone()));
-            thread::spawn(move || stream_events(out, false, &hub, &counters))
+            thread::spawn(move || {
+                let place = StreamPlace::take(&counters, IpAddr::from([127, 0, 0, 1]), None);
+                stream_events(out, place, false, &hub, &counters);
+            })
         };
         // The publisher never waits for the client: 2,000 snapshots, one every 0.1 ms.
         for n in 1..=2000 {
@@ -730,6 +816,50 @@ mod tests {
             "{s:?}"
         );
         assert_eq!(s.clients, 0, "the stream gave its place back");
+    }
+
+    #[test]
+    fn a_crowded_address_gives_its_oldest_stream_and_no_address_takes_anothers_share() {
+        let counters = Counters::default();
+        let at = |n: u8| IpAddr::from([127, 0, 0, n]);
+        let peers = |c: &Counters| lock(&c.streams).iter().map(|l| l.peer).collect::<Vec<_>>();
+        // One address: its third stream replaces its first.
+        let first = StreamPlace::take(&counters, at(2), None).unwrap();
+        let (first_id, _second) = (first.id, StreamPlace::take(&counters, at(2), None).unwrap());
+        std::mem::forget(first); // its thread has not noticed yet
+        let _third = StreamPlace::take(&counters, at(2), None).unwrap();
+        assert!(lock(&counters.streams).iter().all(|l| l.id != first_id));
+        assert_eq!((peers(&counters).len(), counters.state().replaced), (2, 1));
+        // Every place taken by four addresses, two each: a fifth (the user's) takes the oldest
+        // place of one of them; its second stream would only swap shares, and is refused.
+        let mut held: Vec<_> = (3..=5)
+            .flat_map(|n| [n, n])
+            .map(|n| StreamPlace::take(&counters, at(n), None).unwrap())
+            .collect();
+        assert_eq!(peers(&counters).len(), MAX_STREAMS);
+        held.push(StreamPlace::take(&counters, at(1), None).expect("the user's page"));
+        assert_eq!(counters.state().replaced, 2);
+        assert_eq!(peers(&counters).iter().filter(|&&p| p == at(1)).count(), 1);
+        assert!(StreamPlace::take(&counters, at(1), None).is_none());
+        assert_eq!(
+            (peers(&counters).len(), counters.state().replaced),
+            (MAX_STREAMS, 2)
+        );
+        // Eight addresses, one each: a ninth is refused, and nothing is closed for it.
+        drop(held);
+        drop(_third);
+        drop(_second);
+        let eight: Vec<_> = (10..18)
+            .map(|n| StreamPlace::take(&counters, at(n), None).unwrap())
+            .collect();
+        let replaced = counters.state().replaced;
+        assert!(StreamPlace::take(&counters, at(1), None).is_none());
+        assert_eq!(
+            (counters.state().replaced, peers(&counters).len()),
+            (replaced, 8)
+        );
+        drop(eight);
+        assert_eq!(counters.state().clients, 0);
     }
 
     #[test]

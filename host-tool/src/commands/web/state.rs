@@ -442,6 +442,9 @@ pub(crate) struct ErrorState {
 pub struct ServerState {
     /// Live-update streams open now.
     pub(crate) clients: u64,
+    /// Live-update streams closed to give their place to a newer one (of the same address, or
+    /// of an address holding fewer).
+    pub(crate) replaced: u64,
     /// Connections refused with 503 (too many clients, connections, or from one address).
     pub(crate) refused: u64,
     /// Requests answered with an error status (bad request, too large, unknown path, not GET).

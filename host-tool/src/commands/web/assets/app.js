@@ -568,7 +568,7 @@ function drawBox(s) {
     ? `${fmt(p.latitude_deg, 6)}, ${fmt(p.longitude_deg, 6)}  fix ${p.fix ? 'yes' : 'no'}  ${p.satellites} sats  ${fmt(scaled(p.ground_speed_mps, u.speed), 1)} ${u.speed.unit}`
     : '-';
   const v = s.server || {};
-  $('server').textContent = `${v.clients} live clients, ${v.refused} refused, ${v.frames_sent} updates sent, ${v.frames_dropped} dropped for slow clients, ${v.bad_requests} bad requests, ${v.cross_site} cross-site refused, ${v.evicted} slow requests closed; ${s.bytes} bytes from ${s.source} in ${fmt(s.uptime_s, 0)} s`;
+  $('server').textContent = `${v.clients} live clients, ${v.replaced} replaced, ${v.refused} refused, ${v.frames_sent} updates sent, ${v.frames_dropped} dropped for slow clients, ${v.bad_requests} bad requests, ${v.cross_site} cross-site refused, ${v.evicted} slow requests closed; ${s.bytes} bytes from ${s.source} in ${fmt(s.uptime_s, 0)} s`;
 }
 
 // ------------------------------------------------------------------ the loop
@@ -607,11 +607,50 @@ function draw(s) {
   efis.frames += 1;
 }
 
+// The live updates. A stream that breaks comes back by itself (the browser retries after the
+// server's `retry`); one the server refuses (503: every place is taken) does not, so the page
+// tries again itself, waiting 1, 2, 4 ... up to 30 s, and meanwhile polls GET /api/state once
+// a second, so the instruments keep moving. efis.stream_retries counts the tries.
+const RETRY_FIRST_MS = 1000;
+const RETRY_MAX_MS = 30000;
+const POLL_MS = 1000;
+efis.stream_retries = 0;
+efis.polled = 0;
+let retryMs = RETRY_FIRST_MS;
+let poller = null;
+
+function show(s) {
+  if (s && typeof s === 'object') draw(s);
+}
+
+function startPolling() {
+  if (poller !== null) return;
+  poller = setInterval(() => {
+    fetch('/api/state', { cache: 'no-store' })
+      .then((r) => (r.ok ? r.json() : null))
+      .then((s) => {
+        if (s && !efis.connected) {
+          efis.polled += 1;
+          show(s);
+        }
+      })
+      .catch(() => {});
+  }, POLL_MS);
+}
+
+function stopPolling() {
+  if (poller === null) return;
+  clearInterval(poller);
+  poller = null;
+}
+
 function connect() {
   const link = $('link');
   const events = new EventSource('/events');
   events.onopen = () => {
     efis.connected = true;
+    retryMs = RETRY_FIRST_MS;
+    stopPolling();
     link.textContent = 'live';
     link.className = 'badge live';
   };
@@ -622,12 +661,24 @@ function connect() {
     } catch (e) {
       return;
     }
-    if (s && typeof s === 'object') draw(s);
+    show(s);
   };
   events.onerror = () => {
     efis.connected = false;
-    link.textContent = 'reconnecting';
     link.className = 'badge lost';
+    startPolling();
+    if (events.readyState !== EventSource.CLOSED) {
+      // The browser reconnects by itself.
+      link.textContent = 'reconnecting';
+      return;
+    }
+    // Refused (or the server gone): the browser has given up; try again later.
+    link.textContent = `refused: retrying in ${Math.round(retryMs / 1000)} s (state polled)`;
+    setTimeout(() => {
+      efis.stream_retries += 1;
+      connect();
+    }, retryMs);
+    retryMs = Math.min(retryMs * 2, RETRY_MAX_MS);
   };
 }
 
