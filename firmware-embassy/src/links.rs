@@ -312,8 +312,19 @@ impl StoreJob {
 /// answers, the AYDP heartbeat, position and fix quality; then the requests the links made: a
 /// store goes to the store task ([`StoreJob`]), a reboot waits for the stores asked before it
 /// and returns [`REBOOT_FLUSH_MS`] later, for the answer to leave; the board resets. The tick
-/// goes on while a store runs. `heart` beats on every tick.
-pub async fn run(shared: &Shared, rx_errors: [&RxErrors; 3], heart: &Heartbeat, job: &StoreJob) {
+/// goes on while a store runs. `heart` beats on every tick. `stack`, when the board can tell,
+/// gives the stack's high-water mark and size (bytes) for the status lines.
+///
+/// With the test-only feature `fault-hang`, the first unknown AEOLUS command stops the tick
+/// after the tick that sends its answer (the other tasks run on): the supervisor then starves
+/// the watchdog, which resets the box.
+pub async fn run(
+    shared: &Shared,
+    rx_errors: [&RxErrors; 3],
+    heart: &Heartbeat,
+    job: &StoreJob,
+    stack: Option<fn() -> (usize, usize)>,
+) {
     let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
     let mut reboot = false;
@@ -347,13 +358,21 @@ pub async fn run(shared: &Shared, rx_errors: [&RxErrors; 3], heart: &Heartbeat, 
                 defmt::info!("reboot requested: warm reset after the stores asked before it");
             }
         }
+        #[cfg(feature = "fault-hang")]
+        if shared
+            .with(|a| a.app.aeolus.counters().unknown_commands != 0)
+            .unwrap_or(false)
+        {
+            defmt::info!("fault-hang: the main loop hangs (the 1 ms tick stops)");
+            core::future::pending::<()>().await;
+        }
         if reboot && !job.busy() {
             Timer::after_millis(REBOOT_FLUSH_MS).await;
             return;
         }
         if now >= next_report {
             next_report = now.saturating_add(REPORT_MS);
-            shared.with(|a| report(now, a, rx_errors));
+            shared.with(|a| report(now, a, rx_errors, stack));
         }
         // The next tick; after a stall (a flash erase blocks the executor for a second or
         // more) one tick at once, not a burst of the missed ones (the schedule catches up by
@@ -403,8 +422,21 @@ where
 }
 
 /// The periodic status lines.
-fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3]) {
-    defmt::info!("uptime {=u64} ms", now);
+fn report(
+    now: u64,
+    a: &Application,
+    rx_errors: [&RxErrors; 3],
+    stack: Option<fn() -> (usize, usize)>,
+) {
+    match stack.map(|f| f()) {
+        Some((high_water, size)) => defmt::info!(
+            "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
+            now,
+            high_water,
+            size
+        ),
+        None => defmt::info!("uptime {=u64} ms", now),
+    }
     let [aeolus_errors, aydp_errors, aok_errors] = rx_errors;
     let (t0, t1, t2) = (
         a.aeolus_tx.counters(),
