@@ -175,6 +175,13 @@ pub fn now_ms() -> u64 {
 /// decoder dropped, to [`aeolus_link::AeolusLink::handle_frame`]. Answers go out with the
 /// next tick. A UART error is counted in `errors` and reading goes on (the driver restarts
 /// its DMA ring on the next read).
+///
+/// Back-pressure, as the blocking link's "decode only while one longest answer still fits":
+/// a frame is handed over only while the link's TX queue has room for one longest answer
+/// ([`aeolus_link::TX_RESERVE`]); else the task waits for the tick to move the queue into
+/// the port (the received bytes wait in the UART's ring meanwhile). Without it a burst of
+/// commands already received (40 in one read of the ring) was handled in one go, and the
+/// answers beyond the queue's 512 bytes were dropped.
 pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
     let mut reader = aeolus_proto::embedded_io_async::FrameReader::<
         R,
@@ -183,6 +190,15 @@ pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> 
     >::new(uart, aeolus_proto::Decoder::new());
     loop {
         let result = reader.read().await;
+        if result.is_ok() {
+            while shared
+                .with(|a| aeolus_link::TX_QUEUE.saturating_sub(a.app.aeolus.tx_pending()))
+                .unwrap_or(0)
+                < aeolus_link::TX_RESERVE
+            {
+                Timer::after_micros(ROOM_POLL_US).await;
+            }
+        }
         let now = now_ms();
         let frame = match result {
             Ok(ref frame) => Ok(frame),
