@@ -74,12 +74,12 @@ pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
 pub struct Application {
     /// The sensor-box application (settings, the links, the simulated flight).
     pub app: App,
-    /// Where the AEOLUS link queues its frames (drained by [`pump_tx`] on USART2).
+    /// Where the AEOLUS link queues its frames (drained by a [`pump_tx`] to its UART).
     pub aeolus_tx: Port,
-    /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
+    /// Where the AYDP link queues its messages (drained by a [`pump_tx`] to its UART).
     pub aydp_tx: Port,
-    /// Where the AOK link queues its replies and debug frames (drained by [`pump_tx`] on
-    /// USART6).
+    /// Where the AOK link queues its replies and debug frames (drained by a [`pump_tx`] to
+    /// its UART).
     pub aok_tx: Port,
     /// The AEOLUS reader's decoder counters as of its last frame.
     pub aeolus_rx: aeolus_proto::Stats,
@@ -328,8 +328,8 @@ impl StoreJob {
 /// answers, the AYDP heartbeat, position and fix quality; then the requests the links made: a
 /// store goes to the store task ([`StoreJob`]), a reboot waits for the stores asked before it
 /// and returns [`REBOOT_FLUSH_MS`] later, for the answer to leave; the board resets. The tick
-/// goes on while a store runs. `heart` beats on every tick. `stack`, when the board can tell,
-/// gives the stack's high-water mark and size (bytes) for the status lines.
+/// goes on while a store runs. `heart` beats on every tick. `board` says what the board adds
+/// to the status lines every [`REPORT_MS`].
 ///
 /// With the test-only feature `fault-hang`, the first unknown AEOLUS command stops the tick
 /// after the tick that sends its answer (the other tasks run on): the supervisor then starves
@@ -339,7 +339,7 @@ pub async fn run(
     rx_errors: [&RxErrors; 3],
     heart: &Heartbeat,
     job: &StoreJob,
-    stack: Option<fn() -> (usize, usize)>,
+    board: BoardReport,
 ) {
     let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
@@ -388,7 +388,7 @@ pub async fn run(
         }
         if now >= next_report {
             next_report = now.saturating_add(REPORT_MS);
-            shared.with(|a| report(now, a, rx_errors, stack));
+            shared.with(|a| report(now, a, rx_errors, board));
         }
         // The next tick; after a stall (a flash erase blocks the executor for a second or
         // more) one tick at once, not a burst of the missed ones (the schedule catches up by
@@ -437,14 +437,21 @@ where
     }
 }
 
-/// The periodic status lines.
-fn report(
-    now: u64,
-    a: &Application,
-    rx_errors: [&RxErrors; 3],
-    stack: Option<fn() -> (usize, usize)>,
-) {
-    match stack.map(|f| f()) {
+/// What a board adds to the status lines ([`run`]).
+#[derive(Clone, Copy)]
+pub struct BoardReport {
+    /// The stack's high-water mark and size, bytes, when the board can tell.
+    pub stack: Option<fn() -> (usize, usize)>,
+    /// Whether the ports' counters count the received bytes (an interrupt-driven UART's
+    /// handler does; a DMA ring's reader bypasses them): then a line per port, `UARTn: rx ..
+    /// dropped .. errors .. tx ..`, in the blocking boards' words.
+    pub port_rx: bool,
+}
+
+/// The periodic status lines. They name the links, not the UARTs (which UART carries which
+/// link is the board's).
+fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3], board: BoardReport) {
+    match board.stack.map(|f| f()) {
         Some((high_water, size)) => defmt::info!(
             "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
             now,
@@ -459,15 +466,27 @@ fn report(
         a.aydp_tx.counters(),
         a.aok_tx.counters(),
     );
+    if board.port_rx {
+        for (i, c) in [&t0, &t1, &t2].into_iter().enumerate() {
+            defmt::info!(
+                "UART{=usize}: rx {=u32} dropped {=u32} errors {=u32} tx {=u32}",
+                i,
+                c.rx_bytes,
+                c.rx_dropped,
+                c.rx_errors,
+                c.tx_bytes
+            );
+        }
+    }
     let c = a.app.aeolus.counters();
     let rx = &a.aeolus_rx;
     defmt::info!(
-        "AEOLUS (USART2): tx {=u32} bytes, telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; rx ok {=u32} crc errors {=u32} uart errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
-        t0.tx_bytes,
+        "AEOLUS: telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; tx {=u32} bytes, rx ok {=u32} crc errors {=u32} uart errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
         c.telemetry_total(),
         c.toasts,
         c.tx_dropped,
         a.app.aeolus.telemetry().skipped(),
+        t0.tx_bytes,
         rx.frames_delivered(),
         rx.checksum_errors,
         aeolus_errors.get(),
@@ -479,7 +498,7 @@ fn report(
     let y = a.app.aydp.counters();
     let s = &a.aydp_rx;
     defmt::info!(
-        "AYDP (USART1): tx {=u32} bytes, tx dropped {=u32}; rx ok {=u32} checksum errors {=u32} uart errors {=u32}; applied {=u32} rejected {=u32} answered {=u32}",
+        "AYDP: tx {=u32} bytes, tx dropped {=u32}; rx ok {=u32} checksum errors {=u32} uart errors {=u32}; applied {=u32} rejected {=u32} answered {=u32}",
         t1.tx_bytes,
         y.tx_dropped,
         s.frames_ok,
@@ -492,13 +511,13 @@ fn report(
     let k = a.app.aok.counters();
     let d = a.app.aok.decoder_stats();
     defmt::info!(
-        "AOK (USART6): tx {=u32} bytes, replies dropped {=u32}; commands {=u32}, rx errors {=u32}, uart errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}",
-        t2.tx_bytes,
-        k.replies_dropped,
+        "AOK: commands {=u32}, rx errors {=u32}, uart errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}, replies dropped {=u32}; tx {=u32} bytes",
         d.frames_ok,
         k.rx_errors,
         aok_errors.get(),
         d.abandoned,
-        k.bursts_discarded
+        k.bursts_discarded,
+        k.replies_dropped,
+        t2.tx_bytes
     );
 }

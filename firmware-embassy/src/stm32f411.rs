@@ -274,7 +274,10 @@ async fn main(spawner: Spawner) {
         [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS, &AOK_RX_ERRORS],
         tick_heart,
         &STORE_JOB,
-        None,
+        links::BoardReport {
+            stack: None,
+            port_rx: false,
+        },
     )
     .await;
     cortex_m::peripheral::SCB::sys_reset();

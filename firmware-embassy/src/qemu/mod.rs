@@ -21,6 +21,8 @@
 //!   the reset cause and the count of resets not asked for follow, in the blocking board's
 //!   words, and the 5 s status lines carry the stack's high-water mark.
 
+#[cfg(feature = "cpu-budget")]
+mod budget;
 mod chip;
 mod pl011;
 mod store;
@@ -171,12 +173,17 @@ async fn main(spawner: Spawner) {
     );
     spawn(&spawner, watchdog_task(watchdog));
     spawn(&spawner, store_task(flash, shared));
+    #[cfg(feature = "cpu-budget")]
+    spawn(&spawner, budget::run(shared));
     links::run(
         shared,
         [&AEOLUS_RX_ERRORS, &AYDP_RX_ERRORS, &AOK_RX_ERRORS],
         tick_heart,
         &STORE_JOB,
-        Some(chip::stack),
+        links::BoardReport {
+            stack: Some(chip::stack),
+            port_rx: true,
+        },
     )
     .await;
     chip::reset();

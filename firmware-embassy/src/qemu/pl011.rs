@@ -30,6 +30,7 @@ use embassy_sync::waitqueue::AtomicWaker;
 use embedded_io::ErrorKind;
 use firmware_example::serial::Ring;
 use firmware_example::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::budget::{self, Category};
 
 use super::chip::{CORE_HZ, Irq};
 
@@ -202,11 +203,15 @@ pub fn on_interrupt(index: usize) {
     let Some(uart) = UARTS.get(index) else {
         return;
     };
+    let previous = budget::enter(Category::RxIrq);
     // The TX interrupt stays raised while the FIFO has room (QEMU: after every byte), so it
     // is cleared with the RX ones; the writer enables it again when it needs to wait.
     uart.write(ICR, INT_RX | INT_RT | INT_TX);
     let (received, held) = critical_section::with(|cs| {
-        let mut isr = uart.isr.borrow_ref_mut(cs);
+        // Only this interrupt borrows it after `init` (a failed borrow is not a panic).
+        let Ok(mut isr) = uart.isr.borrow(cs).try_borrow_mut() else {
+            return (false, false);
+        };
         let Some((isr, stats)) = isr.as_mut() else {
             return (false, false);
         };
@@ -230,10 +235,13 @@ pub fn on_interrupt(index: usize) {
     // A full ring: the bytes wait in the FIFO, and its interrupts stay off until the reader
     // makes room (its read pends this interrupt).
     uart.mask(INT_RX | INT_RT, !held);
+    budget::leave(previous);
+    let previous = budget::enter(Category::TxIrq);
     if uart.read(FR) & FR_TXFF == 0 {
         uart.mask(INT_TX, false);
         uart.tx_waker.wake();
     }
+    budget::leave(previous);
 }
 
 impl embedded_io::ErrorType for Rx {

@@ -65,6 +65,7 @@ pub fn start(mut syst: SYST, core_hz: u32) {
 /// One millisecond: the clock advances, and the tasks whose wake is due are woken.
 #[cortex_m_rt::exception]
 fn SysTick() {
+    let previous = sensor_box::budget::enter(sensor_box::budget::Category::Tick);
     critical_section::with(|cs| {
         let now = DRIVER.now.borrow(cs).get().wrapping_add(1);
         DRIVER.now.borrow(cs).set(now);
@@ -73,4 +74,5 @@ fn SysTick() {
             alarm.set(DRIVER.queue.borrow_ref_mut(cs).next_expiration(now));
         }
     });
+    sensor_box::budget::leave(previous);
 }
