@@ -232,10 +232,11 @@ cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --f
 cargo stm32-qemu-build -q
 # The async firmware's QEMU board (firmware-embassy, its own workspace; the QEMU tests boot it
 # as their third board): built into target/embassy, where the harness builds it too, and its
-# clippy with the test-only fault-hang (the watchdog test's build) as well.
+# clippy with the test-only fault-hang (the watchdog test's build) and with cpu-budget as well.
 (cd firmware-embassy && export CARGO_TARGET_DIR=../target/embassy &&
   cargo qemu-build -q &&
-  cargo clippy -q --release --target thumbv7m-none-eabi --no-default-features --features board-qemu,fault-hang -- -D warnings)
+  cargo clippy -q --release --target thumbv7m-none-eabi --no-default-features --features board-qemu,fault-hang -- -D warnings &&
+  cargo clippy -q --release --target thumbv7m-none-eabi --no-default-features --features cpu-budget -- -D warnings)
 
 # The executables of the test build run as cargo would run them (in their package's directory,
 # a `Running` line first), but by this script: a second `cargo test` over part of the workspace
