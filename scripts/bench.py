@@ -404,6 +404,64 @@ def budget_section():
     return sec
 
 
+def budget_embassy_section():
+    """The async firmware's CPU budget: its `cpu-budget` build (firmware-embassy's QEMU board,
+    the same account and report lines as the blocking board's) through scripts/budget.py --elf."""
+    fw = os.path.join(root, "firmware-embassy")
+    tdir = os.path.join(cargo_target, "embassy")
+    env = dict(os.environ, CARGO_TARGET_DIR=tdir, BUDGET_SECONDS="10")
+    subprocess.run(["cargo", "build", "-q", "--release", "--target", "thumbv7m-none-eabi", "--no-default-features",
+                    "--features", "cpu-budget"], cwd=fw, env=env, check=True)
+    built = os.path.join(tdir, "thumbv7m-none-eabi", "release", "sensor-box-embassy")
+    elf = built + "-cpu-budget"
+    shutil.copyfile(built, elf)
+    # The normal ELF back in its place (cargo has it cached: a copy, no compile).
+    subprocess.run(["cargo", "qemu-build", "-q"], cwd=fw, env=dict(os.environ, CARGO_TARGET_DIR=tdir), check=True)
+    out = sh(["python3", "scripts/budget.py", "--elf", elf, "--no-realtime"]).splitlines()
+    tables, current = [], None
+    for line in out:
+        if line.startswith("| telemetry: category") or line.startswith("| flood: category"):
+            current = {}
+            tables.append(current)
+        elif current is not None and line.startswith("|"):
+            c = cells(line)
+            if len(c) == 5 and not c[0].startswith("---"):
+                current[c[0]] = c
+        else:
+            current = None
+    quiet, flood = (tables + [{}, {}])[:2]
+    text = "\n".join(out)
+    sent = re.search(r"\) (\d+) bytes sent", text)
+    rx = re.search(r"UART0 rx ([\d,]+) B/s", text)
+    sec = [
+        "## Firmware CPU budget: the async firmware",
+        "",
+        "The same measurement of `firmware-embassy`'s QEMU board (its `cpu-budget` build: `cargo build --release",
+        "--target thumbv7m-none-eabi --no-default-features --features cpu-budget` in `firmware-embassy/`, run by",
+        "`scripts/budget.py --elf`): the same account on SysTick and the same report. Its categories differ in what",
+        "they hold: `other` is the executor's polls and the async glue (the `FrameReader`s' decoding, the pumps, the",
+        "tick), `rx-irq` / `tx-irq` the two halves of its PL011 interrupt, `systick` the embassy time driver; `idle`",
+        "is measured from the executor's trace hooks (`executor_idle` to the next `poll_start`).",
+        "",
+        "| category | quiet, instr/s | share | UART0 flood, instr/s | share |",
+        "| --- | ---: | ---: | ---: | ---: |",
+    ]
+    for cat, q in quiet.items():
+        f = flood.get(cat, ["", "", "", ""])
+        sec.append(f"| {cat} | {q[2]} | {q[3]} | {f[2]} | {f[3]} |")
+    sec.append("")
+    m = re.search(r"Two runs: (identical account|the two runs DIFFER)", text)
+    if m:
+        sec.append(f"- Quiet: {m.group(1)} in the two runs.")
+    if rx:
+        sec.append(f"- Under the flood QEMU delivered {rx.group(1)} B/s to UART0 in the box's clock"
+                   + (f" ({sent.group(1)} bytes sent)." if sent else "."))
+    for line in out:
+        if line.startswith("- ") and ("the whole box" in line or "the AEOLUS link" in line):
+            sec.append(line.replace("**", ""))
+    return sec + [""]
+
+
 # ---------------------------------------------------------------- firmware sizes
 
 def llvm_size(elf):
@@ -448,28 +506,43 @@ def boot_stack(elf):
     return None
 
 
+def embassy_elf():
+    """The async firmware's QEMU board (firmware-embassy, its own workspace), built into
+    target/embassy as scripts/test.sh and the QEMU tests build it; its ELF."""
+    env = dict(os.environ, CARGO_TARGET_DIR=os.path.join(cargo_target, "embassy"))
+    subprocess.run(["cargo", "qemu-build", "-q"], cwd=os.path.join(root, "firmware-embassy"), env=env, check=True)
+    return os.path.join(cargo_target, "embassy", "thumbv7m-none-eabi", "release", "sensor-box-embassy")
+
+
 def firmware_section():
     boards = [("lm3s6965evb (`cargo qemu-build`)", "qemu-build", "thumbv7m-none-eabi"),
-              ("STM32F411 (`cargo stm32-build`)", "stm32-build", "thumbv7em-none-eabihf")]
+              ("STM32F411 (`cargo stm32-build`)", "stm32-build", "thumbv7em-none-eabihf"),
+              ("async firmware on lm3s6965evb (`firmware-embassy`, `cargo qemu-build`)", None, "thumbv7m-none-eabi")]
     figs = []
     for name, alias, triple in boards:
-        sh(["cargo", alias, "-q"])
-        elf = os.path.join(cargo_target, triple, "release", "sensor-box")
+        if alias:
+            sh(["cargo", alias, "-q"])
+            elf = os.path.join(cargo_target, triple, "release", "sensor-box")
+        else:
+            elf = embassy_elf()
         s = llvm_size(elf)
-        flash = [s.get(k, 0) for k in (".vector_table", ".text", ".rodata")]
+        flash = [s.get(k, 0) for k in (".vector_table", ".text", ".rodata", ".data")]
         ram = [s.get(k, 0) for k in (".data", ".bss", ".uninit")]
-        stack = boot_stack(elf) if alias == "qemu-build" else None
+        stack = boot_stack(elf) if alias != "stm32-build" else None
         figs.append((name, flash, ram, stack, double_float(elf)))
     sec = [
         "## Firmware sizes",
         "",
-        "Each board's release build, `llvm-size -A target/<target>/release/sensor-box`; the stack high-water is",
-        "the firmware's own (painted stack, its `booted:` log line in one QEMU boot). The firmware builds its",
-        "crates and `aok-proto` at opt-level \"z\", `aeolus-proto` and `aydp-proto` at \"s\" (root `Cargo.toml`).",
+        "Each board's release build, `llvm-size -A target/<target>/release/sensor-box` (the async firmware:",
+        "`target/embassy/thumbv7m-none-eabi/release/sensor-box-embassy`); the stack high-water is the firmware's",
+        "own (painted stack, its `booted:` log line in one QEMU boot). The blocking firmware builds its crates and",
+        "`aok-proto` at opt-level \"z\", `aeolus-proto` and `aydp-proto` at \"s\" (root `Cargo.toml`); the async",
+        "firmware builds everything at \"s\" with LTO (`firmware-embassy/Cargo.toml`). Flash counts .data's initial",
+        "values too (copied from flash at boot).",
         "",
         "| what | " + " | ".join(f[0] for f in figs) + " |",
         "| --- |" + " ---: |" * len(figs),
-        "| flash: vector table + .text + .rodata (B) | " + " | ".join(
+        "| flash: vector table + .text + .rodata + .data (B) | " + " | ".join(
             f"{' + '.join(str(x) for x in f[1])} = {sum(f[1])}" for f in figs) + " |",
         "| static RAM: .data + .bss + .uninit (B) | " + " | ".join(
             f"{' + '.join(str(x) for x in f[2])} = {sum(f[2])}" for f in figs) + " |",
@@ -492,6 +565,16 @@ def firmware_section():
         sec.append(f"- lm3s6965evb RAM at most 16 KiB: static {sum(ram)} B and stack {stack[1]} B = {total} B, "
                    f"{verdict(total, 16384)}.")
     sec.append("- STM32F411: no target (512 KiB of flash, 128 KiB of RAM); it carries the HAL and hard-float code.")
+    _, aflash, aram, astack, _ = figs[2]
+    sec.append(f"- The async firmware on the same chip costs {sum(aflash) - sum(flash)} B more flash and"
+               f" {sum(aram) - sum(ram)} B more static RAM than the blocking one"
+               + (f" (stack high-water at boot {astack[1]} B against {stack[1]} B)" if astack and stack else "")
+               + ". Where: the executor's task futures are static (.bss), so what the blocking board keeps on its"
+               " main stack (the links' state while they run, the readers' buffers) is counted as static RAM here,"
+               " and the async firmware runs the protocol crates' async `FrameReader`s and the settings map's"
+               " async store path (`persist::store_in_async`) beside the blocking boot path, plus"
+               " `embassy-executor`, `embassy-time` and its timer queue; it has no flash target of its own"
+               " (the lm3s6965's 256 KiB).")
     return sec + [""]
 
 
@@ -658,11 +741,13 @@ def performance_files(page_lines, date):
 
 # ---------------------------------------------------------------- the page
 
-ORDER = ["x86", "cm3", "corruption", "footprint", "fuzz", "flood", "budget", "firmware", "c", "python", "noise"]
+ORDER = ["x86", "cm3", "corruption", "footprint", "fuzz", "flood", "budget", "budget_embassy", "firmware", "c",
+         "python", "noise"]
 HEADING = {
     "x86": "## Instructions per byte (x86-64", "cm3": "## Cortex-M3 instruction counts",
     "corruption": "## Corruption", "footprint": "## Footprint", "fuzz": "## Fuzzing",
     "flood": "## protolink under a loopback flood", "budget": "## Firmware CPU budget",
+    "budget_embassy": "## Firmware CPU budget: the async firmware",
     "firmware": "## Firmware sizes", "c": "## The C library", "python": "## Python",
     "noise": "## Line noise",
 }
@@ -671,9 +756,11 @@ HEADING = {
 def section_of(lines, heading):
     """The lines of the page's section that starts with `heading`, up to the next `## `."""
     out, inside = [], False
+    # A longer heading that starts with this one is another section's.
+    longer = [h for h in HEADING.values() if h != heading and h.startswith(heading)]
     for l in lines:
         if l.startswith("## "):
-            inside = l.startswith(heading)
+            inside = l.startswith(heading) and not any(l.startswith(h) for h in longer)
         if inside:
             out.append(l)
     return out
@@ -685,8 +772,8 @@ TITLE = {
     "corruption": "## Corruption (100,000 frames per protocol and channel)",
     "footprint": "## Footprint on Cortex-M3 and Cortex-M0 (checks/footprint)",
     "fuzz": "## Fuzzing", "flood": "## protolink under a loopback flood",
-    "budget": "## Firmware CPU budget", "firmware": "## Firmware sizes",
-    "c": "## The C library (c-api)", "python": "## Python",
+    "budget": "## Firmware CPU budget", "budget_embassy": "## Firmware CPU budget: the async firmware",
+    "firmware": "## Firmware sizes", "c": "## The C library (c-api)", "python": "## Python",
     "noise": "## Line noise, 24 simulated hours",
 }
 

@@ -7,20 +7,30 @@
 #   scripts/demo.sh --seconds 20     stops by itself after 20 s (or DEMO_SECONDS=20)
 #   scripts/demo.sh --web            the same run in the browser: `protolink web` on
 #                                    http://127.0.0.1:8080/ (DEMO_LISTEN=IP:PORT for another)
+#   scripts/demo.sh --board embassy  the async firmware (firmware-embassy's QEMU board) in the
+#                                    same machine instead of the blocking one (--board blocking)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${DEMO_SECONDS:-}
 view=watch
+board=blocking
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) [ $# -ge 2 ] || { echo "demo.sh: --seconds needs a number" >&2; exit 2; }
                seconds=$2; shift 2 ;;
     --seconds=*) seconds=${1#--seconds=}; shift ;;
     --web) view=web; shift ;;
-    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --board) [ $# -ge 2 ] || { echo "demo.sh: --board needs blocking or embassy" >&2; exit 2; }
+             board=$2; shift 2 ;;
+    --board=*) board=${1#--board=}; shift ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "demo.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
+case "$board" in
+  blocking | embassy) ;;
+  *) echo "demo.sh: unknown board '$board' (blocking or embassy)" >&2; exit 2 ;;
+esac
 # Progress on stderr: one line per step with the time since the start, and cargo's own
 # progress (its bar on a terminal, a line per crate compiled otherwise) while it builds.
 start=$(date +%s%3N)
@@ -28,11 +38,17 @@ note() { awk -v ms="$(($(date +%s%3N) - start))" -v msg="$*" 'BEGIN { printf "de
 note "checking the toolchain, qemu-system-arm and defmt-print"
 bash scripts/setup.sh qemu defmt-print
 
-note "building the firmware (release, thumbv7m-none-eabi)"
-cargo qemu-build
+note "building the $board firmware (release, thumbv7m-none-eabi)"
+if [ "$board" = embassy ]; then
+  # Its own workspace; into target/embassy, where the QEMU tests build it too.
+  (cd firmware-embassy && CARGO_TARGET_DIR=../target/embassy cargo qemu-build)
+  elf=target/embassy/thumbv7m-none-eabi/release/sensor-box-embassy
+else
+  cargo qemu-build
+  elf=target/thumbv7m-none-eabi/release/sensor-box
+fi
 note "building protolink (release)"
 cargo build --release -p protolink
-elf=target/thumbv7m-none-eabi/release/sensor-box
 port=${QEMU_UART0_PORT:-7000}
 log=${DEMO_LOG:-target/demo-firmware.log}
 

@@ -215,7 +215,7 @@ PYO3_BUILD_EXTENSION_MODULE=1 cargo build -q --profile test --workspace --featur
 export PROTOLINK="$PWD/${CARGO_TARGET_DIR:-target}/debug/protolink"
 export PROTOLINK_PYTHON_SO="$PWD/${CARGO_TARGET_DIR:-target}/debug/libprotolink_python.so"
 
-step "firmware: sensor-box and the boards: release builds for both boards (and the simulated STM32), clippy on thumb"
+step "firmware: sensor-box and the boards: release builds for both boards (and the simulated STM32, and the async firmware's QEMU board), clippy on thumb"
 # The box's behaviour on its own, as each board builds it (no features, defmt + the hardware name).
 for t in thumbv7m-none-eabi thumbv7em-none-eabihf; do
   cargo build -q -p sensor-box --target "$t" --release
@@ -230,6 +230,13 @@ cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --f
 # ELF at target/thumbv7em-none-eabihf/release/sensor-box when the tests run.
 cargo clippy -q -p firmware-example --release --target thumbv7em-none-eabihf --features qemu-stm32 --lib --bins -- -D warnings
 cargo stm32-qemu-build -q
+# The async firmware's QEMU board (firmware-embassy, its own workspace; the QEMU tests boot it
+# as their third board): built into target/embassy, where the harness builds it too, and its
+# clippy with the test-only fault-hang (the watchdog test's build) and with cpu-budget as well.
+(cd firmware-embassy && export CARGO_TARGET_DIR=../target/embassy &&
+  cargo qemu-build -q &&
+  cargo clippy -q --release --target thumbv7m-none-eabi --no-default-features --features board-qemu,fault-hang -- -D warnings &&
+  cargo clippy -q --release --target thumbv7m-none-eabi --no-default-features --features cpu-budget -- -D warnings)
 
 # The executables of the test build run as cargo would run them (in their package's directory,
 # a `Running` line first), but by this script: a second `cargo test` over part of the workspace
@@ -405,8 +412,10 @@ python3 scripts/bench-check.py
 # CI: the two builds it measured (about 0.4 GB and more) are not used again.
 if [ "${CI:-}" = true ]; then rm -rf "$BENCH_TARGET_DIR" checks/cm3-bench/target; fi
 
-# Its own workspace (embassy-stm32, its own Cargo.lock and target/): built, not run (no board;
-# QEMU has no model of the F411's DMA and RCC, see firmware-embassy/README.md).
+# Its own workspace (embassy-stm32, its own Cargo.lock and target/): the STM32F411 board is
+# built, not run (no board; QEMU has no model of the F411's DMA and RCC, see
+# firmware-embassy/README.md). Its QEMU board is built in the firmware step and run by the
+# QEMU tests.
 step "firmware-embassy: STM32F411 embassy board, release build and clippy (warnings denied)"
 (cd firmware-embassy && cargo build -q --release && cargo clippy -q --release -- -D warnings)
 # CI: its target/ (about 0.6 GB) is not used again.

@@ -74,12 +74,12 @@ pub type TxReady = Signal<CriticalSectionRawMutex, ()>;
 pub struct Application {
     /// The sensor-box application (settings, the links, the simulated flight).
     pub app: App,
-    /// Where the AEOLUS link queues its frames (drained by [`pump_tx`] on USART2).
+    /// Where the AEOLUS link queues its frames (drained by a [`pump_tx`] to its UART).
     pub aeolus_tx: Port,
-    /// Where the AYDP link queues its messages (drained by [`pump_tx`] on USART1).
+    /// Where the AYDP link queues its messages (drained by a [`pump_tx`] to its UART).
     pub aydp_tx: Port,
-    /// Where the AOK link queues its replies and debug frames (drained by [`pump_tx`] on
-    /// USART6).
+    /// Where the AOK link queues its replies and debug frames (drained by a [`pump_tx`] to
+    /// its UART).
     pub aok_tx: Port,
     /// The AEOLUS reader's decoder counters as of its last frame.
     pub aeolus_rx: aeolus_proto::Stats,
@@ -175,6 +175,13 @@ pub fn now_ms() -> u64 {
 /// decoder dropped, to [`aeolus_link::AeolusLink::handle_frame`]. Answers go out with the
 /// next tick. A UART error is counted in `errors` and reading goes on (the driver restarts
 /// its DMA ring on the next read).
+///
+/// Back-pressure, as the blocking link's "decode only while one longest answer still fits":
+/// a frame is handed over only while the link's TX queue has room for one longest answer
+/// ([`aeolus_link::TX_RESERVE`]); else the task waits for the tick to move the queue into
+/// the port (the received bytes wait in the UART's ring meanwhile). Without it a burst of
+/// commands already received (40 in one read of the ring) was handled in one go, and the
+/// answers beyond the queue's 512 bytes were dropped.
 pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> ! {
     let mut reader = aeolus_proto::embedded_io_async::FrameReader::<
         R,
@@ -183,6 +190,15 @@ pub async fn aeolus_rx<R: Read>(uart: R, shared: &Shared, errors: &RxErrors) -> 
     >::new(uart, aeolus_proto::Decoder::new());
     loop {
         let result = reader.read().await;
+        if result.is_ok() {
+            while shared
+                .with(|a| aeolus_link::TX_QUEUE.saturating_sub(a.app.aeolus.tx_pending()))
+                .unwrap_or(0)
+                < aeolus_link::TX_RESERVE
+            {
+                Timer::after_micros(ROOM_POLL_US).await;
+            }
+        }
         let now = now_ms();
         let frame = match result {
             Ok(ref frame) => Ok(frame),
@@ -312,8 +328,19 @@ impl StoreJob {
 /// answers, the AYDP heartbeat, position and fix quality; then the requests the links made: a
 /// store goes to the store task ([`StoreJob`]), a reboot waits for the stores asked before it
 /// and returns [`REBOOT_FLUSH_MS`] later, for the answer to leave; the board resets. The tick
-/// goes on while a store runs. `heart` beats on every tick.
-pub async fn run(shared: &Shared, rx_errors: [&RxErrors; 3], heart: &Heartbeat, job: &StoreJob) {
+/// goes on while a store runs. `heart` beats on every tick. `board` says what the board adds
+/// to the status lines every [`REPORT_MS`].
+///
+/// With the test-only feature `fault-hang`, the first unknown AEOLUS command stops the tick
+/// after the tick that sends its answer (the other tasks run on): the supervisor then starves
+/// the watchdog, which resets the box.
+pub async fn run(
+    shared: &Shared,
+    rx_errors: [&RxErrors; 3],
+    heart: &Heartbeat,
+    job: &StoreJob,
+    board: BoardReport,
+) {
     let mut tick = Instant::now();
     let mut next_report = now_ms().saturating_add(REPORT_MS);
     let mut reboot = false;
@@ -347,13 +374,21 @@ pub async fn run(shared: &Shared, rx_errors: [&RxErrors; 3], heart: &Heartbeat, 
                 defmt::info!("reboot requested: warm reset after the stores asked before it");
             }
         }
+        #[cfg(feature = "fault-hang")]
+        if shared
+            .with(|a| a.app.aeolus.counters().unknown_commands != 0)
+            .unwrap_or(false)
+        {
+            defmt::info!("fault-hang: the main loop hangs (the 1 ms tick stops)");
+            core::future::pending::<()>().await;
+        }
         if reboot && !job.busy() {
             Timer::after_millis(REBOOT_FLUSH_MS).await;
             return;
         }
         if now >= next_report {
             next_report = now.saturating_add(REPORT_MS);
-            shared.with(|a| report(now, a, rx_errors));
+            shared.with(|a| report(now, a, rx_errors, board));
         }
         // The next tick; after a stall (a flash erase blocks the executor for a second or
         // more) one tick at once, not a burst of the missed ones (the schedule catches up by
@@ -402,24 +437,56 @@ where
     }
 }
 
-/// The periodic status lines.
-fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3]) {
-    defmt::info!("uptime {=u64} ms", now);
+/// What a board adds to the status lines ([`run`]).
+#[derive(Clone, Copy)]
+pub struct BoardReport {
+    /// The stack's high-water mark and size, bytes, when the board can tell.
+    pub stack: Option<fn() -> (usize, usize)>,
+    /// Whether the ports' counters count the received bytes (an interrupt-driven UART's
+    /// handler does; a DMA ring's reader bypasses them): then a line per port, `UARTn: rx ..
+    /// dropped .. errors .. tx ..`, in the blocking boards' words.
+    pub port_rx: bool,
+}
+
+/// The periodic status lines. They name the links, not the UARTs (which UART carries which
+/// link is the board's).
+fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3], board: BoardReport) {
+    match board.stack.map(|f| f()) {
+        Some((high_water, size)) => defmt::info!(
+            "uptime {=u64} ms, stack high-water {=usize} of {=usize} bytes",
+            now,
+            high_water,
+            size
+        ),
+        None => defmt::info!("uptime {=u64} ms", now),
+    }
     let [aeolus_errors, aydp_errors, aok_errors] = rx_errors;
     let (t0, t1, t2) = (
         a.aeolus_tx.counters(),
         a.aydp_tx.counters(),
         a.aok_tx.counters(),
     );
+    if board.port_rx {
+        for (i, c) in [&t0, &t1, &t2].into_iter().enumerate() {
+            defmt::info!(
+                "UART{=usize}: rx {=u32} dropped {=u32} errors {=u32} tx {=u32}",
+                i,
+                c.rx_bytes,
+                c.rx_dropped,
+                c.rx_errors,
+                c.tx_bytes
+            );
+        }
+    }
     let c = a.app.aeolus.counters();
     let rx = &a.aeolus_rx;
     defmt::info!(
-        "AEOLUS (USART2): tx {=u32} bytes, telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; rx ok {=u32} crc errors {=u32} uart errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
-        t0.tx_bytes,
+        "AEOLUS: telemetry {=u32} frames, toasts {=u32}, tx dropped {=u32}, late skipped {=u32}; tx {=u32} bytes, rx ok {=u32} crc errors {=u32} uart errors {=u32} commands {=u32} unknown {=u32} settime {=u32}; paused {=bool}",
         c.telemetry_total(),
         c.toasts,
         c.tx_dropped,
         a.app.aeolus.telemetry().skipped(),
+        t0.tx_bytes,
         rx.frames_delivered(),
         rx.checksum_errors,
         aeolus_errors.get(),
@@ -431,7 +498,7 @@ fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3]) {
     let y = a.app.aydp.counters();
     let s = &a.aydp_rx;
     defmt::info!(
-        "AYDP (USART1): tx {=u32} bytes, tx dropped {=u32}; rx ok {=u32} checksum errors {=u32} uart errors {=u32}; applied {=u32} rejected {=u32} answered {=u32}",
+        "AYDP: tx {=u32} bytes, tx dropped {=u32}; rx ok {=u32} checksum errors {=u32} uart errors {=u32}; applied {=u32} rejected {=u32} answered {=u32}",
         t1.tx_bytes,
         y.tx_dropped,
         s.frames_ok,
@@ -444,13 +511,13 @@ fn report(now: u64, a: &Application, rx_errors: [&RxErrors; 3]) {
     let k = a.app.aok.counters();
     let d = a.app.aok.decoder_stats();
     defmt::info!(
-        "AOK (USART6): tx {=u32} bytes, replies dropped {=u32}; commands {=u32}, rx errors {=u32}, uart errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}",
-        t2.tx_bytes,
-        k.replies_dropped,
+        "AOK: commands {=u32}, rx errors {=u32}, uart errors {=u32}, cut by a quiet line {=u32}, bursts discarded {=u32}, replies dropped {=u32}; tx {=u32} bytes",
         d.frames_ok,
         k.rx_errors,
         aok_errors.get(),
         d.abandoned,
-        k.bursts_discarded
+        k.bursts_discarded,
+        k.replies_dropped,
+        t2.tx_bytes
     );
 }

@@ -1,4 +1,4 @@
-//! `protolink gdl90 --ahrs stratux` on the release firmware in QEMU (both boards): UART0 read
+//! `protolink gdl90 --ahrs stratux` on the release firmware in QEMU (every board): UART0 read
 //! over TCP, the datagrams received as an EFB app receives them, every frame's CRC checked and
 //! the Stratux AHRS report (0x4C) decoded by hand from Stratux's layout
 //! (`protolink_tests::gdl90_hand`, not `gdl90-proto`). The firmware flies its default turn, 20°
@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use crate::harness::*;
 use protolink_tests::gdl90_hand::{stratux_report, unframe};
 
-on_both_boards!(an_efb_reads_the_firmwares_flight_as_stratux_ahrs);
+on_every_board!(an_efb_reads_the_firmwares_flight_as_stratux_ahrs);
 
 fn an_efb_reads_the_firmwares_flight_as_stratux_ahrs(board: Board) {
     let ports = Ports::GDL90.on(board);

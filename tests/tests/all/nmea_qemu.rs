@@ -1,4 +1,4 @@
-//! `protolink nmea` on the release firmware in QEMU (both boards): UART0 read over TCP, the
+//! `protolink nmea` on the release firmware in QEMU (every board): UART0 read over TCP, the
 //! NMEA server read as an app reads it (a TCP client), every sentence parsed by pynmea2
 //! (`host-tool/tests/python/nmea_check.py`, checksums included). The firmware flies its
 //! default turn (20° right bank at 50 m/s): RMC and GGA carry a fix, PGRMZ a pressure
@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use crate::harness::*;
 use serde_json::Value;
 
-on_both_boards!(an_app_reads_the_firmwares_flight_as_nmea);
+on_every_board!(an_app_reads_the_firmwares_flight_as_nmea);
 
 const SCRIPT: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

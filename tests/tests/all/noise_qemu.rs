@@ -36,8 +36,9 @@
 //! the test fails: with this seed, a waypoint load from flash in flight; landed, a reset,
 //! waypoint saves and loads, motor-test outputs and debug toggles.
 //!
-//! QEMU board only: the simulated STM32 (netduinoplus2) takes a whole host core already and
-//! would double the run.
+//! The lm3s6965evb boards: the blocking firmware and the async one (`firmware-embassy`'s QEMU
+//! board, whose AOK task drives the same link and noise gate). Not the simulated STM32
+//! (netduinoplus2): it takes a whole host core already and would double the run.
 
 // The bit-flip and lost-byte variants, as `sensor-box/tests/all/noise.rs` makes them.
 #[allow(dead_code)]
@@ -102,8 +103,16 @@ const REPLY_DROPPED: &str = "AOK: TX queue full, reply dropped";
 
 #[test]
 fn line_noise_on_the_aok_uart_commands_nothing() {
-    let board = Board::Lm3s6965evb;
-    let Some(mut q) = boot(board, Ports::NOISE) else {
+    line_noise_commands_nothing(Board::Lm3s6965evb);
+}
+
+#[test]
+fn line_noise_on_the_aok_uart_of_the_async_firmware_commands_nothing() {
+    line_noise_commands_nothing(Board::Embassy);
+}
+
+fn line_noise_commands_nothing(board: Board) {
+    let Some(mut q) = boot(board, Ports::NOISE.on(board)) else {
         return;
     };
     let log_path = q.log().display().to_string();

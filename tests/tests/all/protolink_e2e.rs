@@ -8,7 +8,7 @@ use protolink_tests::aeolus_udp::{App, Received};
 use std::net::Shutdown;
 use std::time::Duration;
 
-on_both_boards!(
+on_every_board!(
     bridge_carries_telemetry_and_commands_over_udp,
     protolink_aydp_set_get_store,
     protolink_aok_get_set_waypoint,

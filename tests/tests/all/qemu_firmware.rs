@@ -5,7 +5,7 @@
 use crate::harness::*;
 use std::time::{Duration, Instant};
 
-on_both_boards!(
+on_every_board!(
     aeolus_telemetry_crc_rates_and_commands,
     aydp_setting_survives_store_and_reboot,
     aok_parameter_and_waypoint,

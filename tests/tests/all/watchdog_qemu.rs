@@ -7,23 +7,37 @@
 //! the first time-out raises the interrupt, the second resets; `firmware-example/src/board/
 //! qemu.rs`), boot again and come back with what it had stored.
 //!
-//! QEMU board only. QEMU 7.2's `netduinoplus2` (the STM32F411 board's simulation) has no IWDG
-//! model: the address is an unimplemented-device stub that ignores writes (`info mtree` lists
-//! `IWDG` at 0x4000_3000 with priority -1000), so a hang there is never reset in QEMU; the real
-//! F411's IWDG is not tested here.
+//! The async firmware (`firmware-embassy`'s QEMU board, [`Board::Embassy`]) is built with its
+//! own `fault-hang`: the command stops its 1 ms tick, the task that schedules telemetry, while
+//! the other tasks (the TX pumps, the RX tasks, the supervisor) run on. Its supervisor feeds
+//! the same watchdog only while every task it watches shows progress, so it starves the
+//! watchdog within a second and the box resets about 4 s after the last feed too.
+//!
+//! The lm3s6965evb boards only. QEMU 7.2's `netduinoplus2` (the STM32F411 board's simulation)
+//! has no IWDG model: the address is an unimplemented-device stub that ignores writes (`info
+//! mtree` lists `IWDG` at 0x4000_3000 with priority -1000), so a hang there is never reset in
+//! QEMU; the real F411's IWDG is not tested here.
 
 use crate::harness::*;
 use std::time::{Duration, Instant};
 
 #[test]
 fn a_hung_loop_is_reset_and_keeps_its_settings() {
-    let board = Board::Lm3s6965evb;
+    a_hung_box_is_reset_and_keeps_its_settings(Board::Lm3s6965evb);
+}
+
+#[test]
+fn a_hung_task_of_the_async_firmware_is_reset_and_keeps_its_settings() {
+    a_hung_box_is_reset_and_keeps_its_settings(Board::Embassy);
+}
+
+fn a_hung_box_is_reset_and_keeps_its_settings(board: Board) {
     if !qemu_installed() {
-        boot(board, Ports::WATCHDOG);
+        boot(board, Ports::WATCHDOG.on(board));
         return;
     }
     let elf = firmware_elf_with(board, &["fault-hang"]);
-    let Some(mut q) = boot_elf(board, Ports::WATCHDOG, &elf) else {
+    let Some(mut q) = boot_elf(board, Ports::WATCHDOG.on(board), &elf) else {
         return;
     };
     let log = q.log().display().to_string();

@@ -1,4 +1,4 @@
-//! `protolink web` on the release firmware in QEMU (both boards), in headless Chromium: the
+//! `protolink web` on the release firmware in QEMU (every board), in headless Chromium: the
 //! firmware's UART0 goes through `protolink bridge` to UDP on 127.0.0.1 (as the box's WiFi
 //! side would send it), `protolink web` shows it, and "a pause" goes back to the box through
 //! the bridge. The page loads without a console error, its horizon's pixels show the
@@ -27,7 +27,7 @@ impl Drop for Running {
     }
 }
 
-on_both_boards!(the_page_flies_the_firmwares_turn);
+on_every_board!(the_page_flies_the_firmwares_turn);
 
 fn the_page_flies_the_firmwares_turn(board: Board) {
     let Some(chromium) = chromium() else { return };

@@ -1,18 +1,21 @@
 //! The QEMU harness of the end-to-end tests: boots the release sensor-box firmware in QEMU
-//! through `scripts/qemu-run.sh` and connects to its three UART sockets. Every test runs on
-//! both boards ([`Board`], [`on_both_boards!`]): the default `lm3s6965evb`, and the STM32F411
-//! board built with `qemu-stm32` in `netduinoplus2` (an STM32F405 model).
+//! through `scripts/qemu-run.sh` and connects to its three UART sockets. Every test listed in
+//! [`on_every_board!`] runs on the three boards ([`Board`]): the default `lm3s6965evb`, the
+//! STM32F411 board built with `qemu-stm32` in `netduinoplus2` (an STM32F405 model), and the
+//! async firmware (`firmware-embassy`, its QEMU board) in `lm3s6965evb`.
 //!
 //! * Skipped only when `qemu-system-arm` is not installed (`scripts/setup.sh qemu` installs
 //!   it; `.ci/run` does), through `protolink_tests::skip`: a failure under CI (`CI=true`), and
 //!   outside CI a line in the skipped count of `scripts/test.sh`'s summary.
 //! * The firmware is built by the harness itself (`cargo qemu-build` / `cargo
 //!   stm32-qemu-build`, a no-op when `scripts/test.sh` has built it already), into
-//!   `$CARGO_TARGET_DIR` (default `target/`). `SENSOR_BOX_ELF=path` (lm3s) and
-//!   `SENSOR_BOX_STM32_ELF=path` (STM32) boot a given ELF instead. [`protolink`] builds the
+//!   `$CARGO_TARGET_DIR` (default `target/`); the async firmware by `cargo qemu-build` in
+//!   `firmware-embassy/` (its own workspace), into `$CARGO_TARGET_DIR/embassy`.
+//!   `SENSOR_BOX_ELF=path` (lm3s), `SENSOR_BOX_STM32_ELF=path` (STM32) and
+//!   `SENSOR_BOX_EMBASSY_ELF=path` (the async firmware) boot a given ELF instead. [`protolink`] builds the
 //!   host tool the same way.
 //! * Every test boots its own QEMU on its own fixed ports ([`Ports`], moved by
-//!   [`Ports::on`] for the STM32 runs), far from the demo's 7000..7002. All the QEMU tests are
+//!   [`Ports::on`] for the STM32 and the async firmware's runs), far from the demo's 7000..7002. All the QEMU tests are
 //!   in one test binary (`tests/all/`), whose tests run in parallel; at most [`qemu_jobs`]
 //!   emulators run at once (`QEMU_JOBS`, 1 to 16, default 2), so that a few emulators, not
 //!   every test of the binary, share the cores and disturb each other's timing; a test waits
@@ -23,14 +26,14 @@
 //!   `defmt-print` is installed; on the STM32 it is read over RTT through QEMU's GDB stub, port
 //!   UART0 + 3).
 //!
-//! A test that needs a firmware built with extra features of `firmware-example` (such as the
-//! test-only `fault-hang`) gets its ELF from [`firmware_elf_with`], which builds it once and
+//! A test that needs a firmware built with extra features of `firmware-example` or
+//! `firmware-embassy` (such as the test-only `fault-hang`) gets its ELF from [`firmware_elf_with`], which builds it once and
 //! copies it to its own path beside the default one, then boots it with [`boot_elf`]. No QEMU
 //! runs during that build (it waits for the running ones and holds back the others), and the
 //! other tests boot a copy of the default build (`sensor-box-default`), which it never
 //! overwrites.
 //!
-//! To add a test: write `fn my_test(board: Board)`, add it to the file's [`on_both_boards!`]
+//! To add a test: write `fn my_test(board: Board)`, add it to the file's [`on_every_board!`]
 //! list, give it its own [`Ports`] (a new constant, added to [`Ports::ALL`]), then `let
 //! Some(mut q) = boot(board, Ports::NEXT_ONE.on(board)) else { return };` and use `q.uart0` (an
 //! [`Aeolus`] reader over the AEOLUS socket), `q.uart1` (AYDP) and `q.uart2` (AOK), plain
@@ -61,13 +64,16 @@ pub enum Board {
     /// The STM32F411 board with its three simulation changes (`qemu-stm32`) in QEMU's
     /// `netduinoplus2` (STM32F405, Cortex-M4F), `cargo stm32-qemu-build`.
     Stm32f411,
+    /// The async firmware (`firmware-embassy`, feature `board-qemu`) in QEMU `lm3s6965evb`,
+    /// `cargo qemu-build` in `firmware-embassy/`.
+    Embassy,
 }
 
 impl Board {
     /// The machine name for `scripts/qemu-run.sh --machine`.
     pub fn machine(self) -> &'static str {
         match self {
-            Board::Lm3s6965evb => "lm3s6965evb",
+            Board::Lm3s6965evb | Board::Embassy => "lm3s6965evb",
             Board::Stm32f411 => "netduinoplus2",
         }
     }
@@ -77,13 +83,14 @@ impl Board {
         match self {
             Board::Lm3s6965evb => "on qemu-lm3s6965evb: booting",
             Board::Stm32f411 => "on stm32f411 (simulated: QEMU netduinoplus2): booting",
+            Board::Embassy => "on qemu-lm3s6965evb-embassy: booting",
         }
     }
 
-    /// The cargo alias that builds this board's firmware.
+    /// The cargo alias that builds this board's firmware (in [`Board::build_dir`]).
     fn build_alias(self) -> &'static str {
         match self {
-            Board::Lm3s6965evb => "qemu-build",
+            Board::Lm3s6965evb | Board::Embassy => "qemu-build",
             Board::Stm32f411 => "stm32-qemu-build",
         }
     }
@@ -91,16 +98,42 @@ impl Board {
     /// The target triple and the board feature of its firmware build (what its alias passes).
     fn target_and_feature(self) -> (&'static str, &'static str) {
         match self {
-            Board::Lm3s6965evb => ("thumbv7m-none-eabi", "board-qemu"),
+            Board::Lm3s6965evb | Board::Embassy => ("thumbv7m-none-eabi", "board-qemu"),
             Board::Stm32f411 => ("thumbv7em-none-eabihf", "qemu-stm32"),
         }
     }
 
-    /// Where that alias puts the ELF, under the target directory.
+    /// Where its build runs: the workspace root, or `firmware-embassy/` (its own workspace).
+    fn build_dir(self) -> PathBuf {
+        match self {
+            Board::Lm3s6965evb | Board::Stm32f411 => workspace_root(),
+            Board::Embassy => workspace_root().join("firmware-embassy"),
+        }
+    }
+
+    /// The target directory of its build: the workspace's, or `embassy/` inside it for the
+    /// async firmware (its own workspace and lock file, nothing shared with the root's builds).
+    fn build_target_dir(self) -> PathBuf {
+        match self {
+            Board::Lm3s6965evb | Board::Stm32f411 => target_dir(),
+            Board::Embassy => target_dir().join("embassy"),
+        }
+    }
+
+    /// Where that alias puts the ELF, under [`Board::build_target_dir`].
     fn elf_path(self) -> &'static str {
         match self {
             Board::Lm3s6965evb => "thumbv7m-none-eabi/release/sensor-box",
             Board::Stm32f411 => "thumbv7em-none-eabihf/release/sensor-box",
+            Board::Embassy => "thumbv7m-none-eabi/release/sensor-box-embassy",
+        }
+    }
+
+    /// The package and binary of its firmware build.
+    fn package_and_bin(self) -> (&'static str, &'static str) {
+        match self {
+            Board::Lm3s6965evb | Board::Stm32f411 => ("firmware-example", "sensor-box"),
+            Board::Embassy => ("firmware-embassy", "sensor-box-embassy"),
         }
     }
 
@@ -109,15 +142,20 @@ impl Board {
         match self {
             Board::Lm3s6965evb => "SENSOR_BOX_ELF",
             Board::Stm32f411 => "SENSOR_BOX_STM32_ELF",
+            Board::Embassy => "SENSOR_BOX_EMBASSY_ELF",
         }
     }
+
+    /// Every board, in the order [`on_every_board!`] runs them.
+    pub const ALL: [Board; 3] = [Board::Lm3s6965evb, Board::Stm32f411, Board::Embassy];
 }
 
 /// Defines, for each `fn name(board: Board)` listed, a module `name` with one `#[test]` per
-/// board: `FILE::name::lm3s6965evb` and `FILE::name::stm32f411_in_netduinoplus2` (run one
-/// board with `cargo test ... -- lm3s6965evb` or `-- stm32f411`). Comes with the harness's
-/// glob import (`use crate::harness::*;`).
-macro_rules! on_both_boards {
+/// board: `FILE::name::lm3s6965evb`, `FILE::name::stm32f411_in_netduinoplus2` and
+/// `FILE::name::embassy_in_lm3s6965evb` (run one board with `cargo test ... --
+/// ::lm3s6965evb`, `-- stm32f411` or `-- embassy`). Comes with the harness's glob import (`use
+/// crate::harness::*;`).
+macro_rules! on_every_board {
     ($($name:ident),* $(,)?) => {
         $(
             mod $name {
@@ -130,11 +168,16 @@ macro_rules! on_both_boards {
                 fn stm32f411_in_netduinoplus2() {
                     super::$name(super::Board::Stm32f411)
                 }
+
+                #[test]
+                fn embassy_in_lm3s6965evb() {
+                    super::$name(super::Board::Embassy)
+                }
             }
         )*
     };
 }
-pub(crate) use on_both_boards;
+pub(crate) use on_every_board;
 
 /// The three TCP ports of one QEMU instance (UART0, UART1, UART2).
 #[derive(Debug, Clone, Copy)]
@@ -183,7 +226,7 @@ impl Ports {
     pub const README: Ports = Ports(17_560);
 
     /// Every test's ports, by the constant's name: each test owns UART0's port and the 9 above
-    /// it ([`Ports::RANGE`]) on each board, and no two tests' ranges meet on either board
+    /// it ([`Ports::RANGE`]) on each board, and no two tests' ranges meet on any board
     /// (`the_tests_ports_never_meet`).
     pub const ALL: [(&str, Ports); 17] = [
         ("AEOLUS", Ports::AEOLUS),
@@ -212,6 +255,10 @@ impl Ports {
     /// How much higher the STM32 runs' ports are ([`Ports::on`]): above every lm3s6965evb
     /// range, so that the two boards' runs of all the tests can be up at the same time.
     pub const STM32_OFFSET: u16 = 200;
+
+    /// How much higher the async firmware's runs' ports are ([`Ports::on`]): above every
+    /// STM32 range.
+    pub const EMBASSY_OFFSET: u16 = 400;
 }
 
 impl Ports {
@@ -220,15 +267,17 @@ impl Ports {
         self.0 + n
     }
 
-    /// The same test's ports on `board`: the STM32 runs are [`Ports::STM32_OFFSET`] higher, so
-    /// that the two boards' runs of a test, which may run at the same time, and a QEMU still
-    /// closing from one board never hold the other's ports. Each test's range is
+    /// The same test's ports on `board`: the STM32 runs are [`Ports::STM32_OFFSET`] higher and
+    /// the async firmware's [`Ports::EMBASSY_OFFSET`], so that the boards' runs of a test,
+    /// which may run at the same time, and a QEMU still closing from one board never hold
+    /// another's ports. Each test's range is
     /// [`Ports::RANGE`] ports: UART0..UART2, the GDB stub (+3, STM32) and the test's own UDP
     /// and TCP ports (+5..+9).
     pub fn on(self, board: Board) -> Ports {
         match board {
             Board::Lm3s6965evb => self,
             Board::Stm32f411 => Ports(self.0 + Ports::STM32_OFFSET),
+            Board::Embassy => Ports(self.0 + Ports::EMBASSY_OFFSET),
         }
     }
 }
@@ -237,10 +286,7 @@ impl Ports {
 fn the_tests_ports_never_meet() {
     let mut ranges: Vec<(u16, String)> = Ports::ALL
         .iter()
-        .flat_map(|&(name, p)| {
-            [Board::Lm3s6965evb, Board::Stm32f411]
-                .map(|b| (p.on(b).0, format!("{name} on {}", b.machine())))
-        })
+        .flat_map(|&(name, p)| Board::ALL.map(|b| (p.on(b).0, format!("{name} on {b:?}"))))
         .collect();
     ranges.sort();
     for pair in ranges.windows(2) {
@@ -367,9 +413,11 @@ pub fn qemu_installed() -> bool {
 pub fn firmware_elf(board: Board) -> &'static Path {
     static LM3S: OnceLock<PathBuf> = OnceLock::new();
     static STM32: OnceLock<PathBuf> = OnceLock::new();
+    static EMBASSY: OnceLock<PathBuf> = OnceLock::new();
     let cell = match board {
         Board::Lm3s6965evb => &LM3S,
         Board::Stm32f411 => &STM32,
+        Board::Embassy => &EMBASSY,
     };
     cell.get_or_init(|| {
         if let Some(elf) = std::env::var_os(board.elf_env()) {
@@ -380,14 +428,14 @@ pub fn firmware_elf(board: Board) -> &'static Path {
         let alias = board.build_alias();
         let status = Command::new(cargo)
             .arg(alias)
-            .current_dir(workspace_root())
-            .env("CARGO_TARGET_DIR", target_dir())
+            .current_dir(board.build_dir())
+            .env("CARGO_TARGET_DIR", board.build_target_dir())
             .status()
             .unwrap_or_else(|e| panic!("run `cargo {alias}`: {e}"));
         assert!(status.success(), "`cargo {alias}` failed");
         // A copy that the tests boot: a build with other features (`firmware_elf_with`, for a
         // test that may run beside them) overwrites the built ELF for a while.
-        let built = target_dir().join(board.elf_path());
+        let built = board.build_target_dir().join(board.elf_path());
         let copy = built.with_file_name("sensor-box-default");
         std::fs::copy(&built, &copy).expect("copy the firmware ELF");
         copy
@@ -405,33 +453,33 @@ pub fn firmware_elf_with(board: Board, features: &[&str]) -> PathBuf {
     let _cores = Turn::take_all();
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let (target, feature) = board.target_and_feature();
+    let (package, bin) = board.package_and_bin();
     let all = std::iter::once(feature)
         .chain(features.iter().copied())
         .collect::<Vec<_>>()
         .join(",");
-    let status = Command::new(&cargo)
-        .args([
-            "build",
-            "-p",
-            "firmware-example",
-            "--bin",
-            "sensor-box",
-            "--release",
-        ])
-        .args(["--target", target, "--features", &all])
-        .current_dir(workspace_root())
-        .env("CARGO_TARGET_DIR", target_dir())
+    let mut build = Command::new(&cargo);
+    build
+        .args(["build", "-p", package, "--bin", bin, "--release"])
+        .args(["--target", target, "--features", &all]);
+    if board == Board::Embassy {
+        // Its default feature is the STM32 board.
+        build.arg("--no-default-features");
+    }
+    let status = build
+        .current_dir(board.build_dir())
+        .env("CARGO_TARGET_DIR", board.build_target_dir())
         .status()
         .unwrap_or_else(|e| panic!("build the firmware with {all}: {e}"));
     assert!(status.success(), "the firmware build with {all} failed");
-    let built = target_dir().join(board.elf_path());
-    let copy = built.with_file_name(format!("sensor-box-{}", features.join("-")));
+    let built = board.build_target_dir().join(board.elf_path());
+    let copy = built.with_file_name(format!("{bin}-{}", features.join("-")));
     std::fs::copy(&built, &copy).expect("copy the firmware ELF");
     // The default ELF back in its place (cargo has it cached: a copy, no compile).
     let status = Command::new(&cargo)
         .arg(board.build_alias())
-        .current_dir(workspace_root())
-        .env("CARGO_TARGET_DIR", target_dir())
+        .current_dir(board.build_dir())
+        .env("CARGO_TARGET_DIR", board.build_target_dir())
         .status()
         .expect("run the default firmware build");
     assert!(status.success(), "the default firmware build failed");
@@ -503,9 +551,9 @@ pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
         skip_without_qemu();
         return None;
     }
-    // Both boards' firmware is built before any QEMU runs (the first test to get here builds
+    // Every board's firmware is built before any QEMU runs (the first test to get here builds
     // it, the others wait): a build on the same cores would disturb a running emulator.
-    for b in [Board::Lm3s6965evb, Board::Stm32f411] {
+    for b in Board::ALL {
         firmware_elf(b);
     }
     start(board, ports, icount, firmware_elf(board))

@@ -1,0 +1,326 @@
+//! An interrupt-driven async driver for the LM3S6965's three PL011 UARTs: `embedded-io-async`
+//! [`Rx`] (with `ReadReady`) and [`Tx`], each woken by the UART's interrupt.
+//!
+//! * **Receive.** The interrupt moves what the RX FIFO holds into a [`RX_RING`]-byte ring
+//!   (`sensor-box`'s `SerialIsr::receive_while`, the blocking boards' ring) and wakes the
+//!   reader. While the ring is full it leaves the bytes in the FIFO and masks its RX
+//!   interrupts; the reader's next read kicks the interrupt (pends it), which takes them then.
+//!   QEMU stops reading a UART's socket while the FIFO is full, so nothing is lost; on a real
+//!   part the FIFO overruns, which the UART reports (counted below). A receive error (the
+//!   error bits of a DR read: overrun, break, parity, framing) takes no slot and is counted in
+//!   the port's [`PortStats`] (`rx_errors`), and the reader's next read returns one error for
+//!   the errors counted since its last.
+//! * **Transmit.** [`Tx::write`] fills the TX FIFO while it has room and returns the count;
+//!   with the FIFO full it enables the TX interrupt and waits for it.
+//! * **Interrupt levels.** RX at half full with the receive-timeout interrupt for the rest of
+//!   a burst, TX at one-eighth full, as a real PL011 wants them. QEMU 7.2's model ignores the
+//!   levels: it raises RX at the first byte and never the receive timeout (so every byte it
+//!   hands over raises RX), and sends a written byte at once, so its TX FIFO is never full.
+//!
+//! Every buffer is bounded ([`RX_RING`], the 16-byte FIFOs); no path panics.
+
+use core::cell::RefCell;
+use core::future::poll_fn;
+use core::ptr::{read_volatile, write_volatile};
+use core::task::Poll;
+
+use cortex_m::peripheral::NVIC;
+use critical_section::Mutex;
+use embassy_sync::waitqueue::AtomicWaker;
+use embedded_io::ErrorKind;
+use firmware_example::serial::Ring;
+use firmware_example::{PortStats, QueuedSerial, SerialIsr};
+use sensor_box::budget::{self, Category};
+
+use super::chip::{CORE_HZ, Irq};
+
+/// Bytes of each UART's receive ring.
+pub const RX_RING: usize = 512;
+/// The receive ring's TX side: unused (the receive split sends nothing).
+const NO_TX: usize = 1;
+
+/// The UARTs' baud rate (QEMU ignores it; a real part needs it).
+const BAUD: u32 = 115_200;
+/// The baud divisor in 64ths: core clock / (16 x baud), rounded.
+const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
+
+// Registers (offsets from a UART's base) and bits.
+const DR: usize = 0x000;
+const FR: usize = 0x018;
+const IBRD: usize = 0x024;
+const FBRD: usize = 0x028;
+const LCRH: usize = 0x02C;
+const CTL: usize = 0x030;
+const IFLS: usize = 0x034;
+const IMSC: usize = 0x038;
+const ICR: usize = 0x044;
+const FR_RXFE: u32 = 1 << 4;
+const FR_TXFF: u32 = 1 << 5;
+const FR_TXFE: u32 = 1 << 7;
+/// DR's error bits: overrun, break, parity, framing.
+const DR_ERRORS: u32 = 0xF00;
+const INT_RX: u32 = 1 << 4;
+const INT_TX: u32 = 1 << 5;
+const INT_RT: u32 = 1 << 6;
+const INT_ALL: u32 = 0x7FF;
+/// RX at half full, TX at one-eighth full.
+const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
+/// 8 data bits, FIFOs on.
+const LCRH_WLEN8_FEN: u32 = 0x70;
+const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
+/// The UARTs' interrupt priority (below SysTick's, which is the highest).
+const PRIORITY: u8 = 0x40;
+
+/// One UART: its registers, its interrupt line, the wakers of its reader and writer, and the
+/// interrupt's half of its receive ring.
+struct Uart {
+    base: usize,
+    irq: Irq,
+    rx_waker: AtomicWaker,
+    tx_waker: AtomicWaker,
+    isr: Mutex<RefCell<Option<RxIsr>>>,
+}
+
+/// The interrupt's half of a receive ring, and the port's counters.
+type RxIsr = (SerialIsr<'static, RX_RING, NO_TX>, &'static PortStats);
+
+impl Uart {
+    const fn new(base: usize, irq: Irq) -> Self {
+        Uart {
+            base,
+            irq,
+            rx_waker: AtomicWaker::new(),
+            tx_waker: AtomicWaker::new(),
+            isr: Mutex::new(RefCell::new(None)),
+        }
+    }
+
+    fn read(&self, offset: usize) -> u32 {
+        // SAFETY: `base` is one of the LM3S6965's PL011s and `offset` one of its registers.
+        unsafe { read_volatile((self.base + offset) as *const u32) }
+    }
+
+    fn write(&self, offset: usize, value: u32) {
+        // SAFETY: as in `read`; the writes below keep to the PL011's documented bits.
+        unsafe { write_volatile((self.base + offset) as *mut u32, value) }
+    }
+
+    /// Sets (`on`) or clears `bits` of the interrupt mask: a read-modify-write that the task
+    /// and the interrupt both do, so in a critical section.
+    fn mask(&self, bits: u32, on: bool) {
+        critical_section::with(|_| {
+            let imsc = self.read(IMSC);
+            self.write(IMSC, if on { imsc | bits } else { imsc & !bits });
+        });
+    }
+
+    /// Writes bytes of `buf` into the TX FIFO while it has room; the count.
+    fn fill_tx(&self, buf: &[u8]) -> usize {
+        let mut n = 0;
+        for &b in buf {
+            if self.read(FR) & FR_TXFF != 0 {
+                break;
+            }
+            self.write(DR, u32::from(b));
+            n += 1;
+        }
+        n
+    }
+}
+
+static UARTS: [Uart; 3] = [
+    Uart::new(0x4000_C000, Irq::Uart0),
+    Uart::new(0x4000_D000, Irq::Uart1),
+    Uart::new(0x4000_E000, Irq::Uart2),
+];
+
+/// The receive rings, one per UART (split once, in [`init`]).
+static RX_RINGS: [Ring<RX_RING>; 3] = [const { Ring::new() }; 3];
+/// The unused TX sides of the receive splits.
+static NO_TX_RINGS: [Ring<NO_TX>; 3] = [const { Ring::new() }; 3];
+
+/// The reading half of a UART.
+pub struct Rx {
+    uart: &'static Uart,
+    port: QueuedSerial<'static, RX_RING, NO_TX>,
+    /// The port's `rx_errors` as of the last error reported.
+    errors_seen: u32,
+}
+
+/// The writing half of a UART.
+pub struct Tx {
+    uart: &'static Uart,
+}
+
+/// Sets up UART `index` (0..=2; any other is `None`): 8N1, FIFOs on, the interrupt levels,
+/// the RX and receive-timeout interrupts on, its interrupt line unmasked. `stats` counts its
+/// received, dropped and errored bytes (the links' TX side counts the sent ones in the same
+/// counters). Call once per UART, after the clocks are on.
+pub fn init(index: usize, stats: &'static PortStats, nvic: &mut NVIC) -> Option<(Rx, Tx)> {
+    let uart = UARTS.get(index)?;
+    let kick: fn() = match index {
+        0 => || NVIC::pend(Irq::Uart0),
+        1 => || NVIC::pend(Irq::Uart1),
+        _ => || NVIC::pend(Irq::Uart2),
+    };
+    let (port, isr) =
+        QueuedSerial::split(RX_RINGS.get(index)?, NO_TX_RINGS.get(index)?, stats, kick);
+    let placed =
+        critical_section::with(|cs| uart.isr.borrow(cs).replace(Some((isr, stats))).is_none());
+    if !placed {
+        // A second init of the same UART would make a second reader of its ring.
+        return None;
+    }
+    uart.write(CTL, 0);
+    uart.write(IBRD, BAUD_DIV_64THS / 64);
+    uart.write(FBRD, BAUD_DIV_64THS % 64);
+    uart.write(LCRH, LCRH_WLEN8_FEN);
+    uart.write(IFLS, IFLS_RX_HALF_TX_EIGHTH);
+    uart.write(ICR, INT_ALL);
+    uart.write(IMSC, INT_RX | INT_RT);
+    uart.write(CTL, CTL_UARTEN_TXE_RXE);
+    // SAFETY: the interrupt's state (the ring's half) is in place above; the priority is
+    // set before the line is unmasked.
+    unsafe {
+        nvic.set_priority(uart.irq, PRIORITY);
+        NVIC::unmask(uart.irq);
+    }
+    let errors_seen = stats.snapshot().rx_errors;
+    Some((
+        Rx {
+            uart,
+            port,
+            errors_seen,
+        },
+        Tx { uart },
+    ))
+}
+
+/// UART `index`'s interrupt: takes what the RX FIFO holds (while the ring has room) and wakes
+/// the reader; on TX room, masks the TX interrupt and wakes the writer. Also runs when the
+/// reader pends it after it made room in a ring that was full.
+pub fn on_interrupt(index: usize) {
+    let Some(uart) = UARTS.get(index) else {
+        return;
+    };
+    let previous = budget::enter(Category::RxIrq);
+    // The TX interrupt stays raised while the FIFO has room (QEMU: after every byte), so it
+    // is cleared with the RX ones; the writer enables it again when it needs to wait.
+    uart.write(ICR, INT_RX | INT_RT | INT_TX);
+    let (received, held) = critical_section::with(|cs| {
+        // Only this interrupt borrows it after `init` (a failed borrow is not a panic).
+        let Ok(mut isr) = uart.isr.borrow(cs).try_borrow_mut() else {
+            return (false, false);
+        };
+        let Some((isr, stats)) = isr.as_mut() else {
+            return (false, false);
+        };
+        let before = stats.snapshot().rx_errors;
+        let n = isr.receive_while(|| {
+            if uart.read(FR) & FR_RXFE != 0 {
+                return None;
+            }
+            let dr = uart.read(DR);
+            Some(if dr & DR_ERRORS != 0 {
+                Err(())
+            } else {
+                Ok(dr as u8)
+            })
+        });
+        (n > 0 || stats.snapshot().rx_errors != before, isr.rx_held())
+    });
+    if received {
+        uart.rx_waker.wake();
+    }
+    // A full ring: the bytes wait in the FIFO, and its interrupts stay off until the reader
+    // makes room (its read pends this interrupt).
+    uart.mask(INT_RX | INT_RT, !held);
+    budget::leave(previous);
+    let previous = budget::enter(Category::TxIrq);
+    if uart.read(FR) & FR_TXFF == 0 {
+        uart.mask(INT_TX, false);
+        uart.tx_waker.wake();
+    }
+    budget::leave(previous);
+}
+
+impl embedded_io::ErrorType for Rx {
+    type Error = ErrorKind;
+}
+
+impl Rx {
+    /// Whether receive errors were counted since the last one reported (and takes them).
+    fn take_error(&mut self) -> bool {
+        let errors = self.port.counters().rx_errors;
+        let new = errors != self.errors_seen;
+        self.errors_seen = errors;
+        new
+    }
+}
+
+impl embedded_io_async::Read for Rx {
+    /// Waits until received bytes wait in the ring, then moves as many as fit into `buf`. A
+    /// receive error counted since the last read is returned first, as one
+    /// [`ErrorKind::Other`] (the bytes read on).
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, ErrorKind> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        poll_fn(|cx| {
+            self.uart.rx_waker.register(cx.waker());
+            if self.take_error() {
+                return Poll::Ready(Err(ErrorKind::Other));
+            }
+            if self.port.rx_pending() == 0 {
+                return Poll::Pending;
+            }
+            Poll::Ready(embedded_io::Read::read(&mut self.port, buf).map_err(|e| match e {}))
+        })
+        .await
+    }
+}
+
+impl embedded_io_async::ReadReady for Rx {
+    /// Whether a read returns at once: bytes wait in the ring, or an error to report.
+    fn read_ready(&mut self) -> Result<bool, ErrorKind> {
+        Ok(self.port.rx_pending() > 0 || self.port.counters().rx_errors != self.errors_seen)
+    }
+}
+
+impl embedded_io::ErrorType for Tx {
+    type Error = ErrorKind;
+}
+
+impl embedded_io_async::Write for Tx {
+    /// Writes what the TX FIFO has room for (at least one byte, waiting for the TX interrupt
+    /// while the FIFO is full); the count.
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        poll_fn(|cx| {
+            self.uart.tx_waker.register(cx.waker());
+            match self.uart.fill_tx(buf) {
+                0 => {
+                    self.uart.mask(INT_TX, true);
+                    Poll::Pending
+                }
+                n => Poll::Ready(Ok(n)),
+            }
+        })
+        .await
+    }
+
+    /// Waits until the TX FIFO is empty (woken by the TX interrupt as it drains).
+    async fn flush(&mut self) -> Result<(), ErrorKind> {
+        poll_fn(|cx| {
+            self.uart.tx_waker.register(cx.waker());
+            if self.uart.read(FR) & FR_TXFE != 0 {
+                return Poll::Ready(Ok(()));
+            }
+            self.uart.mask(INT_TX, true);
+            Poll::Pending
+        })
+        .await
+    }
+}
