@@ -581,6 +581,8 @@ fn the_ownship_identity_is_set_and_kept_per_box() {
         (["--icao", "000000"], "not assigned"),
         (["--callsign", "D-EKAB"], "only 0-9 and A-Z"),
         (["--callsign", "ABCDEFGHI"], "1 to 8"),
+        (["--broadcast", "ff02::1"], "IPv6 has no broadcast"),
+        (["--broadcast", "everyone"], "not an IPv4 address"),
     ] {
         let mut args = vec!["gdl90", "--from", "udp:0"];
         args.extend(bad);

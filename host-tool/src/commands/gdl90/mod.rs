@@ -84,6 +84,18 @@ pub(crate) enum AhrsKind {
     Both,
 }
 
+/// `--broadcast`: an IPv4 address. IPv6 has no broadcast; a datagram to several IPv6 hosts goes
+/// to a multicast group, which `--to` takes.
+fn parse_broadcast(text: &str) -> std::result::Result<IpAddr, String> {
+    match text.parse::<IpAddr>() {
+        Ok(ip @ IpAddr::V4(_)) => Ok(ip),
+        Ok(IpAddr::V6(_)) => Err(format!(
+            "'{text}' is an IPv6 address, and IPv6 has no broadcast: give a multicast group or a host with --to instead"
+        )),
+        Err(_) => Err(format!("'{text}' is not an IPv4 address")),
+    }
+}
+
 /// Arguments of `protolink gdl90`.
 #[derive(Debug, Clone, Args)]
 pub(crate) struct Gdl90Args {
@@ -93,8 +105,9 @@ pub(crate) struct Gdl90Args {
     /// Where the GDL90 datagrams go: PORT (on 127.0.0.1) or ADDR:PORT.
     #[arg(long, value_name = "[ADDR:]PORT", default_value = "127.0.0.1:4000", value_parser = parse_local_addr)]
     pub(crate) to: SocketAddr,
-    /// Send to this broadcast address instead (on the --to port). Never a default.
-    #[arg(long, value_name = "ADDR")]
+    /// Send to this broadcast address instead (on the --to port; IPv4: IPv6 has no broadcast).
+    /// Never a default.
+    #[arg(long, value_name = "ADDR", value_parser = parse_broadcast)]
     pub(crate) broadcast: Option<IpAddr>,
     /// Listen on UDP 63093 for ForeFlight's announcement and send to the host it came from,
     /// on the port it names: the first host to announce itself (`--discover`, the same as
