@@ -34,7 +34,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_io_async::{Read, Write};
 use firmware_example::{QueuedSerial, SerialIsr};
 use sensor_box::persist::{self, Scratch};
-use sensor_box::supervisor::{Heartbeat, Supervisor, Verdict};
+use sensor_box::supervisor::{Heartbeat, Supervisor, Task, Verdict};
 use sensor_box::{App, aeolus_link, aydp_link};
 
 /// How often the links' TX halves run (the telemetry schedule's resolution), ms. The
@@ -141,13 +141,24 @@ pub const PUMP_SILENCE_MS: u64 = 1_000;
 /// [`MAX_SLEEP_MS`](crate::aok::MAX_SLEEP_MS).
 pub const AOK_SILENCE_MS: u64 = 1_000;
 
-/// The watchdog's supervisor: every [`FEED_MS`] a [`Supervisor::check`], and `feed` on
-/// [`Verdict::Feed`] only. A stall is logged once, with the task's name; the verdict stays,
-/// and the watchdog resets the box at its time-out.
-pub async fn supervise<const N: usize>(
-    mut supervisor: Supervisor<'_, N>,
-    mut feed: impl FnMut(),
-) -> ! {
+/// The watchdog's supervisor over the tasks that must show progress, `hearts` in this order:
+/// the tick ([`run`]), the AEOLUS, AYDP and AOK TX pumps ([`pump_tx`]) and the AOK task, each
+/// with its limit. Every [`FEED_MS`] a [`Supervisor::check`], and `feed` on [`Verdict::Feed`]
+/// only. A stall is logged once, with the task's name; the verdict stays, and the watchdog
+/// resets the box at its time-out.
+pub async fn supervise(hearts: &[Heartbeat; 5], mut feed: impl FnMut()) -> ! {
+    let [tick, aeolus, aydp, aok_pump, aok] = hearts;
+    let mut supervisor = Supervisor::new(
+        [
+            Task::new("tick", tick, TICK_SILENCE_MS),
+            Task::new("AEOLUS TX pump", aeolus, PUMP_SILENCE_MS),
+            Task::new("AYDP TX pump", aydp, PUMP_SILENCE_MS),
+            Task::new("AOK TX pump", aok_pump, PUMP_SILENCE_MS),
+            Task::new("AOK", aok, AOK_SILENCE_MS),
+        ],
+        FEED_MS,
+        now_ms(),
+    );
     let mut logged = false;
     loop {
         Timer::after_millis(FEED_MS).await;

@@ -35,7 +35,7 @@ use firmware_example::{PortStats, QueuedSerial};
 use panic_probe as _;
 use sensor_box::App;
 use sensor_box::persist::Layout;
-use sensor_box::supervisor::{Heartbeat, Supervisor, Task};
+use sensor_box::supervisor::Heartbeat;
 use static_cell::{ConstStaticCell, StaticCell};
 
 /// USART2 (AEOLUS) baud rate: the spec schedule needs about 453 kbit/s (see
@@ -287,19 +287,7 @@ async fn main(spawner: Spawner) {
 /// pumps and the AOK task show progress, each within its limit.
 #[embassy_executor::task]
 async fn watchdog_task(mut watchdog: IndependentWatchdog<'static, peripherals::IWDG>) {
-    let [tick, aeolus, aydp, aok_pump, aok] = &HEARTS;
-    let supervisor = Supervisor::new(
-        [
-            Task::new("tick", tick, links::TICK_SILENCE_MS),
-            Task::new("AEOLUS TX pump", aeolus, links::PUMP_SILENCE_MS),
-            Task::new("AYDP TX pump", aydp, links::PUMP_SILENCE_MS),
-            Task::new("AOK TX pump", aok_pump, links::PUMP_SILENCE_MS),
-            Task::new("AOK", aok, links::AOK_SILENCE_MS),
-        ],
-        links::FEED_MS,
-        links::now_ms(),
-    );
-    links::supervise(supervisor, || watchdog.pet()).await
+    links::supervise(&HEARTS, || watchdog.pet()).await
 }
 
 /// The settings store: the stores the tick hands over, into the settings map on the async

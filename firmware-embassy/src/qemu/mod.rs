@@ -38,7 +38,7 @@ use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial};
 use sensor_box::App;
 use sensor_box::persist::Layout;
-use sensor_box::supervisor::{Heartbeat, Supervisor, Task};
+use sensor_box::supervisor::Heartbeat;
 use static_cell::{ConstStaticCell, StaticCell};
 
 use crate::links::{
@@ -192,19 +192,7 @@ async fn main(spawner: Spawner) {
 /// The watchdog's supervisor ([`links::supervise`]).
 #[embassy_executor::task]
 async fn watchdog_task(mut watchdog: Watchdog) {
-    let [tick, aeolus, aydp, aok_pump, aok] = &HEARTS;
-    let supervisor = Supervisor::new(
-        [
-            Task::new("tick", tick, links::TICK_SILENCE_MS),
-            Task::new("AEOLUS TX pump", aeolus, links::PUMP_SILENCE_MS),
-            Task::new("AYDP TX pump", aydp, links::PUMP_SILENCE_MS),
-            Task::new("AOK TX pump", aok_pump, links::PUMP_SILENCE_MS),
-            Task::new("AOK", aok, links::AOK_SILENCE_MS),
-        ],
-        links::FEED_MS,
-        links::now_ms(),
-    );
-    links::supervise(supervisor, || watchdog.feed()).await
+    links::supervise(&HEARTS, || watchdog.feed()).await
 }
 
 /// The settings store ([`links::store`]) on the RAM store.
