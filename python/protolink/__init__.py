@@ -29,7 +29,7 @@ Modules: :mod:`protolink.aeolus`, :mod:`protolink.aydp`, :mod:`protolink.aok`,
 
 from . import aeolus, aok, aydp, gdl90
 from ._native import ErrorEvent, FeedIter, Message, Reader, open
-from ._warnings import TruncatedCaptureWarning
+from ._warnings import DamagedCaptureWarning, TruncatedCaptureWarning
 from .frames import export, to_arrow, to_frames
 
 __version__ = "0.1.0"
@@ -40,6 +40,7 @@ __all__ = [
     "Message",
     "Reader",
     "TruncatedCaptureWarning",
+    "DamagedCaptureWarning",
     "aeolus",
     "aok",
     "aydp",

@@ -63,7 +63,8 @@ def to_arrow(
     time (Ctrl-C between two), its rows built into typed columns with no Python object per
     message. Options: ``profile=``, ``side=``, ``errors=`` (``False``: no ``ERROR`` table),
     ``strict=`` (a cut capture raises ``OSError`` instead of a
-    :class:`protolink.TruncatedCaptureWarning`), ``row_group=`` (rows per record batch).
+    :class:`protolink.TruncatedCaptureWarning`, a damaged one instead of a
+    :class:`protolink.DamagedCaptureWarning`), ``row_group=`` (rows per record batch).
 
     Each row is one message: first its metadata, then its fields.
 
@@ -122,8 +123,10 @@ def export(
     ``out``, one directory per message type, each row naming its file in ``source``:
     ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
     export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
-    ``[(type, rows, [part paths])]``; a part that exists already is never overwritten
-    (``ValueError``)."""
+    ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises
+    ``ValueError`` before anything is written). A capture's damaged blocks are skipped with a
+    :class:`protolink.DamagedCaptureWarning`; a source that cannot be read is raised once the
+    other sources are exported."""
     if isinstance(sources, (str, bytes, os.PathLike)):
         sources = [sources]
     return _native.export(

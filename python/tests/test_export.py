@@ -197,10 +197,72 @@ def test_no_protocol_and_no_overwrite(fleet, tmp_path):
     assert f"error: {raw} is no pcapng or pcap capture: say which protocol its bytes are (--proto)" in run.stderr
     out = tmp_path / "again"
     subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, check=True)
-    before = (out / "GYRO" / "part-00000.parquet").read_bytes()
+    before = sorted((p, p.read_bytes()) for p in out.rglob("*") if p.is_file())
     run = subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, text=True)
-    assert run.returncode != 0
-    assert "part-00000.parquet exists already: export writes into a directory of its own" in run.stderr
-    assert (out / "GYRO" / "part-00000.parquet").read_bytes() == before
-    with pytest.raises(ValueError, match="exists already"):
+    assert run.returncode == 2
+    assert run.stderr == f"error: {out} is not empty: an export goes to a new or empty directory\n"
+    with pytest.raises(ValueError, match="is not empty"):
         protolink.export(fleet[0], out)
+    assert sorted((p, p.read_bytes()) for p in out.rglob("*") if p.is_file()) == before
+
+
+def damaged_capture(tmp, name="damaged.pcapng"):
+    """A capture of 13 copies of the AEOLUS sample (about 1 MB, blocks of 64 KiB, as `protolink
+    record` writes a file), with 200 bytes of 0xFF written over the block boundary nearest byte
+    700,000; and the same capture undamaged."""
+    raw = tmp / (name + ".bin")
+    raw.write_bytes((TESTDATA / "qemu-uart0-aeolus.bin").read_bytes() * 13)
+    good = tmp / ("good-" + name)
+    subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "aeolus", "--out", str(good)],
+                   check=True, capture_output=True)
+    data = bytearray(good.read_bytes())
+    at, boundaries = 0, []
+    while at < len(data):
+        boundaries.append(at)
+        at += int.from_bytes(data[at + 4:at + 8], "little")
+    end = min(boundaries, key=lambda b: abs(b - 700_000))
+    data[end - 100:end + 100] = b"\xff" * 200
+    bad = tmp / name
+    bad.write_bytes(bytes(data))
+    return bad, good
+
+
+def rows_per_source(out):
+    """Rows of every table of an export, per source, read by DuckDB."""
+    con = duckdb.connect()
+    counts = {}
+    for table in out.iterdir():
+        glob = f"{table}/*.parquet"
+        for source, n in con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
+                                 "GROUP BY source").fetchall():
+            counts[source] = counts.get(source, 0) + n
+    return counts
+
+
+def test_a_damaged_capture_among_four_is_exported_around_its_damage(fleet, tmp_path):
+    bad, good = damaged_capture(tmp_path)
+    sources = [fleet[0], fleet[1], bad, fleet[3]]
+    out = tmp_path / "tables"
+    run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, sources)], capture_output=True, text=True)
+    # Every source is exported; the exit status and one sentence say that one lost something.
+    assert run.returncode == 1, run.stderr
+    assert run.stderr == "error: 1 of 4 sources was not exported whole: the lines above say what it lost\n"
+    lines = {line.split(": ")[0]: line for line in run.stdout.splitlines()}
+    assert "bytes lost in 1 damaged region, the first at byte" in lines[str(bad)]
+    assert run.stdout.splitlines()[-1].startswith("export: 4 sources, ")
+    got = rows_per_source(out)
+    want = {str(p): len(decode_json(p)[0]) for p in sources if p != bad}
+    assert {s: n for s, n in got.items() if s != str(bad)} == want
+    # The damaged capture: its rows before and after the damage, two blocks' worth fewer (the
+    # 200 bytes end one 64 KiB block and start the next) of its 16.
+    whole = len(decode_json(good)[0])
+    assert whole * 0.8 < got[str(bad)] < whole * 0.95
+    # The Python face: the same tables, and a warning naming the damage.
+    with pytest.warns(protolink.DamagedCaptureWarning, match="holds 1 damaged region of"):
+        protolink.export(sources, tmp_path / "py")
+    assert rows_per_source(tmp_path / "py") == got
+    with pytest.warns(protolink.DamagedCaptureWarning):
+        tables = protolink.to_arrow(bad)
+    assert sum(len(t) for t in tables.values()) == got[str(bad)]
+    with pytest.raises(OSError, match="damaged region"):
+        protolink.to_arrow(bad, strict=True)

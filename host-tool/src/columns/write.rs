@@ -6,8 +6,8 @@
 //! nulls so far that gets its type), so the parts of one type differ only by columns added:
 //! DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`, Polars with
 //! `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed when it is
-//! complete, so a reader never sees half a file; a part that exists already is never
-//! overwritten.
+//! complete, so a reader never sees half a file. An export goes to a new or empty directory
+//! ([`Export::new`] refuses any other), and a part that exists already is never overwritten.
 
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
@@ -109,10 +109,12 @@ impl std::fmt::Debug for Export {
 }
 
 impl Export {
-    /// An export into `dir` (created when missing).
+    /// An export into `dir`, created when missing: a new or empty directory, so that an
+    /// export's tables hold its sources' rows only (many exports are read as one through a
+    /// glob over their directories).
     ///
     /// # Errors
-    /// The directory cannot be created.
+    /// `dir` holds anything ([`Error::Usage`], nothing written), or it cannot be created.
     ///
     /// ```
     /// use protolink::columns::write::{Export, Format};
@@ -123,6 +125,12 @@ impl Export {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(dir: &Path, format: Format) -> Result<Export> {
+        if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
+            return Err(Error::Usage(format!(
+                "{} is not empty: an export goes to a new or empty directory",
+                dir.display()
+            )));
+        }
         std::fs::create_dir_all(dir).map_err(|source| Error::Io {
             what: format!("creating the directory {}", dir.display()),
             source,
