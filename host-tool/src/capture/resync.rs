@@ -283,4 +283,42 @@ mod tests {
         assert_eq!(next_start(&mut file, len, len - 3, framing, 1 << 20)?, None);
         std::fs::remove_file(&path)
     }
+
+    fn record(second: u32, fraction: u32, data: &[u8]) -> Vec<u8> {
+        let len = data.len() as u32;
+        let mut r = Vec::new();
+        for field in [second, fraction, len, len] {
+            r.extend(field.to_le_bytes());
+        }
+        r.extend(data);
+        r
+    }
+
+    #[test]
+    fn a_pcap_search_lands_on_a_record_followed_by_another() -> std::io::Result<()> {
+        let path =
+            std::env::temp_dir().join(format!("protolink-resync-pcap-{}", std::process::id()));
+        let mut bytes = vec![0xFF; 23];
+        let good = bytes.len() as u64;
+        bytes.extend(record(1_700_000_000, 999_999, b"abc"));
+        bytes.extend(record(1_700_000_001, 0, b"de"));
+        std::fs::write(&path, &bytes)?;
+        let mut file = File::open(&path)?;
+        let len = bytes.len() as u64;
+        let framing = Framing::Pcap {
+            big_endian: false,
+            snaplen: 65_535,
+            nanos: false,
+        };
+        let found = next_start(&mut file, len, 0, framing, 1 << 20)?;
+        assert_eq!(found.map(|r| r.at), Some(good));
+        // A snapshot length shorter than the records: none can start anywhere.
+        let short = Framing::Pcap {
+            big_endian: false,
+            snaplen: 1,
+            nanos: false,
+        };
+        assert_eq!(next_start(&mut file, len, 0, short, 1 << 20)?, None);
+        std::fs::remove_file(&path)
+    }
 }

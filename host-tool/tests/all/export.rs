@@ -111,6 +111,46 @@ fn a_damaged_capture_among_four_is_read_around_its_damage() {
 }
 
 #[test]
+fn a_source_that_cannot_be_read_is_named_and_the_others_are_exported() {
+    let dir = temp_dir("unreadable");
+    let (a, bad, c) = (
+        dir.join("a.pcapng"),
+        dir.join("bad.pcapng"),
+        dir.join("c.pcapng"),
+    );
+    capture(&a, 1);
+    capture(&c, 1);
+    // A pcapng magic number, then nothing a section header could be.
+    let mut bytes = vec![0x0A, 0x0D, 0x0D, 0x0A];
+    bytes.extend([0x55; 60]);
+    std::fs::write(&bad, &bytes).unwrap();
+    let out = dir.join("tables");
+    let o = run(&[
+        "export",
+        "--out",
+        out.to_str().unwrap(),
+        a.to_str().unwrap(),
+        bad.to_str().unwrap(),
+        c.to_str().unwrap(),
+    ]);
+    let err = failed(&o);
+    assert!(
+        err.contains("1 of 3 sources was not exported whole"),
+        "{err}"
+    );
+    let text = stdout(&o);
+    let line = line_of(&text, &bad);
+    assert!(
+        line.contains("not read whole, 0 rows before the error: "),
+        "{line}"
+    );
+    assert_eq!(rows_of(line_of(&text, &a)), rows_of(line_of(&text, &c)));
+    let last = text.lines().last().unwrap();
+    assert!(last.ends_with(", 1 source not read whole"), "{last}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn an_export_into_a_directory_that_holds_anything_is_refused_before_writing() {
     let dir = temp_dir("again");
     let a = dir.join("a.pcapng");
