@@ -55,7 +55,9 @@ def to_arrow(
     **options: Any,
 ) -> Dict[str, "pyarrow.Table"]:
     """One ``pyarrow.Table`` per message type, keyed by its name, ``get_type()`` (``"GYRO"``,
-    ``"POSITION"``, ...).
+    ``"POSITION"``, ...); two protocols' types of one name (AYDP's and GDL90's ``HEARTBEAT``
+    in one capture) are two tables, keyed ``"aydp.HEARTBEAT"`` and ``"gdl90.HEARTBEAT"``. Each
+    table's schema names its protocol in its metadata (``b"proto"``).
 
     ``source`` is what :func:`protolink.open` opens (a capture, a raw file with ``proto=``, a
     live endpoint that ends), or messages already decoded (a ``Reader``, a list from
@@ -120,7 +122,8 @@ def export(
     **options: Any,
 ) -> List[Tuple[str, int, List[str]]]:
     """Writes captures and byte files (``proto=`` names their protocol) as tables under
-    ``out``, one directory per message type, each row naming its file in ``source``:
+    ``out``, one directory per protocol and message type in the Hive layout
+    (``out/proto=aeolus/type=GYRO/part-00000.parquet``), each row naming its file in ``source``:
     ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
     export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
     ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises

@@ -10,7 +10,7 @@ use arrow_array::ffi_stream::FFI_ArrowArrayStream;
 use arrow_array::{RecordBatch, RecordBatchIterator};
 use arrow_schema::{ArrowError, SchemaRef};
 use protolink::columns::write::{Export, Format};
-use protolink::columns::{ROW_GROUP, Tables, unify};
+use protolink::columns::{ROW_GROUP, Tables, proto_of, unify};
 use protolink::commands::decode::tables::{Report, Select, read_file};
 use protolink::endpoint::Endpoint;
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -71,26 +71,39 @@ impl ArrowTable {
 }
 
 /// The tables of `tables`' batches, by message type (in the order the types first came),
-/// without `ERROR` unless `errors`.
+/// without `ERROR` unless `errors`. A name that two protocols' tables share (AYDP's and
+/// GDL90's `HEARTBEAT`) is the key of neither: each is `PROTO.NAME`.
 fn to_dict<'py>(
     py: Python<'py>,
     batches: Vec<(String, RecordBatch)>,
     errors: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut by_type: Vec<(String, Vec<RecordBatch>)> = Vec::new();
+    let mut by_type: Vec<(Option<String>, String, Vec<RecordBatch>)> = Vec::new();
     for (name, batch) in batches {
-        match by_type.iter_mut().find(|(n, _)| *n == name) {
-            Some((_, list)) => list.push(batch),
-            None => by_type.push((name, vec![batch])),
+        let proto = proto_of(&batch).map(str::to_owned);
+        match by_type
+            .iter_mut()
+            .find(|(p, n, _)| *n == name && *p == proto)
+        {
+            Some((_, _, list)) => list.push(batch),
+            None => by_type.push((proto, name, vec![batch])),
         }
     }
+    let shared = |name: &str| by_type.iter().filter(|(_, n, _)| n == name).count() > 1;
+    let keys: Vec<String> = by_type
+        .iter()
+        .map(|(proto, name, _)| match proto {
+            Some(p) if shared(name) => format!("{p}.{name}"),
+            _ => name.clone(),
+        })
+        .collect();
     let d = PyDict::new(py);
-    for (name, list) in by_type {
+    for (key, (_, name, list)) in keys.into_iter().zip(by_type) {
         if name == "ERROR" && !errors {
             continue;
         }
         let (schema, batches) = unify(list);
-        d.set_item(name, ArrowTable { schema, batches })?;
+        d.set_item(key, ArrowTable { schema, batches })?;
     }
     Ok(d)
 }

@@ -1,6 +1,7 @@
-//! Decoded messages as typed columns, one table per message type, cut into Arrow record
-//! batches of at most a row group each: what `protolink export` writes as Parquet or Arrow IPC
-//! files and what the Python package hands pyarrow (`protolink.to_arrow`, `to_frames`).
+//! Decoded messages as typed columns, one table per protocol and message type, cut into Arrow
+//! record batches of at most a row group each: what `protolink export` writes as Parquet or
+//! Arrow IPC files and what the Python package hands pyarrow (`protolink.to_arrow`,
+//! `to_frames`).
 //!
 //! A row is one message: first its metadata, then its fields.
 //!
@@ -60,6 +61,29 @@ use crate::proto::{Proto, proto_name};
 /// megabytes of columns.
 pub const ROW_GROUP: usize = 65_536;
 
+/// The key of a batch's schema metadata that names its message type's protocol (`aeolus`,
+/// `aydp`, `aok`, `gdl90`), when it is known: two protocols' types of one name (AYDP's and
+/// GDL90's `HEARTBEAT`) are two tables.
+pub const PROTO_KEY: &str = "proto";
+
+/// The protocol a batch's schema names ([`PROTO_KEY`]), if any.
+///
+/// ```
+/// use protolink::columns::{Origin, Tables, proto_of};
+/// use protolink::decoders::AeolusDecoder;
+/// let mut tables = Tables::new(8);
+/// let mut d = AeolusDecoder::new();
+/// d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |p| tables.add(&Origin::default(), &p));
+/// assert_eq!(proto_of(&tables.finish()[0].1), Some("aeolus"));
+/// ```
+pub fn proto_of(batch: &RecordBatch) -> Option<&str> {
+    batch
+        .schema_ref()
+        .metadata()
+        .get(PROTO_KEY)
+        .map(String::as_str)
+}
+
 /// The metadata columns a field's name must not take.
 const METADATA: [&str; 6] = ["source", "capture_time", "offset", "flow", "frame", "proto"];
 
@@ -79,14 +103,17 @@ pub struct Origin {
     pub proto: Option<Proto>,
 }
 
-/// The tables being filled, one per message type (in the order the types first came), and
+/// The tables being filled, one per protocol and message type (in the order the types first
+/// came; a table's batches name its protocol, [`proto_of`]), and
 /// the batches cut from them.
 pub struct Tables {
     tables: Vec<(String, Table)>,
+    /// The first table of each name (another protocol's table of the same name is found
+    /// past it, in `tables`).
     index: FnvMap<String, usize>,
-    /// The tables of names the program holds (AEOLUS's), by the name's address: found
+    /// The tables of names the program holds, by the name's address and protocol: found
     /// without hashing the text.
-    by_address: Vec<(usize, usize)>,
+    by_address: Vec<(usize, Option<Proto>, usize)>,
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
@@ -139,38 +166,59 @@ impl Tables {
         self.tables.iter().map(|(_, t)| t.mismatches).sum()
     }
 
-    /// The table of `name` (its index), its row begun with the metadata of `origin` and
-    /// `offset`.
+    /// The table of `name` of the origin's protocol (its index), its row begun with the
+    /// metadata of `origin` and `offset`.
     fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> (usize, &mut Table) {
-        let i = self.index_of(name);
+        let i = self.index_of(name, origin.proto);
         self.begin_at(i, origin, offset)
     }
 
-    /// The index of the table `name`, a table it creates when new.
-    fn index_of(&mut self, name: &str) -> usize {
+    /// The index of the table `name` of protocol `proto`, a table it creates when new.
+    fn index_of(&mut self, name: &str, proto: Option<Proto>) -> usize {
         match self.index.get(name) {
-            Some(&i) => i,
+            Some(&i) if self.tables.get(i).is_some_and(|(_, t)| t.proto == proto) => i,
+            Some(&first) => {
+                let found = self
+                    .tables
+                    .iter()
+                    .skip(first)
+                    .position(|(n, t)| n == name && t.proto == proto);
+                match found {
+                    Some(k) => first + k,
+                    None => self.push(name, proto),
+                }
+            }
             None => {
                 self.index.insert(name.to_owned(), self.tables.len());
-                self.tables.push((name.to_owned(), Table::new(name)));
-                self.tables.len() - 1
+                self.push(name, proto)
             }
         }
     }
 
-    /// [`Tables::begin`] for a name the program holds.
+    /// A new table, and its index.
+    fn push(&mut self, name: &str, proto: Option<Proto>) -> usize {
+        self.tables.push((name.to_owned(), Table::new(name, proto)));
+        self.tables.len() - 1
+    }
+
+    /// [`Tables::begin`] for a name the program holds, of protocol `proto`.
     fn begin_static(
         &mut self,
         name: &'static str,
+        proto: Proto,
         origin: &Origin,
         offset: u64,
     ) -> (usize, &mut Table) {
-        let key = name.as_ptr() as usize;
-        let i = match self.by_address.iter().find(|(k, _)| *k == key) {
-            Some(&(_, i)) => i,
+        let (key, proto) = (name.as_ptr() as usize, Some(proto));
+        let i = match self
+            .by_address
+            .iter()
+            .find(|(k, p, _)| *k == key && *p == proto)
+        {
+            Some(&(_, _, i)) => i,
             None => {
-                let i = self.index_of(name);
-                self.by_address.push((key, i));
+                let i = self.index_of(name, proto);
+                self.by_address.push((key, proto, i));
                 i
             }
         };
@@ -242,7 +290,7 @@ impl Tables {
                 self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
             }
             Item::Aydp { frame, message } => {
-                let (i, table) = self.begin_static(aydp_name(message), origin, offset);
+                let (i, table) = self.begin_static(aydp_name(message), Proto::Aydp, origin, offset);
                 table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
                 table.set_static("meta.expedited", Scalar::Bool(frame.is_expedited()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
@@ -261,19 +309,19 @@ impl Tables {
                 self.end(i);
             }
             Item::AokMessage(m) => {
-                let (i, table) = self.begin_static(aok_message_name(m), origin, offset);
+                let (i, table) = self.begin_static(aok_message_name(m), Proto::Aok, origin, offset);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_message(table, m);
                 self.end(i);
             }
             Item::AokCommand(c) => {
-                let (i, table) = self.begin_static(aok_command_name(c), origin, offset);
+                let (i, table) = self.begin_static(aok_command_name(c), Proto::Aok, origin, offset);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_command(table, c);
                 self.end(i);
             }
             Item::Gdl90(m) => {
-                let (i, table) = self.begin_static(m.name(), origin, offset);
+                let (i, table) = self.begin_static(m.name(), Proto::Gdl90, origin, offset);
                 table.set_static("meta.id", Scalar::I64(m.id().into()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::gdl90(table, m);
@@ -353,7 +401,7 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
-        let (i, table) = self.begin_static(message.name(), origin, offset);
+        let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset);
         table.set_static("meta.id", Scalar::I64(id.into()));
         table.set_static("meta.len", Scalar::I64(wide(len)));
         table.set_static("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));

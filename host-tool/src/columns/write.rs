@@ -1,13 +1,19 @@
-//! The tables as files: one directory per message type under the output directory, its rows
-//! in Parquet (snappy-compressed, a row group per batch) or Arrow IPC files (LZ4 frames).
+//! The tables as files: one directory per protocol and message type under the output
+//! directory, its rows in Parquet (snappy-compressed, a row group per batch) or Arrow IPC files
+//! (LZ4 frames).
 //!
-//! A table's rows go to `OUT/TYPE/part-00000.parquet` (or `.arrow`). A new part begins only
-//! when the table's columns change (a column first seen after the part began, or a column of
-//! nulls so far that gets its type), so the parts of one type differ only by columns added:
-//! DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`, Polars with
-//! `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed when it is
-//! complete, so a reader never sees half a file. An export goes to a new or empty directory
-//! ([`Export::new`] refuses any other), and a part that exists already is never overwritten.
+//! A table's rows go to `OUT/proto=PROTO/type=TYPE/part-00000.parquet` (or `.arrow`), the
+//! Hive layout: the protocol (`aeolus`, `aydp`, `aok`, `gdl90`; `none` for a batch that names
+//! none, [`super::proto_of`]) and the type are columns that DuckDB (`hive_partitioning =
+//! true`), Polars (`hive_partitioning=True`) and Spark read from the path, so AYDP's and GDL90's
+//! `HEARTBEAT` are two tables, and the files leave out the `proto` column of a capture's rows.
+//! A new part begins only when the table's columns change (a column first seen after the part
+//! began, or a column of nulls so far that gets its type), so the parts of one type differ only
+//! by columns added: DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`,
+//! Polars with `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed
+//! when it is complete, so a reader never sees half a file. An export goes to a new or empty
+//! directory ([`Export::new`] refuses any other), and a part that exists already is never
+//! overwritten.
 
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
@@ -45,8 +51,12 @@ impl Format {
 /// What was written of one message type.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Written {
-    /// The message type (the table's directory).
+    /// The message type.
     pub name: String,
+    /// Its protocol (`none` when its batches named none).
+    pub proto: String,
+    /// The table's directory under the export's: `proto=PROTO/type=NAME`.
+    pub dir: String,
     /// Its parts, in order.
     pub parts: Vec<PathBuf>,
     /// Its rows.
@@ -161,25 +171,30 @@ impl Export {
     /// }
     /// let written = export.finish()?;
     /// assert_eq!((written[0].name.as_str(), written[0].rows), ("ERROR", 1));
-    /// assert!(dir.join("ERROR").join("part-00000.arrow").exists());
+    /// assert!(dir.join("proto=none/type=ERROR/part-00000.arrow").exists());
     /// # std::fs::remove_dir_all(&dir)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn write(&mut self, name: &str, batch: &RecordBatch) -> Result<()> {
+        let proto = super::proto_of(batch).unwrap_or("none").to_owned();
+        let dir = format!("proto={}/type={}", safe_name(&proto), safe_name(name));
+        // The path names the protocol: the files leave out the `proto` column, which a reader
+        // of the layout takes from the path.
+        let batch = &without_proto(batch);
         let same = self
             .open
-            .get(name)
+            .get(&dir)
             .is_some_and(|p| p.schema == batch.schema());
         if !same {
-            if let Some(part) = self.open.remove(name) {
+            if let Some(part) = self.open.remove(&dir) {
                 let path = part.close()?;
-                self.entry(name).parts.push(path);
+                self.entry(name, &proto, &dir).parts.push(path);
             }
-            let number = self.entry(name).parts.len();
-            let part = self.begin(name, number, batch.schema())?;
-            self.open.insert(name.to_owned(), part);
+            let number = self.entry(name, &proto, &dir).parts.len();
+            let part = self.begin(&dir, number, batch.schema())?;
+            self.open.insert(dir.clone(), part);
         }
-        let Some(part) = self.open.get_mut(name) else {
+        let Some(part) = self.open.get_mut(&dir) else {
             return Ok(());
         };
         let failed = |e: &dyn std::fmt::Display| Error::Io {
@@ -194,7 +209,7 @@ impl Export {
             }
             Writer::Ipc(w) => w.write(batch).map_err(|e| failed(&e))?,
         }
-        self.entry(name).rows += batch.num_rows() as u64;
+        self.entry(name, &proto, &dir).rows += batch.num_rows() as u64;
         Ok(())
     }
 
@@ -213,7 +228,7 @@ impl Export {
     pub fn finish(mut self) -> Result<Vec<Written>> {
         let mut first_error = None;
         for w in &mut self.written {
-            if let Some(part) = self.open.remove(&w.name) {
+            if let Some(part) = self.open.remove(&w.dir) {
                 match part.close() {
                     Ok(path) => w.parts.push(path),
                     Err(e) => {
@@ -228,13 +243,15 @@ impl Export {
         }
     }
 
-    /// What was written of `name` so far.
-    fn entry(&mut self, name: &str) -> &mut Written {
-        let i = match self.written.iter().position(|w| w.name == name) {
+    /// What was written of `name` of `proto` (in `dir`) so far.
+    fn entry(&mut self, name: &str, proto: &str, dir: &str) -> &mut Written {
+        let i = match self.written.iter().position(|w| w.dir == dir) {
             Some(i) => i,
             None => {
                 self.written.push(Written {
                     name: name.to_owned(),
+                    proto: proto.to_owned(),
+                    dir: dir.to_owned(),
                     parts: Vec::new(),
                     rows: 0,
                 });
@@ -244,9 +261,9 @@ impl Export {
         &mut self.written[i]
     }
 
-    /// Opens part `number` of the type `name`.
-    fn begin(&self, name: &str, number: usize, schema: SchemaRef) -> Result<Part> {
-        let dir = self.dir.join(safe_name(name));
+    /// Opens part `number` in the table directory `table` (`proto=PROTO/type=NAME`).
+    fn begin(&self, table: &str, number: usize, schema: SchemaRef) -> Result<Part> {
+        let dir = self.dir.join(table);
         std::fs::create_dir_all(&dir).map_err(|source| Error::Io {
             what: format!("creating the directory {}", dir.display()),
             source,
@@ -311,6 +328,19 @@ impl Export {
             partial,
             path,
         })
+    }
+}
+
+/// `batch` without its `proto` column (a capture's tables have one), the same batch when it
+/// has none.
+fn without_proto(batch: &RecordBatch) -> RecordBatch {
+    match batch.schema_ref().index_of("proto") {
+        Ok(i) => {
+            let mut b = batch.clone();
+            b.remove_column(i);
+            b
+        }
+        Err(_) => batch.clone(),
     }
 }
 

@@ -244,7 +244,7 @@ fn export_starts_a_new_part_when_the_columns_change() -> Result<(), Box<dyn std:
         ]
     );
     // Nothing half-written is left.
-    let left: Vec<_> = std::fs::read_dir(dir.join("T"))?
+    let left: Vec<_> = std::fs::read_dir(dir.join("proto=none/type=T"))?
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().ends_with(".partial"))
         .collect();

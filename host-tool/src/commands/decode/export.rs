@@ -1,5 +1,6 @@
 //! `protolink export`: captures and byte files as tables an analyst's engine reads as they are,
-//! one directory per message type under `--out`, in Parquet or Arrow IPC files (see
+//! one directory per protocol and message type under `--out`
+//! (`proto=PROTO/type=TYPE/part-00000.parquet`), in Parquet or Arrow IPC files (see
 //! [`crate::columns`] for the columns and [`crate::columns::write`] for the files).
 //!
 //! Many sources go into one set of tables, each row naming its file in `source`. The files are
@@ -28,7 +29,7 @@ pub(crate) struct ExportArgs {
     /// The file format: parquet (snappy) or arrow (Arrow IPC, LZ4).
     #[arg(long, value_enum, default_value_t = Format::Parquet)]
     pub(crate) format: Format,
-    /// The directory the tables go to (created when missing): OUT/TYPE/part-00000.parquet.
+    /// The directory the tables go to, new or empty (created when missing): OUT/proto=PROTO/type=TYPE/part-00000.parquet.
     #[arg(long, value_name = "DIR")]
     pub(crate) out: PathBuf,
     /// The protocol of the byte files (a capture names its own; --proto keeps only its flows of this protocol).
@@ -153,7 +154,7 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     let rows: u64 = written.iter().map(|w| w.rows).sum();
     for w in &written {
         let parts: Vec<String> = w.parts.iter().map(|p| p.display().to_string()).collect();
-        out.line(&format!("{} {} rows: {}", w.name, w.rows, parts.join(" ")))?;
+        out.line(&format!("{} {} rows: {}", w.dir, w.rows, parts.join(" ")))?;
     }
     let mismatches = tables.mismatches();
     let mut summary = format!(

@@ -144,8 +144,11 @@ pub fn read_file(
             source: e,
         })?;
         let mut decoder = Decoder::new(proto, select.profile.unwrap_or_default(), select.side);
+        // The protocol names the tables of the errors too (no `proto` column: that is a
+        // capture's).
         let origin = Origin {
             source: source.map(str::to_owned),
+            proto: Some(proto),
             ..Origin::default()
         };
         let mut buf = vec![0u8; CHUNK];
