@@ -72,12 +72,16 @@ def to_arrow(
 
     - ``capture_time``: the capture record's time, seconds since the Unix epoch (null from a
       byte file);
+    - ``time``: the row's time, a UTC timestamp of microseconds: the capture time, else an
+      AYDP message's header time (``meta.time``); null when it has neither;
     - ``offset``: its first byte in the input (in its flow, for a capture);
     - ``flow``, ``frame``, ``proto``: the capture's flow, record number and protocol (only from
       a capture);
     - ``meta.KEY`` for each entry of ``Message.meta``, a nested one as ``meta.KEY.SUB``: AEOLUS
       ``meta.id``, ``meta.len``, ``meta.crc``; AYDP ``meta.type``, ``meta.expedited``,
-      ``meta.len``, ``meta.time.seconds``, ``meta.time.subsec``; AOK ``meta.len``; GDL90
+      ``meta.len``, ``meta.time`` (the header time as a UTC timestamp), ``meta.time.profile``
+      (``spec`` or ``reference``: the unit of ``meta.time.subsec``, ms or µs),
+      ``meta.time.seconds``, ``meta.time.subsec``; AOK ``meta.len``; GDL90
       ``meta.id``, ``meta.len`` (``meta.len`` is ``wire_len``);
     - then the fields under the names of ``to_dict()``, a nested one as ``outer.inner``.
 

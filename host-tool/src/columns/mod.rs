@@ -9,9 +9,10 @@
 //! |---|---|---|
 //! | `source` | Utf8 | the file it was read from (`export`; only when given) |
 //! | `capture_time` | Float64 | the capture record's time, seconds since the Unix epoch (null from a byte file) |
+//! | `time` | Timestamp(µs, UTC) | the row's time: the capture record's, else an AYDP message's header time (`meta.time`); null when it has neither |
 //! | `offset` | Int64 | its first byte in the input (in its flow, for a capture) |
-//! | `flow`, `frame`, `proto` | Utf8, Int64, Utf8 | the capture's flow, record number (from 1) and protocol (only from a capture) |
-//! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
+//! | `flow`, `frame`, `proto` | Utf8, Int64, Utf8 | the capture's flow, record number (from 1) and protocol (only from a capture; an export's files leave `proto` out, their path holds it) |
+//! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time` (the header's time as a Timestamp(µs, UTC)), `time.profile` (`spec` or `reference`: the unit of `time.subsec`, ms or µs), `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
 //! | each field | its own | the `"fields"` of `decode --json`, a nested one as `outer.inner` |
 //!
 //! The fields' types are the message types' own, in all four protocols: the wire's widths
@@ -34,7 +35,7 @@
 //! let (name, batch) = &batches[0];
 //! assert_eq!((name.as_str(), batch.num_rows()), ("TOAST", 1));
 //! let names: Vec<_> = batch.schema().fields().iter().map(|f| f.name().clone()).collect();
-//! assert_eq!(names, ["capture_time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
+//! assert_eq!(names, ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
 //! ```
 
 mod column;
@@ -85,7 +86,15 @@ pub fn proto_of(batch: &RecordBatch) -> Option<&str> {
 }
 
 /// The metadata columns a field's name must not take.
-const METADATA: [&str; 6] = ["source", "capture_time", "offset", "flow", "frame", "proto"];
+const METADATA: [&str; 7] = [
+    "source",
+    "capture_time",
+    "time",
+    "offset",
+    "flow",
+    "frame",
+    "proto",
+];
 
 /// Where a message came from: its source file, and for a capture its record.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -170,7 +179,7 @@ impl Tables {
     /// metadata of `origin` and `offset`.
     fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> (usize, &mut Table) {
         let i = self.index_of(name, origin.proto);
-        self.begin_at(i, origin, offset)
+        self.begin_at(i, origin, offset, None)
     }
 
     /// The index of the table `name` of protocol `proto`, a table it creates when new.
@@ -201,13 +210,16 @@ impl Tables {
         self.tables.len() - 1
     }
 
-    /// [`Tables::begin`] for a name the program holds, of protocol `proto`.
+    /// [`Tables::begin`] for a name the program holds, of protocol `proto`; `own_time` is
+    /// the message's own time (µs since the Unix epoch), the row's `time` when the origin has
+    /// none.
     fn begin_static(
         &mut self,
         name: &'static str,
         proto: Proto,
         origin: &Origin,
         offset: u64,
+        own_time: Option<i64>,
     ) -> (usize, &mut Table) {
         let (key, proto) = (name.as_ptr() as usize, Some(proto));
         let i = match self
@@ -222,11 +234,17 @@ impl Tables {
                 i
             }
         };
-        self.begin_at(i, origin, offset)
+        self.begin_at(i, origin, offset, own_time)
     }
 
-    /// Table `i`, its row begun with the metadata.
-    fn begin_at(&mut self, i: usize, origin: &Origin, offset: u64) -> (usize, &mut Table) {
+    /// Table `i`, its row begun with the metadata; `time` is the capture's, else `own_time`.
+    fn begin_at(
+        &mut self,
+        i: usize,
+        origin: &Origin,
+        offset: u64,
+        own_time: Option<i64>,
+    ) -> (usize, &mut Table) {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
             table.set_static("source", Scalar::Str(s));
@@ -236,6 +254,8 @@ impl Tables {
             origin.capture_time.map(Scalar::F64),
             Scalar::F64(0.0),
         );
+        let time = origin.capture_time.map(micros).or(own_time);
+        table.set_typed("time", time.map(Scalar::Time), Scalar::Time(0));
         table.set_static(
             "offset",
             Scalar::I64(i64::try_from(offset).unwrap_or(i64::MAX)),
@@ -290,11 +310,23 @@ impl Tables {
                 self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
             }
             Item::Aydp { frame, message } => {
-                let (i, table) = self.begin_static(aydp_name(message), Proto::Aydp, origin, offset);
+                // The header's time (normal messages), in the unit of the frame's profile.
+                let time = frame.timestamp();
+                let profile = frame.profile();
+                let own = time.map(|t| {
+                    t.seconds
+                        .saturating_mul(1_000_000)
+                        .saturating_add(t.subsec_micros(profile))
+                });
+                let (i, table) =
+                    self.begin_static(aydp_name(message), Proto::Aydp, origin, offset, own);
                 table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
                 table.set_static("meta.expedited", Scalar::Bool(frame.is_expedited()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
-                let time = frame.timestamp();
+                table.set_typed("meta.time", own.map(Scalar::Time), Scalar::Time(0));
+                // The unit of the header's sub-seconds: null where there is no header time.
+                let unit = own.map(|_| Scalar::Str(profile_name(profile)));
+                table.set_typed("meta.time.profile", unit, Scalar::Str(""));
                 table.set_typed(
                     "meta.time.seconds",
                     time.map(|t| Scalar::I64(t.seconds)),
@@ -309,19 +341,21 @@ impl Tables {
                 self.end(i);
             }
             Item::AokMessage(m) => {
-                let (i, table) = self.begin_static(aok_message_name(m), Proto::Aok, origin, offset);
+                let (i, table) =
+                    self.begin_static(aok_message_name(m), Proto::Aok, origin, offset, None);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_message(table, m);
                 self.end(i);
             }
             Item::AokCommand(c) => {
-                let (i, table) = self.begin_static(aok_command_name(c), Proto::Aok, origin, offset);
+                let (i, table) =
+                    self.begin_static(aok_command_name(c), Proto::Aok, origin, offset, None);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_command(table, c);
                 self.end(i);
             }
             Item::Gdl90(m) => {
-                let (i, table) = self.begin_static(m.name(), Proto::Gdl90, origin, offset);
+                let (i, table) = self.begin_static(m.name(), Proto::Gdl90, origin, offset, None);
                 table.set_static("meta.id", Scalar::I64(m.id().into()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::gdl90(table, m);
@@ -341,7 +375,7 @@ impl Tables {
     /// let mut tables = Tables::new(8);
     /// tables.add_rendered(&Origin::default(), 0, "DEBUG", &meta, &serde_json::json!({"number": 1, "value": 2000}));
     /// let batches = tables.finish();
-    /// assert_eq!(batches[0].1.num_columns(), 5);
+    /// assert_eq!(batches[0].1.num_columns(), 6);
     /// ```
     pub fn add_rendered(
         &mut self,
@@ -401,7 +435,7 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
-        let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset);
+        let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset, None);
         table.set_static("meta.id", Scalar::I64(id.into()));
         table.set_static("meta.len", Scalar::I64(wide(len)));
         table.set_static("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
@@ -450,7 +484,7 @@ impl Tables {
 /// tables.add_error(&Default::default(), 9, "truncated", "input ends inside a frame");
 /// let batches: Vec<_> = tables.finish().into_iter().map(|(_, b)| b).collect();
 /// let (schema, batches) = protolink::columns::unify(batches);
-/// assert_eq!((schema.fields().len(), batches.len()), (4, 2));
+/// assert_eq!((schema.fields().len(), batches.len()), (5, 2));
 /// ```
 pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordBatch>) {
     let Some(schema) = batches.last().map(RecordBatch::schema) else {
@@ -475,6 +509,20 @@ pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordB
         })
         .collect();
     (schema, batches)
+}
+
+/// Seconds since the Unix epoch as microseconds (saturated; a NaN is 0).
+#[allow(clippy::cast_possible_truncation)]
+fn micros(seconds: f64) -> i64 {
+    (seconds * 1e6).round() as i64
+}
+
+/// An AYDP profile's name, as `--profile` takes it.
+fn profile_name(profile: aydp_proto::Profile) -> &'static str {
+    match profile {
+        aydp_proto::Profile::Spec => "spec",
+        aydp_proto::Profile::Reference => "reference",
+    }
 }
 
 /// A count or length as an Int64 value (saturated).

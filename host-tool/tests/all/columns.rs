@@ -50,9 +50,10 @@ fn typed_aeolus_columns_keep_the_wire_types() {
         .expect("a COMPASS table");
     let names = names(compass);
     assert_eq!(
-        names[..8],
+        names[..9],
         [
             "capture_time",
+            "time",
             "offset",
             "meta.id",
             "meta.len",
@@ -138,6 +139,7 @@ fn a_field_named_like_metadata_is_field_and_its_name() {
         names(&batch),
         [
             "capture_time",
+            "time",
             "offset",
             "meta.len",
             "field.offset",
@@ -208,7 +210,8 @@ fn a_column_seen_later_is_null_before_and_unify_pads_earlier_batches() {
     assert_eq!(batches.len(), 2);
     assert!(batches[0].column_by_name("b").is_none());
     let (schema, batches) = unify(batches);
-    assert_eq!(schema.fields().len(), 4);
+    // capture_time, time, offset, a, b.
+    assert_eq!(schema.fields().len(), 5);
     assert_eq!(
         batches[0].column_by_name("b").map(|c| c.null_count()),
         Some(2)
