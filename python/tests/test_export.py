@@ -184,6 +184,13 @@ def test_byte_files_and_row_groups(tmp_path):
     units = {field.name: (field.metadata or {}).get(b"unit") for field in table.schema}
     assert (units["airspeed_mps"], units["static_mbar"], units["offset"], units["frame"]) == (
         b"m/s", b"mbar", b"byte", None)
+    # And in the file's key-value metadata, which DuckDB shows.
+    in_file = json.loads(f.metadata.metadata[b"units"])
+    assert in_file == {name.decode() if isinstance(name, bytes) else name: unit.decode()
+                       for name, unit in units.items() if unit is not None}
+    glob = f"{out}/proto=aeolus/type=PRESSURE/*.parquet"
+    kv = dict(duckdb.sql(f"SELECT decode(key), decode(value) FROM parquet_kv_metadata('{glob}')").fetchall())
+    assert json.loads(kv["units"])["airspeed_mps"] == "m/s"
 
 
 @pytest.mark.parametrize("args,sentence", [

@@ -13,7 +13,8 @@
 //! Polars with `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed
 //! when it is complete, so a reader never sees half a file. An export goes to a new or empty
 //! directory ([`Export::new`] refuses any other), and a part that exists already is never
-//! overwritten.
+//! overwritten. A Parquet file's key-value metadata holds its columns' units as one JSON object
+//! under the key `units` ([`UNITS_KEY`]), beside each Arrow field's own `unit`.
 
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
@@ -306,6 +307,14 @@ impl Export {
                         );
                     }
                 }
+                // The units in the file's key-value metadata too, where DuckDB
+                // (`parquet_kv_metadata`) and pyarrow (`metadata.metadata`) show them.
+                let units = units_of(&schema);
+                if !units.is_empty() {
+                    props = props.set_key_value_metadata(Some(vec![
+                        parquet::file::metadata::KeyValue::new(UNITS_KEY.to_owned(), units),
+                    ]));
+                }
                 let props = props.build();
                 Writer::Parquet(
                     ArrowWriter::try_new(file, schema.clone(), Some(props))
@@ -328,6 +337,27 @@ impl Export {
             partial,
             path,
         })
+    }
+}
+
+/// The key of a Parquet file's key-value metadata that holds its columns' units.
+pub const UNITS_KEY: &str = "units";
+
+/// The units of `schema`'s columns as a JSON object, column name to unit (`{}` when none has
+/// one): what [`UNITS_KEY`] holds.
+fn units_of(schema: &SchemaRef) -> String {
+    let units: serde_json::Map<String, serde_json::Value> = schema
+        .fields()
+        .iter()
+        .filter_map(|f| {
+            let unit = f.metadata().get(super::unit::KEY)?;
+            Some((f.name().clone(), serde_json::Value::String(unit.clone())))
+        })
+        .collect();
+    if units.is_empty() {
+        String::new()
+    } else {
+        serde_json::Value::Object(units).to_string()
     }
 }
 
