@@ -131,11 +131,11 @@ Examples:
   protolink replay flight.pcapng --to udp:127.0.0.1:5001
   protolink replay flight.pcapng --to udp:127.0.0.1:5001 --speed 4 --loop --seconds 60")]
     Replay(ReplayArgs),
-    /// Write captures and byte files as Parquet or Arrow IPC tables, one per message type.
+    /// Write captures and byte files as Parquet or Arrow IPC tables, one per protocol and message type.
     #[command(after_help = "Examples:
   protolink export --out tables flight1.pcapng flight2.pcapng
   protolink export --format arrow --out tables --proto aeolus uart.bin
-  duckdb -c \"SELECT source, count(*) FROM read_parquet('tables/GYRO/*.parquet', union_by_name = true) GROUP BY source\"")]
+  duckdb -c \"SELECT source, count(*) FROM read_parquet('tables/proto=aeolus/type=GYRO/*.parquet') GROUP BY source\"")]
     #[cfg(feature = "parquet")]
     Export(ExportArgs),
     /// Print the Wireshark Lua dissector for AEOLUS, generated from the protocol crates' layouts.

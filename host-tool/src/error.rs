@@ -86,6 +86,29 @@ pub enum Error {
         /// The records read before it.
         frames: u64,
     },
+    /// A capture holds a block (pcapng) or record (pcap) that cannot be read: bytes
+    /// overwritten, a length that points nowhere. The reader skipped it and reads on from the
+    /// next whole one, or ends when none is left.
+    #[error(
+        "reading the capture {path} failed at byte {offset}, after frame {frames}: {}",
+        damage(*.skipped, *.resumed)
+    )]
+    CaptureDamaged {
+        /// The file, as given.
+        path: String,
+        /// Where the damaged block or record starts.
+        offset: u64,
+        /// The bytes skipped from there: to the next whole block or record, or to the end.
+        skipped: u64,
+        /// The records read before it.
+        frames: u64,
+        /// A whole block or record follows, and the reading goes on there.
+        resumed: bool,
+    },
+    /// An export read some of its sources only in part, or not at all; the other sources were
+    /// exported, and the summary says what each lost.
+    #[error("{0}")]
+    Incomplete(String),
     /// Writing the output (stdout) failed.
     #[error("writing the output failed: {0}")]
     Output(#[source] io::Error),
@@ -103,6 +126,17 @@ impl Error {
             Error::Usage(_) | Error::Endpoint { .. } => 2,
             _ => 1,
         }
+    }
+}
+
+/// What [`Error::CaptureDamaged`] says of the bytes skipped.
+fn damage(skipped: u64, resumed: bool) -> String {
+    if resumed {
+        format!(
+            "the damaged {skipped} bytes from there were skipped, and the reading goes on after them"
+        )
+    } else {
+        format!("the {skipped} bytes from there to the end hold no whole block or record")
     }
 }
 

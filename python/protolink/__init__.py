@@ -8,7 +8,7 @@ decoders, capture reading and command line), so a flight decoded here is byte fo
     frames = protolink.to_frames("flight.pcapng")      # one pandas DataFrame per message type
     print(frames["GYRO"])
     tables = protolink.to_arrow("flight.pcapng")       # the same as pyarrow Tables
-    protolink.export(["a.pcapng", "b.pcapng"], "tables")   # Parquet: tables/GYRO/part-00000.parquet
+    protolink.export(["a.pcapng", "b.pcapng"], "tables")   # tables/proto=aeolus/type=GYRO/part-00000.parquet
 
     for msg in protolink.open("udp:5001", proto="aeolus"):   # like mavutil.mavlink_connection
         if msg.name == "ATTITUDE":
@@ -29,7 +29,7 @@ Modules: :mod:`protolink.aeolus`, :mod:`protolink.aydp`, :mod:`protolink.aok`,
 
 from . import aeolus, aok, aydp, gdl90
 from ._native import ErrorEvent, FeedIter, Message, Reader, open
-from ._warnings import TruncatedCaptureWarning
+from ._warnings import DamagedCaptureWarning, TruncatedCaptureWarning
 from .frames import export, to_arrow, to_frames
 
 __version__ = "0.1.0"
@@ -40,6 +40,7 @@ __all__ = [
     "Message",
     "Reader",
     "TruncatedCaptureWarning",
+    "DamagedCaptureWarning",
     "aeolus",
     "aok",
     "aydp",

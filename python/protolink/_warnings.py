@@ -1,6 +1,6 @@
 """The package's warning categories (re-exported by ``protolink``)."""
 
-__all__ = ["TruncatedCaptureWarning"]
+__all__ = ["DamagedCaptureWarning", "TruncatedCaptureWarning"]
 
 
 class TruncatedCaptureWarning(UserWarning):
@@ -9,4 +9,12 @@ class TruncatedCaptureWarning(UserWarning):
     block starts (``Reader.truncated_at``). ``strict=True`` raises ``OSError`` instead."""
 
 
+class DamagedCaptureWarning(UserWarning):
+    """A capture file holds blocks or records that cannot be read (bytes overwritten, a length
+    that points nowhere). They were skipped and every whole record around them was read; the
+    message names the bytes lost and where the first damage starts. ``strict=True`` raises
+    ``OSError`` instead."""
+
+
 TruncatedCaptureWarning.__module__ = "protolink"
+DamagedCaptureWarning.__module__ = "protolink"

@@ -55,7 +55,9 @@ def to_arrow(
     **options: Any,
 ) -> Dict[str, "pyarrow.Table"]:
     """One ``pyarrow.Table`` per message type, keyed by its name, ``get_type()`` (``"GYRO"``,
-    ``"POSITION"``, ...).
+    ``"POSITION"``, ...); two protocols' types of one name (AYDP's and GDL90's ``HEARTBEAT``
+    in one capture) are two tables, keyed ``"aydp.HEARTBEAT"`` and ``"gdl90.HEARTBEAT"``. Each
+    table's schema names its protocol in its metadata (``b"proto"``).
 
     ``source`` is what :func:`protolink.open` opens (a capture, a raw file with ``proto=``, a
     live endpoint that ends), or messages already decoded (a ``Reader``, a list from
@@ -63,18 +65,23 @@ def to_arrow(
     time (Ctrl-C between two), its rows built into typed columns with no Python object per
     message. Options: ``profile=``, ``side=``, ``errors=`` (``False``: no ``ERROR`` table),
     ``strict=`` (a cut capture raises ``OSError`` instead of a
-    :class:`protolink.TruncatedCaptureWarning`), ``row_group=`` (rows per record batch).
+    :class:`protolink.TruncatedCaptureWarning`, a damaged one instead of a
+    :class:`protolink.DamagedCaptureWarning`), ``row_group=`` (rows per record batch).
 
     Each row is one message: first its metadata, then its fields.
 
     - ``capture_time``: the capture record's time, seconds since the Unix epoch (null from a
       byte file);
+    - ``time``: the row's time, a UTC timestamp of microseconds: the capture time, else an
+      AYDP message's header time (``meta.time``); null when it has neither;
     - ``offset``: its first byte in the input (in its flow, for a capture);
     - ``flow``, ``frame``, ``proto``: the capture's flow, record number and protocol (only from
       a capture);
     - ``meta.KEY`` for each entry of ``Message.meta``, a nested one as ``meta.KEY.SUB``: AEOLUS
       ``meta.id``, ``meta.len``, ``meta.crc``; AYDP ``meta.type``, ``meta.expedited``,
-      ``meta.len``, ``meta.time.seconds``, ``meta.time.subsec``; AOK ``meta.len``; GDL90
+      ``meta.len``, ``meta.time`` (the header time as a UTC timestamp), ``meta.time.profile``
+      (``spec`` or ``reference``: the unit of ``meta.time.subsec``, ms or µs),
+      ``meta.time.seconds``, ``meta.time.subsec``; AOK ``meta.len``; GDL90
       ``meta.id``, ``meta.len`` (``meta.len`` is ``wire_len``);
     - then the fields under the names of ``to_dict()``, a nested one as ``outer.inner``.
 
@@ -119,11 +126,14 @@ def export(
     **options: Any,
 ) -> List[Tuple[str, int, List[str]]]:
     """Writes captures and byte files (``proto=`` names their protocol) as tables under
-    ``out``, one directory per message type, each row naming its file in ``source``:
+    ``out``, one directory per protocol and message type in the Hive layout
+    (``out/proto=aeolus/type=GYRO/part-00000.parquet``), each row naming its file in ``source``:
     ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
     export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
-    ``[(type, rows, [part paths])]``; a part that exists already is never overwritten
-    (``ValueError``)."""
+    ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises
+    ``ValueError`` before anything is written). A capture's damaged blocks are skipped with a
+    :class:`protolink.DamagedCaptureWarning`; a source that cannot be read is raised once the
+    other sources are exported."""
     if isinstance(sources, (str, bytes, os.PathLike)):
         sources = [sources]
     return _native.export(

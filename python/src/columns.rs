@@ -10,7 +10,7 @@ use arrow_array::ffi_stream::FFI_ArrowArrayStream;
 use arrow_array::{RecordBatch, RecordBatchIterator};
 use arrow_schema::{ArrowError, SchemaRef};
 use protolink::columns::write::{Export, Format};
-use protolink::columns::{ROW_GROUP, Tables, unify};
+use protolink::columns::{ROW_GROUP, Tables, proto_of, unify};
 use protolink::commands::decode::tables::{Report, Select, read_file};
 use protolink::endpoint::Endpoint;
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -18,7 +18,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyCapsule, PyDict, PyList, PyTuple};
 
 use crate::message::add_row;
-use crate::source::{Cut, endpoint, error, select, warn_cut};
+use crate::source::{Cut, damage_sentence, endpoint, error, select, warn_cut, warn_damaged};
 
 /// One message type's rows: record batches of one schema, read by pyarrow through
 /// `__arrow_c_stream__` (`pyarrow.table(t)`, `pyarrow.RecordBatchReader.from_stream(t)`).
@@ -71,26 +71,39 @@ impl ArrowTable {
 }
 
 /// The tables of `tables`' batches, by message type (in the order the types first came),
-/// without `ERROR` unless `errors`.
+/// without `ERROR` unless `errors`. A name that two protocols' tables share (AYDP's and
+/// GDL90's `HEARTBEAT`) is the key of neither: each is `PROTO.NAME`.
 fn to_dict<'py>(
     py: Python<'py>,
     batches: Vec<(String, RecordBatch)>,
     errors: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut by_type: Vec<(String, Vec<RecordBatch>)> = Vec::new();
+    let mut by_type: Vec<(Option<String>, String, Vec<RecordBatch>)> = Vec::new();
     for (name, batch) in batches {
-        match by_type.iter_mut().find(|(n, _)| *n == name) {
-            Some((_, list)) => list.push(batch),
-            None => by_type.push((name, vec![batch])),
+        let proto = proto_of(&batch).map(str::to_owned);
+        match by_type
+            .iter_mut()
+            .find(|(p, n, _)| *n == name && *p == proto)
+        {
+            Some((_, _, list)) => list.push(batch),
+            None => by_type.push((proto, name, vec![batch])),
         }
     }
+    let shared = |name: &str| by_type.iter().filter(|(_, n, _)| n == name).count() > 1;
+    let keys: Vec<String> = by_type
+        .iter()
+        .map(|(proto, name, _)| match proto {
+            Some(p) if shared(name) => format!("{p}.{name}"),
+            _ => name.clone(),
+        })
+        .collect();
     let d = PyDict::new(py);
-    for (name, list) in by_type {
+    for (key, (_, name, list)) in keys.into_iter().zip(by_type) {
         if name == "ERROR" && !errors {
             continue;
         }
         let (schema, batches) = unify(list);
-        d.set_item(name, ArrowTable { schema, batches })?;
+        d.set_item(key, ArrowTable { schema, batches })?;
     }
     Ok(d)
 }
@@ -140,6 +153,11 @@ pub(crate) fn file_tables<'py>(
         }
         warn_cut(py, &cut)?;
     }
+    let shown = path.display().to_string();
+    if strict && let Some(sentence) = damage_sentence(&shown, &report) {
+        return Err(PyOSError::new_err(sentence));
+    }
+    warn_damaged(py, &shown, &report)?;
     Ok(Some(to_dict(py, batches, errors)?))
 }
 
@@ -197,7 +215,9 @@ pub(crate) fn message_tables<'py>(
 }
 
 /// Writes files (captures, raw bytes of `proto`) as tables under `out`, one directory per
-/// message type, as `protolink export` does; returns `[(type, rows, [part paths])]`.
+/// message type, as `protolink export` does; returns `[(type, rows, [part paths])]`. A
+/// capture's damage is skipped with a `DamagedCaptureWarning`; a source that cannot be read
+/// is raised once the other sources are exported.
 #[pyfunction]
 #[pyo3(signature = (sources, out, format = "parquet", proto = None, *, profile = None, side = None, row_group = ROW_GROUP))]
 #[allow(clippy::too_many_arguments)]
@@ -228,18 +248,31 @@ pub(crate) fn export<'py>(
     let choice = select(proto, profile, side)?;
     let mut exported = Export::new(&out, format).map_err(error)?;
     let mut tables = Tables::new(row_group);
+    // A file that cannot be written ends the export; a source that cannot be read is
+    // raised after the others are exported.
     let mut failed = None;
+    let mut unread = None;
     for path in &sources {
         let name = path.display().to_string();
-        let written = read(py, path, &choice, Some(&name), &mut tables, |full| {
+        let mut writing = false;
+        let report = read(py, path, &choice, Some(&name), &mut tables, |full| {
             for (n, b) in full {
-                exported.write(&n, &b)?;
+                if let Err(e) = exported.write(&n, &b) {
+                    writing = true;
+                    return Err(e);
+                }
             }
             Ok(())
         });
-        if let Err(e) = written {
-            failed = Some(e);
-            break;
+        match report {
+            Ok(report) => warn_damaged(py, &name, &report)?,
+            Err(e) if writing || e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => {
+                failed = Some(e);
+                break;
+            }
+            Err(e) => {
+                unread.get_or_insert(e);
+            }
         }
     }
     let mut last = Ok(());
@@ -250,7 +283,7 @@ pub(crate) fn export<'py>(
         }
     }
     let written = py.detach(|| exported.finish()).map_err(error)?;
-    if let Some(e) = failed {
+    if let Some(e) = failed.or(unread) {
         return Err(e);
     }
     last?;

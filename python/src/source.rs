@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use protolink::commands::decode::capture::{CaptureEvents, CaptureItem, proto_name};
-use protolink::commands::decode::tables::Select;
+use protolink::commands::decode::tables::{Report, Select};
 use protolink::endpoint::{Endpoint, Input, Link};
 use protolink::proto::{Proto, Side};
 use pyo3::exceptions::{
@@ -50,7 +50,9 @@ const RECORDS_PER_STEP: usize = 256;
 pub(crate) fn error(e: protolink::Error) -> PyErr {
     let text = e.to_string();
     match &e {
-        protolink::Error::CaptureCut { .. } => PyOSError::new_err(text),
+        protolink::Error::CaptureCut { .. }
+        | protolink::Error::CaptureDamaged { .. }
+        | protolink::Error::Incomplete(_) => PyOSError::new_err(text),
         protolink::Error::Open { source, .. } | protolink::Error::Io { source, .. } => {
             match source.kind() {
                 std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(text),
@@ -287,6 +289,36 @@ pub(crate) fn warn_cut(py: Python<'_>, cut: &Cut) -> PyResult<()> {
     let text = CString::new(cut.message())
         .map_err(|_| PyValueError::new_err("the capture's path holds a NUL byte"))?;
     PyErr::warn(py, &category, &text, 1)
+}
+
+/// Issues a `protolink.DamagedCaptureWarning` (an exception if warnings are errors) about the
+/// damage `report` counts in the capture at `path`; nothing when it has none.
+pub(crate) fn warn_damaged(py: Python<'_>, path: &str, report: &Report) -> PyResult<()> {
+    let Some(text) = damage_sentence(path, report) else {
+        return Ok(());
+    };
+    let category = py
+        .import("protolink._warnings")?
+        .getattr("DamagedCaptureWarning")?;
+    let text = CString::new(text)
+        .map_err(|_| PyValueError::new_err("the capture's path holds a NUL byte"))?;
+    PyErr::warn(py, &category, &text, 1)
+}
+
+/// What `report` says of the damage in the capture at `path`, if it holds any.
+pub(crate) fn damage_sentence(path: &str, report: &Report) -> Option<String> {
+    let one = report.damaged == 1;
+    (report.damaged > 0).then(|| {
+        format!(
+            "the capture {path} holds {} damaged {} of {} bytes, the first at byte {}: {} skipped, every whole record around {} was read",
+            report.damaged,
+            if one { "region" } else { "regions" },
+            report.lost,
+            report.first_damage.unwrap_or_default(),
+            if one { "it was" } else { "they were" },
+            if one { "it" } else { "them" },
+        )
+    })
 }
 
 /// The names `recv_match(type=...)` accepts: one name or a list of names.

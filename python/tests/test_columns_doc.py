@@ -18,7 +18,7 @@ from strategies import every_type
 DOC = ROOT / "docs" / "columns.md"
 BEGIN, END = "<!-- columns: begin (python/tests/test_columns_doc.py) -->", "<!-- columns: end -->"
 
-METADATA = {"source", "capture_time", "offset", "flow", "frame", "proto"}
+METADATA = {"source", "capture_time", "time", "offset", "flow", "frame", "proto"}
 
 
 def stream(kind, tmp_path):

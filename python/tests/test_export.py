@@ -14,7 +14,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import protolink
-from conftest import PROTOLINK, TESTDATA, decode_json
+from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json
 from test_frames_agree import Json, columns_of, flat
 
 # (capture name, the byte file it records, `protolink record`'s options, the decode options)
@@ -84,11 +84,18 @@ def equal(got, want, kind):
     return type(got) is type(want) and got == want
 
 
+def part(out, name, ext="parquet"):
+    """The first part of the table `name` of an export (of whichever protocol has it)."""
+    found = list(out.glob(f"proto=*/type={name}/part-00000.{ext}"))
+    assert len(found) == 1, (name, found)
+    return found[0]
+
+
 def check_duckdb(out, want):
-    """Every table of `out`, read by DuckDB, holds the rows of `want`."""
+    """Every table of `out`, read by DuckDB over the Hive layout, holds the rows of `want`."""
     con = duckdb.connect()
     for name, rows in want.items():
-        glob = f"{out}/{name}/*.parquet"
+        glob = f"{out}/proto=*/type={name}/*.parquet"
         counts = dict(con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
                               "GROUP BY source").fetchall())
         per_source = {}
@@ -114,19 +121,19 @@ def test_cli_export_read_by_duckdb_and_polars(fleet, tmp_path):
     run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, fleet)],
                          capture_output=True, check=True, text=True)
     want = expected(fleet)
-    assert set(p.name for p in out.iterdir()) == set(want)
+    assert set(p.name for p in out.glob("proto=*/type=*")) == {f"type={name}" for name in want}
     check_duckdb(out, want)
     total = sum(len(rows) for rows in want.values())
     assert run.stdout.splitlines()[-1] == (
         f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want)} tables")
     # Polars reads every table as it is: the same rows as DuckDB, per source.
     for name, rows in want.items():
-        frame = pl.read_parquet(f"{out}/{name}/*.parquet")
+        frame = pl.read_parquet(f"{out}/proto=*/type={name}/*.parquet")
         assert frame.height == len(rows)
         assert frame["source"].to_list() == [s for s, _ in rows]
         assert frame["offset"].to_list() == [e["offset"] for _, e in rows]
         assert frame["frame"].to_list() == [e["frame"] for _, e in rows]
-    gyro = pl.read_parquet(f"{out}/GYRO/*.parquet")
+    gyro = pl.read_parquet(f"{out}/proto=aeolus/type=GYRO/*.parquet")
     assert gyro.schema["x"] == pl.Float32 and gyro.schema["timestamp_ms"] == pl.Float64
     assert gyro.group_by("source").len().sort("source")["len"].to_list() == [
         sum(1 for s, _ in want["GYRO"] if s == str(p)) for p in sorted(fleet) if "flight" in p.name]
@@ -144,17 +151,18 @@ def test_arrow_ipc_and_python_export(fleet, tmp_path):
     py = tmp_path / "py"
     protolink.export([str(p) for p in fleet], py)
     for name in want:
-        parquet = pq.read_table(cli / name / "part-00000.parquet")
-        assert pq.read_table(py / name / "part-00000.parquet").equals(parquet)
-        with pa.memory_map(str(ipc / name / "part-00000.arrow")) as f:
+        parquet = pq.read_table(part(cli, name))
+        assert pq.read_table(part(py, name)).equals(parquet)
+        with pa.memory_map(str(part(ipc, name, "arrow"))) as f:
             arrow = pa.ipc.open_file(f).read_all()
         assert arrow.equals(parquet), name
-        assert pl.read_ipc(ipc / name / "part-00000.arrow").height == len(want[name])
+        assert pl.read_ipc(part(ipc, name, "arrow")).height == len(want[name])
     # to_arrow of one capture: that capture's rows of the export, without the source column.
     one = protolink.to_arrow(fleet[1])
-    exported = pq.read_table(cli / "POSITION" / "part-00000.parquet")
+    exported = pq.read_table(cli / "proto=aydp" / "type=POSITION" / "part-00000.parquet")
     mine = exported.filter(pa.compute.equal(exported["source"], str(fleet[1])))
-    assert one["POSITION"].equals(mine.drop_columns(["source"]))
+    # The export's files leave out `proto`, which their path holds.
+    assert one["POSITION"].drop_columns(["proto"]).equals(mine.drop_columns(["source"]))
 
 
 def test_byte_files_and_row_groups(tmp_path):
@@ -164,7 +172,7 @@ def test_byte_files_and_row_groups(tmp_path):
     sample = TESTDATA / "qemu-uart0-aeolus.bin"
     subprocess.run([PROTOLINK, "export", "--out", str(out), "--proto", "aeolus", "--row-group", "100",
                     str(sample), str(sample)], capture_output=True, check=True)
-    f = pq.ParquetFile(out / "PRESSURE" / "part-00000.parquet")
+    f = pq.ParquetFile(out / "proto=aeolus" / "type=PRESSURE" / "part-00000.parquet")
     events, _ = decode_json(sample, "--proto", "aeolus")
     n = sum(1 for e in events if e.get("name") == "PRESSURE")
     assert f.metadata.num_rows == 2 * n and f.metadata.num_row_groups == -(-2 * n // 100)
@@ -176,6 +184,13 @@ def test_byte_files_and_row_groups(tmp_path):
     units = {field.name: (field.metadata or {}).get(b"unit") for field in table.schema}
     assert (units["airspeed_mps"], units["static_mbar"], units["offset"], units["frame"]) == (
         b"m/s", b"mbar", b"byte", None)
+    # And in the file's key-value metadata, which DuckDB shows.
+    in_file = json.loads(f.metadata.metadata[b"units"])
+    assert in_file == {name.decode() if isinstance(name, bytes) else name: unit.decode()
+                       for name, unit in units.items() if unit is not None}
+    glob = f"{out}/proto=aeolus/type=PRESSURE/*.parquet"
+    kv = dict(duckdb.sql(f"SELECT decode(key), decode(value) FROM parquet_kv_metadata('{glob}')").fetchall())
+    assert json.loads(kv["units"])["airspeed_mps"] == "m/s"
 
 
 @pytest.mark.parametrize("args,sentence", [
@@ -197,10 +212,122 @@ def test_no_protocol_and_no_overwrite(fleet, tmp_path):
     assert f"error: {raw} is no pcapng or pcap capture: say which protocol its bytes are (--proto)" in run.stderr
     out = tmp_path / "again"
     subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, check=True)
-    before = (out / "GYRO" / "part-00000.parquet").read_bytes()
+    before = sorted((p, p.read_bytes()) for p in out.rglob("*") if p.is_file())
     run = subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], capture_output=True, text=True)
-    assert run.returncode != 0
-    assert "part-00000.parquet exists already: export writes into a directory of its own" in run.stderr
-    assert (out / "GYRO" / "part-00000.parquet").read_bytes() == before
-    with pytest.raises(ValueError, match="exists already"):
+    assert run.returncode == 2
+    assert run.stderr == f"error: {out} is not empty: an export goes to a new or empty directory\n"
+    with pytest.raises(ValueError, match="is not empty"):
         protolink.export(fleet[0], out)
+    assert sorted((p, p.read_bytes()) for p in out.rglob("*") if p.is_file()) == before
+
+
+def damaged_capture(tmp, name="damaged.pcapng"):
+    """A capture of 13 copies of the AEOLUS sample (about 1 MB, blocks of 64 KiB, as `protolink
+    record` writes a file), with 200 bytes of 0xFF written over the block boundary nearest byte
+    700,000; and the same capture undamaged."""
+    raw = tmp / (name + ".bin")
+    raw.write_bytes((TESTDATA / "qemu-uart0-aeolus.bin").read_bytes() * 13)
+    good = tmp / ("good-" + name)
+    subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "aeolus", "--out", str(good)],
+                   check=True, capture_output=True)
+    data = bytearray(good.read_bytes())
+    at, boundaries = 0, []
+    while at < len(data):
+        boundaries.append(at)
+        at += int.from_bytes(data[at + 4:at + 8], "little")
+    end = min(boundaries, key=lambda b: abs(b - 700_000))
+    data[end - 100:end + 100] = b"\xff" * 200
+    bad = tmp / name
+    bad.write_bytes(bytes(data))
+    return bad, good
+
+
+def rows_per_source(out):
+    """Rows of every table of an export, per source, read by DuckDB."""
+    con = duckdb.connect()
+    counts = {}
+    for table in out.glob("proto=*/type=*"):
+        glob = f"{table}/*.parquet"
+        for source, n in con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
+                                 "GROUP BY source").fetchall():
+            counts[source] = counts.get(source, 0) + n
+    return counts
+
+
+def test_a_damaged_capture_among_four_is_exported_around_its_damage(fleet, tmp_path):
+    bad, good = damaged_capture(tmp_path)
+    sources = [fleet[0], fleet[1], bad, fleet[3]]
+    out = tmp_path / "tables"
+    run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, sources)], capture_output=True, text=True)
+    # Every source is exported; the exit status and one sentence say that one lost something.
+    assert run.returncode == 1, run.stderr
+    assert run.stderr == "error: 1 of 4 sources was not exported whole: the lines above say what it lost\n"
+    lines = {line.split(": ")[0]: line for line in run.stdout.splitlines()}
+    assert "bytes lost in 1 damaged region, the first at byte" in lines[str(bad)]
+    assert run.stdout.splitlines()[-1].startswith("export: 4 sources, ")
+    got = rows_per_source(out)
+    want = {str(p): len(decode_json(p)[0]) for p in sources if p != bad}
+    assert {s: n for s, n in got.items() if s != str(bad)} == want
+    # The damaged capture: its rows before and after the damage, two blocks' worth fewer (the
+    # 200 bytes end one 64 KiB block and start the next) of its 16.
+    whole = len(decode_json(good)[0])
+    assert whole * 0.8 < got[str(bad)] < whole * 0.95
+    # The Python face: the same tables, and a warning naming the damage.
+    with pytest.warns(protolink.DamagedCaptureWarning, match="holds 1 damaged region of"):
+        protolink.export(sources, tmp_path / "py")
+    assert rows_per_source(tmp_path / "py") == got
+    with pytest.warns(protolink.DamagedCaptureWarning):
+        tables = protolink.to_arrow(bad)
+    assert sum(len(t) for t in tables.values()) == got[str(bad)]
+    with pytest.raises(OSError, match="damaged region"):
+        protolink.to_arrow(bad, strict=True)
+
+
+@pytest.fixture(scope="module")
+def two_exports(fleet, tmp_path_factory):
+    """Two exports of different captures under one directory, as a fleet keeps them: day1 holds
+    the first flight, the AYDP capture and a GDL90 capture (both with a HEARTBEAT), day2 the
+    second flight and the AOK capture. Returns (the directory, {export: its sources})."""
+    tmp = tmp_path_factory.mktemp("exports")
+    raw = tmp / "gdl90.bin"
+    raw.write_bytes(b"".join(GDL90_FRAMES.values()) * 3)
+    gdl90 = tmp / "gdl90.pcapng"
+    subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "gdl90", "--out", str(gdl90)],
+                   check=True, capture_output=True)
+    exports = {"day1": [fleet[0], fleet[1], gdl90], "day2": [fleet[3], fleet[2]]}
+    root = tmp / "exports"
+    for name, sources in exports.items():
+        subprocess.run([PROTOLINK, "export", "--out", str(root / name), *map(str, sources)],
+                       check=True, capture_output=True)
+    return root, exports
+
+
+def count(sources, name, proto):
+    """Messages of type `name` of `proto` in `sources`, as `decode --json` gives them."""
+    return sum(1 for p in sources for e in decode_json(p)[0]
+               if e.get("name") == name and e["proto"] == proto)
+
+
+def test_the_hive_layout_keeps_protocols_apart_and_one_glob_reads_two_exports(two_exports):
+    root, exports = two_exports
+    day1 = root / "day1"
+    # AYDP's and GDL90's HEARTBEAT: two tables, each in its protocol's directory, and no file
+    # holds a `proto` column (the path does).
+    assert (day1 / "proto=aydp" / "type=HEARTBEAT").is_dir() and (day1 / "proto=gdl90" / "type=HEARTBEAT").is_dir()
+    assert all("proto" not in pq.read_schema(f).names for f in root.rglob("*.parquet"))
+    everything = [p for sources in exports.values() for p in sources]
+    con = duckdb.connect()
+    heartbeats = dict(con.sql(f"SELECT proto, count(*) FROM read_parquet('{root}/*/proto=*/type=HEARTBEAT/*.parquet', "
+                              "hive_partitioning = true, union_by_name = true) GROUP BY proto").fetchall())
+    assert heartbeats == {"aydp": count(everything, "HEARTBEAT", "aydp"),
+                          "gdl90": count(everything, "HEARTBEAT", "gdl90")}
+    # One table of one protocol over both exports: one schema, no option but the layout's.
+    glob = f"{root}/*/proto=aeolus/type=GYRO/*.parquet"
+    gyro = count(everything, "GYRO", "aeolus")
+    got = con.sql(f"SELECT proto, type, count(*), count(DISTINCT source) FROM read_parquet('{glob}', "
+                  "hive_partitioning = true) GROUP BY ALL").fetchall()
+    assert got == [("aeolus", "GYRO", gyro, 2)]
+    frame = pl.scan_parquet(glob, hive_partitioning=True).collect()
+    assert frame.height == gyro
+    assert set(frame["proto"]) == {"aeolus"} and set(frame["type"]) == {"GYRO"}
+    assert frame.schema["x"] == pl.Float32

@@ -28,7 +28,7 @@ SHADOWED = {
 }
 ATTRIBUTES = sorted(a for a in dir(protolink.Message) if not a.startswith("_"))
 # The columns to_frames adds beside the fields (and the `meta.` ones, which no field can be).
-FRAME_COLUMNS = {"capture_time", "offset", "flow", "frame", "proto"}
+FRAME_COLUMNS = {"capture_time", "time", "offset", "flow", "frame", "proto"}
 
 
 def check(m):

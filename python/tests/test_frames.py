@@ -27,10 +27,10 @@ def test_rows_of_a_raw_file():
     frames = protolink.to_frames(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")
     assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
     gyro = frames["GYRO"]
-    assert list(gyro.columns) == ["capture_time", "offset", "meta.id", "meta.len", "meta.crc",
+    assert list(gyro.columns) == ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc",
                                   "valid", "timestamp_ms", "x", "y", "z"]
     assert gyro["offset"].iloc[0] == 15 and gyro["y"].iloc[0] == pytest.approx(0.024415644)
-    assert gyro["capture_time"].isna().all()  # a plain byte file has no clock
+    assert gyro["capture_time"].isna().all() and gyro["time"].isna().all()  # a plain byte file has no clock
     assert set(gyro["meta.id"]) == {62} and set(gyro["meta.crc"]) == {"ok"}
 
 
@@ -38,9 +38,12 @@ def test_rows_of_a_capture(tmp_path):
     frames = protolink.to_frames(recorded(tmp_path))
     assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
     gyro = frames["GYRO"]
-    assert list(gyro.columns[:8]) == ["capture_time", "offset", "flow", "frame", "proto", "meta.id", "meta.len",
-                                      "meta.crc"]
+    assert list(gyro.columns[:9]) == ["capture_time", "time", "offset", "flow", "frame", "proto", "meta.id",
+                                      "meta.len", "meta.crc"]
     assert gyro["capture_time"].notna().all() and (gyro["capture_time"] > 1e9).all()
+    # `time`: the capture time as a UTC timestamp of microseconds.
+    assert str(gyro["time"].dtype) == "datetime64[us, UTC]"
+    assert ((gyro["time"].astype("int64") - gyro["capture_time"] * 1e6).abs() <= 1).all()
     assert set(gyro["flow"]) == {"stream 0 linktype 147"} and set(gyro["proto"]) == {"aeolus"}
     assert gyro["frame"].iloc[0] == 1
 
@@ -51,7 +54,7 @@ def test_rows_of_messages_and_errors():
     events += d.finish()
     frames = protolink.to_frames(events)
     assert {k: len(v) for k, v in frames.items()} == {"HEARTBEAT": 5, "POSITION": 5, "FIX_QUALITY": 5, "ERROR": 1}
-    assert list(frames["ERROR"].columns) == ["capture_time", "offset", "kind", "error"]
+    assert list(frames["ERROR"].columns) == ["capture_time", "time", "offset", "kind", "error"]
     assert frames["ERROR"]["kind"].iloc[0] == "truncated"
     assert list(frames["POSITION"]["altitude"]) == [1000.0] * 5
     # errors=False leaves them out (an option of open).
@@ -82,7 +85,7 @@ def test_readme_example(tmp_path):
     assert len(block.strip().splitlines()) == 3
     recorded(tmp_path)
     out = subprocess.run([PYTHON, "-c", block], capture_output=True, check=True, cwd=tmp_path).stdout.decode()
-    assert "[248 rows x 13 columns]" in out and out.split()[:2] == ["capture_time", "offset"]
+    assert "[248 rows x 14 columns]" in out and out.split()[:2] == ["capture_time", "time"]
 
 
 def test_columns_of_a_file_and_of_its_messages(tmp_path):
@@ -116,7 +119,7 @@ def test_typed_columns():
     # float64, bool and strings.
     gyro = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["GYRO"]
     assert [(f.name, str(f.type)) for f in gyro.schema] == [
-        ("capture_time", "double"), ("offset", "int64"), ("meta.id", "int64"), ("meta.len", "int64"),
+        ("capture_time", "double"), ("time", "timestamp[us, tz=UTC]"), ("offset", "int64"), ("meta.id", "int64"), ("meta.len", "int64"),
         ("meta.crc", "string"), ("valid", "bool"), ("timestamp_ms", "double"), ("x", "float"), ("y", "float"),
         ("z", "float")]
     info = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["AEOLUSINFO"]

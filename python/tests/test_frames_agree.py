@@ -55,17 +55,39 @@ def decoder(kind):
     return getattr(protolink, OPTIONS[kind]["proto"]).Decoder(**options)
 
 
-def expected_row(m, columns=()):
+class Micros:
+    """A timestamp column's value: microseconds since the Unix epoch (None: null)."""
+
+    def __init__(self, value):
+        self.value = value
+
+
+def header_micros(m, profile):
+    """An AYDP message's header time in microseconds (None without one): its sub-seconds are
+    milliseconds in the `spec` profile, microseconds in `reference`."""
+    time = None if m.is_error else m.meta.get("time")
+    if not isinstance(time, dict):
+        return None
+    return time["seconds"] * 1_000_000 + time["subsec"] * (1_000 if profile == "spec" else 1)
+
+
+def expected_row(m, columns=(), profile="spec"):
     """The row `to_frames` gives message or error event `m`, as python/README.md words the
-    rule: `capture_time`, `offset`; from a capture `flow`, `frame` and `proto`; each entry of
-    `meta` as `meta.KEY` (a nested one as `meta.KEY.SUB`); then the fields under their own
-    names. (metadata columns, field columns)."""
-    meta = {"capture_time": m.capture_time, "offset": m.offset}
+    rule: `capture_time`, `time` (the capture time, else an AYDP header time in `profile`'s
+    unit), `offset`; from a capture `flow`, `frame` and `proto`; each entry of `meta` as
+    `meta.KEY` (a nested one as `meta.KEY.SUB`; the AYDP header time also as `meta.time`, a
+    timestamp, and `meta.time.profile`); then the fields under their own names. (metadata
+    columns, field columns)."""
+    header = header_micros(m, profile)
+    time = round(m.capture_time * 1e6) if m.capture_time is not None else header
+    meta = {"capture_time": m.capture_time, "time": Micros(time), "offset": m.offset}
     if m.flow is not None:
         meta.update(flow=m.flow, frame=m.frame, proto=m.proto)
     if not m.is_error:
         for key, value in m.meta.items():
             if isinstance(value, dict):
+                if key == "time":
+                    meta.update({"meta.time": Micros(header), "meta.time.profile": profile})
                 meta.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
             else:
                 meta[f"meta.{key}"] = value
@@ -123,6 +145,12 @@ def same(got, want, single=False):
     """A frame's cell equals the message's value (pandas reads None as NaN in a number column,
     and gives an int column with a None as floats). In a Float32 column (`single`, an AEOLUS
     field of the wire's f32) the value is the f32 the message's decimal stands for."""
+    if isinstance(want, Micros):
+        # A timestamp to the microsecond (the capture time, a double of seconds, rounds to
+        # within one).
+        if want.value is None:
+            return got is pd.NaT or got is None
+        return abs(got.value // 1_000 - want.value) <= 1
     if hasattr(got, "tolist"):
         got = got.tolist()
     if isinstance(want, Json):
@@ -132,7 +160,7 @@ def same(got, want, single=False):
         return (isinstance(got, list) and len(got) == len(want)
                 and all(same(g, w, single) for g, w in zip(got, want)))
     if want is None:
-        return got is None or (isinstance(got, float) and math.isnan(got))
+        return got is None or got is pd.NaT or (isinstance(got, float) and math.isnan(got))
     if isinstance(want, float) and math.isnan(want):
         return isinstance(got, float) and math.isnan(got)
     if single and isinstance(want, float):
@@ -140,7 +168,7 @@ def same(got, want, single=False):
     return type(got) is type(want) and got == want if isinstance(want, (bool, str)) else got == want
 
 
-def assert_agree(frames, events):
+def assert_agree(frames, events, profile="spec"):
     """`frames` (from to_frames) holds `events` (from the iterator): one frame per type, one
     row per message in order, metadata columns first (in the order they first appear), then
     fields (a column of the type that no message here fills is all null); every cell the
@@ -151,7 +179,7 @@ def assert_agree(frames, events):
     assert sorted(frames) == sorted(by_type)
     for name, messages in by_type.items():
         frame = frames[name]
-        rows = [expected_row(m, set(frame.columns)) for m in messages]
+        rows = [expected_row(m, set(frame.columns), profile) for m in messages]
         meta_columns, field_columns = {}, {}
         for meta, fields in rows:
             meta_columns.update(dict.fromkeys(meta))
@@ -183,17 +211,18 @@ def record(path, kind, out):
 def check_byte_file(path, kind):
     """to_frames of a byte file agrees with `open` and with `Decoder.feed`; so does to_frames
     of the file recorded as a pcapng capture with `open` of that capture."""
+    profile = OPTIONS[kind].get("profile", "spec")
     frames = protolink.to_frames(path, **OPTIONS[kind])
     events = list(protolink.open(path, **OPTIONS[kind]))
-    assert_agree(frames, events)
+    assert_agree(frames, events, profile)
     assert_same_frames(frames, protolink.to_frames(events))
     d = decoder(kind)
-    assert_agree(frames, d.feed(path.read_bytes()) + d.finish())
+    assert_agree(frames, d.feed(path.read_bytes()) + d.finish(), profile)
     cap = record(path, kind, path.with_suffix(".pcapng"))
     captured = protolink.to_frames(cap, **OPTIONS[kind])
     events = list(protolink.open(cap, **OPTIONS[kind]))
     assert events and all(e.capture_time is not None and e.flow is not None for e in events)
-    assert_agree(captured, events)
+    assert_agree(captured, events, profile)
     assert_same_frames(captured, protolink.to_frames(events))
     return frames, captured
 
@@ -222,8 +251,13 @@ def test_aydp_header_time_of_a_byte_file(tmp_path):
     assert list(position["meta.time.seconds"]) == [m.meta["time"]["seconds"] for m in messages] == [0, 1, 2, 3, 4]
     assert list(position["meta.time.subsec"]) == [m.meta["time"]["subsec"] for m in messages]
     assert position["capture_time"].isna().all()
-    assert list(position.columns[:6]) == ["capture_time", "offset", "meta.type", "meta.expedited", "meta.len",
-                                          "meta.time.seconds"]
+    assert list(position.columns[:9]) == ["capture_time", "time", "offset", "meta.type", "meta.expedited",
+                                          "meta.len", "meta.time", "meta.time.profile", "meta.time.seconds"]
+    # No capture time: `time` is the header's, its sub-seconds in the unit of the profile named
+    # beside it (the document's: milliseconds).
+    assert list(position["meta.time.profile"]) == ["spec"] * 5
+    header = [s * 1_000_000 + sub * 1_000 for s, sub in zip(position["meta.time.seconds"], position["meta.time.subsec"])]
+    assert list(position["time"].astype("int64")) == list(position["meta.time"].astype("int64")) == header
     # The expedited HEARTBEAT has no header time: its columns are there (one schema per
     # message type), null.
     assert frames["HEARTBEAT"]["meta.time.seconds"].isna().all()

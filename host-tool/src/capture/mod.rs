@@ -26,6 +26,7 @@ use crate::error::Error;
 use crate::proto::{ProfileArg, Proto, Side};
 
 mod read;
+mod resync;
 mod write;
 
 pub use read::{CaptureReader, file_is_capture, is_capture};

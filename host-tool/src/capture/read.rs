@@ -2,7 +2,7 @@
 //! finding the UDP or TCP payload (or a stream chunk) in each.
 
 use std::fs::File;
-use std::io::{BufReader, ErrorKind, Read, Seek, SeekFrom};
+use std::io::{BufReader, Chain, Cursor, ErrorKind, Read, Seek, SeekFrom};
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -12,8 +12,9 @@ use pcap_file::pcap::PcapReader;
 use pcap_file::pcapng::PcapNgReader;
 use pcap_file::pcapng::blocks::Block;
 use pcap_file::pcapng::blocks::interface_description::InterfaceDescriptionOption;
-use pcap_file::{Endianness, PcapError};
+use pcap_file::{Endianness, PcapError, TsResolution};
 
+use super::resync::{Framing, Resume, next_start};
 use super::{Payload, Record, StreamKind, Transport, pcap_err};
 use crate::error::{Error, Result};
 
@@ -55,16 +56,28 @@ pub fn file_is_capture(path: &Path) -> bool {
         && is_capture(&head)
 }
 
+/// The bytes a reader parses: the file from where the reading starts, after the header it
+/// needs first when that is not where the file starts (a damaged capture read on past its
+/// damage: the section header or file header again, then the file from there).
+type Bytes = BufReader<Chain<Cursor<Vec<u8>>, File>>;
+
 enum Inner {
     PcapNg {
-        reader: PcapNgReader<BufReader<File>>,
+        reader: PcapNgReader<Bytes>,
         /// Per interface: link type and the factor from the stored units to nanoseconds.
         interfaces: Vec<(u32, TsUnit)>,
     },
     Pcap {
-        reader: PcapReader<BufReader<File>>,
+        reader: PcapReader<Bytes>,
         link: u32,
     },
+}
+
+/// The file from `at`, after `header`.
+fn bytes_from(path: &Path, header: Vec<u8>, at: u64) -> std::io::Result<Bytes> {
+    let mut file = File::open(path)?;
+    file.seek(SeekFrom::Start(at))?;
+    Ok(BufReader::new(Cursor::new(header).chain(file)))
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -114,6 +127,10 @@ const PCAP_RECORD_HEADER_LEN: u64 = 16;
 const READ_BUFFER: u64 = 8_000_000;
 
 /// A capture being read, record by record (bounded memory: one record at a time).
+///
+/// A block or record that cannot be read is damage: the reader says so once
+/// ([`Error::CaptureDamaged`]) and reads on from the next whole block or record. A file that
+/// ends inside a block with no whole block after it is cut ([`Error::CaptureCut`]).
 pub struct CaptureReader {
     inner: Inner,
     frame: u64,
@@ -121,8 +138,13 @@ pub struct CaptureReader {
     /// whole one read.
     offset: u64,
     path: String,
-    /// The file, for its length when a block cannot be read.
+    /// The file, for its length when a block cannot be read, and to read on past damage.
     file: PathBuf,
+    /// The current section header (pcapng) or the file header (pcap): its offset and length,
+    /// what a reader past damage reads first.
+    header: (u64, u64),
+    /// No block or record is left to read: damage or a cut ran to the end of the file.
+    ended: bool,
 }
 
 impl std::fmt::Debug for CaptureReader {
@@ -147,18 +169,19 @@ impl CaptureReader {
         let mut file = File::open(path).map_err(open_err)?;
         let mut head = [0u8; 12];
         let n = read_head(&mut file, &mut head).map_err(open_err)?;
-        file.seek(SeekFrom::Start(0)).map_err(open_err)?;
+        drop(file);
+        let bytes = bytes_from(path, Vec::new(), 0).map_err(open_err)?;
         let what = format!("reading the capture {shown}");
         let (inner, offset) = match magic(&head[..n]) {
             Some(Format::PcapNg) => (
                 Inner::PcapNg {
-                    reader: PcapNgReader::new(BufReader::new(file)).map_err(pcap_err(what))?,
+                    reader: PcapNgReader::new(bytes).map_err(pcap_err(what))?,
                     interfaces: Vec::new(),
                 },
                 section_header_len(&head),
             ),
             Some(Format::Pcap) => {
-                let reader = PcapReader::new(BufReader::new(file)).map_err(pcap_err(what))?;
+                let reader = PcapReader::new(bytes).map_err(pcap_err(what))?;
                 let link = u32::from(reader.header().datalink);
                 (Inner::Pcap { reader, link }, PCAP_HEADER_LEN)
             }
@@ -174,6 +197,8 @@ impl CaptureReader {
             offset,
             path: shown,
             file: path.to_path_buf(),
+            header: (0, offset),
+            ended: false,
         })
     }
 
@@ -186,19 +211,21 @@ impl CaptureReader {
     /// The next packet record, or `None` at the end of the file.
     ///
     /// # Errors
-    /// [`Error::CaptureCut`] for a file that ends inside a block or record (what `record`
-    /// leaves when it is killed mid-write): every record before it has been read. Otherwise
-    /// a damaged file.
+    /// [`Error::CaptureDamaged`] for a block or record that cannot be read: the next call
+    /// reads on from the next whole one (or, when none is left, ends). [`Error::CaptureCut`]
+    /// for a file that ends inside a block or record with no whole one after it (what
+    /// `record` leaves when it is killed mid-write): every record before it has been read.
+    /// Otherwise reading the file failed.
     pub fn next_record(&mut self) -> Result<Option<Record>> {
-        let what = format!(
-            "reading the capture {} after frame {}",
-            self.path, self.frame
-        );
+        if self.ended {
+            return Ok(None);
+        }
         loop {
+            let start = self.offset;
             let (time, link, interface, data) = match &mut self.inner {
                 Inner::Pcap { reader, link } => match reader.next_packet() {
                     None => return Ok(None),
-                    Some(Err(e)) => return Err(self.failed(what, e)),
+                    Some(Err(e)) => return Err(self.failed(start, &e)),
                     Some(Ok(p)) => {
                         self.offset += PCAP_RECORD_HEADER_LEN + p.data.len() as u64;
                         (p.timestamp, *link, 0, p.data.into_owned())
@@ -207,7 +234,7 @@ impl CaptureReader {
                 Inner::PcapNg { reader, interfaces } => {
                     let block = match next_block(reader) {
                         None => return Ok(None),
-                        Some(Err(e)) => return Err(self.failed(what, e)),
+                        Some(Err(e)) => return Err(self.failed(start, &e)),
                         Some(Ok((len, block))) => {
                             self.offset += u64::from(len);
                             block
@@ -216,6 +243,7 @@ impl CaptureReader {
                     match block {
                         Block::SectionHeader(_) => {
                             interfaces.clear();
+                            self.header = (start, self.offset - start);
                             continue;
                         }
                         Block::InterfaceDescription(idb) => {
@@ -230,10 +258,14 @@ impl CaptureReader {
                         Block::EnhancedPacket(epb) => {
                             let Some(&(link, unit)) = interfaces.get(epb.interface_id as usize)
                             else {
-                                return Err(Error::Unsupported(format!(
-                                    "{what} failed: a packet names interface {} which the file never describes",
-                                    epb.interface_id
-                                )));
+                                // A packet of an interface the file never describes: damage
+                                // that the block's framing survived.
+                                return Err(self.failed(
+                                    start,
+                                    &PcapError::InvalidField(
+                                        "a packet names an interface the file never describes",
+                                    ),
+                                ));
                             };
                             (
                                 unit.to_duration(epb.timestamp.as_nanos()),
@@ -260,31 +292,126 @@ impl CaptureReader {
         }
     }
 
-    /// The error of a block or record that could not be read: [`Error::CaptureCut`] when the
-    /// file ends inside it (`pcap-file` read every byte left and wanted more), else `what`
-    /// failed for the reason `pcap-file` gives.
-    fn failed(&self, what: String, e: PcapError) -> Error {
-        let left = std::fs::metadata(&self.file)
-            .map(|m| m.len().saturating_sub(self.offset))
-            .unwrap_or(u64::MAX);
-        match e {
-            PcapError::IoError(io)
-                if io.kind() == ErrorKind::UnexpectedEof && left < READ_BUFFER =>
-            {
+    /// The error of the block or record at `start` that could not be read, the reader set
+    /// to read on past it: [`Error::CaptureDamaged`] when a whole block or record follows
+    /// somewhere (the reading goes on there) or when no file end explains the error (the
+    /// reading ends); [`Error::CaptureCut`] when the file ends inside the block
+    /// (`pcap-file` read every byte left and wanted more) and no whole one follows it.
+    fn failed(&mut self, start: u64, e: &PcapError) -> Error {
+        let file_len = std::fs::metadata(&self.file).map_or(u64::MAX, |m| m.len());
+        let shown = format!(
+            "reading the capture {} after frame {}",
+            self.path, self.frame
+        );
+        let cut_short = matches!(e, PcapError::IoError(io) if io.kind() == ErrorKind::UnexpectedEof)
+            && file_len.saturating_sub(start) < READ_BUFFER;
+        let resume = match self.resume_after(start, file_len) {
+            Ok(resume) => resume,
+            Err(io) => {
+                self.ended = true;
+                return Error::Io {
+                    what: shown,
+                    source: io,
+                };
+            }
+        };
+        let frames = self.frame;
+        match resume {
+            Some(at) => Error::CaptureDamaged {
+                path: self.path.clone(),
+                offset: start,
+                skipped: at - start,
+                frames,
+                resumed: true,
+            },
+            None if cut_short => {
+                self.ended = true;
                 Error::CaptureCut {
                     path: self.path.clone(),
-                    offset: self.offset,
-                    frames: self.frame,
+                    offset: start,
+                    frames,
                 }
             }
-            other => pcap_err(what)(other),
+            None => {
+                self.ended = true;
+                Error::CaptureDamaged {
+                    path: self.path.clone(),
+                    offset: start,
+                    skipped: file_len.saturating_sub(start),
+                    frames,
+                    resumed: false,
+                }
+            }
         }
+    }
+
+    /// Finds the first whole block or record after the damage at `start` and reads on from
+    /// there; `None` when none is left.
+    fn resume_after(&mut self, start: u64, file_len: u64) -> std::io::Result<Option<u64>> {
+        let framing = match &self.inner {
+            Inner::PcapNg { reader, interfaces } => Framing::PcapNg {
+                big_endian: reader.section().endianness == Endianness::Big,
+                interfaces: interfaces.len(),
+            },
+            Inner::Pcap { reader, .. } => {
+                let header = reader.header();
+                Framing::Pcap {
+                    big_endian: header.endianness == Endianness::Big,
+                    snaplen: header.snaplen,
+                    nanos: header.ts_resolution == TsResolution::NanoSecond,
+                }
+            }
+        };
+        let mut file = File::open(&self.file)?;
+        let Some(Resume { at, section }) = next_start(
+            &mut file,
+            file_len,
+            start.saturating_add(1),
+            framing,
+            READ_BUFFER,
+        )?
+        else {
+            return Ok(None);
+        };
+        // The header the reader needs before the bytes at `at`: none when a section
+        // header starts there (the reader reads it as the file's first block).
+        let header = if section {
+            Vec::new()
+        } else {
+            let (from, len) = self.header;
+            let mut header = vec![0u8; usize::try_from(len).unwrap_or(0)];
+            file.seek(SeekFrom::Start(from))?;
+            file.read_exact(&mut header)?;
+            header
+        };
+        let bytes = bytes_from(&self.file, header, at)?;
+        let invalid = |e: PcapError| std::io::Error::new(ErrorKind::InvalidData, e.to_string());
+        self.offset = at;
+        match &mut self.inner {
+            Inner::PcapNg { reader, interfaces } => {
+                *reader = PcapNgReader::new(bytes).map_err(invalid)?;
+                if section {
+                    // The reader took the new section's header; its interfaces follow.
+                    interfaces.clear();
+                    let mut head = [0u8; 12];
+                    file.seek(SeekFrom::Start(at))?;
+                    file.read_exact(&mut head)?;
+                    let len = section_header_len(&head);
+                    self.header = (at, len);
+                    self.offset = at + len;
+                }
+            }
+            Inner::Pcap { reader, .. } => {
+                *reader = PcapReader::new(bytes).map_err(invalid)?;
+            }
+        }
+        Ok(Some(at))
     }
 }
 
 /// The next block of a pcapng and its length in the file.
 fn next_block(
-    reader: &mut PcapNgReader<BufReader<File>>,
+    reader: &mut PcapNgReader<Bytes>,
 ) -> Option<std::result::Result<(u32, Block<'_>), PcapError>> {
     // The byte order of the section the block is in (a section header block, which starts a
     // new section, is read whatever the order).

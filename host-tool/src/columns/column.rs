@@ -5,10 +5,14 @@ use std::sync::Arc;
 
 use arrow_array::builder::{
     BooleanBuilder, Float32Builder, Float64Builder, Int8Builder, Int16Builder, Int32Builder,
-    Int64Builder, StringBuilder, UInt8Builder, UInt16Builder, UInt32Builder, UInt64Builder,
+    Int64Builder, StringBuilder, TimestampMicrosecondBuilder, UInt8Builder, UInt16Builder,
+    UInt32Builder, UInt64Builder,
 };
 use arrow_array::{ArrayRef, NullArray};
-use arrow_schema::{DataType, Field};
+use arrow_schema::{DataType, Field, TimeUnit};
+
+/// The time zone of every timestamp column: the times are UTC.
+const UTC: &str = "UTC";
 
 /// One value as the decoders give it: a number of its own width, a flag, a text, or none.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,6 +43,8 @@ pub(crate) enum Scalar<'a> {
     F64(f64),
     /// A text.
     Str(&'a str),
+    /// A point in time: microseconds since the Unix epoch, UTC.
+    Time(i64),
 }
 
 impl Scalar<'_> {
@@ -96,6 +102,8 @@ pub(crate) enum Data {
     F64(Float64Builder),
     /// UTF-8 texts.
     Str(StringBuilder),
+    /// Points in time, microseconds since the Unix epoch, UTC.
+    Time(TimestampMicrosecondBuilder),
 }
 
 macro_rules! each_primitive {
@@ -113,6 +121,7 @@ macro_rules! each_primitive {
             Data::F32($b) => $body,
             Data::F64($b) => $body,
             Data::Str($b) => $body,
+            Data::Time($b) => $body,
             $other => $otherwise,
         }
     };
@@ -135,6 +144,7 @@ impl Data {
             Scalar::F32(_) => Data::F32(Float32Builder::new()),
             Scalar::F64(_) => Data::F64(Float64Builder::new()),
             Scalar::Str(_) => Data::Str(StringBuilder::new()),
+            Scalar::Time(_) => Data::Time(TimestampMicrosecondBuilder::new().with_timezone(UTC)),
         };
         d.nulls(nulls);
         d
@@ -168,6 +178,13 @@ impl Data {
             },
             Data::Str(b) => match v {
                 Scalar::Str(x) => {
+                    b.append_value(x);
+                    true
+                }
+                _ => false,
+            },
+            Data::Time(b) => match v {
+                Scalar::Time(x) => {
                     b.append_value(x);
                     true
                 }
@@ -226,6 +243,7 @@ impl Data {
             Data::F32(_) => DataType::Float32,
             Data::F64(_) => DataType::Float64,
             Data::Str(_) => DataType::Utf8,
+            Data::Time(_) => DataType::Timestamp(TimeUnit::Microsecond, Some(UTC.into())),
         }
     }
 

@@ -1,6 +1,7 @@
-//! Decoded messages as typed columns, one table per message type, cut into Arrow record
-//! batches of at most a row group each: what `protolink export` writes as Parquet or Arrow IPC
-//! files and what the Python package hands pyarrow (`protolink.to_arrow`, `to_frames`).
+//! Decoded messages as typed columns, one table per protocol and message type, cut into Arrow
+//! record batches of at most a row group each: what `protolink export` writes as Parquet or
+//! Arrow IPC files and what the Python package hands pyarrow (`protolink.to_arrow`,
+//! `to_frames`).
 //!
 //! A row is one message: first its metadata, then its fields.
 //!
@@ -8,9 +9,10 @@
 //! |---|---|---|
 //! | `source` | Utf8 | the file it was read from (`export`; only when given) |
 //! | `capture_time` | Float64 | the capture record's time, seconds since the Unix epoch (null from a byte file) |
+//! | `time` | Timestamp(µs, UTC) | the row's time: the capture record's, else an AYDP message's header time (`meta.time`); null when it has neither |
 //! | `offset` | Int64 | its first byte in the input (in its flow, for a capture) |
-//! | `flow`, `frame`, `proto` | Utf8, Int64, Utf8 | the capture's flow, record number (from 1) and protocol (only from a capture) |
-//! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
+//! | `flow`, `frame`, `proto` | Utf8, Int64, Utf8 | the capture's flow, record number (from 1) and protocol (only from a capture; an export's files leave `proto` out, their path holds it) |
+//! | `meta.KEY` | Int64, Boolean, Utf8 | what `decode --json` prints about the frame beside `fields`: AEOLUS `id`, `len`, `crc`; AYDP `type`, `expedited`, `len`, `time` (the header's time as a Timestamp(µs, UTC)), `time.profile` (`spec` or `reference`: the unit of `time.subsec`, ms or µs), `time.seconds`, `time.subsec`; AOK `len`; GDL90 `id`, `len` |
 //! | each field | its own | the `"fields"` of `decode --json`, a nested one as `outer.inner` |
 //!
 //! The fields' types are the message types' own, in all four protocols: the wire's widths
@@ -33,7 +35,7 @@
 //! let (name, batch) = &batches[0];
 //! assert_eq!((name.as_str(), batch.num_rows()), ("TOAST", 1));
 //! let names: Vec<_> = batch.schema().fields().iter().map(|f| f.name().clone()).collect();
-//! assert_eq!(names, ["capture_time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
+//! assert_eq!(names, ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
 //! ```
 
 mod column;
@@ -60,8 +62,39 @@ use crate::proto::{Proto, proto_name};
 /// megabytes of columns.
 pub const ROW_GROUP: usize = 65_536;
 
+/// The key of a batch's schema metadata that names its message type's protocol (`aeolus`,
+/// `aydp`, `aok`, `gdl90`), when it is known: two protocols' types of one name (AYDP's and
+/// GDL90's `HEARTBEAT`) are two tables.
+pub const PROTO_KEY: &str = "proto";
+
+/// The protocol a batch's schema names ([`PROTO_KEY`]), if any.
+///
+/// ```
+/// use protolink::columns::{Origin, Tables, proto_of};
+/// use protolink::decoders::AeolusDecoder;
+/// let mut tables = Tables::new(8);
+/// let mut d = AeolusDecoder::new();
+/// d.feed(&[0x7E, 0x52, b'h', b'i', 0, 0x73, 0xEC, 0x7E], 0, |p| tables.add(&Origin::default(), &p));
+/// assert_eq!(proto_of(&tables.finish()[0].1), Some("aeolus"));
+/// ```
+pub fn proto_of(batch: &RecordBatch) -> Option<&str> {
+    batch
+        .schema_ref()
+        .metadata()
+        .get(PROTO_KEY)
+        .map(String::as_str)
+}
+
 /// The metadata columns a field's name must not take.
-const METADATA: [&str; 6] = ["source", "capture_time", "offset", "flow", "frame", "proto"];
+const METADATA: [&str; 7] = [
+    "source",
+    "capture_time",
+    "time",
+    "offset",
+    "flow",
+    "frame",
+    "proto",
+];
 
 /// Where a message came from: its source file, and for a capture its record.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -79,14 +112,17 @@ pub struct Origin {
     pub proto: Option<Proto>,
 }
 
-/// The tables being filled, one per message type (in the order the types first came), and
+/// The tables being filled, one per protocol and message type (in the order the types first
+/// came; a table's batches name its protocol, [`proto_of`]), and
 /// the batches cut from them.
 pub struct Tables {
     tables: Vec<(String, Table)>,
+    /// The first table of each name (another protocol's table of the same name is found
+    /// past it, in `tables`).
     index: FnvMap<String, usize>,
-    /// The tables of names the program holds (AEOLUS's), by the name's address: found
+    /// The tables of names the program holds, by the name's address and protocol: found
     /// without hashing the text.
-    by_address: Vec<(usize, usize)>,
+    by_address: Vec<(usize, Option<Proto>, usize)>,
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
@@ -139,46 +175,76 @@ impl Tables {
         self.tables.iter().map(|(_, t)| t.mismatches).sum()
     }
 
-    /// The table of `name` (its index), its row begun with the metadata of `origin` and
-    /// `offset`.
+    /// The table of `name` of the origin's protocol (its index), its row begun with the
+    /// metadata of `origin` and `offset`.
     fn begin(&mut self, name: &str, origin: &Origin, offset: u64) -> (usize, &mut Table) {
-        let i = self.index_of(name);
-        self.begin_at(i, origin, offset)
+        let i = self.index_of(name, origin.proto);
+        self.begin_at(i, origin, offset, None)
     }
 
-    /// The index of the table `name`, a table it creates when new.
-    fn index_of(&mut self, name: &str) -> usize {
+    /// The index of the table `name` of protocol `proto`, a table it creates when new.
+    fn index_of(&mut self, name: &str, proto: Option<Proto>) -> usize {
         match self.index.get(name) {
-            Some(&i) => i,
+            Some(&i) if self.tables.get(i).is_some_and(|(_, t)| t.proto == proto) => i,
+            Some(&first) => {
+                let found = self
+                    .tables
+                    .iter()
+                    .skip(first)
+                    .position(|(n, t)| n == name && t.proto == proto);
+                match found {
+                    Some(k) => first + k,
+                    None => self.push(name, proto),
+                }
+            }
             None => {
                 self.index.insert(name.to_owned(), self.tables.len());
-                self.tables.push((name.to_owned(), Table::new(name)));
-                self.tables.len() - 1
+                self.push(name, proto)
             }
         }
     }
 
-    /// [`Tables::begin`] for a name the program holds.
+    /// A new table, and its index.
+    fn push(&mut self, name: &str, proto: Option<Proto>) -> usize {
+        self.tables.push((name.to_owned(), Table::new(name, proto)));
+        self.tables.len() - 1
+    }
+
+    /// [`Tables::begin`] for a name the program holds, of protocol `proto`; `own_time` is
+    /// the message's own time (µs since the Unix epoch), the row's `time` when the origin has
+    /// none.
     fn begin_static(
         &mut self,
         name: &'static str,
+        proto: Proto,
         origin: &Origin,
         offset: u64,
+        own_time: Option<i64>,
     ) -> (usize, &mut Table) {
-        let key = name.as_ptr() as usize;
-        let i = match self.by_address.iter().find(|(k, _)| *k == key) {
-            Some(&(_, i)) => i,
+        let (key, proto) = (name.as_ptr() as usize, Some(proto));
+        let i = match self
+            .by_address
+            .iter()
+            .find(|(k, p, _)| *k == key && *p == proto)
+        {
+            Some(&(_, _, i)) => i,
             None => {
-                let i = self.index_of(name);
-                self.by_address.push((key, i));
+                let i = self.index_of(name, proto);
+                self.by_address.push((key, proto, i));
                 i
             }
         };
-        self.begin_at(i, origin, offset)
+        self.begin_at(i, origin, offset, own_time)
     }
 
-    /// Table `i`, its row begun with the metadata.
-    fn begin_at(&mut self, i: usize, origin: &Origin, offset: u64) -> (usize, &mut Table) {
+    /// Table `i`, its row begun with the metadata; `time` is the capture's, else `own_time`.
+    fn begin_at(
+        &mut self,
+        i: usize,
+        origin: &Origin,
+        offset: u64,
+        own_time: Option<i64>,
+    ) -> (usize, &mut Table) {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
             table.set_static("source", Scalar::Str(s));
@@ -188,6 +254,8 @@ impl Tables {
             origin.capture_time.map(Scalar::F64),
             Scalar::F64(0.0),
         );
+        let time = origin.capture_time.map(micros).or(own_time);
+        table.set_typed("time", time.map(Scalar::Time), Scalar::Time(0));
         table.set_static(
             "offset",
             Scalar::I64(i64::try_from(offset).unwrap_or(i64::MAX)),
@@ -242,11 +310,23 @@ impl Tables {
                 self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
             }
             Item::Aydp { frame, message } => {
-                let (i, table) = self.begin_static(aydp_name(message), origin, offset);
+                // The header's time (normal messages), in the unit of the frame's profile.
+                let time = frame.timestamp();
+                let profile = frame.profile();
+                let own = time.map(|t| {
+                    t.seconds
+                        .saturating_mul(1_000_000)
+                        .saturating_add(t.subsec_micros(profile))
+                });
+                let (i, table) =
+                    self.begin_static(aydp_name(message), Proto::Aydp, origin, offset, own);
                 table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
                 table.set_static("meta.expedited", Scalar::Bool(frame.is_expedited()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
-                let time = frame.timestamp();
+                table.set_typed("meta.time", own.map(Scalar::Time), Scalar::Time(0));
+                // The unit of the header's sub-seconds: null where there is no header time.
+                let unit = own.map(|_| Scalar::Str(profile_name(profile)));
+                table.set_typed("meta.time.profile", unit, Scalar::Str(""));
                 table.set_typed(
                     "meta.time.seconds",
                     time.map(|t| Scalar::I64(t.seconds)),
@@ -261,19 +341,21 @@ impl Tables {
                 self.end(i);
             }
             Item::AokMessage(m) => {
-                let (i, table) = self.begin_static(aok_message_name(m), origin, offset);
+                let (i, table) =
+                    self.begin_static(aok_message_name(m), Proto::Aok, origin, offset, None);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_message(table, m);
                 self.end(i);
             }
             Item::AokCommand(c) => {
-                let (i, table) = self.begin_static(aok_command_name(c), origin, offset);
+                let (i, table) =
+                    self.begin_static(aok_command_name(c), Proto::Aok, origin, offset, None);
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::aok_command(table, c);
                 self.end(i);
             }
             Item::Gdl90(m) => {
-                let (i, table) = self.begin_static(m.name(), origin, offset);
+                let (i, table) = self.begin_static(m.name(), Proto::Gdl90, origin, offset, None);
                 table.set_static("meta.id", Scalar::I64(m.id().into()));
                 table.set_static("meta.len", Scalar::I64(wide(len)));
                 typed::gdl90(table, m);
@@ -293,7 +375,7 @@ impl Tables {
     /// let mut tables = Tables::new(8);
     /// tables.add_rendered(&Origin::default(), 0, "DEBUG", &meta, &serde_json::json!({"number": 1, "value": 2000}));
     /// let batches = tables.finish();
-    /// assert_eq!(batches[0].1.num_columns(), 5);
+    /// assert_eq!(batches[0].1.num_columns(), 6);
     /// ```
     pub fn add_rendered(
         &mut self,
@@ -353,7 +435,7 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
-        let (i, table) = self.begin_static(message.name(), origin, offset);
+        let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset, None);
         table.set_static("meta.id", Scalar::I64(id.into()));
         table.set_static("meta.len", Scalar::I64(wide(len)));
         table.set_static("meta.crc", Scalar::Str(if has_crc { "ok" } else { "none" }));
@@ -402,7 +484,7 @@ impl Tables {
 /// tables.add_error(&Default::default(), 9, "truncated", "input ends inside a frame");
 /// let batches: Vec<_> = tables.finish().into_iter().map(|(_, b)| b).collect();
 /// let (schema, batches) = protolink::columns::unify(batches);
-/// assert_eq!((schema.fields().len(), batches.len()), (4, 2));
+/// assert_eq!((schema.fields().len(), batches.len()), (5, 2));
 /// ```
 pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordBatch>) {
     let Some(schema) = batches.last().map(RecordBatch::schema) else {
@@ -427,6 +509,20 @@ pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordB
         })
         .collect();
     (schema, batches)
+}
+
+/// Seconds since the Unix epoch as microseconds (saturated; a NaN is 0).
+#[allow(clippy::cast_possible_truncation)]
+fn micros(seconds: f64) -> i64 {
+    (seconds * 1e6).round() as i64
+}
+
+/// An AYDP profile's name, as `--profile` takes it.
+fn profile_name(profile: aydp_proto::Profile) -> &'static str {
+    match profile {
+        aydp_proto::Profile::Spec => "spec",
+        aydp_proto::Profile::Reference => "reference",
+    }
 }
 
 /// A count or length as an Int64 value (saturated).

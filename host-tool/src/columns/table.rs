@@ -6,9 +6,11 @@ use std::sync::Arc;
 use arrow_array::RecordBatch;
 use arrow_schema::{Schema, SchemaRef};
 
+use super::PROTO_KEY;
 use super::column::{Column, Scalar};
 use super::fnv::FnvMap;
 use super::unit;
+use crate::proto::{Proto, proto_name};
 
 /// The columns of one message type. A column appears with the first row that has a value in it
 /// (the rows before hold nulls in it), or is declared before from samples of the type, and
@@ -17,6 +19,9 @@ use super::unit;
 pub(crate) struct Table {
     /// The message type: it tells some columns' units.
     kind: Box<str>,
+    /// The protocol of its messages, when known: every batch's schema names it
+    /// ([`PROTO_KEY`]).
+    pub(crate) proto: Option<Proto>,
     columns: Vec<Column>,
     index: FnvMap<Box<str>, usize>,
     /// Rows ended since the last batch.
@@ -33,10 +38,11 @@ pub(crate) struct Table {
 }
 
 impl Table {
-    /// The empty table of message type `kind`.
-    pub(crate) fn new(kind: &str) -> Table {
+    /// The empty table of message type `kind` of protocol `proto`.
+    pub(crate) fn new(kind: &str, proto: Option<Proto>) -> Table {
         Table {
             kind: kind.into(),
+            proto,
             columns: Vec::new(),
             index: FnvMap::default(),
             rows: 0,
@@ -189,11 +195,15 @@ impl Table {
         self.cursor = 0;
     }
 
-    /// The schema of the next batch.
+    /// The schema of the next batch: its columns, and the protocol in the metadata.
     pub(crate) fn schema(&self) -> SchemaRef {
-        Arc::new(Schema::new(
-            self.columns.iter().map(Column::field).collect::<Vec<_>>(),
-        ))
+        let fields = self.columns.iter().map(Column::field).collect::<Vec<_>>();
+        let metadata: std::collections::HashMap<String, String> = self
+            .proto
+            .map(|p| (PROTO_KEY.to_owned(), proto_name(p).to_owned()))
+            .into_iter()
+            .collect();
+        Arc::new(Schema::new_with_metadata(fields, metadata))
     }
 
     /// The rows since the last batch as a record batch; the table starts again empty, with the

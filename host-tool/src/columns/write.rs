@@ -1,13 +1,20 @@
-//! The tables as files: one directory per message type under the output directory, its rows
-//! in Parquet (snappy-compressed, a row group per batch) or Arrow IPC files (LZ4 frames).
+//! The tables as files: one directory per protocol and message type under the output
+//! directory, its rows in Parquet (snappy-compressed, a row group per batch) or Arrow IPC files
+//! (LZ4 frames).
 //!
-//! A table's rows go to `OUT/TYPE/part-00000.parquet` (or `.arrow`). A new part begins only
-//! when the table's columns change (a column first seen after the part began, or a column of
-//! nulls so far that gets its type), so the parts of one type differ only by columns added:
-//! DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`, Polars with
-//! `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed when it is
-//! complete, so a reader never sees half a file; a part that exists already is never
-//! overwritten.
+//! A table's rows go to `OUT/proto=PROTO/type=TYPE/part-00000.parquet` (or `.arrow`), the
+//! Hive layout: the protocol (`aeolus`, `aydp`, `aok`, `gdl90`; `none` for a batch that names
+//! none, [`super::proto_of`]) and the type are columns that DuckDB (`hive_partitioning =
+//! true`), Polars (`hive_partitioning=True`) and Spark read from the path, so AYDP's and GDL90's
+//! `HEARTBEAT` are two tables, and the files leave out the `proto` column of a capture's rows.
+//! A new part begins only when the table's columns change (a column first seen after the part
+//! began, or a column of nulls so far that gets its type), so the parts of one type differ only
+//! by columns added: DuckDB reads them with `union_by_name = true`, Spark with `mergeSchema`,
+//! Polars with `how="diagonal"`. A part is written as `part-NNNNN.parquet.partial` and renamed
+//! when it is complete, so a reader never sees half a file. An export goes to a new or empty
+//! directory ([`Export::new`] refuses any other), and a part that exists already is never
+//! overwritten. A Parquet file's key-value metadata holds its columns' units as one JSON object
+//! under the key `units` ([`UNITS_KEY`]), beside each Arrow field's own `unit`.
 
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
@@ -45,8 +52,12 @@ impl Format {
 /// What was written of one message type.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Written {
-    /// The message type (the table's directory).
+    /// The message type.
     pub name: String,
+    /// Its protocol (`none` when its batches named none).
+    pub proto: String,
+    /// The table's directory under the export's: `proto=PROTO/type=NAME`.
+    pub dir: String,
     /// Its parts, in order.
     pub parts: Vec<PathBuf>,
     /// Its rows.
@@ -109,10 +120,12 @@ impl std::fmt::Debug for Export {
 }
 
 impl Export {
-    /// An export into `dir` (created when missing).
+    /// An export into `dir`, created when missing: a new or empty directory, so that an
+    /// export's tables hold its sources' rows only (many exports are read as one through a
+    /// glob over their directories).
     ///
     /// # Errors
-    /// The directory cannot be created.
+    /// `dir` holds anything ([`Error::Usage`], nothing written), or it cannot be created.
     ///
     /// ```
     /// use protolink::columns::write::{Export, Format};
@@ -123,6 +136,12 @@ impl Export {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(dir: &Path, format: Format) -> Result<Export> {
+        if std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_some()) {
+            return Err(Error::Usage(format!(
+                "{} is not empty: an export goes to a new or empty directory",
+                dir.display()
+            )));
+        }
         std::fs::create_dir_all(dir).map_err(|source| Error::Io {
             what: format!("creating the directory {}", dir.display()),
             source,
@@ -153,25 +172,30 @@ impl Export {
     /// }
     /// let written = export.finish()?;
     /// assert_eq!((written[0].name.as_str(), written[0].rows), ("ERROR", 1));
-    /// assert!(dir.join("ERROR").join("part-00000.arrow").exists());
+    /// assert!(dir.join("proto=none/type=ERROR/part-00000.arrow").exists());
     /// # std::fs::remove_dir_all(&dir)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn write(&mut self, name: &str, batch: &RecordBatch) -> Result<()> {
+        let proto = super::proto_of(batch).unwrap_or("none").to_owned();
+        let dir = format!("proto={}/type={}", safe_name(&proto), safe_name(name));
+        // The path names the protocol: the files leave out the `proto` column, which a reader
+        // of the layout takes from the path.
+        let batch = &without_proto(batch);
         let same = self
             .open
-            .get(name)
+            .get(&dir)
             .is_some_and(|p| p.schema == batch.schema());
         if !same {
-            if let Some(part) = self.open.remove(name) {
+            if let Some(part) = self.open.remove(&dir) {
                 let path = part.close()?;
-                self.entry(name).parts.push(path);
+                self.entry(name, &proto, &dir).parts.push(path);
             }
-            let number = self.entry(name).parts.len();
-            let part = self.begin(name, number, batch.schema())?;
-            self.open.insert(name.to_owned(), part);
+            let number = self.entry(name, &proto, &dir).parts.len();
+            let part = self.begin(&dir, number, batch.schema())?;
+            self.open.insert(dir.clone(), part);
         }
-        let Some(part) = self.open.get_mut(name) else {
+        let Some(part) = self.open.get_mut(&dir) else {
             return Ok(());
         };
         let failed = |e: &dyn std::fmt::Display| Error::Io {
@@ -186,7 +210,7 @@ impl Export {
             }
             Writer::Ipc(w) => w.write(batch).map_err(|e| failed(&e))?,
         }
-        self.entry(name).rows += batch.num_rows() as u64;
+        self.entry(name, &proto, &dir).rows += batch.num_rows() as u64;
         Ok(())
     }
 
@@ -205,7 +229,7 @@ impl Export {
     pub fn finish(mut self) -> Result<Vec<Written>> {
         let mut first_error = None;
         for w in &mut self.written {
-            if let Some(part) = self.open.remove(&w.name) {
+            if let Some(part) = self.open.remove(&w.dir) {
                 match part.close() {
                     Ok(path) => w.parts.push(path),
                     Err(e) => {
@@ -220,13 +244,15 @@ impl Export {
         }
     }
 
-    /// What was written of `name` so far.
-    fn entry(&mut self, name: &str) -> &mut Written {
-        let i = match self.written.iter().position(|w| w.name == name) {
+    /// What was written of `name` of `proto` (in `dir`) so far.
+    fn entry(&mut self, name: &str, proto: &str, dir: &str) -> &mut Written {
+        let i = match self.written.iter().position(|w| w.dir == dir) {
             Some(i) => i,
             None => {
                 self.written.push(Written {
                     name: name.to_owned(),
+                    proto: proto.to_owned(),
+                    dir: dir.to_owned(),
                     parts: Vec::new(),
                     rows: 0,
                 });
@@ -236,9 +262,9 @@ impl Export {
         &mut self.written[i]
     }
 
-    /// Opens part `number` of the type `name`.
-    fn begin(&self, name: &str, number: usize, schema: SchemaRef) -> Result<Part> {
-        let dir = self.dir.join(safe_name(name));
+    /// Opens part `number` in the table directory `table` (`proto=PROTO/type=NAME`).
+    fn begin(&self, table: &str, number: usize, schema: SchemaRef) -> Result<Part> {
+        let dir = self.dir.join(table);
         std::fs::create_dir_all(&dir).map_err(|source| Error::Io {
             what: format!("creating the directory {}", dir.display()),
             source,
@@ -281,6 +307,14 @@ impl Export {
                         );
                     }
                 }
+                // The units in the file's key-value metadata too, where DuckDB
+                // (`parquet_kv_metadata`) and pyarrow (`metadata.metadata`) show them.
+                let units = units_of(&schema);
+                if !units.is_empty() {
+                    props = props.set_key_value_metadata(Some(vec![
+                        parquet::file::metadata::KeyValue::new(UNITS_KEY.to_owned(), units),
+                    ]));
+                }
                 let props = props.build();
                 Writer::Parquet(
                     ArrowWriter::try_new(file, schema.clone(), Some(props))
@@ -303,6 +337,40 @@ impl Export {
             partial,
             path,
         })
+    }
+}
+
+/// The key of a Parquet file's key-value metadata that holds its columns' units.
+pub const UNITS_KEY: &str = "units";
+
+/// The units of `schema`'s columns as a JSON object, column name to unit (`{}` when none has
+/// one): what [`UNITS_KEY`] holds.
+fn units_of(schema: &SchemaRef) -> String {
+    let units: serde_json::Map<String, serde_json::Value> = schema
+        .fields()
+        .iter()
+        .filter_map(|f| {
+            let unit = f.metadata().get(super::unit::KEY)?;
+            Some((f.name().clone(), serde_json::Value::String(unit.clone())))
+        })
+        .collect();
+    if units.is_empty() {
+        String::new()
+    } else {
+        serde_json::Value::Object(units).to_string()
+    }
+}
+
+/// `batch` without its `proto` column (a capture's tables have one), the same batch when it
+/// has none.
+fn without_proto(batch: &RecordBatch) -> RecordBatch {
+    match batch.schema_ref().index_of("proto") {
+        Ok(i) => {
+            let mut b = batch.clone();
+            b.remove_column(i);
+            b
+        }
+        Err(_) => batch.clone(),
     }
 }
 

@@ -12,6 +12,7 @@ mod columns;
 mod common;
 mod decode;
 mod destinations;
+mod export;
 mod gdl90;
 mod gpsd;
 mod hostile;

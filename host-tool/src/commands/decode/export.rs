@@ -1,5 +1,6 @@
 //! `protolink export`: captures and byte files as tables an analyst's engine reads as they are,
-//! one directory per message type under `--out`, in Parquet or Arrow IPC files (see
+//! one directory per protocol and message type under `--out`
+//! (`proto=PROTO/type=TYPE/part-00000.parquet`), in Parquet or Arrow IPC files (see
 //! [`crate::columns`] for the columns and [`crate::columns::write`] for the files).
 //!
 //! Many sources go into one set of tables, each row naming its file in `source`. The files are
@@ -12,7 +13,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::tables::{Select, read_file};
+use super::tables::{Report, Select, read_file};
 use crate::columns::write::{Export, Format};
 use crate::columns::{ROW_GROUP, Tables};
 use crate::error::{Error, Result};
@@ -28,7 +29,7 @@ pub(crate) struct ExportArgs {
     /// The file format: parquet (snappy) or arrow (Arrow IPC, LZ4).
     #[arg(long, value_enum, default_value_t = Format::Parquet)]
     pub(crate) format: Format,
-    /// The directory the tables go to (created when missing): OUT/TYPE/part-00000.parquet.
+    /// The directory the tables go to, new or empty (created when missing): OUT/proto=PROTO/type=TYPE/part-00000.parquet.
     #[arg(long, value_name = "DIR")]
     pub(crate) out: PathBuf,
     /// The protocol of the byte files (a capture names its own; --proto keeps only its flows of this protocol).
@@ -59,9 +60,17 @@ fn row_group(text: &str) -> std::result::Result<usize, String> {
 
 /// Runs `protolink export`.
 ///
+/// Every source is read, whatever happened to the ones before it: a capture's damaged blocks
+/// are skipped and counted, a source that cannot be read is named with its error, and the
+/// rows read from it before the error are kept. Each source's line says what was read of it
+/// and what was lost; a cut capture (what `record` leaves when it is killed) is read up to
+/// its cut and counts as read whole.
+///
 /// # Errors
-/// A source cannot be read, or a file cannot be written. The tables read before the error are
-/// written and completed first, and listed.
+/// A source had damage or could not be read ([`Error::Incomplete`], after all the others
+/// were exported), a file cannot be written, or `--out` holds anything (refused before
+/// anything is read or written). The tables read before a write error are completed first,
+/// and listed.
 pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     for s in &args.sources {
         if !s.is_file() {
@@ -88,13 +97,21 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     let mut export = Export::new(&args.out, args.format)?;
     let mut tables = Tables::new(args.row_group);
     let mut out = Out::new();
-    let mut failed = None;
-    let (mut bytes, mut stopped) = (0u64, false);
+    // A file that could not be written ends the export; a source that could not be read
+    // does not.
+    let mut write_failed = None;
+    let mut stopped = false;
+    let mut total = Totals::default();
     for path in &args.sources {
         let source = path.display().to_string();
+        let rows_before = tables.rows();
+        let mut writing = None;
         let read = read_file(path, &select, Some(&source), &mut tables, |t| {
             for (name, batch) in t.take_full() {
-                export.write(&name, &batch)?;
+                if let Err(e) = export.write(&name, &batch) {
+                    writing = Some(());
+                    return Err(e);
+                }
             }
             Ok(if crate::stop::requested() {
                 ControlFlow::Break(())
@@ -103,53 +120,121 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
             })
         });
         match read {
-            Ok(report) if report.stopped => {
-                stopped = true;
-                break;
-            }
             Ok(report) => {
-                bytes += report.bytes;
-                if let Some(at) = report.cut_at {
-                    eprintln!(
-                        "warning: the capture {source} is cut inside the block at byte {at}: every whole record before it was exported"
-                    );
+                total.bytes += report.bytes;
+                if report.damaged > 0 {
+                    total.lost += report.lost;
+                    total.damaged += 1;
                 }
-                out.line(&format!(
-                    "{source}: {} bytes, {} rows",
-                    report.bytes, report.rows
-                ))?;
+                out.line(&source_line(&source, &report))?;
+                if report.stopped {
+                    stopped = true;
+                    break;
+                }
+            }
+            Err(e) if writing.is_some() => {
+                write_failed = Some(e);
+                break;
             }
             Err(e) => {
-                failed = Some(e);
-                break;
+                total.failed += 1;
+                out.line(&format!(
+                    "{source}: not read whole, {} rows before the error: {e}",
+                    tables.rows() - rows_before
+                ))?;
             }
         }
     }
     for (name, batch) in tables.finish() {
         if let Err(e) = export.write(&name, &batch) {
-            failed.get_or_insert(e);
+            write_failed.get_or_insert(e);
         }
     }
     let written = export.finish()?;
     let rows: u64 = written.iter().map(|w| w.rows).sum();
     for w in &written {
         let parts: Vec<String> = w.parts.iter().map(|p| p.display().to_string()).collect();
-        out.line(&format!("{} {} rows: {}", w.name, w.rows, parts.join(" ")))?;
+        out.line(&format!("{} {} rows: {}", w.dir, w.rows, parts.join(" ")))?;
     }
     let mismatches = tables.mismatches();
-    out.line(&format!(
-        "export: {} sources, {bytes} bytes, {rows} rows in {} tables{}{}",
+    let mut summary = format!(
+        "export: {} sources, {} bytes, {rows} rows in {} tables",
         args.sources.len(),
+        total.bytes,
         written.len(),
-        if mismatches > 0 {
-            format!(", {mismatches} values of another type stored as null")
-        } else {
-            String::new()
-        },
-        if stopped { " (interrupted)" } else { "" }
-    ))?;
-    match failed {
-        Some(e) => Err(e),
-        None => Ok(()),
+    );
+    if total.damaged > 0 {
+        summary += &format!(
+            ", {} bytes lost in {}",
+            total.lost,
+            count(total.damaged, "source")
+        );
     }
+    if total.failed > 0 {
+        summary += &format!(", {} not read whole", count(total.failed, "source"));
+    }
+    if mismatches > 0 {
+        summary += &format!(", {mismatches} values of another type stored as null");
+    }
+    if stopped {
+        summary += " (interrupted)";
+    }
+    out.line(&summary)?;
+    if let Some(e) = write_failed {
+        return Err(e);
+    }
+    let incomplete = total.damaged + total.failed;
+    if incomplete > 0 {
+        return Err(Error::Incomplete(format!(
+            "{incomplete} of {} sources {} not exported whole: the lines above say what {} lost",
+            args.sources.len(),
+            if incomplete == 1 { "was" } else { "were" },
+            if incomplete == 1 { "it" } else { "each" },
+        )));
+    }
+    Ok(())
+}
+
+/// What an export read of all its sources.
+#[derive(Debug, Default)]
+struct Totals {
+    /// Bytes read.
+    bytes: u64,
+    /// Bytes lost to damage.
+    lost: u64,
+    /// Sources with damage.
+    damaged: u64,
+    /// Sources that could not be read to their end.
+    failed: u64,
+}
+
+/// `n` things, `thing` in the plural unless `n` is 1.
+fn count(n: u64, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
+/// A source's line: what was read of it, and what was lost.
+fn source_line(source: &str, report: &Report) -> String {
+    let mut line = format!("{source}: {} bytes, {} rows", report.bytes, report.rows);
+    if report.damaged > 0 {
+        line += &format!(
+            "; {} bytes lost in {}, the first at byte {}",
+            report.lost,
+            count(report.damaged, "damaged region"),
+            report.first_damage.unwrap_or_default()
+        );
+    }
+    if let Some(at) = report.cut_at {
+        line += &format!(
+            "; the capture is cut inside the block at byte {at}: every whole record before it was read"
+        );
+    }
+    if report.stopped {
+        line += "; interrupted";
+    }
+    line
 }

@@ -34,10 +34,18 @@ pub struct Select {
 /// What was read of a file.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Report {
-    /// Bytes of the file read (the whole file, or up to a capture's cut).
+    /// Bytes of the file read (the whole file, or up to a capture's cut), without the bytes
+    /// lost to damage.
     pub bytes: u64,
     /// Rows it gave (messages and errors).
     pub rows: u64,
+    /// A capture's damaged regions: blocks or records that could not be read, skipped to the
+    /// next whole one (or to the end).
+    pub damaged: u64,
+    /// The bytes of those regions.
+    pub lost: u64,
+    /// Where the first of them starts.
+    pub first_damage: Option<u64>,
     /// A capture cut inside a block (`protolink record` killed mid-write): the byte where the
     /// cut block starts. Every whole record before it was read.
     pub cut_at: Option<u64>,
@@ -53,9 +61,11 @@ pub struct Report {
 /// `ControlFlow::Break` ends the reading there ([`Report::stopped`]), its error ends it with
 /// that error.
 ///
+/// A capture's damaged blocks or records are skipped, and counted in the report
+/// ([`Report::damaged`], [`Report::lost`]); the reading goes on after them.
+///
 /// # Errors
-/// The file cannot be opened or read, a byte file without `proto`, a damaged capture, or
-/// `step`'s error.
+/// The file cannot be opened or read, a byte file without `proto`, or `step`'s error.
 ///
 /// ```
 /// use std::ops::ControlFlow;
@@ -102,14 +112,26 @@ pub fn read_file(
                         report.records_before_cut = frames;
                         capture.stop();
                     }
+                    // The reader reads on past the damage (or ends): the loss is counted.
+                    Err(Error::CaptureDamaged {
+                        offset, skipped, ..
+                    }) => {
+                        report.damaged += 1;
+                        report.lost += skipped;
+                        report.first_damage.get_or_insert(offset);
+                    }
                     Err(e) => return Err(e),
                 }
             }
             if step(tables)?.is_break() {
-                return Ok(stopped(report, tables, capture.offset()));
+                let bytes = capture.offset().saturating_sub(report.lost);
+                return Ok(stopped(report, tables, bytes));
             }
         }
-        report.bytes = report.cut_at.unwrap_or_else(|| file_len(path));
+        report.bytes = report
+            .cut_at
+            .unwrap_or_else(|| file_len(path))
+            .saturating_sub(report.lost);
     } else {
         let Some(proto) = select.proto else {
             return Err(Error::Usage(format!(
@@ -122,8 +144,11 @@ pub fn read_file(
             source: e,
         })?;
         let mut decoder = Decoder::new(proto, select.profile.unwrap_or_default(), select.side);
+        // The protocol names the tables of the errors too (no `proto` column: that is a
+        // capture's).
         let origin = Origin {
             source: source.map(str::to_owned),
+            proto: Some(proto),
             ..Origin::default()
         };
         let mut buf = vec![0u8; CHUNK];

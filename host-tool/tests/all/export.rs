@@ -1,0 +1,209 @@
+//! `protolink export` over several captures: a damaged capture among them is read around its
+//! damage and the others whole, the summary says per source what was read and what was lost,
+//! and an export never writes into a directory that holds anything.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use crate::common::*;
+use protolink::capture::CaptureWriter;
+
+/// The AEOLUS sample of the QEMU box.
+const SAMPLE: &[u8] = include_bytes!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../testdata/qemu-uart0-aeolus.bin"
+));
+
+/// A fresh directory for one test's files.
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("protolink-export-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A pcapng of the AEOLUS sample repeated `copies` times, as `protolink record` writes a UART:
+/// chunks of 1000 bytes on a stream interface, a millisecond apart.
+fn capture(path: &Path, copies: usize) {
+    let bytes = SAMPLE.repeat(copies);
+    let mut w = CaptureWriter::create(path, 147, "uart").unwrap();
+    for (i, chunk) in bytes.chunks(1000).enumerate() {
+        let time = Duration::from_secs(1_700_000_000) + Duration::from_millis(i as u64);
+        w.chunk(time, chunk).unwrap();
+    }
+    w.flush().unwrap();
+}
+
+/// The byte where the pcapng block holding byte `at` ends (each block ends with its length).
+fn block_end_after(file: &[u8], at: usize) -> usize {
+    // The section header's length, then block after block.
+    let len = |p: usize| u32::from_le_bytes(file[p + 4..p + 8].try_into().unwrap()) as usize;
+    let mut p = 0;
+    while p + len(p) <= at {
+        p += len(p);
+    }
+    p + len(p)
+}
+
+/// The line of `source` in an export's summary.
+fn line_of<'a>(out: &'a str, source: &Path) -> &'a str {
+    let name = format!("{}:", source.display());
+    out.lines()
+        .find(|l| l.starts_with(&name))
+        .unwrap_or_else(|| panic!("no line for {name} in:\n{out}"))
+}
+
+/// The rows a source's summary line names (`..., N rows`).
+fn rows_of(line: &str) -> u64 {
+    let words: Vec<&str> = line.split([' ', ',', ';']).collect();
+    let at = words
+        .iter()
+        .position(|w| *w == "rows")
+        .unwrap_or_else(|| panic!("no rows in {line}"));
+    words[at - 1].parse().unwrap()
+}
+
+#[test]
+fn a_damaged_capture_among_four_is_read_around_its_damage() {
+    let dir = temp_dir("damaged");
+    let names = ["a.pcapng", "b.pcapng", "c.pcapng", "d.pcapng"];
+    let paths: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
+    for (path, copies) in paths.iter().zip([2, 13, 13, 1]) {
+        capture(path, copies);
+    }
+    // 200 bytes of 0xFF at byte ~700,000 of c: over the end of one block and the start of
+    // the next, so that neither can be read.
+    let mut c = std::fs::read(&paths[2]).unwrap();
+    let end = block_end_after(&c, 700_000);
+    c[end - 100..end + 100].fill(0xFF);
+    std::fs::write(&paths[2], &c).unwrap();
+    let out = dir.join("tables");
+    let mut args = vec!["export", "--out", out.to_str().unwrap()];
+    args.extend(paths.iter().map(|p| p.to_str().unwrap()));
+    let o = run(&args);
+    // The exit status says that something was lost, after everything else was exported.
+    let err = failed(&o);
+    assert!(
+        err.contains("1 of 4 sources was not exported whole"),
+        "{err}"
+    );
+    let text = stdout(&o);
+    let (b, c_line, d) = (
+        line_of(&text, &paths[1]),
+        line_of(&text, &paths[2]),
+        line_of(&text, &paths[3]),
+    );
+    // The damaged capture: its rows before and after the damage, and what was lost.
+    let lost = c_line
+        .split("; ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no loss in {c_line}"));
+    assert!(lost.contains("bytes lost in 1 damaged region"), "{c_line}");
+    assert!(rows_of(c_line) > rows_of(b) * 99 / 100, "{c_line} vs {b}");
+    assert!(rows_of(c_line) < rows_of(b), "{c_line} vs {b}");
+    // The capture after it was read whole.
+    assert!(!d.contains("lost"), "{d}");
+    assert!(rows_of(d) > 0, "{d}");
+    let last = text.lines().last().unwrap();
+    assert!(last.starts_with("export: 4 sources, "), "{last}");
+    assert!(last.contains("bytes lost in 1 source"), "{last}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_source_that_cannot_be_read_is_named_and_the_others_are_exported() {
+    let dir = temp_dir("unreadable");
+    let (a, bad, c) = (
+        dir.join("a.pcapng"),
+        dir.join("bad.pcapng"),
+        dir.join("c.pcapng"),
+    );
+    capture(&a, 1);
+    capture(&c, 1);
+    // A pcapng magic number, then nothing a section header could be.
+    let mut bytes = vec![0x0A, 0x0D, 0x0D, 0x0A];
+    bytes.extend([0x55; 60]);
+    std::fs::write(&bad, &bytes).unwrap();
+    let out = dir.join("tables");
+    let o = run(&[
+        "export",
+        "--out",
+        out.to_str().unwrap(),
+        a.to_str().unwrap(),
+        bad.to_str().unwrap(),
+        c.to_str().unwrap(),
+    ]);
+    let err = failed(&o);
+    assert!(
+        err.contains("1 of 3 sources was not exported whole"),
+        "{err}"
+    );
+    let text = stdout(&o);
+    let line = line_of(&text, &bad);
+    assert!(
+        line.contains("not read whole, 0 rows before the error: "),
+        "{line}"
+    );
+    assert_eq!(rows_of(line_of(&text, &a)), rows_of(line_of(&text, &c)));
+    let last = text.lines().last().unwrap();
+    assert!(last.ends_with(", 1 source not read whole"), "{last}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_export_into_a_directory_that_holds_anything_is_refused_before_writing() {
+    let dir = temp_dir("again");
+    let a = dir.join("a.pcapng");
+    capture(&a, 1);
+    let out = dir.join("tables");
+    ok(&run(&[
+        "export",
+        "--out",
+        out.to_str().unwrap(),
+        a.to_str().unwrap(),
+    ]));
+    let listing = |dir: &Path| {
+        let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+        let mut todo = vec![dir.to_owned()];
+        while let Some(d) = todo.pop() {
+            for e in std::fs::read_dir(&d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    todo.push(p);
+                } else {
+                    let bytes = std::fs::read(&p).unwrap();
+                    files.push((p, bytes));
+                }
+            }
+        }
+        files.sort();
+        files
+    };
+    let before = listing(&out);
+    let err = usage_failed(&run(&[
+        "export",
+        "--out",
+        out.to_str().unwrap(),
+        a.to_str().unwrap(),
+    ]));
+    assert!(
+        err.contains(&format!(
+            "{} is not empty: an export goes to a new or empty directory",
+            out.display()
+        )),
+        "{err}"
+    );
+    assert_eq!(listing(&out), before);
+    // A directory with any file in it, even one no export wrote.
+    let other = dir.join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("notes.txt"), b"x").unwrap();
+    usage_failed(&run(&[
+        "export",
+        "--out",
+        other.to_str().unwrap(),
+        a.to_str().unwrap(),
+    ]));
+    assert_eq!(std::fs::read_dir(&other).unwrap().count(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
