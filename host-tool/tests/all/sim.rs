@@ -52,11 +52,23 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
             .collect();
         assert!(!ts.is_empty(), "no {name} in 2 s");
         if ts.len() >= 3 {
-            // The firmware's drift-free schedule: the mean interval is the spec's, within 2 %.
-            let mean = (ts[ts.len() - 1] - ts[0]) / (ts.len() - 1) as f64;
+            // The firmware's drift-free schedule: the slots are the spec's interval apart,
+            // within 2 % on average. A sim that the host starves of CPU skips late slots, as
+            // the box must on a late CPU: each gap counts the slots it spans, and at most a
+            // quarter of the slots may be skipped.
+            let slots: f64 = ts
+                .windows(2)
+                .map(|w| ((w[1] - w[0]) / interval).round().max(1.0))
+                .sum();
+            let mean = (ts[ts.len() - 1] - ts[0]) / slots;
             assert!(
                 (mean - interval).abs() <= 0.02 * interval,
-                "{name}: mean interval {mean} ms, spec {interval} ms"
+                "{name}: mean slot {mean} ms, spec {interval} ms"
+            );
+            let skipped = slots - (ts.len() - 1) as f64;
+            assert!(
+                skipped <= 0.25 * slots,
+                "{name}: {skipped} of {slots} slots skipped"
             );
         }
     }
