@@ -303,7 +303,8 @@ fn aydp_parse_of_a_whole_buffer_hands_data_inside_the_decoder() {
             "message at {at}"
         );
     }
-    assert!(messages > 50, "{messages} messages");
+    // About one message with data every 42 bytes of the capture (24 in Miri's 1,000 bytes).
+    assert!(messages * 60 >= len, "{messages} messages in {len} bytes");
 }
 
 #[test]
