@@ -82,8 +82,7 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
     }
     // At the spec rates 3 s carry about 3,000 frames; allow for the bridge's start. The
     // simulated STM32 falls behind real time on a loaded two-core host and skips late slots,
-    // as the box must (`boot_with`): two CI-like runs got 879 and 1,249 frames from it. A
-    // quarter of the rate is asked of it.
+    // as the box must (`boot_with`), so a quarter of the rate is asked of it.
     let least = if board == Board::Stm32f411 {
         750
     } else {

@@ -20,7 +20,7 @@
 //!   emulators run at once (`QEMU_JOBS`, 1 to 16, default 2), so that a few emulators, not
 //!   every test of the binary, share the cores and disturb each other's timing; the simulated
 //!   STM32 runs alone (it takes a whole host core, and beside another emulator on two cores it
-//!   fell behind real time: 879 AEOLUS frames in 3 s, an AOK burst cut by a late byte). A test
+//!   falls behind real time: AEOLUS frames short of the rate, an AOK burst cut by a late byte). A test
 //!   waits for its turn in [`boot`]. Each runs on its own ports, its own log file and its own
 //!   temporary files, so any of them may run beside any other. QEMU is killed when the test
 //!   ends, whether it passed or not ([`Qemu`]'s `Drop`), and the next test's turn comes then.
