@@ -114,8 +114,10 @@ fn bridge_carries_telemetry_and_commands_over_udp(board: Board) {
     assert_eq!(udp.frames[ack].toast().as_deref(), Some("AEOLUS resumed"));
     udp.read_for(Duration::from_millis(500));
     let resumed = &udp.frames[ack + 1..];
+    // Half a second at half the rate asked above: 125 frames from the lm3s6965evb boards, 62
+    // from the simulated STM32 (a CI run saw fewer than 200 from it).
     assert!(
-        resumed.len() >= 200
+        resumed.len() >= least / 12
             && resumed
                 .iter()
                 .all(|f| TELEMETRY.iter().any(|p| p.id == f.id)),
