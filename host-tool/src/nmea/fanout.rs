@@ -13,21 +13,25 @@
 //! the loop or the others.
 //!
 //! A client that stays behind is let go, so clients that connect and never read cannot hold
-//! every place: once its socket takes no more bytes or a line is dropped for it, it has
-//! [`STALL_LIMIT`] to catch up (its queue drained empty) before it is closed, counted as
-//! evicted and noted. Each client's kernel send buffer is kept small ([`SEND_BUFFER`]), so a
-//! client that reads nothing is behind once its own receive buffer is full rather than after
-//! the megabytes an automatically sized buffer would hold; that buffer is the client's, and
-//! at NMEA's few hundred bytes a second it takes minutes to fill (more than six on Linux's
-//! loopback, `docs/RELIABILITY.md`). On Linux a peer that stops acknowledging altogether (a
-//! tablet asleep, a cable pulled) is dropped by the system after [`STALL_LIMIT`] of
-//! unacknowledged data (`TCP_USER_TIMEOUT`).
+//! every place. It is behind once it holds [`UNREAD_LIMIT`] bytes it has not read, as far as
+//! its system tells (on Linux, from the window it advertises: [`super::window`]), once its
+//! socket takes no more bytes, or once a line is dropped for it; it then has [`STALL_LIMIT`] to
+//! catch up (less unread and its queue drained empty) before it is closed, counted as evicted
+//! and noted. A client whose receive buffer is set is found about 10 s after it stops reading
+//! at NMEA's rate; one whose system widens its buffer with what it holds (Linux's automatic
+//! sizing) shows nothing to a sender for hours, and the shares per address keep the user's
+//! place from it. Each client's kernel send buffer is kept small ([`SEND_BUFFER`]), so a
+//! refused write comes soon after its window shuts rather than after the megabytes an
+//! automatically sized send buffer would hold. On Linux a peer that stops acknowledging
+//! altogether (a tablet asleep, a cable pulled) is dropped by the system after [`STALL_LIMIT`]
+//! of unacknowledged data (`TCP_USER_TIMEOUT`).
 
 use std::collections::VecDeque;
 use std::io::{self, Read as _, Write as _};
 use std::net::{SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::time::{Duration, Instant};
 
+use super::window::Unread;
 use crate::endpoint::udp_out::{Sends, bind_for};
 use crate::error::{Error, Result};
 
@@ -43,6 +47,9 @@ const READ_PER_TURN: usize = 4096;
 /// How long a client may stay behind (its socket full, or lines dropped for it) before it is
 /// let go.
 pub(crate) const STALL_LIMIT: Duration = Duration::from_secs(15);
+/// Bytes a client may hold unread before it is behind: about 9 s of the `xcsoar` set (450
+/// bytes a second), while a client that reads holds at most what arrived since its last read.
+pub(crate) const UNREAD_LIMIT: u32 = 4 * 1024;
 /// The kernel send buffer asked for each client's socket, bytes (Linux doubles it).
 pub(crate) const SEND_BUFFER: usize = 4096;
 
@@ -76,8 +83,12 @@ struct Client {
     peer: SocketAddr,
     queue: VecDeque<u8>,
     dropped: u64,
-    /// Since when it is behind: its socket took no more, or a line was dropped for it; until
-    /// its queue drains empty.
+    /// What it holds unread, from its window.
+    unread: Unread,
+    /// The bytes it held unread at the last turn (0 where not known).
+    unread_now: u32,
+    /// Since when it is behind: it held [`UNREAD_LIMIT`] unread, its socket took no more, or a
+    /// line was dropped for it; until it holds less and its queue drains empty.
     behind_since: Option<Instant>,
 }
 
@@ -242,6 +253,8 @@ impl Fanout {
                 peer,
                 queue: VecDeque::with_capacity(QUEUE_BYTES),
                 dropped: 0,
+                unread: Unread::default(),
+                unread_now: 0,
                 behind_since: None,
             });
         }
@@ -259,9 +272,10 @@ impl Fanout {
             Err(Gone::Evicted) => {
                 counters.evicted += 1;
                 note(&format!(
-                    "evicted {}: behind for {} s, reading too little or nothing ({} lines dropped for it)",
+                    "evicted {}: behind for {} s, reading too little or nothing ({} bytes unread, {} lines dropped for it)",
                     c.peer,
                     limit.as_secs_f64(),
+                    c.unread_now,
                     c.dropped
                 ));
                 false
@@ -326,7 +340,11 @@ impl Client {
                 Err(_) => return Err(Gone::Left),
             }
         }
-        if self.queue.is_empty() {
+        self.unread_now = self.unread.update(&self.stream).unwrap_or(0);
+        let holding = self.unread_now >= UNREAD_LIMIT;
+        if holding {
+            self.behind_since.get_or_insert_with(Instant::now);
+        } else if self.queue.is_empty() {
             self.behind_since = None;
         }
         if self.behind_since.is_some_and(|t| t.elapsed() >= limit) {
@@ -401,6 +419,73 @@ mod tests {
         let c = out.counters();
         assert_eq!(c.dropped, 100, "{c:?}");
         assert_eq!(c.disconnected, 0);
+    }
+
+    /// 80-byte lines, 5 every 10 ms, to a reader and to a client with a 64 KiB receive buffer
+    /// (`SO_RCVBUF`) that reads nothing: the silent one is found by what it leaves unread and
+    /// let go after the stall limit, long before a write to it would be refused; the reader
+    /// gets every line and stays. Beyond Linux the window is not known.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_client_that_reads_nothing_is_found_by_what_it_leaves_unread() {
+        let limit = Duration::from_millis(500);
+        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap())
+            .unwrap()
+            .with_stall_limit(limit);
+        let addr = out.local_addr().unwrap();
+        let mut reader = TcpStream::connect(addr).unwrap();
+        let _silent = super::super::window::tests::connect_with_buffer([127, 0, 1, 1], addr);
+        let mut notes = Vec::new();
+        poll_until(&mut out, &mut notes, |c| c.clients == 2);
+        let drain = std::thread::spawn(move || {
+            let mut buf = [0u8; 4096];
+            let mut total = 0u64;
+            reader
+                .set_read_timeout(Some(Duration::from_secs(1)))
+                .unwrap();
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                total += n as u64;
+            }
+            total
+        });
+        let line = [b'x'; 80];
+        let mut lines = 0u64;
+        // At most 100 KB: less than the silent client's buffer and the server's hold (a write
+        // to it was refused after 140 KB), so no write to it is ever refused.
+        while out.counters().evicted == 0 && lines < 1_250 {
+            for _ in 0..5 {
+                out.send(&line);
+            }
+            out.poll(|n| notes.push(n.to_owned()));
+            lines += 5;
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        println!(
+            "found after {lines} lines ({} bytes): {notes:?}",
+            lines * 80
+        );
+        let c = out.counters();
+        assert_eq!(c.evicted, 1, "{c:?} {notes:?}");
+        assert_eq!((c.disconnected, c.dropped), (1, 0), "{c:?}");
+        let evicted = notes.iter().find(|n| n.starts_with("evicted 127.0.1.1:"));
+        assert!(
+            evicted.is_some_and(|n| n.contains(" bytes unread")),
+            "{notes:?}"
+        );
+        // Found after 4 KiB unread and the stall limit (20 KB at this rate): about 40 KB.
+        assert!(
+            lines * 80 < 64 * 1024,
+            "{lines} lines sent before it was found"
+        );
+        drop(out);
+        assert_eq!(
+            drain.join().unwrap(),
+            lines * 80,
+            "the reader got every line"
+        );
     }
 
     /// Eight clients that connect and never read hold every place; once they are behind for

@@ -5,6 +5,8 @@
 //! | --- | --- |
 //! | [`sentence`] | the checksum, the frame, and `$GPRMC`, `$GPGGA`, `$PGRMZ`, `$POV`, `$LXWP0` from plain values |
 //! | [`fanout`] | a TCP server that serves every client through a bounded queue, or a UDP sender |
+//! | [`window`] | what a TCP client holds unread, from the window it advertises |
 
 pub(crate) mod fanout;
 pub mod sentence;
+pub(crate) mod window;
