@@ -17,8 +17,9 @@
 //! its system tells (on Linux, from the window it advertises: [`super::window`]), once its
 //! socket takes no more bytes, or once a line is dropped for it; it then has [`STALL_LIMIT`] to
 //! catch up (less unread and its queue drained empty) before it is closed, counted as evicted
-//! and noted. A client whose receive buffer is set is found about 10 s after it stops reading
-//! at NMEA's rate; one whose system widens its buffer with what it holds (Linux's automatic
+//! and noted. A client whose receive buffer is set is behind about 16 s after it stops reading
+//! at the `xcsoar` rate (its window shows a little over half of what it holds), and let go
+//! [`STALL_LIMIT`] later; one whose system widens its buffer with what it holds (Linux's automatic
 //! sizing) shows nothing to a sender for hours, and the shares per address keep the user's
 //! place from it. Each client's kernel send buffer is kept small ([`SEND_BUFFER`]), so a
 //! refused write comes soon after its window shuts rather than after the megabytes an
@@ -47,8 +48,9 @@ const READ_PER_TURN: usize = 4096;
 /// How long a client may stay behind (its socket full, or lines dropped for it) before it is
 /// let go.
 pub(crate) const STALL_LIMIT: Duration = Duration::from_secs(15);
-/// Bytes a client may hold unread before it is behind: about 9 s of the `xcsoar` set (450
-/// bytes a second), while a client that reads holds at most what arrived since its last read.
+/// Bytes a client may hold unread, as its window shows it, before it is behind: about 7 KB of
+/// sentences (16 s of the `xcsoar` set) for a client that reads nothing, while a client that
+/// reads holds at most what arrived since its last read.
 pub(crate) const UNREAD_LIMIT: u32 = 4 * 1024;
 /// The kernel send buffer asked for each client's socket, bytes (Linux doubles it).
 pub(crate) const SEND_BUFFER: usize = 4096;
