@@ -388,6 +388,36 @@ mod tests {
         }
     }
 
+    /// A server on 127.0.0.1 with the stall limit `limit`, its address, and a client.
+    fn server_with_reader(limit: Duration) -> (Fanout, SocketAddr, TcpStream) {
+        let out = Fanout::listen("127.0.0.1:0".parse().unwrap())
+            .unwrap()
+            .with_stall_limit(limit);
+        let addr = out.local_addr().unwrap();
+        let reader = TcpStream::connect(addr).unwrap();
+        (out, addr, reader)
+    }
+
+    /// Reads everything `reader` is sent on a thread of its own, until it is closed or nothing
+    /// comes for `quiet`; the thread's result is the count of bytes.
+    fn read_all_in_background(
+        mut reader: TcpStream,
+        quiet: Duration,
+    ) -> std::thread::JoinHandle<u64> {
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 65536];
+            let mut total = 0u64;
+            reader.set_read_timeout(Some(quiet)).unwrap();
+            while let Ok(n) = reader.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                total += n as u64;
+            }
+            total
+        })
+    }
+
     fn accept_one(out: &mut Fanout) {
         let started = Instant::now();
         while out.counters().clients == 0 && started.elapsed() < Duration::from_secs(5) {
@@ -431,28 +461,11 @@ mod tests {
     #[test]
     fn a_client_that_reads_nothing_is_found_by_what_it_leaves_unread() {
         let limit = Duration::from_millis(500);
-        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap())
-            .unwrap()
-            .with_stall_limit(limit);
-        let addr = out.local_addr().unwrap();
-        let mut reader = TcpStream::connect(addr).unwrap();
+        let (mut out, addr, reader) = server_with_reader(limit);
         let _silent = super::super::window::tests::connect_with_buffer([127, 0, 1, 1], addr);
         let mut notes = Vec::new();
         poll_until(&mut out, &mut notes, |c| c.clients == 2);
-        let drain = std::thread::spawn(move || {
-            let mut buf = [0u8; 4096];
-            let mut total = 0u64;
-            reader
-                .set_read_timeout(Some(Duration::from_secs(1)))
-                .unwrap();
-            while let Ok(n) = reader.read(&mut buf) {
-                if n == 0 {
-                    break;
-                }
-                total += n as u64;
-            }
-            total
-        });
+        let drain = read_all_in_background(reader, Duration::from_secs(1));
         let line = [b'x'; 80];
         let mut lines = 0u64;
         // At most 100 KB: less than the silent client's buffer and the server's hold (a write
@@ -496,11 +509,7 @@ mod tests {
     #[test]
     fn clients_that_read_nothing_are_evicted_and_a_new_one_gets_their_place() {
         let limit = Duration::from_millis(500);
-        let mut out = Fanout::listen("127.0.0.1:0".parse().unwrap())
-            .unwrap()
-            .with_stall_limit(limit);
-        let addr = out.local_addr().unwrap();
-        let mut reader = TcpStream::connect(addr).unwrap();
+        let (mut out, addr, reader) = server_with_reader(limit);
         let silent: Vec<TcpStream> = (0..MAX_CLIENTS - 1)
             .map(|n| connect_from([127, 0, 1, n as u8], addr))
             .collect();
@@ -517,20 +526,7 @@ mod tests {
             out.poll(|_| {});
         }
         assert_eq!(out.counters().refused, 1);
-        let drain = std::thread::spawn(move || {
-            let mut buf = [0u8; 65536];
-            let mut total = 0u64;
-            reader
-                .set_read_timeout(Some(Duration::from_secs(3)))
-                .unwrap();
-            while let Ok(n) = reader.read(&mut buf) {
-                if n == 0 {
-                    break;
-                }
-                total += n as u64;
-            }
-            total
-        });
+        let drain = read_all_in_background(reader, Duration::from_secs(3));
         // Lines as fast as the loop goes, until the seven silent clients are let go.
         let line = [b'x'; 80];
         let mut notes = Vec::new();
