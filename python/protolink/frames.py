@@ -118,6 +118,21 @@ def to_frames(
     return frames
 
 
+def _time_text(name: str, value: Any) -> Union[str, None]:
+    """``since=`` or ``until=`` as the RFC 3339 text the native module reads."""
+    import datetime
+
+    if value is None or isinstance(value, str):
+        return value
+    if isinstance(value, datetime.datetime):
+        if value.tzinfo is None:
+            raise ValueError(f"{name}={value!r} has no time zone: give one (datetime.timezone.utc)")
+        return value.isoformat()
+    if isinstance(value, datetime.date):
+        return value.isoformat()
+    raise TypeError(f"{name}= is a text or a datetime, not {type(value).__name__}")
+
+
 def export(
     sources: Union[str, "os.PathLike[str]", Sequence[Union[str, "os.PathLike[str]"]]],
     out: Union[str, "os.PathLike[str]"],
@@ -129,13 +144,21 @@ def export(
     ``out``, one directory per protocol and message type in the Hive layout
     (``out/proto=aeolus/type=GYRO/part-00000.parquet``), each row naming its file in ``source``:
     ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
-    export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
+    export`` writes them, each row naming its file also by name (``file``) and by content
+    (``capture_id``). Options: ``profile=``, ``side=``, ``row_group=``, and as ``protolink
+    export`` chooses rows: ``types=`` (``["GYRO", "aydp.HEARTBEAT"]`` or ``"GYRO,PRESSURE"``),
+    ``since=`` and ``until=`` (RFC 3339 texts, ``"2024-05-01T12:00:00Z"``, or a
+    ``datetime.datetime`` with a time zone; a row without a time is left out). Returns
     ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises
-    ``ValueError`` before anything is written). A capture's damaged blocks are skipped with a
-    :class:`protolink.DamagedCaptureWarning`; a source that cannot be read is raised once the
-    other sources are exported."""
+    ``ValueError`` before anything is written, as does a bad type or time). A capture's damaged
+    blocks are skipped with a :class:`protolink.DamagedCaptureWarning`; a source that cannot be
+    read is raised once the other sources are exported."""
     if isinstance(sources, (str, bytes, os.PathLike)):
         sources = [sources]
+    if isinstance(options.get("types"), str):
+        options["types"] = [t for t in options["types"].split(",") if t]
+    for key in ("since", "until"):
+        options[key] = _time_text(key, options.get(key))
     return _native.export(
         [os.fspath(s) for s in sources], os.fspath(out), format, proto, **options
     )

@@ -3,7 +3,9 @@ tables, read back by the engines an analyst runs (DuckDB, Polars, pyarrow) and c
 `protolink decode --json` of each capture: per message type, the rows of each source (their
 count, their metadata and every field's value)."""
 
+import datetime
 import json
+import re
 import subprocess
 
 import duckdb
@@ -16,6 +18,7 @@ import pytest
 import protolink
 from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json
 from test_frames_agree import Json, columns_of, flat
+from test_same_as_decode import ethernet_udp, write_pcap
 
 # (capture name, the byte file it records, `protolink record`'s options, the decode options)
 CAPTURES = [
@@ -157,12 +160,14 @@ def test_arrow_ipc_and_python_export(fleet, tmp_path):
             arrow = pa.ipc.open_file(f).read_all()
         assert arrow.equals(parquet), name
         assert pl.read_ipc(part(ipc, name, "arrow")).height == len(want[name])
-    # to_arrow of one capture: that capture's rows of the export, without the source column.
+    # to_arrow of one capture: that capture's rows of the export, without the columns that
+    # name its file.
     one = protolink.to_arrow(fleet[1])
     exported = pq.read_table(cli / "proto=aydp" / "type=POSITION" / "part-00000.parquet")
     mine = exported.filter(pa.compute.equal(exported["source"], str(fleet[1])))
+    assert exported.column_names[:3] == ["source", "file", "capture_id"]
     # The export's files leave out `proto`, which their path holds.
-    assert one["POSITION"].drop_columns(["proto"]).equals(mine.drop_columns(["source"]))
+    assert one["POSITION"].drop_columns(["proto"]).equals(mine.drop_columns(["source", "file", "capture_id"]))
 
 
 def test_byte_files_and_row_groups(tmp_path):
@@ -331,3 +336,68 @@ def test_the_hive_layout_keeps_protocols_apart_and_one_glob_reads_two_exports(tw
     assert frame.height == gyro
     assert set(frame["proto"]) == {"aeolus"} and set(frame["type"]) == {"GYRO"}
     assert frame.schema["x"] == pl.Float32
+
+
+def test_a_capture_has_one_id_wherever_it_is_and_whatever_its_name(fleet, tmp_path):
+    # The same capture under another name in another directory, given by a relative path: the
+    # same capture_id; its own file name and source as given. Another capture: another id.
+    copy_dir = tmp_path / "copies"
+    copy_dir.mkdir()
+    copy = copy_dir / "renamed.pcapng"
+    copy.write_bytes(fleet[0].read_bytes())
+    out = tmp_path / "tables"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0]), "renamed.pcapng", str(fleet[3])],
+                   capture_output=True, check=True, cwd=copy_dir)
+    ids = duckdb.sql(f"SELECT DISTINCT source, file, capture_id FROM read_parquet('{out}/proto=aeolus/type=GYRO/*.parquet') "
+                     "ORDER BY source").fetchall()
+    by_source = {source: (file, capture_id) for source, file, capture_id in ids}
+    assert set(by_source) == {str(fleet[0]), "renamed.pcapng", str(fleet[3])}
+    assert by_source["renamed.pcapng"] == ("renamed.pcapng", by_source[str(fleet[0])][1])
+    assert by_source[str(fleet[0])][0] == fleet[0].name
+    assert by_source[str(fleet[3])][1] != by_source[str(fleet[0])][1]
+    assert all(len(i) == 16 and int(i, 16) >= 0 for _, i in by_source.values())
+    # Every table of the export names them on every row.
+    for f in out.rglob("*.parquet"):
+        t = pq.read_table(f, columns=["file", "capture_id"])
+        assert t["file"].null_count == 0 and t["capture_id"].null_count == 0, f
+
+
+def test_types_since_and_until(fleet, tmp_path):
+    # The AEOLUS flight's GYRO and the AYDP capture's POSITION: their tables only, whole.
+    want = expected(fleet[:2])
+    written = protolink.export(fleet[:2], tmp_path / "types", types="gyro,aydp.POSITION")
+    assert [(name, rows) for name, rows, _ in written] == [("GYRO", len(want["GYRO"])),
+                                                         ("POSITION", len(want["POSITION"]))]
+    run = subprocess.run([PROTOLINK, "export", "--out", str(tmp_path / "cli"), "--types", "GYRO,aydp.POSITION",
+                          *map(str, fleet[:2])], capture_output=True, check=True, text=True)
+    assert pq.read_table(tmp_path / "cli/proto=aeolus/type=GYRO/part-00000.parquet").equals(
+        pq.read_table(tmp_path / "types/proto=aeolus/type=GYRO/part-00000.parquet"))
+    assert "rows left out by --types, --since or --until" in run.stdout.splitlines()[-1]
+    # A capture of AEOLUS datagrams 10 ms apart: --since and --until cut it by the records'
+    # times; a datetime with a time zone is the same time as its RFC 3339 text.
+    data = (TESTDATA / "qemu-uart0-aeolus.bin").read_bytes()
+    frames = [data[m.offset:m.offset + m.wire_len] for m in protolink.aeolus.Decoder().feed(data)]
+    start = 1_700_000_000
+    packets = [(start + i / 100, ethernet_udp(40000, 5001, b"".join(frames[i * 10:i * 10 + 10])))
+               for i in range(len(frames) // 10)]
+    cap = tmp_path / "timed.pcap"
+    write_pcap(cap, packets)
+    since = datetime.datetime.fromtimestamp(start + 0.5, datetime.timezone.utc)
+    got = {}
+    for tag, options in [("all", {}), ("since", {"since": since}), ("until", {"until": since.isoformat()}),
+                         ("both", {"since": "2023-11-14T22:13:20.250Z", "until": since})]:
+        written = protolink.export(cap, tmp_path / tag, types=["GYRO"], **options)
+        got[tag] = pq.read_table(written[0][2][0])["capture_time"].to_pylist()
+    assert len(got["all"]) > 100
+    assert got["since"] == [t for t in got["all"] if t >= start + 0.5]
+    assert got["until"] == [t for t in got["all"] if t < start + 0.5]
+    assert got["both"] == [t for t in got["all"] if start + 0.25 <= t < start + 0.5]
+    assert got["since"] and got["until"] and got["both"]
+    # Refused in one sentence, before anything is written.
+    for options, sentence in [({"types": "GYROS"}, "'GYROS' is no message type of aeolus, aydp, aok or gdl90"),
+                              ({"since": "May 1st"}, "'May 1st' is not a time: give one as 2024-05-01T12:00:00Z"),
+                              ({"since": "2024-05-02", "until": "2024-05-01"}, "--since (2024-05-02T00:00:00Z) is not before"),
+                              ({"until": datetime.datetime(2024, 5, 1)}, "has no time zone")]:
+        with pytest.raises(ValueError, match=re.escape(sentence)):
+            protolink.export(fleet[0], tmp_path / "refused", **options)
+        assert not (tmp_path / "refused").exists()

@@ -8,6 +8,7 @@
 //! | column | type | what |
 //! |---|---|---|
 //! | `source` | Utf8 | the file it was read from (`export`; only when given) |
+//! | `file`, `capture_id` | Utf8, Utf8 | that file's name and content identity ([`SourceId`]; with `source`) |
 //! | `capture_time` | Float64 | the capture record's time, seconds since the Unix epoch (null from a byte file) |
 //! | `time` | Timestamp(µs, UTC) | the row's time: the capture record's, else an AYDP message's header time (`meta.time`); null when it has neither |
 //! | `offset` | Int64 | its first byte in the input (in its flow, for a capture) |
@@ -21,7 +22,8 @@
 //! as hex is that text (AOK slots and actions, an AYDP system control's `command`, raw
 //! `data`); a list (AYDP output entries, satellites) is kept as its JSON text. Error events
 //! make the table `ERROR` (`kind`, `error`). A field named like a metadata column is written as
-//! `field.NAME` (no field of the four protocols is).
+//! `field.NAME` (no field of the four protocols is). [`Tables::keep`] keeps only some rows
+//! ([`Keep`]: `export --types`, `--since`, `--until`).
 //!
 //! ```
 //! use protolink::columns::{Origin, Tables};
@@ -40,7 +42,9 @@
 
 mod column;
 mod fnv;
+mod keep;
 mod row;
+mod source;
 mod table;
 mod typed;
 mod unit;
@@ -50,6 +54,9 @@ pub mod write;
 use arrow_array::RecordBatch;
 use serde::Serialize;
 use serde_json::{Map, Value};
+
+pub use self::keep::{Keep, TYPES, parse_time};
+pub use self::source::{ID_PREFIX, SourceId};
 
 use self::column::Scalar;
 use self::fnv::FnvMap;
@@ -86,8 +93,10 @@ pub fn proto_of(batch: &RecordBatch) -> Option<&str> {
 }
 
 /// The metadata columns a field's name must not take.
-const METADATA: [&str; 7] = [
+const METADATA: [&str; 9] = [
     "source",
+    "file",
+    "capture_id",
     "capture_time",
     "time",
     "offset",
@@ -126,6 +135,12 @@ pub struct Tables {
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
+    /// The rows kept.
+    keep: Keep,
+    /// Rows left out by `keep`.
+    left_out: u64,
+    /// The name and identity of the file being read (`export`).
+    source_id: Option<SourceId>,
 }
 
 impl std::fmt::Debug for Tables {
@@ -152,7 +167,56 @@ impl Tables {
             row_group: row_group.max(1),
             full: Vec::new(),
             rows: 0,
+            keep: Keep::default(),
+            left_out: 0,
+            source_id: None,
         }
+    }
+
+    /// From now on, only the rows `keep` keeps are added (the others are counted,
+    /// [`Tables::left_out`]).
+    ///
+    /// ```
+    /// use protolink::columns::{Keep, Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// tables.keep(Keep::new(&["TOAST".into()], None, None)?);
+    /// tables.add_error(&Origin::default(), 0, "truncated", "input ends inside a frame");
+    /// assert_eq!((tables.rows(), tables.left_out()), (0, 1));
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn keep(&mut self, keep: Keep) {
+        self.keep = keep;
+    }
+
+    /// Rows left out by [`Tables::keep`]: of a type not asked for, or outside the times.
+    pub fn left_out(&self) -> u64 {
+        self.left_out
+    }
+
+    /// The file the next rows come from, named in their `file` and `capture_id` columns when
+    /// their origin names a `source` ([`SourceId::of`]).
+    pub fn reading(&mut self, id: Option<SourceId>) {
+        self.source_id = id;
+    }
+
+    /// Whether a row of table `name` of `proto` at `time` (the capture's, else `own_time`) is
+    /// kept; counts it when it is not.
+    fn kept(
+        &mut self,
+        name: &str,
+        proto: Option<Proto>,
+        origin: &Origin,
+        own: Option<i64>,
+    ) -> bool {
+        if self.keep.keeps_everything() {
+            return true;
+        }
+        let time = origin.capture_time.map(micros).or(own);
+        let kept = self.keep.keeps_type(name, proto) && self.keep.keeps_time(time);
+        if !kept {
+            self.left_out += 1;
+        }
+        kept
     }
 
     /// Rows added so far.
@@ -248,6 +312,13 @@ impl Tables {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
             table.set_static("source", Scalar::Str(s));
+            let id = self.source_id.as_ref();
+            table.set_typed("file", id.map(|id| Scalar::Str(&id.file)), Scalar::Str(""));
+            table.set_typed(
+                "capture_id",
+                id.map(|id| Scalar::Str(&id.capture_id)),
+                Scalar::Str(""),
+            );
         }
         table.set_typed(
             "capture_time",
@@ -305,6 +376,9 @@ impl Tables {
     /// ```
     pub fn add(&mut self, origin: &Origin, placed: &Placed<'_>) {
         let (offset, len) = (placed.offset, placed.len);
+        if !self.keep.keeps_everything() && !self.kept_item(origin, placed) {
+            return;
+        }
         match &placed.item {
             Item::Aeolus { frame, message } => {
                 self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
@@ -313,11 +387,7 @@ impl Tables {
                 // The header's time (normal messages), in the unit of the frame's profile.
                 let time = frame.timestamp();
                 let profile = frame.profile();
-                let own = time.map(|t| {
-                    t.seconds
-                        .saturating_mul(1_000_000)
-                        .saturating_add(t.subsec_micros(profile))
-                });
+                let own = aydp_time(frame);
                 let (i, table) =
                     self.begin_static(aydp_name(message), Proto::Aydp, origin, offset, own);
                 table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
@@ -365,6 +435,19 @@ impl Tables {
         }
     }
 
+    /// Whether `placed` is kept (counted when it is not).
+    fn kept_item(&mut self, origin: &Origin, placed: &Placed<'_>) -> bool {
+        let (name, proto, own) = match &placed.item {
+            Item::Aeolus { message, .. } => (message.name(), Proto::Aeolus, None),
+            Item::Aydp { frame, message } => (aydp_name(message), Proto::Aydp, aydp_time(frame)),
+            Item::AokMessage(m) => (aok_message_name(m), Proto::Aok, None),
+            Item::AokCommand(c) => (aok_command_name(c), Proto::Aok, None),
+            Item::Gdl90(m) => (m.name(), Proto::Gdl90, None),
+            Item::Error(_) => return self.kept("ERROR", origin.proto, origin, None),
+        };
+        self.kept(name, Some(proto), origin, own)
+    }
+
     /// Adds a message as the host tool renders it (`decode --json`'s `name`, metadata and
     /// `fields`).
     ///
@@ -385,6 +468,9 @@ impl Tables {
         meta: &Map<String, Value>,
         fields: &Value,
     ) {
+        if !self.kept(name, origin.proto, origin, None) {
+            return;
+        }
         let (i, table) = self.begin(name, origin, offset);
         for (key, value) in meta {
             match value {
@@ -409,6 +495,9 @@ impl Tables {
     /// assert_eq!(tables.finish()[0].0, "ERROR");
     /// ```
     pub fn add_error(&mut self, origin: &Origin, offset: u64, kind: &str, error: &str) {
+        if !self.kept("ERROR", origin.proto, origin, None) {
+            return;
+        }
         let (i, table) = self.begin("ERROR", origin, offset);
         table.set_static("kind", Scalar::Str(kind));
         table.set_static("error", Scalar::Str(error));
@@ -435,6 +524,9 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
+        if !self.kept(message.name(), Some(Proto::Aeolus), origin, None) {
+            return;
+        }
         let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset, None);
         table.set_static("meta.id", Scalar::I64(id.into()));
         table.set_static("meta.len", Scalar::I64(wide(len)));
@@ -515,6 +607,17 @@ pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordB
 #[allow(clippy::cast_possible_truncation)]
 fn micros(seconds: f64) -> i64 {
     (seconds * 1e6).round() as i64
+}
+
+/// An AYDP frame's header time (normal messages), µs since the Unix epoch, its sub-seconds
+/// read in the unit of the frame's profile.
+fn aydp_time(frame: &aydp_proto::Frame<'_>) -> Option<i64> {
+    let profile = frame.profile();
+    frame.timestamp().map(|t| {
+        t.seconds
+            .saturating_mul(1_000_000)
+            .saturating_add(t.subsec_micros(profile))
+    })
 }
 
 /// An AYDP profile's name, as `--profile` takes it.
