@@ -202,4 +202,7 @@ def export(
     profile: Optional[str] = None,
     side: str = "device",
     row_group: int = 65536,
+    types: List[str] = ...,
+    since: Optional[str] = None,
+    until: Optional[str] = None,
 ) -> List[Tuple[str, int, List[str]]]: ...

@@ -401,3 +401,36 @@ def test_types_since_and_until(fleet, tmp_path):
         with pytest.raises(ValueError, match=re.escape(sentence)):
             protolink.export(fleet[0], tmp_path / "refused", **options)
         assert not (tmp_path / "refused").exists()
+
+
+def test_one_duckdb_file(fleet, tmp_path):
+    # One database: a schema per protocol, a table per type, the same rows as the Parquet
+    # export, each column's unit as its comment.
+    db = tmp_path / "fleet.duckdb"
+    written = protolink.export(fleet, db, format="duckdb")
+    want = expected(fleet)
+    assert sorted((name, rows) for name, rows, _ in written) == sorted((n, len(r)) for n, r in want.items())
+    assert all(parts == [str(db)] for _, _, parts in written)
+    assert not (tmp_path / "fleet.duckdb.parts").exists()
+    con = duckdb.connect(str(db), read_only=True)
+    tables = dict(((schema, name), rows) for schema, name, rows in con.sql(
+        "SELECT schema_name, table_name, estimated_size FROM duckdb_tables()").fetchall())
+    assert ("aeolus", "GYRO") in tables and ("aydp", "HEARTBEAT") in tables and ("aok", "DEBUG") in tables
+    [(n,)] = con.sql('SELECT count(*) FROM aeolus."GYRO"').fetchall()
+    assert n == len(want["GYRO"])
+    cli = tmp_path / "parquet"
+    subprocess.run([PROTOLINK, "export", "--out", str(cli), *map(str, fleet)], check=True, capture_output=True)
+    parquet = duckdb.sql(f"SELECT * FROM read_parquet('{cli}/proto=aydp/type=POSITION/*.parquet') ORDER BY source, \"offset\"")
+    assert con.sql('SELECT * FROM aydp."POSITION" ORDER BY source, "offset"').fetchall() == parquet.fetchall()
+    comments = dict(con.sql("SELECT column_name, comment FROM duckdb_columns() "
+                            "WHERE schema_name = 'aeolus' AND table_name = 'PRESSURE'").fetchall())
+    assert (comments["airspeed_mps"], comments["meta.len"], comments["valid"]) == ("m/s", "byte", None)
+    con.close()
+    # A new file only; options as export's, refused before anything is written.
+    with pytest.raises(ValueError, match="exists already: a DuckDB export writes a new file"):
+        protolink.export(fleet, db, format="duckdb")
+    with pytest.raises(ValueError, match="is no message type"):
+        protolink.export(fleet, tmp_path / "bad.duckdb", format="duckdb", types="NOPE")
+    assert not (tmp_path / "bad.duckdb").exists() and not (tmp_path / "bad.duckdb.parts").exists()
+    only = protolink.export(fleet, tmp_path / "gyro.duckdb", format="duckdb", types="GYRO")
+    assert [(name, rows) for name, rows, _ in only] == [("GYRO", len(want["GYRO"]))]
