@@ -253,6 +253,7 @@ pub(crate) fn export<'py>(
     let mut exported = Export::new(&out, format).map_err(error)?;
     let mut tables = Tables::new(row_group);
     tables.keep(keep);
+    tables.derive_air();
     // A file that cannot be written ends the export; a source that cannot be read is
     // raised after the others are exported.
     let mut failed = None;

@@ -124,11 +124,12 @@ def test_cli_export_read_by_duckdb_and_polars(fleet, tmp_path):
     run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, fleet)],
                          capture_output=True, check=True, text=True)
     want = expected(fleet)
-    assert set(p.name for p in out.glob("proto=*/type=*")) == {f"type={name}" for name in want}
+    # The messages' tables, and AIR: a row of air data per PRESSURE.
+    assert set(p.name for p in out.glob("proto=*/type=*")) == {f"type={name}" for name in [*want, "AIR"]}
     check_duckdb(out, want)
-    total = sum(len(rows) for rows in want.values())
+    total = sum(len(rows) for rows in want.values()) + len(want["PRESSURE"])
     assert run.stdout.splitlines()[-1] == (
-        f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want)} tables")
+        f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want) + 1} tables")
     # Polars reads every table as it is: the same rows as DuckDB, per source.
     for name, rows in want.items():
         frame = pl.read_parquet(f"{out}/proto=*/type={name}/*.parquet")
@@ -150,7 +151,8 @@ def test_arrow_ipc_and_python_export(fleet, tmp_path):
     ipc = tmp_path / "ipc"
     written = protolink.export(fleet, ipc, format="arrow")
     want = expected(fleet)
-    assert [(name, rows) for name, rows, _ in written] == [(n, len(r)) for n, r in want.items()]
+    assert [(name, rows) for name, rows, _ in written if name != "AIR"] == [(n, len(r)) for n, r in want.items()]
+    assert [rows for name, rows, _ in written if name == "AIR"] == [len(want["PRESSURE"])]
     py = tmp_path / "py"
     protolink.export([str(p) for p in fleet], py)
     for name in want:
@@ -248,10 +250,13 @@ def damaged_capture(tmp, name="damaged.pcapng"):
 
 
 def rows_per_source(out):
-    """Rows of every table of an export, per source, read by DuckDB."""
+    """Rows of every message table of an export (not the derived AIR), per source, read by
+    DuckDB."""
     con = duckdb.connect()
     counts = {}
     for table in out.glob("proto=*/type=*"):
+        if table.name == "type=AIR":
+            continue
         glob = f"{table}/*.parquet"
         for source, n in con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
                                  "GROUP BY source").fetchall():
@@ -409,7 +414,8 @@ def test_one_duckdb_file(fleet, tmp_path):
     db = tmp_path / "fleet.duckdb"
     written = protolink.export(fleet, db, format="duckdb")
     want = expected(fleet)
-    assert sorted((name, rows) for name, rows, _ in written) == sorted((n, len(r)) for n, r in want.items())
+    assert sorted((name, rows) for name, rows, _ in written) == sorted(
+        [(n, len(r)) for n, r in want.items()] + [("AIR", len(want["PRESSURE"]))])
     assert all(parts == [str(db)] for _, _, parts in written)
     assert not (tmp_path / "fleet.duckdb.parts").exists()
     con = duckdb.connect(str(db), read_only=True)
@@ -434,3 +440,42 @@ def test_one_duckdb_file(fleet, tmp_path):
     assert not (tmp_path / "bad.duckdb").exists() and not (tmp_path / "bad.duckdb.parts").exists()
     only = protolink.export(fleet, tmp_path / "gyro.duckdb", format="duckdb", types="GYRO")
     assert [(name, rows) for name, rows, _ in only] == [("GYRO", len(want["GYRO"]))]
+
+
+def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
+    # A row per PRESSURE, at its place and time; the air-data module's formulas (ISA sea-level
+    # density for IAS, the ideal gas for TAS with the flow's latest TEMP, ISA pressure
+    # altitude); a vertical speed once half a second of box time is seen.
+    out = tmp_path / "tables"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], check=True, capture_output=True)
+    con = duckdb.connect()
+    air = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=AIR/*.parquet') ORDER BY \"offset\"")
+    pressure = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=PRESSURE/*.parquet') ORDER BY \"offset\"")
+    a = [dict(zip(air.columns, r)) for r in air.fetchall()]
+    p = [dict(zip(pressure.columns, r)) for r in pressure.fetchall()]
+    assert len(a) == len(p) > 100
+    temps = con.sql(f"SELECT \"offset\", celsius FROM read_parquet('{out}/proto=aeolus/type=TEMP/*.parquet')").fetchall()
+    for row, msg in zip(a, p):
+        assert (row["offset"], row["time"], row["timestamp_ms"]) == (msg["offset"], msg["time"], msg["timestamp_ms"])
+        assert row["static_hpa"] == pytest.approx(msg["static_mbar"])
+        q = max(msg["pitot_mbar"] * 100.0, 0.0)
+        assert row["ias_mps"] == pytest.approx((2 * q / 1.225) ** 0.5)
+        assert row["pressure_altitude_m"] == pytest.approx(44330.77 * (1 - (msg["static_mbar"] / 1013.25) ** 0.190263))
+        before = [c for off, c in temps if off < row["offset"]]
+        if before:
+            rho = msg["static_mbar"] * 100.0 / (287.05 * (before[-1] + 273.15))
+            assert row["celsius"] == pytest.approx(before[-1]) and row["tas_mps"] == pytest.approx((2 * q / rho) ** 0.5)
+        else:
+            assert row["celsius"] is None and row["tas_mps"] is None
+    assert a[0]["vertical_speed_mps"] is None and a[-1]["vertical_speed_mps"] is not None
+    assert any(r["tas_mps"] is not None for r in a)
+    # Units where the engines show them.
+    kv = dict(con.sql(f"SELECT decode(key), decode(value) FROM parquet_kv_metadata('{out}/proto=aeolus/type=AIR/*.parquet')").fetchall())
+    units = json.loads(kv["units"])
+    assert (units["ias_mps"], units["static_hpa"], units["dynamic_pa"], units["pressure_altitude_m"],
+            units["vertical_speed_mps"], units["celsius"]) == ("m/s", "hPa", "Pa", "m", "m/s", "°C")
+    # --types AIR: the air data alone, from the PRESSURE and TEMP rows it leaves out.
+    only = protolink.export(fleet[0], tmp_path / "air", types="AIR")
+    assert [(name, rows) for name, rows, _ in only] == [("AIR", len(a))]
+    assert pq.read_table(only[0][2][0]).equals(pq.read_table(out / "proto=aeolus/type=AIR/part-00000.parquet"))
+

@@ -10,9 +10,9 @@
 
 use crate::proto::{Proto, proto_name};
 
-/// Every message type's table name, by protocol; `ERROR` (the error events) is any
-/// protocol's.
-pub const TYPES: [(Proto, &str); 59] = [
+/// Every message type's table name, by protocol, and `AIR` (an export's derived air data);
+/// `ERROR` (the error events) is any protocol's.
+pub const TYPES: [(Proto, &str); 60] = [
     (Proto::Aeolus, "AEOLUSINFO"),
     (Proto::Aeolus, "PRESSURE"),
     (Proto::Aeolus, "GYRO"),
@@ -30,6 +30,7 @@ pub const TYPES: [(Proto, &str); 59] = [
     (Proto::Aeolus, "COMMAND"),
     (Proto::Aeolus, "SETTIME"),
     (Proto::Aeolus, "UNKNOWN"),
+    (Proto::Aeolus, "AIR"),
     (Proto::Aydp, "TIME_SYNC"),
     (Proto::Aydp, "HEARTBEAT"),
     (Proto::Aydp, "NO_OP"),

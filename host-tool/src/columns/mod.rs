@@ -40,6 +40,7 @@
 //! assert_eq!(names, ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
 //! ```
 
+mod air;
 mod column;
 mod fnv;
 mod keep;
@@ -141,6 +142,8 @@ pub struct Tables {
     left_out: u64,
     /// The name and identity of the file being read (`export`).
     source_id: Option<SourceId>,
+    /// The flows' state for the `AIR` table, when it is derived.
+    air: Option<self::air::AirState>,
 }
 
 impl std::fmt::Debug for Tables {
@@ -170,7 +173,26 @@ impl Tables {
             keep: Keep::default(),
             left_out: 0,
             source_id: None,
+            air: None,
         }
+    }
+
+    /// From now on, each AEOLUS PRESSURE also makes a row of the table `AIR`: the air data
+    /// derived from it (indicated and true airspeed, pressure altitude, vertical speed; see
+    /// `columns/air.rs`), as `export` writes it.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, Pressure};
+    /// use protolink::columns::{Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// tables.derive_air();
+    /// let p = Pressure { valid: true, timestamp_ms: 0.0, static_mbar: 1013.25, pitot_mbar: 0.0, airspeed_mps: 0.0 };
+    /// tables.add_aeolus_message(&Origin::default(), 0, 60, true, 25, &Message::Pressure(p));
+    /// let names: Vec<String> = tables.finish().into_iter().map(|(n, _)| n).collect();
+    /// assert_eq!(names, ["AIR", "PRESSURE"]);
+    /// ```
+    pub fn derive_air(&mut self) {
+        self.air.get_or_insert_with(Default::default);
     }
 
     /// From now on, only the rows `keep` keeps are added (the others are counted,
@@ -197,6 +219,9 @@ impl Tables {
     /// their origin names a `source` ([`SourceId::of`]).
     pub fn reading(&mut self, id: Option<SourceId>) {
         self.source_id = id;
+        if let Some(air) = &mut self.air {
+            air.clear();
+        }
     }
 
     /// Whether a row of table `name` of `proto` at `time` (the capture's, else `own_time`) is
@@ -376,7 +401,12 @@ impl Tables {
     /// ```
     pub fn add(&mut self, origin: &Origin, placed: &Placed<'_>) {
         let (offset, len) = (placed.offset, placed.len);
-        if !self.keep.keeps_everything() && !self.kept_item(origin, placed) {
+        // An AEOLUS message is checked by `add_aeolus_message`, after the AIR table has seen
+        // it.
+        if !self.keep.keeps_everything()
+            && !matches!(placed.item, Item::Aeolus { .. })
+            && !self.kept_item(origin, placed)
+        {
             return;
         }
         match &placed.item {
@@ -438,7 +468,7 @@ impl Tables {
     /// Whether `placed` is kept (counted when it is not).
     fn kept_item(&mut self, origin: &Origin, placed: &Placed<'_>) -> bool {
         let (name, proto, own) = match &placed.item {
-            Item::Aeolus { message, .. } => (message.name(), Proto::Aeolus, None),
+            Item::Aeolus { .. } => return true,
             Item::Aydp { frame, message } => (aydp_name(message), Proto::Aydp, aydp_time(frame)),
             Item::AokMessage(m) => (aok_message_name(m), Proto::Aok, None),
             Item::AokCommand(c) => (aok_command_name(c), Proto::Aok, None),
@@ -524,6 +554,17 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
+        if let Some(air) = &mut self.air {
+            use aeolus_proto::message::Message as M;
+            match message {
+                M::Temp(t) => air.temp(origin.flow.as_deref(), t),
+                M::Pressure(p) => {
+                    let data = air.pressure(origin.flow.as_deref(), p);
+                    self.add_air(origin, offset, p.timestamp_ms, &data);
+                }
+                _ => {}
+            }
+        }
         if !self.kept(message.name(), Some(Proto::Aeolus), origin, None) {
             return;
         }
@@ -534,6 +575,38 @@ impl Tables {
         // The typed messages' field names are fixed, and none is a metadata column's
         // (python/tests/test_field_names.py): no check per row.
         typed::aeolus(table, message);
+        self.end(i);
+    }
+
+    /// A row of `AIR`: the air data of the PRESSURE at `offset`, of box time `box_ms`.
+    fn add_air(
+        &mut self,
+        origin: &Origin,
+        offset: u64,
+        box_ms: f64,
+        air: &crate::air_data::AirData,
+    ) {
+        if !self.kept("AIR", Some(Proto::Aeolus), origin, None) {
+            return;
+        }
+        let (i, table) = self.begin_static("AIR", Proto::Aeolus, origin, offset, None);
+        let real = |v: Option<f64>| v.map(Scalar::F64);
+        table.set_static("timestamp_ms", Scalar::F64(box_ms));
+        table.set_typed("static_hpa", real(air.static_hpa), Scalar::F64(0.0));
+        table.set_typed("dynamic_pa", real(air.dynamic_pa), Scalar::F64(0.0));
+        table.set_typed("celsius", real(air.celsius), Scalar::F64(0.0));
+        table.set_typed("ias_mps", real(air.ias_mps), Scalar::F64(0.0));
+        table.set_typed("tas_mps", real(air.tas_mps), Scalar::F64(0.0));
+        table.set_typed(
+            "pressure_altitude_m",
+            real(air.pressure_altitude_m),
+            Scalar::F64(0.0),
+        );
+        table.set_typed(
+            "vertical_speed_mps",
+            real(air.vertical_speed_mps),
+            Scalar::F64(0.0),
+        );
         self.end(i);
     }
 

@@ -281,6 +281,13 @@ fn types_since_and_until_choose_the_rows() {
         std::fs::read_dir(out.join("proto=aeolus")).unwrap().count(),
         2
     );
+    // AIR is derived from the PRESSURE rows even when they are left out: a row per PRESSURE.
+    let (text, _) = export("air", &["--types", "AIR"]);
+    assert_eq!(
+        tables_of(&text),
+        [("proto=aeolus/type=AIR".to_owned(), pressure)]
+    );
+    assert_eq!(rows(&all, "proto=aeolus/type=AIR"), pressure);
     // --since and --until: the second flight, then the first; every row of either is one.
     let (second, _) = export("since", &["--since", "2023-11-14T22:14:00Z"]);
     let (first, _) = export(

@@ -110,6 +110,7 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     let mut export = Export::new(&args.out, args.format)?;
     let mut tables = Tables::new(args.row_group);
     tables.keep(keep);
+    tables.derive_air();
     let mut out = Out::new();
     // A file that could not be written ends the export; a source that could not be read
     // does not.
