@@ -16,7 +16,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import protolink
-from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json
+from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json, gdl90_frame
 from test_frames_agree import Json, columns_of, flat
 from test_same_as_decode import ethernet_udp, write_pcap
 
@@ -479,3 +479,65 @@ def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
     assert [(name, rows) for name, rows, _ in only] == [("AIR", len(a))]
     assert pq.read_table(only[0][2][0]).equals(pq.read_table(out / "proto=aeolus/type=AIR/part-00000.parquet"))
 
+
+# GDL90 with every optional field absent: an OWNSHIP without position, altitude, track, speed
+# or vertical rate, a ForeFlight AHRS without any value, a geometric altitude without VFOM.
+BARE_GDL90 = [
+    GDL90_FRAMES["HEARTBEAT"],
+    gdl90_frame(bytes([10, 0x00, 0xA1, 0xB2, 0xC3, 0, 0, 0, 0, 0, 0, 0xFF, 0xF0, 0x00, 0xFF, 0xF8, 0x00, 0x00,
+                       0x01]) + b"N12345  " + b"\x00"),
+    gdl90_frame(bytes([0x65, 0x01, 0x7F, 0xFF, 0x7F, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF])),
+    GDL90_FRAMES["GEO_ALTITUDE"],
+]
+
+
+@pytest.fixture(scope="module")
+def optional_exports(fleet, tmp_path_factory):
+    """Two exports of different captures under one directory: `full` holds a GDL90 capture
+    with its optional fields present and the first flight, `bare` one with every optional
+    field absent and the second flight. Returns (the directory, {export: its sources})."""
+    tmp = tmp_path_factory.mktemp("optional")
+    captures = {}
+    for name, frames in (("full", list(GDL90_FRAMES.values())), ("bare", BARE_GDL90)):
+        raw = tmp / f"{name}.bin"
+        raw.write_bytes(b"".join(frames) * 2)
+        captures[name] = tmp / f"{name}-gdl90.pcapng"
+        subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "gdl90", "--out",
+                        str(captures[name])], check=True, capture_output=True)
+    exports = {"full": [captures["full"], fleet[0]], "bare": [captures["bare"], fleet[3]]}
+    root = tmp / "exports"
+    for name, sources in exports.items():
+        subprocess.run([PROTOLINK, "export", "--out", str(root / name), *map(str, sources)],
+                       check=True, capture_output=True)
+    return root, exports
+
+
+def test_a_capture_without_optional_fields_has_the_schema_of_one_with_them(optional_exports):
+    root, exports = optional_exports
+    bare_events = decode_json(exports["bare"][0])[0]
+    ownship = [e for e in bare_events if e.get("name") == "OWNSHIP"][0]["fields"]
+    assert ownship["position"] is None and ownship["track"] is None and ownship["ground_speed_kt"] is None
+    ahrs = [e for e in bare_events if e.get("name") == "FOREFLIGHT_AHRS"][0]["fields"]
+    assert all(v is None for v in ahrs.values())
+    # Every table the two exports share: one schema, field for field, units included.
+    tables = {p.relative_to(root / "full") for p in (root / "full").glob("proto=*/type=*")}
+    shared = sorted(t for t in tables if (root / "bare" / t).is_dir())
+    assert {"proto=gdl90/type=OWNSHIP", "proto=gdl90/type=FOREFLIGHT_AHRS", "proto=aeolus/type=GYRO",
+            "proto=aeolus/type=AIR"} <= {str(t) for t in shared}
+    for t in shared:
+        full = pq.read_schema(root / "full" / t / "part-00000.parquet")
+        bare = pq.read_schema(root / "bare" / t / "part-00000.parquet")
+        assert bare.equals(full, check_metadata=True), t
+        assert all(str(f.type) != "null" for f in bare), t
+        assert not list((root / "bare" / t).glob("part-00001.*")), t
+    # DuckDB and Polars read each table of both exports through one glob, no schema option.
+    for name in ("OWNSHIP", "FOREFLIGHT_AHRS"):
+        glob = f"{root}/*/proto=gdl90/type={name}/*.parquet"
+        want = count(exports["full"] + exports["bare"], name, "gdl90")
+        rows = duckdb.sql(f"SELECT count(*), count(DISTINCT capture_id) FROM read_parquet('{glob}')").fetchall()
+        assert rows == [(want, 2)], name
+        frame = pl.scan_parquet(glob, hive_partitioning=True).collect()
+        assert frame.height == want and set(frame["proto"]) == {"gdl90"}
+    nulls = duckdb.sql(f"SELECT file, count(\"position.lat_deg\") FROM read_parquet('{root}/*/proto=gdl90/type=OWNSHIP/*.parquet') "
+                       "GROUP BY file ORDER BY file").fetchall()
+    assert nulls == [("bare-gdl90.pcapng", 0), ("full-gdl90.pcapng", 2)]
