@@ -205,4 +205,5 @@ def export(
     types: List[str] = ...,
     since: Optional[str] = None,
     until: Optional[str] = None,
+    air: bool = False,
 ) -> List[Tuple[str, int, List[str]]]: ...

@@ -168,7 +168,9 @@ def export(
     (``capture_id``). Options: ``profile=``, ``side=``, ``row_group=``, and as ``protolink
     export`` chooses rows: ``types=`` (``["GYRO", "aydp.HEARTBEAT"]`` or ``"GYRO,PRESSURE"``),
     ``since=`` and ``until=`` (RFC 3339 texts, ``"2024-05-01T12:00:00Z"``, or a
-    ``datetime.datetime`` with a time zone; a row without a time is left out). Returns
+    ``datetime.datetime`` with a time zone; a row without a time is left out), ``air=True``
+    (also the table ``AIR``, the air data derived from each AEOLUS PRESSURE, as ``protolink
+    export --air``). Returns
     ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises
     ``ValueError`` before anything is written, as does a bad type or time).
 

@@ -219,7 +219,7 @@ pub(crate) fn message_tables<'py>(
 /// capture's damage is skipped with a `DamagedCaptureWarning`; a source that cannot be read
 /// is raised once the other sources are exported.
 #[pyfunction]
-#[pyo3(signature = (sources, out, format = "parquet", proto = None, *, profile = None, side = None, row_group = ROW_GROUP, types = Vec::new(), since = None, until = None))]
+#[pyo3(signature = (sources, out, format = "parquet", proto = None, *, profile = None, side = None, row_group = ROW_GROUP, types = Vec::new(), since = None, until = None, air = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn export<'py>(
     py: Python<'py>,
@@ -233,6 +233,7 @@ pub(crate) fn export<'py>(
     types: Vec<String>,
     since: Option<&str>,
     until: Option<&str>,
+    air: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let format = match format {
         "parquet" => Format::Parquet,
@@ -252,8 +253,10 @@ pub(crate) fn export<'py>(
     let keep = Keep::new(&types, since, until).map_err(PyValueError::new_err)?;
     let mut exported = Export::new(&out, format).map_err(error)?;
     let mut tables = Tables::new(row_group);
+    if air || keep.names("AIR") {
+        tables.derive_air();
+    }
     tables.keep(keep);
-    tables.derive_air();
     // A file that cannot be written ends the export; a source that cannot be read is
     // raised after the others are exported.
     let mut failed = None;

@@ -124,12 +124,11 @@ def test_cli_export_read_by_duckdb_and_polars(fleet, tmp_path):
     run = subprocess.run([PROTOLINK, "export", "--out", str(out), *map(str, fleet)],
                          capture_output=True, check=True, text=True)
     want = expected(fleet)
-    # The messages' tables, and AIR: a row of air data per PRESSURE.
-    assert set(p.name for p in out.glob("proto=*/type=*")) == {f"type={name}" for name in [*want, "AIR"]}
+    assert set(p.name for p in out.glob("proto=*/type=*")) == {f"type={name}" for name in want}
     check_duckdb(out, want)
-    total = sum(len(rows) for rows in want.values()) + len(want["PRESSURE"])
+    total = sum(len(rows) for rows in want.values())
     assert run.stdout.splitlines()[-1] == (
-        f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want) + 1} tables")
+        f"export: 4 sources, {sum(p.stat().st_size for p in fleet)} bytes, {total} rows in {len(want)} tables")
     # Polars reads every table as it is: the same rows as DuckDB, per source.
     for name, rows in want.items():
         frame = pl.read_parquet(f"{out}/proto=*/type={name}/*.parquet")
@@ -151,8 +150,7 @@ def test_arrow_ipc_and_python_export(fleet, tmp_path):
     ipc = tmp_path / "ipc"
     written = protolink.export(fleet, ipc, format="arrow")
     want = expected(fleet)
-    assert [(name, rows) for name, rows, _ in written if name != "AIR"] == [(n, len(r)) for n, r in want.items()]
-    assert [rows for name, rows, _ in written if name == "AIR"] == [len(want["PRESSURE"])]
+    assert [(name, rows) for name, rows, _ in written] == [(n, len(r)) for n, r in want.items()]
     py = tmp_path / "py"
     protolink.export([str(p) for p in fleet], py)
     for name in want:
@@ -414,8 +412,7 @@ def test_one_duckdb_file(fleet, tmp_path):
     db = tmp_path / "fleet.duckdb"
     written = protolink.export(fleet, db, format="duckdb")
     want = expected(fleet)
-    assert sorted((name, rows) for name, rows, _ in written) == sorted(
-        [(n, len(r)) for n, r in want.items()] + [("AIR", len(want["PRESSURE"]))])
+    assert sorted((name, rows) for name, rows, _ in written) == sorted((n, len(r)) for n, r in want.items())
     assert all(parts == [str(db)] for _, _, parts in written)
     assert not (tmp_path / "fleet.duckdb.parts").exists()
     con = duckdb.connect(str(db), read_only=True)
@@ -447,7 +444,7 @@ def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
     # density for IAS, the ideal gas for TAS with the flow's latest TEMP, ISA pressure
     # altitude); a vertical speed once half a second of box time is seen.
     out = tmp_path / "tables"
-    subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0])], check=True, capture_output=True)
+    subprocess.run([PROTOLINK, "export", "--air", "--out", str(out), str(fleet[0])], check=True, capture_output=True)
     con = duckdb.connect()
     air = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=AIR/*.parquet') ORDER BY \"offset\"")
     pressure = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=PRESSURE/*.parquet') ORDER BY \"offset\"")
@@ -474,10 +471,14 @@ def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
     units = json.loads(kv["units"])
     assert (units["ias_mps"], units["static_hpa"], units["dynamic_pa"], units["pressure_altitude_m"],
             units["vertical_speed_mps"], units["celsius"]) == ("m/s", "hPa", "Pa", "m", "m/s", "°C")
-    # --types AIR: the air data alone, from the PRESSURE and TEMP rows it leaves out.
+    # --types AIR: the air data alone, from the PRESSURE and TEMP rows it leaves out; air=True
+    # in Python as --air; without either, no AIR.
     only = protolink.export(fleet[0], tmp_path / "air", types="AIR")
     assert [(name, rows) for name, rows, _ in only] == [("AIR", len(a))]
     assert pq.read_table(only[0][2][0]).equals(pq.read_table(out / "proto=aeolus/type=AIR/part-00000.parquet"))
+    py = protolink.export(fleet[0], tmp_path / "py", air=True)
+    assert ("AIR", len(a)) in [(name, rows) for name, rows, _ in py]
+    assert "AIR" not in [name for name, _, _ in protolink.export(fleet[0], tmp_path / "plain")]
 
 
 # GDL90 with every optional field absent: an OWNSHIP without position, altitude, track, speed
@@ -493,9 +494,9 @@ BARE_GDL90 = [
 
 @pytest.fixture(scope="module")
 def optional_exports(fleet, tmp_path_factory):
-    """Two exports of different captures under one directory: `full` holds a GDL90 capture
-    with its optional fields present and the first flight, `bare` one with every optional
-    field absent and the second flight. Returns (the directory, {export: its sources})."""
+    """Two exports of different captures under one directory (with AIR): `full` holds a GDL90
+    capture with its optional fields present and the first flight, `bare` one with every
+    optional field absent and the second flight. Returns (the directory, {export: its sources})."""
     tmp = tmp_path_factory.mktemp("optional")
     captures = {}
     for name, frames in (("full", list(GDL90_FRAMES.values())), ("bare", BARE_GDL90)):
@@ -507,7 +508,7 @@ def optional_exports(fleet, tmp_path_factory):
     exports = {"full": [captures["full"], fleet[0]], "bare": [captures["bare"], fleet[3]]}
     root = tmp / "exports"
     for name, sources in exports.items():
-        subprocess.run([PROTOLINK, "export", "--out", str(root / name), *map(str, sources)],
+        subprocess.run([PROTOLINK, "export", "--air", "--out", str(root / name), *map(str, sources)],
                        check=True, capture_output=True)
     return root, exports
 

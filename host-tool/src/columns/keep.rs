@@ -154,6 +154,20 @@ impl Keep {
         })
     }
 
+    /// Whether `--types` names the table `name` (of any protocol).
+    ///
+    /// ```
+    /// use protolink::columns::Keep;
+    /// assert!(Keep::new(&["air".into()], None, None)?.names("AIR"));
+    /// assert!(!Keep::default().names("AIR"));
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn names(&self, name: &str) -> bool {
+        self.types
+            .as_ref()
+            .is_some_and(|types| types.iter().any(|w| w.name == name))
+    }
+
     /// Whether every row is kept.
     pub fn keeps_everything(&self) -> bool {
         self.types.is_none() && self.since.is_none() && self.until.is_none()

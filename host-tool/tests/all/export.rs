@@ -281,13 +281,18 @@ fn types_since_and_until_choose_the_rows() {
         std::fs::read_dir(out.join("proto=aeolus")).unwrap().count(),
         2
     );
-    // AIR is derived from the PRESSURE rows even when they are left out: a row per PRESSURE.
+    // AIR, when asked for: a row per PRESSURE, derived from the PRESSURE rows even when they
+    // are left out.
     let (text, _) = export("air", &["--types", "AIR"]);
     assert_eq!(
         tables_of(&text),
         [("proto=aeolus/type=AIR".to_owned(), pressure)]
     );
-    assert_eq!(rows(&all, "proto=aeolus/type=AIR"), pressure);
+    assert_eq!(rows(&all, "proto=aeolus/type=AIR"), 0);
+    let (text, _) = export("with-air", &["--air"]);
+    let with_air = tables_of(&text);
+    assert_eq!(rows(&with_air, "proto=aeolus/type=AIR"), pressure);
+    assert_eq!(with_air.len(), all.len() + 1);
     // --since and --until: the second flight, then the first; every row of either is one.
     let (second, _) = export("since", &["--since", "2023-11-14T22:14:00Z"]);
     let (first, _) = export(

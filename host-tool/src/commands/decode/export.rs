@@ -52,6 +52,10 @@ pub(crate) struct ExportArgs {
     /// Only rows whose time is before this one (as --since).
     #[arg(long, value_name = "TIME")]
     pub(crate) until: Option<String>,
+    /// Also write the table AIR: the air data derived from each AEOLUS PRESSURE (indicated and
+    /// true airspeed, pressure altitude, vertical speed); --types AIR writes it too.
+    #[arg(long)]
+    pub(crate) air: bool,
     /// Rows per row group (1 to 1048576): the most rows of one type held in memory.
     #[arg(long, value_name = "ROWS", default_value_t = ROW_GROUP, value_parser = row_group)]
     pub(crate) row_group: usize,
@@ -109,8 +113,10 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     };
     let mut export = Export::new(&args.out, args.format)?;
     let mut tables = Tables::new(args.row_group);
+    if args.air || keep.names("AIR") {
+        tables.derive_air();
+    }
     tables.keep(keep);
-    tables.derive_air();
     let mut out = Out::new();
     // A file that could not be written ends the export; a source that could not be read
     // does not.
