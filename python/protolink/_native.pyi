@@ -202,4 +202,8 @@ def export(
     profile: Optional[str] = None,
     side: str = "device",
     row_group: int = 65536,
+    types: List[str] = ...,
+    since: Optional[str] = None,
+    until: Optional[str] = None,
+    air: bool = False,
 ) -> List[Tuple[str, int, List[str]]]: ...

@@ -103,7 +103,12 @@ def to_frames(
     (columns of numbers without a null keep their type; an integer column with nulls becomes
     float64 with NaN, as pandas has it). Each table's Arrow columns are released as it is
     converted: at any time the tables not converted yet and the frames made so far are held,
-    about the size of the frames plus the largest table."""
+    about the size of the frames plus the largest table.
+
+    Each frame's ``attrs`` keep what the Arrow schema said and pandas has no place for:
+    ``attrs["proto"]`` (``"aeolus"``, ...; absent for a table that names none) and
+    ``attrs["units"]``, ``{column: unit}`` for the columns with a unit (``{"x": "rad/s", ...}``,
+    as docs/columns.md lists them)."""
     try:
         import pandas  # noqa: F401
     except ImportError as e:
@@ -114,8 +119,38 @@ def to_frames(
     tables = to_arrow(source, proto, **options)
     frames = {}
     for name in list(tables):
-        frames[name] = tables.pop(name).to_pandas(self_destruct=True, split_blocks=True)
+        table = tables.pop(name)
+        attrs = _attrs(table.schema)
+        frame = table.to_pandas(self_destruct=True, split_blocks=True)
+        frame.attrs.update(attrs)
+        frames[name] = frame
     return frames
+
+
+def _attrs(schema: "pyarrow.Schema") -> Dict[str, Any]:
+    """A table's protocol and its columns' units, from its Arrow schema's metadata."""
+    attrs: Dict[str, Any] = {}
+    proto = (schema.metadata or {}).get(b"proto")
+    if proto is not None:
+        attrs["proto"] = proto.decode()
+    attrs["units"] = {f.name: f.metadata[b"unit"].decode()
+                      for f in schema if f.metadata and b"unit" in f.metadata}
+    return attrs
+
+
+def _time_text(name: str, value: Any) -> Union[str, None]:
+    """``since=`` or ``until=`` as the RFC 3339 text the native module reads."""
+    import datetime
+
+    if value is None or isinstance(value, str):
+        return value
+    if isinstance(value, datetime.datetime):
+        if value.tzinfo is None:
+            raise ValueError(f"{name}={value!r} has no time zone: give one (datetime.timezone.utc)")
+        return value.isoformat()
+    if isinstance(value, datetime.date):
+        return value.isoformat()
+    raise TypeError(f"{name}= is a text or a datetime, not {type(value).__name__}")
 
 
 def export(
@@ -129,13 +164,116 @@ def export(
     ``out``, one directory per protocol and message type in the Hive layout
     (``out/proto=aeolus/type=GYRO/part-00000.parquet``), each row naming its file in ``source``:
     ``format="parquet"`` (snappy) or ``"arrow"`` (Arrow IPC, LZ4), exactly as ``protolink
-    export`` writes them. Options: ``profile=``, ``side=``, ``row_group=``. Returns
+    export`` writes them, each row naming its file also by name (``file``) and by content
+    (``capture_id``). Options: ``profile=``, ``side=``, ``row_group=``, and as ``protolink
+    export`` chooses rows: ``types=`` (``["GYRO", "aydp.HEARTBEAT"]`` or ``"GYRO,PRESSURE"``),
+    ``since=`` and ``until=`` (RFC 3339 texts, ``"2024-05-01T12:00:00Z"``, or a
+    ``datetime.datetime`` with a time zone; a row without a time is left out), ``air=True``
+    (also the table ``AIR``, the air data derived from each AEOLUS PRESSURE, as ``protolink
+    export --air``). Returns
     ``[(type, rows, [part paths])]``. ``out`` is a new or empty directory (any other raises
-    ``ValueError`` before anything is written). A capture's damaged blocks are skipped with a
-    :class:`protolink.DamagedCaptureWarning`; a source that cannot be read is raised once the
-    other sources are exported."""
+    ``ValueError`` before anything is written, as does a bad type or time).
+
+    ``format="duckdb"`` writes one DuckDB database file ``out`` instead (a new file; needs the
+    ``duckdb`` package): a schema per protocol and a table per message type
+    (``aeolus."GYRO"``, ``aydp."HEARTBEAT"``, ``gdl90."HEARTBEAT"``; the error events in
+    ``PROTO."ERROR"``), each column's unit as its comment (``duckdb_columns()``'s ``comment``).
+    The tables are exported as Parquet beside ``out`` first (``out + ".parts"``, removed
+    after), then loaded; each entry returned names ``[out]`` as its one part. A capture's damaged
+    blocks are skipped with a :class:`protolink.DamagedCaptureWarning`; a source that cannot be
+    read is raised once the other sources are exported."""
     if isinstance(sources, (str, bytes, os.PathLike)):
         sources = [sources]
+    if isinstance(options.get("types"), str):
+        options["types"] = [t for t in options["types"].split(",") if t]
+    for key in ("since", "until"):
+        options[key] = _time_text(key, options.get(key))
+    if format == "duckdb":
+        return _export_duckdb([os.fspath(s) for s in sources], os.fspath(out), proto, options)
     return _native.export(
         [os.fspath(s) for s in sources], os.fspath(out), format, proto, **options
     )
+
+
+def _export_duckdb(sources: List[str], out: str, proto: Union[str, None],
+                   options: Dict[str, Any]) -> List[Tuple[str, int, List[str]]]:
+    """``export(format="duckdb")``: Parquet parts beside ``out``, loaded into one database. A
+    source that cannot be read is raised after the others are loaded, as ``export`` does."""
+    import glob
+    import shutil
+
+    try:
+        import duckdb
+    except ImportError as e:
+        raise ImportError(
+            'protolink.export(format="duckdb") needs duckdb, which is not installed: pip install duckdb'
+        ) from e
+    if os.path.lexists(out):
+        raise ValueError(f"{out} exists already: a DuckDB export writes a new file")
+    parts = out + ".parts"
+    if os.path.lexists(parts):
+        raise ValueError(f"{parts} exists already: a DuckDB export writes its parts there first")
+    unread = None
+    try:
+        try:
+            _native.export(sources, parts, "parquet", proto, **options)
+        except ValueError:
+            raise
+        except Exception as e:  # a source that could not be read: the others are loaded first
+            unread = e
+        written = []
+        con = duckdb.connect(out)
+        try:
+            for directory in sorted(glob.glob(os.path.join(glob.escape(parts), "proto=*", "type=*"))):
+                written.append(_load(con, directory))
+            con.execute("CHECKPOINT")
+        finally:
+            con.close()
+    except BaseException:
+        if os.path.exists(out):
+            os.remove(out)
+        raise
+    finally:
+        shutil.rmtree(parts, ignore_errors=True)
+    if unread is not None:
+        raise unread
+    return [(name, rows, [out]) for name, rows in written]
+
+
+def _quote(name: str) -> str:
+    """An SQL identifier, quoted."""
+    return '"' + name.replace('"', '""') + '"'
+
+
+def _load(con: Any, directory: str) -> Tuple[str, int]:
+    """One table's parts (``.../proto=P/type=T``) as the table ``P."T"``, each column's unit as
+    its comment; its name and rows."""
+    import json
+
+    import pyarrow.parquet as pq
+
+    proto = os.path.basename(os.path.dirname(directory)).split("=", 1)[1]
+    name = os.path.basename(directory).split("=", 1)[1]
+    files = sorted(os.path.join(directory, f) for f in os.listdir(directory) if f.endswith(".parquet"))
+    table = f"{_quote(proto)}.{_quote(name)}"
+    con.execute(f"CREATE SCHEMA IF NOT EXISTS {_quote(proto)}")
+    con.execute(f"CREATE TABLE {table} AS SELECT * FROM read_parquet({_literal_list(files)}, union_by_name = true)")
+    units: Dict[str, str] = {}
+    for f in files:
+        raw = (pq.read_metadata(f).metadata or {}).get(b"units")
+        if raw:
+            units.update(json.loads(raw))
+    for column, unit in units.items():
+        con.execute(f"COMMENT ON COLUMN {table}.{_quote(column)} IS {_literal(unit)}")
+    (rows,) = con.execute(f"SELECT count(*) FROM {table}").fetchone()
+    return name, rows
+
+
+def _literal(text: str) -> str:
+    """An SQL string literal."""
+    return "'" + text.replace("'", "''") + "'"
+
+
+def _literal_list(texts: List[str]) -> str:
+    """An SQL list of string literals."""
+    return "[" + ", ".join(_literal(t) for t in texts) + "]"

@@ -10,7 +10,7 @@ use arrow_array::ffi_stream::FFI_ArrowArrayStream;
 use arrow_array::{RecordBatch, RecordBatchIterator};
 use arrow_schema::{ArrowError, SchemaRef};
 use protolink::columns::write::{Export, Format};
-use protolink::columns::{ROW_GROUP, Tables, proto_of, unify};
+use protolink::columns::{Keep, ROW_GROUP, Tables, proto_of, unify};
 use protolink::commands::decode::tables::{Report, Select, read_file};
 use protolink::endpoint::Endpoint;
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -219,7 +219,7 @@ pub(crate) fn message_tables<'py>(
 /// capture's damage is skipped with a `DamagedCaptureWarning`; a source that cannot be read
 /// is raised once the other sources are exported.
 #[pyfunction]
-#[pyo3(signature = (sources, out, format = "parquet", proto = None, *, profile = None, side = None, row_group = ROW_GROUP))]
+#[pyo3(signature = (sources, out, format = "parquet", proto = None, *, profile = None, side = None, row_group = ROW_GROUP, types = Vec::new(), since = None, until = None, air = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn export<'py>(
     py: Python<'py>,
@@ -230,6 +230,10 @@ pub(crate) fn export<'py>(
     profile: Option<&Bound<'py, PyAny>>,
     side: Option<&Bound<'py, PyAny>>,
     row_group: usize,
+    types: Vec<String>,
+    since: Option<&str>,
+    until: Option<&str>,
+    air: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let format = match format {
         "parquet" => Format::Parquet,
@@ -246,8 +250,13 @@ pub(crate) fn export<'py>(
         )));
     }
     let choice = select(proto, profile, side)?;
+    let keep = Keep::new(&types, since, until).map_err(PyValueError::new_err)?;
     let mut exported = Export::new(&out, format).map_err(error)?;
     let mut tables = Tables::new(row_group);
+    if air || keep.names("AIR") {
+        tables.derive_air();
+    }
+    tables.keep(keep);
     // A file that cannot be written ends the export; a source that cannot be read is
     // raised after the others are exported.
     let mut failed = None;

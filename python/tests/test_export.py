@@ -3,7 +3,9 @@ tables, read back by the engines an analyst runs (DuckDB, Polars, pyarrow) and c
 `protolink decode --json` of each capture: per message type, the rows of each source (their
 count, their metadata and every field's value)."""
 
+import datetime
 import json
+import re
 import subprocess
 
 import duckdb
@@ -14,8 +16,9 @@ import pyarrow.parquet as pq
 import pytest
 
 import protolink
-from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json
+from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json, gdl90_frame
 from test_frames_agree import Json, columns_of, flat
+from test_same_as_decode import ethernet_udp, write_pcap
 
 # (capture name, the byte file it records, `protolink record`'s options, the decode options)
 CAPTURES = [
@@ -157,12 +160,14 @@ def test_arrow_ipc_and_python_export(fleet, tmp_path):
             arrow = pa.ipc.open_file(f).read_all()
         assert arrow.equals(parquet), name
         assert pl.read_ipc(part(ipc, name, "arrow")).height == len(want[name])
-    # to_arrow of one capture: that capture's rows of the export, without the source column.
+    # to_arrow of one capture: that capture's rows of the export, without the columns that
+    # name its file.
     one = protolink.to_arrow(fleet[1])
     exported = pq.read_table(cli / "proto=aydp" / "type=POSITION" / "part-00000.parquet")
     mine = exported.filter(pa.compute.equal(exported["source"], str(fleet[1])))
+    assert exported.column_names[:3] == ["source", "file", "capture_id"]
     # The export's files leave out `proto`, which their path holds.
-    assert one["POSITION"].drop_columns(["proto"]).equals(mine.drop_columns(["source"]))
+    assert one["POSITION"].drop_columns(["proto"]).equals(mine.drop_columns(["source", "file", "capture_id"]))
 
 
 def test_byte_files_and_row_groups(tmp_path):
@@ -243,10 +248,13 @@ def damaged_capture(tmp, name="damaged.pcapng"):
 
 
 def rows_per_source(out):
-    """Rows of every table of an export, per source, read by DuckDB."""
+    """Rows of every message table of an export (not the derived AIR), per source, read by
+    DuckDB."""
     con = duckdb.connect()
     counts = {}
     for table in out.glob("proto=*/type=*"):
+        if table.name == "type=AIR":
+            continue
         glob = f"{table}/*.parquet"
         for source, n in con.sql(f"SELECT source, count(*) FROM read_parquet('{glob}', union_by_name = true) "
                                  "GROUP BY source").fetchall():
@@ -331,3 +339,206 @@ def test_the_hive_layout_keeps_protocols_apart_and_one_glob_reads_two_exports(tw
     assert frame.height == gyro
     assert set(frame["proto"]) == {"aeolus"} and set(frame["type"]) == {"GYRO"}
     assert frame.schema["x"] == pl.Float32
+
+
+def test_a_capture_has_one_id_wherever_it_is_and_whatever_its_name(fleet, tmp_path):
+    # The same capture under another name in another directory, given by a relative path: the
+    # same capture_id; its own file name and source as given. Another capture: another id.
+    copy_dir = tmp_path / "copies"
+    copy_dir.mkdir()
+    copy = copy_dir / "renamed.pcapng"
+    copy.write_bytes(fleet[0].read_bytes())
+    out = tmp_path / "tables"
+    subprocess.run([PROTOLINK, "export", "--out", str(out), str(fleet[0]), "renamed.pcapng", str(fleet[3])],
+                   capture_output=True, check=True, cwd=copy_dir)
+    ids = duckdb.sql(f"SELECT DISTINCT source, file, capture_id FROM read_parquet('{out}/proto=aeolus/type=GYRO/*.parquet') "
+                     "ORDER BY source").fetchall()
+    by_source = {source: (file, capture_id) for source, file, capture_id in ids}
+    assert set(by_source) == {str(fleet[0]), "renamed.pcapng", str(fleet[3])}
+    assert by_source["renamed.pcapng"] == ("renamed.pcapng", by_source[str(fleet[0])][1])
+    assert by_source[str(fleet[0])][0] == fleet[0].name
+    assert by_source[str(fleet[3])][1] != by_source[str(fleet[0])][1]
+    assert all(len(i) == 16 and int(i, 16) >= 0 for _, i in by_source.values())
+    # Every table of the export names them on every row.
+    for f in out.rglob("*.parquet"):
+        t = pq.read_table(f, columns=["file", "capture_id"])
+        assert t["file"].null_count == 0 and t["capture_id"].null_count == 0, f
+
+
+def test_types_since_and_until(fleet, tmp_path):
+    # The AEOLUS flight's GYRO and the AYDP capture's POSITION: their tables only, whole.
+    want = expected(fleet[:2])
+    written = protolink.export(fleet[:2], tmp_path / "types", types="gyro,aydp.POSITION")
+    assert [(name, rows) for name, rows, _ in written] == [("GYRO", len(want["GYRO"])),
+                                                         ("POSITION", len(want["POSITION"]))]
+    run = subprocess.run([PROTOLINK, "export", "--out", str(tmp_path / "cli"), "--types", "GYRO,aydp.POSITION",
+                          *map(str, fleet[:2])], capture_output=True, check=True, text=True)
+    assert pq.read_table(tmp_path / "cli/proto=aeolus/type=GYRO/part-00000.parquet").equals(
+        pq.read_table(tmp_path / "types/proto=aeolus/type=GYRO/part-00000.parquet"))
+    assert "rows left out by --types, --since or --until" in run.stdout.splitlines()[-1]
+    # A capture of AEOLUS datagrams 10 ms apart: --since and --until cut it by the records'
+    # times; a datetime with a time zone is the same time as its RFC 3339 text.
+    data = (TESTDATA / "qemu-uart0-aeolus.bin").read_bytes()
+    frames = [data[m.offset:m.offset + m.wire_len] for m in protolink.aeolus.Decoder().feed(data)]
+    start = 1_700_000_000
+    packets = [(start + i / 100, ethernet_udp(40000, 5001, b"".join(frames[i * 10:i * 10 + 10])))
+               for i in range(len(frames) // 10)]
+    cap = tmp_path / "timed.pcap"
+    write_pcap(cap, packets)
+    since = datetime.datetime.fromtimestamp(start + 0.5, datetime.timezone.utc)
+    got = {}
+    for tag, options in [("all", {}), ("since", {"since": since}), ("until", {"until": since.isoformat()}),
+                         ("both", {"since": "2023-11-14T22:13:20.250Z", "until": since})]:
+        written = protolink.export(cap, tmp_path / tag, types=["GYRO"], **options)
+        got[tag] = pq.read_table(written[0][2][0])["capture_time"].to_pylist()
+    assert len(got["all"]) > 100
+    assert got["since"] == [t for t in got["all"] if t >= start + 0.5]
+    assert got["until"] == [t for t in got["all"] if t < start + 0.5]
+    assert got["both"] == [t for t in got["all"] if start + 0.25 <= t < start + 0.5]
+    assert got["since"] and got["until"] and got["both"]
+    # Refused in one sentence, before anything is written.
+    for options, sentence in [({"types": "GYROS"}, "'GYROS' is no message type of aeolus, aydp, aok or gdl90"),
+                              ({"since": "May 1st"}, "'May 1st' is not a time: give one as 2024-05-01T12:00:00Z"),
+                              ({"since": "2024-05-02", "until": "2024-05-01"}, "--since (2024-05-02T00:00:00Z) is not before"),
+                              ({"until": datetime.datetime(2024, 5, 1)}, "has no time zone")]:
+        with pytest.raises(ValueError, match=re.escape(sentence)):
+            protolink.export(fleet[0], tmp_path / "refused", **options)
+        assert not (tmp_path / "refused").exists()
+
+
+def test_one_duckdb_file(fleet, tmp_path):
+    # One database: a schema per protocol, a table per type, the same rows as the Parquet
+    # export, each column's unit as its comment.
+    db = tmp_path / "fleet.duckdb"
+    written = protolink.export(fleet, db, format="duckdb")
+    want = expected(fleet)
+    assert sorted((name, rows) for name, rows, _ in written) == sorted((n, len(r)) for n, r in want.items())
+    assert all(parts == [str(db)] for _, _, parts in written)
+    assert not (tmp_path / "fleet.duckdb.parts").exists()
+    con = duckdb.connect(str(db), read_only=True)
+    tables = dict(((schema, name), rows) for schema, name, rows in con.sql(
+        "SELECT schema_name, table_name, estimated_size FROM duckdb_tables()").fetchall())
+    assert ("aeolus", "GYRO") in tables and ("aydp", "HEARTBEAT") in tables and ("aok", "DEBUG") in tables
+    [(n,)] = con.sql('SELECT count(*) FROM aeolus."GYRO"').fetchall()
+    assert n == len(want["GYRO"])
+    cli = tmp_path / "parquet"
+    subprocess.run([PROTOLINK, "export", "--out", str(cli), *map(str, fleet)], check=True, capture_output=True)
+    parquet = duckdb.sql(f"SELECT * FROM read_parquet('{cli}/proto=aydp/type=POSITION/*.parquet') ORDER BY source, \"offset\"")
+    assert con.sql('SELECT * FROM aydp."POSITION" ORDER BY source, "offset"').fetchall() == parquet.fetchall()
+    comments = dict(con.sql("SELECT column_name, comment FROM duckdb_columns() "
+                            "WHERE schema_name = 'aeolus' AND table_name = 'PRESSURE'").fetchall())
+    assert (comments["airspeed_mps"], comments["meta.len"], comments["valid"]) == ("m/s", "byte", None)
+    con.close()
+    # A new file only; options as export's, refused before anything is written.
+    with pytest.raises(ValueError, match="exists already: a DuckDB export writes a new file"):
+        protolink.export(fleet, db, format="duckdb")
+    with pytest.raises(ValueError, match="is no message type"):
+        protolink.export(fleet, tmp_path / "bad.duckdb", format="duckdb", types="NOPE")
+    assert not (tmp_path / "bad.duckdb").exists() and not (tmp_path / "bad.duckdb.parts").exists()
+    only = protolink.export(fleet, tmp_path / "gyro.duckdb", format="duckdb", types="GYRO")
+    assert [(name, rows) for name, rows, _ in only] == [("GYRO", len(want["GYRO"]))]
+
+
+def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
+    # A row per PRESSURE, at its place and time; the air-data module's formulas (ISA sea-level
+    # density for IAS, the ideal gas for TAS with the flow's latest TEMP, ISA pressure
+    # altitude); a vertical speed once half a second of box time is seen.
+    out = tmp_path / "tables"
+    subprocess.run([PROTOLINK, "export", "--air", "--out", str(out), str(fleet[0])], check=True, capture_output=True)
+    con = duckdb.connect()
+    air = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=AIR/*.parquet') ORDER BY \"offset\"")
+    pressure = con.sql(f"SELECT * FROM read_parquet('{out}/proto=aeolus/type=PRESSURE/*.parquet') ORDER BY \"offset\"")
+    a = [dict(zip(air.columns, r)) for r in air.fetchall()]
+    p = [dict(zip(pressure.columns, r)) for r in pressure.fetchall()]
+    assert len(a) == len(p) > 100
+    temps = con.sql(f"SELECT \"offset\", celsius FROM read_parquet('{out}/proto=aeolus/type=TEMP/*.parquet')").fetchall()
+    for row, msg in zip(a, p):
+        assert (row["offset"], row["time"], row["timestamp_ms"]) == (msg["offset"], msg["time"], msg["timestamp_ms"])
+        assert row["static_hpa"] == pytest.approx(msg["static_mbar"])
+        q = max(msg["pitot_mbar"] * 100.0, 0.0)
+        assert row["ias_mps"] == pytest.approx((2 * q / 1.225) ** 0.5)
+        assert row["pressure_altitude_m"] == pytest.approx(44330.77 * (1 - (msg["static_mbar"] / 1013.25) ** 0.190263))
+        before = [c for off, c in temps if off < row["offset"]]
+        if before:
+            rho = msg["static_mbar"] * 100.0 / (287.05 * (before[-1] + 273.15))
+            assert row["celsius"] == pytest.approx(before[-1]) and row["tas_mps"] == pytest.approx((2 * q / rho) ** 0.5)
+        else:
+            assert row["celsius"] is None and row["tas_mps"] is None
+    assert a[0]["vertical_speed_mps"] is None and a[-1]["vertical_speed_mps"] is not None
+    assert any(r["tas_mps"] is not None for r in a)
+    # Units where the engines show them.
+    kv = dict(con.sql(f"SELECT decode(key), decode(value) FROM parquet_kv_metadata('{out}/proto=aeolus/type=AIR/*.parquet')").fetchall())
+    units = json.loads(kv["units"])
+    assert (units["ias_mps"], units["static_hpa"], units["dynamic_pa"], units["pressure_altitude_m"],
+            units["vertical_speed_mps"], units["celsius"]) == ("m/s", "hPa", "Pa", "m", "m/s", "°C")
+    # --types AIR: the air data alone, from the PRESSURE and TEMP rows it leaves out; air=True
+    # in Python as --air; without either, no AIR.
+    only = protolink.export(fleet[0], tmp_path / "air", types="AIR")
+    assert [(name, rows) for name, rows, _ in only] == [("AIR", len(a))]
+    assert pq.read_table(only[0][2][0]).equals(pq.read_table(out / "proto=aeolus/type=AIR/part-00000.parquet"))
+    py = protolink.export(fleet[0], tmp_path / "py", air=True)
+    assert ("AIR", len(a)) in [(name, rows) for name, rows, _ in py]
+    assert "AIR" not in [name for name, _, _ in protolink.export(fleet[0], tmp_path / "plain")]
+
+
+# GDL90 with every optional field absent: an OWNSHIP without position, altitude, track, speed
+# or vertical rate, a ForeFlight AHRS without any value, a geometric altitude without VFOM.
+BARE_GDL90 = [
+    GDL90_FRAMES["HEARTBEAT"],
+    gdl90_frame(bytes([10, 0x00, 0xA1, 0xB2, 0xC3, 0, 0, 0, 0, 0, 0, 0xFF, 0xF0, 0x00, 0xFF, 0xF8, 0x00, 0x00,
+                       0x01]) + b"N12345  " + b"\x00"),
+    gdl90_frame(bytes([0x65, 0x01, 0x7F, 0xFF, 0x7F, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF])),
+    GDL90_FRAMES["GEO_ALTITUDE"],
+]
+
+
+@pytest.fixture(scope="module")
+def optional_exports(fleet, tmp_path_factory):
+    """Two exports of different captures under one directory (with AIR): `full` holds a GDL90
+    capture with its optional fields present and the first flight, `bare` one with every
+    optional field absent and the second flight. Returns (the directory, {export: its sources})."""
+    tmp = tmp_path_factory.mktemp("optional")
+    captures = {}
+    for name, frames in (("full", list(GDL90_FRAMES.values())), ("bare", BARE_GDL90)):
+        raw = tmp / f"{name}.bin"
+        raw.write_bytes(b"".join(frames) * 2)
+        captures[name] = tmp / f"{name}-gdl90.pcapng"
+        subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "gdl90", "--out",
+                        str(captures[name])], check=True, capture_output=True)
+    exports = {"full": [captures["full"], fleet[0]], "bare": [captures["bare"], fleet[3]]}
+    root = tmp / "exports"
+    for name, sources in exports.items():
+        subprocess.run([PROTOLINK, "export", "--air", "--out", str(root / name), *map(str, sources)],
+                       check=True, capture_output=True)
+    return root, exports
+
+
+def test_a_capture_without_optional_fields_has_the_schema_of_one_with_them(optional_exports):
+    root, exports = optional_exports
+    bare_events = decode_json(exports["bare"][0])[0]
+    ownship = [e for e in bare_events if e.get("name") == "OWNSHIP"][0]["fields"]
+    assert ownship["position"] is None and ownship["track"] is None and ownship["ground_speed_kt"] is None
+    ahrs = [e for e in bare_events if e.get("name") == "FOREFLIGHT_AHRS"][0]["fields"]
+    assert all(v is None for v in ahrs.values())
+    # Every table the two exports share: one schema, field for field, units included.
+    tables = {p.relative_to(root / "full") for p in (root / "full").glob("proto=*/type=*")}
+    shared = sorted(t for t in tables if (root / "bare" / t).is_dir())
+    assert {"proto=gdl90/type=OWNSHIP", "proto=gdl90/type=FOREFLIGHT_AHRS", "proto=aeolus/type=GYRO",
+            "proto=aeolus/type=AIR"} <= {str(t) for t in shared}
+    for t in shared:
+        full = pq.read_schema(root / "full" / t / "part-00000.parquet")
+        bare = pq.read_schema(root / "bare" / t / "part-00000.parquet")
+        assert bare.equals(full, check_metadata=True), t
+        assert all(str(f.type) != "null" for f in bare), t
+        assert not list((root / "bare" / t).glob("part-00001.*")), t
+    # DuckDB and Polars read each table of both exports through one glob, no schema option.
+    for name in ("OWNSHIP", "FOREFLIGHT_AHRS"):
+        glob = f"{root}/*/proto=gdl90/type={name}/*.parquet"
+        want = count(exports["full"] + exports["bare"], name, "gdl90")
+        rows = duckdb.sql(f"SELECT count(*), count(DISTINCT capture_id) FROM read_parquet('{glob}')").fetchall()
+        assert rows == [(want, 2)], name
+        frame = pl.scan_parquet(glob, hive_partitioning=True).collect()
+        assert frame.height == want and set(frame["proto"]) == {"gdl90"}
+    nulls = duckdb.sql(f"SELECT file, count(\"position.lat_deg\") FROM read_parquet('{root}/*/proto=gdl90/type=OWNSHIP/*.parquet') "
+                       "GROUP BY file ORDER BY file").fetchall()
+    assert nulls == [("bare-gdl90.pcapng", 0), ("full-gdl90.pcapng", 2)]

@@ -48,6 +48,18 @@ def test_rows_of_a_capture(tmp_path):
     assert gyro["frame"].iloc[0] == 1
 
 
+def test_frames_keep_their_protocol_and_units_in_attrs():
+    frames = protolink.to_frames(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")
+    gyro = frames["GYRO"]
+    assert gyro.attrs["proto"] == "aeolus"
+    assert gyro.attrs["units"] == {"capture_time": "s since 1970", "offset": "byte", "meta.len": "byte", "timestamp_ms": "ms",
+                                   "x": "rad/s", "y": "rad/s", "z": "rad/s"}
+    assert frames["PRESSURE"].attrs["units"]["static_mbar"] == "mbar"
+    assert "valid" not in gyro.attrs["units"]
+    # A frame's attrs are its own: another table's units are not in them.
+    assert frames["ACCEL"].attrs["units"]["x"] == "m/s²"
+
+
 def test_rows_of_messages_and_errors():
     d = protolink.aydp.Decoder()
     events = d.feed((TESTDATA / "qemu-uart1-aydp.bin").read_bytes() + b"\xff\x03\x2b\x00\x00\x00\x01")

@@ -8,7 +8,7 @@ import subprocess
 
 import pytest
 
-from test_export import count, equal, expected, expected_row, fleet, two_exports  # noqa: F401 (fixtures)
+from test_export import count, equal, expected, expected_row, fleet, optional_exports, two_exports  # noqa: F401 (fixtures)
 from conftest import PROTOLINK
 
 pyspark_sql = pytest.importorskip("pyspark.sql")
@@ -58,3 +58,13 @@ def test_spark_reads_one_table_of_two_exports_through_one_glob(two_exports, spar
     frame = spark.read.option("mergeSchema", "true").parquet(f"{root}/*/proto=aeolus/type=GYRO")
     assert frame.count() == count(everything, "GYRO", "aeolus")
     assert frame.select("source").distinct().count() == 2
+
+
+def test_spark_reads_exports_with_and_without_optional_fields_through_one_glob(optional_exports, spark):  # noqa: F811
+    # No mergeSchema: the parts of both exports have one schema.
+    root, exports = optional_exports
+    frame = spark.read.parquet(f"{root}/*/proto=gdl90/type=OWNSHIP")
+    assert frame.count() == count(exports["full"] + exports["bare"], "OWNSHIP", "gdl90")
+    per_file = {r["file"]: r["n"] for r in frame.groupBy("file").agg({"`position.lat_deg`": "count"})
+                .withColumnRenamed("count(position.lat_deg)", "n").collect()}
+    assert per_file == {"bare-gdl90.pcapng": 0, "full-gdl90.pcapng": 2}

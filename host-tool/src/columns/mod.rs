@@ -8,6 +8,7 @@
 //! | column | type | what |
 //! |---|---|---|
 //! | `source` | Utf8 | the file it was read from (`export`; only when given) |
+//! | `file`, `capture_id` | Utf8, Utf8 | that file's name and content identity ([`SourceId`]; with `source`) |
 //! | `capture_time` | Float64 | the capture record's time, seconds since the Unix epoch (null from a byte file) |
 //! | `time` | Timestamp(µs, UTC) | the row's time: the capture record's, else an AYDP message's header time (`meta.time`); null when it has neither |
 //! | `offset` | Int64 | its first byte in the input (in its flow, for a capture) |
@@ -21,7 +22,8 @@
 //! as hex is that text (AOK slots and actions, an AYDP system control's `command`, raw
 //! `data`); a list (AYDP output entries, satellites) is kept as its JSON text. Error events
 //! make the table `ERROR` (`kind`, `error`). A field named like a metadata column is written as
-//! `field.NAME` (no field of the four protocols is).
+//! `field.NAME` (no field of the four protocols is). [`Tables::keep`] keeps only some rows
+//! ([`Keep`]: `export --types`, `--since`, `--until`).
 //!
 //! ```
 //! use protolink::columns::{Origin, Tables};
@@ -38,9 +40,12 @@
 //! assert_eq!(names, ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc", "text", "hex"]);
 //! ```
 
+mod air;
 mod column;
 mod fnv;
+mod keep;
 mod row;
+mod source;
 mod table;
 mod typed;
 mod unit;
@@ -50,6 +55,9 @@ pub mod write;
 use arrow_array::RecordBatch;
 use serde::Serialize;
 use serde_json::{Map, Value};
+
+pub use self::keep::{Keep, TYPES, parse_time};
+pub use self::source::{ID_PREFIX, SourceId};
 
 use self::column::Scalar;
 use self::fnv::FnvMap;
@@ -86,8 +94,10 @@ pub fn proto_of(batch: &RecordBatch) -> Option<&str> {
 }
 
 /// The metadata columns a field's name must not take.
-const METADATA: [&str; 7] = [
+const METADATA: [&str; 9] = [
     "source",
+    "file",
+    "capture_id",
     "capture_time",
     "time",
     "offset",
@@ -126,6 +136,14 @@ pub struct Tables {
     row_group: usize,
     full: Vec<(String, RecordBatch)>,
     rows: u64,
+    /// The rows kept.
+    keep: Keep,
+    /// Rows left out by `keep`.
+    left_out: u64,
+    /// The name and identity of the file being read (`export`).
+    source_id: Option<SourceId>,
+    /// The flows' state for the `AIR` table, when it is derived.
+    air: Option<self::air::AirState>,
 }
 
 impl std::fmt::Debug for Tables {
@@ -152,7 +170,78 @@ impl Tables {
             row_group: row_group.max(1),
             full: Vec::new(),
             rows: 0,
+            keep: Keep::default(),
+            left_out: 0,
+            source_id: None,
+            air: None,
         }
+    }
+
+    /// From now on, each AEOLUS PRESSURE also makes a row of the table `AIR`: the air data
+    /// derived from it (indicated and true airspeed, pressure altitude, vertical speed; see
+    /// `columns/air.rs`), as `export` writes it.
+    ///
+    /// ```
+    /// use aeolus_proto::message::{Message, Pressure};
+    /// use protolink::columns::{Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// tables.derive_air();
+    /// let p = Pressure { valid: true, timestamp_ms: 0.0, static_mbar: 1013.25, pitot_mbar: 0.0, airspeed_mps: 0.0 };
+    /// tables.add_aeolus_message(&Origin::default(), 0, 60, true, 25, &Message::Pressure(p));
+    /// let names: Vec<String> = tables.finish().into_iter().map(|(n, _)| n).collect();
+    /// assert_eq!(names, ["AIR", "PRESSURE"]);
+    /// ```
+    pub fn derive_air(&mut self) {
+        self.air.get_or_insert_with(Default::default);
+    }
+
+    /// From now on, only the rows `keep` keeps are added (the others are counted,
+    /// [`Tables::left_out`]).
+    ///
+    /// ```
+    /// use protolink::columns::{Keep, Origin, Tables};
+    /// let mut tables = Tables::new(8);
+    /// tables.keep(Keep::new(&["TOAST".into()], None, None)?);
+    /// tables.add_error(&Origin::default(), 0, "truncated", "input ends inside a frame");
+    /// assert_eq!((tables.rows(), tables.left_out()), (0, 1));
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn keep(&mut self, keep: Keep) {
+        self.keep = keep;
+    }
+
+    /// Rows left out by [`Tables::keep`]: of a type not asked for, or outside the times.
+    pub fn left_out(&self) -> u64 {
+        self.left_out
+    }
+
+    /// The file the next rows come from, named in their `file` and `capture_id` columns when
+    /// their origin names a `source` ([`SourceId::of`]).
+    pub fn reading(&mut self, id: Option<SourceId>) {
+        self.source_id = id;
+        if let Some(air) = &mut self.air {
+            air.clear();
+        }
+    }
+
+    /// Whether a row of table `name` of `proto` at `time` (the capture's, else `own_time`) is
+    /// kept; counts it when it is not.
+    fn kept(
+        &mut self,
+        name: &str,
+        proto: Option<Proto>,
+        origin: &Origin,
+        own: Option<i64>,
+    ) -> bool {
+        if self.keep.keeps_everything() {
+            return true;
+        }
+        let time = origin.capture_time.map(micros).or(own);
+        let kept = self.keep.keeps_type(name, proto) && self.keep.keeps_time(time);
+        if !kept {
+            self.left_out += 1;
+        }
+        kept
     }
 
     /// Rows added so far.
@@ -248,6 +337,13 @@ impl Tables {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
             table.set_static("source", Scalar::Str(s));
+            let id = self.source_id.as_ref();
+            table.set_typed("file", id.map(|id| Scalar::Str(&id.file)), Scalar::Str(""));
+            table.set_typed(
+                "capture_id",
+                id.map(|id| Scalar::Str(&id.capture_id)),
+                Scalar::Str(""),
+            );
         }
         table.set_typed(
             "capture_time",
@@ -305,6 +401,14 @@ impl Tables {
     /// ```
     pub fn add(&mut self, origin: &Origin, placed: &Placed<'_>) {
         let (offset, len) = (placed.offset, placed.len);
+        // An AEOLUS message is checked by `add_aeolus_message`, after the AIR table has seen
+        // it.
+        if !self.keep.keeps_everything()
+            && !matches!(placed.item, Item::Aeolus { .. })
+            && !self.kept_item(origin, placed)
+        {
+            return;
+        }
         match &placed.item {
             Item::Aeolus { frame, message } => {
                 self.add_aeolus_message(origin, offset, frame.id(), frame.has_crc(), len, message);
@@ -313,11 +417,7 @@ impl Tables {
                 // The header's time (normal messages), in the unit of the frame's profile.
                 let time = frame.timestamp();
                 let profile = frame.profile();
-                let own = time.map(|t| {
-                    t.seconds
-                        .saturating_mul(1_000_000)
-                        .saturating_add(t.subsec_micros(profile))
-                });
+                let own = aydp_time(frame);
                 let (i, table) =
                     self.begin_static(aydp_name(message), Proto::Aydp, origin, offset, own);
                 table.set_static("meta.type", Scalar::I64(frame.base_type().into()));
@@ -365,6 +465,19 @@ impl Tables {
         }
     }
 
+    /// Whether `placed` is kept (counted when it is not).
+    fn kept_item(&mut self, origin: &Origin, placed: &Placed<'_>) -> bool {
+        let (name, proto, own) = match &placed.item {
+            Item::Aeolus { .. } => return true,
+            Item::Aydp { frame, message } => (aydp_name(message), Proto::Aydp, aydp_time(frame)),
+            Item::AokMessage(m) => (aok_message_name(m), Proto::Aok, None),
+            Item::AokCommand(c) => (aok_command_name(c), Proto::Aok, None),
+            Item::Gdl90(m) => (m.name(), Proto::Gdl90, None),
+            Item::Error(_) => return self.kept("ERROR", origin.proto, origin, None),
+        };
+        self.kept(name, Some(proto), origin, own)
+    }
+
     /// Adds a message as the host tool renders it (`decode --json`'s `name`, metadata and
     /// `fields`).
     ///
@@ -385,6 +498,9 @@ impl Tables {
         meta: &Map<String, Value>,
         fields: &Value,
     ) {
+        if !self.kept(name, origin.proto, origin, None) {
+            return;
+        }
         let (i, table) = self.begin(name, origin, offset);
         for (key, value) in meta {
             match value {
@@ -409,6 +525,9 @@ impl Tables {
     /// assert_eq!(tables.finish()[0].0, "ERROR");
     /// ```
     pub fn add_error(&mut self, origin: &Origin, offset: u64, kind: &str, error: &str) {
+        if !self.kept("ERROR", origin.proto, origin, None) {
+            return;
+        }
         let (i, table) = self.begin("ERROR", origin, offset);
         table.set_static("kind", Scalar::Str(kind));
         table.set_static("error", Scalar::Str(error));
@@ -435,6 +554,20 @@ impl Tables {
         len: u64,
         message: &aeolus_proto::message::Message<'_>,
     ) {
+        if let Some(air) = &mut self.air {
+            use aeolus_proto::message::Message as M;
+            match message {
+                M::Temp(t) => air.temp(origin.flow.as_deref(), t),
+                M::Pressure(p) => {
+                    let data = air.pressure(origin.flow.as_deref(), p);
+                    self.add_air(origin, offset, p.timestamp_ms, &data);
+                }
+                _ => {}
+            }
+        }
+        if !self.kept(message.name(), Some(Proto::Aeolus), origin, None) {
+            return;
+        }
         let (i, table) = self.begin_static(message.name(), Proto::Aeolus, origin, offset, None);
         table.set_static("meta.id", Scalar::I64(id.into()));
         table.set_static("meta.len", Scalar::I64(wide(len)));
@@ -442,6 +575,38 @@ impl Tables {
         // The typed messages' field names are fixed, and none is a metadata column's
         // (python/tests/test_field_names.py): no check per row.
         typed::aeolus(table, message);
+        self.end(i);
+    }
+
+    /// A row of `AIR`: the air data of the PRESSURE at `offset`, of box time `box_ms`.
+    fn add_air(
+        &mut self,
+        origin: &Origin,
+        offset: u64,
+        box_ms: f64,
+        air: &crate::air_data::AirData,
+    ) {
+        if !self.kept("AIR", Some(Proto::Aeolus), origin, None) {
+            return;
+        }
+        let (i, table) = self.begin_static("AIR", Proto::Aeolus, origin, offset, None);
+        let real = |v: Option<f64>| v.map(Scalar::F64);
+        table.set_static("timestamp_ms", Scalar::F64(box_ms));
+        table.set_typed("static_hpa", real(air.static_hpa), Scalar::F64(0.0));
+        table.set_typed("dynamic_pa", real(air.dynamic_pa), Scalar::F64(0.0));
+        table.set_typed("celsius", real(air.celsius), Scalar::F64(0.0));
+        table.set_typed("ias_mps", real(air.ias_mps), Scalar::F64(0.0));
+        table.set_typed("tas_mps", real(air.tas_mps), Scalar::F64(0.0));
+        table.set_typed(
+            "pressure_altitude_m",
+            real(air.pressure_altitude_m),
+            Scalar::F64(0.0),
+        );
+        table.set_typed(
+            "vertical_speed_mps",
+            real(air.vertical_speed_mps),
+            Scalar::F64(0.0),
+        );
         self.end(i);
     }
 
@@ -515,6 +680,17 @@ pub fn unify(batches: Vec<RecordBatch>) -> (arrow_schema::SchemaRef, Vec<RecordB
 #[allow(clippy::cast_possible_truncation)]
 fn micros(seconds: f64) -> i64 {
     (seconds * 1e6).round() as i64
+}
+
+/// An AYDP frame's header time (normal messages), µs since the Unix epoch, its sub-seconds
+/// read in the unit of the frame's profile.
+fn aydp_time(frame: &aydp_proto::Frame<'_>) -> Option<i64> {
+    let profile = frame.profile();
+    frame.timestamp().map(|t| {
+        t.seconds
+            .saturating_mul(1_000_000)
+            .saturating_add(t.subsec_micros(profile))
+    })
 }
 
 /// An AYDP profile's name, as `--profile` takes it.

@@ -8,7 +8,7 @@ pub(crate) const KEY: &str = "unit";
 
 /// Units by the end of a column's name: its last part, or for an element of a fixed-size array
 /// (`name.0`) the array's name.
-const SUFFIXES: [(&str, &str); 13] = [
+const SUFFIXES: [(&str, &str); 15] = [
     ("_ms", "ms"),
     ("_mps", "m/s"),
     ("_mbar", "mbar"),
@@ -22,6 +22,8 @@ const SUFFIXES: [(&str, &str); 13] = [
     ("_fpm", "ft/min"),
     ("_dps", "deg/s"),
     ("g_load", "g"),
+    ("_hpa", "hPa"),
+    ("_pa", "Pa"),
 ];
 
 /// Units of columns whose names do not say them: (message type, or "" for every table,

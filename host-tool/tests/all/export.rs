@@ -207,3 +207,161 @@ fn an_export_into_a_directory_that_holds_anything_is_refused_before_writing() {
     assert_eq!(std::fs::read_dir(&other).unwrap().count(), 1);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A pcapng of two copies of the AEOLUS sample 100 s apart, each in chunks of 1000 bytes a
+/// millisecond apart: the first from 1,700,000,000 s (2023-11-14T22:13:20Z), the second from
+/// 1,700,000,100 s.
+fn two_flights(path: &Path) {
+    let mut w = CaptureWriter::create(path, 147, "uart").unwrap();
+    for start in [1_700_000_000, 1_700_000_100] {
+        for (i, chunk) in SAMPLE.chunks(1000).enumerate() {
+            let time = Duration::from_secs(start) + Duration::from_millis(i as u64);
+            w.chunk(time, chunk).unwrap();
+        }
+    }
+    w.flush().unwrap();
+}
+
+/// The tables an export's output lists: (`proto=P/type=T`, rows).
+fn tables_of(out: &str) -> Vec<(String, u64)> {
+    out.lines()
+        .filter(|l| l.starts_with("proto="))
+        .map(|l| {
+            let (dir, rest) = l.split_once(' ').unwrap();
+            (
+                dir.to_owned(),
+                rest.split(' ').next().unwrap().parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn types_since_and_until_choose_the_rows() {
+    let dir = temp_dir("choose");
+    let a = dir.join("a.pcapng");
+    two_flights(&a);
+    let export = |tag: &str, options: &[&str]| {
+        let out = dir.join(tag);
+        let mut args = vec!["export", "--out", out.to_str().unwrap()];
+        args.extend(options);
+        args.push(a.to_str().unwrap());
+        (ok(&run(&args)), out)
+    };
+    let (all, _) = export("all", &[]);
+    let all = tables_of(&all);
+    let rows = |tables: &[(String, u64)], dir: &str| {
+        tables.iter().find(|(d, _)| d == dir).map_or(0, |&(_, n)| n)
+    };
+    let (gyro, pressure) = (
+        rows(&all, "proto=aeolus/type=GYRO"),
+        rows(&all, "proto=aeolus/type=PRESSURE"),
+    );
+    assert!(gyro > 100 && pressure > 10 && all.len() > 5, "{all:?}");
+    let total: u64 = all.iter().map(|(_, n)| n).sum();
+    // --types: those tables only, whole; the line and the summary count the rows left out.
+    let (text, out) = export("types", &["--types", "gyro,aeolus.PRESSURE"]);
+    assert_eq!(
+        tables_of(&text),
+        [
+            ("proto=aeolus/type=GYRO".to_owned(), gyro),
+            ("proto=aeolus/type=PRESSURE".to_owned(), pressure)
+        ]
+    );
+    let left = total - gyro - pressure;
+    assert!(
+        line_of(&text, &a).ends_with(&format!("{} rows ({left} left out)", gyro + pressure)),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(", {left} rows left out by --types")),
+        "{text}"
+    );
+    assert_eq!(
+        std::fs::read_dir(out.join("proto=aeolus")).unwrap().count(),
+        2
+    );
+    // AIR, when asked for: a row per PRESSURE, derived from the PRESSURE rows even when they
+    // are left out.
+    let (text, _) = export("air", &["--types", "AIR"]);
+    assert_eq!(
+        tables_of(&text),
+        [("proto=aeolus/type=AIR".to_owned(), pressure)]
+    );
+    assert_eq!(rows(&all, "proto=aeolus/type=AIR"), 0);
+    let (text, _) = export("with-air", &["--air"]);
+    let with_air = tables_of(&text);
+    assert_eq!(rows(&with_air, "proto=aeolus/type=AIR"), pressure);
+    assert_eq!(with_air.len(), all.len() + 1);
+    // --since and --until: the second flight, then the first; every row of either is one.
+    let (second, _) = export("since", &["--since", "2023-11-14T22:14:00Z"]);
+    let (first, _) = export(
+        "until",
+        &["--until", "2023-11-14T23:14:00+01:00", "--types", "GYRO"],
+    );
+    let second = tables_of(&second);
+    assert_eq!(second.iter().map(|(_, n)| n).sum::<u64>() * 2, total);
+    assert_eq!(rows(&second, "proto=aeolus/type=GYRO") * 2, gyro);
+    assert_eq!(
+        tables_of(&first),
+        [("proto=aeolus/type=GYRO".to_owned(), gyro / 2)]
+    );
+    // 10 ms of the first flight (10 of its 79 records): some of its rows, none of the
+    // second's.
+    let (window, _) = export(
+        "window",
+        &[
+            "--since",
+            "2023-11-14T22:13:20.010Z",
+            "--until",
+            "2023-11-14T22:13:20.020Z",
+        ],
+    );
+    let got: u64 = tables_of(&window).iter().map(|(_, n)| n).sum();
+    assert!(got > 0 && got < total / 8, "{got} of {total}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_types_and_times_are_refused_in_one_sentence_before_writing() {
+    let dir = temp_dir("refused");
+    let a = dir.join("a.pcapng");
+    capture(&a, 1);
+    let out = dir.join("tables");
+    for (options, sentence) in [
+        (
+            &["--types", "GYRO,GYROS"][..],
+            "error: 'GYROS' is no message type of aeolus, aydp, aok or gdl90 (docs/columns.md lists them, ERROR is the errors)",
+        ),
+        (
+            &["--types", "aok.GYRO"],
+            "error: 'aok.GYRO' is no message type of aok (docs/columns.md lists them, ERROR is the errors)",
+        ),
+        (
+            &["--since", "yesterday"],
+            "error: 'yesterday' is not a time: give one as 2024-05-01T12:00:00Z or 2024-05-01T14:00:00.5+02:00 (RFC 3339), or a day as 2024-05-01",
+        ),
+        (
+            &["--until", "2024-02-30"],
+            "error: '2024-02-30' is not a time",
+        ),
+        (
+            &[
+                "--since",
+                "2024-05-01T12:00:00Z",
+                "--until",
+                "2024-05-01T13:00:00+01:00",
+            ],
+            "error: --since (2024-05-01T12:00:00Z) is not before --until (2024-05-01T12:00:00Z): no row would be kept",
+        ),
+    ] {
+        let mut args = vec!["export", "--out", out.to_str().unwrap()];
+        args.extend(options);
+        args.push(a.to_str().unwrap());
+        let err = usage_failed(&run(&args));
+        assert!(err.starts_with(sentence), "{options:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(!out.exists(), "{options:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

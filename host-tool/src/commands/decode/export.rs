@@ -15,7 +15,7 @@ use clap::Args;
 
 use super::tables::{Report, Select, read_file};
 use crate::columns::write::{Export, Format};
-use crate::columns::{ROW_GROUP, Tables};
+use crate::columns::{Keep, ROW_GROUP, Tables};
 use crate::error::{Error, Result};
 use crate::proto::{ProfileArg, Proto, Side};
 use crate::render::Out;
@@ -41,6 +41,21 @@ pub(crate) struct ExportArgs {
     /// AOK: who sent the bytes (pc: commands; device: debug values, acks, replies).
     #[arg(long, value_enum, default_value_t = Side::Device)]
     pub(crate) side: Side,
+    /// Only these message types, comma-separated, as their tables are named (GYRO,PRESSURE;
+    /// aydp.HEARTBEAT for one protocol's; ERROR for the error events).
+    #[arg(long, value_name = "TYPES", value_delimiter = ',')]
+    pub(crate) types: Vec<String>,
+    /// Only rows whose time is at or after this one (RFC 3339, e.g. 2024-05-01T12:00:00Z, or a
+    /// day, 2024-05-01); a row without a time is left out.
+    #[arg(long, value_name = "TIME")]
+    pub(crate) since: Option<String>,
+    /// Only rows whose time is before this one (as --since).
+    #[arg(long, value_name = "TIME")]
+    pub(crate) until: Option<String>,
+    /// Also write the table AIR: the air data derived from each AEOLUS PRESSURE (indicated and
+    /// true airspeed, pressure altitude, vertical speed); --types AIR writes it too.
+    #[arg(long)]
+    pub(crate) air: bool,
     /// Rows per row group (1 to 1048576): the most rows of one type held in memory.
     #[arg(long, value_name = "ROWS", default_value_t = ROW_GROUP, value_parser = row_group)]
     pub(crate) row_group: usize,
@@ -88,6 +103,8 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
             )));
         }
     }
+    let keep = Keep::new(&args.types, args.since.as_deref(), args.until.as_deref())
+        .map_err(Error::Usage)?;
     crate::stop::install_ctrl_c();
     let select = Select {
         proto: args.proto,
@@ -96,6 +113,10 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     };
     let mut export = Export::new(&args.out, args.format)?;
     let mut tables = Tables::new(args.row_group);
+    if args.air || keep.names("AIR") {
+        tables.derive_air();
+    }
+    tables.keep(keep);
     let mut out = Out::new();
     // A file that could not be written ends the export; a source that could not be read
     // does not.
@@ -105,6 +126,7 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     for path in &args.sources {
         let source = path.display().to_string();
         let rows_before = tables.rows();
+        let left_out_before = tables.left_out();
         let mut writing = None;
         let read = read_file(path, &select, Some(&source), &mut tables, |t| {
             for (name, batch) in t.take_full() {
@@ -126,7 +148,8 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
                     total.lost += report.lost;
                     total.damaged += 1;
                 }
-                out.line(&source_line(&source, &report))?;
+                let left_out = tables.left_out() - left_out_before;
+                out.line(&source_line(&source, &report, left_out))?;
                 if report.stopped {
                     stopped = true;
                     break;
@@ -173,6 +196,12 @@ pub(crate) fn run(args: &ExportArgs) -> Result<()> {
     if total.failed > 0 {
         summary += &format!(", {} not read whole", count(total.failed, "source"));
     }
+    if tables.left_out() > 0 {
+        summary += &format!(
+            ", {} rows left out by --types, --since or --until",
+            tables.left_out()
+        );
+    }
     if mismatches > 0 {
         summary += &format!(", {mismatches} values of another type stored as null");
     }
@@ -218,8 +247,11 @@ fn count(n: u64, thing: &str) -> String {
 }
 
 /// A source's line: what was read of it, and what was lost.
-fn source_line(source: &str, report: &Report) -> String {
+fn source_line(source: &str, report: &Report, left_out: u64) -> String {
     let mut line = format!("{source}: {} bytes, {} rows", report.bytes, report.rows);
+    if left_out > 0 {
+        line += &format!(" ({left_out} left out)");
+    }
     if report.damaged > 0 {
         line += &format!(
             "; {} bytes lost in {}, the first at byte {}",

@@ -8,7 +8,7 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use super::capture::CaptureEvents;
-use crate::columns::{Origin, Tables};
+use crate::columns::{Origin, SourceId, Tables};
 use crate::decoders::Decoder;
 use crate::error::{Error, Result};
 use crate::proto::{ProfileArg, Proto, Side};
@@ -56,7 +56,8 @@ pub struct Report {
     pub stopped: bool,
 }
 
-/// Reads the file at `path` into `tables`, every row's `source` set to `source` when given;
+/// Reads the file at `path` into `tables`, every row's `source` set to `source` when given
+/// (and `file` and `capture_id` to the file's name and identity, [`SourceId`]);
 /// `step` runs after each step with the tables (to take their full batches): its
 /// `ControlFlow::Break` ends the reading there ([`Report::stopped`]), its error ends it with
 /// that error.
@@ -93,6 +94,11 @@ pub fn read_file(
 ) -> Result<Report> {
     let rows_before = tables.rows();
     let mut report = Report::default();
+    // An export's rows name the file and its content's identity beside `source`.
+    tables.reading(match source {
+        Some(_) => Some(SourceId::of(path)?),
+        None => None,
+    });
     // The report of a reading `step` stopped after `bytes`.
     let stopped = |mut report: Report, tables: &Tables, bytes: u64| {
         report.bytes = bytes;
