@@ -43,6 +43,10 @@ pub(crate) enum Scalar<'a> {
     F64(f64),
     /// A text.
     Str(&'a str),
+    /// A text that mostly repeats the row before's (a source's name, a protocol's): a column
+    /// whose first value is one keeps each run of equal texts once, and writes it out as a plain
+    /// text column ([`Data::Runs`]).
+    Run(&'a str),
     /// A point in time: microseconds since the Unix epoch, UTC.
     Time(i64),
 }
@@ -102,6 +106,8 @@ pub(crate) enum Data {
     F64(Float64Builder),
     /// UTF-8 texts.
     Str(StringBuilder),
+    /// UTF-8 texts kept as runs of equal ones, turned into a plain text array at the end.
+    Runs(Runs),
     /// Points in time, microseconds since the Unix epoch, UTC.
     Time(TimestampMicrosecondBuilder),
 }
@@ -144,6 +150,7 @@ impl Data {
             Scalar::F32(_) => Data::F32(Float32Builder::new()),
             Scalar::F64(_) => Data::F64(Float64Builder::new()),
             Scalar::Str(_) => Data::Str(StringBuilder::new()),
+            Scalar::Run(_) => Data::Runs(Runs::default()),
             Scalar::Time(_) => Data::Time(TimestampMicrosecondBuilder::new().with_timezone(UTC)),
         };
         d.nulls(nulls);
@@ -154,6 +161,7 @@ impl Data {
     fn nulls(&mut self, n: usize) {
         match self {
             Data::Null(count) => *count += n,
+            Data::Runs(r) => r.push(None, n),
             other => each_primitive!(other, b => b.append_nulls(n), _ => {}),
         }
     }
@@ -177,8 +185,15 @@ impl Data {
                 _ => false,
             },
             Data::Str(b) => match v {
-                Scalar::Str(x) => {
+                Scalar::Str(x) | Scalar::Run(x) => {
                     b.append_value(x);
+                    true
+                }
+                _ => false,
+            },
+            Data::Runs(r) => match v {
+                Scalar::Str(x) | Scalar::Run(x) => {
+                    r.push(Some(x), 1);
                     true
                 }
                 _ => false,
@@ -242,7 +257,7 @@ impl Data {
             Data::U64(_) => DataType::UInt64,
             Data::F32(_) => DataType::Float32,
             Data::F64(_) => DataType::Float64,
-            Data::Str(_) => DataType::Utf8,
+            Data::Str(_) | Data::Runs(_) => DataType::Utf8,
             Data::Time(_) => DataType::Timestamp(TimeUnit::Microsecond, Some(UTC.into())),
         }
     }
@@ -251,10 +266,47 @@ impl Data {
     fn finish(&mut self) -> ArrayRef {
         match self {
             Data::Null(n) => Arc::new(NullArray::new(std::mem::take(n))),
+            Data::Runs(r) => Arc::new(r.finish()),
             other => {
                 each_primitive!(other, b => Arc::new(b.finish()), _ => Arc::new(NullArray::new(0)))
             }
         }
+    }
+}
+
+/// Texts as runs of equal ones: a text that repeats from row to row is kept once a run, not
+/// once a row, until the row group is written.
+#[derive(Default)]
+pub(crate) struct Runs {
+    /// Each run's text (none: nulls) and its length in rows, in order.
+    runs: Vec<(Option<Box<str>>, usize)>,
+}
+
+impl Runs {
+    /// Appends `n` rows of `v`.
+    fn push(&mut self, v: Option<&str>, n: usize) {
+        match self.runs.last_mut() {
+            Some((last, count)) if last.as_deref() == v => *count += n,
+            _ => self.runs.push((v.map(Box::from), n)),
+        }
+    }
+
+    /// The rows so far as a text array; empty again after.
+    fn finish(&mut self) -> arrow_array::StringArray {
+        let rows = self.runs.iter().map(|(_, n)| n).sum();
+        let bytes = self
+            .runs
+            .iter()
+            .map(|(v, n)| v.as_ref().map_or(0, |v| v.len().saturating_mul(*n)))
+            .fold(0usize, usize::saturating_add);
+        let mut b = StringBuilder::with_capacity(rows, bytes);
+        for (v, n) in self.runs.drain(..) {
+            match v {
+                Some(v) => (0..n).for_each(|_| b.append_value(&v)),
+                None => b.append_nulls(n),
+            }
+        }
+        b.finish()
     }
 }
 

@@ -336,13 +336,13 @@ impl Tables {
     ) -> (usize, &mut Table) {
         let table = &mut self.tables[i].1;
         if let Some(s) = &origin.source {
-            table.set_static("source", Scalar::Str(s));
+            table.set_static("source", Scalar::Run(s));
             let id = self.source_id.as_ref();
-            table.set_typed("file", id.map(|id| Scalar::Str(&id.file)), Scalar::Str(""));
+            table.set_typed("file", id.map(|id| Scalar::Run(&id.file)), Scalar::Run(""));
             table.set_typed(
                 "capture_id",
-                id.map(|id| Scalar::Str(&id.capture_id)),
-                Scalar::Str(""),
+                id.map(|id| Scalar::Run(&id.capture_id)),
+                Scalar::Run(""),
             );
         }
         table.set_typed(
@@ -359,16 +359,16 @@ impl Tables {
         if origin.source.is_some() {
             // An export's tables have every metadata column from the first row, so that byte
             // files and captures give the same columns.
-            table.declare("flow", Scalar::Str(""));
+            table.declare("flow", Scalar::Run(""));
             table.declare("frame", Scalar::I64(0));
-            table.declare("proto", Scalar::Str(""));
+            table.declare("proto", Scalar::Run(""));
         }
         if let Some(flow) = &origin.flow {
-            table.set_static("flow", Scalar::Str(flow));
+            table.set_static("flow", Scalar::Run(flow));
             let frame = origin.frame.and_then(|f| i64::try_from(f).ok());
             table.set_typed("frame", frame.map(Scalar::I64), Scalar::I64(0));
-            let proto = origin.proto.map(|p| Scalar::Str(proto_name(p)));
-            table.set_typed("proto", proto, Scalar::Str(""));
+            let proto = origin.proto.map(|p| Scalar::Run(proto_name(p)));
+            table.set_typed("proto", proto, Scalar::Run(""));
         }
         (i, table)
     }
