@@ -24,9 +24,11 @@ use crate::links::{Application, Shared, now_ms};
 
 /// Time after boot before the window opens, ms.
 const WARMUP_MS: u64 = 1_000;
-/// Instructions of the calibration's shorter delay (the longer is twice this).
+/// The calibration's delays: `delay(CAL)` and `delay(2 * CAL)`, whose difference is `2 * CAL`
+/// instructions (cortex-m 0.7's `delay(n)` runs `n + 1` iterations of `subs; bne`), as the
+/// blocking board's budget build logs it.
 const CAL: u32 = 100_000;
-/// Switches of the account the calibration times.
+/// Rounds of the account the calibration times, two switches each (`enter`, `leave`).
 const SWITCHES: u32 = 1_000;
 
 /// The window, ms: `BUDGET_SECONDS` at build time (whole seconds), 10 s without it.
@@ -93,8 +95,8 @@ fn counts(from: u32, to: u32, period: u32) -> u32 {
     }
 }
 
-/// The calibration line: SysTick counts of two delays (their difference is `CAL`
-/// instructions) and of [`SWITCHES`] switches of the account.
+/// The calibration line: SysTick counts of two delays (their difference is `2 * CAL`
+/// instructions) and of [`SWITCHES`] rounds of the account (`2 * SWITCHES` switches).
 fn calibrate() {
     let period = SYST::get_reload().wrapping_add(1);
     let (short, long, switch) = free(|_| {
@@ -117,9 +119,9 @@ fn calibrate() {
     });
     defmt::info!(
         "budget: calibration {=u32} instructions = {=u32} counts; {=u32} switches = {=u32} counts",
-        CAL,
+        2 * CAL,
         long.saturating_sub(short),
-        SWITCHES,
+        2 * SWITCHES,
         switch
     );
 }
