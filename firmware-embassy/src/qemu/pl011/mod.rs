@@ -33,6 +33,11 @@ use firmware_example::{PortStats, QueuedSerial, SerialIsr};
 use sensor_box::budget::{self, Category};
 use sensor_box::port::Receive;
 
+use firmware_example::lm3s6965::uart::{
+    self, CTL, CTL_UARTEN_TXE_RXE, DR, DR_ERRORS, FBRD, FR, IBRD, ICR, IFLS,
+    IFLS_RX_HALF_TX_EIGHTH, IMSC, INT_ALL, LCRH, LCRH_WLEN8_FEN,
+};
+
 use super::chip::{CORE_HZ, Irq};
 use wake::{FR_RXFE, FR_TXFF, INT_RT, INT_RX, INT_TX};
 
@@ -45,27 +50,20 @@ const NO_TX: usize = 1;
 
 /// The UARTs' baud rate (QEMU ignores it; a real part needs it).
 const BAUD: u32 = 115_200;
-/// The baud divisor in 64ths: core clock / (16 x baud), rounded.
-const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
+/// The baud divisor in 64ths.
+const BAUD_DIV_64THS: u32 = uart::baud_div_64ths(CORE_HZ, BAUD);
 
-// Registers (offsets from a UART's base) and bits.
-const DR: usize = 0x000;
-const FR: usize = 0x018;
-const IBRD: usize = 0x024;
-const FBRD: usize = 0x028;
-const LCRH: usize = 0x02C;
-const CTL: usize = 0x030;
-const IFLS: usize = 0x034;
-const IMSC: usize = 0x038;
-const ICR: usize = 0x044;
-/// DR's error bits: overrun, break, parity, framing.
-const DR_ERRORS: u32 = 0xF00;
-const INT_ALL: u32 = 0x7FF;
-/// RX at half full, TX at one-eighth full.
-const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
-/// 8 data bits, FIFOs on.
-const LCRH_WLEN8_FEN: u32 = 0x70;
-const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
+// `wake` keeps its own copy of the bits it decides on (it is compiled on the host alone, in
+// tests/tests/all/harness/pl011_wake.rs); they are the register map's.
+const _: () = assert!(
+    FR_RXFE == uart::FR_RXFE
+        && FR_TXFF == uart::FR_TXFF
+        && wake::FR_TXFE == uart::FR_TXFE
+        && INT_RX == uart::INT_RX
+        && INT_TX == uart::INT_TX
+        && INT_RT == uart::INT_RT
+);
+
 /// The UARTs' interrupt priority (below SysTick's, which is the highest).
 const PRIORITY: u8 = 0x40;
 
@@ -135,9 +133,9 @@ impl Uart {
 }
 
 static UARTS: [Uart; 3] = [
-    Uart::new(0x4000_C000, Irq::Uart0, false),
-    Uart::new(0x4000_D000, Irq::Uart1, false),
-    Uart::new(0x4000_E000, Irq::Uart2, true),
+    Uart::new(uart::BASE[0], Irq::Uart0, false),
+    Uart::new(uart::BASE[1], Irq::Uart1, false),
+    Uart::new(uart::BASE[2], Irq::Uart2, true),
 ];
 
 /// The receive rings, one per UART (split once, in [`init`]).
