@@ -39,11 +39,24 @@ use crate::links::{Application, Port, RxErrors, Shared, now_ms};
 /// loop's sleep in the same way): its heart beats at least this often.
 pub const MAX_SLEEP_MS: u64 = 250;
 
+/// A reader that says whether a read began a burst: its receive side saw the line silent
+/// ([`GAP_MS`](sensor_box::aok_link::GAP_MS)) before the read's first byte by its own clock,
+/// however late the task read it (`sensor_box::port::Receive::burst_starts`). Such a reader
+/// never returns a read that crosses such a point.
+pub trait Bursts {
+    /// Whether the last read began a burst. A reader with no clock of its own (a DMA ring)
+    /// says `false`: the link then observes silence itself, by polling.
+    fn began_burst(&self) -> bool;
+}
+
 /// The AOK link's port for one poll: the received bytes the task holds, lent through
-/// [`Receive`]; a UART error to report; the TX queue its pump drains.
+/// [`Receive`]; whether the first of them begins a burst; a UART error to report; the TX
+/// queue its pump drains.
 struct AokPort<'a> {
     rx: &'a [u8],
     taken: usize,
+    /// The held bytes begin a burst (until the link takes the first).
+    starts: bool,
     error: bool,
     tx: &'a mut Port,
 }
@@ -63,7 +76,14 @@ impl Receive for AokPort<'_> {
         }
         let n = take(rest).min(rest.len());
         self.taken += n;
+        if n > 0 {
+            self.starts = false;
+        }
         Ok(n)
+    }
+
+    fn burst_starts(&self) -> bool {
+        self.starts && self.taken < self.rx.len()
     }
 }
 
@@ -86,7 +106,7 @@ impl WriteReady for AokPort<'_> {
 
 /// AOK: reads `uart` into the AOK link and polls it on every read and at its wake time
 /// (see the module docs). `heart` beats on every poll, at least every [`MAX_SLEEP_MS`].
-pub async fn aok<R: Read + ReadReady>(
+pub async fn aok<R: Read + ReadReady + Bursts>(
     mut uart: R,
     shared: &Shared,
     errors: &RxErrors,
@@ -95,6 +115,8 @@ pub async fn aok<R: Read + ReadReady>(
     let mut buf = [0u8; RX_BUDGET];
     // The bytes of `buf` read from the UART and not yet taken by the link.
     let mut held: Range<usize> = 0..0;
+    // Whether the held bytes begin a burst (the reader said so before it read them).
+    let mut starts = false;
     let mut error = false;
     loop {
         heart.beat();
@@ -105,11 +127,13 @@ pub async fn aok<R: Read + ReadReady>(
                 let mut port = AokPort {
                     rx: buf.get(held.clone()).unwrap_or(&[]),
                     taken: 0,
+                    starts,
                     error: core::mem::take(&mut error),
                     tx: aok_tx,
                 };
                 app.aok.poll(now, &mut port, &mut app.shared);
                 held.start = held.start.saturating_add(port.taken).min(held.end);
+                starts = port.starts;
                 app.aok.next_wake_ms()
             })
             .unwrap_or(now);
@@ -136,7 +160,10 @@ pub async fn aok<R: Read + ReadReady>(
             },
         };
         match read {
-            Ok(n) => held = 0..n.min(buf.len()),
+            Ok(n) => {
+                held = 0..n.min(buf.len());
+                starts = uart.began_burst();
+            }
             Err(_) => {
                 errors.bump();
                 error = true;

@@ -319,6 +319,14 @@ async fn aok_task(
     aok::aok(uart, shared, &AOK_RX_ERRORS, heart).await
 }
 
+/// The DMA ring has no clock of its own per byte: the AOK link observes silence itself, by
+/// polling ([`aok::Bursts`]).
+impl aok::Bursts for RingBufferedUartRx<'_> {
+    fn began_burst(&self) -> bool {
+        false
+    }
+}
+
 /// Transmit: one port's TX queue to its UART by DMA ([`links::pump_tx`]); one per UART.
 #[embassy_executor::task(pool_size = 3)]
 async fn tx_task(

@@ -12,7 +12,11 @@
 //!   the serial port type the application sees on every board (two `bbqueue` rings; the
 //!   other ends, [`SerialIsr`], belong to the board's UART interrupt handler), and
 //!   [`MemFlash`] / [`FlashWindow`], NOR flash over a byte slice and a sub-range of a
-//!   bigger flash.
+//!   bigger flash;
+//! * [`lm3s6965`]: the register map of the chip QEMU's `lm3s6965evb` models, and its
+//!   interrupt table, shared by the blocking QEMU board and the async firmware's;
+//! * `budget_report` (on the target only): the `cpu-budget` builds' calibration and report
+//!   lines, the same from both QEMU boards.
 //!
 //! The boards themselves (`src/board/qemu.rs`, `src/board/stm32f411.rs`) and
 //! the `sensor-box` binary live in the binary target: all `unsafe` of the
@@ -35,7 +39,10 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(target_os = "none")]
+pub mod budget_report;
 pub mod clock;
+pub mod lm3s6965;
 pub use sensor_box::{serial, storage};
 
 pub use clock::{Clock, ManualClock};

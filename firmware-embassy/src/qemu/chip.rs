@@ -1,15 +1,20 @@
 //! The LM3S6965 as QEMU's `lm3s6965evb` models it, below the drivers: the core clock, the
 //! watchdog, the reset records, the interrupt vectors, the fault and panic exits, the stack's
-//! high-water mark. The facts (addresses, bits, QEMU's behaviour) are the blocking QEMU
-//! board's (`firmware-example/src/board/qemu.rs`), which states their sources.
+//! high-water mark. The register map and the interrupt table are the blocking QEMU board's
+//! (`firmware_example::lm3s6965`), and so are the facts about QEMU's behaviour
+//! (`firmware-example/src/board/qemu.rs`, which states their sources).
 
 use core::mem::MaybeUninit;
 use core::ptr::{addr_of_mut, read_volatile, write_volatile};
 
+use firmware_example::lm3s6965::sysctl::{
+    self, PLL_LOCK_POLLS, RCC_BYPASS, RCC_PWRDN, RCC_SYSDIV_MASK, RCC_SYSDIV_SHIFT, RCC_USESYSDIV,
+    RCGC0_WDT, RCGC1_UARTS, RIS_PLLLRIS,
+};
+use firmware_example::lm3s6965::{self, uart, wdt};
+
 use super::pl011;
 
-/// The PLL output SYSDIV divides, Hz (QEMU: a 5 ns period times SYSDIV + 1).
-const PLL_HZ: u32 = 200_000_000;
 /// The system clock divisor: 15, the reset value's (12.5 MHz), as the blocking board.
 #[cfg(not(feature = "cpu-budget"))]
 const SYSDIV: u32 = 15;
@@ -19,23 +24,7 @@ const SYSDIV: u32 = 15;
 #[cfg(feature = "cpu-budget")]
 const SYSDIV: u32 = 0;
 /// The core clock, Hz: what SysTick, the watchdog and the UARTs count.
-pub const CORE_HZ: u32 = PLL_HZ / (SYSDIV + 1);
-
-const SYSCTL_RIS: usize = 0x400F_E050;
-const SYSCTL_RESC: usize = 0x400F_E05C;
-const SYSCTL_RCC: usize = 0x400F_E060;
-const SYSCTL_RCGC0: usize = 0x400F_E100;
-const SYSCTL_RCGC1: usize = 0x400F_E104;
-const RCC_SYSDIV_SHIFT: u32 = 23;
-const RCC_SYSDIV_MASK: u32 = 0xF << RCC_SYSDIV_SHIFT;
-const RCC_USESYSDIV: u32 = 1 << 22;
-const RCC_PWRDN: u32 = 1 << 13;
-const RCC_BYPASS: u32 = 1 << 11;
-const RIS_PLLLRIS: u32 = 1 << 6;
-const PLL_LOCK_POLLS: u32 = 100_000;
-const RCGC0_WDT: u32 = 1 << 3;
-/// RCGC1: UART0..2 clocked.
-const RCGC1_UARTS: u32 = 0b111;
+pub const CORE_HZ: u32 = lm3s6965::core_hz(SYSDIV);
 
 /// Runs the core from the PLL divided by `SYSDIV + 1` ([`CORE_HZ`]) and clocks the watchdog
 /// and the three UARTs. Call once, first.
@@ -43,29 +32,25 @@ pub fn init_clocks() {
     // SAFETY: valid LM3S6965 system-control registers, used by nothing else; this runs before
     // SysTick, the UARTs and the watchdog start.
     unsafe {
-        let rcc = read_volatile(SYSCTL_RCC as *const u32);
-        write_volatile(SYSCTL_RCC as *mut u32, rcc & !RCC_PWRDN);
+        let rcc = read_volatile(sysctl::RCC as *const u32);
+        write_volatile(sysctl::RCC as *mut u32, rcc & !RCC_PWRDN);
         let mut polls = 0;
-        while read_volatile(SYSCTL_RIS as *const u32) & RIS_PLLLRIS == 0 && polls < PLL_LOCK_POLLS {
+        while read_volatile(sysctl::RIS as *const u32) & RIS_PLLLRIS == 0 && polls < PLL_LOCK_POLLS
+        {
             polls += 1;
         }
         let run = (rcc & !(RCC_PWRDN | RCC_BYPASS | RCC_SYSDIV_MASK))
             | RCC_USESYSDIV
             | (SYSDIV << RCC_SYSDIV_SHIFT);
-        write_volatile(SYSCTL_RCC as *mut u32, run);
-        let rcgc0 = read_volatile(SYSCTL_RCGC0 as *const u32);
-        write_volatile(SYSCTL_RCGC0 as *mut u32, rcgc0 | RCGC0_WDT);
-        write_volatile(SYSCTL_RCGC1 as *mut u32, RCGC1_UARTS);
+        write_volatile(sysctl::RCC as *mut u32, run);
+        let rcgc0 = read_volatile(sysctl::RCGC0 as *const u32);
+        write_volatile(sysctl::RCGC0 as *mut u32, rcgc0 | RCGC0_WDT);
+        write_volatile(sysctl::RCGC1 as *mut u32, RCGC1_UARTS);
     }
 }
 
 // ------------------------------------------------------------------ watchdog
 
-const WDT_LOAD: usize = 0x4000_0000;
-const WDT_CTL: usize = 0x4000_0008;
-const WDT_ICR: usize = 0x4000_000C;
-/// WDTCTL: INTEN (start counting) and RESEN (the second time-out resets).
-const WDT_CTL_INTEN_RESEN: u32 = 0b11;
 /// One time-out of the watchdog, ms: its interrupt (masked) after one, the reset after two,
 /// so the box resets 4 s after the last feed, as the blocking QEMU board.
 pub const WATCHDOG_LOAD_MS: u32 = 2_000;
@@ -78,8 +63,8 @@ impl Watchdog {
     pub fn start() -> Self {
         // SAFETY: valid LM3S6965 watchdog registers, used by nothing else.
         unsafe {
-            write_volatile(WDT_LOAD as *mut u32, CORE_HZ / 1_000 * WATCHDOG_LOAD_MS);
-            write_volatile(WDT_CTL as *mut u32, WDT_CTL_INTEN_RESEN);
+            write_volatile(wdt::LOAD as *mut u32, CORE_HZ / 1_000 * WATCHDOG_LOAD_MS);
+            write_volatile(wdt::CTL as *mut u32, wdt::CTL_INTEN_RESEN);
         }
         Watchdog(())
     }
@@ -87,21 +72,21 @@ impl Watchdog {
     /// Clears the time-out interrupt and reloads the counter (a write of WDTICR).
     pub fn feed(&mut self) {
         // SAFETY: WDTICR is a valid LM3S6965 watchdog register; any value feeds.
-        unsafe { write_volatile(WDT_ICR as *mut u32, 1) }
+        unsafe { write_volatile(wdt::ICR as *mut u32, 1) }
     }
 }
 
 // ------------------------------------------------------------------ resets
 
 /// The RESC bit of a watchdog reset (QEMU's model never sets it).
-pub const WATCHDOG_CAUSE: u32 = 1 << 3;
+pub const WATCHDOG_CAUSE: u32 = sysctl::RESC_WDT;
 
 /// RESC, read and cleared: what caused this reset.
 pub fn reset_cause() -> u32 {
     // SAFETY: RESC is a valid LM3S6965 system-control register; writing 0 clears it.
     unsafe {
-        let resc = read_volatile(SYSCTL_RESC as *const u32);
-        write_volatile(SYSCTL_RESC as *mut u32, 0);
+        let resc = read_volatile(sysctl::RESC as *const u32);
+        write_volatile(sysctl::RESC as *mut u32, 0);
         resc
     }
 }
@@ -165,11 +150,11 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
 #[repr(u16)]
 pub enum Irq {
     /// UART0 (AEOLUS).
-    Uart0 = 5,
+    Uart0 = uart::IRQ[0],
     /// UART1 (AYDP).
-    Uart1 = 6,
+    Uart1 = uart::IRQ[1],
     /// UART2 (AOK).
-    Uart2 = 33,
+    Uart2 = uart::IRQ[2],
 }
 
 // SAFETY: the numbers are the LM3S6965's UART0..2 interrupt lines.
@@ -179,30 +164,7 @@ unsafe impl cortex_m::interrupt::InterruptNumber for Irq {
     }
 }
 
-/// One entry of the device interrupt table.
-#[derive(Clone, Copy)]
-#[repr(C)]
-pub union Vector {
-    handler: unsafe extern "C" fn(),
-    reserved: usize,
-}
-
-unsafe extern "C" {
-    fn DefaultHandler();
-}
-
-/// The LM3S6965's interrupt vectors 0..=33 (cortex-m-rt's `device` feature expects them).
-#[unsafe(link_section = ".vector_table.interrupts")]
-#[unsafe(no_mangle)]
-pub static __INTERRUPTS: [Vector; 34] = {
-    let mut v = [Vector {
-        handler: DefaultHandler,
-    }; 34];
-    v[Irq::Uart0 as usize] = Vector { handler: uart0 };
-    v[Irq::Uart1 as usize] = Vector { handler: uart1 };
-    v[Irq::Uart2 as usize] = Vector { handler: uart2 };
-    v
-};
+firmware_example::lm3s6965_interrupts!(uart0, uart1, uart2);
 
 unsafe extern "C" fn uart0() {
     pl011::on_interrupt(0);

@@ -24,6 +24,7 @@
 #[cfg(feature = "cpu-budget")]
 mod budget;
 mod chip;
+mod executor;
 mod pl011;
 mod store;
 mod systick;
@@ -84,8 +85,15 @@ static SHARED: StaticCell<Shared> = StaticCell::new();
 /// task.
 static HEARTS: [Heartbeat; 5] = [const { Heartbeat::new() }; 5];
 
-#[embassy_executor::main]
-async fn main(spawner: Spawner) {
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    executor::run(|spawner| spawn(&spawner, boot(spawner)))
+}
+
+/// The board: brings up the chip, the UARTs, the store and the watchdog, spawns the tasks,
+/// then runs the 1 ms tick ([`links::run`]) until a reboot.
+#[embassy_executor::task]
+async fn boot(spawner: Spawner) {
     let Some(mut core) = cortex_m::Peripherals::take() else {
         chip::reset();
     };

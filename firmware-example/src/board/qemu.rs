@@ -28,6 +28,12 @@ use core::ptr::{addr_of_mut, read_volatile, write_volatile};
 use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use cortex_m::peripheral::NVIC;
 use defmt_semihosting as _;
+use firmware_example::lm3s6965::sysctl::{
+    self, PLL_LOCK_POLLS, RCC_BYPASS, RCC_PWRDN, RCC_SYSDIV_MASK, RCC_SYSDIV_SHIFT, RCC_USESYSDIV,
+    RCGC0_WDT, RCGC1_UARTS, RIS_PLLLRIS,
+};
+use firmware_example::lm3s6965::uart::{self, *};
+use firmware_example::lm3s6965::{self, wdt};
 use firmware_example::serial::Ring;
 use firmware_example::{MemFlash, PortStats, QueuedSerial, SerialIsr};
 use sensor_box::budget::{self, Category};
@@ -50,12 +56,6 @@ pub fn store_layout() -> sensor_box::persist::Layout {
     sensor_box::persist::Layout::halves(STORE_LEN as u32, MemFlash::PAGE as u32)
 }
 
-/// The PLL's output that SYSDIV divides, Hz: the LM3S6965 data sheet's 400 MHz PLL after its
-/// fixed divide-by-two ("RCC", SYSDIV: "/(SYSDIV + 1)", 12.5 MHz at 0xF). QEMU's model
-/// (in its source file hw/arm/stellaris.c, `ssys_calculate_system_clock`) uses the same formula, a 5 ns period
-/// times (SYSDIV + 1), and ignores BYPASS, so only SYSDIV sets the emulated core clock.
-const PLL_HZ: u32 = 200_000_000;
-
 /// The system clock divisor `init` writes into RCC. 15 is the reset value's
 /// (RCC = 0x078E_3AC0 at reset: SYSDIV 15, so 12.5 MHz, not 12 MHz).
 #[cfg(not(feature = "cpu-budget"))]
@@ -71,25 +71,11 @@ const SYSDIV: u32 = 0;
 
 /// The core clock, Hz: what SysTick counts. It follows from the RCC value `init` writes, never
 /// from a separate guess (a 12 MHz guess made the box's millisecond 4 % short of the host's).
-const CORE_HZ: u32 = PLL_HZ / (SYSDIV + 1);
+const CORE_HZ: u32 = lm3s6965::core_hz(SYSDIV);
 
 // The reset configuration gives the 12.5 MHz `scripts/cm3-bench.sh` measures (80 ns a tick).
 #[cfg(not(feature = "cpu-budget"))]
 const _: () = assert!(CORE_HZ == 12_500_000);
-
-/// System control: run-mode clock configuration.
-const SYSCTL_RCC: usize = 0x400F_E060;
-/// System control: raw interrupt status (PLLLRIS, bit 6: the PLL has locked).
-const SYSCTL_RIS: usize = 0x400F_E050;
-const RCC_SYSDIV_SHIFT: u32 = 23;
-const RCC_SYSDIV_MASK: u32 = 0xF << RCC_SYSDIV_SHIFT;
-const RCC_USESYSDIV: u32 = 1 << 22;
-const RCC_PWRDN: u32 = 1 << 13;
-const RCC_BYPASS: u32 = 1 << 11;
-const RIS_PLLLRIS: u32 = 1 << 6;
-/// How many RIS reads `set_core_clock` waits for the PLL to lock (the data sheet gives at
-/// most 0.5 ms; QEMU sets the bit on the write that powers the PLL up).
-const PLL_LOCK_POLLS: u32 = 100_000;
 
 /// Puts the core on the PLL divided by `SYSDIV + 1`, the configuration `CORE_HZ` describes:
 /// the PLL is powered up, locked (bounded wait), then BYPASS cleared with the divisor in use.
@@ -97,73 +83,32 @@ fn set_core_clock() {
     // SAFETY: RCC and RIS are valid lm3s6965 system-control registers; nothing else uses
     // them, and this runs before SysTick and the UARTs are started.
     unsafe {
-        let rcc = read_volatile(SYSCTL_RCC as *const u32);
-        write_volatile(SYSCTL_RCC as *mut u32, rcc & !RCC_PWRDN);
+        let rcc = read_volatile(sysctl::RCC as *const u32);
+        write_volatile(sysctl::RCC as *mut u32, rcc & !RCC_PWRDN);
         let mut polls = 0;
-        while read_volatile(SYSCTL_RIS as *const u32) & RIS_PLLLRIS == 0 && polls < PLL_LOCK_POLLS {
+        while read_volatile(sysctl::RIS as *const u32) & RIS_PLLLRIS == 0 && polls < PLL_LOCK_POLLS
+        {
             polls += 1;
         }
         let run = (rcc & !(RCC_PWRDN | RCC_BYPASS | RCC_SYSDIV_MASK))
             | RCC_USESYSDIV
             | (SYSDIV << RCC_SYSDIV_SHIFT);
-        write_volatile(SYSCTL_RCC as *mut u32, run);
+        write_volatile(sysctl::RCC as *mut u32, run);
     }
 }
 
 /// The UARTs' baud rate (QEMU's PL011 ignores it; a real part needs it).
 const BAUD: u32 = 115_200;
 /// The PL011 baud divisor in 64ths: core clock / (16 x baud), rounded.
-const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
-
-const UART_BASE: [usize; 3] = [0x4000_C000, 0x4000_D000, 0x4000_E000];
+const BAUD_DIV_64THS: u32 = uart::baud_div_64ths(CORE_HZ, BAUD);
 /// Each UART's RX ring: room for four of the link's wake thresholds (`WAKE_BYTES`), so a flood
 /// keeps arriving into the ring while the link decodes the run that woke it.
 const RX_CAP: usize = 512;
 const TX_CAP: usize = 512;
 
-// PL011 registers (offsets) and bits.
-const DR: usize = 0x000;
-const FR: usize = 0x018;
-const IBRD: usize = 0x024;
-const FBRD: usize = 0x028;
-const LCRH: usize = 0x02C;
-const CTL: usize = 0x030;
-const IMSC: usize = 0x038;
-const MIS: usize = 0x040;
-const ICR: usize = 0x044;
-const IFLS: usize = 0x034;
-/// FIFO interrupt levels: RX at 1/2 full (8 bytes; the receive-timeout interrupt takes the
-/// rest of a burst), TX at 1/8 full (the handler refills 14 bytes per interrupt). QEMU's PL011
-/// ignores the levels (RX at the first byte, TX at once).
-const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
-const FR_RXFE: u32 = 1 << 4;
-const FR_TXFF: u32 = 1 << 5;
-const FR_TXFE: u32 = 1 << 7;
-/// Bytes the PL011's TX FIFO holds.
-const TX_FIFO: usize = 16;
-const DR_ERRORS: u32 = 0xF00; // OE | BE | PE | FE
-const INT_RX: u32 = 1 << 4;
-const INT_TX: u32 = 1 << 5;
-const INT_RT: u32 = 1 << 6;
-const LCRH_WLEN8_FEN: u32 = 0x70;
-const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
-/// System control: run-mode clock gating 1 (UART0..2 are bits 0..2).
-const SYSCTL_RCGC1: usize = 0x400F_E104;
-/// System control: run-mode clock gating 0 (bit 3: the watchdog; QEMU ignores the gating).
-const SYSCTL_RCGC0: usize = 0x400F_E100;
-const RCGC0_WDT: u32 = 1 << 3;
-/// System control: reset cause (bit 3: the watchdog), cleared by writing 0.
-const SYSCTL_RESC: usize = 0x400F_E05C;
 /// The RESC bit that names a watchdog reset.
-pub const WATCHDOG_CAUSE: u32 = 1 << 3;
+pub const WATCHDOG_CAUSE: u32 = sysctl::RESC_WDT;
 
-/// The watchdog timer's registers (LM3S6965 data sheet, "Watchdog Timers").
-const WDT_LOAD: usize = 0x4000_0000;
-const WDT_CTL: usize = 0x4000_0008;
-const WDT_ICR: usize = 0x4000_000C;
-/// WDTCTL: INTEN (bit 0: start counting; only a reset stops it) and RESEN (bit 1: the second
-/// time-out resets).
-const WDT_CTL_INTEN_RESEN: u32 = 0b11;
 /// One time-out of the watchdog, ms: the interrupt after one, the reset after two.
 pub const WATCHDOG_LOAD_MS: u32 = 2_000;
 const WDT_LOAD_COUNT: u32 = CORE_HZ / 1_000 * WATCHDOG_LOAD_MS;
@@ -175,7 +120,7 @@ impl Watchdog {
     /// Clears the time-out interrupt and reloads the counter (a write of WDTICR).
     pub fn feed(&mut self) {
         // SAFETY: WDTICR is a valid lm3s6965 watchdog register; any value feeds.
-        unsafe { write_volatile(WDT_ICR as *mut u32, 1) }
+        unsafe { write_volatile(wdt::ICR as *mut u32, 1) }
     }
 }
 
@@ -183,10 +128,10 @@ impl Watchdog {
 fn start_watchdog() -> Watchdog {
     // SAFETY: valid lm3s6965 system-control and watchdog registers; nothing else uses them.
     unsafe {
-        let rcgc0 = read_volatile(SYSCTL_RCGC0 as *const u32);
-        write_volatile(SYSCTL_RCGC0 as *mut u32, rcgc0 | RCGC0_WDT);
-        write_volatile(WDT_LOAD as *mut u32, WDT_LOAD_COUNT);
-        write_volatile(WDT_CTL as *mut u32, WDT_CTL_INTEN_RESEN);
+        let rcgc0 = read_volatile(sysctl::RCGC0 as *const u32);
+        write_volatile(sysctl::RCGC0 as *mut u32, rcgc0 | RCGC0_WDT);
+        write_volatile(wdt::LOAD as *mut u32, WDT_LOAD_COUNT);
+        write_volatile(wdt::CTL as *mut u32, wdt::CTL_INTEN_RESEN);
     }
     Watchdog(())
 }
@@ -195,8 +140,8 @@ fn start_watchdog() -> Watchdog {
 pub fn reset_cause() -> u32 {
     // SAFETY: RESC is a valid lm3s6965 system-control register.
     unsafe {
-        let resc = read_volatile(SYSCTL_RESC as *const u32);
-        write_volatile(SYSCTL_RESC as *mut u32, 0);
+        let resc = read_volatile(sysctl::RESC as *const u32);
+        write_volatile(sysctl::RESC as *mut u32, 0);
         resc
     }
 }
@@ -205,9 +150,9 @@ pub fn reset_cause() -> u32 {
 #[derive(Clone, Copy)]
 #[repr(u16)]
 enum Irq {
-    Uart0 = 5,
-    Uart1 = 6,
-    Uart2 = 33,
+    Uart0 = uart::IRQ[0],
+    Uart1 = uart::IRQ[1],
+    Uart2 = uart::IRQ[2],
 }
 
 // SAFETY: the numbers are the lm3s6965's UART0..2 interrupt lines.
@@ -221,31 +166,7 @@ const IRQS: [Irq; 3] = [Irq::Uart0, Irq::Uart1, Irq::Uart2];
 
 // --------------------------------------------------------- vector table
 
-/// One entry of the device interrupt table.
-#[derive(Clone, Copy)]
-#[repr(C)]
-pub union Vector {
-    handler: unsafe extern "C" fn(),
-    reserved: usize,
-}
-
-unsafe extern "C" {
-    fn DefaultHandler();
-}
-
-/// The lm3s6965's interrupt vectors 0..=33 (cortex-m-rt's `device` feature
-/// expects the board to provide them).
-#[unsafe(link_section = ".vector_table.interrupts")]
-#[unsafe(no_mangle)]
-pub static __INTERRUPTS: [Vector; 34] = {
-    let mut v = [Vector {
-        handler: DefaultHandler,
-    }; 34];
-    v[Irq::Uart0 as usize] = Vector { handler: uart0 };
-    v[Irq::Uart1 as usize] = Vector { handler: uart1 };
-    v[Irq::Uart2 as usize] = Vector { handler: uart2 };
-    v
-};
+firmware_example::lm3s6965_interrupts!(uart0, uart1, uart2);
 
 // ------------------------------------------------------------- statics
 
@@ -292,7 +213,7 @@ pub fn init() -> Board<Store> {
     let clock = start_systick(core.SYST, CORE_HZ);
 
     // SAFETY: RCGC1 is a valid lm3s6965 system-control register.
-    unsafe { write_volatile(SYSCTL_RCGC1 as *mut u32, 0b111) };
+    unsafe { write_volatile(sysctl::RCGC1 as *mut u32, RCGC1_UARTS) };
 
     let kicks: [fn(); 3] = [
         || NVIC::pend(Irq::Uart0),
@@ -320,7 +241,7 @@ pub fn init() -> Board<Store> {
         super::reset();
     };
 
-    for (base, irq) in UART_BASE.iter().zip(IRQS) {
+    for (base, irq) in BASE.iter().zip(IRQS) {
         // SAFETY: valid PL011 registers of the lm3s6965; the UART is
         // disabled while it is configured.
         unsafe {
@@ -330,7 +251,7 @@ pub fn init() -> Board<Store> {
             write_volatile(reg(*base, FBRD), BAUD_DIV_64THS % 64);
             write_volatile(reg(*base, LCRH), LCRH_WLEN8_FEN);
             write_volatile(reg(*base, IFLS), IFLS_RX_HALF_TX_EIGHTH);
-            write_volatile(reg(*base, ICR), 0x7FF);
+            write_volatile(reg(*base, ICR), INT_ALL);
             write_volatile(reg(*base, IMSC), INT_RX | INT_RT);
             write_volatile(reg(*base, CTL), CTL_UARTEN_TXE_RXE);
         }
@@ -361,7 +282,7 @@ pub fn init() -> Board<Store> {
 /// (only while bytes wait), and when the application pends it: after queueing
 /// a byte, and after reading from a full RX queue.
 fn service(index: usize) {
-    let Some(&base) = UART_BASE.get(index) else {
+    let Some(&base) = BASE.get(index) else {
         return;
     };
     // SAFETY: only this interrupt handler uses the ISR halves after `init`.
@@ -421,7 +342,7 @@ fn service(index: usize) {
         // A FIFO's worth per empty FIFO (one flag read per 16 bytes), then byte by byte
         // while a part-full FIFO has room.
         let pending = isr.send_fifo(
-            TX_FIFO,
+            FIFO,
             || read_volatile(reg(base, FR)) & FR_TXFE != 0,
             || read_volatile(reg(base, FR)) & FR_TXFF == 0,
             |b| write_volatile(reg(base, DR), u32::from(b)),

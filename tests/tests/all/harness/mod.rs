@@ -45,6 +45,8 @@
 //! time.
 #![allow(dead_code)]
 
+mod pl011_wake;
+
 use aeolus_proto::message::{Message, Text};
 use aeolus_proto::{CrcMode, Decode, Decoder, max_encoded_len};
 use std::fs::File;
@@ -156,8 +158,25 @@ impl Board {
 /// board: `FILE::name::lm3s6965evb`, `FILE::name::stm32f411_in_netduinoplus2` and
 /// `FILE::name::embassy_in_lm3s6965evb` (run one board with `cargo test ... --
 /// ::lm3s6965evb`, `-- stm32f411` or `-- embassy`). Comes with the harness's glob import (`use
-/// crate::harness::*;`).
+/// crate::harness::*;`). `on_every_board!(lm3s6965evb: name, ...)` defines the two tests on
+/// that chip only, the blocking board's and the async firmware's, for a test whose file says
+/// why the simulated STM32 cannot run it.
 macro_rules! on_every_board {
+    (lm3s6965evb: $($name:ident),* $(,)?) => {
+        $(
+            mod $name {
+                #[test]
+                fn lm3s6965evb() {
+                    super::$name(super::Board::Lm3s6965evb)
+                }
+
+                #[test]
+                fn embassy_in_lm3s6965evb() {
+                    super::$name(super::Board::Embassy)
+                }
+            }
+        )*
+    };
     ($($name:ident),* $(,)?) => {
         $(
             mod $name {
@@ -201,12 +220,13 @@ impl Ports {
     /// `protolink_help::every_help_example_runs_against_the_firmware` (UART ports, then the
     /// UDP ports of its examples at +5..+9).
     pub const CLI_HELP: Ports = Ports(17_460);
-    /// `soak::hostile_soak`.
+    /// `soak::hostile_soak` (both lm3s6965evb boards).
     pub const SOAK: Ports = Ports(17_470);
     /// `web_qemu::the_page_flies_the_firmwares_turn` (UART ports, then the bridge's UDP ports
     /// at +5 and +6 and the page at +7).
     pub const WEB: Ports = Ports(17_480);
-    /// `realtime_flood::every_rate_and_every_answer_under_a_flood_on_all_three_uarts`.
+    /// `realtime_flood::every_rate_and_every_answer_under_a_flood_on_all_three_uarts` (both
+    /// lm3s6965evb boards).
     pub const REALTIME: Ports = Ports(17_490);
     /// `nmea_qemu::an_app_reads_the_firmwares_flight_as_nmea` (UART ports, then the NMEA
     /// server at +7).

@@ -31,8 +31,17 @@ use embedded_io::ErrorKind;
 use firmware_example::serial::Ring;
 use firmware_example::{PortStats, QueuedSerial, SerialIsr};
 use sensor_box::budget::{self, Category};
+use sensor_box::port::Receive;
+
+use firmware_example::lm3s6965::uart::{
+    self, CTL, CTL_UARTEN_TXE_RXE, DR, DR_ERRORS, FBRD, FR, IBRD, ICR, IFLS,
+    IFLS_RX_HALF_TX_EIGHTH, IMSC, INT_ALL, LCRH, LCRH_WLEN8_FEN,
+};
 
 use super::chip::{CORE_HZ, Irq};
+use wake::{FR_RXFE, FR_TXFF, INT_RT, INT_RX, INT_TX};
+
+pub mod wake;
 
 /// Bytes of each UART's receive ring.
 pub const RX_RING: usize = 512;
@@ -41,33 +50,20 @@ const NO_TX: usize = 1;
 
 /// The UARTs' baud rate (QEMU ignores it; a real part needs it).
 const BAUD: u32 = 115_200;
-/// The baud divisor in 64ths: core clock / (16 x baud), rounded.
-const BAUD_DIV_64THS: u32 = (CORE_HZ * 4 + BAUD / 2) / BAUD;
+/// The baud divisor in 64ths.
+const BAUD_DIV_64THS: u32 = uart::baud_div_64ths(CORE_HZ, BAUD);
 
-// Registers (offsets from a UART's base) and bits.
-const DR: usize = 0x000;
-const FR: usize = 0x018;
-const IBRD: usize = 0x024;
-const FBRD: usize = 0x028;
-const LCRH: usize = 0x02C;
-const CTL: usize = 0x030;
-const IFLS: usize = 0x034;
-const IMSC: usize = 0x038;
-const ICR: usize = 0x044;
-const FR_RXFE: u32 = 1 << 4;
-const FR_TXFF: u32 = 1 << 5;
-const FR_TXFE: u32 = 1 << 7;
-/// DR's error bits: overrun, break, parity, framing.
-const DR_ERRORS: u32 = 0xF00;
-const INT_RX: u32 = 1 << 4;
-const INT_TX: u32 = 1 << 5;
-const INT_RT: u32 = 1 << 6;
-const INT_ALL: u32 = 0x7FF;
-/// RX at half full, TX at one-eighth full.
-const IFLS_RX_HALF_TX_EIGHTH: u32 = 0b010 << 3;
-/// 8 data bits, FIFOs on.
-const LCRH_WLEN8_FEN: u32 = 0x70;
-const CTL_UARTEN_TXE_RXE: u32 = (1 << 0) | (1 << 8) | (1 << 9);
+// `wake` keeps its own copy of the bits it decides on (it is compiled on the host alone, in
+// tests/tests/all/harness/pl011_wake.rs); they are the register map's.
+const _: () = assert!(
+    FR_RXFE == uart::FR_RXFE
+        && FR_TXFF == uart::FR_TXFF
+        && wake::FR_TXFE == uart::FR_TXFE
+        && INT_RX == uart::INT_RX
+        && INT_TX == uart::INT_TX
+        && INT_RT == uart::INT_RT
+);
+
 /// The UARTs' interrupt priority (below SysTick's, which is the highest).
 const PRIORITY: u8 = 0x40;
 
@@ -76,6 +72,9 @@ const PRIORITY: u8 = 0x40;
 struct Uart {
     base: usize,
     irq: Irq,
+    /// Whether the interrupt marks where the line fell silent (`SerialIsr::at`): the UART of
+    /// a link that frames commands by silence (AOK).
+    marks_bursts: bool,
     rx_waker: AtomicWaker,
     tx_waker: AtomicWaker,
     isr: Mutex<RefCell<Option<RxIsr>>>,
@@ -85,10 +84,11 @@ struct Uart {
 type RxIsr = (SerialIsr<'static, RX_RING, NO_TX>, &'static PortStats);
 
 impl Uart {
-    const fn new(base: usize, irq: Irq) -> Self {
+    const fn new(base: usize, irq: Irq, marks_bursts: bool) -> Self {
         Uart {
             base,
             irq,
+            marks_bursts,
             rx_waker: AtomicWaker::new(),
             tx_waker: AtomicWaker::new(),
             isr: Mutex::new(RefCell::new(None)),
@@ -105,13 +105,17 @@ impl Uart {
         unsafe { write_volatile((self.base + offset) as *mut u32, value) }
     }
 
-    /// Sets (`on`) or clears `bits` of the interrupt mask: a read-modify-write that the task
-    /// and the interrupt both do, so in a critical section.
-    fn mask(&self, bits: u32, on: bool) {
+    /// Rewrites the interrupt mask with `decide`'s new value (`None`: unchanged), and returns
+    /// its verdict: a read-modify-write that the task and the interrupt both do, so in a
+    /// critical section.
+    fn update_mask<T>(&self, decide: impl FnOnce(u32) -> (Option<u32>, T)) -> T {
         critical_section::with(|_| {
-            let imsc = self.read(IMSC);
-            self.write(IMSC, if on { imsc | bits } else { imsc & !bits });
-        });
+            let (imsc, verdict) = decide(self.read(IMSC));
+            if let Some(imsc) = imsc {
+                self.write(IMSC, imsc);
+            }
+            verdict
+        })
     }
 
     /// Writes bytes of `buf` into the TX FIFO while it has room; the count.
@@ -129,9 +133,9 @@ impl Uart {
 }
 
 static UARTS: [Uart; 3] = [
-    Uart::new(0x4000_C000, Irq::Uart0),
-    Uart::new(0x4000_D000, Irq::Uart1),
-    Uart::new(0x4000_E000, Irq::Uart2),
+    Uart::new(uart::BASE[0], Irq::Uart0, false),
+    Uart::new(uart::BASE[1], Irq::Uart1, false),
+    Uart::new(uart::BASE[2], Irq::Uart2, true),
 ];
 
 /// The receive rings, one per UART (split once, in [`init`]).
@@ -145,6 +149,8 @@ pub struct Rx {
     port: QueuedSerial<'static, RX_RING, NO_TX>,
     /// The port's `rx_errors` as of the last error reported.
     errors_seen: u32,
+    /// Whether the interrupt saw the line silent before the last read's first byte.
+    began_burst: bool,
 }
 
 /// The writing half of a UART.
@@ -191,6 +197,7 @@ pub fn init(index: usize, stats: &'static PortStats, nvic: &mut NVIC) -> Option<
             uart,
             port,
             errors_seen,
+            began_burst: false,
         },
         Tx { uart },
     ))
@@ -207,15 +214,18 @@ pub fn on_interrupt(index: usize) {
     // The TX interrupt stays raised while the FIFO has room (QEMU: after every byte), so it
     // is cleared with the RX ones; the writer enables it again when it needs to wait.
     uart.write(ICR, INT_RX | INT_RT | INT_TX);
-    let (received, held) = critical_section::with(|cs| {
+    let (moved, new_errors, held) = critical_section::with(|cs| {
         // Only this interrupt borrows it after `init` (a failed borrow is not a panic).
         let Ok(mut isr) = uart.isr.borrow(cs).try_borrow_mut() else {
-            return (false, false);
+            return (0, false, false);
         };
         let Some((isr, stats)) = isr.as_mut() else {
-            return (false, false);
+            return (0, false, false);
         };
         let before = stats.snapshot().rx_errors;
+        if uart.marks_bursts {
+            isr.at(embassy_time::Instant::now().as_millis());
+        }
         let n = isr.receive_while(|| {
             if uart.read(FR) & FR_RXFE != 0 {
                 return None;
@@ -227,18 +237,25 @@ pub fn on_interrupt(index: usize) {
                 Ok(dr as u8)
             })
         });
-        (n > 0 || stats.snapshot().rx_errors != before, isr.rx_held())
+        (n, stats.snapshot().rx_errors != before, isr.rx_held())
     });
-    if received {
-        uart.rx_waker.wake();
-    }
     // A full ring: the bytes wait in the FIFO, and its interrupts stay off until the reader
     // makes room (its read pends this interrupt).
-    uart.mask(INT_RX | INT_RT, !held);
+    let wake_reader = uart.update_mask(|imsc| {
+        let after = wake::after_receive(imsc, moved, new_errors, held);
+        (Some(after.imsc), after.wake_reader)
+    });
+    if wake_reader {
+        uart.rx_waker.wake();
+    }
     budget::leave(previous);
     let previous = budget::enter(Category::TxIrq);
-    if uart.read(FR) & FR_TXFF == 0 {
-        uart.mask(INT_TX, false);
+    // Only a writer that waits for room is woken (not the idle pump on every received byte).
+    let wake_writer = uart.update_mask(|imsc| {
+        let after = wake::after_transmit(imsc, uart.read(FR));
+        (Some(after.imsc), after.wake_writer)
+    });
+    if wake_writer {
         uart.tx_waker.wake();
     }
     budget::leave(previous);
@@ -249,12 +266,13 @@ impl embedded_io::ErrorType for Rx {
 }
 
 impl Rx {
-    /// Whether receive errors were counted since the last one reported (and takes them).
-    fn take_error(&mut self) -> bool {
+    /// What a read does now ([`wake::read`]), with the port's receive-error count.
+    fn next_read(&self) -> (wake::Read, u32) {
         let errors = self.port.counters().rx_errors;
-        let new = errors != self.errors_seen;
-        self.errors_seen = errors;
-        new
+        (
+            wake::read(self.port.rx_pending(), errors, self.errors_seen),
+            errors,
+        )
     }
 }
 
@@ -268,13 +286,27 @@ impl embedded_io_async::Read for Rx {
         }
         poll_fn(|cx| {
             self.uart.rx_waker.register(cx.waker());
-            if self.take_error() {
-                return Poll::Ready(Err(ErrorKind::Other));
+            match self.next_read() {
+                (wake::Read::Error, errors) => {
+                    self.errors_seen = errors;
+                    Poll::Ready(Err(ErrorKind::Other))
+                }
+                (wake::Read::Wait, _) => Poll::Pending,
+                // No read across a burst mark: a burst's bytes begin a read.
+                (wake::Read::Take, _) => {
+                    self.began_burst = self.port.burst_starts();
+                    Poll::Ready(
+                        self.port
+                            .receive(|bytes| {
+                                buf.iter_mut()
+                                    .zip(bytes)
+                                    .map(|(to, &from)| *to = from)
+                                    .count()
+                            })
+                            .map_err(|e| match e {}),
+                    )
+                }
             }
-            if self.port.rx_pending() == 0 {
-                return Poll::Pending;
-            }
-            Poll::Ready(embedded_io::Read::read(&mut self.port, buf).map_err(|e| match e {}))
         })
         .await
     }
@@ -283,7 +315,15 @@ impl embedded_io_async::Read for Rx {
 impl embedded_io_async::ReadReady for Rx {
     /// Whether a read returns at once: bytes wait in the ring, or an error to report.
     fn read_ready(&mut self) -> Result<bool, ErrorKind> {
-        Ok(self.port.rx_pending() > 0 || self.port.counters().rx_errors != self.errors_seen)
+        Ok(self.next_read().0 != wake::Read::Wait)
+    }
+}
+
+impl crate::aok::Bursts for Rx {
+    /// Whether the interrupt saw the line silent before the last read's first byte (AOK's
+    /// UART only).
+    fn began_burst(&self) -> bool {
+        self.began_burst
     }
 }
 
@@ -300,13 +340,12 @@ impl embedded_io_async::Write for Tx {
         }
         poll_fn(|cx| {
             self.uart.tx_waker.register(cx.waker());
-            match self.uart.fill_tx(buf) {
-                0 => {
-                    self.uart.mask(INT_TX, true);
-                    Poll::Pending
-                }
-                n => Poll::Ready(Ok(n)),
-            }
+            let taken = self.uart.fill_tx(buf);
+            self.uart
+                .update_mask(|imsc| match wake::write(imsc, taken) {
+                    wake::Write::Done(n) => (None, Poll::Ready(Ok(n))),
+                    wake::Write::Wait(imsc) => (Some(imsc), Poll::Pending),
+                })
         })
         .await
     }
@@ -315,11 +354,11 @@ impl embedded_io_async::Write for Tx {
     async fn flush(&mut self) -> Result<(), ErrorKind> {
         poll_fn(|cx| {
             self.uart.tx_waker.register(cx.waker());
-            if self.uart.read(FR) & FR_TXFE != 0 {
-                return Poll::Ready(Ok(()));
-            }
-            self.uart.mask(INT_TX, true);
-            Poll::Pending
+            self.uart
+                .update_mask(|imsc| match wake::flush(imsc, self.uart.read(FR)) {
+                    wake::Write::Done(_) => (None, Poll::Ready(Ok(()))),
+                    wake::Write::Wait(imsc) => (Some(imsc), Poll::Pending),
+                })
         })
         .await
     }
