@@ -20,7 +20,8 @@
 //!   emulators run at once (`QEMU_JOBS`, 1 to 16, default 2), so that a few emulators, not
 //!   every test of the binary, share the cores and disturb each other's timing; the simulated
 //!   STM32 runs alone (it takes a whole host core, and beside another emulator on two cores it
-//!   falls behind real time: AEOLUS frames short of the rate, an AOK burst cut by a late byte). A test
+//!   falls behind real time: AEOLUS frames short of the rate, an AOK burst cut by a late byte),
+//!   and so does a test that floods all three UARTs ([`boot_alone`]). A test
 //!   waits for its turn in [`boot`]. Each runs on its own ports, its own log file and its own
 //!   temporary files, so any of them may run beside any other. QEMU is killed when the test
 //!   ends, whether it passed or not ([`Qemu`]'s `Drop`), and the next test's turn comes then.
@@ -365,7 +366,8 @@ impl Turn {
 
     /// One QEMU's turn, once fewer than [`qemu_jobs`] run and no build waits; `alone`: every
     /// turn, once no other QEMU runs (the simulated STM32, which takes a whole host core and
-    /// falls behind real time beside another emulator on a two-core host).
+    /// falls behind real time beside another emulator on a two-core host, and the floods:
+    /// [`boot_alone`]).
     fn take(alone: bool) -> Turn {
         let jobs = qemu_jobs();
         let want = if alone { jobs } else { 1 };
@@ -572,6 +574,17 @@ pub fn boot(board: Board, ports: Ports) -> Option<Qemu> {
 /// time (SysTick ticks coalesce and the schedule skips late slots, as it must on a late CPU);
 /// a test that judges the schedule in the box's clock boots it this way.
 pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
+    boot_as(board, ports, icount, board == Board::Stm32f411)
+}
+
+/// [`boot`], with no other emulator beside it: for a test that holds the box to the host's
+/// clock under the heaviest load (three UARTs flooded), where a second emulator on a two-core
+/// host would take the core the box needs.
+pub fn boot_alone(board: Board, ports: Ports) -> Option<Qemu> {
+    boot_as(board, ports, false, true)
+}
+
+fn boot_as(board: Board, ports: Ports, icount: bool, alone: bool) -> Option<Qemu> {
     if !qemu_installed() {
         skip_without_qemu();
         return None;
@@ -581,7 +594,7 @@ pub fn boot_with(board: Board, ports: Ports, icount: bool) -> Option<Qemu> {
     for b in Board::ALL {
         firmware_elf(b);
     }
-    start(board, ports, icount, firmware_elf(board))
+    start(board, ports, icount, alone, firmware_elf(board))
 }
 
 /// [`boot`] with a given ELF of `board` (from [`firmware_elf_with`]); `None` when
@@ -591,7 +604,7 @@ pub fn boot_elf(board: Board, ports: Ports, elf: &Path) -> Option<Qemu> {
         skip_without_qemu();
         return None;
     }
-    start(board, ports, false, elf)
+    start(board, ports, false, board == Board::Stm32f411, elf)
 }
 
 fn skip_without_qemu() {
@@ -601,9 +614,9 @@ fn skip_without_qemu() {
     );
 }
 
-fn start(board: Board, ports: Ports, icount: bool, elf: &Path) -> Option<Qemu> {
+fn start(board: Board, ports: Ports, icount: bool, alone: bool, elf: &Path) -> Option<Qemu> {
     assert!(elf.is_file(), "no firmware at {}", elf.display());
-    let turn = Turn::take(board == Board::Stm32f411);
+    let turn = Turn::take(alone);
 
     let log = target_dir().join(format!("qemu-firmware-{}.log", ports.0));
     let out = File::create(&log).expect("create the QEMU log file");
