@@ -11,6 +11,7 @@
 #[allow(dead_code)]
 mod wake;
 
+use protolink_tests::rng::Rng;
 use wake::*;
 
 #[test]
@@ -66,23 +67,6 @@ fn a_write_or_flush_waits_with_the_tx_interrupt_on() {
     assert_eq!(write(INT_RX, 9), Write::Done(9));
     assert_eq!(flush(INT_RX, FR_TXFE), Write::Done(0));
     assert_eq!(flush(INT_RX, 0), Write::Wait(INT_RX | INT_TX));
-}
-
-/// splitmix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
 }
 
 const FIFO: usize = 16;
@@ -189,7 +173,7 @@ impl Model {
                 self.reader_waits = false;
             }
             Read::Take => {
-                let n = 1 + rng.below(self.ring.min(64));
+                let n = 1 + rng.below(self.ring.min(64) as u64) as usize;
                 self.ring -= n;
                 self.received += n;
                 self.reader_waits = false;
@@ -206,7 +190,7 @@ impl Model {
 
     /// One poll of the writer (`Tx::write`) while it has bytes to write.
     fn write(&mut self, rng: &mut Rng) {
-        let want = (self.to_write - self.written).min(1 + rng.below(128));
+        let want = (self.to_write - self.written).min(1 + rng.below(128) as usize);
         let taken = want.min(FIFO - self.tx_fifo);
         match write(self.imsc, taken) {
             Write::Done(n) => {
@@ -234,7 +218,7 @@ impl Model {
 /// Runs `bytes` arrivals (one in `error_every` an error) and a `to_write`-byte write in random
 /// orders; returns the model after everything that can still happen has happened.
 fn run(seed: u64, ring_len: usize, bytes: usize, error_every: usize, to_write: usize) -> Model {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut m = Model::new(ring_len, to_write);
     let mut arrived = 0;
     for _ in 0..1_000_000 {
@@ -255,12 +239,12 @@ fn run(seed: u64, ring_len: usize, bytes: usize, error_every: usize, to_write: u
         if m.tx_fifo > 0 {
             choices.push(4);
         }
-        let Some(&step) = choices.get(rng.below(choices.len().max(1))) else {
+        let Some(&step) = choices.get(rng.below(choices.len() as u64) as usize) else {
             break;
         };
         match step {
             0 => {
-                let error = error_every > 0 && rng.below(error_every) == 0;
+                let error = error_every > 0 && rng.below(error_every as u64) == 0;
                 if m.arrive(error) {
                     arrived += 1;
                 }
