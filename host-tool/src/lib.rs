@@ -26,6 +26,7 @@
 //! | shared | [`nb_serial`] | an endpoint behind the `embedded-hal-nb` serial traits |
 //! | shared | [`datagrams`] | the UDP side of an AEOLUS box: frames packed into datagrams, the in-port |
 //! | shared | [`capture`] | pcapng/pcap captures: link types and ports, reading and writing |
+//! | shared | [`civil`] | calendar dates and days since 1970, both ways |
 //! | shared | [`proto`] | what a stream carries: protocol, AYDP profile, AOK side |
 //! | shared | [`decoders`] | the stream decoder of the four protocols: typed items placed in the input, their rendering as events, counters |
 //! | shared | [`telemetry`] | the live AEOLUS telemetry model that `watch` and `web` show |
@@ -72,6 +73,7 @@ pub(crate) mod air_data;
 #[cfg(feature = "cli")]
 pub(crate) mod args;
 pub mod capture;
+pub(crate) mod civil;
 pub mod columns;
 #[cfg(feature = "cli")]
 pub(crate) mod datagrams;

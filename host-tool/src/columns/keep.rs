@@ -236,19 +236,6 @@ fn digits(text: &[u8], at: usize, n: usize) -> Option<i64> {
     })
 }
 
-/// Days from 1970-01-01 to the date (proleptic Gregorian calendar): the years before counted
-/// in 400-year eras of 146,097 days, the year taken from March so that February's leap day
-/// ends it.
-fn days_since_epoch(year: i64, month: i64, day: i64) -> i64 {
-    let y = if month <= 2 { year - 1 } else { year };
-    let era = y.div_euclid(400);
-    let year_of_era = y - era * 400;
-    let month_from_march = (month + 9) % 12;
-    let day_of_year = (153 * month_from_march + 2) / 5 + day - 1;
-    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
-    era * 146_097 + day_of_era - 719_468
-}
-
 /// Days in a month of a year.
 fn month_days(year: i64, month: i64) -> i64 {
     let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
@@ -284,7 +271,7 @@ pub fn parse_time(text: &str) -> std::result::Result<i64, String> {
     if !(1..=12).contains(&month) || !(1..=month_days(year, month)).contains(&day) {
         return Err(fail());
     }
-    let date = days_since_epoch(year, month, day) * 86_400_000_000;
+    let date = crate::civil::days_since_epoch(year, month, day) * 86_400_000_000;
     if b.len() == 10 {
         return Ok(date);
     }
@@ -334,23 +321,10 @@ pub fn parse_time(text: &str) -> std::result::Result<i64, String> {
 
 /// µs since the Unix epoch as an RFC 3339 UTC time (to the microsecond when it has any).
 fn format_time(t: i64) -> String {
+    use crate::civil::date_of;
     let days = t.div_euclid(86_400_000_000);
     let rest = t.rem_euclid(86_400_000_000);
-    // The date of `days`: the inverse of `days_since_epoch`.
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let day_of_era = z - era * 146_097;
-    let year_of_era =
-        (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
-    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
-    let month_from_march = (5 * day_of_year + 2) / 153;
-    let day = day_of_year - (153 * month_from_march + 2) / 5 + 1;
-    let month = if month_from_march < 10 {
-        month_from_march + 3
-    } else {
-        month_from_march - 9
-    };
-    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    let (year, month, day) = date_of(days);
     let (s, us) = (rest / 1_000_000, rest % 1_000_000);
     let fraction = if us == 0 {
         String::new()

@@ -108,16 +108,7 @@ pub(crate) fn parse_time(text: &str) -> std::result::Result<SetTime, String> {
 fn from_unix(secs: u64) -> std::result::Result<SetTime, String> {
     let days = secs / 86_400;
     let rem = secs % 86_400;
-    // Howard Hinnant's civil-from-days, for days since 1970-01-01.
-    let z = days as i64 + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
+    let (year, month, day) = crate::civil::date_of(days as i64);
     let year_since_1900 = u8::try_from(year - 1900)
         .map_err(|_| format!("the year {year} does not fit SETTIME (1900 to 2155)"))?;
     Ok(SetTime {

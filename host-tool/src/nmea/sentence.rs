@@ -63,15 +63,7 @@ impl Utc {
 
     /// `ddmmyy`, from the proleptic Gregorian calendar (civil-from-days).
     pub(crate) fn date(&self) -> String {
-        let z = self.days as i64 + 719_468;
-        let era = z.div_euclid(146_097);
-        let doe = z - era * 146_097;
-        let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-        let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-        let mp = (5 * doy + 2) / 153;
-        let day = doy - (153 * mp + 2) / 5 + 1;
-        let month = if mp < 10 { mp + 3 } else { mp - 9 };
-        let year = yoe + era * 400 + i64::from(month <= 2);
+        let (year, month, day) = crate::civil::date_of(self.days as i64);
         format!("{day:02}{month:02}{:02}", year.rem_euclid(100))
     }
 }
