@@ -393,10 +393,10 @@ step "C library: libprotolink_c.a for thumbv6m, thumbv7m, thumbv7em; header drif
 for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   cargo build -q -p protolink-c --release --target "$t"
 done
-cbindgen -q --config c-api/cbindgen.toml --crate protolink-c --output target/protolink.h.fresh
+RUSTC_BOOTSTRAP=1 cbindgen -q --config c-api/cbindgen.toml --crate protolink-c --output target/protolink.h.fresh
 if ! diff -u c-api/include/protolink.h target/protolink.h.fresh; then
   echo "FAILED: c-api/include/protolink.h differs from what cbindgen generates from c-api/src."
-  echo "Regenerate it: cbindgen --config c-api/cbindgen.toml --crate protolink-c --output c-api/include/protolink.h"
+  echo "Regenerate it: RUSTC_BOOTSTRAP=1 cbindgen --config c-api/cbindgen.toml --crate protolink-c --output c-api/include/protolink.h"
   exit 1
 fi
 bash c-api/tests/host.sh

@@ -173,22 +173,22 @@
 // every TOAST and COMMAND text, LOG messages up to 253 data bytes.
 #define PL_AEOLUS_CAPACITY 256
 
-// 64-bit words in a `pl_aeolus_decoder`.
-#define PL_AEOLUS_DECODER_WORDS 44
-
-// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
-// supported targets).
-#define PL_AEOLUS_DECODER_SIZE 352
-
-// Alignment of `pl_aeolus_decoder` in bytes.
-#define PL_AEOLUS_DECODER_ALIGN 8
-
 // The longest TOAST or COMMAND text (without its NUL).
 #define PL_AEOLUS_TEXT_CAPACITY 120
 
 // Bytes on the wire of the longest fixed-size message (DEBUGINFO, 208 data bytes), every byte
 // escaped: a buffer this long holds any frame but LOG or unknown ones with more data.
 #define PL_AEOLUS_MAX_FRAME_LEN 424
+
+// 64-bit words in a `pl_aeolus_decoder`.
+#define PL_AEOLUS_DECODER_WORDS 44
+
+// Size of a `pl_aeolus_decoder` in bytes:
+// the tag and the decoder (an upper bound over the supported targets).
+#define PL_AEOLUS_DECODER_SIZE 352
+
+// Alignment of a `pl_aeolus_decoder` in bytes.
+#define PL_AEOLUS_DECODER_ALIGN 8
 
 // AEOLUSINFO.
 #define PL_AEOLUS_ID_AEOLUSINFO 51
@@ -238,18 +238,18 @@
 // SETTIME.
 #define PL_AEOLUS_ID_SETTIME 12
 
-// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-#define PL_AOK_DECODER_WORDS 13
-
-// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
-// decoder (an upper bound over the supported targets).
-#define PL_AOK_DECODER_SIZE 104
-
-// Alignment of the AOK decoders in bytes.
-#define PL_AOK_DECODER_ALIGN 8
-
 // Bytes of the longest frame either side sends (a command, or a headed reply).
 #define PL_AOK_MAX_FRAME_LEN 19
+
+// 64-bit words in each of `pl_aok_device_decoder` and `pl_aok_pc_decoder`.
+#define PL_AOK_DECODER_WORDS 13
+
+// Size of each of `pl_aok_device_decoder` and `pl_aok_pc_decoder` in bytes:
+// the tag and the decoder (an upper bound over the supported targets).
+#define PL_AOK_DECODER_SIZE 104
+
+// Alignment of each of `pl_aok_device_decoder` and `pl_aok_pc_decoder` in bytes.
+#define PL_AOK_DECODER_ALIGN 8
 
 // Command kind: `63 01` debug off.
 #define PL_AOK_DEBUG_OFF 0
@@ -311,16 +311,6 @@
 // Bytes of the longest message one AYDP decoder holds (header, data and checksum).
 #define PL_AYDP_CAPACITY 512
 
-// 64-bit words in a `pl_aydp_decoder`.
-#define PL_AYDP_DECODER_WORDS 74
-
-// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
-// supported targets).
-#define PL_AYDP_DECODER_SIZE 592
-
-// Alignment of `pl_aydp_decoder` in bytes.
-#define PL_AYDP_DECODER_ALIGN 8
-
 // Bytes of the longest message the decoder accepts: a buffer this long holds any frame
 // `pl_aydp_encode` writes for it.
 #define PL_AYDP_MAX_FRAME_LEN PL_AYDP_CAPACITY
@@ -332,6 +322,16 @@
 // Profile `Reference` (the released AYDP software, Y2): the length counts data bytes,
 // sub-seconds in microseconds.
 #define PL_AYDP_REFERENCE 1
+
+// 64-bit words in a `pl_aydp_decoder`.
+#define PL_AYDP_DECODER_WORDS 74
+
+// Size of a `pl_aydp_decoder` in bytes:
+// the tag and the decoder (an upper bound over the supported targets).
+#define PL_AYDP_DECODER_SIZE 592
+
+// Alignment of a `pl_aydp_decoder` in bytes.
+#define PL_AYDP_DECODER_ALIGN 8
 
 // `kind`: time sync (Spec, type 0, normal).
 #define PL_AYDP_TIME_SYNC 0
@@ -383,18 +383,18 @@
 // Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
 #define PL_GDL90_CAPACITY 438
 
+// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
+#define PL_GDL90_MAX_FRAME_LEN 84
+
 // 64-bit words in a `pl_gdl90_decoder`.
 #define PL_GDL90_DECODER_WORDS 68
 
-// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
-// supported targets).
+// Size of a `pl_gdl90_decoder` in bytes:
+// the tag and the decoder (an upper bound over the supported targets).
 #define PL_GDL90_DECODER_SIZE 544
 
-// Alignment of `pl_gdl90_decoder` in bytes.
+// Alignment of a `pl_gdl90_decoder` in bytes.
 #define PL_GDL90_DECODER_ALIGN 8
-
-// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
-#define PL_GDL90_MAX_FRAME_LEN 84
 
 // `kind`: heartbeat (ID 0), `body.heartbeat`.
 #define PL_GDL90_HEARTBEAT 0
@@ -649,9 +649,10 @@ typedef struct {
   uint64_t offset;
 } pl_error;
 
-// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
-// or `PL_ERROR` (`*err` holds the error, `*msg` as `pl_aeolus_parse` leaves it). Both
-// pointers are valid only during the call.
+// An event callback of `pl_aeolus_feed`.
+// `status` is `PL_MESSAGE` (`*msg` holds the message) or `PL_ERROR` (`*err` holds the
+// error, `*msg` as the parse call leaves it). Both pointers are valid only during the
+// call.
 typedef void (*pl_aeolus_callback)(void *ctx,
                                    int32_t status,
                                    const pl_aeolus_message *msg,
@@ -743,12 +744,13 @@ typedef struct {
   uint64_t offset;
 } pl_aok_item;
 
-// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
-// (`*item` holds the command or message) or `PL_ERROR` (`*err`; `*item` cleared). Both
-// pointers are valid only during the call.
+// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`.
+// `status` is `PL_MESSAGE` (`*msg` holds the message) or `PL_ERROR` (`*err` holds the
+// error, `*msg` as the parse call leaves it). Both pointers are valid only during the
+// call.
 typedef void (*pl_aok_callback)(void *ctx,
                                 int32_t status,
-                                const pl_aok_item *item,
+                                const pl_aok_item *msg,
                                 const pl_error *err);
 
 // The counters of an AOK decoder (either side).
@@ -910,7 +912,10 @@ typedef struct {
   pl_aydp_body body;
 } pl_aydp_message;
 
-// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
+// An event callback of `pl_aydp_feed`.
+// `status` is `PL_MESSAGE` (`*msg` holds the message) or `PL_ERROR` (`*err` holds the
+// error, `*msg` as the parse call leaves it). Both pointers are valid only during the
+// call.
 typedef void (*pl_aydp_callback)(void *ctx,
                                  int32_t status,
                                  const pl_aydp_message *msg,
@@ -1125,7 +1130,10 @@ typedef struct {
   pl_gdl90_body body;
 } pl_gdl90_message;
 
-// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
+// An event callback of `pl_gdl90_feed`.
+// `status` is `PL_MESSAGE` (`*msg` holds the message) or `PL_ERROR` (`*err` holds the
+// error, `*msg` as the parse call leaves it). Both pointers are valid only during the
+// call.
 typedef void (*pl_gdl90_callback)(void *ctx,
                                   int32_t status,
                                   const pl_gdl90_message *msg,
@@ -1183,12 +1191,14 @@ int32_t pl_aeolus_init(pl_aeolus_decoder *dec);
 // `dec` is NULL or points to writable memory for a `pl_aeolus_decoder`.
 int32_t pl_aeolus_init_strict(pl_aeolus_decoder *dec);
 
-// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a message
-// or an error and sets `*used` to the bytes it took (all of `len` with `PL_NOTHING`). One
-// byte at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
-// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled; `*msg`
-// cleared, or for a good frame whose typed parse failed its ID, raw data and place),
-// `PL_E_NULL` or `PL_E_INVALID`.
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a
+// message or an error and sets `*used` to the bytes it took (all of `len` with
+// `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte
+// at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the
+// place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose
+// typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // size_t off = 0, used;
@@ -1200,9 +1210,9 @@ int32_t pl_aeolus_init_strict(pl_aeolus_decoder *dec);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up
+// gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
                         const uint8_t *bytes,
                         size_t len,
@@ -1210,9 +1220,9 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
                         pl_aeolus_message *msg,
                         pl_error *err);
 
-// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-// exactly the events of `pl_aeolus_parse` over the same bytes. Returns `PL_NOTHING`,
-// `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_aeolus_parse` over the same bytes. Returns
+// `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
 // static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
@@ -1222,9 +1232,9 @@ int32_t pl_aeolus_parse(pl_aeolus_decoder *dec,
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` is a
-// function that may be called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+// `on_event` is a function that may be called with `ctx` and does not use `dec`.
 int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
@@ -1232,8 +1242,9 @@ int32_t pl_aeolus_feed(pl_aeolus_decoder *dec,
                        void *ctx);
 
 // The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
-// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED`.
-// Returns as `pl_aeolus_parse`; afterwards the decoder starts afresh (offsets go on).
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and
+// what followed its start is rescanned. Returns as `pl_aeolus_parse`; afterwards
+// the decoder starts afresh (offsets go on).
 //
 // ```c
 // while ((st = pl_aeolus_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
@@ -1248,12 +1259,12 @@ int32_t pl_aeolus_finish(pl_aeolus_decoder *dec, pl_aeolus_message *msg, pl_erro
 // ```c
 // pl_aeolus_stats st;
 // pl_aeolus_get_stats(&dec, &st);
-// printf("%u frames, %u CRC errors\n", st.frames_ok, st.checksum_errors);
+// printf("%u frames, %u check errors\n", st.frames_ok, st.checksum_errors);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-// `PL_E_INVALID`); `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up
+// gets `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aeolus_get_stats(const pl_aeolus_decoder *dec, pl_aeolus_stats *stats);
 
 // Encodes `*msg` as one whole frame (flags, escapes, CRC) into `out[..cap]`. Returns the
@@ -1295,65 +1306,75 @@ size_t pl_aeolus_max_encoded_len(size_t data_len);
 // `dec` is NULL or points to writable memory for a `pl_aok_device_decoder`.
 int32_t pl_aok_device_init(pl_aok_device_decoder *dec);
 
-// Device side: decodes the PC's bytes `bytes[..len]` up to the next event, as
-// `pl_aeolus_parse` (`*cmd` holds a command; a rescan's further events come first with
-// `*used` 0: call until `PL_NOTHING`). `PL_ERROR` clears `*cmd`.
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a
+// message or an error and sets `*used` to the bytes it took (all of `len` with
+// `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte
+// at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the
+// place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose
+// typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // size_t off = 0, used;
 // int32_t st;
-// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &cmd, &err)) > 0) {
+// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
 //     off += used;
-//     if (st == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
+//     if (st == PL_MESSAGE && msg.kind == PL_AOK_RESET) reboot();
 // }
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set
-// up gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
-// 0) or readable for `len` bytes; `used`, `cmd` and `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
+// gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aok_device_parse(pl_aok_device_decoder *dec,
                             const uint8_t *bytes,
                             size_t len,
                             size_t *used,
-                            pl_aok_item *cmd,
+                            pl_aok_item *msg,
                             pl_error *err);
 
-// Device side: decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event,
-// in order (exactly those of `pl_aok_device_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or
-// `PL_E_INVALID`.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_aok_device_parse` over the same bytes. Returns
+// `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
-// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
+// static void on_event(void *ctx, int32_t st, const pl_aok_item *m, const pl_error *e) {
+//     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+// }
+// pl_aok_device_feed(&dec, dma_buf, n, on_event, &app);
 // ```
 //
 // # Safety
 // `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
-// be called with `ctx` and does not use `dec`.
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+// `on_event` is a function that may be called with `ctx` and does not use `dec`.
 int32_t pl_aok_device_feed(pl_aok_device_decoder *dec,
                            const uint8_t *bytes,
                            size_t len,
                            pl_aok_callback on_event,
                            void *ctx);
 
-// Device side: the PC's stream ended or its line went quiet: a partial command is given up
-// (`PL_ERR_TRUNCATED`) and what followed it rescanned. One event per call; call until
-// `PL_NOTHING`.
+// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and
+// what followed its start is rescanned. Returns as `pl_aok_device_parse`; afterwards
+// the decoder starts afresh (offsets go on).
 //
 // ```c
-// while ((st = pl_aok_device_finish(&dec, &cmd, &err)) > 0) if (st == PL_MESSAGE) run(&cmd);
+// while ((st = pl_aok_device_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
 // ```
 //
 // # Safety
-// As `pl_aok_device_parse`, for `dec`, `cmd` and `err`.
-int32_t pl_aok_device_finish(pl_aok_device_decoder *dec, pl_aok_item *cmd, pl_error *err);
+// As `pl_aok_device_parse`, for `dec`, `msg` and `err`.
+int32_t pl_aok_device_finish(pl_aok_device_decoder *dec, pl_aok_item *msg, pl_error *err);
 
-// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
+// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_stats st;
 // pl_aok_device_get_stats(&dec, &st);
+// printf("%u frames, %u check errors\n", st.frames_ok, st.checksum_errors);
 // ```
 //
 // # Safety
@@ -1390,8 +1411,14 @@ int32_t pl_aok_pc_init(pl_aok_pc_decoder *dec, uint8_t major, uint8_t minor);
 // `PL_E_INVALID`); `cmd` is NULL or readable.
 int32_t pl_aok_pc_expect_reply(pl_aok_pc_decoder *dec, const pl_aok_item *cmd);
 
-// PC side: decodes the device's bytes `bytes[..len]` up to the next event, as
-// `pl_aok_device_parse` (`*msg` holds a debug value, an ack, a parameter or a waypoint).
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a
+// message or an error and sets `*used` to the bytes it took (all of `len` with
+// `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte
+// at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the
+// place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose
+// typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // size_t off = 0, used;
@@ -1403,7 +1430,9 @@ int32_t pl_aok_pc_expect_reply(pl_aok_pc_decoder *dec, const pl_aok_item *cmd);
 // ```
 //
 // # Safety
-// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up
+// gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
                         const uint8_t *bytes,
                         size_t len,
@@ -1411,41 +1440,51 @@ int32_t pl_aok_pc_parse(pl_aok_pc_decoder *dec,
                         pl_aok_item *msg,
                         pl_error *err);
 
-// PC side: decodes all of `bytes[..len]`, `on_event(ctx, ...)` for every event in order
-// (exactly those of `pl_aok_pc_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_aok_pc_parse` over the same bytes. Returns
+// `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
-// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
+// static void on_event(void *ctx, int32_t st, const pl_aok_item *m, const pl_error *e) {
+//     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+// }
+// pl_aok_pc_feed(&dec, dma_buf, n, on_event, &app);
 // ```
 //
 // # Safety
-// As `pl_aok_device_feed`, with a `pl_aok_pc_decoder`.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+// `on_event` is a function that may be called with `ctx` and does not use `dec`.
 int32_t pl_aok_pc_feed(pl_aok_pc_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
                        pl_aok_callback on_event,
                        void *ctx);
 
-// PC side: the device's stream ended or its line went quiet; one event per call, call until
-// `PL_NOTHING` (as `pl_aok_device_finish`).
+// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and
+// what followed its start is rescanned. Returns as `pl_aok_pc_parse`; afterwards
+// the decoder starts afresh (offsets go on).
 //
 // ```c
-// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
+// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
 // ```
 //
 // # Safety
-// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
+// As `pl_aok_pc_parse`, for `dec`, `msg` and `err`.
 int32_t pl_aok_pc_finish(pl_aok_pc_decoder *dec, pl_aok_item *msg, pl_error *err);
 
-// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
+// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
 //
 // ```c
 // pl_aok_stats st;
 // pl_aok_pc_get_stats(&dec, &st);
+// printf("%u frames, %u check errors\n", st.frames_ok, st.checksum_errors);
 // ```
 //
 // # Safety
-// As `pl_aok_device_get_stats`, with a `pl_aok_pc_decoder`.
+// `dec` is NULL or points to a `pl_aok_pc_decoder` (one `pl_aok_pc_init` did not set up
+// gets `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aok_pc_get_stats(const pl_aok_pc_decoder *dec, pl_aok_stats *stats);
 
 // Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
@@ -1491,25 +1530,28 @@ int32_t pl_aok_encode_message(const pl_aok_item *msg, uint8_t headed, uint8_t *o
 // `dec` is NULL or points to writable memory for a `pl_aydp_decoder`.
 int32_t pl_aydp_init(pl_aydp_decoder *dec, uint32_t profile);
 
-// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. A rescan after an error
-// can find further messages among bytes already held: they come first, one a call, with
-// `*used` 0, so call again (with the rest, or `len` 0) until `PL_NOTHING`. `PL_ERROR` with a
-// good checksum but a failed typed parse leaves the raw data and place in `*msg`; any other
-// error clears it.
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a
+// message or an error and sets `*used` to the bytes it took (all of `len` with
+// `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte
+// at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the
+// place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose
+// typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // size_t off = 0, used;
 // int32_t st;
 // while ((st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
 //     off += used;
-//     if (st == PL_MESSAGE) handle(&msg);
+//     if (st == PL_MESSAGE && msg.kind == PL_AYDP_POSITION) plot(&msg.body.position);
 // }
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up
+// gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_aydp_parse(pl_aydp_decoder *dec,
                       const uint8_t *bytes,
                       size_t len,
@@ -1517,29 +1559,34 @@ int32_t pl_aydp_parse(pl_aydp_decoder *dec,
                       pl_aydp_message *msg,
                       pl_error *err);
 
-// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-// exactly the events of `pl_aydp_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-// `PL_E_INVALID`.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_aydp_parse` over the same bytes. Returns
+// `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
+// static void on_event(void *ctx, int32_t st, const pl_aydp_message *m, const pl_error *e) {
+//     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+// }
 // pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-// called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+// `on_event` is a function that may be called with `ctx` and does not use `dec`.
 int32_t pl_aydp_feed(pl_aydp_decoder *dec,
                      const uint8_t *bytes,
                      size_t len,
                      pl_aydp_callback on_event,
                      void *ctx);
 
-// The stream ended: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. One
-// event per call (as `pl_aydp_parse`); call until `PL_NOTHING`.
+// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and
+// what followed its start is rescanned. Returns as `pl_aydp_parse`; afterwards
+// the decoder starts afresh (offsets go on).
 //
 // ```c
-// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
+// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
 // ```
 //
 // # Safety
@@ -1551,11 +1598,12 @@ int32_t pl_aydp_finish(pl_aydp_decoder *dec, pl_aydp_message *msg, pl_error *err
 // ```c
 // pl_aydp_stats st;
 // pl_aydp_get_stats(&dec, &st);
+// printf("%u frames, %u check errors\n", st.frames_ok, st.checksum_errors);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-// `PL_E_INVALID`); `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up
+// gets `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_aydp_get_stats(const pl_aydp_decoder *dec, pl_aydp_stats *stats);
 
 // The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
@@ -1616,9 +1664,14 @@ int32_t pl_aydp_encode(uint32_t profile, const pl_aydp_message *msg, uint8_t *ou
 // `dec` is NULL or points to writable memory for a `pl_gdl90_decoder`.
 int32_t pl_gdl90_init(pl_gdl90_decoder *dec);
 
-// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. `PL_ERROR` clears
-// `*msg`; for a frame with a good CRC whose typed parse failed (`PL_ERR_WRONG_LENGTH`,
-// `PL_ERR_OUT_OF_RANGE`) it also gives that frame's `offset` and `wire_len`.
+// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a
+// message or an error and sets `*used` to the bytes it took (all of `len` with
+// `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte
+// at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
+// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the
+// place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose
+// typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or
+// `PL_E_INVALID`.
 //
 // ```c
 // size_t off = 0, used;
@@ -1630,9 +1683,9 @@ int32_t pl_gdl90_init(pl_gdl90_decoder *dec);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up
+// gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
+// 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
 int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
                        const uint8_t *bytes,
                        size_t len,
@@ -1640,26 +1693,31 @@ int32_t pl_gdl90_parse(pl_gdl90_decoder *dec,
                        pl_gdl90_message *msg,
                        pl_error *err);
 
-// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-// exactly the events of `pl_gdl90_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-// `PL_E_INVALID`.
+// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in
+// order: exactly the events of `pl_gdl90_parse` over the same bytes. Returns
+// `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
 //
 // ```c
-// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
+// static void on_event(void *ctx, int32_t st, const pl_gdl90_message *m, const pl_error *e) {
+//     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
+// }
+// pl_gdl90_feed(&dec, dma_buf, n, on_event, &app);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-// called with `ctx` and does not use `dec`.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up
+// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;
+// `on_event` is a function that may be called with `ctx` and does not use `dec`.
 int32_t pl_gdl90_feed(pl_gdl90_decoder *dec,
                       const uint8_t *bytes,
                       size_t len,
                       pl_gdl90_callback on_event,
                       void *ctx);
 
-// The stream (or a datagram) ended: a frame still held is given up as `PL_ERR_TRUNCATED`.
-// One event per call; call until `PL_NOTHING`. Afterwards the decoder starts afresh.
+// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
+// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and
+// what followed its start is rescanned. Returns as `pl_gdl90_parse`; afterwards
+// the decoder starts afresh (offsets go on).
 //
 // ```c
 // while ((st = pl_gdl90_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
@@ -1674,11 +1732,12 @@ int32_t pl_gdl90_finish(pl_gdl90_decoder *dec, pl_gdl90_message *msg, pl_error *
 // ```c
 // pl_gdl90_stats st;
 // pl_gdl90_get_stats(&dec, &st);
+// printf("%u frames, %u check errors\n", st.frames_ok, st.checksum_errors);
 // ```
 //
 // # Safety
-// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-// `PL_E_INVALID`); `stats` is NULL or writable.
+// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up
+// gets `PL_E_INVALID`); `stats` is NULL or writable.
 int32_t pl_gdl90_get_stats(const pl_gdl90_decoder *dec, pl_gdl90_stats *stats);
 
 // Encodes `*msg` as one whole frame into `out[..cap]`. Returns its length, or `PL_E_NULL`,

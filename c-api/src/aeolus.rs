@@ -11,13 +11,6 @@ use crate::*;
 /// Unescaped bytes (ID + data + CRC) one AEOLUS decoder holds: every fixed-size message,
 /// every TOAST and COMMAND text, LOG messages up to 253 data bytes.
 pub const PL_AEOLUS_CAPACITY: usize = 256;
-/// 64-bit words in a `pl_aeolus_decoder`.
-pub const PL_AEOLUS_DECODER_WORDS: usize = 44;
-/// Size of `pl_aeolus_decoder` in bytes: its tag and the decoder (an upper bound over the
-/// supported targets).
-pub const PL_AEOLUS_DECODER_SIZE: usize = 352;
-/// Alignment of `pl_aeolus_decoder` in bytes.
-pub const PL_AEOLUS_DECODER_ALIGN: usize = 8;
 /// The longest TOAST or COMMAND text (without its NUL).
 pub const PL_AEOLUS_TEXT_CAPACITY: usize = 120;
 /// Bytes on the wire of the longest fixed-size message (DEBUGINFO, 208 data bytes), every byte
@@ -27,16 +20,12 @@ pub const PL_AEOLUS_MAX_FRAME_LEN: usize = 424;
 /// The Rust decoder a `pl_aeolus_decoder` holds.
 pub(crate) type Inner = Decoder<PL_AEOLUS_CAPACITY>;
 
-/// An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
-/// call; copy it only as a whole.
-#[repr(C)]
-pub struct pl_aeolus_decoder {
-    /// Opaque.
-    pub opaque: [u64; PL_AEOLUS_DECODER_WORDS],
-}
-
-state::holds! {
-    pl_aeolus_decoder: Stream<Inner>, PL_STATE_AEOLUS, PL_AEOLUS_DECODER_SIZE, PL_AEOLUS_DECODER_ALIGN
+state::c_states! {
+    PL_AEOLUS_DECODER_WORDS = 44, PL_AEOLUS_DECODER_SIZE = 352, PL_AEOLUS_DECODER_ALIGN = 8,
+    of "a `pl_aeolus_decoder`";
+    /// An AEOLUS decoder, owned by the caller. Set it up with `pl_aeolus_init` before any other
+    /// call; copy it only as a whole.
+    pl_aeolus_decoder: Stream<Inner>, PL_STATE_AEOLUS;
 }
 const _: () = assert!(PL_AEOLUS_TEXT_CAPACITY == aeolus_proto::TEXT_CAPACITY);
 const _: () = assert!(

@@ -12,37 +12,16 @@ use crate::pl_error;
 use crate::state::{self, PL_STATE_AOK_DEVICE, PL_STATE_AOK_PC};
 use crate::*;
 
-/// 64-bit words in a `pl_aok_device_decoder` and in a `pl_aok_pc_decoder`.
-pub const PL_AOK_DECODER_WORDS: usize = 13;
-/// Size of `pl_aok_device_decoder` and of `pl_aok_pc_decoder` in bytes: the tag and the
-/// decoder (an upper bound over the supported targets).
-pub const PL_AOK_DECODER_SIZE: usize = 104;
-/// Alignment of the AOK decoders in bytes.
-pub const PL_AOK_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest frame either side sends (a command, or a headed reply).
 pub const PL_AOK_MAX_FRAME_LEN: usize = 19;
 
-/// The device side: decodes the commands a PC sends. Set it up with `pl_aok_device_init`.
-#[repr(C)]
-pub struct pl_aok_device_decoder {
-    /// Opaque.
-    pub opaque: [u64; PL_AOK_DECODER_WORDS],
-}
-
-/// The PC side: decodes what the device sends. Set it up with `pl_aok_pc_init`.
-#[repr(C)]
-pub struct pl_aok_pc_decoder {
-    /// Opaque.
-    pub opaque: [u64; PL_AOK_DECODER_WORDS],
-}
-
-state::holds! {
-    pl_aok_device_decoder: Stream<CommandDecoder>, PL_STATE_AOK_DEVICE,
-    PL_AOK_DECODER_SIZE, PL_AOK_DECODER_ALIGN
-}
-state::holds! {
-    pl_aok_pc_decoder: Stream<MessageDecoder>, PL_STATE_AOK_PC,
-    PL_AOK_DECODER_SIZE, PL_AOK_DECODER_ALIGN
+state::c_states! {
+    PL_AOK_DECODER_WORDS = 13, PL_AOK_DECODER_SIZE = 104, PL_AOK_DECODER_ALIGN = 8,
+    of "each of `pl_aok_device_decoder` and `pl_aok_pc_decoder`";
+    /// The device side: decodes the commands a PC sends. Set it up with `pl_aok_device_init`.
+    pl_aok_device_decoder: Stream<CommandDecoder>, PL_STATE_AOK_DEVICE;
+    /// The PC side: decodes what the device sends. Set it up with `pl_aok_pc_init`.
+    pl_aok_pc_decoder: Stream<MessageDecoder>, PL_STATE_AOK_PC;
 }
 const _: () = assert!(PL_AOK_MAX_FRAME_LEN == aok_proto::command::MAX_COMMAND_LEN);
 

@@ -14,13 +14,6 @@ use crate::*;
 
 /// Bytes of the longest message one AYDP decoder holds (header, data and checksum).
 pub const PL_AYDP_CAPACITY: usize = 512;
-/// 64-bit words in a `pl_aydp_decoder`.
-pub const PL_AYDP_DECODER_WORDS: usize = 74;
-/// Size of `pl_aydp_decoder` in bytes: its tag and the decoder (an upper bound over the
-/// supported targets).
-pub const PL_AYDP_DECODER_SIZE: usize = 592;
-/// Alignment of `pl_aydp_decoder` in bytes.
-pub const PL_AYDP_DECODER_ALIGN: usize = 8;
 /// Bytes of the longest message the decoder accepts: a buffer this long holds any frame
 /// `pl_aydp_encode` writes for it.
 pub const PL_AYDP_MAX_FRAME_LEN: usize = PL_AYDP_CAPACITY;
@@ -35,15 +28,11 @@ pub const PL_AYDP_REFERENCE: u32 = 1;
 /// The Rust decoder a `pl_aydp_decoder` holds.
 pub(crate) type Inner = Decoder<PL_AYDP_CAPACITY>;
 
-/// An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
-#[repr(C)]
-pub struct pl_aydp_decoder {
-    /// Opaque.
-    pub opaque: [u64; PL_AYDP_DECODER_WORDS],
-}
-
-state::holds! {
-    pl_aydp_decoder: Stream<Inner>, PL_STATE_AYDP, PL_AYDP_DECODER_SIZE, PL_AYDP_DECODER_ALIGN
+state::c_states! {
+    PL_AYDP_DECODER_WORDS = 74, PL_AYDP_DECODER_SIZE = 592, PL_AYDP_DECODER_ALIGN = 8,
+    of "a `pl_aydp_decoder`";
+    /// An AYDP decoder, owned by the caller. Set it up with `pl_aydp_init` first.
+    pl_aydp_decoder: Stream<Inner>, PL_STATE_AYDP;
 }
 
 /// `kind`: time sync (Spec, type 0, normal).

@@ -13,6 +13,132 @@ use crate::aydp::{self, *};
 use crate::gdl90::{self, *};
 use crate::{encode, face, pl_error};
 
+/// An event callback type of `pl_*_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
+/// or `PL_ERROR` (`*err` holds the error, `*msg` as the protocol's `pl_*_parse` leaves it).
+/// `$of` names the feed calls that take it.
+macro_rules! callback {
+    ($callback:ident($msg:ident) of $of:literal) => {
+        #[doc = concat!(" An event callback of ", $of, ".")]
+        #[doc = " `status` is `PL_MESSAGE` (`*msg` holds the message) or `PL_ERROR` (`*err` holds the"]
+        #[doc = " error, `*msg` as the parse call leaves it). Both pointers are valid only during the"]
+        #[doc = " call."]
+        pub type $callback = Option<
+            unsafe extern "C" fn(
+                ctx: *mut core::ffi::c_void,
+                status: i32,
+                msg: *const $msg,
+                err: *const pl_error,
+            ),
+        >;
+    };
+}
+
+/// The four decoding calls of a decoder (`parse`, `feed`, `finish`, `get_stats`): each only
+/// forwards to `face.rs`, and their C documentation is the same for every protocol but for the
+/// names and the example's line (`$example`, what a caller does with a message).
+macro_rules! decoding_calls {
+    (
+        $dec:ident (set up by $init:literal) => $msg:ident, $stats:ident, $callback:ident,
+        $parse:ident, $feed:ident, $finish:ident, $get_stats:ident, $example:literal
+    ) => {
+        #[doc = " Decodes `bytes[..len]` up to the next event: stops after the byte that completed a"]
+        #[doc = " message or an error and sets `*used` to the bytes it took (all of `len` with"]
+        #[doc = " `PL_NOTHING`, 0 for an event a rescan left queued: call until `PL_NOTHING`). One byte"]
+        #[doc = " at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`"]
+        #[doc = " (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled, with the"]
+        #[doc = " place of the bytes it condemns; `*msg` cleared, or for a frame with a good check whose"]
+        #[doc = " typed parse failed, that frame's place and what the struct keeps of it), `PL_E_NULL` or"]
+        #[doc = " `PL_E_INVALID`."]
+        #[doc = ""]
+        #[doc = " ```c"]
+        #[doc = " size_t off = 0, used;"]
+        #[doc = " int32_t st;"]
+        #[doc = concat!(" while ((st = ", stringify!($parse), "(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {")]
+        #[doc = "     off += used;"]
+        #[doc = concat!("     ", $example)]
+        #[doc = " }"]
+        #[doc = " ```"]
+        #[doc = ""]
+        #[doc = " # Safety"]
+        #[doc = concat!(" `dec` is NULL or points to a `", stringify!($dec), "` (one `", $init, "` did not set up")]
+        #[doc = " gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`"]
+        #[doc = " 0) or readable for `len` bytes; `used`, `msg` and `err` are NULL or writable."]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $parse(
+            dec: *mut $dec,
+            bytes: *const u8,
+            len: usize,
+            used: *mut usize,
+            msg: *mut $msg,
+            err: *mut pl_error,
+        ) -> i32 {
+            // SAFETY: the caller's promises.
+            unsafe { face::parse(dec, bytes, len, used, msg, err) }
+        }
+
+        #[doc = " Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in"]
+        #[doc = concat!(" order: exactly the events of `", stringify!($parse), "` over the same bytes. Returns")]
+        #[doc = " `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram."]
+        #[doc = ""]
+        #[doc = " ```c"]
+        #[doc = concat!(" static void on_event(void *ctx, int32_t st, const ", stringify!($msg), " *m, const pl_error *e) {")]
+        #[doc = "     if (st == PL_MESSAGE) handle((struct app *)ctx, m);"]
+        #[doc = " }"]
+        #[doc = concat!(" ", stringify!($feed), "(&dec, dma_buf, n, on_event, &app);")]
+        #[doc = " ```"]
+        #[doc = ""]
+        #[doc = " # Safety"]
+        #[doc = concat!(" `dec` is NULL or points to a `", stringify!($dec), "` (one `", $init, "` did not set up")]
+        #[doc = " gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes;"]
+        #[doc = " `on_event` is a function that may be called with `ctx` and does not use `dec`."]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $feed(
+            dec: *mut $dec,
+            bytes: *const u8,
+            len: usize,
+            on_event: $callback,
+            ctx: *mut core::ffi::c_void,
+        ) -> i32 {
+            // SAFETY: the caller's promises.
+            unsafe { face::feed(dec, bytes, len, on_event, ctx) }
+        }
+
+        #[doc = " The stream ended (a file, a datagram, a quiet line): the next event of its end, one per"]
+        #[doc = " call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED` and"]
+        #[doc = concat!(" what followed its start is rescanned. Returns as `", stringify!($parse), "`; afterwards")]
+        #[doc = " the decoder starts afresh (offsets go on)."]
+        #[doc = ""]
+        #[doc = " ```c"]
+        #[doc = concat!(" while ((st = ", stringify!($finish), "(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);")]
+        #[doc = " ```"]
+        #[doc = ""]
+        #[doc = " # Safety"]
+        #[doc = concat!(" As `", stringify!($parse), "`, for `dec`, `msg` and `err`.")]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $finish(dec: *mut $dec, msg: *mut $msg, err: *mut pl_error) -> i32 {
+            // SAFETY: the caller's promises.
+            unsafe { face::finish(dec, msg, err) }
+        }
+
+        #[doc = " Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`."]
+        #[doc = ""]
+        #[doc = " ```c"]
+        #[doc = concat!(" ", stringify!($stats), " st;")]
+        #[doc = concat!(" ", stringify!($get_stats), "(&dec, &st);")]
+        #[doc = " printf(\"%u frames, %u check errors\\n\", st.frames_ok, st.checksum_errors);"]
+        #[doc = " ```"]
+        #[doc = ""]
+        #[doc = " # Safety"]
+        #[doc = concat!(" `dec` is NULL or points to a `", stringify!($dec), "` (one `", $init, "` did not set up")]
+        #[doc = " gets `PL_E_INVALID`); `stats` is NULL or writable."]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $get_stats(dec: *const $dec, stats: *mut $stats) -> i32 {
+            // SAFETY: the caller's promises.
+            unsafe { face::get_stats(dec, stats) }
+        }
+    };
+}
+
 // AEOLUS.
 
 /// Sets up `dec` as a fresh decoder that accepts frames without a CRC (`00 00`, as the spec
@@ -47,116 +173,12 @@ pub unsafe extern "C" fn pl_aeolus_init_strict(dec: *mut pl_aeolus_decoder) -> i
     unsafe { face::init(dec, aeolus::Inner::strict()) }
 }
 
-/// Decodes `bytes[..len]` up to the next event: stops after the byte that completed a message
-/// or an error and sets `*used` to the bytes it took (all of `len` with `PL_NOTHING`). One
-/// byte at a time from an interrupt handler is `len` 1. Returns `PL_NOTHING`, `PL_MESSAGE`
-/// (`*msg` filled, with its `offset` and `wire_len`), `PL_ERROR` (`*err` filled; `*msg`
-/// cleared, or for a good frame whose typed parse failed its ID, raw data and place),
-/// `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aeolus_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) use_rates(&msg.body.motion);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_parse(
-    dec: *mut pl_aeolus_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aeolus_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
+callback!(pl_aeolus_callback(pl_aeolus_message) of "`pl_aeolus_feed`");
 
-/// An event callback of `pl_aeolus_feed`: `status` is `PL_MESSAGE` (`*msg` holds the message)
-/// or `PL_ERROR` (`*err` holds the error, `*msg` as `pl_aeolus_parse` leaves it). Both
-/// pointers are valid only during the call.
-pub type pl_aeolus_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_aeolus_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_aeolus_parse` over the same bytes. Returns `PL_NOTHING`,
-/// `PL_E_NULL` or `PL_E_INVALID`. Use it for a DMA buffer or a datagram.
-///
-/// ```c
-/// static void on_event(void *ctx, int32_t st, const pl_aeolus_message *m, const pl_error *e) {
-///     if (st == PL_MESSAGE) handle((struct app *)ctx, m);
-/// }
-/// pl_aeolus_feed(&dec, dma_buf, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` is a
-/// function that may be called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_feed(
-    dec: *mut pl_aeolus_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aeolus_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream ended (a file, a datagram, a quiet line): the next event of its end, one per
-/// call; call until `PL_NOTHING`. A frame still held is given up as `PL_ERR_TRUNCATED`.
-/// Returns as `pl_aeolus_parse`; afterwards the decoder starts afresh (offsets go on).
-///
-/// ```c
-/// while ((st = pl_aeolus_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
-/// ```
-///
-/// # Safety
-/// As `pl_aeolus_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_finish(
-    dec: *mut pl_aeolus_decoder,
-    msg: *mut pl_aeolus_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aeolus_stats st;
-/// pl_aeolus_get_stats(&dec, &st);
-/// printf("%u frames, %u CRC errors\n", st.frames_ok, st.checksum_errors);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aeolus_decoder` (one `pl_aeolus_init*` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aeolus_get_stats(
-    dec: *const pl_aeolus_decoder,
-    stats: *mut pl_aeolus_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
+decoding_calls! {
+    pl_aeolus_decoder (set up by "pl_aeolus_init*") => pl_aeolus_message, pl_aeolus_stats, pl_aeolus_callback,
+    pl_aeolus_parse, pl_aeolus_feed, pl_aeolus_finish, pl_aeolus_get_stats,
+    "if (st == PL_MESSAGE && msg.id == PL_AEOLUS_ID_GYRO) use_rates(&msg.body.motion);"
 }
 
 /// Encodes `*msg` as one whole frame (flags, escapes, CRC) into `out[..cap]`. Returns the
@@ -215,97 +237,12 @@ pub unsafe extern "C" fn pl_aok_device_init(dec: *mut pl_aok_device_decoder) -> 
     unsafe { face::init(dec, CommandDecoder::new()) }
 }
 
-/// Device side: decodes the PC's bytes `bytes[..len]` up to the next event, as
-/// `pl_aeolus_parse` (`*cmd` holds a command; a rescan's further events come first with
-/// `*used` 0: call until `PL_NOTHING`). `PL_ERROR` clears `*cmd`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aok_device_parse(&dec, buf + off, len - off, &used, &cmd, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && cmd.kind == PL_AOK_RESET) reboot();
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set
-/// up gets `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len`
-/// 0) or readable for `len` bytes; `used`, `cmd` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_parse(
-    dec: *mut pl_aok_device_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, cmd, err) }
-}
+callback!(pl_aok_callback(pl_aok_item) of "`pl_aok_device_feed` and `pl_aok_pc_feed`");
 
-/// Device side: decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event,
-/// in order (exactly those of `pl_aok_device_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_device_feed(&dec, rx_buf, n, on_command, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may
-/// be called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_feed(
-    dec: *mut pl_aok_device_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// Device side: the PC's stream ended or its line went quiet: a partial command is given up
-/// (`PL_ERR_TRUNCATED`) and what followed it rescanned. One event per call; call until
-/// `PL_NOTHING`.
-///
-/// ```c
-/// while ((st = pl_aok_device_finish(&dec, &cmd, &err)) > 0) if (st == PL_MESSAGE) run(&cmd);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, for `dec`, `cmd` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_finish(
-    dec: *mut pl_aok_device_decoder,
-    cmd: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, cmd, err) }
-}
-
-/// Device side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_stats st;
-/// pl_aok_device_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aok_device_decoder` (one `pl_aok_device_init` did not set up
-/// gets `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_device_get_stats(
-    dec: *const pl_aok_device_decoder,
-    stats: *mut pl_aok_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
+decoding_calls! {
+    pl_aok_device_decoder (set up by "pl_aok_device_init") => pl_aok_item, pl_aok_stats, pl_aok_callback,
+    pl_aok_device_parse, pl_aok_device_feed, pl_aok_device_finish, pl_aok_device_get_stats,
+    "if (st == PL_MESSAGE && msg.kind == PL_AOK_RESET) reboot();"
 }
 
 /// Sets up the PC side's decoder for a device running firmware `major.minor` (<= 0.30 sends
@@ -348,102 +285,11 @@ pub unsafe extern "C" fn pl_aok_pc_expect_reply(
     unsafe { aok::expect_reply(dec, cmd) }
 }
 
-/// PC side: decodes the device's bytes `bytes[..len]` up to the next event, as
-/// `pl_aok_device_parse` (`*msg` holds a debug value, an ack, a parameter or a waypoint).
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aok_pc_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);
-/// }
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_parse(
-    dec: *mut pl_aok_pc_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
+decoding_calls! {
+    pl_aok_pc_decoder (set up by "pl_aok_pc_init") => pl_aok_item, pl_aok_stats, pl_aok_callback,
+    pl_aok_pc_parse, pl_aok_pc_feed, pl_aok_pc_finish, pl_aok_pc_get_stats,
+    "if (st == PL_MESSAGE && msg.kind == PL_AOK_DEBUG) plot(msg.number, msg.value);"
 }
-
-/// PC side: decodes all of `bytes[..len]`, `on_event(ctx, ...)` for every event in order
-/// (exactly those of `pl_aok_pc_parse`). Returns `PL_NOTHING`, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_pc_feed(&dec, rx_buf, n, on_message, &app);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_feed`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_feed(
-    dec: *mut pl_aok_pc_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aok_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// PC side: the device's stream ended or its line went quiet; one event per call, call until
-/// `PL_NOTHING` (as `pl_aok_device_finish`).
-///
-/// ```c
-/// while ((st = pl_aok_pc_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_parse`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_finish(
-    dec: *mut pl_aok_pc_decoder,
-    msg: *mut pl_aok_item,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// PC side: the decoder's counters. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aok_stats st;
-/// pl_aok_pc_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// As `pl_aok_device_get_stats`, with a `pl_aok_pc_decoder`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aok_pc_get_stats(
-    dec: *const pl_aok_pc_decoder,
-    stats: *mut pl_aok_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
-}
-
-/// An event callback of `pl_aok_device_feed` and `pl_aok_pc_feed`: `status` is `PL_MESSAGE`
-/// (`*item` holds the command or message) or `PL_ERROR` (`*err`; `*item` cleared). Both
-/// pointers are valid only during the call.
-pub type pl_aok_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        item: *const pl_aok_item,
-        err: *const pl_error,
-    ),
->;
 
 /// Encodes a command (PC to device) into `out[..cap]`. Returns its length, or `PL_E_NULL`,
 /// `PL_E_BAD_TAG` (not a command kind), `PL_E_OUT_OF_RANGE` (motor, slot or stick out of
@@ -518,108 +364,12 @@ pub unsafe extern "C" fn pl_aydp_init(dec: *mut pl_aydp_decoder, profile: u32) -
     unsafe { face::init(dec, d) }
 }
 
-/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. A rescan after an error
-/// can find further messages among bytes already held: they come first, one a call, with
-/// `*used` 0, so call again (with the rest, or `len` 0) until `PL_NOTHING`. `PL_ERROR` with a
-/// good checksum but a failed typed parse leaves the raw data and place in `*msg`; any other
-/// error clears it.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_aydp_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE) handle(&msg);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_parse(
-    dec: *mut pl_aydp_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
+callback!(pl_aydp_callback(pl_aydp_message) of "`pl_aydp_feed`");
 
-/// An event callback of `pl_aydp_feed` (see `pl_aeolus_callback`).
-pub type pl_aydp_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_aydp_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_aydp_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aydp_feed(&dec, dma_buf, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-/// called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_feed(
-    dec: *mut pl_aydp_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_aydp_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream ended: what is still held is given up (`PL_ERR_TRUNCATED`) and rescanned. One
-/// event per call (as `pl_aydp_parse`); call until `PL_NOTHING`.
-///
-/// ```c
-/// while ((st = pl_aydp_finish(&dec, &msg, &err)) > 0) if (st == PL_MESSAGE) handle(&msg);
-/// ```
-///
-/// # Safety
-/// As `pl_aydp_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_finish(
-    dec: *mut pl_aydp_decoder,
-    msg: *mut pl_aydp_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_aydp_stats st;
-/// pl_aydp_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_aydp_decoder` (one `pl_aydp_init` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_aydp_get_stats(
-    dec: *const pl_aydp_decoder,
-    stats: *mut pl_aydp_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
+decoding_calls! {
+    pl_aydp_decoder (set up by "pl_aydp_init") => pl_aydp_message, pl_aydp_stats, pl_aydp_callback,
+    pl_aydp_parse, pl_aydp_feed, pl_aydp_finish, pl_aydp_get_stats,
+    "if (st == PL_MESSAGE && msg.kind == PL_AYDP_POSITION) plot(&msg.body.position);"
 }
 
 /// The `index`-th satellite of a decoded fix detail message. Returns 0, `PL_E_NULL`, or
@@ -724,106 +474,12 @@ pub unsafe extern "C" fn pl_gdl90_init(dec: *mut pl_gdl90_decoder) -> i32 {
     unsafe { face::init(dec, gdl90::Inner::new()) }
 }
 
-/// Decodes `bytes[..len]` up to the next event, as `pl_aeolus_parse`. `PL_ERROR` clears
-/// `*msg`; for a frame with a good CRC whose typed parse failed (`PL_ERR_WRONG_LENGTH`,
-/// `PL_ERR_OUT_OF_RANGE`) it also gives that frame's `offset` and `wire_len`.
-///
-/// ```c
-/// size_t off = 0, used;
-/// int32_t st;
-/// while ((st = pl_gdl90_parse(&dec, buf + off, len - off, &used, &msg, &err)) > 0) {
-///     off += used;
-///     if (st == PL_MESSAGE && msg.kind == PL_GDL90_OWNSHIP) show(&msg.body.report);
-/// }
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`) that nothing else uses during the call; `bytes` is NULL (with `len` 0) or
-/// readable for `len` bytes; `used`, `msg` and `err` are NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_parse(
-    dec: *mut pl_gdl90_decoder,
-    bytes: *const u8,
-    len: usize,
-    used: *mut usize,
-    msg: *mut pl_gdl90_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::parse(dec, bytes, len, used, msg, err) }
-}
+callback!(pl_gdl90_callback(pl_gdl90_message) of "`pl_gdl90_feed`");
 
-/// An event callback of `pl_gdl90_feed` (see `pl_aeolus_callback`).
-pub type pl_gdl90_callback = Option<
-    unsafe extern "C" fn(
-        ctx: *mut core::ffi::c_void,
-        status: i32,
-        msg: *const pl_gdl90_message,
-        err: *const pl_error,
-    ),
->;
-
-/// Decodes all of `bytes[..len]` and calls `on_event(ctx, ...)` for every event, in order:
-/// exactly the events of `pl_gdl90_parse`. Returns `PL_NOTHING`, `PL_E_NULL` or
-/// `PL_E_INVALID`.
-///
-/// ```c
-/// pl_gdl90_feed(&dec, datagram, n, on_event, &app);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`); `bytes` is NULL (with `len` 0) or readable for `len` bytes; `on_event` may be
-/// called with `ctx` and does not use `dec`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_feed(
-    dec: *mut pl_gdl90_decoder,
-    bytes: *const u8,
-    len: usize,
-    on_event: pl_gdl90_callback,
-    ctx: *mut core::ffi::c_void,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::feed(dec, bytes, len, on_event, ctx) }
-}
-
-/// The stream (or a datagram) ended: a frame still held is given up as `PL_ERR_TRUNCATED`.
-/// One event per call; call until `PL_NOTHING`. Afterwards the decoder starts afresh.
-///
-/// ```c
-/// while ((st = pl_gdl90_finish(&dec, &msg, &err)) > 0) if (st == PL_ERROR) count(&err);
-/// ```
-///
-/// # Safety
-/// As `pl_gdl90_parse`, for `dec`, `msg` and `err`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_finish(
-    dec: *mut pl_gdl90_decoder,
-    msg: *mut pl_gdl90_message,
-    err: *mut pl_error,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::finish(dec, msg, err) }
-}
-
-/// Copies the decoder's counters into `*stats`. Returns 0, `PL_E_NULL` or `PL_E_INVALID`.
-///
-/// ```c
-/// pl_gdl90_stats st;
-/// pl_gdl90_get_stats(&dec, &st);
-/// ```
-///
-/// # Safety
-/// `dec` is NULL or points to a `pl_gdl90_decoder` (one `pl_gdl90_init` did not set up gets
-/// `PL_E_INVALID`); `stats` is NULL or writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn pl_gdl90_get_stats(
-    dec: *const pl_gdl90_decoder,
-    stats: *mut pl_gdl90_stats,
-) -> i32 {
-    // SAFETY: the caller's promises.
-    unsafe { face::get_stats(dec, stats) }
+decoding_calls! {
+    pl_gdl90_decoder (set up by "pl_gdl90_init") => pl_gdl90_message, pl_gdl90_stats, pl_gdl90_callback,
+    pl_gdl90_parse, pl_gdl90_feed, pl_gdl90_finish, pl_gdl90_get_stats,
+    "if (st == PL_MESSAGE && msg.kind == PL_GDL90_OWNSHIP) show(&msg.body.report);"
 }
 
 /// Encodes `*msg` as one whole frame into `out[..cap]`. Returns its length, or `PL_E_NULL`,

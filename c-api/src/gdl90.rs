@@ -13,30 +13,19 @@ use crate::*;
 
 /// Unescaped bytes one GDL90 decoder holds: the longest standard message (an uplink).
 pub const PL_GDL90_CAPACITY: usize = 438;
-/// 64-bit words in a `pl_gdl90_decoder`.
-pub const PL_GDL90_DECODER_WORDS: usize = 68;
-/// Size of `pl_gdl90_decoder` in bytes: its tag and the decoder (an upper bound over the
-/// supported targets).
-pub const PL_GDL90_DECODER_SIZE: usize = 544;
-/// Alignment of `pl_gdl90_decoder` in bytes.
-pub const PL_GDL90_DECODER_ALIGN: usize = 8;
 /// Bytes on the wire of the longest typed message (ForeFlight ID), every byte escaped.
 pub const PL_GDL90_MAX_FRAME_LEN: usize = 84;
 
 /// The Rust decoder a `pl_gdl90_decoder` holds.
 pub(crate) type Inner = Decoder<PL_GDL90_CAPACITY>;
 
-/// A GDL90 decoder, owned by the caller. Set it up with `pl_gdl90_init` first.
-#[repr(C)]
-pub struct pl_gdl90_decoder {
-    /// Opaque.
-    pub opaque: [u64; PL_GDL90_DECODER_WORDS],
+state::c_states! {
+    PL_GDL90_DECODER_WORDS = 68, PL_GDL90_DECODER_SIZE = 544, PL_GDL90_DECODER_ALIGN = 8,
+    of "a `pl_gdl90_decoder`";
+    /// A GDL90 decoder, owned by the caller. Set it up with `pl_gdl90_init` first.
+    pl_gdl90_decoder: Stream<Inner>, PL_STATE_GDL90;
 }
-
 const _: () = assert!(PL_GDL90_CAPACITY == gdl90_proto::MAX_FRAME);
-state::holds! {
-    pl_gdl90_decoder: Stream<Inner>, PL_STATE_GDL90, PL_GDL90_DECODER_SIZE, PL_GDL90_DECODER_ALIGN
-}
 const _: () = assert!(PL_GDL90_MAX_FRAME_LEN == gdl90_proto::MAX_ENCODED_LEN);
 
 /// `kind`: heartbeat (ID 0), `body.heartbeat`.

@@ -129,23 +129,42 @@ pub(crate) const fn fits<S: State>() -> bool {
         && core::mem::align_of::<Tagged<S::Inner>>() <= core::mem::align_of::<S>()
 }
 
-/// Makes a C state type (`pl_*_decoder`, a `#[repr(C)]` struct of `u64` words) hold
-/// `Inner`, a state of kind `KIND`, and checks at compile time that it fits and that its size
-/// and alignment are the header's `SIZE` and `ALIGN`:
-/// `holds! { pl_aydp_decoder: Stream<Inner>, PL_STATE_AYDP, PL_AYDP_DECODER_SIZE, ALIGN }`.
-macro_rules! holds {
-    ($state:ty: $inner:ty, $kind:expr, $size:expr, $align:expr) => {
-        // SAFETY: plain words; `fits` is asserted below; no other state has this kind.
-        unsafe impl $crate::state::State for $state {
-            type Inner = $inner;
-            const KIND: u32 = $kind;
-        }
-        const _: () = assert!($crate::state::fits::<$state>());
-        const _: () = assert!($size == core::mem::size_of::<$state>());
-        const _: () = assert!(core::mem::align_of::<$inner>() <= $align);
+/// Declares the C state types of a protocol: the header's constants of their storage (`WORDS`,
+/// `SIZE`, `ALIGN`; `$of` names the states in their documentation) and, for each, a
+/// `#[repr(C)]` struct of that many `u64` words that holds `Inner`, a state of kind `KIND`.
+/// Checks at compile time that the state fits and that its size and alignment are `SIZE` and
+/// `ALIGN`.
+macro_rules! c_states {
+    (
+        $words:ident = $w:literal, $size:ident = $s:literal, $align:ident = $a:literal, of $of:literal;
+        $( $(#[$doc:meta])* $state:ident: $inner:ty, $kind:expr; )+
+    ) => {
+        #[doc = concat!(" 64-bit words in ", $of, ".")]
+        pub const $words: usize = $w;
+        #[doc = concat!(" Size of ", $of, " in bytes:")]
+        #[doc = " the tag and the decoder (an upper bound over the supported targets)."]
+        pub const $size: usize = $s;
+        #[doc = concat!(" Alignment of ", $of, " in bytes.")]
+        pub const $align: usize = $a;
+        $(
+            $(#[$doc])*
+            #[repr(C)]
+            pub struct $state {
+                /// Opaque.
+                pub opaque: [u64; $words],
+            }
+            // SAFETY: plain words; `fits` is asserted below; no other state has this kind.
+            unsafe impl $crate::state::State for $state {
+                type Inner = $inner;
+                const KIND: u32 = $kind;
+            }
+            const _: () = assert!($crate::state::fits::<$state>());
+            const _: () = assert!($size == core::mem::size_of::<$state>());
+            const _: () = assert!(core::mem::align_of::<$inner>() <= $align);
+        )+
     };
 }
-pub(crate) use holds;
+pub(crate) use c_states;
 
 /// Writes the tag and a fresh Rust state `value` into the C state. Returns 0, `PL_E_NULL`,
 /// or `PL_E_INVALID` for a pointer not aligned for `S` (nothing written).
