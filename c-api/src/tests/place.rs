@@ -130,20 +130,21 @@ fn check(
 const LEN: usize = if cfg!(miri) { 1500 } else { 3000 };
 const PIECES: &[usize] = if cfg!(miri) { &[1] } else { &[1, 7, 64] };
 
-/// The run of a flag-framed protocol (AEOLUS, GDL90) over `stream` in pieces of `chunk`: its
-/// events (`one_loop`), the bytes its counters account for (flags, discarded, held) and the
-/// bytes of its frames. `calls` are its `parse`, `finish` and `get_stats`, `d` a set-up
+/// The run of a decoder over `stream` in pieces of `chunk`: its events (`one_loop`), and from
+/// its counters (`count`) the bytes they account for outside whole messages (flags, discarded,
+/// held) and the bytes of its frames (AEOLUS and GDL90; 0 for the others, whose messages' wire
+/// lengths count every byte). `calls` are its `parse`, `finish` and `get_stats`, `d` a set-up
 /// decoder.
-macro_rules! flag_run {
-    ($calls:expr, $Stats:ty, $place:expr, $d:ident, $stream:expr, $chunk:expr) => {{
+macro_rules! run {
+    ($calls:expr, $Stats:ty, $place:expr, $d:ident, $stream:expr, $chunk:expr, $count:expr) => {{
         let (parse, finish, get_stats) = $calls;
         // SAFETY: a set-up decoder.
         let ev = unsafe { one_loop(parse, finish, $place, $d.as_mut_ptr(), $stream, $chunk) };
         let mut st = <$Stats>::default();
         // SAFETY: as above.
         assert_eq!(unsafe { get_stats($d.as_ptr(), &mut st) }, 0);
-        let counted = st.flags + st.bytes_discarded + st.held_bytes;
-        (ev, u64::from(counted), u64::from(st.frame_bytes))
+        let (counted, frame_bytes): (u32, u32) = $count(&st);
+        (ev, u64::from(counted), u64::from(frame_bytes))
     }};
 }
 
@@ -168,7 +169,13 @@ fn aeolus_places_every_frame_and_accounts_for_every_byte() {
             )
         };
         let calls = (pl_aeolus_parse, pl_aeolus_finish, pl_aeolus_get_stats);
-        flag_run!(calls, pl_aeolus_stats, place, d, s, chunk)
+        let count = |st: &pl_aeolus_stats| {
+            (
+                st.flags + st.bytes_discarded + st.held_bytes,
+                st.frame_bytes,
+            )
+        };
+        run!(calls, pl_aeolus_stats, place, d, s, chunk, count)
     };
     check(&stream, run, 2, |f| f[0] == 0x7E && f[f.len() - 1] == 0x7E);
 }
@@ -205,7 +212,13 @@ fn gdl90_places_every_frame_and_accounts_for_every_byte() {
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
         let calls = (pl_gdl90_parse, pl_gdl90_finish, pl_gdl90_get_stats);
-        flag_run!(calls, pl_gdl90_stats, place, d, s, chunk)
+        let count = |st: &pl_gdl90_stats| {
+            (
+                st.flags + st.bytes_discarded + st.held_bytes,
+                st.frame_bytes,
+            )
+        };
+        run!(calls, pl_gdl90_stats, place, d, s, chunk, count)
     };
     check(&stream, run, 2, |f| f[0] == 0x7E && f[f.len() - 1] == 0x7E);
 }
@@ -222,13 +235,9 @@ fn aydp_places_every_message_and_accounts_for_every_byte() {
             let cleared = m.kind == PL_AYDP_UNKNOWN && m.seconds == 0 && m.data.is_null();
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
-        let (p, f) = (pl_aydp_parse, pl_aydp_finish);
-        // SAFETY: a set-up decoder.
-        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
-        let mut st = pl_aydp_stats::default();
-        // SAFETY: as above.
-        assert_eq!(unsafe { pl_aydp_get_stats(d.as_ptr(), &mut st) }, 0);
-        (ev, u64::from(st.bytes_discarded + st.held_bytes), 0)
+        let calls = (pl_aydp_parse, pl_aydp_finish, pl_aydp_get_stats);
+        let count = |st: &pl_aydp_stats| (st.bytes_discarded + st.held_bytes, 0);
+        run!(calls, pl_aydp_stats, place, d, s, chunk, count)
     };
     check(&stream, run, 0, |f| f[0] == 0xFF);
 }
@@ -245,13 +254,13 @@ fn aok_places_every_frame_and_accounts_for_every_byte() {
             let cleared = *m == pl_aok_item::default();
             (m.offset, m.wire_len, m.wire_len > 0 || cleared)
         };
-        let (p, f) = (pl_aok_device_parse, pl_aok_device_finish);
-        // SAFETY: a set-up decoder.
-        let ev = unsafe { one_loop(p, f, place, d.as_mut_ptr(), s, chunk) };
-        let mut st = pl_aok_stats::default();
-        // SAFETY: as above.
-        assert_eq!(unsafe { pl_aok_device_get_stats(d.as_ptr(), &mut st) }, 0);
-        (ev, u64::from(st.bytes_discarded + st.held_bytes), 0)
+        let calls = (
+            pl_aok_device_parse,
+            pl_aok_device_finish,
+            pl_aok_device_get_stats,
+        );
+        let count = |st: &pl_aok_stats| (st.bytes_discarded + st.held_bytes, 0);
+        run!(calls, pl_aok_stats, place, d, s, chunk, count)
     };
     check(&stream, run, 0, |f| !f.is_empty());
 }
