@@ -52,16 +52,18 @@ PYPI=(pynmea2==1.19.0 maturin==1.16.0 pytest==9.2.0 hypothesis==6.170.17 pandas=
       pyarrow==26.0.1 duckdb==2.0.1 polars==2.1.0 pyspark==4.0.1)
 PYPI_MODULES=(pynmea2 maturin pytest hypothesis pandas pymavlink pyarrow duckdb polars pyspark)
 need_pypi=()
+# crates.io tools, NAME or NAME@VERSION: installed after the loop, beside apt and PyPI.
+need_cargo=()
 for want in "$@"; do
   case "$want" in
     qemu) command -v qemu-system-arm >/dev/null || need_apt+=(qemu-system-arm) ;;
-    defmt-print) command -v defmt-print >/dev/null || cargo install --locked defmt-print ;;
+    defmt-print) command -v defmt-print >/dev/null || need_cargo+=(defmt-print) ;;
     tshark) command -v tshark >/dev/null || need_apt+=(tshark) ;;
     chromium) [ -x /usr/bin/chromium ] && command -v chromedriver >/dev/null || need_apt+=(chromium chromium-driver) ;;
     bench)
       command -v valgrind >/dev/null || need_apt+=(valgrind)
       gungraun-runner --version 2>/dev/null | grep -q ' 0\.20\.' \
-        || cargo install --locked gungraun-runner --version 0.20.0 ;;
+        || need_cargo+=(gungraun-runner@0.20.0) ;;
     i686)
       rustup target list --installed | grep -q '^i686-unknown-linux-gnu$' || rustup target add i686-unknown-linux-gnu
       dpkg -s gcc-multilib >/dev/null 2>&1 || need_apt+=(gcc-multilib) ;;
@@ -71,7 +73,7 @@ for want in "$@"; do
       command -v clang >/dev/null || need_apt+=(clang)
       # 0.28 is the first cbindgen that reads edition-2024 `#[unsafe(no_mangle)]`.
       cbindgen --version 2>/dev/null | grep -qE ' 0\.(2[89]|[3-9][0-9])' \
-        || cargo install --locked cbindgen --version 0.29.4
+        || need_cargo+=(cbindgen@0.29.4)
       rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
       rustup +nightly component list --installed | grep -q '^miri' \
         || rustup +nightly component add miri rust-src ;;
@@ -85,7 +87,7 @@ for want in "$@"; do
       want_pypi=1 ;;
     fuzz)
       rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
-      command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz ;;
+      command -v cargo-fuzz >/dev/null || need_cargo+=(cargo-fuzz) ;;
     gpsd)
       # gpsd lives in /usr/sbin, which a user's PATH may lack.
       command -v gpsd >/dev/null || [ -x /usr/sbin/gpsd ] || need_apt+=(gpsd)
@@ -93,22 +95,32 @@ for want in "$@"; do
     *) echo "setup.sh: unknown component '$want'" >&2; exit 2 ;;
   esac
 done
-if [ ${#need_apt[@]} -gt 0 ]; then
-  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
-  $SUDO apt-get update -qq
-  # tshark's package asks whether non-root users may capture: answer no, never prompt.
-  echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections 2>/dev/null || true
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
-fi
-# After apt (python3 and pip may have just come from it). A Debian python3 refuses a
-# system-wide pip install (PEP 668) unless told: then the user's site-packages take it.
-if [ "$want_pypi" = 1 ]; then
-  for i in "${!PYPI[@]}"; do
-    python3 -c "import ${PYPI_MODULES[$i]}" 2>/dev/null || need_pypi+=("${PYPI[$i]}")
-  done
-  if [ ${#need_pypi[@]} -gt 0 ]; then
-    python3 -m pip install -q "${need_pypi[@]}" 2>/dev/null \
-      || python3 -m pip install -q --user --break-system-packages "${need_pypi[@]}"
+# The Debian packages, then PyPI's (python3 and pip may come from apt), in the background beside
+# the crates.io tools: those compile, these wait on the network and dpkg.
+packages() {
+  if [ ${#need_apt[@]} -gt 0 ]; then
+    SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+    $SUDO apt-get update -qq
+    # tshark's package asks whether non-root users may capture: answer no, never prompt.
+    echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections 2>/dev/null || true
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
   fi
-  python3 -c "import $(IFS=,; echo "${PYPI_MODULES[*]}")"
+  # A Debian python3 refuses a system-wide pip install (PEP 668) unless told: then the user's
+  # site-packages take it.
+  if [ "$want_pypi" = 1 ]; then
+    for i in "${!PYPI[@]}"; do
+      python3 -c "import ${PYPI_MODULES[$i]}" 2>/dev/null || need_pypi+=("${PYPI[$i]}")
+    done
+    if [ ${#need_pypi[@]} -gt 0 ]; then
+      python3 -m pip install -q "${need_pypi[@]}" 2>/dev/null \
+        || python3 -m pip install -q --user --break-system-packages "${need_pypi[@]}"
+    fi
+    python3 -c "import $(IFS=,; echo "${PYPI_MODULES[*]}")"
+  fi
+}
+packages &
+packages_pid=$!
+if [ ${#need_cargo[@]} -gt 0 ]; then
+  cargo install --locked "${need_cargo[@]}"
 fi
+wait "$packages_pid"

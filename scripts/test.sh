@@ -176,8 +176,34 @@ summary() {
 }
 trap summary EXIT
 
-step "setup: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, gpsd with gpspipe, and cargo-fuzz (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python, gpsd and fuzz checks must run, never skip, in CI)"
-bash scripts/setup.sh qemu defmt-print tshark chromium i686 c bench python gpsd fuzz
+# The tools of the later steps install in the background from here, beside the steps up to the
+# firmware's, which need only the toolchains (.ci/run installs them first) and python3: on a
+# fresh machine the installs wait on the network and dpkg, and compile four crates.io tools.
+# The host tests wait for them (join_setup).
+setup_log=$logs/setup.log
+setup_components=(qemu defmt-print tshark chromium i686 c bench python gpsd fuzz)
+step "setup, in the background: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, gpsd with gpspipe, and cargo-fuzz (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python, gpsd and fuzz checks must run, never skip, in CI)"
+if command -v python3 >/dev/null; then
+  setup_start=$(now_ms)
+  bash scripts/setup.sh "${setup_components[@]}" >"$setup_log" 2>&1 &
+  setup_pid=$!
+else
+  # This script's own helpers need python3: all of the setup first.
+  bash scripts/setup.sh "${setup_components[@]}"
+fi
+# Waits for the background setup; its output, and a failure, end the run.
+join_setup() {
+  [ -n "${setup_pid:-}" ] || return 0
+  local status=0
+  wait "$setup_pid" || status=$?
+  setup_pid=""
+  timings+=("$(printf '%12s  %s' "$(secs $(($(now_ms) - setup_start)))" "setup, in the background from the start")")
+  if [ "$status" != 0 ]; then
+    cat "$setup_log"
+    echo "FAILED: scripts/setup.sh ${setup_components[*]} (exit status $status; $setup_log)"
+    return "$status"
+  fi
+}
 
 step "docs: every relative path named in Markdown or a doc comment exists (scripts/check-paths.py)"
 python3 scripts/check-paths.py
@@ -304,6 +330,8 @@ host_tests() {
   printf '%s\n' "${failed[@]}" >"$logs/host-tests.failed"
   [ ${#failed[@]} -eq 0 ]
 }
+step "waiting for the setup (in the background since the start)"
+join_setup
 : >"$host_log"
 : >"$qemu_log"
 : >"$miri_log"
