@@ -27,6 +27,8 @@
 #                               openjdk-17-jre-headless, where no java is on the PATH)
 #   scripts/setup.sh fuzz       + the nightly toolchain and cargo-fuzz (crates.io): the fuzz targets'
 #                               build and smoke run (scripts/fuzz.sh)
+#   scripts/setup.sh mutants    + cargo-mutants 27.1.0 (crates.io): scripts/mutants.sh, which CI
+#                               runs on the last commit's library lines
 #   scripts/setup.sh gpsd       + gpsd and gpsd-clients (Debian packages; host-tool/tests/all/gpsd.rs
 #                               has gpsd read `protolink nmea --for gpsd` and reads it with gpspipe)
 set -euo pipefail
@@ -88,6 +90,7 @@ for want in "$@"; do
     fuzz)
       rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
       command -v cargo-fuzz >/dev/null || need_cargo+=(cargo-fuzz) ;;
+    mutants) command -v cargo-mutants >/dev/null || need_cargo+=(cargo-mutants@27.1.0) ;;
     gpsd)
       # gpsd lives in /usr/sbin, which a user's PATH may lack.
       command -v gpsd >/dev/null || [ -x /usr/sbin/gpsd ] || need_apt+=(gpsd)

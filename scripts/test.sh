@@ -182,10 +182,13 @@ trap summary EXIT
 # The host tests wait for them (join_setup).
 setup_log=$logs/setup.log
 setup_components=(qemu defmt-print tshark chromium i686 c bench python gpsd fuzz)
-step "setup, in the background: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, gpsd with gpspipe, and cargo-fuzz (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python, gpsd and fuzz checks must run, never skip, in CI)"
+[ "${CI:-}" = true ] && setup_components+=(mutants)
+step "setup, in the background: qemu-system-arm, defmt-print, tshark, chromium, i686, the C tools, valgrind, python3 with pynmea2, maturin, pytest, hypothesis, pandas and pymavlink, gpsd with gpspipe, cargo-fuzz, and in CI cargo-mutants (the QEMU, tshark, browser, 32-bit, C, callgrind, NMEA, Python, gpsd and fuzz checks must run, never skip, in CI)"
 if command -v python3 >/dev/null; then
   setup_start=$(now_ms)
-  bash scripts/setup.sh "${setup_components[@]}" >"$setup_log" 2>&1 &
+  rm -f "$logs/setup.end"
+  { status=0; bash scripts/setup.sh "${setup_components[@]}" >"$setup_log" 2>&1 || status=$?
+    now_ms >"$logs/setup.end"; exit "$status"; } &
   setup_pid=$!
 else
   # This script's own helpers need python3: all of the setup first.
@@ -194,10 +197,11 @@ fi
 # Waits for the background setup; its output, and a failure, end the run.
 join_setup() {
   [ -n "${setup_pid:-}" ] || return 0
-  local status=0
+  local status=0 end
   wait "$setup_pid" || status=$?
   setup_pid=""
-  timings+=("$(printf '%12s  %s' "$(secs $(($(now_ms) - setup_start)))" "setup, in the background from the start")")
+  end=$(cat "$logs/setup.end" 2>/dev/null || now_ms)
+  timings+=("$(printf '%12s  %s' "$(secs $((end - setup_start)))" "setup, in the background from the start")")
   if [ "$status" != 0 ]; then
     cat "$setup_log"
     echo "FAILED: scripts/setup.sh ${setup_components[*]} (exit status $status; $setup_log)"
@@ -282,9 +286,9 @@ run_binaries() { # LIST LOG [ARGS]: each "dir<TAB>exe<TAB>label" line of LIST ru
 
 # The host tests run in the background from here, beside the steps up to the fuzz build, in
 # two lanes: the QEMU tests (modules of protolink-tests' binary, QEMU_JOBS emulators at a time,
-# four test threads), which mostly wait for the emulated box; and the other crates' binaries,
-# then the Python tests, then Miri over the C library, which mostly compute or wait on their
-# own links. They need the firmware ELFs of the step above (no step below writes them) and the
+# four test threads), which mostly wait for the emulated box, then Miri over the C library; and
+# the other crates' binaries, then the Python tests, which mostly compute or wait on their own
+# links. They need the firmware ELFs of the step above (no step below writes them) and the
 # test build. The steps below, and Miri, run at a lower priority (nice 10), so that the
 # emulated boxes and the tests' timing get the cores first and the builds take what is left.
 # Their output goes to $host_log ($py_log, $miri_log); "host tests" below waits for them and
@@ -301,11 +305,25 @@ host_part() { # NAME COMMAND...: runs COMMAND, appends "ms<TAB>NAME" to $host_ti
   printf '%s\t%s\n' "$(($(now_ms) - t0))" "$name" >>"$host_times"
   return "$status"
 }
+# The QEMU lane: the QEMU tests, then (at nice 10, as the other lane) Miri over the C library's
+# tests, every unsafe block they reach (its own target directory, target/miri): the QEMU tests
+# mostly wait for the emulated boxes, and the other lane's Python tests are as long. What
+# failed goes to $logs/qemu-lane.failed, a line each.
+qemu_lane() {
+  local status=0
+  : >"$logs/qemu-lane.failed"
+  host_part "QEMU tests (protolink-tests)" run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 ||
+    { echo "protolink-tests" >>"$logs/qemu-lane.failed"; status=1; }
+  renice -n 10 -p "$BASHPID" >/dev/null
+  host_part "Miri (protolink-c's tests)" cargo +nightly miri test -q -p protolink-c >"$miri_log" 2>&1 ||
+    { echo "Miri over protolink-c ($miri_log)" >>"$logs/qemu-lane.failed"; status=1; }
+  return "$status"
+}
 host_tests() {
   local failed=() qemu_pid
   python3 scripts/test-binaries.py "$test_build" --only protolink-tests >"$logs/binaries-qemu.txt"
   python3 scripts/test-binaries.py "$test_build" --except protolink-tests >"$logs/binaries-rest.txt"
-  host_part "QEMU tests (protolink-tests)" run_binaries "$logs/binaries-qemu.txt" "$qemu_log" --test-threads=4 &
+  qemu_lane &
   qemu_pid=$!
   # The rest of this lane at nice 10, as the foreground's later steps: the emulated boards run
   # in real time (their UART gaps, their sensors' freshness), so on two cores the QEMU lane
@@ -320,11 +338,7 @@ host_tests() {
   # bytes, to_frames, python -m protolink decode, live links.
   host_part "python (pytest python/tests)" scripts/test-python.sh >"$py_log" 2>&1 ||
     failed+=("the Python tests ($py_log)")
-  # Miri over the C library's tests: every unsafe block they reach (its own target directory,
-  # target/miri).
-  host_part "Miri (protolink-c's tests)" nice -n 10 cargo +nightly miri test -q -p protolink-c >"$miri_log" 2>&1 ||
-    failed+=("Miri over protolink-c ($miri_log)")
-  wait "$qemu_pid" || failed+=("protolink-tests")
+  wait "$qemu_pid" || mapfile -t -O "${#failed[@]}" failed <"$logs/qemu-lane.failed"
   cat "$qemu_log" >>"$host_log"
   now_ms >"$logs/host-tests.end"
   printf '%s\n' "${failed[@]}" >"$logs/host-tests.failed"
@@ -366,7 +380,7 @@ join_host_tests() {
   fi
 }
 echo
-echo "==> host tests started in the background (protolink-tests with QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, beside the other crates' tests, then the Python tests and Miri; $host_log)"
+echo "==> host tests started in the background (protolink-tests with QEMU_JOBS=${QEMU_JOBS:-2} emulators at a time, then Miri; beside them the other crates' tests, then the Python tests; $host_log)"
 renice -n 10 -p $$ >/dev/null || echo "renice: the steps below run at the host tests' priority"
 
 # A build of the libraries for thumb proves nothing a check does not: panic-never, footprint, the C
