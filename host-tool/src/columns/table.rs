@@ -9,6 +9,7 @@ use arrow_schema::{Schema, SchemaRef};
 use super::PROTO_KEY;
 use super::column::{Column, Scalar};
 use super::fnv::FnvMap;
+use super::names::{self, Named};
 use super::unit;
 use crate::proto::{Proto, proto_name};
 
@@ -35,6 +36,8 @@ pub(crate) struct Table {
     declaring: bool,
     /// The message type's columns were declared from samples.
     declared: bool,
+    /// The fields the export names its own way ([`names`]).
+    pub(crate) names: &'static [Named],
 }
 
 impl Table {
@@ -50,6 +53,7 @@ impl Table {
             mismatches: 0,
             declaring: false,
             declared: false,
+            names: names::of(proto, kind),
         }
     }
 
@@ -162,6 +166,46 @@ impl Table {
             }
         };
         self.put(i, v.unwrap_or(Scalar::Null));
+    }
+
+    /// Appends an item to this row's list in the list column `name` (a column it creates when
+    /// new, of items of the type of `v`; while declaring, it only creates it).
+    pub(crate) fn push_item(&mut self, name: &str, v: Scalar<'_>) {
+        let i = match self.find(name) {
+            Some(i) => i,
+            None => {
+                self.add(Column::new_list(name, v, self.rows));
+                self.columns.len() - 1
+            }
+        };
+        if self.declaring {
+            return;
+        }
+        let rows = self.rows;
+        if let Some(c) = self.columns.get_mut(i)
+            && !c.push_item(v, rows)
+        {
+            self.mismatches += 1;
+        }
+    }
+
+    /// Opens this row's lists under `root` (the list column `root`, or the parallel lists
+    /// `root.FIELD` of a list of structs): each is this row's list, empty until an item comes,
+    /// instead of a null.
+    pub(crate) fn open_lists(&mut self, root: &str) {
+        if self.declaring {
+            return;
+        }
+        let rows = self.rows;
+        for c in &mut self.columns {
+            let under = c
+                .name
+                .strip_prefix(root)
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('.'));
+            if under {
+                c.open(rows);
+            }
+        }
     }
 
     /// Sets this row's value of column `i`, unless it has one.
