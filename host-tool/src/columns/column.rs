@@ -13,6 +13,8 @@ use arrow_array::{ArrayRef, ListArray, NullArray};
 use arrow_buffer::{NullBufferBuilder, OffsetBuffer, ScalarBuffer};
 use arrow_schema::{DataType, Field, TimeUnit};
 
+use super::names::Convert;
+
 /// The time zone of every timestamp column: the times are UTC.
 const UTC: &str = "UTC";
 
@@ -297,6 +299,7 @@ impl Data {
 
 /// Appends `v` to `data`, which takes the type of `v` when it holds only nulls so far; `false`
 /// when it had to be a null ([`Data::push`]).
+#[inline]
 fn push_typing(data: &mut Data, v: Scalar<'_>) -> bool {
     if let Data::Null(n) = data
         && v != Scalar::Null
@@ -429,9 +432,12 @@ pub(crate) struct Column {
     pub(crate) data: Data,
     /// Rows filled so far (a row not yet ended may have filled it).
     pub(crate) filled: usize,
-    /// The address of the `&'static str` its name was last looked up with (0: none): the same
-    /// address is the same name, found without comparing the text.
-    pub(crate) key: usize,
+    /// The address and length of the `&'static str` it was last looked up with ((0, 0):
+    /// none), its name or the field's it holds ([`super::names`]): the same address and length
+    /// are the same name, found without comparing the text.
+    pub(crate) key: (usize, usize),
+    /// How a field's value is written into it ([`super::names`]).
+    pub(crate) convert: Convert,
     /// Its unit, kept in its Arrow field's metadata.
     pub(crate) unit: Option<&'static str>,
 }
@@ -443,7 +449,8 @@ impl Column {
             name: name.into(),
             data: Data::for_value(v, row),
             filled: row,
-            key: 0,
+            key: (0, 0),
+            convert: Convert::Same,
             unit: None,
         }
     }
@@ -457,7 +464,8 @@ impl Column {
             name: name.into(),
             data,
             filled: row,
-            key: 0,
+            key: (0, 0),
+            convert: Convert::Same,
             unit: None,
         }
     }
@@ -498,12 +506,12 @@ impl Column {
     /// Ends this row: a null when it has no value (a list column: no list open), else the
     /// list open.
     pub(crate) fn end_row(&mut self, rows: usize) {
-        if let Data::List(l) = &mut self.data {
-            l.close(self.filled > rows);
-            self.filled = rows + 1;
-        } else if self.filled == rows {
+        if self.filled == rows {
+            // No value (a list column: no list open): a null.
             self.data.nulls(1);
             self.filled += 1;
+        } else if let Data::List(l) = &mut self.data {
+            l.close(true);
         }
     }
 

@@ -10,6 +10,7 @@
 //! | ACCEL `x`, `y`, `z` (m/s²) | `x_mps2`, ... | |
 //! | MAGNET `x`, `y`, `z` (gauss) | `x_gauss`, ... | |
 
+use super::column::Scalar;
 use crate::proto::Proto;
 
 /// How a field's value is written into its column.
@@ -96,6 +97,28 @@ pub(crate) fn of(proto: Option<Proto>, kind: &str) -> &'static [Named] {
         .iter()
         .find(|(p, k, _)| Some(*p) == proto && *k == kind)
         .map_or(&[], |(_, _, named)| named)
+}
+
+impl Convert {
+    /// `v` as its column holds it.
+    #[inline]
+    pub(crate) fn apply(self, v: Scalar<'_>) -> Scalar<'_> {
+        match (self, v) {
+            (Convert::MillisToDuration, Scalar::F64(ms)) => {
+                millis_to_micros(ms).map_or(Scalar::Null, Scalar::Duration)
+            }
+            (_, v) => v,
+        }
+    }
+
+    /// A value of the type its column has, to make the column with when the first value is
+    /// none (`None`: a column of the value's own type, made by a value only).
+    pub(crate) fn like(self) -> Option<Scalar<'static>> {
+        match self {
+            Convert::Same => None,
+            Convert::MillisToDuration => Some(Scalar::Duration(0)),
+        }
+    }
 }
 
 /// The column of field `field` among `named`, and how its value is written.

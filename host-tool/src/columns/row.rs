@@ -15,7 +15,6 @@ use serde::Serialize;
 use serde::ser::{self, Impossible};
 
 use super::column::Scalar;
-use super::names::{self, Convert};
 use super::table::Table;
 
 /// Why a value is not written as columns: it is written as its JSON text instead.
@@ -52,7 +51,6 @@ pub(crate) fn write_fields<T: Serialize + ?Sized>(
         clashes,
         name: None,
         list: false,
-        convert: Convert::Same,
     };
     if fields.serialize(value).is_err() {
         // A top level that is no struct nor map: one column, `value`.
@@ -83,8 +81,6 @@ struct Value<'a> {
     name: Option<&'static str>,
     /// The value is an item of a list: appended to this row's list in the column.
     list: bool,
-    /// How the value is written (a top-level field's, [`names`]).
-    convert: Convert,
 }
 
 impl Value<'_> {
@@ -97,22 +93,9 @@ impl Value<'_> {
     }
 
     fn set(self, v: Scalar<'_>) -> Result<(), NotColumns> {
-        let v = match (self.convert, v) {
-            (Convert::Same, v) => v,
-            (Convert::MillisToDuration, Scalar::F64(ms)) => {
-                let us = names::millis_to_micros(ms);
-                if let Some(name) = self.name {
-                    // A time out of a duration's range is a null, in the column of its type.
-                    self.table
-                        .set_typed(name, us.map(Scalar::Duration), Scalar::Duration(0));
-                    return Ok(());
-                }
-                us.map_or(Scalar::Null, Scalar::Duration)
-            }
-            (Convert::MillisToDuration, v) => v,
-        };
-        if let Some(name) = self.name {
-            self.table.set_static(name, v);
+        if let Some(field) = self.name {
+            // A typed message's field, in the column its type gives it.
+            self.table.set_field(field, v);
             return Ok(());
         }
         if self.path.is_empty() {
@@ -173,7 +156,6 @@ fn field<T: Serialize + ?Sized>(
             clashes: None,
             name: None,
             list,
-            convert: Convert::Same,
         })
         .is_ok();
     if !ok {
@@ -216,20 +198,18 @@ impl ser::SerializeStruct for Fields<'_> {
     ) -> Result<(), NotColumns> {
         if self.path.is_empty() && self.clashes.is_none() {
             // A top-level field of a typed message: its column (of the name its message type
-            // gives it) found by the name's address.
-            let (column, convert) = names::column(self.table.names, key);
+            // gives it, `names`) found by the field's address.
             let direct = Value {
                 table: &mut *self.table,
                 path: &mut *self.path,
                 ints: self.ints,
                 clashes: None,
-                name: Some(column),
+                name: Some(key),
                 list: false,
-                convert,
             };
             if value.serialize(direct).is_err() {
                 let text = serde_json::to_string(value).unwrap_or_default();
-                self.table.set_static(column, Scalar::Str(&text));
+                self.table.set_field(key, Scalar::Str(&text));
             }
             self.path.clear();
             return Ok(());
@@ -322,7 +302,6 @@ impl ser::SerializeSeq for Items<'_> {
             clashes: None,
             name: None,
             list: true,
-            convert: Convert::Same,
         };
         if value.serialize(item).is_err() {
             json_text(self.table, self.path, value, true);
