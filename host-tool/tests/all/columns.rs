@@ -184,8 +184,9 @@ fn a_value_of_another_type_is_a_counted_null() {
 }
 
 #[test]
-fn a_list_is_its_json_text() {
-    // Whatever the lists hold (numbers, objects, nothing), the column is a string.
+fn a_rendered_list_is_its_json_text() {
+    // A rendered message's lists (of items of any type: numbers, objects, nothing) are strings;
+    // a typed message's are Arrow lists (aydp_lists_are_arrow_lists_of_one_schema_...).
     let mut tables = Tables::new(8);
     let origin = Origin::default();
     let fields = json!({"n": [1, 2.5, 3], "o": [{"a": 1}], "e": []});
