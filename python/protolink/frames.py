@@ -85,10 +85,12 @@ def to_arrow(
       ``meta.id``, ``meta.len`` (``meta.len`` is ``wire_len``);
     - then the fields under the names of ``to_dict()``, a nested one as ``outer.inner``.
 
-    An AEOLUS message of a fixed layout keeps the wire's types (Float32, UInt16, lists of
-    them, a fixed-size array as a column per element); the other fields are Int64, Float64,
-    Boolean or strings, as ``decode --json`` writes them, a list as its JSON text. Error events make the table ``"ERROR"``
-    (``kind``, ``error``). docs/columns.md lists every table's columns.
+    Every message keeps the wire's types (Float32, UInt16, a fixed-size array as a column per
+    element, a list of structs as a list column per field of its items: ``satellites.id``,
+    ``satellites.snr``, ...). Some fields have the export's own name: AEOLUS ``timestamp_ms``
+    is ``box_time``, a duration (µs) since the box started; GYRO, ACCEL and MAGNET ``x``,
+    ``y``, ``z`` are ``x_radps``, ``x_mps2``, ``x_gauss``, ... Error events make the table
+    ``"ERROR"`` (``kind``, ``error``). docs/columns.md lists every table's columns.
     """
     pa = _pyarrow()
     return {name: pa.table(t) for name, t in _tables(source, proto, options).items()}
@@ -107,7 +109,7 @@ def to_frames(
 
     Each frame's ``attrs`` keep what the Arrow schema said and pandas has no place for:
     ``attrs["proto"]`` (``"aeolus"``, ...; absent for a table that names none) and
-    ``attrs["units"]``, ``{column: unit}`` for the columns with a unit (``{"x": "rad/s", ...}``,
+    ``attrs["units"]``, ``{column: unit}`` for the columns with a unit (``{"x_radps": "rad/s", ...}``,
     as docs/columns.md lists them)."""
     try:
         import pandas  # noqa: F401

@@ -17,7 +17,7 @@ import pytest
 
 import protolink
 from conftest import GDL90_FRAMES, PROTOLINK, TESTDATA, decode_json, gdl90_frame
-from test_frames_agree import Json, columns_of, flat
+from test_frames_agree import Json, Millis, columns_of, flat
 from test_same_as_decode import ethernet_udp, write_pcap
 
 # (capture name, the byte file it records, `protolink record`'s options, the decode options)
@@ -71,15 +71,27 @@ def expected_row(source, e, columns):
             row.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
         else:
             row[f"meta.{key}"] = value
-    row.update(columns_of(flat(e["fields"]), columns))
+    row.update(columns_of(flat(e["fields"]), columns, e["name"]))
     return row
 
 
 def equal(got, want, kind):
     """A value read back equals `decode --json`'s: a FLOAT column holds the f32 the printed
-    decimal stands for; a list is kept as its JSON text."""
+    decimal stands for; a list of other lists' type (JSON) is kept as its JSON text; a list
+    column holds the items; `box_time` is a duration of microseconds (a BIGINT of them in
+    DuckDB and Spark, which read Parquet's durations as integers)."""
     if isinstance(want, Json):
         return json.loads(got) == want.value
+    if isinstance(want, Millis):
+        if want.micros() is None:
+            return got is None
+        if isinstance(got, datetime.timedelta):
+            got = got // datetime.timedelta(microseconds=1)
+        return got == want.micros()
+    if isinstance(want, list):
+        item = "FLOAT" if kind in ("FLOAT[]", "array<float>") else kind
+        return isinstance(got, list) and len(got) == len(want) and all(
+            equal(g, w, item) for g, w in zip(got, want))
     if kind == "FLOAT" and want is not None:
         return got == float(np.float32(want))
     if isinstance(want, float) or isinstance(got, float):
@@ -137,7 +149,7 @@ def test_cli_export_read_by_duckdb_and_polars(fleet, tmp_path):
         assert frame["offset"].to_list() == [e["offset"] for _, e in rows]
         assert frame["frame"].to_list() == [e["frame"] for _, e in rows]
     gyro = pl.read_parquet(f"{out}/proto=aeolus/type=GYRO/*.parquet")
-    assert gyro.schema["x"] == pl.Float32 and gyro.schema["timestamp_ms"] == pl.Float64
+    assert gyro.schema["x_radps"] == pl.Float32 and gyro.schema["box_time"] == pl.Duration("us")
     assert gyro.group_by("source").len().sort("source")["len"].to_list() == [
         sum(1 for s, _ in want["GYRO"] if s == str(p)) for p in sorted(fleet) if "flight" in p.name]
 
@@ -338,7 +350,7 @@ def test_the_hive_layout_keeps_protocols_apart_and_one_glob_reads_two_exports(tw
     frame = pl.scan_parquet(glob, hive_partitioning=True).collect()
     assert frame.height == gyro
     assert set(frame["proto"]) == {"aeolus"} and set(frame["type"]) == {"GYRO"}
-    assert frame.schema["x"] == pl.Float32
+    assert frame.schema["x_radps"] == pl.Float32 and frame.schema["box_time"] == pl.Duration("us")
 
 
 def test_a_capture_has_one_id_wherever_it_is_and_whatever_its_name(fleet, tmp_path):
@@ -453,7 +465,7 @@ def test_the_air_table_derives_air_data_from_each_pressure(fleet, tmp_path):
     assert len(a) == len(p) > 100
     temps = con.sql(f"SELECT \"offset\", celsius FROM read_parquet('{out}/proto=aeolus/type=TEMP/*.parquet')").fetchall()
     for row, msg in zip(a, p):
-        assert (row["offset"], row["time"], row["timestamp_ms"]) == (msg["offset"], msg["time"], msg["timestamp_ms"])
+        assert (row["offset"], row["time"], row["box_time"]) == (msg["offset"], msg["time"], msg["box_time"])
         assert row["static_hpa"] == pytest.approx(msg["static_mbar"])
         q = max(msg["pitot_mbar"] * 100.0, 0.0)
         assert row["ias_mps"] == pytest.approx((2 * q / 1.225) ** 0.5)
@@ -492,11 +504,25 @@ BARE_GDL90 = [
 ]
 
 
+# AYDP lists, full and empty: a FIX_DETAIL of two satellites and a DIRECT_OUTPUT of one entry,
+# and the same types with none.
+SATELLITES = [{"id": 7, "azimuth": 180.0, "elevation": 45.0, "snr": 38.0},
+              {"id": 9, "azimuth": 90.0, "elevation": 10.0, "snr": 20.5}]
+ENTRIES = [{"device": 1, "channel": 2, "value": 10.0}]
+
+
+def aydp_lists(satellites, entries):
+    """An AYDP byte stream of a FIX_DETAIL and a DIRECT_OUTPUT with these lists."""
+    return (protolink.aydp.encode("FIX_DETAIL", time=(1_700_000_000, 5), satellites=satellites)
+            + protolink.aydp.encode("DIRECT_OUTPUT", time=(1_700_000_001, 5), entries=entries))
+
+
 @pytest.fixture(scope="module")
 def optional_exports(fleet, tmp_path_factory):
     """Two exports of different captures under one directory (with AIR): `full` holds a GDL90
-    capture with its optional fields present and the first flight, `bare` one with every
-    optional field absent and the second flight. Returns (the directory, {export: its sources})."""
+    capture with its optional fields present, an AYDP capture whose lists have items and the
+    first flight, `bare` one with every optional field absent, an AYDP capture of empty lists
+    and the second flight. Returns (the directory, {export: its sources})."""
     tmp = tmp_path_factory.mktemp("optional")
     captures = {}
     for name, frames in (("full", list(GDL90_FRAMES.values())), ("bare", BARE_GDL90)):
@@ -505,7 +531,14 @@ def optional_exports(fleet, tmp_path_factory):
         captures[name] = tmp / f"{name}-gdl90.pcapng"
         subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "gdl90", "--out",
                         str(captures[name])], check=True, capture_output=True)
-    exports = {"full": [captures["full"], fleet[0]], "bare": [captures["bare"], fleet[3]]}
+    for name, stream in (("full", aydp_lists(SATELLITES, ENTRIES)), ("bare", aydp_lists([], []))):
+        raw = tmp / f"{name}-aydp.bin"
+        raw.write_bytes(stream)
+        captures[f"{name}-aydp"] = tmp / f"{name}-aydp.pcapng"
+        subprocess.run([PROTOLINK, "record", "--from", f"file:{raw}", "--proto", "aydp", "--profile", "spec",
+                        "--out", str(captures[f"{name}-aydp"])], check=True, capture_output=True)
+    exports = {"full": [captures["full"], captures["full-aydp"], fleet[0]],
+               "bare": [captures["bare"], captures["bare-aydp"], fleet[3]]}
     root = tmp / "exports"
     for name, sources in exports.items():
         subprocess.run([PROTOLINK, "export", "--air", "--out", str(root / name), *map(str, sources)],
@@ -524,7 +557,8 @@ def test_a_capture_without_optional_fields_has_the_schema_of_one_with_them(optio
     tables = {p.relative_to(root / "full") for p in (root / "full").glob("proto=*/type=*")}
     shared = sorted(t for t in tables if (root / "bare" / t).is_dir())
     assert {"proto=gdl90/type=OWNSHIP", "proto=gdl90/type=FOREFLIGHT_AHRS", "proto=aeolus/type=GYRO",
-            "proto=aeolus/type=AIR"} <= {str(t) for t in shared}
+            "proto=aeolus/type=AIR", "proto=aydp/type=FIX_DETAIL", "proto=aydp/type=DIRECT_OUTPUT"} <= {
+                str(t) for t in shared}
     for t in shared:
         full = pq.read_schema(root / "full" / t / "part-00000.parquet")
         bare = pq.read_schema(root / "bare" / t / "part-00000.parquet")
@@ -542,3 +576,52 @@ def test_a_capture_without_optional_fields_has_the_schema_of_one_with_them(optio
     nulls = duckdb.sql(f"SELECT file, count(\"position.lat_deg\") FROM read_parquet('{root}/*/proto=gdl90/type=OWNSHIP/*.parquet') "
                        "GROUP BY file ORDER BY file").fetchall()
     assert nulls == [("bare-gdl90.pcapng", 0), ("full-gdl90.pcapng", 2)]
+
+
+def test_aydp_lists_are_lists_of_their_items_type_empty_or_full(optional_exports):
+    # A list of structs is a list column per field of its items, of the items' wire types, in
+    # the schema of every export: full lists and empty ones.
+    root, _ = optional_exports
+    fix = pq.read_schema(next((root / "bare").glob("proto=aydp/type=FIX_DETAIL/*.parquet")))
+    assert [(f.name, str(f.type)) for f in fix if f.name.startswith("satellites")] == [
+        ("satellites.id", "list<item: uint8>"), ("satellites.azimuth", "list<item: float>"),
+        ("satellites.elevation", "list<item: float>"), ("satellites.snr", "list<item: float>")]
+    assert "satellites" not in fix.names
+    glob = f"{root}/*/proto=aydp/type=FIX_DETAIL/*.parquet"
+    con = duckdb.connect()
+    rel = con.sql(f"SELECT file, \"satellites.id\", \"satellites.snr\" FROM read_parquet('{glob}') ORDER BY file")
+    assert [str(t) for t in rel.types] == ["VARCHAR", "UTINYINT[]", "FLOAT[]"]
+    assert rel.fetchall() == [("bare-aydp.pcapng", [], []), ("full-aydp.pcapng", [7, 9], [38.0, 20.5])]
+    # One row per satellite: the parallel lists unnest together.
+    rows = con.sql(f"SELECT unnest(\"satellites.id\") AS id, unnest(\"satellites.elevation\") AS e "
+                   f"FROM read_parquet('{glob}') ORDER BY id").fetchall()
+    assert rows == [(7, 45.0), (9, 10.0)]
+    frame = pl.scan_parquet(f"{root}/*/proto=aydp/type=DIRECT_OUTPUT/*.parquet", hive_partitioning=True).collect()
+    assert (frame.schema["entries.device"], frame.schema["entries.value"]) == (pl.List(pl.UInt8), pl.List(pl.Float32))
+    assert sorted(frame["entries.value"].to_list()) == [[], [10.0]]
+    assert frame.explode(["entries.device", "entries.channel", "entries.value"]).drop_nulls("entries.device").select(
+        "entries.device", "entries.channel", "entries.value").rows() == [(1, 2, 10.0)]
+
+
+def test_box_time_is_a_duration(optional_exports):
+    # AEOLUS's time since the box started: a duration of microseconds in pyarrow and Polars, a
+    # BIGINT of microseconds in DuckDB (Parquet has no duration; its unit says so); the motion
+    # columns name their units.
+    root, _ = optional_exports
+    gyro = pq.read_schema(next((root / "full").glob("proto=aeolus/type=GYRO/*.parquet")))
+    assert str(gyro.field("box_time").type) == "duration[us]"
+    assert gyro.field("box_time").metadata[b"unit"] == "µs since the box started".encode()
+    assert [n for n in gyro.names if n[0] in "xyz"] == ["x_radps", "y_radps", "z_radps"]
+    assert "timestamp_ms" not in gyro.names and "x" not in gyro.names
+    glob = f"{root}/*/proto=aeolus/type=GYRO/*.parquet"
+    frame = pl.scan_parquet(glob, hive_partitioning=True).collect()
+    assert frame.schema["box_time"] == pl.Duration("us")
+    rel = duckdb.sql(f"SELECT box_time FROM read_parquet('{glob}')")
+    assert [str(t) for t in rel.types] == ["BIGINT"]
+    assert sorted(frame["box_time"].dt.total_microseconds().to_list()) == sorted(r[0] for r in rel.fetchall())
+    for name, suffix in (("ACCEL", "mps2"), ("MAGNET", "gauss")):
+        schema = pq.read_schema(next((root / "full").glob(f"proto=aeolus/type={name}/*.parquet")))
+        assert [n for n in schema.names if n[0] in "xyz"] == [f"{a}_{suffix}" for a in "xyz"]
+        assert str(schema.field("box_time").type) == "duration[us]"
+    air = pq.read_schema(next((root / "full").glob("proto=aeolus/type=AIR/*.parquet")))
+    assert str(air.field("box_time").type) == "duration[us]"

@@ -28,8 +28,12 @@ def test_rows_of_a_raw_file():
     assert {k: len(v) for k, v in frames.items()} == AEOLUS_ROWS
     gyro = frames["GYRO"]
     assert list(gyro.columns) == ["capture_time", "time", "offset", "meta.id", "meta.len", "meta.crc",
-                                  "valid", "timestamp_ms", "x", "y", "z"]
-    assert gyro["offset"].iloc[0] == 15 and gyro["y"].iloc[0] == pytest.approx(0.024415644)
+                                  "valid", "box_time", "x_radps", "y_radps", "z_radps"]
+    assert gyro["offset"].iloc[0] == 15 and gyro["y_radps"].iloc[0] == pytest.approx(0.024415644)
+    # The box's time since it started: a duration, the message's milliseconds to the µs.
+    assert str(gyro["box_time"].dtype) == "timedelta64[us]"
+    first = next(m for m in protolink.open(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus") if m.name == "GYRO")
+    assert gyro["box_time"].iloc[0] == pd.Timedelta(microseconds=round(first.timestamp_ms * 1000))
     assert gyro["capture_time"].isna().all() and gyro["time"].isna().all()  # a plain byte file has no clock
     assert set(gyro["meta.id"]) == {62} and set(gyro["meta.crc"]) == {"ok"}
 
@@ -52,12 +56,14 @@ def test_frames_keep_their_protocol_and_units_in_attrs():
     frames = protolink.to_frames(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")
     gyro = frames["GYRO"]
     assert gyro.attrs["proto"] == "aeolus"
-    assert gyro.attrs["units"] == {"capture_time": "s since 1970", "offset": "byte", "meta.len": "byte", "timestamp_ms": "ms",
-                                   "x": "rad/s", "y": "rad/s", "z": "rad/s"}
+    assert gyro.attrs["units"] == {"capture_time": "s since 1970", "offset": "byte", "meta.len": "byte",
+                                   "box_time": "µs since the box started",
+                                   "x_radps": "rad/s", "y_radps": "rad/s", "z_radps": "rad/s"}
     assert frames["PRESSURE"].attrs["units"]["static_mbar"] == "mbar"
     assert "valid" not in gyro.attrs["units"]
     # A frame's attrs are its own: another table's units are not in them.
-    assert frames["ACCEL"].attrs["units"]["x"] == "m/s²"
+    assert frames["ACCEL"].attrs["units"]["x_mps2"] == "m/s²"
+    assert frames["MAGNET"].attrs["units"]["x_gauss"] == "gauss"
 
 
 def test_rows_of_messages_and_errors():
@@ -132,8 +138,8 @@ def test_typed_columns():
     gyro = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["GYRO"]
     assert [(f.name, str(f.type)) for f in gyro.schema] == [
         ("capture_time", "double"), ("time", "timestamp[us, tz=UTC]"), ("offset", "int64"), ("meta.id", "int64"), ("meta.len", "int64"),
-        ("meta.crc", "string"), ("valid", "bool"), ("timestamp_ms", "double"), ("x", "float"), ("y", "float"),
-        ("z", "float")]
+        ("meta.crc", "string"), ("valid", "bool"), ("box_time", "duration[us]"), ("x_radps", "float"),
+        ("y_radps", "float"), ("z_radps", "float")]
     info = protolink.to_arrow(TESTDATA / "qemu-uart0-aeolus.bin", proto="aeolus")["AEOLUSINFO"]
     # A fixed-size array is a column per element.
     assert [info.column(f"mac.{i}").to_pylist()[0] for i in range(6)] == [2, 174, 1, 5, 0, 1]

@@ -91,7 +91,7 @@ def expected_row(m, columns=(), profile="spec"):
                 meta.update({f"meta.{key}.{sub}": v for sub, v in value.items()})
             else:
                 meta[f"meta.{key}"] = value
-    fields = columns_of(flat(m.to_dict()), columns)
+    fields = columns_of(flat(m.to_dict()), columns, None if m.is_error else m.name)
     assert not meta.keys() & fields.keys(), (m, fields)  # no field is named like metadata
     return meta, fields
 
@@ -109,17 +109,56 @@ def flat(fields, prefix=""):
     return out
 
 
-def columns_of(fields, columns):
-    """`flat` fields as the table's columns: an AEOLUS fixed-size array (its column `name.0`
-    exists) a column per element, any other list its JSON text (compared parsed)."""
+# The export's own names for some fields, one entry per message type, as the host tool's
+# columns/names.rs has them: AEOLUS `timestamp_ms` is `box_time` (a duration of microseconds),
+# GYRO, ACCEL and MAGNET `x`, `y`, `z` name their units.
+BOX_TIME_TYPES = {"PRESSURE", "GYRO", "ACCEL", "MAGNET", "TEMP", "GPS", "ATTITUDE", "COMPASS", "WIND"}
+MOTION_UNITS = {"GYRO": "radps", "ACCEL": "mps2", "MAGNET": "gauss"}
+
+
+def export_names(name):
+    """{field: column} of message type `name`'s fields that the tables name their own way."""
+    names = {"timestamp_ms": "box_time"} if name in BOX_TIME_TYPES else {}
+    if name in MOTION_UNITS:
+        names.update({axis: f"{axis}_{MOTION_UNITS[name]}" for axis in "xyz"})
+    return names
+
+
+class Millis:
+    """A box time in milliseconds, which the table keeps as a duration of microseconds."""
+
+    def __init__(self, value):
+        self.value = value
+
+    def micros(self):
+        """The microseconds the table holds: the milliseconds rounded half away from zero, as
+        Rust's `f64::round` (None for no value, or one out of a duration's range)."""
+        if self.value is None or not math.isfinite(self.value * 1000.0):
+            return None
+        us = int(math.copysign(math.floor(abs(self.value) * 1000.0 + 0.5), self.value))
+        return us if -2**63 <= us < 2**63 else None
+
+
+def columns_of(fields, columns, name=None):
+    """`flat` fields of message type `name` as the table's columns: an AEOLUS fixed-size array
+    (its column `name.0` exists) a column per element, a list of objects (AYDP `satellites`,
+    `entries`) a list per field of its items (every such column of the table, an empty list
+    for a message without items), another list its JSON text (compared parsed); a field the
+    tables name their own way under that name (`box_time` a `Millis`)."""
+    renamed = export_names(name)
     out = {}
     for key, value in fields.items():
+        lists = sorted(c for c in columns if c.startswith(key + ".") and not c[len(key) + 1:].isdigit())
         if isinstance(value, list) and f"{key}.0" in columns:
             out.update({f"{key}.{i}": v for i, v in enumerate(value)})
+        elif isinstance(value, list) and lists:
+            out.update({c: [item[c[len(key) + 1:]] for item in value] for c in lists})
         elif isinstance(value, list):
             out[key] = Json(value)
+        elif key == "timestamp_ms" and "timestamp_ms" in renamed:
+            out["box_time"] = Millis(value)
         else:
-            out[key] = value
+            out[renamed.get(key, key)] = value
     return out
 
 
@@ -151,6 +190,11 @@ def same(got, want, single=False):
         if want.value is None:
             return got is pd.NaT or got is None
         return abs(got.value // 1_000 - want.value) <= 1
+    if isinstance(want, Millis):
+        # A duration of microseconds (pandas: a Timedelta, NaT for none).
+        if want.micros() is None:
+            return got is pd.NaT or got is None
+        return got // pd.Timedelta(microseconds=1) == want.micros()
     if hasattr(got, "tolist"):
         got = got.tolist()
     if isinstance(want, Json):

@@ -68,3 +68,19 @@ def test_spark_reads_exports_with_and_without_optional_fields_through_one_glob(o
     per_file = {r["file"]: r["n"] for r in frame.groupBy("file").agg({"`position.lat_deg`": "count"})
                 .withColumnRenamed("count(position.lat_deg)", "n").collect()}
     assert per_file == {"bare-gdl90.pcapng": 0, "full-gdl90.pcapng": 2}
+
+
+def test_spark_reads_box_time_and_lists(optional_exports, spark):  # noqa: F811
+    # Spark reads Parquet's INT64 of a duration as a bigint of microseconds (it does not read
+    # the Arrow schema the file keeps), and the AYDP lists as arrays of the items' types, full
+    # and empty through one glob.
+    root, _ = optional_exports
+    gyro = spark.read.parquet(f"{root}/*/proto=aeolus/type=GYRO")
+    kinds = {f.name: f.dataType.simpleString() for f in gyro.schema.fields}
+    assert (kinds["box_time"], kinds["x_radps"]) == ("bigint", "float")
+    fix = spark.read.parquet(f"{root}/*/proto=aydp/type=FIX_DETAIL")
+    kinds = {f.name: f.dataType.simpleString() for f in fix.schema.fields}
+    assert (kinds["satellites.id"], kinds["satellites.snr"]) == ("array<smallint>", "array<float>")
+    rows = {r["file"]: (r["ids"], r["snr"]) for r in fix.selectExpr(
+        "file", "`satellites.id` AS ids", "`satellites.snr` AS snr").collect()}
+    assert rows == {"bare-aydp.pcapng": ([], []), "full-aydp.pcapng": ([7, 9], [38.0, 20.5])}

@@ -1,15 +1,19 @@
 //! One column of a table: its values of one type, appended a row at a time, with nulls where a
-//! row has none, turned into an Arrow array when a row group is full.
+//! row has none, turned into an Arrow array when a row group is full. A list column holds a
+//! list of values of one type a row ([`Data::List`]).
 
 use std::sync::Arc;
 
 use arrow_array::builder::{
-    BooleanBuilder, Float32Builder, Float64Builder, Int8Builder, Int16Builder, Int32Builder,
-    Int64Builder, StringBuilder, TimestampMicrosecondBuilder, UInt8Builder, UInt16Builder,
-    UInt32Builder, UInt64Builder,
+    BooleanBuilder, DurationMicrosecondBuilder, Float32Builder, Float64Builder, Int8Builder,
+    Int16Builder, Int32Builder, Int64Builder, StringBuilder, TimestampMicrosecondBuilder,
+    UInt8Builder, UInt16Builder, UInt32Builder, UInt64Builder,
 };
-use arrow_array::{ArrayRef, NullArray};
+use arrow_array::{ArrayRef, ListArray, NullArray};
+use arrow_buffer::{NullBufferBuilder, OffsetBuffer, ScalarBuffer};
 use arrow_schema::{DataType, Field, TimeUnit};
+
+use super::names::Convert;
 
 /// The time zone of every timestamp column: the times are UTC.
 const UTC: &str = "UTC";
@@ -49,6 +53,8 @@ pub(crate) enum Scalar<'a> {
     Run(&'a str),
     /// A point in time: microseconds since the Unix epoch, UTC.
     Time(i64),
+    /// A length of time, in microseconds (an AEOLUS message's time since the box started).
+    Duration(i64),
 }
 
 impl Scalar<'_> {
@@ -110,6 +116,10 @@ pub(crate) enum Data {
     Runs(Runs),
     /// Points in time, microseconds since the Unix epoch, UTC.
     Time(TimestampMicrosecondBuilder),
+    /// Lengths of time, microseconds.
+    Duration(DurationMicrosecondBuilder),
+    /// A list of values of one type a row (or a null).
+    List(Box<List>),
 }
 
 macro_rules! each_primitive {
@@ -128,6 +138,7 @@ macro_rules! each_primitive {
             Data::F64($b) => $body,
             Data::Str($b) => $body,
             Data::Time($b) => $body,
+            Data::Duration($b) => $body,
             $other => $otherwise,
         }
     };
@@ -152,6 +163,7 @@ impl Data {
             Scalar::Str(_) => Data::Str(StringBuilder::new()),
             Scalar::Run(_) => Data::Runs(Runs::default()),
             Scalar::Time(_) => Data::Time(TimestampMicrosecondBuilder::new().with_timezone(UTC)),
+            Scalar::Duration(_) => Data::Duration(DurationMicrosecondBuilder::new()),
         };
         d.nulls(nulls);
         d
@@ -162,6 +174,7 @@ impl Data {
         match self {
             Data::Null(count) => *count += n,
             Data::Runs(r) => r.push(None, n),
+            Data::List(l) => (0..n).for_each(|_| l.close(false)),
             other => each_primitive!(other, b => b.append_nulls(n), _ => {}),
         }
     }
@@ -176,7 +189,7 @@ impl Data {
             return true;
         }
         let fits = match self {
-            Data::Null(_) => false,
+            Data::Null(_) | Data::List(_) => false,
             Data::Bool(b) => match v {
                 Scalar::Bool(x) => {
                     b.append_value(x);
@@ -200,6 +213,13 @@ impl Data {
             },
             Data::Time(b) => match v {
                 Scalar::Time(x) => {
+                    b.append_value(x);
+                    true
+                }
+                _ => false,
+            },
+            Data::Duration(b) => match v {
+                Scalar::Duration(x) => {
                     b.append_value(x);
                     true
                 }
@@ -259,6 +279,8 @@ impl Data {
             Data::F64(_) => DataType::Float64,
             Data::Str(_) | Data::Runs(_) => DataType::Utf8,
             Data::Time(_) => DataType::Timestamp(TimeUnit::Microsecond, Some(UTC.into())),
+            Data::Duration(_) => DataType::Duration(TimeUnit::Microsecond),
+            Data::List(l) => DataType::List(l.item_field()),
         }
     }
 
@@ -267,9 +289,87 @@ impl Data {
         match self {
             Data::Null(n) => Arc::new(NullArray::new(std::mem::take(n))),
             Data::Runs(r) => Arc::new(r.finish()),
+            Data::List(l) => l.finish(),
             other => {
                 each_primitive!(other, b => Arc::new(b.finish()), _ => Arc::new(NullArray::new(0)))
             }
+        }
+    }
+}
+
+/// Appends `v` to `data`, which takes the type of `v` when it holds only nulls so far; `false`
+/// when it had to be a null ([`Data::push`]).
+#[inline]
+fn push_typing(data: &mut Data, v: Scalar<'_>) -> bool {
+    if let Data::Null(n) = data
+        && v != Scalar::Null
+    {
+        let nulls = *n;
+        *data = Data::for_value(v, nulls);
+    }
+    data.push(v)
+}
+
+/// The lists of a list column: every row's items, one after the other, in one column of their
+/// type, and where each row's list ends. A row's list is open from its first item (or
+/// [`Column::open`]) until [`List::close`].
+pub(crate) struct List {
+    /// The items of all rows so far.
+    items: Data,
+    /// Items so far (the end of the open list).
+    count: i32,
+    /// Where each closed row's list ends, after a leading 0.
+    offsets: Vec<i32>,
+    /// Which closed rows have a list (the others are null).
+    valid: NullBufferBuilder,
+}
+
+impl List {
+    /// No rows yet; the items have the type of `like` (none yet: a null).
+    fn new(like: Scalar<'_>) -> List {
+        List {
+            items: Data::for_value(like, 0),
+            count: 0,
+            offsets: vec![0],
+            valid: NullBufferBuilder::new(0),
+        }
+    }
+
+    /// Appends an item to the open list; `false` when it does not fit the items' type (a null
+    /// item is appended instead, so that parallel lists keep one item per element), or when
+    /// the row group holds `i32::MAX` items already (nothing is appended).
+    fn push(&mut self, v: Scalar<'_>) -> bool {
+        let Some(count) = self.count.checked_add(1) else {
+            return false;
+        };
+        self.count = count;
+        push_typing(&mut self.items, v)
+    }
+
+    /// Ends a row: its list is the items since the last row's (`valid`), or a null.
+    fn close(&mut self, valid: bool) {
+        self.offsets.push(self.count);
+        self.valid.append(valid);
+    }
+
+    /// The field of an item.
+    fn item_field(&self) -> Arc<Field> {
+        Arc::new(Field::new_list_field(self.items.data_type(), true))
+    }
+
+    /// The rows so far as a list array; empty again after.
+    fn finish(&mut self) -> ArrayRef {
+        let field = self.item_field();
+        let offsets = std::mem::replace(&mut self.offsets, vec![0]);
+        let rows = offsets.len() - 1;
+        self.count = 0;
+        let items = self.items.finish();
+        let nulls = self.valid.finish();
+        let offsets = OffsetBuffer::new(ScalarBuffer::from(offsets));
+        // The offsets grow with the items and the validity with the offsets: always valid.
+        match ListArray::try_new(field.clone(), offsets, items, nulls) {
+            Ok(a) => Arc::new(a),
+            Err(_) => Arc::new(ListArray::new_null(field, rows)),
         }
     }
 }
@@ -332,9 +432,12 @@ pub(crate) struct Column {
     pub(crate) data: Data,
     /// Rows filled so far (a row not yet ended may have filled it).
     pub(crate) filled: usize,
-    /// The address of the `&'static str` its name was last looked up with (0: none): the same
-    /// address is the same name, found without comparing the text.
-    pub(crate) key: usize,
+    /// The address and length of the `&'static str` it was last looked up with ((0, 0):
+    /// none), its name or the field's it holds ([`super::names`]): the same address and length
+    /// are the same name, found without comparing the text.
+    pub(crate) key: (usize, usize),
+    /// How a field's value is written into it ([`super::names`]).
+    pub(crate) convert: Convert,
     /// Its unit, kept in its Arrow field's metadata.
     pub(crate) unit: Option<&'static str>,
 }
@@ -346,28 +449,69 @@ impl Column {
             name: name.into(),
             data: Data::for_value(v, row),
             filled: row,
-            key: 0,
+            key: (0, 0),
+            convert: Convert::Same,
             unit: None,
         }
+    }
+
+    /// A list column whose items are like `like`, created in row `row` (the rows before hold
+    /// nulls); this row's list is not open.
+    pub(crate) fn new_list(name: &str, like: Scalar<'_>, row: usize) -> Column {
+        let mut data = Data::List(Box::new(List::new(like)));
+        data.nulls(row);
+        Column {
+            name: name.into(),
+            data,
+            filled: row,
+            key: (0, 0),
+            convert: Convert::Same,
+            unit: None,
+        }
+    }
+
+    /// Whether it holds lists.
+    pub(crate) fn is_list(&self) -> bool {
+        matches!(self.data, Data::List(_))
     }
 
     /// Sets this row's value; `false` when it had to be a null (a value of another type).
     pub(crate) fn push(&mut self, v: Scalar<'_>) -> bool {
         self.filled += 1;
-        if let Data::Null(n) = &mut self.data
-            && v != Scalar::Null
-        {
-            let nulls = *n;
-            self.data = Data::for_value(v, nulls);
+        if self.is_list() {
+            // One value where a list is kept: this row's list is empty.
+            return v == Scalar::Null;
         }
-        self.data.push(v)
+        push_typing(&mut self.data, v)
     }
 
-    /// Fills this row with a null when it has no value.
+    /// Opens this row's list (of row `rows`), empty so far, when it is not open; nothing for a
+    /// column of values.
+    pub(crate) fn open(&mut self, rows: usize) {
+        if self.is_list() && self.filled == rows {
+            self.filled += 1;
+        }
+    }
+
+    /// Appends an item to this row's list (of row `rows`), opening it; `false` when the item
+    /// is no value of the column's (or the column holds no lists).
+    pub(crate) fn push_item(&mut self, v: Scalar<'_>, rows: usize) -> bool {
+        self.open(rows);
+        match &mut self.data {
+            Data::List(l) => l.push(v),
+            _ => false,
+        }
+    }
+
+    /// Ends this row: a null when it has no value (a list column: no list open), else the
+    /// list open.
     pub(crate) fn end_row(&mut self, rows: usize) {
         if self.filled == rows {
+            // No value (a list column: no list open): a null.
             self.data.nulls(1);
             self.filled += 1;
+        } else if let Data::List(l) = &mut self.data {
+            l.close(true);
         }
     }
 

@@ -20,8 +20,14 @@
 //! (`f32` as Float32, `u16` as UInt16, a fixed-size array as a column per element), flags as
 //! Boolean, an enum without data by its variant's name (Utf8); what `decode` shows by name or
 //! as hex is that text (AOK slots and actions, an AYDP system control's `command`, raw
-//! `data`); a list (AYDP output entries, satellites) is kept as its JSON text. Error events
-//! make the table `ERROR` (`kind`, `error`). A field named like a metadata column is written as
+//! `data`); a list of structs (AYDP output `entries`, `satellites`) is a List column per field
+//! of its items (`satellites.id`, `satellites.snr`, ...: one list a row each, of one length),
+//! of one schema whether the lists are empty or full. Some fields take the export's own name
+//! and type, one entry per message type in `names.rs`: AEOLUS `timestamp_ms` is `box_time`, a
+//! Duration(µs) since the box started; GYRO, ACCEL and MAGNET `x`, `y`, `z` name their units
+//! (`x_radps`, `x_mps2`, `x_gauss`). A rendered message's list ([`Tables::add_rendered`],
+//! whose items may be of any type) is its JSON text. Error events make the table `ERROR`
+//! (`kind`, `error`). A field named like a metadata column is written as
 //! `field.NAME` (no field of the four protocols is). [`Tables::keep`] keeps only some rows
 //! ([`Keep`]: `export --types`, `--since`, `--until`).
 //!
@@ -44,6 +50,7 @@ mod air;
 mod column;
 mod fnv;
 mod keep;
+mod names;
 mod row;
 mod source;
 mod table;
@@ -591,7 +598,8 @@ impl Tables {
         }
         let (i, table) = self.begin_static("AIR", Proto::Aeolus, origin, offset, None);
         let real = |v: Option<f64>| v.map(Scalar::F64);
-        table.set_static("timestamp_ms", Scalar::F64(box_ms));
+        let box_time = self::names::millis_to_micros(box_ms).map(Scalar::Duration);
+        table.set_typed("box_time", box_time, Scalar::Duration(0));
         table.set_typed("static_hpa", real(air.static_hpa), Scalar::F64(0.0));
         table.set_typed("dynamic_pa", real(air.dynamic_pa), Scalar::F64(0.0));
         table.set_typed("celsius", real(air.celsius), Scalar::F64(0.0));

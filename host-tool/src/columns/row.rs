@@ -1,12 +1,15 @@
 //! A message's fields into a table row, through serde: each number, flag and text into the
 //! column of its path (a nested field as `outer.inner`, an element of a fixed-size array as
 //! `array.0`, `array.1`, ..., the value of an enum variant that carries one as
-//! `field.Variant`); a list (of any length, of anything) as its JSON text, so that its column
-//! has one type whatever the lists hold.
+//! `field.Variant`); a list (of any length) of a typed message as Arrow lists: a list of values
+//! as one List column of their type, a list of structs as parallel List columns, one per field
+//! of the struct (`satellites.id`, `satellites.snr`, ...), each row's lists of one length.
 //!
 //! The protocol crates' typed messages serialize with their own widths (`f32`, `u16`, ...), so
-//! their columns have those types; a rendered field (`serde_json::Value`) has only integers and
-//! reals, which become `Int64` and `Float64` columns.
+//! their columns have those types, and a top-level field's column takes the name (and type)
+//! the message type's entry of [`super::names`] gives it. A rendered field
+//! (`serde_json::Value`) has only integers and reals, which become `Int64` and `Float64`
+//! columns; its lists, whose items may be of any type, are their JSON text.
 
 use serde::Serialize;
 use serde::ser::{self, Impossible};
@@ -47,6 +50,7 @@ pub(crate) fn write_fields<T: Serialize + ?Sized>(
         ints: integers,
         clashes,
         name: None,
+        list: false,
     };
     if fields.serialize(value).is_err() {
         // A top level that is no struct nor map: one column, `value`.
@@ -75,6 +79,8 @@ struct Value<'a> {
     /// A top-level field's name, held by the program: the column's name (`path` is empty and
     /// takes it only when the value nests).
     name: Option<&'static str>,
+    /// The value is an item of a list: appended to this row's list in the column.
+    list: bool,
 }
 
 impl Value<'_> {
@@ -87,14 +93,19 @@ impl Value<'_> {
     }
 
     fn set(self, v: Scalar<'_>) -> Result<(), NotColumns> {
-        if let Some(name) = self.name {
-            self.table.set_static(name, v);
+        if let Some(field) = self.name {
+            // A typed message's field, in the column its type gives it.
+            self.table.set_field(field, v);
             return Ok(());
         }
         if self.path.is_empty() {
             // A top level that is one value (a number, an enum without data): one column, as
             // `decode` renders it.
             self.table.set_static("value", v);
+            return Ok(());
+        }
+        if self.list {
+            self.table.push_item(self.path, v);
             return Ok(());
         }
         if self.ints == Ints::Own {
@@ -119,13 +130,14 @@ impl Value<'_> {
     }
 }
 
-/// A field under `path`: written as columns, or as its JSON text when it cannot be.
+/// A field under `path` (of a list's item when `list`): written as columns, or as its JSON
+/// text when it cannot be.
 fn field<T: Serialize + ?Sized>(
     table: &mut Table,
     path: &mut String,
     name: &str,
     value: &T,
-    ints: Ints,
+    (ints, list): (Ints, bool),
     clashes: Option<&dyn Fn(&str) -> bool>,
 ) {
     let len = path.len();
@@ -143,13 +155,24 @@ fn field<T: Serialize + ?Sized>(
             ints,
             clashes: None,
             name: None,
+            list,
         })
         .is_ok();
     if !ok {
-        let text = serde_json::to_string(value).unwrap_or_default();
-        table.set(path, Scalar::Str(&text));
+        json_text(table, path, value, list);
     }
     path.truncate(len);
+}
+
+/// A value that is no columns (bytes, a list in a list, a rendered list) as its JSON text, in
+/// the column `path` (appended to its list when `list`).
+fn json_text<T: Serialize + ?Sized>(table: &mut Table, path: &str, value: &T, list: bool) {
+    let text = serde_json::to_string(value).unwrap_or_default();
+    if list {
+        table.push_item(path, Scalar::Str(&text));
+    } else {
+        table.set(path, Scalar::Str(&text));
+    }
 }
 
 /// The fields of a struct or map under the path.
@@ -158,6 +181,8 @@ struct Fields<'a> {
     path: &'a mut String,
     ints: Ints,
     clashes: Option<&'a dyn Fn(&str) -> bool>,
+    /// The fields are a list item's.
+    list: bool,
     /// A map's key, kept until its value comes.
     key: String,
 }
@@ -172,22 +197,25 @@ impl ser::SerializeStruct for Fields<'_> {
         value: &T,
     ) -> Result<(), NotColumns> {
         if self.path.is_empty() && self.clashes.is_none() {
-            // A top-level field of a typed message: its column found by the name's address.
+            // A top-level field of a typed message: its column (of the name its message type
+            // gives it, `names`) found by the field's address.
             let direct = Value {
                 table: &mut *self.table,
                 path: &mut *self.path,
                 ints: self.ints,
                 clashes: None,
                 name: Some(key),
+                list: false,
             };
             if value.serialize(direct).is_err() {
                 let text = serde_json::to_string(value).unwrap_or_default();
-                self.table.set_static(key, Scalar::Str(&text));
+                self.table.set_field(key, Scalar::Str(&text));
             }
             self.path.clear();
             return Ok(());
         }
-        field(self.table, self.path, key, value, self.ints, self.clashes);
+        let how = (self.ints, self.list);
+        field(self.table, self.path, key, value, how, self.clashes);
         Ok(())
     }
 
@@ -210,14 +238,8 @@ impl ser::SerializeMap for Fields<'_> {
     }
 
     fn serialize_value<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
-        field(
-            self.table,
-            self.path,
-            &self.key,
-            value,
-            self.ints,
-            self.clashes,
-        );
+        let how = (self.ints, self.list);
+        field(self.table, self.path, &self.key, value, how, self.clashes);
         Ok(())
     }
 
@@ -231,6 +253,7 @@ struct Elements<'a> {
     table: &'a mut Table,
     path: &'a mut String,
     ints: Ints,
+    list: bool,
     next: usize,
 }
 
@@ -246,22 +269,81 @@ impl ser::SerializeTuple for Elements<'_> {
     fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
         let i = self.next;
         self.next += 1;
+        let how = (self.ints, self.list);
         match INDEX.get(i) {
-            Some(name) => field(self.table, self.path, name, value, self.ints, None),
-            None => field(
-                self.table,
-                self.path,
-                &i.to_string(),
-                value,
-                self.ints,
-                None,
-            ),
+            Some(name) => field(self.table, self.path, name, value, how, None),
+            None => field(self.table, self.path, &i.to_string(), value, how, None),
         }
         Ok(())
     }
 
     fn end(self) -> Result<(), NotColumns> {
         Ok(())
+    }
+}
+
+/// The items of a list, each appended to this row's list in the column of its path (a
+/// struct's field `path.FIELD`).
+pub(crate) struct Items<'a> {
+    table: &'a mut Table,
+    path: &'a mut String,
+    ints: Ints,
+}
+
+impl ser::SerializeSeq for Items<'_> {
+    type Ok = ();
+    type Error = NotColumns;
+
+    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), NotColumns> {
+        let item = Value {
+            table: &mut *self.table,
+            path: &mut *self.path,
+            ints: self.ints,
+            clashes: None,
+            name: None,
+            list: true,
+        };
+        if value.serialize(item).is_err() {
+            json_text(self.table, self.path, value, true);
+        }
+        Ok(())
+    }
+
+    fn end(self) -> Result<(), NotColumns> {
+        Ok(())
+    }
+}
+
+/// Writes the list `items` into the row of `table`, as a typed message's list field `name`
+/// (each item's columns under `name`), its columns declared from `sample` (one item, every
+/// optional field present) when the table is new: a list of any length, empty too, gives the
+/// same columns.
+pub(crate) fn write_list<T: Serialize>(
+    table: &mut Table,
+    name: &'static str,
+    items: impl Iterator<Item = T>,
+    sample: &T,
+) {
+    if !table.declared() {
+        table.declare_like(|t| {
+            let mut path = String::from(name);
+            let mut items = Items {
+                table: t,
+                path: &mut path,
+                ints: Ints::Own,
+            };
+            let _ = ser::SerializeSeq::serialize_element(&mut items, sample);
+        });
+    }
+    let mut path = String::from(name);
+    table.open_lists(name);
+    let mut list = Items {
+        table,
+        path: &mut path,
+        ints: Ints::Own,
+    };
+    for item in items {
+        let _ = ser::SerializeSeq::serialize_element(&mut list, &item);
     }
 }
 
@@ -274,7 +356,7 @@ macro_rules! scalar_methods {
 impl<'a> ser::Serializer for Value<'a> {
     type Ok = ();
     type Error = NotColumns;
-    type SerializeSeq = Impossible<(), NotColumns>;
+    type SerializeSeq = Items<'a>;
     type SerializeTuple = Elements<'a>;
     type SerializeTupleStruct = Impossible<(), NotColumns>;
     type SerializeTupleVariant = Impossible<(), NotColumns>;
@@ -351,14 +433,28 @@ impl<'a> ser::Serializer for Value<'a> {
         value: &T,
     ) -> Result<(), NotColumns> {
         let v = self.nest();
-        field(v.table, v.path, variant, value, v.ints, None);
+        field(v.table, v.path, variant, value, (v.ints, v.list), None);
         Ok(())
     }
 
-    /// A list of any length: its JSON text (the field's fallback), one column of one type
-    /// whatever the list holds.
-    fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, NotColumns> {
-        Err(NotColumns)
+    /// A list of any length of a typed message: this row's lists under the path, opened
+    /// (empty, not null, when it has no item). A rendered list, or a list in a list's item, is
+    /// its JSON text (the field's fallback).
+    fn serialize_seq(self, _: Option<usize>) -> Result<Items<'a>, NotColumns> {
+        if self.ints == Ints::Wide || self.list {
+            return Err(NotColumns);
+        }
+        let v = self.nest();
+        if v.path.is_empty() {
+            // A top level that is a list: no column is named for it.
+            return Err(NotColumns);
+        }
+        v.table.open_lists(v.path);
+        Ok(Items {
+            table: v.table,
+            path: v.path,
+            ints: v.ints,
+        })
     }
 
     fn serialize_tuple(self, _: usize) -> Result<Elements<'a>, NotColumns> {
@@ -367,6 +463,7 @@ impl<'a> ser::Serializer for Value<'a> {
             table: v.table,
             path: v.path,
             ints: v.ints,
+            list: v.list,
             next: 0,
         })
     }
@@ -396,6 +493,7 @@ impl<'a> ser::Serializer for Value<'a> {
             path: v.path,
             ints: v.ints,
             clashes: v.clashes,
+            list: v.list,
             key: String::new(),
         })
     }

@@ -9,6 +9,7 @@ use arrow_schema::{Schema, SchemaRef};
 use super::PROTO_KEY;
 use super::column::{Column, Scalar};
 use super::fnv::FnvMap;
+use super::names::{self, Convert, Named};
 use super::unit;
 use crate::proto::{Proto, proto_name};
 
@@ -35,6 +36,8 @@ pub(crate) struct Table {
     declaring: bool,
     /// The message type's columns were declared from samples.
     declared: bool,
+    /// The fields the export names its own way ([`names`]).
+    names: &'static [Named],
 }
 
 impl Table {
@@ -50,6 +53,7 @@ impl Table {
             mismatches: 0,
             declaring: false,
             declared: false,
+            names: names::of(proto, kind),
         }
     }
 
@@ -71,10 +75,9 @@ impl Table {
     /// The index of the column `name`, if it exists: a name the program holds (a field's,
     /// a metadata column's) is found by its address when it was looked up before.
     fn find_static(&mut self, name: &'static str) -> Option<usize> {
-        let key = name.as_ptr() as usize;
+        let key = key_of(name);
         if let Some(c) = self.columns.get(self.cursor)
             && c.key == key
-            && c.name.len() == name.len()
         {
             self.cursor += 1;
             return Some(self.cursor - 1);
@@ -94,13 +97,48 @@ impl Table {
             None if matches!(v, Scalar::Null) => {}
             None => {
                 let mut c = Column::new(name, v, self.rows);
-                c.key = name.as_ptr() as usize;
+                c.key = key_of(name);
                 if !self.declaring {
                     c.push(v);
                 }
                 self.add(c);
             }
         }
+    }
+
+    /// Sets the value of typed field `field` (a top-level field of a message type) in this row,
+    /// in the column the message type's entry of [`names`] gives it (its own name otherwise),
+    /// written as that entry says: found by the field's address, the name looked up only once.
+    pub(crate) fn set_field(&mut self, field: &'static str, v: Scalar<'_>) {
+        let key = key_of(field);
+        if let Some(c) = self.columns.get(self.cursor)
+            && c.key == key
+        {
+            let i = self.cursor;
+            self.cursor += 1;
+            self.put(i, v);
+            return;
+        }
+        let (column, convert) = names::column(self.names, field);
+        let i = match self.find(column) {
+            Some(i) => i,
+            None => {
+                // An absent value makes no column, unless its column's type is known.
+                let like = match (convert.like(), convert.apply(v)) {
+                    (Some(like), _) => like,
+                    (None, Scalar::Null) => return,
+                    (None, v) => v,
+                };
+                let mut c = Column::new(column, like, self.rows);
+                c.convert = convert;
+                self.add(c);
+                self.columns.len() - 1
+            }
+        };
+        if let Some(c) = self.columns.get_mut(i) {
+            c.key = key;
+        }
+        self.put(i, v);
     }
 
     /// Sets the value of the column `name` in this row (a column it creates when new). A value
@@ -125,7 +163,7 @@ impl Table {
     pub(crate) fn declare(&mut self, name: &'static str, like: Scalar<'_>) {
         if self.find_static(name).is_none() {
             let mut c = Column::new(name, like, self.rows);
-            c.key = name.as_ptr() as usize;
+            c.key = key_of(name);
             self.add(c);
         }
     }
@@ -156,12 +194,52 @@ impl Table {
             Some(i) => i,
             None => {
                 let mut c = Column::new(name, like, self.rows);
-                c.key = name.as_ptr() as usize;
+                c.key = key_of(name);
                 self.add(c);
                 self.columns.len() - 1
             }
         };
         self.put(i, v.unwrap_or(Scalar::Null));
+    }
+
+    /// Appends an item to this row's list in the list column `name` (a column it creates when
+    /// new, of items of the type of `v`; while declaring, it only creates it).
+    pub(crate) fn push_item(&mut self, name: &str, v: Scalar<'_>) {
+        let i = match self.find(name) {
+            Some(i) => i,
+            None => {
+                self.add(Column::new_list(name, v, self.rows));
+                self.columns.len() - 1
+            }
+        };
+        if self.declaring {
+            return;
+        }
+        let rows = self.rows;
+        if let Some(c) = self.columns.get_mut(i)
+            && !c.push_item(v, rows)
+        {
+            self.mismatches += 1;
+        }
+    }
+
+    /// Opens this row's lists under `root` (the list column `root`, or the parallel lists
+    /// `root.FIELD` of a list of structs): each is this row's list, empty until an item comes,
+    /// instead of a null.
+    pub(crate) fn open_lists(&mut self, root: &str) {
+        if self.declaring {
+            return;
+        }
+        let rows = self.rows;
+        for c in &mut self.columns {
+            let under = c
+                .name
+                .strip_prefix(root)
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('.'));
+            if under {
+                c.open(rows);
+            }
+        }
     }
 
     /// Sets this row's value of column `i`, unless it has one.
@@ -172,12 +250,16 @@ impl Table {
         let rows = self.rows;
         if let Some(c) = self.columns.get_mut(i)
             && c.filled == rows
-            && !c.push(v)
+            && !c.push(match c.convert {
+                Convert::Same => v,
+                other => other.apply(v),
+            })
         {
             self.mismatches += 1;
         }
     }
 
+    /// Adds a column (its unit from its name).
     fn add(&mut self, mut c: Column) {
         c.unit = unit::unit(&self.kind, &c.name);
         self.index.insert(c.name.clone(), self.columns.len());
@@ -218,4 +300,9 @@ impl Table {
         let options = arrow_array::RecordBatchOptions::new().with_row_count(Some(rows));
         RecordBatch::try_new_with_options(schema, arrays, &options).ok()
     }
+}
+
+/// The lookup key of a name the program holds: its address and length.
+fn key_of(name: &'static str) -> (usize, usize) {
+    (name.as_ptr() as usize, name.len())
 }

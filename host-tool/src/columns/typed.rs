@@ -2,12 +2,13 @@
 //! enum matched once, each variant's value written through serde at its own widths (`u8` as
 //! UInt8, `f32` as Float32, ...), and the few fields that `decode` shows by name (AOK slots and
 //! actions, AYDP system-control commands) or as hex (raw `data`) written as the texts it shows.
-//! No JSON value on the way: a list (AYDP output entries and satellites) is its JSON text.
+//! No JSON value on the way: a list (AYDP output entries and satellites) is a List column per
+//! field of its items, declared from a sample item with the table.
 
 use serde::Serialize;
 
 use super::column::Scalar;
-use super::row::{Ints, write_fields};
+use super::row::{Ints, write_fields, write_list};
 use super::table::Table;
 use crate::decoders::{action_name, slot_name};
 use crate::render::{escape_text, hex, is_clean_text};
@@ -15,13 +16,6 @@ use crate::render::{escape_text, hex, is_clean_text};
 /// A value's fields at their own widths.
 fn own<T: Serialize + ?Sized>(table: &mut Table, value: &T) {
     write_fields(table, value, Ints::Own, None);
-}
-
-/// A list field: its JSON text (one column of one type whatever the list holds).
-fn list<T: Serialize>(table: &mut Table, name: &'static str, items: impl Iterator<Item = T>) {
-    let items: Vec<T> = items.collect();
-    let text = serde_json::to_string(&items).unwrap_or_default();
-    table.set_static(name, Scalar::Str(&text));
 }
 
 /// A text message's `text` (escaped) and, for one that is not clean UTF-8, `hex` (a column of
@@ -68,8 +62,18 @@ pub(crate) fn aydp(table: &mut Table, message: &aydp_proto::Message<'_>) {
         M::TimeSync | M::Heartbeat | M::NoOp => {}
         M::Position(v) => own(table, v),
         M::FixQuality(v) => own(table, v),
-        M::FixDetail(d) => list(table, "satellites", d.satellites()),
-        M::DirectOutput(d) => list(table, "entries", d.entries()),
+        M::FixDetail(d) => write_list(
+            table,
+            "satellites",
+            d.satellites(),
+            &aydp_proto::Satellite::default(),
+        ),
+        M::DirectOutput(d) => write_list(
+            table,
+            "entries",
+            d.entries(),
+            &aydp_proto::OutputEntry::default(),
+        ),
         M::SystemValueUpdate(u) => {
             table.set_static("address", Scalar::U16(u.address));
             // The mode as `decode` renders it, flattened: a mode without data by name, the

@@ -8,8 +8,11 @@ pub(crate) const KEY: &str = "unit";
 
 /// Units by the end of a column's name: its last part, or for an element of a fixed-size array
 /// (`name.0`) the array's name.
-const SUFFIXES: [(&str, &str); 15] = [
+const SUFFIXES: [(&str, &str); 18] = [
     ("_ms", "ms"),
+    ("_radps", "rad/s"),
+    ("_mps2", "m/s²"),
+    ("_gauss", "gauss"),
     ("_mps", "m/s"),
     ("_mbar", "mbar"),
     ("_deg", "deg"),
@@ -28,21 +31,13 @@ const SUFFIXES: [(&str, &str); 15] = [
 
 /// Units of columns whose names do not say them: (message type, or "" for every table,
 /// column, unit). An entry for every table comes before the types' own.
-const NAMED: [(&str, &str, &str); 19] = [
+const NAMED: [(&str, &str, &str); 11] = [
     ("", "capture_time", "s since 1970"),
+    ("", "box_time", "µs since the box started"),
     ("", "offset", "byte"),
     ("", "meta.len", "byte"),
     ("", "meta.time.seconds", "s"),
     ("", "meta.time.subsec", "ms (spec) or µs (reference)"),
-    ("GYRO", "x", "rad/s"),
-    ("GYRO", "y", "rad/s"),
-    ("GYRO", "z", "rad/s"),
-    ("ACCEL", "x", "m/s²"),
-    ("ACCEL", "y", "m/s²"),
-    ("ACCEL", "z", "m/s²"),
-    ("MAGNET", "x", "gauss"),
-    ("MAGNET", "y", "gauss"),
-    ("MAGNET", "z", "gauss"),
     ("POSITION", "latitude", "deg"),
     ("POSITION", "longitude", "deg"),
     ("POSITION", "altitude", "m"),
@@ -79,8 +74,9 @@ mod tests {
     #[test]
     fn units_by_name_suffix_and_element() {
         assert_eq!(unit("PRESSURE", "airspeed_mps"), Some("m/s"));
-        assert_eq!(unit("GYRO", "x"), Some("rad/s"));
-        assert_eq!(unit("ACCEL", "x"), Some("m/s²"));
+        assert_eq!(unit("GYRO", "x_radps"), Some("rad/s"));
+        assert_eq!(unit("ACCEL", "x_mps2"), Some("m/s²"));
+        assert_eq!(unit("MAGNET", "z_gauss"), Some("gauss"));
         assert_eq!(unit("GPS", "satellites"), None);
         assert_eq!(unit("FIX_QUALITY", "meta.time.seconds"), Some("s"));
         assert_eq!(unit("X", "position.altitude_m"), Some("m"));

@@ -3,9 +3,9 @@
 //! groups, and the parts of an export when a table's columns change.
 
 use arrow_array::cast::AsArray;
-use arrow_array::types::{Float32Type, Int64Type, UInt8Type};
+use arrow_array::types::{DurationMicrosecondType, Float32Type, Int64Type, UInt8Type};
 use arrow_array::{Array, RecordBatch};
-use arrow_schema::DataType;
+use arrow_schema::{DataType, Field, TimeUnit};
 use protolink::columns::write::{Export, Format};
 use protolink::columns::{Origin, Tables, unify};
 use protolink::decoders::AeolusDecoder;
@@ -24,14 +24,20 @@ fn meta(v: Value) -> Map<String, Value> {
     v.as_object().cloned().unwrap_or_default()
 }
 
-/// The AEOLUS sample: the frames of the firmware's telemetry.
-fn sample() -> Vec<(String, RecordBatch)> {
+/// The bytes of the AEOLUS sample.
+fn sample_bytes() -> Vec<u8> {
     let bytes = std::fs::read(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../testdata/qemu-uart0-aeolus.bin"
     ))
     .unwrap_or_default();
     assert!(!bytes.is_empty());
+    bytes
+}
+
+/// The AEOLUS sample: the frames of the firmware's telemetry.
+fn sample() -> Vec<(String, RecordBatch)> {
+    let bytes = sample_bytes();
     let mut tables = Tables::new(100);
     let origin = Origin::default();
     let mut d = AeolusDecoder::new();
@@ -93,7 +99,7 @@ fn typed_aeolus_columns_keep_the_wire_types() {
         .map(|(_, b)| b.schema())
         .expect("GYRO");
     let x = gyro
-        .field_with_name("x")
+        .field_with_name("x_radps")
         .map(|f| f.metadata().get("unit").cloned());
     assert_eq!(x.ok().flatten().as_deref(), Some("rad/s"));
     // 248 COMPASS rows in batches of at most 100 rows.
@@ -178,8 +184,9 @@ fn a_value_of_another_type_is_a_counted_null() {
 }
 
 #[test]
-fn a_list_is_its_json_text() {
-    // Whatever the lists hold (numbers, objects, nothing), the column is a string.
+fn a_rendered_list_is_its_json_text() {
+    // A rendered message's lists (of items of any type: numbers, objects, nothing) are strings;
+    // a typed message's are Arrow lists (aydp_lists_are_arrow_lists_of_one_schema_...).
     let mut tables = Tables::new(8);
     let origin = Origin::default();
     let fields = json!({"n": [1, 2.5, 3], "o": [{"a": 1}], "e": []});
@@ -472,4 +479,213 @@ fn a_message_type_has_one_schema_whatever_its_messages_hold() {
     let (_, batch) = &batches[0];
     let seconds = batch.column_by_name("meta.time.seconds");
     assert_eq!(seconds.map(|c| c.null_count()), Some(1));
+}
+
+/// The table `name` of `batches`.
+fn table(batches: &[(String, RecordBatch)], name: &str) -> RecordBatch {
+    batches
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, b)| b.clone())
+        .unwrap_or_else(|| panic!("no {name}"))
+}
+
+/// The names and types of a batch's columns.
+fn types(batch: &RecordBatch) -> Vec<(String, DataType)> {
+    batch
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| (f.name().clone(), f.data_type().clone()))
+        .collect()
+}
+
+#[test]
+fn aeolus_box_time_is_a_duration_and_motion_columns_name_their_units() {
+    let batches = sample();
+    let gyro = table(&batches, "GYRO");
+    let micros = DataType::Duration(TimeUnit::Microsecond);
+    assert_eq!(
+        types(&gyro)[3..],
+        [
+            ("meta.id".to_owned(), DataType::Int64),
+            ("meta.len".to_owned(), DataType::Int64),
+            ("meta.crc".to_owned(), DataType::Utf8),
+            ("valid".to_owned(), DataType::Boolean),
+            ("box_time".to_owned(), micros.clone()),
+            ("x_radps".to_owned(), DataType::Float32),
+            ("y_radps".to_owned(), DataType::Float32),
+            ("z_radps".to_owned(), DataType::Float32),
+        ]
+    );
+    let names_of = |t: &str| names(&table(&batches, t));
+    assert!(
+        names_of("ACCEL").ends_with(&["box_time", "x_mps2", "y_mps2", "z_mps2"].map(String::from))
+    );
+    assert!(
+        names_of("MAGNET")
+            .ends_with(&["box_time", "x_gauss", "y_gauss", "z_gauss"].map(String::from))
+    );
+    // Every AEOLUS table of a message with a time has it as `box_time`, none as `timestamp_ms`.
+    for (name, batch) in &batches {
+        assert!(batch.column_by_name("timestamp_ms").is_none(), "{name}");
+        if let Some(c) = batch.column_by_name("box_time") {
+            assert_eq!(c.data_type(), &micros, "{name}");
+        }
+    }
+    // The box's milliseconds, to the microsecond.
+    let mut d = AeolusDecoder::new();
+    let mut ms = Vec::new();
+    d.feed(&sample_bytes(), 0, |p| {
+        if let protolink::decoders::Item::Aeolus {
+            message: aeolus_proto::message::Message::Gyro(g),
+            ..
+        } = &p.item
+        {
+            ms.push(g.timestamp_ms);
+        }
+    });
+    let got: Vec<i64> = gyro
+        .column_by_name("box_time")
+        .expect("box_time")
+        .as_primitive::<DurationMicrosecondType>()
+        .values()
+        .iter()
+        .copied()
+        .collect();
+    let want: Vec<i64> = ms
+        .iter()
+        .take(got.len())
+        .map(|m| (m * 1000.0).round() as i64)
+        .collect();
+    assert_eq!(got, want);
+    assert!(got.iter().any(|&us| us % 1000 == 0 && us > 0));
+}
+
+/// An AYDP FIX_DETAIL of `satellites` (id, azimuth, elevation, snr) and a DIRECT_OUTPUT of
+/// `entries` (device, channel, value), as a stream of normal frames.
+pub(crate) fn aydp_lists(satellites: &[(u8, f32, f32, f32)], entries: &[(u8, u8, f32)]) -> Vec<u8> {
+    let enc = aydp_proto::Encoder::new(aydp_proto::Profile::Spec);
+    let mut fix = vec![u8::try_from(satellites.len()).unwrap()];
+    for &(id, azimuth, elevation, snr) in satellites {
+        let s = aydp_proto::Satellite {
+            id,
+            azimuth,
+            elevation,
+            snr,
+        };
+        let mut b = [0u8; aydp_proto::Satellite::LEN];
+        s.emit(&mut b).unwrap();
+        fix.extend_from_slice(&b);
+    }
+    let mut out = u16::try_from(entries.len()).unwrap().to_le_bytes().to_vec();
+    for &(device, channel, value) in entries {
+        let e = aydp_proto::OutputEntry {
+            device,
+            channel,
+            value,
+        };
+        let mut b = [0u8; aydp_proto::OutputEntry::LEN];
+        e.emit(&mut b).unwrap();
+        out.extend_from_slice(&b);
+    }
+    let mut stream = Vec::new();
+    let types = [aydp_proto::FixDetail::TYPE, aydp_proto::DirectOutput::TYPE];
+    for (msg_type, data) in types.into_iter().zip([&fix, &out]) {
+        let raw = aydp_proto::Raw { msg_type, data };
+        let mut buf = vec![0u8; enc.frame_len(&raw, false)];
+        let ts = Some(aydp_proto::Timestamp::new(1_700_000_000, 5));
+        let n = enc.encode(&raw, ts, &mut buf).unwrap();
+        stream.extend_from_slice(&buf[..n]);
+    }
+    stream
+}
+
+/// The tables of an AYDP stream.
+fn aydp_tables(stream: &[u8]) -> Vec<(String, RecordBatch)> {
+    let mut tables = Tables::new(8);
+    let mut d = protolink::decoders::AydpDecoder::new(aydp_proto::Profile::Spec);
+    d.feed(stream, 0, |p| tables.add(&Origin::default(), &p));
+    tables.finish()
+}
+
+#[test]
+fn aydp_lists_are_arrow_lists_of_one_schema_whether_empty_or_full() {
+    let full = aydp_tables(&aydp_lists(
+        &[(7, 180.0, 45.0, 38.0), (9, 90.0, 10.0, 20.5)],
+        &[(1, 2, 10.0)],
+    ));
+    let empty = aydp_tables(&aydp_lists(&[], &[]));
+    let list = |t: DataType| DataType::List(std::sync::Arc::new(Field::new_list_field(t, true)));
+    let fix = table(&full, "FIX_DETAIL");
+    assert_eq!(
+        types(&fix)[10..],
+        [
+            ("satellites.id".to_owned(), list(DataType::UInt8)),
+            ("satellites.azimuth".to_owned(), list(DataType::Float32)),
+            ("satellites.elevation".to_owned(), list(DataType::Float32)),
+            ("satellites.snr".to_owned(), list(DataType::Float32)),
+        ]
+    );
+    let output = table(&full, "DIRECT_OUTPUT");
+    assert_eq!(
+        types(&output)[10..],
+        [
+            ("entries.device".to_owned(), list(DataType::UInt8)),
+            ("entries.channel".to_owned(), list(DataType::UInt8)),
+            ("entries.value".to_owned(), list(DataType::Float32)),
+        ]
+    );
+    // Empty lists: the same schema, and an empty list (not a null) in the row.
+    for name in ["FIX_DETAIL", "DIRECT_OUTPUT"] {
+        let (e, f) = (table(&empty, name), table(&full, name));
+        assert_eq!(e.schema(), f.schema(), "{name}");
+        let first = e.column(10).as_list::<i32>();
+        assert_eq!(
+            (first.null_count(), first.value_length(0)),
+            (0, 0),
+            "{name}"
+        );
+    }
+    let snr = fix
+        .column_by_name("satellites.snr")
+        .expect("snr")
+        .as_list::<i32>();
+    let snr: Vec<f32> = snr.value(0).as_primitive::<Float32Type>().values().to_vec();
+    assert_eq!(snr, [38.0, 20.5]);
+    let ids = fix
+        .column_by_name("satellites.id")
+        .expect("id")
+        .as_list::<i32>();
+    assert_eq!(
+        ids.value(0).as_primitive::<UInt8Type>().values().to_vec(),
+        [7, 9]
+    );
+    // The units of the list's items are the fields' own (none here), and no value was lost.
+    assert_eq!(
+        aydp_tables(&aydp_lists(&[(1, 0.0, 0.0, 0.0)], &[])).len(),
+        2
+    );
+}
+
+#[test]
+fn a_box_time_out_of_a_durations_range_is_a_null_of_its_type() {
+    use aeolus_proto::message::{Gyro, Message};
+    let mut tables = Tables::new(8);
+    let origin = Origin::default();
+    for ms in [1e300, f64::NAN, 2.5] {
+        let g = Gyro {
+            valid: true,
+            timestamp_ms: ms,
+            x: 0.0,
+            y: 0.0,
+            z: 0.0,
+        };
+        tables.add_aeolus_message(&origin, 0, Gyro::ID, true, 37, &Message::Gyro(g));
+    }
+    let (_, batch) = tables.finish().remove(0);
+    let c = batch.column_by_name("box_time").expect("box_time");
+    assert_eq!(c.data_type(), &DataType::Duration(TimeUnit::Microsecond));
+    let got: Vec<Option<i64>> = c.as_primitive::<DurationMicrosecondType>().iter().collect();
+    assert_eq!(got, [None, None, Some(2500)]);
 }

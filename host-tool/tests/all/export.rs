@@ -365,3 +365,98 @@ fn bad_types_and_times_are_refused_in_one_sentence_before_writing() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Arrow schema of an export's first part of table `dir` (`proto=P/type=T`), as the
+/// Parquet file keeps it.
+fn parquet_schema(out: &Path, dir: &str) -> arrow_schema::SchemaRef {
+    let file = std::fs::File::open(out.join(dir).join("part-00000.parquet")).unwrap();
+    parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(file)
+        .unwrap()
+        .schema()
+        .clone()
+}
+
+#[test]
+fn parquet_files_keep_box_time_as_a_duration_and_lists_as_lists() {
+    use arrow_schema::{DataType, Field, TimeUnit};
+    let dir = temp_dir("types");
+    let a = dir.join("a.pcapng");
+    capture(&a, 1);
+    let (full, empty) = (dir.join("full.bin"), dir.join("empty.bin"));
+    std::fs::write(
+        &full,
+        crate::columns::aydp_lists(&[(7, 180.0, 45.0, 38.0)], &[(1, 2, 10.0)]),
+    )
+    .unwrap();
+    std::fs::write(&empty, crate::columns::aydp_lists(&[], &[])).unwrap();
+    let out = dir.join("tables");
+    ok(&run(&[
+        "export",
+        "--air",
+        "--out",
+        out.to_str().unwrap(),
+        a.to_str().unwrap(),
+    ]));
+    let gyro = parquet_schema(&out, "proto=aeolus/type=GYRO");
+    let names: Vec<&str> = gyro.fields().iter().map(|f| f.name().as_str()).collect();
+    assert!(
+        names.ends_with(&["valid", "box_time", "x_radps", "y_radps", "z_radps"]),
+        "{names:?}"
+    );
+    for table in ["GYRO", "ACCEL", "MAGNET", "PRESSURE", "AIR"] {
+        let schema = parquet_schema(&out, &format!("proto=aeolus/type={table}"));
+        let field = schema.field_with_name("box_time").unwrap();
+        assert_eq!(
+            field.data_type(),
+            &DataType::Duration(TimeUnit::Microsecond),
+            "{table}"
+        );
+        assert_eq!(
+            field.metadata().get("unit").map(String::as_str),
+            Some("µs since the box started")
+        );
+        assert!(schema.field_with_name("timestamp_ms").is_err(), "{table}");
+    }
+    let unit = |t: &str, c: &str| {
+        let schema = parquet_schema(&out, &format!("proto=aeolus/type={t}"));
+        schema
+            .field_with_name(c)
+            .unwrap()
+            .metadata()
+            .get("unit")
+            .cloned()
+    };
+    assert_eq!(unit("ACCEL", "z_mps2").as_deref(), Some("m/s²"));
+    assert_eq!(unit("MAGNET", "y_gauss").as_deref(), Some("gauss"));
+    // AYDP lists: a list column per field of the items, the same whether the lists have items
+    // or none.
+    let mut schemas = Vec::new();
+    for (tag, file) in [("full", &full), ("empty", &empty)] {
+        let out = dir.join(tag);
+        let args = ["export", "--proto", "aydp", "--profile", "spec", "--out"];
+        let mut args = args.to_vec();
+        args.extend([out.to_str().unwrap(), file.to_str().unwrap()]);
+        ok(&run(&args));
+        schemas.push((
+            parquet_schema(&out, "proto=aydp/type=FIX_DETAIL"),
+            parquet_schema(&out, "proto=aydp/type=DIRECT_OUTPUT"),
+        ));
+    }
+    assert_eq!(schemas[0], schemas[1]);
+    let list = |t: DataType| DataType::List(std::sync::Arc::new(Field::new_list_field(t, true)));
+    let (fix, output) = &schemas[0];
+    assert_eq!(
+        fix.field_with_name("satellites.id").unwrap().data_type(),
+        &list(DataType::UInt8)
+    );
+    assert_eq!(
+        fix.field_with_name("satellites.snr").unwrap().data_type(),
+        &list(DataType::Float32)
+    );
+    assert_eq!(
+        output.field_with_name("entries.value").unwrap().data_type(),
+        &list(DataType::Float32)
+    );
+    assert!(fix.field_with_name("satellites").is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}
