@@ -52,24 +52,32 @@ fn sim_sends_every_type_at_the_spec_rates_and_obeys_commands() {
             .collect();
         assert!(!ts.is_empty(), "no {name} in 2 s");
         if ts.len() >= 3 {
-            // The firmware's drift-free schedule: the slots are the spec's interval apart,
-            // within 2 % on average. A sim that the host starves of CPU skips late slots, as
-            // the box must on a late CPU: each gap counts the slots it spans, and at most a
-            // quarter of the slots may be skipped.
-            let slots: f64 = ts
-                .windows(2)
-                .map(|w| ((w[1] - w[0]) / interval).round().max(1.0))
-                .sum();
-            let mean = (ts[ts.len() - 1] - ts[0]) / slots;
+            // The firmware's drift-free schedule: the frames stand on a grid of the spec's
+            // interval, each stamped when it was sent. A sim that the host starves of CPU sends
+            // a slot late, or several in a burst when it gets the CPU back, or skips a slot, as
+            // the box must on a late CPU. So: the grid's slots between the first frame and the
+            // last hold at most a quarter skipped and never more frames than slots (2 % kept
+            // for a late first or last frame), and the median gap, that of frames on time, is
+            // the interval within 2 %. (A gap's own slot count is no measure: a burst's first
+            // gap spans the slots the burst then sends, which counted them twice, 6.81 ms for
+            // GYRO's 7 in a CI-like run under load.)
+            let gaps: Vec<f64> = ts.windows(2).map(|w| w[1] - w[0]).collect();
+            let slots = ((ts[ts.len() - 1] - ts[0]) / interval).round();
+            let skipped = slots - gaps.len() as f64;
             assert!(
-                (mean - interval).abs() <= 0.02 * interval,
-                "{name}: mean slot {mean} ms, spec {interval} ms"
+                (-0.02 * slots..=0.25 * slots).contains(&skipped),
+                "{name}: {} gaps over {slots} slots of {interval} ms; gaps {gaps:?}",
+                gaps.len()
             );
-            let skipped = slots - (ts.len() - 1) as f64;
-            assert!(
-                skipped <= 0.25 * slots,
-                "{name}: {skipped} of {slots} slots skipped"
-            );
+            if gaps.len() >= 5 {
+                let mut sorted = gaps.clone();
+                sorted.sort_by(f64::total_cmp);
+                let median = sorted[sorted.len() / 2];
+                assert!(
+                    (median - interval).abs() <= 0.02 * interval,
+                    "{name}: median gap {median} ms, spec {interval} ms; gaps {gaps:?}"
+                );
+            }
         }
     }
     assert!(link.frames.iter().any(|f| f.id == 51), "no AEOLUSINFO");
