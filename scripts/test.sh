@@ -178,7 +178,7 @@ trap summary EXIT
 
 # The tools of the later steps install in the background from here, beside the steps up to the
 # firmware's, which need only the toolchains (.ci/run installs them first) and python3: on a
-# fresh machine the installs wait on the network and dpkg, and compile four crates.io tools.
+# fresh machine the installs wait on the network and dpkg, and compile the crates.io tools.
 # The host tests wait for them (join_setup).
 setup_log=$logs/setup.log
 setup_components=(qemu defmt-print tshark chromium i686 c bench python gpsd fuzz)
